@@ -1,0 +1,339 @@
+"""The gearhead catalog: TOML files of units, loaded into immutable SI records.
+
+The built-in file is the PSA-G page's specification table, transcribed as
+published. Gaps and contradictions of a source are never papered over in
+silence: each value that is a stand-in or a correction carries a `Flag`, and
+every result that uses the value repeats it.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hdselect.errors import InputError
+from hdselect.tomlfile import as_number, check_keys, read_toml, table_of
+
+logger = logging.getLogger(__name__)
+
+NM_PER_LB_IN = 0.1129848
+"""Newton metres in one pound-force inch."""
+KG_M2_PER_LB_IN2 = 2.9264e-4
+"""Kilogram square metres in one pound square inch."""
+KG_M2_PER_KG_CM2 = 1e-4
+"""Kilogram square metres in one kilogram square centimetre."""
+KG_PER_LB = 0.45359237
+"""Kilograms in one pound."""
+
+RATED_INPUT_SPEED_RPM = 1750.0
+"""Input speed at which the rated torque and the rated life hold [rpm]."""
+RATED_LIFE_HOURS = 35000.0
+"""L50 life at rated torque and rated input speed [h]."""
+
+# quantity -> ((SI key, factor to SI), (imperial key, factor to SI))
+_QUANTITIES = {
+    "rated_torque": (("rated_torque_nm", 1.0), ("rated_torque_lb_in", NM_PER_LB_IN)),
+    "repeated_torque": (("repeated_torque_nm", 1.0), ("repeated_torque_lb_in", NM_PER_LB_IN)),
+    "momentary_torque": (("momentary_torque_nm", 1.0),
+                         ("momentary_torque_lb_in", NM_PER_LB_IN)),
+    "static_torque": (("static_torque_nm", 1.0), ("static_torque_lb_in", NM_PER_LB_IN)),
+    "input_inertia": (("input_inertia_kg_cm2", KG_M2_PER_KG_CM2),
+                      ("input_inertia_lb_in2", KG_M2_PER_LB_IN2)),
+    "mass": (("mass_kg", 1.0), ("mass_lb", KG_PER_LB)),
+}
+_REQUIRED = ("rated_torque", "repeated_torque", "mass")
+_UNIT_KEYS = ["id", "size", "ratio", "max_input_speed_rpm", "efficiency"] + [
+    key for pair in _QUANTITIES.values() for key, _ in pair
+]
+_EFFICIENCY_KEYS = ["input_speed_rpm", "torque_percent", "value"]
+BUILTIN = "psa_g.toml"
+
+
+@dataclass(frozen=True)
+class Flag:
+    """A catalog value that is a stand-in or a correction, with the reason.
+
+    Attributes:
+        field: The quantity it concerns, e.g. ``"static_torque"``.
+        kind: ``"fallback"`` (the source gives no value) or ``"corrected"``
+            (the source's columns disagree).
+        note: One sentence for the reader.
+    """
+
+    field: str
+    kind: str
+    note: str
+
+    @property
+    def code(self) -> str:
+        """Short id for reports, e.g. ``static_torque:corrected``."""
+        return f"{self.field}:{self.kind}"
+
+
+@dataclass(frozen=True)
+class EfficiencyTable:
+    """Gear efficiency over input speed and load, interpolated linearly and clamped.
+
+    Attributes:
+        input_speed_rpm: Input speeds of the rows [rpm], increasing; one row if empty axis.
+        torque_percent: Output torque of the columns in % of the rated torque, increasing.
+        value: Efficiency [-], shape (len(input_speed_rpm), len(torque_percent)).
+    """
+
+    input_speed_rpm: tuple[float, ...]
+    torque_percent: tuple[float, ...]
+    value: tuple[tuple[float, ...], ...]
+
+    def __call__(self, input_speed_rpm: np.ndarray, torque_percent: np.ndarray) -> np.ndarray:
+        """Efficiency [-] at each (input speed [rpm], torque [% of rated]) pair."""
+        table = np.asarray(self.value)
+        by_speed = np.array([np.interp(torque_percent, self.torque_percent, row)
+                             for row in table])  # (rows, n)
+        if len(self.input_speed_rpm) == 1:
+            return by_speed[0]
+        speeds = np.asarray(self.input_speed_rpm)
+        x = np.clip(input_speed_rpm, speeds[0], speeds[-1])
+        upper = np.clip(np.searchsorted(speeds, x, side="right"), 1, len(speeds) - 1)
+        lower = upper - 1
+        frac = (x - speeds[lower]) / (speeds[upper] - speeds[lower])
+        cols = np.arange(by_speed.shape[1])
+        return by_speed[lower, cols] * (1.0 - frac) + by_speed[upper, cols] * frac
+
+
+@dataclass(frozen=True)
+class Unit:
+    """One gearhead, all values in SI (speeds in rpm, as the catalog rates them).
+
+    Attributes:
+        id: Unit id, ``<series>-<size:02d>-<ratio>``, e.g. ``PSA-14-100``.
+        series: Series name, e.g. ``PSA``.
+        size: Frame size.
+        ratio: Reduction ratio N (input turns per output turn).
+        rated_torque: T_N, rated output torque at 1750 rpm input [N m].
+        repeated_torque: Limit for repeated output torque [N m].
+        momentary_torque: Limit for momentary overload torque [N m].
+        static_torque: Static torque limit, input locked [N m].
+        max_input_speed: Maximum input speed [rpm].
+        input_inertia: Inertia at the input shaft [kg m^2].
+        mass: Mass [kg].
+        efficiency: Efficiency table, or None to use the report's default efficiency.
+        flags: Stand-ins and corrections among the values above.
+        source: The catalog file it came from.
+    """
+
+    id: str
+    series: str
+    size: int
+    ratio: int
+    rated_torque: float
+    repeated_torque: float
+    momentary_torque: float
+    static_torque: float
+    max_input_speed: float
+    input_inertia: float
+    mass: float
+    efficiency: EfficiencyTable | None
+    flags: tuple[Flag, ...]
+    source: Path
+
+    def flags_for(self, *fields: str) -> tuple[Flag, ...]:
+        """The flags on the given quantities."""
+        return tuple(flag for flag in self.flags if flag.field in fields)
+
+
+def load_catalog(extra: Sequence[str | Path] = ()) -> tuple[Unit, ...]:
+    """Load the built-in PSA-G catalog and any user catalog files.
+
+    Args:
+        extra: User catalog files of the same schema as the built-in one.
+
+    Returns:
+        Every unit, sorted by size, then ratio, then id.
+
+    Raises:
+        InputError: A file is missing or malformed, a value is missing, not a
+            positive finite number or inconsistent, or two units share an id.
+    """
+    builtin = resources.files("hdselect") / "data" / BUILTIN
+    with resources.as_file(builtin) as path:
+        units = list(_read_file(Path(path)))
+    seen = {unit.id: unit.source for unit in units}
+    for file in extra:
+        for unit in _read_file(Path(file)):
+            if unit.id in seen:
+                raise InputError(f"unit id '{unit.id}' is already defined in {seen[unit.id]}",
+                                 path=file, field=f"unit[{unit.id}].id")
+            seen[unit.id] = unit.source
+            units.append(unit)
+    return tuple(sorted(units, key=lambda u: (u.size, u.ratio, u.id)))
+
+
+def _read_file(path: Path) -> Iterable[Unit]:
+    document = read_toml(path)
+    check_keys(document, ["series", "source", "unit"], path, "")
+    series = document.get("series", "")
+    if not isinstance(series, str) or not series:
+        raise InputError("required: the series name, a non-empty string", path=path,
+                         field="series")
+    entries = document.get("unit")
+    if not isinstance(entries, list) or not entries:
+        raise InputError("no [[unit]] entries", path=path, field="unit")
+    raw = [_read_unit(table_of(entry, path, f"unit[{i}]"), series, path, i)
+           for i, entry in enumerate(entries)]
+    ids = [values["id"] for values in raw]
+    for unit_id in ids:
+        if ids.count(unit_id) > 1:
+            raise InputError(f"unit id '{unit_id}' appears more than once", path=path,
+                             field=f"unit[{unit_id}].id")
+    for values in raw:
+        yield _complete(values, raw, path)
+
+
+def _read_unit(entry: dict[str, Any], series: str, path: Path, index: int) -> dict[str, Any]:
+    where = f"unit[{index}]"
+    check_keys(entry, _UNIT_KEYS, path, where)
+    values: dict[str, Any] = {"series": series, "flags": []}
+    for key in ("size", "ratio"):
+        if key not in entry:
+            raise InputError("required key is missing", path=path, field=f"{where}.{key}")
+        number = as_number(entry[key], path, f"{where}.{key}", positive=True)
+        if number != int(number):
+            raise InputError(f"must be a whole number, got {number:g}", path=path,
+                             field=f"{where}.{key}")
+        values[key] = int(number)
+    default_id = f"{series}-{values['size']:02d}-{values['ratio']}"
+    values["id"] = str(entry.get("id", default_id))
+    where = f"unit[{values['id']}]"
+    values["where"] = where
+    if "max_input_speed_rpm" not in entry:
+        raise InputError("required key is missing", path=path,
+                         field=f"{where}.max_input_speed_rpm")
+    values["max_input_speed"] = as_number(entry["max_input_speed_rpm"], path,
+                                          f"{where}.max_input_speed_rpm", positive=True)
+    for quantity, ((si_key, si_factor), (imp_key, imp_factor)) in _QUANTITIES.items():
+        given = [(key, entry[key], factor) for key, factor in
+                 ((si_key, si_factor), (imp_key, imp_factor)) if key in entry]
+        for key, raw, _ in given:
+            as_number(raw, path, f"{where}.{key}", positive=True)
+        if not given:
+            if quantity in _REQUIRED:
+                raise InputError(f"required: {si_key} or {imp_key}", path=path,
+                                 field=f"{where}.{si_key}")
+            values[quantity] = None
+            continue
+        values[quantity] = _agree(quantity, given, values["flags"])
+    if values["repeated_torque"] < values["rated_torque"]:
+        raise InputError(f"the repeated-peak limit {values['repeated_torque']:.3g} N m is below "
+                         f"the rated torque {values['rated_torque']:.3g} N m", path=path,
+                         field=f"{where}.repeated_torque_nm")
+    values["efficiency"] = (_efficiency(table_of(entry["efficiency"], path, f"{where}.efficiency"),
+                                        path, f"{where}.efficiency")
+                            if "efficiency" in entry else None)
+    return values
+
+
+def _agree(quantity: str, given: list[tuple[str, Any, float]], flags: list[Flag]) -> float:
+    """One SI value from one or two published columns; the lower where they disagree.
+
+    Two columns agree when their rounding intervals (half a unit of the last
+    printed digit of each) overlap after conversion.
+    """
+    si = [(key, raw, float(raw) * factor, _half_digit(raw) * factor) for key, raw, factor in given]
+    if len(si) == 1:
+        return si[0][2]
+    (key_a, raw_a, a, tol_a), (key_b, raw_b, b, tol_b) = si
+    if abs(a - b) <= tol_a + tol_b:
+        return a
+    low = min(a, b)
+    si_label = {"input_inertia": "kg m^2", "mass": "kg"}.get(quantity, "N m")
+    label = quantity.replace("_", " ").replace("torque", "limit").replace("rated limit",
+                                                                            "rated torque")
+    flags.append(Flag(quantity, "corrected",
+                      f"{label}: the source's {raw_a:g} {_unit_label(key_a)} and {raw_b:g} "
+                      f"{_unit_label(key_b)} disagree; the lower, {low:.3g} {si_label}, is used"))
+    return low
+
+
+def _unit_label(key: str) -> str:
+    """The unit a catalog key is written in, e.g. ``lb-in`` for ``static_torque_lb_in``."""
+    for suffix, label in (("_lb_in2", "lb-in^2"), ("_lb_in", "lb-in"), ("_nm", "N m"),
+                          ("_kg_cm2", "kg cm^2"), ("_kg", "kg"), ("_lb", "lb")):
+        if key.endswith(suffix):
+            return label
+    return ""
+
+
+def _half_digit(raw: int | float) -> float:
+    """Half a unit of the last digit of a TOML number as written (0.5 for an integer)."""
+    text = repr(raw)
+    if isinstance(raw, int) or "e" in text or "." not in text:
+        return 0.5
+    return 0.5 * 10.0 ** -len(text.split(".")[1])
+
+
+def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Path) -> Unit:
+    """Fill the gaps a source leaves with flagged conservative stand-ins."""
+    flags: list[Flag] = values["flags"]
+    where = values["where"]
+    for limit in ("momentary_torque", "static_torque"):
+        name = limit.replace("_", " ").replace("torque", "limit")
+        if values[limit] is None:
+            values[limit] = values["repeated_torque"]
+            flags.append(Flag(limit, "fallback",
+                              f"{name} not rated by the source; the repeated-peak limit "
+                              f"({values['repeated_torque']:.3g} N m) is used"))
+        elif values[limit] < values["repeated_torque"]:
+            logger.warning("%s: %s: %s %.3g N m is below the repeated-peak limit %.3g N m",
+                           path, where, name, values[limit], values["repeated_torque"])
+    if values["input_inertia"] is None:
+        larger = sorted((other["size"], other["input_inertia"]) for other in file_units
+                        if other["size"] > values["size"] and other["input_inertia"] is not None)
+        if not larger:
+            raise InputError("input inertia missing and no larger unit in the file bounds it",
+                             path=path, field=f"{where}.input_inertia_kg_cm2")
+        size, inertia = larger[0]
+        values["input_inertia"] = inertia
+        flags.append(Flag("input_inertia", "fallback",
+                          f"input inertia not given by the source; the size {size:02d} value "
+                          f"({inertia / KG_M2_PER_KG_CM2:.4g} kg cm^2) bounds it"))
+    return Unit(
+        id=values["id"], series=values["series"], size=values["size"], ratio=values["ratio"],
+        rated_torque=values["rated_torque"], repeated_torque=values["repeated_torque"],
+        momentary_torque=values["momentary_torque"], static_torque=values["static_torque"],
+        max_input_speed=values["max_input_speed"], input_inertia=values["input_inertia"],
+        mass=values["mass"], efficiency=values["efficiency"], flags=tuple(flags), source=path,
+    )
+
+
+def _efficiency(table: dict[str, Any], path: Path, where: str) -> EfficiencyTable:
+    check_keys(table, _EFFICIENCY_KEYS, path, where)
+    axes = {}
+    for axis in ("input_speed_rpm", "torque_percent"):
+        raw = table.get(axis, [0.0])
+        if not isinstance(raw, list) or not raw:
+            raise InputError("expected a non-empty list of numbers", path=path,
+                             field=f"{where}.{axis}")
+        values = [as_number(v, path, f"{where}.{axis}", minimum=0.0) for v in raw]
+        if any(b <= a for a, b in zip(values, values[1:], strict=False)):
+            raise InputError("must be strictly increasing", path=path, field=f"{where}.{axis}")
+        axes[axis] = tuple(values)
+    raw_value = table.get("value")
+    rows = raw_value if isinstance(raw_value, list) else None
+    if rows and not isinstance(rows[0], list):
+        rows = [[v] for v in rows] if len(axes["torque_percent"]) == 1 else [rows]
+    shape = (len(axes["input_speed_rpm"]), len(axes["torque_percent"]))
+    if rows is None or len(rows) != shape[0] or any(
+            not isinstance(r, list) or len(r) != shape[1] for r in rows):
+        raise InputError(f"expected {shape[0]} x {shape[1]} efficiencies (input speeds x torque "
+                         "percentages)", path=path, field=f"{where}.value")
+    value = tuple(tuple(as_number(v, path, f"{where}.value", positive=True) for v in row)
+                  for row in rows)
+    if any(v > 1.0 for row in value for v in row):
+        raise InputError("efficiency must not exceed 1", path=path, field=f"{where}.value")
+    return EfficiencyTable(axes["input_speed_rpm"], axes["torque_percent"], value)

@@ -1,0 +1,155 @@
+"""The catalog page's own sizing method: a torque-speed profile of phases."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hdselect.catalog import Unit
+from hdselect.errors import InputError
+from hdselect.rules import Candidate, CycleLoad, Momentary, check_unit, cycle_load
+from hdselect.select import select
+from hdselect.tomlfile import check_keys, number, read_toml, table_of
+
+RAD_S_PER_RPM = 2.0 * np.pi / 60.0
+"""Radians per second in one revolution per minute."""
+
+_TOP_KEYS = ["description", "phase", "momentary", "static", "requirements"]
+_PHASE_KEYS = ["name", "torque", "time", "speed"]
+
+
+@dataclass(frozen=True)
+class Phase:
+    """One phase of the catalog's torque-speed profile.
+
+    Attributes:
+        name: Label, e.g. ``"accelerate"``.
+        torque: Output torque [N m] (sign ignored).
+        time: Duration [s].
+        speed: Mean output speed [rad/s]; 0 is a dwell (input locked).
+    """
+
+    name: str
+    torque: float
+    time: float
+    speed: float
+
+
+@dataclass(frozen=True)
+class DutyCycle:
+    """A validated duty-cycle profile.
+
+    Attributes:
+        path: The profile file.
+        phases: The phases of one cycle.
+        momentary: The momentary (T4) event, if given.
+        static_torque: Torque applied with the input locked [N m], if given.
+        life_hours: Required L50 life [h], if given.
+    """
+
+    path: Path
+    phases: tuple[Phase, ...]
+    momentary: Momentary | None
+    static_torque: float | None
+    life_hours: float | None
+
+
+@dataclass(frozen=True)
+class DutyResult:
+    """Every unit checked against a duty cycle, and the one selected.
+
+    Attributes:
+        cycle: The profile.
+        load: The cycle's output-side summary (mean torque, mean speed, peak).
+        candidates: One per catalog unit, in catalog order.
+        selected: The chosen candidate, or None when no unit fits.
+    """
+
+    cycle: DutyCycle
+    load: CycleLoad
+    candidates: tuple[Candidate, ...]
+    selected: Candidate | None
+
+
+def load_duty(path: str | Path) -> DutyCycle:
+    """Read a duty-cycle profile (TOML).
+
+    Args:
+        path: The profile file.
+
+    Returns:
+        The validated profile, in SI.
+
+    Raises:
+        InputError: The file is missing, malformed or inconsistent.
+    """
+    path = Path(path)
+    document = read_toml(path)
+    check_keys(document, _TOP_KEYS, path, "")
+    raw_phases = document.get("phase")
+    if not isinstance(raw_phases, list) or not raw_phases:
+        raise InputError("the cycle has no [[phase]] entries", path=path, field="phase")
+    phases = []
+    for i, raw in enumerate(raw_phases):
+        where = f"phase[{i}]"
+        table = table_of(raw, path, where)
+        check_keys(table, _PHASE_KEYS, path, where)
+        phases.append(Phase(
+            name=str(table.get("name", f"phase {i + 1}")),
+            torque=abs(number(table, "torque", path, where)),
+            time=number(table, "time", path, where, positive=True),
+            speed=abs(number(table, "speed", path, where)) * RAD_S_PER_RPM,
+        ))
+    if all(phase.speed == 0.0 for phase in phases):
+        raise InputError("the cycle has no motion: every phase has speed 0", path=path,
+                         field="phase")
+    momentary = None
+    if "momentary" in document:
+        table = table_of(document["momentary"], path, "momentary")
+        check_keys(table, ["torque", "speed", "time"], path, "momentary")
+        speed = (number(table, "speed", path, "momentary", minimum=0.0)
+                 if "speed" in table else None)
+        momentary = Momentary(
+            torque=abs(number(table, "torque", path, "momentary")),
+            kind="given",
+            speed=None if speed is None else speed * RAD_S_PER_RPM,
+            duration=number(table, "time", path, "momentary", positive=True)
+            if "time" in table else None,
+        )
+    static = None
+    if "static" in document:
+        table = table_of(document["static"], path, "static")
+        check_keys(table, ["torque"], path, "static")
+        static = abs(number(table, "torque", path, "static"))
+    life = None
+    if "requirements" in document:
+        table = table_of(document["requirements"], path, "requirements")
+        check_keys(table, ["life_hours"], path, "requirements")
+        life = number(table, "life_hours", path, "requirements", positive=True)
+    return DutyCycle(path, tuple(phases), momentary, static, life)
+
+
+def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size") -> DutyResult:
+    """Check every unit against a duty cycle and select the smallest that fits.
+
+    Args:
+        cycle: The profile.
+        units: The catalog.
+        prefer: Selection order, a key of `hdselect.select.PREFERENCES`.
+
+    Returns:
+        Every candidate and the selection.
+    """
+    phases = cycle.phases
+    load = cycle_load(
+        torque=np.array([p.torque for p in phases]),
+        speed=np.array([p.speed for p in phases]),
+        duration=np.array([p.time for p in phases]),
+        at_rest=np.array([p.speed == 0.0 for p in phases]),
+        static_torque=cycle.static_torque,
+    )
+    candidates = tuple(check_unit(load, unit, momentary=cycle.momentary,
+                                  life_hours=cycle.life_hours) for unit in units)
+    return DutyResult(cycle, load, candidates, select(candidates, prefer))
