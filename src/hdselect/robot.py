@@ -226,7 +226,7 @@ def _sized(names, revolute, joints, path) -> tuple[str, ...]:
     for name in joints:
         if name not in names:
             raise InputError(f"unknown joint '{name}'; joints are: {', '.join(names)}",
-                             field="--joint")
+                             path=path, field="--joint")
         if not revolute[names.index(name)]:
             raise InputError(f"joint '{name}' is prismatic; only rotary joints take a gearhead",
                              path=path, field="--joint")
