@@ -4,6 +4,10 @@ Everything is validated here, once, and converted to SI: revolute positions
 [rad], prismatic positions [m], times [s]. The file's ``angle_unit`` applies to
 revolute positions and every revolute limit (and to a ``samples`` log);
 prismatic joints are always in m, m/s, m/s^2 and m/s^3.
+
+A ``samples`` log is a CSV file with a header row: ``t`` [s], ``q_<joint>`` for
+every joint, and optionally ``qd_<joint>`` and ``qdd_<joint>`` for every joint;
+other columns are ignored.
 """
 
 from __future__ import annotations
@@ -135,6 +139,8 @@ def load_motion(
             if not isinstance(doc["robot"], str):
                 raise InputError("expected a file name", path=path, field="robot")
             robot = path.parent / doc["robot"]
+            if not robot.is_file():
+                raise InputError(f"robot file not found: {robot}", path=path, field="robot")
         robot = load_robot(robot, payload=payload or file_payload, joints=joints,
                            mounting=file_mounting if mounting is None else mounting)
     scale = np.where(robot.revolute, unit, 1.0)
@@ -151,10 +157,8 @@ def load_motion(
                              path=path, field=f"limits.{key}")
     lim = {k: _frozen(_per_joint(v, robot, path, f"limits.{k}", positive=True)
                       * (1.0 if k == "torque" else scale)) for k, v in limits.items()}
-    safety = table_of(doc.get("safety", {}), path, "safety")
-    check_keys(safety, ("stop_time",), path, "safety")
-    requirements = table_of(doc.get("requirements", {}), path, "requirements")
-    check_keys(requirements, ("life_hours",), path, "requirements")
+    stop_time = _section_number(doc, "safety", "stop_time", path)
+    life_hours = _section_number(doc, "requirements", "life_hours", path)
     samples = None
     if planner == "samples":
         if "waypoint" in doc:
@@ -172,11 +176,7 @@ def load_motion(
         waypoints=_frozen(waypoints), dwells=_frozen(dwells),
         velocity_limit=lim.get("velocity"), acceleration_limit=lim.get("acceleration"),
         jerk_limit=lim.get("jerk"), torque_limit=lim.get("torque"),
-        stop_time=number(safety, "stop_time", path, "safety", positive=True)
-        if "stop_time" in safety else None,
-        life_hours=number(requirements, "life_hours", path, "requirements", positive=True)
-        if "life_hours" in requirements else None,
-        samples=samples,
+        stop_time=stop_time, life_hours=life_hours, samples=samples,
     )
 
 
@@ -188,6 +188,12 @@ def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path)
         raise InputError(f"unknown value {doc[key]!r}; choose one of: {', '.join(choices)}",
                          path=path, field=key)
     return doc[key]
+
+
+def _section_number(doc: dict[str, Any], section: str, key: str, path: Path) -> float | None:
+    table = table_of(doc.get(section, {}), path, section)
+    check_keys(table, (key,), path, section)
+    return number(table, key, path, section, positive=True) if key in table else None
 
 
 def _vector(value: Any, size: int, path: Path, field: str) -> list[float]:
@@ -212,7 +218,8 @@ def _payload(value: Any, path: Path) -> Payload:
     frame = table.get("frame")
     if frame is not None and not isinstance(frame, str):
         raise InputError(f"expected a frame name, got {frame!r}", path=path, field="payload.frame")
-    return Payload(mass, tuple(com), tuple(tuple(r) for r in inertia.tolist()), frame)
+    return Payload(mass, (com[0], com[1], com[2]), tuple(tuple(r) for r in inertia.tolist()),
+                   frame)
 
 
 def _mounting(value: Any, path: Path) -> str | list[float]:
@@ -318,11 +325,12 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray) -
                              path=log, field=name)
         return values
 
-    def joints(prefix: str, optional: bool) -> np.ndarray | None:
+    def joints(prefix: str) -> np.ndarray:
         names = [f"{prefix}_{n}" for n in robot.joint_names]
-        if optional and not any(n in columns for n in names):
-            return None
         return _frozen(np.column_stack([column(n) for n in names]) * scale)
+
+    def logged(prefix: str) -> bool:
+        return any(f"{prefix}_{n}" in columns for n in robot.joint_names)
 
     t = column("t")
     back = np.flatnonzero(np.diff(t) <= 0.0)
@@ -330,8 +338,9 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray) -
         r = int(back[0]) + 2
         raise InputError(f"time must increase; data row {r} (line {r + 1}) has t = {t[r - 1]:g}"
                          f" after {t[r - 2]:g}", path=log, field="t")
-    return SampleLog(path=log, t=_frozen(t), q=joints("q", False), qd=joints("qd", True),
-                     qdd=joints("qdd", True))
+    return SampleLog(path=log, t=_frozen(t), q=joints("q"),
+                     qd=joints("qd") if logged("qd") else None,
+                     qdd=joints("qdd") if logged("qdd") else None)
 
 
 def _float(text: str) -> float:

@@ -1,0 +1,281 @@
+from __future__ import annotations
+
+import math
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hdselect.errors import InputError
+from hdselect.motion import load_motion
+from hdselect.robot import load_robot
+
+# --- factories (also used by test_plan.py) ---------------------------------------------------
+
+NAMES6 = ("j1", "j2", "j3", "j4", "j5", "j6")
+
+
+def write_chain(directory: Path, joints, name: str = "arm") -> Path:
+    """A serial chain URDF; `joints` is a list of (name, type, lower, upper) with limits [rad/m]."""
+    links = ['<link name="base"/>']
+    parts = []
+    parent = "base"
+    axes = ("0 0 1", "0 1 0", "0 1 0", "1 0 0", "0 1 0", "0 0 1")
+    for i, (joint, kind, lower, upper) in enumerate(joints):
+        child = f"link{i + 1}"
+        links.append(
+            f'<link name="{child}"><inertial><origin xyz="0.1 0 0"/><mass value="1.0"/>'
+            '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>'
+        )
+        limit = "" if kind == "continuous" else \
+            f'<limit lower="{lower}" upper="{upper}" effort="50" velocity="10"/>'
+        parts.append(
+            f'<joint name="{joint}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
+            f'<origin xyz="0 0 {0.2 if i else 0.1}"/><axis xyz="{axes[i % 6]}"/>{limit}</joint>'
+        )
+        parent = child
+    path = directory / f"{name}.urdf"
+    path.write_text(f'<robot name="{name}">{"".join(links + parts)}</robot>')
+    return path
+
+
+def write_robot(directory: Path, dof: int = 6, name: str = "arm") -> Path:
+    """A chain of `dof` revolute joints j1..jN with limits +-pi [rad]."""
+    return write_chain(directory, [(f"j{i + 1}", "revolute", -math.pi, math.pi)
+                                   for i in range(dof)], name)
+
+
+def write_motion(directory: Path, body: str, name: str = "motion.toml") -> Path:
+    path = directory / name
+    path.write_text(textwrap.dedent(body))
+    return path
+
+
+GOOD = """\
+robot = "arm.urdf"
+planner = "ruckig"
+angle_unit = "deg"
+dt = 0.002
+mounting = "wall"
+[payload]
+mass = 1.5
+com = [0, 0, 0.05]
+[limits]
+velocity = 120
+acceleration = {j1 = 600, j2 = 600, j3 = 600, j4 = 900, j5 = 900, j6 = 900}
+jerk = 6000
+[safety]
+stop_time = 0.05
+[requirements]
+life_hours = 20000
+[[waypoint]]
+q = [0, 30, -45, 0, 60, 0]
+dwell = 0.5
+[[waypoint]]
+q = {j1 = 90, j2 = 0, j3 = 0, j4 = 10, j5 = 0, j6 = -90}
+"""
+
+
+@pytest.fixture
+def arm(tmp_path):
+    write_robot(tmp_path)
+    return tmp_path
+
+
+# --- good input ------------------------------------------------------------------------------
+
+def test_good_file_is_converted_to_si(arm):
+    motion = load_motion(write_motion(arm, GOOD))
+    deg = math.pi / 180
+    assert motion.planner == "ruckig" and motion.dt == 0.002
+    assert motion.robot.dof == 6
+    np.testing.assert_allclose(motion.waypoints[0], np.array([0, 30, -45, 0, 60, 0]) * deg)
+    np.testing.assert_allclose(motion.waypoints[1], np.array([90, 0, 0, 10, 0, -90]) * deg)
+    np.testing.assert_allclose(motion.dwells, [0.5, 0.0])
+    np.testing.assert_allclose(motion.velocity_limit, 120 * deg)
+    np.testing.assert_allclose(motion.acceleration_limit, np.array([600] * 3 + [900] * 3) * deg)
+    np.testing.assert_allclose(motion.jerk_limit, 6000 * deg)
+    assert motion.torque_limit is None
+    assert motion.stop_time == 0.05 and motion.life_hours == 20000
+    assert motion.samples is None
+    assert motion.robot.payload.mass == 1.5
+    np.testing.assert_allclose(motion.robot.gravity, [-9.80665, 0, 0])
+    with pytest.raises(ValueError):
+        motion.waypoints[0, 0] = 1.0
+
+
+def test_keyword_arguments_override_the_file(arm):
+    from hdselect.robot import Payload
+
+    motion = load_motion(write_motion(arm, GOOD), arm / "arm.urdf", payload=Payload(2.0),
+                         mounting="ceiling")
+    assert motion.robot.payload.mass == 2.0
+    np.testing.assert_allclose(motion.robot.gravity, [0, 0, 9.80665])
+
+
+def test_robot_object_and_radians(arm):
+    robot = load_robot(arm / "arm.urdf")
+    body = GOOD.replace('robot = "arm.urdf"\n', "").replace('"deg"', '"rad"')
+    body = body.replace("q = [0, 30, -45, 0, 60, 0]", "q = [0, 0.5, -1, 0, 1, 0]")
+    body = body.replace("j1 = 90,", "j1 = 1.5,").replace("j6 = -90", "j6 = -1.5").replace(
+        "j4 = 10,", "j4 = 0.1,")
+    motion = load_motion(write_motion(arm, body), robot)
+    assert motion.robot is robot
+    np.testing.assert_allclose(motion.velocity_limit, 120)
+    np.testing.assert_allclose(motion.waypoints[0], [0, 0.5, -1, 0, 1, 0])
+
+
+def test_prismatic_joint_is_never_scaled(tmp_path):
+    write_chain(tmp_path, [("turn", "revolute", -3, 3), ("slide", "prismatic", 0, 0.5)])
+    motion = load_motion(write_motion(tmp_path, """\
+        robot = "arm.urdf"
+        planner = "toppra"
+        angle_unit = "deg"
+        [limits]
+        velocity = {turn = 90, slide = 0.2}
+        acceleration = 180
+        torque = 20
+        [[waypoint]]
+        q = [0, 0]
+        [[waypoint]]
+        q = [90, 0.3]
+    """))
+    np.testing.assert_allclose(motion.waypoints[1], [math.pi / 2, 0.3])
+    np.testing.assert_allclose(motion.velocity_limit, [math.pi / 2, 0.2])
+    np.testing.assert_allclose(motion.acceleration_limit, [math.pi, 180])
+    np.testing.assert_allclose(motion.torque_limit, [20, 20])
+
+
+def test_samples_log_is_parsed(tmp_path):
+    write_robot(tmp_path, 2)
+    (tmp_path / "log.csv").write_text("t,q_j1,q_j2,qd_j1,qd_j2\n0,0,90,0,0\n0.1,10,80,5,6\n"
+                                      "0.2,20,70,7,8\n")
+    motion = load_motion(write_motion(tmp_path, """\
+        robot = "arm.urdf"
+        planner = "samples"
+        angle_unit = "deg"
+        [samples]
+        file = "log.csv"
+    """))
+    log = motion.samples
+    np.testing.assert_allclose(log.t, [0, 0.1, 0.2])
+    np.testing.assert_allclose(log.q[:, 1], np.radians([90, 80, 70]))
+    np.testing.assert_allclose(log.qd[2], np.radians([7, 8]))
+    assert log.qdd is None
+    assert motion.waypoints.shape == (0, 2)
+
+
+# --- bad input -------------------------------------------------------------------------------
+
+def _error(directory: Path, body: str, robot=None) -> InputError:
+    path = write_motion(directory, body)
+    with pytest.raises(InputError) as info:
+        load_motion(path, robot)
+    return info.value
+
+
+BAD = [
+    ('planner = "ruckig"', 'planner = "rucksack"', "planner", "ruckig, toppra, samples"),
+    ('angle_unit = "deg"', 'angle_unit = "grad"', "angle_unit", "deg, rad"),
+    ('angle_unit = "deg"\n', "", "angle_unit", "required"),
+    ("dt = 0.002", "dt = 0", "dt", "positive"),
+    ("dt = 0.002", "dtt = 0.002", "dtt", "did you mean 'dt'"),
+    ('mounting = "wall"', 'mounting = "roof"', "mounting", "floor"),
+    ('mounting = "wall"', "mounting = [0, 0]", "mounting", "3 numbers"),
+    ("mass = 1.5", "mass = -1", "payload.mass", "positive"),
+    ("com = [0, 0, 0.05]", "com = [0, 0, nan]", "payload.com[2]", "finite"),
+    ("velocity = 120", "velocity = 0", "limits.velocity", "positive"),
+    ("velocity = 120", "velocity = inf", "limits.velocity", "finite"),
+    ("velocity = 120", "velocty = 120", "limits.velocty", "did you mean 'velocity'"),
+    ("jerk = 6000", "", "limits.jerk", "required by planner 'ruckig'"),
+    ("jerk = 6000", "jerk = 6000\ntorque = 3", "limits.torque", "not used by planner"),
+    ("j1 = 600, j2 = 600,", "j1 = 600, elbo = 600,", "limits.acceleration.elbo",
+     "joints are: j1, j2"),
+    ("j1 = 600, j2 = 600,", "j1 = 600,", "limits.acceleration", "missing joint(s) j2"),
+    ("stop_time = 0.05", "stop_time = 0", "safety.stop_time", "positive"),
+    ("stop_time = 0.05", "stop_time = -1", "safety.stop_time", "positive"),
+    ("life_hours = 20000", "life_hours = 0", "requirements.life_hours", "positive"),
+    ("q = [0, 30, -45, 0, 60, 0]", "q = [0, 30, -45, 0, 60]", "waypoint[0].q", "6 values"),
+    ("q = [0, 30, -45, 0, 60, 0]", "q = [0, 30, -45, 0, 'x', 0]", "waypoint[0].q[4]",
+     "expected a number"),
+    ("q = [0, 30, -45, 0, 60, 0]", "q = [0, 30, -190, 0, 60, 0]", "waypoint[0].q[2]",
+     "-190 deg is outside the limits of joint 'j3' [-180, 180] deg"),
+    ("j3 = 0,", "j3 = 200,", "waypoint[1].q.j3", "200 deg is outside"),
+    ("j3 = 0,", "elbow = 0,", "waypoint[1].q.elbow", "unknown joint 'elbow'"),
+    ("j3 = 0,", "", "waypoint[1].q", "missing joint(s) j3"),
+    ("dwell = 0.5", "dwell = -0.5", "waypoint[0].dwell", "at least 0"),
+    ("dwell = 0.5", "dwel = 0.5", "waypoint[0].dwel", "did you mean 'dwell'"),
+    ("q = {j1", "qq = {j1", "waypoint[1].qq", "did you mean 'q'"),
+]
+
+
+@pytest.mark.parametrize(("old", "new", "field", "text"), BAD)
+def test_bad_input_names_file_and_field(arm, old, new, field, text):
+    assert old in GOOD
+    err = _error(arm, GOOD.replace(old, new, 1))
+    assert err.field == field
+    assert "motion.toml" in str(err) and field in str(err)
+    assert text in str(err)
+
+
+def test_missing_and_malformed_file(tmp_path):
+    with pytest.raises(InputError, match="nowhere.toml: file not found"):
+        load_motion(tmp_path / "nowhere.toml")
+    err = _error(tmp_path, "planner = \n")
+    assert "motion.toml" in str(err) and "not valid TOML" in str(err)
+
+
+def test_no_robot(arm):
+    err = _error(arm, GOOD.replace('robot = "arm.urdf"\n', ""))
+    assert err.field == "robot" and "motion.toml" in str(err)
+
+
+def test_robot_file_not_found(arm):
+    err = _error(arm, GOOD.replace("arm.urdf", "nowhere.urdf"))
+    assert err.field == "robot" and "motion.toml" in str(err) and "nowhere.urdf" in str(err)
+
+
+def test_one_waypoint_is_not_enough(arm):
+    body = GOOD[:GOOD.index("[[waypoint]]\nq = {")]
+    err = _error(arm, body)
+    assert err.field == "waypoint" and "at least two" in str(err)
+
+
+SAMPLES = """\
+robot = "arm.urdf"
+planner = "samples"
+angle_unit = "rad"
+[samples]
+file = "log.csv"
+"""
+
+
+@pytest.mark.parametrize(("csv", "field", "text"), [
+    (None, "samples.file", "log file not found"),
+    ("q_j1,q_j2\n0,0\n1,1\n", "t", "column 't' is missing"),
+    ("t,q_j1\n0,0\n1,1\n", "q_j2", "column 'q_j2' is missing"),
+    ("t,q_j1,q_j2,q_elbow\n0,0,0,0\n1,1,1,1\n", "q_elbow", "unknown joint 'elbow'"),
+    ("t,q_j1,q_j2\n0,0,0\n0.1,abc,1\n", "q_j1", "data row 2 (line 3)"),
+    ("t,q_j1,q_j2\n0,0,0\n0.1,1,1\n0.2,nan,1\n", "q_j1", "data row 3 (line 4)"),
+    ("t,q_j1,q_j2\n0,0,0\n0.1,1,1\n0.1,2,1\n", "t", "data row 3 (line 4)"),
+    ("t,q_j1,q_j2,qd_j1\n0,0,0,0\n0.1,1,1,1\n", "qd_j2", "column 'qd_j2' is missing"),
+])
+def test_bad_log(tmp_path, csv, field, text):
+    write_robot(tmp_path, 2)
+    if csv is not None:
+        (tmp_path / "log.csv").write_text(csv)
+    err = _error(tmp_path, SAMPLES)
+    assert err.field == field
+    assert text in str(err)
+    assert ("motion.toml" if csv is None else "log.csv") in str(err)
+
+
+def test_planner_specific_keys(arm):
+    err = _error(arm, SAMPLES + GOOD[GOOD.index("[[waypoint]]"):])
+    assert err.field == "waypoint"
+    err = _error(arm, GOOD + '[samples]\nfile = "x.csv"\n')
+    assert err.field == "samples"
+    toppra = GOOD.replace('"ruckig"', '"toppra"')
+    err = _error(arm, toppra)
+    assert err.field == "limits.jerk" and "planner 'toppra' takes: velocity" in str(err)

@@ -1,0 +1,278 @@
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import ruckig
+
+from hdselect.errors import PlanningError
+from hdselect.motion import load_motion
+from hdselect.plan import (
+    TOPPRA_TOLERANCE,
+    TOPPRA_TORQUE_TOLERANCE,
+    _sample_at_time,
+    _sample_profiles,
+    plan,
+)
+from test_motion import write_chain, write_motion, write_robot
+
+
+def make_motion(directory, planner, waypoints, *, dwells=None, velocity, acceleration,
+                jerk=None, torque=None, dt=0.001, dof=None):
+    """A motion in radians for a chain of revolute joints j1..jN (limits +-pi)."""
+    dof = dof or len(waypoints[0])
+    if not (directory / "arm.urdf").exists():
+        write_robot(directory, dof)
+    lines = ['robot = "arm.urdf"', f'planner = "{planner}"', 'angle_unit = "rad"', f"dt = {dt}",
+             "[limits]", f"velocity = {velocity}", f"acceleration = {acceleration}"]
+    lines += [f"jerk = {jerk}"] if jerk is not None else []
+    lines += [f"torque = {torque}"] if torque is not None else []
+    for i, q in enumerate(waypoints):
+        lines += ["[[waypoint]]", f"q = {list(map(float, q))}"]
+        if dwells is not None:
+            lines.append(f"dwell = {dwells[i]}")
+    return load_motion(write_motion(directory, "\n".join(lines) + "\n"))
+
+
+def ruckig_move(start, target, v, a, j, velocity=None):
+    dof = len(start)
+    inp = ruckig.InputParameter(dof)
+    inp.current_position, inp.target_position = list(start), list(target)
+    if velocity is not None:
+        inp.current_velocity = list(velocity)
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = list(v), list(a), list(j)
+    traj = ruckig.Trajectory(dof)
+    assert ruckig.Ruckig(dof).calculate(inp, traj) == ruckig.Result.Working
+    return traj
+
+
+def check_grid(trajectory, motion):
+    n = math.ceil(trajectory.duration / motion.dt - 1e-9) + 1
+    np.testing.assert_array_equal(trajectory.t, np.arange(n) * motion.dt)
+    shape = (n, motion.robot.dof)
+    assert trajectory.q.shape == trajectory.qd.shape == trajectory.qdd.shape == shape
+    assert trajectory.joint_names == motion.robot.joint_names
+    for array in (trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd):
+        assert not array.flags.writeable
+
+
+def check_waypoints(trajectory, motion):
+    """The trajectory starts, ends (at rest) and passes within one sample of each waypoint."""
+    np.testing.assert_allclose(trajectory.q[0], motion.waypoints[0], atol=1e-12)
+    np.testing.assert_allclose(trajectory.q[-1], motion.waypoints[-1], atol=1e-12)
+    np.testing.assert_allclose(trajectory.qd[-1], 0.0, atol=1e-12)
+    step = np.abs(trajectory.qd).max(axis=0) * motion.dt + 1e-12
+    for point in motion.waypoints:
+        assert np.any(np.all(np.abs(trajectory.q - point) <= step, axis=1))
+
+
+# --- ruckig ----------------------------------------------------------------------------------
+
+def test_ruckig_one_joint_by_hand(tmp_path):
+    # 1 rad with v = 1, a = 2, j = 10: jerk phases a/j = 0.2 s, constant acceleration
+    # v/a - a/j = 0.3 s, so T = D/v + v/a + a/j = 1.7 s.
+    motion = make_motion(tmp_path, "ruckig", [[0.0], [1.0]], dwells=[0.25, 0.5],
+                         velocity=1, acceleration=2, jerk=10)
+    trajectory = plan(motion)
+    assert trajectory.duration == pytest.approx(0.25 + 1.7 + 0.5, abs=1e-12)
+    assert trajectory.qd.max() == pytest.approx(1.0, abs=1e-12)
+    assert trajectory.qdd.max() == pytest.approx(2.0, abs=1e-12)
+    assert trajectory.qdd.min() == pytest.approx(-2.0, abs=1e-12)
+    held = trajectory.t <= 0.25
+    np.testing.assert_array_equal(trajectory.q[held], 0.0)
+    # full speed after 0.2 + 0.3 + 0.2 s, for 1.7 - 2 * 0.7 = 0.3 s
+    cruise = (trajectory.t > 0.25 + 0.701) & (trajectory.t < 0.25 + 0.999)
+    np.testing.assert_allclose(trajectory.qd[cruise], 1.0, atol=1e-12)
+    check_grid(trajectory, motion)
+
+
+@pytest.mark.parametrize("velocity", [None, [3.0, -2.0, 0.5]])
+def test_sample_profiles_equals_at_time(velocity):
+    # different distances per joint (one not moving); an initial velocity above the
+    # limit makes Ruckig add a brake pre-trajectory.
+    traj = ruckig_move([0.0, 0.5, -1.0], [1.3, -0.2, -1.0], [1.0, 1.5, 2.0], [2.0, 3.0, 4.0],
+                       [10.0, 20.0, 30.0], velocity)
+    if velocity is not None:
+        assert any(p.brake.duration > 0.0 for p in traj.profiles[0])
+    times = np.r_[np.linspace(0.0, traj.duration * 1.2, 2001), traj.duration]
+    for mine, reference in zip(_sample_profiles(traj, times), _sample_at_time(traj, times),
+                               strict=True):
+        np.testing.assert_allclose(mine, reference, rtol=0, atol=1e-9)
+
+
+def test_ruckig_plan_equals_at_time_on_the_grid(tmp_path):
+    points = [[0.0, 0.0, 0.0], [1.0, -0.4, 0.1], [1.0, -0.4, 0.1], [-0.5, 0.3, 0.1]]
+    dwells = [0.1, 0.0, 0.2, 0.05]
+    v, a, j = [1.0, 1.2, 1.4], [2.0, 3.0, 4.0], [20.0, 30.0, 40.0]
+    motion = make_motion(tmp_path, "ruckig", points, dwells=dwells, velocity=v,
+                         acceleration=a, jerk=j, dt=0.002)
+    trajectory = plan(motion)
+    reference = np.empty((3, *trajectory.q.shape))
+    clock, hold = dwells[0], [(0.0, dwells[0], points[0])]
+    for i in range(len(points) - 1):
+        traj = ruckig_move(points[i], points[i + 1], v, a, j)
+        inside = (trajectory.t >= clock) & (trajectory.t < clock + traj.duration)
+        for k, state in enumerate(_sample_at_time(traj, trajectory.t[inside] - clock)):
+            reference[k][inside] = state
+        clock += traj.duration
+        hold.append((clock, clock + dwells[i + 1], points[i + 1]))
+        clock += dwells[i + 1]
+    for begin, end, point in hold:
+        inside = (trajectory.t >= begin) & (trajectory.t <= end + 1e-12)
+        reference[:, inside] = 0.0
+        reference[0, inside] = point
+    reference[:, trajectory.t > clock] = 0.0
+    reference[0, trajectory.t > clock] = points[-1]
+    assert trajectory.duration == pytest.approx(clock, abs=1e-12)
+    for mine, expected in zip((trajectory.q, trajectory.qd, trajectory.qdd), reference,
+                              strict=True):
+        np.testing.assert_allclose(mine, expected, rtol=0, atol=1e-9)
+
+
+# --- limits and waypoints, both planners -----------------------------------------------------
+
+CASES = {
+    1: [[0.0], [1.2], [-0.5]],
+    2: [[0.0, 0.0], [1.0, -0.5], [0.2, 0.8]],
+    6: [[0.0, 0.5, -0.8, 0.0, 1.0, 0.0], [1.5, 0.0, -0.2, 0.4, -0.6, 1.0],
+        [1.5, 0.0, -0.2, 0.4, -0.6, 1.0], [-1.0, 0.9, 0.3, -0.4, 0.2, -1.2]],
+}
+
+
+@pytest.mark.parametrize("planner", ["ruckig", "toppra"])
+@pytest.mark.parametrize("dof", [1, 2, 6])
+def test_limits_and_waypoints(tmp_path, planner, dof):
+    points = CASES[dof]
+    v, a, j = np.linspace(1.0, 2.0, dof), np.linspace(3.0, 6.0, dof), np.linspace(30, 60, dof)
+    dwells = [0.0] * len(points)
+    dwells[1] = 0.3
+    motion = make_motion(tmp_path, planner, points, dwells=dwells, velocity=v.tolist(),
+                         acceleration=a.tolist(), jerk=j.tolist() if planner == "ruckig" else None)
+    trajectory = plan(motion)
+    check_grid(trajectory, motion)
+    check_waypoints(trajectory, motion)
+    tolerance = 1e-12 if planner == "ruckig" else TOPPRA_TOLERANCE
+    assert np.all(np.abs(trajectory.qd) <= v * (1 + tolerance))
+    assert np.all(np.abs(trajectory.qdd) <= a * (1 + tolerance))
+    if planner == "ruckig":
+        jerk = np.abs(np.diff(trajectory.qdd, axis=0)) / motion.dt
+        assert np.all(jerk <= j * (1 + 1e-6))
+    # the dwell: at rest on waypoint 1 for 0.3 s
+    at_rest = np.all(trajectory.qd == 0.0, axis=1) & np.all(trajectory.q == points[1], axis=1)
+    assert at_rest.sum() * motion.dt == pytest.approx(0.3, abs=1.5 * motion.dt)
+
+
+# --- toppra ----------------------------------------------------------------------------------
+
+def test_toppra_is_time_optimal_on_one_joint(tmp_path):
+    # 1 rad with v = 1, a = 2: trapezoid, T = D/v + v/a = 1.5 s.
+    motion = make_motion(tmp_path, "toppra", [[0.0], [1.0]], velocity=1, acceleration=2)
+    trajectory = plan(motion)
+    assert trajectory.duration == pytest.approx(1.5, rel=2e-3)
+    assert trajectory.qd.max() == pytest.approx(1.0, rel=2e-3)
+
+
+def test_toppra_torque_limits(tmp_path):
+    points = [[0.0, -math.pi / 2], [math.pi / 2, math.pi / 2]]
+    free = plan(make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50))
+    limit = 0.85
+    motion = make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50,
+                         torque=limit)
+    trajectory = plan(motion)
+    model = motion.robot.model
+    data = model.createData()
+    config = motion.robot.configuration(trajectory.q)
+    torque = np.array([pin.rnea(model, data, config[:, k], trajectory.qd[k], trajectory.qdd[k])
+                       for k in range(0, len(trajectory.t), 5)])
+    assert np.abs(torque).max() <= limit * (1 + TOPPRA_TORQUE_TOLERANCE)
+    assert np.abs(torque).max() > 0.95 * limit
+    assert trajectory.duration > free.duration * 1.05
+    with pytest.raises(PlanningError, match=r"motion.toml: toppra: the torque limits"):
+        plan(make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50, torque=0.5))
+
+
+def test_toppra_path_leaving_joint_limits(tmp_path):
+    motion = make_motion(tmp_path, "toppra", [[0.0, 0.0], [3.1, 0.0], [3.1, 3.0], [0.0, 3.0]],
+                         velocity=1, acceleration=2)
+    with pytest.raises(PlanningError, match="leaves the limits of joint 'j1'"):
+        plan(motion)
+
+
+def test_identical_waypoints_take_no_time(tmp_path):
+    for planner in ("ruckig", "toppra"):
+        motion = make_motion(tmp_path, planner, [[0.3, 0.1], [0.3, 0.1]], dwells=[0.0, 0.1],
+                             velocity=1, acceleration=2, jerk=10 if planner == "ruckig" else None)
+        trajectory = plan(motion)
+        assert trajectory.duration == pytest.approx(0.1)
+        np.testing.assert_array_equal(trajectory.q, 0.0 * trajectory.q + [0.3, 0.1])
+
+
+def test_ruckig_failure_is_a_planning_error(tmp_path, monkeypatch):
+    class Broken:
+        def __init__(self, dof):
+            pass
+
+        def calculate(self, inp, traj):
+            raise ruckig.RuckigError("\n[ruckig] error in step 1, dof: 0 input:\n...")
+
+    monkeypatch.setattr(ruckig, "Ruckig", Broken)
+    motion = make_motion(tmp_path, "ruckig", [[0.0], [1.0]], velocity=1, acceleration=2, jerk=10)
+    with pytest.raises(PlanningError, match=r"waypoint\[0\] to waypoint\[1\]") as info:
+        plan(motion)
+    assert "error in step 1, dof: 0 input:" in str(info.value)
+    assert isinstance(info.value.__cause__, ruckig.RuckigError)
+
+
+# --- samples ---------------------------------------------------------------------------------
+
+def cubic(t):
+    return (0.2 + 0.5 * t - 0.8 * t**2 + 0.3 * t**3,
+            0.5 - 1.6 * t + 0.9 * t**2,
+            -1.6 + 1.8 * t)
+
+
+def write_log(tmp_path, t, *, dt, velocities=False):
+    write_chain(tmp_path, [("turn", "revolute", -3, 3), ("slide", "prismatic", -1, 1)])
+    q, qd, _ = cubic(t - t[0])
+    header = "t,q_turn,q_slide" + (",qd_turn,qd_slide" if velocities else "")
+    rows = np.c_[t, np.degrees(q), q, np.degrees(qd), qd] if velocities else \
+        np.c_[t, np.degrees(q), q]
+    (tmp_path / "log.csv").write_text(header + "\n" + "\n".join(
+        ",".join(repr(float(x)) for x in row) for row in rows) + "\n")
+    return load_motion(write_motion(tmp_path, f"""\
+        robot = "arm.urdf"
+        planner = "samples"
+        angle_unit = "deg"
+        dt = {dt}
+        [samples]
+        file = "log.csv"
+    """))
+
+
+def test_samples_resampled_with_derived_velocities(tmp_path):
+    rng = np.random.default_rng(1)
+    t = 3.0 + np.r_[0.0, np.sort(rng.uniform(0.0, 2.0, 60)), 2.0]
+    motion = write_log(tmp_path, t, dt=0.01)
+    trajectory = plan(motion)
+    check_grid(trajectory, motion)
+    assert trajectory.duration == pytest.approx(2.0)
+    inside = trajectory.t <= 2.0
+    q, qd, qdd = cubic(trajectory.t[inside])  # the log's time starts at 3 s, shifted to 0
+    for column in range(2):
+        np.testing.assert_allclose(trajectory.q[inside, column], q, atol=1e-9)
+        np.testing.assert_allclose(trajectory.qd[inside, column], qd, atol=1e-8)
+        np.testing.assert_allclose(trajectory.qdd[inside, column], qdd, atol=1e-7)
+    np.testing.assert_array_equal(trajectory.qd[~inside], 0.0)
+
+
+def test_samples_uniform_log_used_as_is(tmp_path):
+    t = np.arange(101) * 0.004
+    motion = write_log(tmp_path, t, dt=0.004, velocities=True)
+    trajectory = plan(motion)
+    np.testing.assert_array_equal(trajectory.q, motion.samples.q)
+    np.testing.assert_array_equal(trajectory.qd, motion.samples.qd)
+    _, qd, qdd = cubic(t)
+    np.testing.assert_allclose(trajectory.qd[:, 1], qd, atol=1e-12)
+    np.testing.assert_allclose(trajectory.qdd[:, 1], qdd, atol=1e-8)
