@@ -9,7 +9,7 @@ import sys
 from collections.abc import Sequence
 
 from hdselect import __version__
-from hdselect.errors import HdselectError
+from hdselect.errors import HdselectError, InputError
 
 logger = logging.getLogger("hdselect")
 
@@ -55,9 +55,30 @@ def _parser() -> argparse.ArgumentParser:
     duty = commands.add_parser("duty", help="size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     _catalog_option(duty)
-    duty.add_argument("--json", metavar="FILE", help="also write JSON to FILE ('-': stdout "
-                      "instead of the table)")
+    _json_option(duty)
     duty.set_defaults(run=run_duty)
+
+    plan = commands.add_parser("plan", help="plan a motion and write its torques (CSV)")
+    _robot_motion(plan)
+    plan.add_argument("--out", metavar="FILE", required=True,
+                      help="CSV: t, then q_, qd_, qdd_, tau_ per sized joint (SI)")
+    plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
+    plan.set_defaults(run=run_plan)
+
+    size = commands.add_parser("size", help="choose a gearhead for every joint of a robot")
+    _robot_motion(size)
+    _sizing_options(size)
+    _json_option(size)
+    size.add_argument("--report", metavar="DIR",
+                      help="write an HTML report with figures into DIR")
+    size.set_defaults(run=run_size)
+
+    compare = commands.add_parser("compare", help="every unit against every joint, side by side")
+    _robot_motion(compare)
+    _sizing_options(compare)
+    compare.add_argument("--joint", action="append", metavar="NAME",
+                         help="show only this joint (repeatable)")
+    compare.set_defaults(run=run_compare)
     return parser
 
 
@@ -66,10 +87,54 @@ def _catalog_option(parser: argparse.ArgumentParser) -> None:
                         help="add the units of a catalog file (TOML; repeatable)")
 
 
+def _json_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--json", metavar="FILE",
+                        help="also write JSON to FILE ('-': to stdout, instead of the table)")
+
+
+def _robot_motion(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("files", nargs="+", metavar="[ROBOT] MOTION",
+                        help="robot file (URDF/MJCF; default: the motion file's `robot`) and "
+                             "motion file (TOML)")
+    parser.add_argument("--payload", type=float, metavar="KG",
+                        help="payload mass, overriding the motion file's [kg]")
+    parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                        default=(0.0, 0.0, 0.0), help="payload centre of mass in its frame [m]")
+    parser.add_argument("--payload-frame", metavar="LINK",
+                        help="link carrying the payload (default: the last link)")
+    parser.add_argument("--mounting", metavar="floor|wall|ceiling",
+                        help="mounting, overriding the motion file's")
+
+
+def _sizing_options(parser: argparse.ArgumentParser) -> None:
+    from hdselect.reflect import DEFAULT_EFFICIENCY
+    from hdselect.select import PREFERENCES
+    from hdselect.sizing import DEFAULT_STOP_TIME
+
+    _catalog_option(parser)
+    parser.add_argument("--stop-time", type=float, metavar="S",
+                        help="emergency-stop and crash time [s] (default: the motion file's "
+                             f"[safety] stop_time, else {DEFAULT_STOP_TIME:g})")
+    parser.add_argument("--efficiency", type=float, default=DEFAULT_EFFICIENCY,
+                        help=f"gear efficiency where a unit has no table (default "
+                             f"{DEFAULT_EFFICIENCY:g})")
+    parser.add_argument("--motor-inertia", type=float, default=0.0, metavar="KG_M2",
+                        help="motor rotor inertia [kg m^2] (default 0)")
+    parser.add_argument("--motor-mass", type=float, default=0.0, metavar="KG",
+                        help="motor mass carried with each gearhead [kg] (default 0)")
+    parser.add_argument("--no-mass-coupling", action="store_true",
+                        help="do not carry chosen units' masses on the joints nearer the base")
+    parser.add_argument("--prefer", choices=tuple(PREFERENCES), default="size",
+                        help="; ".join(f"{k}: {v[0]}" for k, v in PREFERENCES.items()))
+    parser.add_argument("--life-hours", type=float, metavar="H",
+                        help="required L50 life [h] (default: the motion file's requirement)")
+
+
 def run_catalog(args: argparse.Namespace) -> int:
     """``hdselect catalog``: print the catalog."""
     from hdselect.catalog import load_catalog
-    from hdselect.report import catalog_json, catalog_table, console, write_json
+    from hdselect.export import catalog_json, write_json
+    from hdselect.report import catalog_table, console
 
     units = load_catalog(args.catalog)
     if args.json:
@@ -83,7 +148,8 @@ def run_duty(args: argparse.Namespace) -> int:
     """``hdselect duty``: the catalog's torque-speed method for one joint."""
     from hdselect.catalog import load_catalog
     from hdselect.duty import load_duty, size_duty
-    from hdselect.report import console, duty_json, duty_table, write_json
+    from hdselect.export import duty_json, write_json
+    from hdselect.report import console, duty_table
 
     units = load_catalog(args.catalog)
     result = size_duty(load_duty(args.profile), units)
@@ -92,6 +158,85 @@ def run_duty(args: argparse.Namespace) -> int:
     if args.json != "-":
         console().print(duty_table(result))
     return 0 if result.selected is not None else 1
+
+
+def run_plan(args: argparse.Namespace) -> int:
+    """``hdselect plan``: the trajectory and the torques along it, as CSV (and a plot)."""
+    from hdselect.dynamics import joint_torques
+    from hdselect.export import write_trajectory_csv
+    from hdselect.plan import plan
+
+    motion = _load_motion(args)
+    trajectory = plan(motion)
+    torques = joint_torques(motion.robot, trajectory)
+    joints = motion.robot.sized_joints
+    if args.plot:
+        from hdselect.figures import write_profiles_png
+
+        write_profiles_png(args.plot, trajectory, torques.tau, joints,
+                           title=f"{motion.robot.path.name} running {motion.path.name}")
+    write_trajectory_csv(args.out, trajectory, torques.tau, joints)
+    logger.info("wrote %d samples to %s", len(trajectory.t), args.out)
+    return 0
+
+
+def run_size(args: argparse.Namespace) -> int:
+    """``hdselect size``: a gearhead for every joint."""
+    from hdselect.export import size_json, write_json
+    from hdselect.report import console, size_table
+
+    result = _size(args)
+    if args.report:
+        from hdselect.figures import write_report
+
+        write_report(args.report, result)
+    if args.json:
+        write_json(args.json, size_json(result))
+    if args.json != "-":
+        console().print(size_table(result))
+    return 0 if result.feasible else 1
+
+
+def run_compare(args: argparse.Namespace) -> int:
+    """``hdselect compare``: every unit against every joint."""
+    from hdselect.report import compare_table, console
+
+    result = _size(args)
+    names = [joint.name for joint in result.joints]
+    for name in args.joint or []:
+        if name not in names:
+            raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",
+                             field="--joint")
+    out = console()
+    for joint in result.joints:
+        if not args.joint or joint.name in args.joint:
+            out.print(compare_table(result, joint))
+    return 0 if result.feasible else 1
+
+
+def _load_motion(args: argparse.Namespace):
+    from hdselect.motion import load_motion
+    from hdselect.robot import Payload
+
+    if len(args.files) > 2:
+        raise InputError("expected [ROBOT] MOTION, got more than two files", field="files")
+    robot = args.files[0] if len(args.files) == 2 else None
+    payload = None
+    if args.payload is not None:
+        if not args.payload > 0.0:
+            raise InputError(f"must be a positive mass, got {args.payload:g}", field="--payload")
+        payload = Payload(args.payload, tuple(args.payload_com), frame=args.payload_frame)
+    return load_motion(args.files[-1], robot, payload=payload, mounting=args.mounting)
+
+
+def _size(args: argparse.Namespace):
+    from hdselect.sizing import size
+
+    motion = _load_motion(args)
+    return size(motion.robot, motion, catalog=args.catalog, stop_time=args.stop_time,
+                efficiency=args.efficiency, rotor_inertia=args.motor_inertia,
+                motor_mass=args.motor_mass, mass_coupling=not args.no_mass_coupling,
+                prefer=args.prefer, life_hours=args.life_hours)
 
 
 if __name__ == "__main__":

@@ -1,27 +1,23 @@
-"""Turn results into terminal tables and JSON; no physics here."""
+"""Terminal tables of catalogs and results; they format, they do not compute."""
 
 from __future__ import annotations
 
-import json
-import math
-import os
 import sys
-import tempfile
-from collections.abc import Callable, Iterable
-from pathlib import Path
-from typing import Any
+from collections.abc import Iterable
 
+from rich import box
 from rich.console import Console
 from rich.table import Table
 
 from hdselect.catalog import KG_M2_PER_KG_CM2, KG_M2_PER_LB_IN2, KG_PER_LB, NM_PER_LB_IN, Unit
 from hdselect.duty import DutyResult
-from hdselect.errors import InputError
-from hdselect.rules import Candidate, Check
+from hdselect.export import MEAN_SPEED_NOTE, assumptions
+from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
+from hdselect.sizing import JointSizing, SizingResult
 
-RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
-MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the catalog page's "
-                   "t1..t3); dwells do not dilute it, which is the conservative reading")
+RULES = ("peak", "mean", "speed", "momentary", "static")
+SHORT = {"peak": "peak", "mean": "mean", "speed": "speed", "momentary": "mom.",
+         "static": "static"}
 
 
 def console() -> Console:
@@ -29,45 +25,16 @@ def console() -> Console:
     return Console(width=None if sys.stdout.isatty() else 100, highlight=False)
 
 
-def write_output(target: str | Path, write: Callable[[Any], None]) -> None:
-    """Write a file atomically (temporary file, then rename); ``-`` is standard output.
-
-    Raises:
-        InputError: The file cannot be written.
-    """
-    if str(target) == "-":
-        write(sys.stdout)
-        return
-    target = Path(target)
-    try:
-        fd, tmp = tempfile.mkstemp(dir=target.parent or Path("."), prefix=f".{target.name}.")
-    except OSError as err:
-        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as stream:
-            write(stream)
-        os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
-def write_json(target: str | Path, document: dict[str, Any]) -> None:
-    """Write a JSON document to a file or ``-`` (standard output)."""
-    write_output(target, lambda stream: (json.dump(document, stream, indent=2),
-                                         stream.write("\n")))
-
-
 def percent(utilization: float) -> str:
     """A utilization as a whole percentage."""
     return f"{utilization * 100:.0f}%"
 
 
-def life_text(hours: float | None) -> str:
-    """An L50 life for a table."""
+def life_text(hours: float | None, suffix: str = " h") -> str:
+    """An L50 life for a table; beyond a million hours the digits stop mattering."""
     if hours is None:
         return "unlimited"
-    return f"{hours:,.0f} h" if hours < 1e6 else f"{hours:.2g} h"
+    return f"{hours:,.0f}{suffix}" if hours < 1e6 else f"> 1e6{suffix}"
 
 
 def verdict(candidate: Candidate) -> str:
@@ -75,75 +42,7 @@ def verdict(candidate: Candidate) -> str:
     if candidate.feasible:
         return "ok"
     worst = candidate.binding
-    return f"{worst} +{percent(candidate.checks[worst].utilization - 1)}"
-
-
-def flag_marks(candidate: Candidate) -> str:
-    """Short marks for a table cell: the catalog fields whose values are stand-ins."""
-    return " ".join(sorted({flag.code for flag in candidate.flags}))
-
-
-# ----------------------------------------------------------------------------- JSON
-
-
-def check_json(check: Check) -> dict[str, Any]:
-    """One check as JSON: value, limit, ok, utilization and any detail."""
-    document: dict[str, Any] = {"value": _finite(check.value), "limit": check.limit,
-                                "ok": check.ok, "utilization": _finite(check.utilization)}
-    document.update({key: _finite(value) for key, value in check.detail.items()})
-    return document
-
-
-def candidate_json(candidate: Candidate) -> dict[str, Any]:
-    """One candidate as JSON, the shape shared by ``duty`` and ``size``."""
-    unit = candidate.unit
-    return {
-        "unit": unit.id,
-        "size": unit.size,
-        "ratio": unit.ratio,
-        "feasible": candidate.feasible,
-        "life_hours": _finite(candidate.life_hours),
-        "flags": sorted({flag.code for flag in candidate.flags}),
-        "notes": [flag.note for flag in candidate.flags],
-        "binding": candidate.binding,
-        "checks": {name: check_json(check) for name, check in candidate.checks.items()},
-    }
-
-
-def duty_json(result: DutyResult) -> dict[str, Any]:
-    """A duty-cycle result as JSON."""
-    load = result.load
-    return {
-        "profile": str(result.cycle.path),
-        "mean_torque_nm": _finite(load.mean_torque),
-        "mean_output_speed_rpm": load.mean_speed * RPM_PER_RAD_S,
-        "peak_torque_nm": load.peak_torque,
-        "mean_speed_rule": MEAN_SPEED_NOTE,
-        "selected": result.selected.unit.id if result.selected else None,
-        "candidates": [candidate_json(c) for c in result.candidates],
-    }
-
-
-def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
-    """The catalog as JSON, in SI, with flags."""
-    return {"units": [{
-        "unit": u.id, "series": u.series, "size": u.size, "ratio": u.ratio,
-        "rated_torque_nm": u.rated_torque, "repeated_torque_nm": u.repeated_torque,
-        "momentary_torque_nm": u.momentary_torque, "static_torque_nm": u.static_torque,
-        "max_input_speed_rpm": u.max_input_speed, "input_inertia_kg_m2": u.input_inertia,
-        "mass_kg": u.mass, "efficiency_table": u.efficiency is not None,
-        "flags": [{"field": f.field, "kind": f.kind, "note": f.note} for f in u.flags],
-        "source": str(u.source),
-    } for u in units]}
-
-
-def _finite(value: Any) -> Any:
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
-# ----------------------------------------------------------------------------- tables
+    return f"{SHORT.get(worst, worst)} +{percent(candidate.checks[worst].utilization - 1)}"
 
 
 def catalog_table(units: Iterable[Unit], imperial: bool = False) -> Table:
@@ -196,8 +95,8 @@ def duty_table(result: DutyResult) -> Table:
     table = Table(
         title=(f"Duty cycle {result.cycle.path.name}: peak {load.peak_torque:.3g} N m, mean "
                f"torque {mean}, mean output speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm"),
-        title_justify="left")
-    columns = ["", "unit", "peak", "mean", "speed", "momentary", "static"]
+        title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
+    columns = ["", "unit", *RULES]
     columns += ["life"] if life_required else []
     columns += ["L50 life", "result"]
     for header in columns:
@@ -206,8 +105,7 @@ def duty_table(result: DutyResult) -> Table:
     for c in result.candidates:
         chosen = c is result.selected
         cells = ["▶" if chosen else "", c.unit.id]
-        cells += [_utilization_cell(c.checks[name])
-                  for name in ("peak", "mean", "speed", "momentary", "static")]
+        cells += [_utilization_cell(c.checks[name]) for name in RULES]
         cells += [_utilization_cell(c.checks["life"])] if life_required else []
         cells += [life_text(c.life_hours), verdict(c)]
         table.add_row(*cells, style="bold" if chosen else None)
@@ -221,3 +119,96 @@ def _utilization_cell(check: Check) -> str:
         return "-"
     text = percent(check.utilization)
     return text if check.ok else f"[red]{text}[/red]"
+
+
+def size_table(result: SizingResult) -> Table:
+    """One row per joint: the unit chosen, why, its life and what the motor must do."""
+    table = Table(title=_size_title(result), title_justify="left", box=box.SIMPLE_HEAD,
+                  pad_edge=False)
+    for header in ("joint", "unit", "binding", "L50 life", "motor\npeak N m",
+                   "motor\nrms N m", "motor\nmax rpm", "notes"):
+        table.add_column(header, no_wrap=header != "notes",
+                         justify="left" if header in ("joint", "unit", "binding", "notes")
+                         else "right")
+    for joint in result.joints:
+        chosen = joint.selected
+        notes = ["backdrive"] if joint.gravity_loaded else []
+        if chosen is None:
+            strongest = joint.strongest
+            table.add_row(joint.name, "[red]none[/red]", f"[red]{verdict(strongest)}[/red]",
+                          "", "", "", "", ", ".join(notes + ["see below"]))
+            continue
+        motor = chosen.motor
+        assert motor is not None
+        check = chosen.checks[chosen.binding]
+        mark = "*" if chosen.flags else ""
+        table.add_row(
+            joint.name, chosen.unit.id + mark, f"{chosen.binding} {percent(check.utilization)}",
+            life_text(chosen.life_hours), f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}",
+            f"{motor.max_speed:,.0f}", ", ".join(notes))
+    table.caption = "\n".join(_size_notes(result))
+    table.caption_justify = "left"
+    return table
+
+
+def compare_table(result: SizingResult, joint: JointSizing) -> Table:
+    """One row per unit for one joint: every rule's utilization, life and motor demand."""
+    life_required = result.options.life_hours is not None
+    load = joint.load
+    mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
+    table = Table(title=(f"Joint {joint.name}: peak {load.peak_torque:.3g} N m, mean torque "
+                         f"{mean}, mean output speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm, "
+                         f"carries {joint.carried_mass:.2f} kg of gearheads"),
+                  title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
+                  collapse_padding=True)
+    columns = ["unit", *SHORT.values(), *(["life"] if life_required else []), "L50 h",
+               "motor\npeak N m", "motor\nrms N m", "motor\nmax rpm", "result"]
+    for header in columns:
+        table.add_column(header, justify="left" if header in ("unit", "result") else "right",
+                         no_wrap=True)
+    for c in joint.candidates:
+        chosen = c is joint.selected
+        cells = [("▶" if chosen else " ") + c.unit.id]
+        cells += [_utilization_cell(c.checks[name]) for name in RULES]
+        cells += [_utilization_cell(c.checks["life"])] if life_required else []
+        motor = c.motor
+        assert motor is not None
+        cells += [life_text(c.life_hours, ""), f"{motor.peak_torque:.3g}",
+                  f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}", verdict(c)]
+        table.add_row(*cells, style="bold" if chosen else None)
+    table.caption = ("▶ selected. utilization = demand / limit; mom. = momentary (T4): the "
+                     "worse of an emergency stop and a crash.")
+    table.caption_justify = "left"
+    return table
+
+
+def _size_title(result: SizingResult) -> str:
+    motion = result.motion
+    return (f"{result.robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
+            f"{result.cycle_time:.3f} s, {len(result.trajectory.t):,} samples")
+
+
+def _size_notes(result: SizingResult) -> list[str]:
+    notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
+    for joint in result.joints:
+        if joint.selected is None:
+            strongest = joint.strongest
+            check = strongest.checks[strongest.binding]
+            line = (f"{joint.name}: no unit fits; the strongest, {strongest.unit.id}, fails "
+                    f"{strongest.binding} at {percent(check.utilization)} of its limit. ")
+            slowdown = joint.slowdown
+            if slowdown is None or slowdown.factor is None:
+                line += "Gravity alone is too much: no slow-down helps."
+            else:
+                line += (f"Run {slowdown.factor:.3f}x slower (cycle {slowdown.cycle_time:.3f} s) "
+                         f"and {slowdown.unit} fits.")
+            notes.append(line)
+    flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
+               for c in [joint.selected] if c is not None for flag in c.flags}
+    notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
+    loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
+    if loaded:
+        notes.append(f"backdrive: {', '.join(loaded)} carry gravity. Harmonic Drive gearing "
+                     "backdrives when the input is free: where a falling load could injure, a "
+                     "fail-safe device on the output is needed.")
+    return notes

@@ -8,10 +8,14 @@ simply a sample whose duration is the phase time.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from hdselect.catalog import RATED_INPUT_SPEED_RPM, RATED_LIFE_HOURS, Flag, Unit
+
+if TYPE_CHECKING:
+    from hdselect.reflect import MotorDemand
 
 RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
 """Revolutions per minute in one radian per second."""
@@ -100,7 +104,7 @@ class Candidate:
     checks: dict[str, Check]
     life_hours: float | None
     flags: tuple[Flag, ...]
-    motor: object | None = None
+    motor: MotorDemand | None = None
 
     @property
     def feasible(self) -> bool:
@@ -198,7 +202,7 @@ def check_unit(
     *,
     momentary: Momentary | None = None,
     life_hours: float | None = None,
-    motor: object | None = None,
+    motor: MotorDemand | None = None,
 ) -> Candidate:
     """Apply every rule of the catalog to one gearhead.
 

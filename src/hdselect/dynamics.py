@@ -1,0 +1,85 @@
+"""Joint torques along a trajectory: batched inverse dynamics with Pinocchio."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pinocchio as pin
+
+from hdselect.robot import Robot
+
+if TYPE_CHECKING:
+    from hdselect.plan import Trajectory
+
+_POOLS: dict[int, tuple[pin.Model, pin.ModelPool]] = {}
+
+
+@dataclass(frozen=True, eq=False)
+class JointTorques:
+    """Torques every joint must carry along a trajectory.
+
+    Attributes:
+        tau: Joint torque (force for prismatic joints) [N m or N], shape (n, dof).
+        gravity: The gravity-only part, tau at the same positions at rest
+            [N m or N], shape (n, dof).
+    """
+
+    tau: np.ndarray
+    gravity: np.ndarray
+
+
+def joint_torques(robot: Robot, trajectory: Trajectory) -> JointTorques:
+    """Inverse dynamics along a trajectory, and its gravity-only part.
+
+    Args:
+        robot: The robot (payload and gravity included).
+        trajectory: Sampled positions, velocities and accelerations.
+
+    Returns:
+        Torques for every sample.
+    """
+    tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+    still = np.zeros_like(trajectory.qd)
+    gravity = inverse_dynamics(robot, trajectory.q, still, still)
+    return JointTorques(_frozen(tau), _frozen(gravity))
+
+
+def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """Batched recursive Newton-Euler: one Pinocchio call over all samples, on every core.
+
+    Args:
+        robot: The robot.
+        q: Joint positions [rad or m], shape (n, dof).
+        qd: Joint velocities [rad/s or m/s], shape (n, dof).
+        qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof).
+
+    Returns:
+        Joint torques [N m or N], shape (n, dof).
+    """
+    n = q.shape[0]
+    config = robot.configuration(q)
+    velocity = np.asfortranarray(qd.T)
+    acceleration = np.asfortranarray(qdd.T)
+    tau = np.empty((robot.model.nv, n), order="F")
+    threads = min(os.cpu_count() or 1, max(1, n // 256))
+    pin.rneaInParallel(threads, _pool(robot.model, threads), config, velocity, acceleration, tau)
+    return tau.T
+
+
+def _pool(model: pin.Model, threads: int) -> pin.ModelPool:
+    """A model pool for `model`, made once per model and thread count."""
+    key = id(model)
+    cached = _POOLS.get(key)
+    if cached is None or cached[0] is not model or cached[1].size() < threads:
+        cached = (model, pin.ModelPool(model, max(threads, os.cpu_count() or 1)))
+        _POOLS[key] = cached
+    return cached[1]
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array = np.ascontiguousarray(array)
+    array.setflags(write=False)
+    return array

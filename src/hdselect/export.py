@@ -1,0 +1,197 @@
+"""Write results as JSON and CSV, atomically: a file is complete or absent."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import tempfile
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hdselect.catalog import Unit
+from hdselect.duty import DutyResult
+from hdselect.errors import InputError
+from hdselect.plan import Trajectory
+from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
+from hdselect.sizing import SizingResult
+
+MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the catalog page's "
+                   "t1..t3); dwells do not dilute it, which is the conservative reading")
+
+
+def write_output(target: str | Path, write: Callable[[Any], None]) -> None:
+    """Write a file atomically (temporary file, then rename); ``-`` is standard output.
+
+    Raises:
+        InputError: The file cannot be written.
+    """
+    if str(target) == "-":
+        write(sys.stdout)
+        return
+    target = Path(target)
+    try:
+        fd, tmp = tempfile.mkstemp(dir=target.parent or Path("."), prefix=f".{target.name}.")
+    except OSError as err:
+        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as stream:
+            write(stream)
+        os.replace(tmp, target)
+    except OSError as err:
+        Path(tmp).unlink(missing_ok=True)
+        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_json(target: str | Path, document: dict[str, Any]) -> None:
+    """Write a JSON document to a file or ``-`` (standard output)."""
+    def write(stream: Any) -> None:
+        json.dump(document, stream, indent=2)
+        stream.write("\n")
+
+    write_output(target, write)
+
+
+def check_json(check: Check) -> dict[str, Any]:
+    """One check as JSON: value, limit, ok, utilization and any detail."""
+    document: dict[str, Any] = {"value": _finite(check.value), "limit": check.limit,
+                                "ok": check.ok, "utilization": _finite(check.utilization)}
+    document.update({key: _finite(value) for key, value in check.detail.items()})
+    return document
+
+
+def candidate_json(candidate: Candidate) -> dict[str, Any]:
+    """One candidate as JSON, the shape shared by ``duty`` and ``size`` (which adds ``motor``)."""
+    unit = candidate.unit
+    document = {
+        "unit": unit.id,
+        "size": unit.size,
+        "ratio": unit.ratio,
+        "feasible": candidate.feasible,
+        "life_hours": _finite(candidate.life_hours),
+        "flags": sorted({flag.code for flag in candidate.flags}),
+        "notes": [flag.note for flag in candidate.flags],
+        "binding": candidate.binding,
+        "checks": {name: check_json(check) for name, check in candidate.checks.items()},
+    }
+    motor = candidate.motor
+    if motor is not None:
+        document["motor"] = {"peak_torque_nm": motor.peak_torque,
+                             "rms_torque_nm": motor.rms_torque,
+                             "max_speed_rpm": motor.max_speed,
+                             "efficiency": motor.efficiency}
+    return document
+
+
+def duty_json(result: DutyResult) -> dict[str, Any]:
+    """A duty-cycle result as JSON."""
+    load = result.load
+    return {
+        "profile": str(result.cycle.path),
+        "mean_torque_nm": _finite(load.mean_torque),
+        "mean_output_speed_rpm": load.mean_speed * RPM_PER_RAD_S,
+        "peak_torque_nm": load.peak_torque,
+        "mean_speed_rule": MEAN_SPEED_NOTE,
+        "selected": result.selected.unit.id if result.selected else None,
+        "candidates": [candidate_json(c) for c in result.candidates],
+    }
+
+
+def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
+    """The catalog as JSON, in SI, with flags."""
+    return {"units": [{
+        "unit": u.id, "series": u.series, "size": u.size, "ratio": u.ratio,
+        "rated_torque_nm": u.rated_torque, "repeated_torque_nm": u.repeated_torque,
+        "momentary_torque_nm": u.momentary_torque, "static_torque_nm": u.static_torque,
+        "max_input_speed_rpm": u.max_input_speed, "input_inertia_kg_m2": u.input_inertia,
+        "mass_kg": u.mass, "efficiency_table": u.efficiency is not None,
+        "flags": [{"field": f.field, "kind": f.kind, "note": f.note} for f in u.flags],
+        "source": str(u.source),
+    } for u in units]}
+
+
+def assumptions(result: SizingResult) -> dict[str, str]:
+    """The assumptions of a sizing run, as text for reports."""
+    options = result.options
+    return {
+        "efficiency": f"{options.efficiency:.2f} (where a unit has no table)",
+        "stop time": f"{options.stop_time:g} s (emergency stop and crash)",
+        "motor rotor inertia": f"{options.rotor_inertia:g} kg m^2",
+        "motor mass": f"{options.motor_mass:g} kg",
+        "mass coupling": ("on: each chosen unit's mass is carried by the joints nearer the base"
+                          if options.mass_coupling else "off"),
+        "selection": options.prefer,
+        "required life": ("none" if options.life_hours is None
+                          else f"{options.life_hours:g} h"),
+        "mean speed": MEAN_SPEED_NOTE.removeprefix("mean speed "),
+    }
+
+
+def size_json(result: SizingResult) -> dict[str, Any]:
+    """A sizing result as JSON; each candidate has the ``duty`` shape plus ``motor``."""
+    options = result.options
+    joints = []
+    for joint in result.joints:
+        slowdown = joint.slowdown
+        joints.append({
+            "name": joint.name,
+            "selected": joint.selected.unit.id if joint.selected else None,
+            "binding": joint.selected.binding if joint.selected else None,
+            "carried_mass_kg": joint.carried_mass,
+            "gravity_loaded": joint.gravity_loaded,
+            "max_gravity_torque_nm": joint.max_gravity_torque,
+            "peak_torque_nm": joint.load.peak_torque,
+            "mean_torque_nm": joint.load.mean_torque,
+            "mean_output_speed_rpm": joint.load.mean_speed * RPM_PER_RAD_S,
+            "slowdown": None if slowdown is None else {
+                "factor": slowdown.factor, "unit": slowdown.unit,
+                "cycle_time_s": slowdown.cycle_time},
+            "candidates": [candidate_json(c) for c in joint.candidates],
+        })
+    return {
+        "robot": str(result.robot.path),
+        "motion": str(result.motion.path),
+        "cycle_time_s": result.cycle_time,
+        "samples": len(result.trajectory.t),
+        "feasible": result.feasible,
+        "assumptions": {
+            "efficiency": options.efficiency, "stop_time_s": options.stop_time,
+            "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,
+            "mass_coupling": options.mass_coupling, "prefer": options.prefer,
+            "life_hours": options.life_hours, "mean_speed_rule": MEAN_SPEED_NOTE},
+        "joints": joints,
+    }
+
+
+def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
+                         joints: Iterable[str]) -> None:
+    """One row per sample: t, then q_, qd_, qdd_, tau_ of every listed joint (SI)."""
+    names = list(trajectory.joint_names)
+    columns = [names.index(name) for name in joints]
+    header = ["t"] + [f"{kind}_{names[j]}" for j in columns
+                      for kind in ("q", "qd", "qdd", "tau")]
+
+    data = np.column_stack([trajectory.t] + [
+        array[:, j] for j in columns
+        for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)])
+
+    def write(stream: Any) -> None:
+        np.savetxt(stream, data, fmt="%.10g", delimiter=",", header=",".join(header),
+                   comments="")
+
+    write_output(target, write)
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+

@@ -1,0 +1,369 @@
+"""Size every joint of a robot from its motion: the product's main job.
+
+Plan the motion, compute the torques along it and along an emergency stop
+from every instant, then choose a gearhead per joint from the tip to the base,
+each chosen unit's mass (and motor mass) carried by the joints nearer the base.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+import numpy as np
+
+from hdselect.catalog import Unit, load_catalog
+from hdselect.coupling import unit_mass_torques
+from hdselect.dynamics import inverse_dynamics
+from hdselect.errors import InputError
+from hdselect.motion import Motion, load_motion
+from hdselect.plan import Trajectory, plan
+from hdselect.reflect import DEFAULT_EFFICIENCY, motor_demand, worst_momentary
+from hdselect.robot import Payload, Robot
+from hdselect.rules import Candidate, CycleLoad, check_unit, cycle_load
+from hdselect.select import select
+
+logger = logging.getLogger(__name__)
+
+DEFAULT_STOP_TIME = 0.1
+"""Time in which an emergency stop or a crash brings the arm to rest [s]."""
+REST_FRACTION = 1e-3
+"""A joint is at rest (input held) where both its speed and its acceleration are below
+this fraction of their largest values in the cycle [-]."""
+GRAVITY_LOADED = 1e-3
+"""Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
+_GRAVITY_SAMPLES = 400
+"""Poses at which the gravity torque is evaluated for the backdriving warning."""
+
+
+@dataclass(frozen=True)
+class Options:
+    """Assumptions of a sizing run, stated in every report.
+
+    Attributes:
+        stop_time: Emergency-stop and crash time [s].
+        efficiency: Gear efficiency where a unit has no table [-].
+        rotor_inertia: Motor rotor inertia J_m [kg m^2].
+        motor_mass: Motor mass carried with each gearhead [kg].
+        mass_coupling: Whether chosen units' masses load the joints nearer the base.
+        prefer: Selection order (see `hdselect.select.PREFERENCES`).
+        life_hours: Required L50 life [h], if any.
+    """
+
+    stop_time: float = DEFAULT_STOP_TIME
+    efficiency: float = DEFAULT_EFFICIENCY
+    rotor_inertia: float = 0.0
+    motor_mass: float = 0.0
+    mass_coupling: bool = True
+    prefer: str = "size"
+    life_hours: float | None = None
+
+
+@dataclass(frozen=True)
+class Slowdown:
+    """The smallest uniform slow-down of the motion that lets a joint pass.
+
+    Attributes:
+        factor: Time scale s >= 1 (the motion run s times slower), or None when
+            no slow-down helps (gravity alone is too much).
+        unit: The unit that passes at that factor.
+        cycle_time: The slowed cycle time [s].
+    """
+
+    factor: float | None
+    unit: str | None
+    cycle_time: float | None
+
+
+@dataclass(frozen=True, eq=False)
+class JointSizing:
+    """One joint: every unit checked, the selection and why.
+
+    Attributes:
+        name: Joint name.
+        load: Output-side summary of the cycle (with carried masses).
+        candidates: One per catalog unit.
+        selected: The chosen unit, or None when none fits.
+        carried_mass: Gearhead and motor mass this joint carries from joints
+            further out [kg].
+        gravity_loaded: Gravity loads this joint somewhere in the cycle: a
+            fail-safe device is needed where a falling load could injure.
+        max_gravity_torque: Largest gravity torque over the cycle's poses [N m].
+        torque: Output torque along the cycle [N m], shape (n,).
+        stop_torque: Output torque of an emergency stop from each instant [N m], (n,).
+        slowdown: For a joint with no feasible unit, the slow-down that would fit.
+    """
+
+    name: str
+    load: CycleLoad
+    candidates: tuple[Candidate, ...]
+    selected: Candidate | None
+    carried_mass: float
+    gravity_loaded: bool
+    max_gravity_torque: float
+    torque: np.ndarray
+    stop_torque: np.ndarray
+    slowdown: Slowdown | None = None
+
+    @property
+    def strongest(self) -> Candidate:
+        """The candidate with the highest repeated-peak limit."""
+        return max(self.candidates, key=lambda c: (c.unit.repeated_torque,
+                                                   c.unit.momentary_torque, c.unit.rated_torque))
+
+
+@dataclass(frozen=True, eq=False)
+class SizingResult:
+    """Everything `hdselect size` prints, as values.
+
+    Attributes:
+        robot: The robot.
+        motion: The motion.
+        trajectory: The planned trajectory.
+        joints: One result per sized joint, in the robot's joint order.
+        options: The assumptions used.
+        units: The catalog.
+    """
+
+    robot: Robot
+    motion: Motion
+    trajectory: Trajectory
+    joints: tuple[JointSizing, ...]
+    options: Options
+    units: tuple[Unit, ...]
+
+    @property
+    def feasible(self) -> bool:
+        """Every joint has a unit."""
+        return all(joint.selected is not None for joint in self.joints)
+
+    @property
+    def cycle_time(self) -> float:
+        """Cycle time [s]."""
+        return self.trajectory.duration
+
+
+def size(
+    robot: Robot | str | Path | None,
+    motion: Motion | str | Path,
+    *,
+    catalog: tuple[str | Path, ...] | list[str | Path] = (),
+    units: tuple[Unit, ...] | None = None,
+    stop_time: float | None = None,
+    efficiency: float = DEFAULT_EFFICIENCY,
+    rotor_inertia: float = 0.0,
+    motor_mass: float = 0.0,
+    mass_coupling: bool = True,
+    prefer: str = "size",
+    life_hours: float | None = None,
+    payload: Payload | None = None,
+    mounting: str | list[float] | None = None,
+    joints: list[str] | None = None,
+) -> SizingResult:
+    """Choose a gearhead for every joint of a robot from its motion.
+
+    Args:
+        robot: Robot file or loaded robot; None takes the motion file's ``robot``.
+        motion: Motion file or loaded motion.
+        catalog: Extra catalog files (the built-in PSA-G catalog is always loaded).
+        units: The catalog already loaded (overrides `catalog`).
+        stop_time: Emergency-stop and crash time [s]; default the motion file's
+            ``[safety] stop_time``, else `DEFAULT_STOP_TIME`.
+        efficiency: Gear efficiency where a unit has no table [-].
+        rotor_inertia: Motor rotor inertia J_m [kg m^2].
+        motor_mass: Motor mass carried with each gearhead [kg].
+        mass_coupling: Carry each chosen unit's mass on the joints nearer the base.
+        prefer: Selection order, a key of `hdselect.select.PREFERENCES`.
+        life_hours: Required L50 life [h]; default the motion file's requirement.
+        payload: Payload, overriding the motion file's.
+        mounting: Mounting, overriding the motion file's.
+        joints: Joints to size (default every revolute joint).
+
+    Returns:
+        The result for every sized joint.
+
+    Raises:
+        InputError: A file or option is invalid.
+        PlanningError: The motion cannot be planned.
+    """
+    if not isinstance(motion, Motion):
+        motion = load_motion(motion, robot, payload=payload, mounting=mounting, joints=joints)
+    options = Options(
+        stop_time=_positive(stop_time if stop_time is not None else
+                            motion.stop_time or DEFAULT_STOP_TIME, "--stop-time"),
+        efficiency=_fraction(efficiency),
+        rotor_inertia=_non_negative(rotor_inertia, "--motor-inertia"),
+        motor_mass=_non_negative(motor_mass, "--motor-mass"),
+        mass_coupling=mass_coupling,
+        prefer=prefer,
+        life_hours=life_hours if life_hours is not None else motion.life_hours,
+    )
+    if units is None:
+        units = load_catalog(catalog)
+    select((), options.prefer)  # validates the order before the work
+    trajectory = plan(motion)
+    return replace(_size_trajectory(motion.robot, trajectory, units, options), motion=motion)
+
+
+def _size_trajectory(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
+                     options: Options) -> SizingResult:
+    q, qd, qdd = traj.q, traj.qd, traj.qdd
+    stop_qdd = -qd / options.stop_time
+    tau = inverse_dynamics(robot, q, qd, qdd)
+    stop_tau = inverse_dynamics(robot, q, qd, stop_qdd)
+    sized = list(robot.sized_joints)
+    if options.mass_coupling:
+        per_kg, stop_per_kg = unit_mass_torques(robot, sized, q, qd, [qdd, stop_qdd])
+    gravity_at = np.unique(np.linspace(0, len(traj.t) - 1, _GRAVITY_SAMPLES).astype(int))
+    still = np.zeros((len(gravity_at), robot.dof))
+    gravity = inverse_dynamics(robot, q[gravity_at], still, still)
+    if options.mass_coupling:
+        (gravity_per_kg,) = unit_mass_torques(robot, sized, q[gravity_at], still, [still])
+    masses = np.zeros(len(sized))
+    results: dict[str, JointSizing] = {}
+    for row in reversed(range(len(sized))):
+        name = sized[row]
+        j = robot.joint_index(name)
+        joint_tau, joint_stop, joint_gravity = tau[:, j], stop_tau[:, j], gravity[:, j]
+        if options.mass_coupling:
+            joint_tau = joint_tau + masses @ per_kg[:, :, j]
+            joint_stop = joint_stop + masses @ stop_per_kg[:, :, j]
+            joint_gravity = joint_gravity + masses @ gravity_per_kg[:, :, j]
+        result = _size_joint(name, traj, qd[:, j], qdd[:, j], joint_tau, joint_stop, units,
+                             options)
+        max_gravity = float(np.abs(joint_gravity).max())
+        carried = _carried_mass(robot, sized, masses, name)
+        results[name] = replace(result, carried_mass=carried,
+                                gravity_loaded=max_gravity > GRAVITY_LOADED,
+                                max_gravity_torque=max_gravity)
+        chosen = result.selected or result.strongest
+        masses[row] = chosen.unit.mass + options.motor_mass
+    joints = tuple(results[name] for name in sized)
+    needs_slowdown = [joint for joint in joints if joint.selected is None]
+    if needs_slowdown:
+        joints = _with_slowdowns(robot, traj, joints, units, options, masses)
+    return SizingResult(robot, None, traj, joints, options, units)  # type: ignore[arg-type]
+
+
+def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray,
+                stop_tau: np.ndarray, units: tuple[Unit, ...], options: Options) -> JointSizing:
+    """Check every unit against one joint's torques and select one."""
+    load = cycle_load(tau, qd, traj.dt, _at_rest(qd, qdd))
+    candidates = []
+    for unit in units:
+        motor, _ = motor_demand(unit, tau, qd, qdd, efficiency=options.efficiency,
+                                rotor_inertia=options.rotor_inertia)
+        momentary = worst_momentary(unit, traj.t, tau, qd, stop_tau, options.stop_time,
+                                    rotor_inertia=options.rotor_inertia)
+        candidates.append(check_unit(load, unit, momentary=momentary,
+                                     life_hours=options.life_hours, motor=motor))
+    return JointSizing(name, load, tuple(candidates), select(candidates, options.prefer),
+                       0.0, False, 0.0, _frozen(tau), _frozen(stop_tau))
+
+
+def _at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """Samples where the joint is held still: speed and acceleration both negligible."""
+    speed, acceleration = np.abs(qd), np.abs(qdd)
+    return ((speed <= REST_FRACTION * speed.max())
+            & (acceleration <= REST_FRACTION * acceleration.max()))
+
+
+def _carried_mass(robot: Robot, sized: list[str], masses: np.ndarray, name: str) -> float:
+    """Mass of the units (and motors) mounted on links that joint `name` moves [kg]."""
+    model = robot.model
+    joint_id = model.getJointId(name)
+    total = 0.0
+    for other, mass in zip(sized, masses, strict=True):
+        ancestor = model.parents[model.getJointId(other)]
+        while ancestor > 0 and ancestor != joint_id:
+            ancestor = model.parents[ancestor]
+        if ancestor == joint_id:
+            total += float(mass)
+    return total
+
+
+def _with_slowdowns(robot: Robot, traj: Trajectory, joints: tuple[JointSizing, ...],
+                    units: tuple[Unit, ...], options: Options,
+                    masses: np.ndarray) -> tuple[JointSizing, ...]:
+    """Attach to each joint without a unit the smallest slow-down that would fit.
+
+    Run s times slower, speeds scale as 1/s and velocity- and acceleration-
+    dependent torques as 1/s^2 while gravity stays; an emergency stop's
+    dynamic torque is scaled as 1/s, its slower (deceleration) part, which
+    errs on the safe side for its Coriolis part.
+    """
+    still = np.zeros_like(traj.qd)
+    gravity = inverse_dynamics(robot, traj.q, still, still)
+    sized = list(robot.sized_joints)
+    if options.mass_coupling:
+        (per_kg,) = unit_mass_torques(robot, sized, traj.q, still, [still])
+    out = []
+    for joint in joints:
+        if joint.selected is not None:
+            out.append(joint)
+            continue
+        j = robot.joint_index(joint.name)
+        g = gravity[:, j] + (masses @ per_kg[:, :, j] if options.mass_coupling else 0.0)
+        best: tuple[float, str] | None = None
+        for unit in units:
+            factor = _slowdown_factor(unit, traj, traj.qd[:, j], traj.qdd[:, j], joint.torque,
+                                      joint.stop_torque, g, options)
+            if factor is not None and (best is None or factor < best[0]):
+                best = (factor, unit.id)
+        slowdown = (Slowdown(None, None, None) if best is None
+                    else Slowdown(best[0], best[1], best[0] * traj.duration))
+        out.append(replace(joint, slowdown=slowdown))
+    return tuple(out)
+
+
+def _slowdown_factor(unit: Unit, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray,
+                     tau: np.ndarray, stop_tau: np.ndarray, gravity: np.ndarray,
+                     options: Options) -> float | None:
+    """Smallest s >= 1 at which `unit` passes the slowed motion, to 0.1 %; None if none."""
+    at_rest = _at_rest(qd, qdd)
+
+    def passes(s: float) -> bool:
+        torque = gravity + (tau - gravity) / s**2
+        stop = gravity + (stop_tau - gravity) / s
+        load = cycle_load(torque, qd / s, traj.dt * s, at_rest)
+        momentary = worst_momentary(unit, traj.t * s, torque, qd / s, stop, options.stop_time,
+                                    rotor_inertia=options.rotor_inertia)
+        return check_unit(load, unit, momentary=momentary,
+                          life_hours=options.life_hours).feasible
+
+    if not passes(1e6):
+        return None
+    low, high = 1.0, 1.1
+    while not passes(high):
+        low, high = high, high * 1.1
+        if high > 1e3:
+            return None
+    while high / low > 1.001:
+        middle = (low * high) ** 0.5
+        low, high = (low, middle) if passes(middle) else (middle, high)
+    return high
+
+
+def _positive(value: float, field: str) -> float:
+    if not np.isfinite(value) or value <= 0.0:
+        raise InputError(f"must be a positive number of seconds, got {value:g}", field=field)
+    return float(value)
+
+
+def _non_negative(value: float, field: str) -> float:
+    if not np.isfinite(value) or value < 0.0:
+        raise InputError(f"must be zero or positive, got {value:g}", field=field)
+    return float(value)
+
+
+def _fraction(value: float) -> float:
+    if not np.isfinite(value) or not 0.0 < value <= 1.0:
+        raise InputError(f"must be in (0, 1], got {value:g}", field="--efficiency")
+    return float(value)
+
+
+def _frozen(array: np.ndarray) -> np.ndarray:
+    array = np.ascontiguousarray(array)
+    array.setflags(write=False)
+    return array
