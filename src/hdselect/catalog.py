@@ -92,6 +92,8 @@ class EfficiencyTable:
 
     def __call__(self, input_speed_rpm: np.ndarray, torque_percent: np.ndarray) -> np.ndarray:
         """Efficiency [-] at each (input speed [rpm], torque [% of rated]) pair."""
+        input_speed_rpm = np.atleast_1d(np.asarray(input_speed_rpm, dtype=float))
+        torque_percent = np.atleast_1d(np.asarray(torque_percent, dtype=float))
         table = np.asarray(self.value)
         by_speed = np.array([np.interp(torque_percent, self.torque_percent, row)
                              for row in table])  # (rows, n)

@@ -24,8 +24,14 @@ MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the c
                    "t1..t3); dwells do not dilute it, which is the conservative reading")
 
 
-def write_output(target: str | Path, write: Callable[[Any], None]) -> None:
+def write_output(target: str | Path, write: Callable[[Any], None], *,
+                 binary: bool = False) -> None:
     """Write a file atomically (temporary file, then rename); ``-`` is standard output.
+
+    Args:
+        target: The file, or ``-``.
+        write: Writes the content to the open stream it is given.
+        binary: Open the file in binary mode (text, UTF-8, otherwise).
 
     Raises:
         InputError: The file cannot be written.
@@ -39,8 +45,12 @@ def write_output(target: str | Path, write: Callable[[Any], None]) -> None:
     except OSError as err:
         raise InputError(f"cannot write here ({err.strerror})", path=target) from err
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as stream:
+        with (os.fdopen(fd, "wb") if binary else
+              os.fdopen(fd, "w", encoding="utf-8", newline="")) as stream:
             write(stream)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a report is not
         os.replace(tmp, target)
     except OSError as err:
         Path(tmp).unlink(missing_ok=True)

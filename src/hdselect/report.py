@@ -77,7 +77,7 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> Table:
                       cell("momentary_torque", u.momentary_torque, torque),
                       cell("static_torque", u.static_torque, torque),
                       f"{u.max_input_speed:.0f}",
-                      cell("input_inertia", u.input_inertia, inertia, 2),
+                      cell("input_inertia", u.input_inertia, inertia, 3),
                       cell("mass", u.mass, mass, 2))
     notes = [f"{u.id}: {f.note}" for u in units for f in u.flags]
     if notes:

@@ -15,10 +15,11 @@ def _motor(name: str) -> Callable[[Candidate], float]:
 
 
 PREFERENCES: dict[str, tuple[str, Callable[[Candidate], tuple[float, ...]]]] = {
-    "size": ("smallest size; within a size, the largest worst-case margin",
-             lambda c: (c.unit.size, -c.margin)),
+    "size": ("smallest size; within a size, the largest worst-case margin (ties: the lower "
+             "ratio, which reflects less inertia)",
+             lambda c: (c.unit.size, -round(c.margin, 9), c.unit.ratio)),
     "margin": ("largest worst-case margin, whatever the size",
-               lambda c: (-c.margin, c.unit.size)),
+               lambda c: (-round(c.margin, 9), c.unit.size, c.unit.ratio)),
     "motor-rms": ("lowest motor RMS torque; ties go to the smaller size",
                   lambda c: (_motor("rms_torque")(c), c.unit.size)),
     "motor-peak": ("lowest motor peak torque; ties go to the smaller size",

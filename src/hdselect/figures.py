@@ -1,0 +1,245 @@
+"""Figures and the HTML report: the catalog's Figures 1 and 2 with the answer drawn on.
+
+matplotlib is imported here only, so commands that draw nothing start fast.
+"""
+
+from __future__ import annotations
+
+import html
+import shutil
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
+
+from hdselect.errors import InputError  # noqa: E402
+from hdselect.export import assumptions, write_output  # noqa: E402
+from hdselect.plan import Trajectory  # noqa: E402
+from hdselect.report import SHORT, life_text, percent, verdict  # noqa: E402
+from hdselect.rules import RPM_PER_RAD_S  # noqa: E402
+from hdselect.sizing import JointSizing, SizingResult  # noqa: E402
+
+DEG_PER_RAD = 180.0 / np.pi
+_RULES = ("peak", "mean", "speed", "momentary", "static", "life")
+
+
+def write_profiles_png(path: str | Path, trajectory: Trajectory, tau: np.ndarray,
+                       joints: Sequence[str], *, title: str = "") -> None:
+    """Speed and torque over the cycle for each joint (the catalog's Figures 1 and 2).
+
+    Args:
+        path: PNG file to write.
+        trajectory: The sampled trajectory.
+        tau: Joint torques [N m], shape (n, dof).
+        joints: Joints to draw, one row each.
+        title: Figure title.
+    """
+    names = list(trajectory.joint_names)
+    fig, axes = plt.subplots(len(joints), 2, figsize=(11, 1.9 * len(joints) + 0.8),
+                             sharex=True, squeeze=False)
+    for row, name in enumerate(joints):
+        j = names.index(name)
+        speed_ax, torque_ax = axes[row]
+        speed_ax.plot(trajectory.t, trajectory.qd[:, j] * DEG_PER_RAD, color="tab:blue", lw=1)
+        speed_ax.set_ylabel(f"{name}\nspeed [deg/s]")
+        torque_ax.plot(trajectory.t, tau[:, j], color="tab:red", lw=1)
+        torque_ax.set_ylabel("torque [N m]")
+        for ax in (speed_ax, torque_ax):
+            ax.axhline(0.0, color="0.6", lw=0.6)
+            ax.grid(alpha=0.3)
+    axes[0, 0].set_title("Figure 1: output speed")
+    axes[0, 1].set_title("Figure 2: output torque")
+    for ax in axes[-1]:
+        ax.set_xlabel("time [s]")
+    fig.suptitle(title)
+    _save(fig, Path(path))
+
+
+def write_report(directory: str | Path, result: SizingResult) -> None:
+    """Write an HTML report with figures into `directory`.
+
+    The page holds every joint's profiles with its unit's limits drawn, every
+    candidate's utilization, and the assumptions. It is built in a temporary
+    directory beside `directory` and moved into place file by file, so no file
+    is ever half-written.
+
+    Raises:
+        InputError: The directory cannot be written.
+    """
+    target = Path(directory)
+    if target.exists() and not target.is_dir():
+        raise InputError("exists and is not a directory", path=target, field="--report")
+    try:
+        parent = target.resolve().parent
+        parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(dir=parent, prefix=f".{target.name}."))
+    except OSError as err:
+        raise InputError(f"cannot write here ({err.strerror})", path=target,
+                         field="--report") from err
+    try:
+        images = []
+        for joint in result.joints:
+            name = f"joint_{_slug(joint.name)}.png"
+            _save(_joint_figure(result, joint), staging / name)
+            images.append((joint, name))
+        _save(_utilization_figure(result), staging / "utilization.png")
+        write_output(staging / "index.html", lambda stream: stream.write(_page(result, images)))
+        target.mkdir(exist_ok=True)
+        for file in staging.iterdir():
+            file.replace(target / file.name)
+    except OSError as err:
+        raise InputError(f"cannot write the report ({err.strerror})", path=target,
+                         field="--report") from err
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
+    """Input speed and output torque of one joint with the chosen unit's limits."""
+    traj = result.trajectory
+    j = result.robot.joint_index(joint.name)
+    chosen = joint.selected or joint.strongest
+    unit = chosen.unit
+    fig, (speed_ax, torque_ax) = plt.subplots(2, 1, figsize=(10, 6.2), sharex=True)
+    input_rpm = np.abs(traj.qd[:, j]) * unit.ratio * RPM_PER_RAD_S
+    speed_ax.plot(traj.t, input_rpm, color="tab:blue", lw=1.2, label="input speed |n|")
+    speed_ax.axhline(unit.max_input_speed, color="k", ls="-", lw=1.2,
+                     label=f"max input speed {unit.max_input_speed:,.0f} rpm")
+    mean = chosen.checks["mean"].detail.get("mean_input_speed_rpm")
+    if isinstance(mean, float):
+        speed_ax.axhline(mean, color="tab:blue", ls=":", lw=1.2,
+                         label=f"mean speed N_av {mean:,.0f} rpm (moving part)")
+    speed_ax.set_ylabel("input speed [rpm]")
+    speed_ax.set_ylim(0, unit.max_input_speed * 1.12)
+    torque_ax.plot(traj.t, np.abs(joint.stop_torque), color="tab:orange", lw=0.8, alpha=0.7,
+                   label=f"emergency stop from each instant ({result.options.stop_time:g} s)")
+    torque_ax.plot(traj.t, np.abs(joint.torque), color="tab:red", lw=1.3, label="|T| output")
+    lines = [("repeated_torque", "repeated-peak limit", "k", "-"),
+             ("momentary_torque", "momentary limit", "tab:purple", "--"),
+             ("static_torque", "static limit", "tab:gray", "-.")]
+    for field, label, color, style in lines:
+        value = getattr(unit, field)
+        kinds = {flag.kind for flag in unit.flags_for(field)}
+        mark = " (stand-in)" if "fallback" in kinds else " (corrected)" if kinds else ""
+        torque_ax.axhline(value, color=color, ls=style, lw=1.1,
+                          label=f"{label} {value:.3g} N m{mark}")
+    if joint.load.mean_torque is not None:
+        torque_ax.axhline(joint.load.mean_torque, color="tab:red", ls=":", lw=1.2,
+                          label=f"mean torque T_av {joint.load.mean_torque:.3g} N m")
+        torque_ax.axhline(chosen.checks["mean"].limit, color="tab:green", ls=":", lw=1.2,
+                          label=f"allowed mean {chosen.checks['mean'].limit:.3g} N m")
+    event = chosen.checks["momentary"]
+    when = event.detail.get("time_s")
+    if isinstance(when, float) and event.value is not None:
+        torque_ax.plot([when], [event.value], "v", color="tab:purple", ms=8,
+                       label=f"worst T4: {event.detail.get('kind')} {event.value:.3g} N m")
+    torque_ax.set_ylabel("output torque [N m]")
+    torque_ax.set_xlabel("time [s]")
+    top = max(unit.momentary_torque, unit.static_torque, float(np.abs(joint.stop_torque).max()))
+    torque_ax.set_ylim(0, top * 1.1)
+    for ax in (speed_ax, torque_ax):
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    state = "selected" if joint.selected else "no unit fits; strongest shown"
+    fig.suptitle(f"{joint.name}: {unit.id} ({state}), binding {chosen.binding} "
+                 f"{percent(chosen.checks[chosen.binding].utilization)}")
+    fig.tight_layout()
+    return fig
+
+
+def _utilization_figure(result: SizingResult) -> Figure:
+    """Utilization of every rule for every unit and joint, the selection outlined."""
+    rules = [r for r in _RULES if any(r in c.checks for j in result.joints for c in j.candidates)]
+    n = len(result.joints)
+    cols = min(3, n)
+    rows = -(-n // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 0.42 * len(result.units) * rows
+                                                  + 1.6 * rows), squeeze=False)
+    for ax, joint in zip(axes.flat, result.joints, strict=False):
+        grid = np.array([[c.checks[r].utilization if r in c.checks else np.nan for r in rules]
+                         for c in joint.candidates])
+        ax.imshow(np.minimum(grid, 2.0), cmap="RdYlGn_r", vmin=0.0, vmax=2.0, aspect="auto")
+        for (i, k), value in np.ndenumerate(grid):
+            if np.isfinite(value):
+                ax.text(k, i, f"{value * 100:.0f}", ha="center", va="center", fontsize=7)
+        ax.set_xticks(range(len(rules)), [SHORT.get(r, r) for r in rules], fontsize=8)
+        ax.set_yticks(range(len(joint.candidates)),
+                      [("▶ " if c is joint.selected else "") + c.unit.id
+                       for c in joint.candidates], fontsize=8)
+        ax.set_title(joint.name, fontsize=10)
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    fig.suptitle("Utilization [% of limit] of every unit (green fits, red fails; ▶ selected)")
+    fig.tight_layout()
+    return fig
+
+
+def _page(result: SizingResult, images: list[tuple[JointSizing, str]]) -> str:
+    esc = html.escape
+    rows = []
+    for joint in result.joints:
+        c = joint.selected
+        if c is None:
+            cells = [joint.name, "none", verdict(joint.strongest) + f" ({joint.strongest.unit.id})",
+                     "", "", "", ""]
+        else:
+            assert c.motor is not None
+            binding = f"{c.binding} {percent(c.checks[c.binding].utilization)}"
+            cells = [joint.name, c.unit.id, binding, life_text(c.life_hours),
+                     f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
+                     f"{c.motor.max_speed:,.0f}"]
+        cells += [f"{joint.carried_mass:.2f}", "gravity-loaded: fail-safe needed"
+                  if joint.gravity_loaded else ""]
+        rows.append("<tr>" + "".join(f"<td>{esc(x)}</td>" for x in cells) + "</tr>")
+    notes = sorted({f"{c.unit.id}: {f.note}" for j in result.joints for c in [j.selected]
+                    if c is not None for f in c.flags})
+    slow = [f"{j.name}: " + ("no slow-down helps (gravity alone is too much)"
+                             if j.slowdown is None or j.slowdown.factor is None else
+                             f"run {j.slowdown.factor:.3f}x slower (cycle "
+                             f"{j.slowdown.cycle_time:.3f} s) and {j.slowdown.unit} fits")
+            for j in result.joints if j.selected is None]
+    items = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>"
+                    for k, v in assumptions(result).items())
+    figures = "".join(f'<h3>{esc(j.name)}</h3><img src="{name}" alt="{esc(j.name)}">'
+                      for j, name in images)
+    header = ("joint", "unit", "binding rule", "L50 life", "motor peak [N m]",
+              "motor rms [N m]", "motor max [rpm]", "carries [kg]", "notes")
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<title>hdselect: {esc(result.robot.path.name)} / {esc(result.motion.path.name)}</title>
+<style>body{{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}}
+table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:left}}
+img{{max-width:100%}}</style></head><body>
+<h1>Gearhead selection: {esc(result.robot.path.name)} running {esc(result.motion.path.name)}</h1>
+<p>Planner {esc(result.motion.planner)}, cycle {result.cycle_time:.3f} s,
+{len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms.
+{"Every joint has a unit." if result.feasible else "<b>Some joints have no unit.</b>"}</p>
+<table><tr>{"".join(f"<th>{esc(h)}</th>" for h in header)}</tr>{"".join(rows)}</table>
+{"<ul>" + "".join(f"<li>{esc(s)}</li>" for s in slow) + "</ul>" if slow else ""}
+<h2>Assumptions</h2><ul>{items}</ul>
+<h2>Catalog stand-ins and corrections used</h2>
+<ul>{"".join(f"<li>{esc(n)}</li>" for n in notes) or "<li>none</li>"}</ul>
+<p>Harmonic Drive gearing backdrives when its input is free: a gravity-loaded joint needs a
+fail-safe device on the output wherever a falling load could injure.</p>
+<h2>Utilization of every candidate</h2><img src="utilization.png" alt="utilization">
+<h2>Torque-speed profiles with the selected unit's limits</h2>{figures}
+</body></html>
+"""
+
+
+def _slug(name: str) -> str:
+    return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name)
+
+
+def _save(fig: Figure, path: Path) -> None:
+    try:
+        write_output(path, lambda stream: fig.savefig(stream, format="png", dpi=110,
+                                                      bbox_inches="tight"), binary=True)
+    finally:
+        plt.close(fig)
