@@ -93,8 +93,8 @@ def duty_table(result: DutyResult) -> Table:
     load = result.load
     mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
     table = Table(
-        title=(f"Duty cycle {result.cycle.path.name}: peak {load.peak_torque:.3g} N m, mean "
-               f"torque {mean}, mean output speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm"),
+        title=(f"{result.cycle.path.name}: peak {load.peak_torque:.3g} N m, mean torque {mean}, "
+               f"mean output speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm"),
         title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
     columns = ["", "unit", *RULES]
     columns += ["life"] if life_required else []
@@ -132,7 +132,7 @@ def size_table(result: SizingResult) -> Table:
                          else "right")
     for joint in result.joints:
         chosen = joint.selected
-        notes = ["backdrive"] if joint.gravity_loaded else []
+        notes = ["gravity"] if joint.gravity_loaded else []
         if chosen is None:
             strongest = joint.strongest
             table.add_row(joint.name, "[red]none[/red]", f"[red]{verdict(strongest)}[/red]",
@@ -208,7 +208,7 @@ def _size_notes(result: SizingResult) -> list[str]:
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     if loaded:
-        notes.append(f"backdrive: {', '.join(loaded)} carry gravity. Harmonic Drive gearing "
+        notes.append(f"gravity: {', '.join(loaded)} carry gravity. Harmonic Drive gearing "
                      "backdrives when the input is free: where a falling load could injure, a "
                      "fail-safe device on the output is needed.")
     return notes

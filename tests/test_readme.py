@@ -1,0 +1,63 @@
+"""The README's examples, run as a user would, so they cannot drift."""
+
+from __future__ import annotations
+
+import re
+import shlex
+from pathlib import Path
+
+import pytest
+
+from hdselect.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+def console_examples() -> list[tuple[str, str]]:
+    """Each ``$ hdselect ...`` line of a console block, with the output shown under it."""
+    examples = []
+    for block in re.findall(r"```console\n(.*?)```", README, flags=re.S):
+        lines = block.rstrip("\n").split("\n")
+        command = lines[0].removeprefix("$ ")
+        examples.append((command, "\n".join(lines[1:])))
+    return examples
+
+
+def workdir(tmp_path: Path) -> Path:
+    """A directory where the README's relative paths resolve and outputs land."""
+    for name in ("robots", "trajectories"):
+        (tmp_path / name).symlink_to(ROOT / name)
+    return tmp_path
+
+
+@pytest.mark.parametrize(("command", "shown"), console_examples(), ids=lambda x: x[:40])
+def test_console_example_prints_what_the_readme_shows(command, shown, tmp_path, monkeypatch,
+                                                      capsys):
+    monkeypatch.chdir(workdir(tmp_path))
+    args = shlex.split(command)
+    assert args[0] == "hdselect"
+    assert main(args[1:]) == 0
+    printed = "\n".join(line.rstrip() for line in capsys.readouterr().out.rstrip().split("\n"))
+    assert printed == shown.rstrip()
+    for option in ("--out", "--plot"):
+        if option in args:
+            assert (tmp_path / args[args.index(option) + 1]).stat().st_size > 0
+
+
+def test_python_example_runs(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(workdir(tmp_path))
+    (code,) = re.findall(r"```python\n(.*?)```", README, flags=re.S)
+    exec(compile(code, "README.md", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == [
+        "shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"]
+
+
+def test_first_screen_has_the_two_setup_commands_and_ci_runs_the_test_one():
+    (setup,) = re.findall(r"## Set up\n.*?```sh\n(.*?)```", README, flags=re.S)
+    install_and_run, install_and_test = setup.strip().split("\n")
+    assert "pip install -e ." in install_and_run and "hdselect size" in install_and_run
+    assert "pytest" in install_and_test
+    assert install_and_test in (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    assert README.index("## Set up") < 1500
