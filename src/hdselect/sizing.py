@@ -289,15 +289,18 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: tuple[JointSizing, .
     """Attach to each joint without a unit the smallest slow-down that would fit.
 
     Run s times slower, speeds scale as 1/s and velocity- and acceleration-
-    dependent torques as 1/s^2 while gravity stays; an emergency stop's
-    dynamic torque is scaled as 1/s, its slower (deceleration) part, which
-    errs on the safe side for its Coriolis part.
+    dependent torques as 1/s^2 while gravity stays. An emergency stop's
+    deceleration -qd / (s t_stop) scales as 1/s, so its inertial part does too,
+    while its velocity (Coriolis, centrifugal) part scales as 1/s^2: the two are
+    split with one more pass of inverse dynamics at full speed and no acceleration.
     """
     still = np.zeros_like(traj.qd)
     gravity = inverse_dynamics(robot, traj.q, still, still)
+    coasting = inverse_dynamics(robot, traj.q, traj.qd, still)  # gravity + velocity terms
     sized = list(robot.sized_joints)
     if options.mass_coupling:
         (per_kg,) = unit_mass_torques(robot, sized, traj.q, still, [still])
+        (coast_per_kg,) = unit_mass_torques(robot, sized, traj.q, traj.qd, [still])
     out = []
     for joint in joints:
         if joint.selected is not None:
@@ -305,10 +308,12 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: tuple[JointSizing, .
             continue
         j = robot.joint_index(joint.name)
         g = gravity[:, j] + (masses @ per_kg[:, :, j] if options.mass_coupling else 0.0)
+        coast = coasting[:, j] + (masses @ coast_per_kg[:, :, j] if options.mass_coupling
+                                  else 0.0)
         best: tuple[float, str] | None = None
         for unit in units:
             factor = _slowdown_factor(unit, traj, traj.qd[:, j], traj.qdd[:, j], joint.torque,
-                                      joint.stop_torque, g, options)
+                                      joint.stop_torque, g, coast, options)
             if factor is not None and (best is None or factor < best[0]):
                 best = (factor, unit.id)
         slowdown = (Slowdown(None, None, None) if best is None
@@ -319,13 +324,16 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: tuple[JointSizing, .
 
 def _slowdown_factor(unit: Unit, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray,
                      tau: np.ndarray, stop_tau: np.ndarray, gravity: np.ndarray,
-                     options: Options) -> float | None:
-    """Smallest s >= 1 at which `unit` passes the slowed motion, to 0.1 %; None if none."""
+                     coast: np.ndarray, options: Options) -> float | None:
+    """Smallest s >= 1 at which `unit` passes the slowed motion, to 0.1 %; None if none.
+
+    `coast` is the torque at full speed without acceleration (gravity plus velocity terms).
+    """
     at_rest = _at_rest(qd, qdd)
 
     def passes(s: float) -> bool:
         torque = gravity + (tau - gravity) / s**2
-        stop = gravity + (stop_tau - gravity) / s
+        stop = gravity + (stop_tau - coast) / s + (coast - gravity) / s**2
         load = cycle_load(torque, qd / s, traj.dt * s, at_rest)
         momentary = worst_momentary(unit, traj.t * s, torque, qd / s, stop, options.stop_time,
                                     rotor_inertia=options.rotor_inertia)

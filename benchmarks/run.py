@@ -1,0 +1,494 @@
+"""Benchmarks of hdselect, each figure against a baseline measured in the same run.
+
+Usage: ``python benchmarks/run.py [--quick] [--json FILE]`` (see benchmarks/README.md).
+
+Every figure is the median of several repeats after a warm-up; candidate and
+baseline calls alternate so that drift of the machine's speed hits both alike.
+Targets are reported, never enforced: the exit status is nonzero only when a
+row crashes or a correctness check (e.g. a maximum difference) fails.
+To add a row, append a `Benchmark` in `benchmarks()`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import importlib
+import importlib.metadata
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import time
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+ROBOT = ROOT / "robots" / "benchtop6.urdf"
+MOTION = ROOT / "trajectories" / "benchtop6_pick_place.toml"
+
+QUICK_SAMPLES = 1_000
+"""Samples per trajectory in --quick mode (the full mode uses the ~10,000 of the cycle)."""
+QUICK_REPEATS = 3
+"""Repeats of every row in --quick mode."""
+HEAVY = ("pinocchio", "toppra", "scipy", "matplotlib", "ruckig", "numpy", "rich", "hdselect")
+"""Top-level modules whose import by the CLI is reported."""
+FLAGGED = ("toppra", "matplotlib", "scipy", "pinocchio")
+"""Modules that `hdselect --help` and `hdselect catalog` should not need."""
+SCALE = {"s": 1.0, "ms": 1e3, "us": 1e6}
+"""Multiplier from seconds to each display unit."""
+
+
+@dataclass(frozen=True)
+class Check:
+    """A correctness check: `run()` returns a value that must not exceed `tolerance`."""
+
+    name: str
+    run: Callable[[], float]
+    tolerance: float
+
+
+@dataclass(frozen=True)
+class Benchmark:
+    """One row of the table.
+
+    Attributes:
+        name: Row label.
+        candidate: The code under test, called with no arguments.
+        baseline: The reference, timed in the same run; None for none.
+        target: Upper bound on candidate/baseline (or, with `absolute`, on the
+            candidate's figure in `unit`); None for an informative row.
+        unit: Display unit, a key of `SCALE`.
+        per: Divide times by this (the sample count for per-sample figures).
+        per_label: Name of what `per` counts, e.g. "sample".
+        notes: One line of context for the table.
+        check: Optional correctness check; the run fails when it fails.
+        absolute: Whether `target` bounds the candidate's figure itself.
+        repeats: Timed repeats in full mode (after one warm-up call).
+    """
+
+    name: str
+    candidate: Callable[[], object]
+    baseline: Callable[[], object] | None
+    target: float | None
+    unit: str = "ms"
+    per: int = 1
+    per_label: str = ""
+    notes: str = ""
+    check: Check | None = None
+    absolute: bool = False
+    repeats: int = 21
+
+
+def machine() -> dict[str, Any]:
+    """CPU, cores and library versions of this run."""
+    import pinocchio
+
+    cpu = "unknown"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        cpu = platform.processor() or "unknown"
+    affinity = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+    env = {key: os.environ[key] for key in ("OPENBLAS_CORETYPE", "OMP_NUM_THREADS",
+                                             "OPENBLAS_NUM_THREADS", "OMP_WAIT_POLICY")
+           if key in os.environ}
+    return {
+        "cpu": cpu,
+        "cpu_count": os.cpu_count(),
+        "usable_cores": affinity,
+        "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "pinocchio": pinocchio.__version__,
+        "ruckig": _version("ruckig"),
+        "hdselect": _version("hdselect"),
+        "platform": platform.platform(),
+        "environment": env,
+    }
+
+
+def _version(package: str) -> str:
+    try:
+        return importlib.metadata.version(package)
+    except importlib.metadata.PackageNotFoundError:
+        return "not installed"
+
+
+# --- fixtures -------------------------------------------------------------------------
+
+
+def _every(n_total: int, quick: bool) -> int:
+    """Stride that leaves about QUICK_SAMPLES samples in quick mode (1 in full mode)."""
+    return max(1, n_total // QUICK_SAMPLES) if quick else 1
+
+
+def _rnea_loop(robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """Baseline inverse dynamics: one `pinocchio.rnea` call per sample [N m], (n, dof)."""
+    import pinocchio as pin
+
+    model = robot.model
+    data = model.createData()
+    config = robot.configuration(q)
+    out = np.empty((q.shape[0], model.nv))
+    for k in range(q.shape[0]):
+        out[k] = pin.rnea(model, data, config[:, k], qd[k], qdd[k])
+    return out
+
+
+def _longest_ruckig_move(motion):
+    """The longest of the motion's waypoint-to-waypoint Ruckig moves (6-DOF, rest to rest)."""
+    import ruckig
+
+    dof = motion.robot.dof
+    best = None
+    for start, end in zip(motion.waypoints[:-1], motion.waypoints[1:], strict=True):
+        if np.array_equal(start, end):
+            continue
+        inp = ruckig.InputParameter(dof)
+        inp.current_position, inp.target_position = start.tolist(), end.tolist()
+        inp.max_velocity = motion.velocity_limit.tolist()
+        inp.max_acceleration = motion.acceleration_limit.tolist()
+        inp.max_jerk = motion.jerk_limit.tolist()
+        traj = ruckig.Trajectory(dof)
+        ruckig.Ruckig(dof).calculate(inp, traj)
+        if best is None or traj.duration > best.duration:
+            best = traj
+    if best is None:
+        raise RuntimeError(f"{MOTION}: no move between distinct waypoints")
+    return best
+
+
+def _max_difference(a, b) -> float:
+    return max(float(np.max(np.abs(np.asarray(x) - np.asarray(y)))) for x, y in zip(a, b,
+                                                                                  strict=True))
+
+
+def benchmarks(quick: bool) -> list[Benchmark]:
+    """Every row, with its fixtures built (imports and planning happen here, untimed)."""
+    # `hdselect.plan` is also the name of a function the package exports: import the module.
+    planning = importlib.import_module("hdselect.plan")
+    sizing = importlib.import_module("hdselect.sizing")
+    from hdselect.catalog import load_catalog
+    from hdselect.dynamics import inverse_dynamics
+    from hdselect.motion import load_motion
+
+    motion = load_motion(MOTION, ROBOT)
+    robot = motion.robot
+    full = planning.plan(motion)
+    step = _every(len(full.t), quick)
+    traj = full if step == 1 else replace(
+        full, dt=full.dt * step, t=full.t[::step], q=full.q[::step], qd=full.qd[::step],
+        qdd=full.qdd[::step])
+    q, qd, qdd = traj.q, traj.qd, traj.qdd
+    n = len(traj.t)
+    units = load_catalog()
+    coupled, uncoupled = sizing.Options(), sizing.Options(mass_coupling=False)
+    motion_for_size = motion if step == 1 else replace(motion, dt=motion.dt * step)
+
+    move = _longest_ruckig_move(motion)
+    grid = np.linspace(0.0, move.duration, QUICK_SAMPLES if quick else 10_000)
+
+    def rnea_loop() -> np.ndarray:
+        return _rnea_loop(robot, q, qd, qdd)
+
+    def batched() -> np.ndarray:
+        return inverse_dynamics(robot, q, qd, qdd)
+
+    def uncoupled_torque_error() -> float:
+        result = sizing._size_trajectory(robot, traj, units, uncoupled)
+        reference = rnea_loop()
+        return max(float(np.max(np.abs(joint.torque - reference[:, robot.joint_index(joint.name)])))
+                   for joint in result.joints)
+
+    samples = f"{n:,} samples of {MOTION.name}" + (f" (every {step}th)" if step > 1 else "")
+    cli = [sys.executable, "-m", "hdselect.cli"]
+    return [
+        Benchmark(
+            "inverse dynamics", batched, rnea_loop, 0.33, unit="us", per=n,
+            per_label="sample",
+            notes=f"inverse_dynamics vs Python loop of pin.rnea; {samples}",
+            check=Check("max |tau - loop| [N m]", lambda: _max_difference([batched()],
+                                                                           [rnea_loop()]), 1e-9)),
+        Benchmark(
+            "ruckig sampling",
+            lambda: planning._sample_profiles(move, grid),
+            lambda: planning._sample_at_time(move, grid), 0.2, unit="us", per=grid.size,
+            per_label="sample",
+            notes=f"_sample_profiles vs _sample_at_time; {grid.size:,} times over the longest "
+                  f"move ({move.duration:.3g} s)",
+            check=Check("max |profiles - at_time|", lambda: _max_difference(
+                planning._sample_profiles(move, grid), planning._sample_at_time(move, grid)),
+                1e-9)),
+        Benchmark(
+            "sizing (coupled)",
+            lambda: sizing._size_trajectory(robot, traj, units, coupled), rnea_loop, 1.0,
+            notes=f"_size_trajectory, {len(units)} units, Options() vs Python loop of pin.rnea; "
+                  f"{samples}", repeats=15),
+        Benchmark(
+            "coupled / uncoupled",
+            lambda: sizing._size_trajectory(robot, traj, units, coupled),
+            lambda: sizing._size_trajectory(robot, traj, units, uncoupled), 1.5,
+            notes="Options() vs Options(mass_coupling=False)", repeats=15,
+            check=Check("uncoupled max |tau - loop| [N m]", uncoupled_torque_error, 1e-9)),
+        Benchmark(
+            "size() incl. planning",
+            lambda: sizing.size(robot, motion_for_size, units=units), rnea_loop, None,
+            notes="sizing.size (plans, then sizes with the file's options) vs the rnea loop",
+            repeats=15),
+        Benchmark(
+            "cold start: --help", lambda: _process(cli + ["--help"]),
+            lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
+            notes="whole process, python -m hdselect.cli --help vs python -c pass", repeats=9),
+        Benchmark(
+            "cold start: catalog", lambda: _process(cli + ["catalog"]),
+            lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
+            notes="whole process, python -m hdselect.cli catalog vs python -c pass", repeats=9),
+    ]
+
+
+def _process(command: list[str]) -> None:
+    """Run a command to completion; raise if it fails."""
+    done = subprocess.run(command, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                          check=False)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} exited {done.returncode}: "
+                           f"{done.stderr.decode(errors='replace').strip()[-500:]}")
+
+
+# --- measurement ----------------------------------------------------------------------
+
+
+def _timed(function: Callable[[], object]) -> float:
+    gc.collect()
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        start = time.perf_counter()
+        function()
+        return time.perf_counter() - start
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def run_row(bench: Benchmark, quick: bool) -> dict[str, Any]:
+    """Warm up, time candidate and baseline alternately, check; the row's figures."""
+    repeats = min(QUICK_REPEATS, bench.repeats) if quick else bench.repeats
+    scale = SCALE[bench.unit] / bench.per
+    unit = f"{bench.unit}/{bench.per_label}" if bench.per_label else bench.unit
+    row: dict[str, Any] = {"name": bench.name, "unit": unit, "repeats": repeats,
+                           "notes": bench.notes, "target": bench.target,
+                           "target_on": "candidate" if bench.absolute else "ratio"}
+    try:
+        bench.candidate()
+        if bench.baseline is not None:
+            bench.baseline()
+        candidate, baseline = [], []
+        for _ in range(repeats):
+            candidate.append(_timed(bench.candidate) * scale)
+            if bench.baseline is not None:
+                baseline.append(_timed(bench.baseline) * scale)
+        row["candidate"] = statistics.median(candidate)
+        row["candidate_min"] = min(candidate)
+        row["candidate_times"] = candidate
+        if baseline:
+            row["baseline"] = statistics.median(baseline)
+            row["baseline_min"] = min(baseline)
+            row["baseline_times"] = baseline
+            row["ratio"] = row["candidate"] / row["baseline"]
+            pairs = sorted(c / b for c, b in zip(candidate, baseline, strict=True))
+            row["ratio_range"] = [pairs[0], pairs[-1]]
+        figure = row["candidate"] if bench.absolute else row.get("ratio")
+        row["met"] = None if bench.target is None or figure is None else figure <= bench.target
+        if bench.check is not None:
+            value = float(bench.check.run())
+            row["check"] = {"name": bench.check.name, "value": value,
+                            "tolerance": bench.check.tolerance,
+                            "passed": bool(value <= bench.check.tolerance)}
+    except Exception as err:  # a crash fails the run, but the other rows still run
+        row["error"] = f"{type(err).__name__}: {err}"
+        row["traceback"] = traceback.format_exc()
+    return row
+
+
+_PROBE = """
+import contextlib, io, json, sys
+from hdselect.cli import main
+with contextlib.redirect_stdout(io.StringIO()):
+    try:
+        status = main(sys.argv[1:])
+    except SystemExit as exit:
+        status = exit.code
+print(json.dumps({"status": status, "modules": sorted(m for m in sys.modules if "." not in m)}))
+"""
+
+
+def cli_imports(command: list[str]) -> dict[str, Any]:
+    """Heavy modules a CLI command imports, and its slowest top-level imports.
+
+    `sys.modules` after ``main(command)`` in a fresh interpreter gives what is
+    imported; ``-X importtime`` of ``python -m hdselect.cli`` gives what it costs.
+    """
+    probe = subprocess.run([sys.executable, "-c", _PROBE, *command], cwd=ROOT,
+                           capture_output=True, text=True, check=False)
+    if probe.returncode != 0:
+        raise RuntimeError(f"import probe of {command} failed: {probe.stderr.strip()[-500:]}")
+    found = json.loads(probe.stdout.strip().splitlines()[-1])
+    if found["status"] not in (0, None):
+        raise RuntimeError(f"hdselect {' '.join(command)} returned {found['status']}")
+    heavy = [name for name in HEAVY if name in found["modules"]]
+    timing = subprocess.run([sys.executable, "-X", "importtime", "-m", "hdselect.cli", *command],
+                            cwd=ROOT, capture_output=True, text=True, check=False)
+    cumulative: dict[str, float] = {}
+    top: list[tuple[str, float]] = []
+    for line in timing.stderr.splitlines():
+        if not line.startswith("import time:") or "|" not in line:
+            continue
+        fields = line.split("|")
+        try:
+            microseconds = float(fields[1])
+        except ValueError:
+            continue  # the header line
+        raw = fields[2][1:]
+        name = raw.strip()
+        cumulative.setdefault(name, microseconds / 1e3)
+        if raw == name:  # imported at depth 0, by the command itself
+            top.append((name, microseconds / 1e3))
+    top.sort(key=lambda item: -item[1])
+    return {
+        "command": command,
+        "heavy": heavy,
+        "flagged": [name for name in FLAGGED if name in heavy],
+        "import_ms": {name: cumulative[name] for name in heavy if name in cumulative},
+        "slowest_top_level_ms": dict(top[:6]),
+        "total_top_level_ms": sum(ms for _, ms in top),
+    }
+
+
+# --- output ---------------------------------------------------------------------------
+
+
+def _figure(value: float | None, unit: str) -> str:
+    return "-" if value is None else f"{value:.3g} {unit}"
+
+
+def print_report(info: dict[str, Any], rows: list[dict[str, Any]],
+                 imports: list[dict[str, Any]], quick: bool) -> None:
+    """The machine, the timing table and the CLI import table, with rich."""
+    from rich import box
+    from rich.console import Console
+    from rich.table import Table
+
+    out = Console(width=None if sys.stdout.isatty() else 120)  # CI logs: no folding at 80
+    out.print(f"[bold]hdselect benchmarks[/bold] ({'quick' if quick else 'full'} mode)")
+    load = " ".join(f"{x:.2f}" for x in info["load_average"] or [])
+    after = " ".join(f"{x:.2f}" for x in info.get("load_average_after") or [])
+    out.print(f"CPU: {info['cpu']}; cores: {info['cpu_count']} (usable {info['usable_cores']}); "
+              f"load average before {load}, after {after}", highlight=False)
+    out.print(f"Python {info['python']}, numpy {info['numpy']}, pinocchio {info['pinocchio']}, "
+              f"ruckig {info['ruckig']}, hdselect {info['hdselect']}; {info['platform']}"
+              + (f"; env {info['environment']}" if info["environment"] else ""))
+    table = Table(box=box.SIMPLE_HEAVY, title="median of repeats; ratio = candidate / baseline")
+    for column in ("#", "row", "candidate", "baseline", "ratio", "target", "met", "check"):
+        table.add_column(column, justify="right" if column in ("#", "candidate", "baseline",
+                                                               "ratio") else "left")
+    notes = []
+    for number, row in enumerate(rows, 1):
+        notes.append(f"{number}. {row['name']}: {row['notes']}; {row['repeats']} repeats")
+        if "error" in row:
+            table.add_row(str(number), row["name"], "[red]CRASHED[/red]", "", "", "", "", "")
+            notes.append(f"   [red]{row['error'][:300]}[/red]")
+            continue
+        ratio = row.get("ratio")
+        ratio_text = "-" if ratio is None else f"{ratio:.3g}"
+        if row["target"] is None:
+            target = "-"
+        elif row["target_on"] == "candidate":
+            target = f"<= {row['target']:g} {row['unit']}"
+        else:
+            target = f"<= {row['target']:g}"
+        met = {None: "-", True: "[green]yes[/green]", False: "[red]MISSED[/red]"}[row["met"]]
+        check = row.get("check")
+        check_text = "" if check is None else (
+            f"{'[green]ok[/green]' if check['passed'] else '[red]FAILED[/red]'} "
+            f"{check['value']:.2g}")
+        if check is not None:
+            notes.append(f"   check: {check['name']} = {check['value']:.3g} "
+                         f"(tolerance {check['tolerance']:g})")
+        if "ratio_range" in row:
+            low, high = row["ratio_range"]
+            notes.append(f"   ratio of each candidate/baseline pair: {low:.3g} to {high:.3g}")
+        table.add_row(str(number), row["name"], _figure(row["candidate"], row["unit"]),
+                      _figure(row.get("baseline"), row["unit"]), ratio_text, target, met,
+                      check_text)
+    out.print(table)
+    for line in notes:
+        out.print(line, highlight=False)
+    if imports:
+        modules = Table(box=box.SIMPLE_HEAVY, title="modules imported by cold CLI commands")
+        for column in ("command", "heavy modules (cumulative import ms)", "flagged",
+                       "slowest top-level imports [ms]"):
+            modules.add_column(column, overflow="fold")
+        for item in imports:
+            if "error" in item:
+                modules.add_row(" ".join(item["command"]), "[red]CRASHED[/red]", "",
+                                item["error"][:200])
+                continue
+            heavy = ", ".join(f"{name} ({item['import_ms'].get(name, 0.0):.0f})"
+                              for name in item["heavy"])
+            flagged = ("[red]" + ", ".join(item["flagged"]) + "[/red]" if item["flagged"]
+                       else "[green]none[/green]")
+            slowest = ", ".join(f"{name} {ms:.0f}"
+                                for name, ms in item["slowest_top_level_ms"].items())
+            modules.add_row("hdselect " + " ".join(item["command"]), heavy, flagged, slowest)
+        out.print(modules)
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the benchmarks; 0 unless a row crashed or a correctness check failed."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true",
+                        help=f"smoke run: {QUICK_REPEATS} repeats, ~{QUICK_SAMPLES:,} samples")
+    parser.add_argument("--json", metavar="FILE", help="also write every figure to FILE")
+    args = parser.parse_args(argv)
+    info = machine()
+    rows = [run_row(bench, args.quick) for bench in benchmarks(args.quick)]
+    imports = []
+    for command in (["--help"], ["catalog"]):
+        try:
+            imports.append(cli_imports(command))
+        except Exception as err:  # reported, and fails the run
+            imports.append({"command": command, "error": f"{type(err).__name__}: {err}"})
+    if hasattr(os, "getloadavg"):
+        info["load_average_after"] = list(os.getloadavg())
+    print_report(info, rows, imports, args.quick)
+    failed = [row["name"] for row in rows if "error" in row or
+              not row.get("check", {}).get("passed", True)]
+    failed += ["imports of hdselect " + " ".join(item["command"]) for item in imports
+               if "error" in item]
+    for row in rows:
+        if "traceback" in row:
+            print(row["traceback"], file=sys.stderr)
+    if args.json:
+        document = {"mode": "quick" if args.quick else "full", "machine": info, "rows": rows,
+                    "cli_imports": imports, "failed": failed}
+        Path(args.json).write_text(json.dumps(document, indent=2) + "\n")
+    if failed:
+        print(f"benchmarks: failed: {', '.join(failed)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,252 @@
+"""Inverse dynamics against oracles: Pinocchio per sample, and closed forms by hand.
+
+The batched `inverse_dynamics` is compared with a plain Python loop of
+`pinocchio.rnea` (a second method), the gravity part with
+`pinocchio.computeGeneralizedGravity`, and two robots with their own
+textbook equations: the index table (tau = J qdd) and the vertical two-link
+arm (M(q) qdd + C(q, qd) qd + g(q)), written out below from the derivations in
+the URDF comments.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from hdselect.dynamics import inverse_dynamics, joint_torques
+from hdselect.motion import load_motion
+from hdselect.plan import Trajectory, plan
+from hdselect.robot import STANDARD_GRAVITY, load_robot
+
+REPO = Path(__file__).resolve().parents[1]
+ROBOTS = sorted((REPO / "robots").glob("*.urdf"))
+MOTIONS = sorted((REPO / "trajectories").glob("*.toml"))
+G = 9.80665  # standard gravity [m/s^2], written out (not taken from the code under test)
+
+
+# --- factories (also used by test_coupling.py and test_sizing.py) ----------------------------
+
+@functools.cache
+def planned(motion_path: Path):
+    """(motion, trajectory) of a shipped motion file, planned once per test session."""
+    motion = load_motion(motion_path)
+    return motion, plan(motion)
+
+
+def pin_config(model: pin.Model, q: np.ndarray) -> np.ndarray:
+    """Pinocchio configuration of one joint-position vector, built by hand.
+
+    A one-coordinate joint takes the angle (or slide) as is; a continuous
+    (unbounded revolute) joint takes (cos q, sin q).
+    """
+    config = np.zeros(model.nq)
+    for joint in list(model.joints)[1:]:
+        value = q[joint.idx_v]
+        if joint.nq == 1:
+            config[joint.idx_q] = value
+        else:
+            config[joint.idx_q], config[joint.idx_q + 1] = math.cos(value), math.sin(value)
+    return config
+
+
+def rnea_loop(model: pin.Model, q, qd, qdd) -> np.ndarray:
+    """Oracle: one `pinocchio.rnea` call per sample, shape (n, nv)."""
+    data = model.createData()
+    return np.array([pin.rnea(model, data, pin_config(model, q[k]), qd[k], qdd[k]).copy()
+                     for k in range(len(q))])
+
+
+def random_states(robot, n: int, seed: int, *, speed: float = 2.0, accel: float = 10.0):
+    """Random (q, qd, qdd) within the joint limits (continuous joints: -pi..pi)."""
+    rng = np.random.default_rng(seed)
+    lower = np.where(np.isfinite(robot.lower), robot.lower, -math.pi)
+    upper = np.where(np.isfinite(robot.upper), robot.upper, math.pi)
+    q = rng.uniform(lower, upper, size=(n, robot.dof))
+    qd = rng.uniform(-speed, speed, size=(n, robot.dof))
+    qdd = rng.uniform(-accel, accel, size=(n, robot.dof))
+    return q, qd, qdd
+
+
+def thinned(trajectory: Trajectory, n: int = 300) -> np.ndarray:
+    """Indices of about n samples spread over a trajectory."""
+    return np.unique(np.linspace(0, len(trajectory.t) - 1, n).astype(int))
+
+
+# --- a second method: Pinocchio one sample at a time -----------------------------------------
+
+@pytest.mark.parametrize("path", ROBOTS, ids=lambda p: p.stem)
+@pytest.mark.parametrize("mounting", ["floor", "wall"])
+def test_batched_equals_per_sample_rnea(path, mounting):
+    robot = load_robot(path, mounting=mounting)
+    # 600 samples: more than 256, so the batched call runs on more than one thread
+    q, qd, qdd = random_states(robot, 600, seed=len(path.stem))
+    expected = rnea_loop(robot.model, q, qd, qdd)
+    got = inverse_dynamics(robot, q, qd, qdd)
+    assert got.shape == (600, robot.dof)
+    np.testing.assert_allclose(got, expected, rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
+def test_joint_torques_along_shipped_motions(path):
+    motion, trajectory = planned(path)
+    model = motion.robot.model  # with the motion file's payload and mounting
+    torques = joint_torques(motion.robot, trajectory)
+    keep = thinned(trajectory)
+    q, qd, qdd = trajectory.q[keep], trajectory.qd[keep], trajectory.qdd[keep]
+    np.testing.assert_allclose(torques.tau[keep], rnea_loop(model, q, qd, qdd), rtol=0,
+                               atol=1e-10)
+    data = model.createData()
+    gravity = np.array([pin.computeGeneralizedGravity(model, data, pin_config(model, x)).copy()
+                        for x in q])
+    np.testing.assert_allclose(torques.gravity[keep], gravity, rtol=0, atol=1e-10)
+    assert not torques.tau.flags.writeable and not torques.gravity.flags.writeable
+
+
+def test_payload_enters_the_dynamics():
+    """The motion file's payload is in the model: torques differ from the bare robot's."""
+    motion, trajectory = planned(REPO / "trajectories" / "planar2_pick_place.toml")
+    bare = load_robot(REPO / "robots" / "planar2.urdf")
+    with_payload = joint_torques(motion.robot, trajectory).gravity
+    without = inverse_dynamics(bare, trajectory.q, 0 * trajectory.qd, 0 * trajectory.qdd)
+    # 0.4 kg at 0.28 m along link 2: the shoulder holds at most m g (l1 + 0.28) more
+    extra = np.abs(with_payload[:, 0] - without[:, 0])
+    assert 0.0 < extra.max() <= 0.4 * G * (0.3 + 0.28) + 1e-9
+
+
+# --- the index table: tau = J qdd -------------------------------------------------------------
+
+# From robots/index_table.urdf: disk izz + four blocks (izz about their centre plus
+# the parallel-axis term m r^2, r = 0.11 m): J = 0.0429416 + 4 (0.00010048 + 0.3768 0.11^2)
+J_TABLE = 0.0429416 + 4 * (0.00010048 + 0.3768 * 0.11**2)
+
+
+def test_index_table_inertia_from_the_urdf_comment():
+    assert J_TABLE == pytest.approx(0.061581, abs=5e-7)
+
+
+def test_index_table_torque_is_inertia_times_acceleration():
+    motion, trajectory = planned(REPO / "trajectories" / "index_table_indexing.toml")
+    torques = joint_torques(motion.robot, trajectory)
+    # one axis, vertical: no Coriolis or centrifugal term about it, no gravity torque
+    np.testing.assert_allclose(torques.tau[:, 0], J_TABLE * trajectory.qdd[:, 0], rtol=0,
+                               atol=1e-10)
+    np.testing.assert_allclose(torques.gravity, 0.0, atol=1e-12)
+    # the motion reaches its acceleration limit (2000 deg/s^2): peak torque J alpha_max
+    alpha_max = 2000 * math.pi / 180
+    assert np.abs(torques.tau).max() == pytest.approx(J_TABLE * alpha_max, rel=1e-9)
+
+
+# --- the vertical two-link arm: M(q) qdd + C(q, qd) qd + g(q) ---------------------------------
+
+# From robots/planar2.urdf (axes -y: positive angles raise the arm; both links along +x at
+# zero; gravity along -z): link lengths, masses, centre-of-mass distances and the inertias
+# about the centre of mass, about the joint axes (iyy).
+L1, M1, LC1, I1 = 0.3, 0.243, 0.15, 0.00184072
+L2, M2, LC2, I2 = 0.25, 0.16875, 0.125, 0.000887695
+
+
+def two_link(q, qd, qdd, *, m2=M2, lc2=LC2, i2=I2, g=G):
+    """Textbook vertical two-link equations of motion, per sample; returns (n, 2).
+
+    tau1 = M11 qdd1 + M12 qdd2 - h (2 qd1 qd2 + qd2^2) + g1
+    tau2 = M12 qdd1 + M22 qdd2 + h qd1^2 + g2
+    M11 = I1 + I2 + m1 lc1^2 + m2 (l1^2 + lc2^2 + 2 l1 lc2 cos q2)
+    M12 = I2 + m2 (lc2^2 + l1 lc2 cos q2),  M22 = I2 + m2 lc2^2,  h = m2 l1 lc2 sin q2
+    g1 = (m1 lc1 + m2 l1) g cos q1 + m2 lc2 g cos(q1 + q2),  g2 = m2 lc2 g cos(q1 + q2)
+    """
+    q1, q2 = q[:, 0], q[:, 1]
+    d1, d2 = qd[:, 0], qd[:, 1]
+    a1, a2 = qdd[:, 0], qdd[:, 1]
+    c2, s2 = np.cos(q2), np.sin(q2)
+    m11 = I1 + i2 + M1 * LC1**2 + m2 * (L1**2 + lc2**2 + 2 * L1 * lc2 * c2)
+    m12 = i2 + m2 * (lc2**2 + L1 * lc2 * c2)
+    m22 = i2 + m2 * lc2**2
+    h = m2 * L1 * lc2 * s2
+    g1 = (M1 * LC1 + m2 * L1) * g * np.cos(q1) + m2 * lc2 * g * np.cos(q1 + q2)
+    g2 = m2 * lc2 * g * np.cos(q1 + q2)
+    tau1 = m11 * a1 + m12 * a2 - h * (2 * d1 * d2 + d2**2) + g1
+    tau2 = m12 * a1 + m22 * a2 + h * d1**2 + g2
+    return np.column_stack([tau1, tau2])
+
+
+def composite_link2(mass: float, distance: float):
+    """Link 2 with a point payload on its axis at `distance` from the elbow.
+
+    m = m2 + mp, lc = (m2 lc2 + mp d) / m, I about the new centre of mass by the
+    parallel-axis theorem: I2 + m2 (lc2 - lc)^2 + mp (d - lc)^2.
+    """
+    m = M2 + mass
+    lc = (M2 * LC2 + mass * distance) / m
+    return m, lc, I2 + M2 * (LC2 - lc) ** 2 + mass * (distance - lc) ** 2
+
+
+def test_two_link_closed_form_random_states():
+    robot = load_robot(REPO / "robots" / "planar2.urdf")
+    assert robot.joint_names == ("shoulder", "elbow")
+    q, qd, qdd = random_states(robot, 500, seed=2, speed=4.0, accel=20.0)
+    np.testing.assert_allclose(inverse_dynamics(robot, q, qd, qdd), two_link(q, qd, qdd),
+                               rtol=0, atol=1e-10)
+
+
+def test_two_link_hand_poses():
+    """At rest, horizontal: tau1 = (m1 lc1 + m2 (l1 + lc2)) g, tau2 = m2 lc2 g; upright: 0."""
+    robot = load_robot(REPO / "robots" / "planar2.urdf")
+    rest = np.zeros((2, 2))
+    q = np.array([[0.0, 0.0], [math.pi / 2, 0.0]])
+    tau = inverse_dynamics(robot, q, rest, rest)
+    np.testing.assert_allclose(tau[0], [(M1 * LC1 + M2 * (L1 + LC2)) * G, M2 * LC2 * G],
+                               rtol=1e-12)
+    np.testing.assert_allclose(tau[1], [0.0, 0.0], atol=1e-12)
+    assert STANDARD_GRAVITY == G
+
+
+def test_two_link_closed_form_along_the_shipped_ruckig_motion():
+    """planar2_pick_place carries 0.4 kg at the tool frame (x = l2 on link 2), com 0.03 m
+    further along x: a point mass at d = 0.28 m on link 2's axis, folded into link 2."""
+    motion, trajectory = planned(REPO / "trajectories" / "planar2_pick_place.toml")
+    assert motion.planner == "ruckig"
+    m2, lc2, i2 = composite_link2(0.4, L2 + 0.03)
+    expected = two_link(trajectory.q, trajectory.qd, trajectory.qdd, m2=m2, lc2=lc2, i2=i2)
+    torques = joint_torques(motion.robot, trajectory)
+    np.testing.assert_allclose(torques.tau, expected, rtol=0, atol=1e-10)
+    still = np.zeros_like(trajectory.q)
+    np.testing.assert_allclose(torques.gravity, two_link(trajectory.q, still, still, m2=m2,
+                                                         lc2=lc2, i2=i2), rtol=0, atol=1e-10)
+    # the motion really exercises the velocity terms (it is not a quasi-static check)
+    assert np.abs(trajectory.qd).max() > 3.0 and np.abs(trajectory.qdd).max() > 15.0
+
+
+def test_two_link_on_the_ceiling_flips_gravity():
+    robot = load_robot(REPO / "robots" / "planar2.urdf", mounting="ceiling")
+    q, qd, qdd = random_states(robot, 50, seed=5)
+    np.testing.assert_allclose(inverse_dynamics(robot, q, qd, qdd), two_link(q, qd, qdd, g=-G),
+                               rtol=0, atol=1e-10)
+
+
+def test_benchtop6_payload_in_the_rotated_tool_frame_by_hand():
+    """benchtop6_pick_place: 0.5 kg at com (0, 0, 0.03) in tool0, which sits at (0, 0.01, 0)
+    on wrist_3_link rotated -90 deg about x, so tool0's z is wrist_3_link's +y: the payload
+    is at (0, 0.04, 0) on wrist_3_link. At the zero configuration (arm stretched along +x)
+    it is 0.240 + 0.210 = 0.450 m along x from the shoulder_lift axis (+y). Holding it
+    takes -0.45 m g about +y (a negative shoulder_lift raises the arm), 0.21 m g less at the
+    elbow; wrist_1 (+y) holds 0 (payload on its axis line), shoulder_pan (z) nothing."""
+    motion, _ = planned(REPO / "trajectories" / "benchtop6_pick_place.toml")
+    bare = load_robot(REPO / "robots" / "benchtop6.urdf")
+    zero = np.zeros((1, 6))
+    extra = (inverse_dynamics(motion.robot, zero, zero, zero)
+             - inverse_dynamics(bare, zero, zero, zero))[0]
+    m = 0.5
+    np.testing.assert_allclose(extra, [0.0, -0.45 * m * G, -0.21 * m * G, 0.0, 0.0, 0.0],
+                               rtol=0, atol=1e-12)
+    # its centre of mass lies on the wrist_3 axis (offset along it), so accelerating wrist_3
+    # alone takes only the payload's own inertia, m a^2 / 6 = 2.1e-4 kg m^2 (50 mm cube)
+    qdd = np.zeros((1, 6))
+    qdd[0, 5] = 10.0
+    extra = (inverse_dynamics(motion.robot, zero, zero, qdd)
+             - inverse_dynamics(bare, zero, zero, qdd))[0]
+    assert extra[5] == pytest.approx(2.1e-4 * 10.0, rel=1e-9)

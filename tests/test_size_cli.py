@@ -1,0 +1,345 @@
+"""The ``size``, ``compare`` and ``plan`` commands, in-process: output, exit status, errors.
+
+Exit status: 0 every joint has a unit, 1 some joint has none (the table and JSON are
+still printed), 2 bad input: one line on stderr, no traceback, no file left behind.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hdselect.cli import main
+from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
+from test_sizing import PLANAR2, overload_motion
+
+PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
+INDEX = REPO / "trajectories" / "index_table_indexing.toml"
+SCARA = REPO / "trajectories" / "scara_wafer_transfer.toml"
+
+
+def run(capsys, *argv):
+    status = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def assert_one_line_error(err: str, *fragments: str):
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith("hdselect: error: ")
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])
+
+
+def files_in(directory: Path) -> set[str]:
+    return {str(p.relative_to(directory)) for p in directory.rglob("*")}
+
+
+# --- size ------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("motion, joints", [
+    (PLANAR2_MOTION, ["shoulder", "elbow"]),
+    (SCARA, ["shoulder", "elbow", "wrist"]),
+    (INDEX, ["table"]),
+])
+def test_size_prints_every_joint_and_exits_0(capsys, motion, joints):
+    status, out, err = run(capsys, "size", motion)
+    assert status == 0, err
+    assert err == ""
+    rows = {line.split()[0] for line in out.splitlines() if line.strip()}
+    for joint in joints:
+        assert joint in rows
+    assert "PSA-" in out
+    assert "lift" not in rows  # prismatic: reported by the model, never sized
+
+
+def test_size_json_to_stdout_parses(capsys):
+    status, out, _ = run(capsys, "size", PLANAR2_MOTION, "--json", "-")
+    assert status == 0
+    document = json.loads(out)  # nothing but the JSON document on stdout
+    assert [j["name"] for j in document["joints"]] == ["shoulder", "elbow"]
+    assert document["motion"] == str(PLANAR2_MOTION)
+    assert all(j["selected"] for j in document["joints"])
+
+
+def test_size_json_to_a_file_and_the_table(capsys, tmp_path):
+    target = tmp_path / "result.json"
+    status, out, _ = run(capsys, "size", REPO / "robots" / "planar2.urdf", PLANAR2_MOTION,
+                         "--json", target)
+    assert status == 0
+    assert "shoulder" in out and "elbow" in out
+    document = json.loads(target.read_text())
+    assert document["robot"] == str(REPO / "robots" / "planar2.urdf")
+    assert files_in(tmp_path) == {"result.json"}  # no temporary file left beside it
+
+
+def test_size_options_reach_the_result(capsys):
+    status, out, _ = run(capsys, "size", PLANAR2_MOTION, "--json", "-", "--stop-time", "0.3",
+                         "--efficiency", "0.8", "--no-mass-coupling", "--motor-mass", "0.1")
+    assert status == 0
+    assumptions = json.loads(out)["assumptions"]
+    assert assumptions["stop_time_s"] == 0.3 and assumptions["efficiency"] == 0.8
+    assert assumptions["mass_coupling"] is False and assumptions["motor_mass_kg"] == 0.1
+
+
+def test_overloaded_motion_exits_1_with_table_and_json(capsys, tmp_path):
+    motion = overload_motion(tmp_path, payload=2.5, velocity=300, acceleration=3000,
+                             jerk=60000, stop_time=0.5)
+    status, out, err = run(capsys, "size", motion)
+    assert status == 1
+    assert err == ""
+    assert "shoulder" in out and "none" in out and "slower" in out
+    status, out, err = run(capsys, "size", motion, "--json", "-")
+    assert status == 1 and err == ""
+    document = json.loads(out)
+    shoulder = document["joints"][0]
+    assert shoulder["selected"] is None
+    assert shoulder["slowdown"]["factor"] > 1.0
+    assert not any(c["feasible"] for c in shoulder["candidates"])
+
+
+def test_gravity_overload_says_no_slowdown_helps(capsys, tmp_path):
+    motion = tmp_path / "heavy.toml"
+    motion.write_text(f"""\
+robot = "{PLANAR2.as_posix()}"
+planner = "ruckig"
+angle_unit = "deg"
+[payload]
+mass = 8.0
+[limits]
+velocity = 30
+acceleration = 100
+jerk = 1000
+[[waypoint]]
+q = [0, 0]
+dwell = 1.0
+[[waypoint]]
+q = [5, 0]
+""")
+    status, out, _ = run(capsys, "size", motion)
+    assert status == 1
+    assert "no slow-down helps" in out.replace("\n", " ")
+
+
+# --- compare ---------------------------------------------------------------------------------
+
+def test_compare_one_joint(capsys):
+    status, out, err = run(capsys, "compare", PLANAR2_MOTION, "--joint", "elbow")
+    assert status == 0, err
+    assert "Joint elbow" in out and "Joint shoulder" not in out
+    for unit in ("PSA-08-80", "PSA-10-50", "PSA-14-100"):
+        assert unit in out
+
+
+def test_compare_every_joint_by_default(capsys):
+    status, out, _ = run(capsys, "compare", PLANAR2_MOTION)
+    assert status == 0
+    assert "Joint elbow" in out and "Joint shoulder" in out
+
+
+# --- bad input: exit 2, one line --------------------------------------------------------------
+
+def test_unknown_joint_names_the_valid_ones(capsys):
+    status, out, err = run(capsys, "compare", PLANAR2_MOTION, "--joint", "elbo")
+    assert status == 2
+    assert out == ""
+    assert_one_line_error(err, "elbo", "shoulder", "elbow", "--joint")
+
+
+@pytest.mark.parametrize("value", ["-0.1", "0", "nan"])
+def test_bad_stop_time(capsys, value):
+    status, out, err = run(capsys, "size", PLANAR2_MOTION, f"--stop-time={value}")
+    assert status == 2
+    assert out == ""
+    assert_one_line_error(err, "--stop-time")
+
+
+@pytest.mark.parametrize("option, value", [("--efficiency", "1.5"), ("--efficiency", "0"),
+                                           ("--motor-mass", "-1"), ("--motor-inertia", "-1e-6")])
+def test_bad_sizing_options(capsys, option, value):
+    status, _, err = run(capsys, "size", PLANAR2_MOTION, f"{option}={value}")
+    assert status == 2
+    assert_one_line_error(err, option)
+
+
+BAD_CATALOG = """\
+series = "BAD"
+[[unit]]
+size = 14
+ratio = 100
+rated_torque_nm = 12.0
+repeated_torque_nm = 10.0
+max_input_speed_rpm = 6000
+input_inertia_kg_cm2 = 0.03
+mass_kg = 0.5
+"""
+
+
+def test_user_catalog_that_fails_validation(capsys, tmp_path):
+    catalog = tmp_path / "bad.toml"
+    catalog.write_text(BAD_CATALOG)  # repeated-peak limit below the rated torque
+    status, out, err = run(capsys, "size", PLANAR2_MOTION, "--catalog", catalog)
+    assert status == 2
+    assert out == ""
+    assert_one_line_error(err, str(catalog), "repeated")
+
+
+def test_user_catalog_missing_file(capsys, tmp_path):
+    status, _, err = run(capsys, "compare", PLANAR2_MOTION, "--catalog", tmp_path / "no.toml")
+    assert status == 2
+    assert_one_line_error(err, "no.toml")
+
+
+def test_user_catalog_units_are_sized(capsys, tmp_path):
+    catalog = tmp_path / "good.toml"
+    catalog.write_text(BAD_CATALOG.replace("12.0", "9.0").replace('"BAD"', '"XYZ"'))
+    status, out, _ = run(capsys, "size", PLANAR2_MOTION, "--catalog", catalog, "--json", "-")
+    assert status == 0
+    units = [c["unit"] for c in json.loads(out)["joints"][0]["candidates"]]
+    assert "XYZ-14-100" in units and "PSA-14-100" in units
+
+
+# --- plan: the CSV -----------------------------------------------------------------------------
+
+def read_csv(path: Path):
+    with path.open(newline="") as stream:
+        rows = list(csv.reader(stream))
+    return rows[0], np.array(rows[1:], dtype=float)
+
+
+def test_plan_csv_header_rows_and_torques_by_hand(capsys, tmp_path):
+    """The index table's torque column is J qdd of its own qdd column."""
+    out_file = tmp_path / "index.csv"
+    status, _, err = run(capsys, "plan", INDEX, "--out", out_file)
+    assert status == 0, err
+    header, data = read_csv(out_file)
+    assert header == ["t", "q_table", "qd_table", "qdd_table", "tau_table"]
+    # one row per sample: t_k = k dt up to the cycle time (4 moves and 4 dwells)
+    dt = 0.001
+    np.testing.assert_allclose(data[:, 0], np.arange(len(data)) * dt, atol=1e-9)
+    assert data[-1, 0] >= 4 * 0.6
+    np.testing.assert_allclose(data[:, 4], J_TABLE * data[:, 3], rtol=1e-8, atol=1e-9)
+    assert data[0, 1] == 0.0 and data[-1, 1] == pytest.approx(2 * math.pi, rel=1e-9)
+    assert files_in(tmp_path) == {"index.csv"}
+
+
+def test_plan_csv_two_link_closed_form(capsys, tmp_path):
+    out_file = tmp_path / "planar2.csv"
+    status, _, _ = run(capsys, "plan", PLANAR2_MOTION, "--out", out_file)
+    assert status == 0
+    header, data = read_csv(out_file)
+    assert header == ["t", "q_shoulder", "qd_shoulder", "qdd_shoulder", "tau_shoulder",
+                      "q_elbow", "qd_elbow", "qdd_elbow", "tau_elbow"]
+    q, qd, qdd, tau = (data[:, [1 + k, 5 + k]] for k in range(4))
+    m2, lc2, i2 = composite_link2(0.4, L2 + 0.03)  # the motion's 0.4 kg payload
+    # CSV values have 10 significant digits
+    np.testing.assert_allclose(tau, two_link(q, qd, qdd, m2=m2, lc2=lc2, i2=i2), rtol=0,
+                               atol=1e-7)
+
+
+def test_plan_csv_lists_only_sized_joints(capsys, tmp_path):
+    out_file = tmp_path / "scara.csv"
+    assert run(capsys, "plan", SCARA, "--out", out_file)[0] == 0
+    header, _ = read_csv(out_file)
+    assert header == ["t"] + [f"{kind}_{joint}" for joint in ("shoulder", "elbow", "wrist")
+                              for kind in ("q", "qd", "qdd", "tau")]
+
+
+def test_failing_plan_leaves_no_csv(capsys, tmp_path):
+    motion = tmp_path / "outside.toml"
+    motion.write_text(f"""\
+robot = "{PLANAR2.as_posix()}"
+planner = "ruckig"
+angle_unit = "deg"
+[limits]
+velocity = 90
+acceleration = 300
+jerk = 3000
+[[waypoint]]
+q = [0, 0]
+[[waypoint]]
+q = [150, 0]
+""")
+    out_file = tmp_path / "never.csv"
+    status, out, err = run(capsys, "plan", motion, "--out", out_file)
+    assert status == 2
+    assert_one_line_error(err, "outside.toml", "waypoint[1]", "shoulder")
+    assert files_in(tmp_path) == {"outside.toml"}
+
+
+def test_plan_into_a_missing_directory_is_one_line(capsys, tmp_path):
+    status, _, err = run(capsys, "plan", INDEX, "--out", tmp_path / "no" / "such" / "x.csv")
+    assert status == 2
+    assert_one_line_error(err, "x.csv")
+    assert files_in(tmp_path) == set()
+
+
+# --- size --report -----------------------------------------------------------------------------
+
+def test_report_writes_html_and_pngs(capsys, tmp_path):
+    pytest.importorskip("hdselect.figures")
+    report = tmp_path / "report"
+    status, out, err = run(capsys, "size", PLANAR2_MOTION, "--report", report)
+    assert status == 0, err
+    names = files_in(report)
+    assert "index.html" in names
+    pngs = sorted(n for n in names if n.endswith(".png"))
+    assert len(pngs) >= 2  # at least one figure per joint
+    for name in pngs:
+        assert (report / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    page = (report / "index.html").read_text()
+    for name in pngs:
+        assert name in page
+    assert "shoulder" in page and "elbow" in page
+    assert files_in(tmp_path) == {"report"} | {f"report/{n}" for n in names}
+
+
+def test_report_dir_that_cannot_be_written(capsys, tmp_path):
+    pytest.importorskip("hdselect.figures")
+    blocker = tmp_path / "file.txt"
+    blocker.write_text("a regular file")
+    target = blocker / "report"
+    json_out = tmp_path / "result.json"
+    status, out, err = run(capsys, "size", PLANAR2_MOTION, "--report", target, "--json",
+                           json_out)
+    assert status == 2
+    assert out == ""
+    assert_one_line_error(err, "report")
+    assert files_in(tmp_path) == {"file.txt"}  # no report, no JSON, no temporary files
+    assert blocker.read_text() == "a regular file"
+
+
+def test_report_onto_an_existing_file(capsys, tmp_path):
+    pytest.importorskip("hdselect.figures")
+    target = tmp_path / "report.html"
+    target.write_text("keep me")
+    status, _, err = run(capsys, "size", PLANAR2_MOTION, "--report", target)
+    assert status == 2
+    assert_one_line_error(err, "report.html")
+    assert target.read_text() == "keep me" and files_in(tmp_path) == {"report.html"}
+
+
+@pytest.mark.parametrize("command", ["size", "compare", "plan"])
+def test_bad_files_are_one_line_errors(capsys, tmp_path, command):
+    broken = tmp_path / "broken.toml"
+    broken.write_text("planner = [\n")
+    extra = ["--out", str(tmp_path / "x.csv")] if command == "plan" else []
+    cases = [
+        ([tmp_path / "missing.toml"], "missing.toml"),
+        ([broken], "broken.toml"),
+        ([PLANAR2, PLANAR2_MOTION, PLANAR2_MOTION], "files"),
+        ([tmp_path / "missing.urdf", PLANAR2_MOTION], "missing.urdf"),
+    ]
+    for files, fragment in cases:
+        status, out, err = run(capsys, command, *files, *extra)
+        assert status == 2, (files, err)
+        assert out == ""
+        assert_one_line_error(err, fragment)
+    assert files_in(tmp_path) == {"broken.toml"}
