@@ -1,15 +1,14 @@
-"""Torques of carried gearhead masses against Pinocchio with the masses in the model.
+"""Carried gearhead masses against Pinocchio with the masses written in independently.
 
-`unit_mass_torques` predicts, by linearity, the torque of a 1 kg point mass at
-each joint's mount point (the joint origin, on the link before the joint). The
-oracles put real masses into the robot and re-run Pinocchio's full dynamics:
-once with `appendBodyToJoint` and once with the masses written into a copy of
-the URDF file as extra links (no Pinocchio placement API involved).
+`with_gearheads` puts a point mass at each joint's mount point (the joint
+origin, on the link before the joint). The oracles put the masses into the
+robot another way and re-run Pinocchio's full dynamics: with the masses written
+into a copy of the URDF file as extra links (no Pinocchio placement API
+involved), and by hand on the planar arm and the SCARA.
 """
 
 from __future__ import annotations
 
-import math
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -17,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.coupling import unit_mass_torques
+from hdselect.coupling import carried_mass, with_gearheads
 from hdselect.robot import load_robot
 from test_dynamics import MOTIONS, REPO, ROBOTS, G, planned, random_states, rnea_loop, thinned
 
@@ -74,60 +73,45 @@ def random_masses(names, seed: int) -> dict[str, float]:
     return {name: float(rng.uniform(0.2, 1.0)) for name in names}
 
 
-def predicted(robot, masses, q, qd, qdd, stop_qdd):
-    """tau0 + sum_k m_k u_k for the motion and for the stop, from the code under test."""
-    names = list(masses)
-    m = np.array([masses[n] for n in names])
-    per_kg, stop_per_kg = unit_mass_torques(robot, names, q, qd, [qdd, stop_qdd])
-    assert per_kg.shape == (len(names), len(q), robot.dof)
-    bare = rnea_loop(robot.model, q, qd, qdd), rnea_loop(robot.model, q, qd, stop_qdd)
-    return (bare[0] + np.einsum("k,knd->nd", m, per_kg),
-            bare[1] + np.einsum("k,knd->nd", m, stop_per_kg))
+def carrying(robot, masses, q, qd, qdd):
+    """Torques of the robot carrying the masses, from the code under test."""
+    return rnea_loop(with_gearheads(robot, masses).model, q, qd, qdd)
 
 
 # --- every shipped robot, random states --------------------------------------------------
 
 @pytest.mark.parametrize("path", ROBOTS, ids=lambda p: p.stem)
 @pytest.mark.parametrize("mounting", ["floor", "wall"])
-def test_prediction_equals_pinocchio_with_appended_masses(path, mounting):
+def test_gearheads_equal_masses_written_into_the_urdf(path, mounting, tmp_path):
     robot = load_robot(path, mounting=mounting)
-    q, qd, qdd = random_states(robot, 200, seed=11)
-    stop_qdd = -qd / STOP_TIME
-    masses = random_masses(robot.sized_joints, seed=len(path.stem))
-    motion_tau, stop_tau = predicted(robot, masses, q, qd, qdd, stop_qdd)
-    heavy = with_point_masses(robot.model, masses)
-    np.testing.assert_allclose(motion_tau, rnea_loop(heavy, q, qd, qdd), rtol=0, atol=1e-10)
-    np.testing.assert_allclose(stop_tau, rnea_loop(heavy, q, qd, stop_qdd), rtol=0, atol=1e-10)
-
-
-@pytest.mark.parametrize("path", ROBOTS, ids=lambda p: p.stem)
-def test_prediction_equals_pinocchio_with_masses_in_the_urdf(path, tmp_path):
-    robot = load_robot(path)
     q, qd, qdd = random_states(robot, 200, seed=12)
-    stop_qdd = -qd / STOP_TIME
     masses = random_masses(robot.sized_joints, seed=3)
-    motion_tau, stop_tau = predicted(robot, masses, q, qd, qdd, stop_qdd)
-    heavy = load_robot(urdf_with_masses(path, tmp_path / path.name, masses))
+    heavy = load_robot(urdf_with_masses(path, tmp_path / path.name, masses), mounting=mounting)
     assert heavy.joint_names == robot.joint_names
-    np.testing.assert_allclose(motion_tau, rnea_loop(heavy.model, q, qd, qdd), rtol=0,
-                               atol=1e-8)
-    np.testing.assert_allclose(stop_tau, rnea_loop(heavy.model, q, qd, stop_qdd), rtol=0,
-                               atol=1e-8)
+    for accel in (qdd, -qd / STOP_TIME):
+        np.testing.assert_allclose(carrying(robot, masses, q, qd, accel),
+                                   rnea_loop(heavy.model, q, qd, accel), rtol=0, atol=1e-8)
 
 
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
-def test_prediction_along_shipped_motions_with_payload(path):
+def test_gearheads_along_shipped_motions_with_payload(path):
     """Along the planned motion, payload included, masses of 0.3..0.5 kg (the catalog's)."""
     motion, trajectory = planned(path)
     robot = motion.robot
     keep = thinned(trajectory, 150)
     q, qd, qdd = trajectory.q[keep], trajectory.qd[keep], trajectory.qdd[keep]
-    stop_qdd = -qd / STOP_TIME
     masses = {name: 0.3 + 0.1 * (i % 3) for i, name in enumerate(robot.sized_joints)}
-    motion_tau, stop_tau = predicted(robot, masses, q, qd, qdd, stop_qdd)
     heavy = with_point_masses(robot.model, masses)
-    np.testing.assert_allclose(motion_tau, rnea_loop(heavy, q, qd, qdd), rtol=0, atol=1e-10)
-    np.testing.assert_allclose(stop_tau, rnea_loop(heavy, q, qd, stop_qdd), rtol=0, atol=1e-10)
+    np.testing.assert_allclose(carrying(robot, masses, q, qd, qdd), rnea_loop(heavy, q, qd, qdd),
+                               rtol=0, atol=1e-10)
+
+
+def test_the_robot_given_is_not_changed():
+    robot = load_robot(REPO / "robots" / "planar2.urdf")
+    bodies = robot.model.inertias[1].mass, robot.model.inertias[2].mass
+    heavy = with_gearheads(robot, {"elbow": 1.0})
+    assert (robot.model.inertias[1].mass, robot.model.inertias[2].mass) == bodies
+    assert heavy.model.inertias[1].mass == pytest.approx(bodies[0] + 1.0)
 
 
 # --- where a mass acts: only on the joints that carry it -------------------------------------
@@ -142,17 +126,17 @@ def ancestors(model: pin.Model, name: str) -> set[int]:
 
 
 @pytest.mark.parametrize("path", ROBOTS, ids=lambda p: p.stem)
-def test_zero_on_the_joint_itself_and_on_non_ancestors(path):
+def test_a_mass_loads_only_the_joints_nearer_the_base(path):
     robot = load_robot(path)
     q, qd, qdd = random_states(robot, 50, seed=4)
-    names = list(robot.joint_names)  # every joint, prismatic too
-    (per_kg,) = unit_mass_torques(robot, names, q, qd, [qdd])
-    for row, name in enumerate(names):
+    bare = rnea_loop(robot.model, q, qd, qdd)
+    for name in robot.joint_names:  # every joint, prismatic too
+        added = carrying(robot, {name: 1.0}, q, qd, qdd) - bare
         carriers = ancestors(robot.model, name)
+        assert robot.joint_index(name) not in carriers
         for dof in range(robot.dof):
             if dof not in carriers:
-                np.testing.assert_array_equal(per_kg[row, :, dof], 0.0)
-        assert robot.joint_index(name) not in carriers
+                np.testing.assert_allclose(added[:, dof], 0.0, atol=1e-12)
 
 
 BRANCHED = """\
@@ -182,17 +166,20 @@ def test_branched_tree_masses_load_only_their_own_branch(tmp_path):
     path.write_text(BRANCHED)
     robot = load_robot(path, mounting="wall")
     q, qd, qdd = random_states(robot, 100, seed=8)
-    (per_kg,) = unit_mass_torques(robot, ["left_arm", "right_arm"], q, qd, [qdd])
+    bare = rnea_loop(robot.model, q, qd, qdd)
+    masses = {"left_arm": 0.7, "right_arm": 0.4}
+    added = carrying(robot, masses, q, qd, qdd) - bare
     turn, left, right = (robot.joint_index(n) for n in ("turn", "left_arm", "right_arm"))
     # both gearheads sit on the hub: they load `turn`, never the sibling branch
-    for row in range(2):
-        np.testing.assert_array_equal(per_kg[row, :, left], 0.0)
-        np.testing.assert_array_equal(per_kg[row, :, right], 0.0)
-        assert np.abs(per_kg[row, :, turn]).max() > 0.1
-    masses = {"left_arm": 0.7, "right_arm": 0.4}
-    motion_tau, _ = predicted(robot, masses, q, qd, qdd, -qd / STOP_TIME)
-    np.testing.assert_allclose(motion_tau, rnea_loop(with_point_masses(robot.model, masses),
-                                                     q, qd, qdd), rtol=0, atol=1e-10)
+    np.testing.assert_allclose(added[:, [left, right]], 0.0, atol=1e-12)
+    assert np.abs(added[:, turn]).max() > 0.1
+    heavy = load_robot(urdf_with_masses(path, tmp_path / "heavy.urdf", masses), mounting="wall")
+    np.testing.assert_allclose(carrying(robot, masses, q, qd, qdd),
+                               rnea_loop(heavy.model, q, qd, qdd), rtol=0, atol=1e-8)
+    # carried mass: `turn` carries both, each arm carries neither
+    assert carried_mass(robot, masses, "turn") == pytest.approx(1.1)
+    assert carried_mass(robot, masses, "left_arm") == 0.0
+    assert carried_mass(robot, masses, "right_arm") == 0.0
 
 
 # --- by hand ---------------------------------------------------------------------------------
@@ -200,16 +187,16 @@ def test_branched_tree_masses_load_only_their_own_branch(tmp_path):
 def test_planar2_elbow_mass_at_horizontal_rest_by_hand():
     """1 kg at the elbow mount (x = l1 = 0.3 m on link 1), arm horizontal, at rest.
 
-    The shoulder holds m g l1 (positive: a positive shoulder torque raises the arm,
-    robots/planar2.urdf); the elbow carries none of it.
+    The shoulder holds m g l1 more (positive: a positive shoulder torque raises the arm,
+    robots/planar2.urdf); the elbow carries none of it. The shoulder's own gearhead sits
+    on the fixed base: it loads nothing.
     """
     robot = load_robot(REPO / "robots" / "planar2.urdf")
     still = np.zeros((1, 2))
-    (per_kg,) = unit_mass_torques(robot, ["shoulder", "elbow"], still, still, [still])
-    assert per_kg[1, 0, 0] == pytest.approx(1.0 * G * 0.3, rel=1e-12)
-    assert per_kg[1, 0, 1] == 0.0
-    # the shoulder's own gearhead sits on the fixed base: it loads nothing
-    np.testing.assert_array_equal(per_kg[0], 0.0)
+    added = carrying(robot, {"shoulder": 1.0, "elbow": 1.0}, still, still, still) \
+        - rnea_loop(robot.model, still, still, still)
+    assert added[0, 0] == pytest.approx(1.0 * G * 0.3, rel=1e-12)
+    assert added[0, 1] == pytest.approx(0.0, abs=1e-14)
 
 
 def test_planar2_elbow_mass_in_motion_by_hand():
@@ -217,15 +204,15 @@ def test_planar2_elbow_mass_in_motion_by_hand():
     tau = m (l1^2 qdd1 + g l1 cos q1) (no Coriolis term: its distance is fixed)."""
     robot = load_robot(REPO / "robots" / "planar2.urdf")
     q, qd, qdd = random_states(robot, 100, seed=21, speed=4.0, accel=20.0)
-    (per_kg,) = unit_mass_torques(robot, ["elbow"], q, qd, [qdd])
+    added = carrying(robot, {"elbow": 1.0}, q, qd, qdd) - rnea_loop(robot.model, q, qd, qdd)
     expected = 0.3**2 * qdd[:, 0] + G * 0.3 * np.cos(q[:, 0])
-    np.testing.assert_allclose(per_kg[0, :, 0], expected, rtol=0, atol=1e-12)
-    np.testing.assert_array_equal(per_kg[0, :, 1], 0.0)
+    np.testing.assert_allclose(added[:, 0], expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(added[:, 1], 0.0, atol=1e-12)
 
 
 def test_scara_wrist_mass_on_the_prismatic_lift_by_hand():
     """The wrist gearhead rides on the quill: the lift (prismatic, z up) carries
-    m (zdd + g) of it; the vertical shoulder carries m (r^2 qdd1 + ...) but no gravity."""
+    m (zdd + g) of it; the vertical shoulder carries m r^2 qdd1 but no gravity."""
     robot = load_robot(REPO / "robots" / "scara.urdf")
     n = 20
     q = np.zeros((n, 4))
@@ -233,14 +220,15 @@ def test_scara_wrist_mass_on_the_prismatic_lift_by_hand():
     qd = np.zeros((n, 4))
     qdd = np.zeros((n, 4))
     qdd[:, 2] = np.linspace(-1.0, 1.0, n)
-    (per_kg,) = unit_mass_torques(robot, ["wrist"], q, qd, [qdd])
+    added = carrying(robot, {"wrist": 1.0}, q, qd, qdd) - rnea_loop(robot.model, q, qd, qdd)
     lift = robot.joint_index("lift")
-    np.testing.assert_allclose(per_kg[0, :, lift], qdd[:, 2] + G, rtol=1e-12)
-    # stretched arm at rest, accelerating only the lift: no torque about vertical axes
-    np.testing.assert_allclose(per_kg[0, :, robot.joint_index("shoulder")], 0.0, atol=1e-12)
+    np.testing.assert_allclose(added[:, lift], qdd[:, 2] + G, rtol=1e-12)
+    # stretched arm, accelerating only the lift: no torque about the vertical axes
+    np.testing.assert_allclose(added[:, robot.joint_index("shoulder")], 0.0, atol=1e-12)
     # shoulder accelerating alone: the mount is at r = 0.25 + 0.2 = 0.45 m from its axis
     qdd = np.zeros((1, 4))
     qdd[0, 0] = 3.0
-    (per_kg,) = unit_mass_torques(robot, ["wrist"], q[:1], qd[:1], [qdd])
-    assert per_kg[0, 0, 0] == pytest.approx(0.45**2 * 3.0, rel=1e-12)
-    assert math.isclose(per_kg[0, 0, 1], 0.2**2 * 3.0 + 0.25 * 0.2 * 3.0, rel_tol=1e-12)
+    added = carrying(robot, {"wrist": 1.0}, q[:1], qd[:1], qdd) \
+        - rnea_loop(robot.model, q[:1], qd[:1], qdd)
+    assert added[0, 0] == pytest.approx(0.45**2 * 3.0, rel=1e-12)
+    assert added[0, 1] == pytest.approx(0.2**2 * 3.0 + 0.25 * 0.2 * 3.0, rel=1e-12)

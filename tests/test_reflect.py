@@ -15,11 +15,38 @@ import numpy as np
 import pytest
 
 from hdselect.catalog import load_catalog
-from hdselect.reflect import DEFAULT_EFFICIENCY, motor_demand, worst_momentary
+from hdselect.reflect import DEFAULT_EFFICIENCY, reflect
 
 
 def unit(unit_id: str, extra=()):
     return {u.id: u for u in load_catalog(extra)}[unit_id]
+
+
+def motor_demand(psa, tau, qd, qdd, **options):
+    """The motor side of `reflect` for one unit: (summary, torque per sample)."""
+    zero = np.zeros_like(tau)
+    (r,) = reflect([psa], np.arange(len(tau)) * 1e-3, tau, qd, qdd, zero, stop_time=1.0,
+                   **options)
+    return r.motor, r.motor_torque
+
+
+def worst_momentary(psa, t, tau, qd, stop_tau, stop_time, **options):
+    """The momentary side of `reflect` for one unit."""
+    zero = np.zeros_like(tau)
+    (r,) = reflect([psa], t, tau, qd, zero, stop_tau, stop_time=stop_time, **options)
+    return r.momentary
+
+
+def test_reflect_handles_many_units_at_once_like_one_at_a_time():
+    units = load_catalog()
+    rng = np.random.default_rng(5)
+    t = np.arange(300) * 1e-3
+    tau, qd, qdd, stop = (rng.normal(0, s, 300) for s in (3.0, 1.0, 20.0, 4.0))
+    together = reflect(units, t, tau, qd, qdd, stop, stop_time=0.08, rotor_inertia=1e-6)
+    for u, r in zip(units, together, strict=True):
+        (alone,) = reflect([u], t, tau, qd, qdd, stop, stop_time=0.08, rotor_inertia=1e-6)
+        assert r.unit is u and r.motor == alone.motor and r.momentary == alone.momentary
+        np.testing.assert_array_equal(r.motor_torque, alone.motor_torque)
 
 
 def test_psa_14_100_catalog_values_used_here():

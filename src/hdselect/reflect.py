@@ -13,6 +13,7 @@ at the input speed N qd.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -43,85 +44,90 @@ class MotorDemand:
     efficiency: float | str
 
 
-def motor_demand(
-    unit: Unit,
-    tau: np.ndarray,
-    qd: np.ndarray,
-    qdd: np.ndarray,
-    *,
-    efficiency: float = DEFAULT_EFFICIENCY,
-    rotor_inertia: float = 0.0,
-) -> tuple[MotorDemand, np.ndarray]:
-    """The motor torque along the cycle for one gearhead.
+@dataclass(frozen=True, eq=False)
+class Reflection:
+    """One joint's cycle seen through one gearhead.
 
-    Args:
+    Attributes:
         unit: The gearhead.
-        tau: Output (load) torque per sample [N m], shape (n,).
-        qd: Output speed per sample [rad/s], shape (n,).
-        qdd: Output acceleration per sample [rad/s^2], shape (n,).
-        efficiency: Gear efficiency [-], used when the unit has no table.
-        rotor_inertia: Motor rotor inertia J_m [kg m^2].
-
-    Returns:
-        The summary, and the motor torque per sample [N m], shape (n,).
+        motor: What the motor must deliver over the cycle.
+        momentary: The worse of an emergency stop and a crash.
+        motor_torque: Motor torque per sample [N m], shape (n,).
     """
-    ratio = unit.ratio
-    eta: float | np.ndarray
-    if unit.efficiency is not None:
-        eta = unit.efficiency(np.abs(qd) * ratio * RPM_PER_RAD_S,
-                              100.0 * np.abs(tau) / unit.rated_torque)
-        used: float | str = "table"
-    else:
-        eta = efficiency
-        used = efficiency
-    driving = tau * qd >= 0.0
-    torque = np.where(driving, tau / (ratio * eta), tau * eta / ratio)
-    torque = torque + (unit.input_inertia + rotor_inertia) * ratio * qdd
-    summary = MotorDemand(
-        peak_torque=float(np.abs(torque).max()),
-        rms_torque=float(np.sqrt(np.mean(torque * torque))),
-        max_speed=float(np.abs(qd).max() * ratio * RPM_PER_RAD_S),
-        efficiency=used,
-    )
-    return summary, torque
+
+    unit: Unit
+    motor: MotorDemand
+    momentary: Momentary
+    motor_torque: np.ndarray
 
 
-def worst_momentary(
-    unit: Unit,
+def reflect(
+    units: Sequence[Unit],
     t: np.ndarray,
     tau: np.ndarray,
     qd: np.ndarray,
+    qdd: np.ndarray,
     stop_tau: np.ndarray,
-    stop_time: float,
     *,
+    stop_time: float,
+    efficiency: float = DEFAULT_EFFICIENCY,
     rotor_inertia: float = 0.0,
-) -> Momentary:
-    """The worse of an emergency stop and a crash, at the worst instant of the cycle.
+) -> list[Reflection]:
+    """Reflect one joint's cycle through every unit at once.
 
-    Emergency stop: at any instant every joint is brought to rest within
+    Emergency stop: from any instant every joint is brought to rest within
     `stop_time`; `stop_tau` is the output torque at the start of that stop.
     Crash: the output stops dead while the input still spins; the input
     inertia (J_in + J_m) is brought to rest through the gear within `stop_time`,
     adding (J_in + J_m) N^2 |qd| / stop_time to the torque already carried.
 
     Args:
-        unit: The gearhead.
+        units: The gearheads.
         t: Sample times [s], shape (n,).
-        tau: Output torque along the cycle [N m], shape (n,).
-        qd: Output speed along the cycle [rad/s], shape (n,).
+        tau: Output (load) torque per sample [N m], shape (n,).
+        qd: Output speed per sample [rad/s], shape (n,).
+        qdd: Output acceleration per sample [rad/s^2], shape (n,).
         stop_tau: Output torque at the start of an emergency stop from each sample [N m].
         stop_time: Time to bring everything to rest [s].
+        efficiency: Gear efficiency [-], for units without a table.
         rotor_inertia: Motor rotor inertia J_m [kg m^2].
 
     Returns:
-        The worse event, with its speed and duration (for the allowed-event count).
+        One reflection per unit, in the order given.
     """
+    ratio = np.array([unit.ratio for unit in units], dtype=float)
+    inertia = np.array([unit.input_inertia for unit in units]) + rotor_inertia
+    driving = tau * qd >= 0.0
+    speed = np.abs(qd)
+    # gear side: tau / eta while the motor drives, tau eta while the load drives back
+    load = np.empty((len(units), len(t)))
+    load[:] = np.where(driving, tau * (1.0 / efficiency), tau * efficiency)
+    for row, unit in enumerate(units):
+        if unit.efficiency is not None:
+            eta = unit.efficiency(speed * unit.ratio * RPM_PER_RAD_S,
+                                  100.0 * np.abs(tau) / unit.rated_torque)
+            load[row] = tau * np.where(driving, 1.0 / eta, eta)
+    motor = load
+    motor *= (1.0 / ratio)[:, None]
+    motor += np.multiply.outer(inertia * ratio, qdd)
+    peak = np.maximum(motor.max(axis=1), -motor.min(axis=1))
+    rms = np.sqrt(np.einsum("ij,ij->i", motor, motor) / len(t))
+    max_speed = speed.max() * RPM_PER_RAD_S * ratio
     stop = np.abs(stop_tau)
-    reflected = (unit.input_inertia + rotor_inertia) * unit.ratio**2
-    crash = np.abs(tau) + reflected * np.abs(qd) / stop_time
-    i_stop, i_crash = int(stop.argmax()), int(crash.argmax())
-    if stop[i_stop] >= crash[i_crash]:
-        return Momentary(float(stop[i_stop]), "emergency stop", float(abs(qd[i_stop])),
-                         stop_time, float(t[i_stop]))
-    return Momentary(float(crash[i_crash]), "crash", float(abs(qd[i_crash])), stop_time,
-                     float(t[i_crash]))
+    i_stop = int(stop.argmax())
+    crash = np.multiply.outer(inertia * ratio**2 / stop_time, speed)
+    crash += np.abs(tau)
+    i_crash = crash.argmax(axis=1)
+    out = []
+    for row, unit in enumerate(units):
+        k = int(i_crash[row])
+        if stop[i_stop] >= crash[row, k]:
+            event = Momentary(float(stop[i_stop]), "emergency stop", float(speed[i_stop]),
+                              stop_time, float(t[i_stop]))
+        else:
+            event = Momentary(float(crash[row, k]), "crash", float(speed[k]), stop_time,
+                              float(t[k]))
+        demand = MotorDemand(float(peak[row]), float(rms[row]), float(max_speed[row]),
+                             "table" if unit.efficiency is not None else efficiency)
+        out.append(Reflection(unit, demand, event, motor[row]))
+    return out

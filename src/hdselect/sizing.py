@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 
 from hdselect.catalog import Unit, load_catalog
-from hdselect.coupling import unit_mass_torques
+from hdselect.coupling import carried_mass, with_gearheads
 from hdselect.dynamics import inverse_dynamics
 from hdselect.errors import InputError
 from hdselect.motion import Motion, load_motion
 from hdselect.plan import Trajectory, plan
-from hdselect.reflect import DEFAULT_EFFICIENCY, motor_demand, worst_momentary
+from hdselect.reflect import DEFAULT_EFFICIENCY, reflect
 from hdselect.robot import Payload, Robot
 from hdselect.rules import Candidate, CycleLoad, check_unit, cycle_load
 from hdselect.select import select
@@ -35,6 +35,8 @@ GRAVITY_LOADED = 1e-3
 """Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
 _GRAVITY_SAMPLES = 400
 """Poses at which the gravity torque is evaluated for the backdriving warning."""
+_GUESS_SAMPLES = 200
+"""Samples on which the carried masses are first guessed."""
 
 
 @dataclass(frozen=True)
@@ -208,56 +210,76 @@ def size(
 
 def _size_trajectory(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
                      options: Options) -> SizingResult:
-    q, qd, qdd = traj.q, traj.qd, traj.qdd
-    stop_qdd = -qd / options.stop_time
-    tau = inverse_dynamics(robot, q, qd, qdd)
-    stop_tau = inverse_dynamics(robot, q, qd, stop_qdd)
-    sized = list(robot.sized_joints)
+    """Size every joint, carrying the chosen units' masses when coupling is on.
+
+    Joint j's torque depends only on the units chosen further out, so sizing
+    from the tip to the base is one pass. It is found here as a fixed point:
+    size every joint with the masses of a guess in the model, put the chosen
+    units' masses in, and repeat until the choice no longer changes. At that
+    point each joint was sized with exactly the units chosen beyond it, which is
+    the tip-to-base answer (each round settles at least one more joint from the
+    tip). The guess comes from two rounds on a coarse subset of the samples, so
+    the full trajectory usually takes one round: two batched passes of inverse
+    dynamics, the motion's and the emergency stop's.
+    """
+    masses: dict[str, float] = {}
     if options.mass_coupling:
-        per_kg, stop_per_kg = unit_mass_torques(robot, sized, q, qd, [qdd, stop_qdd])
+        coarse = _decimated(traj, max(1, len(traj.t) // _GUESS_SAMPLES))
+        for _ in range(2):
+            masses = _unit_masses(_size_joints(with_gearheads(robot, masses), coarse, units,
+                                               options), options)
+    for _ in range(robot.dof + 1):
+        joints = _size_joints(with_gearheads(robot, masses), traj, units, options)
+        chosen = _unit_masses(joints, options)
+        if not options.mass_coupling or chosen == masses:
+            break
+        masses = chosen
+    carrying = with_gearheads(robot, masses)
     gravity_at = np.unique(np.linspace(0, len(traj.t) - 1, _GRAVITY_SAMPLES).astype(int))
     still = np.zeros((len(gravity_at), robot.dof))
-    gravity = inverse_dynamics(robot, q[gravity_at], still, still)
-    if options.mass_coupling:
-        (gravity_per_kg,) = unit_mass_torques(robot, sized, q[gravity_at], still, [still])
-    masses = np.zeros(len(sized))
-    results: dict[str, JointSizing] = {}
-    for row in reversed(range(len(sized))):
-        name = sized[row]
+    gravity = np.abs(inverse_dynamics(carrying, traj.q[gravity_at], still, still))
+    joints = [replace(joint, carried_mass=carried_mass(robot, masses, joint.name),
+                      gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
+                      max_gravity_torque=float(gravity[:, j].max()))
+              for joint in joints for j in [robot.joint_index(joint.name)]]
+    if any(joint.selected is None for joint in joints):
+        joints = _with_slowdowns(carrying, traj, joints, units, options)
+    return SizingResult(robot, None, traj, tuple(joints), options, units)  # type: ignore[arg-type]
+
+
+def _unit_masses(joints: list[JointSizing], options: Options) -> dict[str, float]:
+    """Mass each joint's unit (or, where none fits, the strongest) and motor add [kg]."""
+    return {joint.name: (joint.selected or joint.strongest).unit.mass + options.motor_mass
+            for joint in joints}
+
+
+def _size_joints(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
+                 options: Options) -> list[JointSizing]:
+    """Every sized joint against every unit, for the masses in the robot's model."""
+    tau = inverse_dynamics(robot, traj.q, traj.qd, traj.qdd)
+    stop_tau = inverse_dynamics(robot, traj.q, traj.qd, -traj.qd / options.stop_time)
+    joints = []
+    for name in robot.sized_joints:
         j = robot.joint_index(name)
-        joint_tau, joint_stop, joint_gravity = tau[:, j], stop_tau[:, j], gravity[:, j]
-        if options.mass_coupling:
-            joint_tau = joint_tau + masses @ per_kg[:, :, j]
-            joint_stop = joint_stop + masses @ stop_per_kg[:, :, j]
-            joint_gravity = joint_gravity + masses @ gravity_per_kg[:, :, j]
-        result = _size_joint(name, traj, qd[:, j], qdd[:, j], joint_tau, joint_stop, units,
-                             options)
-        max_gravity = float(np.abs(joint_gravity).max())
-        carried = _carried_mass(robot, sized, masses, name)
-        results[name] = replace(result, carried_mass=carried,
-                                gravity_loaded=max_gravity > GRAVITY_LOADED,
-                                max_gravity_torque=max_gravity)
-        chosen = result.selected or result.strongest
-        masses[row] = chosen.unit.mass + options.motor_mass
-    joints = tuple(results[name] for name in sized)
-    needs_slowdown = [joint for joint in joints if joint.selected is None]
-    if needs_slowdown:
-        joints = _with_slowdowns(robot, traj, joints, units, options, masses)
-    return SizingResult(robot, None, traj, joints, options, units)  # type: ignore[arg-type]
+        joints.append(_size_joint(name, traj, traj.qd[:, j], traj.qdd[:, j], tau[:, j],
+                                  stop_tau[:, j], units, options))
+    return joints
+
+
+def _decimated(traj: Trajectory, step: int) -> Trajectory:
+    """Every `step`-th sample of a trajectory, each standing for `step` periods."""
+    return replace(traj, dt=traj.dt * step, t=traj.t[::step], q=traj.q[::step],
+                   qd=traj.qd[::step], qdd=traj.qdd[::step])
 
 
 def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray,
                 stop_tau: np.ndarray, units: tuple[Unit, ...], options: Options) -> JointSizing:
     """Check every unit against one joint's torques and select one."""
     load = cycle_load(tau, qd, traj.dt, _at_rest(qd, qdd))
-    candidates = []
-    for unit in units:
-        motor, _ = motor_demand(unit, tau, qd, qdd, efficiency=options.efficiency,
-                                rotor_inertia=options.rotor_inertia)
-        momentary = worst_momentary(unit, traj.t, tau, qd, stop_tau, options.stop_time,
-                                    rotor_inertia=options.rotor_inertia)
-        candidates.append(check_unit(load, unit, momentary=momentary,
-                                     life_hours=options.life_hours, motor=motor))
+    reflections = reflect(units, traj.t, tau, qd, qdd, stop_tau, stop_time=options.stop_time,
+                          efficiency=options.efficiency, rotor_inertia=options.rotor_inertia)
+    candidates = [check_unit(load, r.unit, momentary=r.momentary, life_hours=options.life_hours,
+                             motor=r.motor) for r in reflections]
     return JointSizing(name, load, tuple(candidates), select(candidates, options.prefer),
                        0.0, False, 0.0, _frozen(tau), _frozen(stop_tau))
 
@@ -269,57 +291,36 @@ def _at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
             & (acceleration <= REST_FRACTION * acceleration.max()))
 
 
-def _carried_mass(robot: Robot, sized: list[str], masses: np.ndarray, name: str) -> float:
-    """Mass of the units (and motors) mounted on links that joint `name` moves [kg]."""
-    model = robot.model
-    joint_id = model.getJointId(name)
-    total = 0.0
-    for other, mass in zip(sized, masses, strict=True):
-        ancestor = model.parents[model.getJointId(other)]
-        while ancestor > 0 and ancestor != joint_id:
-            ancestor = model.parents[ancestor]
-        if ancestor == joint_id:
-            total += float(mass)
-    return total
-
-
-def _with_slowdowns(robot: Robot, traj: Trajectory, joints: tuple[JointSizing, ...],
-                    units: tuple[Unit, ...], options: Options,
-                    masses: np.ndarray) -> tuple[JointSizing, ...]:
+def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
+                    units: tuple[Unit, ...], options: Options) -> list[JointSizing]:
     """Attach to each joint without a unit the smallest slow-down that would fit.
 
-    Run s times slower, speeds scale as 1/s and velocity- and acceleration-
-    dependent torques as 1/s^2 while gravity stays. An emergency stop's
-    deceleration -qd / (s t_stop) scales as 1/s, so its inertial part does too,
-    while its velocity (Coriolis, centrifugal) part scales as 1/s^2: the two are
-    split with one more pass of inverse dynamics at full speed and no acceleration.
+    `robot` carries the chosen units' masses. Run s times slower, speeds scale
+    as 1/s and velocity- and acceleration-dependent torques as 1/s^2 while
+    gravity stays. An emergency stop's deceleration -qd / (s t_stop) scales as
+    1/s, so its inertial part does too, while its velocity (Coriolis,
+    centrifugal) part scales as 1/s^2: the two are split with one more pass of
+    inverse dynamics at full speed and no acceleration.
     """
     still = np.zeros_like(traj.qd)
     gravity = inverse_dynamics(robot, traj.q, still, still)
     coasting = inverse_dynamics(robot, traj.q, traj.qd, still)  # gravity + velocity terms
-    sized = list(robot.sized_joints)
-    if options.mass_coupling:
-        (per_kg,) = unit_mass_torques(robot, sized, traj.q, still, [still])
-        (coast_per_kg,) = unit_mass_torques(robot, sized, traj.q, traj.qd, [still])
     out = []
     for joint in joints:
         if joint.selected is not None:
             out.append(joint)
             continue
         j = robot.joint_index(joint.name)
-        g = gravity[:, j] + (masses @ per_kg[:, :, j] if options.mass_coupling else 0.0)
-        coast = coasting[:, j] + (masses @ coast_per_kg[:, :, j] if options.mass_coupling
-                                  else 0.0)
         best: tuple[float, str] | None = None
         for unit in units:
             factor = _slowdown_factor(unit, traj, traj.qd[:, j], traj.qdd[:, j], joint.torque,
-                                      joint.stop_torque, g, coast, options)
+                                      joint.stop_torque, gravity[:, j], coasting[:, j], options)
             if factor is not None and (best is None or factor < best[0]):
                 best = (factor, unit.id)
         slowdown = (Slowdown(None, None, None) if best is None
                     else Slowdown(best[0], best[1], best[0] * traj.duration))
         out.append(replace(joint, slowdown=slowdown))
-    return tuple(out)
+    return out
 
 
 def _slowdown_factor(unit: Unit, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray,
@@ -335,9 +336,10 @@ def _slowdown_factor(unit: Unit, traj: Trajectory, qd: np.ndarray, qdd: np.ndarr
         torque = gravity + (tau - gravity) / s**2
         stop = gravity + (stop_tau - coast) / s + (coast - gravity) / s**2
         load = cycle_load(torque, qd / s, traj.dt * s, at_rest)
-        momentary = worst_momentary(unit, traj.t * s, torque, qd / s, stop, options.stop_time,
-                                    rotor_inertia=options.rotor_inertia)
-        return check_unit(load, unit, momentary=momentary,
+        (reflection,) = reflect([unit], traj.t * s, torque, qd / s, qdd / s**2, stop,
+                                stop_time=options.stop_time, efficiency=options.efficiency,
+                                rotor_inertia=options.rotor_inertia)
+        return check_unit(load, unit, momentary=reflection.momentary,
                           life_hours=options.life_hours).feasible
 
     if not passes(1e6):
