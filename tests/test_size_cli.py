@@ -343,3 +343,24 @@ def test_bad_files_are_one_line_errors(capsys, tmp_path, command):
         assert out == ""
         assert_one_line_error(err, fragment)
     assert files_in(tmp_path) == {"broken.toml"}
+
+
+@pytest.mark.parametrize("option", ["--out", "--plot"])
+def test_plan_never_writes_over_its_inputs(capsys, tmp_path, option):
+    motion = tmp_path / "m.toml"
+    text = (REPO / "trajectories" / "planar2_pick_place.toml").read_text()
+    motion.write_text(text.replace('"../robots/planar2.urdf"', repr(str(PLANAR2))))
+    outputs = {"--out": tmp_path / "x.csv", "--plot": tmp_path / "x.png", option: motion}
+    code, out, err = run(capsys, "plan", motion, "--out", outputs["--out"],
+                         "--plot", outputs["--plot"])
+    assert code == 2
+    assert_one_line_error(err, "m.toml", "input file")
+    assert motion.read_text() == text.replace('"../robots/planar2.urdf"', repr(str(PLANAR2)))
+
+
+def test_size_json_never_writes_over_the_robot(capsys):
+    code, out, err = run(capsys, "size", str(REPO / "trajectories" / "planar2_pick_place.toml"),
+                         "--json", str(PLANAR2))
+    assert code == 2
+    assert_one_line_error(err, "planar2.urdf", "input file")
+    assert PLANAR2.read_text().startswith("<?xml")

@@ -7,6 +7,7 @@ import logging
 import os
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from hdselect import __version__
 from hdselect.errors import HdselectError, InputError
@@ -152,6 +153,7 @@ def run_duty(args: argparse.Namespace) -> int:
     from hdselect.report import console, duty_table
 
     units = load_catalog(args.catalog)
+    _keep_inputs([args.json], [args.profile, *args.catalog])
     result = size_duty(load_duty(args.profile), units)
     if args.json:
         write_json(args.json, duty_json(result))
@@ -167,6 +169,7 @@ def run_plan(args: argparse.Namespace) -> int:
     from hdselect.plan import plan
 
     motion = _load_motion(args)
+    _keep_inputs([args.out, args.plot], _inputs(motion))
     trajectory = plan(motion)
     torques = joint_torques(motion.robot, trajectory)
     joints = motion.robot.sized_joints
@@ -233,10 +236,27 @@ def _size(args: argparse.Namespace):
     from hdselect.sizing import size
 
     motion = _load_motion(args)
+    _keep_inputs([getattr(args, "json", None)], [*_inputs(motion), *args.catalog])
+    if getattr(args, "report", None):
+        _keep_inputs([Path(args.report) / "index.html"], _inputs(motion))
     return size(motion.robot, motion, catalog=args.catalog, stop_time=args.stop_time,
                 efficiency=args.efficiency, rotor_inertia=args.motor_inertia,
                 motor_mass=args.motor_mass, mass_coupling=not args.no_mass_coupling,
                 prefer=args.prefer, life_hours=args.life_hours)
+
+
+def _inputs(motion) -> list[Path]:
+    """The files a motion was read from."""
+    files = [motion.path, motion.robot.path]
+    return files + ([motion.samples.path] if motion.samples is not None else [])
+
+
+def _keep_inputs(outputs: Sequence[str | Path | None], inputs: Sequence[str | Path]) -> None:
+    """Refuse to write an output over a file the user gave as input."""
+    given = {Path(file).resolve() for file in inputs}
+    for output in outputs:
+        if output is not None and str(output) != "-" and Path(output).resolve() in given:
+            raise InputError("is an input file; choose another output path", path=output)
 
 
 if __name__ == "__main__":

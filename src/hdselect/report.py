@@ -136,7 +136,7 @@ def size_table(result: SizingResult) -> Table:
         if chosen is None:
             strongest = joint.strongest
             table.add_row(joint.name, "[red]none[/red]", f"[red]{verdict(strongest)}[/red]",
-                          "", "", "", "", ", ".join(notes + ["see below"]))
+                          "", "", "", "", ", ".join(notes))
             continue
         motor = chosen.motor
         assert motor is not None

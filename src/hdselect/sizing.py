@@ -23,6 +23,7 @@ from hdselect.reflect import DEFAULT_EFFICIENCY, reflect
 from hdselect.robot import Payload, Robot
 from hdselect.rules import Candidate, CycleLoad, check_unit, cycle_load
 from hdselect.select import select
+from hdselect.slowdown import Slowdown, find_slowdown
 
 logger = logging.getLogger(__name__)
 
@@ -60,22 +61,6 @@ class Options:
     mass_coupling: bool = True
     prefer: str = "size"
     life_hours: float | None = None
-
-
-@dataclass(frozen=True)
-class Slowdown:
-    """The smallest uniform slow-down of the motion that lets a joint pass.
-
-    Attributes:
-        factor: Time scale s >= 1 (the motion run s times slower), or None when
-            no slow-down helps (gravity alone is too much).
-        unit: The unit that passes at that factor.
-        cycle_time: The slowed cycle time [s].
-    """
-
-    factor: float | None
-    unit: str | None
-    cycle_time: float | None
 
 
 @dataclass(frozen=True, eq=False)
@@ -295,64 +280,24 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
                     units: tuple[Unit, ...], options: Options) -> list[JointSizing]:
     """Attach to each joint without a unit the smallest slow-down that would fit.
 
-    `robot` carries the chosen units' masses. Run s times slower, speeds scale
-    as 1/s and velocity- and acceleration-dependent torques as 1/s^2 while
-    gravity stays. An emergency stop's deceleration -qd / (s t_stop) scales as
-    1/s, so its inertial part does too, while its velocity (Coriolis,
-    centrifugal) part scales as 1/s^2: the two are split with one more pass of
-    inverse dynamics at full speed and no acceleration.
+    `robot` carries the chosen units' masses. The gravity and coasting (gravity
+    plus velocity terms) torques split the motion's torques by how they scale.
     """
     still = np.zeros_like(traj.qd)
     gravity = inverse_dynamics(robot, traj.q, still, still)
-    coasting = inverse_dynamics(robot, traj.q, traj.qd, still)  # gravity + velocity terms
+    coasting = inverse_dynamics(robot, traj.q, traj.qd, still)
     out = []
     for joint in joints:
-        if joint.selected is not None:
-            out.append(joint)
-            continue
-        j = robot.joint_index(joint.name)
-        best: tuple[float, str] | None = None
-        for unit in units:
-            factor = _slowdown_factor(unit, traj, traj.qd[:, j], traj.qdd[:, j], joint.torque,
-                                      joint.stop_torque, gravity[:, j], coasting[:, j], options)
-            if factor is not None and (best is None or factor < best[0]):
-                best = (factor, unit.id)
-        slowdown = (Slowdown(None, None, None) if best is None
-                    else Slowdown(best[0], best[1], best[0] * traj.duration))
-        out.append(replace(joint, slowdown=slowdown))
+        if joint.selected is None:
+            j = robot.joint_index(joint.name)
+            qd, qdd = traj.qd[:, j], traj.qdd[:, j]
+            joint = replace(joint, slowdown=find_slowdown(
+                units, traj, qd, qdd, joint.torque, joint.stop_torque, gravity[:, j],
+                coasting[:, j], _at_rest(qd, qdd), stop_time=options.stop_time,
+                efficiency=options.efficiency, rotor_inertia=options.rotor_inertia,
+                life_hours=options.life_hours))
+        out.append(joint)
     return out
-
-
-def _slowdown_factor(unit: Unit, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray,
-                     tau: np.ndarray, stop_tau: np.ndarray, gravity: np.ndarray,
-                     coast: np.ndarray, options: Options) -> float | None:
-    """Smallest s >= 1 at which `unit` passes the slowed motion, to 0.1 %; None if none.
-
-    `coast` is the torque at full speed without acceleration (gravity plus velocity terms).
-    """
-    at_rest = _at_rest(qd, qdd)
-
-    def passes(s: float) -> bool:
-        torque = gravity + (tau - gravity) / s**2
-        stop = gravity + (stop_tau - coast) / s + (coast - gravity) / s**2
-        load = cycle_load(torque, qd / s, traj.dt * s, at_rest)
-        (reflection,) = reflect([unit], traj.t * s, torque, qd / s, qdd / s**2, stop,
-                                stop_time=options.stop_time, efficiency=options.efficiency,
-                                rotor_inertia=options.rotor_inertia)
-        return check_unit(load, unit, momentary=reflection.momentary,
-                          life_hours=options.life_hours).feasible
-
-    if not passes(1e6):
-        return None
-    low, high = 1.0, 1.1
-    while not passes(high):
-        low, high = high, high * 1.1
-        if high > 1e3:
-            return None
-    while high / low > 1.001:
-        middle = (low * high) ** 0.5
-        low, high = (low, middle) if passes(middle) else (middle, high)
-    return high
 
 
 def _positive(value: float, field: str) -> float:
