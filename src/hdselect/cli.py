@@ -38,13 +38,21 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
 
 
+class _Parser(argparse.ArgumentParser):
+    """Command-line errors as one line, like every other error, with exit status 2."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="hdselect",
         description="Size Harmonic Drive PSA-G gearheads for robot joints.")
     parser.add_argument("--version", action="version", version=f"hdselect {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="print progress notes")
-    commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND")
+    commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND",
+                                     parser_class=_Parser)
 
     catalog = commands.add_parser("catalog", help="list the gearhead catalog")
     _catalog_option(catalog)
@@ -94,9 +102,9 @@ def _json_option(parser: argparse.ArgumentParser) -> None:
 
 
 def _robot_motion(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("files", nargs="+", metavar="[ROBOT] MOTION",
-                        help="robot file (URDF/MJCF; default: the motion file's `robot`) and "
-                             "motion file (TOML)")
+    parser.add_argument("robot", nargs="?", metavar="ROBOT",
+                        help="robot file, URDF or MJCF (default: the motion file's `robot`)")
+    parser.add_argument("motion", metavar="MOTION", help="motion file (TOML)")
     parser.add_argument("--payload", type=float, metavar="KG",
                         help="payload mass, overriding the motion file's [kg]")
     parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
@@ -221,15 +229,12 @@ def _load_motion(args: argparse.Namespace):
     from hdselect.motion import load_motion
     from hdselect.robot import Payload
 
-    if len(args.files) > 2:
-        raise InputError("expected [ROBOT] MOTION, got more than two files", field="files")
-    robot = args.files[0] if len(args.files) == 2 else None
     payload = None
     if args.payload is not None:
         if not args.payload > 0.0:
             raise InputError(f"must be a positive mass, got {args.payload:g}", field="--payload")
         payload = Payload(args.payload, tuple(args.payload_com), frame=args.payload_frame)
-    return load_motion(args.files[-1], robot, payload=payload, mounting=args.mounting)
+    return load_motion(args.motion, args.robot, payload=payload, mounting=args.mounting)
 
 
 def _size(args: argparse.Namespace):
