@@ -375,3 +375,35 @@ def test_scara_gravity_loads_only_the_lift():
     np.testing.assert_allclose(tau[[0, 1, 3]], 0.0, atol=1e-12)
     moved = sum(robot.model.inertias[j].mass for j in (3, 4))  # quill, end effector + wafer
     assert tau[2] == pytest.approx(moved * STANDARD_GRAVITY)
+
+
+MJCF_PENDULUM = """<mujoco model="pendulum">
+  <worldbody>
+    <body name="link" pos="0 0 0">
+      <joint name="hinge" type="hinge" axis="0 1 0" range="-90 90"/>
+      <inertial pos="0.2 0 0" mass="1.5" diaginertia="0.001 0.01 0.01"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_mjcf_pendulum_loads_with_limits_and_gravity_by_hand(tmp_path):
+    path = tmp_path / "pendulum.xml"
+    path.write_text(MJCF_PENDULUM)
+    robot = load_robot(path)
+    assert robot.joint_names == ("hinge",) and robot.sized_joints == ("hinge",)
+    np.testing.assert_allclose([robot.lower[0], robot.upper[0]], [-np.pi / 2, np.pi / 2])
+    # 1.5 kg at x = 0.2 m, hinge about +y, gravity -z: holding it horizontal takes
+    # tau = -(r x F)_y = -(0.2 * 1.5 * 9.80665) = -2.941995 N m
+    model = robot.model
+    horizontal = robot.configuration([[0.0]])[:, 0]
+    tau = pin.computeGeneralizedGravity(model, model.createData(), horizontal)
+    assert tau[0] == pytest.approx(-0.2 * 1.5 * STANDARD_GRAVITY, rel=1e-12)
+
+
+def test_malformed_mjcf_is_an_input_error(tmp_path):
+    path = tmp_path / "broken.xml"
+    path.write_text("<mujoco><worldbody><body>")
+    with pytest.raises(InputError, match="broken.xml"):
+        load_robot(path)
