@@ -86,6 +86,7 @@ def candidate_json(candidate: Candidate) -> dict[str, Any]:
         "ratio": unit.ratio,
         "feasible": candidate.feasible,
         "life_hours": _finite(candidate.life_hours),
+        "l10_hours": _finite(candidate.l10_hours),
         "flags": sorted({flag.code for flag in candidate.flags}),
         "notes": [flag.note for flag in candidate.flags],
         "binding": candidate.binding,

@@ -95,21 +95,28 @@ def duty_table(result: DutyResult) -> Table:
     table = Table(
         title=(f"{result.cycle.path.name}: peak {load.peak_torque:.3g} N m, mean torque {mean}, "
                f"mean output speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm"),
-        title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
-    columns = ["", "unit", *RULES]
-    columns += ["life"] if life_required else []
-    columns += ["L50 life", "result"]
+        title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, collapse_padding=True)
+    columns = ["unit", *SHORT.values(), *(["life"] if life_required else []), "L50 h", "L10 h",
+               "result"]
     for header in columns:
-        table.add_column(header, justify="right" if header not in ("", "unit", "result")
-                         else "left", no_wrap=True)
+        table.add_column(header, justify="left" if header in ("unit", "result") else "right",
+                         no_wrap=True)
     for c in result.candidates:
         chosen = c is result.selected
-        cells = ["▶" if chosen else "", c.unit.id]
+        cells = [("▶" if chosen else " ") + c.unit.id]
         cells += [_utilization_cell(c.checks[name]) for name in RULES]
         cells += [_utilization_cell(c.checks["life"])] if life_required else []
-        cells += [life_text(c.life_hours), verdict(c)]
+        cells += [life_text(c.life_hours, ""), life_text(c.l10_hours, ""), verdict(c)]
         table.add_row(*cells, style="bold" if chosen else None)
-    table.caption = (f"▶ selected. utilization = demand / limit; {MEAN_SPEED_NOTE}.")
+    notes = [f"▶ selected. utilization = demand / limit; mom. = momentary (T4); L10 = L50 / 5; "
+             f"{MEAN_SPEED_NOTE}."]
+    chosen = result.selected
+    events = chosen.checks["momentary"].detail.get("allowed_events") if chosen else None
+    if chosen is not None and isinstance(events, float):
+        notes.append(f"The selected {chosen.unit.id} allows {events:,.0f} momentary events like "
+                     "the one given (10^4 / (2 n t), n its input speed in rev/s, t its "
+                     "duration).")
+    table.caption = "\n".join(notes)
     table.caption_justify = "left"
     return table
 

@@ -21,6 +21,8 @@ RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
 """Revolutions per minute in one radian per second."""
 ALLOWABLE_TORQUE_EXPONENT = 0.33
 """Exponent of the catalog's continuous-torque rule, T = (1750 / N)^0.33 T_N."""
+L50_PER_L10 = 5.0
+"""Harmonic Drive's ratio of average (L50) to 90 %-survival (L10) wave generator life."""
 MOMENTARY_EVENTS_FACTOR = 1.0e4
 """Harmonic Drive's momentary-overload rule: allowed events = 1e4 / (2 (n/60) t)."""
 CHECKS = ("peak", "mean", "speed", "momentary", "static", "life")
@@ -115,6 +117,11 @@ class Candidate:
     def binding(self) -> str:
         """Name of the rule with the highest utilization."""
         return max(self.checks, key=lambda name: self.checks[name].utilization)
+
+    @property
+    def l10_hours(self) -> float | None:
+        """L10 life, L50 / 5 [h]; None when unlimited."""
+        return None if self.life_hours is None else self.life_hours / L50_PER_L10
 
     @property
     def margin(self) -> float:
