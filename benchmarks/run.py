@@ -206,10 +206,10 @@ def benchmarks(quick: bool) -> list[Benchmark]:
         return inverse_dynamics(robot, q, qd, qdd)
 
     def uncoupled_torque_error() -> float:
-        result = sizing._size_trajectory(robot, traj, units, uncoupled)
+        joints = sizing._size_trajectory(robot, traj, units, uncoupled)
         reference = rnea_loop()
         return max(float(np.max(np.abs(joint.torque - reference[:, robot.joint_index(joint.name)])))
-                   for joint in result.joints)
+                   for joint in joints)
 
     samples = f"{n:,} samples of {MOTION.name}" + (f" (every {step}th)" if step > 1 else "")
     cli = [sys.executable, "-m", "hdselect.cli"]

@@ -110,10 +110,10 @@ def duty_table(result: DutyResult) -> Table:
         table.add_row(*cells, style="bold" if chosen else None)
     notes = [f"▶ selected. utilization = demand / limit; mom. = momentary (T4); L10 = L50 / 5; "
              f"{MEAN_SPEED_NOTE}."]
-    chosen = result.selected
-    events = chosen.checks["momentary"].detail.get("allowed_events") if chosen else None
-    if chosen is not None and isinstance(events, float):
-        notes.append(f"The selected {chosen.unit.id} allows {events:,.0f} momentary events like "
+    selected = result.selected
+    events = selected.checks["momentary"].detail.get("allowed_events") if selected else None
+    if selected is not None and isinstance(events, float):
+        notes.append(f"The selected {selected.unit.id} allows {events:,.0f} momentary events like "
                      "the one given (10^4 / (2 n t), n its input speed in rev/s, t its "
                      "duration).")
     table.caption = "\n".join(notes)

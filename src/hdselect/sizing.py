@@ -7,7 +7,6 @@ each chosen unit's mass (and motor mass) carried by the joints nearer the base.
 
 from __future__ import annotations
 
-import logging
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -24,8 +23,6 @@ from hdselect.robot import Payload, Robot
 from hdselect.rules import Candidate, CycleLoad, check_unit, cycle_load
 from hdselect.select import select
 from hdselect.slowdown import Slowdown, find_slowdown
-
-logger = logging.getLogger(__name__)
 
 DEFAULT_STOP_TIME = 0.1
 """Time in which an emergency stop or a crash brings the arm to rest [s]."""
@@ -190,11 +187,12 @@ def size(
         units = load_catalog(catalog)
     select((), options.prefer)  # validates the order before the work
     trajectory = plan(motion)
-    return replace(_size_trajectory(motion.robot, trajectory, units, options), motion=motion)
+    results = _size_trajectory(motion.robot, trajectory, units, options)
+    return SizingResult(motion.robot, motion, trajectory, results, options, units)
 
 
 def _size_trajectory(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
-                     options: Options) -> SizingResult:
+                     options: Options) -> tuple[JointSizing, ...]:
     """Size every joint, carrying the chosen units' masses when coupling is on.
 
     Joint j's torque depends only on the units chosen further out, so sizing
@@ -229,7 +227,7 @@ def _size_trajectory(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
               for joint in joints for j in [robot.joint_index(joint.name)]]
     if any(joint.selected is None for joint in joints):
         joints = _with_slowdowns(carrying, traj, joints, units, options)
-    return SizingResult(robot, None, traj, tuple(joints), options, units)  # type: ignore[arg-type]
+    return tuple(joints)
 
 
 def _unit_masses(joints: list[JointSizing], options: Options) -> dict[str, float]:
