@@ -367,3 +367,12 @@ def test_size_json_never_writes_over_the_robot(capsys):
     assert code == 2
     assert_one_line_error(err, "planar2.urdf", "input file")
     assert PLANAR2.read_text().startswith("<?xml")
+
+
+def test_payload_frame_missing_from_the_robot_names_the_motion_file(capsys):
+    """The benchtop motion carries its payload on `tool0`, a link planar2 does not have."""
+    code, out, err = run(capsys, "size", PLANAR2,
+                         REPO / "trajectories" / "benchtop6_pick_place.toml")
+    assert code == 2 and out == ""
+    assert_one_line_error(err, "benchtop6_pick_place.toml", "payload.frame", "tool0",
+                          "links are: base_link, link1, link2, tool")

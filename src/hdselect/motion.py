@@ -13,6 +13,7 @@ other columns are ignored.
 from __future__ import annotations
 
 import csv
+import logging
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -24,6 +25,8 @@ import numpy as np
 from hdselect.errors import InputError
 from hdselect.robot import MOUNTINGS, Payload, Robot, load_robot
 from hdselect.tomlfile import as_number, check_keys, number, read_toml, table_of
+
+logger = logging.getLogger(__name__)
 
 PLANNERS = ("ruckig", "toppra", "samples")
 """Valid values of the ``planner`` key."""
@@ -141,8 +144,16 @@ def load_motion(
             robot = path.parent / doc["robot"]
             if not robot.is_file():
                 raise InputError(f"robot file not found: {robot}", path=path, field="robot")
-        robot = load_robot(robot, payload=payload or file_payload, joints=joints,
-                           mounting=file_mounting if mounting is None else mounting)
+        try:
+            robot = load_robot(robot, payload=payload or file_payload, joints=joints,
+                               mounting=file_mounting if mounting is None else mounting)
+        except InputError as err:
+            if payload is None and file_payload is not None and err.field == "payload.frame":
+                raise InputError(err.reason, path=path, field=err.field) from err
+            raise
+    elif "payload" in doc or "mounting" in doc:
+        logger.warning("%s: the robot was given already loaded; this file's payload and "
+                       "mounting are not applied", path)
     scale = np.where(robot.revolute, unit, 1.0)
     units = [("deg" if unit != 1.0 else "rad") if r else "m" for r in robot.revolute]
     limits = table_of(doc.get("limits", {}), path, "limits")
