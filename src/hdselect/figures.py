@@ -215,6 +215,7 @@ def _page(result: SizingResult, images: list[tuple[JointSizing, str]]) -> str:
 <title>hdselect: {esc(result.robot.path.name)} / {esc(result.motion.path.name)}</title>
 <style>body{{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}}
 table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:left}}
+td{{white-space:nowrap}}
 img{{max-width:100%}}</style></head><body>
 <h1>Gearhead selection: {esc(result.robot.path.name)} running {esc(result.motion.path.name)}</h1>
 <p>Planner {esc(result.motion.planner)}, cycle {result.cycle_time:.3f} s,
