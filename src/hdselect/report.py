@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import sys
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 from rich import box
 from rich.console import Console
@@ -12,7 +12,8 @@ from rich.table import Table
 from hdselect.catalog import KG_M2_PER_KG_CM2, KG_M2_PER_LB_IN2, KG_PER_LB, NM_PER_LB_IN, Unit
 from hdselect.duty import DutyResult
 from hdselect.export import MEAN_SPEED_NOTE, assumptions
-from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
+from hdselect.reflect import MotorDemand
+from hdselect.rules import RPM_PER_RAD_S, Candidate, Check, CycleLoad
 from hdselect.sizing import JointSizing, SizingResult
 
 RULES = ("peak", "mean", "speed", "momentary", "static")
@@ -89,25 +90,10 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> Table:
 
 def duty_table(result: DutyResult) -> Table:
     """One row per unit: utilization of each rule, life, verdict; the selection marked."""
-    life_required = result.cycle.life_hours is not None
-    load = result.load
-    mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
-    table = Table(
-        title=(f"{result.cycle.path.name}: peak {load.peak_torque:.3g} N m, mean torque {mean}, "
-               f"mean output speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm"),
-        title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, collapse_padding=True)
-    columns = ["unit", *SHORT.values(), *(["life"] if life_required else []), "L50 h", "L10 h",
-               "result"]
-    for header in columns:
-        table.add_column(header, justify="left" if header in ("unit", "result") else "right",
-                         no_wrap=True)
-    for c in result.candidates:
-        chosen = c is result.selected
-        cells = [("▶" if chosen else " ") + c.unit.id]
-        cells += [_utilization_cell(c.checks[name]) for name in RULES]
-        cells += [_utilization_cell(c.checks["life"])] if life_required else []
-        cells += [life_text(c.life_hours, ""), life_text(c.l10_hours, ""), verdict(c)]
-        table.add_row(*cells, style="bold" if chosen else None)
+    table = _candidates_table(
+        f"{result.cycle.path.name}: {_load_text(result.load)}", result.candidates,
+        result.selected, life_required=result.cycle.life_hours is not None,
+        extra={"L10 h": lambda c: life_text(c.l10_hours, "")})
     notes = [f"▶ selected. utilization = demand / limit; mom. = momentary (T4); L10 = L50 / 5; "
              f"{MEAN_SPEED_NOTE}."]
     selected = result.selected
@@ -119,6 +105,33 @@ def duty_table(result: DutyResult) -> Table:
     table.caption = "\n".join(notes)
     table.caption_justify = "left"
     return table
+
+
+def _candidates_table(title: str, candidates: Iterable[Candidate], selected: Candidate | None,
+                      *, life_required: bool,
+                      extra: dict[str, Callable[[Candidate], str]]) -> Table:
+    """Every candidate's utilization per rule, its L50 life, `extra` columns and verdict."""
+    table = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
+                  collapse_padding=True)
+    columns = ["unit", *SHORT.values(), *(["life"] if life_required else []), "L50 h", *extra,
+               "result"]
+    for header in columns:
+        table.add_column(header, justify="left" if header in ("unit", "result") else "right",
+                         no_wrap=True)
+    for c in candidates:
+        chosen = c is selected
+        cells = [("▶" if chosen else " ") + c.unit.id]
+        cells += [_utilization_cell(c.checks[name]) for name in RULES]
+        cells += [_utilization_cell(c.checks["life"])] if life_required else []
+        cells += [life_text(c.life_hours, ""), *(cell(c) for cell in extra.values()), verdict(c)]
+        table.add_row(*cells, style="bold" if chosen else None)
+    return table
+
+
+def _load_text(load: CycleLoad) -> str:
+    mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
+    return (f"peak {load.peak_torque:.3g} N m, mean torque {mean}, mean output speed "
+            f"{load.mean_speed * RPM_PER_RAD_S:.3g} rpm")
 
 
 def _utilization_cell(check: Check) -> str:
@@ -145,8 +158,7 @@ def size_table(result: SizingResult) -> Table:
             table.add_row(joint.name, "[red]none[/red]", f"[red]{verdict(strongest)}[/red]",
                           "", "", "", "", ", ".join(notes))
             continue
-        motor = chosen.motor
-        assert motor is not None
+        motor = _motor(chosen)
         check = chosen.checks[chosen.binding]
         mark = "*" if chosen.flags else ""
         table.add_row(
@@ -160,33 +172,22 @@ def size_table(result: SizingResult) -> Table:
 
 def compare_table(result: SizingResult, joint: JointSizing) -> Table:
     """One row per unit for one joint: every rule's utilization, life and motor demand."""
-    life_required = result.options.life_hours is not None
-    load = joint.load
-    mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
-    table = Table(title=(f"Joint {joint.name}: peak {load.peak_torque:.3g} N m, mean torque "
-                         f"{mean}, mean output speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm, "
-                         f"carries {joint.carried_mass:.2f} kg of gearheads"),
-                  title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
-                  collapse_padding=True)
-    columns = ["unit", *SHORT.values(), *(["life"] if life_required else []), "L50 h",
-               "motor\npeak N m", "motor\nrms N m", "motor\nmax rpm", "result"]
-    for header in columns:
-        table.add_column(header, justify="left" if header in ("unit", "result") else "right",
-                         no_wrap=True)
-    for c in joint.candidates:
-        chosen = c is joint.selected
-        cells = [("▶" if chosen else " ") + c.unit.id]
-        cells += [_utilization_cell(c.checks[name]) for name in RULES]
-        cells += [_utilization_cell(c.checks["life"])] if life_required else []
-        motor = c.motor
-        assert motor is not None
-        cells += [life_text(c.life_hours, ""), f"{motor.peak_torque:.3g}",
-                  f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}", verdict(c)]
-        table.add_row(*cells, style="bold" if chosen else None)
+    table = _candidates_table(
+        f"Joint {joint.name}: {_load_text(joint.load)}, carries {joint.carried_mass:.2f} kg of "
+        "gearheads", joint.candidates, joint.selected,
+        life_required=result.options.life_hours is not None,
+        extra={"motor\npeak N m": lambda c: f"{_motor(c).peak_torque:.3g}",
+               "motor\nrms N m": lambda c: f"{_motor(c).rms_torque:.3g}",
+               "motor\nmax rpm": lambda c: f"{_motor(c).max_speed:,.0f}"})
     table.caption = ("▶ selected. utilization = demand / limit; mom. = momentary (T4): the "
                      "worse of an emergency stop and a crash.")
     table.caption_justify = "left"
     return table
+
+
+def _motor(candidate: Candidate) -> MotorDemand:
+    assert candidate.motor is not None  # every size candidate carries its motor demand
+    return candidate.motor
 
 
 def _size_title(result: SizingResult) -> str:
