@@ -16,7 +16,7 @@ import pytest
 
 from hdselect.cli import main
 from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
-from test_sizing import PLANAR2, overload_motion
+from test_sizing import PLANAR2, overload_motion, slow_planar2_motion
 
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
@@ -253,20 +253,7 @@ def test_plan_csv_lists_only_sized_joints(capsys, tmp_path):
 
 
 def test_failing_plan_leaves_no_csv(capsys, tmp_path):
-    motion = tmp_path / "outside.toml"
-    motion.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[limits]
-velocity = 90
-acceleration = 300
-jerk = 3000
-[[waypoint]]
-q = [0, 0]
-[[waypoint]]
-q = [150, 0]
-""")
+    motion = slow_planar2_motion(tmp_path / "outside.toml", (0, 0), (150, 0))
     out_file = tmp_path / "never.csv"
     status, out, err = run(capsys, "plan", motion, "--out", out_file)
     assert status == 2

@@ -297,6 +297,21 @@ def test_stronger_unit_is_never_less_feasible(stem, tmp_path):
 
 # --- overloads and the slow-down factor ------------------------------------------------------
 
+def slow_planar2_motion(path: Path, *waypoints: tuple[float, float]) -> Path:
+    """A gentle planar2 motion through `waypoints` [deg], no payload."""
+    points = "".join(f"[[waypoint]]\nq = [{a}, {b}]\n" for a, b in waypoints)
+    path.write_text(f"""\
+robot = "{PLANAR2.as_posix()}"
+planner = "ruckig"
+angle_unit = "deg"
+[limits]
+velocity = 90
+acceleration = 300
+jerk = 3000
+{points}""")
+    return path
+
+
 def overload_motion(directory: Path, *, payload: float, velocity: float, acceleration: float,
                     jerk: float, stop_time: float, scale: float = 1.0,
                     waypoints=((60, -30), (-20, 40), (60, -30)),
@@ -468,20 +483,7 @@ def test_every_shipped_motion_sizes_and_its_json_has_the_shape(path):
 def test_checks_that_do_not_apply_are_ok_with_null_value(tmp_path):
     """Elbow held still the whole cycle: no mean torque. A log that never rests: no
     static torque. Both show as value null, ok true."""
-    still = tmp_path / "still.toml"
-    still.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[limits]
-velocity = 90
-acceleration = 300
-jerk = 3000
-[[waypoint]]
-q = [0, 90]
-[[waypoint]]
-q = [40, 90]
-""")
+    still = slow_planar2_motion(tmp_path / "still.toml", (0, 90), (40, 90))
     result = size(None, still)
     elbow = result.joints[1]
     for c in elbow.candidates:
