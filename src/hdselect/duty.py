@@ -9,12 +9,9 @@ import numpy as np
 
 from hdselect.catalog import Unit
 from hdselect.errors import InputError
-from hdselect.rules import Candidate, CycleLoad, Momentary, check_unit, cycle_load
+from hdselect.rules import RPM_PER_RAD_S, Candidate, CycleLoad, Momentary, check_unit, cycle_load
 from hdselect.select import select
 from hdselect.tomlfile import check_keys, number, read_toml, table_of
-
-RAD_S_PER_RPM = 2.0 * np.pi / 60.0
-"""Radians per second in one revolution per minute."""
 
 _TOP_KEYS = ["description", "phase", "momentary", "static", "requirements"]
 _PHASE_KEYS = ["name", "torque", "time", "speed"]
@@ -100,7 +97,7 @@ def load_duty(path: str | Path) -> DutyCycle:
             name=str(table.get("name", f"phase {i + 1}")),
             torque=abs(number(table, "torque", path, where)),
             time=number(table, "time", path, where, positive=True),
-            speed=abs(number(table, "speed", path, where)) * RAD_S_PER_RPM,
+            speed=abs(number(table, "speed", path, where)) / RPM_PER_RAD_S,
         ))
     if all(phase.speed == 0.0 for phase in phases):
         raise InputError("the cycle has no motion: every phase has speed 0", path=path,
@@ -114,7 +111,7 @@ def load_duty(path: str | Path) -> DutyCycle:
         momentary = Momentary(
             torque=abs(number(table, "torque", path, "momentary")),
             kind="given",
-            speed=None if speed is None else speed * RAD_S_PER_RPM,
+            speed=None if speed is None else speed / RPM_PER_RAD_S,
             duration=number(table, "time", path, "momentary", positive=True)
             if "time" in table else None,
         )

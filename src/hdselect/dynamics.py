@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from hdselect.arrays import frozen
 from hdselect.robot import Robot
 
 if TYPE_CHECKING:
@@ -45,7 +46,7 @@ def joint_torques(robot: Robot, trajectory: Trajectory) -> JointTorques:
     tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
     still = np.zeros_like(trajectory.qd)
     gravity = inverse_dynamics(robot, trajectory.q, still, still)
-    return JointTorques(_frozen(tau), _frozen(gravity))
+    return JointTorques(frozen(tau), frozen(gravity))
 
 
 def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
@@ -69,9 +70,3 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     pool = pin.ModelPool(robot.model, threads)  # 0.05 ms: cheaper than keeping models alive
     pin.rneaInParallel(threads, pool, config, velocity, acceleration, tau)
     return tau.T
-
-
-def _frozen(array: np.ndarray) -> np.ndarray:
-    array = np.ascontiguousarray(array)
-    array.setflags(write=False)
-    return array

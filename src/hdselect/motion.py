@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from hdselect.arrays import frozen
 from hdselect.errors import InputError
 from hdselect.robot import MOUNTINGS, Payload, Robot, load_robot
 from hdselect.tomlfile import as_number, check_keys, number, read_toml, table_of
@@ -166,7 +167,7 @@ def load_motion(
             raise InputError(f"not used by planner '{planner}'; remove it (planner "
                              f"'{planner}' takes: {', '.join(_ALLOWED[planner]) or 'no limits'})",
                              path=path, field=f"limits.{key}")
-    lim = {k: _frozen(_per_joint(v, robot, path, f"limits.{k}", positive=True)
+    lim = {k: frozen(_per_joint(v, robot, path, f"limits.{k}", positive=True)
                       * (1.0 if k == "torque" else scale)) for k, v in limits.items()}
     stop_time = _section_number(doc, "safety", "stop_time", path)
     life_hours = _section_number(doc, "requirements", "life_hours", path)
@@ -184,7 +185,7 @@ def load_motion(
         waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units)
     return Motion(
         path=path, robot=robot, planner=planner, dt=dt,
-        waypoints=_frozen(waypoints), dwells=_frozen(dwells),
+        waypoints=frozen(waypoints), dwells=frozen(dwells),
         velocity_limit=lim.get("velocity"), acceleration_limit=lim.get("acceleration"),
         jerk_limit=lim.get("jerk"), torque_limit=lim.get("torque"),
         stop_time=stop_time, life_hours=life_hours, samples=samples,
@@ -338,7 +339,7 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray) -
 
     def joints(prefix: str) -> np.ndarray:
         names = [f"{prefix}_{n}" for n in robot.joint_names]
-        return _frozen(np.column_stack([column(n) for n in names]) * scale)
+        return frozen(np.column_stack([column(n) for n in names]) * scale)
 
     def logged(prefix: str) -> bool:
         return any(f"{prefix}_{n}" in columns for n in robot.joint_names)
@@ -349,7 +350,7 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray) -
         r = int(back[0]) + 2
         raise InputError(f"time must increase; data row {r} (line {r + 1}) has t = {t[r - 1]:g}"
                          f" after {t[r - 2]:g}", path=log, field="t")
-    return SampleLog(path=log, t=_frozen(t), q=joints("q"),
+    return SampleLog(path=log, t=frozen(t), q=joints("q"),
                      qd=joints("qd") if logged("qd") else None,
                      qdd=joints("qdd") if logged("qdd") else None)
 
@@ -359,9 +360,3 @@ def _float(text: str) -> float:
         return float(text)
     except ValueError:
         return math.nan
-
-
-def _frozen(array: np.ndarray) -> np.ndarray:
-    array = np.array(array, dtype=float)
-    array.setflags(write=False)
-    return array

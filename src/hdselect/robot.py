@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from hdselect.arrays import frozen
 from hdselect.errors import InputError
 
 logger = logging.getLogger(__name__)
@@ -163,11 +164,11 @@ def load_robot(
         joint_names=names,
         revolute=revolute,
         sized_joints=_sized(names, revolute, joints, path),
-        lower=_frozen(lower),
-        upper=_frozen(upper),
-        velocity_limit=_frozen(np.array(model.velocityLimit, dtype=float)),
-        effort_limit=_frozen(np.array(model.effortLimit, dtype=float)),
-        gravity=_frozen(gravity),
+        lower=frozen(lower),
+        upper=frozen(upper),
+        velocity_limit=frozen(model.velocityLimit),
+        effort_limit=frozen(model.effortLimit),
+        gravity=frozen(gravity),
         payload=payload,
         _q_index=q_index,
     )
@@ -324,9 +325,3 @@ def _check_one(link: str, mass: float, inertia: np.ndarray, path: Path) -> None:
         raise InputError(f"link '{link}' inertia violates the triangle inequality (principal "
                          f"moments {', '.join(f'{m:.3g}' for m in moments)} kg m^2)",
                          path=path, field=field)
-
-
-def _frozen(array: np.ndarray) -> np.ndarray:
-    array = np.array(array, dtype=float)
-    array.setflags(write=False)
-    return array

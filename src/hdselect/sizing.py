@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hdselect.arrays import frozen
 from hdselect.catalog import Unit, load_catalog
 from hdselect.coupling import carried_mass, with_gearheads
 from hdselect.dynamics import inverse_dynamics
@@ -212,12 +213,14 @@ def _size_trajectory(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
             masses = _unit_masses(_size_joints(with_gearheads(robot, masses), coarse, units,
                                                options), options)
     for _ in range(robot.dof + 1):
-        joints = _size_joints(with_gearheads(robot, masses), traj, units, options)
+        carrying = with_gearheads(robot, masses)
+        joints = _size_joints(carrying, traj, units, options)
         chosen = _unit_masses(joints, options)
         if not options.mass_coupling or chosen == masses:
             break
         masses = chosen
-    carrying = with_gearheads(robot, masses)
+    else:  # each round settles at least one more joint from the tip
+        raise AssertionError("the tip-to-base sizing did not settle")
     gravity_at = np.unique(np.linspace(0, len(traj.t) - 1, _GRAVITY_SAMPLES).astype(int))
     still = np.zeros((len(gravity_at), robot.dof))
     gravity = np.abs(inverse_dynamics(carrying, traj.q[gravity_at], still, still))
@@ -264,7 +267,7 @@ def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, ta
     candidates = [check_unit(load, r.unit, momentary=r.momentary, life_hours=options.life_hours,
                              motor=r.motor) for r in reflections]
     return JointSizing(name, load, tuple(candidates), select(candidates, options.prefer),
-                       0.0, False, 0.0, _frozen(tau), _frozen(stop_tau))
+                       0.0, False, 0.0, frozen(tau), frozen(stop_tau))
 
 
 def _at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
@@ -314,9 +317,3 @@ def _fraction(value: float) -> float:
     if not np.isfinite(value) or not 0.0 < value <= 1.0:
         raise InputError(f"must be in (0, 1], got {value:g}", field="--efficiency")
     return float(value)
-
-
-def _frozen(array: np.ndarray) -> np.ndarray:
-    array = np.ascontiguousarray(array)
-    array.setflags(write=False)
-    return array
