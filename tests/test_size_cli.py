@@ -16,7 +16,7 @@ import pytest
 
 from hdselect.cli import main
 from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
-from test_sizing import PLANAR2, overload_motion, slow_planar2_motion
+from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
@@ -106,23 +106,7 @@ def test_overloaded_motion_exits_1_with_table_and_json(capsys, tmp_path):
 
 
 def test_gravity_overload_says_no_slowdown_helps(capsys, tmp_path):
-    motion = tmp_path / "heavy.toml"
-    motion.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[payload]
-mass = 8.0
-[limits]
-velocity = 30
-acceleration = 100
-jerk = 1000
-[[waypoint]]
-q = [0, 0]
-dwell = 1.0
-[[waypoint]]
-q = [5, 0]
-""")
+    motion = gravity_overload_motion(tmp_path / "heavy.toml")
     status, out, _ = run(capsys, "size", motion)
     assert status == 1
     assert "no slow-down helps" in out.replace("\n", " ")

@@ -312,6 +312,29 @@ jerk = 3000
     return path
 
 
+def gravity_overload_motion(path: Path) -> Path:
+    """planar2 holding 8 kg at the tool, barely moving: gravity alone is too much."""
+    path.write_text(f"""\
+robot = "{PLANAR2.as_posix()}"
+planner = "ruckig"
+angle_unit = "deg"
+[payload]
+mass = 8.0
+frame = "tool"
+[limits]
+velocity = 30
+acceleration = 100
+jerk = 1000
+[[waypoint]]
+q = [0, 0]
+dwell = 1.0
+[[waypoint]]
+q = [5, 0]
+dwell = 1.0
+""")
+    return path
+
+
 def overload_motion(directory: Path, *, payload: float, velocity: float, acceleration: float,
                     jerk: float, stop_time: float, scale: float = 1.0,
                     waypoints=((60, -30), (-20, 40), (60, -30)),
@@ -399,25 +422,7 @@ def test_slowdown_factor_checked_by_rerunning_the_slowed_motion(case, tmp_path):
 def test_gravity_only_overload_no_slowdown_helps(tmp_path):
     """8 kg at the tool, arm held horizontal: (m1 lc1 + m2 l1 + 8 (l1 + l2)) g = 44 N m
     at the shoulder, above every unit's static and repeated limits (34 N m at most)."""
-    path = tmp_path / "heavy.toml"
-    path.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[payload]
-mass = 8.0
-frame = "tool"
-[limits]
-velocity = 30
-acceleration = 100
-jerk = 1000
-[[waypoint]]
-q = [0, 0]
-dwell = 1.0
-[[waypoint]]
-q = [5, 0]
-dwell = 1.0
-""")
+    path = gravity_overload_motion(tmp_path / "heavy.toml")
     result = size(None, path, mass_coupling=False)
     shoulder = result.joints[0]
     assert shoulder.selected is None
