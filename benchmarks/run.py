@@ -150,7 +150,7 @@ def _longest_ruckig_move(motion):
     """The longest of the motion's waypoint-to-waypoint Ruckig moves (6-DOF, rest to rest)."""
     import ruckig
 
-    dof = motion.robot.dof
+    dof = len(motion.joint_names)
     best = None
     for start, end in zip(motion.waypoints[:-1], motion.waypoints[1:], strict=True):
         if np.array_equal(start, end):
@@ -169,6 +169,13 @@ def _longest_ruckig_move(motion):
     return best
 
 
+def _sample_at_time(move, times: np.ndarray):
+    """The baseline of the sampling row: Ruckig's own ``at_time``, one call per sample."""
+    states = [move.at_time(float(time)) for time in times]
+    shape = (len(states), move.degrees_of_freedom)
+    return tuple(np.array([s[i] for s in states]).reshape(shape) for i in range(3))
+
+
 def _max_difference(a, b) -> float:
     return max(float(np.max(np.abs(np.asarray(x) - np.asarray(y)))) for x, y in zip(a, b,
                                                                                   strict=True))
@@ -176,16 +183,13 @@ def _max_difference(a, b) -> float:
 
 def benchmarks(quick: bool) -> list[Benchmark]:
     """Every row, with its fixtures built (imports and planning happen here, untimed)."""
-    # `hdselect.plan` is also the name of a function the package exports: import the module.
-    planning = importlib.import_module("hdselect.plan")
-    sizing = importlib.import_module("hdselect.sizing")
+    from hdselect import Options, Payload, load_case, plan, size, size_trajectory
     from hdselect.catalog import load_catalog
     from hdselect.dynamics import inverse_dynamics
-    from hdselect.motion import load_motion
+    from hdselect.planning.ruckig import sample_profiles
 
-    motion = load_motion(MOTION, ROBOT)
-    robot = motion.robot
-    full = planning.plan(motion)
+    robot, motion = load_case(MOTION, ROBOT)
+    full = plan(robot, motion)
     step = _every(len(full.t), quick)
     traj = full if step == 1 else replace(
         full, dt=full.dt * step, t=full.t[::step], q=full.q[::step], qd=full.qd[::step],
@@ -193,8 +197,17 @@ def benchmarks(quick: bool) -> list[Benchmark]:
     q, qd, qdd = traj.q, traj.qd, traj.qdd
     n = len(traj.t)
     units = load_catalog()
-    coupled, uncoupled = sizing.Options(), sizing.Options(mass_coupling=False)
+    coupled, uncoupled = Options(), Options(mass_coupling=False)
     motion_for_size = motion if step == 1 else replace(motion, dt=motion.dt * step)
+    payloads = [Payload(0.1 * (k + 1), (0.0, 0.0, 0.03), frame="tool0") for k in range(10)]
+
+    def sweep_core() -> None:
+        for payload in payloads:
+            size_trajectory(robot.with_payload(payload), traj, units, coupled)
+
+    def sweep_size() -> None:
+        for payload in payloads:
+            size(ROBOT, motion_for_size, units=units, payload=payload)
 
     move = _longest_ruckig_move(motion)
     grid = np.linspace(0.0, move.duration, QUICK_SAMPLES if quick else 10_000)
@@ -206,7 +219,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
         return inverse_dynamics(robot, q, qd, qdd)
 
     def uncoupled_torque_error() -> float:
-        joints = sizing._size_trajectory(robot, traj, units, uncoupled)
+        joints = size_trajectory(robot, traj, units, uncoupled).joints
         reference = rnea_loop()
         return max(float(np.max(np.abs(joint.torque - reference[:, robot.joint_index(joint.name)])))
                    for joint in joints)
@@ -222,30 +235,33 @@ def benchmarks(quick: bool) -> list[Benchmark]:
                                                                            [rnea_loop()]), 1e-9)),
         Benchmark(
             "ruckig sampling",
-            lambda: planning._sample_profiles(move, grid),
-            lambda: planning._sample_at_time(move, grid), 0.2, unit="us", per=grid.size,
+            lambda: sample_profiles(move, grid),
+            lambda: _sample_at_time(move, grid), 0.2, unit="us", per=grid.size,
             per_label="sample",
-            notes=f"_sample_profiles vs _sample_at_time; {grid.size:,} times over the longest "
+            notes=f"sample_profiles vs at_time per sample; {grid.size:,} times over the longest "
                   f"move ({move.duration:.3g} s)",
             check=Check("max |profiles - at_time|", lambda: _max_difference(
-                planning._sample_profiles(move, grid), planning._sample_at_time(move, grid)),
-                1e-9)),
+                sample_profiles(move, grid), _sample_at_time(move, grid)), 1e-9)),
         Benchmark(
             "sizing (coupled)",
-            lambda: sizing._size_trajectory(robot, traj, units, coupled), rnea_loop, 1.0,
-            notes=f"_size_trajectory, {len(units)} units, Options() vs Python loop of pin.rnea; "
+            lambda: size_trajectory(robot, traj, units, coupled), rnea_loop, 1.0,
+            notes=f"size_trajectory, {len(units)} units, Options() vs Python loop of pin.rnea; "
                   f"{samples}", repeats=15),
         Benchmark(
             "coupled / uncoupled",
-            lambda: sizing._size_trajectory(robot, traj, units, coupled),
-            lambda: sizing._size_trajectory(robot, traj, units, uncoupled), 1.5,
+            lambda: size_trajectory(robot, traj, units, coupled),
+            lambda: size_trajectory(robot, traj, units, uncoupled), 1.5,
             notes="Options() vs Options(mass_coupling=False)", repeats=15,
             check=Check("uncoupled max |tau - loop| [N m]", uncoupled_torque_error, 1e-9)),
         Benchmark(
             "size() incl. planning",
-            lambda: sizing.size(robot, motion_for_size, units=units), rnea_loop, None,
-            notes="sizing.size (plans, then sizes with the file's options) vs the rnea loop",
+            lambda: size(robot, motion_for_size, units=units), rnea_loop, None,
+            notes="size (plans, then sizes with the file's options) vs the rnea loop",
             repeats=15),
+        Benchmark(
+            "payload sweep x10", sweep_core, sweep_size, None, repeats=5,
+            notes="10 payload masses: one load and one plan, then size_trajectory on "
+                  "robot.with_payload(m), vs 10 size() calls from the files (load, plan, size)"),
         Benchmark(
             "cold start: --help", lambda: _process(cli + ["--help"]),
             lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,

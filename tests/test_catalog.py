@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 from pathlib import Path
@@ -165,9 +166,9 @@ def unit_toml(extra_lines: str = "", **overrides: object) -> str:
 
 
 def write_catalog(tmp_path: Path, *units: str, series: str = "XYZ",
-                  name: str = "extra.toml") -> Path:
+                  name: str = "extra.toml", rules: str = "") -> Path:
     path = tmp_path / name
-    path.write_text(f'series = "{series}"\n\n' + "\n".join(units), encoding="utf-8")
+    path.write_text(f'series = "{series}"\n{rules}\n' + "\n".join(units), encoding="utf-8")
     return path
 
 
@@ -349,3 +350,132 @@ def test_bad_efficiency_table(tmp_path: Path, lines: str, field: str, reason: st
     assert info.value.path == path
     assert info.value.field == field
     assert reason in info.value.reason
+
+
+# ----------------------------------------------------------------------------- [rules]
+
+# Harmonic Drive's CSF rules, as its selection procedure states them (Harmonic Drive AG,
+# HFUS-2A/CSD-2A engineering data, "Torque based dimensioning" and "Life of the wave
+# generator bearing"; Harmonic Drive LLC, CSF & CSG catalog, "Rated lifetime L10 CSF 7,000").
+CSF_RULES = {
+    "rated_input_speed_rpm": 2000,
+    "rated_life_hours": 7000,
+    "life_basis": "L10",
+    "mean_torque_limit": "tabulated",
+    "mean_speed": "whole-cycle",
+    "max_momentary_events": 10000,
+}
+
+
+def rules_toml(**overrides: object) -> str:
+    """A [rules] table: CSF_RULES with overrides; an override of None drops the key."""
+    values = {**CSF_RULES, **overrides}
+    return "[rules]\n" + "".join(f"{key} = {toml_value(v)}\n" for key, v in values.items()
+                                  if v is not None)
+
+
+def test_builtin_states_the_psa_g_rules() -> None:
+    # The PSA-G page: T_N at 1750 rpm input for L50 = 35,000 h; (1750 / N)^0.33 x T_N;
+    # mean speed over t1..t3. The 10^4 cap on momentary events is Harmonic Drive's.
+    for unit in load_catalog():
+        rules = unit.rules
+        assert (rules.rated_input_speed, rules.rated_life_hours, rules.life_basis) == (
+            1750.0, 35000.0, "L50")
+        assert (rules.mean_torque_limit, rules.mean_speed) == ("speed-adjusted", "moving")
+        assert rules.max_momentary_events == 10000.0
+        assert rules.rated_l50_hours == 35000.0
+        assert rules.flag is None and rules.source.name == "psa_g.toml"
+        assert unit.average_torque is None and unit.max_average_input_speed is None
+
+
+def test_user_rules_and_series_limits(tmp_path: Path) -> None:
+    path = write_catalog(tmp_path, unit_toml(average_torque_nm=35.0,
+                                             max_average_input_speed_rpm=3000),
+                         rules=rules_toml())
+    unit = {u.id: u for u in load_catalog([path])}["XYZ-20-50"]
+    rules = unit.rules
+    assert (rules.rated_input_speed, rules.rated_life_hours, rules.life_basis) == (
+        2000.0, 7000.0, "L10")
+    assert (rules.mean_torque_limit, rules.mean_speed) == ("tabulated", "whole-cycle")
+    assert rules.rated_l50_hours == 35000.0  # L50 = 5 x L10 = 5 x 7000 h
+    assert rules.source == path and rules.flag is None
+    assert unit.average_torque == 35.0
+    assert unit.max_average_input_speed == 3000.0
+    assert unit.flags == ()
+
+
+def test_user_file_without_rules_is_judged_by_the_builtin_and_flagged(tmp_path: Path) -> None:
+    path = write_catalog(tmp_path, unit_toml(), unit_toml(ratio=100))
+    builtin = load_catalog()[0].rules
+    extra = [u for u in load_catalog([path]) if u.series == "XYZ"]
+    assert len(extra) == 2
+    for unit in extra:
+        flag = unit.rules.flag
+        assert flag is not None and flag.code == "rules:assumed"
+        assert "states no [rules]" in flag.note and "1750 rpm" in flag.note
+        assert "35000 h L50" in flag.note
+        # the same numbers as the built-in file's rules, only flagged
+        assert dataclasses.replace(unit.rules, flag=None) == builtin
+        assert unit.flags == ()  # the catalog values themselves are as given
+
+
+def test_average_torque_columns_are_reconciled(tmp_path: Path) -> None:
+    # 300 lb-in = 33.89544 N m against 35 N m: more than the rounding of either column
+    # (0.0565 + 0.5 N m), so the lower is used and flagged.
+    path = write_catalog(tmp_path, unit_toml(average_torque_nm=35.0, average_torque_lb_in=300),
+                         rules=rules_toml())
+    unit = {u.id: u for u in load_catalog([path])}["XYZ-20-50"]
+    assert unit.average_torque == pytest.approx(33.89544, abs=1e-9)
+    assert [f.code for f in unit.flags] == ["average_torque:corrected"]
+    assert "average-torque limit" in unit.flags[0].note
+
+
+def test_tabulated_rule_needs_the_average_torque(tmp_path: Path) -> None:
+    path = write_catalog(tmp_path, unit_toml(), rules=rules_toml())
+    with pytest.raises(InputError) as info:
+        load_catalog([path])
+    assert info.value.path == path
+    assert info.value.field == "unit[XYZ-20-50].average_torque_nm"
+    assert "tabulated" in info.value.reason
+    # the speed-adjusted rule does not need it
+    path = write_catalog(tmp_path, unit_toml(), rules=rules_toml(
+        mean_torque_limit="speed-adjusted"))
+    assert {u.id for u in load_catalog([path])} >= {"XYZ-20-50"}
+
+
+@pytest.mark.parametrize(("overrides", "field", "reason"), [
+    ({"life_basis": "L90"}, "rules.life_basis", "'L10', 'L50'"),
+    ({"mean_torque_limit": "rated"}, "rules.mean_torque_limit", "'tabulated', 'speed-adjusted'"),
+    ({"mean_speed": "average"}, "rules.mean_speed", "'whole-cycle', 'moving'"),
+    ({"rated_input_speed_rpm": 0}, "rules.rated_input_speed_rpm", "positive"),
+    ({"rated_life_hours": -7000}, "rules.rated_life_hours", "positive"),
+    ({"rated_life_hours": math.inf}, "rules.rated_life_hours", "finite"),
+    ({"max_momentary_events": math.nan}, "rules.max_momentary_events", "finite"),
+    ({"rated_input_speed_rpm": "2000"}, "rules.rated_input_speed_rpm", "expected a number"),
+    ({"mean_speed": None}, "rules.mean_speed", "required"),
+    ({"rated_life_hour": 7000}, "rules.rated_life_hour", "did you mean 'rated_life_hours'"),
+])
+def test_bad_rules_name_file_and_field(tmp_path: Path, overrides: dict[str, object], field: str,
+                                       reason: str) -> None:
+    path = write_catalog(tmp_path, unit_toml(average_torque_nm=35.0),
+                         rules=rules_toml(**overrides))
+    with pytest.raises(InputError) as info:
+        load_catalog([path])
+    assert info.value.path == path
+    assert info.value.field == field
+    assert reason in info.value.reason
+    assert str(path) in str(info.value) and field in str(info.value)
+
+
+def test_rules_must_be_a_table(tmp_path: Path) -> None:
+    path = write_catalog(tmp_path, unit_toml(), rules="rules = 5\n")
+    with pytest.raises(InputError, match="expected a table") as info:
+        load_catalog([path])
+    assert info.value.field == "rules"
+
+
+def test_bad_average_input_speed_limit(tmp_path: Path) -> None:
+    path = write_catalog(tmp_path, unit_toml(max_average_input_speed_rpm=-1))
+    with pytest.raises(InputError, match="positive") as info:
+        load_catalog([path])
+    assert info.value.field == "unit[XYZ-20-50].max_average_input_speed_rpm"

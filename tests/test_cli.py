@@ -16,7 +16,7 @@ REPO = Path(__file__).resolve().parents[1]
 CONVEYOR = REPO / "trajectories" / "duty" / "conveyor_index.toml"
 UNIT_IDS = ["PSA-08-80", "PSA-08-100", "PSA-10-50", "PSA-10-80", "PSA-14-50", "PSA-14-80",
             "PSA-14-100"]
-BASE_CHECKS = ["peak", "mean", "speed", "momentary", "static"]
+BASE_CHECKS = ["peak", "mean", "speed", "average_speed", "momentary", "static"]
 NM_PER_LB_IN = 0.1129848
 
 LIGHT = [  # (torque [N m], time [s], output speed [rpm]): the size-10 units fit

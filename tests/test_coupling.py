@@ -1,6 +1,6 @@
 """Carried gearhead masses against Pinocchio with the masses written in independently.
 
-`with_gearheads` puts a point mass at each joint's mount point (the joint
+`Robot.with_gearheads` puts a point mass at each joint's mount point (the joint
 origin, on the link before the joint). The oracles put the masses into the
 robot another way and re-run Pinocchio's full dynamics: with the masses written
 into a copy of the URDF file as extra links (no Pinocchio placement API
@@ -16,7 +16,6 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.coupling import carried_mass, with_gearheads
 from hdselect.robot import load_robot
 from test_dynamics import MOTIONS, REPO, ROBOTS, G, planned, random_states, rnea_loop, thinned
 
@@ -75,7 +74,7 @@ def random_masses(names, seed: int) -> dict[str, float]:
 
 def carrying(robot, masses, q, qd, qdd):
     """Torques of the robot carrying the masses, from the code under test."""
-    return rnea_loop(with_gearheads(robot, masses).model, q, qd, qdd)
+    return rnea_loop(robot.with_gearheads(masses).model, q, qd, qdd)
 
 
 # --- every shipped robot, random states --------------------------------------------------
@@ -96,8 +95,7 @@ def test_gearheads_equal_masses_written_into_the_urdf(path, mounting, tmp_path):
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
 def test_gearheads_along_shipped_motions_with_payload(path):
     """Along the planned motion, payload included, masses of 0.3..0.5 kg (the catalog's)."""
-    motion, trajectory = planned(path)
-    robot = motion.robot
+    robot, motion, trajectory = planned(path)
     keep = thinned(trajectory, 150)
     q, qd, qdd = trajectory.q[keep], trajectory.qd[keep], trajectory.qdd[keep]
     masses = {name: 0.3 + 0.1 * (i % 3) for i, name in enumerate(robot.sized_joints)}
@@ -109,7 +107,7 @@ def test_gearheads_along_shipped_motions_with_payload(path):
 def test_the_robot_given_is_not_changed():
     robot = load_robot(REPO / "robots" / "planar2.urdf")
     bodies = robot.model.inertias[1].mass, robot.model.inertias[2].mass
-    heavy = with_gearheads(robot, {"elbow": 1.0})
+    heavy = robot.with_gearheads({"elbow": 1.0})
     assert (robot.model.inertias[1].mass, robot.model.inertias[2].mass) == bodies
     assert heavy.model.inertias[1].mass == pytest.approx(bodies[0] + 1.0)
 
@@ -177,9 +175,9 @@ def test_branched_tree_masses_load_only_their_own_branch(tmp_path):
     np.testing.assert_allclose(carrying(robot, masses, q, qd, qdd),
                                rnea_loop(heavy.model, q, qd, qdd), rtol=0, atol=1e-8)
     # carried mass: `turn` carries both, each arm carries neither
-    assert carried_mass(robot, masses, "turn") == pytest.approx(1.1)
-    assert carried_mass(robot, masses, "left_arm") == 0.0
-    assert carried_mass(robot, masses, "right_arm") == 0.0
+    assert robot.with_gearheads(masses).carried_mass("turn") == pytest.approx(1.1)
+    assert robot.with_gearheads(masses).carried_mass("left_arm") == 0.0
+    assert robot.with_gearheads(masses).carried_mass("right_arm") == 0.0
 
 
 # --- by hand ---------------------------------------------------------------------------------

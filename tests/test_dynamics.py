@@ -18,9 +18,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.dynamics import inverse_dynamics, joint_torques
-from hdselect.motion import load_motion
-from hdselect.plan import Trajectory, plan
+from hdselect.dynamics import cycle_torques, inverse_dynamics
+from hdselect.motion import load_case
+from hdselect.planning import Trajectory, plan
 from hdselect.robot import STANDARD_GRAVITY, load_robot
 
 REPO = Path(__file__).resolve().parents[1]
@@ -33,9 +33,14 @@ G = 9.80665  # standard gravity [m/s^2], written out (not taken from the code un
 
 @functools.cache
 def planned(motion_path: Path):
-    """(motion, trajectory) of a shipped motion file, planned once per test session."""
-    motion = load_motion(motion_path)
-    return motion, plan(motion)
+    """(robot, motion, trajectory) of a shipped motion file, planned once per test session."""
+    robot, motion = load_case(motion_path)
+    return robot, motion, plan(robot, motion)
+
+
+def joint_torques(robot, trajectory: Trajectory):
+    """Torques along a trajectory with their gravity part (stop time 0.1 s)."""
+    return cycle_torques(robot, trajectory.q, trajectory.qd, trajectory.qdd, 0.1, split=True)
 
 
 def pin_config(model: pin.Model, q: np.ndarray) -> np.ndarray:
@@ -93,9 +98,9 @@ def test_batched_equals_per_sample_rnea(path, mounting):
 
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
 def test_joint_torques_along_shipped_motions(path):
-    motion, trajectory = planned(path)
-    model = motion.robot.model  # with the motion file's payload and mounting
-    torques = joint_torques(motion.robot, trajectory)
+    robot, motion, trajectory = planned(path)
+    model = robot.model  # with the motion file's payload and mounting
+    torques = joint_torques(robot, trajectory)
     keep = thinned(trajectory)
     q, qd, qdd = trajectory.q[keep], trajectory.qd[keep], trajectory.qdd[keep]
     np.testing.assert_allclose(torques.tau[keep], rnea_loop(model, q, qd, qdd), rtol=0,
@@ -109,9 +114,9 @@ def test_joint_torques_along_shipped_motions(path):
 
 def test_payload_enters_the_dynamics():
     """The motion file's payload is in the model: torques differ from the bare robot's."""
-    motion, trajectory = planned(REPO / "trajectories" / "planar2_pick_place.toml")
+    robot, motion, trajectory = planned(REPO / "trajectories" / "planar2_pick_place.toml")
     bare = load_robot(REPO / "robots" / "planar2.urdf")
-    with_payload = joint_torques(motion.robot, trajectory).gravity
+    with_payload = joint_torques(robot, trajectory).gravity
     without = inverse_dynamics(bare, trajectory.q, 0 * trajectory.qd, 0 * trajectory.qdd)
     # 0.4 kg at 0.28 m along link 2: the shoulder holds at most m g (l1 + 0.28) more
     extra = np.abs(with_payload[:, 0] - without[:, 0])
@@ -130,8 +135,8 @@ def test_index_table_inertia_from_the_urdf_comment():
 
 
 def test_index_table_torque_is_inertia_times_acceleration():
-    motion, trajectory = planned(REPO / "trajectories" / "index_table_indexing.toml")
-    torques = joint_torques(motion.robot, trajectory)
+    robot, motion, trajectory = planned(REPO / "trajectories" / "index_table_indexing.toml")
+    torques = joint_torques(robot, trajectory)
     # one axis, vertical: no Coriolis or centrifugal term about it, no gravity torque
     np.testing.assert_allclose(torques.tau[:, 0], J_TABLE * trajectory.qdd[:, 0], rtol=0,
                                atol=1e-10)
@@ -208,11 +213,11 @@ def test_two_link_hand_poses():
 def test_two_link_closed_form_along_the_shipped_ruckig_motion():
     """planar2_pick_place carries 0.4 kg at the tool frame (x = l2 on link 2), com 0.03 m
     further along x: a point mass at d = 0.28 m on link 2's axis, folded into link 2."""
-    motion, trajectory = planned(REPO / "trajectories" / "planar2_pick_place.toml")
+    robot, motion, trajectory = planned(REPO / "trajectories" / "planar2_pick_place.toml")
     assert motion.planner == "ruckig"
     m2, lc2, i2 = composite_link2(0.4, L2 + 0.03)
     expected = two_link(trajectory.q, trajectory.qd, trajectory.qdd, m2=m2, lc2=lc2, i2=i2)
-    torques = joint_torques(motion.robot, trajectory)
+    torques = joint_torques(robot, trajectory)
     np.testing.assert_allclose(torques.tau, expected, rtol=0, atol=1e-10)
     still = np.zeros_like(trajectory.q)
     np.testing.assert_allclose(torques.gravity, two_link(trajectory.q, still, still, m2=m2,
@@ -235,10 +240,10 @@ def test_benchtop6_payload_in_the_rotated_tool_frame_by_hand():
     it is 0.240 + 0.210 = 0.450 m along x from the shoulder_lift axis (+y). Holding it
     takes -0.45 m g about +y (a negative shoulder_lift raises the arm), 0.21 m g less at the
     elbow; wrist_1 (+y) holds 0 (payload on its axis line), shoulder_pan (z) nothing."""
-    motion, _ = planned(REPO / "trajectories" / "benchtop6_pick_place.toml")
+    robot, motion, _ = planned(REPO / "trajectories" / "benchtop6_pick_place.toml")
     bare = load_robot(REPO / "robots" / "benchtop6.urdf")
     zero = np.zeros((1, 6))
-    extra = (inverse_dynamics(motion.robot, zero, zero, zero)
+    extra = (inverse_dynamics(robot, zero, zero, zero)
              - inverse_dynamics(bare, zero, zero, zero))[0]
     m = 0.5
     np.testing.assert_allclose(extra, [0.0, -0.45 * m * G, -0.21 * m * G, 0.0, 0.0, 0.0],
@@ -247,6 +252,6 @@ def test_benchtop6_payload_in_the_rotated_tool_frame_by_hand():
     # alone takes only the payload's own inertia, m a^2 / 6 = 2.1e-4 kg m^2 (50 mm cube)
     qdd = np.zeros((1, 6))
     qdd[0, 5] = 10.0
-    extra = (inverse_dynamics(motion.robot, zero, zero, qdd)
+    extra = (inverse_dynamics(robot, zero, zero, qdd)
              - inverse_dynamics(bare, zero, zero, qdd))[0]
     assert extra[5] == pytest.approx(2.1e-4 * 10.0, rel=1e-9)

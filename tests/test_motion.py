@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from hdselect.errors import InputError
-from hdselect.motion import load_motion
-from hdselect.robot import load_robot
+from hdselect.motion import load_case, load_motion, robot_for_motion
+from hdselect.robot import Payload, load_robot
 
 # --- factories (also used by test_plan.py) ---------------------------------------------------
 
@@ -86,10 +86,10 @@ def arm(tmp_path):
 # --- good input ------------------------------------------------------------------------------
 
 def test_good_file_is_converted_to_si(arm):
-    motion = load_motion(write_motion(arm, GOOD))
+    robot, motion = load_case(write_motion(arm, GOOD))
     deg = math.pi / 180
     assert motion.planner == "ruckig" and motion.dt == 0.002
-    assert motion.robot.dof == 6
+    assert robot.dof == 6 and motion.joint_names == robot.joint_names
     np.testing.assert_allclose(motion.waypoints[0], np.array([0, 30, -45, 0, 60, 0]) * deg)
     np.testing.assert_allclose(motion.waypoints[1], np.array([90, 0, 0, 10, 0, -90]) * deg)
     np.testing.assert_allclose(motion.dwells, [0.5, 0.0])
@@ -99,19 +99,33 @@ def test_good_file_is_converted_to_si(arm):
     assert motion.torque_limit is None
     assert motion.stop_time == 0.05 and motion.life_hours == 20000
     assert motion.samples is None
-    assert motion.robot.payload.mass == 1.5
-    np.testing.assert_allclose(motion.robot.gravity, [-9.80665, 0, 0])
+    assert motion.payload.mass == 1.5 and motion.mounting == "wall"
+    assert motion.robot_file == arm / "arm.urdf"
+    assert robot.payload == motion.payload
+    np.testing.assert_allclose(robot.gravity, [-9.80665, 0, 0])
+    np.testing.assert_allclose(robot.model.gravity.linear, [-9.80665, 0, 0])
     with pytest.raises(ValueError):
         motion.waypoints[0, 0] = 1.0
 
 
 def test_keyword_arguments_override_the_file(arm):
-    from hdselect.robot import Payload
+    robot, motion = load_case(write_motion(arm, GOOD), arm / "arm.urdf", payload=Payload(2.0),
+                              mounting="ceiling")
+    assert robot.payload.mass == 2.0 and motion.payload.mass == 1.5  # the file keeps its own
+    np.testing.assert_allclose(robot.gravity, [0, 0, 9.80665])
 
-    motion = load_motion(write_motion(arm, GOOD), arm / "arm.urdf", payload=Payload(2.0),
-                         mounting="ceiling")
-    assert motion.robot.payload.mass == 2.0
-    np.testing.assert_allclose(motion.robot.gravity, [0, 0, 9.80665])
+
+def test_the_motion_does_not_hold_the_robot(arm):
+    """Loading a motion applies nothing: payload and mounting are the robot's transformations."""
+    robot = load_robot(arm / "arm.urdf")
+    motion = load_motion(write_motion(arm, GOOD), robot)
+    assert robot.payload is None and not hasattr(motion, "robot")
+    run = robot_for_motion(robot, motion)
+    assert run.payload == motion.payload and robot.payload is None
+    heavier = robot_for_motion(robot, motion, payload=Payload(3.0))
+    assert heavier.payload.mass == 3.0
+    with pytest.raises(InputError, match="already carries a payload"):
+        robot_for_motion(robot.with_payload(Payload(2.0)), motion)
 
 
 def test_robot_object_and_radians(arm):
@@ -121,7 +135,7 @@ def test_robot_object_and_radians(arm):
     body = body.replace("j1 = 90,", "j1 = 1.5,").replace("j6 = -90", "j6 = -1.5").replace(
         "j4 = 10,", "j4 = 0.1,")
     motion = load_motion(write_motion(arm, body), robot)
-    assert motion.robot is robot
+    assert motion.joint_names == robot.joint_names and motion.robot_file is None
     np.testing.assert_allclose(motion.velocity_limit, 120)
     np.testing.assert_allclose(motion.waypoints[0], [0, 0.5, -1, 0, 1, 0])
 

@@ -8,20 +8,23 @@ import pytest
 import ruckig
 
 from hdselect.errors import PlanningError
-from hdselect.motion import load_motion
-from hdselect.plan import (
-    TOPPRA_TOLERANCE,
-    TOPPRA_TORQUE_TOLERANCE,
-    _sample_at_time,
-    _sample_profiles,
-    plan,
-)
+from hdselect.motion import load_case
+from hdselect.planning import plan
+from hdselect.planning.ruckig import sample_profiles
+from hdselect.planning.toppra import TOPPRA_TOLERANCE, TOPPRA_TORQUE_TOLERANCE
 from test_motion import write_chain, write_motion, write_robot
+
+
+def sample_at_time(traj: ruckig.Trajectory, times: np.ndarray):
+    """Oracle for `sample_profiles`: Ruckig's own ``at_time``, one call per sample (slow)."""
+    states = [traj.at_time(float(time)) for time in np.asarray(times, dtype=float)]
+    shape = (len(states), traj.degrees_of_freedom)
+    return tuple(np.array([s[i] for s in states]).reshape(shape) for i in range(3))
 
 
 def make_motion(directory, planner, waypoints, *, dwells=None, velocity, acceleration,
                 jerk=None, torque=None, dt=0.001, dof=None):
-    """A motion in radians for a chain of revolute joints j1..jN (limits +-pi)."""
+    """A robot and a motion in radians for a chain of revolute joints j1..jN (limits +-pi)."""
     dof = dof or len(waypoints[0])
     if not (directory / "arm.urdf").exists():
         write_robot(directory, dof)
@@ -33,7 +36,7 @@ def make_motion(directory, planner, waypoints, *, dwells=None, velocity, acceler
         lines += ["[[waypoint]]", f"q = {list(map(float, q))}"]
         if dwells is not None:
             lines.append(f"dwell = {dwells[i]}")
-    return load_motion(write_motion(directory, "\n".join(lines) + "\n"))
+    return load_case(write_motion(directory, "\n".join(lines) + "\n"))
 
 
 def ruckig_move(start, target, v, a, j, velocity=None):
@@ -51,9 +54,9 @@ def ruckig_move(start, target, v, a, j, velocity=None):
 def check_grid(trajectory, motion):
     n = math.ceil(trajectory.duration / motion.dt - 1e-9) + 1
     np.testing.assert_array_equal(trajectory.t, np.arange(n) * motion.dt)
-    shape = (n, motion.robot.dof)
+    shape = (n, len(motion.joint_names))
     assert trajectory.q.shape == trajectory.qd.shape == trajectory.qdd.shape == shape
-    assert trajectory.joint_names == motion.robot.joint_names
+    assert trajectory.joint_names == motion.joint_names
     for array in (trajectory.t, trajectory.q, trajectory.qd, trajectory.qdd):
         assert not array.flags.writeable
 
@@ -73,9 +76,9 @@ def check_waypoints(trajectory, motion):
 def test_ruckig_one_joint_by_hand(tmp_path):
     # 1 rad with v = 1, a = 2, j = 10: jerk phases a/j = 0.2 s, constant acceleration
     # v/a - a/j = 0.3 s, so T = D/v + v/a + a/j = 1.7 s.
-    motion = make_motion(tmp_path, "ruckig", [[0.0], [1.0]], dwells=[0.25, 0.5],
+    robot, motion = make_motion(tmp_path, "ruckig", [[0.0], [1.0]], dwells=[0.25, 0.5],
                          velocity=1, acceleration=2, jerk=10)
-    trajectory = plan(motion)
+    trajectory = plan(robot, motion)
     assert trajectory.duration == pytest.approx(0.25 + 1.7 + 0.5, abs=1e-12)
     assert trajectory.qd.max() == pytest.approx(1.0, abs=1e-12)
     assert trajectory.qdd.max() == pytest.approx(2.0, abs=1e-12)
@@ -97,7 +100,7 @@ def test_sample_profiles_equals_at_time(velocity):
     if velocity is not None:
         assert any(p.brake.duration > 0.0 for p in traj.profiles[0])
     times = np.r_[np.linspace(0.0, traj.duration * 1.2, 2001), traj.duration]
-    for mine, reference in zip(_sample_profiles(traj, times), _sample_at_time(traj, times),
+    for mine, reference in zip(sample_profiles(traj, times), sample_at_time(traj, times),
                                strict=True):
         np.testing.assert_allclose(mine, reference, rtol=0, atol=1e-9)
 
@@ -106,15 +109,15 @@ def test_ruckig_plan_equals_at_time_on_the_grid(tmp_path):
     points = [[0.0, 0.0, 0.0], [1.0, -0.4, 0.1], [1.0, -0.4, 0.1], [-0.5, 0.3, 0.1]]
     dwells = [0.1, 0.0, 0.2, 0.05]
     v, a, j = [1.0, 1.2, 1.4], [2.0, 3.0, 4.0], [20.0, 30.0, 40.0]
-    motion = make_motion(tmp_path, "ruckig", points, dwells=dwells, velocity=v,
+    robot, motion = make_motion(tmp_path, "ruckig", points, dwells=dwells, velocity=v,
                          acceleration=a, jerk=j, dt=0.002)
-    trajectory = plan(motion)
+    trajectory = plan(robot, motion)
     reference = np.empty((3, *trajectory.q.shape))
     clock, hold = dwells[0], [(0.0, dwells[0], points[0])]
     for i in range(len(points) - 1):
         traj = ruckig_move(points[i], points[i + 1], v, a, j)
         inside = (trajectory.t >= clock) & (trajectory.t < clock + traj.duration)
-        for k, state in enumerate(_sample_at_time(traj, trajectory.t[inside] - clock)):
+        for k, state in enumerate(sample_at_time(traj, trajectory.t[inside] - clock)):
             reference[k][inside] = state
         clock += traj.duration
         hold.append((clock, clock + dwells[i + 1], points[i + 1]))
@@ -148,9 +151,9 @@ def test_limits_and_waypoints(tmp_path, planner, dof):
     v, a, j = np.linspace(1.0, 2.0, dof), np.linspace(3.0, 6.0, dof), np.linspace(30, 60, dof)
     dwells = [0.0] * len(points)
     dwells[1] = 0.3
-    motion = make_motion(tmp_path, planner, points, dwells=dwells, velocity=v.tolist(),
+    robot, motion = make_motion(tmp_path, planner, points, dwells=dwells, velocity=v.tolist(),
                          acceleration=a.tolist(), jerk=j.tolist() if planner == "ruckig" else None)
-    trajectory = plan(motion)
+    trajectory = plan(robot, motion)
     check_grid(trajectory, motion)
     check_waypoints(trajectory, motion)
     tolerance = 1e-12 if planner == "ruckig" else TOPPRA_TOLERANCE
@@ -168,43 +171,44 @@ def test_limits_and_waypoints(tmp_path, planner, dof):
 
 def test_toppra_is_time_optimal_on_one_joint(tmp_path):
     # 1 rad with v = 1, a = 2: trapezoid, T = D/v + v/a = 1.5 s.
-    motion = make_motion(tmp_path, "toppra", [[0.0], [1.0]], velocity=1, acceleration=2)
-    trajectory = plan(motion)
+    robot, motion = make_motion(tmp_path, "toppra", [[0.0], [1.0]], velocity=1, acceleration=2)
+    trajectory = plan(robot, motion)
     assert trajectory.duration == pytest.approx(1.5, rel=2e-3)
     assert trajectory.qd.max() == pytest.approx(1.0, rel=2e-3)
 
 
 def test_toppra_torque_limits(tmp_path):
     points = [[0.0, -math.pi / 2], [math.pi / 2, math.pi / 2]]
-    free = plan(make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50))
+    free = plan(*make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50))
     limit = 0.85
-    motion = make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50,
+    robot, motion = make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50,
                          torque=limit)
-    trajectory = plan(motion)
-    model = motion.robot.model
+    trajectory = plan(robot, motion)
+    model = robot.model
     data = model.createData()
-    config = motion.robot.configuration(trajectory.q)
+    config = robot.configuration(trajectory.q)
     torque = np.array([pin.rnea(model, data, config[:, k], trajectory.qd[k], trajectory.qdd[k])
                        for k in range(0, len(trajectory.t), 5)])
     assert np.abs(torque).max() <= limit * (1 + TOPPRA_TORQUE_TOLERANCE)
     assert np.abs(torque).max() > 0.95 * limit
     assert trajectory.duration > free.duration * 1.05
     with pytest.raises(PlanningError, match=r"motion.toml: toppra: the torque limits"):
-        plan(make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50, torque=0.5))
+        plan(*make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50, torque=0.5))
 
 
 def test_toppra_path_leaving_joint_limits(tmp_path):
-    motion = make_motion(tmp_path, "toppra", [[0.0, 0.0], [3.1, 0.0], [3.1, 3.0], [0.0, 3.0]],
-                         velocity=1, acceleration=2)
+    robot, motion = make_motion(tmp_path, "toppra",
+                                [[0.0, 0.0], [3.1, 0.0], [3.1, 3.0], [0.0, 3.0]],
+                                velocity=1, acceleration=2)
     with pytest.raises(PlanningError, match="leaves the limits of joint 'j1'"):
-        plan(motion)
+        plan(robot, motion)
 
 
 def test_identical_waypoints_take_no_time(tmp_path):
     for planner in ("ruckig", "toppra"):
-        motion = make_motion(tmp_path, planner, [[0.3, 0.1], [0.3, 0.1]], dwells=[0.0, 0.1],
+        robot, motion = make_motion(tmp_path, planner, [[0.3, 0.1], [0.3, 0.1]], dwells=[0.0, 0.1],
                              velocity=1, acceleration=2, jerk=10 if planner == "ruckig" else None)
-        trajectory = plan(motion)
+        trajectory = plan(robot, motion)
         assert trajectory.duration == pytest.approx(0.1)
         np.testing.assert_array_equal(trajectory.q, 0.0 * trajectory.q + [0.3, 0.1])
 
@@ -218,9 +222,10 @@ def test_ruckig_failure_is_a_planning_error(tmp_path, monkeypatch):
             raise ruckig.RuckigError("\n[ruckig] error in step 1, dof: 0 input:\n...")
 
     monkeypatch.setattr(ruckig, "Ruckig", Broken)
-    motion = make_motion(tmp_path, "ruckig", [[0.0], [1.0]], velocity=1, acceleration=2, jerk=10)
+    robot, motion = make_motion(tmp_path, "ruckig", [[0.0], [1.0]], velocity=1, acceleration=2,
+                                jerk=10)
     with pytest.raises(PlanningError, match=r"waypoint\[0\] to waypoint\[1\]") as info:
-        plan(motion)
+        plan(robot, motion)
     assert "error in step 1, dof: 0 input:" in str(info.value)
     assert isinstance(info.value.__cause__, ruckig.RuckigError)
 
@@ -241,7 +246,7 @@ def write_log(tmp_path, t, *, dt, velocities=False):
         np.c_[t, np.degrees(q), q]
     (tmp_path / "log.csv").write_text(header + "\n" + "\n".join(
         ",".join(repr(float(x)) for x in row) for row in rows) + "\n")
-    return load_motion(write_motion(tmp_path, f"""\
+    return load_case(write_motion(tmp_path, f"""\
         robot = "arm.urdf"
         planner = "samples"
         angle_unit = "deg"
@@ -254,8 +259,8 @@ def write_log(tmp_path, t, *, dt, velocities=False):
 def test_samples_resampled_with_derived_velocities(tmp_path):
     rng = np.random.default_rng(1)
     t = 3.0 + np.r_[0.0, np.sort(rng.uniform(0.0, 2.0, 60)), 2.0]
-    motion = write_log(tmp_path, t, dt=0.01)
-    trajectory = plan(motion)
+    robot, motion = write_log(tmp_path, t, dt=0.01)
+    trajectory = plan(robot, motion)
     check_grid(trajectory, motion)
     assert trajectory.duration == pytest.approx(2.0)
     inside = trajectory.t <= 2.0
@@ -269,8 +274,8 @@ def test_samples_resampled_with_derived_velocities(tmp_path):
 
 def test_samples_uniform_log_used_as_is(tmp_path):
     t = np.arange(101) * 0.004
-    motion = write_log(tmp_path, t, dt=0.004, velocities=True)
-    trajectory = plan(motion)
+    robot, motion = write_log(tmp_path, t, dt=0.004, velocities=True)
+    trajectory = plan(robot, motion)
     np.testing.assert_array_equal(trajectory.q, motion.samples.q)
     np.testing.assert_array_equal(trajectory.qd, motion.samples.qd)
     _, qd, qdd = cubic(t)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import ast
 import dataclasses
 import math
 from pathlib import Path
@@ -9,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.catalog import Unit, load_catalog
+from hdselect.catalog import Flag, SeriesRules, Unit, load_catalog
 from hdselect.errors import InputError
 from hdselect.rules import (
     CHECKS,
@@ -26,6 +27,11 @@ from hdselect.rules import (
 from hdselect.select import PREFERENCES, select
 
 RPM = 2.0 * math.pi / 60.0  # rad/s in one rpm
+# The PSA-G page's rules, as psa_g.toml states them: T_N at 1750 rpm input, L50 = 35000 h,
+# the speed-adjusted mean-torque limit, mean speed over the moving part, at most 1e4 events.
+PSA_RULES = SeriesRules(rated_input_speed=1750.0, rated_life_hours=35000.0, life_basis="L50",
+                        mean_torque_limit="speed-adjusted", mean_speed="moving",
+                        max_momentary_events=1e4, source=Path("test.toml"))
 
 
 def make_unit(**overrides: object) -> Unit:
@@ -33,7 +39,8 @@ def make_unit(**overrides: object) -> Unit:
     values: dict[str, object] = dict(
         id="T-10-50", series="T", size=10, ratio=50, rated_torque=10.0, repeated_torque=20.0,
         momentary_torque=30.0, static_torque=30.0, max_input_speed=6000.0,
-        input_inertia=1e-6, mass=0.5, efficiency=None, flags=(), source=Path("test.toml"))
+        input_inertia=1e-6, mass=0.5, efficiency=None, rules=PSA_RULES, average_torque=None,
+        max_average_input_speed=None, flags=(), source=Path("test.toml"))
     values.update(overrides)
     return Unit(**values)  # type: ignore[arg-type]
 
@@ -42,7 +49,7 @@ def make_load(peak: float = 8.0, mean: float | None = 8.0, mean_speed: float = 3
               max_speed: float | None = None, static: float | None = None) -> CycleLoad:
     return CycleLoad(peak_torque=peak, mean_torque=mean, mean_speed=mean_speed,
                      max_speed=mean_speed if max_speed is None else max_speed,
-                     moving_time=1.0, static_torque=static)
+                     moving_time=1.0, cycle_time=1.0, static_torque=static)
 
 
 # ----------------------------------------------------------------------------- cycle_load
@@ -162,7 +169,7 @@ def test_check_unit_by_hand() -> None:
     load = make_load(peak=8.0, mean=8.0, mean_speed=35 * RPM, max_speed=60 * RPM, static=6.0)
     candidate = check_unit(load, unit)
     checks = candidate.checks
-    assert list(checks) == ["peak", "mean", "speed", "momentary", "static"]
+    assert list(checks) == ["peak", "mean", "speed", "average_speed", "momentary", "static"]
     assert checks["peak"].utilization == pytest.approx(8.0 / 20.0)  # 0.4
     assert checks["mean"].limit == pytest.approx(10.0)
     assert checks["mean"].utilization == pytest.approx(0.8)  # 8 / 10
@@ -248,6 +255,123 @@ def test_psa08_flags_only_for_checked_fallbacks() -> None:
     # The input inertia stand-in matters only where the motor side is computed.
     motor = check_unit(moving, unit, motor=object())
     assert [f.code for f in motor.flags] == ["input_inertia:fallback"]
+
+
+# ----------------------------------------------------------------------------- series rules
+
+# Harmonic Drive's rules for CSF (L10 = 7000 h at T_N and 2000 rpm input), as stated in a
+# catalog file's [rules] table; the numbers are test values, not read from any catalog here.
+CSF_RULES = dataclasses.replace(PSA_RULES, rated_input_speed=2000.0, rated_life_hours=7000.0,
+                                life_basis="L10", mean_torque_limit="tabulated",
+                                mean_speed="whole-cycle")
+
+
+def csf_unit(**overrides: object) -> Unit:
+    """make_unit under the CSF rules, with a limit for average torque of 9 N m."""
+    return make_unit(**{"rules": CSF_RULES, "average_torque": 9.0, **overrides})
+
+
+def dwelling_load() -> CycleLoad:
+    # 35 output rpm over the 0.8 s moving part of a 1.0 s cycle: 28 rpm over the whole cycle
+    return CycleLoad(peak_torque=8.0, mean_torque=8.0, mean_speed=35 * RPM, max_speed=60 * RPM,
+                     moving_time=0.8, cycle_time=1.0, static_torque=None)
+
+
+def test_cycle_load_whole_cycle_mean_speed() -> None:
+    load = trapezoid()
+    # travel 4.0 rad over the whole 1.0 s cycle (dwell 0.5 s included): 4.0 rad/s
+    assert load.cycle_time == pytest.approx(1.0, rel=1e-12)
+    assert load.cycle_mean_speed == pytest.approx(4.0, rel=1e-12)
+    assert load.mean_speed_under(CSF_RULES) == pytest.approx(4.0, rel=1e-12)
+    assert load.mean_speed_under(PSA_RULES) == pytest.approx(8.0, rel=1e-12)  # moving part
+
+
+def test_tabulated_mean_torque_limit() -> None:
+    unit = csf_unit()
+    # the tabulated limit holds at every speed; no speed rule, no cap
+    assert allowable_mean_torque(unit, 875.0) == (9.0, False)
+    assert allowable_mean_torque(unit, 5000.0) == (9.0, False)
+
+
+def test_l10_rated_life_is_converted_to_l50() -> None:
+    unit = csf_unit()
+    # L50 = 5 x 7000 h x (2000 / 1000) x (10 / 5)^3 = 35000 x 2 x 8 = 560000 h
+    assert l50_life_hours(unit, 5.0, 1000.0) == pytest.approx(560000.0, rel=1e-12)
+    # at T_N and 2000 rpm: the rating itself, 7000 h L10 = 35000 h L50
+    assert l50_life_hours(unit, 10.0, 2000.0) == pytest.approx(35000.0, rel=1e-12)
+
+
+def test_check_unit_under_csf_rules() -> None:
+    unit = csf_unit(max_average_input_speed=1200.0)
+    candidate = check_unit(dwelling_load(), unit, life_hours=20000.0, life_basis="L10")
+    checks = candidate.checks
+    # whole-cycle mean output speed 28 rpm x ratio 50 = 1400 rpm input
+    n_in = 35.0 * 0.8 / 1.0 * 50
+    assert n_in == pytest.approx(1400.0)
+    assert checks["mean"].detail["mean_input_speed_rpm"] == pytest.approx(n_in, rel=1e-12)
+    assert checks["mean"].limit == 9.0
+    assert checks["mean"].utilization == pytest.approx(8.0 / 9.0, rel=1e-12)
+    # 1400 rpm over the 1200 rpm limit for average input speed: 116.7 %
+    assert checks["average_speed"].value == pytest.approx(n_in, rel=1e-12)
+    assert checks["average_speed"].utilization == pytest.approx(n_in / 1200.0, rel=1e-12)
+    assert not checks["average_speed"].ok
+    # L10 = 7000 x (2000 / 1400) x (10 / 8)^3 = 7000 x 1.428571 x 1.953125 = 19531.25 h
+    l10 = 7000.0 * (2000.0 / n_in) * (10.0 / 8.0) ** 3
+    assert l10 == pytest.approx(19531.25, rel=1e-12)
+    assert candidate.life_hours == pytest.approx(5 * l10, rel=1e-12)  # always L50
+    assert candidate.l10_hours == pytest.approx(l10, rel=1e-12)
+    life = checks["life"]
+    assert life.value == pytest.approx(l10, rel=1e-12) and life.detail == {"basis": "L10"}
+    assert life.utilization == pytest.approx(20000.0 / l10, rel=1e-12)  # 1.024: fails
+    assert not life.ok
+    # 20000 h required as L50 is well within 97656 h L50
+    on_l50 = check_unit(dwelling_load(), unit, life_hours=20000.0).checks["life"]
+    assert on_l50.ok and on_l50.value == pytest.approx(5 * l10, rel=1e-12)
+    assert on_l50.detail == {"basis": "L50"}
+
+
+def test_life_basis_is_validated() -> None:
+    with pytest.raises(InputError) as info:
+        check_unit(make_load(), make_unit(), life_hours=1000.0, life_basis="L90")
+    assert "'L90'" in str(info.value) and "L10, L50" in str(info.value)
+    assert info.value.field == "life_basis"
+
+
+def test_average_speed_check_without_a_limit() -> None:
+    check = check_unit(make_load(), make_unit()).checks["average_speed"]
+    assert check.value is None and check.ok and check.utilization == 0.0
+    assert check.limit == math.inf
+
+
+def test_momentary_events_are_capped_by_the_rules() -> None:
+    # 1 output rpm x 50 = 50 input rpm for 0.01 s: 2 x (50 / 60) x 0.01 = 0.016667 rev,
+    # 1e4 / 0.016667 = 600,000 events by the formula; the rules allow at most 1e4.
+    assert allowed_momentary_events(50.0, 0.01) == pytest.approx(600000.0, rel=1e-12)
+    assert allowed_momentary_events(50.0, 0.01, cap=1e4) == 1e4
+    assert allowed_momentary_events(1200.0, 0.05, cap=1e4) == pytest.approx(5000.0)  # below
+    assert allowed_momentary_events(0.0, 0.1, cap=1e4) == 1e4  # no revolution: the cap
+    event = Momentary(torque=5.0, kind="given", speed=1 * RPM, duration=0.01)
+    check = check_unit(make_load(), make_unit(), momentary=event).checks["momentary"]
+    assert check.detail["allowed_events"] == 1e4
+
+
+def test_assumed_rules_are_flagged_on_every_result() -> None:
+    flag = Flag("rules", "assumed", "the catalog file states no [rules]")
+    unit = make_unit(rules=dataclasses.replace(PSA_RULES, flag=flag))
+    assert check_unit(make_load(), unit).flags == (flag,)
+    assert check_unit(make_load(mean=None), unit).flags == (flag,)
+
+
+def test_rules_does_not_import_reflect() -> None:
+    import hdselect.reflect
+    import hdselect.rules
+
+    tree = ast.parse(Path(hdselect.rules.__file__).read_text(encoding="utf-8"))
+    imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+    imported |= {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import)
+                 for alias in node.names}
+    assert "hdselect.reflect" not in imported
+    assert hdselect.reflect.MotorDemand is hdselect.rules.MotorDemand
 
 
 # ----------------------------------------------------------------------------- select

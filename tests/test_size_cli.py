@@ -340,10 +340,12 @@ def test_size_json_never_writes_over_the_robot(capsys):
     assert PLANAR2.read_text().startswith("<?xml")
 
 
-def test_payload_frame_missing_from_the_robot_names_the_motion_file(capsys):
-    """The benchtop motion carries its payload on `tool0`, a link planar2 does not have."""
-    code, out, err = run(capsys, "size", PLANAR2,
-                         REPO / "trajectories" / "benchtop6_pick_place.toml")
+def test_payload_frame_missing_from_the_robot_names_the_motion_file(capsys, tmp_path):
+    """A planar2 motion carrying its payload on `tool0`, a link planar2 does not have."""
+    text = PLANAR2_MOTION.read_text().replace('robot = "../robots/planar2.urdf"', "")
+    motion = tmp_path / "tool0.toml"
+    motion.write_text(text.replace('frame = "tool"', 'frame = "tool0"'))
+    code, out, err = run(capsys, "size", PLANAR2, motion)
     assert code == 2 and out == ""
-    assert_one_line_error(err, "benchtop6_pick_place.toml", "payload.frame", "tool0",
+    assert_one_line_error(err, "tool0.toml", "payload.frame", "tool0",
                           "links are: base_link, link1, link2, tool")

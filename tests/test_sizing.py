@@ -45,7 +45,7 @@ def stop_time_of(motion_path: Path) -> float:
 
 def hand_index_table():
     """Every rule for every catalog unit from the planned trajectory alone, tau = J qdd."""
-    _, traj = planned(INDEX)
+    _, _, traj = planned(INDEX)
     qd, qdd, dt = traj.qd[:, 0], traj.qdd[:, 0], traj.dt
     tau = J_TABLE * qdd
     moving = (np.abs(qd) > 1e-9) | (np.abs(qdd) > 1e-9)
@@ -177,15 +177,15 @@ def test_coupled_torques_equal_pinocchio_with_the_chosen_units_appended(path):
     """Every gearhead chosen sits at its joint's origin on the link before the joint.
     Pinocchio with all of them in the model gives each joint's torque: a unit never
     loads its own joint nor the joints outside its branch."""
-    motion, traj = planned(path)
+    robot, motion, traj = planned(path)
     result = size(None, path)
-    heavy = with_point_masses(motion.robot.model, chosen_masses(result))
+    heavy = with_point_masses(robot.model, chosen_masses(result))
     keep = thinned(traj, 200)
     q, qd, qdd = traj.q[keep], traj.qd[keep], traj.qdd[keep]
     expected = rnea_loop(heavy, q, qd, qdd)
     expected_stop = rnea_loop(heavy, q, qd, -qd / stop_time_of(path))
     for joint in result.joints:
-        j = motion.robot.joint_index(joint.name)
+        j = robot.joint_index(joint.name)
         np.testing.assert_allclose(joint.torque[keep], expected[:, j], rtol=0, atol=1e-9)
         np.testing.assert_allclose(joint.stop_torque[keep], expected_stop[:, j], rtol=0,
                                    atol=1e-9)
@@ -193,24 +193,24 @@ def test_coupled_torques_equal_pinocchio_with_the_chosen_units_appended(path):
 
 def test_motor_mass_is_carried_with_each_gearhead():
     path = REPO / "trajectories" / "benchtop6_pick_place.toml"
-    motion, traj = planned(path)
+    robot, motion, traj = planned(path)
     result = size(None, path, motor_mass=0.25)
-    heavy = with_point_masses(motion.robot.model, chosen_masses(result, extra=0.25))
+    heavy = with_point_masses(robot.model, chosen_masses(result, extra=0.25))
     keep = thinned(traj, 100)
     expected = rnea_loop(heavy, traj.q[keep], traj.qd[keep], traj.qdd[keep])
     for joint in result.joints:
-        j = motion.robot.joint_index(joint.name)
+        j = robot.joint_index(joint.name)
         np.testing.assert_allclose(joint.torque[keep], expected[:, j], rtol=0, atol=1e-9)
 
 
 @pytest.mark.parametrize("path", COUPLED, ids=lambda p: p.stem)
 def test_without_mass_coupling_the_torques_are_bare(path):
-    motion, traj = planned(path)
+    robot, motion, traj = planned(path)
     result = size(None, path, mass_coupling=False)
     keep = thinned(traj, 200)
-    expected = rnea_loop(motion.robot.model, traj.q[keep], traj.qd[keep], traj.qdd[keep])
+    expected = rnea_loop(robot.model, traj.q[keep], traj.qd[keep], traj.qdd[keep])
     for joint in result.joints:
-        j = motion.robot.joint_index(joint.name)
+        j = robot.joint_index(joint.name)
         np.testing.assert_allclose(joint.torque[keep], expected[:, j], rtol=0, atol=1e-9)
 
 
@@ -456,7 +456,7 @@ def check_document(document, robot_names, life_required: bool):
             assert CANDIDATE_KEYS <= set(c)
             assert isinstance(c["size"], int) and isinstance(c["ratio"], int)
             assert isinstance(c["flags"], list)
-            expected = ["peak", "mean", "speed", "momentary", "static"]
+            expected = ["peak", "mean", "speed", "average_speed", "momentary", "static"]
             expected += ["life"] if life_required else []
             assert list(c["checks"]) == expected
             for check in c["checks"].values():

@@ -5,10 +5,11 @@ import logging
 from hdselect.catalog import Unit, load_catalog
 from hdselect.duty import load_duty, size_duty
 from hdselect.errors import HdselectError, InputError, PlanningError
-from hdselect.motion import Motion, load_motion
-from hdselect.plan import Trajectory, plan
+from hdselect.motion import Motion, load_case, load_motion
+from hdselect.options import Options
+from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
-from hdselect.sizing import SizingResult, size
+from hdselect.sizing import SizingResult, size, size_trajectory
 
 __version__ = "0.1.0"
 
@@ -16,6 +17,7 @@ __all__ = [
     "HdselectError",
     "InputError",
     "Motion",
+    "Options",
     "Payload",
     "PlanningError",
     "Robot",
@@ -24,12 +26,14 @@ __all__ = [
     "Unit",
     "__version__",
     "load_catalog",
+    "load_case",
     "load_duty",
     "load_motion",
     "load_robot",
     "plan",
     "size",
     "size_duty",
+    "size_trajectory",
 ]
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())

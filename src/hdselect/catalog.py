@@ -1,16 +1,18 @@
 """The gearhead catalog: TOML files of units, loaded into immutable SI records.
 
 The built-in file is the PSA-G page's specification table, transcribed as
-published. Gaps and contradictions of a source are never papered over in
-silence: each value that is a stand-in or a correction carries a `Flag`, and
-every result that uses the value repeats it.
+published, with the page's rules in its ``[rules]`` table. Gaps and
+contradictions of a source are never papered over in silence: each value that
+is a stand-in or a correction carries a `Flag`, and every result that uses the
+value repeats it. A file without a ``[rules]`` table is judged by the built-in
+file's rules, and says so on every result.
 """
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -31,10 +33,11 @@ KG_M2_PER_KG_CM2 = 1e-4
 KG_PER_LB = 0.45359237
 """Kilograms in one pound."""
 
-RATED_INPUT_SPEED_RPM = 1750.0
-"""Input speed at which the rated torque and the rated life hold [rpm]."""
-RATED_LIFE_HOURS = 35000.0
-"""L50 life at rated torque and rated input speed [h]."""
+L50_PER_L10 = 5.0
+"""Harmonic Drive's ratio of average (L50) to 90 %-survival (L10) wave generator life."""
+LIFE_BASES = ("L10", "L50")
+MEAN_TORQUE_LIMITS = ("tabulated", "speed-adjusted")
+MEAN_SPEED_RULES = ("whole-cycle", "moving")
 
 # quantity -> ((SI key, factor to SI), (imperial key, factor to SI))
 _QUANTITIES = {
@@ -43,15 +46,23 @@ _QUANTITIES = {
     "momentary_torque": (("momentary_torque_nm", 1.0),
                          ("momentary_torque_lb_in", NM_PER_LB_IN)),
     "static_torque": (("static_torque_nm", 1.0), ("static_torque_lb_in", NM_PER_LB_IN)),
+    "average_torque": (("average_torque_nm", 1.0), ("average_torque_lb_in", NM_PER_LB_IN)),
     "input_inertia": (("input_inertia_kg_cm2", KG_M2_PER_KG_CM2),
                       ("input_inertia_lb_in2", KG_M2_PER_LB_IN2)),
     "mass": (("mass_kg", 1.0), ("mass_lb", KG_PER_LB)),
 }
 _REQUIRED = ("rated_torque", "repeated_torque", "mass")
-_UNIT_KEYS = ["id", "size", "ratio", "max_input_speed_rpm", "efficiency"] + [
+_UNIT_KEYS = ["id", "size", "ratio", "max_input_speed_rpm", "max_average_input_speed_rpm",
+              "efficiency"] + [
     key for pair in _QUANTITIES.values() for key, _ in pair
 ]
 _EFFICIENCY_KEYS = ["input_speed_rpm", "torque_percent", "value"]
+# [rules] key -> the choices it takes, or None for a positive number
+_RULE_KEYS: dict[str, tuple[str, ...] | None] = {
+    "rated_input_speed_rpm": None, "rated_life_hours": None, "life_basis": LIFE_BASES,
+    "mean_torque_limit": MEAN_TORQUE_LIMITS, "mean_speed": MEAN_SPEED_RULES,
+    "max_momentary_events": None,
+}
 BUILTIN = "psa_g.toml"
 
 
@@ -61,8 +72,8 @@ class Flag:
 
     Attributes:
         field: The quantity it concerns, e.g. ``"static_torque"``.
-        kind: ``"fallback"`` (the source gives no value) or ``"corrected"``
-            (the source's columns disagree).
+        kind: ``"fallback"`` (the source gives no value), ``"corrected"`` (the
+            source's columns disagree) or ``"assumed"`` (the source states no rules).
         note: One sentence for the reader.
     """
 
@@ -74,6 +85,39 @@ class Flag:
     def code(self) -> str:
         """Short id for reports, e.g. ``static_torque:corrected``."""
         return f"{self.field}:{self.kind}"
+
+
+@dataclass(frozen=True)
+class SeriesRules:
+    """How a series' catalog rates its units: the rules every check reads.
+
+    Attributes:
+        rated_input_speed: Input speed at which the rated torque is given [rpm].
+        rated_life_hours: Life at rated torque and rated input speed [h], on `life_basis`.
+        life_basis: ``"L10"`` or ``"L50"``: which life `rated_life_hours` is.
+        mean_torque_limit: ``"tabulated"`` (each unit's limit for average torque) or
+            ``"speed-adjusted"`` ((rated speed / N_av)^0.33 x rated torque, capped at
+            the repeated-peak limit).
+        mean_speed: ``"whole-cycle"`` (pauses count) or ``"moving"`` (moving part only).
+        max_momentary_events: Cap on the allowed count of momentary events [-].
+        source: The file whose ``[rules]`` table states them.
+        flag: Set when the unit's own file states no rules and these are assumed.
+    """
+
+    rated_input_speed: float
+    rated_life_hours: float
+    life_basis: str
+    mean_torque_limit: str
+    mean_speed: str
+    max_momentary_events: float
+    source: Path
+    flag: Flag | None = None
+
+    @property
+    def rated_l50_hours(self) -> float:
+        """The rated life on the L50 basis, L50 = 5 x L10 [h]."""
+        factor = L50_PER_L10 if self.life_basis == "L10" else 1.0
+        return self.rated_life_hours * factor
 
 
 @dataclass(frozen=True)
@@ -117,7 +161,7 @@ class Unit:
         series: Series name, e.g. ``PSA``.
         size: Frame size.
         ratio: Reduction ratio N (input turns per output turn).
-        rated_torque: T_N, rated output torque at 1750 rpm input [N m].
+        rated_torque: T_N, rated output torque at the rules' rated input speed [N m].
         repeated_torque: Limit for repeated output torque [N m].
         momentary_torque: Limit for momentary overload torque [N m].
         static_torque: Static torque limit, input locked [N m].
@@ -125,6 +169,9 @@ class Unit:
         input_inertia: Inertia at the input shaft [kg m^2].
         mass: Mass [kg].
         efficiency: Efficiency table, or None to use the report's default efficiency.
+        rules: The rules its series' catalog rates it by.
+        average_torque: Limit for average output torque [N m], if the catalog tabulates one.
+        max_average_input_speed: Limit for the mean input speed [rpm], if any.
         flags: Stand-ins and corrections among the values above.
         source: The catalog file it came from.
     """
@@ -141,6 +188,9 @@ class Unit:
     input_inertia: float
     mass: float
     efficiency: EfficiencyTable | None
+    rules: SeriesRules
+    average_torque: float | None
+    max_average_input_speed: float | None
     flags: tuple[Flag, ...]
     source: Path
 
@@ -153,7 +203,9 @@ def load_catalog(extra: Sequence[str | Path] = ()) -> tuple[Unit, ...]:
     """Load the built-in PSA-G catalog and any user catalog files.
 
     Args:
-        extra: User catalog files of the same schema as the built-in one.
+        extra: User catalog files of the same schema as the built-in one. A file
+            without a ``[rules]`` table is judged by the built-in file's rules, and
+            each of its units carries a flag that says so.
 
     Returns:
         Every unit, sorted by size, then ratio, then id.
@@ -164,10 +216,11 @@ def load_catalog(extra: Sequence[str | Path] = ()) -> tuple[Unit, ...]:
     """
     builtin = resources.files("hdselect") / "data" / BUILTIN
     with resources.as_file(builtin) as path:
-        units = list(_read_file(Path(path)))
+        units = list(_read_file(Path(path), None))
+    assumed = _assumed(units[0])
     seen = {unit.id: unit.source for unit in units}
     for file in extra:
-        for unit in _read_file(Path(file)):
+        for unit in _read_file(Path(file), assumed):
             if unit.id in seen:
                 raise InputError(f"unit id '{unit.id}' is already defined in {seen[unit.id]}",
                                  path=file, field=f"unit[{unit.id}].id")
@@ -176,17 +229,34 @@ def load_catalog(extra: Sequence[str | Path] = ()) -> tuple[Unit, ...]:
     return tuple(sorted(units, key=lambda u: (u.size, u.ratio, u.id)))
 
 
-def _read_file(path: Path) -> Iterable[Unit]:
+def _assumed(builtin: Unit) -> SeriesRules:
+    """The built-in file's rules, flagged for the units of a file that states none."""
+    rules = builtin.rules
+    note = (f"the catalog file states no [rules]; the built-in {builtin.series} catalog's are "
+            f"assumed: rated torque at {rules.rated_input_speed:g} rpm input, rated life "
+            f"{rules.rated_life_hours:g} h {rules.life_basis}, {rules.mean_torque_limit} "
+            "mean-torque limit, mean speed over "
+            f"{'the whole cycle' if rules.mean_speed == 'whole-cycle' else 'the moving part'}")
+    return replace(rules, flag=Flag("rules", "assumed", note))
+
+
+def _read_file(path: Path, assumed: SeriesRules | None) -> Iterable[Unit]:
     document = read_toml(path)
-    check_keys(document, ["series", "source", "unit"], path, "")
+    check_keys(document, ["series", "source", "rules", "unit"], path, "")
     series = document.get("series", "")
     if not isinstance(series, str) or not series:
         raise InputError("required: the series name, a non-empty string", path=path,
                          field="series")
+    if "rules" in document:
+        rules = _read_rules(table_of(document["rules"], path, "rules"), path)
+    elif assumed is None:
+        raise InputError("required: a [rules] table", path=path, field="rules")
+    else:
+        rules = assumed
     entries = document.get("unit")
     if not isinstance(entries, list) or not entries:
         raise InputError("no [[unit]] entries", path=path, field="unit")
-    raw = [_read_unit(table_of(entry, path, f"unit[{i}]"), series, path, i)
+    raw = [_read_unit(table_of(entry, path, f"unit[{i}]"), series, rules, path, i)
            for i, entry in enumerate(entries)]
     ids = [values["id"] for values in raw]
     for unit_id in ids:
@@ -197,10 +267,32 @@ def _read_file(path: Path) -> Iterable[Unit]:
         yield _complete(values, raw, path)
 
 
-def _read_unit(entry: dict[str, Any], series: str, path: Path, index: int) -> dict[str, Any]:
+def _read_rules(table: dict[str, Any], path: Path) -> SeriesRules:
+    check_keys(table, list(_RULE_KEYS), path, "rules")
+    values: dict[str, Any] = {}
+    for key, choices in _RULE_KEYS.items():
+        field = f"rules.{key}"
+        if key not in table:
+            raise InputError("required key is missing", path=path, field=field)
+        if choices is None:
+            values[key] = as_number(table[key], path, field, positive=True)
+        elif table[key] in choices:
+            values[key] = table[key]
+        else:
+            raise InputError(f"expected one of {', '.join(map(repr, choices))}, got "
+                             f"{table[key]!r}", path=path, field=field)
+    return SeriesRules(
+        rated_input_speed=values["rated_input_speed_rpm"],
+        rated_life_hours=values["rated_life_hours"], life_basis=values["life_basis"],
+        mean_torque_limit=values["mean_torque_limit"], mean_speed=values["mean_speed"],
+        max_momentary_events=values["max_momentary_events"], source=path)
+
+
+def _read_unit(entry: dict[str, Any], series: str, rules: SeriesRules, path: Path,
+               index: int) -> dict[str, Any]:
     where = f"unit[{index}]"
     check_keys(entry, _UNIT_KEYS, path, where)
-    values: dict[str, Any] = {"series": series, "flags": []}
+    values: dict[str, Any] = {"series": series, "rules": rules, "flags": []}
     for key in ("size", "ratio"):
         if key not in entry:
             raise InputError("required key is missing", path=path, field=f"{where}.{key}")
@@ -218,6 +310,10 @@ def _read_unit(entry: dict[str, Any], series: str, path: Path, index: int) -> di
                          field=f"{where}.max_input_speed_rpm")
     values["max_input_speed"] = as_number(entry["max_input_speed_rpm"], path,
                                           f"{where}.max_input_speed_rpm", positive=True)
+    values["max_average_input_speed"] = (
+        as_number(entry["max_average_input_speed_rpm"], path,
+                  f"{where}.max_average_input_speed_rpm", positive=True)
+        if "max_average_input_speed_rpm" in entry else None)
     for quantity, ((si_key, si_factor), (imp_key, imp_factor)) in _QUANTITIES.items():
         given = [(key, entry[key], factor) for key, factor in
                  ((si_key, si_factor), (imp_key, imp_factor)) if key in entry]
@@ -230,6 +326,10 @@ def _read_unit(entry: dict[str, Any], series: str, path: Path, index: int) -> di
             values[quantity] = None
             continue
         values[quantity] = _agree(quantity, given, values["flags"])
+    if rules.mean_torque_limit == "tabulated" and values["average_torque"] is None:
+        raise InputError("required: average_torque_nm or average_torque_lb_in, since the "
+                         "[rules] mean_torque_limit is 'tabulated'", path=path,
+                         field=f"{where}.average_torque_nm")
     if values["repeated_torque"] < values["rated_torque"]:
         raise InputError(f"the repeated-peak limit {values['repeated_torque']:.3g} N m is below "
                          f"the rated torque {values['rated_torque']:.3g} N m", path=path,
@@ -254,8 +354,9 @@ def _agree(quantity: str, given: list[tuple[str, Any, float]], flags: list[Flag]
         return a
     low = min(a, b)
     si_label = {"input_inertia": "kg m^2", "mass": "kg"}.get(quantity, "N m")
-    label = quantity.replace("_", " ").replace("torque", "limit").replace("rated limit",
-                                                                            "rated torque")
+    label = (quantity.replace("_", " ").replace("torque", "limit")
+             .replace("rated limit", "rated torque").replace("average limit",
+                                                             "average-torque limit"))
     flags.append(Flag(quantity, "corrected",
                       f"{label}: the source's {raw_a:g} {_unit_label(key_a)} and {raw_b:g} "
                       f"{_unit_label(key_b)} disagree; the lower, {low:.3g} {si_label}, is used"))
@@ -309,7 +410,10 @@ def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Pa
         rated_torque=values["rated_torque"], repeated_torque=values["repeated_torque"],
         momentary_torque=values["momentary_torque"], static_torque=values["static_torque"],
         max_input_speed=values["max_input_speed"], input_inertia=values["input_inertia"],
-        mass=values["mass"], efficiency=values["efficiency"], flags=tuple(flags), source=path,
+        mass=values["mass"], efficiency=values["efficiency"], rules=values["rules"],
+        average_torque=values["average_torque"],
+        max_average_input_speed=values["max_average_input_speed"], flags=tuple(flags),
+        source=path,
     )
 
 

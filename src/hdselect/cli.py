@@ -116,27 +116,39 @@ def _robot_motion(parser: argparse.ArgumentParser) -> None:
 
 
 def _sizing_options(parser: argparse.ArgumentParser) -> None:
-    from hdselect.reflect import DEFAULT_EFFICIENCY
+    from hdselect.motion import LIFE_BASES
+    from hdselect.options import Options
     from hdselect.select import PREFERENCES
-    from hdselect.sizing import DEFAULT_STOP_TIME
 
+    defaults = Options()
     _catalog_option(parser)
     parser.add_argument("--stop-time", type=float, metavar="S",
                         help="emergency-stop and crash time [s] (default: the motion file's "
-                             f"[safety] stop_time, else {DEFAULT_STOP_TIME:g})")
-    parser.add_argument("--efficiency", type=float, default=DEFAULT_EFFICIENCY,
+                             f"[safety] stop_time, else {defaults.stop_time:g})")
+    parser.add_argument("--efficiency", type=float,
                         help=f"gear efficiency where a unit has no table (default "
-                             f"{DEFAULT_EFFICIENCY:g})")
-    parser.add_argument("--motor-inertia", type=float, default=0.0, metavar="KG_M2",
+                             f"{defaults.efficiency:g})")
+    parser.add_argument("--motor-inertia", type=float, metavar="KG_M2",
                         help="motor rotor inertia [kg m^2] (default 0)")
-    parser.add_argument("--motor-mass", type=float, default=0.0, metavar="KG",
+    parser.add_argument("--motor-mass", type=float, metavar="KG",
                         help="motor mass carried with each gearhead [kg] (default 0)")
     parser.add_argument("--no-mass-coupling", action="store_true",
                         help="do not carry chosen units' masses on the joints nearer the base")
-    parser.add_argument("--prefer", choices=tuple(PREFERENCES), default="size",
-                        help="; ".join(f"{k}: {v[0]}" for k, v in PREFERENCES.items()))
+    parser.add_argument("--prefer", choices=tuple(PREFERENCES),
+                        help="; ".join(f"{k}: {v[0]}" for k, v in PREFERENCES.items())
+                        + f" (default {defaults.prefer})")
     parser.add_argument("--life-hours", type=float, metavar="H",
-                        help="required L50 life [h] (default: the motion file's requirement)")
+                        help="required life [h] (default: the motion file's requirement)")
+    parser.add_argument("--life-basis", choices=LIFE_BASES,
+                        help="basis of the required life: L50, average life, or L10, 90 %% "
+                             "survive it (default: the motion file's, else L50)")
+
+
+_OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
+                 "rotor_inertia": "--motor-inertia", "motor_mass": "--motor-mass",
+                 "prefer": "--prefer", "life_hours": "--life-hours",
+                 "life_basis": "--life-basis"}
+"""The command-line option of each field of `hdselect.options.Options`."""
 
 
 def run_catalog(args: argparse.Namespace) -> int:
@@ -172,21 +184,21 @@ def run_duty(args: argparse.Namespace) -> int:
 
 def run_plan(args: argparse.Namespace) -> int:
     """``hdselect plan``: the trajectory and the torques along it, as CSV (and a plot)."""
-    from hdselect.dynamics import joint_torques
+    from hdselect.dynamics import inverse_dynamics
     from hdselect.export import write_trajectory_csv
-    from hdselect.plan import plan
+    from hdselect.planning import plan
 
-    motion = _load_motion(args)
-    _keep_inputs([args.out, args.plot], _inputs(motion))
-    trajectory = plan(motion)
-    torques = joint_torques(motion.robot, trajectory)
-    joints = motion.robot.sized_joints
+    robot, motion = _load_case(args)
+    _keep_inputs([args.out, args.plot], _inputs(robot, motion))
+    trajectory = plan(robot, motion)
+    tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+    joints = robot.sized_joints
     if args.plot:
         from hdselect.figures import write_profiles_png
 
-        write_profiles_png(args.plot, trajectory, torques.tau, joints,
-                           title=f"{motion.robot.path.name} running {motion.path.name}")
-    write_trajectory_csv(args.out, trajectory, torques.tau, joints)
+        write_profiles_png(args.plot, trajectory, tau, joints,
+                           title=f"{robot.path.name} running {motion.path.name}")
+    write_trajectory_csv(args.out, trajectory, tau, joints)
     logger.info("wrote %d samples to %s", len(trajectory.t), args.out)
     return 0
 
@@ -225,34 +237,49 @@ def run_compare(args: argparse.Namespace) -> int:
     return 0 if result.feasible else 1
 
 
-def _load_motion(args: argparse.Namespace):
-    from hdselect.motion import load_motion
+def _load_case(args: argparse.Namespace):
+    from hdselect.motion import load_case
     from hdselect.robot import Payload
 
     payload = None
     if args.payload is not None:
-        if not args.payload > 0.0:
-            raise InputError(f"must be a positive mass, got {args.payload:g}", field="--payload")
-        payload = Payload(args.payload, tuple(args.payload_com), frame=args.payload_frame)
-    return load_motion(args.motion, args.robot, payload=payload, mounting=args.mounting)
+        try:
+            payload = Payload(args.payload, tuple(args.payload_com), frame=args.payload_frame)
+        except InputError as err:
+            flag = {"payload.mass": "--payload", "payload.com": "--payload-com"}
+            raise InputError(err.reason, field=flag.get(str(err.field), err.field)) from err
+    return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting)
 
 
 def _size(args: argparse.Namespace):
-    from hdselect.sizing import size
+    """Load, plan and size through the public core, as `hdselect.size` does."""
+    from dataclasses import replace
 
-    motion = _load_motion(args)
-    _keep_inputs([getattr(args, "json", None)], [*_inputs(motion), *args.catalog])
+    from hdselect.catalog import load_catalog
+    from hdselect.options import options_for
+    from hdselect.planning import plan
+    from hdselect.sizing import size_trajectory
+
+    robot, motion = _load_case(args)
+    try:
+        options = options_for(
+            motion, stop_time=args.stop_time, efficiency=args.efficiency,
+            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
+            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
+            life_hours=args.life_hours, life_basis=args.life_basis)
+    except InputError as err:
+        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
+    _keep_inputs([getattr(args, "json", None)], [*_inputs(robot, motion), *args.catalog])
     if getattr(args, "report", None):
-        _keep_inputs([Path(args.report) / "index.html"], _inputs(motion))
-    return size(motion.robot, motion, catalog=args.catalog, stop_time=args.stop_time,
-                efficiency=args.efficiency, rotor_inertia=args.motor_inertia,
-                motor_mass=args.motor_mass, mass_coupling=not args.no_mass_coupling,
-                prefer=args.prefer, life_hours=args.life_hours)
+        _keep_inputs([Path(args.report) / "index.html"], _inputs(robot, motion))
+    units = load_catalog(args.catalog)
+    result = size_trajectory(robot, plan(robot, motion), units, options)
+    return replace(result, motion=motion)
 
 
-def _inputs(motion) -> list[Path]:
-    """The files a motion was read from."""
-    files = [motion.path, motion.robot.path]
+def _inputs(robot, motion) -> list[Path]:
+    """The files a robot and a motion were read from."""
+    files = [motion.path, robot.path]
     return files + ([motion.samples.path] if motion.samples is not None else [])
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hdselect.catalog import Unit
+from hdselect.catalog import LIFE_BASES, Unit
 from hdselect.errors import InputError
 from hdselect.rules import RPM_PER_RAD_S, Candidate, CycleLoad, Momentary, check_unit, cycle_load
 from hdselect.select import select
@@ -43,7 +43,8 @@ class DutyCycle:
         phases: The phases of one cycle.
         momentary: The momentary (T4) event, if given.
         static_torque: Torque applied with the input locked [N m], if given.
-        life_hours: Required L50 life [h], if given.
+        life_hours: Required life [h] on `life_basis`, if given.
+        life_basis: ``"L10"`` or ``"L50"``, the basis of `life_hours`.
     """
 
     path: Path
@@ -51,6 +52,7 @@ class DutyCycle:
     momentary: Momentary | None
     static_torque: float | None
     life_hours: float | None
+    life_basis: str = "L50"
 
 
 @dataclass(frozen=True)
@@ -120,12 +122,16 @@ def load_duty(path: str | Path) -> DutyCycle:
         table = table_of(document["static"], path, "static")
         check_keys(table, ["torque"], path, "static")
         static = abs(number(table, "torque", path, "static"))
-    life = None
+    life, basis = None, "L50"
     if "requirements" in document:
         table = table_of(document["requirements"], path, "requirements")
-        check_keys(table, ["life_hours"], path, "requirements")
+        check_keys(table, ["life_hours", "life_basis"], path, "requirements")
         life = number(table, "life_hours", path, "requirements", positive=True)
-    return DutyCycle(path, tuple(phases), momentary, static, life)
+        basis = table.get("life_basis", basis)
+        if basis not in LIFE_BASES:
+            raise InputError(f"expected one of {', '.join(map(repr, LIFE_BASES))}, got "
+                             f"{basis!r}", path=path, field="requirements.life_basis")
+    return DutyCycle(path, tuple(phases), momentary, static, life, basis)
 
 
 def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size") -> DutyResult:
@@ -148,5 +154,6 @@ def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size"
         static_torque=cycle.static_torque,
     )
     candidates = tuple(check_unit(load, unit, momentary=cycle.momentary,
-                                  life_hours=cycle.life_hours) for unit in units)
+                                  life_hours=cycle.life_hours, life_basis=cycle.life_basis)
+                       for unit in units)
     return DutyResult(cycle, load, candidates, select(candidates, prefer))

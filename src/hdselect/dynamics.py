@@ -1,10 +1,10 @@
-"""Joint torques along a trajectory: batched inverse dynamics with Pinocchio."""
+"""Joint torques along a trajectory: the only place that calls Pinocchio's inverse dynamics."""
 
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -12,51 +12,74 @@ import pinocchio as pin
 from hdselect.arrays import frozen
 from hdselect.robot import Robot
 
-if TYPE_CHECKING:
-    from hdselect.plan import Trajectory
-
 _SAMPLES_PER_THREAD = 2048
 """Below this many samples per thread, starting a thread costs more than it saves."""
 
 
 @dataclass(frozen=True, eq=False)
-class JointTorques:
-    """Torques every joint must carry along a trajectory.
+class CycleTorques:
+    """Torques every joint carries along a trajectory, and along an emergency stop.
+
+    Torque is force for prismatic joints [N]. Arrays have shape (n, dof).
 
     Attributes:
-        tau: Joint torque (force for prismatic joints) [N m or N], shape (n, dof).
-        gravity: The gravity-only part, tau at the same positions at rest
-            [N m or N], shape (n, dof).
+        tau: Joint torque along the motion [N m].
+        stop: Joint torque at the start of an emergency stop from each sample, every
+            joint decelerating at -qd / stop_time [N m].
+        gravity: The gravity part, RNEA(q, 0, 0) [N m]; None unless split.
+        coasting: Gravity plus velocity-product part, RNEA(q, qd, 0) [N m]; None unless split.
     """
 
     tau: np.ndarray
-    gravity: np.ndarray
+    stop: np.ndarray
+    gravity: np.ndarray | None = None
+    coasting: np.ndarray | None = None
 
 
-def joint_torques(robot: Robot, trajectory: Trajectory) -> JointTorques:
-    """Inverse dynamics along a trajectory, and its gravity-only part.
+def cycle_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                  stop_time: float, *, split: bool = False,
+                  threads: int | None = None) -> CycleTorques:
+    """The motion's torques and an emergency stop's, in two batched passes (four if split).
 
     Args:
-        robot: The robot (payload and gravity included).
-        trajectory: Sampled positions, velocities and accelerations.
+        robot: The robot (payload, gearhead masses and gravity included).
+        q: Joint positions along the trajectory [rad or m], shape (n, dof).
+        qd: Joint velocities [rad/s or m/s], shape (n, dof).
+        qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof).
+        stop_time: Time in which an emergency stop brings every joint to rest [s].
+        split: Also compute the gravity and coasting parts (for time scaling).
+        threads: Threads for the batched passes; None chooses from the sample count.
 
     Returns:
-        Torques for every sample.
+        The torques.
     """
-    tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-    still = np.zeros_like(trajectory.qd)
-    gravity = inverse_dynamics(robot, trajectory.q, still, still)
-    return JointTorques(frozen(tau), frozen(gravity))
+    tau = inverse_dynamics(robot, q, qd, qdd, threads=threads)
+    stop = inverse_dynamics(robot, q, qd, qd * (-1.0 / stop_time), threads=threads)
+    if not split:
+        return CycleTorques(frozen(tau), frozen(stop))
+    still = np.zeros_like(qd)
+    gravity = inverse_dynamics(robot, q, still, still, threads=threads)
+    coasting = inverse_dynamics(robot, q, qd, still, threads=threads)
+    return CycleTorques(frozen(tau), frozen(stop), frozen(gravity), frozen(coasting))
 
 
-def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
-    """Batched recursive Newton-Euler: one Pinocchio call over all samples, on every core.
+def gravity_torques(robot: Robot, q: np.ndarray, *, threads: int | None = None) -> np.ndarray:
+    """Torques that hold the robot still at each pose, RNEA(q, 0, 0) [N m], shape (n, dof)."""
+    still = np.zeros((q.shape[0], robot.dof))
+    return inverse_dynamics(robot, q, still, still, threads=threads)
+
+
+def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, *,
+                     threads: int | None = None) -> np.ndarray:
+    """Batched recursive Newton-Euler: one Pinocchio call over all samples.
 
     Args:
         robot: The robot.
         q: Joint positions [rad or m], shape (n, dof).
         qd: Joint velocities [rad/s or m/s], shape (n, dof).
         qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof).
+        threads: Threads to use; None uses every core once there are enough samples
+            to repay the threads. A study running one case per worker passes 1.
 
     Returns:
         Joint torques [N m or N], shape (n, dof).
@@ -66,7 +89,23 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     velocity = np.asfortranarray(qd.T)
     acceleration = np.asfortranarray(qdd.T)
     tau = np.empty((robot.model.nv, n), order="F")
-    threads = min(os.cpu_count() or 1, max(1, n // _SAMPLES_PER_THREAD))
+    if threads is None:
+        threads = min(os.cpu_count() or 1, max(1, n // _SAMPLES_PER_THREAD))
     pool = pin.ModelPool(robot.model, threads)  # 0.05 ms: cheaper than keeping models alive
     pin.rneaInParallel(threads, pool, config, velocity, acceleration, tau)
     return tau.T
+
+
+def rnea_function(robot: Robot) -> Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]:
+    """Inverse dynamics of one state, tau(q, qd, qdd) [N m], as TOPPRA's torque constraint calls it.
+
+    Positions are in the robot's joint order [rad or m]; continuous joints are
+    converted to Pinocchio's (cos, sin) pair.
+    """
+    data = robot.model.createData()
+
+    def rnea(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+        config = robot.configuration(np.asarray(q, dtype=float)[None, :])[:, 0]
+        return pin.rnea(robot.model, data, config, np.asarray(qd, dtype=float),
+                        np.asarray(qdd, dtype=float))
+    return rnea

@@ -13,15 +13,25 @@ from typing import Any
 
 import numpy as np
 
-from hdselect.catalog import Unit
+from hdselect.catalog import SeriesRules, Unit
 from hdselect.duty import DutyResult
 from hdselect.errors import InputError
-from hdselect.plan import Trajectory
+from hdselect.planning import Trajectory
 from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.sizing import SizingResult
 
 MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the catalog page's "
                    "t1..t3); dwells do not dilute it, which is the conservative reading")
+WHOLE_CYCLE_NOTE = ("mean speed follows each unit's series rules: over the whole cycle, dwells "
+                    "included, where its catalog's [rules] say mean_speed = \"whole-cycle\"; "
+                    "over the moving part only where they say \"moving\"")
+
+
+def mean_speed_note(units: Iterable[Unit]) -> str:
+    """How the mean speed of these units is taken, for reports."""
+    if all(unit.rules.mean_speed == "moving" for unit in units):
+        return MEAN_SPEED_NOTE
+    return WHOLE_CYCLE_NOTE
 
 
 def write_output(target: str | Path, write: Callable[[Any], None], *,
@@ -71,7 +81,7 @@ def write_json(target: str | Path, document: dict[str, Any]) -> None:
 
 def check_json(check: Check) -> dict[str, Any]:
     """One check as JSON: value, limit, ok, utilization and any detail."""
-    document: dict[str, Any] = {"value": _finite(check.value), "limit": check.limit,
+    document: dict[str, Any] = {"value": _finite(check.value), "limit": _finite(check.limit),
                                 "ok": check.ok, "utilization": _finite(check.utilization)}
     document.update({key: _finite(value) for key, value in check.detail.items()})
     return document
@@ -90,6 +100,7 @@ def candidate_json(candidate: Candidate) -> dict[str, Any]:
         "flags": sorted({flag.code for flag in candidate.flags}),
         "notes": [flag.note for flag in candidate.flags],
         "binding": candidate.binding,
+        "rules": rules_json(unit.rules),
         "checks": {name: check_json(check) for name, check in candidate.checks.items()},
     }
     motor = candidate.motor
@@ -101,15 +112,28 @@ def candidate_json(candidate: Candidate) -> dict[str, Any]:
     return document
 
 
+def rules_json(rules: SeriesRules) -> dict[str, Any]:
+    """A series' rules as JSON; ``assumed`` when the unit's catalog file states none."""
+    return {"rated_input_speed_rpm": rules.rated_input_speed,
+            "rated_life_hours": rules.rated_life_hours, "life_basis": rules.life_basis,
+            "mean_torque_limit": rules.mean_torque_limit, "mean_speed": rules.mean_speed,
+            "max_momentary_events": rules.max_momentary_events,
+            "assumed": rules.flag is not None}
+
+
 def duty_json(result: DutyResult) -> dict[str, Any]:
-    """A duty-cycle result as JSON."""
+    """A duty-cycle result as JSON; each candidate's life on both bases (L50 and L10)."""
     load = result.load
     return {
         "profile": str(result.cycle.path),
         "mean_torque_nm": _finite(load.mean_torque),
         "mean_output_speed_rpm": load.mean_speed * RPM_PER_RAD_S,
+        "cycle_mean_output_speed_rpm": load.cycle_mean_speed * RPM_PER_RAD_S,
+        "cycle_time_s": load.cycle_time,
         "peak_torque_nm": load.peak_torque,
-        "mean_speed_rule": MEAN_SPEED_NOTE,
+        "required_life_hours": result.cycle.life_hours,
+        "life_basis": result.cycle.life_basis,
+        "mean_speed_rule": mean_speed_note(c.unit for c in result.candidates),
         "selected": result.selected.unit.id if result.selected else None,
         "candidates": [candidate_json(c) for c in result.candidates],
     }
@@ -141,7 +165,7 @@ def assumptions(result: SizingResult) -> dict[str, str]:
         "selection": options.prefer,
         "required life": ("none" if options.life_hours is None
                           else f"{options.life_hours:g} h"),
-        "mean speed": MEAN_SPEED_NOTE.removeprefix("mean speed "),
+        "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
     }
 
 
@@ -168,7 +192,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
         })
     return {
         "robot": str(result.robot.path),
-        "motion": str(result.motion.path),
+        "motion": None if result.motion is None else str(result.motion.path),
         "cycle_time_s": result.cycle_time,
         "samples": len(result.trajectory.t),
         "feasible": result.feasible,
@@ -176,7 +200,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "efficiency": options.efficiency, "stop_time_s": options.stop_time,
             "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,
             "mass_coupling": options.mass_coupling, "prefer": options.prefer,
-            "life_hours": options.life_hours, "mean_speed_rule": MEAN_SPEED_NOTE},
+            "life_hours": options.life_hours,
+            "mean_speed_rule": mean_speed_note(result.units)},
         "joints": joints,
     }
 

@@ -20,13 +20,12 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from hdselect.errors import InputError  # noqa: E402
 from hdselect.export import assumptions, write_output  # noqa: E402
-from hdselect.plan import Trajectory  # noqa: E402
-from hdselect.report import SHORT, life_text, percent, verdict  # noqa: E402
-from hdselect.rules import RPM_PER_RAD_S  # noqa: E402
+from hdselect.planning import Trajectory  # noqa: E402
+from hdselect.report import life_text, percent, verdict  # noqa: E402
+from hdselect.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S  # noqa: E402
 from hdselect.sizing import JointSizing, SizingResult  # noqa: E402
 
 DEG_PER_RAD = 180.0 / np.pi
-_RULES = ("peak", "mean", "speed", "momentary", "static", "life")
 
 
 def write_profiles_png(path: str | Path, trajectory: Trajectory, tau: np.ndarray,
@@ -155,7 +154,8 @@ def _joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
 
 def _utilization_figure(result: SizingResult) -> Figure:
     """Utilization of every rule for every unit and joint, the selection outlined."""
-    rules = [r for r in _RULES if any(r in c.checks for j in result.joints for c in j.candidates)]
+    rules = [r for r in CHECKS if any(r in c.checks and c.checks[r].value is not None
+                                      for j in result.joints for c in j.candidates)]
     n = len(result.joints)
     cols = min(3, n)
     rows = -(-n // cols)
@@ -168,7 +168,7 @@ def _utilization_figure(result: SizingResult) -> Figure:
         for (i, k), value in np.ndenumerate(grid):
             if np.isfinite(value):
                 ax.text(k, i, f"{value * 100:.0f}", ha="center", va="center", fontsize=7)
-        ax.set_xticks(range(len(rules)), [SHORT.get(r, r) for r in rules], fontsize=8)
+        ax.set_xticks(range(len(rules)), [CHECK_LABELS[r] for r in rules], fontsize=8)
         ax.set_yticks(range(len(joint.candidates)),
                       [("▶ " if c is joint.selected else "") + c.unit.id
                        for c in joint.candidates], fontsize=8)
@@ -212,13 +212,13 @@ def _page(result: SizingResult, images: list[tuple[JointSizing, str]]) -> str:
               "motor rms [N m]", "motor max [rpm]", "carries [kg]", "notes")
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
-<title>hdselect: {esc(result.robot.path.name)} / {esc(result.motion.path.name)}</title>
+<title>hdselect: {esc(result.title)}</title>
 <style>body{{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}}
 table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:left}}
 td{{white-space:nowrap}}
 img{{max-width:100%}}</style></head><body>
-<h1>Gearhead selection: {esc(result.robot.path.name)} running {esc(result.motion.path.name)}</h1>
-<p>Planner {esc(result.motion.planner)}, cycle {result.cycle_time:.3f} s,
+<h1>Gearhead selection: {esc(result.title)}</h1>
+<p>Cycle {result.cycle_time:.3f} s,
 {len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms.
 {"Every joint has a unit." if result.feasible else "<b>Some joints have no unit.</b>"}</p>
 <table><tr>{"".join(f"<th>{esc(h)}</th>" for h in header)}</tr>{"".join(rows)}</table>

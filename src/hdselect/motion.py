@@ -13,7 +13,6 @@ other columns are ignored.
 from __future__ import annotations
 
 import csv
-import logging
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -25,9 +24,7 @@ import numpy as np
 from hdselect.arrays import frozen
 from hdselect.errors import InputError
 from hdselect.robot import MOUNTINGS, Payload, Robot, load_robot
-from hdselect.tomlfile import as_number, check_keys, number, read_toml, table_of
-
-logger = logging.getLogger(__name__)
+from hdselect.tomlfile import as_number, check_keys, join, number, read_toml, table_of
 
 PLANNERS = ("ruckig", "toppra", "samples")
 """Valid values of the ``planner`` key."""
@@ -40,6 +37,9 @@ _TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "lim
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
 _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity", "acceleration"),
            "samples": ()}
+_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis")}
+LIFE_BASES = ("L50", "L10")
+"""Valid values of ``[requirements] life_basis``: L50 (average) or L10 (90 % survival) life."""
 _ALLOWED = {"ruckig": _NEEDED["ruckig"], "toppra": ("velocity", "acceleration", "torque"),
             "samples": ()}
 
@@ -65,11 +65,15 @@ class SampleLog:
 
 @dataclass(frozen=True, eq=False)
 class Motion:
-    """A validated motion file, all in SI units, joints in the robot's order.
+    """A validated motion file, all in SI units, joints named.
+
+    A Motion is planned against a Robot with the same joints (`hdselect.plan`); it
+    does not hold one. What the file says about the robot (its file, payload and
+    mounting) is kept here as given, and applied by `robot_for_motion`.
 
     Attributes:
         path: The motion file.
-        robot: The robot that makes the motion.
+        joint_names: The joints, in the order of the arrays' columns.
         planner: ``"ruckig"``, ``"toppra"`` or ``"samples"``.
         dt: Sample period of the planned trajectory [s].
         waypoints: Joint positions to pass through [rad or m], shape (k, dof); (0, dof)
@@ -80,12 +84,16 @@ class Motion:
         jerk_limit: Joint jerk limit [rad/s^3 or m/s^3], shape (dof,), or None.
         torque_limit: Joint torque limit for TOPPRA [N m or N], shape (dof,), or None.
         stop_time: Time to stop every joint in an emergency stop [s], or None.
-        life_hours: Required gearhead life L50 [h], or None.
+        life_hours: Required gearhead life [h], or None.
+        life_basis: The basis of `life_hours`, ``"L10"`` or ``"L50"``, or None if not given.
         samples: The logged trajectory for the samples planner, else None.
+        robot_file: The file's ``robot``, relative to the motion file resolved, or None.
+        payload: The file's ``[payload]``, or None.
+        mounting: The file's ``mounting``, or None when it gives none.
     """
 
     path: Path
-    robot: Robot
+    joint_names: tuple[str, ...]
     planner: str
     dt: float
     waypoints: np.ndarray
@@ -96,32 +104,38 @@ class Motion:
     torque_limit: np.ndarray | None = None
     stop_time: float | None = None
     life_hours: float | None = None
+    life_basis: str | None = None
     samples: SampleLog | None = None
+    robot_file: Path | None = None
+    payload: Payload | None = None
+    mounting: str | tuple[float, float, float] | None = None
+
+    def check_joints(self, robot: Robot) -> None:
+        """Check that the motion was read for this robot's joints.
+
+        Raises:
+            InputError: The joints differ.
+        """
+        if robot.joint_names != self.joint_names:
+            raise InputError(f"the motion was read for joints {', '.join(self.joint_names)}; "
+                             f"the robot has {', '.join(robot.joint_names)}", path=self.path)
 
 
-def load_motion(
-    path: str | Path,
-    robot: Robot | str | Path | None = None,
-    *,
-    payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
-    joints: Sequence[str] | None = None,
-) -> Motion:
+def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Motion:
     """Read and validate a motion file.
+
+    The robot is needed to read the file: list-form values follow its joint order,
+    ``angle_unit`` applies to its revolute joints only, and waypoints are checked
+    against its position limits.
 
     Args:
         path: The motion file (TOML).
         robot: The robot, a robot file, or None to load the file named by the motion
             file's ``robot`` key (relative to the motion file).
-        payload: Payload to attach instead of the motion file's ``[payload]``; used
-            only when the robot is loaded here.
-        mounting: Mounting instead of the motion file's ``mounting``: ``"floor"``,
-            ``"wall"``, ``"ceiling"`` or gravity in the base frame [m/s^2]; used only
-            when the robot is loaded here.
-        joints: Joints to size (see `load_robot`); used only when the robot is loaded here.
 
     Returns:
-        The motion, in SI units.
+        The motion, in SI units. The file's payload and mounting are recorded, not
+        applied: see `robot_for_motion` and `load_case`.
 
     Raises:
         InputError: The motion file, the robot file or the log is missing, malformed
@@ -134,27 +148,14 @@ def load_motion(
     unit = ANGLE_UNITS[_choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)]
     dt = number(doc, "dt", path, "", default=0.001, positive=True)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
-    file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else "floor"
+    file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
+    robot_file = _robot_file(doc, path)
     if not isinstance(robot, Robot):
-        if robot is None:
-            if "robot" not in doc:
-                raise InputError("no robot given: set the key or pass a robot file",
-                                 path=path, field="robot")
-            if not isinstance(doc["robot"], str):
-                raise InputError("expected a file name", path=path, field="robot")
-            robot = path.parent / doc["robot"]
-            if not robot.is_file():
-                raise InputError(f"robot file not found: {robot}", path=path, field="robot")
-        try:
-            robot = load_robot(robot, payload=payload or file_payload, joints=joints,
-                               mounting=file_mounting if mounting is None else mounting)
-        except InputError as err:
-            if payload is None and file_payload is not None and err.field == "payload.frame":
-                raise InputError(err.reason, path=path, field=err.field) from err
-            raise
-    elif "payload" in doc or "mounting" in doc:
-        logger.warning("%s: the robot was given already loaded; this file's payload and "
-                       "mounting are not applied", path)
+        file = robot if robot is not None else robot_file
+        if file is None:
+            raise InputError("no robot given: set the key or pass a robot file",
+                             path=path, field="robot")
+        robot = load_robot(file)
     scale = np.where(robot.revolute, unit, 1.0)
     units = [("deg" if unit != 1.0 else "rad") if r else "m" for r in robot.revolute]
     limits = table_of(doc.get("limits", {}), path, "limits")
@@ -169,8 +170,8 @@ def load_motion(
                              path=path, field=f"limits.{key}")
     lim = {k: frozen(_per_joint(v, robot, path, f"limits.{k}", positive=True)
                       * (1.0 if k == "torque" else scale)) for k, v in limits.items()}
-    stop_time = _section_number(doc, "safety", "stop_time", path)
-    life_hours = _section_number(doc, "requirements", "life_hours", path)
+    stop_time = _section(doc, "safety", path).get("stop_time")
+    requirements = _section(doc, "requirements", path)
     samples = None
     if planner == "samples":
         if "waypoint" in doc:
@@ -180,32 +181,146 @@ def load_motion(
         samples = _samples(doc, path, robot, scale)
     else:
         if "samples" in doc:
-            raise InputError(f"only for planner 'samples', not '{planner}'", path=path,
+            raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
                              field="samples")
         waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units)
     return Motion(
-        path=path, robot=robot, planner=planner, dt=dt,
+        path=path, joint_names=robot.joint_names, planner=planner, dt=dt,
         waypoints=frozen(waypoints), dwells=frozen(dwells),
         velocity_limit=lim.get("velocity"), acceleration_limit=lim.get("acceleration"),
         jerk_limit=lim.get("jerk"), torque_limit=lim.get("torque"),
-        stop_time=stop_time, life_hours=life_hours, samples=samples,
+        stop_time=stop_time, life_hours=requirements.get("life_hours"),
+        life_basis=requirements.get("life_basis"), samples=samples,
+        robot_file=robot_file, payload=file_payload, mounting=file_mounting,
     )
 
 
-def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path) -> str:
+def robot_for_motion(
+    robot: Robot,
+    motion: Motion,
+    *,
+    payload: Payload | None = None,
+    mounting: str | Sequence[float] | None = None,
+    joints: Sequence[str] | None = None,
+) -> Robot:
+    """The robot as the motion runs it: payload, mounting and sized joints applied.
+
+    Each of payload and mounting comes from the argument if given, else from the
+    motion file if it gives one, else it is the robot's own. Nothing is dropped in
+    silence: a robot that already carries a payload and a motion file that gives
+    another, with no argument to choose, is an error.
+
+    Args:
+        robot: The robot, as loaded (or already transformed).
+        motion: The motion read for it.
+        payload: Payload overriding the motion file's.
+        mounting: Mounting overriding the motion file's.
+        joints: Joints to size (default: the robot's choice).
+
+    Returns:
+        The robot to plan and size with.
+
+    Raises:
+        InputError: The joints differ from the motion's, the payload is ambiguous, or
+            its frame does not exist (the message names the file that set it).
+    """
+    motion.check_joints(robot)
+    if payload is None and motion.payload is not None:
+        if robot.payload is not None and robot.payload != motion.payload:
+            raise InputError("the robot already carries a payload and this file gives another;"
+                             " pass the payload to use explicitly", path=motion.path,
+                             field="payload")
+        try:
+            robot = robot.with_payload(motion.payload)
+        except InputError as err:
+            raise InputError(err.reason, path=motion.path, field=err.field) from err
+    elif payload is not None:
+        robot = robot.with_payload(payload)
+    mounting = mounting if mounting is not None else motion.mounting
+    if mounting is not None:
+        robot = robot.with_mounting(mounting)
+    if joints is not None:
+        robot = robot.with_sized_joints(joints)
+    return robot
+
+
+def load_case(
+    motion: str | Path,
+    robot: Robot | str | Path | None = None,
+    *,
+    payload: Payload | None = None,
+    mounting: str | Sequence[float] | None = None,
+    joints: Sequence[str] | None = None,
+) -> tuple[Robot, Motion]:
+    """Load a motion file and the robot that runs it, payload and mounting applied.
+
+    Args:
+        motion: The motion file.
+        robot: The robot or its file; None loads the motion file's ``robot``.
+        payload: Payload overriding the motion file's.
+        mounting: Mounting overriding the motion file's.
+        joints: Joints to size.
+
+    Returns:
+        The robot as the motion runs it (see `robot_for_motion`) and the motion.
+
+    Raises:
+        InputError: A file or option is invalid.
+    """
+    if not isinstance(robot, Robot):
+        motion_path = Path(motion)
+        robot = load_robot(robot if robot is not None else _robot_file_of(motion_path))
+    loaded = load_motion(motion, robot)
+    return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
+                            joints=joints), loaded
+
+
+def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path,
+            where: str = "") -> str:
+    field = join(where, key)
     if key not in doc:
         raise InputError(f"required key is missing; choose one of: {', '.join(choices)}",
-                         path=path, field=key)
+                         path=path, field=field)
     if doc[key] not in choices:
         raise InputError(f"unknown value {doc[key]!r}; choose one of: {', '.join(choices)}",
-                         path=path, field=key)
+                         path=path, field=field)
     return doc[key]
 
 
-def _section_number(doc: dict[str, Any], section: str, key: str, path: Path) -> float | None:
+def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
+    """The numbers of ``[safety]`` or ``[requirements]``, validated."""
     table = table_of(doc.get(section, {}), path, section)
-    check_keys(table, (key,), path, section)
-    return number(table, key, path, section, positive=True) if key in table else None
+    check_keys(table, _SECTIONS[section], path, section)
+    values: dict[str, Any] = {}
+    for key in _SECTIONS[section]:
+        if key == "life_basis":
+            if key in table:
+                values[key] = _choice(table, key, LIFE_BASES, path, where=section)
+        elif key in table:
+            values[key] = number(table, key, path, section, positive=True)
+    return values
+
+
+def _robot_file(doc: dict[str, Any], path: Path) -> Path | None:
+    """The file's ``robot``, resolved against the motion file's folder, if given."""
+    if "robot" not in doc:
+        return None
+    if not isinstance(doc["robot"], str):
+        raise InputError("expected a file name", path=path, field="robot")
+    robot = path.parent / doc["robot"]
+    if not robot.is_file():
+        raise InputError(f"robot file not found: {robot}", path=path, field="robot")
+    return robot
+
+
+def _robot_file_of(path: Path) -> Path:
+    """The robot file a motion file names, for loading the robot before the motion."""
+    doc = read_toml(path)
+    robot = _robot_file(doc, path)
+    if robot is None:
+        raise InputError("no robot given: set the key or pass a robot file",
+                         path=path, field="robot")
+    return robot
 
 
 def _vector(value: Any, size: int, path: Path, field: str) -> list[float]:
@@ -218,30 +333,24 @@ def _vector(value: Any, size: int, path: Path, field: str) -> list[float]:
 def _payload(value: Any, path: Path) -> Payload:
     table = table_of(value, path, "payload")
     check_keys(table, ("mass", "com", "inertia", "frame"), path, "payload")
-    mass = number(table, "mass", path, "payload", positive=True)
-    com = _vector(table.get("com", [0.0] * 3), 3, path, "payload.com")
-    rows = table.get("inertia", [[0.0] * 3] * 3)
-    if not isinstance(rows, list) or len(rows) != 3:
-        raise InputError("expected a 3x3 matrix [kg m^2]", path=path, field="payload.inertia")
-    inertia = np.array([_vector(r, 3, path, f"payload.inertia[{i}]") for i, r in enumerate(rows)])
-    if not np.allclose(inertia, inertia.T) or np.linalg.eigvalsh(inertia)[0] < -1e-12:
-        raise InputError("must be symmetric positive semi-definite [kg m^2]", path=path,
-                         field="payload.inertia")
-    frame = table.get("frame")
-    if frame is not None and not isinstance(frame, str):
-        raise InputError(f"expected a frame name, got {frame!r}", path=path, field="payload.frame")
-    return Payload(mass, (com[0], com[1], com[2]), tuple(tuple(r) for r in inertia.tolist()),
-                   frame)
+    if "mass" not in table:
+        raise InputError("required key is missing", path=path, field="payload.mass")
+    try:
+        return Payload(table["mass"], table.get("com", (0.0, 0.0, 0.0)),
+                       table.get("inertia", ((0.0,) * 3,) * 3), table.get("frame"))
+    except InputError as err:
+        raise InputError(err.reason, path=path, field=err.field) from err
 
 
-def _mounting(value: Any, path: Path) -> str | list[float]:
+def _mounting(value: Any, path: Path) -> str | tuple[float, float, float]:
     if isinstance(value, str):
         if value not in MOUNTINGS:
             raise InputError(f"unknown mounting {value!r}; choose one of: {', '.join(MOUNTINGS)}"
                              " or a gravity vector [gx, gy, gz] in m/s^2", path=path,
                              field="mounting")
         return value
-    return _vector(value, 3, path, "mounting")
+    x, y, z = _vector(value, 3, path, "mounting")
+    return (x, y, z)
 
 
 def _per_joint(value: Any, robot: Robot, path: Path, field: str, *,

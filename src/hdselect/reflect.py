@@ -19,29 +19,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from hdselect.catalog import Unit
-from hdselect.rules import RPM_PER_RAD_S, Momentary
+from hdselect.rules import RPM_PER_RAD_S, Momentary, MotorDemand
 
 DEFAULT_EFFICIENCY = 0.70
 """Gear efficiency used where a catalog gives no table [-]. The PSA-G page shows
 efficiency curves but no numbers; 70 % is a mid-range reading for small
 Harmonic Drive units near rated torque, and lower at light load."""
-
-
-@dataclass(frozen=True)
-class MotorDemand:
-    """What the motor behind one gearhead must deliver over the cycle.
-
-    Attributes:
-        peak_torque: Largest |T_motor| [N m].
-        rms_torque: Root mean square of T_motor over the whole cycle [N m].
-        max_speed: Largest input speed [rpm].
-        efficiency: The efficiency used: a number, or ``"table"`` for the unit's own table.
-    """
-
-    peak_torque: float
-    rms_torque: float
-    max_speed: float
-    efficiency: float | str
 
 
 @dataclass(frozen=True, eq=False)

@@ -7,18 +7,29 @@ from collections.abc import Callable, Iterable
 
 from rich import box
 from rich.console import Console
+from rich.markup import escape
 from rich.table import Table
 
-from hdselect.catalog import KG_M2_PER_KG_CM2, KG_M2_PER_LB_IN2, KG_PER_LB, NM_PER_LB_IN, Unit
+from hdselect.catalog import (
+    KG_M2_PER_KG_CM2,
+    KG_M2_PER_LB_IN2,
+    KG_PER_LB,
+    NM_PER_LB_IN,
+    SeriesRules,
+    Unit,
+)
 from hdselect.duty import DutyResult
-from hdselect.export import MEAN_SPEED_NOTE, assumptions
-from hdselect.reflect import MotorDemand
-from hdselect.rules import RPM_PER_RAD_S, Candidate, Check, CycleLoad
+from hdselect.export import assumptions, mean_speed_note
+from hdselect.rules import (
+    CHECK_LABELS,
+    CHECKS,
+    RPM_PER_RAD_S,
+    Candidate,
+    Check,
+    CycleLoad,
+    MotorDemand,
+)
 from hdselect.sizing import JointSizing, SizingResult
-
-RULES = ("peak", "mean", "speed", "momentary", "static")
-SHORT = {"peak": "peak", "mean": "mean", "speed": "speed", "momentary": "mom.",
-         "static": "static"}
 
 
 def console() -> Console:
@@ -43,7 +54,7 @@ def verdict(candidate: Candidate) -> str:
     if candidate.feasible:
         return "ok"
     worst = candidate.binding
-    return f"{SHORT.get(worst, worst)} +{percent(candidate.checks[worst].utilization - 1)}"
+    return f"{CHECK_LABELS.get(worst, worst)} +{percent(candidate.checks[worst].utilization - 1)}"
 
 
 def catalog_table(units: Iterable[Unit], imperial: bool = False) -> Table:
@@ -63,75 +74,122 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> Table:
     table = Table(title=f"Gearhead catalog: output torques in {torque_unit}, max input speed "
                         f"in rpm, input inertia in {inertia_unit}, mass in {mass_unit}",
                   title_justify="left")
-    for header in ("unit", "rated @1750", "repeated", "momentary", "static", "max input",
-                   "input inertia", "mass"):
+    average = any(u.average_torque is not None for u in units)
+    average_speed = any(u.max_average_input_speed is not None for u in units)
+    speeds = {u.rules.rated_input_speed for u in units}
+    rated = f"rated @{speeds.pop():g}" if len(speeds) == 1 else "rated"
+    headers = ["unit", rated, "repeated", "momentary", "static", "max input", "input inertia",
+               "mass", *(["average"] if average else []),
+               *(["max avg input"] if average_speed else [])]
+    for header in headers:
         table.add_column(header, justify="left" if header == "unit" else "right")
     for u in units:
         marks = {f.field: "*" if f.kind == "fallback" else "†" for f in u.flags}
 
-        def cell(field: str, value: float, scale: float, digits: int = 3,
+        def cell(field: str, value: float | None, scale: float, digits: int = 3,
                  marks: dict[str, str] = marks) -> str:
-            return f"{value * scale:.{digits}g}{marks.get(field, '')}"
+            return "-" if value is None else f"{value * scale:.{digits}g}{marks.get(field, '')}"
 
-        table.add_row(u.id, cell("rated_torque", u.rated_torque, torque),
-                      cell("repeated_torque", u.repeated_torque, torque),
-                      cell("momentary_torque", u.momentary_torque, torque),
-                      cell("static_torque", u.static_torque, torque),
-                      f"{u.max_input_speed:.0f}",
-                      cell("input_inertia", u.input_inertia, inertia, 3),
-                      cell("mass", u.mass, mass, 2))
+        cells = [u.id, cell("rated_torque", u.rated_torque, torque),
+                 cell("repeated_torque", u.repeated_torque, torque),
+                 cell("momentary_torque", u.momentary_torque, torque),
+                 cell("static_torque", u.static_torque, torque), f"{u.max_input_speed:.0f}",
+                 cell("input_inertia", u.input_inertia, inertia, 3), cell("mass", u.mass, mass, 2)]
+        cells += [cell("average_torque", u.average_torque, torque)] if average else []
+        cells += [cell("", u.max_average_input_speed, 1.0, 4)] if average_speed else []
+        table.add_row(*cells)
     notes = [f"{u.id}: {f.note}" for u in units for f in u.flags]
+    rules = {u.rules: sorted({v.series for v in units if v.rules == u.rules}) for u in units}
+    if len(rules) > 1:  # one set of rules needs no listing; several say which is whose
+        notes += [f"{', '.join(series)}: {_rules_text(r)}" for r, series in rules.items()]
     if notes:
-        table.caption = ("* stand-in for a blank in the source   † the source's two columns "
-                         "disagree\n" + "\n".join(notes))
+        table.caption = escape("* stand-in for a blank in the source   † the source's two "
+                               "columns disagree\n" + "\n".join(notes))
         table.caption_justify = "left"
     return table
 
 
+def _rules_text(rules: SeriesRules) -> str:
+    """A series' rules in one line, e.g. for the catalog listing."""
+    text = (f"rated at {rules.rated_input_speed:g} rpm input for {rules.rated_life_hours:,.0f} h "
+            f"{rules.life_basis}; {rules.mean_torque_limit} mean-torque limit; mean speed over "
+            f"{'the whole cycle' if rules.mean_speed == 'whole-cycle' else 'the moving part'}; "
+            f"at most {rules.max_momentary_events:,.0f} momentary events ({rules.source.name})")
+    return text if rules.flag is None else f"{text}; assumed: the catalog file states no [rules]"
+
+
 def duty_table(result: DutyResult) -> Table:
     """One row per unit: utilization of each rule, life, verdict; the selection marked."""
+    cycle = result.cycle
+    units = [c.unit for c in result.candidates]
     table = _candidates_table(
-        f"{result.cycle.path.name}: {_load_text(result.load)}", result.candidates,
-        result.selected, life_required=result.cycle.life_hours is not None,
-        extra={"L10 h": lambda c: life_text(c.l10_hours, "")})
-    notes = [f"▶ selected. utilization = demand / limit; mom. = momentary (T4); L10 = L50 / 5; "
-             f"{MEAN_SPEED_NOTE}."]
+        f"{cycle.path.name}: {_load_text(result.load, units)}", result.candidates,
+        result.selected, extra={"L10 h": lambda c: life_text(c.l10_hours, "")})
+    average = any(c.checks["average_speed"].value is not None for c in result.candidates)
+    notes = [f"▶ selected. utilization = demand / limit; mom. = momentary (T4); "
+             f"{'avg speed = mean input speed; ' if average else ''}L10 = L50 / 5; "
+             f"{mean_speed_note(units)}."]
+    if cycle.life_hours is not None and cycle.life_basis != "L50":
+        notes.append(f"life: the required {cycle.life_hours:,.0f} h {cycle.life_basis} over each "
+                     f"unit's {cycle.life_basis} life.")
     selected = result.selected
     events = selected.checks["momentary"].detail.get("allowed_events") if selected else None
     if selected is not None and isinstance(events, float):
+        cap = selected.unit.rules.max_momentary_events
         notes.append(f"The selected {selected.unit.id} allows {events:,.0f} momentary events like "
                      "the one given (10^4 / (2 n t), n its input speed in rev/s, t its "
-                     "duration).")
-    table.caption = "\n".join(notes)
+                     f"duration{f'; at most {cap:,.0f} by its rules' if events >= cap else ''}).")
+    notes += _assumed_notes(result.candidates)
+    table.caption = escape("\n".join(notes))
     table.caption_justify = "left"
     return table
 
 
+def _assumed_notes(candidates: Iterable[Candidate]) -> list[str]:
+    """Each assumption (rules a catalog file does not state) once, with the units it concerns.
+
+    Stand-ins and corrections of catalog values are listed by ``hdselect catalog``.
+    """
+    units: dict[str, list[str]] = {}
+    for c in candidates:
+        for flag in c.flags:
+            if flag.kind == "assumed":
+                units.setdefault(flag.note, []).append(c.unit.id)
+    return [f"{', '.join(ids)}: {note}" for note, ids in units.items()]
+
+
 def _candidates_table(title: str, candidates: Iterable[Candidate], selected: Candidate | None,
-                      *, life_required: bool,
-                      extra: dict[str, Callable[[Candidate], str]]) -> Table:
-    """Every candidate's utilization per rule, its L50 life, `extra` columns and verdict."""
+                      *, extra: dict[str, Callable[[Candidate], str]]) -> Table:
+    """Every candidate's utilization per rule, its L50 life, `extra` columns and verdict.
+
+    A rule has a column when some candidate has a value for it.
+    """
+    candidates = list(candidates)
+    names = [name for name in CHECKS
+             if any(name in c.checks and c.checks[name].value is not None for c in candidates)]
     table = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
                   collapse_padding=True)
-    columns = ["unit", *SHORT.values(), *(["life"] if life_required else []), "L50 h", *extra,
-               "result"]
+    columns = ["unit", *(CHECK_LABELS[name] for name in names), "L50 h", *extra, "result"]
     for header in columns:
         table.add_column(header, justify="left" if header in ("unit", "result") else "right",
                          no_wrap=True)
     for c in candidates:
         chosen = c is selected
         cells = [("▶" if chosen else " ") + c.unit.id]
-        cells += [_utilization_cell(c.checks[name]) for name in RULES]
-        cells += [_utilization_cell(c.checks["life"])] if life_required else []
+        cells += [_utilization_cell(c.checks[name]) for name in names]
         cells += [life_text(c.life_hours, ""), *(cell(c) for cell in extra.values()), verdict(c)]
         table.add_row(*cells, style="bold" if chosen else None)
     return table
 
 
-def _load_text(load: CycleLoad) -> str:
+def _load_text(load: CycleLoad, units: Iterable[Unit]) -> str:
+    """The cycle in a line; the whole-cycle mean speed too where a unit's rules use it."""
     mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
-    return (f"peak {load.peak_torque:.3g} N m, mean torque {mean}, mean output speed "
+    text = (f"peak {load.peak_torque:.3g} N m, mean torque {mean}, mean output speed "
             f"{load.mean_speed * RPM_PER_RAD_S:.3g} rpm")
+    if any(u.rules.mean_speed == "whole-cycle" for u in units):
+        text += f" moving, {load.cycle_mean_speed * RPM_PER_RAD_S:.3g} rpm over the whole cycle"
+    return text
 
 
 def _utilization_cell(check: Check) -> str:
@@ -165,7 +223,7 @@ def size_table(result: SizingResult) -> Table:
             joint.name, chosen.unit.id + mark, f"{chosen.binding} {percent(check.utilization)}",
             life_text(chosen.life_hours), f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}",
             f"{motor.max_speed:,.0f}", ", ".join(notes))
-    table.caption = "\n".join(_size_notes(result))
+    table.caption = escape("\n".join(_size_notes(result)))
     table.caption_justify = "left"
     return table
 
@@ -173,9 +231,8 @@ def size_table(result: SizingResult) -> Table:
 def compare_table(result: SizingResult, joint: JointSizing) -> Table:
     """One row per unit for one joint: every rule's utilization, life and motor demand."""
     table = _candidates_table(
-        f"Joint {joint.name}: {_load_text(joint.load)}, carries {joint.carried_mass:.2f} kg of "
-        "gearheads", joint.candidates, joint.selected,
-        life_required=result.options.life_hours is not None,
+        f"Joint {joint.name}: {_load_text(joint.load, result.units)}, carries "
+        f"{joint.carried_mass:.2f} kg of gearheads", joint.candidates, joint.selected,
         extra={"motor\npeak N m": lambda c: f"{_motor(c).peak_torque:.3g}",
                "motor\nrms N m": lambda c: f"{_motor(c).rms_torque:.3g}",
                "motor\nmax rpm": lambda c: f"{_motor(c).max_speed:,.0f}"})
@@ -191,9 +248,8 @@ def _motor(candidate: Candidate) -> MotorDemand:
 
 
 def _size_title(result: SizingResult) -> str:
-    motion = result.motion
-    return (f"{result.robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
-            f"{result.cycle_time:.3f} s, {len(result.trajectory.t):,} samples")
+    return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
+            f"{len(result.trajectory.t):,} samples")
 
 
 def _size_notes(result: SizingResult) -> list[str]:

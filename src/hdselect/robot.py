@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import logging
 import xml.etree.ElementTree as ET
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 import pinocchio as pin
@@ -41,10 +42,14 @@ class Payload:
     """A rigid payload attached to a frame of the robot.
 
     Attributes:
-        mass: Mass [kg].
+        mass: Mass [kg], positive.
         com: Centre of mass in the frame it is attached to [m], shape (3,).
-        inertia: Rotational inertia about the centre of mass, frame axes [kg m^2], (3, 3).
+        inertia: Rotational inertia about the centre of mass, frame axes [kg m^2], (3, 3),
+            symmetric positive semi-definite.
         frame: Name of the frame it is attached to; None means the last link.
+
+    Raises:
+        InputError: A value is not finite or not physical (the field names it).
     """
 
     mass: float
@@ -52,14 +57,59 @@ class Payload:
     inertia: tuple[tuple[float, ...], ...] = ((0.0,) * 3,) * 3
     frame: str | None = None
 
+    def __post_init__(self) -> None:
+        mass = _finite_array(self.mass, (), "payload.mass")
+        if not mass > 0.0:
+            raise InputError(f"must be a positive mass [kg], got {float(mass):g}",
+                             field="payload.mass")
+        com = _finite_array(self.com, (3,), "payload.com")
+        inertia = _finite_array(self.inertia, (3, 3), "payload.inertia")
+        if not np.allclose(inertia, inertia.T) or np.linalg.eigvalsh(inertia)[0] < -1e-12:
+            raise InputError("must be symmetric positive semi-definite [kg m^2]",
+                             field="payload.inertia")
+        if self.frame is not None and not isinstance(self.frame, str):
+            raise InputError(f"expected a frame name, got {self.frame!r}", field="payload.frame")
+        object.__setattr__(self, "mass", float(mass))
+        object.__setattr__(self, "com", tuple(float(c) for c in com))
+        object.__setattr__(self, "inertia", tuple(tuple(float(v) for v in row)
+                                                  for row in inertia))
+
+
+def _finite_array(value: object, shape: tuple[int, ...], field: str) -> np.ndarray:
+    """`value` as a float array of `shape` with every element finite.
+
+    Raises:
+        InputError: It is not.
+    """
+    if isinstance(value, bool | str) or (isinstance(value, Sequence)
+                                          and any(isinstance(v, bool | str) for v in value)):
+        raise InputError(f"expected numbers, got {value!r}", field=field)
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise InputError(f"expected numbers, got {value!r}", field=field) from err
+    if array.shape != shape:
+        raise InputError(f"expected shape {shape or 'a single number'}, got {value!r}",
+                         field=field)
+    bad = np.argwhere(~np.isfinite(array))
+    if bad.size:
+        index = "".join(f"[{i}]" for i in bad[0])
+        raise InputError(f"must be finite, got {array[tuple(bad[0])]}", field=field + index)
+    return array
+
 
 @dataclass(frozen=True, eq=False)
 class Robot:
     """A loaded arm, ready for planning and inverse dynamics.
 
+    A Robot is immutable. Payload, mounting, gearhead masses and the choice of
+    joints to size are transformations that return a new Robot
+    (`with_payload`, `with_mounting`, `with_gearheads`, `with_sized_joints`),
+    so one loaded file serves any number of variants.
+
     Attributes:
         path: The robot file it came from.
-        model: Pinocchio model with the payload attached and gravity set.
+        model: Pinocchio model with the payload and gearhead masses attached and gravity set.
         joint_names: Name of every degree of freedom, in the model's velocity order.
         revolute: True for revolute and continuous joints, per degree of freedom.
         sized_joints: Names of the joints that get a gearhead.
@@ -69,6 +119,8 @@ class Robot:
         effort_limit: URDF effort limit per degree of freedom [N m or N].
         gravity: Gravity in the base frame [m/s^2], shape (3,).
         payload: The attached payload, if any.
+        gearhead_masses: Point mass mounted at each named joint's origin, on the link
+            before it (a gearhead and its motor) [kg].
     """
 
     path: Path
@@ -82,7 +134,9 @@ class Robot:
     effort_limit: np.ndarray
     gravity: np.ndarray
     payload: Payload | None = None
+    gearhead_masses: Mapping[str, float] = field(default_factory=dict)
     _q_index: tuple[tuple[int, int], ...] = field(default=(), repr=False)
+    _bare: pin.Model | None = field(default=None, repr=False)
 
     @property
     def dof(self) -> int:
@@ -122,6 +176,85 @@ class Robot:
                 config[iq + 1] = np.sin(positions[:, dof])
         return config
 
+    def with_payload(self, payload: Payload | None) -> Robot:
+        """The same robot carrying `payload` instead of its current one (None: no payload).
+
+        Raises:
+            InputError: The payload's frame does not exist or does not move.
+        """
+        return self._rebuilt(payload=payload)
+
+    def with_mounting(self, mounting: str | Sequence[float]) -> Robot:
+        """The same robot mounted otherwise.
+
+        Args:
+            mounting: ``"floor"``, ``"wall"``, ``"ceiling"`` or a gravity vector in the
+                base frame [m/s^2].
+
+        Raises:
+            InputError: The mounting is not one of these.
+        """
+        return self._rebuilt(gravity=frozen(gravity_of(mounting)))
+
+    def with_gearheads(self, masses: Mapping[str, float]) -> Robot:
+        """The same robot carrying a point mass at the origin of each named joint.
+
+        Each mass (a gearhead and its motor) is bolted to the link before its joint,
+        centred on the joint axis: carried by every joint nearer the base and by none
+        further out. Its rotor inertia spinning on a moving link is neglected.
+
+        Args:
+            masses: Mass mounted at each joint [kg]; replaces the current masses.
+        """
+        for name in masses:
+            self.joint_index(name, field="gearhead_masses")
+        return self._rebuilt(gearhead_masses=MappingProxyType(dict(masses)))
+
+    def with_sized_joints(self, joints: Sequence[str] | None) -> Robot:
+        """The same robot with another choice of joints to size (None: every rotary joint).
+
+        Raises:
+            InputError: A name is unknown or names a prismatic joint.
+        """
+        return replace(self, sized_joints=_sized(self.joint_names, self.revolute, joints,
+                                                 self.path))
+
+    def carried_mass(self, joint: str) -> float:
+        """Total of the gearhead masses mounted on links that `joint` moves [kg]."""
+        model = self.model
+        joint_id = model.getJointId(joint)
+        total = 0.0
+        for name, mass in self.gearhead_masses.items():
+            ancestor = model.parents[model.getJointId(name)]
+            while ancestor > joint_id:
+                ancestor = model.parents[ancestor]
+            if ancestor == joint_id:
+                total += mass
+        return total
+
+    @property
+    def _bare_model(self) -> pin.Model:
+        return self._bare if self._bare is not None else self.model
+
+    def _rebuilt(self, **changes: object) -> Robot:
+        """A copy with `changes` applied and its model rebuilt from the file's bare model."""
+        robot = replace(self, **changes)  # type: ignore[arg-type]
+        bare = self._bare_model
+        model = pin.Model(bare)
+        if robot.payload is not None:
+            frame = _payload_frame(model, robot.payload, robot.path)
+            model.appendBodyToJoint(frame.parentJoint, pin.Inertia(
+                robot.payload.mass, np.array(robot.payload.com), np.array(robot.payload.inertia)),
+                frame.placement)
+        for name, mass in robot.gearhead_masses.items():
+            joint_id = model.getJointId(name)
+            parent = model.parents[joint_id]
+            if mass > 0.0 and parent > 0:
+                point = pin.Inertia(mass, np.zeros(3), np.zeros((3, 3)))
+                model.appendBodyToJoint(parent, point, model.jointPlacements[joint_id])
+        model.gravity.linear = np.array(robot.gravity)
+        return replace(robot, model=model, _bare=bare)
+
 
 def load_robot(
     path: str | Path,
@@ -134,9 +267,9 @@ def load_robot(
 
     Args:
         path: The robot file (``.urdf``; ``.xml`` or ``.mjcf`` for MJCF).
-        payload: A payload to attach, if any.
+        payload: A payload to attach, if any (same as `Robot.with_payload`).
         mounting: ``"floor"``, ``"wall"``, ``"ceiling"`` or a gravity vector in the
-            base frame [m/s^2].
+            base frame [m/s^2] (same as `Robot.with_mounting`).
         joints: Joints to size; default every revolute and continuous joint.
 
     Returns:
@@ -153,10 +286,6 @@ def load_robot(
     model = _build_model(path)
     names, revolute, q_index = _joints(model, path)
     _check_inertias(model, path)
-    if payload is not None:
-        _attach_payload(model, payload, path)
-    gravity = _gravity(mounting)
-    model.gravity.linear = gravity
     lower, upper = _position_limits(model, q_index)
     robot = Robot(
         path=path,
@@ -168,14 +297,13 @@ def load_robot(
         upper=frozen(upper),
         velocity_limit=frozen(model.velocityLimit),
         effort_limit=frozen(model.effortLimit),
-        gravity=frozen(gravity),
-        payload=payload,
+        gravity=frozen(gravity_of(mounting)),
         _q_index=q_index,
     )
     skipped = [n for n, r in zip(names, revolute, strict=True) if not r]
     if skipped:
         logger.info("prismatic joints are reported but not sized: %s", ", ".join(skipped))
-    return robot
+    return robot._rebuilt(payload=payload)
 
 
 def _build_model(path: Path) -> pin.Model:
@@ -223,6 +351,9 @@ def _position_limits(model: pin.Model, q_index) -> tuple[np.ndarray, np.ndarray]
 def _sized(names, revolute, joints, path) -> tuple[str, ...]:
     if joints is None:
         return tuple(n for n, r in zip(names, revolute, strict=True) if r)
+    if isinstance(joints, str):
+        raise InputError(f"expected a list of joint names, got {joints!r}", path=path,
+                         field="joints")
     chosen = []
     for name in joints:
         if name not in names:
@@ -235,19 +366,29 @@ def _sized(names, revolute, joints, path) -> tuple[str, ...]:
     return tuple(n for n in names if n in chosen)
 
 
-def _gravity(mounting: str | Sequence[float]) -> np.ndarray:
+def gravity_of(mounting: str | Sequence[float]) -> np.ndarray:
+    """Gravity in the base frame [m/s^2] for a named mounting or a gravity vector.
+
+    Raises:
+        InputError: The mounting is neither a known name nor three finite numbers.
+    """
     if isinstance(mounting, str):
         if mounting not in MOUNTINGS:
             raise InputError(f"unknown mounting '{mounting}'; choose one of: "
                              f"{', '.join(MOUNTINGS)} or a gravity vector", field="mounting")
         return np.array(MOUNTINGS[mounting])
-    gravity = np.asarray(mounting, dtype=float)
+    try:
+        gravity = np.asarray(mounting, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise InputError("gravity must be three finite numbers [m/s^2]",
+                         field="mounting") from err
     if gravity.shape != (3,) or not np.all(np.isfinite(gravity)):
         raise InputError("gravity must be three finite numbers [m/s^2]", field="mounting")
     return gravity
 
 
-def _attach_payload(model: pin.Model, payload: Payload, path: Path) -> None:
+def _payload_frame(model: pin.Model, payload: Payload, path: Path) -> pin.Frame:
+    """The frame a payload is attached to: its own, or the last link's."""
     frame_name = payload.frame or _last_link(model)
     if not model.existFrame(frame_name):
         bodies = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
@@ -257,8 +398,7 @@ def _attach_payload(model: pin.Model, payload: Payload, path: Path) -> None:
     if frame.parentJoint == 0:
         raise InputError(f"frame '{frame_name}' does not move; a payload there loads no joint",
                          path=path, field="payload.frame")
-    inertia = pin.Inertia(payload.mass, np.array(payload.com), np.array(payload.inertia))
-    model.appendBodyToJoint(frame.parentJoint, inertia, frame.placement)
+    return frame
 
 
 def _last_link(model: pin.Model) -> str:

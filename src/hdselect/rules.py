@@ -2,30 +2,32 @@
 
 Both front ends use this module: `hdselect duty` builds the cycle from the
 catalog page's phases, `hdselect size` from the sampled dynamics. A phase is
-simply a sample whose duration is the phase time.
+simply a sample whose duration is the phase time. Every rule reads the unit's
+series rules (`hdselect.catalog.SeriesRules`); no series' numbers live here.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from hdselect.catalog import RATED_INPUT_SPEED_RPM, RATED_LIFE_HOURS, Flag, Unit
-
-if TYPE_CHECKING:
-    from hdselect.reflect import MotorDemand
+from hdselect.catalog import L50_PER_L10, LIFE_BASES, Flag, SeriesRules, Unit
+from hdselect.errors import InputError
 
 RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
 """Revolutions per minute in one radian per second."""
 ALLOWABLE_TORQUE_EXPONENT = 0.33
-"""Exponent of the catalog's continuous-torque rule, T = (1750 / N)^0.33 T_N."""
-L50_PER_L10 = 5.0
-"""Harmonic Drive's ratio of average (L50) to 90 %-survival (L10) wave generator life."""
+"""Exponent of the speed-adjusted mean-torque rule, T = (n_rated / N_av)^0.33 T_N."""
 MOMENTARY_EVENTS_FACTOR = 1.0e4
 """Harmonic Drive's momentary-overload rule: allowed events = 1e4 / (2 (n/60) t)."""
-CHECKS = ("peak", "mean", "speed", "momentary", "static", "life")
+CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life")
+"""Every check by name, in the order of results and reports. ``life`` is present only
+when a life is required; the others always, with value None where they do not apply."""
+CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
+                "momentary": "mom.", "static": "static", "life": "life"}
+"""Short names of the checks, for table headers."""
 
 
 @dataclass(frozen=True)
@@ -34,11 +36,12 @@ class CycleLoad:
 
     Attributes:
         peak_torque: Largest |T| while moving (the catalog's T1..T3) [N m].
-        mean_torque: The seed's mean torque T_av over the moving part [N m];
-            None when the joint never moves.
+        mean_torque: The mean torque T_av over the moving part [N m]; None when the
+            joint never moves.
         mean_speed: Mean output speed over the moving part (dwells excluded) [rad/s].
         max_speed: Largest output speed [rad/s].
         moving_time: Time spent moving [s].
+        cycle_time: Time of the whole cycle, dwells included [s].
         static_torque: Largest |T| held at rest, input locked [N m]; None if never at rest.
     """
 
@@ -47,7 +50,23 @@ class CycleLoad:
     mean_speed: float
     max_speed: float
     moving_time: float
+    cycle_time: float
     static_torque: float | None
+
+    @property
+    def cycle_mean_speed(self) -> float:
+        """Mean output speed over the whole cycle, dwells included [rad/s]."""
+        if self.cycle_time <= 0.0:
+            return 0.0
+        return self.mean_speed * self.moving_time / self.cycle_time
+
+    def mean_speed_under(self, rules: SeriesRules) -> float:
+        """Mean output speed N_av as a series' rules define it [rad/s].
+
+        ``"moving"``: over the moving part (`mean_speed`); ``"whole-cycle"``: over the
+        whole cycle, dwells included (`cycle_mean_speed`).
+        """
+        return self.mean_speed if rules.mean_speed == "moving" else self.cycle_mean_speed
 
 
 @dataclass(frozen=True)
@@ -70,13 +89,31 @@ class Momentary:
 
 
 @dataclass(frozen=True)
+class MotorDemand:
+    """What the motor behind one gearhead must deliver over the cycle.
+
+    Attributes:
+        peak_torque: Largest |T_motor| [N m].
+        rms_torque: Root mean square of T_motor over the whole cycle [N m].
+        max_speed: Largest input speed [rpm].
+        efficiency: The efficiency used: a number, or ``"table"`` for the unit's own table.
+    """
+
+    peak_torque: float
+    rms_torque: float
+    max_speed: float
+    efficiency: float | str
+
+
+@dataclass(frozen=True)
 class Check:
     """One rule applied to one gearhead.
 
     Attributes:
         value: The demand ([N m], input speed [rpm] or life [h]); None if the rule
-            does not apply to this cycle.
-        limit: What the gearhead allows (for ``life``: what the user requires).
+            does not apply to this cycle or this unit.
+        limit: What the gearhead allows (for ``life``: what the user requires); infinite
+            where the unit has no such limit.
         ok: The rule holds.
         utilization: Demand over allowance [-] (life: required over expected); 0 if
             the rule does not apply, above 1 when it fails.
@@ -98,7 +135,7 @@ class Candidate:
         unit: The gearhead.
         checks: Each rule by name, in the order of `CHECKS`.
         life_hours: L50 life [h]; None when unlimited (no load while moving).
-        flags: Catalog stand-ins and corrections this result depends on.
+        flags: Catalog stand-ins, corrections and assumed rules this result depends on.
         motor: What the motor behind it must deliver, when computed (hdselect size).
     """
 
@@ -144,12 +181,13 @@ def cycle_load(
         speed: Output speed of each sample or phase [rad/s]; sign ignored.
         duration: Duration of each sample or phase [s].
         at_rest: True where the joint is held still (input locked): these count
-            towards the static check, not towards the peak, mean torque or mean speed.
+            towards the static check, not towards the peak, mean torque or the
+            moving-part mean speed.
         static_torque: An extra torque held at rest [N m], if any.
 
     Returns:
-        The summary. The mean speed averages over the moving part only, as the
-        catalog page writes it; dwells do not dilute it (the conservative reading).
+        The summary. `CycleLoad.mean_speed` averages over the moving part; a series
+        whose rules average over the whole cycle reads `CycleLoad.mean_speed_under`.
     """
     torque = np.abs(np.asarray(torque, dtype=float))
     speed = np.abs(np.asarray(speed, dtype=float))
@@ -168,39 +206,64 @@ def cycle_load(
         mean_speed=travel / moving_time if moving_time > 0.0 else 0.0,
         max_speed=float(speed.max()) if speed.size else 0.0,
         moving_time=moving_time,
+        cycle_time=float(duration.sum()),
         static_torque=max(held) if held else None,
     )
 
 
 def allowable_mean_torque(unit: Unit, mean_input_speed_rpm: float) -> tuple[float, bool]:
-    """The catalog's continuous-torque rule, capped by the repeated-peak limit.
+    """The limit for the mean output torque under the unit's series rules.
+
+    ``"tabulated"``: the unit's own limit for average torque. ``"speed-adjusted"``:
+    (rated input speed / N_av)^0.33 x T_N, never above the repeated-peak limit.
 
     Args:
         unit: The gearhead.
         mean_input_speed_rpm: Mean input speed N_av [rpm].
 
     Returns:
-        The allowable mean output torque [N m] and whether the cap bound it.
+        The allowable mean output torque [N m] and whether the repeated-peak cap bound it.
     """
+    rules = unit.rules
+    if rules.mean_torque_limit == "tabulated":
+        assert unit.average_torque is not None  # the catalog requires it for this rule
+        return unit.average_torque, False
     if mean_input_speed_rpm <= 0.0:
         return unit.repeated_torque, True
-    rule = (RATED_INPUT_SPEED_RPM / mean_input_speed_rpm) ** ALLOWABLE_TORQUE_EXPONENT
+    rule = (rules.rated_input_speed / mean_input_speed_rpm) ** ALLOWABLE_TORQUE_EXPONENT
     allowed = rule * unit.rated_torque
     return min(allowed, unit.repeated_torque), allowed >= unit.repeated_torque
 
 
 def l50_life_hours(unit: Unit, mean_torque: float, mean_input_speed_rpm: float) -> float | None:
-    """L50 = 35000 h x (1750 / N_av) x (T_N / T_av)^3; None when unlimited."""
+    """L50 = L50_rated x (n_rated / N_av) x (T_N / T_av)^3 [h]; None when unlimited.
+
+    L50_rated is the series' rated life on the L50 basis (5 x a rated L10).
+    """
     if mean_torque <= 0.0 or mean_input_speed_rpm <= 0.0:
         return None
-    return (RATED_LIFE_HOURS * (RATED_INPUT_SPEED_RPM / mean_input_speed_rpm)
+    rules = unit.rules
+    return (rules.rated_l50_hours * (rules.rated_input_speed / mean_input_speed_rpm)
             * (unit.rated_torque / mean_torque) ** 3)
 
 
-def allowed_momentary_events(input_speed_rpm: float, duration: float) -> float | None:
-    """Number of momentary overloads a unit survives: 1e4 / (2 (n_in/60) t); None if unlimited."""
+def allowed_momentary_events(input_speed_rpm: float, duration: float, *,
+                             cap: float | None = None) -> float | None:
+    """Momentary overloads a unit survives: 1e4 / (2 (n_in/60) t), at most `cap`.
+
+    Args:
+        input_speed_rpm: Input speed during the event [rpm].
+        duration: Duration of the event [s].
+        cap: Most events ever allowed [-], the series' rules; None for no cap.
+
+    Returns:
+        The count [-]; None when unlimited (no revolution and no cap).
+    """
     revolutions = 2.0 * (input_speed_rpm / 60.0) * duration
-    return MOMENTARY_EVENTS_FACTOR / revolutions if revolutions > 0.0 else None
+    allowed = MOMENTARY_EVENTS_FACTOR / revolutions if revolutions > 0.0 else math.inf
+    if cap is not None:
+        allowed = min(allowed, cap)
+    return allowed if math.isfinite(allowed) else None
 
 
 def check_unit(
@@ -209,51 +272,74 @@ def check_unit(
     *,
     momentary: Momentary | None = None,
     life_hours: float | None = None,
+    life_basis: str = "L50",
     motor: MotorDemand | None = None,
 ) -> Candidate:
-    """Apply every rule of the catalog to one gearhead.
+    """Apply every rule of the unit's series to one gearhead.
 
     Args:
         load: The joint's cycle on the output side.
         unit: The gearhead.
         momentary: The worst momentary (T4) event for this unit, if any.
-        life_hours: Required L50 life [h]; adds the ``life`` check.
+        life_hours: Required life [h] on `life_basis`; adds the ``life`` check.
+        life_basis: ``"L10"`` or ``"L50"``: the basis of `life_hours`, and of the
+            ``life`` check's value.
         motor: The motor-side demand, carried into the result as is.
 
     Returns:
         The candidate with every check, life and the flags it depends on.
+
+    Raises:
+        InputError: `life_basis` is not one of ``L10``, ``L50``.
     """
-    mean_input_rpm = load.mean_speed * RPM_PER_RAD_S * unit.ratio
+    if life_basis not in LIFE_BASES:
+        raise InputError(f"unknown life basis {life_basis!r}; choices are: "
+                         f"{', '.join(LIFE_BASES)}", field="life_basis")
+    rules = unit.rules
+    mean_input_rpm = load.mean_speed_under(rules) * RPM_PER_RAD_S * unit.ratio
     allowed, capped = allowable_mean_torque(unit, mean_input_rpm)
+    average_limit = unit.max_average_input_speed
     checks = {
         "peak": _check(load.peak_torque, unit.repeated_torque),
         "mean": _check(load.mean_torque, allowed, mean_input_speed_rpm=mean_input_rpm,
                        capped_by_repeated=capped),
         "speed": _check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed),
+        "average_speed": _check(None if average_limit is None else mean_input_rpm,
+                                math.inf if average_limit is None else average_limit),
+        "momentary": _momentary(momentary, unit),
+        "static": _check(load.static_torque, unit.static_torque),
     }
-    if momentary is None:
-        checks["momentary"] = _check(None, unit.momentary_torque)
-    else:
-        detail: dict[str, object] = {"kind": momentary.kind}
-        if momentary.speed is not None and momentary.duration is not None:
-            event_rpm = abs(momentary.speed) * RPM_PER_RAD_S * unit.ratio
-            detail["allowed_events"] = allowed_momentary_events(event_rpm, momentary.duration)
-        if momentary.time is not None:
-            detail["time_s"] = momentary.time
-        checks["momentary"] = _check(abs(momentary.torque), unit.momentary_torque, **detail)
-    checks["static"] = _check(load.static_torque, unit.static_torque)
     life = (l50_life_hours(unit, load.mean_torque, mean_input_rpm)
             if load.mean_torque is not None else None)
     if life_hours is not None:
-        utilization = 0.0 if life is None else life_hours / life
-        checks["life"] = Check(life, life_hours, utilization <= 1.0, utilization)
-    used = {"peak": "repeated_torque", "mean": "rated_torque", "momentary": "momentary_torque",
-            "static": "static_torque"}
+        expected = life if life is None or life_basis == "L50" else life / L50_PER_L10
+        utilization = 0.0 if expected is None else life_hours / expected
+        checks["life"] = Check(expected, life_hours, utilization <= 1.0, utilization,
+                               {"basis": life_basis})
+    used = {"peak": "repeated_torque", "momentary": "momentary_torque", "static": "static_torque",
+            "mean": ("average_torque" if rules.mean_torque_limit == "tabulated"
+                     else "rated_torque")}
     fields = [used[name] for name, check in checks.items()
               if name in used and check.value is not None]
+    if life is not None:
+        fields.append("rated_torque")
     if motor is not None:
         fields.append("input_inertia")
-    return Candidate(unit, checks, life, unit.flags_for(*fields), motor)
+    flags = unit.flags_for(*fields) + ((rules.flag,) if rules.flag is not None else ())
+    return Candidate(unit, checks, life, flags, motor)
+
+
+def _momentary(event: Momentary | None, unit: Unit) -> Check:
+    if event is None:
+        return _check(None, unit.momentary_torque)
+    detail: dict[str, object] = {"kind": event.kind}
+    if event.speed is not None and event.duration is not None:
+        event_rpm = abs(event.speed) * RPM_PER_RAD_S * unit.ratio
+        detail["allowed_events"] = allowed_momentary_events(
+            event_rpm, event.duration, cap=unit.rules.max_momentary_events)
+    if event.time is not None:
+        detail["time_s"] = event.time
+    return _check(abs(event.torque), unit.momentary_torque, **detail)
 
 
 def _check(value: float | None, limit: float, **detail: object) -> Check:

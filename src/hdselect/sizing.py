@@ -1,12 +1,15 @@
-"""Size every joint of a robot from its motion: the product's main job.
+"""Size every joint of a robot from its motion: the product's main job, and its one core.
 
-Plan the motion, compute the torques along it and along an emergency stop
-from every instant, then choose a gearhead per joint from the tip to the base,
-each chosen unit's mass (and motor mass) carried by the joints nearer the base.
+`size_trajectory` takes a robot and a planned trajectory and chooses a gearhead
+per joint from the tip to the base, each chosen unit's mass (and motor mass)
+carried by the joints nearer the base. `size` is load + plan + `size_trajectory`.
+Every front end (the command line, studies, co-design, Python) goes through it.
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -14,19 +17,17 @@ import numpy as np
 
 from hdselect.arrays import frozen
 from hdselect.catalog import Unit, load_catalog
-from hdselect.coupling import carried_mass, with_gearheads
-from hdselect.dynamics import inverse_dynamics
+from hdselect.dynamics import CycleTorques, cycle_torques, gravity_torques
 from hdselect.errors import InputError
-from hdselect.motion import Motion, load_motion
-from hdselect.plan import Trajectory, plan
-from hdselect.reflect import DEFAULT_EFFICIENCY, reflect
-from hdselect.robot import Payload, Robot
+from hdselect.motion import Motion, load_case, robot_for_motion
+from hdselect.options import Options, options_for
+from hdselect.planning import Trajectory, plan
+from hdselect.reflect import reflect
+from hdselect.robot import Payload, Robot, load_robot
 from hdselect.rules import Candidate, CycleLoad, check_unit, cycle_load
 from hdselect.select import select
-from hdselect.slowdown import Slowdown, find_slowdown
+from hdselect.timescale import JointScales, ScalableCycle, Slowdown, joint_scales
 
-DEFAULT_STOP_TIME = 0.1
-"""Time in which an emergency stop or a crash brings the arm to rest [s]."""
 REST_FRACTION = 1e-3
 """A joint is at rest (input held) where both its speed and its acceleration are below
 this fraction of their largest values in the cycle [-]."""
@@ -36,29 +37,6 @@ _GRAVITY_SAMPLES = 400
 """Poses at which the gravity torque is evaluated for the backdriving warning."""
 _GUESS_SAMPLES = 200
 """Samples on which the carried masses are first guessed."""
-
-
-@dataclass(frozen=True)
-class Options:
-    """Assumptions of a sizing run, stated in every report.
-
-    Attributes:
-        stop_time: Emergency-stop and crash time [s].
-        efficiency: Gear efficiency where a unit has no table [-].
-        rotor_inertia: Motor rotor inertia J_m [kg m^2].
-        motor_mass: Motor mass carried with each gearhead [kg].
-        mass_coupling: Whether chosen units' masses load the joints nearer the base.
-        prefer: Selection order (see `hdselect.select.PREFERENCES`).
-        life_hours: Required L50 life [h], if any.
-    """
-
-    stop_time: float = DEFAULT_STOP_TIME
-    efficiency: float = DEFAULT_EFFICIENCY
-    rotor_inertia: float = 0.0
-    motor_mass: float = 0.0
-    mass_coupling: bool = True
-    prefer: str = "size"
-    life_hours: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,7 +55,10 @@ class JointSizing:
         max_gravity_torque: Largest gravity torque over the cycle's poses [N m].
         torque: Output torque along the cycle [N m], shape (n,).
         stop_torque: Output torque of an emergency stop from each instant [N m], (n,).
-        slowdown: For a joint with no feasible unit, the slow-down that would fit.
+        slowdown: For a joint with no feasible unit, the smallest slow-down that would
+            fit (its factor rounded up to 0.001).
+        scales: For a joint with no feasible unit, the time scales at which each unit
+            would fit.
     """
 
     name: str
@@ -90,6 +71,7 @@ class JointSizing:
     torque: np.ndarray
     stop_torque: np.ndarray
     slowdown: Slowdown | None = None
+    scales: JointScales | None = None
 
     @property
     def strongest(self) -> Candidate:
@@ -103,20 +85,20 @@ class SizingResult:
     """Everything `hdselect size` prints, as values.
 
     Attributes:
-        robot: The robot.
-        motion: The motion.
-        trajectory: The planned trajectory.
+        robot: The robot as sized (payload and mounting applied, no gearhead masses).
+        trajectory: The trajectory sized.
         joints: One result per sized joint, in the robot's joint order.
         options: The assumptions used.
         units: The catalog.
+        motion: The motion the trajectory was planned from, when `size` planned it.
     """
 
     robot: Robot
-    motion: Motion
     trajectory: Trajectory
     joints: tuple[JointSizing, ...]
     options: Options
     units: tuple[Unit, ...]
+    motion: Motion | None = None
 
     @property
     def feasible(self) -> bool:
@@ -128,73 +110,72 @@ class SizingResult:
         """Cycle time [s]."""
         return self.trajectory.duration
 
+    @property
+    def title(self) -> str:
+        """What was sized, for headings: the robot file, the motion file and its planner."""
+        if self.motion is None:
+            return f"{self.robot.path.name} on a given trajectory"
+        return f"{self.robot.path.name} running {self.motion.path.name} ({self.motion.planner})"
+
 
 def size(
     robot: Robot | str | Path | None,
     motion: Motion | str | Path,
     *,
-    catalog: tuple[str | Path, ...] | list[str | Path] = (),
-    units: tuple[Unit, ...] | None = None,
-    stop_time: float | None = None,
-    efficiency: float = DEFAULT_EFFICIENCY,
-    rotor_inertia: float = 0.0,
-    motor_mass: float = 0.0,
-    mass_coupling: bool = True,
-    prefer: str = "size",
-    life_hours: float | None = None,
+    catalog: Sequence[str | Path] = (),
+    units: Sequence[Unit] | None = None,
     payload: Payload | None = None,
-    mounting: str | list[float] | None = None,
-    joints: list[str] | None = None,
+    mounting: str | Sequence[float] | None = None,
+    joints: Sequence[str] | None = None,
+    **options: object,
 ) -> SizingResult:
-    """Choose a gearhead for every joint of a robot from its motion.
+    """Choose a gearhead for every joint of a robot from its motion: load, plan, size.
 
     Args:
         robot: Robot file or loaded robot; None takes the motion file's ``robot``.
         motion: Motion file or loaded motion.
         catalog: Extra catalog files (the built-in PSA-G catalog is always loaded).
-        units: The catalog already loaded (overrides `catalog`).
-        stop_time: Emergency-stop and crash time [s]; default the motion file's
-            ``[safety] stop_time``, else `DEFAULT_STOP_TIME`.
-        efficiency: Gear efficiency where a unit has no table [-].
-        rotor_inertia: Motor rotor inertia J_m [kg m^2].
-        motor_mass: Motor mass carried with each gearhead [kg].
-        mass_coupling: Carry each chosen unit's mass on the joints nearer the base.
-        prefer: Selection order, a key of `hdselect.select.PREFERENCES`.
-        life_hours: Required L50 life [h]; default the motion file's requirement.
+        units: The catalog already loaded (instead of `catalog`).
         payload: Payload, overriding the motion file's.
         mounting: Mounting, overriding the motion file's.
         joints: Joints to size (default every revolute joint).
+        **options: Fields of `hdselect.options.Options` (``stop_time``, ``efficiency``,
+            ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
+            ``life_hours``, ``life_basis``, ``threads``); what is not given comes from
+            the motion file, else the defaults.
 
     Returns:
         The result for every sized joint.
 
     Raises:
-        InputError: A file or option is invalid.
+        InputError: A file or argument is invalid, or two arguments contradict.
         PlanningError: The motion cannot be planned.
     """
-    if not isinstance(motion, Motion):
-        motion = load_motion(motion, robot, payload=payload, mounting=mounting, joints=joints)
-    options = Options(
-        stop_time=_positive(stop_time if stop_time is not None else
-                            motion.stop_time or DEFAULT_STOP_TIME, "--stop-time"),
-        efficiency=_fraction(efficiency),
-        rotor_inertia=_non_negative(rotor_inertia, "--motor-inertia"),
-        motor_mass=_non_negative(motor_mass, "--motor-mass"),
-        mass_coupling=mass_coupling,
-        prefer=prefer,
-        life_hours=life_hours if life_hours is not None else motion.life_hours,
-    )
-    if units is None:
-        units = load_catalog(catalog)
-    select((), options.prefer)  # validates the order before the work
-    trajectory = plan(motion)
-    results = _size_trajectory(motion.robot, trajectory, units, options)
-    return SizingResult(motion.robot, motion, trajectory, results, options, units)
+    if isinstance(catalog, str | Path):
+        raise InputError("expected a list of catalog files", field="catalog")
+    if units is not None and catalog:
+        raise InputError("give either catalog files or loaded units, not both", field="units")
+    if isinstance(motion, Motion):
+        if not isinstance(robot, Robot):
+            file = robot if robot is not None else motion.robot_file
+            if file is None:
+                raise InputError("no robot given, and the motion file names none",
+                                 path=motion.path, field="robot")
+            robot = load_robot(file)
+        robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
+                                 joints=joints)
+    else:
+        robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
+                                  joints=joints)
+    resolved = options_for(motion, **options)
+    units = tuple(units) if units is not None else load_catalog(catalog)
+    trajectory = plan(robot, motion)
+    return replace(size_trajectory(robot, trajectory, units, resolved), motion=motion)
 
 
-def _size_trajectory(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
-                     options: Options) -> tuple[JointSizing, ...]:
-    """Size every joint, carrying the chosen units' masses when coupling is on.
+def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
+                    options: Options | None = None) -> SizingResult:
+    """Choose a gearhead for every sized joint along a planned trajectory.
 
     Joint j's torque depends only on the units chosen further out, so sizing
     from the tip to the base is one pass. It is found here as a fixed point:
@@ -205,32 +186,50 @@ def _size_trajectory(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
     tip). The guess comes from two rounds on a coarse subset of the samples, so
     the full trajectory usually takes one round: two batched passes of inverse
     dynamics, the motion's and the emergency stop's.
+
+    Args:
+        robot: The robot (payload and mounting applied).
+        trajectory: The trajectory, with the robot's joints.
+        units: The catalog.
+        options: The assumptions (default `Options()`).
+
+    Returns:
+        The result for every sized joint (its ``motion`` is None).
+
+    Raises:
+        InputError: The trajectory's joints are not the robot's, or the catalog is empty.
     """
+    if trajectory.joint_names != robot.joint_names:
+        raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
+                         f"robot has {', '.join(robot.joint_names)}", field="trajectory")
+    units = tuple(units)
+    if not units:
+        raise InputError("no gearhead to choose from", field="units")
+    options = options if options is not None else Options()
     masses: dict[str, float] = {}
     if options.mass_coupling:
-        coarse = _decimated(traj, max(1, len(traj.t) // _GUESS_SAMPLES))
+        coarse = _decimated(trajectory, max(1, len(trajectory.t) // _GUESS_SAMPLES))
         for _ in range(2):
-            masses = _unit_masses(_size_joints(with_gearheads(robot, masses), coarse, units,
-                                               options), options)
+            masses = _unit_masses(_size_joints(robot.with_gearheads(masses), coarse, units,
+                                               options)[0], options)
     for _ in range(robot.dof + 1):
-        carrying = with_gearheads(robot, masses)
-        joints = _size_joints(carrying, traj, units, options)
+        carrying = robot.with_gearheads(masses)
+        joints, torques = _size_joints(carrying, trajectory, units, options)
         chosen = _unit_masses(joints, options)
         if not options.mass_coupling or chosen == masses:
             break
         masses = chosen
     else:  # each round settles at least one more joint from the tip
         raise AssertionError("the tip-to-base sizing did not settle")
-    gravity_at = np.unique(np.linspace(0, len(traj.t) - 1, _GRAVITY_SAMPLES).astype(int))
-    still = np.zeros((len(gravity_at), robot.dof))
-    gravity = np.abs(inverse_dynamics(carrying, traj.q[gravity_at], still, still))
-    joints = [replace(joint, carried_mass=carried_mass(robot, masses, joint.name),
+    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, _GRAVITY_SAMPLES).astype(int))
+    gravity = np.abs(gravity_torques(carrying, trajectory.q[poses], threads=options.threads))
+    joints = [replace(joint, carried_mass=carrying.carried_mass(joint.name),
                       gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
                       max_gravity_torque=float(gravity[:, j].max()))
               for joint in joints for j in [robot.joint_index(joint.name)]]
     if any(joint.selected is None for joint in joints):
-        joints = _with_slowdowns(carrying, traj, joints, units, options)
-    return tuple(joints)
+        joints = _with_slowdowns(carrying, trajectory, joints, units, options)
+    return SizingResult(robot, trajectory, tuple(joints), options, units)
 
 
 def _unit_masses(joints: list[JointSizing], options: Options) -> dict[str, float]:
@@ -240,16 +239,16 @@ def _unit_masses(joints: list[JointSizing], options: Options) -> dict[str, float
 
 
 def _size_joints(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
-                 options: Options) -> list[JointSizing]:
+                 options: Options) -> tuple[list[JointSizing], CycleTorques]:
     """Every sized joint against every unit, for the masses in the robot's model."""
-    tau = inverse_dynamics(robot, traj.q, traj.qd, traj.qdd)
-    stop_tau = inverse_dynamics(robot, traj.q, traj.qd, -traj.qd / options.stop_time)
+    torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time,
+                            threads=options.threads)
     joints = []
     for name in robot.sized_joints:
         j = robot.joint_index(name)
-        joints.append(_size_joint(name, traj, traj.qd[:, j], traj.qdd[:, j], tau[:, j],
-                                  stop_tau[:, j], units, options))
-    return joints
+        joints.append(_size_joint(name, traj, traj.qd[:, j], traj.qdd[:, j], torques.tau[:, j],
+                                  torques.stop[:, j], units, options))
+    return joints, torques
 
 
 def _decimated(traj: Trajectory, step: int) -> Trajectory:
@@ -261,17 +260,25 @@ def _decimated(traj: Trajectory, step: int) -> Trajectory:
 def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray,
                 stop_tau: np.ndarray, units: tuple[Unit, ...], options: Options) -> JointSizing:
     """Check every unit against one joint's torques and select one."""
-    load = cycle_load(tau, qd, traj.dt, _at_rest(qd, qdd))
+    load = cycle_load(tau, qd, traj.dt, at_rest(qd, qdd))
     reflections = reflect(units, traj.t, tau, qd, qdd, stop_tau, stop_time=options.stop_time,
                           efficiency=options.efficiency, rotor_inertia=options.rotor_inertia)
     candidates = [check_unit(load, r.unit, momentary=r.momentary, life_hours=options.life_hours,
-                             motor=r.motor) for r in reflections]
+                             life_basis=options.life_basis, motor=r.motor) for r in reflections]
     return JointSizing(name, load, tuple(candidates), select(candidates, options.prefer),
                        0.0, False, 0.0, frozen(tau), frozen(stop_tau))
 
 
-def _at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
-    """Samples where the joint is held still: speed and acceleration both negligible."""
+def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """Samples where a joint is held still: speed and acceleration both negligible.
+
+    Args:
+        qd: The joint's speed [rad/s], shape (n,).
+        qdd: The joint's acceleration [rad/s^2], shape (n,).
+
+    Returns:
+        True where both are at most `REST_FRACTION` of their largest values.
+    """
     speed, acceleration = np.abs(qd), np.abs(qdd)
     return ((speed <= REST_FRACTION * speed.max())
             & (acceleration <= REST_FRACTION * acceleration.max()))
@@ -279,41 +286,32 @@ def _at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
 
 def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
                     units: tuple[Unit, ...], options: Options) -> list[JointSizing]:
-    """Attach to each joint without a unit the smallest slow-down that would fit.
+    """Attach to each joint without a unit the time scales at which each unit would fit.
 
-    `robot` carries the chosen units' masses. The gravity and coasting (gravity
-    plus velocity terms) torques split the motion's torques by how they scale.
+    `robot` carries the chosen units' masses. Two more batched passes (gravity, and
+    gravity plus velocity terms) split the motion's torques by how they scale.
     """
-    still = np.zeros_like(traj.qd)
-    gravity = inverse_dynamics(robot, traj.q, still, still)
-    coasting = inverse_dynamics(robot, traj.q, traj.qd, still)
+    torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time, split=True,
+                            threads=options.threads)
+    assert torques.gravity is not None and torques.coasting is not None
     out = []
     for joint in joints:
         if joint.selected is None:
             j = robot.joint_index(joint.name)
             qd, qdd = traj.qd[:, j], traj.qdd[:, j]
-            joint = replace(joint, slowdown=find_slowdown(
-                units, traj, qd, qdd, joint.torque, joint.stop_torque, gravity[:, j],
-                coasting[:, j], _at_rest(qd, qdd), stop_time=options.stop_time,
-                efficiency=options.efficiency, rotor_inertia=options.rotor_inertia,
-                life_hours=options.life_hours))
+            cycle = ScalableCycle.split(
+                traj.t, traj.dt, traj.duration, qd, qdd, at_rest(qd, qdd),
+                torque=torques.tau[:, j], stop_torque=torques.stop[:, j],
+                gravity=torques.gravity[:, j], coast=torques.coasting[:, j],
+                stop_time=options.stop_time)
+            scales = joint_scales(cycle, units, efficiency=options.efficiency,
+                                  rotor_inertia=options.rotor_inertia,
+                                  check_options={"life_hours": options.life_hours,
+                                                 "life_basis": options.life_basis})
+            slowdown = scales.slowdown()
+            if slowdown.factor is not None:  # the exact boundary, rounded up to 0.001
+                factor = math.ceil(slowdown.factor * 1000.0) / 1000.0
+                slowdown = replace(slowdown, factor=factor, cycle_time=factor * traj.duration)
+            joint = replace(joint, slowdown=slowdown, scales=scales)
         out.append(joint)
     return out
-
-
-def _positive(value: float, field: str) -> float:
-    if not np.isfinite(value) or value <= 0.0:
-        raise InputError(f"must be a positive number of seconds, got {value:g}", field=field)
-    return float(value)
-
-
-def _non_negative(value: float, field: str) -> float:
-    if not np.isfinite(value) or value < 0.0:
-        raise InputError(f"must be zero or positive, got {value:g}", field=field)
-    return float(value)
-
-
-def _fraction(value: float) -> float:
-    if not np.isfinite(value) or not 0.0 < value <= 1.0:
-        raise InputError(f"must be in (0, 1], got {value:g}", field="--efficiency")
-    return float(value)

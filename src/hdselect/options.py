@@ -1,0 +1,114 @@
+"""The assumptions of a sizing run: validated once, whichever front end built them."""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, fields
+from typing import Any
+
+from hdselect.errors import InputError
+from hdselect.motion import LIFE_BASES, Motion
+from hdselect.reflect import DEFAULT_EFFICIENCY
+from hdselect.select import PREFERENCES
+
+DEFAULT_STOP_TIME = 0.1
+"""Time in which an emergency stop or a crash brings the arm to rest [s]."""
+
+
+@dataclass(frozen=True)
+class Options:
+    """Assumptions of a sizing run, stated in every report.
+
+    Every value is checked when an Options is made: the command line, a motion
+    file and a Python caller all go through the same checks.
+
+    Attributes:
+        stop_time: Emergency-stop and crash time [s], positive.
+        efficiency: Gear efficiency where a unit has no table [-], in (0, 1].
+        rotor_inertia: Motor rotor inertia J_m [kg m^2], zero or positive.
+        motor_mass: Motor mass carried with each gearhead [kg], zero or positive.
+        mass_coupling: Whether chosen units' masses load the joints nearer the base.
+        prefer: Selection order, a key of `hdselect.select.PREFERENCES`.
+        life_hours: Required life [h] on `life_basis`, positive, or None.
+        life_basis: ``"L50"`` (average life) or ``"L10"`` (90 % survive it).
+        threads: Threads for the batched dynamics, a positive whole number, or None to
+            choose from the sample count (a study's workers use 1).
+
+    Raises:
+        InputError: A value is out of range or of the wrong type; the field is its name.
+    """
+
+    stop_time: float = DEFAULT_STOP_TIME
+    efficiency: float = DEFAULT_EFFICIENCY
+    rotor_inertia: float = 0.0
+    motor_mass: float = 0.0
+    mass_coupling: bool = True
+    prefer: str = "size"
+    life_hours: float | None = None
+    life_basis: str = "L50"
+    threads: int | None = None
+
+    def __post_init__(self) -> None:
+        _set(self, "stop_time", _number(self.stop_time, "stop_time", "a positive time [s]",
+                                        lambda v: v > 0.0))
+        _set(self, "efficiency", _number(self.efficiency, "efficiency", "in (0, 1]",
+                                         lambda v: 0.0 < v <= 1.0))
+        for name, what in (("rotor_inertia", "[kg m^2]"), ("motor_mass", "[kg]")):
+            _set(self, name, _number(getattr(self, name), name, f"zero or positive {what}",
+                                     lambda v: v >= 0.0))
+        if not isinstance(self.mass_coupling, bool):
+            raise InputError(f"expected true or false, got {self.mass_coupling!r}",
+                             field="mass_coupling")
+        if self.prefer not in PREFERENCES:
+            raise InputError(f"unknown order {self.prefer!r}; choose one of: "
+                             f"{', '.join(PREFERENCES)}", field="prefer")
+        if self.life_hours is not None:
+            _set(self, "life_hours", _number(self.life_hours, "life_hours",
+                                             "a positive number of hours", lambda v: v > 0.0))
+        if self.life_basis not in LIFE_BASES:
+            raise InputError(f"unknown basis {self.life_basis!r}; choose one of: "
+                             f"{', '.join(LIFE_BASES)}", field="life_basis")
+        if self.threads is not None and (isinstance(self.threads, bool)
+                                         or not isinstance(self.threads, int)
+                                         or self.threads < 1):
+            raise InputError(f"must be a positive whole number, got {self.threads!r}",
+                             field="threads")
+
+
+def options_for(motion: Motion | None, **given: Any) -> Options:
+    """Options from keyword values, else the motion file's, else the defaults.
+
+    Args:
+        motion: The motion whose ``[safety]`` and ``[requirements]`` fill what is not given.
+        **given: Fields of `Options`; a value of None means "not given".
+
+    Returns:
+        The validated options.
+
+    Raises:
+        InputError: An unknown name, or a value out of range.
+    """
+    names = [f.name for f in fields(Options)]
+    for name in given:
+        if name not in names:
+            raise InputError(f"unknown option {name!r}; options are: {', '.join(names)}",
+                             field=name)
+    values = {name: value for name, value in given.items() if value is not None}
+    if motion is not None:
+        for name in ("stop_time", "life_hours", "life_basis"):
+            if name not in values and getattr(motion, name) is not None:
+                values[name] = getattr(motion, name)
+    return Options(**values)
+
+
+def _number(value: Any, field: str, expected: str, ok: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InputError(f"expected a number, {expected}; got {value!r}", field=field)
+    if not math.isfinite(float(value)) or not ok(float(value)):
+        raise InputError(f"must be {expected}, got {value:g}", field=field)
+    return float(value)
+
+
+def _set(options: Options, name: str, value: object) -> None:
+    object.__setattr__(options, name, value)

@@ -1,0 +1,123 @@
+"""A compact, picklable record of a sizing result: what studies keep and JSON carries.
+
+The full `SizingResult` keeps every sample's torque for reports and figures
+(megabytes for a long cycle); a `Summary` keeps the answer (a few kB).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from hdselect.sizing import JointSizing, SizingResult
+
+
+@dataclass(frozen=True)
+class JointSummary:
+    """One joint's answer.
+
+    Attributes:
+        name: Joint name.
+        unit: The selected unit's id, or None when no unit fits.
+        candidate: The unit the figures below describe: the selected one, else the strongest.
+        feasible: A unit fits.
+        binding: The check with the highest utilization for `candidate`.
+        utilization: Demand over limit of every check for `candidate` [-] (life:
+            required over expected).
+        life_l50_hours: L50 life of `candidate` [h]; None when unlimited.
+        life_l10_hours: L10 life of `candidate` [h]; None when unlimited.
+        motor_peak_torque: Peak motor torque behind `candidate` [N m].
+        motor_rms_torque: RMS motor torque over the cycle [N m].
+        motor_max_speed: Largest input speed [rpm].
+        carried_mass: Gearhead and motor mass carried from joints further out [kg].
+        gravity_loaded: Gravity loads the joint (it backdrives when the input is free).
+        flags: Catalog stand-ins and corrections the figures depend on.
+        slowdown: Smallest uniform slow-down that would fit, when no unit fits; None otherwise
+            or when none helps.
+    """
+
+    name: str
+    unit: str | None
+    candidate: str
+    feasible: bool
+    binding: str
+    utilization: dict[str, float]
+    life_l50_hours: float | None
+    life_l10_hours: float | None
+    motor_peak_torque: float
+    motor_rms_torque: float
+    motor_max_speed: float
+    carried_mass: float
+    gravity_loaded: bool
+    flags: tuple[str, ...]
+    slowdown: float | None
+
+
+@dataclass(frozen=True)
+class Summary:
+    """A sizing result without its samples.
+
+    Attributes:
+        robot: The robot file.
+        motion: The motion file, or None for a trajectory sized directly.
+        cycle_time: Cycle time [s].
+        samples: Number of samples sized.
+        feasible: Every joint has a unit.
+        options: The assumptions (`hdselect.options.Options` as a dict).
+        joints: One per sized joint, in the robot's order.
+    """
+
+    robot: str
+    motion: str | None
+    cycle_time: float
+    samples: int
+    feasible: bool
+    options: dict[str, Any]
+    joints: tuple[JointSummary, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain lists, dicts, strings and numbers, ready for JSON."""
+        return asdict(self)
+
+
+def summarize(result: SizingResult) -> Summary:
+    """The compact record of a sizing result.
+
+    Args:
+        result: A result of `hdselect.size` or `hdselect.size_trajectory`.
+
+    Returns:
+        Its summary.
+    """
+    return Summary(
+        robot=str(result.robot.path),
+        motion=None if result.motion is None else str(result.motion.path),
+        cycle_time=result.cycle_time,
+        samples=len(result.trajectory.t),
+        feasible=result.feasible,
+        options=asdict(result.options),
+        joints=tuple(_joint(joint) for joint in result.joints),
+    )
+
+
+def _joint(joint: JointSizing) -> JointSummary:
+    chosen = joint.selected or joint.strongest
+    motor = chosen.motor
+    slowdown = joint.slowdown
+    return JointSummary(
+        name=joint.name,
+        unit=None if joint.selected is None else joint.selected.unit.id,
+        candidate=chosen.unit.id,
+        feasible=joint.selected is not None,
+        binding=chosen.binding,
+        utilization={name: float(check.utilization) for name, check in chosen.checks.items()},
+        life_l50_hours=chosen.life_hours,
+        life_l10_hours=chosen.l10_hours,
+        motor_peak_torque=0.0 if motor is None else motor.peak_torque,
+        motor_rms_torque=0.0 if motor is None else motor.rms_torque,
+        motor_max_speed=0.0 if motor is None else motor.max_speed,
+        carried_mass=joint.carried_mass,
+        gravity_loaded=joint.gravity_loaded,
+        flags=tuple(sorted({flag.code for flag in chosen.flags})),
+        slowdown=None if slowdown is None else slowdown.factor,
+    )
