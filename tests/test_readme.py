@@ -45,13 +45,20 @@ def test_console_example_prints_what_the_readme_shows(command, shown, tmp_path, 
             assert (tmp_path / args[args.index(option) + 1]).stat().st_size > 0
 
 
-def test_python_example_runs(tmp_path, monkeypatch, capsys):
+def test_python_examples_run(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(workdir(tmp_path))
-    (code,) = re.findall(r"```python\n(.*?)```", README, flags=re.S)
-    exec(compile(code, "README.md", "exec"), {})
+    size_example, core_example = re.findall(r"```python\n(.*?)```", README, flags=re.S)
+    exec(compile(size_example, "README.md", "exec"), {})
     lines = capsys.readouterr().out.splitlines()
-    assert [line.split()[0] for line in lines] == [
-        "shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"]
+    assert [line.split()[0] for line in lines] == JOINTS
+    exec(compile(core_example, "README.md", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split(":")[0] for line in lines] == ["0.5 kg", "1.0 kg", "2.0 kg"]
+    for line in lines:
+        assert [pair.split()[0] for pair in line.split(": ")[1].split(", ")] == JOINTS
+
+
+JOINTS = ["shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"]
 
 
 def test_first_screen_has_the_two_setup_commands_and_ci_runs_the_test_one():

@@ -393,9 +393,10 @@ def test_slowdown_factor_checked_by_rerunning_the_slowed_motion(case, tmp_path):
     as 1/s (as the sizing first did) is not conservative when the velocity part opposes
     the inertial part: in the "estop-coriolis" case it said "6.69x slower and PSA-14-80
     fits" while the re-run at 6.69x fails the momentary check by 4.9 %. The factor is
-    found to 0.1 %; the sizing evaluates the slowed motion on the original samples
-    (spaced s dt) and the re-run samples it every dt, a difference far below the 2 %
-    between the two runs asserted here.
+    the exact edge of the unit's feasible range, rounded up to 0.001; the sizing
+    evaluates the slowed motion on the original samples (spaced s dt) and the re-run
+    samples it every dt, a difference far below the 2 % between the two runs asserted
+    here.
     """
     params = OVERLOADS[case]
     result = size(None, overload_motion(tmp_path, **params), mass_coupling=False)
@@ -407,6 +408,9 @@ def test_slowdown_factor_checked_by_rerunning_the_slowed_motion(case, tmp_path):
         assert slowdown is not None and slowdown.factor is not None and slowdown.factor > 1.0
         s = slowdown.factor
         assert slowdown.cycle_time == pytest.approx(s * result.cycle_time, rel=1e-12)
+        assert any(lo <= s <= hi for lo, hi in joint.scales.fits[slowdown.unit])
+        assert all(hi < s or lo >= s * 0.999 for fits in joint.scales.fits.values()
+                   for lo, hi in fits if lo >= 1.0)  # no unit fits between 1 and s
         at_s = size(None, overload_motion(tmp_path, **params, scale=s, name="at_s.toml"),
                     mass_coupling=False)
         assert at_s.cycle_time == pytest.approx(s * result.cycle_time, rel=1e-6)
@@ -430,8 +434,10 @@ def test_gravity_only_overload_no_slowdown_helps(tmp_path):
     assert shoulder.max_gravity_torque == pytest.approx(hold, rel=1e-9)
     assert shoulder.slowdown is not None and shoulder.slowdown.factor is None
     assert shoulder.slowdown.unit is None and shoulder.slowdown.cycle_time is None
-    document = size_json(result)
+    assert shoulder.scales is not None and not any(shoulder.scales.fits.values())
+    document = json.loads(json.dumps(size_json(result), allow_nan=False))
     assert document["joints"][0]["slowdown"]["factor"] is None
+    assert document["joints"][0]["time_scales"] == {u.id: [] for u in result.units}
 
 
 # --- every shipped motion sizes; the JSON shape ---------------------------------------------

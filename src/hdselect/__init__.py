@@ -10,6 +10,7 @@ from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
 from hdselect.sizing import SizingResult, size, size_trajectory
+from hdselect.summary import Summary, summarize
 
 __version__ = "0.1.0"
 
@@ -22,6 +23,7 @@ __all__ = [
     "PlanningError",
     "Robot",
     "SizingResult",
+    "Summary",
     "Trajectory",
     "Unit",
     "__version__",
@@ -34,6 +36,7 @@ __all__ = [
     "size",
     "size_duty",
     "size_trajectory",
+    "summarize",
 ]
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())

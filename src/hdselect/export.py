@@ -164,7 +164,7 @@ def assumptions(result: SizingResult) -> dict[str, str]:
                           if options.mass_coupling else "off"),
         "selection": options.prefer,
         "required life": ("none" if options.life_hours is None
-                          else f"{options.life_hours:g} h"),
+                          else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
     }
 
@@ -188,6 +188,9 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "slowdown": None if slowdown is None else {
                 "factor": slowdown.factor, "unit": slowdown.unit,
                 "cycle_time_s": slowdown.cycle_time},
+            "time_scales": None if joint.scales is None else {
+                unit: [[lo, _finite(hi)] for lo, hi in intervals]
+                for unit, intervals in joint.scales.fits.items()},
             "candidates": [candidate_json(c) for c in joint.candidates],
         })
     return {
@@ -200,7 +203,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "efficiency": options.efficiency, "stop_time_s": options.stop_time,
             "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,
             "mass_coupling": options.mass_coupling, "prefer": options.prefer,
-            "life_hours": options.life_hours,
+            "life_hours": options.life_hours, "life_basis": options.life_basis,
             "mean_speed_rule": mean_speed_note(result.units)},
         "joints": joints,
     }

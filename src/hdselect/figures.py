@@ -21,7 +21,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from hdselect.errors import InputError  # noqa: E402
 from hdselect.export import assumptions, write_output  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
-from hdselect.report import life_text, percent, verdict  # noqa: E402
+from hdselect.report import life_text, percent, time_scale_text, verdict  # noqa: E402
 from hdselect.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S  # noqa: E402
 from hdselect.sizing import JointSizing, SizingResult  # noqa: E402
 
@@ -199,11 +199,7 @@ def _page(result: SizingResult, images: list[tuple[JointSizing, str]]) -> str:
         rows.append("<tr>" + "".join(f"<td>{esc(x)}</td>" for x in cells) + "</tr>")
     notes = sorted({f"{c.unit.id}: {f.note}" for j in result.joints for c in [j.selected]
                     if c is not None for f in c.flags})
-    slow = [f"{j.name}: " + ("no slow-down helps (gravity alone is too much)"
-                             if j.slowdown is None or j.slowdown.factor is None else
-                             f"run {j.slowdown.factor:.3f}x slower (cycle "
-                             f"{j.slowdown.cycle_time:.3f} s) and {j.slowdown.unit} fits")
-            for j in result.joints if j.selected is None]
+    slow = [f"{j.name}: {time_scale_text(j)}" for j in result.joints if j.selected is None]
     items = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>"
                     for k, v in assumptions(result).items())
     figures = "".join(f'<h3>{esc(j.name)}</h3><img src="{name}" alt="{esc(j.name)}">'

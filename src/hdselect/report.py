@@ -247,6 +247,20 @@ def _motor(candidate: Candidate) -> MotorDemand:
     return candidate.motor
 
 
+def time_scale_text(joint: JointSizing) -> str:
+    """For a joint no unit fits: the uniform time scale that would fit, and each unit's range."""
+    slowdown, scales = joint.slowdown, joint.scales
+    if slowdown is None or slowdown.factor is None or scales is None:
+        return ("Gravity alone is too much: no slow-down helps (no time scale from 1000x faster "
+                "to 1000x slower fits any unit)")
+    factor = slowdown.factor
+    speed = (f"{factor:.3f}x slower" if factor >= 1.0 else f"{1.0 / factor:.3f}x faster")
+    ranges = [f"{unit} for s in " + " or ".join(f"[{lo:.3g}, {hi:.3g}]" for lo, hi in intervals)
+              for unit, intervals in scales.fits.items() if intervals]
+    return (f"Run {speed} (cycle {slowdown.cycle_time:.3f} s) and {slowdown.unit} fits; "
+            f"run s times slower, it fits: {'; '.join(ranges)}")
+
+
 def _size_title(result: SizingResult) -> str:
     return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
             f"{len(result.trajectory.t):,} samples")
@@ -260,13 +274,7 @@ def _size_notes(result: SizingResult) -> list[str]:
             check = strongest.checks[strongest.binding]
             line = (f"{joint.name}: no unit fits; the strongest, {strongest.unit.id}, fails "
                     f"{strongest.binding} at {percent(check.utilization)} of its limit. ")
-            slowdown = joint.slowdown
-            if slowdown is None or slowdown.factor is None:
-                line += "Gravity alone is too much: no slow-down helps."
-            else:
-                line += (f"Run {slowdown.factor:.3f}x slower (cycle {slowdown.cycle_time:.3f} s) "
-                         f"and {slowdown.unit} fits.")
-            notes.append(line)
+            notes.append(line + time_scale_text(joint) + ".")
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
                for c in [joint.selected] if c is not None for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]

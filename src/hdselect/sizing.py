@@ -308,10 +308,23 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
                                   rotor_inertia=options.rotor_inertia,
                                   check_options={"life_hours": options.life_hours,
                                                  "life_basis": options.life_basis})
-            slowdown = scales.slowdown()
-            if slowdown.factor is not None:  # the exact boundary, rounded up to 0.001
-                factor = math.ceil(slowdown.factor * 1000.0) / 1000.0
-                slowdown = replace(slowdown, factor=factor, cycle_time=factor * traj.duration)
-            joint = replace(joint, slowdown=slowdown, scales=scales)
+            joint = replace(joint, slowdown=_rounded(scales.slowdown(), scales, traj.duration),
+                            scales=scales)
         out.append(joint)
     return out
+
+
+def _rounded(slowdown: Slowdown, scales: JointScales, duration: float) -> Slowdown:
+    """The slow-down with its factor rounded to 0.001, away from the edge of what fits.
+
+    The exact factor is the edge of the feasible range, where a re-planned motion
+    sampled on its own grid can fail by the change over one sample. Rounding up (or
+    down, for a speed-up) keeps inside the range whenever the range allows it.
+    """
+    if slowdown.factor is None or slowdown.unit is None:
+        return slowdown
+    exact = slowdown.factor
+    rounded = (math.ceil(exact * 1000.0) if exact >= 1.0 else math.floor(exact * 1000.0)) / 1000.0
+    if not any(lo <= rounded <= hi for lo, hi in scales.fits[slowdown.unit]):
+        rounded = exact
+    return replace(slowdown, factor=rounded, cycle_time=rounded * duration)
