@@ -5,37 +5,137 @@ from __future__ import annotations
 import argparse
 import logging
 import os
+import signal
 import sys
+import traceback
 from collections.abc import Sequence
 from pathlib import Path
 
 from hdselect import __version__
+from hdselect.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.errors import HdselectError, InputError
 
 logger = logging.getLogger("hdselect")
+
+
+EXIT_OK, EXIT_NO_FIT, EXIT_BAD_INPUT, EXIT_BUG = 0, 1, 2, 3
+"""Exit statuses: every joint has a unit; some joint has none; bad input; a bug in hdselect.
+Interrupted runs exit 130 (Ctrl-C) or 143 (SIGTERM)."""
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived: unwinds like Ctrl-C, so every temporary is removed on the way out."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``hdselect`` command.
 
     Returns:
-        Exit status: 0 success, 1 no gearhead fits, 2 bad input.
+        Exit status: 0 success, 1 no gearhead fits, 2 bad input (one line on standard
+        error, no output), 3 a bug in hdselect (one line; ``-v`` shows the traceback),
+        130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
     """
-    parser = _parser()
-    args = parser.parse_args(argv)
-    logging.basicConfig(format="hdselect: %(levelname)s: %(message)s",
-                        level=logging.INFO if args.verbose else logging.WARNING)
+    previous = _handle_sigterm()
+    held = _HeldLog()
     try:
-        return int(args.run(args))
+        _tolerate_encoding()
+        parser = _parser()
+        args = parser.parse_args(argv)
+        held.start(verbose=args.verbose)
+        status = int(args.run(args))
+        held.release()
+        return status
     except HdselectError as err:
-        print(f"hdselect: error: {err}", file=sys.stderr)
-        return 2
+        _say(f"error: {_one_line(str(err))}")
+        return EXIT_BAD_INPUT
+    except MemoryError:
+        _say("error: out of memory; use a larger dt, a shorter cycle or a lower --max-samples")
+        return EXIT_BAD_INPUT
     except KeyboardInterrupt:
+        _say("interrupted; no output was written")
         return 130
+    except Terminated:
+        _say("terminated; no output was written")
+        return 143
     except BrokenPipeError:
         # The reader went away (e.g. `| head`): not an error of ours.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
+        return EXIT_OK
+    except Exception as err:  # a bug: say so in one line, with the way to the traceback
+        if held.verbose:
+            traceback.print_exc()
+        _say(f"internal error (a bug in hdselect, not in your input): {type(err).__name__}: "
+             f"{_one_line(str(err))}; no output was written; run again with -v for the "
+             "traceback")
+        return EXIT_BUG
+    finally:
+        held.stop()
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _say(message: str) -> None:
+    print(f"hdselect: {message}", file=sys.stderr)
+
+
+def _one_line(text: str) -> str:
+    return " ".join(text.split())
+
+
+def _raise_terminated(signum: int, frame: object) -> None:
+    raise Terminated()
+
+
+def _handle_sigterm():
+    """Make SIGTERM unwind like Ctrl-C (main thread only); returns the handler it replaced."""
+    try:
+        return signal.signal(signal.SIGTERM, _raise_terminated)
+    except ValueError:  # not the main thread
+        return None
+
+
+def _tolerate_encoding() -> None:
+    """Never fail on a terminal that cannot show a character: replace it instead."""
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            "▶²†─µ±".encode(stream.encoding or "ascii")
+        except (UnicodeEncodeError, LookupError):
+            reconfigure = getattr(stream, "reconfigure", None)
+            if reconfigure is not None:
+                reconfigure(errors="replace")
+
+
+class _HeldLog(logging.Handler):
+    """Warnings held until the command succeeds, so an error stays one line (``-v``: live)."""
+
+    def __init__(self) -> None:
+        super().__init__(level=logging.INFO)
+        self.records: list[logging.LogRecord] = []
+        self.verbose = False
+        self.level_before = logger.level
+        self.setFormatter(logging.Formatter("hdselect: %(levelname)s: %(message)s"))
+
+    def start(self, verbose: bool) -> None:
+        self.verbose = verbose
+        logger.addHandler(self)
+        logger.setLevel(logging.INFO if verbose else logging.WARNING)
+
+    def emit(self, record: logging.LogRecord) -> None:
+        if self.verbose:
+            print(self.format(record), file=sys.stderr)
+        else:
+            self.records.append(record)
+
+    def release(self) -> None:
+        """Print the held records (the command succeeded)."""
+        for record in self.records:
+            print(self.format(record), file=sys.stderr)
+        self.records.clear()
+
+    def stop(self) -> None:
+        self.records.clear()
+        logger.removeHandler(self)
+        logger.setLevel(self.level_before)
 
 
 class _Parser(argparse.ArgumentParser):
@@ -106,13 +206,20 @@ def _robot_motion(parser: argparse.ArgumentParser) -> None:
                         help="robot file, URDF or MJCF (default: the motion file's `robot`)")
     parser.add_argument("motion", metavar="MOTION", help="motion file (TOML)")
     parser.add_argument("--payload", type=float, metavar="KG",
-                        help="payload mass, overriding the motion file's [kg]")
+                        help="payload mass [kg]; the motion file's payload keeps its centre of "
+                             "mass, inertia and frame")
     parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
-                        default=(0.0, 0.0, 0.0), help="payload centre of mass in its frame [m]")
+                        help="payload centre of mass in its frame [m] (changes the motion "
+                             "file's payload, or the one --payload gives)")
     parser.add_argument("--payload-frame", metavar="LINK",
-                        help="link carrying the payload (default: the last link)")
+                        help="link carrying the payload (default: the motion file's, else the "
+                             "last link)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
+    parser.add_argument("--max-samples", type=int, metavar="N",
+                        default=DEFAULT_MAX_SAMPLES,
+                        help="refuse a trajectory of more samples than this, before allocating "
+                             f"it (default {DEFAULT_MAX_SAMPLES:,}: an 8-hour log at 1 kHz)")
 
 
 def _sizing_options(parser: argparse.ArgumentParser) -> None:
@@ -147,7 +254,7 @@ def _sizing_options(parser: argparse.ArgumentParser) -> None:
 _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
                  "rotor_inertia": "--motor-inertia", "motor_mass": "--motor-mass",
                  "prefer": "--prefer", "life_hours": "--life-hours",
-                 "life_basis": "--life-basis"}
+                 "life_basis": "--life-basis", "max_samples": "--max-samples"}
 """The command-line option of each field of `hdselect.options.Options`."""
 
 
@@ -170,13 +277,17 @@ def run_duty(args: argparse.Namespace) -> int:
     from hdselect.catalog import load_catalog
     from hdselect.duty import load_duty, size_duty
     from hdselect.export import duty_json, write_json
+    from hdselect.outputs import Outputs
     from hdselect.report import console, duty_table
 
     units = load_catalog(args.catalog)
-    _keep_inputs([args.json], [args.profile, *args.catalog])
-    result = size_duty(load_duty(args.profile), units)
-    if args.json:
-        write_json(args.json, duty_json(result))
+    cycle = load_duty(args.profile)
+    with Outputs([args.profile, *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        result = size_duty(cycle, units)
+        if json_file is not None:
+            write_json(json_file, duty_json(result))
+        outputs.commit()
     if args.json != "-":
         console().print(duty_table(result))
     return 0 if result.selected is not None else 1
@@ -186,19 +297,24 @@ def run_plan(args: argparse.Namespace) -> int:
     """``hdselect plan``: the trajectory and the torques along it, as CSV (and a plot)."""
     from hdselect.dynamics import inverse_dynamics
     from hdselect.export import write_trajectory_csv
+    from hdselect.outputs import Outputs
     from hdselect.planning import plan
 
     robot, motion = _load_case(args)
-    _keep_inputs([args.out, args.plot], _inputs(robot, motion))
-    trajectory = plan(robot, motion)
-    tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-    joints = robot.sized_joints
-    if args.plot:
-        from hdselect.figures import write_profiles_png
+    max_samples = _max_samples(args)
+    with Outputs(_inputs(robot, motion)) as outputs:
+        out = outputs.file(args.out, "--out")
+        figure = outputs.file(args.plot, "--plot") if args.plot else None
+        trajectory = plan(robot, motion, max_samples=max_samples)
+        tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+        joints = robot.sized_joints
+        write_trajectory_csv(out, trajectory, tau, joints)
+        if figure is not None:
+            from hdselect.figures import write_profiles_png
 
-        write_profiles_png(args.plot, trajectory, tau, joints,
-                           title=f"{robot.path.name} running {motion.path.name}")
-    write_trajectory_csv(args.out, trajectory, tau, joints)
+            write_profiles_png(figure, trajectory, tau, joints,
+                               title=f"{robot.path.name} running {motion.path.name}")
+        outputs.commit()
     logger.info("wrote %d samples to %s", len(trajectory.t), args.out)
     return 0
 
@@ -206,16 +322,29 @@ def run_plan(args: argparse.Namespace) -> int:
 def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
     from hdselect.export import size_json, write_json
+    from hdselect.outputs import Outputs
     from hdselect.report import console, size_table
 
-    result = _size(args)
-    if args.report:
-        from hdselect.figures import write_report
+    robot, motion, units, options = _prepare(args)
+    with Outputs([*_inputs(robot, motion), *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        report = None
+        if args.report == "-":
+            report = outputs.file("-", "--report")
+        elif args.report:
+            report = outputs.directory(args.report, "--report")
+        result = _sized(robot, motion, units, options)
+        if report is not None:
+            from hdselect.figures import report_page, write_report
 
-        write_report(args.report, result)
-    if args.json:
-        write_json(args.json, size_json(result))
-    if args.json != "-":
+            if args.report == "-":
+                report.write_text(report_page(result), encoding="utf-8")
+            else:
+                write_report(report, result)
+        if json_file is not None:
+            write_json(json_file, size_json(result))
+        outputs.commit()
+    if "-" not in (args.json, args.report):
         console().print(size_table(result))
     return 0 if result.feasible else 1
 
@@ -224,12 +353,12 @@ def run_compare(args: argparse.Namespace) -> int:
     """``hdselect compare``: every unit against every joint."""
     from hdselect.report import compare_table, console
 
-    result = _size(args)
-    names = [joint.name for joint in result.joints]
+    robot, motion, units, options = _prepare(args)
     for name in args.joint or []:
-        if name not in names:
-            raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",
-                             field="--joint")
+        if name not in robot.sized_joints:
+            raise InputError(f"unknown joint '{name}'; sized joints are: "
+                             f"{', '.join(robot.sized_joints)}", field="--joint")
+    result = _sized(robot, motion, units, options)
     out = console()
     for joint in result.joints:
         if not args.joint or joint.name in args.joint:
@@ -237,28 +366,73 @@ def run_compare(args: argparse.Namespace) -> int:
     return 0 if result.feasible else 1
 
 
+_PAYLOAD_FLAGS = {"payload.mass": "--payload", "payload.com": "--payload-com",
+                  "payload.frame": "--payload-frame"}
+
+
 def _load_case(args: argparse.Namespace):
-    from hdselect.motion import load_case
-    from hdselect.robot import Payload
+    """The robot and the motion, with the command line's payload and mounting applied.
 
+    ``--payload KG`` changes the mass of the motion file's payload and keeps its centre
+    of mass, inertia and frame; ``--payload-com`` and ``--payload-frame`` change those of
+    the file's payload (or of the one ``--payload`` makes) and are refused when there is
+    none.
+    """
+    from hdselect.motion import load_motion, robot_file_of, robot_for_motion
+    from hdselect.robot import Payload, load_robot
+
+    robot = load_robot(args.robot if args.robot is not None else robot_file_of(args.motion))
+    motion = load_motion(args.motion, robot)
+    base = motion.payload
+    given = [flag for flag, value in (("--payload", args.payload),
+                                      ("--payload-com", args.payload_com),
+                                      ("--payload-frame", args.payload_frame))
+             if value is not None]
     payload = None
-    if args.payload is not None:
+    if given:
+        if base is None and args.payload is None:
+            raise InputError(f"the motion file gives no payload for {given[0]} to change; give "
+                             "its mass with --payload KG", path=motion.path, field=given[0])
+        if args.payload is not None:
+            mass = float(args.payload)
+        else:
+            assert base is not None  # refused above
+            mass = base.mass
         try:
-            payload = Payload(args.payload, tuple(args.payload_com), frame=args.payload_frame)
+            payload = Payload(
+                mass,
+                tuple(args.payload_com) if args.payload_com is not None
+                else (base.com if base is not None else (0.0, 0.0, 0.0)),
+                base.inertia if base is not None else ((0.0,) * 3,) * 3,
+                args.payload_frame if args.payload_frame is not None
+                else (base.frame if base is not None else None))
         except InputError as err:
-            flag = {"payload.mass": "--payload", "payload.com": "--payload-com"}
-            raise InputError(err.reason, field=flag.get(str(err.field), err.field)) from err
-    return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting)
+            field = str(err.field)
+            flag = next((f for k, f in _PAYLOAD_FLAGS.items() if field.startswith(k)), field)
+            raise InputError(err.reason, field=flag) from err
+    try:
+        robot = robot_for_motion(robot, motion, payload=payload, mounting=args.mounting)
+    except InputError as err:
+        if err.field == "payload.frame" and args.payload_frame is not None:
+            raise InputError(err.reason, field="--payload-frame") from err
+        if err.field == "payload.frame" and payload is not None:
+            raise InputError(err.reason, path=motion.path, field="payload.frame") from err
+        if str(err.field).startswith("mounting") and args.mounting is not None:
+            raise InputError(err.reason, field="--mounting") from err
+        raise
+    return robot, motion
 
 
-def _size(args: argparse.Namespace):
-    """Load, plan and size through the public core, as `hdselect.size` does."""
-    from dataclasses import replace
+def _max_samples(args: argparse.Namespace) -> int:
+    from hdselect.bounds import check_max_samples
 
+    return check_max_samples(args.max_samples, field="--max-samples")
+
+
+def _prepare(args: argparse.Namespace):
+    """The robot, the motion, the catalog and the validated options of ``size``/``compare``."""
     from hdselect.catalog import load_catalog
     from hdselect.options import options_for
-    from hdselect.planning import plan
-    from hdselect.sizing import size_trajectory
 
     robot, motion = _load_case(args)
     try:
@@ -266,29 +440,28 @@ def _size(args: argparse.Namespace):
             motion, stop_time=args.stop_time, efficiency=args.efficiency,
             rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
             mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
-            life_hours=args.life_hours, life_basis=args.life_basis)
+            life_hours=args.life_hours, life_basis=args.life_basis,
+            max_samples=args.max_samples)
     except InputError as err:
         raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
-    _keep_inputs([getattr(args, "json", None)], [*_inputs(robot, motion), *args.catalog])
-    if getattr(args, "report", None):
-        _keep_inputs([Path(args.report) / "index.html"], _inputs(robot, motion))
-    units = load_catalog(args.catalog)
-    result = size_trajectory(robot, plan(robot, motion), units, options)
-    return replace(result, motion=motion)
+    return robot, motion, load_catalog(args.catalog), options
+
+
+def _sized(robot, motion, units, options):
+    """Plan and size through the public core, as `hdselect.size` does."""
+    from dataclasses import replace
+
+    from hdselect.planning import plan
+    from hdselect.sizing import size_trajectory
+
+    trajectory = plan(robot, motion, max_samples=options.max_samples)
+    return replace(size_trajectory(robot, trajectory, units, options), motion=motion)
 
 
 def _inputs(robot, motion) -> list[Path]:
     """The files a robot and a motion were read from."""
     files = [motion.path, robot.path]
     return files + ([motion.samples.path] if motion.samples is not None else [])
-
-
-def _keep_inputs(outputs: Sequence[str | Path | None], inputs: Sequence[str | Path]) -> None:
-    """Refuse to write an output over a file the user gave as input."""
-    given = {Path(file).resolve() for file in inputs}
-    for output in outputs:
-        if output is not None and str(output) != "-" and Path(output).resolve() in given:
-            raise InputError("is an input file; choose another output path", path=output)
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import shutil
 import sys
 import tempfile
 from collections.abc import Callable, Iterable
@@ -16,6 +17,7 @@ import numpy as np
 from hdselect.catalog import SeriesRules, Unit
 from hdselect.duty import DutyResult
 from hdselect.errors import InputError
+from hdselect.outputs import writable_target
 from hdselect.planning import Trajectory
 from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.sizing import SizingResult
@@ -25,6 +27,9 @@ MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the c
 WHOLE_CYCLE_NOTE = ("mean speed follows each unit's series rules: over the whole cycle, dwells "
                     "included, where its catalog's [rules] say mean_speed = \"whole-cycle\"; "
                     "over the moving part only where they say \"moving\"")
+
+HOLD_NOTE = ("hold only: nothing moves in this cycle (every speed is 0); the pose is held with "
+             "the input locked, so only the static and momentary checks apply")
 
 
 def mean_speed_note(units: Iterable[Unit]) -> str:
@@ -38,6 +43,10 @@ def write_output(target: str | Path, write: Callable[[Any], None], *,
                  binary: bool = False) -> None:
     """Write a file atomically (temporary file, then rename); ``-`` is standard output.
 
+    A symlink is followed and its target replaced; a character device or a FIFO
+    (``/dev/null``, a named pipe) is written directly, never replaced. For several
+    outputs that must appear together, see `hdselect.outputs.Outputs`.
+
     Args:
         target: The file, or ``-``.
         write: Writes the content to the open stream it is given.
@@ -47,21 +56,32 @@ def write_output(target: str | Path, write: Callable[[Any], None], *,
         InputError: The file cannot be written.
     """
     if str(target) == "-":
-        write(sys.stdout)
+        write(sys.stdout.buffer if binary else sys.stdout)
         return
-    target = Path(target)
+    real, kind = writable_target(target)
+    if kind == "direct":
+        try:
+            with (open(real, "wb") if binary else
+                  open(real, "w", encoding="utf-8", newline="")) as stream:
+                write(stream)
+        except OSError as err:
+            raise InputError(f"cannot write here ({err.strerror})", path=target) from err
+        return
     try:
-        fd, tmp = tempfile.mkstemp(dir=target.parent or Path("."), prefix=f".{target.name}.")
+        fd, tmp = tempfile.mkstemp(dir=real.parent, prefix=f".{real.name}.")
     except OSError as err:
         raise InputError(f"cannot write here ({err.strerror})", path=target) from err
     try:
         with (os.fdopen(fd, "wb") if binary else
               os.fdopen(fd, "w", encoding="utf-8", newline="")) as stream:
             write(stream)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a report is not
-        os.replace(tmp, target)
+        if real.exists():
+            shutil.copymode(real, tmp)
+        else:
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a report is not
+        os.replace(tmp, real)
     except OSError as err:
         Path(tmp).unlink(missing_ok=True)
         raise InputError(f"cannot write here ({err.strerror})", path=target) from err
@@ -71,10 +91,14 @@ def write_output(target: str | Path, write: Callable[[Any], None], *,
 
 
 def write_json(target: str | Path, document: dict[str, Any]) -> None:
-    """Write a JSON document to a file or ``-`` (standard output)."""
+    """Write a JSON document to a file or ``-`` (standard output).
+
+    Strict JSON: a number that is not finite is an error (ValueError), never ``NaN``.
+    """
+    text = json.dumps(document, indent=2, allow_nan=False) + "\n"
+
     def write(stream: Any) -> None:
-        json.dump(document, stream, indent=2)
-        stream.write("\n")
+        stream.write(text)
 
     write_output(target, write)
 
@@ -135,6 +159,7 @@ def duty_json(result: DutyResult) -> dict[str, Any]:
         "life_basis": result.cycle.life_basis,
         "mean_speed_rule": mean_speed_note(c.unit for c in result.candidates),
         "selected": result.selected.unit.id if result.selected else None,
+        "hold_only": result.hold_only,
         "candidates": [candidate_json(c) for c in result.candidates],
     }
 
@@ -199,6 +224,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
         "cycle_time_s": result.cycle_time,
         "samples": len(result.trajectory.t),
         "feasible": result.feasible,
+        "hold_only": result.hold_only,
         "assumptions": {
             "efficiency": options.efficiency, "stop_time_s": options.stop_time,
             "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,

@@ -5,9 +5,9 @@ matplotlib is imported here only, so commands that draw nothing start fast.
 
 from __future__ import annotations
 
+import base64
 import html
-import shutil
-import tempfile
+import io
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -19,7 +19,8 @@ import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from hdselect.errors import InputError  # noqa: E402
-from hdselect.export import assumptions, write_output  # noqa: E402
+from hdselect.export import HOLD_NOTE, assumptions, write_output  # noqa: E402
+from hdselect.outputs import Outputs  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
 from hdselect.report import life_text, percent, time_scale_text, verdict  # noqa: E402
 from hdselect.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S  # noqa: E402
@@ -64,39 +65,42 @@ def write_report(directory: str | Path, result: SizingResult) -> None:
     """Write an HTML report with figures into `directory`.
 
     The page holds every joint's profiles with its unit's limits drawn, every
-    candidate's utilization, and the assumptions. It is built in a temporary
-    directory beside `directory` and moved into place file by file, so no file
-    is ever half-written.
+    candidate's utilization, and the assumptions. Every file is written aside
+    first and the whole report moved into place at the end (`hdselect.outputs`):
+    a failure leaves no part of it, and puts back any file it would have replaced.
 
     Raises:
         InputError: The directory cannot be written.
     """
-    target = Path(directory)
-    if target.exists() and not target.is_dir():
-        raise InputError("exists and is not a directory", path=target, field="--report")
-    try:
-        parent = target.resolve().parent
-        parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(dir=parent, prefix=f".{target.name}."))
-    except OSError as err:
-        raise InputError(f"cannot write here ({err.strerror})", path=target,
-                         field="--report") from err
-    try:
-        images = []
-        for joint in result.joints:
-            name = f"joint_{_slug(joint.name)}.png"
-            _save(_joint_figure(result, joint), staging / name)
-            images.append((joint, name))
-        _save(_utilization_figure(result), staging / "utilization.png")
-        write_output(staging / "index.html", lambda stream: stream.write(_page(result, images)))
-        target.mkdir(exist_ok=True)
-        for file in staging.iterdir():
-            file.replace(target / file.name)
-    except OSError as err:
-        raise InputError(f"cannot write the report ({err.strerror})", path=target,
-                         field="--report") from err
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
+    with Outputs() as outputs:
+        staging = outputs.directory(directory, "--report")
+        try:
+            for name, png in _report_images(result):
+                (staging / name).write_bytes(png)
+            (staging / "index.html").write_text(_page(result, _image_names(result)),
+                                                encoding="utf-8")
+        except OSError as err:
+            raise InputError(f"cannot write the report ({err.strerror})", path=directory,
+                             field="--report") from err
+        outputs.commit()
+
+
+def report_page(result: SizingResult) -> str:
+    """The HTML report as one self-contained page, its figures embedded (for ``--report -``)."""
+    images = {name: "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+              for name, png in _report_images(result)}
+    return _page(result, [(joint, images[name]) for joint, name in _image_names(result)],
+                 utilization=images["utilization.png"])
+
+
+def _image_names(result: SizingResult) -> list[tuple[JointSizing, str]]:
+    return [(joint, f"joint_{_slug(joint.name)}.png") for joint in result.joints]
+
+
+def _report_images(result: SizingResult) -> list[tuple[str, bytes]]:
+    """Every figure of the report as (file name, PNG)."""
+    images = [(name, _png(_joint_figure(result, joint))) for joint, name in _image_names(result)]
+    return images + [("utilization.png", _png(_utilization_figure(result)))]
 
 
 def _joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
@@ -180,7 +184,8 @@ def _utilization_figure(result: SizingResult) -> Figure:
     return fig
 
 
-def _page(result: SizingResult, images: list[tuple[JointSizing, str]]) -> str:
+def _page(result: SizingResult, images: list[tuple[JointSizing, str]], *,
+          utilization: str = "utilization.png") -> str:
     esc = html.escape
     rows = []
     for joint in result.joints:
@@ -216,7 +221,8 @@ img{{max-width:100%}}</style></head><body>
 <h1>Gearhead selection: {esc(result.title)}</h1>
 <p>Cycle {result.cycle_time:.3f} s,
 {len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms.
-{"Every joint has a unit." if result.feasible else "<b>Some joints have no unit.</b>"}</p>
+{"Every joint has a unit." if result.feasible else "<b>Some joints have no unit.</b>"}
+{esc(HOLD_NOTE[0].upper() + HOLD_NOTE[1:] + ".") if result.hold_only else ""}</p>
 <table><tr>{"".join(f"<th>{esc(h)}</th>" for h in header)}</tr>{"".join(rows)}</table>
 {"<ul>" + "".join(f"<li>{esc(s)}</li>" for s in slow) + "</ul>" if slow else ""}
 <h2>Assumptions</h2><ul>{items}</ul>
@@ -224,7 +230,7 @@ img{{max-width:100%}}</style></head><body>
 <ul>{"".join(f"<li>{esc(n)}</li>" for n in notes) or "<li>none</li>"}</ul>
 <p>Harmonic Drive gearing backdrives when its input is free: a gravity-loaded joint needs a
 fail-safe device on the output wherever a falling load could injure.</p>
-<h2>Utilization of every candidate</h2><img src="utilization.png" alt="utilization">
+<h2>Utilization of every candidate</h2><img src="{utilization}" alt="utilization">
 <h2>Torque-speed profiles with the selected unit's limits</h2>{figures}
 </body></html>
 """
@@ -240,3 +246,13 @@ def _save(fig: Figure, path: Path) -> None:
                                                       bbox_inches="tight"), binary=True)
     finally:
         plt.close(fig)
+
+
+def _png(fig: Figure) -> bytes:
+    """A figure as PNG bytes (closed afterwards)."""
+    buffer = io.BytesIO()
+    try:
+        fig.savefig(buffer, format="png", dpi=110, bbox_inches="tight")
+    finally:
+        plt.close(fig)
+    return buffer.getvalue()

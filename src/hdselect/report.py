@@ -19,7 +19,7 @@ from hdselect.catalog import (
     Unit,
 )
 from hdselect.duty import DutyResult
-from hdselect.export import assumptions, mean_speed_note
+from hdselect.export import HOLD_NOTE, assumptions, mean_speed_note
 from hdselect.rules import (
     CHECK_LABELS,
     CHECKS,
@@ -129,6 +129,8 @@ def duty_table(result: DutyResult) -> Table:
     notes = [f"▶ selected. utilization = demand / limit; mom. = momentary (T4); "
              f"{'avg speed = mean input speed; ' if average else ''}L10 = L50 / 5; "
              f"{mean_speed_note(units)}."]
+    if result.hold_only:
+        notes.append(HOLD_NOTE[0].upper() + HOLD_NOTE[1:] + ".")
     if cycle.life_hours is not None and cycle.life_basis != "L50":
         notes.append(f"life: the required {cycle.life_hours:,.0f} h {cycle.life_basis} over each "
                      f"unit's {cycle.life_basis} life.")
@@ -268,6 +270,8 @@ def _size_title(result: SizingResult) -> str:
 
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
+    if result.hold_only:
+        notes.insert(0, HOLD_NOTE[0].upper() + HOLD_NOTE[1:] + ".")
     for joint in result.joints:
         if joint.selected is None:
             strongest = joint.strongest

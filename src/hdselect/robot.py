@@ -7,6 +7,7 @@ file whose meshes are absent still loads.
 from __future__ import annotations
 
 import logging
+import math
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -16,6 +17,7 @@ from types import MappingProxyType
 import numpy as np
 import pinocchio as pin
 
+from hdselect import bounds
 from hdselect.arrays import frozen
 from hdselect.errors import InputError
 
@@ -58,43 +60,40 @@ class Payload:
     frame: str | None = None
 
     def __post_init__(self) -> None:
-        mass = _finite_array(self.mass, (), "payload.mass")
-        if not mass > 0.0:
-            raise InputError(f"must be a positive mass [kg], got {float(mass):g}",
-                             field="payload.mass")
-        com = _finite_array(self.com, (3,), "payload.com")
-        inertia = _finite_array(self.inertia, (3, 3), "payload.inertia")
+        mass = float(_finite_array(self.mass, (), "payload.mass", bounds.MASS))
+        com = _finite_array(self.com, (3,), "payload.com", bounds.LENGTH)
+        inertia = _finite_array(self.inertia, (3, 3), "payload.inertia", bounds.INERTIA)
         if not np.allclose(inertia, inertia.T) or np.linalg.eigvalsh(inertia)[0] < -1e-12:
             raise InputError("must be symmetric positive semi-definite [kg m^2]",
                              field="payload.inertia")
-        if self.frame is not None and not isinstance(self.frame, str):
+        if self.frame is not None and (not isinstance(self.frame, str) or not self.frame):
             raise InputError(f"expected a frame name, got {self.frame!r}", field="payload.frame")
-        object.__setattr__(self, "mass", float(mass))
+        object.__setattr__(self, "mass", mass)
         object.__setattr__(self, "com", tuple(float(c) for c in com))
         object.__setattr__(self, "inertia", tuple(tuple(float(v) for v in row)
                                                   for row in inertia))
 
 
-def _finite_array(value: object, shape: tuple[int, ...], field: str) -> np.ndarray:
-    """`value` as a float array of `shape` with every element finite.
+def _finite_array(value: object, shape: tuple[int, ...], field: str,
+                  bound: bounds.Bound) -> np.ndarray:
+    """`value` as a float array of `shape`, every element finite and within `bound`.
 
     Raises:
         InputError: It is not.
     """
-    if isinstance(value, bool | str) or (isinstance(value, Sequence)
-                                          and any(isinstance(v, bool | str) for v in value)):
+    if isinstance(value, bool | str | bytes) or (
+            isinstance(value, Sequence) and any(isinstance(v, bool | str | bytes) for v in value)):
         raise InputError(f"expected numbers, got {value!r}", field=field)
     try:
         array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as err:
+    except (TypeError, ValueError, OverflowError) as err:
         raise InputError(f"expected numbers, got {value!r}", field=field) from err
     if array.shape != shape:
         raise InputError(f"expected shape {shape or 'a single number'}, got {value!r}",
                          field=field)
-    bad = np.argwhere(~np.isfinite(array))
-    if bad.size:
-        index = "".join(f"[{i}]" for i in bad[0])
-        raise InputError(f"must be finite, got {array[tuple(bad[0])]}", field=field + index)
+    for index in np.ndindex(shape):
+        where = field + "".join(f"[{i}]" for i in index)
+        bound.check(float(array[index]), field=where)
     return array
 
 
@@ -182,6 +181,7 @@ class Robot:
         Raises:
             InputError: The payload's frame does not exist or does not move.
         """
+        bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
         return self._rebuilt(payload=payload)
 
     def with_mounting(self, mounting: str | Sequence[float]) -> Robot:
@@ -206,8 +206,11 @@ class Robot:
         Args:
             masses: Mass mounted at each joint [kg]; replaces the current masses.
         """
-        for name in masses:
-            self.joint_index(name, field="gearhead_masses")
+        bounds.expect_type(masses, Mapping, "masses", "a mapping of joint name to mass [kg]")
+        for name, mass in masses.items():
+            bounds.expect_type(name, str, "masses", "joint names")
+            self.joint_index(name, field="masses")
+            bounds.ADDED_MASS.check(mass, field=f"masses.{name}")
         return self._rebuilt(gearhead_masses=MappingProxyType(dict(masses)))
 
     def with_sized_joints(self, joints: Sequence[str] | None) -> Robot:
@@ -280,13 +283,15 @@ def load_robot(
             physically consistent, a joint type is not supported, or an option
             names an unknown frame or joint.
     """
-    path = Path(path)
+    path = bounds.file_argument(path, "path")
+    bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
     if not path.is_file():
         raise InputError("file not found", path=path)
     model = _build_model(path)
     names, revolute, q_index = _joints(model, path)
     _check_inertias(model, path)
-    lower, upper = _position_limits(model, q_index)
+    _check_geometry(model, path)
+    lower, upper = _position_limits(model, q_index, path)
     robot = Robot(
         path=path,
         model=model,
@@ -338,20 +343,83 @@ def _joints(model: pin.Model, path: Path):
     return tuple(names), tuple(revolute), tuple(q_index)
 
 
-def _position_limits(model: pin.Model, q_index) -> tuple[np.ndarray, np.ndarray]:
+def _position_limits(model: pin.Model, q_index, path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Each single-coordinate joint's limits as the file gives them (+-inf where it gives none).
+
+    Raises:
+        InputError: A limit is NaN, or a joint's lower limit is not below its upper one.
+    """
     lower = np.full(len(q_index), -np.inf)
     upper = np.full(len(q_index), np.inf)
     for dof, (iq, nq) in enumerate(q_index):
-        lo, hi = model.lowerPositionLimit[iq], model.upperPositionLimit[iq]
-        if nq == 1 and np.isfinite(lo) and np.isfinite(hi) and hi > lo:
-            lower[dof], upper[dof] = lo, hi
+        if nq != 1:  # a continuous joint: (cos, sin), no limits
+            continue
+        lo, hi = float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])
+        name = model.names[dof + 1]
+        if math.isnan(lo) or math.isnan(hi):
+            raise InputError(f"joint '{name}' has a position limit that is not a number",
+                             path=path, field=f"joint[{name}].limit")
+        if hi <= lo:
+            relation = "equals" if hi == lo else "is above"
+            raise InputError(f"joint '{name}': the lower limit {lo:g} {relation} the upper limit "
+                             f"{hi:g}; give lower < upper (a joint that cannot move is a fixed "
+                             "joint)", path=path, field=f"joint[{name}].limit")
+        for value in (lo, hi):
+            if math.isfinite(value):
+                bounds.POSITION.check(value, path=path, field=f"joint[{name}].limit")
+        lower[dof], upper[dof] = lo, hi
     return lower, upper
+
+
+def _check_geometry(model: pin.Model, path: Path) -> None:
+    """Every joint origin, frame and centre of mass is finite and within `bounds.LENGTH`.
+
+    Raises:
+        InputError: One is not (the field names the joint, frame or body).
+    """
+    placements = [(f"joint[{model.names[j]}].origin", model.jointPlacements[j])
+                  for j in range(1, model.njoints)]
+    placements += [(f"frame[{frame.name}].origin", frame.placement) for frame in model.frames]
+    for where, placement in placements:
+        if not np.all(np.isfinite(placement.rotation)):
+            raise InputError("the rotation is not finite", path=path, field=where)
+        for x in placement.translation:
+            bounds.LENGTH.check(float(x), path=path, field=where)
+    for j in range(1, model.njoints):
+        body = model.inertias[j]
+        where = f"joint[{model.names[j]}].inertial"
+        bounds.ADDED_MASS.check(float(body.mass), path=path, field=where + ".mass")
+        for x in body.lever:
+            bounds.LENGTH.check(float(x), path=path, field=where + ".origin")
+        if not np.all(np.isfinite(body.inertia)):
+            raise InputError("the inertia is not finite", path=path, field=where)
+    data = model.createData()
+    probe = pin.rnea(model, data, pin.neutral(model), np.ones(model.nv), np.ones(model.nv))
+    if not np.all(np.isfinite(probe)):
+        raise InputError("the dynamics are not finite (a joint axis or an origin is not a "
+                         "number?)", path=path)
+    for name, values in (("velocity", model.velocityLimit), ("effort", model.effortLimit)):
+        bad = np.flatnonzero(np.isnan(values) | (np.asarray(values) < 0.0))
+        if bad.size:
+            joint = _joint_of_v(model, int(bad[0]))
+            raise InputError(f"the {name} limit must be zero or positive, got "
+                             f"{values[bad[0]]:g}", path=path, field=f"joint[{joint}].limit")
+
+
+def _joint_of_v(model: pin.Model, index: int) -> str:
+    """The name of the joint owning velocity coordinate `index`."""
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.idx_v <= index < joint.idx_v + joint.nv:
+            return model.names[j]
+    return "?"
 
 
 def _sized(names, revolute, joints, path) -> tuple[str, ...]:
     if joints is None:
         return tuple(n for n, r in zip(names, revolute, strict=True) if r)
-    if isinstance(joints, str):
+    if isinstance(joints, str | bytes) or not isinstance(joints, Sequence) or any(
+            not isinstance(name, str) for name in joints):
         raise InputError(f"expected a list of joint names, got {joints!r}", path=path,
                          field="joints")
     chosen = []
@@ -377,13 +445,19 @@ def gravity_of(mounting: str | Sequence[float]) -> np.ndarray:
             raise InputError(f"unknown mounting '{mounting}'; choose one of: "
                              f"{', '.join(MOUNTINGS)} or a gravity vector", field="mounting")
         return np.array(MOUNTINGS[mounting])
+    if isinstance(mounting, bytes) or (
+            isinstance(mounting, Sequence) and any(isinstance(g, bool | str | bytes)
+                                                   for g in mounting)):
+        raise InputError("gravity must be three finite numbers [m/s^2]", field="mounting")
     try:
         gravity = np.asarray(mounting, dtype=float)
-    except (TypeError, ValueError) as err:
+    except (TypeError, ValueError, OverflowError) as err:
         raise InputError("gravity must be three finite numbers [m/s^2]",
                          field="mounting") from err
     if gravity.shape != (3,) or not np.all(np.isfinite(gravity)):
         raise InputError("gravity must be three finite numbers [m/s^2]", field="mounting")
+    for i, value in enumerate(gravity):
+        bounds.GRAVITY.check(float(value), field=f"mounting[{i}]")
     return gravity
 
 
@@ -453,8 +527,11 @@ def _check_one(link: str, mass: float, inertia: np.ndarray, path: Path) -> None:
     if not np.isfinite(mass) or mass <= 0.0:
         raise InputError(f"link '{link}' has mass {mass:g} kg; a moving link with an "
                          "inertial must have positive mass", path=path, field=field)
+    bounds.MASS.check(float(mass), path=path, field=field + ".mass")
     if not np.all(np.isfinite(inertia)):
         raise InputError(f"link '{link}' has a non-finite inertia", path=path, field=field)
+    for value in inertia.flat:
+        bounds.INERTIA.check(float(value), path=path, field=field + ".inertia")
     moments = np.linalg.eigvalsh(inertia)
     scale = max(float(moments[-1]), 1e-12)
     if moments[0] <= 1e-9 * scale:

@@ -238,13 +238,18 @@ def allowable_mean_torque(unit: Unit, mean_input_speed_rpm: float) -> tuple[floa
 def l50_life_hours(unit: Unit, mean_torque: float, mean_input_speed_rpm: float) -> float | None:
     """L50 = L50_rated x (n_rated / N_av) x (T_N / T_av)^3 [h]; None when unlimited.
 
-    L50_rated is the series' rated life on the L50 basis (5 x a rated L10).
+    L50_rated is the series' rated life on the L50 basis (5 x a rated L10). A life too
+    long for a float (a torque or speed vanishingly small) is unlimited too.
     """
     if mean_torque <= 0.0 or mean_input_speed_rpm <= 0.0:
         return None
     rules = unit.rules
-    return (rules.rated_l50_hours * (rules.rated_input_speed / mean_input_speed_rpm)
-            * (unit.rated_torque / mean_torque) ** 3)
+    try:
+        life = (rules.rated_l50_hours * (rules.rated_input_speed / mean_input_speed_rpm)
+                * (unit.rated_torque / mean_torque) ** 3)
+    except OverflowError:
+        return None
+    return life if math.isfinite(life) else None
 
 
 def allowed_momentary_events(input_speed_rpm: float, duration: float, *,

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from hdselect.arrays import frozen
+from hdselect.bounds import expect_type, files_argument
 from hdselect.catalog import Unit, load_catalog
 from hdselect.dynamics import CycleTorques, cycle_torques, gravity_torques
 from hdselect.errors import InputError
@@ -111,6 +112,11 @@ class SizingResult:
         return self.trajectory.duration
 
     @property
+    def hold_only(self) -> bool:
+        """No sized joint moves: a held pose, judged by the static and momentary checks only."""
+        return all(joint.load.moving_time == 0.0 for joint in self.joints)
+
+    @property
     def title(self) -> str:
         """What was sized, for headings: the robot file, the motion file and its planner."""
         if self.motion is None:
@@ -151,10 +157,14 @@ def size(
         InputError: A file or argument is invalid, or two arguments contradict.
         PlanningError: The motion cannot be planned.
     """
-    if isinstance(catalog, str | Path):
-        raise InputError("expected a list of catalog files", field="catalog")
+    catalog = files_argument(catalog, "catalog")
     if units is not None and catalog:
         raise InputError("give either catalog files or loaded units, not both", field="units")
+    if units is not None:
+        units = _units_argument(units)
+    expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
+    expect_type(motion, (Motion, str, Path), "motion", "a Motion or a motion file")
+    expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
     if isinstance(motion, Motion):
         if not isinstance(robot, Robot):
             file = robot if robot is not None else motion.robot_file
@@ -169,7 +179,7 @@ def size(
                                   joints=joints)
     resolved = options_for(motion, **options)
     units = tuple(units) if units is not None else load_catalog(catalog)
-    trajectory = plan(robot, motion)
+    trajectory = plan(robot, motion, max_samples=resolved.max_samples)
     return replace(size_trajectory(robot, trajectory, units, resolved), motion=motion)
 
 
@@ -197,14 +207,23 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         The result for every sized joint (its ``motion`` is None).
 
     Raises:
-        InputError: The trajectory's joints are not the robot's, or the catalog is empty.
+        InputError: An argument is of the wrong type, the trajectory's joints are not the
+            robot's or its arrays are malformed, the catalog is empty, or the robot has no
+            rotary joint to size.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot")
+    expect_type(trajectory, (Trajectory,), "trajectory", "a Trajectory (hdselect.plan)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
     if trajectory.joint_names != robot.joint_names:
         raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
                          f"robot has {', '.join(robot.joint_names)}", field="trajectory")
-    units = tuple(units)
+    _check_trajectory(trajectory)
+    units = _units_argument(units)
     if not units:
         raise InputError("no gearhead to choose from", field="units")
+    if not robot.sized_joints:
+        raise InputError("the robot has no rotary joint to size (prismatic joints take no "
+                         "gearhead)", path=robot.path, field="joints")
     options = options if options is not None else Options()
     masses: dict[str, float] = {}
     if options.mass_coupling:
@@ -230,6 +249,40 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     if any(joint.selected is None for joint in joints):
         joints = _with_slowdowns(carrying, trajectory, joints, units, options)
     return SizingResult(robot, trajectory, tuple(joints), options, units)
+
+
+def _units_argument(units: object) -> tuple[Unit, ...]:
+    """The `units` argument as a tuple of units.
+
+    Raises:
+        InputError: It is not a sequence of `hdselect.catalog.Unit`.
+    """
+    if isinstance(units, str | bytes | Path) or not isinstance(units, Sequence):
+        raise InputError(f"expected a sequence of catalog units, got {type(units).__name__}",
+                         field="units")
+    for unit in units:
+        expect_type(unit, (Unit,), "units", "catalog units (hdselect.load_catalog)")
+    return tuple(units)
+
+
+def _check_trajectory(trajectory: Trajectory) -> None:
+    """A trajectory's arrays agree in shape and hold finite numbers.
+
+    Raises:
+        InputError: They do not (the field names the array).
+    """
+    n, dof = len(trajectory.t), len(trajectory.joint_names)
+    if not (isinstance(trajectory.dt, float | int) and math.isfinite(trajectory.dt)
+            and trajectory.dt > 0.0):
+        raise InputError(f"must be a positive time [s], got {trajectory.dt!r}",
+                         field="trajectory.dt")
+    for name, shape in (("t", (n,)), ("q", (n, dof)), ("qd", (n, dof)), ("qdd", (n, dof))):
+        array = np.asarray(getattr(trajectory, name))
+        if array.shape != shape or n == 0:
+            raise InputError(f"expected shape {shape} with n >= 1, got {array.shape}",
+                             field=f"trajectory.{name}")
+        if not np.all(np.isfinite(array)):
+            raise InputError("holds a number that is not finite", field=f"trajectory.{name}")
 
 
 def _unit_masses(joints: list[JointSizing], options: Options) -> dict[str, float]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from hdselect.bounds import expect_type
 from hdselect.sizing import JointSizing, SizingResult
 
 
@@ -88,7 +89,11 @@ def summarize(result: SizingResult) -> Summary:
 
     Returns:
         Its summary.
+
+    Raises:
+        InputError: `result` is not a SizingResult.
     """
+    expect_type(result, SizingResult, "result", "a SizingResult (hdselect.size)")
     return Summary(
         robot=str(result.robot.path),
         motion=None if result.motion is None else str(result.motion.path),

@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from hdselect.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.motion import Motion
+from hdselect.planning.grid import check_log_period, check_size
 from hdselect.planning.trajectory import Trajectory, trajectory
 from hdselect.robot import Robot
 
 
-def plan_samples(robot: Robot, motion: Motion) -> Trajectory:
+def plan_samples(robot: Robot, motion: Motion, *,
+                 max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
     """Put a logged trajectory on the dt grid.
 
     Time is shifted to start at 0. When the log is uniformly spaced (within 1e-6
@@ -22,18 +23,26 @@ def plan_samples(robot: Robot, motion: Motion) -> Trajectory:
     of the cubic spline through the positions (accelerations from the spline
     through logged velocities when those exist). Differentiation amplifies
     measurement noise: filter the log first.
+
+    Raises:
+        InputError: dt is coarser than the log's sample period, or the grid would
+            exceed `max_samples`.
     """
     from scipy.interpolate import CubicSpline
 
     log = motion.samples
     assert log is not None  # load_motion reads it for the samples planner
     t = log.t - log.t[0]
+    dof = len(motion.joint_names)
     if np.all(np.abs(np.diff(t) - motion.dt) <= 1e-6 * motion.dt):
-        uniform, grid, at = True, np.arange(len(t)) * motion.dt, t
+        count = check_size(motion.path, (len(t) - 1) * motion.dt, motion.dt, dof, max_samples)
+        uniform, grid, at = True, np.arange(count) * motion.dt, t
         duration, inside = float(grid[-1]), np.ones(len(t), dtype=bool)
     else:
+        check_log_period(motion.path, log.path, t, motion.dt)
         duration = float(t[-1])
-        uniform, grid = False, np.arange(math.ceil(duration / motion.dt - 1e-9) + 1) * motion.dt
+        count = check_size(motion.path, duration, motion.dt, dof, max_samples)
+        uniform, grid = False, np.arange(count) * motion.dt
         at, inside = np.minimum(grid, duration), grid <= duration
 
     def resample(values, order=0):

@@ -22,6 +22,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
+from hdselect.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.dynamics import rnea_function
 from hdselect.errors import PlanningError
 from hdselect.motion import Motion
@@ -45,14 +46,16 @@ _MARGIN = 1e-4
 """Extra time scaling of a TOPPRA piece for peaks between the check points [-]."""
 
 
-def plan_toppra(robot: Robot, motion: Motion) -> Trajectory:
+def plan_toppra(robot: Robot, motion: Motion, *,
+                max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
     """Plan the motion's path time-optimally and sample it every ``motion.dt``.
 
     Raises:
+        InputError: The grid does not resolve a path piece or exceeds `max_samples`.
         PlanningError: The limits make a piece of the path infeasible (the message
             names the constraint set at fault) or TOPPRA fails.
     """
-    return assemble(motion, _toppra_pieces(robot, motion))
+    return assemble(motion, _toppra_pieces(robot, motion), max_samples=max_samples)
 
 
 @contextmanager
@@ -101,7 +104,11 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
         chord = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))]
         grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, _GRID_PER_SEGMENT * len(points) + 1))
         with _quiet():
-            path = toppra.SplineInterpolator(chord / chord[-1], points, bc_type="clamped")
+            try:
+                path = toppra.SplineInterpolator(chord / chord[-1], points, bc_type="clamped")
+            except (ValueError, ArithmeticError) as err:
+                raise PlanningError(f"{motion.path}: toppra: no spline through waypoint[{first}]"
+                                    f" to waypoint[{last}]: {err}") from err
             found = _toppra_solve(algorithm, kinematic + dynamic, path, grid, motion, first, last)
             if found is None and dynamic:
                 if _toppra_solve(algorithm, kinematic, path, grid, motion, first,
@@ -115,7 +122,12 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
                 f"{motion.path}: toppra: the velocity and acceleration limits (limits.velocity, "
                 f"limits.acceleration) make the path from waypoint[{first}] to "
                 f"waypoint[{last}] infeasible")
-        pieces.append(Move(first, last, *_toppra_sampler(found, motion, len(grid))))
+        try:
+            pieces.append(Move(first, last, *_toppra_sampler(found, motion, len(grid))))
+        except (ValueError, ArithmeticError) as err:
+            raise PlanningError(f"{motion.path}: toppra: the path from waypoint[{first}] to "
+                                f"waypoint[{last}] cannot be timed with these limits "
+                                f"({type(err).__name__}: {err})") from err
     return pieces
 
 
