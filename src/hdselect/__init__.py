@@ -1,18 +1,39 @@
-"""hdselect: size Harmonic Drive PSA-G gearheads for robot joints from the robot's dynamics."""
+"""hdselect: size Harmonic Drive PSA-G gearheads for robot joints from the robot's dynamics.
 
+The public names load on first use, so ``import hdselect`` (and the command line's
+start-up, which Ctrl-C may interrupt) does not import Pinocchio, Ruckig or numpy.
+"""
+
+import importlib
 import logging
-
-from hdselect.catalog import Unit, load_catalog
-from hdselect.duty import load_duty, size_duty
-from hdselect.errors import HdselectError, InputError, PlanningError
-from hdselect.motion import Motion, load_case, load_motion
-from hdselect.options import Options
-from hdselect.planning import Trajectory, plan
-from hdselect.robot import Payload, Robot, load_robot
-from hdselect.sizing import SizingResult, size, size_trajectory
-from hdselect.summary import Summary, summarize
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
+
+_HOME = {
+    "HdselectError": "errors",
+    "InputError": "errors",
+    "Motion": "motion",
+    "Options": "options",
+    "Payload": "robot",
+    "PlanningError": "errors",
+    "Robot": "robot",
+    "SizingResult": "sizing",
+    "Summary": "summary",
+    "Trajectory": "planning",
+    "Unit": "catalog",
+    "load_catalog": "catalog",
+    "load_case": "motion",
+    "load_duty": "duty",
+    "load_motion": "motion",
+    "load_robot": "robot",
+    "plan": "planning",
+    "size": "sizing",
+    "size_duty": "duty",
+    "size_trajectory": "sizing",
+    "summarize": "summary",
+}
+"""The module each public name lives in."""
 
 __all__ = [
     "HdselectError",
@@ -38,5 +59,30 @@ __all__ = [
     "size_trajectory",
     "summarize",
 ]
+
+if TYPE_CHECKING:
+    from hdselect.catalog import Unit, load_catalog
+    from hdselect.duty import load_duty, size_duty
+    from hdselect.errors import HdselectError, InputError, PlanningError
+    from hdselect.motion import Motion, load_case, load_motion
+    from hdselect.options import Options
+    from hdselect.planning import Trajectory, plan
+    from hdselect.robot import Payload, Robot, load_robot
+    from hdselect.sizing import SizingResult, size, size_trajectory
+    from hdselect.summary import Summary, summarize
+
+
+def __getattr__(name: str) -> Any:
+    """Import a public name's module when the name is first used."""
+    if name not in _HOME:
+        raise AttributeError(f"module 'hdselect' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"hdselect.{_HOME[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())

@@ -28,6 +28,8 @@ WHOLE_CYCLE_NOTE = ("mean speed follows each unit's series rules: over the whole
                     "included, where its catalog's [rules] say mean_speed = \"whole-cycle\"; "
                     "over the moving part only where they say \"moving\"")
 
+_CSV_ROWS = 1 << 14
+"""Rows of a trajectory CSV formatted at a time."""
 HOLD_NOTE = ("hold only: nothing moves in this cycle (every speed is 0); the pose is held with "
              "the input locked, so only the static and momentary checks apply")
 
@@ -243,13 +245,16 @@ def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
     header = ["t"] + [f"{kind}_{names[j]}" for j in columns
                       for kind in ("q", "qd", "qdd", "tau")]
 
-    data = np.column_stack([trajectory.t] + [
-        array[:, j] for j in columns
-        for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)])
+    def rows(part: slice) -> np.ndarray:
+        return np.column_stack([trajectory.t[part]] + [
+            array[part, j] for j in columns
+            for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)])
 
     def write(stream: Any) -> None:
-        np.savetxt(stream, data, fmt="%.10g", delimiter=",", header=",".join(header),
-                   comments="")
+        stream.write(",".join(header) + "\n")
+        for start in range(0, len(trajectory.t), _CSV_ROWS):  # bounded memory, any length
+            np.savetxt(stream, rows(slice(start, start + _CSV_ROWS)), fmt="%.10g",
+                       delimiter=",")
 
     write_output(target, write)
 

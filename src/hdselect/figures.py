@@ -27,6 +27,33 @@ from hdselect.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S  # noqa: E402
 from hdselect.sizing import JointSizing, SizingResult  # noqa: E402
 
 DEG_PER_RAD = 180.0 / np.pi
+PLOT_POINTS = 20_000
+"""Most points drawn per curve; a longer one is drawn by its extremes (`envelope`)."""
+
+
+def envelope(t: np.ndarray, y: np.ndarray, points: int = PLOT_POINTS):
+    """A curve thinned for drawing without losing its extremes.
+
+    Up to `points` samples are drawn as they are; a longer curve is cut into
+    `points` / 2 runs of equal length and each run drawn by its minimum and maximum (in
+    time order), so every peak a reader looks for is still on the figure.
+
+    Returns:
+        Times [s] and values, at most about `points` of each.
+    """
+    n = len(t)
+    if n <= points:
+        return t, y
+    width = -(-n // (points // 2))
+    runs = -(-n // width)
+    padded = np.full(runs * width, np.nan)
+    padded[:n] = y
+    blocks = padded.reshape(runs, width)
+    low, high = np.nanargmin(blocks, axis=1), np.nanargmax(blocks, axis=1)
+    first, second = np.minimum(low, high), np.maximum(low, high)
+    index = np.column_stack([first, second]) + (np.arange(runs) * width)[:, None]
+    index = index.ravel()
+    return t[index], y[index]
 
 
 def write_profiles_png(path: str | Path, trajectory: Trajectory, tau: np.ndarray,
@@ -46,9 +73,10 @@ def write_profiles_png(path: str | Path, trajectory: Trajectory, tau: np.ndarray
     for row, name in enumerate(joints):
         j = names.index(name)
         speed_ax, torque_ax = axes[row]
-        speed_ax.plot(trajectory.t, trajectory.qd[:, j] * DEG_PER_RAD, color="tab:blue", lw=1)
+        speed_ax.plot(*envelope(trajectory.t, trajectory.qd[:, j] * DEG_PER_RAD),
+                      color="tab:blue", lw=1)
         speed_ax.set_ylabel(f"{name}\nspeed [deg/s]")
-        torque_ax.plot(trajectory.t, tau[:, j], color="tab:red", lw=1)
+        torque_ax.plot(*envelope(trajectory.t, tau[:, j]), color="tab:red", lw=1)
         torque_ax.set_ylabel("torque [N m]")
         for ax in (speed_ax, torque_ax):
             ax.axhline(0.0, color="0.6", lw=0.6)
@@ -111,7 +139,8 @@ def _joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     unit = chosen.unit
     fig, (speed_ax, torque_ax) = plt.subplots(2, 1, figsize=(10, 6.2), sharex=True)
     input_rpm = np.abs(traj.qd[:, j]) * unit.ratio * RPM_PER_RAD_S
-    speed_ax.plot(traj.t, input_rpm, color="tab:blue", lw=1.2, label="input speed |n|")
+    speed_ax.plot(*envelope(traj.t, input_rpm), color="tab:blue", lw=1.2,
+                  label="input speed |n|")
     speed_ax.axhline(unit.max_input_speed, color="k", ls="-", lw=1.2,
                      label=f"max input speed {unit.max_input_speed:,.0f} rpm")
     mean = chosen.checks["mean"].detail.get("mean_input_speed_rpm")
@@ -120,9 +149,11 @@ def _joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
                          label=f"mean speed N_av {mean:,.0f} rpm (moving part)")
     speed_ax.set_ylabel("input speed [rpm]")
     speed_ax.set_ylim(0, unit.max_input_speed * 1.12)
-    torque_ax.plot(traj.t, np.abs(joint.stop_torque), color="tab:orange", lw=0.8, alpha=0.7,
+    torque_ax.plot(*envelope(traj.t, np.abs(joint.stop_torque)), color="tab:orange", lw=0.8,
+                   alpha=0.7,
                    label=f"emergency stop from each instant ({result.options.stop_time:g} s)")
-    torque_ax.plot(traj.t, np.abs(joint.torque), color="tab:red", lw=1.3, label="|T| output")
+    torque_ax.plot(*envelope(traj.t, np.abs(joint.torque)), color="tab:red", lw=1.3,
+                   label="|T| output")
     lines = [("repeated_torque", "repeated-peak limit", "k", "-"),
              ("momentary_torque", "momentary limit", "tab:purple", "--"),
              ("static_torque", "static limit", "tab:gray", "-.")]

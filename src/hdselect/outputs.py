@@ -158,12 +158,6 @@ class Outputs:
                     assert staged.target is not None
                     with staged.staging.open("rb") as source, staged.target.open("wb") as sink:
                         shutil.copyfileobj(source, sink)
-            for staged in self._staged:
-                if staged.kind == "stdout":
-                    sys.stdout.flush()
-                    with staged.staging.open("rb") as source:
-                        shutil.copyfileobj(source, sys.stdout.buffer)
-                    sys.stdout.buffer.flush()
         except OSError as err:
             _roll_back(done, created)
             raise InputError(f"cannot write the outputs ({err.strerror or err}); nothing was "
@@ -174,8 +168,16 @@ class Outputs:
         for _, backup in done:
             if backup is not None:
                 backup.unlink(missing_ok=True)
-        self._committed = True
-        self.discard()
+        try:  # last, as it cannot be taken back; a reader that went away is not our error
+            for staged in self._staged:
+                if staged.kind == "stdout":
+                    sys.stdout.flush()
+                    with staged.staging.open("rb") as source:
+                        shutil.copyfileobj(source, sys.stdout.buffer)
+                    sys.stdout.buffer.flush()
+        finally:
+            self._committed = True
+            self.discard()
 
     def discard(self) -> None:
         """Remove every temporary (after a commit, only what is left of them)."""

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hdselect.arrays import frozen
+from hdselect.arrays import readonly
 from hdselect.bounds import expect_type, files_argument
 from hdselect.catalog import Unit, load_catalog
 from hdselect.dynamics import CycleTorques, cycle_torques, gravity_torques
@@ -231,9 +231,11 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         for _ in range(2):
             masses = _unit_masses(_size_joints(robot.with_gearheads(masses), coarse, units,
                                                options)[0], options)
+    joints: list[JointSizing] = []
     for _ in range(robot.dof + 1):
         carrying = robot.with_gearheads(masses)
-        joints, torques = _size_joints(carrying, trajectory, units, options)
+        joints = []  # let the last round's torques go before computing the next
+        joints = _size_joints(carrying, trajectory, units, options)[0]
         chosen = _unit_masses(joints, options)
         if not options.mass_coupling or chosen == masses:
             break
@@ -319,7 +321,7 @@ def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, ta
     candidates = [check_unit(load, r.unit, momentary=r.momentary, life_hours=options.life_hours,
                              life_basis=options.life_basis, motor=r.motor) for r in reflections]
     return JointSizing(name, load, tuple(candidates), select(candidates, options.prefer),
-                       0.0, False, 0.0, frozen(tau), frozen(stop_tau))
+                       0.0, False, 0.0, readonly(tau), readonly(stop_tau))
 
 
 def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
@@ -344,18 +346,20 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
     `robot` carries the chosen units' masses. Two more batched passes (gravity, and
     gravity plus velocity terms) split the motion's torques by how they scale.
     """
+    failing = [robot.joint_index(joint.name) for joint in joints if joint.selected is None]
     torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time, split=True,
-                            threads=options.threads)
+                            threads=options.threads, columns=failing)
     assert torques.gravity is not None and torques.coasting is not None
     out = []
     for joint in joints:
         if joint.selected is None:
             j = robot.joint_index(joint.name)
+            c = failing.index(j)
             qd, qdd = traj.qd[:, j], traj.qdd[:, j]
             cycle = ScalableCycle.split(
                 traj.t, traj.dt, traj.duration, qd, qdd, at_rest(qd, qdd),
-                torque=torques.tau[:, j], stop_torque=torques.stop[:, j],
-                gravity=torques.gravity[:, j], coast=torques.coasting[:, j],
+                torque=torques.tau[:, c], stop_torque=torques.stop[:, c],
+                gravity=torques.gravity[:, c], coast=torques.coasting[:, c],
                 stop_time=options.stop_time)
             scales = joint_scales(cycle, units, efficiency=options.efficiency,
                                   rotor_inertia=options.rotor_inertia,
