@@ -281,3 +281,40 @@ def test_samples_uniform_log_used_as_is(tmp_path):
     _, qd, qdd = cubic(t)
     np.testing.assert_allclose(trajectory.qd[:, 1], qd, atol=1e-12)
     np.testing.assert_allclose(trajectory.qdd[:, 1], qdd, atol=1e-8)
+
+
+def test_a_long_log_is_resampled_in_chunks_equal_to_one_spline(tmp_path, monkeypatch):
+    """The spline through a long log is evaluated chunk by chunk, each from the log samples
+    it spans plus 64 on either side; the result is the spline through the whole log."""
+    from scipy.interpolate import CubicSpline
+
+    import hdselect.planning.samples as samples
+
+    rng = np.random.default_rng(7)
+    t = np.cumsum(rng.uniform(0.008, 0.012, 1500))
+    t -= t[0]
+    write_chain(tmp_path, [("turn", "revolute", -3, 3), ("slide", "prismatic", -1, 1)])
+    (tmp_path / "log.csv").write_text("t,q_turn,q_slide\n" + "".join(
+        f"{x!r},{40 * math.sin(x) + 5 * math.sin(7.3 * x)!r},{0.5 * math.cos(2.1 * x)!r}\n"
+        for x in t.tolist()))
+    robot, motion = load_case(write_motion(tmp_path, """\
+        robot = "arm.urdf"
+        planner = "samples"
+        angle_unit = "deg"
+        dt = 0.001
+        [samples]
+        file = "log.csv"
+    """))
+    monkeypatch.setattr(samples, "CHUNK", 997)  # 15 chunks, boundaries anywhere
+    trajectory = plan(robot, motion)
+    log = motion.samples
+    whole = CubicSpline(log.t, log.q, axis=0)
+    inside = trajectory.t <= log.t[-1]  # a last sample past the log holds its end
+    times = trajectory.t[inside]
+    for order, array in enumerate((trajectory.q, trajectory.qd, trajectory.qdd)):
+        expected = whole(times, order)
+        np.testing.assert_allclose(array[inside], expected, rtol=0,
+                                   atol=1e-12 * np.abs(expected).max())
+    monkeypatch.setattr(samples, "MARGIN", 2)  # too short a margin shows
+    short = plan(robot, motion).qdd[inside]
+    assert np.abs(short - whole(times, 2)).max() > 1e-6 * np.abs(short).max()

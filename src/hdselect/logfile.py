@@ -133,8 +133,10 @@ def _numbers(log: Path, header: list[str], header_line: int, columns: list[int])
             data = np.loadtxt(stream, delimiter=",", comments=None, ndmin=2, dtype=float,
                               usecols=None if every else columns)
     except (ValueError, UnicodeDecodeError, csv.Error) as err:
-        raise _first_bad_cell(log, header, header_line, columns) or InputError(
-            f"cannot read CSV ({err})", path=log) from err
+        bad = _first_bad_cell(log, header, header_line, columns)
+        if bad is not None:
+            raise bad from err
+        return _read_slowly(log, header_line, columns)  # valid CSV numpy does not read (quotes)
     except OSError as err:
         raise InputError(f"cannot read CSV ({err})", path=log) from err
     if data.size == 0:
@@ -174,6 +176,18 @@ def _first_bad_cell(log: Path, header: list[str], header_line: int,
     except (OSError, UnicodeDecodeError, csv.Error) as err:
         return InputError(f"cannot read CSV ({err})", path=log)
     return None
+
+
+def _read_slowly(log: Path, header_line: int, columns: list[int]) -> np.ndarray:
+    """The wanted columns through Python's csv reader, a block of rows at a time."""
+    blocks, rows = [], []
+    for _, _, cells in _rows(log, header_line):
+        rows.append([float(cells[column]) for column in columns])
+        if len(rows) == 1 << 16:
+            blocks.append(np.array(rows))
+            rows = []
+    blocks.append(np.array(rows).reshape(-1, len(columns)))
+    return np.concatenate(blocks)
 
 
 def _where(log: Path, header_line: int, row: int) -> str:
