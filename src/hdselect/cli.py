@@ -43,7 +43,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = parser.parse_args(argv)
         held.start(verbose=args.verbose)
         status = int(args.run(args))
-        held.release()
+        held.publish()
         return status
     except HdselectError as err:
         _say(f"error: {_one_line(str(err))}")
@@ -126,7 +126,7 @@ class _HeldLog(logging.Handler):
         else:
             self.records.append(record)
 
-    def release(self) -> None:
+    def publish(self) -> None:
         """Print the held records (the command succeeded)."""
         for record in self.records:
             print(self.format(record), file=sys.stderr)

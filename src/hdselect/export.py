@@ -58,7 +58,7 @@ def write_output(target: str | Path, write: Callable[[Any], None], *,
         InputError: The file cannot be written.
     """
     if str(target) == "-":
-        write(sys.stdout.buffer if binary else sys.stdout)
+        write(getattr(sys.stdout, "buffer", sys.stdout) if binary else sys.stdout)
         return
     real, kind = writable_target(target)
     if kind == "direct":

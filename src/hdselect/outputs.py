@@ -171,10 +171,7 @@ class Outputs:
         try:  # last, as it cannot be taken back; a reader that went away is not our error
             for staged in self._staged:
                 if staged.kind == "stdout":
-                    sys.stdout.flush()
-                    with staged.staging.open("rb") as source:
-                        shutil.copyfileobj(source, sys.stdout.buffer)
-                    sys.stdout.buffer.flush()
+                    _to_stdout(staged.staging)
         finally:
             self._committed = True
             self.discard()
@@ -208,6 +205,19 @@ class Outputs:
         staging = Path(name)
         self._staged.append(_Staged(option, target, staging, kind))
         return staging
+
+
+def _to_stdout(staged: Path) -> None:
+    """Copy a staged output to standard output: as bytes, or as text to a text-only one."""
+    sys.stdout.flush()
+    binary = getattr(sys.stdout, "buffer", None)
+    with staged.open("rb") as source:
+        if binary is not None:
+            shutil.copyfileobj(source, binary)
+            binary.flush()
+        else:
+            for block in iter(lambda: source.read(1 << 20), b""):
+                sys.stdout.write(block.decode("utf-8", errors="replace"))
 
 
 def _swap(new: Path, target: Path) -> Path | None:

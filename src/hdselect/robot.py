@@ -8,8 +8,12 @@ from __future__ import annotations
 
 import logging
 import math
+import os
+import sys
+import tempfile
 import xml.etree.ElementTree as ET
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from types import MappingProxyType
@@ -312,14 +316,54 @@ def load_robot(
 
 
 def _build_model(path: Path) -> pin.Model:
+    kind = "MJCF" if path.suffix.lower() in (".xml", ".mjcf") else "URDF"
+    with _c_stderr() as said:
+        try:
+            if kind == "MJCF":
+                model = pin.buildModelFromMJCF(str(path))
+            else:
+                model = pin.buildModelFromUrdf(str(path))
+        except (RuntimeError, ValueError) as err:
+            error = err
+        else:
+            error = None
+    errors = [line.strip().removeprefix("Error:").strip() for line in said
+              if line.strip().startswith("Error:")]
+    complaint = errors[0] if errors else next((line.strip() for line in said if line.strip()), "")
+    if error is not None:
+        first_line = (str(error).strip().splitlines() or [type(error).__name__])[0]
+        detail = f" ({complaint})" if complaint else ""
+        raise InputError(f"not a valid {kind} robot: {first_line}{detail}", path=path) from error
+    if complaint:
+        logger.warning("%s: the %s parser complained (the model loaded): %s", path, kind,
+                       complaint)
+    return model
+
+
+@contextmanager
+def _c_stderr() -> Iterator[list[str]]:
+    """Catch what C++ code (the URDF parser) writes straight to file descriptor 2.
+
+    Yields the list the lines are put in when the block ends, so that a malformed
+    file is one line of ours, not the parser's dump. Where descriptor 2 cannot be
+    redirected the lines go where they always went.
+    """
+    lines: list[str] = []
     try:
-        if path.suffix.lower() in (".xml", ".mjcf"):
-            return pin.buildModelFromMJCF(str(path))
-        return pin.buildModelFromUrdf(str(path))
-    except (RuntimeError, ValueError) as err:
-        kind = "MJCF" if path.suffix.lower() in (".xml", ".mjcf") else "URDF"
-        first_line = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-        raise InputError(f"not a valid {kind} robot: {first_line}", path=path) from err
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):
+        yield lines
+        return
+    with tempfile.TemporaryFile() as capture:
+        os.dup2(capture.fileno(), 2)
+        try:
+            yield lines
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            capture.seek(0)
+            lines += capture.read().decode("utf-8", errors="replace").splitlines()
 
 
 def _joints(model: pin.Model, path: Path):
