@@ -317,6 +317,7 @@ def load_robot(
 
 def _build_model(path: Path) -> pin.Model:
     kind = "MJCF" if path.suffix.lower() in (".xml", ".mjcf") else "URDF"
+    error: Exception | None = None
     with _c_stderr() as said:
         try:
             if kind == "MJCF":
@@ -325,8 +326,6 @@ def _build_model(path: Path) -> pin.Model:
                 model = pin.buildModelFromUrdf(str(path))
         except (RuntimeError, ValueError) as err:
             error = err
-        else:
-            error = None
     errors = [line.strip().removeprefix("Error:").strip() for line in said
               if line.strip().startswith("Error:")]
     complaint = errors[0] if errors else next((line.strip() for line in said if line.strip()), "")
