@@ -354,6 +354,18 @@ def test_a_bug_is_its_own_status_one_line_and_no_output(work, capsys, monkeypatc
     assert status == 3 and "Traceback" in err
 
 
+def test_found_by_fuzzing_a_subnormal_dwell_is_one_line(work, capsys):
+    motion = variant("tiny.toml", PLANAR2, ("dwell = 0.3", "dwell = 5e-324"))
+    refused(capsys, "size", motion, says=("tiny.toml: dt", "longer than the dwell at waypoint[0]",
+                                          "remove the dwell"))
+
+
+def test_found_by_fuzzing_log_samples_1e_300_s_apart_are_one_line(work, capsys):
+    motion = write_log("close.csv", ["0,0,0", "1e-300,0,0.004", "0.004,0,0.008"])
+    refused(capsys, "size", motion, says=("close.csv: t: data row 2 (line 3)",
+                                          "duplicated or corrupted time stamp"))
+
+
 # --- memory and size ---------------------------------------------------------------------------
 
 def test_a_tiny_dt_on_the_six_axis_arm_is_refused_before_allocating(work, capsys):

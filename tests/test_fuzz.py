@@ -30,6 +30,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
@@ -107,7 +108,7 @@ def shuffled_entries(draw, entries: list[tuple[str, object]]) -> list[tuple[str,
     """
     entries = list(entries)
     keyed = [i for i, (key, _) in enumerate(entries) if not key.startswith("[")]
-    for _ in range(draw(corruptions)):
+    for _ in range(draw(corruptions) if keyed else 0):
         i = keyed[draw(st.integers(0, len(keyed) - 1))]
         entries[i] = (entries[i][0], draw(anything))
     if keyed and draw(st.integers(0, 3)) == 0:
@@ -191,11 +192,11 @@ def finite_json(text: str) -> object:
 
 
 def check_run(work: Path, argv: list[str], *, stdout_json: bool = False,
-              json_files: tuple[str, ...] = ()) -> int:
+              json_files: tuple[str, ...] = (), csv_files: tuple[str, ...] = ()) -> int:
     """Run the command line and check the promise; returns the exit status.
 
-    `stdout_json`: on success standard output is a JSON document; `json_files`: JSON
-    files the command may have written.
+    `stdout_json`: on success standard output is a JSON document; `json_files`, `csv_files`:
+    files the command may have written (``-``: standard output).
     """
     before = snapshot(work)
     out, err = io.StringIO(), io.StringIO()
@@ -221,6 +222,12 @@ def check_run(work: Path, argv: list[str], *, stdout_json: bool = False,
         for name in json_files:
             if Path(name).is_file():
                 finite_json(Path(name).read_text())
+        for name in csv_files:
+            text = out_text if name == "-" else Path(name).read_text() if Path(name).is_file() \
+                else None
+            if text is not None:
+                data = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1, ndmin=2)
+                assert data.size and np.all(np.isfinite(data)), name
     return status
 
 
@@ -435,18 +442,19 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
     command = draw(st.sampled_from(["size", "size", "compare", "plan", "duty", "catalog"]))
     if command == "catalog":
         return ["catalog", *draw(st.sampled_from([[], ["--json"], ["--units", "imperial"],
-                                                  ["--units", "si"]]))], ()
+                                                  ["--units", "si"]]))], (), ()
     if command == "duty":
         path = draw(output_path)
-        return ["duty", "tr/duty/conveyor_index.toml", "--json", path], (path,)
+        return ["duty", "tr/duty/conveyor_index.toml", "--json", path], (path,), ()
     motion = draw(st.sampled_from(["tr/planar2_pick_place.toml", "tr/index_table_indexing.toml",
                                    "tr/pan_tilt_logged.toml"]))
     argv = [command, motion]
     written: tuple[str, ...] = ()
+    csv: tuple[str, ...] = ()
     if command == "plan":
         out = draw(output_path)
         argv += ["--out", out]
-        written = (out,)
+        csv = (out,) if out in ("-", "out.csv") else ()
         if draw(st.booleans()):
             argv += ["--plot", draw(st.sampled_from(["-", "fig.png", "/proc/x.png"]))]
     for option in draw(st.lists(st.sampled_from(list(OPTIONS)), max_size=4, unique=True)):
@@ -470,14 +478,14 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
         written = (path,)
     if "--max-samples" not in argv:
         argv += ["--max-samples", MAX_SAMPLES]
-    return argv, written
+    return argv, written, csv
 
 
 @given(command_lines())
 def test_fuzz_command_lines(case):
-    argv, written = case
+    argv, written, csv = case
     stdout_json = argv[:2] == ["catalog", "--json"] or (
         "--json" in argv and argv[argv.index("--json") + 1] == "-")
     with workdir() as work:
         check_run(work, argv, stdout_json=stdout_json,
-                  json_files=tuple(p for p in written if p.endswith(".json")))
+                  json_files=tuple(p for p in written if p.endswith(".json")), csv_files=csv)

@@ -26,6 +26,10 @@ from hdselect.robot import Robot
 
 TIMESTAMP = bounds.Bound("a time", "s", -1e12, 1e12)
 """A log's time stamp [s]."""
+MIN_STEP = 1e-6
+"""Shortest time between two log samples [s]: a log is not taken at more than 1 MHz."""
+MIN_STEP_FRACTION = 1e-3
+"""Shortest time between two log samples as a fraction of the log's median period [-]."""
 _KINDS = {"q": bounds.POSITION, "qd": bounds.VELOCITY, "qdd": bounds.ACCELERATION}
 _PER_SECOND = {"q": "", "qd": "/s", "qdd": "/s^2"}
 
@@ -65,7 +69,8 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str]) -
     Raises:
         InputError: The file cannot be read, a column is missing, unknown or given twice,
             a cell is not a finite number in range, a position is outside its joint's
-            limits, or time does not increase. The message names the row and column.
+            limits, or time does not increase (or two samples are implausibly close). The
+            message names the row and column.
     """
     header, header_line = _header(log)
     seen: set[str] = set()
@@ -102,11 +107,20 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str]) -
         if kind == "q":
             _check_limits(log, header_line, robot, block, scale, units)
         arrays[kind] = frozen(block)
-    back = np.flatnonzero(np.diff(t) <= 0.0)
+    steps = np.diff(t)
+    back = np.flatnonzero(steps <= 0.0)
     if back.size:
         row = int(back[0]) + 2
         raise InputError(f"time must increase; {_where(log, header_line, row)} has t = "
                          f"{t[row - 1]:g} after {t[row - 2]:g}", path=log, field="t")
+    shortest = max(MIN_STEP, MIN_STEP_FRACTION * float(np.median(steps)))
+    close = np.flatnonzero(steps < shortest)
+    if close.size:
+        row = int(close[0]) + 2
+        raise InputError(f"{_where(log, header_line, row)} is only {steps[row - 2]:.3g} s after "
+                         f"the sample before it, less than {shortest:.3g} s (1e-6 s, or 1e-3 of "
+                         "the log's median period): a duplicated or corrupted time stamp?",
+                         path=log, field="t")
     return SampleLog(path=log, t=frozen(t), q=arrays["q"], qd=arrays.get("qd"),
                      qdd=arrays.get("qdd"))
 

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from decimal import ROUND_FLOOR, Decimal
 from pathlib import Path
 
 import numpy as np
@@ -98,7 +99,8 @@ def check_resolution(path: Path, dt: float, moves: Sequence[tuple[str, float]],
         if shortest < dt * (1.0 - 1e-9):
             raise InputError(
                 f"dt = {dt:g} s is longer than {what} ({shortest:.3g} s), which would not be "
-                f"sampled; use dt <= {_down(shortest)} s", path=path, field="dt")
+                f"sampled; use dt <= {_down(shortest)} s or remove the dwell", path=path,
+                field="dt")
 
 
 def check_log_period(path: Path, log_path: Path, t: np.ndarray, dt: float) -> None:
@@ -117,8 +119,9 @@ def check_log_period(path: Path, log_path: Path, t: np.ndarray, dt: float) -> No
 
 def _down(value: float) -> str:
     """`value` rounded down to two significant digits, for advice that must hold."""
-    exponent = math.floor(math.log10(value)) - 1
-    return f"{math.floor(value / 10.0**exponent) * 10.0**exponent:.2g}"
+    exact = Decimal(value)
+    step = Decimal(1).scaleb(exact.adjusted() - 1)
+    return f"{float((exact / step).to_integral_value(ROUND_FLOOR) * step):.2g}"
 
 
 def _gigabytes(size: float) -> str:

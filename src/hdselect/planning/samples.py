@@ -80,5 +80,6 @@ def _spline(t: np.ndarray, values: np.ndarray, at: np.ndarray, order: int) -> np
         part = slice(start, start + CHUNK)
         first, last = np.searchsorted(t, [at[part][0], at[part][-1]])
         lo, hi = max(0, int(first) - MARGIN), min(len(t), int(last) + MARGIN + 1)
-        out[part] = CubicSpline(t[lo:hi], values[lo:hi], axis=0)(at[part], order)
+        with np.errstate(all="ignore"):  # `plan` refuses a result that is not finite
+            out[part] = CubicSpline(t[lo:hi], values[lo:hi], axis=0)(at[part], order)
     return out
