@@ -143,10 +143,13 @@ def workdir() -> Iterator[Path]:
 
 
 def snapshot(work: Path) -> dict[str, tuple[int, float]]:
-    """Every file under `work` (not following the robots link) with its size and time."""
+    """Every file and directory under `work` (not following links): a file with its size
+    and time (a directory's time changes when a temporary comes and goes: not an output)."""
     files = {}
     for root, dirs, names in os.walk(work):
-        for name in names + dirs:
+        for name in dirs:
+            files[str(Path(root, name).relative_to(work))] = (0, 0)
+        for name in names:
             path = Path(root, name)
             info = path.lstat()
             files[str(path.relative_to(work))] = (info.st_size, info.st_mtime_ns)

@@ -278,7 +278,7 @@ def run_duty(args: argparse.Namespace) -> int:
     from hdselect.duty import load_duty, size_duty
     from hdselect.export import duty_json, write_json
     from hdselect.outputs import Outputs
-    from hdselect.report import console, duty_table
+    from hdselect.report import duty_table
 
     units = load_catalog(args.catalog)
     cycle = load_duty(args.profile)
@@ -287,9 +287,9 @@ def run_duty(args: argparse.Namespace) -> int:
         result = size_duty(cycle, units)
         if json_file is not None:
             write_json(json_file, duty_json(result))
+        table = _rendered(duty_table(result)) if args.json != "-" else ""
         outputs.commit()
-    if args.json != "-":
-        console().print(duty_table(result))
+    sys.stdout.write(table)
     return 0 if result.selected is not None else 1
 
 
@@ -323,7 +323,7 @@ def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
     from hdselect.export import size_json, write_json
     from hdselect.outputs import Outputs
-    from hdselect.report import console, size_table
+    from hdselect.report import size_table
 
     robot, motion, units, options = _prepare(args)
     with Outputs([*_inputs(robot, motion), *args.catalog]) as outputs:
@@ -343,9 +343,9 @@ def run_size(args: argparse.Namespace) -> int:
                 write_report(report, result)
         if json_file is not None:
             write_json(json_file, size_json(result))
+        table = _rendered(size_table(result)) if "-" not in (args.json, args.report) else ""
         outputs.commit()
-    if "-" not in (args.json, args.report):
-        console().print(size_table(result))
+    sys.stdout.write(table)
     return 0 if result.feasible else 1
 
 
@@ -456,6 +456,16 @@ def _sized(robot, motion, units, options):
 
     trajectory = plan(robot, motion, max_samples=options.max_samples)
     return replace(size_trajectory(robot, trajectory, units, options), motion=motion)
+
+
+def _rendered(table) -> str:
+    """A table as the terminal would show it, rendered before any output is committed."""
+    from hdselect.report import console
+
+    out = console()
+    with out.capture() as captured:
+        out.print(table)
+    return captured.get()
 
 
 def _inputs(robot, motion) -> list[Path]:
