@@ -14,6 +14,7 @@ from pathlib import Path
 from hdselect import __version__
 from hdselect.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.errors import HdselectError, InputError
+from hdselect.session import HeldLog, Terminated, handle_sigterm, tolerate_encoding
 
 logger = logging.getLogger("hdselect")
 
@@ -21,10 +22,6 @@ logger = logging.getLogger("hdselect")
 EXIT_OK, EXIT_NO_FIT, EXIT_BAD_INPUT, EXIT_BUG = 0, 1, 2, 3
 """Exit statuses: every joint has a unit; some joint has none; bad input; a bug in hdselect.
 Interrupted runs exit 130 (Ctrl-C) or 143 (SIGTERM)."""
-
-
-class Terminated(BaseException):
-    """SIGTERM arrived: unwinds like Ctrl-C, so every temporary is removed on the way out."""
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -35,10 +32,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         error, no output), 3 a bug in hdselect (one line; ``-v`` shows the traceback),
         130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
     """
-    previous = _handle_sigterm()
-    held = _HeldLog()
+    previous = handle_sigterm()
+    held = HeldLog(logger)
     try:
-        _tolerate_encoding()
+        tolerate_encoding()
         parser = _parser()
         args = parser.parse_args(argv)
         held.start(verbose=args.verbose)
@@ -80,62 +77,6 @@ def _say(message: str) -> None:
 
 def _one_line(text: str) -> str:
     return " ".join(text.split())
-
-
-def _raise_terminated(signum: int, frame: object) -> None:
-    raise Terminated()
-
-
-def _handle_sigterm():
-    """Make SIGTERM unwind like Ctrl-C (main thread only); returns the handler it replaced."""
-    try:
-        return signal.signal(signal.SIGTERM, _raise_terminated)
-    except ValueError:  # not the main thread
-        return None
-
-
-def _tolerate_encoding() -> None:
-    """Never fail on a terminal that cannot show a character: replace it instead."""
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            "▶²†─µ±".encode(stream.encoding or "ascii")
-        except (UnicodeEncodeError, LookupError):
-            reconfigure = getattr(stream, "reconfigure", None)
-            if reconfigure is not None:
-                reconfigure(errors="replace")
-
-
-class _HeldLog(logging.Handler):
-    """Warnings held until the command succeeds, so an error stays one line (``-v``: live)."""
-
-    def __init__(self) -> None:
-        super().__init__(level=logging.INFO)
-        self.records: list[logging.LogRecord] = []
-        self.verbose = False
-        self.level_before = logger.level
-        self.setFormatter(logging.Formatter("hdselect: %(levelname)s: %(message)s"))
-
-    def start(self, verbose: bool) -> None:
-        self.verbose = verbose
-        logger.addHandler(self)
-        logger.setLevel(logging.INFO if verbose else logging.WARNING)
-
-    def emit(self, record: logging.LogRecord) -> None:
-        if self.verbose:
-            print(self.format(record), file=sys.stderr)
-        else:
-            self.records.append(record)
-
-    def publish(self) -> None:
-        """Print the held records (the command succeeded)."""
-        for record in self.records:
-            print(self.format(record), file=sys.stderr)
-        self.records.clear()
-
-    def stop(self) -> None:
-        self.records.clear()
-        logger.removeHandler(self)
-        logger.setLevel(self.level_before)
 
 
 class _Parser(argparse.ArgumentParser):

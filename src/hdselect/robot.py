@@ -8,12 +8,8 @@ from __future__ import annotations
 
 import logging
 import math
-import os
-import sys
-import tempfile
 import xml.etree.ElementTree as ET
-from collections.abc import Iterator, Mapping, Sequence
-from contextlib import contextmanager
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from types import MappingProxyType
@@ -24,6 +20,7 @@ import pinocchio as pin
 from hdselect import bounds
 from hdselect.arrays import frozen
 from hdselect.errors import InputError
+from hdselect.robotcheck import c_stderr, check_geometry
 
 logger = logging.getLogger(__name__)
 
@@ -294,7 +291,7 @@ def load_robot(
     model = _build_model(path)
     names, revolute, q_index = _joints(model, path)
     _check_inertias(model, path)
-    _check_geometry(model, path)
+    check_geometry(model, path)
     lower, upper = _position_limits(model, q_index, path)
     robot = Robot(
         path=path,
@@ -318,7 +315,7 @@ def load_robot(
 def _build_model(path: Path) -> pin.Model:
     kind = "MJCF" if path.suffix.lower() in (".xml", ".mjcf") else "URDF"
     error: Exception | None = None
-    with _c_stderr() as said:
+    with c_stderr() as said:
         try:
             if kind == "MJCF":
                 model = pin.buildModelFromMJCF(str(path))
@@ -337,32 +334,6 @@ def _build_model(path: Path) -> pin.Model:
         logger.warning("%s: the %s parser complained (the model loaded): %s", path, kind,
                        complaint)
     return model
-
-
-@contextmanager
-def _c_stderr() -> Iterator[list[str]]:
-    """Catch what C++ code (the URDF parser) writes straight to file descriptor 2.
-
-    Yields the list the lines are put in when the block ends, so that a malformed
-    file is one line of ours, not the parser's dump. Where descriptor 2 cannot be
-    redirected the lines go where they always went.
-    """
-    lines: list[str] = []
-    try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError):
-        yield lines
-        return
-    with tempfile.TemporaryFile() as capture:
-        os.dup2(capture.fileno(), 2)
-        try:
-            yield lines
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            capture.seek(0)
-            lines += capture.read().decode("utf-8", errors="replace").splitlines()
 
 
 def _joints(model: pin.Model, path: Path):
@@ -412,50 +383,6 @@ def _position_limits(model: pin.Model, q_index, path: Path) -> tuple[np.ndarray,
                 bounds.POSITION.check(value, path=path, field=f"joint[{name}].limit")
         lower[dof], upper[dof] = lo, hi
     return lower, upper
-
-
-def _check_geometry(model: pin.Model, path: Path) -> None:
-    """Every joint origin, frame and centre of mass is finite and within `bounds.LENGTH`.
-
-    Raises:
-        InputError: One is not (the field names the joint, frame or body).
-    """
-    placements = [(f"joint[{model.names[j]}].origin", model.jointPlacements[j])
-                  for j in range(1, model.njoints)]
-    placements += [(f"frame[{frame.name}].origin", frame.placement) for frame in model.frames]
-    for where, placement in placements:
-        if not np.all(np.isfinite(placement.rotation)):
-            raise InputError("the rotation is not finite", path=path, field=where)
-        for x in placement.translation:
-            bounds.LENGTH.check(float(x), path=path, field=where)
-    for j in range(1, model.njoints):
-        body = model.inertias[j]
-        where = f"joint[{model.names[j]}].inertial"
-        bounds.ADDED_MASS.check(float(body.mass), path=path, field=where + ".mass")
-        for x in body.lever:
-            bounds.LENGTH.check(float(x), path=path, field=where + ".origin")
-        if not np.all(np.isfinite(body.inertia)):
-            raise InputError("the inertia is not finite", path=path, field=where)
-    data = model.createData()
-    probe = pin.rnea(model, data, pin.neutral(model), np.ones(model.nv), np.ones(model.nv))
-    if not np.all(np.isfinite(probe)):
-        raise InputError("the dynamics are not finite (a joint axis or an origin is not a "
-                         "number?)", path=path)
-    for name, values in (("velocity", model.velocityLimit), ("effort", model.effortLimit)):
-        bad = np.flatnonzero(np.isnan(values) | (np.asarray(values) < 0.0))
-        if bad.size:
-            joint = _joint_of_v(model, int(bad[0]))
-            raise InputError(f"the {name} limit must be zero or positive, got "
-                             f"{values[bad[0]]:g}", path=path, field=f"joint[{joint}].limit")
-
-
-def _joint_of_v(model: pin.Model, index: int) -> str:
-    """The name of the joint owning velocity coordinate `index`."""
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        if joint.idx_v <= index < joint.idx_v + joint.nv:
-            return model.names[j]
-    return "?"
 
 
 def _sized(names, revolute, joints, path) -> tuple[str, ...]:
