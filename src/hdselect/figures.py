@@ -19,9 +19,9 @@ import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from hdselect.errors import InputError  # noqa: E402
-from hdselect.export import assumptions, write_output  # noqa: E402
+from hdselect.export import MOTOR_MODEL_NOTE, assumptions, write_output  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
-from hdselect.report import life_text, percent, time_scale_text, verdict  # noqa: E402
+from hdselect.report import life_text, percent, ratio_text, time_scale_text, verdict  # noqa: E402
 from hdselect.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S  # noqa: E402
 from hdselect.sizing import JointSizing, SizingResult  # noqa: E402
 
@@ -87,8 +87,15 @@ def write_report(directory: str | Path, result: SizingResult) -> None:
             name = f"joint_{_slug(joint.name)}.png"
             _save(_joint_figure(result, joint), staging / name)
             images.append((joint, name))
+        motor_images = []
+        for joint in result.joints:
+            if joint.motor_torque is not None:
+                name = f"motor_{_slug(joint.name)}.png"
+                _save(_motor_figure(result, joint), staging / name)
+                motor_images.append((joint, name))
         _save(_utilization_figure(result), staging / "utilization.png")
-        write_output(staging / "index.html", lambda stream: stream.write(_page(result, images)))
+        write_output(staging / "index.html",
+                     lambda stream: stream.write(_page(result, images, motor_images)))
         target.mkdir(exist_ok=True)
         for file in staging.iterdir():
             file.replace(target / file.name)
@@ -152,6 +159,51 @@ def _joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     return fig
 
 
+def _motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
+    """The cycle's (input speed, motor torque) points over the motor's torque-speed limits."""
+    traj = result.trajectory
+    j = result.robot.joint_index(joint.name)
+    chosen = joint.selected or joint.strongest
+    motor, unit, demand = chosen.motor_unit, chosen.unit, chosen.motor
+    assert motor is not None and demand is not None and joint.motor_torque is not None
+    speed = np.abs(traj.qd[:, j]) * unit.ratio * RPM_PER_RAD_S
+    torque = np.abs(joint.motor_torque)
+    fig, ax = plt.subplots(figsize=(9, 5.6))
+    ax.plot(speed, torque, ".", color="tab:blue", ms=2.5, alpha=0.35,
+            label=f"cycle: every {traj.dt * 1e3:g} ms sample (|n|, |T_motor|)")
+    top = max(motor.max_speed, float(speed.max())) * 1.08
+    grid = np.linspace(0.0, motor.max_speed, 400)
+    curve = "torque-speed curve" if motor.curve is not None else "flat, no curve given"
+    ax.plot(grid, motor.peak_torque_at(grid), color="k", lw=1.6,
+            label=f"peak torque ({curve}), up to {motor.peak_torque:.3g} N m")
+    ax.axhline(motor.rated_torque, color="tab:green", ls="--", lw=1.3,
+               label=f"rated torque {motor.rated_torque:.3g} N m (limit for the RMS torque)")
+    ax.axvline(motor.max_speed, color="tab:purple", ls="-.", lw=1.2,
+               label=f"max speed {motor.max_speed:,.0f} rpm")
+    if demand.rms_speed is not None:
+        ax.plot([demand.rms_speed], [demand.rms_torque], "D", color="tab:red", ms=9,
+                label=f"RMS point ({demand.rms_speed:,.0f} rpm, {demand.rms_torque:.3g} N m)")
+    worst = chosen.checks["motor_peak"]
+    where = worst.detail.get("speed_rpm")
+    if isinstance(where, float) and worst.value is not None:
+        ax.plot([where], [worst.value], "v", color="tab:orange", ms=9,
+                label=f"worst sample: {percent(worst.utilization)} of the peak at that speed")
+    ax.set_xlim(0.0, top)
+    ax.set_ylim(0.0, max(motor.peak_torque, float(torque.max())) * 1.15)
+    ax.set_xlabel("input speed |n| [rpm]")
+    ax.set_ylabel("motor torque |T_motor| [N m]")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    state = "selected" if joint.selected else "no pair fits; strongest shown"
+    side = chosen.motor_binding or "motor_peak"
+    ratio = joint.inertia_ratio(chosen)
+    fig.suptitle(f"{joint.name}: motor {motor.id} behind {unit.id} ({state}), binding "
+                 f"{side.removeprefix('motor_')} {percent(chosen.checks[side].utilization)}"
+                 + ("" if ratio is None else f", load/rotor {ratio_text(ratio)}"))
+    fig.tight_layout()
+    return fig
+
+
 def _utilization_figure(result: SizingResult) -> Figure:
     """Utilization of every rule for every unit and joint, the selection outlined."""
     rules = [r for r in CHECKS if any(r in c.checks and c.checks[r].value is not None
@@ -180,20 +232,29 @@ def _utilization_figure(result: SizingResult) -> Figure:
     return fig
 
 
-def _page(result: SizingResult, images: list[tuple[JointSizing, str]]) -> str:
+def _page(result: SizingResult, images: list[tuple[JointSizing, str]],
+          motor_images: Sequence[tuple[JointSizing, str]] = ()) -> str:
     esc = html.escape
     rows = []
+    motors = bool(result.motors)
     for joint in result.joints:
         c = joint.selected
         if c is None:
-            cells = [joint.name, "none", verdict(joint.strongest) + f" ({joint.strongest.unit.id})",
-                     "", "", "", ""]
+            cells = [joint.name, "none", verdict(joint.strongest) + f" ({joint.strongest.label})",
+                     "", "", "", ""] + (["", "", ""] if motors else [])
         else:
             assert c.motor is not None
-            binding = f"{c.binding} {percent(c.checks[c.binding].utilization)}"
+            binding = f"{c.gearhead_binding} {percent(c.checks[c.gearhead_binding].utilization)}"
             cells = [joint.name, c.unit.id, binding, life_text(c.life_hours),
                      f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
                      f"{c.motor.max_speed:,.0f}"]
+            if motors:
+                side = c.motor_binding
+                cells[2:2] = ["-" if c.motor_unit is None else c.motor_unit.id]
+                cells[4:4] = ["-" if side is None else
+                              f"{side.removeprefix('motor_')} "
+                              f"{percent(c.checks[side].utilization)}",
+                              ratio_text(joint.inertia_ratio(c))]
         cells += [f"{joint.carried_mass:.2f}", "gravity-loaded: fail-safe needed"
                   if joint.gravity_loaded else ""]
         rows.append("<tr>" + "".join(f"<td>{esc(x)}</td>" for x in cells) + "</tr>")
@@ -201,11 +262,23 @@ def _page(result: SizingResult, images: list[tuple[JointSizing, str]]) -> str:
                     if c is not None for f in c.flags})
     slow = [f"{j.name}: {time_scale_text(j)}" for j in result.joints if j.selected is None]
     items = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>"
-                    for k, v in assumptions(result).items())
+                    for k, v in {**assumptions(result),
+                                 **({"motor rules": MOTOR_MODEL_NOTE} if motors else {})}.items())
     figures = "".join(f'<h3>{esc(j.name)}</h3><img src="{name}" alt="{esc(j.name)}">'
                       for j, name in images)
-    header = ("joint", "unit", "binding rule", "L50 life", "motor peak [N m]",
-              "motor rms [N m]", "motor max [rpm]", "carries [kg]", "notes")
+    header: tuple[str, ...] = ("joint", "unit", "binding rule", "L50 life", "motor peak [N m]",
+                               "motor rms [N m]", "motor max [rpm]", "carries [kg]", "notes")
+    if motors:
+        header = ("joint", "unit", "motor", "gearhead binding", "motor binding",
+                  "load/rotor inertia", "L50 life", "motor peak [N m]", "motor rms [N m]",
+                  "motor max [rpm]", "carries [kg]", "notes")
+    motor_section = "" if not motor_images else (
+        "<h2>Motor torque-speed: every sample of the cycle under the motor's limits</h2>"
+        "<p>load/rotor inertia = (M_jj / N&sup2; + J_in) / J_m: the joint's largest diagonal "
+        "inertia M_jj over the cycle (carried masses and payload included) through the ratio, "
+        "plus the gearhead's input inertia, over the motor's rotor inertia.</p>"
+        + "".join(f'<h3>{esc(j.name)}</h3><img src="{name}" alt="motor of {esc(j.name)}">'
+                  for j, name in motor_images))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
 <title>hdselect: {esc(result.title)}</title>
@@ -226,6 +299,7 @@ img{{max-width:100%}}</style></head><body>
 fail-safe device on the output wherever a falling load could injure.</p>
 <h2>Utilization of every candidate</h2><img src="utilization.png" alt="utilization">
 <h2>Torque-speed profiles with the selected unit's limits</h2>{figures}
+{motor_section}
 </body></html>
 """
 

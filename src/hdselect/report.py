@@ -23,6 +23,7 @@ from hdselect.export import assumptions, mean_speed_note
 from hdselect.rules import (
     CHECK_LABELS,
     CHECKS,
+    MOTOR_CHECKS,
     RPM_PER_RAD_S,
     Candidate,
     Check,
@@ -200,7 +201,13 @@ def _utilization_cell(check: Check) -> str:
 
 
 def size_table(result: SizingResult) -> Table:
-    """One row per joint: the unit chosen, why, its life and what the motor must do."""
+    """One row per joint: the unit chosen, why, its life and what the motor must do.
+
+    Where motors are given: the pair chosen, the binding rule on either side, the
+    inertia ratio, and the motor's RMS torque and speed.
+    """
+    if result.motors:
+        return _pairs_table(result)
     table = Table(title=_size_title(result), title_justify="left", box=box.SIMPLE_HEAD,
                   pad_edge=False)
     for header in ("joint", "unit", "binding", "L50 life", "motor\npeak N m",
@@ -228,8 +235,55 @@ def size_table(result: SizingResult) -> Table:
     return table
 
 
+def ratio_text(ratio: float | None) -> str:
+    """An inertia ratio (load at the motor shaft over the rotor) for tables."""
+    return "-" if ratio is None else f"{ratio:.3g}"
+
+
+def _pairs_table(result: SizingResult) -> Table:
+    """`size_table` where motors are given: one row per joint, its gearhead and motor."""
+    table = Table(title=_size_title(result), title_justify="left", box=box.SIMPLE_HEAD,
+                  pad_edge=False)
+    for header in ("joint", "unit", "motor", "binding", "motor\nbinding", "load/\nrotor",
+                   "L50 life", "notes"):
+        table.add_column(header, no_wrap=header != "notes",
+                         justify="left" if header in ("joint", "unit", "motor", "binding",
+                                                       "motor\nbinding", "notes")
+                         else "right")
+    for joint in result.joints:
+        chosen = joint.selected
+        notes = ["gravity"] if joint.gravity_loaded else []
+        if chosen is None:
+            strongest = joint.strongest
+            table.add_row(joint.name, "[red]none[/red]", "", f"[red]{verdict(strongest)}[/red]",
+                          "", "", "", ", ".join(notes))
+            continue
+        side = chosen.motor_binding
+        table.add_row(
+            joint.name, chosen.unit.id + ("*" if chosen.flags else ""),
+            "-" if chosen.motor_unit is None else chosen.motor_unit.id,
+            _binding_text(chosen, chosen.gearhead_binding),
+            "-" if side is None else _binding_text(chosen, side).removeprefix("motor_"),
+            ratio_text(joint.inertia_ratio(chosen)), life_text(chosen.life_hours),
+            ", ".join(notes))
+    table.caption = escape("\n".join(_size_notes(result)))
+    table.caption_justify = "left"
+    return table
+
+
+def _binding_text(candidate: Candidate, name: str) -> str:
+    """A rule's name and utilization, e.g. ``momentary 88%``."""
+    return f"{name} {percent(candidate.checks[name].utilization)}"
+
+
 def compare_table(result: SizingResult, joint: JointSizing) -> Table:
-    """One row per unit for one joint: every rule's utilization, life and motor demand."""
+    """One row per unit for one joint: every rule's utilization, life and motor demand.
+
+    Where the joint has motors, one row per (unit, motor) pair: the motor's rules appear
+    among the rules, with the inertia ratio and the motor's RMS torque.
+    """
+    if joint.name in result.motors:
+        return _pairs_compare_table(result, joint)
     table = _candidates_table(
         f"Joint {joint.name}: {_load_text(joint.load, result.units)}, carries "
         f"{joint.carried_mass:.2f} kg of gearheads", joint.candidates, joint.selected,
@@ -238,6 +292,38 @@ def compare_table(result: SizingResult, joint: JointSizing) -> Table:
                "motor\nmax rpm": lambda c: f"{_motor(c).max_speed:,.0f}"})
     table.caption = ("▶ selected. utilization = demand / limit; mom. = momentary (T4): the "
                      "worse of an emergency stop and a crash.")
+    table.caption_justify = "left"
+    return table
+
+
+def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> Table:
+    """`compare_table` for a joint with motors: one row per (gearhead, motor) pair."""
+    table = Table(title=f"Joint {joint.name}: {_load_text(joint.load, result.units)}, carries "
+                        f"{joint.carried_mass:.2f} kg of gearheads and motors",
+                  title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
+                  collapse_padding=True)
+    headers = ["unit", "motor", "gearhead", *(CHECK_LABELS[name] for name in MOTOR_CHECKS),
+               "load/\nrotor", "motor\nrms N m", "result"]
+    for header in headers:
+        table.add_column(header, no_wrap=True,
+                         justify="left" if header in ("unit", "motor", "gearhead", "result")
+                         else "right")
+    for c in joint.candidates:
+        chosen = c is joint.selected
+        side = c.gearhead_binding
+        gearhead = f"{CHECK_LABELS.get(side, side)} {percent(c.checks[side].utilization)}"
+        table.add_row(("▶" if chosen else " ") + c.unit.id,
+                      "-" if c.motor_unit is None else c.motor_unit.id,
+                      gearhead if c.checks[side].ok else f"[red]{gearhead}[/red]",
+                      *(_utilization_cell(c.checks[name]) for name in MOTOR_CHECKS),
+                      ratio_text(joint.inertia_ratio(c)), f"{_motor(c).rms_torque:.3g}",
+                      verdict(c), style="bold" if chosen else None)
+    table.caption = ("▶ selected. gearhead: its rule with the highest utilization behind this "
+                     "motor (the crash case carries the motor's rotor inertia); m. = the "
+                     "motor's rules: peak under its torque-speed curve, RMS over the cycle "
+                     "against its rated torque, speed; load/rotor = (M_jj / N² + J_in) / J_m, "
+                     "M_jj the joint's largest over the cycle. --json gives every rule of "
+                     "every pair.")
     table.caption_justify = "left"
     return table
 
@@ -272,12 +358,20 @@ def _size_notes(result: SizingResult) -> list[str]:
         if joint.selected is None:
             strongest = joint.strongest
             check = strongest.checks[strongest.binding]
-            line = (f"{joint.name}: no unit fits; the strongest, {strongest.unit.id}, fails "
+            what = "pair" if strongest.motor_unit is not None else "unit"
+            line = (f"{joint.name}: no {what} fits; the strongest, {strongest.label}, fails "
                     f"{strongest.binding} at {percent(check.utilization)} of its limit. ")
             notes.append(line + time_scale_text(joint) + ".")
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
                for c in [joint.selected] if c is not None for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
+    if result.motors:
+        notes.append("motor binding: the motor's rule with the highest utilization: peak (every "
+                     "sample under its torque-speed curve), rms (RMS torque of one cycle "
+                     "repeated, against the rated torque; no thermal model) or speed. "
+                     "load/rotor: load inertia at the motor shaft over rotor inertia, "
+                     "(M_jj / N^2 + J_in) / J_m, M_jj the joint's largest over the cycle. "
+                     "`hdselect compare` and --json give every pair's figures.")
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     if loaded:
         notes.append(f"gravity: {', '.join(loaded)} carry gravity. Harmonic Drive gearing "
