@@ -6,6 +6,7 @@ from hdselect.catalog import Unit, load_catalog
 from hdselect.duty import load_duty, size_duty
 from hdselect.errors import HdselectError, InputError, PlanningError
 from hdselect.motion import Motion, load_case, load_motion
+from hdselect.motors import Motor, load_motors
 from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
@@ -18,6 +19,7 @@ __all__ = [
     "HdselectError",
     "InputError",
     "Motion",
+    "Motor",
     "Options",
     "Payload",
     "PlanningError",
@@ -31,6 +33,7 @@ __all__ = [
     "load_case",
     "load_duty",
     "load_motion",
+    "load_motors",
     "load_robot",
     "plan",
     "size",

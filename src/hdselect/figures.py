@@ -211,22 +211,35 @@ def _utilization_figure(result: SizingResult) -> Figure:
     n = len(result.joints)
     cols = min(3, n)
     rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 0.42 * len(result.units) * rows
-                                                  + 1.6 * rows), squeeze=False)
+    if result.motors:  # one row per (gearhead, motor) pair: narrower rows, room for labels
+        tall = max(len(j.candidates) for j in result.joints)
+        fig, axes = plt.subplots(rows, cols, figsize=(5.4 * cols, 0.2 * tall * rows + 1.9 * rows),
+                                 squeeze=False)
+    else:
+        fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 0.42 * len(result.units) * rows
+                                                      + 1.6 * rows), squeeze=False)
+    small = 6 if result.motors else 7
     for ax, joint in zip(axes.flat, result.joints, strict=False):
         grid = np.array([[c.checks[r].utilization if r in c.checks else np.nan for r in rules]
                          for c in joint.candidates])
         ax.imshow(np.minimum(grid, 2.0), cmap="RdYlGn_r", vmin=0.0, vmax=2.0, aspect="auto")
         for (i, k), value in np.ndenumerate(grid):
             if np.isfinite(value):
-                ax.text(k, i, f"{value * 100:.0f}", ha="center", va="center", fontsize=7)
-        ax.set_xticks(range(len(rules)), [CHECK_LABELS[r] for r in rules], fontsize=8)
+                ax.text(k, i, f"{value * 100:.0f}", ha="center", va="center", fontsize=small)
+        ax.set_xticks(range(len(rules)), [CHECK_LABELS[r] for r in rules], fontsize=8,
+                      rotation=45 if result.motors else 0,
+                      ha="right" if result.motors else "center")
         ax.set_yticks(range(len(joint.candidates)),
-                      [("▶ " if c is joint.selected else "") + c.unit.id
-                       for c in joint.candidates], fontsize=8)
+                      [("▶ " if c is joint.selected else "") + c.label
+                       for c in joint.candidates], fontsize=small + 1)
         ax.set_title(joint.name, fontsize=10)
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
+    if result.motors:
+        fig.suptitle("Utilization [% of limit] of every gearhead and motor pair (green fits, "
+                     "red fails; ▶ selected; m. = the motor's rules)")
+        fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 0.5 / fig.get_figheight()))
+        return fig
     fig.suptitle("Utilization [% of limit] of every unit (green fits, red fails; ▶ selected)")
     fig.tight_layout()
     return fig
@@ -284,9 +297,9 @@ def _page(result: SizingResult, images: list[tuple[JointSizing, str]],
 <title>hdselect: {esc(result.title)}</title>
 <style>body{{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}}
 table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:left}}
-td{{white-space:nowrap}}
+td{{white-space:nowrap}}td:last-child{{white-space:normal}}
 img{{max-width:100%}}</style></head><body>
-<h1>Gearhead selection: {esc(result.title)}</h1>
+<h1>{"Gearhead and motor" if motors else "Gearhead"} selection: {esc(result.title)}</h1>
 <p>Cycle {result.cycle_time:.3f} s,
 {len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms.
 {"Every joint has a unit." if result.feasible else "<b>Some joints have no unit.</b>"}</p>

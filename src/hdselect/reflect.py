@@ -131,9 +131,11 @@ def reflect_motors(
     stop = np.abs(stop_tau)
     i_stop = int(stop.argmax())
     held = np.abs(tau)
-    return [_behind(units, ratio, load, float(rotor_inertia), t, speed, qdd, held, stop, i_stop,
-                    (max_speed, rms_speed), stop_time, efficiency)
-            for rotor_inertia in rotor_inertias]
+    last = len(rotor_inertias) - 1  # the last motor takes the gear-side array over, in place
+    return [_behind(units, ratio, load if k == last else load.copy(), float(rotor_inertia), t,
+                    speed, qdd, held, stop, i_stop, (max_speed, rms_speed), stop_time,
+                    efficiency)
+            for k, rotor_inertia in enumerate(rotor_inertias)]
 
 
 def _behind(units: Sequence[Unit], ratio: np.ndarray, geared: np.ndarray, rotor_inertia: float,
@@ -142,12 +144,13 @@ def _behind(units: Sequence[Unit], ratio: np.ndarray, geared: np.ndarray, rotor_
             stop_time: float, efficiency: float) -> list[Reflection]:
     """Every unit behind one motor.
 
-    `geared` is the gear-side torque over N [N m]; `speeds` the largest and the RMS
-    input speed per unit [rpm].
+    `geared` is the gear-side torque over N [N m], turned into the motor torque in
+    place; `speeds` the largest and the RMS input speed per unit [rpm].
     """
     max_speed, rms_speed = speeds
     inertia = np.array([unit.input_inertia for unit in units]) + rotor_inertia
-    motor = geared + np.multiply.outer(inertia * ratio, qdd)
+    motor = geared
+    motor += np.multiply.outer(inertia * ratio, qdd)
     peak = np.maximum(motor.max(axis=1), -motor.min(axis=1))
     rms = np.sqrt(np.einsum("ij,ij->i", motor, motor) / len(t))
     crash = np.multiply.outer(inertia * ratio**2 / stop_time, speed)
