@@ -226,7 +226,7 @@ def motor_from_table(table: Mapping[str, Any], path: Path, where: str, *,
     if len(given) != 1:
         keys = " or ".join(key for key, _ in _INERTIA_KEYS)
         raise InputError(f"give exactly one of {keys}", path=path,
-                         field=f"{where}.{(given or _INERTIA_KEYS)[-1][0]}")
+                         field=f"{where}.{given[-1][0] if given else _INERTIA_KEYS[0][0]}")
     key, factor = given[0]
     values["rotor_inertia"] = as_number(table[key], path, f"{where}.{key}") * factor
     if "curve" in table:

@@ -337,8 +337,9 @@ def time_scale_text(joint: JointSizing) -> str:
     """For a joint no unit fits: the uniform time scale that would fit, and each unit's range."""
     slowdown, scales = joint.slowdown, joint.scales
     if slowdown is None or slowdown.factor is None or scales is None:
+        what = "pair" if any(c.motor_unit is not None for c in joint.candidates) else "unit"
         return ("Gravity alone is too much: no slow-down helps (no time scale from 1000x faster "
-                "to 1000x slower fits any unit)")
+                f"to 1000x slower fits any {what})")
     factor = slowdown.factor
     speed = (f"{factor:.3f}x slower" if factor >= 1.0 else f"{1.0 / factor:.3f}x faster")
     ranges = [f"{unit} for s in " + " or ".join(f"[{lo:.3g}, {hi:.3g}]" for lo, hi in intervals)
