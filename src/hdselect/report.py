@@ -303,7 +303,7 @@ def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> Table:
                   title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
                   collapse_padding=True)
     headers = ["unit", "motor", "gearhead", *(CHECK_LABELS[name] for name in MOTOR_CHECKS),
-               "load/\nrotor", "motor\nrms N m", "result"]
+               "load/\nrotor", "result"]
     for header in headers:
         table.add_column(header, no_wrap=True,
                          justify="left" if header in ("unit", "motor", "gearhead", "result")
@@ -316,14 +316,14 @@ def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> Table:
                       "-" if c.motor_unit is None else c.motor_unit.id,
                       gearhead if c.checks[side].ok else f"[red]{gearhead}[/red]",
                       *(_utilization_cell(c.checks[name]) for name in MOTOR_CHECKS),
-                      ratio_text(joint.inertia_ratio(c)), f"{_motor(c).rms_torque:.3g}",
-                      verdict(c), style="bold" if chosen else None)
+                      ratio_text(joint.inertia_ratio(c)), verdict(c),
+                      style="bold" if chosen else None)
     table.caption = ("▶ selected. gearhead: its rule with the highest utilization behind this "
                      "motor (the crash case carries the motor's rotor inertia); m. = the "
                      "motor's rules: peak under its torque-speed curve, RMS over the cycle "
                      "against its rated torque, speed; load/rotor = (M_jj / N² + J_in) / J_m, "
-                     "M_jj the joint's largest over the cycle. --json gives every rule of "
-                     "every pair.")
+                     "M_jj the joint's largest over the cycle. --json gives every rule and the "
+                     "motor's torques of every pair.")
     table.caption_justify = "left"
     return table
 
