@@ -6,9 +6,11 @@ still printed), 2 bad input: one line on stderr, no traceback, no file left behi
 
 from __future__ import annotations
 
+import base64
 import csv
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -266,10 +268,15 @@ def test_report_writes_html_and_pngs(capsys, tmp_path):
     for name in pngs:
         assert (report / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     page = (report / "index.html").read_text()
-    for name in pngs:
-        assert name in page
+    embedded = [base64.b64decode(data) for data in
+                re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)]
+    # self-contained: every figure is in the page, the same as the file beside it
+    assert sorted(embedded) == sorted((report / name).read_bytes() for name in pngs)
+    targets = re.findall(r"""(?:src|href)=["']([^"']*)""", page)
+    assert targets and all(t.startswith(("data:image/png;base64,", "#")) for t in targets)
     assert "shoulder" in page and "elbow" in page
     assert files_in(tmp_path) == {"report"} | {f"report/{n}" for n in names}
+    assert f"wrote {report / 'index.html'}" in out
 
 
 def test_report_dir_that_cannot_be_written(capsys, tmp_path):
