@@ -259,7 +259,7 @@ def run_compare(args: argparse.Namespace) -> int:
                 out.print()
             out.print(compare_table(result, joint))
     _say_written(args)
-    return 0 if shown.feasible else 1
+    return 0 if result.feasible else 1
 
 
 def _write_outputs(args: argparse.Namespace, result) -> None:

@@ -95,13 +95,13 @@ h3{font-size:1.05em;margin:1em 0 .3em}
 table{border-collapse:collapse;margin:.4em 0;font-size:.9em}
 td,th{border:1px solid #bbb;padding:2px 6px;text-align:right;white-space:nowrap;
 vertical-align:top}
-th{background:#eee}td.t,th.t{text-align:left}td.wrap{white-space:normal;min-width:12em}
+th{background:#eee;white-space:normal;vertical-align:bottom}td.t,th.t{text-align:left}td.wrap{white-space:normal;min-width:12em}
 td.u small{display:block;font-size:.75em;opacity:.9}
 td.fail{font-weight:bold;outline:2px solid #000;outline-offset:-2px;
 background-image:repeating-linear-gradient(45deg,rgba(0,0,0,.2) 0 2px,transparent 2px 7px)}
 tr.chosen td:first-child{font-weight:bold}
-.maps{display:flex;flex-wrap:wrap;gap:1em 2em}.maps table{font-size:.8em}
-.bar{display:flex;align-items:center;gap:.6em;font-size:.85em;margin:.5em 0}
+.maps{display:flex;flex-wrap:wrap;gap:1em 2em}.maps>div{min-width:0;max-width:100%}.maps table{font-size:.8em}
+.bar{display:flex;flex-wrap:wrap;align-items:center;gap:.6em;font-size:.85em;margin:.5em 0}
 .ramp{position:relative;width:320px;height:16px;border:1px solid #555;background:
 linear-gradient(to right,#f7fbff 0%,#9ecae1 25%,#2166ac 50%,#fdb863 50%,#e66101 75%,#7f3b08 100%)}
 .ramp .hatch{position:absolute;left:50%;top:0;right:0;bottom:0;background-image:
@@ -114,7 +114,7 @@ pre{background:#f4f4f4;padding:.5em;white-space:pre-wrap;word-break:break-all}
 *{-webkit-print-color-adjust:exact;print-color-adjust:exact}
 @page{margin:12mm}
 @media print{body{max-width:none;margin:0;padding:0;font-size:9pt}.scroll{overflow:visible}
-table{font-size:7pt}th{white-space:normal}td.u small{font-size:6pt}
+table{font-size:7pt}td.u small{font-size:6pt}
 section.joint{break-before:page}figure,table{break-inside:avoid}a{color:inherit}}
 """
 
@@ -122,13 +122,20 @@ section.joint{break-before:page}figure,table{break-inside:avoid}a{color:inherit}
 def _table(header: Sequence[str], rows: Sequence[Sequence[str]], *, left: int = 1,
            classes: Sequence[str] = ()) -> str:
     """A table of already-escaped cells; the first `left` columns align left."""
-    head = "".join(f'<th{" class=t" if i < left else ""}>{h}</th>'
+    head = "".join(f'<th{" class=t" if i < left else ""}>{_unbroken(h)}</th>'
                    for i, h in enumerate(header))
     body = "".join(
         f'<tr{f" class={classes[k]}" if k < len(classes) and classes[k] else ""}>'
         + "".join(c if c.startswith("<td") else f'<td{" class=t" if i < left else ""}>{c}</td>'
                   for i, c in enumerate(row)) + "</tr>" for k, row in enumerate(rows))
     return f'<div class="scroll"><table><tr>{head}</tr>{body}</table></div>'
+
+
+def _unbroken(header: str) -> str:
+    """A header that may wrap between words, but not inside a unit like ``[N m]``."""
+    for unit in ("[N m]", "L50 h", "L10 h"):
+        header = header.replace(unit, unit.replace(" ", "&nbsp;"))
+    return header
 
 
 def _anchor(unit_id: str) -> str:
@@ -156,7 +163,7 @@ def _selection(result: SizingResult) -> str:
             strongest = joint.strongest
             cells = [esc(joint.name), "<td class='t fail'>none</td>",
                      esc(f"{verdict(strongest)} ({strongest.unit.id})"), "-", "-", "-", "-", "-"]
-            notes.append(time_scale_text(joint))
+            notes.append("no unit fits: see below")
         else:
             assert c.motor is not None
             cells = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>', _unit_cell(c),
@@ -168,8 +175,12 @@ def _selection(result: SizingResult) -> str:
                      f"<td class='t wrap'>{esc('; '.join(notes))}</td>"])
     header = ["joint", "unit", "binding rule", "L50 life", "L10 life", "motor peak [N m]",
               "motor rms [N m]", "motor max [rpm]", "carries [kg]", "notes"]
+    slow = "".join(
+        f"<p><b>{esc(joint.name)}</b>: no unit fits; the strongest, "
+        f"{esc(joint.strongest.unit.id)}, fails {esc(verdict(joint.strongest))}. "
+        f"{esc(time_scale_text(joint))}.</p>" for joint in result.joints if joint.selected is None)
     return (f"<section id=selection><h2>Selection</h2>"
-            f"{_table(header, rows, left=3)}"
+            f"{_table(header, rows, left=3)}{slow}"
             "<p>Binding rule: the check closest to its limit (demand / limit). * the result "
             "depends on a catalog stand-in or correction: follow it to the note.</p></section>")
 
@@ -199,9 +210,10 @@ def _rules(result: SizingResult) -> list[str]:
                                      for j in result.joints for c in j.candidates)]
 
 
-def _heat_cell(check: Check | None, detail: bool, name: str) -> str:
+def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
+    """One check's cell, coloured; `where` names its joint and unit as data attributes."""
     if check is None or check.value is None:
-        return "<td class='u na'>-</td>"
+        return f"<td class='u na' data-check='{name}' {where}>-</td>"
     colour = utilization_colour(check.utilization)
     state = "ok" if check.ok else "fail"
     text = utilization_text(check.utilization, check.ok) + ("" if check.ok else " ✗")
@@ -213,7 +225,7 @@ def _heat_cell(check: Check | None, detail: bool, name: str) -> str:
     if isinstance(kind, str) and name == "momentary":
         figures += f", {kind.replace('emergency ', '')}"
     small = f"<small>{esc(figures)}</small>" if detail else ""
-    return (f"<td class='u {state}' data-check='{name}' style='background-color:{colour};"
+    return (f"<td class='u {state}' data-check='{name}' {where} style='background-color:{colour};"
             f"color:{_ink(colour)}' title='{esc(figures)}'>{esc(text)}{small}</td>")
 
 
@@ -222,6 +234,10 @@ def number(value: float) -> str:
     if abs(value) >= 1000.0:
         return f"{value:,.0f}"
     return "0" if abs(value) < 1e-9 else f"{value:.3g}"
+
+
+def _where(joint: JointSizing, candidate: Candidate) -> str:
+    return f"data-joint='{esc(joint.name)}' data-unit='{esc(candidate.unit.id)}'"
 
 
 def _colour_bar() -> str:
@@ -236,7 +252,7 @@ def _heat_maps(result: SizingResult) -> str:
     maps = []
     for joint in result.joints:
         rows = [[("▶ " if c is joint.selected else "") + esc(c.unit.id),
-                 *(_heat_cell(c.checks.get(r), False, r) for r in rules)]
+                 *(_heat_cell(c.checks.get(r), False, r, _where(joint, c)) for r in rules)]
                 for c in joint.candidates]
         header = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>',
                   *(esc(CHECK_LABELS[r]) for r in rules)]
@@ -252,7 +268,8 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None) 
     rows, classes = [], []
     for c in joint.candidates:
         assert c.motor is not None
-        rows.append([_unit_cell(c), *(_heat_cell(c.checks.get(r), True, r) for r in rules),
+        rows.append([_unit_cell(c),
+                     *(_heat_cell(c.checks.get(r), True, r, _where(joint, c)) for r in rules),
                      esc(life_text(c.life_hours, "")), esc(life_text(c.l10_hours, "")),
                      f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
                      f"{c.motor.max_speed:,.0f}", f"<td class=t>{esc(verdict(c))}</td>"])

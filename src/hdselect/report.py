@@ -196,11 +196,12 @@ def _candidates_table(title: str, candidates: Iterable[Candidate], selected: Can
     columns = [Column("unit", "left"), *(Column(CHECK_LABELS[name], group=name) for name in names),
                Column("L50 h", group="life hours"),
                *(Column(header, group="extra") for header in extra), Column("result", "left")]
+    failing = {name for name in names for c in candidates if not c.checks[name].ok}
     rows, styles = [], []
     for c in candidates:
         chosen = c is selected
         cells = [("▶" if chosen else " ") + escape(c.unit.id)]
-        cells += [_utilization_cell(c.checks[name]) for name in names]
+        cells += [_utilization_cell(c.checks[name], pad=name in failing) for name in names]
         cells += [life_text(c.life_hours, ""), *(cell(c) for cell in extra.values()),
                   verdict(c)]
         rows.append(tuple(cells))
@@ -218,12 +219,15 @@ def _load_text(load: CycleLoad, units: Iterable[Unit]) -> str:
     return text
 
 
-def _utilization_cell(check: Check) -> str:
-    """A utilization for a table; one over its limit is marked ✗ (and red, in colour)."""
+def _utilization_cell(check: Check, pad: bool = False) -> str:
+    """A utilization for a table; one over its limit is marked ✗ (and red, in colour).
+
+    `pad` leaves room for the mark in a column where another cell has it.
+    """
     if check.value is None:
-        return "-"
+        return "- " if pad else "-"
     text = utilization_text(check.utilization, check.ok)
-    return text if check.ok else f"[red]{text}✗[/red]"
+    return (text + (" " if pad else "")) if check.ok else f"[red]{text}✗[/red]"
 
 
 def size_table(result: SizingResult) -> FittedTable:

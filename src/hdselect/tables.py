@@ -63,7 +63,7 @@ class FittedTable:
             yield Text("")
         parts = self.layout(console, width)
         if parts is None:
-            yield from self._blocks()
+            yield from self._blocks(width)
         else:
             for i, part in enumerate(parts):
                 if i:
@@ -122,16 +122,24 @@ class FittedTable:
         options = console.options.update_width(max(width, 1000))
         return Measurement.get(console, options, self._table(indices)).maximum
 
-    def _blocks(self) -> Iterator[Text]:
-        """Each row as its key, then one ``header: value`` line per other column."""
+    def _blocks(self, width: int) -> Iterator[Text]:
+        """Each row as its key, then one ``header: value`` line per other column.
+
+        A value too long for its header's line goes on the next line, indented.
+        """
         headers = [" ".join(c.header.split()) for c in self.columns]
         for k, row in enumerate(self.rows):
-            style = self.styles[k] if k < len(self.styles) else None
+            style = self.styles[k] if k < len(self.styles) else ""
             if k:
                 yield Text("")
             yield Text.from_markup(row[0], style=style or "")
             for header, cell in zip(headers[1:], row[1:], strict=True):
-                yield Text.from_markup(f"  {header}: " + cell, style=style or "")
+                value = Text.from_markup(cell, style=style or "")
+                if len(header) + 4 + value.cell_len <= width:
+                    yield Text(f"  {header}: ", style=style or "") + value
+                else:
+                    yield Text(f"  {header}:", style=style or "")
+                    yield Text("    ", style=style or "") + value
 
 
 class _Trimmed(io.TextIOBase):
