@@ -100,7 +100,8 @@ td.u small{display:block;font-size:.75em;opacity:.9}
 td.fail{font-weight:bold;outline:2px solid #000;outline-offset:-2px;
 background-image:repeating-linear-gradient(45deg,rgba(0,0,0,.2) 0 2px,transparent 2px 7px)}
 tr.chosen td:first-child{font-weight:bold}
-.maps{display:flex;flex-wrap:wrap;gap:1em 2em}.maps>div{min-width:0;max-width:100%}.maps table{font-size:.8em}
+.maps{display:flex;flex-wrap:wrap;gap:1em 2em}.maps>div{min-width:0;max-width:100%}
+.maps table{font-size:.8em}
 .bar{display:flex;flex-wrap:wrap;align-items:center;gap:.6em;font-size:.85em;margin:.5em 0}
 .ramp{position:relative;width:320px;height:16px;border:1px solid #555;background:
 linear-gradient(to right,#f7fbff 0%,#9ecae1 25%,#2166ac 50%,#fdb863 50%,#e66101 75%,#7f3b08 100%)}
