@@ -19,7 +19,7 @@ from typing import Any
 
 FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
          "--disable-background-networking", "--disable-component-update", "--disable-sync",
-         "--hide-scrollbars", "--remote-debugging-pipe")
+         "--disable-dev-shm-usage", "--hide-scrollbars", "--remote-debugging-pipe")
 """The flags that run here: no sandbox as root, and no background traffic."""
 
 

@@ -117,7 +117,11 @@ def browser():
     if executable is None:
         pytest.skip("no Chromium here: `apt-get install chromium` (or set HDSELECT_CHROMIUM) "
                     "to render the report in a browser")
-    with Browser(executable) as opened:
+    try:
+        opened = Browser(executable)
+    except (OSError, RuntimeError, TimeoutError) as err:
+        pytest.skip(f"Chromium at {executable} did not start: {err}")
+    with opened:
         yield opened
 
 

@@ -205,7 +205,8 @@ def run_plan(args: argparse.Namespace) -> int:
     _keep_inputs([args.out, args.plot], _inputs(robot, motion))
     trajectory = plan(robot, motion)
     tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-    from hdselect.report import case_notes
+    from hdselect.report import console, plan_text
+    from hdselect.tables import Paragraphs
 
     joints = robot.sized_joints
     if args.plot:
@@ -214,14 +215,12 @@ def run_plan(args: argparse.Namespace) -> int:
         write_profiles_png(args.plot, trajectory, tau, joints,
                            title=f"{robot.path.name} running {motion.path.name}")
     write_trajectory_csv(args.out, trajectory, tau, joints)
-    count = len(trajectory.t)
-    print(f"{robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
-          f"{trajectory.duration:.3f} s, {count:,} sample{'s' if count != 1 else ''}")
-    for note in case_notes(robot, trajectory):
-        print(note)
-    print(f"wrote {args.out}: t, then q_, qd_, qdd_, tau_ of {', '.join(joints)} (SI)")
+    out = console()
+    out.print(plan_text(robot, motion, trajectory))
+    written = [f"wrote {args.out}: t, then q_, qd_, qdd_, tau_ of {', '.join(joints)} (SI)"]
     if args.plot:
-        print(f"wrote {args.plot}: speed and torque of each joint over the cycle")
+        written.append(f"wrote {args.plot}: speed and torque of each joint over the cycle")
+    out.print(Paragraphs(tuple(written)))
     return 0
 
 
@@ -276,12 +275,17 @@ def _write_outputs(args: argparse.Namespace, result) -> None:
 
 def _say_written(args: argparse.Namespace) -> None:
     """Name the files written, on standard error when standard output carries JSON."""
-    stream = sys.stderr if args.json == "-" else sys.stdout
+    from hdselect.tables import Paragraphs, console_for
+
+    written = []
     if args.report:
-        print(f"wrote {Path(args.report) / 'index.html'}: the report, figures embedded (its "
-              f"figures also as PNG files beside it)", file=stream)
+        written.append(f"wrote {Path(args.report) / 'index.html'}: the report, figures "
+                       "embedded (also as PNG files beside it)")
     if args.json and args.json != "-":
-        print(f"wrote {args.json}", file=stream)
+        written.append(f"wrote {args.json}")
+    if written:
+        console_for(sys.stderr if args.json == "-" else sys.stdout).print(
+            Paragraphs(tuple(written)))
 
 
 def _load_case(args: argparse.Namespace):

@@ -119,6 +119,8 @@ def png_bytes(fig: Figure, dpi: int = 130) -> bytes:
     return stream.getvalue()
 
 
+_SHOW_BINDING = 0.25
+"""From this utilization on, the binding rule's limit is always on the axis [-]."""
 # Okabe and Ito's colour-blind-safe palette
 _MOVING, _REST, _STOP, _MEAN, _ALLOWED = "#D55E00", "#0072B2", "#CC79A7", "#E69F00", "#009E73"
 
@@ -163,7 +165,10 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     if isinstance(mean, float) and mean > 0.0:
         speed_lines.append((mean / unit.ratio, _MEAN, ":",
                             f"mean input speed N_av {mean:,.0f} rpm"))
-    top = _limit_lines(speed_ax, speed_lines, top)
+    binding = chosen.checks[chosen.binding]
+    near = binding.utilization >= _SHOW_BINDING
+    top = _limit_lines(speed_ax, speed_lines, top,
+                       speed_lines[0][0] if near and chosen.binding == "speed" else None)
     speed_ax.set_ylim(0.0, top)
     speed_ax.set_ylabel("output speed [rpm]")
     right = speed_ax.secondary_yaxis("right", functions=(lambda x: x * unit.ratio,
@@ -204,7 +209,9 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
         kinds = {flag.kind for flag in unit.flags_for(field)}
         mark = " (stand-in)" if "fallback" in kinds else " (corrected)" if kinds else ""
         lines.append((value, color, style, f"{label} {value:.3g} N m{mark}"))
-    top = _limit_lines(torque_ax, lines, max(max(tops), 1e-9) * 1.15)
+    keep = {"peak": unit.repeated_torque, "momentary": unit.momentary_torque,
+            "static": unit.static_torque, "mean": chosen.checks["mean"].limit}.get(chosen.binding)
+    top = _limit_lines(torque_ax, lines, max(max(tops), 1e-9) * 1.15, keep if near else None)
     torque_ax.set_ylim(0.0, top)
     torque_ax.set_ylabel("output torque [N m]")
     torque_ax.set_xlabel("time [s]")
@@ -213,18 +220,19 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", bbox_to_anchor=(1.09, 1.0), fontsize=8, frameon=False)
     state = "selected" if joint.selected else "no unit fits; the strongest shown"
-    binding = chosen.checks[chosen.binding]
     fig.suptitle(f"{joint.name}: {unit.id} ({state}), binding {chosen.binding} "
                  f"{utilization_text(binding.utilization, binding.ok)}", fontsize=12)
     return fig
 
 
-def _limit_lines(ax, lines, top: float) -> float:
-    """Draw the lines near the data (within 1.6x of its top); list the others as off the axis.
+def _limit_lines(ax, lines, top: float, keep: float | None = None) -> float:
+    """Draw the lines near the data (within 1.6x of its top) and `keep`; list the others.
 
     Returns:
         The axis top that shows every line drawn.
     """
+    if keep is not None:
+        top = max(top, keep * 1.08)
     shown = [line for line in lines if line[0] <= 1.6 * top]
     top = max([top, *(value * 1.08 for value, *_ in shown)])
     for value, color, style, label in lines:

@@ -20,6 +20,7 @@ from hdselect.catalog import (
 )
 from hdselect.duty import DutyResult
 from hdselect.export import assumptions, mean_speed_note
+from hdselect.motion import Motion
 from hdselect.planning import Trajectory
 from hdselect.robot import Robot
 from hdselect.rules import (
@@ -32,7 +33,7 @@ from hdselect.rules import (
     MotorDemand,
 )
 from hdselect.sizing import JointSizing, SizingResult
-from hdselect.tables import Column, FittedTable, console_for
+from hdselect.tables import Column, FittedTable, Paragraphs, console_for
 
 
 def console() -> Console:
@@ -165,7 +166,8 @@ def duty_table(result: DutyResult) -> FittedTable:
     notes += _assumed_notes(result.candidates)
     return _candidates_table(
         f"{cycle.path.name}: {_load_text(result.load, units)}", result.candidates,
-        result.selected, extra={"L10 h": lambda c: life_text(c.l10_hours, "")}, notes=notes)
+        result.selected, extra={"L10 h": lambda c: life_text(c.l10_hours, "")}, notes=notes,
+        extra_group="life hours")
 
 
 def _assumed_notes(candidates: Iterable[Candidate]) -> list[str]:
@@ -183,7 +185,7 @@ def _assumed_notes(candidates: Iterable[Candidate]) -> list[str]:
 
 def _candidates_table(title: str, candidates: Iterable[Candidate], selected: Candidate | None,
                       *, extra: dict[str, Callable[[Candidate], str]],
-                      notes: Iterable[str] = ()) -> FittedTable:
+                      notes: Iterable[str] = (), extra_group: str = "extra") -> FittedTable:
     """Every candidate's utilization per rule, its L50 life, `extra` columns and verdict.
 
     A rule has a column when some candidate has a value for it. On a narrow terminal
@@ -195,7 +197,8 @@ def _candidates_table(title: str, candidates: Iterable[Candidate], selected: Can
              if any(name in c.checks and c.checks[name].value is not None for c in candidates)]
     columns = [Column("unit", "left"), *(Column(CHECK_LABELS[name], group=name) for name in names),
                Column("L50 h", group="life hours"),
-               *(Column(header, group="extra") for header in extra), Column("result", "left")]
+               *(Column(header, group=extra_group) for header in extra),
+               Column("result", "left")]
     failing = {name for name in names for c in candidates if not c.checks[name].ok}
     rows, styles = [], []
     for c in candidates:
@@ -298,6 +301,14 @@ def _size_title(result: SizingResult) -> str:
     count = len(result.trajectory.t)
     return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
             f"{count:,} sample{'s' if count != 1 else ''}")
+
+
+def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory) -> Paragraphs:
+    """What ``hdselect plan`` planned, and what a reader must know about it."""
+    count = len(trajectory.t)
+    return Paragraphs((f"{robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
+                       f"{trajectory.duration:.3f} s, {count:,} sample{'s' if count != 1 else ''}",
+                       *case_notes(robot, trajectory)))
 
 
 def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:

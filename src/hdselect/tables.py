@@ -11,6 +11,8 @@ lines. A cell is never truncated: a long value wraps only in that last form.
 from __future__ import annotations
 
 import io
+import re
+import textwrap
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import IO, cast
@@ -59,7 +61,7 @@ class FittedTable:
     def __rich_console__(self, console: Console, options: ConsoleOptions) -> RenderResult:
         width = options.max_width
         if self.title:
-            yield Text(self.title)
+            yield from wrapped(self.title, width, indent="")
             yield Text("")
         parts = self.layout(console, width)
         if parts is None:
@@ -72,7 +74,7 @@ class FittedTable:
         if self.notes:
             yield Text("")
         for note in self.notes:
-            yield Text(note)
+            yield from wrapped(note, width)
 
     def layout(self, console: Console, width: int) -> list[list[int]] | None:
         """The columns of each table for `width`, or None when even the first cannot fit.
@@ -142,6 +144,33 @@ class FittedTable:
                     yield Text("    ", style=style or "") + value
 
 
+_UNBROKEN = re.compile(r"(?<=\d) (?=N m|kg|rpm|h\b|s\b|lb|%)|(?<=\bN) (?=m\b)|(?<=kg) (?=cm)")
+"""Spaces a line never breaks at: inside ``N m`` and ``kg cm``, after a number's digits."""
+
+
+def wrapped(text: str, width: int, *, indent: str = "  ") -> Iterator[Text]:
+    """A paragraph as lines of at most `width`, continuation lines indented.
+
+    Never breaks a word, nor a number from its unit (``2.6 N m`` stays on one line).
+    """
+    glued = _UNBROKEN.sub("\u00a0", text)
+    lines = textwrap.wrap(glued, width=max(width, 20), subsequent_indent=indent,
+                          break_long_words=False, break_on_hyphens=False)
+    for line in lines or [""]:
+        yield Text(line.replace("\u00a0", " "))
+
+
+@dataclass(frozen=True)
+class Paragraphs:
+    """Lines of text, each wrapped to the width it is printed at (see `wrapped`)."""
+
+    lines: tuple[str, ...]
+
+    def __rich_console__(self, console: Console, options: ConsoleOptions) -> RenderResult:
+        for line in self.lines:
+            yield from wrapped(line, options.max_width)
+
+
 class _Trimmed(io.TextIOBase):
     """A text stream that drops the spaces rich pads each line with."""
 
@@ -178,8 +207,10 @@ def console_for(stream: IO[str]) -> Console:
 
     A terminal is printed to at its width (or ``COLUMNS``), in colour. Anything
     else (a pipe, a file) gets ``COLUMNS`` or 80 columns, no colour, and no
-    trailing spaces.
+    trailing spaces. A word longer than the width is never split.
     """
+    # soft_wrap: our renderables wrap their own text; a word longer than the width (a
+    # long path) is printed whole rather than folded.
     if stream.isatty():
-        return Console(file=stream, highlight=False)
-    return Console(file=cast(IO[str], _Trimmed(stream)), highlight=False)
+        return Console(file=stream, highlight=False, soft_wrap=True)
+    return Console(file=cast(IO[str], _Trimmed(stream)), highlight=False, soft_wrap=True)
