@@ -116,14 +116,17 @@ pre{background:#f4f4f4;padding:.5em;white-space:pre-wrap;word-break:break-all}
 @page{margin:12mm}
 @media print{body{max-width:none;margin:0;padding:0;font-size:9pt}.scroll{overflow:visible}
 table{font-size:7pt}td.u small{font-size:6pt}
-section.joint{break-before:page}figure,table{break-inside:avoid}a{color:inherit}}
+section.joint,#provenance{break-before:page}figure,table{break-inside:avoid}a{color:inherit}}
 """
 
 
 def _table(header: Sequence[str], rows: Sequence[Sequence[str]], *, left: int = 1,
-           classes: Sequence[str] = ()) -> str:
-    """A table of already-escaped cells; the first `left` columns align left."""
-    head = "".join(f'<th{" class=t" if i < left else ""}>{_unbroken(h)}</th>'
+           classes: Sequence[str] = (), text: Sequence[int] = ()) -> str:
+    """A table of already-escaped cells; the first `left` columns, and `text`, align left.
+
+    A cell given as a whole ``<td ...>`` element keeps its own attributes.
+    """
+    head = "".join(f'<th{" class=t" if i < left or i in text else ""}>{_unbroken(h)}</th>'
                    for i, h in enumerate(header))
     body = "".join(
         f'<tr{f" class={classes[k]}" if k < len(classes) and classes[k] else ""}>'
@@ -181,7 +184,7 @@ def _selection(result: SizingResult) -> str:
         f"{esc(joint.strongest.unit.id)}, fails {esc(verdict(joint.strongest))}. "
         f"{esc(time_scale_text(joint))}.</p>" for joint in result.joints if joint.selected is None)
     return (f"<section id=selection><h2>Selection</h2>"
-            f"{_table(header, rows, left=3)}{slow}"
+            f"{_table(header, rows, left=3, text=[9])}{slow}"
             "<p>Binding rule: the check closest to its limit (demand / limit). * the result "
             "depends on a catalog stand-in or correction: follow it to the note.</p></section>")
 
@@ -292,8 +295,9 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None) 
                   f"{esc((chosen or joint.strongest).unit.id)}'><figcaption>Speed (output and "
                   "input) and output torque over the cycle. Grey bands: at rest, input locked "
                   "(static limit); elsewhere moving (repeated-peak limit).</figcaption></figure>")
+    table = _table(header, rows, classes=classes, text=[len(header) - 1])
     return (f"<section class=joint id='joint-{slug(joint.name)}'><h2>Joint "
-            f"{esc(joint.name)}</h2><p>{esc(summary)}</p>{_table(header, rows, classes=classes)}"
+            f"{esc(joint.name)}</h2><p>{esc(summary)}</p>{table}"
             "<p>Each check: utilization, then demand / limit. ✗ over the limit.</p>"
             f"{figure}</section>")
 
