@@ -174,3 +174,22 @@ def test_a_phone_sized_window_scrolls_tables_not_the_page(report, browser, tmp_p
     finally:
         browser.send("Emulation.clearDeviceMetricsOverride", session=True)
     assert width <= inner
+
+
+def test_a_report_from_python_says_so_and_hashes_a_logged_trajectory(tmp_path):
+    import hdselect
+    from hdselect.figures import write_report
+    from hdselect.provenance import provenance
+    from test_sizing import REPO
+
+    result = hdselect.size(None, REPO / "trajectories" / "pan_tilt_logged.toml")
+    origin = provenance(result)
+    roles = {f.role: f for f in origin.files}
+    log = result.motion.samples.path
+    assert roles["samples"].sha256 == hashlib.sha256(log.read_bytes()).hexdigest()
+    assert roles["samples"].size == log.stat().st_size
+    assert origin.command is None and origin.waypoints == ((), ())
+    write_report(tmp_path / "r", result)
+    page = (tmp_path / "r" / "index.html").read_text()
+    assert "Made through the Python API" in page and "<pre id=command>" not in page
+    assert roles["samples"].sha256 in page and "samples" in page
