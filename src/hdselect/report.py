@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Callable, Iterable
 
-from rich import box
+import numpy as np
 from rich.console import Console
 from rich.markup import escape
-from rich.table import Table
 
 from hdselect.catalog import (
     KG_M2_PER_KG_CM2,
@@ -20,6 +20,9 @@ from hdselect.catalog import (
 )
 from hdselect.duty import DutyResult
 from hdselect.export import assumptions, mean_speed_note
+from hdselect.motion import Motion
+from hdselect.planning import Trajectory
+from hdselect.robot import Robot
 from hdselect.rules import (
     CHECK_LABELS,
     CHECKS,
@@ -30,16 +33,34 @@ from hdselect.rules import (
     MotorDemand,
 )
 from hdselect.sizing import JointSizing, SizingResult
+from hdselect.tables import Column, FittedTable, Paragraphs, console_for
 
 
 def console() -> Console:
-    """A console for tables: the terminal's width, or 100 columns when piped."""
-    return Console(width=None if sys.stdout.isatty() else 100, highlight=False)
+    """A console for standard output.
+
+    A terminal: its width (or ``COLUMNS``), in colour. Else ``COLUMNS`` or 80
+    columns, no colour, no trailing spaces.
+    """
+    return console_for(sys.stdout)
 
 
 def percent(utilization: float) -> str:
     """A utilization as a whole percentage."""
     return f"{utilization * 100:.0f}%"
+
+
+def utilization_text(utilization: float, ok: bool) -> str:
+    """A utilization as a percentage that never reads as its verdict's opposite.
+
+    Whole percent, except next to the limit: a passing 99.96 % reads ``99.9%`` and a
+    failing 100.04 % ``100.1%``, never ``100%`` either way.
+    """
+    text = percent(utilization)
+    if text != "100%":
+        return text
+    tenths = math.floor(utilization * 1000.0) if ok else math.ceil(utilization * 1000.0)
+    return f"{tenths / 10:.1f}%"
 
 
 def life_text(hours: float | None, suffix: str = " h") -> str:
@@ -54,13 +75,20 @@ def verdict(candidate: Candidate) -> str:
     if candidate.feasible:
         return "ok"
     worst = candidate.binding
-    return f"{CHECK_LABELS.get(worst, worst)} +{percent(candidate.checks[worst].utilization - 1)}"
+    return f"{CHECK_LABELS.get(worst, worst)} +{excess(candidate.checks[worst].utilization)}"
 
 
-def catalog_table(units: Iterable[Unit], imperial: bool = False) -> Table:
+def excess(utilization: float) -> str:
+    """How far a failing utilization exceeds its limit, e.g. ``19%`` (``0.4%`` below 1 %)."""
+    over = (utilization - 1.0) * 100.0
+    return f"{over:.1f}%" if over < 0.95 else f"{over:.0f}%"
+
+
+def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
     """The catalog as a table of the values used, flagged values marked with * or †.
 
-    Imperial figures are the SI values used, converted back.
+    Imperial figures, and the notes under the table, are the SI values used,
+    converted back.
     """
     units = list(units)
     if imperial:
@@ -71,18 +99,18 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> Table:
         torque, torque_unit = 1.0, "N m"
         inertia, inertia_unit = 1.0 / KG_M2_PER_KG_CM2, "kg cm²"
         mass, mass_unit = 1.0, "kg"
-    table = Table(title=f"Gearhead catalog: output torques in {torque_unit}, max input speed "
-                        f"in rpm, input inertia in {inertia_unit}, mass in {mass_unit}",
-                  title_justify="left")
+    title = (f"Gearhead catalog: output torques in {torque_unit}, max input speed in rpm, input "
+             f"inertia in {inertia_unit}, mass in {mass_unit}")
     average = any(u.average_torque is not None for u in units)
     average_speed = any(u.max_average_input_speed is not None for u in units)
     speeds = {u.rules.rated_input_speed for u in units}
-    rated = f"rated @{speeds.pop():g}" if len(speeds) == 1 else "rated"
-    headers = ["unit", rated, "repeated", "momentary", "static", "max input", "input inertia",
-               "mass", *(["average"] if average else []),
-               *(["max avg input"] if average_speed else [])]
-    for header in headers:
-        table.add_column(header, justify="left" if header == "unit" else "right")
+    rated = f"rated\n@{speeds.pop():g}" if len(speeds) == 1 else "rated"
+    columns = [Column("unit", "left"), *(Column(h, group="torque") for h in (
+        rated, "repeated", "momentary", "static")), Column("max\ninput", group="speed"),
+        Column("input\ninertia", group="inertia"), Column("mass", group="mass"),
+        *([Column("average", group="average")] if average else []),
+        *([Column("max avg\ninput", group="average speed")] if average_speed else [])]
+    rows = []
     for u in units:
         marks = {f.field: "*" if f.kind == "fallback" else "†" for f in u.flags}
 
@@ -90,23 +118,22 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> Table:
                  marks: dict[str, str] = marks) -> str:
             return "-" if value is None else f"{value * scale:.{digits}g}{marks.get(field, '')}"
 
-        cells = [u.id, cell("rated_torque", u.rated_torque, torque),
+        cells = [escape(u.id), cell("rated_torque", u.rated_torque, torque),
                  cell("repeated_torque", u.repeated_torque, torque),
                  cell("momentary_torque", u.momentary_torque, torque),
                  cell("static_torque", u.static_torque, torque), f"{u.max_input_speed:.0f}",
                  cell("input_inertia", u.input_inertia, inertia, 3), cell("mass", u.mass, mass, 2)]
         cells += [cell("average_torque", u.average_torque, torque)] if average else []
         cells += [cell("", u.max_average_input_speed, 1.0, 4)] if average_speed else []
-        table.add_row(*cells)
-    notes = [f"{u.id}: {f.note}" for u in units for f in u.flags]
+        rows.append(tuple(cells))
+    notes = [f"{u.id}: {f.text(imperial)}" for u in units for f in u.flags]
     rules = {u.rules: sorted({v.series for v in units if v.rules == u.rules}) for u in units}
     if len(rules) > 1:  # one set of rules needs no listing; several say which is whose
         notes += [f"{', '.join(series)}: {_rules_text(r)}" for r, series in rules.items()]
     if notes:
-        table.caption = escape("* stand-in for a blank in the source   † the source's two "
-                               "columns disagree\n" + "\n".join(notes))
-        table.caption_justify = "left"
-    return table
+        notes.insert(0, "* stand-in for a blank in the source   † the source's two columns "
+                        "disagree")
+    return FittedTable(title, tuple(columns), tuple(rows), notes=tuple(notes))
 
 
 def _rules_text(rules: SeriesRules) -> str:
@@ -118,16 +145,13 @@ def _rules_text(rules: SeriesRules) -> str:
     return text if rules.flag is None else f"{text}; assumed: the catalog file states no [rules]"
 
 
-def duty_table(result: DutyResult) -> Table:
+def duty_table(result: DutyResult) -> FittedTable:
     """One row per unit: utilization of each rule, life, verdict; the selection marked."""
     cycle = result.cycle
     units = [c.unit for c in result.candidates]
-    table = _candidates_table(
-        f"{cycle.path.name}: {_load_text(result.load, units)}", result.candidates,
-        result.selected, extra={"L10 h": lambda c: life_text(c.l10_hours, "")})
     average = any(c.checks["average_speed"].value is not None for c in result.candidates)
-    notes = [f"▶ selected. utilization = demand / limit; mom. = momentary (T4); "
-             f"{'avg speed = mean input speed; ' if average else ''}L10 = L50 / 5; "
+    notes = [f"▶ selected. utilization = demand / limit, ✗ over the limit; mom. = momentary "
+             f"(T4); {'avg speed = mean input speed; ' if average else ''}L10 = L50 / 5; "
              f"{mean_speed_note(units)}."]
     if cycle.life_hours is not None and cycle.life_basis != "L50":
         notes.append(f"life: the required {cycle.life_hours:,.0f} h {cycle.life_basis} over each "
@@ -140,9 +164,10 @@ def duty_table(result: DutyResult) -> Table:
                      "the one given (10^4 / (2 n t), n its input speed in rev/s, t its "
                      f"duration{f'; at most {cap:,.0f} by its rules' if events >= cap else ''}).")
     notes += _assumed_notes(result.candidates)
-    table.caption = escape("\n".join(notes))
-    table.caption_justify = "left"
-    return table
+    return _candidates_table(
+        f"{cycle.path.name}: {_load_text(result.load, units)}", result.candidates,
+        result.selected, extra={"L10 h": lambda c: life_text(c.l10_hours, "")}, notes=notes,
+        extra_group="life hours")
 
 
 def _assumed_notes(candidates: Iterable[Candidate]) -> list[str]:
@@ -159,27 +184,32 @@ def _assumed_notes(candidates: Iterable[Candidate]) -> list[str]:
 
 
 def _candidates_table(title: str, candidates: Iterable[Candidate], selected: Candidate | None,
-                      *, extra: dict[str, Callable[[Candidate], str]]) -> Table:
+                      *, extra: dict[str, Callable[[Candidate], str]],
+                      notes: Iterable[str] = (), extra_group: str = "extra") -> FittedTable:
     """Every candidate's utilization per rule, its L50 life, `extra` columns and verdict.
 
-    A rule has a column when some candidate has a value for it.
+    A rule has a column when some candidate has a value for it. On a narrow terminal
+    the `extra` columns, then the life and the rules, move below; the unit and its
+    verdict stay.
     """
     candidates = list(candidates)
     names = [name for name in CHECKS
              if any(name in c.checks and c.checks[name].value is not None for c in candidates)]
-    table = Table(title=title, title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
-                  collapse_padding=True)
-    columns = ["unit", *(CHECK_LABELS[name] for name in names), "L50 h", *extra, "result"]
-    for header in columns:
-        table.add_column(header, justify="left" if header in ("unit", "result") else "right",
-                         no_wrap=True)
+    columns = [Column("unit", "left"), *(Column(CHECK_LABELS[name], group=name) for name in names),
+               Column("L50 h", group="life hours"),
+               *(Column(header, group=extra_group) for header in extra),
+               Column("result", "left")]
+    failing = {name for name in names for c in candidates if not c.checks[name].ok}
+    rows, styles = [], []
     for c in candidates:
         chosen = c is selected
-        cells = [("▶" if chosen else " ") + c.unit.id]
-        cells += [_utilization_cell(c.checks[name]) for name in names]
-        cells += [life_text(c.life_hours, ""), *(cell(c) for cell in extra.values()), verdict(c)]
-        table.add_row(*cells, style="bold" if chosen else None)
-    return table
+        cells = [("▶" if chosen else " ") + escape(c.unit.id)]
+        cells += [_utilization_cell(c.checks[name], pad=name in failing) for name in names]
+        cells += [life_text(c.life_hours, ""), *(cell(c) for cell in extra.values()),
+                  verdict(c)]
+        rows.append(tuple(cells))
+        styles.append("bold" if chosen else None)
+    return FittedTable(title, tuple(columns), tuple(rows), tuple(styles), tuple(notes))
 
 
 def _load_text(load: CycleLoad, units: Iterable[Unit]) -> str:
@@ -192,54 +222,60 @@ def _load_text(load: CycleLoad, units: Iterable[Unit]) -> str:
     return text
 
 
-def _utilization_cell(check: Check) -> str:
+def _utilization_cell(check: Check, pad: bool = False) -> str:
+    """A utilization for a table; one over its limit is marked ✗ (and red, in colour).
+
+    `pad` leaves room for the mark in a column where another cell has it.
+    """
     if check.value is None:
-        return "-"
-    text = percent(check.utilization)
-    return text if check.ok else f"[red]{text}[/red]"
+        return "- " if pad else "-"
+    text = utilization_text(check.utilization, check.ok)
+    return (text + (" " if pad else "")) if check.ok else f"[red]{text}✗[/red]"
 
 
-def size_table(result: SizingResult) -> Table:
-    """One row per joint: the unit chosen, why, its life and what the motor must do."""
-    table = Table(title=_size_title(result), title_justify="left", box=box.SIMPLE_HEAD,
-                  pad_edge=False)
-    for header in ("joint", "unit", "binding", "L50 life", "motor\npeak N m",
-                   "motor\nrms N m", "motor\nmax rpm", "notes"):
-        table.add_column(header, no_wrap=header != "notes",
-                         justify="left" if header in ("joint", "unit", "binding", "notes")
-                         else "right")
+def size_table(result: SizingResult) -> FittedTable:
+    """One row per joint: the unit chosen, why, its life and what the motor must do.
+
+    On a narrow terminal the motor figures and the notes move into a second table.
+    """
+    columns = (Column("joint", "left"), Column("unit", "left"), Column("binding", "left"),
+               Column("L50 life"), Column("motor\npeak N m", group="motor"),
+               Column("motor\nrms N m", group="motor"), Column("motor\nmax rpm", group="motor"),
+               Column("notes", "left", group="notes"))
+    rows = []
     for joint in result.joints:
         chosen = joint.selected
         notes = ["gravity"] if joint.gravity_loaded else []
+        if joint.load.max_speed == 0.0:
+            notes.append("still")
         if chosen is None:
             strongest = joint.strongest
-            table.add_row(joint.name, "[red]none[/red]", f"[red]{verdict(strongest)}[/red]",
-                          "", "", "", "", ", ".join(notes))
+            rows.append((escape(joint.name), "[red]none[/red]",
+                         f"[red]{verdict(strongest)}[/red]", "-", "-", "-", "-",
+                         ", ".join(notes)))
             continue
         motor = _motor(chosen)
         check = chosen.checks[chosen.binding]
         mark = "*" if chosen.flags else ""
-        table.add_row(
-            joint.name, chosen.unit.id + mark, f"{chosen.binding} {percent(check.utilization)}",
-            life_text(chosen.life_hours), f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}",
-            f"{motor.max_speed:,.0f}", ", ".join(notes))
-    table.caption = escape("\n".join(_size_notes(result)))
-    table.caption_justify = "left"
-    return table
+        rows.append((
+            escape(joint.name), escape(chosen.unit.id) + mark,
+            f"{chosen.binding} {utilization_text(check.utilization, True)}",
+            life_text(chosen.life_hours),
+            f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
+            ", ".join(notes)))
+    return FittedTable(_size_title(result), columns, tuple(rows), notes=tuple(_size_notes(result)))
 
 
-def compare_table(result: SizingResult, joint: JointSizing) -> Table:
+def compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:
     """One row per unit for one joint: every rule's utilization, life and motor demand."""
-    table = _candidates_table(
+    return _candidates_table(
         f"Joint {joint.name}: {_load_text(joint.load, result.units)}, carries "
         f"{joint.carried_mass:.2f} kg of gearheads", joint.candidates, joint.selected,
         extra={"motor\npeak N m": lambda c: f"{_motor(c).peak_torque:.3g}",
                "motor\nrms N m": lambda c: f"{_motor(c).rms_torque:.3g}",
-               "motor\nmax rpm": lambda c: f"{_motor(c).max_speed:,.0f}"})
-    table.caption = ("▶ selected. utilization = demand / limit; mom. = momentary (T4): the "
-                     "worse of an emergency stop and a crash.")
-    table.caption_justify = "left"
-    return table
+               "motor\nmax rpm": lambda c: f"{_motor(c).max_speed:,.0f}"},
+        notes=["▶ selected. utilization = demand / limit, ✗ over the limit; mom. = momentary "
+               "(T4): the worse of an emergency stop and a crash."])
 
 
 def _motor(candidate: Candidate) -> MotorDemand:
@@ -262,12 +298,65 @@ def time_scale_text(joint: JointSizing) -> str:
 
 
 def _size_title(result: SizingResult) -> str:
+    count = len(result.trajectory.t)
     return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
-            f"{len(result.trajectory.t):,} samples")
+            f"{count:,} sample{'s' if count != 1 else ''}")
+
+
+def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory) -> Paragraphs:
+    """What ``hdselect plan`` planned, and what a reader must know about it."""
+    count = len(trajectory.t)
+    return Paragraphs((f"{robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
+                       f"{trajectory.duration:.3f} s, {count:,} sample{'s' if count != 1 else ''}",
+                       *case_notes(robot, trajectory)))
+
+
+def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
+    """What a reader must know about the case before trusting a result.
+
+    The joints not sized, a payload frame chosen by default, joints that never
+    move, and a motion of zero length.
+
+    Args:
+        robot: The robot as planned and sized.
+        trajectory: Its trajectory.
+
+    Returns:
+        One sentence per fact; empty when there is nothing to say.
+    """
+    notes = []
+    skipped = [(name, revolute) for name, revolute in zip(robot.joint_names, robot.revolute,
+                                                          strict=True)
+               if name not in robot.sized_joints]
+    prismatic = [name for name, revolute in skipped if not revolute]
+    left_out = [name for name, revolute in skipped if revolute]
+    if prismatic:
+        notes.append(f"not sized: {', '.join(prismatic)} (prismatic; these gearheads are "
+                     "rotary). The dynamics include it.")
+    if left_out:
+        notes.append(f"not sized: {', '.join(left_out)} (not among the joints asked for).")
+    payload = robot.payload
+    if payload is not None and payload.frame is None:
+        notes.append(f"payload: {payload.mass:g} kg on {robot.payload_frame}, the last link, "
+                     "since no frame was given.")
+    if trajectory.duration <= 0.0:
+        notes.append("The motion has zero length (its waypoints are one pose and it has no "
+                     "dwell): only holding that pose is checked.")
+    still = [name for name in robot.sized_joints
+             if not np.any(trajectory.qd[:, robot.joint_index(name)])]
+    if still and len(still) == len(robot.sized_joints):
+        notes.append("still: the motion moves no joint, so only holding the pose (static) and "
+                     "an emergency stop are checked; mean torque, speed and life do not apply.")
+    elif still:
+        notes.append(f"still: {', '.join(still)} {'does' if len(still) == 1 else 'do'} not move "
+                     "in this motion, so only holding (static) and an emergency stop are checked "
+                     "there; mean torque, speed and life do not apply.")
+    return notes
 
 
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
+    notes += case_notes(result.robot, result.trajectory)
     for joint in result.joints:
         if joint.selected is None:
             strongest = joint.strongest
