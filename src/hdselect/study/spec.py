@@ -14,7 +14,7 @@ import itertools
 import json
 import tomllib
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -78,23 +78,15 @@ class Case:
 
         The study's mass replaces the file's; the study's shape (centre of mass, inertia
         about it, frame), else the file's, else a point mass at the last link, goes with it.
-
-        Raises:
-            InputError: The study gives a shape but no mass and the motion file no payload.
         """
-        if self.payload is None and self.payload_shape is None:
+        if self.payload is None:
             return file_payload
-        mass = self.payload if self.payload is not None else (
-            file_payload.mass if file_payload is not None else None)
-        if mass is None:
-            raise InputError("the study gives a payload shape but no mass, and the motion "
-                             "file no payload", path=self.motion, field="payload.mass")
         if self.payload_shape is not None:
             com, inertia, frame = self.payload_shape
-            return Payload(mass, com, inertia, frame)  # type: ignore[arg-type]
+            return Payload(self.payload, com, inertia, frame)  # type: ignore[arg-type]
         if file_payload is not None:
-            return Payload(mass, file_payload.com, file_payload.inertia, file_payload.frame)
-        return Payload(mass)
+            return replace(file_payload, mass=self.payload)
+        return Payload(self.payload)
 
 
 @dataclass(frozen=True)
