@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Callable, Iterable
+from typing import Any
 
 from rich import box
 from rich.console import Console
@@ -284,3 +285,36 @@ def _size_notes(result: SizingResult) -> list[str]:
                      "backdrives when the input is free: where a falling load could injure, a "
                      "fail-safe device on the output is needed.")
     return notes
+
+
+def study_tables(pivots: Iterable[Any], constant: dict[str, str]) -> list[Table | str]:
+    """The unit selected per joint against the first two varied parameters of a study.
+
+    Args:
+        pivots: `hdselect.study.store.Pivot` of each joint whose unit varies.
+        constant: Joint -> unit for the joints whose unit is the same in every case.
+
+    Returns:
+        A table per pivot, then a line for the joints that never change.
+    """
+    out: list[Table | str] = []
+    for pivot in pivots:
+        across = f", {pivot.columns} across" if pivot.columns else ""
+        table = Table(title=f"{pivot.joint}: unit selected ({pivot.rows} down{across})",
+                      box=box.SIMPLE_HEAD, title_justify="left", pad_edge=False)
+        table.add_column(pivot.rows, justify="right")
+        for value in pivot.column_values:
+            table.add_column(value or "unit", justify="left")
+        for row in pivot.row_values:
+            table.add_row(row, *("/".join(_short(u) for u in pivot.cells.get((row, c), [])) or "-"
+                                 for c in pivot.column_values))
+        out.append(table)
+    if constant:
+        out.append("the same unit in every case: " + ", ".join(
+            f"{joint} {unit}" for joint, unit in constant.items()))
+    return out
+
+
+def _short(unit: str) -> str:
+    """PSA-14-100 -> 14-100: a series prefix common to a catalog adds nothing in a pivot."""
+    return unit.split("-", 1)[1] if unit.startswith("PSA-") else unit

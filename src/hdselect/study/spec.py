@@ -19,7 +19,6 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from hdselect import __version__
 from hdselect.catalog import BUILTIN
 from hdselect.errors import InputError
 from hdselect.options import Options
@@ -248,6 +247,8 @@ def _canonical(value: Any) -> str:
 
 def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
     """Resolve one combination's paths and payload and key it."""
+    from hdselect import __version__  # the package is still loading when this module is
+
     folder = path.parent
     motion = folder / values["motion"]
     robot = folder / values["robot"] if "robot" in values else None

@@ -19,7 +19,7 @@ import os
 import tempfile
 import time
 from collections.abc import Iterable
-from dataclasses import asdict
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -199,3 +199,64 @@ def csv_text(study: Study, records: dict[str, dict[str, Any]]) -> str:
     writer.writeheader()
     writer.writerows({k: cell(v) for k, v in row.items()} for row in table(study, records))
     return buffer.getvalue()
+
+
+@dataclass(frozen=True)
+class Pivot:
+    """The unit selected for one joint against the first two varied parameters.
+
+    Attributes:
+        joint: The joint.
+        rows: The parameter down the side (the first varied one).
+        columns: The parameter across (the second varied one), or None.
+        row_values: Its values, in study order (as CSV cells).
+        column_values: Its values, in study order (as CSV cells); ``[""]`` when None.
+        cells: (row value, column value) -> the units selected there, in catalog order of
+            first appearance: ``none`` where no unit fits, ``failed`` for a failed case.
+    """
+
+    joint: str
+    rows: str
+    columns: str | None
+    row_values: list[str]
+    column_values: list[str]
+    cells: dict[tuple[str, str], list[str]]
+
+
+def pivots(study: Study, records: dict[str, dict[str, Any]],
+           compute: str = "size") -> tuple[list[Pivot], dict[str, str]]:
+    """Pivot tables of the selected units, and the joints whose unit never changes.
+
+    Returns:
+        One pivot per joint whose selection varies, and joint -> unit for the others.
+    """
+    first = study.varied[0] if study.varied else "case"
+    second = study.varied[1] if len(study.varied) > 1 else None
+    done = [(case, records[case.key]) for case in study.cases
+            if case.compute == compute and case.key in records]
+    by_joint: dict[str, dict[tuple[str, str], list[str]]] = {}
+    row_values: list[str] = []
+    column_values: list[str] = []
+    failed: list[tuple[str, str]] = []
+    for case, record in done:
+        row = cell(case.index if first == "case" else case.values.get(first))
+        column = "" if second is None else cell(case.values.get(second))
+        row_values += [row] if row not in row_values else []
+        column_values += [column] if column not in column_values else []
+        if not record["ok"]:
+            failed.append((row, column))
+            continue
+        for joint in record["result"]["joints"]:
+            cells = by_joint.setdefault(joint["name"], {}).setdefault((row, column), [])
+            unit = joint["unit"] or "none"
+            cells += [unit] if unit not in cells else []
+    out, constant = [], {}
+    for joint, cells in by_joint.items():
+        for place in failed:
+            cells.setdefault(place, []).append("failed")
+        units = {u for values in cells.values() for u in values}
+        if len(units) == 1:
+            constant[joint] = units.pop()
+        else:
+            out.append(Pivot(joint, first, second, row_values, column_values, cells))
+    return out, constant
