@@ -390,11 +390,19 @@ def _exit(process: Any) -> str:
 # --- Dask ------------------------------------------------------------------------------
 
 
+def _local_cluster(workers: int) -> Any:
+    """A Dask LocalCluster on this machine: worker processes of one thread, on 127.0.0.1 only."""
+    from distributed import LocalCluster
+
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                        host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR)
+
+
 def _run_dask(tasks: Sequence[Task], scheduler: str, workers: int,
               keep: Callable[[Outcome], None]) -> str:
     try:
         import dask
-        from distributed import Client, LocalCluster, as_completed
+        from distributed import Client, as_completed
     except ImportError as err:
         raise InputError(f"needs Dask's distributed scheduler: {DASK_HINT}",
                          field="--scheduler") from err
@@ -402,9 +410,7 @@ def _run_dask(tasks: Sequence[Task], scheduler: str, workers: int,
     with dask.config.set({"distributed.scheduler.allowed-failures": 1,
                           "distributed.worker.daemon": False}):
         if scheduler == "local":
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   host="127.0.0.1", dashboard_address=None,
-                                   silence_logs=logging.ERROR)
+            cluster = _local_cluster(workers)
             where = f"a Dask LocalCluster of {workers} worker{'s' if workers > 1 else ''}"
         elif scheduler.startswith(("tcp://", "tls://")):
             where = f"the Dask scheduler at {scheduler}"

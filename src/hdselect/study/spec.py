@@ -206,7 +206,7 @@ def _value(key: str, value: Any, path: Path, field: str) -> Any:
             payload = _payload(value, path, field)
             return {"mass": payload.mass, "com": list(payload.com),
                     "inertia": [list(row) for row in payload.inertia], "frame": payload.frame}
-        return _payload({"mass": value}, path, field).mass
+        return _payload({"mass": value}, path, field, mass_only=True).mass
     if key == "time_scale":
         return as_number(value, path, field, positive=True)
     if key == "mounting":
@@ -232,12 +232,12 @@ def _value(key: str, value: Any, path: Path, field: str) -> Any:
     return value
 
 
-def _payload(table: dict[str, Any], path: Path, field: str) -> Payload:
+def _payload(table: dict[str, Any], path: Path, field: str, mass_only: bool = False) -> Payload:
     try:
         return Payload(table["mass"], table.get("com", (0.0, 0.0, 0.0)),
                        table.get("inertia", ((0.0,) * 3,) * 3), table.get("frame"))
     except InputError as err:
-        where = field + str(err.field).removeprefix("payload")
+        where = field if mass_only else field + str(err.field).removeprefix("payload")
         raise InputError(err.reason, path=path, field=where) from err
 
 
