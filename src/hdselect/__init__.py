@@ -10,8 +10,8 @@ from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
 from hdselect.sizing import SizingResult, size, size_trajectory
-from hdselect.summary import Summary, summarize
 from hdselect.study import study
+from hdselect.summary import Summary, summarize
 
 __version__ = "0.1.0"
 

@@ -261,7 +261,8 @@ def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: s
     done = [row for row in rows if row["status"] == "ok"]
     xs = list(dict.fromkeys(_plain(row.get(first)) for row in done))
     numeric = all(isinstance(x, int | float) for x in xs)
-    position = {x: (float(x) if numeric else float(k)) for k, x in enumerate(xs)}
+    position = {x: (float(x) if isinstance(x, int | float) else float(k))  # type: ignore[misc]
+                for k, x in enumerate(xs)}
     lines = list(dict.fromkeys(_plain(row.get(second)) for row in done)) if second else [None]
     units = sorted({row["unit"] for row in done if row["unit"]}, key=_natural)
     level = {unit: k for k, unit in enumerate(["none", *units])}

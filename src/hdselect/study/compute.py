@@ -142,7 +142,7 @@ def case_options(case: Case, motion: Motion) -> Options:
 
 
 def scaled(trajectory: Trajectory, time_scale: float) -> Trajectory:
-    """The same path run s times slower [-]: times and dt times s, speeds / s, accelerations / s^2."""
+    """The same path run s times slower [-]: times times s, speeds / s, accelerations / s^2."""
     if time_scale == 1.0:
         return trajectory
     y = 1.0 / time_scale

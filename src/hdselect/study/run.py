@@ -303,7 +303,7 @@ class _Worker:
 
 
 def _context() -> Any:
-    """forkserver where there is one (safe with threads, quick to start), else spawn."""
+    """Forkserver where there is one (safe with threads, quick to start), else spawn."""
     method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
     context = multiprocessing.get_context(method)
     if method == "forkserver":

@@ -158,7 +158,7 @@ def load_study(path: str | Path, computations: Sequence[str] | None = None) -> S
     keys = tuple(k for k in CASE_KEYS if k in order)
     varied = tuple(dict.fromkeys(k for k in order if len({_canonical(r.get(k))
                                                           for r in rows}) > 1))
-    cases = []
+    cases: list[Case] = []
     for values in rows:
         if "motion" not in values:
             raise InputError("every case needs a motion file: set it in [base], [grid] or "

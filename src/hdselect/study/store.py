@@ -251,12 +251,12 @@ def pivots(study: Study, records: dict[str, dict[str, Any]],
             unit = joint["unit"] or "none"
             cells += [unit] if unit not in cells else []
     out, constant = [], {}
-    for joint, cells in by_joint.items():
+    for joint, grid in by_joint.items():
         for place in failed:
-            cells.setdefault(place, []).append("failed")
-        units = {u for values in cells.values() for u in values}
+            grid.setdefault(place, []).append("failed")
+        units = {u for values in grid.values() for u in values}
         if len(units) == 1:
             constant[joint] = units.pop()
         else:
-            out.append(Pivot(joint, first, second, row_values, column_values, cells))
+            out.append(Pivot(joint, first, second, row_values, column_values, grid))
     return out, constant
