@@ -276,10 +276,11 @@ def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: s
                     and (second is None or _plain(row.get(second)) == value)]
             x = [position[_plain(row.get(first))] for row in mine]
             label = None if second is None or r else f"{second} {value}"
-            unit_ax.plot(x, [level[row["unit"] or "none"] for row in mine], "o-", ms=3,
+            style = "o-" if len(set(x)) == len(x) else "o"  # a third parameter: points only
+            unit_ax.plot(x, [level[row["unit"] or "none"] for row in mine], style, ms=3,
                          lw=1, color=color, label=label)
             life = [row["life_l50_h"] if row["unit"] else np.nan for row in mine]
-            life_ax.plot(x, [np.nan if v is None else v for v in life], "o-", ms=3, lw=1,
+            life_ax.plot(x, [np.nan if v is None else v for v in life], style, ms=3, lw=1,
                          color=color)
         unit_ax.set_yticks(range(len(level)), list(level))
         unit_ax.set_ylim(-0.5, len(level) - 0.5)
