@@ -16,6 +16,7 @@ import math
 import multiprocessing
 import os
 import signal
+import sys
 import tempfile
 import time
 from collections import deque
@@ -279,7 +280,12 @@ class _Worker:
     def __init__(self, context: Any) -> None:
         self.connection, child = context.Pipe()
         self.process = context.Process(target=_worker_main, args=(child,), daemon=True)
-        self.process.start()
+        here = str(Path(__file__).resolve().parents[2])  # the hdselect this process runs
+        sys.path.insert(0, here)  # first on the worker's path, whatever the working folder
+        try:
+            self.process.start()
+        finally:
+            sys.path.remove(here)
         child.close()
         self.task: Task | None = None
         self.received: set[int] = set()
@@ -303,12 +309,8 @@ class _Worker:
 
 
 def _context() -> Any:
-    """Forkserver where there is one (safe with threads, quick to start), else spawn."""
-    method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-    context = multiprocessing.get_context(method)
-    if method == "forkserver":
-        context.set_forkserver_preload(["hdselect.study.run"])
-    return context
+    """Spawned workers: safe with threads (OpenMP, rich), and they import hdselect afresh."""
+    return multiprocessing.get_context("spawn")
 
 
 def _run_local(tasks: Sequence[Task], workers: int, keep: Callable[[Outcome], None]) -> None:
