@@ -10,6 +10,7 @@ from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
 from hdselect.sizing import SizingResult, size, size_trajectory
+from hdselect.study import study
 from hdselect.summary import Summary, summarize
 
 __version__ = "0.1.0"
@@ -36,6 +37,7 @@ __all__ = [
     "size",
     "size_duty",
     "size_trajectory",
+    "study",
     "summarize",
 ]
 

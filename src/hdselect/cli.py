@@ -101,6 +101,27 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--report", metavar="DIR",
                          help="write an HTML report of the joints shown into DIR")
     compare.set_defaults(run=run_compare)
+
+    study = commands.add_parser("study", help="run every case of a design study (TOML)")
+    study.add_argument("study", metavar="STUDY", help="study file (TOML)")
+    study.add_argument("--out", metavar="CSV", required=True,
+                       help="rows, one per case and joint; a JSON Lines record of each case "
+                            "is kept beside it (same name, .jsonl); cases already there are "
+                            "skipped")
+    study.add_argument("--workers", type=int, metavar="N",
+                       help="worker processes (default: the cores here; 0: in this process); "
+                            "with --scheduler local, Dask workers")
+    study.add_argument("--scheduler", metavar="ADDRESS",
+                       help="'local': a Dask LocalCluster on this machine; tcp://HOST:PORT: a "
+                            "running Dask scheduler (needs pip install 'hdselect[dask]')")
+    study.add_argument("--no-grouping", action="store_true",
+                       help="size every case on its own, not from its group's shared basis")
+    study.add_argument("--retry-failed", action="store_true",
+                       help="run again the cases recorded as failed")
+    study.add_argument("--plot", metavar="PNG",
+                       help="draw the unit selected and its life per joint against the first "
+                            "varied parameters")
+    study.set_defaults(run=run_study)
     return parser
 
 
@@ -286,6 +307,83 @@ def _say_written(args: argparse.Namespace) -> None:
     if written:
         console_for(sys.stderr if args.json == "-" else sys.stdout).print(
             Paragraphs(tuple(written)))
+
+
+def run_study(args: argparse.Namespace) -> int:
+    """``hdselect study``: every case of a study, in parallel, kept as it completes."""
+    import time
+
+    from hdselect.report import console, study_tables
+    from hdselect.study.run import run_study as run
+    from hdselect.study.spec import load_study
+    from hdselect.study.store import journal_path, pivots, table
+
+    study = load_study(args.study)
+    _keep_inputs([args.out, journal_path(args.out), args.plot], [args.study])
+    started = time.perf_counter()
+    with _progress(study.title) as progress:
+        done = run(study, args.out, workers=args.workers, scheduler=args.scheduler,
+                   grouping=not args.no_grouping, retry_failed=args.retry_failed,
+                   progress=progress)
+    out = console()
+    methods = ", ".join(f"{count} {name}" for name, count in sorted(done.methods.items()))
+    out.print(f"{study.title}: {len(study.cases)} cases: {done.ran} run now"
+              + (f" ({methods})" if methods else "")
+              + f", {done.skipped} already done, {done.failed} failed")
+    rows = table(study, done.records)
+    if "size" in study.compute:
+        tables, constant = pivots(study, done.records)
+        for item in study_tables(tables, constant):
+            out.print(item)
+    out.print(f"rows: {args.out}; records: {journal_path(args.out)}")
+    if args.plot and "size" in study.compute:
+        from hdselect.figures import write_study_png
+
+        joints = list(dict.fromkeys(row["joint"] for row in rows if row.get("joint")))
+        first = study.varied[0] if study.varied else "case"
+        second = study.varied[1] if len(study.varied) > 1 else None
+        write_study_png(args.plot, study.title, [r for r in rows if r["compute"] == "size"],
+                        first, second, joints)
+    if done.ran:
+        print(f"hdselect: {done.ran} cases in {time.perf_counter() - started:.1f} s on "
+              f"{done.executor}", file=sys.stderr)
+    return 3 if done.failed else 0
+
+
+class _progress:
+    """A progress bar with ETA on a terminal (standard error); nothing when piped."""
+
+    def __init__(self, title: str) -> None:
+        self.title = title
+        self.bar = None
+
+    def __enter__(self):
+        if not sys.stderr.isatty():
+            return None
+        from rich.console import Console
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+
+        bar = self.bar = Progress(
+            TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+            TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+            console=Console(stderr=True), transient=True)
+        self.bar.start()
+        task = self.bar.add_task(self.title, total=None)
+
+        def update(done: int, total: int, record: dict) -> None:
+            bar.update(task, completed=done, total=total)
+        return update
+
+    def __exit__(self, *exc: object) -> None:
+        if self.bar is not None:
+            self.bar.stop()
 
 
 def _load_case(args: argparse.Namespace):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import sys
 from collections.abc import Callable, Iterable
+from typing import Any
 
 import numpy as np
 from rich.console import Console
@@ -373,3 +374,34 @@ def _size_notes(result: SizingResult) -> list[str]:
                      "backdrives when the input is free: where a falling load could injure, a "
                      "fail-safe device on the output is needed.")
     return notes
+
+
+def study_tables(pivots: Iterable[Any], constant: dict[str, str]) -> list[FittedTable | str]:
+    """The unit selected per joint against the first two varied parameters of a study.
+
+    Args:
+        pivots: `hdselect.study.store.Pivot` of each joint whose unit varies.
+        constant: Joint -> unit for the joints whose unit is the same in every case.
+
+    Returns:
+        A table per pivot, then a line for the joints that never change.
+    """
+    out: list[FittedTable | str] = []
+    for pivot in pivots:
+        across = f", {pivot.columns} across" if pivot.columns else ""
+        columns = (Column(pivot.rows), *(Column(value or "unit", "left")
+                                         for value in pivot.column_values))
+        rows = tuple((row, *("/".join(_short(u) for u in pivot.cells.get((row, c), [])) or "-"
+                             for c in pivot.column_values))
+                     for row in pivot.row_values)
+        out.append(FittedTable(f"{pivot.joint}: unit selected ({pivot.rows} down{across})",
+                               columns, rows))
+    if constant:
+        out.append("the same unit in every case: " + ", ".join(
+            f"{joint} {unit}" for joint, unit in constant.items()))
+    return out
+
+
+def _short(unit: str) -> str:
+    """PSA-14-100 -> 14-100: a series prefix common to a catalog adds nothing in a pivot."""
+    return unit.split("-", 1)[1] if unit.startswith("PSA-") else unit
