@@ -21,7 +21,7 @@ from typing import Any
 
 from hdselect.catalog import Unit, load_catalog
 from hdselect.errors import HdselectError, InputError
-from hdselect.motion import Motion, _robot_file_of, load_motion, robot_for_motion
+from hdselect.motion import Motion, load_motion, robot_file_named, robot_for_motion
 from hdselect.options import Options, options_for
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
@@ -111,7 +111,7 @@ class _Inputs:
 
     def case(self, case: Case) -> tuple[Robot, Motion, Payload | None]:
         """The bare robot, the motion and the case's payload."""
-        robot_file = case.robot if case.robot is not None else _robot_file_of(case.motion)
+        robot_file = case.robot if case.robot is not None else robot_file_named(case.motion)
         if robot_file not in self.robots:
             self.robots[robot_file] = load_robot(robot_file)
         robot = self.robots[robot_file]

@@ -37,15 +37,15 @@ from hdselect.robot import Payload, Robot
 from hdselect.rules import RPM_PER_RAD_S, Candidate, CycleLoad, Momentary, check_unit, cycle_load
 from hdselect.select import select
 from hdselect.sizing import (
-    _GRAVITY_SAMPLES,  # the core's own choices, so that a grouped case equals it
     GRAVITY_LOADED,
+    GRAVITY_SAMPLES,  # the core's own choices, so that a grouped case equals it
     JointSizing,
     SizingResult,
-    _rounded,
     at_rest,
+    fitting_time_scales,
 )
 from hdselect.summary import Summary, summarize
-from hdselect.timescale import ScalableCycle, joint_scales
+from hdselect.timescale import ScalableCycle
 
 REFERENCE_MASS = 1.0
 """Payload mass of the reference robot the group is planned and evaluated with [kg]."""
@@ -128,7 +128,7 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None) -> Basis:
     carried = np.array([[reference.with_gearheads({c: 1.0}).carried_mass(name) for c in carriers]
                         for name in robot.sized_joints]).reshape(len(robot.sized_joints), -1)
     run = np.cumsum(keep) - 1
-    poses = run[np.unique(np.linspace(0, len(states) - 1, _GRAVITY_SAMPLES).astype(int))]
+    poses = run[np.unique(np.linspace(0, len(states) - 1, GRAVITY_SAMPLES).astype(int))]
     loads = np.abs(parts).max(axis=(1, 2)) > 0.0  # (P, dof)
     used = tuple(_read_only(np.flatnonzero(loads[:, j])) for j in range(robot.dof))
     return Basis(reference, motion, trajectory, payload, rows, weight, frozen(trajectory.t[rows]),
@@ -329,12 +329,8 @@ def _with_scales(joint: JointSizing, t: np.ndarray, dt: np.ndarray, duration: fl
     cycle = ScalableCycle.split(t, dt, duration, qd, qdd, at_rest(qd, qdd), torque=tau,
                                 stop_torque=stop, gravity=gravity, coast=coast,
                                 stop_time=options.stop_time)
-    scales = joint_scales(cycle, units, efficiency=options.efficiency,
-                          rotor_inertia=options.rotor_inertia,
-                          check_options={"life_hours": options.life_hours,
-                                         "life_basis": options.life_basis})
-    return replace(joint, slowdown=_rounded(scales.slowdown(), scales, duration), scales=scales)
-
+    slowdown, scales = fitting_time_scales(cycle, units, options)
+    return replace(joint, slowdown=slowdown, scales=scales)
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:
