@@ -35,6 +35,7 @@ def workdir(tmp_path: Path) -> Path:
 def test_console_example_prints_what_the_readme_shows(command, shown, tmp_path, monkeypatch,
                                                       capsys):
     monkeypatch.chdir(workdir(tmp_path))
+    monkeypatch.setenv("COLUMNS", "80")  # the README shows piped output at 80 columns
     args = shlex.split(command)
     assert args[0] == "hdselect"
     assert main(args[1:]) == 0

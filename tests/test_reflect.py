@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from hdselect.catalog import load_catalog
-from hdselect.reflect import DEFAULT_EFFICIENCY, reflect, reflect_motors
+from hdselect.reflect import DEFAULT_EFFICIENCY, reflect, reflect_motors, weighted_demand
 
 
 def unit(unit_id: str, extra=()):
@@ -259,3 +259,20 @@ def test_efficiency_table_reaches_size(tmp_path):
     motors = {c.unit.id: c.motor for c in joint.candidates}
     assert motors["TST-14-100"].efficiency == "table"
     assert motors["PSA-14-100"].efficiency == DEFAULT_EFFICIENCY
+
+
+def test_weighted_demand_equals_the_demand_of_the_samples_repeated():
+    """A run of identical samples kept once with its length gives the whole cycle's RMS."""
+    psa = unit("PSA-14-80")
+    rng = np.random.default_rng(7)
+    tau, qd, qdd = rng.normal(size=(3, 40))
+    weight = rng.integers(1, 6, size=40)
+    (kept,) = reflect([psa], np.arange(40) * 1e-3, tau, qd, qdd, tau, stop_time=0.1)
+    whole = [np.repeat(x, weight) for x in (tau, qd, qdd)]
+    (full,) = reflect([psa], np.arange(weight.sum()) * 1e-3, *whole, whole[0], stop_time=0.1)
+    weighted = weighted_demand(kept.motor, kept.motor_torque, qd, psa.ratio, weight * 1e-3)
+    assert weighted.rms_torque == pytest.approx(full.motor.rms_torque, rel=1e-12)
+    assert weighted.rms_speed == pytest.approx(full.motor.rms_speed, rel=1e-12)
+    assert weighted.peak_torque == full.motor.peak_torque
+    assert weighted.max_speed == full.motor.max_speed
+    assert kept.motor.rms_torque != pytest.approx(full.motor.rms_torque, rel=1e-3)

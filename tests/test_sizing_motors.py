@@ -14,8 +14,10 @@ Nothing below is taken from `hdselect.rules` or `hdselect.reflect`.
 
 from __future__ import annotations
 
+import base64
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -403,5 +405,8 @@ def test_html_report_has_a_motor_figure_per_joint(tmp_path, capsys):
     assert status == 0
     assert (report / "motor_table.png").stat().st_size > 10_000
     page = (report / "index.html").read_text()
-    assert 'src="motor_table.png"' in page and "load/rotor inertia" in page
+    images = re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)
+    assert len(images) == 2  # the joint's profiles and its motor's torque-speed plane, embedded
+    assert base64.b64decode(images[1]) == (report / "motor_table.png").read_bytes()
+    assert "torque-speed plane of the motor T1" in page and "load/rotor inertia" in page
     assert "no thermal model" in page

@@ -11,6 +11,7 @@ from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
 from hdselect.sizing import SizingResult, size, size_trajectory
+from hdselect.study import study
 from hdselect.summary import Summary, summarize
 
 __version__ = "0.1.0"
@@ -39,6 +40,7 @@ __all__ = [
     "size",
     "size_duty",
     "size_trajectory",
+    "study",
     "summarize",
 ]
 

@@ -14,7 +14,7 @@ at the input speed N qd.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -170,3 +170,27 @@ def _behind(units: Sequence[Unit], ratio: np.ndarray, geared: np.ndarray, rotor_
                              float(rms_speed[row]))
         out.append(Reflection(unit, demand, event, motor[row]))
     return out
+
+
+def weighted_demand(demand: MotorDemand, motor_torque: np.ndarray, qd: np.ndarray, ratio: float,
+                    weight: np.ndarray) -> MotorDemand:
+    """A motor demand with its RMS torque and RMS speed over samples of unequal length.
+
+    `reflect` takes every sample to stand for the same time. Where each stands for
+    `weight` of them (a study's runs of identical samples, each kept once), the RMS
+    values weight each sample's square by it; the peak and largest speed stay.
+
+    Args:
+        demand: The demand `reflect` found on these samples.
+        motor_torque: Motor torque per sample [N m], shape (n,).
+        qd: Output speed per sample [rad/s], shape (n,).
+        ratio: The gearhead's ratio [-].
+        weight: What each sample stands for (any positive scale, e.g. its duration), (n,).
+
+    Returns:
+        The demand with `rms_torque` [N m] and `rms_speed` [rpm] weighted.
+    """
+    total = float(weight.sum())
+    rms = float(np.sqrt(np.dot(weight * motor_torque, motor_torque) / total))
+    rms_speed = float(np.sqrt(np.dot(weight * qd, qd) / total)) * RPM_PER_RAD_S * ratio
+    return replace(demand, rms_torque=rms, rms_speed=rms_speed)

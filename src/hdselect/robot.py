@@ -233,6 +233,13 @@ class Robot:
         return total
 
     @property
+    def payload_frame(self) -> str | None:
+        """The frame the payload is attached to: its own, or the last link; None without one."""
+        if self.payload is None:
+            return None
+        return self.payload.frame or _last_link(self.model)
+
+    @property
     def _bare_model(self) -> pin.Model:
         return self._bare if self._bare is not None else self.model
 

@@ -44,11 +44,11 @@ REST_FRACTION = 1e-3
 this fraction of their largest values in the cycle [-]."""
 GRAVITY_LOADED = 1e-3
 """Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
-_GRAVITY_SAMPLES = 400
+GRAVITY_SAMPLES = 400
 """Poses at which the gravity torque is evaluated for the backdriving warning."""
 _GUESS_SAMPLES = 200
 """Samples on which the carried masses are first guessed."""
-_INERTIA_POSES = _GRAVITY_SAMPLES
+_INERTIA_POSES = GRAVITY_SAMPLES
 """Poses, evenly spread over the cycle, at which a joint's load inertia M_jj is evaluated."""
 
 Motors = Mapping[str, Sequence[Motor]]
@@ -280,7 +280,7 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     if not units:
         raise InputError("no gearhead to choose from", field="units")
     options = options if options is not None else Options()
-    motors = _checked_motors(robot, motors, options)
+    motors = checked_motors(robot, motors, options)
     if options.prefer is None:
         options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
                           else DEFAULT_PREFER)
@@ -299,7 +299,7 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         masses = chosen
     else:  # each round settles at least one more joint from the tip
         raise AssertionError("the tip-to-base sizing did not settle")
-    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, _GRAVITY_SAMPLES).astype(int))
+    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))
     gravity = np.abs(gravity_torques(carrying, trajectory.q[poses], threads=options.threads))
     joints = [replace(joint, carried_mass=carrying.carried_mass(joint.name),
                       gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
@@ -318,9 +318,23 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
                         motors=motors)
 
 
-def _checked_motors(robot: Robot, motors: Motors | None,
-                    options: Options) -> dict[str, tuple[Motor, ...]]:
-    """The candidate motors per sized joint, checked; empty when none are given."""
+def checked_motors(robot: Robot, motors: Motors | None,
+                   options: Options) -> dict[str, tuple[Motor, ...]]:
+    """The candidate motors per sized joint, checked; empty when none are given.
+
+    Args:
+        robot: The robot as sized.
+        motors: Candidate motors per joint name (a single `Motor` is one candidate).
+        options: The assumptions: with motors, their rotor inertia and motor mass must
+            not be given too.
+
+    Returns:
+        Joint name -> its candidate motors, in the order given.
+
+    Raises:
+        InputError: A joint is not sized, has no motor or a motor id twice, or the
+            options give a rotor inertia or motor mass beside the motors.
+    """
     if not motors:
         return {}
     if isinstance(motors, str | Path) or not isinstance(motors, Mapping):
@@ -450,15 +464,34 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
                 torque=torques.tau[:, j], stop_torque=torques.stop[:, j],
                 gravity=torques.gravity[:, j], coast=torques.coasting[:, j],
                 stop_time=options.stop_time)
-            scales = joint_scales(cycle, units, efficiency=options.efficiency,
-                                  rotor_inertia=options.rotor_inertia,
-                                  check_options={"life_hours": options.life_hours,
-                                                 "life_basis": options.life_basis},
-                                  motors=tuple(motors.get(joint.name, ())) if motors else ())
-            joint = replace(joint, slowdown=_rounded(scales.slowdown(), scales, traj.duration),
-                            scales=scales)
+            slowdown, scales = fitting_time_scales(
+                cycle, units, options,
+                motors=tuple(motors.get(joint.name, ())) if motors else ())
+            joint = replace(joint, slowdown=slowdown, scales=scales)
         out.append(joint)
     return out
+
+
+def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Options, *,
+                        motors: Sequence[Motor] = ()) -> tuple[Slowdown, JointScales]:
+    """For a joint no unit fits: every unit's feasible time scales and the smallest slow-down.
+
+    Args:
+        cycle: The joint's cycle split by how its torques scale.
+        units: The catalog.
+        options: The assumptions (efficiency, rotor inertia, life requirement).
+        motors: The joint's candidate motors: then the scales are per (gearhead, motor)
+            pair, each with its motor's rotor inertia and rules.
+
+    Returns:
+        The slow-down, its factor rounded to 0.001 (see `_rounded`), and the scales.
+    """
+    scales = joint_scales(cycle, units, efficiency=options.efficiency,
+                          rotor_inertia=options.rotor_inertia,
+                          check_options={"life_hours": options.life_hours,
+                                         "life_basis": options.life_basis},
+                          motors=tuple(motors))
+    return _rounded(scales.slowdown(), scales, cycle.duration), scales
 
 
 def _rounded(slowdown: Slowdown, scales: JointScales, duration: float) -> Slowdown:

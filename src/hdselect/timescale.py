@@ -27,7 +27,7 @@ import numpy as np
 from hdselect.arrays import frozen
 from hdselect.catalog import Unit
 from hdselect.motors import Motor
-from hdselect.reflect import DEFAULT_EFFICIENCY, reflect
+from hdselect.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 from hdselect.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load, with_motor
 
 S_MIN = 1e-3
@@ -209,7 +209,10 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
                             stop_time=cycle.stop_time, efficiency=efficiency,
                             rotor_inertia=rotor_inertia if motor is None
                             else motor.rotor_inertia)
-    candidate = check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
+    demand = reflection.motor
+    if at.dt.size and np.ptp(at.dt) > 0.0:  # samples of unequal length: RMS weighted by it
+        demand = weighted_demand(demand, reflection.motor_torque, at.qd, unit.ratio, at.dt)
+    candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
                            **(check_options or {}))
     if motor is None:
         return candidate
