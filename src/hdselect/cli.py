@@ -88,6 +88,18 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--joint", action="append", metavar="NAME",
                          help="show only this joint (repeatable)")
     compare.set_defaults(run=run_compare)
+
+    joints = commands.add_parser("joints", help="list a robot's joints in the order lists use")
+    joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    joints.add_argument("--json", metavar="FILE",
+                        help="also write JSON to FILE ('-': to stdout, instead of the table)")
+    joints.set_defaults(run=run_joints)
+
+    init = commands.add_parser("init", help="write a starter motion file for a robot")
+    init.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    init.add_argument("--out", metavar="FILE",
+                      help="the motion file to write (default: print it); never overwritten")
+    init.set_defaults(run=run_init)
     return parser
 
 
@@ -113,6 +125,12 @@ def _robot_motion(parser: argparse.ArgumentParser) -> None:
                         help="link carrying the payload (default: the last link)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
+    parser.add_argument("--joints", metavar="A,B", action="append",
+                        help="size only these joints (comma-separated; overrides the motion "
+                             "file's [sizing] joints)")
+    parser.add_argument("--exclude", metavar="A,B", action="append",
+                        help="do not size these joints; they still move and load the others "
+                             "(overrides the motion file's [sizing] exclude)")
 
 
 def _sizing_options(parser: argparse.ArgumentParser) -> None:
@@ -192,13 +210,12 @@ def run_plan(args: argparse.Namespace) -> int:
     _keep_inputs([args.out, args.plot], _inputs(robot, motion))
     trajectory = plan(robot, motion)
     tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-    joints = robot.sized_joints
     if args.plot:
         from hdselect.figures import write_profiles_png
 
-        write_profiles_png(args.plot, trajectory, tau, joints,
+        write_profiles_png(args.plot, trajectory, tau, robot.sized_joints,
                            title=f"{robot.path.name} running {motion.path.name}")
-    write_trajectory_csv(args.out, trajectory, tau, joints)
+    write_trajectory_csv(args.out, trajectory, tau, robot.joint_names)
     logger.info("wrote %d samples to %s", len(trajectory.t), args.out)
     return 0
 
@@ -206,7 +223,7 @@ def run_plan(args: argparse.Namespace) -> int:
 def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
     from hdselect.export import size_json, write_json
-    from hdselect.report import console, size_table
+    from hdselect.report import console, loads_table, size_table
 
     result = _size(args)
     if args.report:
@@ -216,7 +233,10 @@ def run_size(args: argparse.Namespace) -> int:
     if args.json:
         write_json(args.json, size_json(result))
     if args.json != "-":
-        console().print(size_table(result))
+        out = console()
+        out.print(size_table(result))
+        out.print()
+        out.print(loads_table(result))
     return 0 if result.feasible else 1
 
 
@@ -237,6 +257,53 @@ def run_compare(args: argparse.Namespace) -> int:
     return 0 if result.feasible else 1
 
 
+def run_joints(args: argparse.Namespace) -> int:
+    """``hdselect joints``: every joint of a robot file, in the order lists use."""
+    from hdselect.export import joints_json, write_json
+    from hdselect.joints import describe_joints
+    from hdselect.report import console, joints_table
+    from hdselect.robot import load_robot
+
+    robot = load_robot(args.robot)
+    _keep_inputs([args.json], [robot.path])
+    infos = describe_joints(robot)
+    if args.json:
+        write_json(args.json, joints_json(robot, infos))
+    if args.json != "-":
+        console().print(joints_table(robot, infos))
+    return 0
+
+
+def run_init(args: argparse.Namespace) -> int:
+    """``hdselect init``: a starter motion file that plans and sizes as written."""
+    from hdselect.export import write_output
+    from hdselect.robot import load_robot
+    from hdselect.starter import starter_motion
+
+    robot = load_robot(args.robot)
+    out = Path(args.out) if args.out else None
+    if out is not None and out.exists():
+        raise InputError("exists; choose another path or remove it first", path=out)
+    where = out.resolve().parent if out is not None else Path.cwd()
+    target = robot.path.resolve()
+    shared = os.path.commonpath([target, where])
+    text = starter_motion(robot, str(target) if shared == os.sep
+                          else os.path.relpath(target, where))
+    if out is None:
+        sys.stdout.write(text)
+    else:
+        write_output(out, lambda stream: stream.write(text))
+        print(f"wrote {out}; edit its waypoints, limits and payload, then: hdselect size {out}")
+    return 0
+
+
+def _names(given: list[str] | None) -> list[str] | None:
+    """Joint names from repeatable, comma-separated options."""
+    if given is None:
+        return None
+    return [name.strip() for text in given for name in text.split(",") if name.strip()]
+
+
 def _load_case(args: argparse.Namespace):
     from hdselect.motion import load_case
     from hdselect.robot import Payload
@@ -248,7 +315,15 @@ def _load_case(args: argparse.Namespace):
         except InputError as err:
             flag = {"payload.mass": "--payload", "payload.com": "--payload-com"}
             raise InputError(err.reason, field=flag.get(str(err.field), err.field)) from err
-    return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting)
+    joints, exclude = _names(args.joints), _names(args.exclude)
+    try:
+        return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting,
+                         joints=joints, exclude=exclude)
+    except InputError as err:
+        flag = {"joints": ("--joints", joints), "exclude": ("--exclude", exclude)}
+        if err.field in flag and flag[str(err.field)][1] is not None:
+            raise InputError(err.reason, field=flag[str(err.field)][0]) from err
+        raise
 
 
 def _size(args: argparse.Namespace):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Callable, Iterable
 
@@ -19,7 +20,9 @@ from hdselect.catalog import (
     Unit,
 )
 from hdselect.duty import DutyResult
-from hdselect.export import assumptions, mean_speed_note
+from hdselect.export import assumptions, base_text, mean_speed_note
+from hdselect.joints import JointInfo
+from hdselect.robot import Robot
 from hdselect.rules import (
     CHECK_LABELS,
     CHECKS,
@@ -29,7 +32,9 @@ from hdselect.rules import (
     CycleLoad,
     MotorDemand,
 )
-from hdselect.sizing import JointSizing, SizingResult
+from hdselect.sizing import JointLoad, JointSizing, SizingResult
+
+DEG_PER_RAD = 180.0 / math.pi
 
 
 def console() -> Console:
@@ -263,7 +268,100 @@ def time_scale_text(joint: JointSizing) -> str:
 
 def _size_title(result: SizingResult) -> str:
     return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
-            f"{len(result.trajectory.t):,} samples")
+            f"{len(result.trajectory.t):,} samples\n{base_text(result.robot)}")
+
+
+def loads_table(result: SizingResult) -> Table:
+    """Every joint of the robot over the cycle, sized or not, beside its file's limits.
+
+    Angles and speeds are in the motion file's angle unit (degrees without a motion).
+    A value above the file's limit is red; why a joint is not sized is noted below.
+    """
+    angle = result.motion.angle_unit if result.motion is not None else "deg"
+    table = Table(title="Every joint over the cycle (peak torque or force with the gearheads "
+                        "carried), beside the robot file's limits",
+                  title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
+                  collapse_padding=True)
+    for header in ("joint", "type", "sized", "peak / file effort", "speed / file limit",
+                   "travel"):
+        table.add_column(header, no_wrap=header in ("joint", "type"), justify="left" if header in (
+            "joint", "type", "sized", "travel") else "right")
+    for load in result.loads:
+        table.add_row(load.name, load.kind, "yes" if load.sized else "no",
+                      *_load_cells(load, angle))
+    notes = [f"{load.name}: {load.note}" for load in result.loads if load.note]
+    if notes:
+        table.caption = escape("\n".join(notes))
+        table.caption_justify = "left"
+    return table
+
+
+def _load_cells(load: JointLoad, angle: str) -> list[str]:
+    """Peak and effort limit, speed and velocity limit, travel of one joint, with units."""
+    if load.linear:
+        force, length, scale = "N", "m", 1.0
+    else:
+        force, length, scale = "N m", angle, (DEG_PER_RAD if angle == "deg" else 1.0)
+
+    def pair(value: float | None, limit: float, unit: str, over: bool) -> str:
+        if value is None:
+            return "-"
+        shown = f"[red]{value:.3g}[/red]" if over else f"{value:.3g}"
+        return f"{shown} / {f'{limit:.3g}' if math.isfinite(limit) else '-'} {unit}"
+
+    low, high = (x * scale for x in load.travel)
+    return [pair(load.peak, load.effort_limit, force, load.above_effort),
+            pair(load.max_speed * scale, load.velocity_limit * scale, f"{length}/s",
+                 load.above_velocity),
+            f"{low:.3g} .. {high:.3g} {length}"]
+
+
+def joints_table(robot: Robot, infos: Iterable[JointInfo]) -> Table:
+    """A robot's joints in list order: type, limits, the file's speed and effort, mass moved."""
+    infos = list(infos)
+    table = Table(title=f"{robot.path.name}: {robot.dof} joints; # is the position in a motion "
+                        "file's lists (q = [...]); tables keyed by name need no order",
+                  title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False,
+                  collapse_padding=True)
+    for header in ("#", "joint", "type", "range\nrad or m", "range\ndeg", "max speed\ndeg/s, m/s",
+                   "effort\nN m, N", "moves\nkg", "sized"):
+        table.add_column(header, no_wrap=header in ("joint", "#", "type"),
+                         justify="left" if header in ("joint", "type", "sized") else "right")
+    notes = []
+    for info in infos:
+        linear = info.kind == "prismatic"
+        if info.leader is not None:
+            offset = f" {info.offset:+g}" if info.offset else ""
+            notes.append(f"{info.name} follows {info.leader} (x {info.multiplier:g}{offset}): no "
+                         "gearhead of its own; its leader carries its load")
+            table.add_row("-", info.name, "mimic", "-", "-", "-", "-", f"{info.moved_mass:.3g}",
+                          "no")
+            continue
+        limited = math.isfinite(info.lower) and math.isfinite(info.upper)
+        span = f"{info.lower:.3g} .. {info.upper:.3g}" if limited else "none"
+        degrees = (f"{info.lower * DEG_PER_RAD:.3g} .. {info.upper * DEG_PER_RAD:.3g}"
+                   if limited and not linear else "-")
+        speed = info.velocity_limit * (1.0 if linear else DEG_PER_RAD)
+        table.add_row(
+            str(info.index), info.name, info.kind, span, degrees,
+            f"{speed:.3g}" if math.isfinite(speed) else "-",
+            f"{info.effort_limit:.3g}" if math.isfinite(info.effort_limit) else "-",
+            f"{info.moved_mass:.3g}", "yes" if info.sized else "no")
+        if not info.sized:
+            notes.append(f"{info.name}: not sized: " + (
+                "the catalog is rotary" if linear else
+                "a mimic follower Pinocchio could not couple" if info.name in
+                robot.uncoupled_followers else "excluded"))
+    notes.append(f"base: '{robot.root_link}' held fixed; a payload goes on "
+                 f"'{robot.default_payload_frame}' unless its frame is given; moves: the mass a "
+                 "joint moves, links further out included")
+    if robot.file_order is not None and robot.file_order != robot.joint_names:
+        notes.append(f"the robot file writes the joints in another order "
+                     f"({', '.join(robot.file_order)}): lists follow # above")
+    notes += [f"robot file: {note}" for note in robot.notes]
+    table.caption = escape("\n".join(notes))
+    table.caption_justify = "left"
+    return table
 
 
 def _size_notes(result: SizingResult) -> list[str]:
@@ -278,6 +376,7 @@ def _size_notes(result: SizingResult) -> list[str]:
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
                for c in [joint.selected] if c is not None for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
+    notes += list(result.warnings)
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     if loaded:
         notes.append(f"gravity: {', '.join(loaded)} carry gravity. Harmonic Drive gearing "

@@ -108,7 +108,7 @@ def read_robot_file(path: Path) -> RobotFile:
         notes.append(f"Pinocchio cannot couple the mimic joints ({err.reason.split(': ', 1)[-1]}"
                      f"): {', '.join(uncoupled)} move as independent joints here, carry their "
                      "own load and are not sized unless named")
-    notes += _set_aside_losses(model)
+    losses = _set_aside_losses(model)
     notes += _check_bodies(model, path)
     mimic = _mimic_joints(model)
     root = _root_link(model)
@@ -116,6 +116,9 @@ def read_robot_file(path: Path) -> RobotFile:
     order = None if mjcf else _file_joint_order(path, model, mimic)
     for note in notes:
         logger.warning("%s: %s", path, note)
+    for note in losses:
+        logger.info("%s: %s", path, note)
+    notes = losses + notes
     return RobotFile(model, root, mimic, order, tuple(notes), uncoupled)
 
 
@@ -188,7 +191,7 @@ _NAMED = re.compile(r"(Joint|joint|Link|link) \[([^\]]+)\]")
 
 
 def _messages(printed: list[str], path: Path) -> list[str]:
-    """urdfdom's ``Error:``/``Warning:`` lines, without their C++ source locations."""
+    """The parser's ``Error:`` and ``Warning:`` lines, without their C++ source locations."""
     messages = []
     for line in printed:
         text = line.strip()
