@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from hdselect.cli import main
+from hdselect.motion import load_case
 from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
 from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
@@ -53,11 +54,19 @@ def test_size_prints_every_joint_and_exits_0(capsys, motion, joints):
     status, out, err = run(capsys, "size", motion)
     assert status == 0, err
     assert err == ""
-    rows = {line.split()[0] for line in out.splitlines() if line.strip()}
+    sizing, loads = out.split("Every joint over the cycle")
+    rows = {line.split()[0] for line in sizing.splitlines() if line.strip()}
     for joint in joints:
         assert joint in rows
     assert "PSA-" in out
     assert "lift" not in rows  # prismatic: reported by the model, never sized
+    load_rows = {line.split()[0]: line.split()[1:3] for line in loads.splitlines()
+                 if line.strip() and line.split()[0] in (*joints, "lift")}
+    assert load_rows == {**{j: [load_rows[j][0], "yes"] for j in joints},
+                         **({"lift": ["prismatic", "no"]} if "lift" in load_rows else {})}
+    assert ("lift" in load_rows) == (motion == SCARA)
+    if motion == SCARA:
+        assert "lift: not sized: the catalog is rotary" in loads
 
 
 def test_size_json_to_stdout_parses(capsys):
@@ -228,12 +237,19 @@ def test_plan_csv_two_link_closed_form(capsys, tmp_path):
                                atol=1e-7)
 
 
-def test_plan_csv_lists_only_sized_joints(capsys, tmp_path):
+def test_plan_csv_lists_every_joint_the_prismatic_one_in_newtons(capsys, tmp_path):
     out_file = tmp_path / "scara.csv"
     assert run(capsys, "plan", SCARA, "--out", out_file)[0] == 0
-    header, _ = read_csv(out_file)
-    assert header == ["t"] + [f"{kind}_{joint}" for joint in ("shoulder", "elbow", "wrist")
+    header, data = read_csv(out_file)
+    assert header == ["t"] + [f"{kind}_{joint}" for joint in ("shoulder", "elbow", "lift", "wrist")
                               for kind in ("q", "qd", "qdd", "tau")]
+    robot, _ = load_case(SCARA)
+    lift = robot.joint_index("lift")
+    # the lift holds the quill, end effector and wafer against gravity: m g, in N
+    held = sum(robot.model.inertias[j].mass for j in range(lift + 1, robot.model.njoints))
+    at_rest = (data[:, header.index("qd_lift")] == 0) & (data[:, header.index("qdd_lift")] == 0)
+    np.testing.assert_allclose(data[at_rest, header.index("tau_lift")], held * 9.80665,
+                               rtol=1e-6)
 
 
 def test_failing_plan_leaves_no_csv(capsys, tmp_path):

@@ -196,6 +196,7 @@ def size(
     payload: Payload | None = None,
     mounting: str | Sequence[float] | None = None,
     joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
     **options: object,
 ) -> SizingResult:
     """Choose a gearhead for every joint of a robot from its motion: load, plan, size.
@@ -207,7 +208,10 @@ def size(
         units: The catalog already loaded (instead of `catalog`).
         payload: Payload, overriding the motion file's.
         mounting: Mounting, overriding the motion file's.
-        joints: Joints to size (default every revolute joint).
+        joints: Joints to size (default: the motion file's ``[sizing] joints``, else every
+            revolute joint that is not a mimic follower).
+        exclude: Joints not to size; they still move and load the others (default: the
+            motion file's ``[sizing] exclude``).
         **options: Fields of `hdselect.options.Options` (``stop_time``, ``efficiency``,
             ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
             ``life_hours``, ``life_basis``, ``threads``); what is not given comes from
@@ -232,10 +236,10 @@ def size(
                                  path=motion.path, field="robot")
             robot = load_robot(file)
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
-                                 joints=joints)
+                                 joints=joints, exclude=exclude)
     else:
         robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
-                                  joints=joints)
+                                  joints=joints, exclude=exclude)
     resolved = options_for(motion, **options)
     units = tuple(units) if units is not None else load_catalog(catalog)
     trajectory = plan(robot, motion)
