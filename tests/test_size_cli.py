@@ -21,6 +21,7 @@ from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_
 
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
+BENCHTOP6 = REPO / "trajectories" / "benchtop6_pick_place.toml"
 SCARA = REPO / "trajectories" / "scara_wafer_transfer.toml"
 
 
@@ -365,3 +366,28 @@ def test_payload_frame_missing_from_the_robot_names_the_motion_file(capsys, tmp_
     assert code == 2 and out == ""
     assert_one_line_error(err, "tool0.toml", "payload.frame", "tool0",
                           "links are: base_link, link1, link2, tool")
+
+
+def test_joints_and_exclude_options_choose_the_sized_joints(capsys, tmp_path):
+    report = tmp_path / "r.json"
+    status, out, err = run(capsys, "size", BENCHTOP6, "--exclude", "wrist_1,wrist_3",
+                           "--json", report)
+    assert status == 0, err
+    document = json.loads(report.read_text())
+    assert [j["name"] for j in document["joints"]] == ["shoulder_pan", "shoulder_lift", "elbow",
+                                                       "wrist_2"]
+    assert "wrist_1: not sized: excluded" in out
+    status, out, err = run(capsys, "size", BENCHTOP6, "--joints", "elbow", "--joints",
+                           "wrist_2", "--json", report)
+    assert [j["name"] for j in json.loads(report.read_text())["joints"]] == ["elbow", "wrist_2"]
+
+
+@pytest.mark.parametrize(("args", "text"), [
+    (["--joints", "elbo"], "--joints: unknown joint 'elbo'; joints are: shoulder_pan"),
+    (["--exclude", "shoulder_pan,shoulder_lift,elbow,wrist_1,wrist_2,wrist_3"],
+     "--exclude: no joint left to size"),
+])
+def test_bad_joint_options_are_one_line(capsys, args, text):
+    status, out, err = run(capsys, "size", BENCHTOP6, *args)
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert text in err

@@ -320,9 +320,9 @@ def _load_case(args: argparse.Namespace):
         return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting,
                          joints=joints, exclude=exclude)
     except InputError as err:
-        flag = {"joints": ("--joints", joints), "exclude": ("--exclude", exclude)}
-        if err.field in flag and flag[str(err.field)][1] is not None:
-            raise InputError(err.reason, field=flag[str(err.field)][0]) from err
+        given = {"joints": joints, "exclude": exclude}
+        if err.field in given and given[str(err.field)] is not None:
+            raise InputError(err.reason, field=f"--{err.field}") from err
         raise
 
 

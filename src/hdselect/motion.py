@@ -196,7 +196,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                                                planner)
         lim["velocity"] = frozen(velocity)
         warnings += _beyond_robot(velocity, robot, scale, units, from_robot)
-    sizing = _sizing(doc, path)
+    sizing = _sizing(doc, path, robot)
     stop_time = _section(doc, "safety", path).get("stop_time")
     requirements = _section(doc, "requirements", path)
     samples = None
@@ -509,8 +509,8 @@ def _beyond_robot(velocity: np.ndarray, robot: Robot, scale: np.ndarray, units: 
     return lines
 
 
-def _sizing(doc: dict[str, Any], path: Path) -> dict[str, tuple[str, ...]]:
-    """The ``[sizing]`` table: joints to size and to leave out (checked by `robot_for_motion`)."""
+def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[str, ...]]:
+    """The ``[sizing]`` table: joints to size and to leave out, checked against the robot."""
     table = table_of(doc.get("sizing", {}), path, "sizing")
     check_keys(table, _SIZING_KEYS, path, "sizing")
     names = {}
@@ -521,6 +521,11 @@ def _sizing(doc: dict[str, Any], path: Path) -> dict[str, tuple[str, ...]]:
                 raise InputError(f"expected a list of joint names, got {value!r}", path=path,
                                  field=f"sizing.{key}")
             names[key] = tuple(value)
+    if names:
+        try:
+            robot.with_sized_joints(names.get("joints"), names.get("exclude", ()))
+        except InputError as err:
+            raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
     return names
 
 
