@@ -284,8 +284,8 @@ def run_init(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else None
     if out is not None and out.exists():
         raise InputError("exists; choose another path or remove it first", path=out)
-    where = out.resolve().parent if out is not None else Path.cwd()
-    target = robot.path.resolve()
+    where = os.path.abspath(out.parent if out is not None else Path.cwd())
+    target = os.path.abspath(robot.path)
     shared = os.path.commonpath([target, where])
     text = starter_motion(robot, str(target) if shared == os.sep
                           else os.path.relpath(target, where))
