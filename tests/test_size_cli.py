@@ -286,6 +286,7 @@ def test_report_writes_html_and_pngs(capsys, tmp_path):
     for name in pngs:
         assert name in page
     assert "shoulder" in page and "elbow" in page
+    assert "base: &#x27;base_link&#x27; held fixed; payload: 0.4 kg on" in page
     assert files_in(tmp_path) == {"report"} | {f"report/{n}" for n in names}
 
 

@@ -19,7 +19,7 @@ import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from hdselect.errors import InputError  # noqa: E402
-from hdselect.export import assumptions, write_output  # noqa: E402
+from hdselect.export import assumptions, base_text, write_output  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
 from hdselect.report import life_text, percent, time_scale_text, verdict  # noqa: E402
 from hdselect.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S  # noqa: E402
@@ -217,9 +217,12 @@ img{{max-width:100%}}</style></head><body>
 <p>Cycle {result.cycle_time:.3f} s,
 {len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms.
 {"Every joint has a unit." if result.feasible else "<b>Some joints have no unit.</b>"}</p>
+<p>{esc(base_text(result.robot))}</p>
 <table><tr>{"".join(f"<th>{esc(h)}</th>" for h in header)}</tr>{"".join(rows)}</table>
 {"<ul>" + "".join(f"<li>{esc(s)}</li>" for s in slow) + "</ul>" if slow else ""}
 <h2>Assumptions</h2><ul>{items}</ul>
+{"<h2>Warnings</h2><ul>" + "".join(f"<li>{esc(w)}</li>" for w in result.warnings) + "</ul>"
+ if result.warnings else ""}
 <h2>Catalog stand-ins and corrections used</h2>
 <ul>{"".join(f"<li>{esc(n)}</li>" for n in notes) or "<li>none</li>"}</ul>
 <p>Harmonic Drive gearing backdrives when its input is free: a gravity-loaded joint needs a
