@@ -17,10 +17,11 @@ from hdselect.catalog import SeriesRules, Unit
 from hdselect.duty import DutyResult
 from hdselect.errors import InputError
 from hdselect.joints import JointInfo
+from hdselect.loads import JointLoad
 from hdselect.planning import Trajectory
 from hdselect.robot import Robot
 from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
-from hdselect.sizing import JointLoad, SizingResult
+from hdselect.sizing import SizingResult
 
 MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the catalog page's "
                    "t1..t3); dwells do not dilute it, which is the conservative reading")

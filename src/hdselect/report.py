@@ -22,6 +22,7 @@ from hdselect.catalog import (
 from hdselect.duty import DutyResult
 from hdselect.export import assumptions, base_text, mean_speed_note
 from hdselect.joints import JointInfo
+from hdselect.loads import JointLoad
 from hdselect.robot import Robot
 from hdselect.rules import (
     CHECK_LABELS,
@@ -32,7 +33,7 @@ from hdselect.rules import (
     CycleLoad,
     MotorDemand,
 )
-from hdselect.sizing import JointLoad, JointSizing, SizingResult
+from hdselect.sizing import JointSizing, SizingResult
 
 DEG_PER_RAD = 180.0 / math.pi
 
