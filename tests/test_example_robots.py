@@ -19,6 +19,7 @@ import pytest
 
 import hdselect
 from hdselect.cli import main
+from hdselect.export import size_json
 from hdselect.robot import STANDARD_GRAVITY
 
 
@@ -141,6 +142,13 @@ def test_panda_fingers_are_reported_not_sized(written):
     assert robot.mimic["panda_finger_joint2"].leader == "panda_finger_joint1"
     assert "panda_finger_joint2" not in robot.joint_names  # a follower has no value of its own
     assert robot.sized_joints == tuple(f"panda_joint{i}" for i in range(1, 8))
+    result = hdselect.size(robot, motion)
+    loads = {load["name"]: load for load in size_json(result)["joint_loads"]}
+    follower = loads["panda_finger_joint2"]
+    assert follower["type"] == "mimic" and follower["leader"] == "panda_finger_joint1"
+    assert follower["peak_force_n"] is None and follower["travel_m"] == loads[
+        "panda_finger_joint1"]["travel_m"]
+    assert loads["panda_finger_joint1"]["note"] == "not sized: the catalog is rotary"
 
 
 def test_so101_lists_follow_the_model_not_the_file_and_say_so(tmp_path):

@@ -328,3 +328,26 @@ def test_samples_uniform_log_used_as_is(tmp_path):
     _, qd, qdd = cubic(t)
     np.testing.assert_allclose(trajectory.qd[:, 1], qd, atol=1e-12)
     np.testing.assert_allclose(trajectory.qdd[:, 1], qdd, atol=1e-8)
+
+
+def test_a_log_leaving_a_limit_names_the_joint_in_the_files_units(tmp_path):
+    write_chain(tmp_path, [("turn", "revolute", -0.5, 0.5), ("slide", "prismatic", -1, 1)])
+    t = np.arange(101) * 0.01
+    turn = 40.0 * np.sin(np.pi * t)  # deg: peaks at 40 deg, 11.35 deg past the 0.5 rad stop
+    (tmp_path / "log.csv").write_text("t,q_turn,q_slide\n" + "\n".join(
+        f"{a:.6f},{b:.9f},0.0" for a, b in zip(t, turn, strict=True)) + "\n")
+    robot, motion = load_case(write_motion(tmp_path, """\
+        robot = "arm.urdf"
+        planner = "samples"
+        angle_unit = "deg"
+        dt = 0.01
+        [samples]
+        file = "log.csv"
+    """))
+    with pytest.raises(PlanningError) as info:
+        plan(robot, motion)
+    message = str(info.value)
+    over = 40.0 - math.degrees(0.5)
+    assert f"takes joint 'turn' {over:.3g} deg past its upper limit 28.6479 deg (t = 0.5 s)" \
+        in message
+    assert "correct the log" in message

@@ -222,7 +222,7 @@ def joints_json(robot: Robot, infos: Iterable[JointInfo]) -> dict[str, Any]:
 
 def joint_load_json(load: JointLoad) -> dict[str, Any]:
     """One joint's load over the cycle as JSON, in SI (N m or N, rad or m)."""
-    linear = load.kind == "prismatic"
+    linear = load.linear
     force, per_s, position = ("n", "m_s", "m") if linear else ("nm", "rad_s", "rad")
     return {"name": load.name, "type": load.kind, "sized": load.sized, "note": load.note,
             "leader": load.leader,
