@@ -122,7 +122,8 @@ def _robot_motion(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
                         default=(0.0, 0.0, 0.0), help="payload centre of mass in its frame [m]")
     parser.add_argument("--payload-frame", metavar="LINK",
-                        help="link carrying the payload (default: the last link)")
+                        help="link carrying the payload (default: the tip of the longest chain "
+                             "of sized joints)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
     parser.add_argument("--joints", metavar="A,B", action="append",

@@ -151,14 +151,14 @@ def _build(path: Path, mjcf: bool, *, mimic: bool) -> pin.Model:
         except (RuntimeError, ValueError) as err:
             error = err
     if error is not None:
-        reason = parser_reason(str(error), printed, path)
+        reason = _parser_reason(str(error), printed, path)
         raise InputError(f"not a valid {kind} robot: {reason}", path=path) from error
     for line in _messages(printed, path):
         logger.info("%s: parser: %s", path, line)
     return model
 
 
-def parser_reason(error: str, printed: list[str], path: Path) -> str:
+def _parser_reason(error: str, printed: list[str], path: Path) -> str:
     """One line from a parser's exception text and what it printed on standard error.
 
     Pinocchio's own text is generic ("does not contain a valid URDF model") or starts
