@@ -48,9 +48,11 @@ def test_a_continuous_joint_has_no_range():
 def test_joints_command_prints_every_joint_and_the_base(capsys):
     assert main(["joints", str(robot_path("scara"))]) == 0
     out = capsys.readouterr().out
-    rows = [line.split() for line in out.splitlines() if line[:3].strip().isdigit()]
-    assert [row[1] for row in rows] == ["shoulder", "elbow", "lift", "wrist"]
-    assert rows[2][2] == "prismatic" and rows[2][-1] == "no"
+    rows = [cells for cells in map(str.split, out.splitlines())
+            if len(cells) > 3 and cells[2] in ("revolute", "prismatic")]  # joint, #, type, sized
+    assert [(row[0], row[1]) for row in rows] == [("shoulder", "0"), ("elbow", "1"),
+                                                  ("lift", "2"), ("wrist", "3")]
+    assert rows[2][2:4] == ["prismatic", "no"] and rows[0][2:4] == ["revolute", "yes"]
     assert "lift: not sized: the catalog is rotary" in out
     assert "base: 'base_link' held fixed; a payload goes on" in out
 

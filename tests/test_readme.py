@@ -43,6 +43,7 @@ def workdir(tmp_path: Path) -> Path:
 def test_console_example_prints_what_the_readme_shows(command, shown, tmp_path, monkeypatch,
                                                       capsys):
     monkeypatch.chdir(workdir(tmp_path))
+    monkeypatch.setenv("COLUMNS", "80")  # the README shows piped output at 80 columns
     args = shlex.split(command)
     assert args[0] == "hdselect"
     assert main(args[1:]) == 0
@@ -81,6 +82,7 @@ def test_first_screen_has_the_two_setup_commands_and_ci_runs_the_test_one():
 def test_your_own_robot_steps_run_in_order(tmp_path, monkeypatch, capsys):
     """joints -> init -> edit (the toml block replaces the commented [payload]) -> size."""
     monkeypatch.chdir(workdir(tmp_path))
+    monkeypatch.setenv("COLUMNS", "80")
     blocks = re.findall(r"```(console|toml)\n(.*?)```", OWN_ROBOT, flags=re.S)
     assert [kind for kind, _ in blocks] == ["console", "console", "toml", "console"]
     motion = None

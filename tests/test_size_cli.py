@@ -6,9 +6,11 @@ still printed), 2 bad input: one line on stderr, no traceback, no file left behi
 
 from __future__ import annotations
 
+import base64
 import csv
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -61,8 +63,9 @@ def test_size_prints_every_joint_and_exits_0(capsys, motion, joints):
         assert joint in rows
     assert "PSA-" in out
     assert "lift" not in rows  # prismatic: reported by the model, never sized
-    load_rows = {line.split()[0]: line.split()[1:3] for line in loads.splitlines()
-                 if line.strip() and line.split()[0] in (*joints, "lift")}
+    load_rows = {cells[0]: cells[1:3] for cells in map(str.split, loads.splitlines())
+                 if len(cells) > 2 and cells[0] in (*joints, "lift")
+                 and cells[1] in ("revolute", "continuous", "prismatic")}
     assert load_rows == {**{j: [load_rows[j][0], "yes"] for j in joints},
                          **({"lift": ["prismatic", "no"]} if "lift" in load_rows else {})}
     assert ("lift" in load_rows) == (motion == SCARA)
@@ -283,11 +286,16 @@ def test_report_writes_html_and_pngs(capsys, tmp_path):
     for name in pngs:
         assert (report / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     page = (report / "index.html").read_text()
-    for name in pngs:
-        assert name in page
+    embedded = [base64.b64decode(data) for data in
+                re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)]
+    # self-contained: every figure is in the page, the same as the file beside it
+    assert sorted(embedded) == sorted((report / name).read_bytes() for name in pngs)
+    targets = re.findall(r"""(?:src|href)=["']([^"']*)""", page)
+    assert targets and all(t.startswith(("data:image/png;base64,", "#")) for t in targets)
     assert "shoulder" in page and "elbow" in page
     assert "base: &#x27;base_link&#x27; held fixed; payload: 0.4 kg on" in page
     assert files_in(tmp_path) == {"report"} | {f"report/{n}" for n in names}
+    assert f"wrote {report / 'index.html'}" in " ".join(out.split())  # may wrap
 
 
 def test_report_dir_that_cannot_be_written(capsys, tmp_path):
@@ -392,3 +400,58 @@ def test_bad_joint_options_are_one_line(capsys, args, text):
     status, out, err = run(capsys, "size", BENCHTOP6, *args)
     assert status == 2 and out == "" and err.count("\n") == 1
     assert text in err
+
+
+# --- what the commands say, compare's outputs, -v anywhere -------------------------------------
+
+def test_plan_says_what_it_planned_and_wrote(capsys, tmp_path):
+    out_file, plot = tmp_path / "scara.csv", tmp_path / "scara.png"
+    status, out, err = run(capsys, "plan", SCARA, "--out", out_file, "--plot", plot)
+    assert status == 0 and err == ""
+    text = " ".join(out.split())
+    assert "not sized: lift (prismatic" in text
+    assert (f"wrote {out_file}: t, then q_, qd_, qdd_, tau_ of shoulder, elbow, lift, wrist "
+            "(SI)") in text
+    assert f"wrote {plot}" in text
+
+
+def test_compare_json_is_the_size_document_for_the_joints_shown(capsys):
+    status, out, err = run(capsys, "compare", PLANAR2_MOTION, "--joint", "elbow", "--json", "-")
+    assert status == 0 and err == ""
+    shown = json.loads(out)
+    status, out, _ = run(capsys, "size", PLANAR2_MOTION, "--json", "-")
+    whole = json.loads(out)
+    assert set(shown) == set(whole)
+    assert [j["name"] for j in shown["joints"]] == ["elbow"]
+    assert shown["joints"][0] == next(j for j in whole["joints"] if j["name"] == "elbow")
+
+
+def test_compare_report_has_the_joints_shown(capsys, tmp_path):
+    status, out, err = run(capsys, "compare", PLANAR2_MOTION, "--joint", "shoulder", "--report",
+                           tmp_path / "r", "--json", tmp_path / "r.json")
+    assert status == 0, err
+    assert files_in(tmp_path / "r") == {"index.html", "joint_shoulder.png"}
+    page = (tmp_path / "r" / "index.html").read_text()
+    assert "id='joint-shoulder'" in page and "id='joint-elbow'" not in page
+    text = " ".join(out.split())
+    assert "Joint shoulder" in text and f"wrote {tmp_path / 'r.json'}" in text
+
+
+def test_written_files_go_to_stderr_when_stdout_is_json(capsys, tmp_path):
+    status, out, err = run(capsys, "size", PLANAR2_MOTION, "--json", "-", "--report",
+                           tmp_path / "r")
+    assert status == 0
+    json.loads(out)
+    assert "wrote" in err and "index.html" in " ".join(err.split())
+
+
+@pytest.mark.parametrize("where", ["before", "after"])
+def test_verbose_goes_anywhere(capsys, tmp_path, where):
+    argv = ["catalog", "--json"]
+    argv = ["-v", *argv] if where == "before" else [*argv, "-v"]
+    status, out, _ = run(capsys, *argv)
+    assert status == 0 and json.loads(out)["units"]
+    from hdselect.cli import _parser
+
+    assert _parser().parse_args(argv).verbose is True
+    assert _parser().parse_args(["catalog"]).verbose is False

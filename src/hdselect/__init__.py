@@ -12,6 +12,7 @@ from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
 from hdselect.sizing import SizingResult, size, size_trajectory
 from hdselect.starter import starter_motion
+from hdselect.study import study
 from hdselect.summary import Summary, summarize
 
 __version__ = "0.1.0"
@@ -40,6 +41,7 @@ __all__ = [
     "size_duty",
     "size_trajectory",
     "starter_motion",
+    "study",
     "summarize",
 ]
 

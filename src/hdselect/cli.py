@@ -22,7 +22,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         Exit status: 0 success, 1 no gearhead fits, 2 bad input.
     """
     parser = _parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(argv)
+    args.command_line = ["hdselect", *argv]
     logging.basicConfig(format="hdselect: %(levelname)s: %(message)s",
                         level=logging.INFO if args.verbose else logging.WARNING)
     try:
@@ -51,30 +53,37 @@ def _parser() -> argparse.ArgumentParser:
         description="Size Harmonic Drive PSA-G gearheads for robot joints.")
     parser.add_argument("--version", action="version", version=f"hdselect {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="print progress notes")
+    verbose = _Parser(add_help=False)  # -v after the command too
+    verbose.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS,
+                         help="print progress notes")
     commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND",
                                      parser_class=_Parser)
 
-    catalog = commands.add_parser("catalog", help="list the gearhead catalog")
+    catalog = commands.add_parser("catalog", parents=[verbose],
+                                  help="list the gearhead catalog")
     _catalog_option(catalog)
     catalog.add_argument("--units", choices=("si", "imperial"), default="si",
                          help="unit system of the table (default: si)")
     catalog.add_argument("--json", action="store_true", help="print JSON instead of a table")
     catalog.set_defaults(run=run_catalog)
 
-    duty = commands.add_parser("duty", help="size from a torque-speed profile (catalog method)")
+    duty = commands.add_parser(
+        "duty", parents=[verbose], help="size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     _catalog_option(duty)
     _json_option(duty)
     duty.set_defaults(run=run_duty)
 
-    plan = commands.add_parser("plan", help="plan a motion and write its torques (CSV)")
+    plan = commands.add_parser(
+        "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
     _robot_motion(plan)
     plan.add_argument("--out", metavar="FILE", required=True,
-                      help="CSV: t, then q_, qd_, qdd_, tau_ per sized joint (SI)")
+                      help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
     plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
     plan.set_defaults(run=run_plan)
 
-    size = commands.add_parser("size", help="choose a gearhead for every joint of a robot")
+    size = commands.add_parser(
+        "size", parents=[verbose], help="choose a gearhead for every joint of a robot")
     _robot_motion(size)
     _sizing_options(size)
     _json_option(size)
@@ -82,24 +91,51 @@ def _parser() -> argparse.ArgumentParser:
                       help="write an HTML report with figures into DIR")
     size.set_defaults(run=run_size)
 
-    compare = commands.add_parser("compare", help="every unit against every joint, side by side")
+    compare = commands.add_parser(
+        "compare", parents=[verbose], help="every unit against every joint, side by side")
     _robot_motion(compare)
     _sizing_options(compare)
     compare.add_argument("--joint", action="append", metavar="NAME",
                          help="show only this joint (repeatable)")
+    _json_option(compare)
+    compare.add_argument("--report", metavar="DIR",
+                         help="write an HTML report of the joints shown into DIR")
     compare.set_defaults(run=run_compare)
 
-    joints = commands.add_parser("joints", help="list a robot's joints in the order lists use")
+    joints = commands.add_parser("joints", parents=[verbose],
+                                  help="list a robot's joints in the order lists use")
     joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
-    joints.add_argument("--json", metavar="FILE",
-                        help="also write JSON to FILE ('-': to stdout, instead of the table)")
+    _json_option(joints)
     joints.set_defaults(run=run_joints)
 
-    init = commands.add_parser("init", help="write a starter motion file for a robot")
+    init = commands.add_parser("init", parents=[verbose],
+                                help="write a starter motion file for a robot")
     init.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
     init.add_argument("--out", metavar="FILE",
                       help="the motion file to write (default: print it); never overwritten")
     init.set_defaults(run=run_init)
+
+    study = commands.add_parser("study", parents=[verbose],
+                                help="run every case of a design study (TOML)")
+    study.add_argument("study", metavar="STUDY", help="study file (TOML)")
+    study.add_argument("--out", metavar="CSV", required=True,
+                       help="rows, one per case and joint; a JSON Lines record of each case "
+                            "is kept beside it (same name, .jsonl); cases already there are "
+                            "skipped")
+    study.add_argument("--workers", type=int, metavar="N",
+                       help="worker processes (default: the cores here; 0: in this process); "
+                            "with --scheduler local, Dask workers")
+    study.add_argument("--scheduler", metavar="ADDRESS",
+                       help="'local': a Dask LocalCluster on this machine; tcp://HOST:PORT: a "
+                            "running Dask scheduler (needs pip install 'hdselect[dask]')")
+    study.add_argument("--no-grouping", action="store_true",
+                       help="size every case on its own, not from its group's shared basis")
+    study.add_argument("--retry-failed", action="store_true",
+                       help="run again the cases recorded as failed")
+    study.add_argument("--plot", metavar="PNG",
+                       help="draw the unit selected and its life per joint against the first "
+                            "varied parameters")
+    study.set_defaults(run=run_study)
     return parser
 
 
@@ -211,38 +247,44 @@ def run_plan(args: argparse.Namespace) -> int:
     _keep_inputs([args.out, args.plot], _inputs(robot, motion))
     trajectory = plan(robot, motion)
     tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+    from hdselect.report import console, plan_text
+    from hdselect.tables import Paragraphs
+
     if args.plot:
         from hdselect.figures import write_profiles_png
 
         write_profiles_png(args.plot, trajectory, tau, robot.sized_joints,
                            title=f"{robot.path.name} running {motion.path.name}")
     write_trajectory_csv(args.out, trajectory, tau, robot.joint_names)
-    logger.info("wrote %d samples to %s", len(trajectory.t), args.out)
+    out = console()
+    out.print(plan_text(robot, motion, trajectory))
+    written = [f"wrote {args.out}: t, then q_, qd_, qdd_, tau_ of "
+               f"{', '.join(robot.joint_names)} (SI)"]
+    if args.plot:
+        written.append(f"wrote {args.plot}: speed and torque of each joint over the cycle")
+    out.print(Paragraphs(tuple(written)))
     return 0
 
 
 def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
-    from hdselect.export import size_json, write_json
     from hdselect.report import console, loads_table, size_table
 
     result = _size(args)
-    if args.report:
-        from hdselect.figures import write_report
-
-        write_report(args.report, result)
-    if args.json:
-        write_json(args.json, size_json(result))
+    _write_outputs(args, result)
     if args.json != "-":
         out = console()
         out.print(size_table(result))
         out.print()
         out.print(loads_table(result))
+    _say_written(args)
     return 0 if result.feasible else 1
 
 
 def run_compare(args: argparse.Namespace) -> int:
     """``hdselect compare``: every unit against every joint."""
+    from dataclasses import replace
+
     from hdselect.report import compare_table, console
 
     result = _size(args)
@@ -251,10 +293,16 @@ def run_compare(args: argparse.Namespace) -> int:
         if name not in names:
             raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",
                              field="--joint")
-    out = console()
-    for joint in result.joints:
-        if not args.joint or joint.name in args.joint:
+    shown = replace(result, joints=tuple(joint for joint in result.joints
+                                         if not args.joint or joint.name in args.joint))
+    _write_outputs(args, shown)
+    if args.json != "-":
+        out = console()
+        for i, joint in enumerate(shown.joints):
+            if i:
+                out.print()
             out.print(compare_table(result, joint))
+    _say_written(args)
     return 0 if result.feasible else 1
 
 
@@ -293,8 +341,12 @@ def run_init(args: argparse.Namespace) -> int:
     if out is None:
         sys.stdout.write(text)
     else:
+        from hdselect.report import console
+        from hdselect.tables import Paragraphs
+
         write_output(out, lambda stream: stream.write(text))
-        print(f"wrote {out}; edit its waypoints, limits and payload, then: hdselect size {out}")
+        console().print(Paragraphs((f"wrote {out}; edit its waypoints, limits and payload, "
+                                    f"then: hdselect size {out}",)))
     return 0
 
 
@@ -303,6 +355,111 @@ def _names(given: list[str] | None) -> list[str] | None:
     if given is None:
         return None
     return [name.strip() for text in given for name in text.split(",") if name.strip()]
+
+
+def _write_outputs(args: argparse.Namespace, result) -> None:
+    """The report and the JSON a command was asked for; the report first, as it may fail."""
+    from hdselect.export import size_json, write_json
+
+    if args.report:
+        from hdselect.figures import write_report
+
+        write_report(args.report, result, command=args.command_line)
+    if args.json:
+        write_json(args.json, size_json(result))
+
+
+def _say_written(args: argparse.Namespace) -> None:
+    """Name the files written, on standard error when standard output carries JSON."""
+    from hdselect.tables import Paragraphs, console_for
+
+    written = []
+    if args.report:
+        written.append(f"wrote {Path(args.report) / 'index.html'}: the report, figures "
+                       "embedded (also as PNG files beside it)")
+    if args.json and args.json != "-":
+        written.append(f"wrote {args.json}")
+    if written:
+        console_for(sys.stderr if args.json == "-" else sys.stdout).print(
+            Paragraphs(tuple(written)))
+
+
+def run_study(args: argparse.Namespace) -> int:
+    """``hdselect study``: every case of a study, in parallel, kept as it completes."""
+    import time
+
+    from hdselect.report import console, study_tables
+    from hdselect.study.run import run_study as run
+    from hdselect.study.spec import load_study
+    from hdselect.study.store import journal_path, pivots, table
+    from hdselect.tables import Paragraphs
+
+    study = load_study(args.study)
+    _keep_inputs([args.out, journal_path(args.out), args.plot], [args.study])
+    started = time.perf_counter()
+    with _progress(study.title) as progress:
+        done = run(study, args.out, workers=args.workers, scheduler=args.scheduler,
+                   grouping=not args.no_grouping, retry_failed=args.retry_failed,
+                   progress=progress)
+    out = console()
+    methods = ", ".join(f"{count} {name}" for name, count in sorted(done.methods.items()))
+    out.print(Paragraphs((f"{study.title}: {len(study.cases)} cases: {done.ran} run now"
+                          + (f" ({methods})" if methods else "")
+                          + f", {done.skipped} already done, {done.failed} failed",)))
+    rows = table(study, done.records)
+    if "size" in study.compute:
+        tables, constant = pivots(study, done.records)
+        for item in study_tables(tables, constant):
+            out.print(Paragraphs((item,)) if isinstance(item, str) else item)
+    out.print(Paragraphs((f"rows: {args.out}; records: {journal_path(args.out)}",)))
+    if args.plot and "size" in study.compute:
+        from hdselect.figures import write_study_png
+
+        joints = list(dict.fromkeys(row["joint"] for row in rows if row.get("joint")))
+        first = study.varied[0] if study.varied else "case"
+        second = study.varied[1] if len(study.varied) > 1 else None
+        write_study_png(args.plot, study.title, [r for r in rows if r["compute"] == "size"],
+                        first, second, joints)
+    if done.ran:
+        print(f"hdselect: {done.ran} cases in {time.perf_counter() - started:.1f} s on "
+              f"{done.executor}", file=sys.stderr)
+    return 3 if done.failed else 0
+
+
+class _progress:
+    """A progress bar with ETA on a terminal (standard error); nothing when piped."""
+
+    def __init__(self, title: str) -> None:
+        self.title = title
+        self.bar = None
+
+    def __enter__(self):
+        if not sys.stderr.isatty():
+            return None
+        from rich.console import Console
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+
+        bar = self.bar = Progress(
+            TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+            TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+            console=Console(stderr=True), transient=True)
+        self.bar.start()
+        task = self.bar.add_task(self.title, total=None)
+
+        def update(done: int, total: int, record: dict) -> None:
+            bar.update(task, completed=done, total=total)
+        return update
+
+    def __exit__(self, *exc: object) -> None:
+        if self.bar is not None:
+            self.bar.stop()
 
 
 def _load_case(args: argparse.Namespace):

@@ -315,7 +315,7 @@ def load_case(
     """
     if not isinstance(robot, Robot):
         motion_path = Path(motion)
-        robot = load_robot(robot if robot is not None else _robot_file_of(motion_path))
+        robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
     loaded = load_motion(motion, robot)
     return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
                             joints=joints, exclude=exclude), loaded
@@ -359,7 +359,7 @@ def _robot_file(doc: dict[str, Any], path: Path) -> Path | None:
     return robot
 
 
-def _robot_file_of(path: Path) -> Path:
+def robot_file_named(path: Path) -> Path:
     """The robot file a motion file names, for loading the robot before the motion."""
     doc = read_toml(path)
     robot = _robot_file(doc, path)

@@ -34,7 +34,7 @@ REST_FRACTION = 1e-3
 this fraction of their largest values in the cycle [-]."""
 GRAVITY_LOADED = 1e-3
 """Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
-_GRAVITY_SAMPLES = 400
+GRAVITY_SAMPLES = 400
 """Poses at which the gravity torque is evaluated for the backdriving warning."""
 _GUESS_SAMPLES = 200
 """Samples on which the carried masses are first guessed."""
@@ -251,7 +251,7 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         masses = chosen
     else:  # each round settles at least one more joint from the tip
         raise AssertionError("the tip-to-base sizing did not settle")
-    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, _GRAVITY_SAMPLES).astype(int))
+    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))
     gravity = np.abs(gravity_torques(carrying, trajectory.q[poses], threads=options.threads))
     joints = [replace(joint, carried_mass=carrying.carried_mass(joint.name),
                       gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
@@ -335,14 +335,29 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
                 torque=torques.tau[:, j], stop_torque=torques.stop[:, j],
                 gravity=torques.gravity[:, j], coast=torques.coasting[:, j],
                 stop_time=options.stop_time)
-            scales = joint_scales(cycle, units, efficiency=options.efficiency,
-                                  rotor_inertia=options.rotor_inertia,
-                                  check_options={"life_hours": options.life_hours,
-                                                 "life_basis": options.life_basis})
-            joint = replace(joint, slowdown=_rounded(scales.slowdown(), scales, traj.duration),
-                            scales=scales)
+            slowdown, scales = fitting_time_scales(cycle, units, options)
+            joint = replace(joint, slowdown=slowdown, scales=scales)
         out.append(joint)
     return out
+
+
+def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit],
+                        options: Options) -> tuple[Slowdown, JointScales]:
+    """For a joint no unit fits: every unit's feasible time scales and the smallest slow-down.
+
+    Args:
+        cycle: The joint's cycle split by how its torques scale.
+        units: The catalog.
+        options: The assumptions (efficiency, rotor inertia, life requirement).
+
+    Returns:
+        The slow-down, its factor rounded to 0.001 (see `_rounded`), and the scales.
+    """
+    scales = joint_scales(cycle, units, efficiency=options.efficiency,
+                          rotor_inertia=options.rotor_inertia,
+                          check_options={"life_hours": options.life_hours,
+                                         "life_basis": options.life_basis})
+    return _rounded(scales.slowdown(), scales, cycle.duration), scales
 
 
 def _rounded(slowdown: Slowdown, scales: JointScales, duration: float) -> Slowdown:
