@@ -29,6 +29,7 @@ import numpy as np
 from hdselect.arrays import frozen
 from hdselect.catalog import Unit
 from hdselect.dynamics import inverse_dynamics
+from hdselect.loads import joint_loads
 from hdselect.motion import Motion
 from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
@@ -208,10 +209,17 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
         worst = float(at_poses[:, j].max())
         joints.append(replace(found[name], carried_mass=carried,
                               gravity_loaded=worst > GRAVITY_LOADED, max_gravity_torque=worst))
+    # every joint's torque with the masses chosen, on the kept rows (a run of identical
+    # states has one torque): the peaks, speeds and travel the core's `joint_loads` finds
+    tau = np.einsum("p,dpn->nd", theta, basis.gravity + basis.dynamic * y**2)
+    kept = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale, t=t,
+                   q=traj.q[basis.rows], qd=qd, qdd=qdd)
     # only the cycle time and the sample count of the trajectory go into the summary
     timing = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale)
-    return summarize(SizingResult(basis.robot, timing, tuple(joints), options, units,
-                                  basis.motion))
+    summary = summarize(SizingResult(basis.robot, timing, tuple(joints), options, units,
+                                     basis.motion, loads=joint_loads(basis.robot, kept, tau)))
+    # the basis's robot carries the reference payload; the case carries its own mass
+    return replace(summary, payload_mass=0.0 if mass is None else float(mass))
 
 
 @dataclass(frozen=True)
