@@ -93,6 +93,64 @@ def test_the_page_is_self_contained_and_links_its_notes(report):
     assert 'href="#note-PSA-08-80"' in page and "momentary limit not rated" in page
 
 
+
+class Sections(HTMLParser):
+    """The text of each list item and each table row, by section id; a row's failing cells."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.section = ""
+        self.items: dict[str, list[str]] = {}
+        self.rows: dict[str, list[list[str]]] = {}
+        self.failing: dict[str, list[tuple[int, int]]] = {}
+        self._text: list[str] | None = None
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "section":
+            self.section = a.get("id") or ""
+        elif tag == "li":
+            self._text = []
+        elif tag == "tr":
+            self.rows.setdefault(self.section, []).append([])
+        elif tag in ("td", "th"):
+            row = self.rows[self.section][-1]
+            if "fail" in (a.get("class") or "").split():
+                self.failing.setdefault(self.section, []).append(
+                    (len(self.rows[self.section]) - 1, len(row)))
+            row.append("")
+
+    def handle_endtag(self, tag):
+        if tag == "li" and self._text is not None:
+            self.items.setdefault(self.section, []).append("".join(self._text))
+            self._text = None
+
+    def handle_data(self, data):
+        if self._text is not None:
+            self._text.append(data)
+        elif self.rows.get(self.section) and self.rows[self.section][-1]:
+            self.rows[self.section][-1][-1] += data
+
+
+def test_the_page_has_the_base_the_warnings_and_every_joint_beside_its_file_limits(report):
+    out, result = report
+    page = Sections()
+    page.feed((out / "index.html").read_text())
+    assert page.items["warnings"] == list(result.warnings)
+    assert any(w.startswith("cycle: ") for w in result.warnings)  # the arm is overloaded
+    header, *rows = page.rows["loads"]
+    assert header[:4] == ["joint", "type", "sized", "peak torque or force"]
+    assert [row[0] for row in rows] == [load.name for load in result.loads]
+    over = {(k + 1, 3) for k, load in enumerate(result.loads) if load.above_effort}
+    over |= {(k + 1, 5) for k, load in enumerate(result.loads) if load.above_velocity}
+    assert over and set(page.failing["loads"]) == over
+    for row, column in over:
+        assert rows[row - 1][column].endswith("✗")
+    assert "joint losses" in "".join(page.items["assumptions"])
+    assert "base: 'base_link' held fixed; payload: 1.5 kg on 'tool'" in "".join(
+        (out / "index.html").read_text().replace("&#x27;", "'").split("\n"))
+
+
 def test_provenance_hashes_every_input_and_rerunning_reproduces_the_page(report, capsys):
     out, result = report
     page = (out / "index.html").read_text()

@@ -8,6 +8,7 @@ names that no unit fits at one joint, and for the catalog and a duty cycle.
 from __future__ import annotations
 
 import io
+import math
 import re
 from pathlib import Path
 
@@ -17,12 +18,15 @@ import hdselect
 from hdselect.catalog import load_catalog
 from hdselect.cli import main
 from hdselect.duty import load_duty, size_duty
+from hdselect.joints import describe_joints
 from hdselect.motors import load_motors
 from hdselect.report import (
     catalog_table,
     compare_table,
     duty_table,
+    joints_table,
     life_text,
+    loads_table,
     ratio_text,
     size_table,
     utilization_text,
@@ -133,6 +137,32 @@ def test_compare_table_keeps_every_unit_and_verdict_whole(overloaded, width):
 
 
 @pytest.mark.parametrize("width", WIDTHS)
+def test_loads_table_keeps_every_joint_and_figure_whole(overloaded, width):
+    text = printed(loads_table(overloaded), width)
+    assert_fits(text, width)
+    over = 0
+    for load in overloaded.loads:
+        assert whole(text, load.name)
+        high = math.degrees(load.travel[1])
+        assert whole(text, f"{load.peak:.3g}") and whole(text, f"{high:.3g} deg")
+        over += load.above_effort + load.above_velocity
+    assert over and text.count("✗") == over + 1  # each figure above its limit, and the key
+    assert whole(text, "✗ above the robot file's limit")
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_joints_table_keeps_every_joint_and_limit_whole(width):
+    robot = hdselect.load_robot(REPO / "robots" / "scara.urdf")
+    text = printed(joints_table(robot, describe_joints(robot)), width)
+    assert_fits(text, width)
+    for name, range_ in (("shoulder", "-2.62 .. 2.62"), ("lift", "0 .. 0.04")):
+        assert whole(text, name) and whole(text, range_)
+    assert whole(text, "0.879")  # the mass the shoulder moves: moved below, never lost
+    lift = next(line for line in text.splitlines() if line.startswith("lift "))
+    assert lift.split()[:4] == ["lift", "2", "prismatic", "no"]  # the key columns stay
+
+
+@pytest.mark.parametrize("width", WIDTHS)
 def test_catalog_and_duty_tables_fit(width):
     units = load_catalog()
     for imperial in (False, True):
@@ -210,7 +240,8 @@ q = [10, 20]
     assert main(["size", str(still)]) == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "zero length" in text and "the motion moves no joint" in text
-    assert "payload: 0.4 kg on tool, the last link, since no frame was given" in text
+    assert ("payload: 0.4 kg on tool, the tip of the longest chain of sized joints, since no "
+            "frame was given") in text
 
 
 # --- gearhead and motor pairs ------------------------------------------------------------

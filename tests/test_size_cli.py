@@ -17,11 +17,13 @@ import numpy as np
 import pytest
 
 from hdselect.cli import main
+from hdselect.motion import load_case
 from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
 from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
+BENCHTOP6 = REPO / "trajectories" / "benchtop6_pick_place.toml"
 SCARA = REPO / "trajectories" / "scara_wafer_transfer.toml"
 
 
@@ -55,11 +57,20 @@ def test_size_prints_every_joint_and_exits_0(capsys, motion, joints):
     status, out, err = run(capsys, "size", motion)
     assert status == 0, err
     assert err == ""
-    rows = {line.split()[0] for line in out.splitlines() if line.strip()}
+    sizing, loads = out.split("Every joint over the cycle")
+    rows = {line.split()[0] for line in sizing.splitlines() if line.strip()}
     for joint in joints:
         assert joint in rows
     assert "PSA-" in out
     assert "lift" not in rows  # prismatic: reported by the model, never sized
+    load_rows = {cells[0]: cells[1:3] for cells in map(str.split, loads.splitlines())
+                 if len(cells) > 2 and cells[0] in (*joints, "lift")
+                 and cells[1] in ("revolute", "continuous", "prismatic")}
+    assert load_rows == {**{j: [load_rows[j][0], "yes"] for j in joints},
+                         **({"lift": ["prismatic", "no"]} if "lift" in load_rows else {})}
+    assert ("lift" in load_rows) == (motion == SCARA)
+    if motion == SCARA:
+        assert "lift: not sized: the catalog is rotary" in loads
 
 
 def test_size_json_to_stdout_parses(capsys):
@@ -230,12 +241,19 @@ def test_plan_csv_two_link_closed_form(capsys, tmp_path):
                                atol=1e-7)
 
 
-def test_plan_csv_lists_only_sized_joints(capsys, tmp_path):
+def test_plan_csv_lists_every_joint_the_prismatic_one_in_newtons(capsys, tmp_path):
     out_file = tmp_path / "scara.csv"
     assert run(capsys, "plan", SCARA, "--out", out_file)[0] == 0
-    header, _ = read_csv(out_file)
-    assert header == ["t"] + [f"{kind}_{joint}" for joint in ("shoulder", "elbow", "wrist")
+    header, data = read_csv(out_file)
+    assert header == ["t"] + [f"{kind}_{joint}" for joint in ("shoulder", "elbow", "lift", "wrist")
                               for kind in ("q", "qd", "qdd", "tau")]
+    robot, _ = load_case(SCARA)
+    lift = robot.joint_index("lift")
+    # the lift holds the quill, end effector and wafer against gravity: m g, in N
+    held = sum(robot.model.inertias[j].mass for j in range(lift + 1, robot.model.njoints))
+    at_rest = (data[:, header.index("qd_lift")] == 0) & (data[:, header.index("qdd_lift")] == 0)
+    np.testing.assert_allclose(data[at_rest, header.index("tau_lift")], held * 9.80665,
+                               rtol=1e-6)
 
 
 def test_failing_plan_leaves_no_csv(capsys, tmp_path):
@@ -275,6 +293,7 @@ def test_report_writes_html_and_pngs(capsys, tmp_path):
     targets = re.findall(r"""(?:src|href)=["']([^"']*)""", page)
     assert targets and all(t.startswith(("data:image/png;base64,", "#")) for t in targets)
     assert "shoulder" in page and "elbow" in page
+    assert "base: &#x27;base_link&#x27; held fixed; payload: 0.4 kg on" in page
     assert files_in(tmp_path) == {"report"} | {f"report/{n}" for n in names}
     assert f"wrote {report / 'index.html'}" in " ".join(out.split())  # may wrap
 
@@ -358,6 +377,31 @@ def test_payload_frame_missing_from_the_robot_names_the_motion_file(capsys, tmp_
                           "links are: base_link, link1, link2, tool")
 
 
+def test_joints_and_exclude_options_choose_the_sized_joints(capsys, tmp_path):
+    report = tmp_path / "r.json"
+    status, out, err = run(capsys, "size", BENCHTOP6, "--exclude", "wrist_1,wrist_3",
+                           "--json", report)
+    assert status == 0, err
+    document = json.loads(report.read_text())
+    assert [j["name"] for j in document["joints"]] == ["shoulder_pan", "shoulder_lift", "elbow",
+                                                       "wrist_2"]
+    assert "wrist_1: not sized: excluded" in out
+    status, out, err = run(capsys, "size", BENCHTOP6, "--joints", "elbow", "--joints",
+                           "wrist_2", "--json", report)
+    assert [j["name"] for j in json.loads(report.read_text())["joints"]] == ["elbow", "wrist_2"]
+
+
+@pytest.mark.parametrize(("args", "text"), [
+    (["--joints", "elbo"], "--joints: unknown joint 'elbo'; joints are: shoulder_pan"),
+    (["--exclude", "shoulder_pan,shoulder_lift,elbow,wrist_1,wrist_2,wrist_3"],
+     "--exclude: no joint left to size"),
+])
+def test_bad_joint_options_are_one_line(capsys, args, text):
+    status, out, err = run(capsys, "size", BENCHTOP6, *args)
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert text in err
+
+
 # --- what the commands say, compare's outputs, -v anywhere -------------------------------------
 
 def test_plan_says_what_it_planned_and_wrote(capsys, tmp_path):
@@ -366,7 +410,8 @@ def test_plan_says_what_it_planned_and_wrote(capsys, tmp_path):
     assert status == 0 and err == ""
     text = " ".join(out.split())
     assert "not sized: lift (prismatic" in text
-    assert f"wrote {out_file}: t, then q_, qd_, qdd_, tau_ of shoulder, elbow, wrist (SI)" in text
+    assert (f"wrote {out_file}: t, then q_, qd_, qdd_, tau_ of shoulder, elbow, lift, wrist "
+            "(SI)") in text
     assert f"wrote {plot}" in text
 
 

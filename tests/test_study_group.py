@@ -104,6 +104,75 @@ def test_dwells_are_kept_once_with_their_length(benchtop):
     assert math.isclose(float(basis.weight.max()) * basis.trajectory.dt, 3.0, rel_tol=0.01)
 
 
+
+def grouped_and_direct(motion, payloads=(0.5, 2.0), scales=(0.5, 1.0)):
+    """A payload x speed study of `motion` run grouped and direct: outcomes by case index."""
+    from hdselect.study import load_study
+    from hdselect.study.compute import run_size
+
+    study = motion.parent / "study.toml"
+    study.write_text(f'[base]\nmotion = "{motion.name}"\n[grid]\npayload = {list(payloads)}\n'
+                     f"time_scale = {list(scales)}\n")
+    cases = load_study(study).cases
+    grouped = {o.index: o for o in run_size(cases, True)}
+    direct = {o.index: o for o in run_size(cases, False)}
+    assert {o.method for o in grouped.values()} == {"grouped"}
+    assert {o.method for o in direct.values()} == {"direct"}
+    for index, outcome in grouped.items():
+        assert outcome.ok and direct[index].ok, (outcome.error, direct[index].error)
+        assert differences(outcome.result, direct[index].result) < 1e-9
+        assert outcome.result["payload_mass"] == cases[index].payload
+    return cases, grouped
+
+
+def starter(robot_file, out, exclude=None, mass=0.5):
+    """``hdselect init``'s motion for a robot, with a payload (no frame) and an exclusion."""
+    from hdselect.cli import main
+
+    assert main(["init", str(robot_file), "--out", str(out)]) == 0
+    text = out.read_text()
+    if exclude is not None:
+        text = text.replace(f'# exclude = ["{exclude}"]', f'exclude = ["{exclude}"]')
+    out.write_text(text.replace("# [payload]", f"[payload]\nmass = {mass}\n# ", 1))
+    return out
+
+
+def test_a_real_arm_with_sizing_exclude_groups_exactly(tmp_path):
+    """TALOS's left arm, its gripper joint excluded by the motion file's ``[sizing]``.
+
+    The default payload frame follows the joints sized; the faster cases leave the robot
+    file's velocity limits, so their records carry those warnings. Every grouped record equals
+    the direct one (`hdselect size`'s path) but for the method.
+    """
+    from test_example_robots import ARMS, example_robots
+
+    motion = starter(example_robots() / ARMS["TALOS left arm"], tmp_path / "talos.toml",
+                     exclude="gripper_left_joint")
+    robot, _ = load_case(motion)
+    assert "gripper_left_joint" not in robot.sized_joints
+    assert robot.payload_frame == "wrist_left_ft_tool_link"  # the tip without the gripper
+    cases, grouped = grouped_and_direct(motion)
+    for index, outcome in grouped.items():
+        assert outcome.result["payload_frame"] == "wrist_left_ft_tool_link"
+        assert [j["name"] for j in outcome.result["joints"]] == list(robot.sized_joints)
+        fast = cases[index].time_scale == 0.5
+        assert fast == any(w.startswith("cycle: ") and "velocity limit" in w
+                           for w in outcome.result["warnings"])
+
+
+def test_mimic_followers_group_exactly(tmp_path):
+    """A gripper leader whose two mimic followers (one reversed, offset) load it."""
+    from test_robotfile import gripper
+
+    motion = starter(gripper(tmp_path), tmp_path / "gripper.toml", mass=0.1)
+    robot, _ = load_case(motion)
+    assert set(robot.mimic) == {"left_inner", "right_outer"}
+    assert robot.sized_joints == ("arm_joint", "finger_joint")
+    _, grouped = grouped_and_direct(motion, payloads=(0.05, 0.2))
+    for outcome in grouped.values():
+        assert [j["name"] for j in outcome.result["joints"]] == ["arm_joint", "finger_joint"]
+
+
 # --- gearhead and motor pairs ---------------------------------------------------------------
 
 EXAMPLE_MOTORS = REPO / "motors" / "example_motors.toml"

@@ -5,12 +5,14 @@ import logging
 from hdselect.catalog import Unit, load_catalog
 from hdselect.duty import load_duty, size_duty
 from hdselect.errors import HdselectError, InputError, PlanningError
+from hdselect.joints import describe_joints
 from hdselect.motion import Motion, load_case, load_motion
 from hdselect.motors import Motor, load_motors
 from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
 from hdselect.sizing import SizingResult, size, size_trajectory
+from hdselect.starter import starter_motion
 from hdselect.study import study
 from hdselect.summary import Summary, summarize
 
@@ -30,6 +32,7 @@ __all__ = [
     "Trajectory",
     "Unit",
     "__version__",
+    "describe_joints",
     "load_catalog",
     "load_case",
     "load_duty",
@@ -40,6 +43,7 @@ __all__ = [
     "size",
     "size_duty",
     "size_trajectory",
+    "starter_motion",
     "study",
     "summarize",
 ]

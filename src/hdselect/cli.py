@@ -78,7 +78,7 @@ def _parser() -> argparse.ArgumentParser:
         "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
     _robot_motion(plan)
     plan.add_argument("--out", metavar="FILE", required=True,
-                      help="CSV: t, then q_, qd_, qdd_, tau_ per sized joint (SI)")
+                      help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
     plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
     plan.set_defaults(run=run_plan)
 
@@ -102,7 +102,21 @@ def _parser() -> argparse.ArgumentParser:
                          help="write an HTML report of the joints shown into DIR")
     compare.set_defaults(run=run_compare)
 
-    study = commands.add_parser("study", help="run every case of a design study (TOML)")
+    joints = commands.add_parser("joints", parents=[verbose],
+                                  help="list a robot's joints in the order lists use")
+    joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    _json_option(joints)
+    joints.set_defaults(run=run_joints)
+
+    init = commands.add_parser("init", parents=[verbose],
+                                help="write a starter motion file for a robot")
+    init.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    init.add_argument("--out", metavar="FILE",
+                      help="the motion file to write (default: print it); never overwritten")
+    init.set_defaults(run=run_init)
+
+    study = commands.add_parser("study", parents=[verbose],
+                                help="run every case of a design study (TOML)")
     study.add_argument("study", metavar="STUDY", help="study file (TOML)")
     study.add_argument("--out", metavar="CSV", required=True,
                        help="rows, one per case and joint; a JSON Lines record of each case "
@@ -144,9 +158,16 @@ def _robot_motion(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
                         default=(0.0, 0.0, 0.0), help="payload centre of mass in its frame [m]")
     parser.add_argument("--payload-frame", metavar="LINK",
-                        help="link carrying the payload (default: the last link)")
+                        help="link carrying the payload (default: the tip of the longest chain "
+                             "of sized joints)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
+    parser.add_argument("--joints", metavar="A,B", action="append",
+                        help="size only these joints (comma-separated; overrides the motion "
+                             "file's [sizing] joints)")
+    parser.add_argument("--exclude", metavar="A,B", action="append",
+                        help="do not size these joints; they still move and load the others "
+                             "(overrides the motion file's [sizing] exclude)")
 
 
 def _sizing_options(parser: argparse.ArgumentParser) -> None:
@@ -235,16 +256,16 @@ def run_plan(args: argparse.Namespace) -> int:
     from hdselect.report import console, plan_text
     from hdselect.tables import Paragraphs
 
-    joints = robot.sized_joints
     if args.plot:
         from hdselect.figures import write_profiles_png
 
-        write_profiles_png(args.plot, trajectory, tau, joints,
+        write_profiles_png(args.plot, trajectory, tau, robot.sized_joints,
                            title=f"{robot.path.name} running {motion.path.name}")
-    write_trajectory_csv(args.out, trajectory, tau, joints)
+    write_trajectory_csv(args.out, trajectory, tau, robot.joint_names)
     out = console()
     out.print(plan_text(robot, motion, trajectory))
-    written = [f"wrote {args.out}: t, then q_, qd_, qdd_, tau_ of {', '.join(joints)} (SI)"]
+    written = [f"wrote {args.out}: t, then q_, qd_, qdd_, tau_ of "
+               f"{', '.join(robot.joint_names)} (SI)"]
     if args.plot:
         written.append(f"wrote {args.plot}: speed and torque of each joint over the cycle")
     out.print(Paragraphs(tuple(written)))
@@ -253,12 +274,15 @@ def run_plan(args: argparse.Namespace) -> int:
 
 def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
-    from hdselect.report import console, size_table
+    from hdselect.report import console, loads_table, size_table
 
     result = _size(args)
     _write_outputs(args, result)
     if args.json != "-":
-        console().print(size_table(result))
+        out = console()
+        out.print(size_table(result))
+        out.print()
+        out.print(loads_table(result))
     _say_written(args)
     return 0 if result.feasible else 1
 
@@ -286,6 +310,57 @@ def run_compare(args: argparse.Namespace) -> int:
             out.print(compare_table(result, joint))
     _say_written(args)
     return 0 if result.feasible else 1
+
+
+def run_joints(args: argparse.Namespace) -> int:
+    """``hdselect joints``: every joint of a robot file, in the order lists use."""
+    from hdselect.export import joints_json, write_json
+    from hdselect.joints import describe_joints
+    from hdselect.report import console, joints_table
+    from hdselect.robot import load_robot
+
+    robot = load_robot(args.robot)
+    _keep_inputs([args.json], [robot.path])
+    infos = describe_joints(robot)
+    if args.json:
+        write_json(args.json, joints_json(robot, infos))
+    if args.json != "-":
+        console().print(joints_table(robot, infos))
+    return 0
+
+
+def run_init(args: argparse.Namespace) -> int:
+    """``hdselect init``: a starter motion file that plans and sizes as written."""
+    from hdselect.export import write_output
+    from hdselect.robot import load_robot
+    from hdselect.starter import starter_motion
+
+    robot = load_robot(args.robot)
+    out = Path(args.out) if args.out else None
+    if out is not None and out.exists():
+        raise InputError("exists; choose another path or remove it first", path=out)
+    where = os.path.abspath(out.parent if out is not None else Path.cwd())
+    target = os.path.abspath(robot.path)
+    shared = os.path.commonpath([target, where])
+    text = starter_motion(robot, str(target) if shared == os.sep
+                          else os.path.relpath(target, where))
+    if out is None:
+        sys.stdout.write(text)
+    else:
+        from hdselect.report import console
+        from hdselect.tables import Paragraphs
+
+        write_output(out, lambda stream: stream.write(text))
+        console().print(Paragraphs((f"wrote {out}; edit its waypoints, limits and payload, "
+                                    f"then: hdselect size {out}",)))
+    return 0
+
+
+def _names(given: list[str] | None) -> list[str] | None:
+    """Joint names from repeatable, comma-separated options."""
+    if given is None:
+        return None
+    return [name.strip() for text in given for name in text.split(",") if name.strip()]
 
 
 def _write_outputs(args: argparse.Namespace, result) -> None:
@@ -323,6 +398,7 @@ def run_study(args: argparse.Namespace) -> int:
     from hdselect.study.run import run_study as run
     from hdselect.study.spec import load_study
     from hdselect.study.store import journal_path, pivots, table
+    from hdselect.tables import Paragraphs
 
     study = load_study(args.study)
     _keep_inputs([args.out, journal_path(args.out), args.plot], [args.study])
@@ -333,15 +409,15 @@ def run_study(args: argparse.Namespace) -> int:
                    progress=progress)
     out = console()
     methods = ", ".join(f"{count} {name}" for name, count in sorted(done.methods.items()))
-    out.print(f"{study.title}: {len(study.cases)} cases: {done.ran} run now"
-              + (f" ({methods})" if methods else "")
-              + f", {done.skipped} already done, {done.failed} failed")
+    out.print(Paragraphs((f"{study.title}: {len(study.cases)} cases: {done.ran} run now"
+                          + (f" ({methods})" if methods else "")
+                          + f", {done.skipped} already done, {done.failed} failed",)))
     rows = table(study, done.records)
     if "size" in study.compute:
         tables, constant = pivots(study, done.records)
         for item in study_tables(tables, constant):
-            out.print(item)
-    out.print(f"rows: {args.out}; records: {journal_path(args.out)}")
+            out.print(Paragraphs((item,)) if isinstance(item, str) else item)
+    out.print(Paragraphs((f"rows: {args.out}; records: {journal_path(args.out)}",)))
     if args.plot and "size" in study.compute:
         from hdselect.figures import write_study_png
 
@@ -403,7 +479,15 @@ def _load_case(args: argparse.Namespace):
         except InputError as err:
             flag = {"payload.mass": "--payload", "payload.com": "--payload-com"}
             raise InputError(err.reason, field=flag.get(str(err.field), err.field)) from err
-    return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting)
+    joints, exclude = _names(args.joints), _names(args.exclude)
+    try:
+        return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting,
+                         joints=joints, exclude=exclude)
+    except InputError as err:
+        given = {"joints": joints, "exclude": exclude}
+        if err.field in given and given[str(err.field)] is not None:
+            raise InputError(err.reason, field=f"--{err.field}") from err
+        raise
 
 
 def _size(args: argparse.Namespace):

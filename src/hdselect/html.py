@@ -16,9 +16,11 @@ import html
 from collections.abc import Mapping, Sequence
 
 from hdselect.catalog import Flag
-from hdselect.export import MOTOR_MODEL_NOTE, assumptions
+from hdselect.export import MOTOR_MODEL_NOTE, assumptions, base_text
+from hdselect.loads import JointLoad
 from hdselect.provenance import Provenance
 from hdselect.report import (
+    DEG_PER_RAD,
     case_notes,
     life_text,
     ratio_text,
@@ -82,7 +84,8 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
     count = len(result.trajectory.t)
     verdict_text = ("Every joint has a unit." if result.feasible
                     else "<strong>Some joints have no unit.</strong>")
-    sections = [_selection(result), _notes(result), _heat_maps(result),
+    sections = [_selection(result), _warnings(result), _notes(result), _heat_maps(result),
+                _loads(result),
                 *(_joint_section(result, joint, figures.get(joint.name),
                                  (motor_figures or {}).get(joint.name))
                   for joint in result.joints),
@@ -96,6 +99,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
 <p>Cycle {result.cycle_time:.3f} s, {count:,} sample{"s" if count != 1 else ""} every
 {result.trajectory.dt * 1e3:g} ms. {verdict_text} Made by hdselect {esc(origin.version)} on
 {esc(origin.created)}; <a href="#provenance">how to re-run it</a>.</p>
+<p>{esc(base_text(result.robot))}</p>
 {"".join(sections)}
 </body></html>
 """
@@ -248,6 +252,62 @@ def _notes(result: SizingResult) -> str:
     return (f"<section id=notes><h2>Notes</h2>{f'<ul>{case}</ul>' if case else ''}"
             f"<h3>Catalog stand-ins and corrections</h3><ul>{items or '<li>none</li>'}</ul>"
             f"{gravity}</section>")
+
+
+def _warnings(result: SizingResult) -> str:
+    """What the robot file and the motion file raised, and the file's limits the cycle exceeds."""
+    if not result.warnings:
+        return ""
+    items = "".join(f"<li>{esc(warning)}</li>" for warning in result.warnings)
+    return f"<section id=warnings><h2>Warnings</h2><ul>{items}</ul></section>"
+
+
+def _loads(result: SizingResult) -> str:
+    """Every joint of the robot, sized or not, beside its robot file's limits."""
+    if not result.loads:
+        return ""
+    angle = result.motion.angle_unit if result.motion is not None else "deg"
+    rows = [[esc(load.name), esc(load.kind), "yes" if load.sized else "no",
+             *_load_cells(load, angle)] for load in result.loads]
+    notes = "".join(f"<li><b>{esc(load.name)}</b>: {esc(load.note)}</li>"
+                    for load in result.loads if load.note)
+    header = ["joint", "type", "sized", "peak torque or force", "file effort limit",
+              "top speed", "file velocity limit", "travel"]
+    return ("<section id=loads><h2>Every joint over the cycle</h2>"
+            "<p>Peak torque (force, for a prismatic joint) with the gearheads"
+            f"{' and motors' if result.motors else ''} carried, top "
+            "speed and travel of every joint of the robot, beside the robot file's limits. ✗ "
+            f"above the limit.</p>{_table(header, rows, left=3, text=[7])}"
+            f"{f'<ul>{notes}</ul>' if notes else ''}</section>")
+
+
+def _load_cells(load: JointLoad, angle: str) -> list[str]:
+    """Peak, effort limit, speed, velocity limit and travel of one joint, with units."""
+    if load.linear:
+        force, length, scale = "N", "m", 1.0
+    else:
+        force, length, scale = "N m", angle, (DEG_PER_RAD if angle == "deg" else 1.0)
+
+    def value(figure: float | None, limit: float, unit: str, over: bool) -> str:
+        if figure is None:
+            return "-"
+        text = esc(f"{number(figure)} {unit}")
+        if not over:
+            return text
+        colour = utilization_colour(figure / limit)
+        return (f"<td class=fail style='background-color:{colour};color:{_ink(colour)}' "
+                f"title='above the robot file&#x27;s limit'>{text} ✗</td>")
+
+    def limit(figure: float, unit: str) -> str:
+        return esc(f"{number(figure)} {unit}") if figure < float("inf") else "none"
+
+    low, high = (x * scale for x in load.travel)
+    return [value(load.peak, load.effort_limit, force, load.above_effort),
+            limit(load.effort_limit, force),
+            value(load.max_speed * scale, load.velocity_limit * scale, f"{length}/s",
+                  load.above_velocity),
+            limit(load.velocity_limit * scale, f"{length}/s"),
+            esc(f"{number(low)} .. {number(high)} {length}")]
 
 
 def _rules(result: SizingResult) -> list[str]:

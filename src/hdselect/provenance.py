@@ -143,7 +143,8 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
     if payload is None:
         rows.append(("payload", "none"))
     else:
-        frame = f"{robot.payload_frame}{'' if payload.frame else ' (the last link, by default)'}"
+        default = " (by default: the tip of the longest chain of sized joints)"
+        frame = f"{robot.payload_frame}{'' if payload.frame else default}"
         inertia = "; ".join(", ".join(f"{v:g}" for v in row) for row in payload.inertia)
         rows.append(("payload", f"{payload.mass:g} kg on {frame}, centre of mass "
                                 f"[{', '.join(f'{c:g}' for c in payload.com)}] m, inertia about "

@@ -20,7 +20,9 @@ from hdselect.catalog import (
     Unit,
 )
 from hdselect.duty import DutyResult
-from hdselect.export import assumptions, mean_speed_note
+from hdselect.export import assumptions, base_text, mean_speed_note
+from hdselect.joints import JointInfo
+from hdselect.loads import JointLoad
 from hdselect.motion import Motion
 from hdselect.planning import Trajectory
 from hdselect.robot import Robot
@@ -36,6 +38,8 @@ from hdselect.rules import (
 )
 from hdselect.sizing import JointSizing, SizingResult
 from hdselect.tables import Column, FittedTable, Paragraphs, console_for
+
+DEG_PER_RAD = 180.0 / math.pi
 
 
 def console() -> Console:
@@ -238,9 +242,9 @@ def _utilization_cell(check: Check, pad: bool = False) -> str:
 def size_table(result: SizingResult) -> FittedTable:
     """One row per joint: the unit chosen, why, its life and what the motor must do.
 
-    On a narrow terminal the motor figures and the notes move into a second table.
-    Where motors are given: the pair chosen and the binding rule on either side
-    (`_pairs_table`).
+    On a narrow terminal the motor figures and the notes move into a second table;
+    without a note on any joint there is no notes column. Where motors are given: the
+    pair chosen and the binding rule on either side (`_pairs_table`).
     """
     if result.motors:
         return _pairs_table(result)
@@ -269,7 +273,9 @@ def size_table(result: SizingResult) -> FittedTable:
             life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             ", ".join(notes)))
-    return FittedTable(_size_title(result), columns, tuple(rows), notes=tuple(_size_notes(result)))
+    shown = len(columns) if any(row[-1] for row in rows) else -1  # no empty notes column
+    return FittedTable(_size_title(result), columns[:shown], tuple(row[:shown] for row in rows),
+                       notes=tuple(_size_notes(result)))
 
 
 def ratio_text(ratio: float | None) -> str:
@@ -318,7 +324,9 @@ def _pairs_table(result: SizingResult) -> FittedTable:
             ratio_text(joint.inertia_ratio(chosen)), life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             ", ".join(notes)))
-    return FittedTable(_size_title(result), columns, tuple(rows), notes=tuple(_size_notes(result)))
+    shown = len(columns) if any(row[-1] for row in rows) else -1  # no empty notes column
+    return FittedTable(_size_title(result), columns[:shown], tuple(row[:shown] for row in rows),
+                       notes=tuple(_size_notes(result)))
 
 
 def _binding_text(candidate: Candidate, name: str) -> str:
@@ -407,7 +415,96 @@ def time_scale_text(joint: JointSizing) -> str:
 def _size_title(result: SizingResult) -> str:
     count = len(result.trajectory.t)
     return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
-            f"{count:,} sample{'s' if count != 1 else ''}")
+            f"{count:,} sample{'s' if count != 1 else ''}\n{base_text(result.robot)}")
+
+
+def loads_table(result: SizingResult) -> FittedTable:
+    """Every joint of the robot over the cycle, sized or not, beside its file's limits.
+
+    Angles and speeds are in the motion file's angle unit (degrees without a motion).
+    A value above the file's limit is red; why a joint is not sized is noted below.
+    On a narrow terminal the speeds, then the travel, move below.
+    """
+    angle = result.motion.angle_unit if result.motion is not None else "deg"
+    columns = (Column("joint", "left"), Column("type", "left"), Column("sized", "left"),
+               Column("peak / file effort"), Column("speed / file limit", group="speed"),
+               Column("travel", "left", group="travel"))
+    rows = tuple((escape(load.name), load.kind, "yes" if load.sized else "no",
+                  *_load_cells(load, angle)) for load in result.loads)
+    notes = [f"{load.name}: {load.note}" for load in result.loads if load.note]
+    if any(load.above_effort or load.above_velocity for load in result.loads):
+        notes.insert(0, "✗ above the robot file's limit")
+    carried = "gearheads and motors" if result.motors else "gearheads"
+    return FittedTable(f"Every joint over the cycle (peak torque or force with the {carried} "
+                       "carried), beside the robot file's limits", columns, rows,
+                       notes=tuple(notes))
+
+
+def _load_cells(load: JointLoad, angle: str) -> list[str]:
+    """Peak and effort limit, speed and velocity limit, travel of one joint, with units."""
+    if load.linear:
+        force, length, scale = "N", "m", 1.0
+    else:
+        force, length, scale = "N m", angle, (DEG_PER_RAD if angle == "deg" else 1.0)
+
+    def pair(value: float | None, limit: float, unit: str, over: bool) -> str:
+        if value is None:
+            return "-"
+        shown = f"[red]{value:.3g}✗[/red]" if over else f"{value:.3g}"
+        return f"{shown} / {f'{limit:.3g}' if math.isfinite(limit) else '-'} {unit}"
+
+    low, high = (x * scale for x in load.travel)
+    return [pair(load.peak, load.effort_limit, force, load.above_effort),
+            pair(load.max_speed * scale, load.velocity_limit * scale, f"{length}/s",
+                 load.above_velocity),
+            f"{low:.3g} .. {high:.3g} {length}"]
+
+
+def joints_table(robot: Robot, infos: Iterable[JointInfo]) -> FittedTable:
+    """A robot's joints in list order: type, limits, the file's speed and effort, mass moved.
+
+    On a narrow terminal the ranges, then the file's limits, then the mass moved go below.
+    """
+    columns = (Column("joint", "left"), Column("#"), Column("type", "left"),
+               Column("sized", "left"), Column("range\nrad or m", group="range"),
+               Column("range\ndeg", group="range"),
+               Column("max speed\ndeg/s, m/s", group="limits"),
+               Column("effort\nN m, N", group="limits"), Column("moves\nkg", group="moves"))
+    rows, notes = [], []
+    for info in infos:
+        linear = info.kind == "prismatic"
+        if info.leader is not None:
+            offset = f" {info.offset:+g}" if info.offset else ""
+            notes.append(f"{info.name} follows {info.leader} (x {info.multiplier:g}{offset}): no "
+                         "gearhead of its own; its leader carries its load")
+            rows.append((escape(info.name), "-", "mimic", "no", "-", "-", "-", "-",
+                         f"{info.moved_mass:.3g}"))
+            continue
+        limited = math.isfinite(info.lower) and math.isfinite(info.upper)
+        span = f"{info.lower:.3g} .. {info.upper:.3g}" if limited else "none"
+        degrees = (f"{info.lower * DEG_PER_RAD:.3g} .. {info.upper * DEG_PER_RAD:.3g}"
+                   if limited and not linear else "-")
+        speed = info.velocity_limit * (1.0 if linear else DEG_PER_RAD)
+        rows.append((
+            escape(info.name), str(info.index), info.kind, "yes" if info.sized else "no", span,
+            degrees, f"{speed:.3g}" if math.isfinite(speed) else "-",
+            f"{info.effort_limit:.3g}" if math.isfinite(info.effort_limit) else "-",
+            f"{info.moved_mass:.3g}"))
+        if not info.sized:
+            notes.append(f"{info.name}: not sized: " + (
+                "the catalog is rotary" if linear else
+                "a mimic follower Pinocchio could not couple" if info.name in
+                robot.uncoupled_followers else "excluded"))
+    notes.append(f"base: '{robot.root_link}' held fixed; a payload goes on "
+                 f"'{robot.default_payload_frame}' unless its frame is given; moves: the mass a "
+                 "joint moves, links further out included")
+    if robot.file_order is not None and robot.file_order != robot.joint_names:
+        notes.append(f"the robot file writes the joints in another order "
+                     f"({', '.join(robot.file_order)}): lists follow # above")
+    notes += [f"robot file: {note}" for note in robot.notes]
+    return FittedTable(f"{robot.path.name}: {robot.dof} joints; # is the position in a motion "
+                       "file's lists (q = [...]); tables keyed by name need no order", columns,
+                       tuple(rows), notes=tuple(notes))
 
 
 def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory) -> Paragraphs:
@@ -421,8 +518,8 @@ def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory) -> Paragraph
 def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
     """What a reader must know about the case before trusting a result.
 
-    The joints not sized, a payload frame chosen by default, joints that never
-    move, and a motion of zero length.
+    The joints not sized, mimic followers, a payload frame chosen by default,
+    joints that never move, and a motion of zero length.
 
     Args:
         robot: The robot as planned and sized.
@@ -436,16 +533,25 @@ def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
                                                           strict=True)
                if name not in robot.sized_joints]
     prismatic = [name for name, revolute in skipped if not revolute]
-    left_out = [name for name, revolute in skipped if revolute]
+    uncoupled = [name for name, revolute in skipped
+                 if revolute and name in robot.uncoupled_followers]
+    left_out = [name for name, revolute in skipped
+                if revolute and name not in robot.uncoupled_followers]
     if prismatic:
         notes.append(f"not sized: {', '.join(prismatic)} (prismatic; these gearheads are "
                      "rotary). The dynamics include it.")
     if left_out:
-        notes.append(f"not sized: {', '.join(left_out)} (not among the joints asked for).")
+        notes.append(f"not sized: {', '.join(left_out)} (not among the joints asked for, or "
+                     "excluded). The dynamics include it.")
+    if uncoupled:
+        notes.append(f"not sized: {', '.join(uncoupled)} (mimic followers Pinocchio could not "
+                     "couple to their leaders: each moves on its own here).")
+    notes += [f"{name} follows {mimic.leader} (mimic): no gearhead of its own; {mimic.leader} "
+              "carries its load." for name, mimic in robot.mimic.items()]
     payload = robot.payload
     if payload is not None and payload.frame is None:
-        notes.append(f"payload: {payload.mass:g} kg on {robot.payload_frame}, the last link, "
-                     "since no frame was given.")
+        notes.append(f"payload: {payload.mass:g} kg on {robot.payload_frame}, the tip of the "
+                     "longest chain of sized joints, since no frame was given.")
     if trajectory.duration <= 0.0:
         notes.append("The motion has zero length (its waypoints are one pose and it has no "
                      "dwell): only holding that pose is checked.")
@@ -482,6 +588,7 @@ def _size_notes(result: SizingResult) -> list[str]:
                      "load/rotor: load inertia at the motor shaft over rotor inertia, "
                      "(M_jj / N^2 + J_in) / J_m, M_jj the joint's largest over the cycle. "
                      "`hdselect compare` and --json give every pair's figures.")
+    notes += list(result.warnings)
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     if loaded:
         notes.append(f"gravity: {', '.join(loaded)} carry gravity. Harmonic Drive gearing "
@@ -503,8 +610,10 @@ def study_tables(pivots: Iterable[Any], constant: dict[str, str]) -> list[Fitted
     out: list[FittedTable | str] = []
     for pivot in pivots:
         across = f", {pivot.columns} across" if pivot.columns else ""
-        columns = (Column(pivot.rows), *(Column(value or "unit", "left")
-                                         for value in pivot.column_values))
+        # each column its own group: on a narrow terminal the columns that do not fit go
+        # into tables below, each repeating the row's value
+        columns = (Column(pivot.rows), *(Column(value or "unit", "left", group=f"{k}")
+                                         for k, value in enumerate(pivot.column_values)))
         rows = tuple((row, *("/".join(_short(u) for u in pivot.cells.get((row, c), [])) or "-"
                              for c in pivot.column_values))
                      for row in pivot.row_values)

@@ -21,6 +21,7 @@ from hdselect.arrays import frozen
 from hdselect.catalog import Unit, load_catalog
 from hdselect.dynamics import CycleTorques, cycle_torques, gravity_torques, joint_inertias
 from hdselect.errors import InputError
+from hdselect.loads import JointLoad, joint_loads
 from hdselect.motion import Motion, load_case, robot_for_motion
 from hdselect.motors import Motor
 from hdselect.options import Options, options_for
@@ -132,6 +133,8 @@ class SizingResult:
         motion: The motion the trajectory was planned from, when `size` planned it.
         motors: The candidate motors per joint; empty where no motor data was given
             (then `options` say which rotor inertia and motor mass were assumed).
+        loads: Every joint of the robot, sized or not, followers included, in the
+            model's order: what it does beside its file's limits.
     """
 
     robot: Robot
@@ -141,6 +144,29 @@ class SizingResult:
     units: tuple[Unit, ...]
     motion: Motion | None = None
     motors: Mapping[str, tuple[Motor, ...]] = field(default_factory=dict)
+    loads: tuple[JointLoad, ...] = ()
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What the robot file and the motion file raised, and limits the cycle exceeds.
+
+        Each line starts with where it comes from: ``robot file:``, ``motion file:`` or
+        ``cycle:``.
+        """
+        asked = self.motion.warnings if self.motion is not None else ()
+        lines = [f"robot file: {note}" for note in self.robot.notes]
+        lines += [f"motion file: {warning}" for warning in asked]
+        for load in self.loads:
+            if load.above_effort:
+                lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} "
+                             f"{'N' if load.linear else 'N m'}, above the robot file's effort "
+                             f"limit {load.effort_limit:.3g}")
+            if load.above_velocity and not any(f"'{load.name}'" in w for w in asked):
+                per_s = "m/s" if load.linear else "rad/s"
+                lines.append(f"cycle: joint '{load.name}' moves at up to {load.max_speed:.3g} "
+                             f"{per_s}, above the robot file's velocity limit "
+                             f"{load.velocity_limit:.3g}")
+        return tuple(lines)
 
     @property
     def feasible(self) -> bool:
@@ -169,6 +195,7 @@ def size(
     payload: Payload | None = None,
     mounting: str | Sequence[float] | None = None,
     joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
     motors: Motors | None = None,
     **options: object,
 ) -> SizingResult:
@@ -181,7 +208,10 @@ def size(
         units: The catalog already loaded (instead of `catalog`).
         payload: Payload, overriding the motion file's.
         mounting: Mounting, overriding the motion file's.
-        joints: Joints to size (default every revolute joint).
+        joints: Joints to size (default: the motion file's ``[sizing] joints``, else every
+            revolute joint that is not a mimic follower).
+        exclude: Joints not to size; they still move and load the others (default: the
+            motion file's ``[sizing] exclude``).
         motors: Candidate motors per joint name, replacing the motion file's ``[motor]``;
             None takes the motion file's (for the joints sized).
         **options: Fields of `hdselect.options.Options` (``stop_time``, ``efficiency``,
@@ -208,10 +238,10 @@ def size(
                                  path=motion.path, field="robot")
             robot = load_robot(file)
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
-                                 joints=joints)
+                                 joints=joints, exclude=exclude)
     else:
         robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
-                                  joints=joints)
+                                  joints=joints, exclude=exclude)
     resolved = options_for(motion, **options)
     units = tuple(units) if units is not None else load_catalog(catalog)
     if motors is None:
@@ -314,8 +344,8 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
                   if joint.name in by_name else joint for joint in joints]
     if any(joint.selected is None for joint in joints):
         joints = _with_slowdowns(carrying, trajectory, joints, units, options, motors)
-    return SizingResult(robot, trajectory, tuple(joints), options, units,
-                        motors=motors)
+    return SizingResult(robot, trajectory, tuple(joints), options, units, motors=motors,
+                        loads=joint_loads(robot, trajectory, torques.tau))
 
 
 def checked_motors(robot: Robot, motors: Motors | None,

@@ -45,7 +45,7 @@ class FittedTable:
     """A table with a title and notes, laid out for the width it is printed at.
 
     Attributes:
-        title: A line above the table (it wraps).
+        title: Lines above the table (each wraps).
         columns: The columns; the first is the key, repeated in every table.
         rows: Each row's cells as rich markup, one per column.
         styles: A style per row (None for plain).
@@ -61,7 +61,8 @@ class FittedTable:
     def __rich_console__(self, console: Console, options: ConsoleOptions) -> RenderResult:
         width = options.max_width
         if self.title:
-            yield from wrapped(self.title, width, indent="")
+            for line in self.title.split("\n"):
+                yield from wrapped(line, width, indent="")
             yield Text("")
         parts = self.layout(console, width)
         if parts is None:
@@ -144,7 +145,8 @@ class FittedTable:
                     yield Text("    ", style=style or "") + value
 
 
-_UNBROKEN = re.compile(r"(?<=\d) (?=N m|kg|rpm|h\b|s\b|lb|%)|(?<=\bN) (?=m\b)|(?<=kg) (?=cm)")
+_UNBROKEN = re.compile(r"(?<=\d) (?=N m|kg|rpm|h\b|s\b|lb|%|deg|rad|m/s|m\b|N\b)|(?<=\bN) (?=m\b)"
+                       r"|(?<=kg) (?=cm)")
 """Spaces a line never breaks at: inside ``N m`` and ``kg cm``, after a number's digits."""
 
 

@@ -36,6 +36,7 @@ import numpy as np
 from hdselect.arrays import frozen
 from hdselect.catalog import Unit
 from hdselect.dynamics import inverse_dynamics, joint_inertias
+from hdselect.loads import joint_loads
 from hdselect.motion import Motion
 from hdselect.motors import Motor
 from hdselect.options import Options
@@ -261,10 +262,18 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
             assert basis.inertia is not None
             joint = replace(joint, load_inertia=float((theta @ basis.inertia[i]).max()))
         joints.append(joint)
+    # every joint's torque with the masses chosen, on the kept rows (a run of identical
+    # states has one torque): the peaks, speeds and travel the core's `joint_loads` finds
+    tau = np.einsum("p,dpn->nd", theta, basis.gravity + basis.dynamic * y**2)
+    kept = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale, t=t,
+                   q=traj.q[basis.rows], qd=qd, qdd=qdd)
     # only the cycle time and the sample count of the trajectory go into the summary
     timing = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale)
-    return summarize(SizingResult(basis.robot, timing, tuple(joints), options, units,
-                                  basis.motion, motors=motors))
+    summary = summarize(SizingResult(basis.robot, timing, tuple(joints), options, units,
+                                     basis.motion, motors=motors,
+                                     loads=joint_loads(basis.robot, kept, tau)))
+    # the basis's robot carries the reference payload; the case carries its own mass
+    return replace(summary, payload_mass=0.0 if mass is None else float(mass))
 
 
 @dataclass(frozen=True)

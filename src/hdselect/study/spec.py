@@ -47,7 +47,8 @@ class Case:
         robot: The robot file, or None for the motion file's ``robot``.
         payload: The payload mass [kg], or None for the motion file's payload.
         payload_shape: Centre of mass [m], inertia about it [kg m^2] and frame, when the study
-            gives them; None keeps the motion file's (or a point mass at the last link).
+            gives them; None keeps the motion file's (or a point mass at the robot's
+            default payload frame).
         time_scale: The motion run s times slower [-] (0.8: 1.25 times faster).
         mounting: Mounting overriding the motion file's, or None.
         catalog: Extra catalog files.
@@ -79,7 +80,8 @@ class Case:
         """The case's payload, given the motion file's.
 
         The study's mass replaces the file's; the study's shape (centre of mass, inertia
-        about it, frame), else the file's, else a point mass at the last link, goes with it.
+        about it, frame), else the file's, else a point mass at the robot's default payload frame
+        (`hdselect.Robot.default_payload_frame`), goes with it.
         """
         if self.payload is None:
             return file_payload
