@@ -201,6 +201,12 @@ def benchmarks(quick: bool) -> list[Benchmark]:
     motion_for_size = motion if step == 1 else replace(motion, dt=motion.dt * step)
     payloads = [Payload(0.1 * (k + 1), (0.0, 0.0, 0.03), frame="tool0") for k in range(10)]
 
+    from hdselect.motors import load_motors
+
+    motor_catalog = load_motors(ROOT / "motors" / "example_motors.toml")
+    motors = {name: motor_catalog for name in robot.sized_joints}
+    pairs = len(units) * len(motor_catalog)
+
     def sweep_core() -> None:
         for payload in payloads:
             size_trajectory(robot.with_payload(payload), traj, units, coupled)
@@ -289,6 +295,13 @@ def benchmarks(quick: bool) -> list[Benchmark]:
             "cold start: catalog", lambda: _process(cli + ["catalog"]),
             lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
             notes="whole process, python -m hdselect.cli catalog vs python -c pass", repeats=9),
+        Benchmark(
+            "sizing with motors",
+            lambda: size_trajectory(robot, traj, units, coupled, motors=motors),
+            lambda: size_trajectory(robot, traj, units, coupled), len(motor_catalog),
+            notes=f"{pairs} (gearhead, motor) pairs per joint ({len(motor_catalog)} example "
+                  f"motors) vs {len(units)} units alone, Options(); target: at most the "
+                  "motor count", repeats=9),
     ]
 
 

@@ -251,3 +251,92 @@ def test_a_report_from_python_says_so_and_hashes_a_logged_trajectory(tmp_path):
     page = (tmp_path / "r" / "index.html").read_text()
     assert "Made through the Python API" in page and "<pre id=command>" not in page
     assert roles["samples"].sha256 in page and "samples" in page
+
+
+# --- gearhead and motor pairs ------------------------------------------------------------
+
+EXAMPLE_MOTORS = Path(__file__).resolve().parents[1] / "motors" / "example_motors.toml"
+
+
+class PairCells(HTMLParser):
+    """Every heat-map cell of a report with motors: (section, joint, unit, motor, check)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.section = ""
+        self.cells: dict[tuple[str, str, str, str, str], str] = {}
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "section":
+            self.section = "heatmap" if a.get("id") == "heatmap" else a.get("class") or ""
+        if tag == "td" and "data-check" in a:
+            key = (self.section, a["data-joint"], a["data-unit"], a["data-motor"],
+                   a["data-check"])
+            self.cells[key] = a["class"]
+
+
+@pytest.fixture(scope="module")
+def pair_report(tmp_path_factory):
+    """`hdselect size --motor-catalog --report` on the arm no shoulder pair fits."""
+    import hdselect
+
+    directory = tmp_path_factory.mktemp("pairs")
+    motion = ros_arm(directory)
+    out = directory / "report"
+    assert main(["size", str(motion), "--motor-catalog", str(EXAMPLE_MOTORS),
+                 "--report", str(out)]) == 1
+    motors = hdselect.load_motors(EXAMPLE_MOTORS)
+    return out, hdselect.size(None, motion, motors={name: motors for name in LONG.values()})
+
+
+def test_pair_heat_maps_mark_exactly_the_failing_checks_of_both_sides(pair_report):
+    out, result = pair_report
+    page = (out / "index.html").read_text()
+    cells = PairCells()
+    cells.feed(page)
+    expected = {(j.name, c.unit.id, c.motor_unit.id, name) for j in result.joints
+                for c in j.candidates for name, check in c.checks.items() if not check.ok}
+    assert any(name.startswith("motor_") for *_, name in expected)
+    for section in ("heatmap", "joint"):
+        marked = {key[1:] for key, cls in cells.cells.items()
+                  if key[0] == section and "fail" in cls.split()}
+        assert marked == expected, section
+        shown = {key[1:] for key in cells.cells if key[0] == section}
+        assert len(shown) == sum(len(j.candidates) for j in result.joints) * len(
+            {key[4] for key in cells.cells})  # a cell per pair and check
+    assert "Gearhead and motor selection" in page and "no pair fits" in page
+
+
+def test_pair_report_embeds_each_motor_figure_and_hashes_the_motor_file(pair_report):
+    out, result = pair_report
+    page = (out / "index.html").read_text()
+    images = re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)
+    assert len(images) == 2 * len(result.joints)  # the profiles and the motor, per joint
+    for joint in result.joints:
+        shown = joint.selected or joint.strongest
+        motor_png = (out / f"motor_{joint.name}.png").read_bytes()
+        assert base64.b64encode(motor_png).decode("ascii") in images
+        assert f"torque-speed plane of the motor {shown.motor_unit.id} of {joint.name}" in page
+    assert hashlib.sha256(EXAMPLE_MOTORS.read_bytes()).hexdigest() in page
+    assert "every sized joint chooses from EX-16, EX-22" in page
+    assert "no thermal model" in page and "load/rotor inertia" in page
+
+
+def test_a_browser_shows_the_pair_report(pair_report, browser, tmp_path):
+    out, result = pair_report
+    browser.load((out / "index.html").resolve().as_uri())
+    sizes = browser.evaluate("Promise.all([...document.images].map(async (i) => {"
+                             "await i.decode(); return [i.naturalWidth, i.naturalHeight]; }))")
+    assert len(sizes) == 2 * len(result.joints) and all(w > 500 and h > 300 for w, h in sizes)
+    marks = browser.evaluate(
+        "[...document.querySelectorAll('td.u:not(.na)')].map((td) => ["
+        "td.classList.contains('fail'), td.textContent.includes('✗'), "
+        "getComputedStyle(td).backgroundImage !== 'none'])")
+    assert marks and all(fail == cross == hatched for fail, cross, hatched in marks)
+    assert any(fail for fail, _, _ in marks)
+    browser.screenshot(tmp_path / "pairs.png")
+    errors = [e for e in browser.events if e.get("method") == "Runtime.exceptionThrown"
+              or (e.get("method") == "Log.entryAdded"
+                  and e["params"]["entry"]["level"] in ("error", "warning"))]
+    assert errors == []

@@ -34,7 +34,7 @@ def console_examples() -> list[tuple[str, str]]:
 
 def workdir(tmp_path: Path) -> Path:
     """A directory where the README's relative paths resolve and outputs land."""
-    for name in ("robots", "trajectories"):
+    for name in ("robots", "trajectories", "motors"):
         (tmp_path / name).symlink_to(ROOT / name)
     return tmp_path
 
@@ -56,7 +56,9 @@ def test_console_example_prints_what_the_readme_shows(command, shown, tmp_path, 
 
 def test_python_examples_run(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(workdir(tmp_path))
-    size_example, core_example = re.findall(r"```python\n(.*?)```", README, flags=re.S)
+    blocks = re.findall(r"```python\n(.*?)```", README, flags=re.S)
+    (motor_example,) = [block for block in blocks if "load_motors" in block]
+    size_example, core_example = [block for block in blocks if block is not motor_example]
     exec(compile(size_example, "README.md", "exec"), {})
     lines = capsys.readouterr().out.splitlines()
     assert [line.split()[0] for line in lines] == JOINTS
@@ -65,6 +67,13 @@ def test_python_examples_run(tmp_path, monkeypatch, capsys):
     assert [line.split(":")[0] for line in lines] == ["0.5 kg", "1.0 kg", "2.0 kg"]
     for line in lines:
         assert [pair.split()[0] for pair in line.split(": ")[1].split(", ")] == JOINTS
+    exec(compile(motor_example, "README.md", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == JOINTS
+    for line in lines:  # joint, gearhead + motor, the motor's binding rule, the inertia ratio
+        name, unit, plus, motor, rule, ratio = line.split()
+        assert unit.startswith("PSA-") and plus == "+" and motor.startswith("EX-")
+        assert rule.startswith("motor_") and float(ratio) > 0
 
 
 JOINTS = ["shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"]

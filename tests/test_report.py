@@ -19,16 +19,20 @@ from hdselect.catalog import load_catalog
 from hdselect.cli import main
 from hdselect.duty import load_duty, size_duty
 from hdselect.joints import describe_joints
+from hdselect.motors import load_motors
 from hdselect.report import (
     catalog_table,
     compare_table,
     duty_table,
     joints_table,
+    life_text,
     loads_table,
+    ratio_text,
     size_table,
     utilization_text,
     verdict,
 )
+from hdselect.rules import MOTOR_CHECKS
 from hdselect.tables import console_for
 from test_sizing import PLANAR2, REPO
 
@@ -238,3 +242,57 @@ q = [10, 20]
     assert "zero length" in text and "the motion moves no joint" in text
     assert ("payload: 0.4 kg on tool, the tip of the longest chain of sized joints, since no "
             "frame was given") in text
+
+
+# --- gearhead and motor pairs ------------------------------------------------------------
+
+EXAMPLE_MOTORS = REPO / "motors" / "example_motors.toml"
+
+
+@pytest.fixture(scope="module")
+def overloaded_pairs(tmp_path_factory):
+    """The ROS-named arm with every example motor: no pair fits the shoulder."""
+    motors = load_motors(EXAMPLE_MOTORS)
+    result = hdselect.size(None, ros_arm(tmp_path_factory.mktemp("pairs")),
+                           motors={name: motors for name in LONG.values()})
+    assert result.joints[0].selected is None and result.joints[1].selected is not None
+    return result
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_pair_table_keeps_the_pair_and_both_bindings_whole(overloaded_pairs, width):
+    text = printed(size_table(overloaded_pairs), width)
+    assert_fits(text, width)
+    assert "…" not in text
+    shoulder, elbow = overloaded_pairs.joints
+    for joint in overloaded_pairs.joints:
+        assert whole(text, joint.name)
+    assert whole(text, verdict(shoulder.strongest)) and "no pair fits" in " ".join(text.split())
+    chosen = elbow.selected
+    gearhead, motor = chosen.checks[chosen.gearhead_binding], chosen.checks[chosen.motor_binding]
+    for value in (chosen.unit.id, chosen.motor_unit.id,
+                  f"{chosen.gearhead_binding} {utilization_text(gearhead.utilization, True)}",
+                  f"{chosen.motor_binding.removeprefix('motor_')} "
+                  f"{utilization_text(motor.utilization, True)}",
+                  # the inertia ratio, life and motor figures move below, never vanish
+                  ratio_text(elbow.inertia_ratio(chosen)), life_text(chosen.life_hours),
+                  f"{chosen.motor.rms_torque:.3g}", f"{chosen.motor.max_speed:,.0f}"):
+        assert whole(text, value), value
+    if width >= 80:  # the joint, the pair and both bindings in the first table
+        header = next(line for line in text.splitlines() if line.startswith("joint"))
+        assert "unit" in header and "motor" in header and "binding" in header
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_pair_compare_table_keeps_every_pair_and_verdict_whole(overloaded_pairs, width):
+    for joint in overloaded_pairs.joints:
+        text = printed(compare_table(overloaded_pairs, joint), width)
+        assert_fits(text, width)
+        assert "…" not in text
+        assert len(joint.candidates) == 7 * 6
+        for c in joint.candidates:
+            assert whole(text, c.label) and whole(text, verdict(c))
+            assert whole(text, f"{c.motor.rms_torque:.3g}")
+        failing = sum(not c.checks[name].ok for c in joint.candidates
+                      for name in (c.gearhead_binding, *MOTOR_CHECKS))
+        assert text.count("✗") == failing + 1  # every failing rule marked, and the legend

@@ -266,3 +266,50 @@ def test_python_api_returns_rows_as_dicts(tmp_path):
     except ImportError:
         with pytest.raises(InputError, match="pip install pandas"):
             hdselect.study(small_study(tmp_path), workers=0, frame=True)
+
+
+# --- motors -------------------------------------------------------------------------------
+
+
+def test_a_study_with_motors_sizes_pairs_the_same_grouped_or_alone(tmp_path):
+    root = workspace(tmp_path)
+    shutil.copytree(REPO / "motors", root / "motors")
+    path = root / "pairs.toml"
+    path.write_text("""[base]
+motion = "trajectories/planar2_pick_place.toml"
+motor_catalog = "motors/example_motors.toml"
+[grid]
+payload = [0.2, 0.6]
+time_scale = [1.0, 1.5]
+""")
+    study = load_study(path)
+    motors = root / "motors" / "example_motors.toml"
+    assert all(case.motor_catalog == motors and motors in case.files for case in study.cases)
+    outputs = {}
+    for name, grouping in (("grouped", True), ("alone", False)):
+        done = run_study(study, tmp_path / f"{name}.csv", workers=0, grouping=grouping)
+        assert done.ran == 4 and done.failed == 0
+        outputs[name] = (tmp_path / f"{name}.csv").read_text()
+    assert outputs["grouped"] == outputs["alone"]
+    assert {r["method"] for r in journal(tmp_path / "grouped.csv")} == {"grouped"}
+    rows = hdselect.study(path, out=tmp_path / "grouped.csv")  # all done: read back
+    assert len(rows) == 4 * 2 and all(row["motor"].startswith("EX-") for row in rows)
+    assert all(row["inertia_ratio"] > 0 and row["motor_binding"].startswith("motor_")
+               for row in rows)
+    records = journal(tmp_path / "grouped.csv")
+    assert all(r["result"]["options"]["prefer"] == "mass" for r in records)
+    # the key hashes the motor file: a changed motor re-runs the cases
+    keys = {case.key for case in study.cases}
+    motors.write_text(motors.read_text().replace("mass_kg = 0.06", "mass_kg = 0.07", 1))
+    assert not keys & {case.key for case in load_study(path).cases}
+
+
+def test_a_motion_files_motor_files_are_inputs_of_its_cases(tmp_path):
+    root = workspace(tmp_path)
+    shutil.copytree(REPO / "motors", root / "motors")
+    motion = root / "trajectories" / "planar2_pick_place.toml"
+    motion.write_text(motion.read_text() + '\n[motor]\ncatalog = "../motors/example_motors.toml"\n')
+    (case,) = load_study(small_study(root, "")).cases[:1]
+    assert root / "trajectories" / ".." / "motors" / "example_motors.toml" in case.files
+    outcome = next(iter(run_size([case], False)))
+    assert outcome.ok and all(joint["motor"] for joint in outcome.result["joints"])

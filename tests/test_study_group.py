@@ -13,7 +13,9 @@ from dataclasses import replace
 import pytest
 
 import hdselect
+import hdselect.sizing
 from hdselect import Options, load_case, load_catalog, plan, size_trajectory, summarize
+from hdselect.errors import InputError
 from hdselect.study.compute import scaled
 from hdselect.study.group import build_basis, size_case
 from test_dynamics import REPO
@@ -169,3 +171,90 @@ def test_mimic_followers_group_exactly(tmp_path):
     _, grouped = grouped_and_direct(motion, payloads=(0.05, 0.2))
     for outcome in grouped.values():
         assert [j["name"] for j in outcome.result["joints"]] == ["arm_joint", "finger_joint"]
+
+
+# --- gearhead and motor pairs ---------------------------------------------------------------
+
+EXAMPLE_MOTORS = REPO / "motors" / "example_motors.toml"
+
+
+@pytest.fixture(scope="module")
+def benchtop_pairs():
+    """The benchtop basis with the load inertias M_jj, and every example motor per joint."""
+    robot, motion = load_case(BENCHTOP)
+    bare = robot.with_payload(None)
+    basis = build_basis(bare, motion, motion.payload, inertias=True)
+    motors = hdselect.load_motors(EXAMPLE_MOTORS)
+    return bare, motion, basis, {name: motors for name in robot.sized_joints}
+
+
+def separate_pairs(robot, motion, mass, time_scale, units, options, motors):
+    carrying = robot.with_payload(replace(motion.payload, mass=mass))
+    trajectory = scaled(plan(carrying, motion), time_scale)
+    return summarize(replace(size_trajectory(carrying, trajectory, units, options,
+                                             motors=motors), motion=motion))
+
+
+@pytest.mark.parametrize(("mass", "time_scale", "given"), [
+    (0.5, 1.0, {}),  # prefer None: the lightest pair, as the core resolves it
+    (1.5, 0.8, {"prefer": "size", "stop_time": 0.1}),
+    (0.8, 1.2, {"prefer": "motor-rms", "efficiency": 0.8}),
+])
+def test_grouped_pairs_equal_their_separate_runs(benchtop_pairs, mass, time_scale, given):
+    robot, motion, basis, motors = benchtop_pairs
+    units = load_catalog()
+    options = Options(**{"stop_time": 0.15, "life_hours": 20000.0, "threads": 1, **given})
+    grouped = size_case(basis, mass, time_scale, units, options, motors)
+    reference = separate_pairs(robot, motion, mass, time_scale, units, options, motors)
+    assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+    assert grouped.options["prefer"] == given.get("prefer", "mass")
+    for joint in grouped.joints:  # the pair's figures are there, not only the gearhead's
+        assert joint.motor_candidate and joint.motor_binding.startswith("motor_")
+        assert joint.inertia_ratio > 0.0 and "motor_rms" in joint.utilization
+    # the motors' masses are carried: the shoulder carries more than the gearheads alone
+    bare = size_case(basis, mass, time_scale, units, options)
+    assert grouped.joints[0].carried_mass > bare.joints[0].carried_mass
+
+
+def test_grouped_pairs_no_pair_fits_and_the_slow_downs_equal_the_core(benchtop_pairs):
+    robot, motion, basis, motors = benchtop_pairs
+    units = load_catalog()
+    two = {name: tuple(m for m in ms if m.id in ("EX-22", "EX-40")) for name, ms in
+           motors.items()}  # two motors keep the slow-down search short
+    options = Options(stop_time=0.15, life_hours=20000.0, threads=1)
+    grouped = size_case(basis, 2.5, 0.6, units, options, two)
+    reference = separate_pairs(robot, motion, 2.5, 0.6, units, options, two)
+    assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+    failing = [joint for joint in grouped.joints if joint.unit is None]
+    assert failing and all(joint.motor is None and joint.motor_candidate for joint in failing)
+    assert any(joint.slowdown and joint.slowdown > 1.0 for joint in failing)
+
+
+def test_a_motion_files_motors_on_some_joints_equal_the_core(benchtop_pairs, tmp_path):
+    robot, _, basis, _ = benchtop_pairs
+    text = BENCHTOP.read_text().replace('robot = "', 'robot = "' + str(BENCHTOP.parent) + "/")
+    path = tmp_path / "with_motors.toml"
+    path.write_text(text + f"""
+[motor.elbow]
+catalog = "{EXAMPLE_MOTORS.as_posix()}"
+[motor.wrist_3]
+catalog = "{EXAMPLE_MOTORS.as_posix()}"
+id = "EX-16"
+""")
+    motion = hdselect.load_motion(path, robot)
+    motors = hdselect.sizing.motion_motors(robot, motion)
+    assert set(motors) == {"elbow", "wrist_3"} and len(motors["wrist_3"]) == 1
+    units = load_catalog()
+    options = Options(stop_time=0.15, life_hours=20000.0, threads=1)
+    grouped = size_case(replace(basis, motion=motion), 1.0, 1.0, units, options, motors)
+    reference = separate_pairs(robot, motion, 1.0, 1.0, units, options, motors)
+    assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+    assert grouped.options["prefer"] == "mass"  # for every joint, as in the core
+    assert [j.motor for j in grouped.joints] == [None, None, reference.joints[2].motor, None,
+                                                 None, "EX-16"]
+
+
+def test_grouped_pairs_refuse_what_the_core_refuses(benchtop_pairs):
+    _, _, basis, motors = benchtop_pairs
+    with pytest.raises(InputError, match="rotor inertia and motor mass"):
+        size_case(basis, 1.0, 1.0, load_catalog(), Options(rotor_inertia=1e-6), motors)

@@ -7,6 +7,7 @@ from hdselect.duty import load_duty, size_duty
 from hdselect.errors import HdselectError, InputError, PlanningError
 from hdselect.joints import describe_joints
 from hdselect.motion import Motion, load_case, load_motion
+from hdselect.motors import Motor, load_motors
 from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
@@ -21,6 +22,7 @@ __all__ = [
     "HdselectError",
     "InputError",
     "Motion",
+    "Motor",
     "Options",
     "Payload",
     "PlanningError",
@@ -35,6 +37,7 @@ __all__ = [
     "load_case",
     "load_duty",
     "load_motion",
+    "load_motors",
     "load_robot",
     "plan",
     "size",

@@ -173,7 +173,7 @@ def _robot_motion(parser: argparse.ArgumentParser) -> None:
 def _sizing_options(parser: argparse.ArgumentParser) -> None:
     from hdselect.motion import LIFE_BASES
     from hdselect.options import Options
-    from hdselect.select import PREFERENCES
+    from hdselect.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, PREFERENCES
 
     defaults = Options()
     _catalog_option(parser)
@@ -184,14 +184,20 @@ def _sizing_options(parser: argparse.ArgumentParser) -> None:
                         help=f"gear efficiency where a unit has no table (default "
                              f"{defaults.efficiency:g})")
     parser.add_argument("--motor-inertia", type=float, metavar="KG_M2",
-                        help="motor rotor inertia [kg m^2] (default 0)")
+                        help="motor rotor inertia [kg m^2] where no motor data is given "
+                             "(default 0)")
     parser.add_argument("--motor-mass", type=float, metavar="KG",
-                        help="motor mass carried with each gearhead [kg] (default 0)")
+                        help="motor mass carried with each gearhead [kg] where no motor data "
+                             "is given (default 0)")
+    parser.add_argument("--motor-catalog", metavar="FILE",
+                        help="motor file (TOML): every sized joint chooses its motor from it, "
+                             "with its gearhead (replaces the motion file's [motor])")
     parser.add_argument("--no-mass-coupling", action="store_true",
                         help="do not carry chosen units' masses on the joints nearer the base")
     parser.add_argument("--prefer", choices=tuple(PREFERENCES),
                         help="; ".join(f"{k}: {v[0]}" for k, v in PREFERENCES.items())
-                        + f" (default {defaults.prefer})")
+                        + f" (default: {DEFAULT_PREFER_WITH_MOTORS} where motors are given, "
+                          f"else {DEFAULT_PREFER})")
     parser.add_argument("--life-hours", type=float, metavar="H",
                         help="required life [h] (default: the motion file's requirement)")
     parser.add_argument("--life-basis", choices=LIFE_BASES,
@@ -489,11 +495,25 @@ def _size(args: argparse.Namespace):
     from dataclasses import replace
 
     from hdselect.catalog import load_catalog
+    from hdselect.motors import load_motors
     from hdselect.options import options_for
     from hdselect.planning import plan
-    from hdselect.sizing import size_trajectory
+    from hdselect.sizing import motion_motors, size_trajectory
 
     robot, motion = _load_case(args)
+    if args.motor_catalog:
+        catalog = load_motors(args.motor_catalog)
+        motors = {name: catalog for name in robot.sized_joints}
+    else:
+        motors = motion_motors(robot, motion)
+    if motors:
+        for value, flag in ((args.motor_inertia, "--motor-inertia"),
+                            (args.motor_mass, "--motor-mass")):
+            if value is not None:
+                given = ("--motor-catalog" if args.motor_catalog
+                         else f"[motor] of {motion.path.name}")
+                raise InputError(f"the motors come from {given}, with their own rotor inertia "
+                                 "and mass; drop this option", field=flag)
     try:
         options = options_for(
             motion, stop_time=args.stop_time, efficiency=args.efficiency,
@@ -502,18 +522,21 @@ def _size(args: argparse.Namespace):
             life_hours=args.life_hours, life_basis=args.life_basis)
     except InputError as err:
         raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
-    _keep_inputs([getattr(args, "json", None)], [*_inputs(robot, motion), *args.catalog])
+    _keep_inputs([getattr(args, "json", None)],
+                 [*_inputs(robot, motion), *args.catalog,
+                  *([args.motor_catalog] if args.motor_catalog else [])])
     if getattr(args, "report", None):
         _keep_inputs([Path(args.report) / "index.html"], _inputs(robot, motion))
     units = load_catalog(args.catalog)
-    result = size_trajectory(robot, plan(robot, motion), units, options)
+    result = size_trajectory(robot, plan(robot, motion), units, options, motors=motors)
     return replace(result, motion=motion)
 
 
 def _inputs(robot, motion) -> list[Path]:
     """The files a robot and a motion were read from."""
     files = [motion.path, robot.path]
-    return files + ([motion.samples.path] if motion.samples is not None else [])
+    motors = {m.source for ms in (motion.motors or {}).values() for m in ms if m.source}
+    return files + ([motion.samples.path] if motion.samples is not None else []) + sorted(motors)
 
 
 def _keep_inputs(outputs: Sequence[str | Path | None], inputs: Sequence[str | Path]) -> None:

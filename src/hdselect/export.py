@@ -18,11 +18,17 @@ from hdselect.duty import DutyResult
 from hdselect.errors import InputError
 from hdselect.joints import JointInfo
 from hdselect.loads import JointLoad
+from hdselect.motors import Motor
 from hdselect.planning import Trajectory
 from hdselect.robot import Robot
 from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.sizing import SizingResult
 
+MOTOR_MODEL_NOTE = ("peak: every sample's motor torque under the motor's torque-speed curve (its "
+                    "flat peak torque without one); rms: the RMS torque of one cycle repeated "
+                    "back to back against the rated torque, with no thermal model (no thermal "
+                    "time constants), no drive current limit and no bus voltage beyond the "
+                    "curve; speed: the largest input speed against the motor's maximum")
 MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the catalog page's "
                    "t1..t3); dwells do not dilute it, which is the conservative reading")
 WHOLE_CYCLE_NOTE = ("mean speed follows each unit's series rules: over the whole cycle, dwells "
@@ -93,7 +99,7 @@ def check_json(check: Check) -> dict[str, Any]:
 def candidate_json(candidate: Candidate) -> dict[str, Any]:
     """One candidate as JSON, the shape shared by ``duty`` and ``size`` (which adds ``motor``)."""
     unit = candidate.unit
-    document = {
+    document: dict[str, Any] = {
         "unit": unit.id,
         "size": unit.size,
         "ratio": unit.ratio,
@@ -111,8 +117,24 @@ def candidate_json(candidate: Candidate) -> dict[str, Any]:
         document["motor"] = {"peak_torque_nm": motor.peak_torque,
                              "rms_torque_nm": motor.rms_torque,
                              "max_speed_rpm": motor.max_speed,
-                             "efficiency": motor.efficiency}
+                             "efficiency": motor.efficiency,
+                             "rms_speed_rpm": motor.rms_speed}
+        if candidate.motor_unit is not None:
+            document["motor"]["id"] = candidate.motor_unit.id
+            document["gearhead_binding"] = candidate.gearhead_binding
+            document["motor_binding"] = candidate.motor_binding
     return document
+
+
+def motor_json(motor: Motor) -> dict[str, Any]:
+    """One motor's data as JSON, in SI (speeds in rpm)."""
+    return {"id": motor.id, "rated_torque_nm": motor.rated_torque,
+            "peak_torque_nm": motor.peak_torque, "max_speed_rpm": motor.max_speed,
+            "rated_speed_rpm": motor.rated_speed, "rotor_inertia_kg_m2": motor.rotor_inertia,
+            "mass_kg": motor.mass, "torque_constant_nm_per_a": motor.torque_constant,
+            "resistance_ohm": motor.resistance,
+            "curve": None if motor.curve is None else [list(p) for p in motor.curve],
+            "source": None if motor.source is None else str(motor.source)}
 
 
 def rules_json(rules: SeriesRules) -> dict[str, Any]:
@@ -158,14 +180,28 @@ def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
 def assumptions(result: SizingResult) -> dict[str, str]:
     """The assumptions of a sizing run, as text for reports."""
     options = result.options
+    if result.motors:
+        files = sorted({m.source.name if m.source is not None else "given in Python"
+                        for ms in result.motors.values() for m in ms})
+        bare = [j.name for j in result.joints if j.name not in result.motors]
+        motor = {"motors": (f"chosen with each gearhead from {', '.join(files)} (rotor inertia "
+                            "in the motor torque and the crash, mass carried)"
+                            + (f"; none for {', '.join(bare)}: rotor inertia and mass not "
+                               "included there" if bare else ""))}
+    elif options.rotor_inertia == 0.0 and options.motor_mass == 0.0:
+        motor = {"motor": "none given: motor rotor inertia and mass not included"}
+    else:
+        motor = {"motor rotor inertia": f"{options.rotor_inertia:g} kg m^2",
+                 "motor mass": f"{options.motor_mass:g} kg"}
     return {
         "efficiency": f"{options.efficiency:.2f} (where a unit has no table)",
         "stop time": f"{options.stop_time:g} s (emergency stop and crash)",
-        "motor rotor inertia": f"{options.rotor_inertia:g} kg m^2",
-        "motor mass": f"{options.motor_mass:g} kg",
-        "mass coupling": ("on: each chosen unit's mass is carried by the joints nearer the base"
+        **motor,
+        "mass coupling": (("on: each chosen gearhead's and motor's mass is carried by the joints "
+                           "nearer the base" if result.motors else
+                           "on: each chosen unit's mass is carried by the joints nearer the base")
                           if options.mass_coupling else "off"),
-        "selection": options.prefer,
+        "selection": str(options.prefer),
         "required life": ("none" if options.life_hours is None
                           else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
@@ -241,7 +277,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
     joints = []
     for joint in result.joints:
         slowdown = joint.slowdown
-        joints.append({
+        document: dict[str, Any] = {
             "name": joint.name,
             "selected": joint.selected.unit.id if joint.selected else None,
             "binding": joint.selected.binding if joint.selected else None,
@@ -260,7 +296,19 @@ def size_json(result: SizingResult) -> dict[str, Any]:
                 unit: [[lo, _finite(hi)] for lo, hi in intervals]
                 for unit, intervals in joint.scales.fits.items()},
             "candidates": [candidate_json(c) for c in joint.candidates],
-        })
+        }
+        if joint.name in result.motors:
+            chosen = joint.selected
+            document.update({
+                "selected_motor": (chosen.motor_unit.id if chosen is not None
+                                   and chosen.motor_unit is not None else None),
+                "gearhead_binding": chosen.gearhead_binding if chosen else None,
+                "motor_binding": chosen.motor_binding if chosen else None,
+                "load_inertia_kg_m2": joint.load_inertia,
+                "inertia_ratio": None if chosen is None else joint.inertia_ratio(chosen)})
+            for candidate, entry in zip(joint.candidates, document["candidates"], strict=True):
+                entry["motor"]["inertia_ratio"] = joint.inertia_ratio(candidate)
+        joints.append(document)
     return {
         "robot": str(result.robot.path),
         "motion": None if result.motion is None else str(result.motion.path),
@@ -273,7 +321,11 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "mass_coupling": options.mass_coupling, "prefer": options.prefer,
             "life_hours": options.life_hours, "life_basis": options.life_basis,
             "mean_speed_rule": mean_speed_note(result.units),
-            "joint_losses": JOINT_LOSSES_NOTE},
+            "joint_losses": JOINT_LOSSES_NOTE,
+            "motors": ({name: [m.id for m in ms] for name, ms in result.motors.items()}
+                       if result.motors else None),
+            "motor_rules": MOTOR_MODEL_NOTE if result.motors else None},
+        "motors": [motor_json(m) for m in _distinct(result.motors)],
         "joints": joints,
         "root_link": result.robot.root_link,
         "payload": payload_json(result.robot),
@@ -302,6 +354,15 @@ def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
                    comments="")
 
     write_output(target, write)
+
+
+def _distinct(motors: Any) -> list[Motor]:
+    """Every motor of a joint -> motors mapping once, in order of appearance."""
+    seen: dict[tuple[str, str | None], Motor] = {}
+    for candidates in motors.values():
+        for motor in candidates:
+            seen.setdefault((motor.id, str(motor.source)), motor)
+    return list(seen.values())
 
 
 def _finite(value: Any) -> Any:

@@ -22,7 +22,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from hdselect.errors import InputError  # noqa: E402
 from hdselect.export import write_output  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
-from hdselect.report import utilization_text  # noqa: E402
+from hdselect.report import ratio_text, utilization_text  # noqa: E402
 from hdselect.rules import RPM_PER_RAD_S  # noqa: E402
 from hdselect.sizing import JointSizing, SizingResult, at_rest  # noqa: E402
 
@@ -66,7 +66,8 @@ def write_report(directory: str | Path, result: SizingResult, *,
     """Write the HTML report into `directory`: ``index.html``, self-contained, and its figures.
 
     ``index.html`` embeds every figure, so it can be mailed or printed on its own;
-    the figures are also written beside it as ``joint_<name>.png``. It is built in a
+    the figures are also written beside it as ``joint_<name>.png`` (and, for a joint
+    with motors, its motor's torque-speed plane as ``motor_<name>.png``). It is built in a
     temporary directory beside `directory` and moved into place file by file, so no
     file is ever half-written.
 
@@ -98,8 +99,14 @@ def write_report(directory: str | Path, result: SizingResult, *,
         for joint in result.joints:
             figures[joint.name] = png_bytes(joint_figure(result, joint))
             (staging / f"joint_{slug(joint.name)}.png").write_bytes(figures[joint.name])
+        motor_figures = {}
+        for joint in result.joints:
+            if joint.motor_torque is not None:
+                motor_figures[joint.name] = png_bytes(motor_figure(result, joint))
+                (staging / f"motor_{slug(joint.name)}.png").write_bytes(
+                    motor_figures[joint.name])
         write_output(staging / "index.html",
-                     lambda stream: stream.write(page(result, figures, origin)))
+                     lambda stream: stream.write(page(result, figures, origin, motor_figures)))
         target.mkdir(exist_ok=True)
         for file in staging.iterdir():
             file.replace(target / file.name)
@@ -242,6 +249,65 @@ def _limit_lines(ax, lines, top: float, keep: float | None = None) -> float:
         else:
             ax.plot([], [], color=color, ls=style, lw=1.2, label=f"{label}: above the axis")
     return top
+
+
+def motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
+    """The cycle's (input speed, motor torque) points over the motor's torque-speed limits.
+
+    Every sample of the cycle as (|n|, |T_motor|) behind the selected pair's gearhead
+    (the strongest pair's where none fits), under the motor's peak torque over speed
+    (its curve, or flat), its rated torque (the RMS limit) and its maximum speed, with
+    the cycle's RMS point and the worst sample against the peak marked.
+
+    Args:
+        result: The sizing result, with motors.
+        joint: One of its joints that has motors (its ``motor_torque`` is set).
+
+    Returns:
+        The figure (the caller closes it).
+    """
+    traj = result.trajectory
+    j = result.robot.joint_index(joint.name)
+    chosen = joint.selected or joint.strongest
+    motor, unit, demand = chosen.motor_unit, chosen.unit, chosen.motor
+    assert motor is not None and demand is not None and joint.motor_torque is not None
+    speed = np.abs(traj.qd[:, j]) * unit.ratio * RPM_PER_RAD_S
+    torque = np.abs(joint.motor_torque)
+    fig, ax = plt.subplots(figsize=(11, 5.2), layout="constrained")
+    ax.plot(speed, torque, ".", color=_REST, ms=2.5, alpha=0.35,
+            label=f"cycle: every {traj.dt * 1e3:g} ms sample (|n|, |T_motor|)")
+    top = max(motor.max_speed, float(speed.max())) * 1.08
+    grid = np.linspace(0.0, motor.max_speed, 400)
+    curve = "torque-speed curve" if motor.curve is not None else "flat: no curve given"
+    ax.plot(grid, motor.peak_torque_at(grid), color="k", lw=1.6,
+            label=f"peak torque ({curve}), up to {motor.peak_torque:.3g} N m")
+    ax.axhline(motor.rated_torque, color=_ALLOWED, ls="--", lw=1.3,
+               label=f"rated torque {motor.rated_torque:.3g} N m (limit of the RMS torque)")
+    ax.axvline(motor.max_speed, color=_STOP, ls="-.", lw=1.2,
+               label=f"max speed {motor.max_speed:,.0f} rpm")
+    if demand.rms_speed is not None:
+        ax.plot([demand.rms_speed], [demand.rms_torque], "D", color=_MOVING, ms=9, mec="k",
+                label=f"RMS point ({demand.rms_speed:,.0f} rpm, {demand.rms_torque:.3g} N m)")
+    worst = chosen.checks["motor_peak"]
+    where = worst.detail.get("speed_rpm")
+    if isinstance(where, float) and worst.value is not None:
+        ax.plot([where], [worst.value], "v", color=_MEAN, ms=9, mec="k",
+                label=f"worst sample: {utilization_text(worst.utilization, worst.ok)} of the "
+                      "peak at that speed")
+    ax.set_xlim(0.0, top)
+    ax.set_ylim(0.0, max(motor.peak_torque, float(torque.max())) * 1.15)
+    ax.set_xlabel("input speed |n| [rpm]")
+    ax.set_ylabel("motor torque |T_motor| [N m]")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    state = "selected" if joint.selected else "no pair fits; the strongest shown"
+    side = chosen.motor_binding or "motor_peak"
+    check = chosen.checks[side]
+    ratio = joint.inertia_ratio(chosen)
+    fig.suptitle(f"{joint.name}: motor {motor.id} behind {unit.id} ({state}), binding "
+                 f"{side.removeprefix('motor_')} {utilization_text(check.utilization, check.ok)}"
+                 + ("" if ratio is None else f", load/rotor {ratio_text(ratio)}"), fontsize=12)
+    return fig
 
 
 def _runs(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, float]]:

@@ -4,6 +4,9 @@ Everything is inside the page: the figures as base64 PNG, the styles, no script
 and no external request. Utilization is coloured on one colour-blind-safe scale
 that changes character at 100 %: blues that darken towards the limit, then
 hatched oranges and browns, each failing cell also marked ✗ and classed ``fail``.
+Where motors are given, every (gearhead, motor) pair is a candidate: the motor's
+checks join the gearhead's in the heat maps and tables, and each joint shows its
+motor's torque-speed plane.
 """
 
 from __future__ import annotations
@@ -13,13 +16,14 @@ import html
 from collections.abc import Mapping, Sequence
 
 from hdselect.catalog import Flag
-from hdselect.export import assumptions, base_text
+from hdselect.export import MOTOR_MODEL_NOTE, assumptions, base_text
 from hdselect.loads import JointLoad
 from hdselect.provenance import Provenance
 from hdselect.report import (
     DEG_PER_RAD,
     case_notes,
     life_text,
+    ratio_text,
     time_scale_text,
     utilization_text,
     verdict,
@@ -32,7 +36,8 @@ PASS_COLOURS = ((0.0, "#f7fbff"), (0.5, "#9ecae1"), (1.0, "#2166ac"))
 FAIL_COLOURS = ((1.0, "#fdb863"), (1.5, "#e66101"), (2.0, "#7f3b08"))
 """Utilization (above 1, clipped at 2) -> colour of a failing cell: ColorBrewer PuOr's oranges."""
 _UNITS = {"peak": "N m", "mean": "N m", "speed": "rpm", "average_speed": "rpm",
-          "momentary": "N m", "static": "N m", "life": "h"}
+          "momentary": "N m", "static": "N m", "life": "h", "motor_peak": "N m",
+          "motor_rms": "N m", "motor_speed": "rpm"}
 esc = html.escape
 
 
@@ -62,13 +67,16 @@ def _ink(colour: str) -> str:
     return "#000" if 0.299 * r + 0.587 * g + 0.114 * b > 140 else "#fff"
 
 
-def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance) -> str:
+def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
+         motor_figures: Mapping[str, bytes] | None = None) -> str:
     """The report page.
 
     Args:
         result: The sizing result.
         figures: PNG content of each joint's figure, by joint name.
         origin: Where the result came from.
+        motor_figures: PNG content of each joint's motor torque-speed figure, by joint
+            name, for the joints with motors.
 
     Returns:
         The page, self-contained.
@@ -78,15 +86,16 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance)
                     else "<strong>Some joints have no unit.</strong>")
     sections = [_selection(result), _warnings(result), _notes(result), _heat_maps(result),
                 _loads(result),
-                *(_joint_section(result, joint, figures.get(joint.name)) for joint in
-                  result.joints),
+                *(_joint_section(result, joint, figures.get(joint.name),
+                                 (motor_figures or {}).get(joint.name))
+                  for joint in result.joints),
                 _assumptions(result), _provenance(origin)]
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <title>hdselect: {esc(result.title)}</title>
 <style>{_STYLE}</style></head><body>
-<h1>Gearhead selection: {esc(result.title)}</h1>
+<h1>{"Gearhead and motor" if result.motors else "Gearhead"} selection: {esc(result.title)}</h1>
 <p>Cycle {result.cycle_time:.3f} s, {count:,} sample{"s" if count != 1 else ""} every
 {result.trajectory.dt * 1e3:g} ms. {verdict_text} Made by hdselect {esc(origin.version)} on
 {esc(origin.created)}; <a href="#provenance">how to re-run it</a>.</p>
@@ -105,7 +114,7 @@ h3{font-size:1.05em;margin:1em 0 .3em}
 table{border-collapse:collapse;margin:.4em 0;font-size:.9em}
 td,th{border:1px solid #bbb;padding:2px 6px;text-align:right;white-space:nowrap;
 vertical-align:top}
-th{background:#eee;white-space:normal;vertical-align:bottom}td.t,th.t{text-align:left}td.wrap{white-space:normal;min-width:12em}
+th{background:#eee;white-space:normal;vertical-align:bottom}td.t,th.t{text-align:left}td.wrap{white-space:normal;min-width:9em}
 td.u small{display:block;font-size:.75em;opacity:.9}
 td.fail{font-weight:bold;outline:2px solid #000;outline-offset:-2px;
 background-image:repeating-linear-gradient(45deg,rgba(0,0,0,.2) 0 2px,transparent 2px 7px)}
@@ -164,7 +173,13 @@ def _unit_cell(candidate: Candidate) -> str:
             f'title="depends on a catalog stand-in or correction">*</a>')
 
 
+def _motor_cell(candidate: Candidate) -> str:
+    """The paired motor's id, or ``-``."""
+    return "-" if candidate.motor_unit is None else esc(candidate.motor_unit.id)
+
+
 def _selection(result: SizingResult) -> str:
+    motors = bool(result.motors)
     rows = []
     for joint in result.joints:
         c = joint.selected
@@ -176,27 +191,47 @@ def _selection(result: SizingResult) -> str:
         if c is None:
             strongest = joint.strongest
             cells = [esc(joint.name), "<td class='t fail'>none</td>",
-                     esc(f"{verdict(strongest)} ({strongest.unit.id})"), "-", "-", "-", "-", "-"]
-            notes.append("no unit fits: see below")
+                     *(["none"] if motors else []),
+                     esc(f"{verdict(strongest)} ({strongest.label})"),
+                     *(["-", "-"] if motors else []), "-", "-", "-", "-", "-"]
+            notes.append(f"no {'pair' if motors else 'unit'} fits: see below")
         else:
             assert c.motor is not None
+            side = c.motor_binding
+            binding = c.gearhead_binding if motors else c.binding
             cells = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>', _unit_cell(c),
-                     esc(f"{c.binding} {utilization_text(c.checks[c.binding].utilization, True)}"),
+                     *([_motor_cell(c)] if motors else []),
+                     esc(f"{binding} {utilization_text(c.checks[binding].utilization, True)}"),
+                     *([("-" if side is None else esc(
+                         f"{side.removeprefix('motor_')} "
+                         f"{utilization_text(c.checks[side].utilization, True)}")),
+                        ratio_text(joint.inertia_ratio(c))] if motors else []),
                      esc(life_text(c.life_hours)), esc(life_text(c.l10_hours)),
                      f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
                      f"{c.motor.max_speed:,.0f}"]
         rows.append([*cells, f"{joint.carried_mass:.2f}",
                      f"<td class='t wrap'>{esc('; '.join(notes))}</td>"])
-    header = ["joint", "unit", "binding rule", "L50 life", "L10 life", "motor peak [N m]",
-              "motor rms [N m]", "motor max [rpm]", "carries [kg]", "notes"]
+    header = ["joint", "unit", *(["motor", "gearhead binding", "motor binding",
+                                  "load/rotor inertia"] if motors else ["binding rule"]),
+              "L50 life", "L10 life", "motor peak [N m]", "motor rms [N m]", "motor max [rpm]",
+              "carries [kg]", "notes"]
+    what = "pair" if motors else "unit"
     slow = "".join(
-        f"<p><b>{esc(joint.name)}</b>: no unit fits; the strongest, "
-        f"{esc(joint.strongest.unit.id)}, fails {esc(verdict(joint.strongest))}. "
+        f"<p><b>{esc(joint.name)}</b>: no {what} fits; the strongest, "
+        f"{esc(joint.strongest.label)}, fails {esc(verdict(joint.strongest))}. "
         f"{esc(time_scale_text(joint))}.</p>" for joint in result.joints if joint.selected is None)
+    legend = ("<p>Gearhead binding: the gearhead's check closest to its limit (demand / limit); "
+              "motor binding: the motor's (peak under its torque-speed curve, RMS against its "
+              "rated torque, speed). load/rotor inertia = (M_jj / N&sup2; + J_in) / J_m, M_jj "
+              "the joint's largest diagonal inertia over the cycle (payload and carried masses "
+              "included): reported, not checked. carries: the gearheads' and motors' mass "
+              "carried from joints further out. * the result depends on a catalog stand-in or "
+              "correction: follow it to the note.</p>" if motors else
+              "<p>Binding rule: the check closest to its limit (demand / limit). * the result "
+              "depends on a catalog stand-in or correction: follow it to the note.</p>")
     return (f"<section id=selection><h2>Selection</h2>"
-            f"{_table(header, rows, left=3, text=[9])}{slow}"
-            "<p>Binding rule: the check closest to its limit (demand / limit). * the result "
-            "depends on a catalog stand-in or correction: follow it to the note.</p></section>")
+            f"{_table(header, rows, left=5 if motors else 3, text=[len(header) - 1])}{slow}"
+            f"{legend}</section>")
 
 
 def _notes(result: SizingResult) -> str:
@@ -239,7 +274,8 @@ def _loads(result: SizingResult) -> str:
     header = ["joint", "type", "sized", "peak torque or force", "file effort limit",
               "top speed", "file velocity limit", "travel"]
     return ("<section id=loads><h2>Every joint over the cycle</h2>"
-            "<p>Peak torque (force, for a prismatic joint) with the gearheads carried, top "
+            "<p>Peak torque (force, for a prismatic joint) with the gearheads"
+            f"{' and motors' if result.motors else ''} carried, top "
             "speed and travel of every joint of the robot, beside the robot file's limits. ✗ "
             f"above the limit.</p>{_table(header, rows, left=3, text=[7])}"
             f"{f'<ul>{notes}</ul>' if notes else ''}</section>")
@@ -306,7 +342,9 @@ def number(value: float) -> str:
 
 
 def _where(joint: JointSizing, candidate: Candidate) -> str:
-    return f"data-joint='{esc(joint.name)}' data-unit='{esc(candidate.unit.id)}'"
+    motor = candidate.motor_unit
+    return (f"data-joint='{esc(joint.name)}' data-unit='{esc(candidate.unit.id)}'"
+            + ("" if motor is None else f" data-motor='{esc(motor.id)}'"))
 
 
 def _colour_bar() -> str:
@@ -320,7 +358,7 @@ def _heat_maps(result: SizingResult) -> str:
     rules = _rules(result)
     maps = []
     for joint in result.joints:
-        rows = [[("▶ " if c is joint.selected else "") + esc(c.unit.id),
+        rows = [[("▶ " if c is joint.selected else "") + esc(c.label),
                  *(_heat_cell(c.checks.get(r), False, r, _where(joint, c)) for r in rules)]
                 for c in joint.candidates]
         header = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>',
@@ -329,46 +367,73 @@ def _heat_maps(result: SizingResult) -> str:
     return (f"<section id=heatmap><h2>Utilization of every candidate</h2>{_colour_bar()}"
             f"<div class=maps>{''.join(maps)}</div><p>▶ selected. Utilization = demand / limit "
             "of each check (life: required over expected). mom. = momentary (T4), the worse of "
-            "an emergency stop and a crash.</p></section>")
+            "an emergency stop and a crash."
+            + (" Each row is a gearhead and motor pair: the gearhead's checks behind that motor "
+               "(its rotor inertia in the motor torque and the crash), then m. = the motor's: "
+               "peak under its torque-speed curve, RMS against its rated torque, speed."
+               if result.motors else "") + "</p></section>")
 
 
-def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None) -> str:
+def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
+                   motor_png: bytes | None = None) -> str:
     rules = _rules(result)
+    pairs = joint.name in result.motors
     rows, classes = [], []
     for c in joint.candidates:
         assert c.motor is not None
-        rows.append([_unit_cell(c),
+        rows.append([_unit_cell(c), *([_motor_cell(c)] if pairs else []),
                      *(_heat_cell(c.checks.get(r), True, r, _where(joint, c)) for r in rules),
+                     *([ratio_text(joint.inertia_ratio(c))] if pairs else []),
                      esc(life_text(c.life_hours, "")), esc(life_text(c.l10_hours, "")),
                      f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
                      f"{c.motor.max_speed:,.0f}", f"<td class=t>{esc(verdict(c))}</td>"])
         classes.append("chosen" if c is joint.selected else "")
-    header = ["unit", *(esc(CHECK_LABELS[r]) for r in rules), "L50 h", "L10 h",
+    header = ["unit", *(["motor"] if pairs else []), *(esc(CHECK_LABELS[r]) for r in rules),
+              *(["load/rotor"] if pairs else []), "L50 h", "L10 h",
               "motor peak [N m]", "motor rms [N m]", "motor max [rpm]", "result"]
     load = joint.load
     mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
     chosen = joint.selected
+    inertia = ("" if joint.load_inertia is None else
+               f", load inertia M_jj up to {number(joint.load_inertia)} kg m^2")
     summary = (f"peak {load.peak_torque:.3g} N m while moving, mean torque {mean}, mean output "
                f"speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm, largest gravity torque "
-               f"{number(joint.max_gravity_torque)} N m, carries {joint.carried_mass:.2f} kg of "
-               f"gearheads. Selected: {chosen.unit.id if chosen else 'none'}.")
+               f"{number(joint.max_gravity_torque)} N m{inertia}, carries "
+               f"{joint.carried_mass:.2f} kg of gearheads{' and motors' if result.motors else ''}"
+               f". Selected: {chosen.label if chosen else 'none'}.")
+    shown = chosen or joint.strongest
     figure = ""
     if png is not None:
-        data = base64.b64encode(png).decode("ascii")
-        figure = (f"<figure><img src='data:image/png;base64,{data}' alt='speed and torque of "
-                  f"{esc(joint.name)} over the cycle, with the limits of "
-                  f"{esc((chosen or joint.strongest).unit.id)}'><figcaption>Speed (output and "
-                  "input) and output torque over the cycle. Grey bands: at rest, input locked "
-                  "(static limit); elsewhere moving (repeated-peak limit).</figcaption></figure>")
-    table = _table(header, rows, classes=classes, text=[len(header) - 1])
+        figure = (f"<figure>{_img(png)} alt='speed and torque of {esc(joint.name)} over the "
+                  f"cycle, with the limits of {esc(shown.unit.id)}'><figcaption>Speed (output "
+                  "and input) and output torque over the cycle. Grey bands: at rest, input "
+                  "locked (static limit); elsewhere moving (repeated-peak limit).</figcaption>"
+                  "</figure>")
+    if motor_png is not None and shown.motor_unit is not None:
+        figure += (f"<figure>{_img(motor_png)} alt='torque-speed plane of the motor "
+                   f"{esc(shown.motor_unit.id)} of {esc(joint.name)}'><figcaption>The motor "
+                   f"{esc(shown.motor_unit.id)} behind {esc(shown.unit.id)}: every sample of the "
+                   "cycle as (input speed, motor torque) under its peak torque over speed, its "
+                   "rated torque (the limit of the RMS torque) and its maximum speed; the RMS "
+                   "point and the worst sample against the peak marked.</figcaption></figure>")
+    table = _table(header, rows, classes=classes, text=[len(header) - 1],
+                   left=2 if pairs else 1)
     return (f"<section class=joint id='joint-{slug(joint.name)}'><h2>Joint "
             f"{esc(joint.name)}</h2><p>{esc(summary)}</p>{table}"
-            "<p>Each check: utilization, then demand / limit. ✗ over the limit.</p>"
-            f"{figure}</section>")
+            "<p>Each check: utilization, then demand / limit. ✗ over the limit."
+            + (" m. = the motor's checks; load/rotor = (M_jj / N² + J_in) / J_m." if pairs
+               else "") + f"</p>{figure}</section>")
+
+
+def _img(png: bytes) -> str:
+    """The start of an ``img`` element embedding a PNG (the caller adds ``alt`` and ``>``)."""
+    return f"<img src='data:image/png;base64,{base64.b64encode(png).decode('ascii')}'"
 
 
 def _assumptions(result: SizingResult) -> str:
-    items = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>" for k, v in assumptions(result).items())
+    given = {**assumptions(result),
+             **({"motor rules": MOTOR_MODEL_NOTE} if result.motors else {})}
+    items = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>" for k, v in given.items())
     return f"<section id=assumptions><h2>Assumptions</h2><ul>{items}</ul></section>"
 
 

@@ -8,6 +8,11 @@ prismatic joints are always in m, m/s, m/s^2 and m/s^3.
 A ``samples`` log is a CSV file with a header row: ``t`` [s], ``q_<joint>`` for
 every joint, and optionally ``qd_<joint>`` and ``qdd_<joint>`` for every joint;
 other columns are ignored.
+
+``[motor]`` gives the motors behind the gearheads: for every rotary joint, and
+``[motor.JOINT]`` for one joint (replacing ``[motor]`` there). Each is a fixed motor
+(its data inline, or ``id`` from ``catalog``) or ``catalog`` alone, every motor of
+which is a candidate; files are relative to the motion file.
 """
 
 from __future__ import annotations
@@ -15,7 +20,7 @@ from __future__ import annotations
 import csv
 import logging
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,6 +29,7 @@ import numpy as np
 
 from hdselect.arrays import frozen
 from hdselect.errors import InputError
+from hdselect.motors import MOTOR_KEYS, Motor, load_motors, motor_from_table
 from hdselect.robot import MOUNTINGS, Payload, Robot, load_robot
 from hdselect.tomlfile import as_number, check_keys, join, number, read_toml, table_of
 
@@ -36,7 +42,7 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
 
 _TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "limits", "safety",
-             "requirements", "waypoint", "samples", "sizing")
+             "requirements", "waypoint", "samples", "sizing", "motor")
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
 _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity", "acceleration"),
            "samples": ()}
@@ -101,6 +107,8 @@ class Motion:
             robot file's velocity limit is used.
         warnings: What the file asks beyond the robot file's limits, or how its lists are
             read, one line each.
+        motors: The file's ``[motor]``: candidate motors per rotary joint (one for a
+            fixed motor), or None when it gives none.
     """
 
     path: Path
@@ -125,6 +133,7 @@ class Motion:
     excluded_joints: tuple[str, ...] = ()
     velocity_from_robot: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
+    motors: Mapping[str, tuple[Motor, ...]] | None = None
 
     def check_joints(self, robot: Robot) -> None:
         """Check that the motion was read for this robot's joints.
@@ -214,6 +223,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     warnings += lists.warnings()
     for warning in warnings:
         logger.warning("%s: %s", path, warning)
+    motors = _motors(doc["motor"], path, robot) if "motor" in doc else None
     return Motion(
         path=path, joint_names=robot.joint_names, planner=planner, dt=dt,
         waypoints=frozen(waypoints), dwells=frozen(dwells),
@@ -224,7 +234,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         robot_file=robot_file, payload=file_payload, mounting=file_mounting,
         angle_unit=angle_unit, sized_joints=sizing.get("joints"),
         excluded_joints=sizing.get("exclude", ()), velocity_from_robot=from_robot,
-        warnings=tuple(warnings),
+        warnings=tuple(warnings), motors=motors,
     )
 
 
@@ -367,6 +377,80 @@ def robot_file_named(path: Path) -> Path:
         raise InputError("no robot given: set the key or pass a robot file",
                          path=path, field="robot")
     return robot
+
+
+def _motors(value: Any, path: Path, robot: Robot) -> Mapping[str, tuple[Motor, ...]]:
+    """``[motor]`` and ``[motor.JOINT]``: the candidate motors of every rotary joint given."""
+    table = table_of(value, path, "motor")
+    own = {}
+    for key, block in table.items():
+        if isinstance(block, dict) and key != "curve":
+            j = robot.joint_index(key, source=path, field=f"motor.{key}")
+            if not robot.revolute[j]:
+                raise InputError(f"'{key}' is a prismatic joint; gearheads and motors are "
+                                 "sized for rotary joints only", path=path, field=f"motor.{key}")
+            own[key] = table_of(block, path, f"motor.{key}")
+    shared = {key: block for key, block in table.items() if key not in own}
+    check_keys(shared, ["catalog", *MOTOR_KEYS], path, "motor")
+    files: dict[Path, tuple[Motor, ...]] = {}
+    shared_catalog = _motor_catalog(shared, path, "motor", files)
+    every = _motor_block(shared, path, "motor", files, None) if shared else None
+    motors: dict[str, tuple[Motor, ...]] = {}
+    for name, revolute in zip(robot.joint_names, robot.revolute, strict=True):
+        if name in own:
+            check_keys(own[name], ["catalog", *MOTOR_KEYS], path, f"motor.{name}")
+            motors[name] = _motor_block(own[name], path, f"motor.{name}", files, shared_catalog)
+        elif every is not None and revolute:
+            motors[name] = every
+    return motors
+
+
+def _motor_catalog(block: dict[str, Any], path: Path, where: str,
+                   files: dict[Path, tuple[Motor, ...]]) -> tuple[Path, tuple[Motor, ...]] | None:
+    """The motor file a block's ``catalog`` names (read once per file), or None."""
+    if "catalog" not in block:
+        return None
+    if not isinstance(block["catalog"], str):
+        raise InputError("expected a motor file name, relative to this file", path=path,
+                         field=f"{where}.catalog")
+    file = path.parent / block["catalog"]
+    if not file.is_file():
+        raise InputError(f"motor file not found: {file}", path=path, field=f"{where}.catalog")
+    key = file.resolve()
+    if key not in files:
+        files[key] = load_motors(file)
+    return file, files[key]
+
+
+def _motor_block(block: dict[str, Any], path: Path, where: str,
+                 files: dict[Path, tuple[Motor, ...]],
+                 shared: tuple[Path, tuple[Motor, ...]] | None) -> tuple[Motor, ...]:
+    """One block's motors: its inline motor, the motor `id` of a catalog, or the whole catalog.
+
+    A joint's block giving only ``id`` looks it up in the ``[motor]`` block's catalog.
+    """
+    data = [key for key in block if key not in ("catalog", "id")]
+    if data:
+        if "catalog" in block:
+            raise InputError("give either a catalog (and an id from it) or the motor's data, "
+                             "not both", path=path, field=f"{where}.catalog")
+        return (motor_from_table(block, path, where, default_id=where),)
+    catalog = _motor_catalog(block, path, where, files) or shared
+    if catalog is None:
+        what = ("an id needs a catalog: give catalog here or in [motor]" if "id" in block else
+                "give catalog (choose from its motors), catalog and id (a fixed motor), or the "
+                "motor's data")
+        raise InputError(what, path=path, field=f"{where}.{'id' if 'id' in block else 'catalog'}")
+    file, motors = catalog
+    if "id" not in block:
+        return motors
+    motor_id = block["id"]
+    found = [motor for motor in motors if motor.id == motor_id]
+    if not found:
+        raise InputError(f"unknown motor id {motor_id!r}; {file.name} has: "
+                         f"{', '.join(motor.id for motor in motors)}", path=path,
+                         field=f"{where}.id")
+    return (found[0],)
 
 
 def _vector(value: Any, size: int, path: Path, field: str) -> list[float]:

@@ -32,7 +32,7 @@ class InputFile:
     """One file a result was computed from.
 
     Attributes:
-        role: What it is: ``robot``, ``motion``, ``samples`` or ``catalog``.
+        role: What it is: ``robot``, ``motion``, ``samples``, ``catalog`` or ``motors``.
         path: The path as the result holds it (relative to `Provenance.cwd` if relative).
         sha256: Hex SHA-256 of its content, or an explanation if it cannot be read now.
         size: Its size [bytes], or None if it cannot be read.
@@ -99,6 +99,8 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
     builtin = Path(__file__).parent / "data"
     files += [("catalog (built in)" if Path(source).parent == builtin else "catalog", source)
               for source in dict.fromkeys(u.source for u in result.units)]
+    files += [("motors", source) for source in dict.fromkeys(
+        m.source for ms in result.motors.values() for m in ms if m.source is not None)]
     software = [("Python", platform.python_version())]
     for name in _SOFTWARE:
         try:
@@ -156,6 +158,13 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
         rows.append(("planner", "none: the trajectory was given directly"))
     rows.append(("trajectory", f"cycle {traj.duration:.6g} s, {len(traj.t):,} samples every "
                                f"{traj.dt:g} s"))
+    if result.motors:
+        lists = {name: ", ".join(m.id for m in ms) for name, ms in result.motors.items()}
+        same = len(set(lists.values())) == 1 and len(lists) == len(robot.sized_joints)
+        rows.append(("motors", f"every sized joint chooses from {next(iter(lists.values()))}"
+                     if same else "; ".join(f"{name}: {ids}" for name, ids in lists.items())))
+    else:
+        rows.append(("motors", "none given"))
     options = result.options
     rows.append(("options", ", ".join(f"{f.name} = {getattr(options, f.name)}"
                                       for f in fields(options))))

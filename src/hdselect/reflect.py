@@ -14,7 +14,7 @@ at the input speed N qd.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -78,8 +78,43 @@ def reflect(
     Returns:
         One reflection per unit, in the order given.
     """
+    return reflect_motors(units, (rotor_inertia,), t, tau, qd, qdd, stop_tau,
+                          stop_time=stop_time, efficiency=efficiency)[0]
+
+
+def reflect_motors(
+    units: Sequence[Unit],
+    rotor_inertias: Sequence[float],
+    t: np.ndarray,
+    tau: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    stop_tau: np.ndarray,
+    *,
+    stop_time: float,
+    efficiency: float = DEFAULT_EFFICIENCY,
+) -> list[list[Reflection]]:
+    """Reflect one joint's cycle through every unit, behind each of several motors.
+
+    The gear side (efficiency, ratio) is computed once; each motor's rotor inertia
+    J_m then adds (J_in + J_m) N qdd to the motor torque and (J_in + J_m) N^2 |qd| /
+    stop_time to the crash, exactly as `reflect` does for one rotor inertia.
+
+    Args:
+        units: The gearheads.
+        rotor_inertias: Each motor's rotor inertia J_m [kg m^2].
+        t: Sample times [s], shape (n,).
+        tau: Output (load) torque per sample [N m], shape (n,).
+        qd: Output speed per sample [rad/s], shape (n,).
+        qdd: Output acceleration per sample [rad/s^2], shape (n,).
+        stop_tau: Output torque at the start of an emergency stop from each sample [N m].
+        stop_time: Time to bring everything to rest [s].
+        efficiency: Gear efficiency [-], for units without a table.
+
+    Returns:
+        Per rotor inertia, in the order given, one reflection per unit.
+    """
     ratio = np.array([unit.ratio for unit in units], dtype=float)
-    inertia = np.array([unit.input_inertia for unit in units]) + rotor_inertia
     driving = tau * qd >= 0.0
     speed = np.abs(qd)
     # gear side: tau / eta while the motor drives, tau eta while the load drives back
@@ -90,16 +125,36 @@ def reflect(
             eta = unit.efficiency(speed * unit.ratio * RPM_PER_RAD_S,
                                   100.0 * np.abs(tau) / unit.rated_torque)
             load[row] = tau * np.where(driving, 1.0 / eta, eta)
-    motor = load
-    motor *= (1.0 / ratio)[:, None]
+    load *= (1.0 / ratio)[:, None]
+    max_speed = speed.max() * RPM_PER_RAD_S * ratio
+    rms_speed = np.sqrt(np.dot(speed, speed) / len(t)) * RPM_PER_RAD_S * ratio
+    stop = np.abs(stop_tau)
+    i_stop = int(stop.argmax())
+    held = np.abs(tau)
+    last = len(rotor_inertias) - 1  # the last motor takes the gear-side array over, in place
+    return [_behind(units, ratio, load if k == last else load.copy(), float(rotor_inertia), t,
+                    speed, qdd, held, stop, i_stop, (max_speed, rms_speed), stop_time,
+                    efficiency)
+            for k, rotor_inertia in enumerate(rotor_inertias)]
+
+
+def _behind(units: Sequence[Unit], ratio: np.ndarray, geared: np.ndarray, rotor_inertia: float,
+            t: np.ndarray, speed: np.ndarray, qdd: np.ndarray, held: np.ndarray,
+            stop: np.ndarray, i_stop: int, speeds: tuple[np.ndarray, np.ndarray],
+            stop_time: float, efficiency: float) -> list[Reflection]:
+    """Every unit behind one motor.
+
+    `geared` is the gear-side torque over N [N m], turned into the motor torque in
+    place; `speeds` the largest and the RMS input speed per unit [rpm].
+    """
+    max_speed, rms_speed = speeds
+    inertia = np.array([unit.input_inertia for unit in units]) + rotor_inertia
+    motor = geared
     motor += np.multiply.outer(inertia * ratio, qdd)
     peak = np.maximum(motor.max(axis=1), -motor.min(axis=1))
     rms = np.sqrt(np.einsum("ij,ij->i", motor, motor) / len(t))
-    max_speed = speed.max() * RPM_PER_RAD_S * ratio
-    stop = np.abs(stop_tau)
-    i_stop = int(stop.argmax())
     crash = np.multiply.outer(inertia * ratio**2 / stop_time, speed)
-    crash += np.abs(tau)
+    crash += held
     i_crash = crash.argmax(axis=1)
     out = []
     for row, unit in enumerate(units):
@@ -111,6 +166,31 @@ def reflect(
             event = Momentary(float(crash[row, k]), "crash", float(speed[k]), stop_time,
                               float(t[k]))
         demand = MotorDemand(float(peak[row]), float(rms[row]), float(max_speed[row]),
-                             "table" if unit.efficiency is not None else efficiency)
+                             "table" if unit.efficiency is not None else efficiency,
+                             float(rms_speed[row]))
         out.append(Reflection(unit, demand, event, motor[row]))
     return out
+
+
+def weighted_demand(demand: MotorDemand, motor_torque: np.ndarray, qd: np.ndarray, ratio: float,
+                    weight: np.ndarray) -> MotorDemand:
+    """A motor demand with its RMS torque and RMS speed over samples of unequal length.
+
+    `reflect` takes every sample to stand for the same time. Where each stands for
+    `weight` of them (a study's runs of identical samples, each kept once), the RMS
+    values weight each sample's square by it; the peak and largest speed stay.
+
+    Args:
+        demand: The demand `reflect` found on these samples.
+        motor_torque: Motor torque per sample [N m], shape (n,).
+        qd: Output speed per sample [rad/s], shape (n,).
+        ratio: The gearhead's ratio [-].
+        weight: What each sample stands for (any positive scale, e.g. its duration), (n,).
+
+    Returns:
+        The demand with `rms_torque` [N m] and `rms_speed` [rpm] weighted.
+    """
+    total = float(weight.sum())
+    rms = float(np.sqrt(np.dot(weight * motor_torque, motor_torque) / total))
+    rms_speed = float(np.sqrt(np.dot(weight * qd, qd) / total)) * RPM_PER_RAD_S * ratio
+    return replace(demand, rms_torque=rms, rms_speed=rms_speed)

@@ -34,6 +34,12 @@ class JointSummary:
         flags: Catalog stand-ins and corrections the figures depend on.
         slowdown: Smallest uniform slow-down that would fit, when no unit fits; None otherwise
             or when none helps.
+        motor: Where motors are given, the selected motor's id (None when no pair fits);
+            None without motor data.
+        motor_candidate: Where motors are given, the motor of `candidate`.
+        motor_binding: The motor's check with the highest utilization for `candidate`.
+        inertia_ratio: Load inertia at the motor shaft over the rotor inertia for
+            `candidate` [-] (`hdselect.sizing.JointSizing.inertia_ratio`).
     """
 
     name: str
@@ -51,6 +57,10 @@ class JointSummary:
     gravity_loaded: bool
     flags: tuple[str, ...]
     slowdown: float | None
+    motor: str | None = None
+    motor_candidate: str | None = None
+    motor_binding: str | None = None
+    inertia_ratio: float | None = None
 
 
 @dataclass(frozen=True)
@@ -132,4 +142,9 @@ def _joint(joint: JointSizing) -> JointSummary:
         gravity_loaded=joint.gravity_loaded,
         flags=tuple(sorted({flag.code for flag in chosen.flags})),
         slowdown=None if slowdown is None else slowdown.factor,
+        motor=(joint.selected.motor_unit.id if joint.selected is not None
+               and joint.selected.motor_unit is not None else None),
+        motor_candidate=None if chosen.motor_unit is None else chosen.motor_unit.id,
+        motor_binding=chosen.motor_binding,
+        inertia_ratio=joint.inertia_ratio(chosen),
     )

@@ -130,7 +130,7 @@ class FittedTable:
 
         A value too long for its header's line goes on the next line, indented.
         """
-        headers = [" ".join(c.header.split()) for c in self.columns]
+        headers = [" ".join(c.header.split()).replace("/ ", "/") for c in self.columns]
         for k, row in enumerate(self.rows):
             style = self.styles[k] if k < len(self.styles) else ""
             if k:

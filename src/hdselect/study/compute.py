@@ -6,7 +6,9 @@ inputs are bad, or whose motion cannot be planned, fails alone, with its message
 ``size`` evaluates a group from one basis of batched passes (`hdselect.study.group`)
 when it may, and each case on its own otherwise (`size_direct`): a group too small
 to repay the basis, or a motion whose plan depends on the payload (TOPPRA under
-torque limits). Either way the answer is the sizing core's, to rounding.
+torque limits). Either way the answer is the sizing core's, to rounding. A case's
+motors (its motion file's ``[motor]``, or its ``motor_catalog``) are sized as pairs on
+both paths.
 """
 
 from __future__ import annotations
@@ -22,10 +24,11 @@ from typing import Any
 from hdselect.catalog import Unit, load_catalog
 from hdselect.errors import HdselectError, InputError
 from hdselect.motion import Motion, load_motion, robot_file_named, robot_for_motion
+from hdselect.motors import Motor, load_motors
 from hdselect.options import Options, options_for
 from hdselect.planning import Trajectory, plan
 from hdselect.robot import Payload, Robot, load_robot
-from hdselect.sizing import size_trajectory
+from hdselect.sizing import motion_motors, size_trajectory
 from hdselect.study.group import build_basis, plan_depends_on_payload, size_case
 from hdselect.study.spec import Case
 from hdselect.summary import Summary, summarize
@@ -84,8 +87,10 @@ class Computation:
 
 SIZE_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50_h",
                 "life_l10_h", "motor_peak_nm", "motor_rms_nm", "motor_max_rpm",
-                "cycle_time_s", "carried_mass_kg", "slowdown", "flags")
-"""Per-joint columns of a ``size`` row."""
+                "cycle_time_s", "carried_mass_kg", "slowdown", "flags", "motor",
+                "motor_binding", "inertia_ratio")
+"""Per-joint columns of a ``size`` row (the last three: where motors are given, the motor
+of the selected pair, else of the strongest; its binding rule; load over rotor inertia)."""
 
 
 def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
@@ -97,7 +102,8 @@ def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
         "motor_peak_nm": joint["motor_peak_torque"], "motor_rms_nm": joint["motor_rms_torque"],
         "motor_max_rpm": joint["motor_max_speed"], "cycle_time_s": result["cycle_time"],
         "carried_mass_kg": joint["carried_mass"], "slowdown": joint["slowdown"],
-        "flags": " ".join(joint["flags"]),
+        "flags": " ".join(joint["flags"]), "motor": joint["motor_candidate"],
+        "motor_binding": joint["motor_binding"], "inertia_ratio": joint["inertia_ratio"],
     } for joint in result["joints"]]
 
 
@@ -108,6 +114,7 @@ class _Inputs:
         self.robots: dict[Path, Robot] = {}
         self.motions: dict[tuple[Path, Path], Motion] = {}
         self.units: dict[tuple[tuple[Path, ...], int | None], tuple[Unit, ...]] = {}
+        self.motor_files: dict[Path, tuple[Motor, ...]] = {}
 
     def case(self, case: Case) -> tuple[Robot, Motion, Payload | None]:
         """The bare robot, the motion and the case's payload."""
@@ -136,6 +143,18 @@ class _Inputs:
         return self.units[key]
 
 
+    def motors(self, case: Case, robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
+        """The case's candidate motors per sized joint of `robot` (empty without motors).
+
+        Its ``motor_catalog`` for every sized joint, else the motion file's ``[motor]``.
+        """
+        if case.motor_catalog is None:
+            return motion_motors(robot, motion)
+        if case.motor_catalog not in self.motor_files:
+            self.motor_files[case.motor_catalog] = load_motors(case.motor_catalog)
+        return {name: self.motor_files[case.motor_catalog] for name in robot.sized_joints}
+
+
 def case_options(case: Case, motion: Motion) -> Options:
     """The case's options over the motion file's, one thread for the dynamics."""
     return options_for(motion, **case.options, threads=1)
@@ -162,8 +181,9 @@ def size_direct(case: Case, inputs: _Inputs | None = None) -> Summary:
     units = inputs.catalog(case)
     options = case_options(case, motion)
     carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
+    motors = inputs.motors(case, carrying, motion)
     trajectory = scaled(plan(carrying, motion), case.time_scale)
-    result = size_trajectory(carrying, trajectory, units, options)
+    result = size_trajectory(carrying, trajectory, units, options, motors=motors)
     return summarize(replace(result, motion=motion))
 
 
@@ -216,7 +236,17 @@ def _grouped(cases: list[Case], inputs: _Inputs,
         try:
             mounted = robot_for_motion(robot, replace(motion, payload=None),
                                        mounting=case.mounting)
-            basis = build_basis(mounted, motion, payload)
+            motors: dict[int, dict[str, tuple[Motor, ...]]] = {}
+            for member in members:
+                try:
+                    motors[member[0].index] = inputs.motors(member[0], mounted, motion)
+                except HdselectError as err:  # a bad motor file fails its cases alone
+                    yield _failed(member[0], err, "grouped", begin, host)
+            members = [member for member in members if member[0].index in motors]
+            if not members:
+                continue
+            basis = build_basis(mounted, motion, payload,
+                                inertias=any(motors[m[0].index] for m in members))
         except HdselectError as err:
             for member in members:
                 yield _failed(member[0], err, "grouped", begin, host)
@@ -227,7 +257,7 @@ def _grouped(cases: list[Case], inputs: _Inputs,
             try:
                 summary = size_case(basis, None if payload is None else payload.mass,
                                     case.time_scale, inputs.catalog(case),
-                                    case_options(case, motion))
+                                    case_options(case, motion), motors[case.index])
             except HdselectError as err:
                 yield _failed(case, err, "grouped", started, host)
                 continue

@@ -17,6 +17,13 @@ joint from the tip to the base, each joint with exactly the masses of the units
 chosen further out: the answer `hdselect.size_trajectory` reaches by its fixed
 point, from the same rules (`cycle_load`, `reflect`, `check_unit`, `select`).
 Runs of identical samples (dwells) are kept once, weighted by their length.
+
+Where a case gives motors, a joint with motors checks every (gearhead, motor) pair as
+the core does (`reflect_motors`, `with_motor`): each motor's rotor inertia in the
+motor torque and the crash, the motor's rules with its RMS torque weighted by the
+runs, and the chosen pair's mass, gearhead and motor, in the carried point mass. The
+joint's load inertia M_jj, linear in the same parameters, comes from one more set of
+passes per parameter at the core's poses (`build_basis(..., inertias=True)`).
 """
 
 from __future__ import annotations
@@ -28,21 +35,32 @@ import numpy as np
 
 from hdselect.arrays import frozen
 from hdselect.catalog import Unit
-from hdselect.dynamics import inverse_dynamics
+from hdselect.dynamics import inverse_dynamics, joint_inertias
 from hdselect.loads import joint_loads
 from hdselect.motion import Motion
+from hdselect.motors import Motor
 from hdselect.options import Options
 from hdselect.planning import Trajectory, plan
-from hdselect.reflect import Reflection, reflect
+from hdselect.reflect import Reflection, reflect, reflect_motors, weighted_demand
 from hdselect.robot import Payload, Robot
-from hdselect.rules import RPM_PER_RAD_S, Candidate, CycleLoad, Momentary, check_unit, cycle_load
-from hdselect.select import select
+from hdselect.rules import (
+    RPM_PER_RAD_S,
+    Candidate,
+    CycleLoad,
+    Momentary,
+    check_unit,
+    cycle_load,
+    with_motor,
+)
+from hdselect.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.sizing import (
     GRAVITY_LOADED,
     GRAVITY_SAMPLES,  # the core's own choices, so that a grouped case equals it
     JointSizing,
+    Motors,
     SizingResult,
     at_rest,
+    checked_motors,
     fitting_time_scales,
 )
 from hdselect.summary import Summary, summarize
@@ -75,6 +93,8 @@ class Basis:
         used: Per joint, the parameters that load it (the others add exactly zero).
         carried: carried[j, c] is 1 where sized joint j carries carrier c's gearhead.
         poses: The kept row of each pose at which gravity loading is judged.
+        inertia: M_jj per sized joint and parameter at the same poses [kg m^2], shape
+            (sized joints, P, poses), as `gravity`; None unless asked for (motors).
     """
 
     robot: Robot
@@ -94,15 +114,19 @@ class Basis:
     used: tuple[np.ndarray, ...]
     carried: np.ndarray
     poses: np.ndarray
+    inertia: np.ndarray | None = None
 
 
-def build_basis(robot: Robot, motion: Motion, payload: Payload | None) -> Basis:
+def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
+                inertias: bool = False) -> Basis:
     """Plan the path once and run the batched passes of every parameter.
 
     Args:
         robot: The robot as the motion runs it, mounting applied, without a payload.
         motion: The motion; its plan must not depend on the payload (see `plan_depends_on_payload`).
         payload: The payload's shape (its mass is replaced by `REFERENCE_MASS`), or None.
+        inertias: Also the sized joints' load inertia M_jj per parameter at the poses
+            (what cases with motors need for their inertia ratio).
 
     Returns:
         The basis, 4 (2 + carriers) passes over the kept samples.
@@ -129,13 +153,20 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None) -> Basis:
     carried = np.array([[reference.with_gearheads({c: 1.0}).carried_mass(name) for c in carriers]
                         for name in robot.sized_joints]).reshape(len(robot.sized_joints), -1)
     run = np.cumsum(keep) - 1
-    poses = run[np.unique(np.linspace(0, len(states) - 1, GRAVITY_SAMPLES).astype(int))]
+    at = np.unique(np.linspace(0, len(states) - 1, GRAVITY_SAMPLES).astype(int))
+    poses = run[at]
     loads = np.abs(parts).max(axis=(1, 2)) > 0.0  # (P, dof)
     used = tuple(_read_only(np.flatnonzero(loads[:, j])) for j in range(robot.dof))
+    inertia = None
+    if inertias:  # M(q) is linear in the inertial parameters, as the torques are
+        m = np.stack([joint_inertias(variant, trajectory.q[at], robot.sized_joints, threads=1)
+                      for variant in variants])  # (P, poses, sized)
+        m[1:] -= m[0]
+        inertia = frozen(np.ascontiguousarray(m.transpose(2, 0, 1)))
     return Basis(reference, motion, trajectory, payload, rows, weight, frozen(trajectory.t[rows]),
                  frozen(trajectory.qd[rows]), frozen(trajectory.qdd[rows]), carriers,
                  frozen(gravity), frozen(dynamic), frozen(coasting), frozen(stopping), used,
-                 frozen(carried), _read_only(poses))
+                 frozen(carried), _read_only(poses), inertia)
 
 
 def plan_depends_on_payload(motion: Motion) -> bool:
@@ -154,20 +185,32 @@ def _parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
 
 
 def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequence[Unit],
-              options: Options) -> Summary:
+              options: Options, motors: Motors | None = None) -> Summary:
     """One case of the group, sized as `hdselect.size_trajectory` sizes it.
 
     Args:
-        basis: The group's basis.
+        basis: The group's basis (with `Basis.inertia` where motors are given).
         mass: Payload mass [kg] (None exactly when the basis has no payload).
         time_scale: The path run s times slower [-].
         units: The candidate units.
-        options: The assumptions.
+        options: The assumptions; ``prefer`` None is resolved as the core resolves it.
+        motors: Candidate motors per sized joint, as `hdselect.size_trajectory` takes them.
 
     Returns:
         The case's summary; its robot and motion are the basis's files.
+
+    Raises:
+        InputError: The motors are not valid for this robot and these options (as the
+            core says).
     """
     units = tuple(units)
+    motors = checked_motors(basis.robot, motors, options)
+    if options.prefer is None:
+        options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
+                          else DEFAULT_PREFER)
+    assert options.prefer is not None
+    if motors and basis.inertia is None:
+        raise ValueError("a case with motors needs a basis built with inertias=True")
     traj, y = basis.trajectory, 1.0 / time_scale
     theta = np.zeros(basis.gravity.shape[1])
     theta[0] = 1.0
@@ -188,15 +231,21 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
         tau = gravity + (weights @ basis.dynamic[j, used]) * y**2
         coast = gravity + (weights @ basis.coasting[j, used]) * y**2
         stop = coast + (weights @ basis.stopping[j, used]) * (y / options.stop_time)
-        joint = _size_joint(name, t, dt, basis.weight, qd[:, j], qdd[:, j], tau, stop, units,
-                            limits, options)
+        pairs = motors.get(name, ())
+        if pairs:
+            joint = _size_pairs(name, t, dt, basis.weight, qd[:, j], qdd[:, j], tau, stop,
+                                units, pairs, options)
+        else:
+            joint = _size_joint(name, t, dt, basis.weight, qd[:, j], qdd[:, j], tau, stop,
+                                units, limits, options)
         if joint.selected is None:
             joint = _with_scales(joint, t, dt, traj.duration * time_scale, qd[:, j], qdd[:, j],
-                                 tau, stop, gravity, coast, units, options)
+                                 tau, stop, gravity, coast, units, options, pairs)
         found[name] = joint
         if options.mass_coupling and name in basis.carriers:
-            theta[first + basis.carriers.index(name)] = (
-                (joint.selected or joint.strongest).unit.mass + options.motor_mass)
+            chosen = joint.selected or joint.strongest
+            theta[first + basis.carriers.index(name)] = chosen.unit.mass + (
+                options.motor_mass if chosen.motor_unit is None else chosen.motor_unit.mass)
     masses = theta[first:]
     at_poses = np.abs(np.einsum("p,dpn->nd", theta, basis.gravity[:, :, basis.poses]))
     joints = []
@@ -207,8 +256,12 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
             if basis.carried[i, c] and masses[c] > 0.0:
                 carried += float(masses[c])
         worst = float(at_poses[:, j].max())
-        joints.append(replace(found[name], carried_mass=carried,
-                              gravity_loaded=worst > GRAVITY_LOADED, max_gravity_torque=worst))
+        joint = replace(found[name], carried_mass=carried,
+                        gravity_loaded=worst > GRAVITY_LOADED, max_gravity_torque=worst)
+        if name in motors:
+            assert basis.inertia is not None
+            joint = replace(joint, load_inertia=float((theta @ basis.inertia[i]).max()))
+        joints.append(joint)
     # every joint's torque with the masses chosen, on the kept rows (a run of identical
     # states has one torque): the peaks, speeds and travel the core's `joint_loads` finds
     tau = np.einsum("p,dpn->nd", theta, basis.gravity + basis.dynamic * y**2)
@@ -217,7 +270,8 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
     # only the cycle time and the sample count of the trajectory go into the summary
     timing = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale)
     summary = summarize(SizingResult(basis.robot, timing, tuple(joints), options, units,
-                                     basis.motion, loads=joint_loads(basis.robot, kept, tau)))
+                                     basis.motion, motors=motors,
+                                     loads=joint_loads(basis.robot, kept, tau)))
     # the basis's robot carries the reference payload; the case carries its own mass
     return replace(summary, payload_mass=0.0 if mass is None else float(mass))
 
@@ -273,9 +327,10 @@ def _size_joint(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd
     if load.static_torque is not None:
         passes &= load.static_torque / limits.static <= 1.0
     survivors = [k for k in range(len(units)) if passes[k]]
+    assert options.prefer is not None  # resolved by size_case
     motor_order = options.prefer.startswith("motor")
     if motor_order:
-        checked = [_candidate(load, r, weight, options)
+        checked = [_candidate(load, r, qd, weight, options)
                    for r in _reflect([units[k] for k in survivors], t, tau, qd, qdd, stop,
                                      options)]
     else:
@@ -295,11 +350,40 @@ def _size_joint(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd
     if selected is None or not motor_order:
         unit = units[limits.strongest] if selected is None else selected.unit
         (reflection,) = _reflect([unit], t, tau, qd, qdd, stop, options)
-        chosen = _candidate(load, reflection, weight, options)
+        chosen = _candidate(load, reflection, qd, weight, options)
         selected = None if selected is None else chosen
     else:
         chosen = selected
     return JointSizing(name, load, (chosen,), selected, 0.0, False, 0.0, tau, stop)
+
+
+def _size_pairs(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd: np.ndarray,
+                qdd: np.ndarray, tau: np.ndarray, stop: np.ndarray, units: tuple[Unit, ...],
+                motors: Sequence[Motor], options: Options) -> JointSizing:
+    """Every (gearhead, motor) pair against one joint on the kept rows, as the core checks them.
+
+    The core's own steps (`reflect_motors`, `check_unit`, `with_motor`, `select`), the
+    motor demand's RMS figures weighted by each row's run length (`weighted_demand`).
+    """
+    assert options.prefer is not None  # resolved by size_case
+    load = cycle_load(tau, qd, dt, at_rest(qd, qdd))
+    behind = reflect_motors(units, [m.rotor_inertia for m in motors], t, tau, qd, qdd, stop,
+                            stop_time=options.stop_time, efficiency=options.efficiency)
+    speed = np.abs(qd) * RPM_PER_RAD_S
+    pairs, torque = [], {}
+    for u, unit in enumerate(units):
+        for m, motor in enumerate(motors):
+            r = behind[m][u]
+            demand = weighted_demand(r.motor, r.motor_torque, qd, unit.ratio, weight)
+            gearhead = check_unit(load, unit, momentary=r.momentary,
+                                  life_hours=options.life_hours, life_basis=options.life_basis,
+                                  motor=demand)
+            pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio)
+            pairs.append(pair)
+            torque[id(pair)] = r.motor_torque
+    selected = select(pairs, options.prefer)
+    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, tau, stop)
+    return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
 
 
 def _event(k: int, i_stop: int, i_crash: np.ndarray, stopping: np.ndarray, crash: np.ndarray,
@@ -319,25 +403,25 @@ def _reflect(units: list[Unit], t: np.ndarray, tau: np.ndarray, qd: np.ndarray,
                    efficiency=options.efficiency, rotor_inertia=options.rotor_inertia)
 
 
-def _candidate(load: CycleLoad, reflection: Reflection, weight: np.ndarray,
+def _candidate(load: CycleLoad, reflection: Reflection, qd: np.ndarray, weight: np.ndarray,
                options: Options) -> Candidate:
-    """`check_unit` with the motor demand, its RMS weighted by the rows' run lengths."""
-    torque = reflection.motor_torque
-    rms = float(np.sqrt(np.dot(weight * torque, torque) / weight.sum()))
+    """`check_unit` with the motor demand, its RMS figures weighted by the rows' run lengths."""
+    demand = weighted_demand(reflection.motor, reflection.motor_torque, qd,
+                             reflection.unit.ratio, weight)
     return check_unit(load, reflection.unit, momentary=reflection.momentary,
                       life_hours=options.life_hours, life_basis=options.life_basis,
-                      motor=replace(reflection.motor, rms_torque=rms))
+                      motor=demand)
 
 
 def _with_scales(joint: JointSizing, t: np.ndarray, dt: np.ndarray, duration: float,
                  qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray, stop: np.ndarray,
                  gravity: np.ndarray, coast: np.ndarray, units: tuple[Unit, ...],
-                 options: Options) -> JointSizing:
-    """The time scales at which each unit would fit a joint none fits, as the core finds them."""
+                 options: Options, motors: Sequence[Motor] = ()) -> JointSizing:
+    """The time scales at which each unit (or pair) would fit a joint none fits, as in the core."""
     cycle = ScalableCycle.split(t, dt, duration, qd, qdd, at_rest(qd, qdd), torque=tau,
                                 stop_torque=stop, gravity=gravity, coast=coast,
                                 stop_time=options.stop_time)
-    slowdown, scales = fitting_time_scales(cycle, units, options)
+    slowdown, scales = fitting_time_scales(cycle, units, options, motors=motors)
     return replace(joint, slowdown=slowdown, scales=scales)
 
 

@@ -233,7 +233,9 @@ def _moved(task: Task, folder: Path) -> tuple[Case, ...]:
 
     return tuple(replace(case, motion=moved(case.motion),
                          robot=None if case.robot is None else moved(case.robot),
-                         catalog=tuple(moved(f) for f in case.catalog))
+                         catalog=tuple(moved(f) for f in case.catalog),
+                         motor_catalog=None if case.motor_catalog is None
+                         else moved(case.motor_catalog))
                  for case in task.cases)
 
 

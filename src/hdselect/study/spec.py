@@ -28,7 +28,7 @@ from hdselect.tomlfile import as_number, check_keys, read_toml, table_of
 OPTION_KEYS = tuple(f.name for f in fields(Options) if f.name != "threads")
 """Sizing options a study may set or vary (`hdselect.Options` fields; workers use one thread)."""
 CASE_KEYS = ("motion", "robot", "payload", "time_scale", "mounting", "catalog", "ratio",
-             *OPTION_KEYS)
+             "motor_catalog", *OPTION_KEYS)
 """Every key of ``[base]``, ``[grid]`` and ``[[case]]``, in the order of the CSV columns."""
 _TOP_KEYS = ("title", "compute", "base", "grid", "case")
 _PAYLOAD_KEYS = ("mass", "com", "inertia", "frame")
@@ -55,7 +55,9 @@ class Case:
         ratio: Only units of this ratio are candidates, or None for every unit.
         options: Sizing options given (fields of `hdselect.Options`).
         key: Stable hash of everything the result depends on.
-        files: The files the case reads, resolved (robot, motion, log, catalogs).
+        files: The files the case reads, resolved (robot, motion, log, catalogs, motor files).
+        motor_catalog: A motor file every sized joint chooses its motor from (replacing the
+            motion file's ``[motor]``, as ``--motor-catalog`` does), or None.
     """
 
     index: int
@@ -72,6 +74,7 @@ class Case:
     options: Mapping[str, Any]
     key: str
     files: tuple[Path, ...]
+    motor_catalog: Path | None = None
 
     def payload_for(self, file_payload: Payload | None) -> Payload | None:
         """The case's payload, given the motion file's.
@@ -189,7 +192,7 @@ def _values(table: dict[str, Any], path: Path, where: str) -> dict[str, Any]:
 
 def _value(key: str, value: Any, path: Path, field: str) -> Any:
     """One parameter, validated; paths stay as written (strings), relative to the study."""
-    if key in ("motion", "robot"):
+    if key in ("motion", "robot", "motor_catalog"):
         if not isinstance(value, str) or not value:
             raise InputError("expected a file name, relative to the study file", path=path,
                              field=field)
@@ -262,7 +265,8 @@ def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
         payload = payload["mass"]
     catalog = tuple(folder / f for f in values.get("catalog", ()))
     options = {k: values[k] for k in OPTION_KEYS if k in values}
-    files = _inputs(motion, robot, catalog)
+    motor_catalog = folder / values["motor_catalog"] if "motor_catalog" in values else None
+    files = _inputs(motion, robot, (*catalog, *([motor_catalog] if motor_catalog else [])))
     resolved = {
         "version": __version__, "compute": compute, "payload": payload, "payload_shape": shape,
         "time_scale": values.get("time_scale", 1.0), "mounting": values.get("mounting"),
@@ -271,15 +275,17 @@ def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
         "catalog": [_digest(f) for f in catalog], "builtin": _builtin_digest(),
         "inputs": [_digest(f) for f in files],
     }
+    if motor_catalog is not None:
+        resolved["motor_catalog"] = _digest(motor_catalog)
     key = hashlib.sha256(_canonical(resolved).encode()).hexdigest()[:20]
     shown = {k: (payload if k == "payload" else values[k]) for k in CASE_KEYS if k in values}
     return Case(index, compute, shown, motion, robot, payload, shape,
                 float(values.get("time_scale", 1.0)), values.get("mounting"), catalog,
-                values.get("ratio"), options, key, files)
+                values.get("ratio"), options, key, files, motor_catalog)
 
 
 def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tuple[Path, ...]:
-    """Every file a case reads: the motion, its robot and log, the catalogs.
+    """Every file a case reads: the motion, its robot, log and motor files, the catalogs.
 
     The motion file is only skimmed here for the files it names; it is read for real,
     and any error in it reported, when the case runs.
@@ -296,6 +302,11 @@ def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tupl
     samples = doc.get("samples")
     if isinstance(samples, dict) and isinstance(samples.get("file"), str):
         files.append(motion.parent / samples["file"])
+    motors = doc.get("motor")
+    if isinstance(motors, dict):  # [motor] and [motor.JOINT] may each name a motor file
+        for block in (motors, *(v for v in motors.values() if isinstance(v, dict))):
+            if isinstance(block.get("catalog"), str):
+                files.append(motion.parent / block["catalog"])
     return tuple(dict.fromkeys([*files, *catalog]))
 
 
