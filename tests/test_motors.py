@@ -15,6 +15,7 @@ import pytest
 from hdselect.cli import main
 from hdselect.errors import InputError
 from hdselect.motors import Motor, load_motors
+from hdselect.sizing import size
 from test_dynamics import REPO
 
 EXAMPLE = REPO / "motors" / "example_motors.toml"
@@ -189,3 +190,17 @@ def test_bad_motor_catalog_on_the_command_line_is_one_line(capsys, tmp_path):
     assert lines[0].startswith("hdselect: error: ")
     assert str(path) in lines[0] and "motor[M1].curve" in lines[0]
     assert "not a function of speed" in lines[0]
+
+
+def test_a_motor_for_a_joint_that_is_not_sized_is_an_error(tmp_path):
+    """Nothing given is ignored: a [motor.JOINT] block for an excluded joint cannot apply."""
+    motion = tmp_path / "motion.toml"
+    source = (REPO / "trajectories" / "benchtop6_pick_place.toml").read_text()
+    source = source.replace('robot = "../robots/benchtop6.urdf"',
+                            f'robot = "{(REPO / "robots" / "benchtop6.urdf").as_posix()}"')
+    motion.write_text(source + '\n[sizing]\nexclude = ["wrist_3"]\n\n[motor.wrist_3]\n'
+                      'id = "EX-16"\ncatalog = "'
+                      + (REPO / "motors" / "example_motors.toml").as_posix() + '"\n')
+    with pytest.raises(InputError, match="wrist_3") as caught:
+        size(None, motion)
+    assert caught.value.field == "motor.wrist_3"

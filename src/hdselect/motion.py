@@ -109,6 +109,7 @@ class Motion:
             read, one line each.
         motors: The file's ``[motor]``: candidate motors per rotary joint (one for a
             fixed motor), or None when it gives none.
+        motor_joints: The joints the file gives a ``[motor.JOINT]`` block of their own.
     """
 
     path: Path
@@ -134,6 +135,7 @@ class Motion:
     velocity_from_robot: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
     motors: Mapping[str, tuple[Motor, ...]] | None = None
+    motor_joints: tuple[str, ...] = ()
 
     def check_joints(self, robot: Robot) -> None:
         """Check that the motion was read for this robot's joints.
@@ -235,6 +237,8 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         angle_unit=angle_unit, sized_joints=sizing.get("joints"),
         excluded_joints=sizing.get("exclude", ()), velocity_from_robot=from_robot,
         warnings=tuple(warnings), motors=motors,
+        motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
+                           if isinstance(block, dict) and key != "curve"),
     )
 
 

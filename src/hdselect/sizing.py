@@ -260,9 +260,17 @@ def motion_motors(robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
 
     Returns:
         Joint name -> its candidate motors, for every sized joint the file gives motors.
+
+    Raises:
+        InputError: A ``[motor.JOINT]`` block names a joint that is not sized.
     """
     if motion.motors is None:
         return {}
+    for name in motion.motor_joints:
+        if name not in robot.sized_joints:
+            raise InputError(f"joint '{name}' is not sized (excluded, or a mimic follower), so "
+                             "its motor cannot apply; remove the block or size the joint",
+                             path=motion.path, field=f"motor.{name}")
     return {name: motion.motors[name] for name in robot.sized_joints if name in motion.motors}
 
 
