@@ -270,7 +270,7 @@ def test_duty_hold_only_is_sized_and_says_so(tmp_path: Path,
     profile = write_profile(tmp_path, [(3.0, 0.1, 0.0), (1.0, 0.2, -0.0)])
     status, out, err = run(capsys, "duty", profile)
     assert status == 0 and err == ""
-    assert "Hold only: nothing moves in this cycle" in " ".join(out.split())
+    assert "hold only: nothing moves in this cycle" in " ".join(out.split())
     status, out, _ = run(capsys, "duty", profile, "--json", "-")
     document = json.loads(out)
     assert document["hold_only"] is True

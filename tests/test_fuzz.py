@@ -1,12 +1,14 @@
 """Property-based fuzzing of everything a user can hand hdselect (issue 9).
 
-Motion files, logs, catalogs, duty profiles, robot files and command lines are
-generated with random and extreme values (NaN, inf, 0, -0, negative, 1e-300,
+Motion files, logs, catalogs, duty profiles, robot files, motor files (a file for
+``--motor-catalog`` and a ``[motor]`` table inline in a motion file), study files
+and command lines are generated with random and extreme values (NaN, inf, 0, -0, negative, 1e-300,
 1e308, integers too large for a float, wrong types, missing, unknown and
 duplicated keys) and run through the command line, in process. Whatever comes
 in, the promise holds:
 
-- the exit status is 0, 1 or 2 (never 3, a bug; never a traceback);
+- the exit status is 0, 1 or 2 (3 too for a study: a case failed, its row says why;
+  never 70, a bug; never a traceback);
 - on 2: exactly one line on standard error, nothing on standard output, and no
   file created, changed or removed;
 - on 0 or 1: every number of the JSON written is finite (and the JSON strict);
@@ -133,6 +135,7 @@ def workdir() -> Iterator[Path]:
     with tempfile.TemporaryDirectory() as name:
         work = Path(name)
         (work / "robots").symlink_to(REPO / "robots")
+        (work / "motors").symlink_to(REPO / "motors")
         shutil.copytree(REPO / "trajectories", work / "tr")
         (work / "existing_dir").mkdir()
         os.chdir(work)
@@ -195,11 +198,13 @@ def finite_json(text: str) -> object:
 
 
 def check_run(work: Path, argv: list[str], *, stdout_json: bool = False,
-              json_files: tuple[str, ...] = (), csv_files: tuple[str, ...] = ()) -> int:
+              json_files: tuple[str, ...] = (), csv_files: tuple[str, ...] = (),
+              jsonl_files: tuple[str, ...] = (), statuses: tuple[int, ...] = (0, 1, 2)) -> int:
     """Run the command line and check the promise; returns the exit status.
 
-    `stdout_json`: on success standard output is a JSON document; `json_files`, `csv_files`:
-    files the command may have written (``-``: standard output).
+    `stdout_json`: on success standard output is a JSON document; `json_files`, `csv_files`,
+    `jsonl_files` (JSON Lines): files the command may have written (``-``: standard output);
+    `statuses`: the exit statuses allowed.
     """
     before = snapshot(work)
     out, err = io.StringIO(), io.StringIO()
@@ -212,7 +217,7 @@ def check_run(work: Path, argv: list[str], *, stdout_json: bool = False,
     error_text = err.getvalue() + c_err.read()
     out_text, err_lines = out.getvalue(), error_text.strip().splitlines()
     event(f"exit {status}")
-    assert status in (0, 1, 2), (argv, status, error_text)
+    assert status in statuses, (argv, status, error_text)
     assert "Traceback" not in error_text, error_text
     if status == 2:
         assert len(err_lines) == 1, (argv, error_text)
@@ -231,6 +236,9 @@ def check_run(work: Path, argv: list[str], *, stdout_json: bool = False,
             if text is not None:
                 data = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1, ndmin=2)
                 assert data.size and np.all(np.isfinite(data)), name
+        for name in jsonl_files:
+            for line in Path(name).read_text().splitlines():
+                finite_json(line)
     return status
 
 
@@ -424,6 +432,128 @@ def test_fuzz_robot_files(text):
         Path("fuzz.urdf").write_text(text)
         check_run(work, ["size", "fuzz.urdf", "tr/planar2_pick_place.toml", "--json", "-",
                          "--max-samples", MAX_SAMPLES], stdout_json=True)
+
+
+# --- motor files --------------------------------------------------------------------------------
+
+MOTOR_SAMPLES = "4000"
+"""Motor pairs multiply the candidates: these runs are bounded tighter."""
+
+
+@st.composite
+def motor_entries(draw, header: str) -> list[tuple[str, object]]:
+    """One motor's keys under `header` (``[[motor]]``, or ``[motor]`` inline in a motion)."""
+    rated = draw(st.floats(0.005, 0.5))
+    top = draw(st.floats(2000, 9000))
+    entries: list[tuple[str, object]] = [
+        (header, None),
+        ("rated_torque_nm", rated),
+        ("peak_torque_nm", rated * draw(st.floats(1.0, 4.0))),
+        ("max_speed_rpm", top),
+        ("rated_speed_rpm", top * draw(st.floats(0.3, 1.0))),
+        (draw(st.sampled_from(["rotor_inertia_kg_cm2", "rotor_inertia_kg_m2"])),
+         draw(st.floats(0.0, 0.05))),
+        ("mass_kg", draw(st.floats(0.0, 1.5))),
+    ]
+    if draw(st.booleans()):
+        entries += [("torque_constant_nm_per_a", draw(st.floats(0.01, 0.5))),
+                    ("resistance_ohm", draw(st.floats(0.1, 30)))]
+    if header == "[[motor]]":
+        entries.insert(1, ("id", draw(st.sampled_from(["M1", "M2", "M3", "M1"]))))
+    return entries
+
+
+@st.composite
+def motor_files(draw) -> str:
+    entries: list[tuple[str, object]] = [("source", "fuzz")]
+    for _ in range(draw(st.integers(1, 3))):
+        entries += draw(motor_entries("[[motor]]"))
+        if draw(st.integers(0, 2)) == 0:  # a torque-speed curve
+            top = dict(entries)["max_speed_rpm"]
+            entries += [("[motor.curve]", None),
+                        ("speed_rpm", [0, draw(st.floats(0, 1)) * top, top * 1.01]),
+                        ("peak_torque_nm", [draw(st.floats(0, 1)) for _ in range(3)])]
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@given(motor_files())
+def test_fuzz_motor_files(text):
+    with workdir() as work:
+        Path("motors.toml").write_text(text)
+        check_run(work, ["size", "tr/planar2_pick_place.toml", "--motor-catalog", "motors.toml",
+                         "--json", "-", "--max-samples", MOTOR_SAMPLES], stdout_json=True)
+
+
+@st.composite
+def motor_tables(draw) -> str:
+    """A ``[motor]`` table (every rotary joint) or ``[motor.shoulder]`` (one joint)."""
+    entries = draw(motor_entries("[motor]"))
+    if draw(st.booleans()):
+        entries[0] = ("[motor.shoulder]", None)
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@given(motor_tables())
+def test_fuzz_motor_tables_in_motion_files(table):
+    with workdir() as work:
+        base = Path("tr/planar2_pick_place.toml").read_text()
+        Path("tr/fuzz.toml").write_text(base + "\n" + table)
+        check_run(work, ["size", "tr/fuzz.toml", "--json", "-", "--max-samples",
+                         MOTOR_SAMPLES], stdout_json=True)
+
+
+# --- study files --------------------------------------------------------------------------------
+
+STUDY_EXAMPLES = 25 if os.environ.get("HDSELECT_FUZZ", "ci") == "ci" else 300
+"""Each study case is a whole sizing run: fewer examples than the other targets."""
+
+
+@st.composite
+def study_files(draw) -> str:
+    entries: list[tuple[str, object]] = [
+        ("title", draw(st.sampled_from(["fuzz", "a study"]))),
+        ("compute", draw(st.sampled_from(["size", ["size"]]))),
+        ("[base]", None),
+        ("motion", draw(st.sampled_from(["tr/planar2_pick_place.toml",
+                                         "tr/pan_tilt_logged.toml", "tr/missing.toml"]))),
+        ("stop_time", draw(st.floats(0.01, 0.5))),
+        ("max_samples", int(MAX_SAMPLES)),
+    ]
+    if draw(st.booleans()):
+        entries.append(("payload", draw(st.one_of(
+            st.floats(0.01, 2.0),
+            st.fixed_dictionaries({"mass": st.floats(0.01, 2.0),
+                                   "com": st.lists(st.floats(-0.1, 0.1), min_size=3,
+                                                   max_size=3)})))))
+    grid: list[tuple[str, object]] = [("[grid]", None)]
+    for key, values in draw(st.lists(st.sampled_from([
+            ("time_scale", st.floats(0.5, 3.0)), ("ratio", st.sampled_from([50, 80, 100])),
+            ("efficiency", st.floats(0.3, 1.0)), ("mounting", st.sampled_from(
+                ["floor", "wall", "ceiling"])), ("life_hours", st.floats(100, 1e5))]),
+            max_size=2, unique_by=lambda pair: pair[0])):
+        grid.append((key, draw(st.lists(values, min_size=1, max_size=2))))
+    entries += grid if len(grid) > 1 else []
+    if draw(st.integers(0, 3)) == 0:
+        entries += [("[[case]]", None), ("motor_catalog", draw(st.sampled_from(
+            ["motors/example_motors.toml", "nowhere.toml"])))]
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@settings(max_examples=STUDY_EXAMPLES)
+@given(study_files(), st.sampled_from(["out.csv", "out.csv", os.devnull, "-", "existing_dir",
+                                       "none/out.csv", "study.toml", "link.csv"]))
+def test_fuzz_study_files(text, out):
+    with workdir() as work:
+        Path("study.toml").write_text(text)
+        if out == "link.csv":  # a symlink: followed, the rows land in its target
+            Path("link.csv").symlink_to("target.csv")
+        status = check_run(work, ["study", "study.toml", "--out", out, "--workers", "0"],
+                           statuses=(0, 2, 3),
+                           jsonl_files=("out.jsonl",) if out == "out.csv" else ())
+        if status != 2:
+            real = Path("target.csv" if out == "link.csv" else out)
+            assert real.is_file() and real.with_suffix(".jsonl").is_file()
+            assert not Path(out).is_symlink() or out == "link.csv" and Path(out).is_symlink()
 
 
 # --- command lines ------------------------------------------------------------------------------

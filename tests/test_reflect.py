@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from hdselect.catalog import load_catalog
-from hdselect.reflect import DEFAULT_EFFICIENCY, reflect
+from hdselect.reflect import DEFAULT_EFFICIENCY, reflect, reflect_motors, weighted_demand
 
 
 def unit(unit_id: str, extra=()):
@@ -47,6 +47,29 @@ def test_reflect_handles_many_units_at_once_like_one_at_a_time():
         (alone,) = reflect([u], t, tau, qd, qdd, stop, stop_time=0.08, rotor_inertia=1e-6)
         assert r.unit is u and r.motor == alone.motor and r.momentary == alone.momentary
         np.testing.assert_array_equal(r.motor_torque, alone.motor_torque)
+
+
+def test_several_motors_at_once_like_one_rotor_inertia_at_a_time():
+    """`reflect_motors` shares the gear side; each motor's figures equal `reflect`'s with its
+    rotor inertia, to the last bit, and the RMS input speed is sqrt(mean(n^2))."""
+    units = load_catalog()
+    rng = np.random.default_rng(6)
+    t = np.arange(400) * 1e-3
+    tau, qd, qdd, stop = (rng.normal(0, s, 400) for s in (3.0, 1.0, 20.0, 4.0))
+    inertias = [0.0, 2e-6, 5e-5]
+    behind = reflect_motors(units, inertias, t, tau, qd, qdd, stop, stop_time=0.08)
+    for rotor_inertia, rows in zip(inertias, behind, strict=True):
+        alone = reflect(units, t, tau, qd, qdd, stop, stop_time=0.08,
+                        rotor_inertia=rotor_inertia)
+        for r, a in zip(rows, alone, strict=True):
+            assert r.unit is a.unit and r.motor == a.motor and r.momentary == a.momentary
+            np.testing.assert_array_equal(r.motor_torque, a.motor_torque)
+            n = a.unit.ratio * np.abs(qd) * 60 / (2 * math.pi)
+            assert r.motor.rms_speed == pytest.approx(math.sqrt(np.mean(n**2)), rel=1e-12)
+    # a heavier rotor: more motor torque where the joint accelerates, a harder crash
+    light, heavy = behind[0][-1], behind[2][-1]
+    assert heavy.momentary.torque >= light.momentary.torque
+    assert not np.array_equal(light.motor_torque, heavy.motor_torque)
 
 
 def test_psa_14_100_catalog_values_used_here():
@@ -236,3 +259,20 @@ def test_efficiency_table_reaches_size(tmp_path):
     motors = {c.unit.id: c.motor for c in joint.candidates}
     assert motors["TST-14-100"].efficiency == "table"
     assert motors["PSA-14-100"].efficiency == DEFAULT_EFFICIENCY
+
+
+def test_weighted_demand_equals_the_demand_of_the_samples_repeated():
+    """A run of identical samples kept once with its length gives the whole cycle's RMS."""
+    psa = unit("PSA-14-80")
+    rng = np.random.default_rng(7)
+    tau, qd, qdd = rng.normal(size=(3, 40))
+    weight = rng.integers(1, 6, size=40)
+    (kept,) = reflect([psa], np.arange(40) * 1e-3, tau, qd, qdd, tau, stop_time=0.1)
+    whole = [np.repeat(x, weight) for x in (tau, qd, qdd)]
+    (full,) = reflect([psa], np.arange(weight.sum()) * 1e-3, *whole, whole[0], stop_time=0.1)
+    weighted = weighted_demand(kept.motor, kept.motor_torque, qd, psa.ratio, weight * 1e-3)
+    assert weighted.rms_torque == pytest.approx(full.motor.rms_torque, rel=1e-12)
+    assert weighted.rms_speed == pytest.approx(full.motor.rms_speed, rel=1e-12)
+    assert weighted.peak_torque == full.motor.peak_torque
+    assert weighted.max_speed == full.motor.max_speed
+    assert kept.motor.rms_torque != pytest.approx(full.motor.rms_torque, rel=1e-3)

@@ -14,6 +14,7 @@ from hdselect.catalog import Flag, SeriesRules, Unit, load_catalog
 from hdselect.errors import InputError
 from hdselect.rules import (
     CHECKS,
+    MOTOR_CHECKS,
     Candidate,
     Check,
     CycleLoad,
@@ -222,7 +223,7 @@ def test_checks_that_do_not_apply() -> None:
         assert check.ok, name
         assert check.utilization == 0.0, name
     assert candidate.life_hours is None
-    assert list(candidate.checks) == list(CHECKS)
+    assert list(candidate.checks) == [name for name in CHECKS if name not in MOTOR_CHECKS]
 
 
 def test_momentary_check_and_events() -> None:
@@ -458,3 +459,35 @@ def test_a_stronger_unit_is_never_less_feasible() -> None:
             assert select([a, b], prefer="margin") is b or b.margin == a.margin
     # The samples exercise every outcome, so the invariant was really tested.
     assert all(count > 0 for count in outcomes.values()), outcomes
+
+
+# --- the motor's rules -----------------------------------------------------------------------
+
+def test_motor_rules_by_hand():
+    """Three samples at 0, 3000 and 6000 rpm under a curve 0.3 -> 0.3 -> 0 N m: the last
+    sample's 0.01 N m at 6000 rpm exceeds a zero limit; zero torque at zero limit is fine."""
+    from hdselect.motors import Motor
+    from hdselect.rules import MotorDemand, check_motor, inertia_ratio
+
+    motor = Motor("M", rated_torque=0.1, peak_torque=0.3, max_speed=6000.0, rated_speed=3000.0,
+                  rotor_inertia=4e-6, mass=0.3, torque_constant=0.05, resistance=2.0,
+                  curve=[(0, 0.3), (3000, 0.3), (6000, 0.0)])
+    speed = np.array([0.0, 4500.0, 6000.0])
+    torque = np.array([-0.2, 0.12, 0.0])
+    rms = math.sqrt((0.2**2 + 0.12**2) / 3)
+    demand = MotorDemand(0.2, rms, 6000.0, 0.7)
+    checks = check_motor(motor, torque, speed, demand)
+    assert list(checks) == list(MOTOR_CHECKS)
+    # 4500 rpm: the curve gives 0.15 N m; 0.12 / 0.15 = 80 % beats 0.2 / 0.3 = 67 %
+    peak = checks["motor_peak"]
+    assert (peak.value, peak.limit) == (0.12, pytest.approx(0.15))
+    assert peak.utilization == pytest.approx(0.8) and peak.ok
+    assert peak.detail["speed_rpm"] == 4500.0 and peak.detail["current_a"] == pytest.approx(4.0)
+    assert checks["motor_rms"].utilization == pytest.approx(rms / 0.1)
+    assert checks["motor_rms"].detail["copper_loss_w"] == pytest.approx(2.0 * (rms / 0.05)**2)
+    assert checks["motor_speed"].utilization == pytest.approx(1.0) and checks["motor_speed"].ok
+    stalled = check_motor(motor, np.array([0.0, 0.01]), np.array([0.0, 6000.0]), demand)
+    assert stalled["motor_peak"].utilization == math.inf and not stalled["motor_peak"].ok
+    unit = make_unit(ratio=100, input_inertia=3e-6)
+    assert inertia_ratio(0.05, unit, motor) == pytest.approx((0.05 / 1e4 + 3e-6) / 4e-6)
+    assert inertia_ratio(0.05, unit, dataclasses.replace(motor, rotor_inertia=0.0)) is None

@@ -6,6 +6,8 @@ start-up, which Ctrl-C may interrupt) does not import Pinocchio, Ruckig or numpy
 
 import importlib
 import logging
+import sys
+import types
 from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
@@ -14,6 +16,7 @@ _HOME = {
     "HdselectError": "errors",
     "InputError": "errors",
     "Motion": "motion",
+    "Motor": "motors",
     "Options": "options",
     "Payload": "robot",
     "PlanningError": "errors",
@@ -22,15 +25,19 @@ _HOME = {
     "Summary": "summary",
     "Trajectory": "planning",
     "Unit": "catalog",
+    "describe_joints": "joints",
     "load_catalog": "catalog",
     "load_case": "motion",
     "load_duty": "duty",
     "load_motion": "motion",
+    "load_motors": "motors",
     "load_robot": "robot",
     "plan": "planning",
     "size": "sizing",
     "size_duty": "duty",
     "size_trajectory": "sizing",
+    "starter_motion": "starter",
+    "study": "study",
     "summarize": "summary",
 }
 """The module each public name lives in."""
@@ -39,6 +46,7 @@ __all__ = [
     "HdselectError",
     "InputError",
     "Motion",
+    "Motor",
     "Options",
     "Payload",
     "PlanningError",
@@ -48,15 +56,19 @@ __all__ = [
     "Trajectory",
     "Unit",
     "__version__",
+    "describe_joints",
     "load_catalog",
     "load_case",
     "load_duty",
     "load_motion",
+    "load_motors",
     "load_robot",
     "plan",
     "size",
     "size_duty",
     "size_trajectory",
+    "starter_motion",
+    "study",
     "summarize",
 ]
 
@@ -64,11 +76,15 @@ if TYPE_CHECKING:
     from hdselect.catalog import Unit, load_catalog
     from hdselect.duty import load_duty, size_duty
     from hdselect.errors import HdselectError, InputError, PlanningError
+    from hdselect.joints import describe_joints
     from hdselect.motion import Motion, load_case, load_motion
+    from hdselect.motors import Motor, load_motors
     from hdselect.options import Options
     from hdselect.planning import Trajectory, plan
     from hdselect.robot import Payload, Robot, load_robot
     from hdselect.sizing import SizingResult, size, size_trajectory
+    from hdselect.starter import starter_motion
+    from hdselect.study import study
     from hdselect.summary import Summary, summarize
 
 
@@ -83,6 +99,22 @@ def __getattr__(name: str) -> Any:
 
 def __dir__() -> list[str]:
     return sorted(set(globals()) | set(__all__))
+
+
+class _Package(types.ModuleType):
+    """The package, whose ``study`` stays the function when the subpackage is imported.
+
+    Importing ``hdselect.study.spec`` (say) binds the subpackage to ``hdselect.study``;
+    the public name is the function `hdselect.study.study`, as an eager import would leave it.
+    """
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name == "study" and isinstance(value, types.ModuleType):
+            value = value.study
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
 
 
 logging.getLogger(__name__).addHandler(logging.NullHandler())

@@ -30,6 +30,8 @@ class Bound:
         low: Smallest allowed value.
         high: Largest allowed value.
         low_open: True when `low` itself is not allowed (a mass must exceed 0).
+        smallest: Smallest magnitude of a value that is not 0 (0: no such limit); a
+            quantity that divides another (a rotor inertia) has one.
     """
 
     what: str
@@ -37,6 +39,7 @@ class Bound:
     low: float
     high: float
     low_open: bool = False
+    smallest: float = 0.0
 
     def check(self, value: object, *, path: str | Path | None = None,
               field: str | None = None, scale: float = 1.0, unit: str | None = None) -> float:
@@ -69,6 +72,10 @@ class Bound:
         if si > self.high or si < self.low or (self.low_open and si <= self.low):
             raise InputError(f"must be {self.describe(scale, unit)}, got {number:g}",
                              path=path, field=field)
+        if si != 0.0 and abs(si) < self.smallest:
+            label = self.unit if unit is None else unit
+            raise InputError(f"must be 0 or at least {self.smallest / scale:g} {label}, got "
+                             f"{number:g}", path=path, field=field)
         return number
 
     def describe(self, scale: float = 1.0, unit: str | None = None) -> str:
@@ -98,8 +105,9 @@ LENGTH = Bound("a coordinate", "m", -1e3, 1e3)
 """A coordinate of a centre of mass or a joint origin [m]: within 1 km."""
 INERTIA = Bound("an inertia", "kg m^2", -1e6, 1e6)
 """An element of a rotational inertia [kg m^2]."""
-ROTOR_INERTIA = Bound("an inertia", "kg m^2", 0.0, 1e3)
-"""A motor rotor inertia [kg m^2]."""
+ROTOR_INERTIA = Bound("an inertia", "kg m^2", 0.0, 1e3, smallest=1e-12)
+"""A motor rotor inertia [kg m^2]: 0 (none given) or from 1e-12 (the load-to-rotor inertia
+ratio divides by it)."""
 GRAVITY = Bound("an acceleration", "m/s^2", -1e3, 1e3)
 """A component of the gravity vector [m/s^2]: within 100 g."""
 
@@ -150,7 +158,28 @@ EVENTS = Bound("a count", "", 1.0, 1e12)
 PERCENT = Bound("a percentage", "%", 0.0, 1e4)
 """A load in % of the rated torque."""
 
+# --- motors ------------------------------------------------------------------------------------
+MOTOR_TORQUE = TORQUE
+"""A motor's rated or peak torque [N m]."""
+MOTOR_SPEED = INPUT_SPEED
+"""A motor's maximum or rated speed [rpm]."""
+CURVE_SPEED = Bound("a speed", "rpm", 0.0, 1e6)
+"""A speed of a motor's torque-speed curve [rpm]: from standstill."""
+CURVE_TORQUE = Bound("a torque", "N m", 0.0, 1e7)
+"""A peak torque of a motor's torque-speed curve [N m]."""
+TORQUE_CONSTANT = Bound("a torque constant", "N m/A", 0.0, 1e4, low_open=True)
+"""A motor's torque constant k_t [N m/A]."""
+RESISTANCE = Bound("a resistance", "ohm", 0.0, 1e6, low_open=True)
+"""A motor's winding resistance [ohm]."""
+
+# --- studies -----------------------------------------------------------------------------------
+TIME_SCALE = Bound("a time scale", "", 1e-3, 1e3)
+"""A study's time scale s: the motion run s times slower [-], as far as the exact slow-down
+search goes (`hdselect.timescale`)."""
+
 # --- resources ---------------------------------------------------------------------------------
+MAX_STUDY_CASES = 1_000_000
+"""Most cases one study file may make: they are all resolved and keyed before any runs."""
 DEFAULT_MAX_SAMPLES = 30_000_000
 """Default limit on the samples of one trajectory: an 8-hour log at 1 kHz fits (28.8 million)."""
 

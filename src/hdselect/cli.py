@@ -10,6 +10,7 @@ import sys
 import traceback
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from hdselect import __version__
 from hdselect.bounds import DEFAULT_MAX_SAMPLES
@@ -19,9 +20,11 @@ from hdselect.session import HeldLog, Terminated, handle_sigterm, tolerate_encod
 logger = logging.getLogger("hdselect")
 
 
-EXIT_OK, EXIT_NO_FIT, EXIT_BAD_INPUT, EXIT_BUG = 0, 1, 2, 3
-"""Exit statuses: every joint has a unit; some joint has none; bad input; a bug in hdselect.
-Interrupted runs exit 130 (Ctrl-C) or 143 (SIGTERM)."""
+EXIT_OK, EXIT_NO_FIT, EXIT_BAD_INPUT, EXIT_CASES_FAILED, EXIT_BUG = 0, 1, 2, 3, 70
+"""Exit statuses: success (every joint has a unit); some joint has none; bad input; some
+case of a study failed (its row says why); a bug in hdselect (70, EX_SOFTWARE of
+sysexits.h). Interrupted runs exit 130 (Ctrl-C) or 143 (SIGTERM)."""
+EXIT_INTERRUPTED, EXIT_TERMINATED = 130, 143
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -29,15 +32,20 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     Returns:
         Exit status: 0 success, 1 no gearhead fits, 2 bad input (one line on standard
-        error, no output), 3 a bug in hdselect (one line; ``-v`` shows the traceback),
-        130 interrupted (Ctrl-C), 143 terminated (SIGTERM).
+        error, no output), 3 some case of a study failed, 70 a bug in hdselect (one
+        line; ``-v`` shows the traceback), 130 interrupted (Ctrl-C), 143 terminated
+        (SIGTERM).
     """
     previous = handle_sigterm()
     held = HeldLog(logger)
+    kept = _Kept()
     try:
         tolerate_encoding()
         parser = _parser()
+        argv = list(sys.argv[1:] if argv is None else argv)
         args = parser.parse_args(argv)
+        args.command_line = ["hdselect", *argv]
+        args.kept, args.held = kept, held
         held.start(verbose=args.verbose)
         status = int(args.run(args))
         held.publish()
@@ -49,11 +57,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         _say("error: out of memory; use a larger dt, a shorter cycle or a lower --max-samples")
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        _say("interrupted; no output was written")
-        return 130
+        _say(f"interrupted; {kept.text()}")
+        return EXIT_INTERRUPTED
     except Terminated:
-        _say("terminated; no output was written")
-        return 143
+        _say(f"terminated; {kept.text()}")
+        return EXIT_TERMINATED
     except BrokenPipeError:
         # The reader went away (e.g. `| head`): not an error of ours.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
@@ -69,6 +77,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         held.stop()
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
+
+
+class _Kept:
+    """What an interrupted command leaves behind: nothing, except a study's finished cases."""
+
+    def __init__(self) -> None:
+        self.note: str | None = None
+
+    def text(self) -> str:
+        return self.note or "no output was written"
 
 
 def _say(message: str) -> None:
@@ -92,43 +110,92 @@ def _parser() -> argparse.ArgumentParser:
         description="Size Harmonic Drive PSA-G gearheads for robot joints.")
     parser.add_argument("--version", action="version", version=f"hdselect {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="print progress notes")
+    verbose = _Parser(add_help=False)  # -v after the command too
+    verbose.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS,
+                         help="print progress notes")
     commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND",
                                      parser_class=_Parser)
 
-    catalog = commands.add_parser("catalog", help="list the gearhead catalog")
+    catalog = commands.add_parser("catalog", parents=[verbose],
+                                  help="list the gearhead catalog")
     _catalog_option(catalog)
     catalog.add_argument("--units", choices=("si", "imperial"), default="si",
                          help="unit system of the table (default: si)")
     catalog.add_argument("--json", action="store_true", help="print JSON instead of a table")
     catalog.set_defaults(run=run_catalog)
 
-    duty = commands.add_parser("duty", help="size from a torque-speed profile (catalog method)")
+    duty = commands.add_parser(
+        "duty", parents=[verbose], help="size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     _catalog_option(duty)
     _json_option(duty)
     duty.set_defaults(run=run_duty)
 
-    plan = commands.add_parser("plan", help="plan a motion and write its torques (CSV)")
+    plan = commands.add_parser(
+        "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
     _robot_motion(plan)
     plan.add_argument("--out", metavar="FILE", required=True,
-                      help="CSV: t, then q_, qd_, qdd_, tau_ per sized joint (SI)")
+                      help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
     plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
     plan.set_defaults(run=run_plan)
 
-    size = commands.add_parser("size", help="choose a gearhead for every joint of a robot")
+    size = commands.add_parser(
+        "size", parents=[verbose], help="choose a gearhead for every joint of a robot")
     _robot_motion(size)
     _sizing_options(size)
     _json_option(size)
     size.add_argument("--report", metavar="DIR",
-                      help="write an HTML report with figures into DIR")
+                      help="write an HTML report with figures into DIR ('-': the page alone, "
+                           "to stdout)")
     size.set_defaults(run=run_size)
 
-    compare = commands.add_parser("compare", help="every unit against every joint, side by side")
+    compare = commands.add_parser(
+        "compare", parents=[verbose], help="every unit against every joint, side by side")
     _robot_motion(compare)
     _sizing_options(compare)
     compare.add_argument("--joint", action="append", metavar="NAME",
                          help="show only this joint (repeatable)")
+    _json_option(compare)
+    compare.add_argument("--report", metavar="DIR",
+                         help="write an HTML report of the joints shown into DIR ('-': the "
+                              "page alone, to stdout)")
     compare.set_defaults(run=run_compare)
+
+    joints = commands.add_parser("joints", parents=[verbose],
+                                  help="list a robot's joints in the order lists use")
+    joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    _json_option(joints)
+    joints.set_defaults(run=run_joints)
+
+    init = commands.add_parser("init", parents=[verbose],
+                                help="write a starter motion file for a robot")
+    init.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    init.add_argument("--out", metavar="FILE",
+                      help="the motion file to write (default or '-': print it); an existing "
+                           "file is never overwritten")
+    init.set_defaults(run=run_init)
+
+    study = commands.add_parser("study", parents=[verbose],
+                                help="run every case of a design study (TOML)")
+    study.add_argument("study", metavar="STUDY", help="study file (TOML)")
+    study.add_argument("--out", metavar="CSV", required=True,
+                       help="rows, one per case and joint, appended as cases complete; a JSON "
+                            "Lines record of each case is kept beside it (same name, .jsonl); "
+                            "cases already there are skipped")
+    study.add_argument("--workers", type=int, metavar="N",
+                       help="worker processes (default: the cores here; 0: in this process); "
+                            "with --scheduler local, Dask workers")
+    study.add_argument("--scheduler", metavar="ADDRESS",
+                       help="'local': a Dask LocalCluster on this machine; tcp://HOST:PORT: a "
+                            "running Dask scheduler (needs pip install 'hdselect[dask]')")
+    study.add_argument("--no-grouping", action="store_true",
+                       help="size every case on its own, not from its group's shared basis")
+    study.add_argument("--retry-failed", action="store_true",
+                       help="run again the cases recorded as failed")
+    study.add_argument("--plot", metavar="PNG",
+                       help="draw the unit selected and its life per joint against the first "
+                            "varied parameters")
+    study.set_defaults(run=run_study)
     return parser
 
 
@@ -154,9 +221,15 @@ def _robot_motion(parser: argparse.ArgumentParser) -> None:
                              "file's payload, or the one --payload gives)")
     parser.add_argument("--payload-frame", metavar="LINK",
                         help="link carrying the payload (default: the motion file's, else the "
-                             "last link)")
+                             "tip of the longest chain of sized joints)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
+    parser.add_argument("--joints", metavar="A,B", action="append",
+                        help="size only these joints (comma-separated; overrides the motion "
+                             "file's [sizing] joints)")
+    parser.add_argument("--exclude", metavar="A,B", action="append",
+                        help="do not size these joints; they still move and load the others "
+                             "(overrides the motion file's [sizing] exclude)")
     parser.add_argument("--max-samples", type=int, metavar="N",
                         default=DEFAULT_MAX_SAMPLES,
                         help="refuse a trajectory of more samples than this, before allocating "
@@ -166,7 +239,7 @@ def _robot_motion(parser: argparse.ArgumentParser) -> None:
 def _sizing_options(parser: argparse.ArgumentParser) -> None:
     from hdselect.motion import LIFE_BASES
     from hdselect.options import Options
-    from hdselect.select import PREFERENCES
+    from hdselect.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, PREFERENCES
 
     defaults = Options()
     _catalog_option(parser)
@@ -177,14 +250,20 @@ def _sizing_options(parser: argparse.ArgumentParser) -> None:
                         help=f"gear efficiency where a unit has no table (default "
                              f"{defaults.efficiency:g})")
     parser.add_argument("--motor-inertia", type=float, metavar="KG_M2",
-                        help="motor rotor inertia [kg m^2] (default 0)")
+                        help="motor rotor inertia [kg m^2] where no motor data is given "
+                             "(default 0)")
     parser.add_argument("--motor-mass", type=float, metavar="KG",
-                        help="motor mass carried with each gearhead [kg] (default 0)")
+                        help="motor mass carried with each gearhead [kg] where no motor data "
+                             "is given (default 0)")
+    parser.add_argument("--motor-catalog", metavar="FILE",
+                        help="motor file (TOML): every sized joint chooses its motor from it, "
+                             "with its gearhead (replaces the motion file's [motor])")
     parser.add_argument("--no-mass-coupling", action="store_true",
                         help="do not carry chosen units' masses on the joints nearer the base")
     parser.add_argument("--prefer", choices=tuple(PREFERENCES),
                         help="; ".join(f"{k}: {v[0]}" for k, v in PREFERENCES.items())
-                        + f" (default {defaults.prefer})")
+                        + f" (default: {DEFAULT_PREFER_WITH_MOTORS} where motors are given, "
+                          f"else {DEFAULT_PREFER})")
     parser.add_argument("--life-hours", type=float, metavar="H",
                         help="required life [h] (default: the motion file's requirement)")
     parser.add_argument("--life-basis", choices=LIFE_BASES,
@@ -203,14 +282,14 @@ def run_catalog(args: argparse.Namespace) -> int:
     """``hdselect catalog``: print the catalog."""
     from hdselect.catalog import load_catalog
     from hdselect.export import catalog_json, write_json
-    from hdselect.report import catalog_table, console
+    from hdselect.report import catalog_table
 
     units = load_catalog(args.catalog)
     if args.json:
         write_json("-", catalog_json(units))
     else:
-        console().print(catalog_table(units, imperial=args.units == "imperial"))
-    return 0
+        sys.stdout.write(_rendered(catalog_table(units, imperial=args.units == "imperial")))
+    return EXIT_OK
 
 
 def run_duty(args: argparse.Namespace) -> int:
@@ -231,7 +310,8 @@ def run_duty(args: argparse.Namespace) -> int:
         table = _rendered(duty_table(result)) if args.json != "-" else ""
         outputs.commit()
     sys.stdout.write(table)
-    return 0 if result.selected is not None else 1
+    _say_written([(args.json, None)], args)
+    return EXIT_OK if result.selected is not None else EXIT_NO_FIT
 
 
 def run_plan(args: argparse.Namespace) -> int:
@@ -240,6 +320,7 @@ def run_plan(args: argparse.Namespace) -> int:
     from hdselect.export import write_trajectory_csv
     from hdselect.outputs import Outputs
     from hdselect.planning import plan
+    from hdselect.report import plan_text
 
     robot, motion = _load_case(args)
     max_samples = _max_samples(args)
@@ -248,81 +329,235 @@ def run_plan(args: argparse.Namespace) -> int:
         figure = outputs.file(args.plot, "--plot") if args.plot else None
         trajectory = plan(robot, motion, max_samples=max_samples)
         tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-        joints = robot.sized_joints
-        write_trajectory_csv(out, trajectory, tau, joints)
+        write_trajectory_csv(out, trajectory, tau, robot.joint_names)
         if figure is not None:
             from hdselect.figures import write_profiles_png
 
-            write_profiles_png(figure, trajectory, tau, joints,
+            write_profiles_png(figure, trajectory, tau, robot.sized_joints,
                                title=f"{robot.path.name} running {motion.path.name}")
+        text = "" if _to_stdout(args) else _rendered(plan_text(robot, motion, trajectory))
         outputs.commit()
-    logger.info("wrote %d samples to %s", len(trajectory.t), args.out)
-    return 0
+    sys.stdout.write(text)
+    _say_written([(args.out, f"t, then q_, qd_, qdd_, tau_ of {', '.join(robot.joint_names)} "
+                             "(SI)"),
+                  (args.plot, "speed and torque of each joint over the cycle")], args)
+    return EXIT_OK
 
 
 def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
-    from hdselect.export import size_json, write_json
-    from hdselect.outputs import Outputs
-    from hdselect.report import size_table
+    from hdselect.report import loads_table, size_table
 
-    robot, motion, units, options = _prepare(args)
-    with Outputs([*_inputs(robot, motion), *args.catalog]) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json else None
-        report = None
-        if args.report == "-":
-            report = outputs.file("-", "--report")
-        elif args.report:
-            report = outputs.directory(args.report, "--report")
-        result = _sized(robot, motion, units, options)
-        if report is not None:
-            from hdselect.figures import report_page, write_report
-
-            if args.report == "-":
-                report.write_text(report_page(result), encoding="utf-8")
-            else:
-                write_report(report, result)
-        if json_file is not None:
-            write_json(json_file, size_json(result))
-        table = _rendered(size_table(result)) if "-" not in (args.json, args.report) else ""
+    robot, motion, units, options, motors = _prepare(args)
+    with _outputs(args, robot, motion) as (outputs, json_file, report):
+        result = _sized(robot, motion, units, options, motors)
+        _write_outputs(args, result, json_file, report)
+        table = "" if _to_stdout(args) else _rendered(size_table(result), "",
+                                                      loads_table(result))
         outputs.commit()
+    args.held.shown(_SHOWN)  # the table, the JSON and the report list them
     sys.stdout.write(table)
-    return 0 if result.feasible else 1
+    _say_written(_report_and_json(args), args)
+    return EXIT_OK if result.feasible else EXIT_NO_FIT
 
 
 def run_compare(args: argparse.Namespace) -> int:
     """``hdselect compare``: every unit against every joint."""
-    from hdselect.report import compare_table, console
+    from dataclasses import replace
 
-    robot, motion, units, options = _prepare(args)
+    from hdselect.report import compare_table
+
+    robot, motion, units, options, motors = _prepare(args)
     for name in args.joint or []:
         if name not in robot.sized_joints:
             raise InputError(f"unknown joint '{name}'; sized joints are: "
                              f"{', '.join(robot.sized_joints)}", field="--joint")
-    result = _sized(robot, motion, units, options)
-    out = console()
-    for joint in result.joints:
-        if not args.joint or joint.name in args.joint:
-            out.print(compare_table(result, joint))
-    return 0 if result.feasible else 1
+    with _outputs(args, robot, motion) as (outputs, json_file, report):
+        result = _sized(robot, motion, units, options, motors)
+        shown = replace(result, joints=tuple(joint for joint in result.joints
+                                             if not args.joint or joint.name in args.joint))
+        _write_outputs(args, shown, json_file, report)
+        tables: list[Any] = []
+        for joint in shown.joints:
+            tables += [""] if tables else []
+            tables.append(compare_table(result, joint))
+        text = "" if _to_stdout(args) else _rendered(*tables)
+        outputs.commit()
+    sys.stdout.write(text)
+    _say_written(_report_and_json(args), args)
+    return EXIT_OK if result.feasible else EXIT_NO_FIT
 
+
+def run_joints(args: argparse.Namespace) -> int:
+    """``hdselect joints``: every joint of a robot file, in the order lists use."""
+    from hdselect.export import joints_json, write_json
+    from hdselect.joints import describe_joints
+    from hdselect.outputs import Outputs
+    from hdselect.report import joints_table
+    from hdselect.robot import load_robot
+
+    robot = load_robot(args.robot)
+    with Outputs([robot.path]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        infos = describe_joints(robot)
+        if json_file is not None:
+            write_json(json_file, joints_json(robot, infos))
+        text = "" if args.json == "-" else _rendered(joints_table(robot, infos))
+        outputs.commit()
+    args.held.shown(("hdselect.robotfile",))  # the table and the JSON list them
+    sys.stdout.write(text)
+    _say_written([(args.json, None)], args)
+    return EXIT_OK
+
+
+def run_init(args: argparse.Namespace) -> int:
+    """``hdselect init``: a starter motion file that plans and sizes as written."""
+    from hdselect.outputs import Outputs
+    from hdselect.robot import load_robot
+    from hdselect.starter import starter_motion
+    from hdselect.tables import Paragraphs
+
+    robot = load_robot(args.robot)
+    out = None if args.out in (None, "-") else Path(args.out)
+    where = os.path.abspath(out.parent if out is not None else Path.cwd())
+    target = os.path.abspath(robot.path)
+    shared = os.path.commonpath([target, where])
+    text = starter_motion(robot, str(target) if shared == os.sep
+                          else os.path.relpath(target, where))
+    if out is None:
+        sys.stdout.write(text)
+        return EXIT_OK
+    with Outputs([robot.path]) as outputs:
+        staging = outputs.file(out, "--out", exclusive=True)
+        staging.write_text(text, encoding="utf-8")
+        note = _rendered(Paragraphs((f"wrote {out}; edit its waypoints, limits and payload, "
+                                     f"then: hdselect size {out}",)))
+        outputs.commit()
+    sys.stdout.write(note)
+    return EXIT_OK
+
+
+def run_study(args: argparse.Namespace) -> int:
+    """``hdselect study``: every case of a study, in parallel, kept as it completes.
+
+    The CSV and its journal are appended to as cases complete (what makes a study
+    resumable); the study file is read and both paths are checked before any case
+    runs, and the plot is written with the other outputs' transaction at the end.
+    """
+    import time
+
+    from hdselect.outputs import Outputs
+    from hdselect.report import study_tables
+    from hdselect.study.run import run_study as run
+    from hdselect.study.spec import load_study
+    from hdselect.study.store import Store, journal_path, pivots, table
+    from hdselect.tables import Paragraphs
+
+    study = load_study(args.study)
+    store = Store(args.out, study)  # checks both paths before any case runs
+    with Outputs([args.study, *store.paths]) as outputs:
+        plot = outputs.file(args.plot, "--plot") if args.plot else None
+        started = time.perf_counter()
+        args.kept.note = (f"the cases done are kept in {args.out} and its journal "
+                          f"{store.journal_path.name}; run the same command to resume")
+        with _progress(study.title) as progress:
+            done = run(study, store, workers=args.workers, scheduler=args.scheduler,
+                       grouping=not args.no_grouping, retry_failed=args.retry_failed,
+                       progress=progress)
+        methods = ", ".join(f"{count} {name}" for name, count in sorted(done.methods.items()))
+        items: list[Any] = [Paragraphs((
+            f"{study.title}: {len(study.cases)} cases: {done.ran} run now"
+            + (f" ({methods})" if methods else "")
+            + f", {done.skipped} already done, {done.failed} failed",))]
+        rows = table(study, done.records)
+        if "size" in study.compute:
+            tables, constant = pivots(study, done.records)
+            items += [Paragraphs((item,)) if isinstance(item, str) else item
+                      for item in study_tables(tables, constant)]
+        csv_shown = store.csv_path if Path(args.out).is_symlink() else Path(args.out)
+        journal_shown = (store.journal_path if Path(args.out).is_symlink()
+                         else journal_path(args.out))
+        items.append(Paragraphs((f"rows: {csv_shown}; records: {journal_shown}",)))
+        if plot is not None and "size" in study.compute:
+            from hdselect.figures import write_study_png
+
+            joints = list(dict.fromkeys(row["joint"] for row in rows if row.get("joint")))
+            first = study.varied[0] if study.varied else "case"
+            second = study.varied[1] if len(study.varied) > 1 else None
+            write_study_png(plot, study.title, [r for r in rows if r["compute"] == "size"],
+                            first, second, joints)
+        text = "" if args.plot == "-" else _rendered(*items)
+        outputs.commit()
+    sys.stdout.write(text)
+    _say_written([(args.plot, "the unit selected and its life per joint")], args)
+    if done.ran:
+        print(f"hdselect: {done.ran} cases in {time.perf_counter() - started:.1f} s on "
+              f"{done.executor}", file=sys.stderr)
+    return EXIT_CASES_FAILED if done.failed else EXIT_OK
+
+
+class _progress:
+    """A progress bar with ETA on a terminal (standard error); nothing when piped."""
+
+    def __init__(self, title: str) -> None:
+        self.title = title
+        self.bar: Any = None
+
+    def __enter__(self):
+        if not sys.stderr.isatty():
+            return None
+        from rich.console import Console
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+
+        bar = self.bar = Progress(
+            TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+            TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+            console=Console(stderr=True), transient=True)
+        self.bar.start()
+        task = self.bar.add_task(self.title, total=None)
+
+        def update(done: int, total: int, record: dict) -> None:
+            bar.update(task, completed=done, total=total)
+        return update
+
+    def __exit__(self, *exc: object) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+
+
+_SHOWN = ("hdselect.robotfile", "hdselect.motion")
+"""Loggers whose warnings a sizing result carries (`SizingResult.warnings`)."""
 
 _PAYLOAD_FLAGS = {"payload.mass": "--payload", "payload.com": "--payload-com",
                   "payload.frame": "--payload-frame"}
 
 
+def _names(given: list[str] | None) -> list[str] | None:
+    """Joint names from repeatable, comma-separated options."""
+    if given is None:
+        return None
+    return [name.strip() for text in given for name in text.split(",") if name.strip()]
+
+
 def _load_case(args: argparse.Namespace):
-    """The robot and the motion, with the command line's payload and mounting applied.
+    """The robot and the motion, with the command line's payload, mounting and joints applied.
 
     ``--payload KG`` changes the mass of the motion file's payload and keeps its centre
     of mass, inertia and frame; ``--payload-com`` and ``--payload-frame`` change those of
     the file's payload (or of the one ``--payload`` makes) and are refused when there is
-    none.
+    none. A payload without a frame goes on the robot's default payload frame.
     """
-    from hdselect.motion import load_motion, robot_file_of, robot_for_motion
+    from hdselect.motion import load_motion, robot_file_named, robot_for_motion
     from hdselect.robot import Payload, load_robot
 
-    robot = load_robot(args.robot if args.robot is not None else robot_file_of(args.motion))
+    robot = load_robot(args.robot if args.robot is not None else robot_file_named(args.motion))
     motion = load_motion(args.motion, robot)
     base = motion.payload
     given = [flag for flag, value in (("--payload", args.payload),
@@ -351,9 +586,14 @@ def _load_case(args: argparse.Namespace):
             field = str(err.field)
             flag = next((f for k, f in _PAYLOAD_FLAGS.items() if field.startswith(k)), field)
             raise InputError(err.reason, field=flag) from err
+    joints, exclude = _names(args.joints), _names(args.exclude)
     try:
-        robot = robot_for_motion(robot, motion, payload=payload, mounting=args.mounting)
+        robot = robot_for_motion(robot, motion, payload=payload, mounting=args.mounting,
+                                 joints=joints, exclude=exclude)
     except InputError as err:
+        options = {"joints": joints, "exclude": exclude}
+        if err.field in options and options[str(err.field)] is not None:
+            raise InputError(err.reason, field=f"--{err.field}") from err
         if err.field == "payload.frame" and args.payload_frame is not None:
             raise InputError(err.reason, field="--payload-frame") from err
         if err.field == "payload.frame" and payload is not None:
@@ -371,11 +611,26 @@ def _max_samples(args: argparse.Namespace) -> int:
 
 
 def _prepare(args: argparse.Namespace):
-    """The robot, the motion, the catalog and the validated options of ``size``/``compare``."""
+    """The robot, the motion, the catalog, the validated options and the motors."""
     from hdselect.catalog import load_catalog
+    from hdselect.motors import load_motors
     from hdselect.options import options_for
+    from hdselect.sizing import motion_motors
 
     robot, motion = _load_case(args)
+    if args.motor_catalog:
+        catalog = load_motors(args.motor_catalog)
+        motors = {name: catalog for name in robot.sized_joints}
+    else:
+        motors = motion_motors(robot, motion)
+    if motors:
+        for value, flag in ((args.motor_inertia, "--motor-inertia"),
+                            (args.motor_mass, "--motor-mass")):
+            if value is not None:
+                given = ("--motor-catalog" if args.motor_catalog
+                         else f"[motor] of {motion.path.name}")
+                raise InputError(f"the motors come from {given}, with their own rotor inertia "
+                                 "and mass; drop this option", field=flag)
     try:
         options = options_for(
             motion, stop_time=args.stop_time, efficiency=args.efficiency,
@@ -385,10 +640,10 @@ def _prepare(args: argparse.Namespace):
             max_samples=args.max_samples)
     except InputError as err:
         raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
-    return robot, motion, load_catalog(args.catalog), options
+    return robot, motion, load_catalog(args.catalog), options, motors
 
 
-def _sized(robot, motion, units, options):
+def _sized(robot, motion, units, options, motors):
     """Plan and size through the public core, as `hdselect.size` does."""
     from dataclasses import replace
 
@@ -396,23 +651,110 @@ def _sized(robot, motion, units, options):
     from hdselect.sizing import size_trajectory
 
     trajectory = plan(robot, motion, max_samples=options.max_samples)
-    return replace(size_trajectory(robot, trajectory, units, options), motion=motion)
+    return replace(size_trajectory(robot, trajectory, units, options, motors=motors),
+                   motion=motion)
 
 
-def _rendered(table) -> str:
-    """A table as the terminal would show it, rendered before any output is committed."""
-    from hdselect.report import console
+class _outputs:
+    """The outputs of ``size`` and ``compare`` reserved: (Outputs, JSON file, report target).
 
-    out = console()
-    with out.capture() as captured:
-        out.print(table)
-    return captured.get()
+    The report target is a staging directory, or a file for ``--report -`` (the page alone).
+    """
+
+    def __init__(self, args: argparse.Namespace, robot, motion) -> None:
+        from hdselect.outputs import Outputs
+
+        inputs = [*_inputs(robot, motion), *args.catalog,
+                  *([args.motor_catalog] if args.motor_catalog else [])]
+        self.outputs = Outputs(inputs)
+        self.args = args
+
+    def __enter__(self):
+        args, outputs = self.args, self.outputs
+        try:
+            json_file = outputs.file(args.json, "--json") if args.json else None
+            report = None
+            if args.report == "-":
+                report = outputs.file("-", "--report")
+            elif args.report:
+                report = outputs.directory(args.report, "--report")
+        except BaseException:
+            outputs.discard()
+            raise
+        return outputs, json_file, report
+
+    def __exit__(self, *exc: object) -> None:
+        self.outputs.discard()
+
+
+def _write_outputs(args: argparse.Namespace, result, json_file: Path | None,
+                   report: Path | None) -> None:
+    """The report and the JSON a command was asked for, into their staged places."""
+    from hdselect.export import size_json, write_json
+
+    if report is not None:
+        from hdselect.figures import report_files, report_page
+
+        if args.report == "-":
+            report.write_text(report_page(result, command=args.command_line),
+                              encoding="utf-8")
+        else:
+            report_files(report, result, command=args.command_line)
+    if json_file is not None:
+        write_json(json_file, size_json(result))
+
+
+def _to_stdout(args: argparse.Namespace) -> bool:
+    """An output goes to standard output (``-``): then no table is printed there."""
+    return "-" in (getattr(args, name, None) for name in ("json", "report", "out", "plot"))
+
+
+def _report_and_json(args: argparse.Namespace) -> list[tuple[str | None, str | None]]:
+    report = args.report if args.report in (None, "-") else str(Path(args.report) / "index.html")
+    return [(report, "the report, figures embedded (also as PNG files beside it)"
+             if args.report != "-" else None), (args.json, None)]
+
+
+def _say_written(written: Sequence[tuple[str | None, str | None]],
+                 args: argparse.Namespace) -> None:
+    """Name the files written, on standard error when standard output carries an output."""
+    from hdselect.tables import Paragraphs, console_for
+
+    lines = [f"wrote {path}" + (f": {what}" if what else "") for path, what in written
+             if path is not None and path != "-"]
+    if lines:
+        console_for(sys.stderr if _to_stdout(args) else sys.stdout).print(
+            Paragraphs(tuple(lines)))
+
+
+def _rendered(*items: Any) -> str:
+    """Renderables as standard output would show them, rendered before any output is committed.
+
+    Rendering first means a failure while formatting leaves no output behind.
+    """
+    import io
+
+    from hdselect.tables import console_for
+
+    real = console_for(sys.stdout)
+    if sys.stdout.isatty():  # its width and colours, captured
+        with real.capture() as captured:
+            for item in items:
+                real.print(item)
+        return captured.get()
+    buffer = io.StringIO()
+    out = console_for(buffer)  # COLUMNS or 80, no colour, no trailing spaces
+    for item in items:
+        out.print(item)
+    out.file.flush()
+    return buffer.getvalue()
 
 
 def _inputs(robot, motion) -> list[Path]:
-    """The files a robot and a motion were read from."""
+    """The files a robot and a motion were read from (logs and motor files included)."""
     files = [motion.path, robot.path]
-    return files + ([motion.samples.path] if motion.samples is not None else [])
+    motors = {m.source for ms in (motion.motors or {}).values() for m in ms if m.source}
+    return files + ([motion.samples.path] if motion.samples is not None else []) + sorted(motors)
 
 
 if __name__ == "__main__":

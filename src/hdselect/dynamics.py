@@ -84,6 +84,33 @@ def gravity_torques(robot: Robot, q: np.ndarray, *, threads: int | None = None) 
     return inverse_dynamics(robot, q, still, still, threads=threads)
 
 
+def joint_inertias(robot: Robot, q: np.ndarray, joints: Sequence[str], *,
+                   threads: int | None = None) -> np.ndarray:
+    """The diagonal of the joint-space inertia matrix M(q) for the given joints.
+
+    M_jj is the inertia joint j moves with every other joint held still: column j of
+    M(q) is RNEA(q, 0, e_j) - RNEA(q, 0, 0), one batched pass per joint plus one.
+
+    Args:
+        robot: The robot (payload and gearhead masses included).
+        q: Joint positions [rad or m], shape (n, dof).
+        joints: Joints whose diagonal entry is wanted.
+        threads: Threads for the batched passes; None chooses from the sample count.
+
+    Returns:
+        M_jj [kg m^2, or kg for a prismatic joint], shape (n, len(joints)).
+    """
+    still = np.zeros((q.shape[0], robot.dof))
+    gravity = inverse_dynamics(robot, q, still, still, threads=threads)
+    out = np.empty((q.shape[0], len(joints)))
+    for k, name in enumerate(joints):
+        j = robot.joint_index(name)
+        unit = still.copy()
+        unit[:, j] = 1.0
+        out[:, k] = inverse_dynamics(robot, q, still, unit, threads=threads)[:, j] - gravity[:, j]
+    return out
+
+
 def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, *,
                      threads: int | None = None) -> np.ndarray:
     """Batched recursive Newton-Euler: one Pinocchio call per `CHUNK` samples.

@@ -4,10 +4,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import shutil
-import sys
-import tempfile
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
@@ -16,12 +12,20 @@ import numpy as np
 
 from hdselect.catalog import SeriesRules, Unit
 from hdselect.duty import DutyResult
-from hdselect.errors import InputError
-from hdselect.outputs import writable_target
+from hdselect.joints import JointInfo
+from hdselect.loads import JointLoad
+from hdselect.motors import Motor
+from hdselect.outputs import write_file
 from hdselect.planning import Trajectory
+from hdselect.robot import Robot
 from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.sizing import SizingResult
 
+MOTOR_MODEL_NOTE = ("peak: every sample's motor torque under the motor's torque-speed curve (its "
+                    "flat peak torque without one); rms: the RMS torque of one cycle repeated "
+                    "back to back against the rated torque, with no thermal model (no thermal "
+                    "time constants), no drive current limit and no bus voltage beyond the "
+                    "curve; speed: the largest input speed against the motor's maximum")
 MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the catalog page's "
                    "t1..t3); dwells do not dilute it, which is the conservative reading")
 WHOLE_CYCLE_NOTE = ("mean speed follows each unit's series rules: over the whole cycle, dwells "
@@ -30,8 +34,9 @@ WHOLE_CYCLE_NOTE = ("mean speed follows each unit's series rules: over the whole
 
 _CSV_ROWS = 1 << 14
 """Rows of a trajectory CSV formatted at a time."""
-HOLD_NOTE = ("hold only: nothing moves in this cycle (every speed is 0); the pose is held with "
-             "the input locked, so only the static and momentary checks apply")
+HOLD_NOTE = ("hold only: nothing moves in this cycle, so only holding the pose (static) and an "
+             "emergency stop (momentary) are checked; mean torque, speed and life do not apply")
+"""The note on a cycle in which nothing moves (``"hold_only": true`` in JSON)."""
 
 
 def mean_speed_note(units: Iterable[Unit]) -> str:
@@ -45,9 +50,10 @@ def write_output(target: str | Path, write: Callable[[Any], None], *,
                  binary: bool = False) -> None:
     """Write a file atomically (temporary file, then rename); ``-`` is standard output.
 
-    A symlink is followed and its target replaced; a character device or a FIFO
-    (``/dev/null``, a named pipe) is written directly, never replaced. For several
-    outputs that must appear together, see `hdselect.outputs.Outputs`.
+    The same as `hdselect.outputs.write_file`: a symlink is followed and its target
+    replaced; a character device or a FIFO (``/dev/null``, a named pipe) is written
+    directly, never replaced. For several outputs that must appear together, see
+    `hdselect.outputs.Outputs`.
 
     Args:
         target: The file, or ``-``.
@@ -57,39 +63,7 @@ def write_output(target: str | Path, write: Callable[[Any], None], *,
     Raises:
         InputError: The file cannot be written.
     """
-    if str(target) == "-":
-        write(getattr(sys.stdout, "buffer", sys.stdout) if binary else sys.stdout)
-        return
-    real, kind = writable_target(target)
-    if kind == "direct":
-        try:
-            with (open(real, "wb") if binary else
-                  open(real, "w", encoding="utf-8", newline="")) as stream:
-                write(stream)
-        except OSError as err:
-            raise InputError(f"cannot write here ({err.strerror})", path=target) from err
-        return
-    try:
-        fd, tmp = tempfile.mkstemp(dir=real.parent, prefix=f".{real.name}.")
-    except OSError as err:
-        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
-    try:
-        with (os.fdopen(fd, "wb") if binary else
-              os.fdopen(fd, "w", encoding="utf-8", newline="")) as stream:
-            write(stream)
-        if real.exists():
-            shutil.copymode(real, tmp)
-        else:
-            umask = os.umask(0)
-            os.umask(umask)
-            os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a report is not
-        os.replace(tmp, real)
-    except OSError as err:
-        Path(tmp).unlink(missing_ok=True)
-        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    write_file(target, write, binary=binary)
 
 
 def write_json(target: str | Path, document: dict[str, Any]) -> None:
@@ -116,7 +90,7 @@ def check_json(check: Check) -> dict[str, Any]:
 def candidate_json(candidate: Candidate) -> dict[str, Any]:
     """One candidate as JSON, the shape shared by ``duty`` and ``size`` (which adds ``motor``)."""
     unit = candidate.unit
-    document = {
+    document: dict[str, Any] = {
         "unit": unit.id,
         "size": unit.size,
         "ratio": unit.ratio,
@@ -134,8 +108,24 @@ def candidate_json(candidate: Candidate) -> dict[str, Any]:
         document["motor"] = {"peak_torque_nm": motor.peak_torque,
                              "rms_torque_nm": motor.rms_torque,
                              "max_speed_rpm": motor.max_speed,
-                             "efficiency": motor.efficiency}
+                             "efficiency": motor.efficiency,
+                             "rms_speed_rpm": motor.rms_speed}
+        if candidate.motor_unit is not None:
+            document["motor"]["id"] = candidate.motor_unit.id
+            document["gearhead_binding"] = candidate.gearhead_binding
+            document["motor_binding"] = candidate.motor_binding
     return document
+
+
+def motor_json(motor: Motor) -> dict[str, Any]:
+    """One motor's data as JSON, in SI (speeds in rpm)."""
+    return {"id": motor.id, "rated_torque_nm": motor.rated_torque,
+            "peak_torque_nm": motor.peak_torque, "max_speed_rpm": motor.max_speed,
+            "rated_speed_rpm": motor.rated_speed, "rotor_inertia_kg_m2": motor.rotor_inertia,
+            "mass_kg": motor.mass, "torque_constant_nm_per_a": motor.torque_constant,
+            "resistance_ohm": motor.resistance,
+            "curve": None if motor.curve is None else [list(p) for p in motor.curve],
+            "source": None if motor.source is None else str(motor.source)}
 
 
 def rules_json(rules: SeriesRules) -> dict[str, Any]:
@@ -182,18 +172,95 @@ def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
 def assumptions(result: SizingResult) -> dict[str, str]:
     """The assumptions of a sizing run, as text for reports."""
     options = result.options
+    if result.motors:
+        files = sorted({m.source.name if m.source is not None else "given in Python"
+                        for ms in result.motors.values() for m in ms})
+        bare = [j.name for j in result.joints if j.name not in result.motors]
+        motor = {"motors": (f"chosen with each gearhead from {', '.join(files)} (rotor inertia "
+                            "in the motor torque and the crash, mass carried)"
+                            + (f"; none for {', '.join(bare)}: rotor inertia and mass not "
+                               "included there" if bare else ""))}
+    elif options.rotor_inertia == 0.0 and options.motor_mass == 0.0:
+        motor = {"motor": "none given: motor rotor inertia and mass not included"}
+    else:
+        motor = {"motor rotor inertia": f"{options.rotor_inertia:g} kg m^2",
+                 "motor mass": f"{options.motor_mass:g} kg"}
     return {
         "efficiency": f"{options.efficiency:.2f} (where a unit has no table)",
         "stop time": f"{options.stop_time:g} s (emergency stop and crash)",
-        "motor rotor inertia": f"{options.rotor_inertia:g} kg m^2",
-        "motor mass": f"{options.motor_mass:g} kg",
-        "mass coupling": ("on: each chosen unit's mass is carried by the joints nearer the base"
+        **motor,
+        "mass coupling": (("on: each chosen gearhead's and motor's mass is carried by the joints "
+                           "nearer the base" if result.motors else
+                           "on: each chosen unit's mass is carried by the joints nearer the base")
                           if options.mass_coupling else "off"),
-        "selection": options.prefer,
+        "selection": str(options.prefer),
         "required life": ("none" if options.life_hours is None
                           else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
+        "joint losses": JOINT_LOSSES_NOTE,
     }
+
+
+JOINT_LOSSES_NOTE = ("the robot file's armature, joint damping, friction and springs are the "
+                     "motor's and the joint's own, not load on the gear output: left out")
+
+
+def base_text(robot: Robot) -> str:
+    """The fixed link and the payload in a line, for headers."""
+    payload = robot.payload
+    if payload is None:
+        carried = f"none (a payload would go on '{robot.payload_frame}')"
+    else:
+        com = ", ".join(f"{c:g}" for c in payload.com)
+        carried = f"{payload.mass:g} kg on '{robot.payload_frame}', centre of mass ({com}) m"
+    return f"base: '{robot.root_link}' held fixed; payload: {carried}"
+
+
+def payload_json(robot: Robot) -> dict[str, Any]:
+    """The payload as JSON: mass 0 when none; the frame it is (or would be) attached to."""
+    payload = robot.payload
+    return {"mass_kg": 0.0 if payload is None else payload.mass,
+            "frame": robot.payload_frame,
+            "frame_given": payload is not None and payload.frame is not None,
+            "com_m": [0.0, 0.0, 0.0] if payload is None else list(payload.com),
+            "inertia_kg_m2": [[0.0] * 3] * 3 if payload is None
+            else [list(row) for row in payload.inertia]}
+
+
+def joints_json(robot: Robot, infos: Iterable[JointInfo]) -> dict[str, Any]:
+    """A robot's joints as JSON (``hdselect joints --json``), in SI; null for no limit."""
+    joints = []
+    for info in infos:
+        linear = info.kind == "prismatic"
+        joints.append({
+            "name": info.name, "index": info.index, "type": info.kind, "sized": info.sized,
+            "lower": _finite(info.lower), "upper": _finite(info.upper),
+            "unit": "m" if linear else "rad",
+            "velocity_limit": _finite(info.velocity_limit),
+            "effort_limit": _finite(info.effort_limit),
+            "moved_mass_kg": info.moved_mass, "leader": info.leader,
+            "multiplier": info.multiplier if info.leader else None,
+            "offset": info.offset if info.leader else None})
+    return {"robot": str(robot.path), "root_link": robot.root_link,
+            "payload_frame": robot.default_payload_frame,
+            "list_order": list(robot.joint_names),
+            "file_order": None if robot.file_order is None else list(robot.file_order),
+            "notes": list(robot.notes), "joints": joints}
+
+
+def joint_load_json(load: JointLoad) -> dict[str, Any]:
+    """One joint's load over the cycle as JSON, in SI (N m or N, rad or m)."""
+    linear = load.linear
+    force, per_s, position = ("n", "m_s", "m") if linear else ("nm", "rad_s", "rad")
+    return {"name": load.name, "type": load.kind, "sized": load.sized, "note": load.note,
+            "leader": load.leader,
+            f"peak_{'force' if linear else 'torque'}_{force}": load.peak,
+            f"effort_limit_{force}": _finite(load.effort_limit),
+            f"max_speed_{per_s}": load.max_speed,
+            f"velocity_limit_{per_s}": _finite(load.velocity_limit),
+            f"travel_{position}": list(load.travel),
+            "above_effort_limit": load.above_effort,
+            "above_velocity_limit": load.above_velocity}
 
 
 def size_json(result: SizingResult) -> dict[str, Any]:
@@ -202,7 +269,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
     joints = []
     for joint in result.joints:
         slowdown = joint.slowdown
-        joints.append({
+        document: dict[str, Any] = {
             "name": joint.name,
             "selected": joint.selected.unit.id if joint.selected else None,
             "binding": joint.selected.binding if joint.selected else None,
@@ -212,6 +279,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "peak_torque_nm": joint.load.peak_torque,
             "mean_torque_nm": joint.load.mean_torque,
             "mean_output_speed_rpm": joint.load.mean_speed * RPM_PER_RAD_S,
+            "effort_limit_nm": _finite(float(
+                result.robot.effort_limit[result.robot.joint_index(joint.name)]) or math.inf),
             "slowdown": None if slowdown is None else {
                 "factor": slowdown.factor, "unit": slowdown.unit,
                 "cycle_time_s": slowdown.cycle_time},
@@ -219,7 +288,19 @@ def size_json(result: SizingResult) -> dict[str, Any]:
                 unit: [[lo, _finite(hi)] for lo, hi in intervals]
                 for unit, intervals in joint.scales.fits.items()},
             "candidates": [candidate_json(c) for c in joint.candidates],
-        })
+        }
+        if joint.name in result.motors:
+            chosen = joint.selected
+            document.update({
+                "selected_motor": (chosen.motor_unit.id if chosen is not None
+                                   and chosen.motor_unit is not None else None),
+                "gearhead_binding": chosen.gearhead_binding if chosen else None,
+                "motor_binding": chosen.motor_binding if chosen else None,
+                "load_inertia_kg_m2": joint.load_inertia,
+                "inertia_ratio": None if chosen is None else joint.inertia_ratio(chosen)})
+            for candidate, entry in zip(joint.candidates, document["candidates"], strict=True):
+                entry["motor"]["inertia_ratio"] = joint.inertia_ratio(candidate)
+        joints.append(document)
     return {
         "robot": str(result.robot.path),
         "motion": None if result.motion is None else str(result.motion.path),
@@ -232,14 +313,26 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,
             "mass_coupling": options.mass_coupling, "prefer": options.prefer,
             "life_hours": options.life_hours, "life_basis": options.life_basis,
-            "mean_speed_rule": mean_speed_note(result.units)},
+            "mean_speed_rule": mean_speed_note(result.units),
+            "joint_losses": JOINT_LOSSES_NOTE,
+            "motors": ({name: [m.id for m in ms] for name, ms in result.motors.items()}
+                       if result.motors else None),
+            "motor_rules": MOTOR_MODEL_NOTE if result.motors else None},
+        "motors": [motor_json(m) for m in _distinct(result.motors)],
         "joints": joints,
+        "root_link": result.robot.root_link,
+        "payload": payload_json(result.robot),
+        "warnings": list(result.warnings),
+        "joint_loads": [joint_load_json(load) for load in result.loads],
     }
 
 
 def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
                          joints: Iterable[str]) -> None:
-    """One row per sample: t, then q_, qd_, qdd_, tau_ of every listed joint (SI)."""
+    """One row per sample: t, then q_, qd_, qdd_, tau_ of every listed joint (SI).
+
+    A prismatic joint's columns are in m, m/s, m/s^2 and N.
+    """
     names = list(trajectory.joint_names)
     columns = [names.index(name) for name in joints]
     header = ["t"] + [f"{kind}_{names[j]}" for j in columns
@@ -257,6 +350,15 @@ def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
                        delimiter=",")
 
     write_output(target, write)
+
+
+def _distinct(motors: Any) -> list[Motor]:
+    """Every motor of a joint -> motors mapping once, in order of appearance."""
+    seen: dict[tuple[str, str | None], Motor] = {}
+    for candidates in motors.values():
+        for motor in candidates:
+            seen.setdefault((motor.id, str(motor.source)), motor)
+    return list(seen.values())
 
 
 def _finite(value: Any) -> Any:

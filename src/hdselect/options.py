@@ -30,7 +30,9 @@ class Options:
         rotor_inertia: Motor rotor inertia J_m [kg m^2], zero or positive.
         motor_mass: Motor mass carried with each gearhead [kg], zero or positive.
         mass_coupling: Whether chosen units' masses load the joints nearer the base.
-        prefer: Selection order, a key of `hdselect.select.PREFERENCES`.
+        prefer: Selection order, a key of `hdselect.select.PREFERENCES`, or None for the
+            default: ``"mass"`` (the lightest pair) where motors are given, else ``"size"``.
+            A sizing result holds the order it used.
         life_hours: Required life [h] on `life_basis`, positive, or None.
         life_basis: ``"L50"`` (average life) or ``"L10"`` (90 % survive it).
         threads: Threads for the batched dynamics, a positive whole number, or None to
@@ -47,7 +49,7 @@ class Options:
     rotor_inertia: float = 0.0
     motor_mass: float = 0.0
     mass_coupling: bool = True
-    prefer: str = "size"
+    prefer: str | None = None
     life_hours: float | None = None
     life_basis: str = "L50"
     threads: int | None = None
@@ -61,7 +63,8 @@ class Options:
         if not isinstance(self.mass_coupling, bool):
             raise InputError(f"expected true or false, got {self.mass_coupling!r}",
                              field="mass_coupling")
-        if not isinstance(self.prefer, str) or self.prefer not in PREFERENCES:
+        if self.prefer is not None and (not isinstance(self.prefer, str)
+                                        or self.prefer not in PREFERENCES):
             raise InputError(f"unknown order {self.prefer!r}; choose one of: "
                              f"{', '.join(PREFERENCES)}", field="prefer")
         if self.life_hours is not None:

@@ -22,10 +22,11 @@ import shutil
 import stat
 import sys
 import tempfile
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import TracebackType
+from typing import Any
 
 from hdselect.errors import InputError
 
@@ -39,6 +40,7 @@ class _Staged:
     staging: Path
     kind: str  # "file", "direct" (device or FIFO), "stdout", "directory"
     created: list[Path] = field(default_factory=list)
+    exclusive: bool = False  # a new file only: never replaces one
 
 
 def writable_target(target: str | Path, option: str | None = None) -> tuple[Path, str]:
@@ -72,6 +74,57 @@ def writable_target(target: str | Path, option: str | None = None) -> tuple[Path
     return real, "file"
 
 
+def write_file(target: str | Path, write: Callable[[Any], None], *,
+                 binary: bool = False) -> None:
+    """Write one file atomically (temporary file, then rename); ``-`` is standard output.
+
+    A symlink is followed and its target replaced, keeping its mode; a character
+    device or a FIFO (``/dev/null``, a named pipe) is written directly, never
+    replaced. For several outputs that must appear together, see `Outputs`.
+
+    Args:
+        target: The file, or ``-``.
+        write: Writes the content to the open stream it is given.
+        binary: Open the file in binary mode (text, UTF-8, otherwise).
+
+    Raises:
+        InputError: The file cannot be written.
+    """
+    if str(target) == "-":
+        write(getattr(sys.stdout, "buffer", sys.stdout) if binary else sys.stdout)
+        return
+    real, kind = writable_target(target)
+    if kind == "direct":
+        try:
+            with (open(real, "wb") if binary else
+                  open(real, "w", encoding="utf-8", newline="")) as stream:
+                write(stream)
+        except OSError as err:
+            raise InputError(f"cannot write here ({err.strerror})", path=target) from err
+        return
+    try:
+        fd, tmp = tempfile.mkstemp(dir=real.parent, prefix=f".{real.name}.")
+    except OSError as err:
+        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
+    try:
+        with (os.fdopen(fd, "wb") if binary else
+              os.fdopen(fd, "w", encoding="utf-8", newline="")) as stream:
+            write(stream)
+        if real.exists():
+            shutil.copymode(real, tmp)
+        else:
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a report is not
+        os.replace(tmp, real)
+    except OSError as err:
+        Path(tmp).unlink(missing_ok=True)
+        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
 class Outputs:
     """A command's output files, reserved up front and committed all at once.
 
@@ -91,11 +144,19 @@ class Outputs:
                  trace: TracebackType | None) -> None:
         self.discard()
 
-    def file(self, target: str | Path, option: str) -> Path:
+    def file(self, target: str | Path, option: str, *, exclusive: bool = False) -> Path:
         """Reserve an output file (``-``: standard output); returns the path to write to.
 
+        Args:
+            target: The file, or ``-``.
+            option: The command-line option that names it, for messages.
+            exclusive: Never replace an existing file: refuse it now, and at commit fail
+                (changing nothing) if one appeared meanwhile. Devices and FIFOs are still
+                written into.
+
         Raises:
-            InputError: The target cannot be written, is an input, or is reserved already.
+            InputError: The target cannot be written, is an input, is reserved already,
+                or exists when `exclusive`.
         """
         if str(target) == "-":
             if any(s.kind == "stdout" for s in self._staged):
@@ -104,8 +165,13 @@ class Outputs:
             return self._reserve(option, None, "stdout", Path(tempfile.gettempdir()))
         real, kind = writable_target(target, option)
         self._check_new(Path(target), real, option)
+        if exclusive and kind == "file" and os.path.lexists(real):
+            raise InputError("exists; choose another path or remove it first", path=target,
+                             field=option)
         directory = Path(tempfile.gettempdir()) if kind == "direct" else real.parent
-        return self._reserve(option, real, kind, directory)
+        staging = self._reserve(option, real, kind, directory)
+        self._staged[-1].exclusive = exclusive
+        return staging
 
     def directory(self, target: str | Path, option: str) -> Path:
         """Reserve an output directory (created at commit if missing); returns a staging one.
@@ -144,7 +210,11 @@ class Outputs:
         created: list[Path] = []
         try:
             for staged in self._staged:
-                if staged.kind == "file":
+                if staged.kind == "file" and staged.exclusive:
+                    assert staged.target is not None
+                    _place_new(staged.staging, staged.target)
+                    done.append((staged.target, None))
+                elif staged.kind == "file":
                     assert staged.target is not None
                     done.append((staged.target, _swap(staged.staging, staged.target)))
                 elif staged.kind == "directory":
@@ -158,6 +228,10 @@ class Outputs:
                     assert staged.target is not None
                     with staged.staging.open("rb") as source, staged.target.open("wb") as sink:
                         shutil.copyfileobj(source, sink)
+        except FileExistsError as err:
+            _roll_back(done, created)
+            raise InputError("appeared while hdselect ran, and is not replaced; nothing was "
+                             "changed", path=err.filename) from err
         except OSError as err:
             _roll_back(done, created)
             raise InputError(f"cannot write the outputs ({err.strerror or err}); nothing was "
@@ -236,6 +310,25 @@ def _swap(new: Path, target: Path) -> Path | None:
         os.chmod(new, 0o666 & ~umask)  # a temporary is private; an output is not
     os.replace(new, target)
     return backup
+
+
+def _place_new(new: Path, target: Path) -> None:
+    """Give `new` the name `target`, which must not exist (a hard link: atomic, no replace).
+
+    Raises:
+        FileExistsError: `target` exists.
+    """
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(new, 0o666 & ~umask)  # a temporary is private; an output is not
+    try:
+        os.link(new, target)
+    except FileExistsError as err:
+        raise FileExistsError(err.errno, err.strerror, str(target)) from err
+    except OSError:  # no hard links here: create it exclusively and copy
+        with new.open("rb") as source, target.open("xb") as sink:
+            shutil.copyfileobj(source, sink)
+    new.unlink()
 
 
 def _make_directory(target: Path) -> list[Path]:

@@ -65,6 +65,11 @@ class HeldLog(logging.Handler):
         else:
             self.records.append(record)
 
+    def shown(self, loggers: tuple[str, ...]) -> None:
+        """Drop what these loggers said: the command's output shows it already."""
+        self.records = [r for r in self.records
+                        if r.levelno > logging.WARNING or r.name not in loggers]
+
     def publish(self) -> None:
         """Print the held records (the command succeeded)."""
         for record in self.records:

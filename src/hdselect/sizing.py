@@ -2,31 +2,43 @@
 
 `size_trajectory` takes a robot and a planned trajectory and chooses a gearhead
 per joint from the tip to the base, each chosen unit's mass (and motor mass)
-carried by the joints nearer the base. `size` is load + plan + `size_trajectory`.
-Every front end (the command line, studies, co-design, Python) goes through it.
+carried by the joints nearer the base. Where motors are given, it chooses a
+gearhead and a motor together: every (gearhead, motor) pair is checked, and the
+pair's mass is carried. `size` is load + plan + `size_trajectory`. Every front end
+(the command line, studies, co-design, Python) goes through it.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from hdselect.arrays import readonly
+from hdselect.arrays import frozen, readonly
 from hdselect.bounds import expect_type, files_argument
 from hdselect.catalog import Unit, load_catalog
-from hdselect.dynamics import CycleTorques, cycle_torques, gravity_torques
+from hdselect.dynamics import CycleTorques, cycle_torques, gravity_torques, joint_inertias
 from hdselect.errors import InputError
+from hdselect.loads import JointLoad, joint_loads
 from hdselect.motion import Motion, load_case, robot_for_motion
+from hdselect.motors import Motor
 from hdselect.options import Options, options_for
 from hdselect.planning import Trajectory, plan
-from hdselect.reflect import reflect
+from hdselect.reflect import reflect, reflect_motors
 from hdselect.robot import Payload, Robot, load_robot
-from hdselect.rules import Candidate, CycleLoad, check_unit, cycle_load
-from hdselect.select import select
+from hdselect.rules import (
+    RPM_PER_RAD_S,
+    Candidate,
+    CycleLoad,
+    check_unit,
+    cycle_load,
+    inertia_ratio,
+    with_motor,
+)
+from hdselect.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.timescale import JointScales, ScalableCycle, Slowdown, joint_scales
 
 REST_FRACTION = 1e-3
@@ -34,21 +46,27 @@ REST_FRACTION = 1e-3
 this fraction of their largest values in the cycle [-]."""
 GRAVITY_LOADED = 1e-3
 """Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
-_GRAVITY_SAMPLES = 400
+GRAVITY_SAMPLES = 400
 """Poses at which the gravity torque is evaluated for the backdriving warning."""
 _GUESS_SAMPLES = 200
 """Samples on which the carried masses are first guessed."""
+_INERTIA_POSES = GRAVITY_SAMPLES
+"""Poses, evenly spread over the cycle, at which a joint's load inertia M_jj is evaluated."""
+
+Motors = Mapping[str, Sequence[Motor]]
+"""Candidate motors per joint name: the motors each joint's gearhead may be paired with."""
 
 
 @dataclass(frozen=True, eq=False)
 class JointSizing:
-    """One joint: every unit checked, the selection and why.
+    """One joint: every unit (or every gearhead and motor pair) checked, the selection and why.
 
     Attributes:
         name: Joint name.
         load: Output-side summary of the cycle (with carried masses).
-        candidates: One per catalog unit.
-        selected: The chosen unit, or None when none fits.
+        candidates: One per catalog unit; where motors are given, one per (unit, motor)
+            pair, unit by unit.
+        selected: The chosen unit (or pair), or None when none fits.
         carried_mass: Gearhead and motor mass this joint carries from joints
             further out [kg].
         gravity_loaded: Gravity loads this joint somewhere in the cycle: a
@@ -60,6 +78,11 @@ class JointSizing:
             fit (its factor rounded up to 0.001).
         scales: For a joint with no feasible unit, the time scales at which each unit
             would fit.
+        load_inertia: Where motors are given, the joint's output-side inertia: the largest
+            diagonal entry M_jj of the joint-space inertia matrix over the cycle's poses
+            (`_INERTIA_POSES` of them), carried masses and payload included [kg m^2].
+        motor_torque: Where motors are given, the motor torque of the selected pair (else
+            of the strongest) per sample [N m], shape (n,).
     """
 
     name: str
@@ -73,12 +96,29 @@ class JointSizing:
     stop_torque: np.ndarray
     slowdown: Slowdown | None = None
     scales: JointScales | None = None
+    load_inertia: float | None = None
+    motor_torque: np.ndarray | None = None
 
     @property
     def strongest(self) -> Candidate:
-        """The candidate with the highest repeated-peak limit."""
-        return max(self.candidates, key=lambda c: (c.unit.repeated_torque,
-                                                   c.unit.momentary_torque, c.unit.rated_torque))
+        """The candidate with the highest repeated-peak limit.
+
+        With motors: behind the motor with the highest peak, then rated torque.
+        """
+        return max(self.candidates, key=lambda c: (
+            c.unit.repeated_torque, c.unit.momentary_torque, c.unit.rated_torque,
+            *((c.motor_unit.peak_torque, c.motor_unit.rated_torque)
+              if c.motor_unit is not None else ())))
+
+    def inertia_ratio(self, candidate: Candidate) -> float | None:
+        """Load inertia at the motor shaft over the rotor inertia for one pair [-].
+
+        (M_jj / N^2 + J_in) / J_m with M_jj the `load_inertia`; None without a motor, or
+        for a motor without rotor inertia (`hdselect.rules.inertia_ratio`).
+        """
+        if self.load_inertia is None or candidate.motor_unit is None:
+            return None
+        return inertia_ratio(self.load_inertia, candidate.unit, candidate.motor_unit)
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,6 +132,10 @@ class SizingResult:
         options: The assumptions used.
         units: The catalog.
         motion: The motion the trajectory was planned from, when `size` planned it.
+        motors: The candidate motors per joint; empty where no motor data was given
+            (then `options` say which rotor inertia and motor mass were assumed).
+        loads: Every joint of the robot, sized or not, followers included, in the
+            model's order: what it does beside its file's limits.
     """
 
     robot: Robot
@@ -100,6 +144,30 @@ class SizingResult:
     options: Options
     units: tuple[Unit, ...]
     motion: Motion | None = None
+    motors: Mapping[str, tuple[Motor, ...]] = field(default_factory=dict)
+    loads: tuple[JointLoad, ...] = ()
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What the robot file and the motion file raised, and limits the cycle exceeds.
+
+        Each line starts with where it comes from: ``robot file:``, ``motion file:`` or
+        ``cycle:``.
+        """
+        asked = self.motion.warnings if self.motion is not None else ()
+        lines = [f"robot file: {note}" for note in self.robot.notes]
+        lines += [f"motion file: {warning}" for warning in asked]
+        for load in self.loads:
+            if load.above_effort:
+                lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} "
+                             f"{'N' if load.linear else 'N m'}, above the robot file's effort "
+                             f"limit {load.effort_limit:.3g}")
+            if load.above_velocity and not any(f"'{load.name}'" in w for w in asked):
+                per_s = "m/s" if load.linear else "rad/s"
+                lines.append(f"cycle: joint '{load.name}' moves at up to {load.max_speed:.3g} "
+                             f"{per_s}, above the robot file's velocity limit "
+                             f"{load.velocity_limit:.3g}")
+        return tuple(lines)
 
     @property
     def feasible(self) -> bool:
@@ -133,6 +201,8 @@ def size(
     payload: Payload | None = None,
     mounting: str | Sequence[float] | None = None,
     joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
+    motors: Motors | None = None,
     **options: object,
 ) -> SizingResult:
     """Choose a gearhead for every joint of a robot from its motion: load, plan, size.
@@ -144,7 +214,12 @@ def size(
         units: The catalog already loaded (instead of `catalog`).
         payload: Payload, overriding the motion file's.
         mounting: Mounting, overriding the motion file's.
-        joints: Joints to size (default every revolute joint).
+        joints: Joints to size (default: the motion file's ``[sizing] joints``, else every
+            revolute joint that is not a mimic follower).
+        exclude: Joints not to size; they still move and load the others (default: the
+            motion file's ``[sizing] exclude``).
+        motors: Candidate motors per joint name, replacing the motion file's ``[motor]``;
+            None takes the motion file's (for the joints sized).
         **options: Fields of `hdselect.options.Options` (``stop_time``, ``efficiency``,
             ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
             ``life_hours``, ``life_basis``, ``threads``); what is not given comes from
@@ -173,19 +248,46 @@ def size(
                                  path=motion.path, field="robot")
             robot = load_robot(file)
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
-                                 joints=joints)
+                                 joints=joints, exclude=exclude)
     else:
         robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
-                                  joints=joints)
+                                  joints=joints, exclude=exclude)
     resolved = options_for(motion, **options)
     units = tuple(units) if units is not None else load_catalog(catalog)
+    if motors is None:
+        motors = motion_motors(robot, motion)
     trajectory = plan(robot, motion, max_samples=resolved.max_samples)
-    return replace(size_trajectory(robot, trajectory, units, resolved), motion=motion)
+    return replace(size_trajectory(robot, trajectory, units, resolved, motors=motors),
+                   motion=motion)
+
+
+def motion_motors(robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
+    """The motion file's candidate motors for the robot's sized joints (empty if none).
+
+    Args:
+        robot: The robot as sized (its sized joints choose which of the file's apply).
+        motion: The motion, with its ``[motor]`` tables read.
+
+    Returns:
+        Joint name -> its candidate motors, for every sized joint the file gives motors.
+
+    Raises:
+        InputError: A ``[motor.JOINT]`` block names a joint that is not sized.
+    """
+    if motion.motors is None:
+        return {}
+    for name in motion.motor_joints:
+        if name not in robot.sized_joints:
+            raise InputError(f"joint '{name}' is not sized (excluded, or a mimic follower), so "
+                             "its motor cannot apply; remove the block or size the joint",
+                             path=motion.path, field=f"motor.{name}")
+    return {name: motion.motors[name] for name in robot.sized_joints if name in motion.motors}
 
 
 def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
-                    options: Options | None = None) -> SizingResult:
-    """Choose a gearhead for every sized joint along a planned trajectory.
+                    options: Options | None = None, *,
+                    motors: Motors | None = None) -> SizingResult:
+    """Choose a gearhead (or a gearhead and a motor) for every sized joint along a trajectory.
 
     Joint j's torque depends only on the units chosen further out, so sizing
     from the tip to the base is one pass. It is found here as a fixed point:
@@ -197,19 +299,28 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     the full trajectory usually takes one round: two batched passes of inverse
     dynamics, the motion's and the emergency stop's.
 
+    Where a joint has candidate motors, every (gearhead, motor) pair is checked: the
+    gearhead's rules with this motor's rotor inertia in the motor torque and the crash,
+    and the motor's rules (`hdselect.rules.check_motor`). The selected pair's mass,
+    gearhead and motor, is carried by the joints nearer the base.
+
     Args:
         robot: The robot (payload and mounting applied).
         trajectory: The trajectory, with the robot's joints.
         units: The catalog.
-        options: The assumptions (default `Options()`).
+        options: The assumptions (default `Options()`); its ``prefer`` None means
+            ``"mass"`` where motors are given, else ``"size"``.
+        motors: Candidate motors per sized joint; a joint not named has no motor data.
 
     Returns:
-        The result for every sized joint (its ``motion`` is None).
+        The result for every sized joint (its ``motion`` is None); its options hold the
+        selection order used.
 
     Raises:
         InputError: An argument is of the wrong type, the trajectory's joints are not the
-            robot's or its arrays are malformed, the catalog is empty, or the robot has no
-            rotary joint to size.
+            robot's or its arrays are malformed, the catalog is empty, the robot has no
+            rotary joint to size, the motors name a joint that is not sized or give none
+            for one, or motors and the options' rotor inertia or motor mass are both given.
     """
     expect_type(robot, (Robot,), "robot", "a Robot")
     expect_type(trajectory, (Trajectory,), "trajectory", "a Trajectory (hdselect.plan)")
@@ -225,32 +336,89 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         raise InputError("the robot has no rotary joint to size (prismatic joints take no "
                          "gearhead)", path=robot.path, field="joints")
     options = options if options is not None else Options()
+    motors = checked_motors(robot, motors, options)
+    if options.prefer is None:
+        options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
+                          else DEFAULT_PREFER)
     masses: dict[str, float] = {}
     if options.mass_coupling:
         coarse = _decimated(trajectory, max(1, len(trajectory.t) // _GUESS_SAMPLES))
         for _ in range(2):
             masses = _unit_masses(_size_joints(robot.with_gearheads(masses), coarse, units,
-                                               options)[0], options)
+                                               options, motors)[0], options)
     joints: list[JointSizing] = []
+    torques: CycleTorques | None = None
     for _ in range(robot.dof + 1):
         carrying = robot.with_gearheads(masses)
-        joints = []  # let the last round's torques go before computing the next
-        joints = _size_joints(carrying, trajectory, units, options)[0]
+        joints, torques = [], None  # let the last round's torques go before computing the next
+        joints, torques = _size_joints(carrying, trajectory, units, options, motors)
         chosen = _unit_masses(joints, options)
         if not options.mass_coupling or chosen == masses:
             break
         masses = chosen
     else:  # each round settles at least one more joint from the tip
         raise AssertionError("the tip-to-base sizing did not settle")
-    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, _GRAVITY_SAMPLES).astype(int))
+    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))
     gravity = np.abs(gravity_torques(carrying, trajectory.q[poses], threads=options.threads))
     joints = [replace(joint, carried_mass=carrying.carried_mass(joint.name),
                       gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
                       max_gravity_torque=float(gravity[:, j].max()))
               for joint in joints for j in [robot.joint_index(joint.name)]]
+    if motors:
+        with_motors = [name for name in robot.sized_joints if name in motors]
+        inertia = joint_inertias(carrying, trajectory.q[poses], with_motors,
+                                 threads=options.threads).max(axis=0)
+        by_name = dict(zip(with_motors, inertia, strict=True))
+        joints = [replace(joint, load_inertia=float(by_name[joint.name]))
+                  if joint.name in by_name else joint for joint in joints]
     if any(joint.selected is None for joint in joints):
-        joints = _with_slowdowns(carrying, trajectory, joints, units, options)
-    return SizingResult(robot, trajectory, tuple(joints), options, units)
+        joints = _with_slowdowns(carrying, trajectory, joints, units, options, motors)
+    assert torques is not None
+    return SizingResult(robot, trajectory, tuple(joints), options, units, motors=motors,
+                        loads=joint_loads(robot, trajectory, torques.tau))
+
+
+def checked_motors(robot: Robot, motors: Motors | None,
+                   options: Options) -> dict[str, tuple[Motor, ...]]:
+    """The candidate motors per sized joint, checked; empty when none are given.
+
+    Args:
+        robot: The robot as sized.
+        motors: Candidate motors per joint name (a single `Motor` is one candidate).
+        options: The assumptions: with motors, their rotor inertia and motor mass must
+            not be given too.
+
+    Returns:
+        Joint name -> its candidate motors, in the order given.
+
+    Raises:
+        InputError: A joint is not sized, has no motor or a motor id twice, or the
+            options give a rotor inertia or motor mass beside the motors.
+    """
+    if not motors:
+        return {}
+    if isinstance(motors, str | Path) or not isinstance(motors, Mapping):
+        raise InputError("expected a mapping of joint name to candidate motors",
+                         field="motors")
+    checked: dict[str, tuple[Motor, ...]] = {}
+    for name, given in motors.items():
+        if name not in robot.sized_joints:
+            raise InputError(f"'{name}' is not a sized joint; sized joints are: "
+                             f"{', '.join(robot.sized_joints)}", field=f"motors.{name}")
+        candidates = (given,) if isinstance(given, Motor) else tuple(given)
+        if not candidates or not all(isinstance(m, Motor) for m in candidates):
+            raise InputError("expected one or more hdselect.motors.Motor", field=f"motors.{name}")
+        ids = [m.id for m in candidates]
+        for motor_id in ids:
+            if ids.count(motor_id) > 1:
+                raise InputError(f"motor id '{motor_id}' is given twice",
+                                 field=f"motors.{name}")
+        checked[name] = candidates
+    if options.rotor_inertia > 0.0 or options.motor_mass > 0.0:
+        raise InputError("motor data is given, so the rotor inertia and motor mass come from "
+                         "the motors; drop rotor_inertia and motor_mass (--motor-inertia, "
+                         "--motor-mass)", field="motors")
+    return checked
 
 
 def _units_argument(units: object) -> tuple[Unit, ...]:
@@ -289,20 +457,27 @@ def _check_trajectory(trajectory: Trajectory) -> None:
 
 def _unit_masses(joints: list[JointSizing], options: Options) -> dict[str, float]:
     """Mass each joint's unit (or, where none fits, the strongest) and motor add [kg]."""
-    return {joint.name: (joint.selected or joint.strongest).unit.mass + options.motor_mass
-            for joint in joints}
+    masses = {}
+    for joint in joints:
+        chosen = joint.selected or joint.strongest
+        motor = chosen.motor_unit
+        masses[joint.name] = chosen.unit.mass + (motor.mass if motor is not None
+                                                 else options.motor_mass)
+    return masses
 
 
 def _size_joints(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
-                 options: Options) -> tuple[list[JointSizing], CycleTorques]:
-    """Every sized joint against every unit, for the masses in the robot's model."""
+                 options: Options, motors: Motors | None = None,
+                 ) -> tuple[list[JointSizing], CycleTorques]:
+    """Every sized joint against every unit (or pair), for the masses in the robot's model."""
     torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time,
                             threads=options.threads)
     joints = []
     for name in robot.sized_joints:
         j = robot.joint_index(name)
         joints.append(_size_joint(name, traj, traj.qd[:, j], traj.qdd[:, j], torques.tau[:, j],
-                                  torques.stop[:, j], units, options))
+                                  torques.stop[:, j], units, options,
+                                  motors=tuple(motors.get(name, ())) if motors else ()))
     return joints, torques
 
 
@@ -313,15 +488,38 @@ def _decimated(traj: Trajectory, step: int) -> Trajectory:
 
 
 def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray,
-                stop_tau: np.ndarray, units: tuple[Unit, ...], options: Options) -> JointSizing:
-    """Check every unit against one joint's torques and select one."""
+                stop_tau: np.ndarray, units: tuple[Unit, ...], options: Options, *,
+                motors: tuple[Motor, ...] = ()) -> JointSizing:
+    """Check every unit (every pair with `motors`) against one joint's torques; select one."""
     load = cycle_load(tau, qd, traj.dt, at_rest(qd, qdd))
-    reflections = reflect(units, traj.t, tau, qd, qdd, stop_tau, stop_time=options.stop_time,
-                          efficiency=options.efficiency, rotor_inertia=options.rotor_inertia)
-    candidates = [check_unit(load, r.unit, momentary=r.momentary, life_hours=options.life_hours,
-                             life_basis=options.life_basis, motor=r.motor) for r in reflections]
-    return JointSizing(name, load, tuple(candidates), select(candidates, options.prefer),
-                       0.0, False, 0.0, readonly(tau), readonly(stop_tau))
+    prefer = options.prefer or (DEFAULT_PREFER_WITH_MOTORS if motors else DEFAULT_PREFER)
+    if not motors:
+        reflections = reflect(units, traj.t, tau, qd, qdd, stop_tau,
+                              stop_time=options.stop_time, efficiency=options.efficiency,
+                              rotor_inertia=options.rotor_inertia)
+        candidates = [check_unit(load, r.unit, momentary=r.momentary,
+                                 life_hours=options.life_hours, life_basis=options.life_basis,
+                                 motor=r.motor) for r in reflections]
+        return JointSizing(name, load, tuple(candidates), select(candidates, prefer),
+                           0.0, False, 0.0, readonly(tau), readonly(stop_tau))
+    behind = reflect_motors(units, [m.rotor_inertia for m in motors], traj.t, tau, qd, qdd,
+                            stop_tau, stop_time=options.stop_time, efficiency=options.efficiency)
+    speed = np.abs(qd) * RPM_PER_RAD_S
+    pairs, reflection = [], {}
+    for u, unit in enumerate(units):
+        for m, motor in enumerate(motors):
+            r = behind[m][u]
+            gearhead = check_unit(load, unit, momentary=r.momentary,
+                                  life_hours=options.life_hours, life_basis=options.life_basis,
+                                  motor=r.motor)
+            pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio)
+            pairs.append(pair)
+            reflection[id(pair)] = r
+    selected = select(pairs, prefer)
+    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, readonly(tau),
+                        readonly(stop_tau))
+    shown = selected or joint.strongest
+    return replace(joint, motor_torque=frozen(reflection[id(shown)].motor_torque))
 
 
 def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
@@ -340,7 +538,8 @@ def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
 
 
 def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
-                    units: tuple[Unit, ...], options: Options) -> list[JointSizing]:
+                    units: tuple[Unit, ...], options: Options,
+                    motors: Motors | None = None) -> list[JointSizing]:
     """Attach to each joint without a unit the time scales at which each unit would fit.
 
     `robot` carries the chosen units' masses. Two more batched passes (gravity, and
@@ -361,14 +560,34 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
                 torque=torques.tau[:, c], stop_torque=torques.stop[:, c],
                 gravity=torques.gravity[:, c], coast=torques.coasting[:, c],
                 stop_time=options.stop_time)
-            scales = joint_scales(cycle, units, efficiency=options.efficiency,
-                                  rotor_inertia=options.rotor_inertia,
-                                  check_options={"life_hours": options.life_hours,
-                                                 "life_basis": options.life_basis})
-            joint = replace(joint, slowdown=_rounded(scales.slowdown(), scales, traj.duration),
-                            scales=scales)
+            slowdown, scales = fitting_time_scales(
+                cycle, units, options,
+                motors=tuple(motors.get(joint.name, ())) if motors else ())
+            joint = replace(joint, slowdown=slowdown, scales=scales)
         out.append(joint)
     return out
+
+
+def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Options, *,
+                        motors: Sequence[Motor] = ()) -> tuple[Slowdown, JointScales]:
+    """For a joint no unit fits: every unit's feasible time scales and the smallest slow-down.
+
+    Args:
+        cycle: The joint's cycle split by how its torques scale.
+        units: The catalog.
+        options: The assumptions (efficiency, rotor inertia, life requirement).
+        motors: The joint's candidate motors: then the scales are per (gearhead, motor)
+            pair, each with its motor's rotor inertia and rules.
+
+    Returns:
+        The slow-down, its factor rounded to 0.001 (see `_rounded`), and the scales.
+    """
+    scales = joint_scales(cycle, units, efficiency=options.efficiency,
+                          rotor_inertia=options.rotor_inertia,
+                          check_options={"life_hours": options.life_hours,
+                                         "life_basis": options.life_basis},
+                          motors=tuple(motors))
+    return _rounded(scales.slowdown(), scales, cycle.duration), scales
 
 
 def _rounded(slowdown: Slowdown, scales: JointScales, duration: float) -> Slowdown:

@@ -35,6 +35,12 @@ class JointSummary:
         flags: Catalog stand-ins and corrections the figures depend on.
         slowdown: Smallest uniform slow-down that would fit, when no unit fits; None otherwise
             or when none helps.
+        motor: Where motors are given, the selected motor's id (None when no pair fits);
+            None without motor data.
+        motor_candidate: Where motors are given, the motor of `candidate`.
+        motor_binding: The motor's check with the highest utilization for `candidate`.
+        inertia_ratio: Load inertia at the motor shaft over the rotor inertia for
+            `candidate` [-] (`hdselect.sizing.JointSizing.inertia_ratio`).
     """
 
     name: str
@@ -52,6 +58,10 @@ class JointSummary:
     gravity_loaded: bool
     flags: tuple[str, ...]
     slowdown: float | None
+    motor: str | None = None
+    motor_candidate: str | None = None
+    motor_binding: str | None = None
+    inertia_ratio: float | None = None
 
 
 @dataclass(frozen=True)
@@ -66,6 +76,10 @@ class Summary:
         feasible: Every joint has a unit.
         options: The assumptions (`hdselect.options.Options` as a dict).
         joints: One per sized joint, in the robot's order.
+        root_link: The link held fixed to the world.
+        payload_mass: The payload's mass [kg]; 0 without one.
+        payload_frame: The frame the payload is (or would be) attached to.
+        warnings: The result's warning lines (robot file, motion file, cycle).
     """
 
     robot: str
@@ -75,6 +89,10 @@ class Summary:
     feasible: bool
     options: dict[str, Any]
     joints: tuple[JointSummary, ...]
+    root_link: str = ""
+    payload_mass: float = 0.0
+    payload_frame: str = ""
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """Plain lists, dicts, strings and numbers, ready for JSON."""
@@ -102,6 +120,10 @@ def summarize(result: SizingResult) -> Summary:
         feasible=result.feasible,
         options=asdict(result.options),
         joints=tuple(_joint(joint) for joint in result.joints),
+        root_link=result.robot.root_link,
+        payload_mass=0.0 if result.robot.payload is None else result.robot.payload.mass,
+        payload_frame=result.robot.payload_frame,
+        warnings=result.warnings,
     )
 
 
@@ -125,4 +147,9 @@ def _joint(joint: JointSizing) -> JointSummary:
         gravity_loaded=joint.gravity_loaded,
         flags=tuple(sorted({flag.code for flag in chosen.flags})),
         slowdown=None if slowdown is None else slowdown.factor,
+        motor=(joint.selected.motor_unit.id if joint.selected is not None
+               and joint.selected.motor_unit is not None else None),
+        motor_candidate=None if chosen.motor_unit is None else chosen.motor_unit.id,
+        motor_binding=chosen.motor_binding,
+        inertia_ratio=joint.inertia_ratio(chosen),
     )

@@ -26,8 +26,9 @@ import numpy as np
 
 from hdselect.arrays import frozen
 from hdselect.catalog import Unit
-from hdselect.reflect import DEFAULT_EFFICIENCY, reflect
-from hdselect.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load
+from hdselect.motors import Motor
+from hdselect.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
+from hdselect.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load, with_motor
 
 S_MIN = 1e-3
 """Fastest scale searched [-]: 1000 times faster is as good as infinitely fast; no
@@ -177,8 +178,9 @@ class JointScales:
 
     Attributes:
         duration: Cycle time at s = 1 [s].
-        fits: Unit id -> the closed intervals of s at which that unit passes every
-            rule (see `feasible_scales`), in catalog order; empty where none does.
+        fits: Unit id (with motors, the pair's ``"unit + motor"``) -> the closed
+            intervals of s at which that unit passes every rule (see
+            `feasible_scales`), in catalog order; empty where none does.
     """
 
     duration: float
@@ -208,36 +210,51 @@ class JointScales:
 
 def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
              efficiency: float = DEFAULT_EFFICIENCY, rotor_inertia: float = 0.0,
-             check_options: Mapping[str, Any] | None = None) -> Candidate:
+             check_options: Mapping[str, Any] | None = None,
+             motor: Motor | None = None) -> Candidate:
     """Every rule of one unit on the cycle run s times slower [-], as the sizing checks.
 
-    The keywords are those of `feasible_scales`. Returns the candidate with its motor demand.
+    The keywords are those of `feasible_scales`. Returns the candidate with its motor
+    demand; with a `motor`, the pair, its rotor inertia used and its rules checked.
     """
     at = cycle.at(s)
     load = cycle_load(at.torque, at.qd, at.dt, at.at_rest)
     (reflection,) = reflect([unit], at.t, at.torque, at.qd, at.qdd, at.stop_torque,
                             stop_time=cycle.stop_time, efficiency=efficiency,
-                            rotor_inertia=rotor_inertia)
-    return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
-                      **(check_options or {}))
+                            rotor_inertia=rotor_inertia if motor is None
+                            else motor.rotor_inertia)
+    demand = reflection.motor
+    if at.dt.size and np.ptp(at.dt) > 0.0:  # samples of unequal length: RMS weighted by it
+        demand = weighted_demand(demand, reflection.motor_torque, at.qd, unit.ratio, at.dt)
+    candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
+                           **(check_options or {}))
+    if motor is None:
+        return candidate
+    return with_motor(candidate, motor, reflection.motor_torque,
+                      np.abs(at.qd) * unit.ratio * RPM_PER_RAD_S)
 
 
 def exact_scales(cycle: ScalableCycle, unit: Unit, *,
-                 rotor_inertia: float = 0.0) -> tuple[Interval, ...]:
+                 rotor_inertia: float = 0.0, motor: Motor | None = None) -> tuple[Interval, ...]:
     """The scales at which every rule on single samples holds, solved exactly.
 
     Peak (moving samples) and static (at rest): |tau(s)| <= the limit; emergency
     stop: |stop(s)| <= momentary limit; crash: |tau(s)| + K |qd| / s <= momentary
     limit, K = (J_in + J_m) N^2 / t_stop [N m s]; input speed: max |qd| N / s <= the
-    unit's maximum [rpm]. Per sample each is a quadratic inequality in y = 1/s.
+    unit's maximum [rpm] (and the motor's, with a `motor`, whose rotor inertia is then
+    J_m). Per sample each is a quadratic inequality in y = 1/s. The motor's
+    torque-speed rule is not among them: `feasible_scales` checks it on its grid.
 
     Returns:
         Sorted disjoint closed intervals of s in (0, inf) [-]; lo may be 0, hi inf.
     """
+    if motor is not None:
+        rotor_inertia = motor.rotor_inertia
     k = (unit.input_inertia + rotor_inertia) * unit.ratio**2 / cycle.stop_time
     speed = float(np.abs(cycle.qd).max(initial=0.0)) * unit.ratio * RPM_PER_RAD_S
-    # input speed: speed y <= the unit's maximum
-    found = _intersect(*_solve(np.zeros(1), np.array([speed]), np.array([-unit.max_input_speed])))
+    top = unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed)
+    # input speed: speed y <= the unit's maximum (and the motor's)
+    found = _intersect(*_solve(np.zeros(1), np.array([speed]), np.array([-top])))
     for start in range(0, len(cycle.t), _CHUNK):  # pieces of bounded memory, intersected
         if not found:
             break
@@ -262,7 +279,8 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
 
 def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEFAULT_EFFICIENCY,
                     rotor_inertia: float = 0.0,
-                    check_options: Mapping[str, Any] | None = None) -> tuple[Interval, ...]:
+                    check_options: Mapping[str, Any] | None = None,
+                    motor: Motor | None = None) -> tuple[Interval, ...]:
     """Every time scale s at which one unit passes every rule of `check_unit`.
 
     Inside each interval of `exact_scales`, clipped to [S_MIN, S_MAX], `check_at` is
@@ -276,6 +294,8 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
         efficiency: Gear efficiency where the unit has no table [-].
         rotor_inertia: Motor rotor inertia J_m [kg m^2].
         check_options: Keywords for `hdselect.rules.check_unit`, e.g. ``life_hours``.
+        motor: A motor paired with the unit: its rotor inertia replaces `rotor_inertia`,
+            and its rules (`hdselect.rules.check_motor`) must hold too.
 
     Returns:
         Sorted disjoint closed intervals (lo, hi) of s [-], lo >= S_MIN, hi may be
@@ -284,10 +304,10 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
 
     def passes(s: float) -> bool:
         return check_at(cycle, unit, s, efficiency=efficiency, rotor_inertia=rotor_inertia,
-                        check_options=check_options).feasible
+                        check_options=check_options, motor=motor).feasible
 
     found: list[Interval] = []
-    for lo, hi in exact_scales(cycle, unit, rotor_inertia=rotor_inertia):
+    for lo, hi in exact_scales(cycle, unit, rotor_inertia=rotor_inertia, motor=motor):
         first, last = max(lo, S_MIN), min(hi, S_MAX)
         if first <= last:
             found.extend(_passing(passes, first, last, hi))
@@ -296,8 +316,17 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
 
 def joint_scales(cycle: ScalableCycle, units: Sequence[Unit], *,
                  efficiency: float = DEFAULT_EFFICIENCY, rotor_inertia: float = 0.0,
-                 check_options: Mapping[str, Any] | None = None) -> JointScales:
-    """`feasible_scales` of every unit for one joint (same arguments, one unit each)."""
+                 check_options: Mapping[str, Any] | None = None,
+                 motors: Sequence[Motor] = ()) -> JointScales:
+    """`feasible_scales` of every unit for one joint (same arguments, one unit each).
+
+    With `motors`, of every (unit, motor) pair, keyed ``"unit + motor"``, unit by unit.
+    """
+    if motors:
+        return JointScales(cycle.duration, {
+            f"{unit.id} + {motor.id}": feasible_scales(
+                cycle, unit, efficiency=efficiency, check_options=check_options, motor=motor)
+            for unit in units for motor in motors})
     return JointScales(cycle.duration, {
         unit.id: feasible_scales(cycle, unit, efficiency=efficiency,
                                  rotor_inertia=rotor_inertia, check_options=check_options)

@@ -3,7 +3,11 @@
 The path is a clamped cubic spline through the waypoints (chord-length
 parametrised), with 200 cosine-spaced TOPPRA gridpoints per spline segment. A
 waypoint with a dwell splits the path into pieces that each start and end at
-rest. TOPPRA's constant-acceleration parametrisation overshoots the limits
+rest. A cubic spline overshoots its waypoints: where that would take a joint
+past its position limit (a waypoint on or near the limit, such as a home pose
+on a stop), that joint alone follows a shape-preserving cubic instead (PCHIP
+slopes, zero at the ends), which never leaves the range of its neighbouring
+waypoints. TOPPRA's constant-acceleration parametrisation overshoots the limits
 between gridpoints (measured up to 2.5e-3 relative); each piece is therefore
 slowed down uniformly by its overshoot (plus 1e-4), which keeps the sampled
 velocity and acceleration within ``TOPPRA_TOLERANCE`` of the limits (measured:
@@ -75,7 +79,6 @@ def _quiet() -> Iterator[None]:
 def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
     """Time-optimal pieces of the spline path, split at waypoints with a dwell."""
     with _quiet():
-        import toppra
         import toppra.algorithm as algorithm
         import toppra.constraint as constraint
     velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
@@ -105,7 +108,7 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
         grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, _GRID_PER_SEGMENT * len(points) + 1))
         with _quiet():
             try:
-                path = toppra.SplineInterpolator(chord / chord[-1], points, bc_type="clamped")
+                path = _Path(chord / chord[-1], points, robot.lower, robot.upper)
             except (ValueError, ArithmeticError) as err:
                 raise PlanningError(f"{motion.path}: toppra: no spline through waypoint[{first}]"
                                     f" to waypoint[{last}]: {err}") from err
@@ -129,6 +132,66 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
                                 f"waypoint[{last}] cannot be timed with these limits "
                                 f"({type(err).__name__}: {err})") from err
     return pieces
+
+
+class _Path:
+    """A geometric path through waypoints, as TOPPRA evaluates it: q(s) and its derivatives.
+
+    Each joint follows the clamped cubic spline through its waypoints unless that
+    spline leaves the joint's position limits; then it follows a monotone piecewise
+    cubic (PCHIP's slopes inside, zero slope at both ends), which stays between
+    neighbouring waypoints.
+
+    Args:
+        ss: Path parameter at each waypoint, increasing from 0 to 1 [-].
+        points: Waypoints [rad or m], shape (k, dof).
+        lower: Lower position limits [rad or m], shape (dof,).
+        upper: Upper position limits [rad or m], shape (dof,).
+    """
+
+    def __init__(self, ss: np.ndarray, points: np.ndarray, lower: np.ndarray,
+                 upper: np.ndarray):
+        from scipy.interpolate import CubicHermiteSpline, CubicSpline, PchipInterpolator
+
+        spline = CubicSpline(ss, points, bc_type="clamped")
+        dense = spline(np.linspace(ss[0], ss[-1], _GRID_PER_SEGMENT * len(ss) + 1))
+        leaves = np.any((dense < lower - 1e-12) | (dense > upper + 1e-12), axis=0)
+        self.shape_preserving = tuple(int(j) for j in np.flatnonzero(leaves))
+        if self.shape_preserving:
+            slopes = PchipInterpolator(ss, points, axis=0).derivative()(ss)
+            slopes[[0, -1]] = 0.0
+            monotone = CubicHermiteSpline(ss, points, slopes, axis=0)
+            spline.c[:, :, leaves] = monotone.c[:, :, leaves]
+        self._splines = (spline, spline.derivative(), spline.derivative(2))
+        self._ss, self._points = ss, points
+
+    def __call__(self, path_positions, order: int = 0):
+        """Positions (order 0) or their first or second derivative along the path."""
+        return self._splines[order](path_positions)
+
+    def eval(self, ss):  # noqa: D102  (TOPPRA's path interface)
+        return self(ss, 0)
+
+    def evald(self, ss):  # noqa: D102
+        return self(ss, 1)
+
+    def evaldd(self, ss):  # noqa: D102
+        return self(ss, 2)
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom."""
+        return int(self._points.shape[1])
+
+    @property
+    def path_interval(self) -> np.ndarray:
+        """First and last path parameter."""
+        return np.array([self._ss[0], self._ss[-1]])
+
+    @property
+    def waypoints(self):
+        """Path parameters and positions of the waypoints."""
+        return self._ss, self._points
 
 
 def _toppra_solve(algorithm, constraints, path, grid, motion, first, last):
