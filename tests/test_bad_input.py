@@ -488,6 +488,158 @@ def test_sigterm_removes_every_temporary(work):
     assert sorted(p.name for p in Path(".").iterdir()) == ["robots", "tr"]
 
 
+# --- the inputs and outputs of issues 11 to 14: motors, studies, joints, init -----------------
+
+MOTORS = REPO / "motors" / "example_motors.toml"
+
+
+def motor_file(old: str, new: str) -> str:
+    text = MOTORS.read_text()
+    assert old in text, old
+    Path("motors.toml").write_text(text.replace(old, new, 1))
+    return "motors.toml"
+
+
+@pytest.mark.parametrize(("old", "new", "says"), [
+    ("rated_torque_nm = 0.004", "rated_torque_nm = nan", "rated_torque_nm: must be finite"),
+    ("peak_torque_nm = 0.014", "peak_torque_nm = 1e308", "peak_torque_nm: must be a torque"),
+    ("max_speed_rpm = 7000", "max_speed_rpm = inf", "max_speed_rpm: must be finite"),
+    ("rotor_inertia_kg_cm2 = 0.0012", "rotor_inertia_kg_cm2 = 1e-320",
+     "rotor_inertia_kg_cm2: must be 0 or at least"),
+    ("mass_kg = 0.06", "mass_kg = -1", "mass_kg: must be a mass of at least 0"),
+])
+def test_a_bad_number_in_a_motor_file_is_one_line_and_no_output(work, capsys, old, new, says):
+    path = motor_file(old, new)
+    for argv in (["size", f"tr/{PLANAR2}", "--json", "out.json", "--report", "report"],
+                 ["compare", f"tr/{PLANAR2}", "--json", "out.json"]):
+        refused(capsys, *argv, "--motor-catalog", path, says=(f"{path}: motor[EX-16].", says))
+
+
+def test_nan_in_a_motion_files_motor_table_is_one_line(work, capsys):
+    motion = Path("tr", PLANAR2).read_text() + (
+        "\n[motor.shoulder]\nrated_torque_nm = 0.1\npeak_torque_nm = nan\n"
+        "max_speed_rpm = 6000\nrated_speed_rpm = 3000\nrotor_inertia_kg_cm2 = 0.01\n"
+        "mass_kg = 0.2\n")
+    Path("tr/motor.toml").write_text(motion)
+    refused(capsys, "size", "tr/motor.toml", "--json", "out.json",
+            says=("motor.toml: motor.shoulder.peak_torque_nm: must be finite",))
+
+
+def test_a_robot_files_velocity_limit_used_as_a_default_is_range_checked(work, capsys):
+    text = (REPO / "robots" / "planar2.urdf").read_text()
+    assert 'velocity="4.0"' in text
+    Path("fast.urdf").write_text(text.replace('velocity="4.0"', 'velocity="1e300"', 1))
+    motion = variant("nolimit.toml", PLANAR2, ("robot = ", "# robot = "))
+    lines = Path(motion).read_text().splitlines()
+    Path(motion).write_text("\n".join(line for line in lines
+                                       if not line.startswith("velocity")) + "\n")
+    refused(capsys, "size", "fast.urdf", motion, says=(
+        "fast.urdf: joint[", "].limit.velocity: must be a speed limit", "limits.velocity"))
+
+
+def small_study(text: str = "") -> str:
+    Path("s.toml").write_text(f"""title = "small"
+[base]
+motion = "tr/{PLANAR2}"
+[grid]
+stop_time = [0.05, 0.1, 0.15]
+{text}""")
+    return "s.toml"
+
+
+@pytest.mark.parametrize(("out", "says"), [
+    (os.devnull, "is a device or a named pipe"),
+    ("-", "--out: a study keeps its rows in a file"),
+    ("existing", "is a directory"),
+    ("nowhere/rows.csv", "does not exist"),
+    ("s.toml", "is an input file"),
+])
+def test_a_study_output_that_cannot_hold_its_rows_is_refused_before_any_case(work, capsys, out,
+                                                                              says):
+    Path("existing").mkdir()
+    refused(capsys, "study", small_study(), "--out", out, "--workers", "0", says=(says,))
+    assert Path(os.devnull).is_char_device()
+
+
+def test_a_bad_study_file_writes_nothing(work, capsys):
+    study = small_study("time_scale = [1.0, nan]")
+    refused(capsys, "study", study, "--out", "rows.csv", "--plot", "rows.png",
+            says=("s.toml: grid.time_scale[1]: must be finite",))
+
+
+def test_a_study_follows_a_symlink_and_keeps_its_journal_beside_the_target(work, capsys):
+    Path("store").mkdir()
+    Path("rows.csv").symlink_to("store/real.csv")
+    status, out, _ = run(capsys, "study", small_study(), "--out", "rows.csv", "--workers", "0")
+    assert status == 0
+    assert Path("rows.csv").is_symlink() and Path("store/real.csv").is_file()
+    assert len(Path("store/real.jsonl").read_text().splitlines()) == 3
+    assert "store/real.csv; records:" in " ".join(out.split())
+
+
+def test_sigterm_during_a_study_keeps_the_finished_cases_and_resumes(work):
+    study = small_study()
+    process = cli_process("study", study, "--out", "rows.csv", "--workers", "1",
+                          "--no-grouping", "--plot", "rows.png", cwd=work)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and not (
+            Path("rows.jsonl").is_file() and Path("rows.jsonl").read_text().count("\n")):
+        time.sleep(0.02)  # until the first case is kept
+    process.send_signal(signal.SIGTERM)
+    _, err = process.communicate(timeout=60)
+    assert process.returncode == 143, err
+    assert err.strip().splitlines() == [
+        "hdselect: terminated; the cases done are kept in rows.csv and its journal "
+        "rows.jsonl; run the same command to resume"]
+    kept = [json.loads(line) for line in Path("rows.jsonl").read_text().splitlines()]
+    assert 1 <= len(kept) <= 3 and not Path("rows.png").exists()
+    assert [p.name for p in Path(".").iterdir() if p.name.startswith(".")] == []
+    again = cli_process("study", study, "--out", "rows.csv", "--workers", "0",
+                        "--plot", "rows.png", cwd=work)
+    out, err = again.communicate(timeout=120)
+    assert again.returncode == 0, err
+    assert f"{len(kept)} already done" in " ".join(out.split())
+    assert len(Path("rows.jsonl").read_text().splitlines()) == 3 and Path("rows.png").is_file()
+
+
+def test_init_never_replaces_a_file_even_through_a_symlink(work, capsys):
+    Path("mine.toml").write_text("keep")
+    Path("link.toml").symlink_to("mine.toml")
+    for target in ("mine.toml", "link.toml"):
+        refused(capsys, "init", "robots/planar2.urdf", "--out", target,
+                says=(f"{target}: --out: exists",))
+    assert Path("mine.toml").read_text() == "keep"
+    refused(capsys, "init", "robots/planar2.urdf", "--out", "robots/planar2.urdf",
+            says=("is an input file",))
+
+
+def test_a_file_that_appears_while_init_runs_is_not_replaced(work, capsys, monkeypatch):
+    import hdselect.starter
+
+    real = hdselect.starter.starter_motion
+
+    def racing(*args, **kwargs):
+        Path("new.toml").write_text("someone else's")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(hdselect.starter, "starter_motion", racing)
+    status, out, err = run(capsys, "init", "robots/planar2.urdf", "--out", "new.toml")
+    assert status == 2 and out == "" and "new.toml" in err and "not replaced" in err
+    assert Path("new.toml").read_text() == "someone else's"
+    assert [p.name for p in Path(".").iterdir() if p.name.startswith(".")] == []
+
+
+@pytest.mark.parametrize("command", [["compare", f"tr/{PLANAR2}"], ["joints",
+                                                                    "robots/planar2.urdf"]])
+def test_compare_and_joints_outputs_are_one_transaction(work, capsys, command):
+    extra = ["--report", "report"] if command[0] == "compare" else []
+    refused(capsys, *command, *extra, "--json", "/proc/x/out.json",
+            says=("/proc/x/out.json: --json",))
+    status, out, _ = run(capsys, *command, *extra, "--json", "-")
+    assert status == 0
+    json.loads(out, parse_constant=lambda constant: pytest.fail(constant))
+
+
 # --- the Python API ----------------------------------------------------------------------------
 
 PLANAR2_PATH = TRAJECTORIES / PLANAR2

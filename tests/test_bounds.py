@@ -70,3 +70,13 @@ def test_file_arguments():
     for value in (None, 3, ""):
         with pytest.raises(InputError, match="expected a file name"):
             bounds.file_argument(value, "path")
+
+
+def test_a_quantity_that_divides_is_zero_or_not_tiny():
+    """A rotor inertia divides the load inertia: 0 (none) or at least 1e-12 kg m^2, checked
+    as given, so a value in kg cm^2 that would underflow to 0 in SI is refused too."""
+    assert bounds.ROTOR_INERTIA.check(0.0) == 0.0
+    assert bounds.ROTOR_INERTIA.check(1e-12) == 1e-12
+    for value, scale in ((1e-13, 1.0), (5e-324, 1.0), (1e-320, 1e-4), (-0.0 + 1e-9, 1e-4)):
+        with pytest.raises(InputError, match="must be 0 or at least"):
+            bounds.ROTOR_INERTIA.check(value, scale=scale, unit="kg cm^2")

@@ -116,10 +116,10 @@ BAD_FILES = [
     (GOOD.replace("max_speed_rpm = 6000", "max_speed_rpm = 1e300"),
      "motor[M1].max_speed_rpm", "between 1 and 1e+06"),
     (GOOD.replace("rotor_inertia_kg_cm2 = 0.05", "rotor_inertia_kg_cm2 = 1e308"),
-     "motor[M1].rotor_inertia_kg_cm2", "at most 1000"),
+     "motor[M1].rotor_inertia_kg_cm2", "at most 1e+07 kg cm^2"),
     # found by fuzzing: a subnormal rotor inertia made the load/rotor ratio infinite
     (GOOD.replace("rotor_inertia_kg_cm2 = 0.05", "rotor_inertia_kg_cm2 = 2.2e-311"),
-     "motor[M1].rotor_inertia_kg_cm2", "must be 0 or at least 1e-12 kg m^2"),
+     "motor[M1].rotor_inertia_kg_cm2", "must be 0 or at least 1e-08 kg cm^2"),
     (GOOD.replace("mass_kg = 0.3", 'mass_kg = "0.3"'), "motor[M1].mass_kg", "number"),
     (GOOD.replace("peak_torque_nm = 0.3\n", "peak_torque_nm = 0.05\n", 1),
      "motor[M1].peak_torque_nm", "below the rated torque"),

@@ -72,7 +72,7 @@ class Bound:
         if si > self.high or si < self.low or (self.low_open and si <= self.low):
             raise InputError(f"must be {self.describe(scale, unit)}, got {number:g}",
                              path=path, field=field)
-        if si != 0.0 and abs(si) < self.smallest:
+        if number != 0.0 and abs(si) < self.smallest:  # si may underflow to 0
             label = self.unit if unit is None else unit
             raise InputError(f"must be 0 or at least {self.smallest / scale:g} {label}, got "
                              f"{number:g}", path=path, field=field)

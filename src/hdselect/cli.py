@@ -419,17 +419,20 @@ def run_init(args: argparse.Namespace) -> int:
 
     robot = load_robot(args.robot)
     out = None if args.out in (None, "-") else Path(args.out)
-    where = os.path.abspath(out.parent if out is not None else Path.cwd())
-    target = os.path.abspath(robot.path)
-    shared = os.path.commonpath([target, where])
-    text = starter_motion(robot, str(target) if shared == os.sep
-                          else os.path.relpath(target, where))
+
+    def text() -> str:
+        where = os.path.abspath(out.parent if out is not None else Path.cwd())
+        target = os.path.abspath(robot.path)
+        shared = os.path.commonpath([target, where])
+        return starter_motion(robot, str(target) if shared == os.sep
+                              else os.path.relpath(target, where))
+
     if out is None:
-        sys.stdout.write(text)
+        sys.stdout.write(text())
         return EXIT_OK
     with Outputs([robot.path]) as outputs:
         staging = outputs.file(out, "--out", exclusive=True)
-        staging.write_text(text, encoding="utf-8")
+        staging.write_text(text(), encoding="utf-8")
         note = _rendered(Paragraphs((f"wrote {out}; edit its waypoints, limits and payload, "
                                      f"then: hdselect size {out}",)))
         outputs.commit()

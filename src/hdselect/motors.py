@@ -226,7 +226,9 @@ def motor_from_table(table: Mapping[str, Any], path: Path, where: str, *,
         raise InputError(f"give exactly one of {keys}", path=path,
                          field=f"{where}.{given[-1][0] if given else _INERTIA_KEYS[0][0]}")
     key, factor = given[0]
-    values["rotor_inertia"] = as_number(table[key], path, f"{where}.{key}") * factor
+    values["rotor_inertia"] = as_number(  # checked as given: kg cm^2 may underflow to 0
+        table[key], path, f"{where}.{key}", bound=bounds.ROTOR_INERTIA, scale=factor,
+        unit="kg cm^2" if factor != 1.0 else None) * factor
     if "curve" in table:
         values["curve"] = _curve(table_of(table["curve"], path, f"{where}.curve"), path,
                                  f"{where}.curve")

@@ -208,8 +208,10 @@ class Outputs:
         """
         done: list[tuple[Path, Path | None]] = []  # (target, backup of what it replaced)
         created: list[Path] = []
+        current: _Staged | None = None  # the output being placed, for the message
         try:
             for staged in self._staged:
+                current = staged
                 if staged.kind == "file" and staged.exclusive:
                     assert staged.target is not None
                     _place_new(staged.staging, staged.target)
@@ -224,6 +226,7 @@ class Outputs:
                         destination = staged.target / item.name
                         done.append((destination, _swap(item, destination)))
             for staged in self._staged:
+                current = staged
                 if staged.kind == "direct":
                     assert staged.target is not None
                     with staged.staging.open("rb") as source, staged.target.open("wb") as sink:
@@ -234,8 +237,9 @@ class Outputs:
                              "changed", path=err.filename) from err
         except OSError as err:
             _roll_back(done, created)
-            raise InputError(f"cannot write the outputs ({err.strerror or err}); nothing was "
-                             "changed") from err
+            raise InputError(f"cannot write here ({err.strerror or err}); nothing was changed",
+                             path=None if current is None else current.target,
+                             field=None if current is None else current.option) from err
         except BaseException:
             _roll_back(done, created)
             raise
