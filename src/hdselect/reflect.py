@@ -45,10 +45,17 @@ class Reflection:
     motor: MotorDemand
     momentary: Momentary
     _cycle: tuple[np.ndarray, np.ndarray, np.ndarray, float, float] = field(repr=False)
+    _torque: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def motor_torque(self) -> np.ndarray:
-        """Motor torque per sample [N m], shape (n,); computed when asked for."""
+        """Motor torque per sample [N m], shape (n,).
+
+        Kept from the reflection for a cycle of one `CHUNK`; for a longer one computed
+        when asked for (the same floats), so a long cycle's reflections stay small.
+        """
+        if self._torque is not None:
+            return self._torque
         tau, qd, qdd, efficiency, rotor_inertia = self._cycle
         return _motor_torques([self.unit], tau, qd, qdd, efficiency, rotor_inertia)[0]
 
@@ -134,6 +141,7 @@ def reflect_motors(
     crash_best = np.full(inertia.shape, -np.inf)
     crash_at = np.zeros(inertia.shape, dtype=int)
     rows = np.arange(len(units))
+    kept: list[np.ndarray | None] = [None] * len(inertias)  # a one-chunk cycle's torques
     for start in range(0, n, CHUNK):
         part = slice(start, start + CHUNK)
         geared = _geared(units, ratio, tau[part], qd[part], efficiency)
@@ -148,6 +156,8 @@ def reflect_motors(
             better = crash[rows, i] > crash_best[k]  # strictly: the first worst instant wins
             crash_best[k] = np.where(better, crash[rows, i], crash_best[k])
             crash_at[k] = np.where(better, i + start, crash_at[k])
+            if n <= CHUNK:
+                kept[k] = motor
     rms = np.sqrt(squares / n)
     max_speed = float(np.abs(qd).max()) * RPM_PER_RAD_S * ratio
     rms_speed = float(np.sqrt(np.dot(qd, qd) / n)) * RPM_PER_RAD_S * ratio
@@ -167,8 +177,10 @@ def reflect_motors(
             demand = MotorDemand(float(peak[k, row]), float(rms[k, row]), float(max_speed[row]),
                                  "table" if unit.efficiency is not None else efficiency,
                                  float(rms_speed[row]))
+            torque = kept[k]
             behind.append(Reflection(unit, demand, event,
-                                     (tau, qd, qdd, efficiency, rotor_inertia)))
+                                     (tau, qd, qdd, efficiency, rotor_inertia),
+                                     None if torque is None else torque[row]))
         out.append(behind)
     return out
 
