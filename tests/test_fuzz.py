@@ -567,12 +567,21 @@ OPTIONS = {  # option -> how many values it takes
     "--payload": 1, "--payload-com": 3, "--payload-frame": 1, "--mounting": 1,
     "--stop-time": 1, "--efficiency": 1, "--motor-inertia": 1, "--motor-mass": 1,
     "--life-hours": 1, "--life-basis": 1, "--prefer": 1, "--max-samples": 1,
+    "--joints": 1, "--exclude": 1, "--motor-catalog": 1,
 }
 
 
 @st.composite
 def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
-    command = draw(st.sampled_from(["size", "size", "compare", "plan", "duty", "catalog"]))
+    command = draw(st.sampled_from(["size", "size", "compare", "plan", "duty", "catalog",
+                                    "joints", "init"]))
+    if command in ("joints", "init"):
+        robot = draw(st.sampled_from(["robots/planar2.urdf", "robots/pan_tilt.urdf",
+                                      "tr/planar2_pick_place.toml", "none.urdf"]))
+        path = draw(output_path)
+        option = "--json" if command == "joints" else "--out"
+        return [command, robot, *([option, path] if draw(st.booleans()) else [])], (
+            (path,) if command == "joints" else ()), ()
     if command == "catalog":
         return ["catalog", *draw(st.sampled_from([[], ["--json"], ["--units", "imperial"],
                                                   ["--units", "si"]]))], (), ()
@@ -592,10 +601,19 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
             argv += ["--plot", draw(st.sampled_from(["-", "fig.png", "/proc/x.png"]))]
     for option in draw(st.lists(st.sampled_from(list(OPTIONS)), max_size=4, unique=True)):
         if command == "plan" and option not in ("--payload", "--payload-com", "--payload-frame",
-                                                "--mounting", "--max-samples"):
+                                                "--mounting", "--max-samples", "--joints",
+                                                "--exclude"):
+            continue
+        if command == "plan" and option == "--motor-catalog":
             continue
         if option == "--payload-frame":
             values = [draw(st.sampled_from(["tool", "link1", "base_link", "nowhere", ""]))]
+        elif option in ("--joints", "--exclude"):
+            values = [draw(st.sampled_from(["shoulder", "elbow", "shoulder,elbow", "pan", ",",
+                                            "nope", "tilt,pan", ""]))]
+        elif option == "--motor-catalog":
+            values = [draw(st.sampled_from(["motors/example_motors.toml", "none.toml",
+                                            "tr/planar2_pick_place.toml", "existing_dir"]))]
         elif option == "--mounting":
             values = [draw(st.sampled_from(["floor", "wall", "ceiling", "roof", "nan"]))]
         elif option == "--life-basis":
@@ -605,10 +623,13 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
         else:
             values = [draw(option_value) for _ in range(OPTIONS[option])]
         argv += [option, *values]
-    if command == "size" and draw(st.booleans()):
+    if command in ("size", "compare") and draw(st.booleans()):
         path = draw(output_path)
         argv += ["--json", path]
         written = (path,)
+    if command in ("size", "compare") and draw(st.integers(0, 3)) == 0:
+        argv += ["--report", draw(st.sampled_from(["-", "report", "existing_dir", os.devnull,
+                                                   "tr/planar2_pick_place.toml"]))]
     if "--max-samples" not in argv:
         argv += ["--max-samples", MAX_SAMPLES]
     return argv, written, csv

@@ -132,7 +132,7 @@ class Store:
                   "values": dict(case.values), **asdict(outcome),
                   "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         del record["index"]
-        self._journal.write(json.dumps(record) + "\n")
+        self._journal.write(json.dumps(record, allow_nan=False) + "\n")
         self._journal.flush()
         self.records[outcome.key] = record
         self._writer.writerows({k: cell(v) for k, v in row.items()}
@@ -149,7 +149,7 @@ class Store:
         if complete:
             current = [self.records[case.key] for case in self.study.cases]
             write_file(self.journal_path, lambda stream: stream.writelines(
-                json.dumps(record) + "\n" for record in current))
+                json.dumps(record, allow_nan=False) + "\n" for record in current))
             write_file(self.csv_path, lambda stream: self._write_csv(stream))
 
     def _write_csv(self, stream: TextIO) -> None:
