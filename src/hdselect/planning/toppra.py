@@ -25,6 +25,7 @@ import warnings
 from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -115,7 +116,8 @@ class Profile:
         s = self.piece.gridpoints[index] + step * self.sd[index] + 0.5 * step**2 * u
         return s, self.sd[index] + step * u, u
 
-    def sample(self, times: np.ndarray, scale: float = 1.0):
+    def sample(self, times: np.ndarray,
+               scale: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Positions, velocities and accelerations along the piece run `scale` times slower.
 
         Args:
@@ -282,6 +284,5 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
                 f"limits.acceleration) make the path from waypoint[{first}] to "
                 f"waypoint[{last}] infeasible")
         scale = overshoot_scale(found, velocity, acceleration)
-        moves.append(Move(first, last, found.duration * scale,
-                          lambda times, found=found, scale=scale: found.sample(times, scale)))
+        moves.append(Move(first, last, found.duration * scale, partial(found.sample, scale=scale)))
     return moves
