@@ -66,6 +66,9 @@ class PathPiece:
         q: p(s) at the gridpoints [rad or m], shape (m, dof).
         dq: p'(s) at the gridpoints [rad or m per unit of s], shape (m, dof).
         ddq: p''(s) at the gridpoints, shape (m, dof).
+        waypoints: Index of every waypoint the path passes through, in order (repeats
+            dropped).
+        knots: Path position s of each of those waypoints, shape (len(waypoints),).
     """
 
     first: int
@@ -75,6 +78,16 @@ class PathPiece:
     q: np.ndarray
     dq: np.ndarray
     ddq: np.ndarray
+    waypoints: tuple[int, ...] = ()
+    knots: np.ndarray | None = None
+
+    def segment(self, s: float) -> tuple[int, int]:
+        """The waypoints (indices) between which path position s [-] lies."""
+        if self.knots is None or len(self.waypoints) < 2:
+            return self.first, self.last
+        k = int(np.clip(np.searchsorted(self.knots, s, side="right") - 1, 0,
+                        len(self.waypoints) - 2))
+        return self.waypoints[k], self.waypoints[k + 1]
 
 
 @dataclass(frozen=True, eq=False)
@@ -158,16 +171,22 @@ def _quiet() -> Iterator[None]:
         log.setLevel(level)
 
 
-def path_pieces(motion: Motion, grid_per_waypoint: int = _GRID_PER_SEGMENT) -> list[PathPiece]:
+def path_pieces(motion: Motion, grid_per_waypoint: int = _GRID_PER_SEGMENT, *,
+                speeds: np.ndarray | None = None) -> list[PathPiece]:
     """The motion's path split where it dwells: a clamped cubic spline per piece.
 
     Repeated consecutive waypoints are dropped; a piece whose waypoints all coincide
-    has no path (zero length). Each piece gets ``grid_per_waypoint`` cosine-spaced
-    gridpoints per waypoint.
+    has no path (zero length). The spline's knots are at the cumulative chord length
+    (the TOPPRA planner's path) or, given `speeds`, at the cumulative time each
+    segment takes at those speeds, max_j |dq_j| / speed_j, which weighs joints in
+    different units (rad, m) alike. Each piece gets ``grid_per_waypoint``
+    cosine-spaced gridpoints per waypoint.
 
     Args:
         motion: The motion (waypoints and dwells).
         grid_per_waypoint: Gridpoints per waypoint of a piece.
+        speeds: Joint speeds that set the knots [rad/s or m/s], shape (dof,); None for
+            chord length.
 
     Returns:
         The pieces, in order.
@@ -180,18 +199,22 @@ def path_pieces(motion: Motion, grid_per_waypoint: int = _GRID_PER_SEGMENT) -> l
         points = motion.waypoints[first:last + 1]
         keep = np.r_[True, np.any(np.diff(points, axis=0) != 0.0, axis=1)]
         points = points[keep]
+        indices = tuple(int(i) for i in first + np.flatnonzero(keep))
         if len(points) < 2:
             nothing = frozen(np.zeros((0, len(motion.joint_names))))
             pieces.append(PathPiece(first, last, None, frozen(np.zeros(0)), nothing, nothing,
-                                    nothing))
+                                    nothing, indices))
             continue
-        chord = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))]
+        steps = np.diff(points, axis=0)
+        lengths = (np.linalg.norm(steps, axis=1) if speeds is None
+                   else np.max(np.abs(steps) / speeds, axis=1))
+        chord = np.r_[0.0, np.cumsum(lengths)]
         grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, grid_per_waypoint * len(points) + 1))
         with _quiet():
             path = toppra.SplineInterpolator(chord / chord[-1], points, bc_type="clamped")
             q, dq, ddq = path(grid), path(grid, 1), path(grid, 2)
         pieces.append(PathPiece(first, last, path, frozen(grid), frozen(q), frozen(dq),
-                                frozen(ddq)))
+                                frozen(ddq), indices, frozen(chord / chord[-1])))
     return pieces
 
 
