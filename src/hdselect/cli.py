@@ -88,6 +88,27 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--joint", action="append", metavar="NAME",
                          help="show only this joint (repeatable)")
     compare.set_defaults(run=run_compare)
+
+    fastest = commands.add_parser(
+        "fastest", help="the shortest cycle of the motion's path that the gearheads allow")
+    _robot_motion(fastest)
+    _sizing_options(fastest)
+    fastest.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
+                         help="the unit of a joint, as `hdselect catalog` names it (repeatable; "
+                              "default: the unit `size` selects)")
+    fastest.add_argument("--compare-ratios", action="store_true",
+                         help="the shortest cycle with every catalog unit on each joint, the "
+                              "others fixed")
+    fastest.add_argument("--joint", action="append", metavar="NAME",
+                         help="with --compare-ratios: compare this joint only (repeatable)")
+    fastest.add_argument("--out", metavar="FILE",
+                         help="CSV of the fastest trajectory: t, then q_, qd_, qdd_, tau_ per "
+                              "sized joint (SI)")
+    fastest.add_argument("--plot", metavar="PNG",
+                         help="speed and torque per joint; with --compare-ratios, cycle time "
+                              "against unit")
+    _json_option(fastest)
+    fastest.set_defaults(run=run_fastest)
     return parser
 
 
@@ -237,6 +258,79 @@ def run_compare(args: argparse.Namespace) -> int:
     return 0 if result.feasible else 1
 
 
+def run_fastest(args: argparse.Namespace) -> int:
+    """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
+    from hdselect.catalog import load_catalog
+    from hdselect.codesign import compare_ratios, fastest
+    from hdselect.export import fastest_json, ratios_json, write_json, write_trajectory_csv
+    from hdselect.report import binding_table, console, fastest_table, ratios_table
+
+    if args.joint and not args.compare_ratios:
+        raise InputError("only with --compare-ratios", field="--joint")
+    robot, motion = _load_case(args)
+    options = _options(args, motion)
+    _keep_inputs([args.json, args.out, args.plot], [*_inputs(robot, motion), *args.catalog])
+    units = load_catalog(args.catalog)
+    given = _unit_pairs(args.units)
+    try:
+        if args.compare_ratios:
+            comparison = compare_ratios(robot, motion, given, options, catalog=units,
+                                        joints=args.joint)
+            result = comparison.base
+        else:
+            result = fastest(robot, motion, given, options, catalog=units)
+    except InputError as err:
+        field = {"units": "--units", "joint": "--joint"}.get(str(err.field), err.field)
+        raise InputError(err.reason, path=err.path, field=field) from err
+    if args.plot:
+        from hdselect.figures import write_profiles_png, write_ratios_png
+
+        if args.compare_ratios:
+            write_ratios_png(args.plot, comparison)
+        else:
+            write_profiles_png(args.plot, result.trajectory, _gear_torques(result),
+                               result.robot.sized_joints,
+                               title=f"{robot.path.name}: fastest run of {motion.path.name}")
+    if args.out:
+        write_trajectory_csv(args.out, result.trajectory, _gear_torques(result),
+                             result.robot.sized_joints)
+    if args.json:
+        write_json(args.json, ratios_json(comparison) if args.compare_ratios
+                   else fastest_json(result))
+    if args.json != "-":
+        out = console()
+        if args.compare_ratios:
+            for joint in comparison.joints:
+                out.print(ratios_table(comparison, joint))
+        else:
+            out.print(fastest_table(result))
+            out.print(binding_table(result))
+    return 0
+
+
+def _gear_torques(result):
+    """The output torque of every joint (n, dof), as the gears carry it; 0 where unsized."""
+    import numpy as np
+
+    tau = np.zeros_like(result.trajectory.q)
+    for joint in result.check.joints:
+        tau[:, result.robot.joint_index(joint.name)] = joint.torque
+    return tau
+
+
+def _unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
+    """``JOINT=UNIT`` pairs as a dict; each joint once."""
+    out: dict[str, str] = {}
+    for pair in pairs:
+        joint, sep, unit = pair.partition("=")
+        if not sep or not joint.strip() or not unit.strip():
+            raise InputError(f"expected JOINT=UNIT, got {pair!r}", field="--units")
+        if joint.strip() in out:
+            raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
+        out[joint.strip()] = unit.strip()
+    return out
+
+
 def _load_case(args: argparse.Namespace):
     from hdselect.motion import load_case
     from hdselect.robot import Payload
@@ -256,25 +350,31 @@ def _size(args: argparse.Namespace):
     from dataclasses import replace
 
     from hdselect.catalog import load_catalog
-    from hdselect.options import options_for
     from hdselect.planning import plan
     from hdselect.sizing import size_trajectory
 
     robot, motion = _load_case(args)
-    try:
-        options = options_for(
-            motion, stop_time=args.stop_time, efficiency=args.efficiency,
-            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
-            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
-            life_hours=args.life_hours, life_basis=args.life_basis)
-    except InputError as err:
-        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
+    options = _options(args, motion)
     _keep_inputs([getattr(args, "json", None)], [*_inputs(robot, motion), *args.catalog])
     if getattr(args, "report", None):
         _keep_inputs([Path(args.report) / "index.html"], _inputs(robot, motion))
     units = load_catalog(args.catalog)
     result = size_trajectory(robot, plan(robot, motion), units, options)
     return replace(result, motion=motion)
+
+
+def _options(args: argparse.Namespace, motion):
+    """The validated options of the sizing flags, the motion file's where a flag is absent."""
+    from hdselect.options import options_for
+
+    try:
+        return options_for(
+            motion, stop_time=args.stop_time, efficiency=args.efficiency,
+            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
+            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
+            life_hours=args.life_hours, life_basis=args.life_basis)
+    except InputError as err:
+        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
 
 
 def _inputs(robot, motion) -> list[Path]:

@@ -71,6 +71,9 @@ SCALE_RTOL = 1e-6
 WRITTEN_MARGIN = 1e-7
 """Utilization a rule that scales with speed must stay below 1 by, so that the
 trajectory written with 10 significant digits passes too [-]."""
+OPTIMAL_WITHIN = 1e-3
+"""A cycle at most this fraction longer than the optimum counts as the optimum: the
+slow-down that corrects TOPPRA's overshoot between gridpoints is of this order [-]."""
 _VERIFY_ROUNDS = 12
 
 
@@ -114,7 +117,8 @@ class FastestResult:
         slowdown: The uniform slow-down of the moves beyond TOPPRA's own overshoot
             correction [-]; 1 when none was needed.
         derating: Fraction of its repeated-peak limit each derated joint was held to [-].
-        reason: What made the cycle longer than `optimum`: ``(joint, rule)``, or None.
+        reason: What made the cycle longer than `optimum` (by more than `OPTIMAL_WITHIN`):
+            ``(joint, rule)``, or None.
         binding: Which limit is closest to its bound along the moves, stretch by stretch.
         grid_per_waypoint: TOPPRA gridpoints per waypoint.
     """
@@ -159,12 +163,15 @@ class RatioRow:
 
     Attributes:
         unit: The unit.
-        cycle_time: The shortest cycle [s]; None when the units cannot drive the path.
-        optimum: The shortest cycle under the limits on single samples [s], or None.
-        gravity: The units cannot drive the path at any speed (a load beyond a limit
-            whatever the speed, gravity alone where the limit is a torque).
-        note: Why there is no cycle, or what lengthened it beyond `optimum`.
-        binding: The limit that binds longest, ``"joint limit"``, or None.
+        cycle_time: The shortest cycle [s]; None when the units cannot run the path.
+        optimum: The time-optimal cycle under the limits on single samples [s], or None.
+        gravity: The units cannot run the path at any speed because a load that does not
+            depend on the speed (gravity, held at rest or moving) is beyond a limit.
+        note: Why there is no cycle, or what lengthened it beyond `optimum`, in a few words.
+        binding: The limit that binds longest, ``(joint, limit)``, or None.
+        lengthened_by: The ``(joint, rule)`` that lengthened the cycle, or None.
+        derating: The fraction of its repeated-peak limit the derated joint kept [-].
+        slowdown: The uniform slow-down of the moves [-].
     """
 
     unit: Unit
@@ -172,7 +179,10 @@ class RatioRow:
     optimum: float | None
     gravity: bool
     note: str | None
-    binding: str | None
+    binding: tuple[str, str] | None
+    lengthened_by: tuple[str, str] | None = None
+    derating: float | None = None
+    slowdown: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -365,12 +375,15 @@ def _fastest(model: PathModel, units: Mapping[str, Unit], options: Options) -> F
     limits = joint_limits(robot, model.motion, units, options, best.derating)
     trajectory, held, check, scale = _verified(model, units, best, options)
     slowdown = scale
-    reason = best.reason if (slowdown > 1.0 + 1e-9 or best.derating) else None
+    optimum = first.moving + first.dwell
+    reason = None
+    if trajectory.duration > optimum * (1.0 + OPTIMAL_WITHIN):
+        reason = first.reason if best is not first else best.reason
     return FastestResult(
         robot=robot, motion=model.motion, units=dict(units), options=options,
         trajectory=trajectory, check=check,
         limits=dict(zip(robot.joint_names, limits, strict=True)),
-        optimum=first.moving + first.dwell, slowdown=slowdown, derating=dict(best.derating),
+        optimum=optimum, slowdown=slowdown, derating=dict(best.derating),
         reason=reason, binding=_bindings(model, best, scale, check, held, limits, units),
         grid_per_waypoint=model.grid_per_waypoint)
 
@@ -664,12 +677,14 @@ def _bindings(model: PathModel, trial: _Trial, scale: float, check: SizingResult
             stretches.append([float(times[k]), float(times[k] + dt), row, float(table[row, k])])
     total = sum(b - a for a, b, _, _ in stretches) or 1.0
     merged: list[list] = []
-    for stretch in stretches:  # a stretch under 1 % of the moving time joins the one before
-        if merged and (stretch[1] - stretch[0] < 0.01 * total or merged[-1][2] == stretch[2]) \
-                and merged[-1][1] >= stretch[0] - 1.5 * dt:
+    for stretch in stretches:  # a stretch under 1 % of the moving time joins its neighbour
+        joins = merged and merged[-1][1] >= stretch[0] - 1.5 * dt
+        if joins and merged[-1][2] == stretch[2]:
+            merged[-1][1], merged[-1][3] = stretch[1], max(merged[-1][3], stretch[3])
+        elif joins and stretch[1] - stretch[0] < 0.01 * total:
             merged[-1][1] = stretch[1]
-            if merged[-1][2] == stretch[2]:
-                merged[-1][3] = max(merged[-1][3], stretch[3])
+        elif joins and merged[-1][1] - merged[-1][0] < 0.01 * total:
+            merged[-1][1:] = stretch[1:]
         else:
             merged.append(list(stretch))
     return tuple(Binding(float(a), float(b), rows[row][0], rows[row][1], float(peak),
@@ -695,20 +710,23 @@ def _waypoints_at(model: PathModel, trial: _Trial, scale: float,
 
 def _row(unit: Unit, result: FastestResult) -> RatioRow:
     shares = result.binding_shares()
-    binding = f"{shares[0][0]} {shares[0][1]}" if shares else None
+    derating = min(result.derating.values()) if result.derating else None
     note = None
     if result.reason is not None:
-        joint, rule = result.reason
-        how = (f"derated to {min(result.derating.values()):.0%}" if result.derating else "")
-        slow = f"slowed x{result.slowdown:.3f}" if result.slowdown > 1.0005 else ""
-        note = f"{joint} {rule}: " + ", ".join(x for x in (how, slow) if x)
-    return RatioRow(unit, result.cycle_time, result.optimum, False, note, binding)
+        how = [f"derated {derating:.0%}"] if derating is not None else []
+        if result.slowdown > 1.0 + 1e-9:
+            how.append(f"x{result.slowdown:.4f}")
+        note = f"{result.reason[0]} {result.reason[1]}: {', '.join(how)}"
+    return RatioRow(unit, result.cycle_time, result.optimum, False, note,
+                    (shares[0][0], shares[0][1]) if shares else None, result.reason, derating,
+                    result.slowdown)
 
 
 def _short(err: PathInfeasible) -> str:
-    """A line for a table: who cannot do what."""
+    """A few words for a table: who cannot do what."""
     if err.joint is None:
-        return f"{err.limit} infeasible"
+        return f"{err.limit} limits"
     if err.gravity:
-        return f"{err.joint} {err.limit}: gravity alone beyond it"
-    return f"{err.joint} {err.limit} at any speed"
+        limit = "momentary" if err.limit == "emergency stop" else err.limit
+        return f"gravity on {err.joint} > its {limit} limit"
+    return f"{err.joint} {err.limit} fails at any speed"

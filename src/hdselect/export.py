@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from hdselect.catalog import SeriesRules, Unit
+from hdselect.codesign import FastestResult, RatioComparison
 from hdselect.duty import DutyResult
 from hdselect.errors import InputError
 from hdselect.planning import Trajectory
@@ -234,3 +235,68 @@ def _finite(value: Any) -> Any:
     return value
 
 
+
+
+def fastest_json(result: FastestResult) -> dict[str, Any]:
+    """A co-design result as JSON: the cycle, what bounds it, and every joint's check."""
+    motion = result.motion
+    dwell = float(np.sum(motion.dwells))
+    joints = []
+    for joint in result.check.joints:
+        (candidate,) = joint.candidates
+        lim = result.limits[joint.name]
+        joints.append({
+            "name": joint.name,
+            "unit": candidate.unit.id,
+            "velocity_limit": lim.velocity,
+            "velocity_limit_source": lim.velocity_source,
+            "acceleration_limit": lim.acceleration,
+            "torque_limit_nm": lim.torque,
+            "derating": result.derating.get(joint.name),
+            "carried_mass_kg": joint.carried_mass,
+            "binding_share": {limit: share for name, limit, share in result.binding_shares()
+                              if name == joint.name},
+            "candidate": candidate_json(candidate),
+        })
+    return {
+        "robot": str(result.robot.path),
+        "motion": str(motion.path),
+        "cycle_time_s": result.cycle_time,
+        "moving_time_s": result.cycle_time - dwell,
+        "dwell_time_s": dwell,
+        "optimum_s": result.optimum,
+        "slowdown": result.slowdown,
+        "lengthened_by": None if result.reason is None else {
+            "joint": result.reason[0], "rule": result.reason[1]},
+        "grid_per_waypoint": result.grid_per_waypoint,
+        "samples": len(result.trajectory.t),
+        "feasible": result.feasible,
+        "assumptions": size_json(result.check)["assumptions"],
+        "joints": joints,
+        "binding": [{"start_s": b.start, "end_s": b.end, "joint": b.joint, "limit": b.limit,
+                     "utilization": b.utilization, "waypoints": list(b.waypoints)}
+                    for b in result.binding],
+    }
+
+
+def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
+    """Every unit on every joint compared, as JSON; cycle times in s, null where none."""
+    return {
+        "robot": str(comparison.robot.path),
+        "motion": str(comparison.motion.path),
+        "units": {name: unit.id for name, unit in comparison.units.items()},
+        "cycle_time_s": comparison.base.cycle_time,
+        "joints": [{
+            "name": joint.joint,
+            "selected": joint.selected,
+            "units": [{"unit": row.unit.id, "cycle_time_s": row.cycle_time,
+                       "optimum_s": row.optimum, "feasible": row.cycle_time is not None,
+                       "gravity": row.gravity, "note": row.note,
+                       "binding": None if row.binding is None else {
+                           "joint": row.binding[0], "limit": row.binding[1]},
+                       "lengthened_by": None if row.lengthened_by is None else {
+                           "joint": row.lengthened_by[0], "rule": row.lengthened_by[1]},
+                       "derating": row.derating, "slowdown": row.slowdown}
+                      for row in joint.rows],
+        } for joint in comparison.joints],
+    }

@@ -52,7 +52,7 @@ from hdselect.planning.toppra import (
 from hdselect.planning.trajectory import Move, Trajectory, assemble
 from hdselect.robot import Robot
 
-GRID_PER_WAYPOINT = 50
+GRID_PER_WAYPOINT = 100
 """TOPPRA gridpoints per waypoint of a piece (cosine-spaced). Measured on the shipped
 arms with every gearhead limit binding: torque sampled between gridpoints exceeds its
 limit by at most 0.5 %, and the cycle is within 0.4 % of the one on a four times finer

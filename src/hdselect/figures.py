@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
+from hdselect.codesign import RatioComparison  # noqa: E402
 from hdselect.errors import InputError  # noqa: E402
 from hdselect.export import assumptions, write_output  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
@@ -240,3 +241,59 @@ def _save(fig: Figure, path: Path) -> None:
                                                       bbox_inches="tight"), binary=True)
     finally:
         plt.close(fig)
+
+
+def write_ratios_png(path: str | Path, comparison: RatioComparison) -> None:
+    """The shortest cycle against the unit on each joint compared, the others' units fixed.
+
+    One panel per joint: each unit's cycle time, the unit `size` selects marked, the
+    units that cannot drive the path at any speed drawn as a cross on the top edge.
+    """
+    joints = comparison.joints
+    cols = min(3, len(joints))
+    rows = -(-len(joints) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.4 * cols + 0.6, 3.3 * rows + 0.9),
+                             squeeze=False)
+    times = [row.cycle_time for joint in joints for row in joint.rows
+             if row.cycle_time is not None]
+    low, high = (min(times), max(times)) if times else (0.0, 1.0)
+    pad = max(0.05 * (high - low), 0.005 * high)
+    top = high + 3.0 * pad
+    for ax, joint in zip(axes.flat, joints, strict=False):
+        labels = [row.unit.id for row in joint.rows]
+        x = np.arange(len(labels))
+        fits = [(k, row.cycle_time) for k, row in enumerate(joint.rows)
+                if row.cycle_time is not None]
+        if fits:
+            ax.plot([k for k, _ in fits], [t for _, t in fits], "o-", color="tab:blue", lw=1,
+                    ms=5, label="shortest cycle")
+        for k, row in enumerate(joint.rows):
+            if row.cycle_time is None:
+                ax.plot([k], [top - pad], "x", color="tab:red", ms=9, mew=2,
+                        label="cannot drive the path" if k == next(
+                            i for i, r in enumerate(joint.rows) if r.cycle_time is None)
+                        else None)
+            if row.unit.id == joint.selected and row.cycle_time is not None:
+                ax.plot([k], [row.cycle_time], "*", color="tab:orange", ms=15, zorder=3,
+                        label="selected by size")
+        ax.axhline(comparison.base.cycle_time, color="0.5", ls=":", lw=1,
+                   label=f"all units as given ({comparison.base.cycle_time:.3f} s)")
+        ax.set_xticks(x, labels, rotation=45, ha="right", fontsize=8)
+        ax.set_ylim(low - 2.0 * pad, top)
+        ax.set_ylabel("cycle time [s]")
+        ax.set_title(f"unit on {joint.joint}", fontsize=10)
+        ax.grid(alpha=0.3)
+    for ax in list(axes.flat)[len(joints):]:
+        ax.axis("off")
+    handles, names = {}, []
+    for ax in axes.flat:
+        for handle, name in zip(*ax.get_legend_handles_labels(), strict=True):
+            if name not in handles:
+                handles[name] = handle
+                names.append(name)
+    fig.legend([handles[n] for n in names], names, loc="lower center", ncol=min(4, len(names)),
+               fontsize=8, frameon=False)
+    fig.suptitle(f"{comparison.robot.path.name} on the path of {comparison.motion.path.name}: "
+                 "shortest cycle by unit, the other joints' units fixed", fontsize=11)
+    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    _save(fig, Path(path))

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 from collections.abc import Callable, Iterable
 
+import numpy as np
 from rich import box
 from rich.console import Console
 from rich.markup import escape
@@ -18,6 +19,7 @@ from hdselect.catalog import (
     SeriesRules,
     Unit,
 )
+from hdselect.codesign import FastestResult, JointRatios, RatioComparison
 from hdselect.duty import DutyResult
 from hdselect.export import assumptions, mean_speed_note
 from hdselect.rules import (
@@ -284,3 +286,132 @@ def _size_notes(result: SizingResult) -> list[str]:
                      "backdrives when the input is free: where a falling load could injure, a "
                      "fail-safe device on the output is needed.")
     return notes
+
+
+_SOURCES = {"motion": "motion", "robot": "URDF", "unit": "unit"}
+_SHORT_LIMITS = {"velocity (motion file)": "speed", "velocity (URDF)": "speed",
+                 "max input speed": "speed", "acceleration": "accel.", "torque": "torque",
+                 "emergency stop": "e-stop", "crash": "crash"}
+
+
+def fastest_table(result: FastestResult) -> Table:
+    """One row per sized joint: its unit, the limits it ran under, what bound it, its rules."""
+    robot, motion = result.robot, result.motion
+    pieces = 1 + int(np.count_nonzero(motion.dwells[1:-1] > 0.0))
+    table = Table(
+        title=f"{robot.path.name}, the path of {motion.path.name} ({len(motion.waypoints)} "
+              f"waypoints, {pieces} piece{'s' if pieces > 1 else ''}): fastest cycle "
+              f"{result.cycle_time:.3f} s", title_justify="left", box=box.SIMPLE_HEAD,
+        pad_edge=False)
+    revolute = all(robot.revolute[robot.joint_index(j.name)] for j in result.check.joints)
+    speed = "rad/s" if revolute else "per s"
+    for header in ("joint", "unit", f"speed limit\n{speed}", "torque\nlimit N m",
+                   "binds longest\n(moving time)", "rule", "L50 life"):
+        table.add_column(header, no_wrap=True,
+                         justify="right" if header.startswith("torque") else "left")
+    shares: dict[str, tuple[str, float]] = {}
+    for name, limit, share in result.binding_shares():  # longest first
+        shares.setdefault(name, (limit, share))
+    for joint in result.check.joints:
+        (candidate,) = joint.candidates
+        lim = result.limits[joint.name]
+        derated = result.derating.get(joint.name)
+        torque = f"{lim.torque:.3g}" + (f" ({derated:.0%})" if derated else "")
+        bound = shares.get(joint.name)
+        check = candidate.checks[candidate.binding]
+        table.add_row(
+            joint.name, candidate.unit.id + ("*" if candidate.flags else ""),
+            f"{lim.velocity:.3g} {_SOURCES[lim.velocity_source]}", torque,
+            "-" if bound is None else f"{_SHORT_LIMITS[bound[0]]} {percent(bound[1])}",
+            f"{candidate.binding} {percent(check.utilization)}", life_text(candidate.life_hours))
+    table.caption = escape("\n".join(_fastest_notes(result)))
+    table.caption_justify = "left"
+    return table
+
+
+def _fastest_notes(result: FastestResult) -> list[str]:
+    motion = result.motion
+    moving = result.cycle_time - float(np.sum(motion.dwells))
+    notes = [f"Moving {moving:.3f} s, dwells {float(np.sum(motion.dwells)):.3f} s, "
+             f"{len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms."]
+    if result.reason is None:
+        notes.append(f"Every rule holds on the time-optimal run under the limits on single "
+                     f"samples ({result.optimum:.3f} s): no shorter cycle passes, to the grid's "
+                     f"resolution ({result.grid_per_waypoint} TOPPRA gridpoints per waypoint).")
+    else:
+        joint, rule = result.reason
+        how = [f"{name}'s repeated-peak limit derated to {value:.0%}"
+               for name, value in result.derating.items()]
+        if result.slowdown > 1.0 + 1e-9:
+            how.append(f"the moves slowed x{result.slowdown:.4f}")
+        notes.append(f"The time-optimal run under the limits on single samples takes "
+                     f"{result.optimum:.3f} s; {joint}'s {rule} rule fails there, so "
+                     f"{' and '.join(how)} (the shortest cycle found that passes).")
+    stops = [str(i) for i in range(len(motion.waypoints)) if motion.dwells[i] > 0.0]
+    path = ("the TOPPRA planner's path" if motion.planner == "toppra" else
+            "a clamped cubic spline through the waypoints, knots at each segment's time at "
+            "the motion's velocity limits")
+    notes.append(f"Path: {path}; it stops only where the motion dwells"
+                 f"{' (waypoint ' + ', '.join(stops) + ')' if stops else ''}, and keeps "
+                 "the dwells." + (" Ruckig's jerk limits do not apply: TOPPRA runs at a "
+                                  "piecewise-constant path acceleration."
+                                  if motion.jerk_limit is not None else ""))
+    notes.append("speed limit: the lowest of the motion file's, the URDF's and the unit's "
+                 "(maximum input speed / ratio). binds longest: the joint's limit that is the "
+                 "closest to its bound of all for the longest share of the moving time. rule: "
+                 "the rule with the highest utilization on the result (* catalog stand-in).")
+    notes.append("Assumptions: " + "; ".join(f"{k}: {v}" for k, v in
+                                              assumptions(result.check).items()))
+    flagged = {(c.unit.id, flag.code): flag.note for joint in result.check.joints
+               for c in joint.candidates for flag in c.flags}
+    notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
+    return notes
+
+
+def binding_table(result: FastestResult) -> Table:
+    """The limit closest to its bound, stretch by stretch along the moves."""
+    table = Table(title="What binds along the moves", title_justify="left",
+                  box=box.SIMPLE_HEAD, pad_edge=False)
+    for header in ("from s", "to s", "waypoints", "joint", "limit", "peak"):
+        table.add_column(header, no_wrap=True,
+                         justify="right" if header in ("from s", "to s", "peak") else "left")
+    for b in result.binding:
+        table.add_row(f"{b.start:.3f}", f"{b.end:.3f}", f"{b.waypoints[0]} to {b.waypoints[1]}",
+                      b.joint, b.limit, percent(b.utilization))
+    table.caption = ("peak: the largest demand / limit over the stretch (torque against the "
+                     "repeated-peak limit). A stretch under 1 % of the moving time joins its "
+                     "neighbour.")
+    table.caption_justify = "left"
+    return table
+
+
+def ratios_table(comparison: RatioComparison, joint: JointRatios) -> Table:
+    """Every unit on one joint: its shortest cycle, the other joints' units fixed."""
+    table = Table(title=f"Joint {joint.joint}: the shortest cycle with each unit",
+                  title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
+    for header in ("unit", "cycle s", "vs ▶", "binds longest", "lengthened by / note"):
+        table.add_column(header, no_wrap=True,
+                         justify="right" if header in ("cycle s", "vs ▶") else "left")
+    reference = next((row.cycle_time for row in joint.rows if row.unit.id == joint.selected),
+                     None)
+    for row in joint.rows:
+        mark = "▶" if row.unit.id == joint.selected else " "
+        if row.cycle_time is None:
+            table.add_row(mark + row.unit.id, "[red]none[/red]", "", "", row.note or "")
+            continue
+        change = "" if reference is None or row.unit.id == joint.selected else \
+            f"{(row.cycle_time / reference - 1.0) * 100:+.1f}%"
+        binding = "-" if row.binding is None else \
+            f"{row.binding[0]} {_SHORT_LIMITS[row.binding[1]]}"
+        table.add_row(mark + row.unit.id, f"{row.cycle_time:.3f}", change, binding,
+                      row.note or "")
+    others = ", ".join(f"{name} {unit.id}" for name, unit in comparison.units.items()
+                       if name != joint.joint)
+    table.caption = escape(
+        (f"Other joints: {others}. " if others else "")
+        + f"▶ the unit `size` selects for {comparison.motion.path.name} as planned. none: "
+        "the units cannot run the path at any speed. lengthened by: the rule that made the "
+        "cycle longer than the time-optimal run under the limits on single samples, and "
+        "how (derated: the repeated-peak limit held to that fraction; x: the moves slowed).")
+    table.caption_justify = "left"
+    return table
