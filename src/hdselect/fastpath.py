@@ -19,9 +19,10 @@ v = RNEA(p, p', 0) - c. The emergency stop depends on s' alone: it becomes an ex
 bound on s' at each gridpoint (the first root of two quadratics). The crash term
 is concave in x, which TOPPRA cannot take: it is replaced by its tangent at a
 guess x0, K |p'| (sqrt(x0) / 2 + x / (2 sqrt(x0))), which lies above it everywhere
-(so the answer stays feasible) and touches it at x0; the guess starts at the
-largest x the speed bounds allow and is then TOPPRA's own answer, round after
-round, each no slower than the one before (`CRASH_ROUNDS`).
+(so the answer stays feasible) and touches it at x0; the first guess is a quarter of
+the speed the crash alone allows over gravity, and each later one is TOPPRA's
+previous answer, round after round, each no slower than the one before
+(`CRASH_ROUNDS`).
 
 Torque is linear in a point mass carried at a joint (`PathModel`): the coefficients
 for any choice of gearheads cost no further dynamics once each joint's per-kg part
@@ -217,14 +218,14 @@ def _solve_piece(model: PathModel, index: int, limits: Sequence[JointLimits],
     groups = _groups(piece, model.robot.joint_names, limits, coefficients, stops)
     cap = _speed_cap(piece, limits, stops)
     where = str(model.motion.path)
-    crash = _crash_rows(piece, limits, coefficients, cap**2)
+    crash = _crash_rows(piece, limits, coefficients, cap)
     profile = solve_piece(piece, [*_flatten(groups), *crash], where=where)
     if profile is None:
         raise _diagnose(model, piece, groups, limits, coefficients)
     for _ in range(CRASH_ROUNDS - 1):
         if not crash or not _crash_binds(piece, limits, coefficients, profile):
             break
-        crash = _crash_rows(piece, limits, coefficients, np.square(profile.sd))
+        crash = _crash_rows(piece, limits, coefficients, cap, np.square(profile.sd))
         better = solve_piece(piece, [*_flatten(groups), *crash], where=where)
         if better is None or better.duration >= profile.duration:
             break
@@ -304,12 +305,23 @@ def _speed_cap(piece: PathPiece, limits: Sequence[JointLimits],
 
 
 def _crash_rows(piece: PathPiece, limits: Sequence[JointLimits], coefficients: Coefficients,
-                guess: np.ndarray) -> list[Any]:
-    """The crash bound, linear in (s'', s'^2) through the tangent of sqrt at x0 = `guess`.
+                cap: np.ndarray, guess: np.ndarray | None = None) -> list[Any]:
+    """The crash rule as rows linear in (s'', s'^2), never weaker than the rule itself.
 
-    K |p'| sqrt(x) <= K |p'| (sqrt(x0) / 2 + x / (2 sqrt(x0))) for every x >= 0, so the
-    rows are never weaker than the rule; where x0 = 0 the bound uses the largest speed
-    allowed instead (K |p'| sqrt(x) <= K |p'| sqrt(cap^2)).
+    |tau| + k sqrt(x) <= M with k = K |p'|: sqrt is concave, so its tangent at any
+    x0 > 0 lies above it and touches it at x0, and |tau| + k (sqrt(x0) / 2 +
+    x / (2 sqrt(x0))) <= M is a linear bound stricter than the rule. The first round's
+    x0 is a quarter of the speed the crash alone allows over gravity,
+    ((M - |c|) / (2 k))^2, which leaves three quarters of that torque margin at rest;
+    later rounds take the previous round's answer, which meets the new bound, so each
+    round is feasible and no slower.
+
+    Args:
+        piece: The piece.
+        limits: Each joint's limits.
+        coefficients: The piece's a, b, c, v.
+        cap: The largest path speed the other bounds allow at each gridpoint [1/s].
+        guess: x0 = s'^2 at each gridpoint [1/s^2], or None for the first round.
     """
     from hdselect.planning.constraints import SecondOrderBounds
 
@@ -319,14 +331,22 @@ def _crash_rows(piece: PathPiece, limits: Sequence[JointLimits], coefficients: C
         if not math.isfinite(lim.momentary) or lim.crash_gain <= 0.0:
             continue
         gain = lim.crash_gain * np.abs(piece.dq[:, j])
-        top = float(np.max(gain)) * math.sqrt(float(np.max(guess)))
-        if top + min(lim.torque, lim.static) <= lim.momentary:
+        if float(np.max(gain * cap)) + min(lim.torque, lim.static) <= lim.momentary:
             continue  # the torque limit is the stricter one everywhere
-        root = np.sqrt(np.maximum(guess, 0.0))
-        tangent = root > 1e-9 * max(1.0, float(root.max()))
+        if guess is None:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                first = np.square(np.maximum(lim.momentary - np.abs(c[:, j]), 0.0)
+                                  / (2.0 * gain))
+            x0 = np.minimum(np.where(gain > 0.0, first, 0.0), np.square(cap))
+        else:
+            x0 = guess
+        root = np.sqrt(np.maximum(x0, 0.0))
+        tangent = (root > 0.0) & (gain > 0.0)
         with np.errstate(divide="ignore", invalid="ignore"):
             slope = np.where(tangent, gain / (2.0 * root), 0.0)
-        offset = np.where(tangent, gain * root / 2.0, gain * root)
+        offset = np.where(tangent, gain * root / 2.0, 0.0)
+        # where x0 = 0 the rows force x = 0 unless the joint does not move (k = 0)
+        slope = np.where(~tangent & (gain > 0.0), 1e12, slope)
         rows.append(SecondOrderBounds(
             piece.gridpoints, np.column_stack([a[:, j], -a[:, j]]),
             np.column_stack([b[:, j] + slope, slope - b[:, j]]),
