@@ -109,6 +109,13 @@ def _parser() -> argparse.ArgumentParser:
                               "against unit")
     _json_option(fastest)
     fastest.set_defaults(run=run_fastest)
+
+    payload = commands.add_parser(
+        "max-payload", help="the largest payload with a feasible unit on every joint")
+    _robot_motion(payload, mass=False)
+    _sizing_options(payload)
+    _json_option(payload)
+    payload.set_defaults(run=run_max_payload)
     return parser
 
 
@@ -122,14 +129,16 @@ def _json_option(parser: argparse.ArgumentParser) -> None:
                         help="also write JSON to FILE ('-': to stdout, instead of the table)")
 
 
-def _robot_motion(parser: argparse.ArgumentParser) -> None:
+def _robot_motion(parser: argparse.ArgumentParser, *, mass: bool = True) -> None:
     parser.add_argument("robot", nargs="?", metavar="ROBOT",
                         help="robot file, URDF or MJCF (default: the motion file's `robot`)")
     parser.add_argument("motion", metavar="MOTION", help="motion file (TOML)")
-    parser.add_argument("--payload", type=float, metavar="KG",
-                        help="payload mass, overriding the motion file's [kg]")
+    if mass:
+        parser.add_argument("--payload", type=float, metavar="KG",
+                            help="payload mass, overriding the motion file's [kg]")
     parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
-                        default=(0.0, 0.0, 0.0), help="payload centre of mass in its frame [m]")
+                        default=None if not mass else (0.0, 0.0, 0.0),
+                        help="payload centre of mass in its frame [m]")
     parser.add_argument("--payload-frame", metavar="LINK",
                         help="link carrying the payload (default: the last link)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
@@ -308,6 +317,38 @@ def run_fastest(args: argparse.Namespace) -> int:
     return 0
 
 
+def run_max_payload(args: argparse.Namespace) -> int:
+    """``hdselect max-payload``: the largest payload mass with a unit on every joint."""
+    from hdselect.catalog import load_catalog
+    from hdselect.export import max_payload_json, write_json
+    from hdselect.maxpayload import max_payload
+    from hdselect.report import console, max_payload_text, size_table
+
+    robot, motion = _load_case(args)
+    options = _options(args, motion)
+    _keep_inputs([args.json], [*_inputs(robot, motion), *args.catalog])
+    units = load_catalog(args.catalog)
+    try:
+        result = max_payload(robot, motion, options, catalog=units, frame=args.payload_frame,
+                             com=args.payload_com)
+    except InputError as err:
+        flag = {"payload.frame": "--payload-frame", "payload.com": "--payload-com"}.get(
+            str(err.field))
+        if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
+            raise
+        raise InputError(err.reason, field=flag) from err
+    if args.json:
+        write_json(args.json, max_payload_json(result, motion))
+    if args.json != "-":
+        out = console()
+        out.print(max_payload_text(result, robot, motion))
+        if result.selection is not None:
+            from dataclasses import replace
+
+            out.print(size_table(replace(result.selection, motion=motion)))
+    return 0 if result.mass is not None else 1
+
+
 def _gear_torques(result):
     """The output torque of every joint (n, dof), as the gears carry it; 0 where unsized."""
     import numpy as np
@@ -336,7 +377,7 @@ def _load_case(args: argparse.Namespace):
     from hdselect.robot import Payload
 
     payload = None
-    if args.payload is not None:
+    if getattr(args, "payload", None) is not None:
         try:
             payload = Payload(args.payload, tuple(args.payload_com), frame=args.payload_frame)
         except InputError as err:

@@ -8,6 +8,7 @@ import os
 import sys
 import tempfile
 from collections.abc import Callable, Iterable
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +18,8 @@ from hdselect.catalog import SeriesRules, Unit
 from hdselect.codesign import FastestResult, RatioComparison
 from hdselect.duty import DutyResult
 from hdselect.errors import InputError
+from hdselect.maxpayload import MaxPayloadResult
+from hdselect.motion import Motion
 from hdselect.planning import Trajectory
 from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.sizing import SizingResult
@@ -299,4 +302,29 @@ def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
                        "derating": row.derating, "slowdown": row.slowdown}
                       for row in joint.rows],
         } for joint in comparison.joints],
+    }
+
+
+def max_payload_json(result: MaxPayloadResult, motion: Motion) -> dict[str, Any]:
+    """The largest payload as JSON.
+
+    ``max_payload_kg`` is null when no mass fits and ``unlimited`` true when no rule
+    depends on the mass.
+    """
+    payload = result.payload
+    selection = None
+    if result.selection is not None:
+        selection = size_json(replace(result.selection, motion=motion))
+    return {
+        "robot": str(result.selection.robot.path) if result.selection else None,
+        "motion": str(motion.path),
+        "max_payload_kg": _finite(result.mass),
+        "unlimited": result.mass is not None and not math.isfinite(result.mass),
+        "payload": {"frame": payload.frame, "com_m": list(payload.com),
+                    "inertia_kg_m2_per_kg": [list(row) for row in payload.inertia]},
+        "ranges_kg": [[lo, _finite(hi)] for lo, hi in result.ranges],
+        "binding": None if result.joint is None else {
+            "joint": result.joint, "unit": result.unit.id if result.unit else None,
+            "rule": result.rule},
+        "selection": selection,
     }

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Callable, Iterable
 
@@ -22,6 +23,9 @@ from hdselect.catalog import (
 from hdselect.codesign import FastestResult, JointRatios, RatioComparison
 from hdselect.duty import DutyResult
 from hdselect.export import assumptions, mean_speed_note
+from hdselect.maxpayload import MaxPayloadResult
+from hdselect.motion import Motion
+from hdselect.robot import Robot
 from hdselect.rules import (
     CHECK_LABELS,
     CHECKS,
@@ -415,3 +419,30 @@ def ratios_table(comparison: RatioComparison, joint: JointRatios) -> Table:
         "how (derated: the repeated-peak limit held to that fraction; x: the moves slowed).")
     table.caption_justify = "left"
     return table
+
+
+def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> str:
+    """The largest payload, where it sits, and which joint runs out of units there."""
+    payload = result.payload
+    where = (f"at {payload.frame or 'the last link'}, centre of mass "
+             f"({', '.join(f'{c:g}' for c in payload.com)}) m")
+    inertia = np.asarray(payload.inertia)
+    if inertia.any():
+        where += (f", inertia about it {np.diag(inertia)[0]:.3g}, {np.diag(inertia)[1]:.3g}, "
+                  f"{np.diag(inertia)[2]:.3g} kg m² per kg (diagonal)")
+    head = f"{robot.path.name} running {motion.path.name} ({motion.planner})"
+    if result.mass is None:
+        return (f"{head}: no payload mass, not even none, leaves every joint a feasible unit "
+                f"({where}).")
+    if not math.isfinite(result.mass):
+        return f"{head}: no rule depends on the payload mass {where}: no limit."
+    lines = [f"{head}: the largest payload is {result.mass:.4g} kg {where}."]
+    lines.append(f"{result.joint} runs out of units there: {result.unit.id if result.unit else '-'}"
+                 f" reaches its {result.rule} limit. Torque is affine in the payload mass on a "
+                 "fixed trajectory, so each rule's limit is solved exactly; the inertia about the "
+                 "centre of mass grows with the mass.")
+    if len(result.ranges) > 1 or result.ranges[0][0] > 0.0:
+        spans = ", ".join(f"{lo:.4g} to {hi:.4g} kg" for lo, hi in result.ranges)
+        lines.append(f"Every joint has a unit only from {spans}.")
+    lines.append(f"The selection at {result.mass:.4g} kg:")
+    return escape("\n".join(lines))
