@@ -47,7 +47,8 @@ def test_console_example_prints_what_the_readme_shows(command, shown, tmp_path, 
 
 def test_python_examples_run(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(workdir(tmp_path))
-    size_example, core_example = re.findall(r"```python\n(.*?)```", README, flags=re.S)
+    size_example, core_example, codesign_example = re.findall(r"```python\n(.*?)```", README,
+                                                               flags=re.S)
     exec(compile(size_example, "README.md", "exec"), {})
     lines = capsys.readouterr().out.splitlines()
     assert [line.split()[0] for line in lines] == JOINTS
@@ -56,6 +57,13 @@ def test_python_examples_run(tmp_path, monkeypatch, capsys):
     assert [line.split(":")[0] for line in lines] == ["0.5 kg", "1.0 kg", "2.0 kg"]
     for line in lines:
         assert [pair.split()[0] for pair in line.split(": ")[1].split(", ")] == JOINTS
+    exec(compile(codesign_example, "README.md", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 9
+    assert lines[0].endswith("lengthened by None") or "lengthened by ('shoulder_pan'" in lines[0]
+    assert [line.split()[0] for line in lines[1:8]] == [
+        "PSA-08-80", "PSA-08-100", "PSA-10-50", "PSA-10-80", "PSA-14-50", "PSA-14-80", "PSA-14-100"]
+    assert lines[8].endswith("kg: shoulder PSA-14-100 momentary")
 
 
 JOINTS = ["shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"]

@@ -303,10 +303,9 @@ def fastest_table(result: FastestResult) -> Table:
     robot, motion = result.robot, result.motion
     pieces = 1 + int(np.count_nonzero(motion.dwells[1:-1] > 0.0))
     table = Table(
-        title=f"{robot.path.name}, the path of {motion.path.name} ({len(motion.waypoints)} "
-              f"waypoints, {pieces} piece{'s' if pieces > 1 else ''}): fastest cycle "
-              f"{result.cycle_time:.3f} s", title_justify="left", box=box.SIMPLE_HEAD,
-        pad_edge=False)
+        title=f"{motion.path.name} on {robot.path.name}: fastest cycle {result.cycle_time:.3f} s "
+              f"({len(motion.waypoints)} waypoints, {pieces} piece{'s' if pieces > 1 else ''})",
+        title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
     revolute = all(robot.revolute[robot.joint_index(j.name)] for j in result.check.joints)
     speed = "rad/s" if revolute else "per s"
     for header in ("joint", "unit", f"speed limit\n{speed}", "torque\nlimit N m",
