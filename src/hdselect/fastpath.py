@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 from typing import Any
 
@@ -127,6 +127,20 @@ class PathModel:
     base: tuple[Coefficients | None, ...]
     per_kg: Mapping[str, tuple[Coefficients | None, ...]]
     grid_per_waypoint: int = GRID_PER_WAYPOINT
+    _kinematic: dict[tuple, Profile | None] = field(default_factory=dict, repr=False)
+
+    def kinematic(self, index: int, velocity: np.ndarray, acceleration: np.ndarray,
+                  where: str) -> Profile | None:
+        """TOPPRA's profile of a piece under speed and acceleration limits alone (memoised).
+
+        It depends on nothing else, so every choice of units with the same speed limits
+        shares it.
+        """
+        key = (index, velocity.tobytes(), acceleration.tobytes())
+        if key not in self._kinematic:
+            self._kinematic[key] = solve_piece(
+                self.pieces[index], kinematic_constraints(velocity, acceleration), where=where)
+        return self._kinematic[key]
 
     @classmethod
     def build(cls, robot: Robot, motion: Motion, joints: Sequence[str], *,
@@ -215,9 +229,14 @@ def _solve_piece(model: PathModel, index: int, limits: Sequence[JointLimits],
     piece = model.pieces[index]
     stops = {j: _stop_bound(coefficients, j, lim.momentary, stop_time)
              for j, lim in enumerate(limits) if math.isfinite(lim.momentary)}
+    where = str(model.motion.path)
+    velocity = np.array([lim.velocity for lim in limits])
+    acceleration = np.array([lim.acceleration for lim in limits])
+    free = model.kinematic(index, velocity, acceleration, where)
+    if free is not None and _meets(free, piece, limits, coefficients, stops):
+        return free  # the fastest profile of fewer constraints meets them all: optimal
     groups = _groups(piece, model.robot.joint_names, limits, coefficients, stops)
     cap = _speed_cap(piece, limits, stops)
-    where = str(model.motion.path)
     crash = _crash_rows(piece, limits, coefficients, cap)
     profile = solve_piece(piece, [*_flatten(groups), *crash], where=where)
     if profile is None:
@@ -353,6 +372,27 @@ def _crash_rows(piece: PathPiece, limits: Sequence[JointLimits], coefficients: C
             np.column_stack([c[:, j] + offset, offset - c[:, j]]), np.eye(2),
             np.full(2, lim.momentary)))
     return rows
+
+
+def _meets(profile: Profile, piece: PathPiece, limits: Sequence[JointLimits],
+           coefficients: Coefficients, stops: Mapping[int, np.ndarray]) -> bool:
+    """Whether a profile meets the torque, emergency-stop and crash limits at the gridpoints.
+
+    As TOPPRA's interpolation discretization imposes them: each step's path acceleration
+    at the gridpoint it leaves and at the one it reaches.
+    """
+    a, b, c, _ = coefficients
+    x = np.square(profile.sd)
+    u = profile.sdd
+    still = ~np.any(piece.dq != 0.0, axis=0) & ~np.any(piece.ddq != 0.0, axis=0)
+    torque = np.array([lim.static if still[j] else lim.torque for j, lim in enumerate(limits)])
+    momentary = np.array([lim.momentary for lim in limits])
+    gain = np.array([lim.crash_gain for lim in limits]) * np.abs(piece.dq)
+    for at, xs in ((slice(None, -1), x[:-1]), (slice(1, None), x[1:])):
+        tau = np.abs(a[at] * u[:, None] + b[at] * xs[:, None] + c[at])
+        if np.any(tau > torque) or np.any(tau + gain[at] * np.sqrt(xs)[:, None] > momentary):
+            return False
+    return all(np.all(x <= np.square(bound)) for bound in stops.values())
 
 
 def _crash_binds(piece: PathPiece, limits: Sequence[JointLimits], coefficients: Coefficients,
