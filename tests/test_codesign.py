@@ -18,6 +18,7 @@ The rules are written out here again, not taken from `hdselect.rules`.
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 import tomllib
 from pathlib import Path
@@ -402,3 +403,38 @@ def test_options_and_joint_flags(capsys):
     with pytest.raises(InputError, match="units: unknown joint"):
         robot, motion = load_case(FAST_PICK)
         fastest(robot, motion, {"nope": "PSA-14-100"})
+
+
+# --- the command line ------------------------------------------------------------------------
+
+def test_json_csv_and_plot_of_fastest(tmp_path, capsys):
+    out, plot = tmp_path / "fast.csv", tmp_path / "fast.png"
+    assert main(["fastest", str(FAST_PICK), "--json", "-", "--out", str(out), "--plot",
+                 str(plot)]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert set(document) == {"robot", "motion", "cycle_time_s", "moving_time_s", "dwell_time_s",
+                             "optimum_s", "slowdown", "lengthened_by", "grid_per_waypoint",
+                             "samples", "feasible", "assumptions", "joints", "binding"}
+    assert document["feasible"] and document["grid_per_waypoint"] == GRID_PER_WAYPOINT
+    assert document["cycle_time_s"] == pytest.approx(document["moving_time_s"] + 6.0)
+    joint = document["joints"][0]
+    assert joint["name"] == "shoulder_pan" and joint["candidate"]["unit"] == joint["unit"]
+    assert joint["velocity_limit_source"] in ("motion", "robot", "unit")
+    assert {b["joint"] for b in document["binding"]} <= set(FAST_PICK_UNITS)
+    header = out.read_text().splitlines()[0].split(",")
+    assert header[0] == "t" and header[1:5] == ["q_shoulder_pan", "qd_shoulder_pan",
+                                                "qdd_shoulder_pan", "tau_shoulder_pan"]
+    assert len(header) == 1 + 4 * 6
+    assert plot.stat().st_size > 0
+
+
+def test_json_of_compare_ratios(capsys):
+    assert main(["fastest", str(FAST_PICK), "--compare-ratios", "--joint", "elbow",
+                 "--json", "-"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    (joint,) = document["joints"]
+    assert joint["name"] == "elbow" and joint["selected"] == "PSA-14-100"
+    rows = {row["unit"]: row for row in joint["units"]}
+    assert list(rows) == list(UNITS)
+    assert rows["PSA-08-80"]["cycle_time_s"] is None and rows["PSA-08-80"]["gravity"]
+    assert rows["PSA-14-100"]["cycle_time_s"] == pytest.approx(document["cycle_time_s"])

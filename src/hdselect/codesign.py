@@ -244,7 +244,7 @@ def fastest(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None
     """
     options = options if options is not None else options_for(motion)
     catalog = tuple(catalog) if catalog is not None else load_catalog()
-    chosen, _ = resolve_units(robot, motion, units, catalog, options)
+    chosen, _ = resolve_units(robot, motion, units, catalog, options, selection=False)
     model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
     return _fastest(model, chosen, options)
 
@@ -295,8 +295,8 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
 
 
 def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] | None,
-                  catalog: Sequence[Unit],
-                  options: Options) -> tuple[dict[str, Unit], dict[str, str]]:
+                  catalog: Sequence[Unit], options: Options, *,
+                  selection: bool = True) -> tuple[dict[str, Unit], dict[str, str]]:
     """The unit of every sized joint: those given, the sizing's selection for the others.
 
     Args:
@@ -305,10 +305,12 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
         given: Unit or unit id per joint.
         catalog: The units ids refer to, and the sizing chooses from.
         options: The assumptions of the sizing.
+        selection: Size the motion even when every joint has a unit given.
 
     Returns:
         The unit per sized joint, and the unit id the sizing selects per joint (where
-        one fits; else the one that fits with the smallest slow-down).
+        one fits; else the one that fits with the smallest slow-down; empty when the
+        motion was not sized).
 
     Raises:
         InputError: The motion is a log, a name is not a sized joint, or an id is unknown.
@@ -329,6 +331,8 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
                                  f"{', '.join(by_id)}", field="units")
             unit = by_id[unit]
         chosen[name] = unit
+    if not selection and all(name in chosen for name in robot.sized_joints):
+        return chosen, {}
     sizing = size_trajectory(robot, plan(robot, motion), catalog, options)
     selected: dict[str, str] = {}
     for joint in sizing.joints:
@@ -408,8 +412,7 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
         if math.isfinite(urdf) and urdf > 0.0:
             speeds.append((urdf, "robot"))
         torque = math.inf if motion.torque_limit is None else float(motion.torque_limit[j])
-        static = momentary = torque
-        gain = 0.0
+        static, momentary, gain = torque, math.inf, 0.0
         unit = units.get(name)
         if unit is not None:
             speeds.append((unit.max_input_speed / unit.ratio / RPM_PER_RAD_S, "unit"))
