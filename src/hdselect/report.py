@@ -305,13 +305,11 @@ def fastest_table(result: FastestResult) -> Table:
     table = Table(
         title=f"{motion.path.name} on {robot.path.name}: fastest cycle {result.cycle_time:.3f} s "
               f"({len(motion.waypoints)} waypoints, {pieces} piece{'s' if pieces > 1 else ''})",
-        title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
-    revolute = all(robot.revolute[robot.joint_index(j.name)] for j in result.check.joints)
-    speed = "rad/s" if revolute else "per s"
-    for header in ("joint", "unit", f"speed limit\n{speed}", "torque\nlimit N m",
-                   "binds longest\n(moving time)", "rule", "L50 life"):
+        title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False, collapse_padding=True)
+    for header in ("joint", "unit", "speed\nlimit", "torque\nlimit", "binds\nlongest", "rule",
+                   "L50 h"):
         table.add_column(header, no_wrap=True,
-                         justify="right" if header.startswith("torque") else "left")
+                         justify="right" if header in ("torque\nlimit", "L50 h") else "left")
     shares: dict[str, tuple[str, float]] = {}
     for name, limit, share in result.binding_shares():  # longest first
         shares.setdefault(name, (limit, share))
@@ -326,7 +324,8 @@ def fastest_table(result: FastestResult) -> Table:
             joint.name, candidate.unit.id + ("*" if candidate.flags else ""),
             f"{lim.velocity:.3g} {_SOURCES[lim.velocity_source]}", torque,
             "-" if bound is None else f"{_SHORT_LIMITS[bound[0]]} {percent(bound[1])}",
-            f"{candidate.binding} {percent(check.utilization)}", life_text(candidate.life_hours))
+            f"{CHECK_LABELS[candidate.binding]} {percent(check.utilization)}",
+            life_text(candidate.life_hours, ""))
     table.caption = escape("\n".join(_fastest_notes(result)))
     table.caption_justify = "left"
     return table
@@ -359,10 +358,12 @@ def _fastest_notes(result: FastestResult) -> list[str]:
                  "the dwells." + (" Ruckig's jerk limits do not apply: TOPPRA runs at a "
                                   "piecewise-constant path acceleration."
                                   if motion.jerk_limit is not None else ""))
-    notes.append("speed limit: the lowest of the motion file's, the URDF's and the unit's "
-                 "(maximum input speed / ratio). binds longest: the joint's limit that is the "
-                 "closest to its bound of all for the longest share of the moving time. rule: "
-                 "the rule with the highest utilization on the result (* catalog stand-in).")
+    notes.append("speed limit [rad/s, m/s for a prismatic joint]: the lowest of the motion "
+                 "file's, the URDF's and the unit's (maximum input speed / ratio). torque "
+                 "limit [N m]: the unit's repeated peak (derated: the fraction kept). binds "
+                 "longest: the joint's limit that is the closest to its bound of all for the "
+                 "longest share of the moving time. rule: the rule with the highest "
+                 "utilization on the result (* catalog stand-in).")
     notes.append("Assumptions: " + "; ".join(f"{k}: {v}" for k, v in
                                               assumptions(result.check).items()))
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.check.joints
@@ -393,7 +394,7 @@ def ratios_table(comparison: RatioComparison, joint: JointRatios) -> Table:
     table = Table(title=f"Joint {joint.joint}: the shortest cycle with each unit",
                   title_justify="left", box=box.SIMPLE_HEAD, pad_edge=False)
     for header in ("unit", "cycle s", "vs ▶", "binds longest", "lengthened by / note"):
-        table.add_column(header, no_wrap=True,
+        table.add_column(header, no_wrap=header != "lengthened by / note",
                          justify="right" if header in ("cycle s", "vs ▶") else "left")
     reference = next((row.cycle_time for row in joint.rows if row.unit.id == joint.selected),
                      None)
