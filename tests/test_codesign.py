@@ -362,7 +362,7 @@ def test_unit_that_cannot_hold_gravity(capsys, tmp_path):
     err = capsys.readouterr().err
     assert err.count("\n") == 1
     assert "joint 'shoulder_lift' cannot hold its gravity load at any speed" in err
-    assert "beyond its torque limit 2.6 N m" in err
+    assert "beyond its repeated-peak limit 2.6 N m" in err
     assert not out.exists()
 
 

@@ -292,14 +292,12 @@ def run_fastest(args: argparse.Namespace) -> int:
         field = {"units": "--units", "joint": "--joint"}.get(str(err.field), err.field)
         raise InputError(err.reason, path=err.path, field=field) from err
     if args.plot:
-        from hdselect.figures import write_profiles_png, write_ratios_png
+        from hdselect.figures import write_fastest_png, write_ratios_png
 
         if args.compare_ratios:
             write_ratios_png(args.plot, comparison)
         else:
-            write_profiles_png(args.plot, result.trajectory, _gear_torques(result),
-                               result.robot.sized_joints,
-                               title=f"{robot.path.name}: fastest run of {motion.path.name}")
+            write_fastest_png(args.plot, result)
     if args.out:
         write_trajectory_csv(args.out, result.trajectory, _gear_torques(result),
                              result.robot.sized_joints)

@@ -431,20 +431,24 @@ def _diagnose(model: PathModel, piece: PathPiece, groups: Sequence[Group],
         j = names.index(name)
         lim = limits[j]
         bound = {"emergency stop": lim.momentary, "static": lim.static}.get(limit, lim.torque)
+        unit = math.isfinite(lim.momentary)  # a joint with a gearhead; else limits.torque
+        what = {"emergency stop": "momentary limit (emergency stop)",
+                "static": "static limit" if unit else "limits.torque",
+                "torque": "repeated-peak limit" if unit else "limits.torque"}[limit]
         k = int(np.argmax(np.abs(c[:, j])))
         if abs(c[k, j]) > bound:
             lo, hi = piece.segment(float(piece.gridpoints[k]))
             return PathInfeasible(
                 f"{where}: joint '{name}' cannot hold its gravity load at any speed: "
                 f"{abs(c[k, j]):.3g} N m between waypoint[{lo}] and waypoint[{hi}] "
-                f"(s = {piece.gridpoints[k]:.3f}) is beyond its {limit} limit "
-                f"{bound:.3g} N m", joint=name, limit=limit, gravity=True)
+                f"(s = {piece.gridpoints[k]:.3f}) is beyond its {what} {bound:.3g} N m",
+                joint=name, limit=limit, gravity=True)
         s = _first_infeasible(piece, [*kinematic, *items])
         lo, hi = piece.segment(s)
         return PathInfeasible(
-            f"{where}: the {limit} limit of joint '{name}' ({bound:.3g} N m) makes it "
-            f"infeasible at any speed, first at s = {s:.3f} between waypoint[{lo}] and "
-            f"waypoint[{hi}]", joint=name, limit=limit, gravity=False)
+            f"{where}: the {what} of joint '{name}' ({bound:.3g} N m) makes it infeasible "
+            f"at any speed, first at s = {s:.3f} between waypoint[{lo}] and waypoint[{hi}]",
+            joint=name, limit=limit, gravity=False)
     return PathInfeasible(f"{where}: the torque, emergency-stop and crash limits together make "
                           "it infeasible at any speed", joint=None, limit="together",
                           gravity=False)

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
-from hdselect.codesign import RatioComparison  # noqa: E402
+from hdselect.codesign import FastestResult, RatioComparison  # noqa: E402
 from hdselect.errors import InputError  # noqa: E402
 from hdselect.export import assumptions, write_output  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
@@ -296,4 +296,51 @@ def write_ratios_png(path: str | Path, comparison: RatioComparison) -> None:
     fig.suptitle(f"{comparison.robot.path.name} on the path of {comparison.motion.path.name}: "
                  "shortest cycle by unit, the other joints' units fixed", fontsize=11)
     fig.tight_layout(rect=(0, 0.06, 1, 1))
+    _save(fig, Path(path))
+
+
+def write_fastest_png(path: str | Path, result: FastestResult) -> None:
+    """Speed and output torque of every sized joint along the fastest cycle, limits drawn.
+
+    Speed against its limit (motion file, URDF or unit, whichever is lowest), torque
+    against the unit's repeated-peak and momentary limits, the emergency-stop torque
+    from each instant behind it.
+    """
+    trajectory, robot = result.trajectory, result.robot
+    joints = result.check.joints
+    fig, axes = plt.subplots(len(joints), 2, figsize=(11, 1.9 * len(joints) + 0.9),
+                             sharex=True, squeeze=False)
+    sources = {"motion": "motion file", "robot": "URDF", "unit": "unit"}
+    for row, joint in enumerate(joints):
+        j = robot.joint_index(joint.name)
+        (candidate,) = joint.candidates
+        unit, lim = candidate.unit, result.limits[joint.name]
+        scale = DEG_PER_RAD if robot.revolute[j] else 1.0
+        speed_ax, torque_ax = axes[row]
+        speed_ax.plot(trajectory.t, trajectory.qd[:, j] * scale, color="tab:blue", lw=1)
+        for sign in (1.0, -1.0):
+            speed_ax.axhline(sign * lim.velocity * scale, color="k", ls="--", lw=0.8,
+                             label=f"speed limit ({sources[lim.velocity_source]})"
+                             if sign > 0 else None)
+        speed_ax.set_ylabel(f"{joint.name}\nspeed [{'deg/s' if robot.revolute[j] else 'm/s'}]")
+        torque_ax.plot(trajectory.t, joint.stop_torque, color="tab:orange", lw=0.7, alpha=0.6,
+                       label="emergency stop from each instant")
+        torque_ax.plot(trajectory.t, joint.torque, color="tab:red", lw=1, label="output torque")
+        for sign in (1.0, -1.0):
+            torque_ax.axhline(sign * unit.repeated_torque, color="k", ls="--", lw=0.8,
+                              label=f"{unit.id} repeated peak" if sign > 0 else None)
+            torque_ax.axhline(sign * unit.momentary_torque, color="tab:purple", ls=":", lw=0.8,
+                              label=f"{unit.id} momentary" if sign > 0 else None)
+        torque_ax.set_ylabel("torque [N m]")
+        for ax in (speed_ax, torque_ax):
+            ax.axhline(0.0, color="0.6", lw=0.5)
+            ax.grid(alpha=0.3)
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, frameon=False)
+    axes[0, 0].set_title("output speed")
+    axes[0, 1].set_title("output torque (gearhead masses carried)")
+    for ax in axes[-1]:
+        ax.set_xlabel("time [s]")
+    fig.suptitle(f"{robot.path.name}: the fastest run of {result.motion.path.name}, cycle "
+                 f"{result.cycle_time:.3f} s")
+    fig.tight_layout()
     _save(fig, Path(path))
