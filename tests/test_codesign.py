@@ -30,9 +30,10 @@ from hdselect.catalog import load_catalog
 from hdselect.cli import main
 from hdselect.codesign import compare_ratios, fastest
 from hdselect.errors import InputError, PlanningError
-from hdselect.fastpath import GRID_PER_WAYPOINT, PathInfeasible
+from hdselect.fastpath import GRID_PER_WAYPOINT
 from hdselect.motion import load_case
 from hdselect.options import Options
+from hdselect.pathbounds import PathInfeasible
 from hdselect.planning import plan
 from hdselect.planning.toppra import (
     kinematic_constraints,
