@@ -45,8 +45,8 @@ class Binding:
 
 
 def bindings(model: PathModel, trial: Trial, scale: float, check: SizingResult,
-              held: np.ndarray, limits: Sequence[JointLimits],
-              units: Mapping[str, Unit]) -> tuple[Binding, ...]:
+             held: np.ndarray, limits: Sequence[JointLimits],
+             units: Mapping[str, Unit]) -> tuple[Binding, ...]:
     """The limit closest to its bound at each moving sample, grouped into stretches."""
     trajectory = check.trajectory
     robot = model.robot

@@ -72,8 +72,8 @@ class Trial:
 
 
 def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
-           masses: Mapping[str, float], derating: Mapping[str, float],
-           options: Options) -> Trial:
+              masses: Mapping[str, float], derating: Mapping[str, float],
+              options: Options) -> Trial:
     """Solve TOPPRA at one derating and find the smallest slow-down at which all passes."""
     motion = model.motion
     limits = joint_limits(model.robot, motion, units, options, derating)
@@ -88,8 +88,8 @@ def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
                if any(not c.ok for rule, c in _check_scaled(cycle_, held, units[name], 1.0,
                                                              options).checks.items()
                       if rule in WHOLE_CYCLE_RULES)}
-    return Trial(dict(derating), profiles, kinematic, moving,
-                  trajectory.duration - moving, scale, reason, tuple(sorted(failing)))
+    return Trial(dict(derating), profiles, kinematic, moving, trajectory.duration - moving,
+                 scale, reason, tuple(sorted(failing)))
 
 
 def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
@@ -153,8 +153,8 @@ def _failing(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
 
 
 def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
-                    units: Mapping[str, Unit], options: Options,
-                    motion: Motion) -> tuple[float, tuple[str, str] | None]:
+                   units: Mapping[str, Unit], options: Options,
+                   motion: Motion) -> tuple[float, tuple[str, str] | None]:
     """The smallest s >= 1 [-] at which every joint passes every rule, and what set it.
 
     The rules on single samples give exact intervals of s (`exact_scales`); inside
@@ -219,14 +219,14 @@ def _intersect(a: list[tuple[float, float]],
 
 
 def derated(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
-             masses: Mapping[str, float], first: Trial, options: Options) -> Trial:
+            masses: Mapping[str, float], first: Trial, options: Options) -> Trial:
     """The derating of the failing joints' torque limits that gives the shortest cycle."""
     joints = first.whole_cycle_failing
 
     def attempt(fraction: float) -> Trial | None:
         try:
             return run_trial(model, carrying, units, masses, dict.fromkeys(joints, fraction),
-                          options)
+                             options)
         except PathInfeasible:
             return None
 
@@ -264,7 +264,7 @@ def derated(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
 
 
 def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
-              options: Options) -> tuple[Trajectory, np.ndarray, SizingResult, float]:
+             options: Options) -> tuple[Trajectory, np.ndarray, SizingResult, float]:
     """The trajectory on the motion's grid and its check, slowed until every rule passes.
 
     Returns:

@@ -121,7 +121,8 @@ Group = tuple[str, str | None, list[Any]]
 
 
 def constraint_groups(piece: PathPiece, names: Sequence[str], limits: Sequence[JointLimits],
-            coefficients: Coefficients, stops: Mapping[int, np.ndarray]) -> list[Group]:
+                      coefficients: Coefficients,
+                      stops: Mapping[int, np.ndarray]) -> list[Group]:
     """The constraints of a piece, kinematic ones first, then each joint's torque and stop."""
     from hdselect.planning.constraints import SecondOrderBounds, SpeedBound
 
@@ -148,7 +149,7 @@ def flatten(groups: Sequence[Group]) -> list[Any]:
 
 
 def stop_bound(coefficients: Coefficients, j: int, limit: float,
-                stop_time: float) -> np.ndarray:
+               stop_time: float) -> np.ndarray:
     """Largest s' [1/s] up to which an emergency stop keeps |torque| <= limit, per gridpoint.
 
     The stop torque at path speed y is c + v y^2 - (a / t_stop) y; the bound is its first
@@ -175,7 +176,7 @@ def _first_root(p2: np.ndarray, p1: np.ndarray, p0: np.ndarray) -> np.ndarray:
 
 
 def speed_cap(piece: PathPiece, limits: Sequence[JointLimits],
-               stops: Mapping[int, np.ndarray]) -> np.ndarray:
+              stops: Mapping[int, np.ndarray]) -> np.ndarray:
     """The largest s' [1/s] the velocity and emergency-stop bounds allow at each gridpoint."""
     velocity = np.array([lim.velocity for lim in limits])
     with np.errstate(divide="ignore"):
@@ -186,7 +187,7 @@ def speed_cap(piece: PathPiece, limits: Sequence[JointLimits],
 
 
 def crash_rows(piece: PathPiece, limits: Sequence[JointLimits], coefficients: Coefficients,
-                cap: np.ndarray, guess: np.ndarray | None = None) -> list[Any]:
+               cap: np.ndarray, guess: np.ndarray | None = None) -> list[Any]:
     """The crash rule as rows linear in (s'', s'^2), never weaker than the rule itself.
 
     |tau| + k sqrt(x) <= M with k = K |p'|: sqrt is concave, so its tangent at any
@@ -237,7 +238,7 @@ def crash_rows(piece: PathPiece, limits: Sequence[JointLimits], coefficients: Co
 
 
 def meets(profile: Profile, piece: PathPiece, limits: Sequence[JointLimits],
-           coefficients: Coefficients, stops: Mapping[int, np.ndarray]) -> bool:
+          coefficients: Coefficients, stops: Mapping[int, np.ndarray]) -> bool:
     """Whether a profile meets the torque, emergency-stop and crash limits at the gridpoints.
 
     As TOPPRA's interpolation discretization imposes them: each step's path acceleration
@@ -258,7 +259,7 @@ def meets(profile: Profile, piece: PathPiece, limits: Sequence[JointLimits],
 
 
 def crash_binds(piece: PathPiece, limits: Sequence[JointLimits], coefficients: Coefficients,
-                 profile: Profile) -> bool:
+                profile: Profile) -> bool:
     """Whether the crash rule (exact, not its tangent) is within 0.1 % of its limit somewhere.
 
     Where it is not, the tangent's slack cost nothing and another round cannot help.
