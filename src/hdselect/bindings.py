@@ -71,14 +71,15 @@ def bindings(model: PathModel, trial: Trial, scale: float, check: SizingResult,
     best[~moving] = -1
     times = trajectory.t
     dt = trajectory.dt
+    ends = np.minimum(times + dt, trajectory.duration)  # a sample stands for dt, up to the end
     stretches: list[list] = []
     for k in np.flatnonzero(moving):
         row = int(best[k])
         if stretches and stretches[-1][2] == row and stretches[-1][1] >= times[k] - 1.5 * dt:
-            stretches[-1][1] = times[k] + dt
+            stretches[-1][1] = float(ends[k])
             stretches[-1][3] = max(stretches[-1][3], float(table[row, k]))
         else:
-            stretches.append([float(times[k]), float(times[k] + dt), row, float(table[row, k])])
+            stretches.append([float(times[k]), float(ends[k]), row, float(table[row, k])])
     total = sum(b - a for a, b, _, _ in stretches) or 1.0
     merged: list[list] = []
     for stretch in stretches:  # a stretch under 1 % of the moving time joins its neighbour
