@@ -2,23 +2,23 @@
 
 At every moving sample each limit of each joint has a demand / limit ratio: speed
 against its limit, acceleration against the motion file's, torque against the
-repeated peak, the emergency stop and the crash against the momentary limit. The
+repeated peak (or the motion file's limits.torque where lower; the static limit where the
+joint is held), the emergency stop and the crash against the momentary limit. The
 largest names the limit that binds there; consecutive samples with the same one make
 a stretch, and a stretch under 1 % of the moving time joins its neighbour.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from hdselect.catalog import Unit
 from hdselect.cyclerules import Trial
 from hdselect.fastpath import PathModel
 from hdselect.pathbounds import JointLimits
-from hdselect.sizing import SizingResult
+from hdselect.sizing import SizingResult, at_rest
 
 
 @dataclass(frozen=True)
@@ -31,8 +31,8 @@ class Binding:
         joint: The joint.
         limit: The limit: ``"velocity (motion file)"``, ``"velocity (URDF)"``, ``"max input
             speed"``, ``"acceleration"``, ``"torque"``, ``"emergency stop"`` or ``"crash"``.
-        utilization: The largest demand / limit over the stretch [-] (torque: against
-            the undearated repeated-peak limit).
+        utilization: The largest demand / limit over the stretch [-] (torque: against its
+            limit before any derating).
         waypoints: The waypoints between which the stretch starts.
     """
 
@@ -45,9 +45,17 @@ class Binding:
 
 
 def bindings(model: PathModel, trial: Trial, scale: float, check: SizingResult,
-             held: np.ndarray, limits: Sequence[JointLimits],
-             units: Mapping[str, Unit]) -> tuple[Binding, ...]:
-    """The limit closest to its bound at each moving sample, grouped into stretches."""
+             held: np.ndarray, limits: Sequence[JointLimits]) -> tuple[Binding, ...]:
+    """The limit closest to its bound at each moving sample, grouped into stretches.
+
+    Args:
+        model: The path.
+        trial: The profiles run.
+        scale: Their slow-down [-].
+        check: The sizing's check of the trajectory (its torques).
+        held: The trajectory's samples in dwells.
+        limits: Each joint's limits, not derated.
+    """
     trajectory = check.trajectory
     robot = model.robot
     names = list(robot.joint_names)
@@ -60,8 +68,10 @@ def bindings(model: PathModel, trial: Trial, scale: float, check: SizingResult,
         rows.append((name, "acceleration", np.abs(trajectory.qdd[:, j]) / lim.acceleration))
     for joint in check.joints:
         j = names.index(joint.name)
-        lim, unit = limits[j], units[joint.name]
-        rows.append((joint.name, "torque", np.abs(joint.torque) / unit.repeated_torque))
+        lim = limits[j]
+        still = at_rest(trajectory.qd[:, j], trajectory.qdd[:, j])  # held: the static limit
+        rows.append((joint.name, "torque", np.abs(joint.torque)
+                     / np.where(still, lim.static, lim.torque)))
         rows.append((joint.name, "emergency stop", np.abs(joint.stop_torque) / lim.momentary))
         rows.append((joint.name, "crash", (np.abs(joint.torque) + lim.crash_gain
                                            * np.abs(trajectory.qd[:, j])) / lim.momentary))

@@ -312,7 +312,8 @@ def _fastest(model: PathModel, units: Mapping[str, Unit], options: Options) -> F
         trajectory=trajectory, check=check,
         limits=dict(zip(robot.joint_names, limits, strict=True)),
         optimum=optimum, slowdown=slowdown, derating=dict(best.derating),
-        reason=reason, binding=bindings(model, best, scale, check, held, limits, units),
+        reason=reason, binding=bindings(model, best, scale, check, held,
+                                        joint_limits(robot, model.motion, units, options)),
         grid_per_waypoint=model.grid_per_waypoint)
 
 

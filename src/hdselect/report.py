@@ -383,8 +383,8 @@ def binding_table(result: FastestResult) -> Table:
         table.add_row(f"{b.start:.3f}", f"{b.end:.3f}", f"{b.waypoints[0]} to {b.waypoints[1]}",
                       b.joint, b.limit, percent(b.utilization))
     table.caption = ("peak: the largest demand / limit over the stretch (torque against the "
-                     "repeated-peak limit). A stretch under 1 % of the moving time joins its "
-                     "neighbour.")
+                     "limit before any derating). A stretch under 1 % of the moving time "
+                     "joins its neighbour.")
     table.caption_justify = "left"
     return table
 
