@@ -228,6 +228,9 @@ def benchmarks(quick: bool) -> list[Benchmark]:
         return max(float(np.max(np.abs(joint.torque - reference[:, robot.joint_index(joint.name)])))
                    for joint in joints)
 
+    study_speed, study_workers = _studies(quick)
+    from hdselect.study import run_study
+
     samples = f"{n:,} samples of {MOTION.name}" + (f" (every {step}th)" if step > 1 else "")
     codesign = _codesign_rows(quick, units, rnea_loop_for=_rnea_loop)
     cli = [sys.executable, "-m", "hdselect.cli"]
@@ -269,6 +272,22 @@ def benchmarks(quick: bool) -> list[Benchmark]:
                   "robot.with_payload(m), vs 10 size() calls from the files (load, plan, size)"),
         *codesign,
         Benchmark(
+            "study: grouped vs one by one",
+            lambda: run_study(study_speed, workers=0),
+            lambda: run_study(study_speed, workers=0, grouping=False), 0.05, unit="ms",
+            per=len(study_speed.cases), per_label="case", repeats=3,
+            notes=f"{study_speed.title} ({len(study_speed.cases)} cases) in this process: "
+                  "from one shared basis vs each case loaded, planned and sized on its own",
+            check=Check("rows differ", lambda: float(
+                _study_csv(study_speed, True) != _study_csv(study_speed, False)), 0.0)),
+        Benchmark(
+            "study: 2 workers vs 1",
+            lambda: run_study(study_workers, workers=2, grouping=False),
+            lambda: run_study(study_workers, workers=1, grouping=False), 0.6, unit="ms",
+            per=len(study_workers.cases), per_label="case", repeats=3,
+            notes=f"{len(study_workers.cases)} cases each sized on its own, worker processes "
+                  "started included; the target is a throughput of at least 1.67x"),
+        Benchmark(
             "cold start: --help", lambda: _process(cli + ["--help"]),
             lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
             notes="whole process, python -m hdselect.cli --help vs python -c pass", repeats=9),
@@ -290,7 +309,7 @@ def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:
 
     robot, motion = load_case(CONTOUR)
     velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
-    pieces = [p for p in path_pieces(motion) if p.path is not None]
+    pieces = [p for p in path_pieces(robot, motion) if p.path is not None]
     knots = [(p.knots, motion.waypoints[list(p.waypoints)], p.gridpoints) for p in pieces]
 
     def plain_toppra() -> float:
@@ -353,6 +372,38 @@ def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:
             notes=f"--compare-ratios on {FAST_PICK.name}, {comparisons} unit-joint "
                   "configurations sharing one path model, vs one fastest() call"),
     ]
+
+
+def _studies(quick: bool):
+    """The 10 x 10 payload x speed study (fewer, shorter cases in quick mode), and one to split."""
+    import tempfile
+
+    from hdselect.study import load_study
+
+    folder = Path(tempfile.mkdtemp(prefix="hdselect-bench-"))
+    motion = folder / "motion.toml"
+    text = MOTION.read_text().replace('robot = "../robots/', f'robot = "{ROOT}/robots/')
+    motion.write_text(text.replace("dt = 0.001", "dt = 0.005") if quick else text)
+    payloads = "[0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75, 2.0, 2.25, 2.5]"
+    scales = "[0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2, 1.3, 1.4, 1.5]"
+    if quick:
+        payloads, scales = "[0.5, 1.0, 1.5, 2.0]", "[0.9, 1.0, 1.2]"
+    speed = folder / "speed.toml"
+    speed.write_text(f'title = "benchtop6 payload x speed"\n[base]\nmotion = "{motion}"\n'
+                     f"[grid]\npayload = {payloads}\ntime_scale = {scales}\n")
+    workers = folder / "workers.toml"
+    workers.write_text(f'[base]\nmotion = "{motion}"\n[grid]\n'
+                       f"payload = {'[0.5, 1.0]' if quick else '[0.5, 1.0, 1.5, 2.0]'}\n"
+                       "time_scale = [1.0, 1.1, 1.2, 1.3, 1.4, 1.5]\n")
+    return load_study(speed), load_study(workers)
+
+
+def _study_csv(study, grouping: bool) -> str:
+    """The CSV rows a study gives, grouped or each case on its own."""
+    from hdselect.study import run_study
+    from hdselect.study.store import csv_text
+
+    return csv_text(study, run_study(study, workers=0, grouping=grouping).records)
 
 
 def _process(command: list[str]) -> None:

@@ -212,7 +212,7 @@ def test_slack_units_give_the_kinematic_toppra_run(tmp_path, planner):
     result = fastest(robot, motion, dict.fromkeys(robot.joint_names, SLACK), options)
     speeds = motion.velocity_limit if planner == "ruckig" else None
     expected = float(np.sum(motion.dwells))
-    for piece in path_pieces(motion, GRID_PER_WAYPOINT, speeds=speeds):
+    for piece in path_pieces(robot, motion, GRID_PER_WAYPOINT, speeds=speeds):
         constraints = kinematic_constraints(motion.velocity_limit, motion.acceleration_limit)
         profile = solve_piece(piece, constraints, where="test")
         expected += profile.duration * overshoot_scale(profile, motion.velocity_limit,
@@ -222,6 +222,71 @@ def test_slack_units_give_the_kinematic_toppra_run(tmp_path, planner):
     assert result.reason is None and result.slowdown == pytest.approx(1.0)
     if planner == "toppra":  # the planner's own run, on its four times finer grid
         assert result.cycle_time == pytest.approx(plan(robot, motion).duration, rel=RESOLUTION)
+
+
+@pytest.mark.parametrize("planner", ["toppra", "ruckig"])
+def test_fastest_follows_plans_path_rule_at_a_position_limit(tmp_path, planner):
+    # waypoint[1] and [3] lie on j1's +pi limit, passed with a slope: the clamped spline
+    # through them leaves the limit, so j1 alone follows the shape-preserving cubic, as in
+    # `plan` (test_plan.test_toppra_stays_inside_limits_its_spline_would_leave)
+    write_robot(tmp_path, 2)
+    points = [[0.0, 0.0], [math.pi, 0.5], [2.0, 1.0], [math.pi, 2.0]]
+    lines = ['robot = "arm.urdf"', f'planner = "{planner}"', 'angle_unit = "rad"', "dt = 0.002",
+             "[limits]", "velocity = [1.0, 1.5]", "acceleration = [4.0, 6.0]"]
+    lines += ["jerk = 100.0"] if planner == "ruckig" else []
+    for q in points:
+        lines += ["[[waypoint]]", f"q = {q!r}"]
+    robot, motion = load_case(write_motion(tmp_path, "\n".join(lines) + "\n"))
+    speeds = motion.velocity_limit if planner == "ruckig" else None
+    (piece,) = path_pieces(robot, motion, GRID_PER_WAYPOINT, speeds=speeds)
+    assert piece.path.shape_preserving == (0,)
+    result = fastest(robot, motion, dict.fromkeys(robot.joint_names, SLACK),
+                     Options(mass_coupling=False))
+    j1 = result.trajectory.q[:, 0]
+    assert j1.max() <= math.pi + 1e-12 and j1.min() >= -1e-12
+    assert j1.max() == pytest.approx(math.pi, abs=1e-9)  # it does reach the waypoints
+    if planner == "toppra":  # plan's path: the same curve, run at other speeds
+        (planned,) = path_pieces(robot, motion)
+        s = np.linspace(0.0, 1.0, 101)
+        np.testing.assert_array_equal(piece.path(s), planned.path(s))
+        assert plan(robot, motion).q[:, 0].max() <= math.pi + 1e-12
+
+
+def test_fastest_leaving_a_limit_is_refused_as_plan_refuses_it(tmp_path, monkeypatch):
+    import hdselect.codesign as codesign
+
+    write_robot(tmp_path, 2)
+    robot, motion = load_case(write_motion(tmp_path, f"""\
+        robot = "arm.urdf"
+        planner = "toppra"
+        angle_unit = "deg"
+        dt = 0.002
+        [limits]
+        velocity = 60
+        acceleration = 200
+        [[waypoint]]
+        q = [0.0, 0.0]
+        [[waypoint]]
+        q = [{math.degrees(math.pi)!r}, 20.0]
+        [[waypoint]]
+        q = [90.0, 40.0]
+    """))
+    verified = codesign.verified
+
+    def bumped(*args, **kwargs):  # a path 0.6 deg past the stop, near waypoint[1]
+        trajectory, *rest = verified(*args, **kwargs)
+        bump = np.exp(-((trajectory.t - trajectory.t[np.argmax(trajectory.q[:, 0])]) / 0.05) ** 2)
+        q = trajectory.q + np.column_stack([math.radians(0.6) * bump, 0.0 * bump])
+        return (dataclasses.replace(trajectory, q=q), *rest)
+
+    monkeypatch.setattr(codesign, "verified", bumped)
+    with pytest.raises(PlanningError) as info:
+        fastest(robot, motion, dict.fromkeys(robot.joint_names, SLACK))
+    message = str(info.value)
+    assert "the fastest trajectory takes joint 'j1' 0.6 deg past its upper limit 180 deg" \
+        in message
+    assert "near waypoint[1], which lies on that limit" in message
+    assert "move waypoint[1].j1 at least 0.6 deg further inside" in message
 
 
 def test_path_keeps_the_dwells_and_stops_only_there(tmp_path):
@@ -412,10 +477,15 @@ def test_json_csv_and_plot_of_fastest(tmp_path, capsys):
     out, plot = tmp_path / "fast.csv", tmp_path / "fast.png"
     assert main(["fastest", str(FAST_PICK), "--json", "-", "--out", str(out), "--plot",
                  str(plot)]) == 0
-    document = json.loads(capsys.readouterr().out)
+    captured = capsys.readouterr()
+    document = json.loads(captured.out)
+    assert f"wrote {out}: t, then q_" in " ".join(captured.err.split())
+    assert f"wrote {plot}: speed and torque" in " ".join(captured.err.split())
     assert set(document) == {"robot", "motion", "cycle_time_s", "moving_time_s", "dwell_time_s",
                              "optimum_s", "slowdown", "lengthened_by", "grid_per_waypoint",
-                             "samples", "feasible", "assumptions", "joints", "binding"}
+                             "samples", "feasible", "assumptions", "joints", "binding",
+                             "root_link", "payload", "warnings"}
+    assert document["warnings"] == [] and document["payload"]["frame"] == "tool0"
     assert document["feasible"] and document["grid_per_waypoint"] == GRID_PER_WAYPOINT
     assert document["cycle_time_s"] == pytest.approx(document["moving_time_s"] + 6.0)
     joint = document["joints"][0]

@@ -24,11 +24,13 @@ from test_plan import make_motion
 MOTIONS = REPO / "trajectories"
 
 
-@pytest.mark.parametrize("name", ["benchtop6_pick_place", "planar2_pick_place",
-                                  "index_table_indexing", "pan_tilt_logged"])
-def test_one_percent_more_fails_and_one_percent_less_passes(name):
+@pytest.mark.parametrize(("name", "frame", "com"), [
+    ("benchtop6_pick_place", None, None), ("planar2_pick_place", None, None),
+    ("index_table_indexing", "fixture_1", None),  # off the axis: the disk's origin is on it
+    ("pan_tilt_logged", None, (0.1, 0.0, 0.05))])
+def test_one_percent_more_fails_and_one_percent_less_passes(name, frame, com):
     robot, motion = load_case(MOTIONS / f"{name}.toml")
-    result = max_payload(robot, motion)
+    result = max_payload(robot, motion, frame=frame, com=com)
     assert result.mass is not None and 0.1 < result.mass < 100.0
     below = size(robot, motion, payload=scaled(result.payload, 0.99 * result.mass))
     above = size(robot, motion, payload=scaled(result.payload, 1.01 * result.mass))
@@ -87,17 +89,27 @@ def test_a_payload_on_the_axis_has_no_limit(capsys):
     assert document["unlimited"] is True and document["max_payload_kg"] is None
 
 
+def test_a_point_mass_on_the_axes_loads_nothing():
+    # the index table's default payload frame is the disk, whose origin is on the axis:
+    # a point mass there has no moment and no inertia about it, whatever its mass
+    robot, motion = load_case(MOTIONS / "index_table_indexing.toml")
+    assert robot.payload_frame == "disk"
+    result = max_payload(robot, motion)
+    assert result.mass == math.inf and result.frame == "disk" and result.joint is None
+
+
 def test_json_and_table(capsys):
     path = MOTIONS / "index_table_indexing.toml"
-    assert main(["max-payload", str(path), "--json", "-"]) == 0
+    assert main(["max-payload", str(path), "--payload-frame", "fixture_1", "--json", "-"]) == 0
     document = json.loads(capsys.readouterr().out)
     assert set(document) == {"robot", "motion", "max_payload_kg", "unlimited", "payload",
                              "ranges_kg", "binding", "selection"}
     assert document["binding"]["joint"] == "table"
     assert document["ranges_kg"] == [[0.0, document["max_payload_kg"]]]
     assert document["selection"]["feasible"] is True
-    assert main(["max-payload", str(path)]) == 0
-    out = capsys.readouterr().out
+    assert document["payload"]["frame"] == "fixture_1" and document["payload"]["frame_given"]
+    assert main(["max-payload", str(path), "--payload-frame", "fixture_1"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
     assert f"the largest payload is {document['max_payload_kg']:.4g} kg" in out
 
 

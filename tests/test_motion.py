@@ -293,3 +293,74 @@ def test_planner_specific_keys(arm):
     toppra = GOOD.replace('"ruckig"', '"toppra"')
     err = _error(arm, toppra)
     assert err.field == "limits.jerk" and "planner 'toppra' takes: velocity" in str(err)
+
+
+# --- lists follow the model's order, and say so -----------------------------------------------
+
+def test_a_list_error_names_the_list_order(arm):
+    err = _error(arm, GOOD.replace("q = [0, 30, -45, 0, 60, 0]", "q = [0, 30, -190, 0, 60, 0]"))
+    assert "(list order: j1, j2, j3, j4, j5, j6)" in str(err)
+    err = _error(arm, GOOD.replace("q = [0, 30, -45, 0, 60, 0]", "q = [0, 30, -45, 0, 'x', 0]"))
+    assert "for joint 'j5' (list order: j1, j2, j3, j4, j5, j6)" in str(err)
+
+
+# --- velocity limits: the robot file's where the motion file gives none ------------------------
+
+def test_velocity_defaults_to_the_robot_files(arm):
+    robot, motion = load_case(write_motion(arm, GOOD.replace("velocity = 120\n", "")))
+    np.testing.assert_array_equal(motion.velocity_limit, robot.velocity_limit)
+    assert motion.velocity_limit[0] == 10.0  # write_chain's <limit velocity="10">
+    assert motion.velocity_from_robot == NAMES6 and motion.warnings == ()
+
+
+def test_velocity_table_may_leave_joints_to_the_robot_file(arm):
+    body = GOOD.replace("velocity = 120", "velocity = {j2 = 90, j5 = 45}")
+    _, motion = load_case(write_motion(arm, body))
+    deg = math.pi / 180
+    np.testing.assert_allclose(motion.velocity_limit, [10, 90 * deg, 10, 10, 45 * deg, 10])
+    assert motion.velocity_from_robot == ("j1", "j3", "j4", "j6")
+
+
+def test_asking_more_than_the_robot_file_allows_warns_once_per_joint(arm):
+    body = GOOD.replace("velocity = 120", "velocity = {j1 = 5000, j2 = 90, j3 = 600, j4 = 90, "
+                                          "j5 = 90, j6 = 90}")
+    _, motion = load_case(write_motion(arm, body))
+    assert motion.warnings == (
+        "limits.velocity: joint 'j1' may move at 5000 deg/s, above the robot file's velocity "
+        "limit 573 deg/s",
+        "limits.velocity: joint 'j3' may move at 600 deg/s, above the robot file's velocity "
+        "limit 573 deg/s")
+
+
+def test_no_velocity_anywhere_is_an_error_naming_the_joints(tmp_path):
+    write_chain(tmp_path, [("j1", "revolute", -1, 1), ("spin", "continuous", 0, 0)])
+    err = _error(tmp_path, 'robot = "arm.urdf"\nplanner = "toppra"\nangle_unit = "rad"\n'
+                           "[limits]\nacceleration = 1\n[[waypoint]]\nq = [0, 0]\n"
+                           "[[waypoint]]\nq = [0.5, 0.5]\n")
+    assert err.field == "limits.velocity"
+    assert "required by planner 'toppra' for spin: the robot file gives no velocity limit" \
+        in str(err)
+
+
+# --- [sizing] ---------------------------------------------------------------------------------
+
+def test_sizing_section_chooses_the_joints(arm):
+    robot, motion = load_case(write_motion(arm, GOOD + '[sizing]\nexclude = ["j6", "j4"]\n'))
+    assert motion.excluded_joints == ("j6", "j4")
+    assert robot.sized_joints == ("j1", "j2", "j3", "j5")
+    robot, _ = load_case(write_motion(arm, GOOD + '[sizing]\njoints = ["j3", "j1"]\n'
+                                                  'exclude = ["j3"]\n'))
+    assert robot.sized_joints == ("j1",)
+    robot, _ = load_case(write_motion(arm, GOOD + '[sizing]\nexclude = ["j6"]\n'), joints=["j2"])
+    assert robot.sized_joints == ("j2",)  # an argument overrides the file's [sizing]
+
+
+@pytest.mark.parametrize(("sizing", "field", "text"), [
+    ('exclude = ["elbow"]', "sizing.exclude", "unknown joint 'elbow'; joints are: j1"),
+    ('joints = "j1"', "sizing.joints", "expected a list of joint names"),
+    ('exclude = ["j1", "j2", "j3", "j4", "j5", "j6"]', "sizing.exclude", "no joint left to size"),
+    ("size = 3", "sizing.size", "valid keys: joints, exclude"),
+])
+def test_bad_sizing_section(arm, sizing, field, text):
+    err = _error(arm, GOOD + f"[sizing]\n{sizing}\n")
+    assert err.field == field and "motion.toml" in str(err) and text in str(err)

@@ -1,15 +1,17 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pinocchio as pin
 import pytest
 import ruckig
+from scipy.interpolate import CubicSpline
 
 from hdselect.errors import PlanningError
 from hdselect.motion import load_case
-from hdselect.planning import plan
+from hdselect.planning import PLANNERS, plan
 from hdselect.planning.ruckig import sample_profiles
 from hdselect.planning.toppra import TOPPRA_TOLERANCE, TOPPRA_TORQUE_TOLERANCE
 from test_motion import write_chain, write_motion, write_robot
@@ -196,12 +198,57 @@ def test_toppra_torque_limits(tmp_path):
         plan(*make_motion(tmp_path, "toppra", points, velocity=6.28, acceleration=50, torque=0.5))
 
 
-def test_toppra_path_leaving_joint_limits(tmp_path):
-    robot, motion = make_motion(tmp_path, "toppra",
-                                [[0.0, 0.0], [3.1, 0.0], [3.1, 3.0], [0.0, 3.0]],
-                                velocity=1, acceleration=2)
-    with pytest.raises(PlanningError, match="leaves the limits of joint 'j1'"):
+def clamped_spline(waypoints):
+    """The clamped cubic spline through waypoints, chord-length parametrised (an oracle)."""
+    points = np.asarray(waypoints, dtype=float)
+    chord = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))]
+    return CubicSpline(chord / chord[-1], points, bc_type="clamped")
+
+
+@pytest.mark.parametrize("waypoints", [
+    [[0.0, 0.0], [3.1, 0.0], [3.1, 3.0], [0.0, 3.0]],      # near the +pi limit
+    [[0.0, 0.0], [math.pi, 0.5], [2.0, 1.0], [math.pi, 2.0]],  # on it, passed with a slope
+    [[-math.pi, 0.0], [-3.1, 2.0], [-2.0, 2.1]],          # starting on the -pi limit
+], ids=["near", "on", "start-on"])
+def test_toppra_stays_inside_limits_its_spline_would_leave(tmp_path, waypoints):
+    spline = clamped_spline(waypoints)(np.linspace(0.0, 1.0, 2001))
+    assert np.abs(spline[:, 0]).max() > math.pi + 1e-3  # the plain spline leaves the limits
+    robot, motion = make_motion(tmp_path, "toppra", waypoints, velocity=1, acceleration=2,
+                                dt=0.005)
+    trajectory = plan(robot, motion)
+    check_waypoints(trajectory, motion)
+    j1 = trajectory.q[:, 0]
+    points = np.asarray(waypoints)[:, 0]
+    # the shape-preserving path never leaves the range of the waypoints it joins
+    assert points.min() - 1e-9 <= j1.min() and j1.max() <= points.max() + 1e-9
+    assert np.all(np.abs(trajectory.qd) <= 1.0 * (1 + TOPPRA_TOLERANCE))
+
+
+def test_toppra_keeps_the_spline_for_joints_inside_their_limits(tmp_path):
+    waypoints = [[0.0, 0.0], [1.0, 0.5], [1.0, 1.0], [0.0, 1.5]]
+    robot, motion = make_motion(tmp_path, "toppra", waypoints, velocity=1, acceleration=2,
+                                dt=0.005)
+    trajectory = plan(robot, motion)
+    # the clamped spline bulges past 1.0 between the two equal waypoints, inside the limits
+    bulge = clamped_spline(waypoints)(np.linspace(0.0, 1.0, 2001))[:, 0].max()
+    assert bulge > 1.0 + 1e-3
+    assert trajectory.q[:, 0].max() == pytest.approx(bulge, abs=1e-4)
+
+
+def test_a_trajectory_leaving_a_limit_names_the_waypoint_and_the_overshoot(tmp_path,
+                                                                         monkeypatch):
+    robot, motion = make_motion(tmp_path, "ruckig", [[0.0, 0.0], [math.pi, 0.5], [1.0, 1.0]],
+                                velocity=1, acceleration=2, jerk=10)
+    planned = plan(robot, motion)
+    bump = np.exp(-((planned.t - planned.t[np.argmax(planned.q[:, 0])]) / 0.05) ** 2)
+    bumped = replace(planned, q=planned.q + np.column_stack([0.01 * bump, 0 * bump]))
+    monkeypatch.setitem(PLANNERS, "ruckig", lambda robot, motion: bumped)
+    with pytest.raises(PlanningError) as info:
         plan(robot, motion)
+    message = str(info.value)
+    assert "joint 'j1' 0.01 rad past its upper limit 3.14159 rad" in message
+    assert "near waypoint[1], which lies on that limit" in message
+    assert "move waypoint[1].j1 at least 0.01 rad further inside" in message
 
 
 def test_identical_waypoints_take_no_time(tmp_path):
@@ -294,7 +341,7 @@ def test_batched_torque_constraint_equals_toppras_own(tmp_path):
 
     points = [[0.0, -1.2], [1.0, 0.4], [0.2, 1.1], [-0.6, 0.3]]
     robot, motion = make_motion(tmp_path, "toppra", points, velocity=3, acceleration=20)
-    (piece,) = path_pieces(motion, 40)
+    (piece,) = path_pieces(robot, motion, 40)
     limit = np.array([2.0, 1.5])
     theirs = constraint.JointTorqueConstraint(
         rnea_function(robot), np.column_stack([-limit, limit]), np.zeros(2),
@@ -317,7 +364,7 @@ def test_toppra_profile_samples_as_toppras_parametrizer(tmp_path):
 
     robot, motion = make_motion(tmp_path, "toppra", CASES[2], velocity=[1.0, 2.0],
                                 acceleration=[3.0, 5.0])
-    (piece,) = path_pieces(motion, 30)
+    (piece,) = path_pieces(robot, motion, 30)
     constraints = kinematic_constraints(motion.velocity_limit, motion.acceleration_limit)
     profile = solve_piece(piece, constraints, where="test")
     reference = algorithm.TOPPRA(constraints, piece.path, parametrizer="ParametrizeConstAccel",
@@ -326,3 +373,26 @@ def test_toppra_profile_samples_as_toppras_parametrizer(tmp_path):
     times = np.linspace(0.0, profile.duration, 777)
     for order, mine in enumerate(profile.sample(times)):
         np.testing.assert_allclose(mine, reference(times, order), rtol=0, atol=1e-12)
+
+
+def test_a_log_leaving_a_limit_names_the_joint_in_the_files_units(tmp_path):
+    write_chain(tmp_path, [("turn", "revolute", -0.5, 0.5), ("slide", "prismatic", -1, 1)])
+    t = np.arange(101) * 0.01
+    turn = 40.0 * np.sin(np.pi * t)  # deg: peaks at 40 deg, 11.35 deg past the 0.5 rad stop
+    (tmp_path / "log.csv").write_text("t,q_turn,q_slide\n" + "\n".join(
+        f"{a:.6f},{b:.9f},0.0" for a, b in zip(t, turn, strict=True)) + "\n")
+    robot, motion = load_case(write_motion(tmp_path, """\
+        robot = "arm.urdf"
+        planner = "samples"
+        angle_unit = "deg"
+        dt = 0.01
+        [samples]
+        file = "log.csv"
+    """))
+    with pytest.raises(PlanningError) as info:
+        plan(robot, motion)
+    message = str(info.value)
+    over = 40.0 - math.degrees(0.5)
+    assert f"takes joint 'turn' {over:.3g} deg past its upper limit 28.6479 deg (t = 0.5 s)" \
+        in message
+    assert "correct the log" in message

@@ -14,10 +14,18 @@ ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 
 
+OWN_ROBOT = README[README.index("## Your own robot"):README.index("\n## ", README.index(
+    "## Your own robot") + 1)]
+"""The section whose steps build on each other: run in order by its own test."""
+
+
 def console_examples() -> list[tuple[str, str]]:
-    """Each ``$ hdselect ...`` line of a console block, with the output shown under it."""
+    """Each ``$ hdselect ...`` line of a console block, with the output shown under it.
+
+    The blocks of "Your own robot" are left to `test_your_own_robot_steps_run_in_order`.
+    """
     examples = []
-    for block in re.findall(r"```console\n(.*?)```", README, flags=re.S):
+    for block in re.findall(r"```console\n(.*?)```", README.replace(OWN_ROBOT, ""), flags=re.S):
         lines = block.rstrip("\n").split("\n")
         command = lines[0].removeprefix("$ ")
         examples.append((command, "\n".join(lines[1:])))
@@ -35,6 +43,7 @@ def workdir(tmp_path: Path) -> Path:
 def test_console_example_prints_what_the_readme_shows(command, shown, tmp_path, monkeypatch,
                                                       capsys):
     monkeypatch.chdir(workdir(tmp_path))
+    monkeypatch.setenv("COLUMNS", "80")  # the README shows piped output at 80 columns
     args = shlex.split(command)
     assert args[0] == "hdselect"
     assert main(args[1:]) == 0
@@ -76,3 +85,27 @@ def test_first_screen_has_the_two_setup_commands_and_ci_runs_the_test_one():
     assert "pytest" in install_and_test
     assert install_and_test in (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     assert README.index("## Set up") < 1500
+
+
+def test_your_own_robot_steps_run_in_order(tmp_path, monkeypatch, capsys):
+    """joints -> init -> edit (the toml block replaces the commented [payload]) -> size."""
+    monkeypatch.chdir(workdir(tmp_path))
+    monkeypatch.setenv("COLUMNS", "80")
+    blocks = re.findall(r"```(console|toml)\n(.*?)```", OWN_ROBOT, flags=re.S)
+    assert [kind for kind, _ in blocks] == ["console", "console", "toml", "console"]
+    motion = None
+    for kind, block in blocks:
+        if kind == "toml":
+            text = motion.read_text()
+            commented = re.search(r"^# \[payload\].*?\n\n", text, flags=re.S | re.M)
+            assert commented is not None
+            motion.write_text(text.replace(commented.group(0), block + "\n"))
+            continue
+        command, *shown = block.rstrip("\n").split("\n")
+        args = shlex.split(command.removeprefix("$ "))
+        assert main(args[1:]) == 0
+        printed = "\n".join(line.rstrip() for line in capsys.readouterr().out.rstrip().split("\n"))
+        assert printed == "\n".join(shown).rstrip()
+        if "--out" in args:
+            motion = tmp_path / args[args.index("--out") + 1]
+    assert "payload: 0.053 kg on 'end_effector'" in printed

@@ -6,20 +6,24 @@ still printed), 2 bad input: one line on stderr, no traceback, no file left behi
 
 from __future__ import annotations
 
+import base64
 import csv
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from hdselect.cli import main
+from hdselect.motion import load_case
 from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
 from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
+BENCHTOP6 = REPO / "trajectories" / "benchtop6_pick_place.toml"
 SCARA = REPO / "trajectories" / "scara_wafer_transfer.toml"
 
 
@@ -53,11 +57,20 @@ def test_size_prints_every_joint_and_exits_0(capsys, motion, joints):
     status, out, err = run(capsys, "size", motion)
     assert status == 0, err
     assert err == ""
-    rows = {line.split()[0] for line in out.splitlines() if line.strip()}
+    sizing, loads = out.split("Every joint over the cycle")
+    rows = {line.split()[0] for line in sizing.splitlines() if line.strip()}
     for joint in joints:
         assert joint in rows
     assert "PSA-" in out
     assert "lift" not in rows  # prismatic: reported by the model, never sized
+    load_rows = {cells[0]: cells[1:3] for cells in map(str.split, loads.splitlines())
+                 if len(cells) > 2 and cells[0] in (*joints, "lift")
+                 and cells[1] in ("revolute", "continuous", "prismatic")}
+    assert load_rows == {**{j: [load_rows[j][0], "yes"] for j in joints},
+                         **({"lift": ["prismatic", "no"]} if "lift" in load_rows else {})}
+    assert ("lift" in load_rows) == (motion == SCARA)
+    if motion == SCARA:
+        assert "lift: not sized: the catalog is rotary" in loads
 
 
 def test_size_json_to_stdout_parses(capsys):
@@ -228,12 +241,19 @@ def test_plan_csv_two_link_closed_form(capsys, tmp_path):
                                atol=1e-7)
 
 
-def test_plan_csv_lists_only_sized_joints(capsys, tmp_path):
+def test_plan_csv_lists_every_joint_the_prismatic_one_in_newtons(capsys, tmp_path):
     out_file = tmp_path / "scara.csv"
     assert run(capsys, "plan", SCARA, "--out", out_file)[0] == 0
-    header, _ = read_csv(out_file)
-    assert header == ["t"] + [f"{kind}_{joint}" for joint in ("shoulder", "elbow", "wrist")
+    header, data = read_csv(out_file)
+    assert header == ["t"] + [f"{kind}_{joint}" for joint in ("shoulder", "elbow", "lift", "wrist")
                               for kind in ("q", "qd", "qdd", "tau")]
+    robot, _ = load_case(SCARA)
+    lift = robot.joint_index("lift")
+    # the lift holds the quill, end effector and wafer against gravity: m g, in N
+    held = sum(robot.model.inertias[j].mass for j in range(lift + 1, robot.model.njoints))
+    at_rest = (data[:, header.index("qd_lift")] == 0) & (data[:, header.index("qdd_lift")] == 0)
+    np.testing.assert_allclose(data[at_rest, header.index("tau_lift")], held * 9.80665,
+                               rtol=1e-6)
 
 
 def test_failing_plan_leaves_no_csv(capsys, tmp_path):
@@ -266,10 +286,16 @@ def test_report_writes_html_and_pngs(capsys, tmp_path):
     for name in pngs:
         assert (report / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     page = (report / "index.html").read_text()
-    for name in pngs:
-        assert name in page
+    embedded = [base64.b64decode(data) for data in
+                re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)]
+    # self-contained: every figure is in the page, the same as the file beside it
+    assert sorted(embedded) == sorted((report / name).read_bytes() for name in pngs)
+    targets = re.findall(r"""(?:src|href)=["']([^"']*)""", page)
+    assert targets and all(t.startswith(("data:image/png;base64,", "#")) for t in targets)
     assert "shoulder" in page and "elbow" in page
+    assert "base: &#x27;base_link&#x27; held fixed; payload: 0.4 kg on" in page
     assert files_in(tmp_path) == {"report"} | {f"report/{n}" for n in names}
+    assert f"wrote {report / 'index.html'}" in " ".join(out.split())  # may wrap
 
 
 def test_report_dir_that_cannot_be_written(capsys, tmp_path):
@@ -349,3 +375,83 @@ def test_payload_frame_missing_from_the_robot_names_the_motion_file(capsys, tmp_
     assert code == 2 and out == ""
     assert_one_line_error(err, "tool0.toml", "payload.frame", "tool0",
                           "links are: base_link, link1, link2, tool")
+
+
+def test_joints_and_exclude_options_choose_the_sized_joints(capsys, tmp_path):
+    report = tmp_path / "r.json"
+    status, out, err = run(capsys, "size", BENCHTOP6, "--exclude", "wrist_1,wrist_3",
+                           "--json", report)
+    assert status == 0, err
+    document = json.loads(report.read_text())
+    assert [j["name"] for j in document["joints"]] == ["shoulder_pan", "shoulder_lift", "elbow",
+                                                       "wrist_2"]
+    assert "wrist_1: not sized: excluded" in out
+    status, out, err = run(capsys, "size", BENCHTOP6, "--joints", "elbow", "--joints",
+                           "wrist_2", "--json", report)
+    assert [j["name"] for j in json.loads(report.read_text())["joints"]] == ["elbow", "wrist_2"]
+
+
+@pytest.mark.parametrize(("args", "text"), [
+    (["--joints", "elbo"], "--joints: unknown joint 'elbo'; joints are: shoulder_pan"),
+    (["--exclude", "shoulder_pan,shoulder_lift,elbow,wrist_1,wrist_2,wrist_3"],
+     "--exclude: no joint left to size"),
+])
+def test_bad_joint_options_are_one_line(capsys, args, text):
+    status, out, err = run(capsys, "size", BENCHTOP6, *args)
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert text in err
+
+
+# --- what the commands say, compare's outputs, -v anywhere -------------------------------------
+
+def test_plan_says_what_it_planned_and_wrote(capsys, tmp_path):
+    out_file, plot = tmp_path / "scara.csv", tmp_path / "scara.png"
+    status, out, err = run(capsys, "plan", SCARA, "--out", out_file, "--plot", plot)
+    assert status == 0 and err == ""
+    text = " ".join(out.split())
+    assert "not sized: lift (prismatic" in text
+    assert (f"wrote {out_file}: t, then q_, qd_, qdd_, tau_ of shoulder, elbow, lift, wrist "
+            "(SI)") in text
+    assert f"wrote {plot}" in text
+
+
+def test_compare_json_is_the_size_document_for_the_joints_shown(capsys):
+    status, out, err = run(capsys, "compare", PLANAR2_MOTION, "--joint", "elbow", "--json", "-")
+    assert status == 0 and err == ""
+    shown = json.loads(out)
+    status, out, _ = run(capsys, "size", PLANAR2_MOTION, "--json", "-")
+    whole = json.loads(out)
+    assert set(shown) == set(whole)
+    assert [j["name"] for j in shown["joints"]] == ["elbow"]
+    assert shown["joints"][0] == next(j for j in whole["joints"] if j["name"] == "elbow")
+
+
+def test_compare_report_has_the_joints_shown(capsys, tmp_path):
+    status, out, err = run(capsys, "compare", PLANAR2_MOTION, "--joint", "shoulder", "--report",
+                           tmp_path / "r", "--json", tmp_path / "r.json")
+    assert status == 0, err
+    assert files_in(tmp_path / "r") == {"index.html", "joint_shoulder.png"}
+    page = (tmp_path / "r" / "index.html").read_text()
+    assert "id='joint-shoulder'" in page and "id='joint-elbow'" not in page
+    text = " ".join(out.split())
+    assert "Joint shoulder" in text and f"wrote {tmp_path / 'r.json'}" in text
+
+
+def test_written_files_go_to_stderr_when_stdout_is_json(capsys, tmp_path):
+    status, out, err = run(capsys, "size", PLANAR2_MOTION, "--json", "-", "--report",
+                           tmp_path / "r")
+    assert status == 0
+    json.loads(out)
+    assert "wrote" in err and "index.html" in " ".join(err.split())
+
+
+@pytest.mark.parametrize("where", ["before", "after"])
+def test_verbose_goes_anywhere(capsys, tmp_path, where):
+    argv = ["catalog", "--json"]
+    argv = ["-v", *argv] if where == "before" else [*argv, "-v"]
+    status, out, _ = run(capsys, *argv)
+    assert status == 0 and json.loads(out)["units"]
+    from hdselect.cli import _parser
+
+    assert _parser().parse_args(argv).verbose is True
+    assert _parser().parse_args(["catalog"]).verbose is False

@@ -21,7 +21,7 @@ import pinocchio as pin
 import pytest
 
 from hdselect.catalog import load_catalog
-from hdselect.export import size_json
+from hdselect.export import payload_json, size_json
 from hdselect.robot import load_robot
 from hdselect.sizing import size
 from test_coupling import with_point_masses
@@ -583,3 +583,73 @@ def test_wall_mounting_loads_the_vertical_axes():
     result = size(None, REPO / "trajectories" / "scara_wafer_transfer.toml", mounting="wall")
     flags = {j.name: j.gravity_loaded for j in result.joints}
     assert flags["shoulder"] and flags["elbow"]
+
+
+# --- joints left out still move; every joint is reported -------------------------------------
+
+BENCHTOP = REPO / "trajectories" / "benchtop6_pick_place.toml"
+
+
+def test_an_excluded_joint_still_moves_and_loads_the_others():
+    full = size(None, BENCHTOP, mass_coupling=False)
+    left_out = size(None, BENCHTOP, mass_coupling=False, exclude=["wrist_1", "wrist_3"])
+    assert [j.name for j in left_out.joints] == ["shoulder_pan", "shoulder_lift", "elbow",
+                                                 "wrist_2"]
+    for joint in left_out.joints:
+        same = next(j for j in full.joints if j.name == joint.name)
+        np.testing.assert_array_equal(joint.torque, same.torque)
+    loads = {load.name: load for load in left_out.loads}
+    assert loads["wrist_1"].note == "not sized: excluded" and not loads["wrist_1"].sized
+    assert loads["wrist_1"].peak == pytest.approx(
+        np.abs(next(j for j in full.joints if j.name == "wrist_1").torque).max(), rel=1e-12)
+
+
+def test_joint_loads_by_hand_on_the_benchtop_arm():
+    result = size(None, BENCHTOP)
+    traj, robot = result.trajectory, result.robot
+    assert [load.name for load in result.loads] == list(robot.joint_names)
+    for load, joint in zip(result.loads, result.joints, strict=True):
+        j = robot.joint_index(load.name)
+        assert load.peak == pytest.approx(np.abs(joint.torque).max(), rel=1e-12)  # coupled
+        assert load.max_speed == pytest.approx(np.abs(traj.qd[:, j]).max(), rel=1e-12)
+        assert load.travel == (traj.q[:, j].min(), traj.q[:, j].max())
+        assert load.effort_limit == robot.effort_limit[j] and not load.above_effort
+    assert result.warnings == ()
+
+
+def test_exceeding_the_robot_files_limits_is_a_warning(tmp_path):
+    text = BENCHTOP.read_text().replace('robot = "../robots/', f'robot = "{REPO}/robots/')
+    heavy = tmp_path / "heavy.toml"
+    heavy.write_text(text.replace("mass = 0.5", "mass = 4.0"))
+    result = size(None, heavy)
+    over = [w for w in result.warnings if w.startswith("cycle:")]
+    assert over and all("above the robot file's effort limit" in w for w in over)
+    named = {w.split("'")[1] for w in over}
+    assert named == {load.name for load in result.loads if load.peak > load.effort_limit}
+
+
+def test_json_reports_the_base_the_payload_and_every_joint():
+    document = json.loads(json.dumps(size_json(size(None, BENCHTOP))))
+    assert document["root_link"] == "base_link"
+    assert document["payload"] == {"mass_kg": 0.5, "frame": "tool0", "frame_given": True,
+                                   "com_m": [0.0, 0.0, 0.03],
+                                   "inertia_kg_m2": [[2.1e-4, 0, 0], [0, 2.1e-4, 0],
+                                                     [0, 0, 2.1e-4]]}
+    assert document["warnings"] == []
+    assert [load["name"] for load in document["joint_loads"]] == [
+        "shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"]
+    first = document["joint_loads"][0]
+    assert set(first) >= {"peak_torque_nm", "effort_limit_nm", "max_speed_rad_s",
+                          "velocity_limit_rad_s", "travel_rad", "sized", "type"}
+    assert document["joints"][0]["effort_limit_nm"] == 25.0
+    bare = payload_json(load_robot(REPO / "robots" / "benchtop6.urdf"))
+    assert bare == {"mass_kg": 0.0, "frame": "tool0", "frame_given": False,
+                    "com_m": [0.0, 0.0, 0.0], "inertia_kg_m2": [[0.0] * 3] * 3}
+
+
+def test_json_reports_a_prismatic_joint_in_newtons_and_metres():
+    document = size_json(size(None, REPO / "trajectories" / "scara_wafer_transfer.toml"))
+    (lift,) = [load for load in document["joint_loads"] if load["name"] == "lift"]
+    assert lift["type"] == "prismatic" and lift["sized"] is False
+    assert lift["note"] == "not sized: the catalog is rotary"
+    assert {"peak_force_n", "effort_limit_n", "max_speed_m_s", "travel_m"} <= set(lift)

@@ -21,6 +21,10 @@ def test_summary_carries_the_answer_of_the_full_result(path):
     assert summary.samples == len(result.trajectory.t)
     assert summary.motion == str(path)
     assert [j.name for j in summary.joints] == [j.name for j in result.joints]
+    assert summary.root_link == result.robot.root_link == "base_link"
+    assert summary.payload_frame == result.robot.payload_frame
+    assert summary.payload_mass == (result.robot.payload.mass if result.robot.payload else 0.0)
+    assert summary.warnings == result.warnings
     for short, joint in zip(summary.joints, result.joints, strict=True):
         chosen = joint.selected or joint.strongest
         assert short.unit == (joint.selected.unit.id if joint.selected else None)

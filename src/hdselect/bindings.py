@@ -29,7 +29,7 @@ class Binding:
         start: Start of the stretch [s].
         end: End of the stretch [s].
         joint: The joint.
-        limit: The limit: ``"velocity (motion file)"``, ``"velocity (URDF)"``, ``"max input
+        limit: The limit: ``"velocity (motion file)"``, ``"velocity (robot file)"``, ``"max input
             speed"``, ``"acceleration"``, ``"torque"``, ``"emergency stop"`` or ``"crash"``.
         utilization: The largest demand / limit over the stretch [-] (torque: against its
             limit before any derating).
@@ -59,7 +59,7 @@ def bindings(model: PathModel, trial: Trial, scale: float, check: SizingResult,
     trajectory = check.trajectory
     robot = model.robot
     names = list(robot.joint_names)
-    labels = {"motion": "velocity (motion file)", "robot": "velocity (URDF)",
+    labels = {"motion": "velocity (motion file)", "robot": "velocity (robot file)",
               "unit": "max input speed"}
     rows: list[tuple[str, str, np.ndarray]] = []
     for j, lim in enumerate(limits):

@@ -74,12 +74,19 @@ class Flag:
         field: The quantity it concerns, e.g. ``"static_torque"``.
         kind: ``"fallback"`` (the source gives no value), ``"corrected"`` (the
             source's columns disagree) or ``"assumed"`` (the source states no rules).
-        note: One sentence for the reader.
+        note: One sentence for the reader, its figures in SI units.
+        imperial: The same sentence with its figures in the catalog's imperial units
+            (lb-in, lb-in^2, lb); empty when the note has no figure to convert.
     """
 
     field: str
     kind: str
     note: str
+    imperial: str = ""
+
+    def text(self, imperial: bool = False) -> str:
+        """The note for a reader of SI (default) or imperial units."""
+        return self.imperial if imperial and self.imperial else self.note
 
     @property
     def code(self) -> str:
@@ -357,10 +364,20 @@ def _agree(quantity: str, given: list[tuple[str, Any, float]], flags: list[Flag]
     label = (quantity.replace("_", " ").replace("torque", "limit")
              .replace("rated limit", "rated torque").replace("average limit",
                                                              "average-torque limit"))
-    flags.append(Flag(quantity, "corrected",
-                      f"{label}: the source's {raw_a:g} {_unit_label(key_a)} and {raw_b:g} "
-                      f"{_unit_label(key_b)} disagree; the lower, {low:.3g} {si_label}, is used"))
+    disagree = (f"{label}: the source's {raw_a:g} {_unit_label(key_a)} and {raw_b:g} "
+                f"{_unit_label(key_b)} disagree; the lower, ")
+    flags.append(Flag(quantity, "corrected", f"{disagree}{low:.3g} {si_label}, is used",
+                      f"{disagree}{_imperial(quantity, low)}, is used"))
     return low
+
+
+def _imperial(quantity: str, value: float) -> str:
+    """An SI value of a catalog quantity in the page's imperial units, e.g. ``70 lb-in``."""
+    if quantity == "input_inertia":
+        return f"{value / KG_M2_PER_LB_IN2:.3g} lb-in^2"
+    if quantity == "mass":
+        return f"{value / KG_PER_LB:.3g} lb"
+    return f"{value / NM_PER_LB_IN:.3g} lb-in"
 
 
 def _unit_label(key: str) -> str:
@@ -388,9 +405,10 @@ def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Pa
         name = limit.replace("_", " ").replace("torque", "limit")
         if values[limit] is None:
             values[limit] = values["repeated_torque"]
+            text = f"{name} not rated by the source; the repeated-peak limit ({{}}) is used"
             flags.append(Flag(limit, "fallback",
-                              f"{name} not rated by the source; the repeated-peak limit "
-                              f"({values['repeated_torque']:.3g} N m) is used"))
+                              text.format(f"{values['repeated_torque']:.3g} N m"),
+                              text.format(_imperial(limit, values["repeated_torque"]))))
         elif values[limit] < values["repeated_torque"]:
             logger.warning("%s: %s: %s %.3g N m is below the repeated-peak limit %.3g N m",
                            path, where, name, values[limit], values["repeated_torque"])
@@ -402,9 +420,10 @@ def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Pa
                              path=path, field=f"{where}.input_inertia_kg_cm2")
         size, inertia = larger[0]
         values["input_inertia"] = inertia
+        text = f"input inertia not given by the source; the size {size:02d} value ({{}}) bounds it"
         flags.append(Flag("input_inertia", "fallback",
-                          f"input inertia not given by the source; the size {size:02d} value "
-                          f"({inertia / KG_M2_PER_KG_CM2:.4g} kg cm^2) bounds it"))
+                          text.format(f"{inertia / KG_M2_PER_KG_CM2:.4g} kg cm^2"),
+                          text.format(_imperial("input_inertia", inertia))))
     return Unit(
         id=values["id"], series=values["series"], size=values["size"], ratio=values["ratio"],
         rated_torque=values["rated_torque"], repeated_torque=values["repeated_torque"],

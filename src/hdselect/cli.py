@@ -22,7 +22,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         Exit status: 0 success, 1 no gearhead fits, 2 bad input.
     """
     parser = _parser()
+    argv = list(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(argv)
+    args.command_line = ["hdselect", *argv]
     logging.basicConfig(format="hdselect: %(levelname)s: %(message)s",
                         level=logging.INFO if args.verbose else logging.WARNING)
     try:
@@ -51,30 +53,37 @@ def _parser() -> argparse.ArgumentParser:
         description="Size Harmonic Drive PSA-G gearheads for robot joints.")
     parser.add_argument("--version", action="version", version=f"hdselect {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="print progress notes")
+    verbose = _Parser(add_help=False)  # -v after the command too
+    verbose.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS,
+                         help="print progress notes")
     commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND",
                                      parser_class=_Parser)
 
-    catalog = commands.add_parser("catalog", help="list the gearhead catalog")
+    catalog = commands.add_parser("catalog", parents=[verbose],
+                                  help="list the gearhead catalog")
     _catalog_option(catalog)
     catalog.add_argument("--units", choices=("si", "imperial"), default="si",
                          help="unit system of the table (default: si)")
     catalog.add_argument("--json", action="store_true", help="print JSON instead of a table")
     catalog.set_defaults(run=run_catalog)
 
-    duty = commands.add_parser("duty", help="size from a torque-speed profile (catalog method)")
+    duty = commands.add_parser(
+        "duty", parents=[verbose], help="size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     _catalog_option(duty)
     _json_option(duty)
     duty.set_defaults(run=run_duty)
 
-    plan = commands.add_parser("plan", help="plan a motion and write its torques (CSV)")
+    plan = commands.add_parser(
+        "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
     _robot_motion(plan)
     plan.add_argument("--out", metavar="FILE", required=True,
-                      help="CSV: t, then q_, qd_, qdd_, tau_ per sized joint (SI)")
+                      help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
     plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
     plan.set_defaults(run=run_plan)
 
-    size = commands.add_parser("size", help="choose a gearhead for every joint of a robot")
+    size = commands.add_parser(
+        "size", parents=[verbose], help="choose a gearhead for every joint of a robot")
     _robot_motion(size)
     _sizing_options(size)
     _json_option(size)
@@ -82,15 +91,20 @@ def _parser() -> argparse.ArgumentParser:
                       help="write an HTML report with figures into DIR")
     size.set_defaults(run=run_size)
 
-    compare = commands.add_parser("compare", help="every unit against every joint, side by side")
+    compare = commands.add_parser(
+        "compare", parents=[verbose], help="every unit against every joint, side by side")
     _robot_motion(compare)
     _sizing_options(compare)
     compare.add_argument("--joint", action="append", metavar="NAME",
                          help="show only this joint (repeatable)")
+    _json_option(compare)
+    compare.add_argument("--report", metavar="DIR",
+                         help="write an HTML report of the joints shown into DIR")
     compare.set_defaults(run=run_compare)
 
     fastest = commands.add_parser(
-        "fastest", help="the shortest cycle of the motion's path that the gearheads allow")
+        "fastest", parents=[verbose],
+        help="the shortest cycle of the motion's path that the gearheads allow")
     _robot_motion(fastest)
     _sizing_options(fastest)
     fastest.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
@@ -111,11 +125,47 @@ def _parser() -> argparse.ArgumentParser:
     fastest.set_defaults(run=run_fastest)
 
     payload = commands.add_parser(
-        "max-payload", help="the largest payload with a feasible unit on every joint")
+        "max-payload", parents=[verbose],
+        help="the largest payload with a feasible unit on every joint")
     _robot_motion(payload, mass=False)
     _sizing_options(payload)
     _json_option(payload)
     payload.set_defaults(run=run_max_payload)
+
+    joints = commands.add_parser("joints", parents=[verbose],
+                                  help="list a robot's joints in the order lists use")
+    joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    _json_option(joints)
+    joints.set_defaults(run=run_joints)
+
+    init = commands.add_parser("init", parents=[verbose],
+                                help="write a starter motion file for a robot")
+    init.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    init.add_argument("--out", metavar="FILE",
+                      help="the motion file to write (default: print it); never overwritten")
+    init.set_defaults(run=run_init)
+
+    study = commands.add_parser("study", parents=[verbose],
+                                help="run every case of a design study (TOML)")
+    study.add_argument("study", metavar="STUDY", help="study file (TOML)")
+    study.add_argument("--out", metavar="CSV", required=True,
+                       help="rows, one per case and joint; a JSON Lines record of each case "
+                            "is kept beside it (same name, .jsonl); cases already there are "
+                            "skipped")
+    study.add_argument("--workers", type=int, metavar="N",
+                       help="worker processes (default: the cores here; 0: in this process); "
+                            "with --scheduler local, Dask workers")
+    study.add_argument("--scheduler", metavar="ADDRESS",
+                       help="'local': a Dask LocalCluster on this machine; tcp://HOST:PORT: a "
+                            "running Dask scheduler (needs pip install 'hdselect[dask]')")
+    study.add_argument("--no-grouping", action="store_true",
+                       help="size every case on its own, not from its group's shared basis")
+    study.add_argument("--retry-failed", action="store_true",
+                       help="run again the cases recorded as failed")
+    study.add_argument("--plot", metavar="PNG",
+                       help="draw the unit selected and its life per joint against the first "
+                            "varied parameters")
+    study.set_defaults(run=run_study)
     return parser
 
 
@@ -140,9 +190,16 @@ def _robot_motion(parser: argparse.ArgumentParser, *, mass: bool = True) -> None
                         default=None if not mass else (0.0, 0.0, 0.0),
                         help="payload centre of mass in its frame [m]")
     parser.add_argument("--payload-frame", metavar="LINK",
-                        help="link carrying the payload (default: the last link)")
+                        help="link carrying the payload (default: the tip of the longest chain "
+                             "of sized joints)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
+    parser.add_argument("--joints", metavar="A,B", action="append",
+                        help="size only these joints (comma-separated; overrides the motion "
+                             "file's [sizing] joints)")
+    parser.add_argument("--exclude", metavar="A,B", action="append",
+                        help="do not size these joints; they still move and load the others "
+                             "(overrides the motion file's [sizing] exclude)")
 
 
 def _sizing_options(parser: argparse.ArgumentParser) -> None:
@@ -222,36 +279,44 @@ def run_plan(args: argparse.Namespace) -> int:
     _keep_inputs([args.out, args.plot], _inputs(robot, motion))
     trajectory = plan(robot, motion)
     tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-    joints = robot.sized_joints
+    from hdselect.report import console, plan_text
+    from hdselect.tables import Paragraphs
+
     if args.plot:
         from hdselect.figures import write_profiles_png
 
-        write_profiles_png(args.plot, trajectory, tau, joints,
+        write_profiles_png(args.plot, trajectory, tau, robot.sized_joints,
                            title=f"{robot.path.name} running {motion.path.name}")
-    write_trajectory_csv(args.out, trajectory, tau, joints)
-    logger.info("wrote %d samples to %s", len(trajectory.t), args.out)
+    write_trajectory_csv(args.out, trajectory, tau, robot.joint_names)
+    out = console()
+    out.print(plan_text(robot, motion, trajectory))
+    written = [f"wrote {args.out}: t, then q_, qd_, qdd_, tau_ of "
+               f"{', '.join(robot.joint_names)} (SI)"]
+    if args.plot:
+        written.append(f"wrote {args.plot}: speed and torque of each joint over the cycle")
+    out.print(Paragraphs(tuple(written)))
     return 0
 
 
 def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
-    from hdselect.export import size_json, write_json
-    from hdselect.report import console, size_table
+    from hdselect.report import console, loads_table, size_table
 
     result = _size(args)
-    if args.report:
-        from hdselect.figures import write_report
-
-        write_report(args.report, result)
-    if args.json:
-        write_json(args.json, size_json(result))
+    _write_outputs(args, result)
     if args.json != "-":
-        console().print(size_table(result))
+        out = console()
+        out.print(size_table(result))
+        out.print()
+        out.print(loads_table(result))
+    _say_written(args)
     return 0 if result.feasible else 1
 
 
 def run_compare(args: argparse.Namespace) -> int:
     """``hdselect compare``: every unit against every joint."""
+    from dataclasses import replace
+
     from hdselect.report import compare_table, console
 
     result = _size(args)
@@ -260,10 +325,16 @@ def run_compare(args: argparse.Namespace) -> int:
         if name not in names:
             raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",
                              field="--joint")
-    out = console()
-    for joint in result.joints:
-        if not args.joint or joint.name in args.joint:
+    shown = replace(result, joints=tuple(joint for joint in result.joints
+                                         if not args.joint or joint.name in args.joint))
+    _write_outputs(args, shown)
+    if args.json != "-":
+        out = console()
+        for i, joint in enumerate(shown.joints):
+            if i:
+                out.print()
             out.print(compare_table(result, joint))
+    _say_written(args)
     return 0 if result.feasible else 1
 
 
@@ -307,11 +378,23 @@ def run_fastest(args: argparse.Namespace) -> int:
     if args.json != "-":
         out = console()
         if args.compare_ratios:
-            for joint in comparison.joints:
+            for i, joint in enumerate(comparison.joints):
+                if i:
+                    out.print()
                 out.print(ratios_table(comparison, joint))
         else:
             out.print(fastest_table(result))
+            out.print()
             out.print(binding_table(result))
+    written = []
+    if args.out:
+        written.append(f"wrote {args.out}: t, then q_, qd_, qdd_, tau_ of "
+                       f"{', '.join(result.robot.sized_joints)} (SI) along the fastest cycle")
+    if args.plot:
+        written.append(f"wrote {args.plot}: " + (
+            "the shortest cycle against the unit on each joint compared" if args.compare_ratios
+            else "speed and torque of each sized joint against its limits"))
+    _say_files(args, written)
     return 0
 
 
@@ -343,7 +426,9 @@ def run_max_payload(args: argparse.Namespace) -> int:
         if result.selection is not None:
             from dataclasses import replace
 
+            out.print()
             out.print(size_table(replace(result.selection, motion=motion)))
+    _say_files(args, [])
     return 0 if result.mass is not None else 1
 
 
@@ -370,6 +455,167 @@ def _unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
     return out
 
 
+def run_joints(args: argparse.Namespace) -> int:
+    """``hdselect joints``: every joint of a robot file, in the order lists use."""
+    from hdselect.export import joints_json, write_json
+    from hdselect.joints import describe_joints
+    from hdselect.report import console, joints_table
+    from hdselect.robot import load_robot
+
+    robot = load_robot(args.robot)
+    _keep_inputs([args.json], [robot.path])
+    infos = describe_joints(robot)
+    if args.json:
+        write_json(args.json, joints_json(robot, infos))
+    if args.json != "-":
+        console().print(joints_table(robot, infos))
+    return 0
+
+
+def run_init(args: argparse.Namespace) -> int:
+    """``hdselect init``: a starter motion file that plans and sizes as written."""
+    from hdselect.export import write_output
+    from hdselect.robot import load_robot
+    from hdselect.starter import starter_motion
+
+    robot = load_robot(args.robot)
+    out = Path(args.out) if args.out else None
+    if out is not None and out.exists():
+        raise InputError("exists; choose another path or remove it first", path=out)
+    where = os.path.abspath(out.parent if out is not None else Path.cwd())
+    target = os.path.abspath(robot.path)
+    shared = os.path.commonpath([target, where])
+    text = starter_motion(robot, str(target) if shared == os.sep
+                          else os.path.relpath(target, where))
+    if out is None:
+        sys.stdout.write(text)
+    else:
+        from hdselect.report import console
+        from hdselect.tables import Paragraphs
+
+        write_output(out, lambda stream: stream.write(text))
+        console().print(Paragraphs((f"wrote {out}; edit its waypoints, limits and payload, "
+                                    f"then: hdselect size {out}",)))
+    return 0
+
+
+def _names(given: list[str] | None) -> list[str] | None:
+    """Joint names from repeatable, comma-separated options."""
+    if given is None:
+        return None
+    return [name.strip() for text in given for name in text.split(",") if name.strip()]
+
+
+def _write_outputs(args: argparse.Namespace, result) -> None:
+    """The report and the JSON a command was asked for; the report first, as it may fail."""
+    from hdselect.export import size_json, write_json
+
+    if args.report:
+        from hdselect.figures import write_report
+
+        write_report(args.report, result, command=args.command_line)
+    if args.json:
+        write_json(args.json, size_json(result))
+
+
+def _say_written(args: argparse.Namespace) -> None:
+    """Name the report and JSON written (`_say_files`)."""
+    written = []
+    if args.report:
+        written.append(f"wrote {Path(args.report) / 'index.html'}: the report, figures "
+                       "embedded (also as PNG files beside it)")
+    _say_files(args, written)
+
+
+def _say_files(args: argparse.Namespace, written: list[str]) -> None:
+    """Name the files written and the JSON file; on standard error when stdout carries JSON."""
+    from hdselect.tables import Paragraphs, console_for
+
+    if args.json and args.json != "-":
+        written = [*written, f"wrote {args.json}"]
+    if written:
+        console_for(sys.stderr if args.json == "-" else sys.stdout).print(
+            Paragraphs(tuple(written)))
+
+
+def run_study(args: argparse.Namespace) -> int:
+    """``hdselect study``: every case of a study, in parallel, kept as it completes."""
+    import time
+
+    from hdselect.report import console, study_tables
+    from hdselect.study.run import run_study as run
+    from hdselect.study.spec import load_study
+    from hdselect.study.store import journal_path, pivots, table
+    from hdselect.tables import Paragraphs
+
+    study = load_study(args.study)
+    _keep_inputs([args.out, journal_path(args.out), args.plot], [args.study])
+    started = time.perf_counter()
+    with _progress(study.title) as progress:
+        done = run(study, args.out, workers=args.workers, scheduler=args.scheduler,
+                   grouping=not args.no_grouping, retry_failed=args.retry_failed,
+                   progress=progress)
+    out = console()
+    methods = ", ".join(f"{count} {name}" for name, count in sorted(done.methods.items()))
+    out.print(Paragraphs((f"{study.title}: {len(study.cases)} cases: {done.ran} run now"
+                          + (f" ({methods})" if methods else "")
+                          + f", {done.skipped} already done, {done.failed} failed",)))
+    rows = table(study, done.records)
+    if "size" in study.compute:
+        tables, constant = pivots(study, done.records)
+        for item in study_tables(tables, constant):
+            out.print(Paragraphs((item,)) if isinstance(item, str) else item)
+    out.print(Paragraphs((f"rows: {args.out}; records: {journal_path(args.out)}",)))
+    if args.plot and "size" in study.compute:
+        from hdselect.figures import write_study_png
+
+        joints = list(dict.fromkeys(row["joint"] for row in rows if row.get("joint")))
+        first = study.varied[0] if study.varied else "case"
+        second = study.varied[1] if len(study.varied) > 1 else None
+        write_study_png(args.plot, study.title, [r for r in rows if r["compute"] == "size"],
+                        first, second, joints)
+    if done.ran:
+        print(f"hdselect: {done.ran} cases in {time.perf_counter() - started:.1f} s on "
+              f"{done.executor}", file=sys.stderr)
+    return 3 if done.failed else 0
+
+
+class _progress:
+    """A progress bar with ETA on a terminal (standard error); nothing when piped."""
+
+    def __init__(self, title: str) -> None:
+        self.title = title
+        self.bar = None
+
+    def __enter__(self):
+        if not sys.stderr.isatty():
+            return None
+        from rich.console import Console
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            TextColumn,
+            TimeElapsedColumn,
+            TimeRemainingColumn,
+        )
+
+        bar = self.bar = Progress(
+            TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
+            TimeElapsedColumn(), TextColumn("ETA"), TimeRemainingColumn(),
+            console=Console(stderr=True), transient=True)
+        self.bar.start()
+        task = self.bar.add_task(self.title, total=None)
+
+        def update(done: int, total: int, record: dict) -> None:
+            bar.update(task, completed=done, total=total)
+        return update
+
+    def __exit__(self, *exc: object) -> None:
+        if self.bar is not None:
+            self.bar.stop()
+
+
 def _load_case(args: argparse.Namespace):
     from hdselect.motion import load_case
     from hdselect.robot import Payload
@@ -381,7 +627,15 @@ def _load_case(args: argparse.Namespace):
         except InputError as err:
             flag = {"payload.mass": "--payload", "payload.com": "--payload-com"}
             raise InputError(err.reason, field=flag.get(str(err.field), err.field)) from err
-    return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting)
+    joints, exclude = _names(args.joints), _names(args.exclude)
+    try:
+        return load_case(args.motion, args.robot, payload=payload, mounting=args.mounting,
+                         joints=joints, exclude=exclude)
+    except InputError as err:
+        given = {"joints": joints, "exclude": exclude}
+        if err.field in given and given[str(err.field)] is not None:
+            raise InputError(err.reason, field=f"--{err.field}") from err
+        raise
 
 
 def _size(args: argparse.Namespace):

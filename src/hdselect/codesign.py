@@ -3,7 +3,7 @@
 `fastest` runs the motion's path as fast as the units allow, in three steps:
 
 1. TOPPRA under every limit that holds sample by sample (`hdselect.fastpath`,
-   `hdselect.pathbounds`): the motion's and the URDF's speeds, the units' maximum
+   `hdselect.pathbounds`): the motion's and the robot file's speeds, the units' maximum
    input speeds over their ratios, the motion's accelerations, the units'
    repeated-peak torques (through the dynamics, payload and carried gearheads
    included), the emergency stop and the crash. Any trajectory that passes the rules
@@ -25,7 +25,7 @@ linearly, so no unit needs new dynamics passes on the path).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from hdselect.bindings import Binding, bindings
 from hdselect.catalog import Unit, load_catalog
@@ -35,7 +35,7 @@ from hdselect.fastpath import PathModel
 from hdselect.motion import Motion
 from hdselect.options import Options, options_for
 from hdselect.pathbounds import JointLimits, PathInfeasible, joint_limits
-from hdselect.planning import Trajectory, plan
+from hdselect.planning import Trajectory, check_within_limits, plan
 from hdselect.robot import Robot
 from hdselect.sizing import SizingResult, size_trajectory
 
@@ -88,6 +88,15 @@ class FastestResult:
     def feasible(self) -> bool:
         """Every rule of every joint passes on the trajectory."""
         return self.check.feasible
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What the robot and motion files raised, and robot-file limits the cycle exceeds.
+
+        As `hdselect.sizing.SizingResult.warnings`: each line starts with ``robot file:``,
+        ``motion file:`` or ``cycle:``.
+        """
+        return replace(self.check, motion=self.motion).warnings
 
     def binding_shares(self) -> list[tuple[str, str, float]]:
         """(joint, limit, share of the moving time) [-], longest first."""
@@ -302,6 +311,7 @@ def _fastest(model: PathModel, units: Mapping[str, Unit], options: Options) -> F
         best = derated(model, carrying, units, masses, first, options)
     limits = joint_limits(robot, model.motion, units, options, best.derating)
     trajectory, held, check, scale = verified(model, units, best, options)
+    check_within_limits(robot, model.motion, trajectory, what="fastest")  # as plan does
     slowdown = scale
     optimum = first.moving + first.dwell
     reason = None

@@ -18,9 +18,12 @@ from hdselect.catalog import SeriesRules, Unit
 from hdselect.codesign import FastestResult, RatioComparison
 from hdselect.duty import DutyResult
 from hdselect.errors import InputError
+from hdselect.joints import JointInfo
+from hdselect.loads import JointLoad
 from hdselect.maxpayload import MaxPayloadResult
 from hdselect.motion import Motion
 from hdselect.planning import Trajectory
+from hdselect.robot import Robot
 from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.sizing import SizingResult
 
@@ -170,7 +173,70 @@ def assumptions(result: SizingResult) -> dict[str, str]:
         "required life": ("none" if options.life_hours is None
                           else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
+        "joint losses": JOINT_LOSSES_NOTE,
     }
+
+
+JOINT_LOSSES_NOTE = ("the robot file's armature, joint damping, friction and springs are the "
+                     "motor's and the joint's own, not load on the gear output: left out")
+
+
+def base_text(robot: Robot) -> str:
+    """The fixed link and the payload in a line, for headers."""
+    payload = robot.payload
+    if payload is None:
+        carried = f"none (a payload would go on '{robot.payload_frame}')"
+    else:
+        com = ", ".join(f"{c:g}" for c in payload.com)
+        carried = f"{payload.mass:g} kg on '{robot.payload_frame}', centre of mass ({com}) m"
+    return f"base: '{robot.root_link}' held fixed; payload: {carried}"
+
+
+def payload_json(robot: Robot) -> dict[str, Any]:
+    """The payload as JSON: mass 0 when none; the frame it is (or would be) attached to."""
+    payload = robot.payload
+    return {"mass_kg": 0.0 if payload is None else payload.mass,
+            "frame": robot.payload_frame,
+            "frame_given": payload is not None and payload.frame is not None,
+            "com_m": [0.0, 0.0, 0.0] if payload is None else list(payload.com),
+            "inertia_kg_m2": [[0.0] * 3] * 3 if payload is None
+            else [list(row) for row in payload.inertia]}
+
+
+def joints_json(robot: Robot, infos: Iterable[JointInfo]) -> dict[str, Any]:
+    """A robot's joints as JSON (``hdselect joints --json``), in SI; null for no limit."""
+    joints = []
+    for info in infos:
+        linear = info.kind == "prismatic"
+        joints.append({
+            "name": info.name, "index": info.index, "type": info.kind, "sized": info.sized,
+            "lower": _finite(info.lower), "upper": _finite(info.upper),
+            "unit": "m" if linear else "rad",
+            "velocity_limit": _finite(info.velocity_limit),
+            "effort_limit": _finite(info.effort_limit),
+            "moved_mass_kg": info.moved_mass, "leader": info.leader,
+            "multiplier": info.multiplier if info.leader else None,
+            "offset": info.offset if info.leader else None})
+    return {"robot": str(robot.path), "root_link": robot.root_link,
+            "payload_frame": robot.default_payload_frame,
+            "list_order": list(robot.joint_names),
+            "file_order": None if robot.file_order is None else list(robot.file_order),
+            "notes": list(robot.notes), "joints": joints}
+
+
+def joint_load_json(load: JointLoad) -> dict[str, Any]:
+    """One joint's load over the cycle as JSON, in SI (N m or N, rad or m)."""
+    linear = load.linear
+    force, per_s, position = ("n", "m_s", "m") if linear else ("nm", "rad_s", "rad")
+    return {"name": load.name, "type": load.kind, "sized": load.sized, "note": load.note,
+            "leader": load.leader,
+            f"peak_{'force' if linear else 'torque'}_{force}": load.peak,
+            f"effort_limit_{force}": _finite(load.effort_limit),
+            f"max_speed_{per_s}": load.max_speed,
+            f"velocity_limit_{per_s}": _finite(load.velocity_limit),
+            f"travel_{position}": list(load.travel),
+            "above_effort_limit": load.above_effort,
+            "above_velocity_limit": load.above_velocity}
 
 
 def size_json(result: SizingResult) -> dict[str, Any]:
@@ -189,6 +255,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "peak_torque_nm": joint.load.peak_torque,
             "mean_torque_nm": joint.load.mean_torque,
             "mean_output_speed_rpm": joint.load.mean_speed * RPM_PER_RAD_S,
+            "effort_limit_nm": _finite(float(
+                result.robot.effort_limit[result.robot.joint_index(joint.name)]) or math.inf),
             "slowdown": None if slowdown is None else {
                 "factor": slowdown.factor, "unit": slowdown.unit,
                 "cycle_time_s": slowdown.cycle_time},
@@ -208,14 +276,22 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,
             "mass_coupling": options.mass_coupling, "prefer": options.prefer,
             "life_hours": options.life_hours, "life_basis": options.life_basis,
-            "mean_speed_rule": mean_speed_note(result.units)},
+            "mean_speed_rule": mean_speed_note(result.units),
+            "joint_losses": JOINT_LOSSES_NOTE},
         "joints": joints,
+        "root_link": result.robot.root_link,
+        "payload": payload_json(result.robot),
+        "warnings": list(result.warnings),
+        "joint_loads": [joint_load_json(load) for load in result.loads],
     }
 
 
 def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
                          joints: Iterable[str]) -> None:
-    """One row per sample: t, then q_, qd_, qdd_, tau_ of every listed joint (SI)."""
+    """One row per sample: t, then q_, qd_, qdd_, tau_ of every listed joint (SI).
+
+    A prismatic joint's columns are in m, m/s, m/s^2 and N.
+    """
     names = list(trajectory.joint_names)
     columns = [names.index(name) for name in joints]
     header = ["t"] + [f"{kind}_{names[j]}" for j in columns
@@ -275,6 +351,9 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
         "samples": len(result.trajectory.t),
         "feasible": result.feasible,
         "assumptions": size_json(result.check)["assumptions"],
+        "root_link": result.robot.root_link,
+        "payload": payload_json(result.robot),
+        "warnings": list(result.warnings),
         "joints": joints,
         "binding": [{"start_s": b.start, "end_s": b.end, "joint": b.joint, "limit": b.limit,
                      "utilization": b.utilization, "waypoints": list(b.waypoints)}
@@ -320,7 +399,8 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion) -> dict[str, Any]
         "motion": str(motion.path),
         "max_payload_kg": _finite(result.mass),
         "unlimited": result.mass is not None and not math.isfinite(result.mass),
-        "payload": {"frame": payload.frame, "com_m": list(payload.com),
+        "payload": {"frame": result.frame, "frame_given": payload.frame is not None,
+                    "com_m": list(payload.com),
                     "inertia_kg_m2_per_kg": [list(row) for row in payload.inertia]},
         "ranges_kg": [[lo, _finite(hi)] for lo, hi in result.ranges],
         "binding": None if result.joint is None else {

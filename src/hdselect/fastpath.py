@@ -113,7 +113,7 @@ class PathModel:
         if motion.planner != "toppra":
             assert motion.velocity_limit is not None  # waypoint planners require it
             speeds = motion.velocity_limit
-        pieces = tuple(path_pieces(motion, grid_per_waypoint, speeds=speeds))
+        pieces = tuple(path_pieces(robot, motion, grid_per_waypoint, speeds=speeds))
         base = _coefficients(robot, pieces, threads)
         per_kg = {}
         for name in joints:

@@ -5,13 +5,14 @@ matplotlib is imported here only, so commands that draw nothing start fast.
 
 from __future__ import annotations
 
-import html
+import io
 import shutil
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -20,11 +21,11 @@ from matplotlib.figure import Figure  # noqa: E402
 
 from hdselect.codesign import FastestResult, RatioComparison  # noqa: E402
 from hdselect.errors import InputError  # noqa: E402
-from hdselect.export import assumptions, write_output  # noqa: E402
+from hdselect.export import write_output  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
-from hdselect.report import life_text, percent, time_scale_text, verdict  # noqa: E402
-from hdselect.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S  # noqa: E402
-from hdselect.sizing import JointSizing, SizingResult  # noqa: E402
+from hdselect.report import utilization_text  # noqa: E402
+from hdselect.rules import RPM_PER_RAD_S  # noqa: E402
+from hdselect.sizing import JointSizing, SizingResult, at_rest  # noqa: E402
 
 DEG_PER_RAD = 180.0 / np.pi
 
@@ -61,20 +62,31 @@ def write_profiles_png(path: str | Path, trajectory: Trajectory, tau: np.ndarray
     _save(fig, Path(path))
 
 
-def write_report(directory: str | Path, result: SizingResult) -> None:
-    """Write an HTML report with figures into `directory`.
+def write_report(directory: str | Path, result: SizingResult, *,
+                 command: Sequence[str] | None = None) -> None:
+    """Write the HTML report into `directory`: ``index.html``, self-contained, and its figures.
 
-    The page holds every joint's profiles with its unit's limits drawn, every
-    candidate's utilization, and the assumptions. It is built in a temporary
-    directory beside `directory` and moved into place file by file, so no file
-    is ever half-written.
+    ``index.html`` embeds every figure, so it can be mailed or printed on its own;
+    the figures are also written beside it as ``joint_<name>.png``. It is built in a
+    temporary directory beside `directory` and moved into place file by file, so no
+    file is ever half-written.
+
+    Args:
+        directory: Where to write; made if missing.
+        result: The sizing result.
+        command: The command line that made the result (program name first), recorded
+            so that the report can be re-run; None from Python.
 
     Raises:
         InputError: The directory cannot be written.
     """
+    from hdselect.html import page, slug
+    from hdselect.provenance import provenance
+
     target = Path(directory)
     if target.exists() and not target.is_dir():
         raise InputError("exists and is not a directory", path=target, field="--report")
+    origin = provenance(result, command)
     try:
         parent = target.resolve().parent
         parent.mkdir(parents=True, exist_ok=True)
@@ -83,13 +95,12 @@ def write_report(directory: str | Path, result: SizingResult) -> None:
         raise InputError(f"cannot write here ({err.strerror})", path=target,
                          field="--report") from err
     try:
-        images = []
+        figures = {}
         for joint in result.joints:
-            name = f"joint_{_slug(joint.name)}.png"
-            _save(_joint_figure(result, joint), staging / name)
-            images.append((joint, name))
-        _save(_utilization_figure(result), staging / "utilization.png")
-        write_output(staging / "index.html", lambda stream: stream.write(_page(result, images)))
+            figures[joint.name] = png_bytes(joint_figure(result, joint))
+            (staging / f"joint_{slug(joint.name)}.png").write_bytes(figures[joint.name])
+        write_output(staging / "index.html",
+                     lambda stream: stream.write(page(result, figures, origin)))
         target.mkdir(exist_ok=True)
         for file in staging.iterdir():
             file.replace(target / file.name)
@@ -100,139 +111,145 @@ def write_report(directory: str | Path, result: SizingResult) -> None:
         shutil.rmtree(staging, ignore_errors=True)
 
 
-def _joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
-    """Input speed and output torque of one joint with the chosen unit's limits."""
+def png_bytes(fig: Figure, dpi: int = 130) -> bytes:
+    """A figure as PNG content (and closed)."""
+    stream = io.BytesIO()
+    try:
+        fig.savefig(stream, format="png", dpi=dpi, metadata={"Software": None})
+    finally:
+        plt.close(fig)
+    return stream.getvalue()
+
+
+_SHOW_BINDING = 0.25
+"""From this utilization on, the binding rule's limit is always on the axis [-]."""
+# Okabe and Ito's colour-blind-safe palette
+_MOVING, _REST, _STOP, _MEAN, _ALLOWED = "#D55E00", "#0072B2", "#CC79A7", "#E69F00", "#009E73"
+
+
+def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
+    """Speed and output torque of one joint over the cycle, with its unit's limits.
+
+    The speed panel gives the output speed on the left axis and the input speed on
+    the right, scaled to the joint's own speeds. The torque panel separates the
+    samples that count against the repeated-peak limit (moving) from those held at
+    rest (static limit), marks the peak and the worst momentary event, and draws
+    each limit that lies near the data; the others are listed as off the axis.
+
+    Args:
+        result: The sizing result.
+        joint: One of its joints.
+
+    Returns:
+        The figure (the caller closes it).
+    """
     traj = result.trajectory
     j = result.robot.joint_index(joint.name)
     chosen = joint.selected or joint.strongest
     unit = chosen.unit
-    fig, (speed_ax, torque_ax) = plt.subplots(2, 1, figsize=(10, 6.2), sharex=True)
-    input_rpm = np.abs(traj.qd[:, j]) * unit.ratio * RPM_PER_RAD_S
-    speed_ax.plot(traj.t, input_rpm, color="tab:blue", lw=1.2, label="input speed |n|")
-    speed_ax.axhline(unit.max_input_speed, color="k", ls="-", lw=1.2,
-                     label=f"max input speed {unit.max_input_speed:,.0f} rpm")
+    t = traj.t
+    rest = at_rest(traj.qd[:, j], traj.qdd[:, j])
+    fig, (speed_ax, torque_ax) = plt.subplots(2, 1, figsize=(11, 6.6), sharex=True,
+                                              layout="constrained")
+    for ax in (speed_ax, torque_ax):
+        for start, end in _runs(rest, t, traj.dt):
+            ax.axvspan(start, end, color="0.88", lw=0, zorder=0)
+    output_rpm = np.abs(traj.qd[:, j]) * RPM_PER_RAD_S
+    speed_ax.plot(t, output_rpm, color=_MOVING, lw=1.2, label="|output speed|")
+    top = float(output_rpm.max()) * 1.15
+    if top == 0.0:
+        top = 1.0
+        speed_ax.text(0.5, 0.5, "this joint does not move in this cycle", ha="center",
+                      va="center", transform=speed_ax.transAxes, color="0.3")
+    speed_lines = [(unit.max_input_speed / unit.ratio, "k", "-",
+                    f"max input speed {unit.max_input_speed:,.0f} rpm")]
     mean = chosen.checks["mean"].detail.get("mean_input_speed_rpm")
-    if isinstance(mean, float):
-        speed_ax.axhline(mean, color="tab:blue", ls=":", lw=1.2,
-                         label=f"mean speed N_av {mean:,.0f} rpm (moving part)")
-    speed_ax.set_ylabel("input speed [rpm]")
-    speed_ax.set_ylim(0, unit.max_input_speed * 1.12)
-    torque_ax.plot(traj.t, np.abs(joint.stop_torque), color="tab:orange", lw=0.8, alpha=0.7,
+    if isinstance(mean, float) and mean > 0.0:
+        speed_lines.append((mean / unit.ratio, _MEAN, ":",
+                            f"mean input speed N_av {mean:,.0f} rpm"))
+    binding = chosen.checks[chosen.binding]
+    near = binding.utilization >= _SHOW_BINDING
+    top = _limit_lines(speed_ax, speed_lines, top,
+                       speed_lines[0][0] if near and chosen.binding == "speed" else None)
+    speed_ax.set_ylim(0.0, top)
+    speed_ax.set_ylabel("output speed [rpm]")
+    right = speed_ax.secondary_yaxis("right", functions=(lambda x: x * unit.ratio,
+                                                         lambda x: x / unit.ratio))
+    right.set_ylabel(f"input speed [rpm] (x{unit.ratio})")
+
+    torque = np.abs(joint.torque)
+    moving = np.where(rest, np.nan, torque)
+    held = np.where(rest, torque, np.nan)
+    stop = np.abs(joint.stop_torque)
+    torque_ax.plot(t, stop, color=_STOP, lw=0.7, alpha=0.8,
                    label=f"emergency stop from each instant ({result.options.stop_time:g} s)")
-    torque_ax.plot(traj.t, np.abs(joint.torque), color="tab:red", lw=1.3, label="|T| output")
-    lines = [("repeated_torque", "repeated-peak limit", "k", "-"),
-             ("momentary_torque", "momentary limit", "tab:purple", "--"),
-             ("static_torque", "static limit", "tab:gray", "-.")]
-    for field, label, color, style in lines:
+    torque_ax.plot(t, moving, color=_MOVING, lw=1.3, label="|T| moving: repeated-peak limit")
+    if np.any(rest):
+        torque_ax.plot(t, held, color=_REST, lw=2.2, label="|T| at rest: static limit")
+    event = chosen.checks["momentary"]
+    peak_at = int(np.nanargmax(moving)) if np.any(~rest) else None
+    tops = [float(np.nanmax(torque)), float(stop.max())]
+    if peak_at is not None:
+        torque_ax.plot([t[peak_at]], [torque[peak_at]], "o", color=_MOVING, ms=7, mfc="none",
+                       mew=1.8, label=f"peak {torque[peak_at]:.3g} N m at {t[peak_at]:.2f} s")
+    when = event.detail.get("time_s")
+    if isinstance(when, float) and event.value is not None:
+        tops.append(event.value)
+        torque_ax.plot([when], [event.value], "v", color=_STOP, ms=9, mec="k",
+                       label=f"worst momentary: {event.detail.get('kind')} {event.value:.3g} N m "
+                             f"at {when:.2f} s")
+    lines = []
+    if joint.load.mean_torque is not None:
+        lines += [(joint.load.mean_torque, _MEAN, ":",
+                   f"mean torque T_av {joint.load.mean_torque:.3g} N m"),
+                  (chosen.checks["mean"].limit, _ALLOWED, ":",
+                   f"allowed mean {chosen.checks['mean'].limit:.3g} N m")]
+    for field, label, color, style in (("repeated_torque", "repeated-peak limit", "k", "-"),
+                                       ("momentary_torque", "momentary limit", _STOP, "--"),
+                                       ("static_torque", "static limit", _REST, "-.")):
         value = getattr(unit, field)
         kinds = {flag.kind for flag in unit.flags_for(field)}
         mark = " (stand-in)" if "fallback" in kinds else " (corrected)" if kinds else ""
-        torque_ax.axhline(value, color=color, ls=style, lw=1.1,
-                          label=f"{label} {value:.3g} N m{mark}")
-    if joint.load.mean_torque is not None:
-        torque_ax.axhline(joint.load.mean_torque, color="tab:red", ls=":", lw=1.2,
-                          label=f"mean torque T_av {joint.load.mean_torque:.3g} N m")
-        torque_ax.axhline(chosen.checks["mean"].limit, color="tab:green", ls=":", lw=1.2,
-                          label=f"allowed mean {chosen.checks['mean'].limit:.3g} N m")
-    event = chosen.checks["momentary"]
-    when = event.detail.get("time_s")
-    if isinstance(when, float) and event.value is not None:
-        torque_ax.plot([when], [event.value], "v", color="tab:purple", ms=8,
-                       label=f"worst T4: {event.detail.get('kind')} {event.value:.3g} N m")
+        lines.append((value, color, style, f"{label} {value:.3g} N m{mark}"))
+    keep = {"peak": unit.repeated_torque, "momentary": unit.momentary_torque,
+            "static": unit.static_torque, "mean": chosen.checks["mean"].limit}.get(chosen.binding)
+    top = _limit_lines(torque_ax, lines, max(max(tops), 1e-9) * 1.15, keep if near else None)
+    torque_ax.set_ylim(0.0, top)
     torque_ax.set_ylabel("output torque [N m]")
     torque_ax.set_xlabel("time [s]")
-    top = max(unit.momentary_torque, unit.static_torque, float(np.abs(joint.stop_torque).max()))
-    torque_ax.set_ylim(0, top * 1.1)
+    torque_ax.set_xlim(t[0], max(t[-1], t[0] + traj.dt))
     for ax in (speed_ax, torque_ax):
         ax.grid(alpha=0.3)
-        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    state = "selected" if joint.selected else "no unit fits; strongest shown"
+        ax.legend(loc="upper left", bbox_to_anchor=(1.09, 1.0), fontsize=8, frameon=False)
+    state = "selected" if joint.selected else "no unit fits; the strongest shown"
     fig.suptitle(f"{joint.name}: {unit.id} ({state}), binding {chosen.binding} "
-                 f"{percent(chosen.checks[chosen.binding].utilization)}")
-    fig.tight_layout()
+                 f"{utilization_text(binding.utilization, binding.ok)}", fontsize=12)
     return fig
 
 
-def _utilization_figure(result: SizingResult) -> Figure:
-    """Utilization of every rule for every unit and joint, the selection outlined."""
-    rules = [r for r in CHECKS if any(r in c.checks and c.checks[r].value is not None
-                                      for j in result.joints for c in j.candidates)]
-    n = len(result.joints)
-    cols = min(3, n)
-    rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.6 * cols, 0.42 * len(result.units) * rows
-                                                  + 1.6 * rows), squeeze=False)
-    for ax, joint in zip(axes.flat, result.joints, strict=False):
-        grid = np.array([[c.checks[r].utilization if r in c.checks else np.nan for r in rules]
-                         for c in joint.candidates])
-        ax.imshow(np.minimum(grid, 2.0), cmap="RdYlGn_r", vmin=0.0, vmax=2.0, aspect="auto")
-        for (i, k), value in np.ndenumerate(grid):
-            if np.isfinite(value):
-                ax.text(k, i, f"{value * 100:.0f}", ha="center", va="center", fontsize=7)
-        ax.set_xticks(range(len(rules)), [CHECK_LABELS[r] for r in rules], fontsize=8)
-        ax.set_yticks(range(len(joint.candidates)),
-                      [("▶ " if c is joint.selected else "") + c.unit.id
-                       for c in joint.candidates], fontsize=8)
-        ax.set_title(joint.name, fontsize=10)
-    for ax in list(axes.flat)[n:]:
-        ax.axis("off")
-    fig.suptitle("Utilization [% of limit] of every unit (green fits, red fails; ▶ selected)")
-    fig.tight_layout()
-    return fig
+def _limit_lines(ax, lines, top: float, keep: float | None = None) -> float:
+    """Draw the lines near the data (within 1.6x of its top) and `keep`; list the others.
 
-
-def _page(result: SizingResult, images: list[tuple[JointSizing, str]]) -> str:
-    esc = html.escape
-    rows = []
-    for joint in result.joints:
-        c = joint.selected
-        if c is None:
-            cells = [joint.name, "none", verdict(joint.strongest) + f" ({joint.strongest.unit.id})",
-                     "", "", "", ""]
+    Returns:
+        The axis top that shows every line drawn.
+    """
+    if keep is not None:
+        top = max(top, keep * 1.08)
+    shown = [line for line in lines if line[0] <= 1.6 * top]
+    top = max([top, *(value * 1.08 for value, *_ in shown)])
+    for value, color, style, label in lines:
+        if value in [line[0] for line in shown]:
+            ax.axhline(value, color=color, ls=style, lw=1.2, label=label)
         else:
-            assert c.motor is not None
-            binding = f"{c.binding} {percent(c.checks[c.binding].utilization)}"
-            cells = [joint.name, c.unit.id, binding, life_text(c.life_hours),
-                     f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
-                     f"{c.motor.max_speed:,.0f}"]
-        cells += [f"{joint.carried_mass:.2f}", "gravity-loaded: fail-safe needed"
-                  if joint.gravity_loaded else ""]
-        rows.append("<tr>" + "".join(f"<td>{esc(x)}</td>" for x in cells) + "</tr>")
-    notes = sorted({f"{c.unit.id}: {f.note}" for j in result.joints for c in [j.selected]
-                    if c is not None for f in c.flags})
-    slow = [f"{j.name}: {time_scale_text(j)}" for j in result.joints if j.selected is None]
-    items = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>"
-                    for k, v in assumptions(result).items())
-    figures = "".join(f'<h3>{esc(j.name)}</h3><img src="{name}" alt="{esc(j.name)}">'
-                      for j, name in images)
-    header = ("joint", "unit", "binding rule", "L50 life", "motor peak [N m]",
-              "motor rms [N m]", "motor max [rpm]", "carries [kg]", "notes")
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<title>hdselect: {esc(result.title)}</title>
-<style>body{{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222}}
-table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:left}}
-td{{white-space:nowrap}}
-img{{max-width:100%}}</style></head><body>
-<h1>Gearhead selection: {esc(result.title)}</h1>
-<p>Cycle {result.cycle_time:.3f} s,
-{len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms.
-{"Every joint has a unit." if result.feasible else "<b>Some joints have no unit.</b>"}</p>
-<table><tr>{"".join(f"<th>{esc(h)}</th>" for h in header)}</tr>{"".join(rows)}</table>
-{"<ul>" + "".join(f"<li>{esc(s)}</li>" for s in slow) + "</ul>" if slow else ""}
-<h2>Assumptions</h2><ul>{items}</ul>
-<h2>Catalog stand-ins and corrections used</h2>
-<ul>{"".join(f"<li>{esc(n)}</li>" for n in notes) or "<li>none</li>"}</ul>
-<p>Harmonic Drive gearing backdrives when its input is free: a gravity-loaded joint needs a
-fail-safe device on the output wherever a falling load could injure.</p>
-<h2>Utilization of every candidate</h2><img src="utilization.png" alt="utilization">
-<h2>Torque-speed profiles with the selected unit's limits</h2>{figures}
-</body></html>
-"""
+            ax.plot([], [], color=color, ls=style, lw=1.2, label=f"{label}: above the axis")
+    return top
 
 
-def _slug(name: str) -> str:
-    return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name)
+def _runs(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, float]]:
+    """The time spans [s] where `mask` holds, each sample standing for one period."""
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
+    return [(float(t[a]) - dt / 2, float(t[b - 1]) + dt / 2)
+            for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
 
 def _save(fig: Figure, path: Path) -> None:
@@ -302,7 +319,7 @@ def write_ratios_png(path: str | Path, comparison: RatioComparison) -> None:
 def write_fastest_png(path: str | Path, result: FastestResult) -> None:
     """Speed and output torque of every sized joint along the fastest cycle, limits drawn.
 
-    Speed against its limit (motion file, URDF or unit, whichever is lowest), torque
+    Speed against its limit (motion file, robot file or unit, whichever is lowest), torque
     against the unit's repeated-peak and momentary limits, the emergency-stop torque
     from each instant behind it.
     """
@@ -310,7 +327,7 @@ def write_fastest_png(path: str | Path, result: FastestResult) -> None:
     joints = result.check.joints
     fig, axes = plt.subplots(len(joints), 2, figsize=(11, 1.9 * len(joints) + 0.9),
                              sharex=True, squeeze=False)
-    sources = {"motion": "motion file", "robot": "URDF", "unit": "unit"}
+    sources = {"motion": "motion file", "robot": "robot file", "unit": "unit"}
     for row, joint in enumerate(joints):
         j = robot.joint_index(joint.name)
         (candidate,) = joint.candidates
@@ -344,3 +361,88 @@ def write_fastest_png(path: str | Path, result: FastestResult) -> None:
                  f"{result.cycle_time:.3f} s")
     fig.tight_layout()
     _save(fig, Path(path))
+
+
+def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: str,
+                    second: str | None, joints: Sequence[str]) -> None:
+    """The unit selected and its L50 life per joint against a study's first varied parameter.
+
+    One row of panels per joint: the selected unit (no unit fits: drawn at "none") and
+    its L50 life, against `first`, one line per value of `second`.
+
+    Args:
+        path: PNG file to write.
+        title: Figure title.
+        rows: The study's rows (`hdselect.study`), typed values; failed cases are skipped.
+        first: The parameter along x.
+        second: The parameter of the lines, or None for one line.
+        joints: Joints to draw, one row of panels each.
+    """
+    done = [row for row in rows if row["status"] == "ok"]
+    xs = list(dict.fromkeys(_plain(row.get(first)) for row in done))
+    numeric = all(isinstance(x, int | float) for x in xs)
+    position = {x: (float(x) if isinstance(x, int | float) else float(k))  # type: ignore[misc]
+                for k, x in enumerate(xs)}
+    lines = list(dict.fromkeys(_plain(row.get(second)) for row in done)) if second else [None]
+    units = sorted({row["unit"] for row in done if row["unit"]}, key=_natural)
+    level = {unit: k for k, unit in enumerate(["none", *units])}
+    colors = plt.get_cmap("viridis")(np.linspace(0.0, 0.9, max(len(lines), 1)))
+    fig, axes = plt.subplots(len(joints), 2, figsize=(11, 1.7 * len(joints) + 1.2),
+                             sharex=True, squeeze=False)
+    for r, joint in enumerate(joints):
+        unit_ax, life_ax = axes[r]
+        for color, value in zip(colors, lines, strict=True):
+            mine = [row for row in done if row["joint"] == joint
+                    and (second is None or _plain(row.get(second)) == value)]
+            x = [position[_plain(row.get(first))] for row in mine]
+            label = None if second is None or r else f"{second} {value}"
+            style = "o-" if len(set(x)) == len(x) else "o"  # a third parameter: points only
+            unit_ax.plot(x, [level[row["unit"] or "none"] for row in mine], style, ms=3,
+                         lw=1, color=color, label=label)
+            life = [row["life_l50_h"] if row["unit"] else np.nan for row in mine]
+            life_ax.plot(x, [np.nan if v is None else v for v in life], style, ms=3, lw=1,
+                         color=color)
+        unit_ax.set_yticks(range(len(level)), list(level))
+        unit_ax.set_ylim(-0.5, len(level) - 0.5)
+        unit_ax.set_ylabel(joint)
+        if any(row["unit"] and row["life_l50_h"] for row in done if row["joint"] == joint):
+            life_ax.set_yscale("log")
+            life_ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        else:
+            life_ax.set_yticks([])
+            life_ax.text(0.5, 0.5, "unlimited (no load while moving)", ha="center",
+                         va="center", transform=life_ax.transAxes, color="0.4")
+        life_ax.set_ylabel("L50 life [h]")
+        for ax in (unit_ax, life_ax):
+            ax.grid(alpha=0.3)
+    axes[0, 0].set_title("unit selected")
+    axes[0, 1].set_title("its L50 life (unlimited: not drawn)")
+    for ax in axes[-1]:
+        ax.set_xlabel(_AXIS_LABELS.get(first, first))
+        if not numeric:
+            ax.set_xticks(range(len(xs)), [str(x) for x in xs])
+    fig.suptitle(title)
+    if second is not None:
+        fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.93))
+        fig.legend(loc="upper center", ncols=min(len(lines), 6), bbox_to_anchor=(0.5, 0.97),
+                   fontsize="small", frameon=False)
+    _save(fig, Path(path))
+
+
+_AXIS_LABELS = {"payload": "payload [kg]", "time_scale": "time scale s: the cycle run s times "
+                "slower [-]", "stop_time": "stop time [s]", "motor_mass": "motor mass [kg]",
+                "rotor_inertia": "rotor inertia [kg m^2]", "life_hours": "required life [h]"}
+
+
+def _plain(value: object) -> object:
+    """A parameter value usable as a key and a label (lists become text)."""
+    if isinstance(value, list | tuple | dict):
+        return str(value)
+    return value
+
+
+def _natural(text: str) -> list[object]:
+    """PSA-08-80 before PSA-08-100: numbers compared as numbers."""
+    import re
+
+    return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", text)]

@@ -40,6 +40,8 @@ from hdselect.sizing import SizingResult, at_rest, size_trajectory
 Interval = tuple[float, float]
 """A closed interval of payload masses (lo, hi) [kg]; hi may be math.inf."""
 _ROUNDS = 12
+_ROUNDOFF = 1e-12
+"""Per-kg torque below this fraction of a joint's torques is rounding, not load [-]."""
 
 
 @dataclass(frozen=True)
@@ -79,6 +81,8 @@ class MaxPayloadResult:
         selection: The sizing at `mass` (just inside it), or None.
         trajectory: The trajectory the payload rides.
         bounds: Per joint, each unit's interval of masses.
+        frame: The link the payload is attached to (the robot's default payload frame,
+            the tip of the longest chain of sized joints, when `payload` names none).
     """
 
     mass: float | None
@@ -90,6 +94,7 @@ class MaxPayloadResult:
     selection: SizingResult | None
     trajectory: Trajectory
     bounds: Mapping[str, tuple[UnitBound, ...]]
+    frame: str = ""
 
 
 def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
@@ -102,8 +107,8 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
         motion: The motion.
         options: The assumptions (default: `options_for(motion)`).
         catalog: The units (default: the built-in catalog).
-        frame: Frame the payload is attached to (default: the payload's, else the last
-            link).
+        frame: Frame the payload is attached to (default: the payload's, else the tip of
+            the longest chain of sized joints, `Robot.default_payload_frame`).
         com: Its centre of mass in that frame [m] (default: the payload's, else the
             frame's origin).
 
@@ -151,7 +156,7 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
         joint, best = _binding(bounds, mass)
         unit, rule = best.unit, best.limiting(mass)
     return MaxPayloadResult(mass, payload, tuple(ranges), joint, unit, rule, selection,
-                            trajectory, bounds)
+                            trajectory, bounds, bare.with_payload(payload).payload_frame)
 
 
 def per_kilogram(payload: Payload | None, *, frame: str | None = None,
@@ -196,10 +201,23 @@ def joint_bounds(carrying: Robot, payload: Payload, trajectory: Trajectory,
     for name in carrying.sized_joints:
         j = carrying.joint_index(name)
         tau0, stop0 = empty.tau[:, j], empty.stop[:, j]
-        tau1, stop1 = loaded.tau[:, j] - tau0, loaded.stop[:, j] - stop0
+        tau1 = _per_kg(loaded.tau[:, j], tau0)
+        stop1 = _per_kg(loaded.stop[:, j], stop0)
         out[name] = tuple(_unit_bound(unit, trajectory, qd[:, j], qdd[:, j], tau0, tau1, stop0,
                                       stop1, options) for unit in units)
     return out
+
+
+def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:
+    """The torque of 1 kg [N m]: loaded - empty, zero where it is within their roundoff.
+
+    A payload on a joint's axis (its centre of mass on it, no inertia) loads it with
+    nothing; the difference of two dynamics passes is then rounding, ~1e-16 of the
+    torques, which would read as a limit of ~1e16 kg rather than none.
+    """
+    difference = loaded - empty
+    scale = float(np.max(np.abs(loaded), initial=0.0) + np.max(np.abs(empty), initial=0.0))
+    return np.where(np.abs(difference) <= _ROUNDOFF * scale, 0.0, difference)
 
 
 def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndarray,

@@ -13,6 +13,7 @@ other columns are ignored.
 from __future__ import annotations
 
 import csv
+import logging
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -26,6 +27,8 @@ from hdselect.errors import InputError
 from hdselect.robot import MOUNTINGS, Payload, Robot, load_robot
 from hdselect.tomlfile import as_number, check_keys, join, number, read_toml, table_of
 
+logger = logging.getLogger(__name__)
+
 PLANNERS = ("ruckig", "toppra", "samples")
 """Valid values of the ``planner`` key."""
 
@@ -33,11 +36,12 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
 
 _TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "limits", "safety",
-             "requirements", "waypoint", "samples")
+             "requirements", "waypoint", "samples", "sizing")
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
 _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity", "acceleration"),
            "samples": ()}
 _SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis")}
+_SIZING_KEYS = ("joints", "exclude")
 LIFE_BASES = ("L50", "L10")
 """Valid values of ``[requirements] life_basis``: L50 (average) or L10 (90 % survival) life."""
 _ALLOWED = {"ruckig": _NEEDED["ruckig"], "toppra": ("velocity", "acceleration", "torque"),
@@ -90,6 +94,13 @@ class Motion:
         robot_file: The file's ``robot``, relative to the motion file resolved, or None.
         payload: The file's ``[payload]``, or None.
         mounting: The file's ``mounting``, or None when it gives none.
+        angle_unit: The file's ``angle_unit`` (``"deg"`` or ``"rad"``), for messages.
+        sized_joints: The file's ``[sizing] joints``, or None when it gives none.
+        excluded_joints: The file's ``[sizing] exclude``: joints that move but get no gearhead.
+        velocity_from_robot: Joints whose velocity limit the file does not give, so the
+            robot file's velocity limit is used.
+        warnings: What the file asks beyond the robot file's limits, or how its lists are
+            read, one line each.
     """
 
     path: Path
@@ -109,6 +120,11 @@ class Motion:
     robot_file: Path | None = None
     payload: Payload | None = None
     mounting: str | tuple[float, float, float] | None = None
+    angle_unit: str = "deg"
+    sized_joints: tuple[str, ...] | None = None
+    excluded_joints: tuple[str, ...] = ()
+    velocity_from_robot: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = ()
 
     def check_joints(self, robot: Robot) -> None:
         """Check that the motion was read for this robot's joints.
@@ -145,7 +161,8 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     doc = read_toml(path)
     check_keys(doc, _TOP_KEYS, path, "")
     planner = _choice(doc, "planner", PLANNERS, path)
-    unit = ANGLE_UNITS[_choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)]
+    angle_unit = _choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)
+    unit = ANGLE_UNITS[angle_unit]
     dt = number(doc, "dt", path, "", default=0.001, positive=True)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
     file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
@@ -161,15 +178,25 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     limits = table_of(doc.get("limits", {}), path, "limits")
     check_keys(limits, _LIMIT_KEYS, path, "limits")
     for key in _NEEDED[planner]:
-        if key not in limits:
+        if key not in limits and key != "velocity":  # velocity: the robot file's by default
             raise InputError(f"required by planner '{planner}'", path=path, field=f"limits.{key}")
     for key in limits:
         if key not in _ALLOWED[planner]:
             raise InputError(f"not used by planner '{planner}'; remove it (planner "
                              f"'{planner}' takes: {', '.join(_ALLOWED[planner]) or 'no limits'})",
                              path=path, field=f"limits.{key}")
-    lim = {k: frozen(_per_joint(v, robot, path, f"limits.{k}", positive=True)
-                      * (1.0 if k == "torque" else scale)) for k, v in limits.items()}
+    lists = _Lists(robot)
+    lim = {k: frozen(_per_joint(v, robot, path, f"limits.{k}", positive=True, lists=lists)
+                      * (1.0 if k == "torque" else scale))
+           for k, v in limits.items() if k != "velocity"}
+    from_robot: tuple[str, ...] = ()
+    warnings: list[str] = []
+    if "velocity" in _NEEDED[planner]:
+        velocity, from_robot = _velocity_limit(limits.get("velocity"), robot, path, scale, lists,
+                                               planner)
+        lim["velocity"] = frozen(velocity)
+        warnings += _beyond_robot(velocity, robot, scale, units, from_robot)
+    sizing = _sizing(doc, path, robot)
     stop_time = _section(doc, "safety", path).get("stop_time")
     requirements = _section(doc, "requirements", path)
     samples = None
@@ -183,7 +210,10 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
                              field="samples")
-        waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units)
+        waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units, lists)
+    warnings += lists.warnings()
+    for warning in warnings:
+        logger.warning("%s: %s", path, warning)
     return Motion(
         path=path, joint_names=robot.joint_names, planner=planner, dt=dt,
         waypoints=frozen(waypoints), dwells=frozen(dwells),
@@ -192,6 +222,9 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         stop_time=stop_time, life_hours=requirements.get("life_hours"),
         life_basis=requirements.get("life_basis"), samples=samples,
         robot_file=robot_file, payload=file_payload, mounting=file_mounting,
+        angle_unit=angle_unit, sized_joints=sizing.get("joints"),
+        excluded_joints=sizing.get("exclude", ()), velocity_from_robot=from_robot,
+        warnings=tuple(warnings),
     )
 
 
@@ -202,6 +235,7 @@ def robot_for_motion(
     payload: Payload | None = None,
     mounting: str | Sequence[float] | None = None,
     joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
 ) -> Robot:
     """The robot as the motion runs it: payload, mounting and sized joints applied.
 
@@ -215,7 +249,9 @@ def robot_for_motion(
         motion: The motion read for it.
         payload: Payload overriding the motion file's.
         mounting: Mounting overriding the motion file's.
-        joints: Joints to size (default: the robot's choice).
+        joints: Joints to size, overriding the file's ``[sizing] joints`` (default: the
+            file's, else the robot's choice).
+        exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
 
     Returns:
         The robot to plan and size with.
@@ -239,8 +275,16 @@ def robot_for_motion(
     mounting = mounting if mounting is not None else motion.mounting
     if mounting is not None:
         robot = robot.with_mounting(mounting)
-    if joints is not None:
-        robot = robot.with_sized_joints(joints)
+    chosen = joints if joints is not None else motion.sized_joints
+    left_out = exclude if exclude is not None else motion.excluded_joints
+    if chosen is not None or left_out:
+        try:
+            robot = robot.with_sized_joints(chosen, left_out)
+        except InputError as err:
+            given = joints if err.field == "joints" else exclude
+            if given is not None or err.field not in ("joints", "exclude"):
+                raise
+            raise InputError(err.reason, path=motion.path, field=f"sizing.{err.field}") from err
     return robot
 
 
@@ -251,6 +295,7 @@ def load_case(
     payload: Payload | None = None,
     mounting: str | Sequence[float] | None = None,
     joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
 ) -> tuple[Robot, Motion]:
     """Load a motion file and the robot that runs it, payload and mounting applied.
 
@@ -259,7 +304,8 @@ def load_case(
         robot: The robot or its file; None loads the motion file's ``robot``.
         payload: Payload overriding the motion file's.
         mounting: Mounting overriding the motion file's.
-        joints: Joints to size.
+        joints: Joints to size, overriding the file's ``[sizing] joints``.
+        exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
 
     Returns:
         The robot as the motion runs it (see `robot_for_motion`) and the motion.
@@ -269,10 +315,10 @@ def load_case(
     """
     if not isinstance(robot, Robot):
         motion_path = Path(motion)
-        robot = load_robot(robot if robot is not None else _robot_file_of(motion_path))
+        robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
     loaded = load_motion(motion, robot)
     return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
-                            joints=joints), loaded
+                            joints=joints, exclude=exclude), loaded
 
 
 def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path,
@@ -313,7 +359,7 @@ def _robot_file(doc: dict[str, Any], path: Path) -> Path | None:
     return robot
 
 
-def _robot_file_of(path: Path) -> Path:
+def robot_file_named(path: Path) -> Path:
     """The robot file a motion file names, for loading the robot before the motion."""
     doc = read_toml(path)
     robot = _robot_file(doc, path)
@@ -353,12 +399,38 @@ def _mounting(value: Any, path: Path) -> str | tuple[float, float, float]:
     return (x, y, z)
 
 
+class _Lists:
+    """How a motion file's lists map onto joints: the model's order, named in every message.
+
+    Remembers whether the file used a list, to warn once when the model's order is not
+    the order the robot file writes its joints.
+    """
+
+    def __init__(self, robot: Robot):
+        self.robot = robot
+        self.used: list[str] = []
+
+    @property
+    def order(self) -> str:
+        """The joints in list order, for messages."""
+        return f"list order: {', '.join(self.robot.joint_names)}"
+
+    def warnings(self) -> list[str]:
+        """One line if a list was used and the robot file writes its joints in another order."""
+        written = self.robot.file_order
+        if not self.used or written is None or written == self.robot.joint_names:
+            return []
+        return [f"{self.used[0]} and any other list follows the model's joint order "
+                f"({', '.join(self.robot.joint_names)}), not the order the robot file writes "
+                f"them ({', '.join(written)}); tables keyed by joint name avoid the question"]
+
+
 def _per_joint(value: Any, robot: Robot, path: Path, field: str, *,
-               positive: bool = False) -> np.ndarray:
+               positive: bool = False, lists: _Lists | None = None) -> np.ndarray:
     """One number per joint: from a number (all joints), a list or a table keyed by joint."""
     if isinstance(value, dict):
         for name in value:
-            robot.joint_index(name, source=path, field=f"{field}.{name}")
+            _joint_key(robot, name, path, f"{field}.{name}")
         missing = [n for n in robot.joint_names if n not in value]
         if missing:
             raise InputError(f"missing joint(s) {', '.join(missing)}; give every joint: "
@@ -366,15 +438,99 @@ def _per_joint(value: Any, robot: Robot, path: Path, field: str, *,
         return np.array([as_number(value[n], path, f"{field}.{n}", positive=positive)
                          for n in robot.joint_names])
     if isinstance(value, list):
+        lists = lists or _Lists(robot)
+        lists.used.append(field)
         if len(value) != robot.dof:
-            raise InputError(f"expected {robot.dof} values (joints {', '.join(robot.joint_names)})"
-                             f", got {len(value)}", path=path, field=field)
-        return np.array([as_number(v, path, f"{field}[{i}]", positive=positive)
-                         for i, v in enumerate(value)])
+            raise InputError(f"expected {robot.dof} values ({lists.order}), got {len(value)}",
+                             path=path, field=field)
+        numbers = []
+        for i, v in enumerate(value):
+            try:
+                numbers.append(as_number(v, path, f"{field}[{i}]", positive=positive))
+            except InputError as err:
+                raise InputError(f"{err.reason} for joint '{robot.joint_names[i]}' ({lists.order})",
+                                 path=path, field=err.field) from err
+        return np.array(numbers)
     return np.full(robot.dof, as_number(value, path, field, positive=positive))
 
 
-def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: list[str]):
+def _joint_key(robot: Robot, name: str, path: Path, field: str) -> None:
+    """Reject a table key that is not a degree of freedom (a mimic follower explained)."""
+    if name in robot.mimic:
+        raise InputError(f"joint '{name}' follows '{robot.mimic[name].leader}' (mimic); give "
+                         "its leader instead", path=path, field=field)
+    robot.joint_index(name, source=path, field=field)
+
+
+def _velocity_limit(value: Any, robot: Robot, path: Path, scale: np.ndarray, lists: _Lists,
+                    planner: str) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Velocity limits [rad/s or m/s]: the file's, else per joint the robot file's.
+
+    Returns:
+        The limits and the joints whose limit came from the robot file.
+
+    Raises:
+        InputError: A joint has neither (the message names them).
+    """
+    urdf = np.where((robot.velocity_limit > 0.0) & np.isfinite(robot.velocity_limit),
+                    robot.velocity_limit, np.nan)
+    if value is None:
+        given: dict[str, Any] = {}
+    elif isinstance(value, dict):
+        given = value
+    else:
+        return _per_joint(value, robot, path, "limits.velocity", positive=True,
+                          lists=lists) * scale, ()
+    for name in given:
+        _joint_key(robot, name, path, f"limits.velocity.{name}")
+    missing = [n for n in robot.joint_names if n not in given]
+    lacking = [n for n in missing if np.isnan(urdf[robot.joint_index(n)])]
+    if lacking:
+        raise InputError(f"required by planner '{planner}' for {', '.join(lacking)}: the robot "
+                         "file gives no velocity limit there", path=path, field="limits.velocity")
+    velocity = urdf.copy()
+    for name, limit in given.items():
+        j = robot.joint_index(name)
+        velocity[j] = as_number(limit, path, f"limits.velocity.{name}", positive=True) * scale[j]
+    return velocity, tuple(missing)
+
+
+def _beyond_robot(velocity: np.ndarray, robot: Robot, scale: np.ndarray, units: list[str],
+                  from_robot: tuple[str, ...]) -> list[str]:
+    """One line per joint whose velocity limit exceeds the robot file's."""
+    lines = []
+    for j, name in enumerate(robot.joint_names):
+        urdf = robot.velocity_limit[j]
+        if name in from_robot or not (0.0 < urdf < np.inf) or velocity[j] <= urdf * (1 + 1e-9):
+            continue
+        lines.append(f"limits.velocity: joint '{name}' may move at {velocity[j] / scale[j]:g} "
+                     f"{units[j]}/s, above the robot file's velocity limit "
+                     f"{urdf / scale[j]:.4g} {units[j]}/s")
+    return lines
+
+
+def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[str, ...]]:
+    """The ``[sizing]`` table: joints to size and to leave out, checked against the robot."""
+    table = table_of(doc.get("sizing", {}), path, "sizing")
+    check_keys(table, _SIZING_KEYS, path, "sizing")
+    names = {}
+    for key in _SIZING_KEYS:
+        if key in table:
+            value = table[key]
+            if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+                raise InputError(f"expected a list of joint names, got {value!r}", path=path,
+                                 field=f"sizing.{key}")
+            names[key] = tuple(value)
+    if names:
+        try:
+            robot.with_sized_joints(names.get("joints"), names.get("exclude", ()))
+        except InputError as err:
+            raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
+    return names
+
+
+def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: list[str],
+               lists: _Lists):
     if not isinstance(value, list) or len(value) < 2:
         raise InputError("give at least two [[waypoint]] tables", path=path, field="waypoint")
     points, dwells = [], []
@@ -387,14 +543,16 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
         if not isinstance(table["q"], list | dict):
             raise InputError("expected a list or a table keyed by joint name", path=path,
                              field=f"{where}.q")
-        given = _per_joint(table["q"], robot, path, f"{where}.q")
+        given = _per_joint(table["q"], robot, path, f"{where}.q", lists=lists)
         q = given * scale
         for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):
             name = robot.joint_names[j]
-            key = f"[{j}]" if isinstance(table["q"], list) else f".{name}"
+            listed = isinstance(table["q"], list)
+            key = f"[{j}]" if listed else f".{name}"
             raise InputError(
                 f"{given[j]:g} {units[j]} is outside the limits of joint '{name}' "
-                f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}",
+                f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
+                + (f" ({lists.order})" if listed else ""),
                 path=path, field=f"{where}.q{key}")
         points.append(q)
         dwells.append(number(table, "dwell", path, where, default=0.0, minimum=0.0))

@@ -2,7 +2,7 @@
 
 Along q = p(s), with u = s'' and x = s'^2, each joint j is held to
 
-    velocity        |p'_j| s' <= v_j       motion file, URDF, unit (max input speed / ratio)
+    velocity        |p'_j| s' <= v_j       motion file, robot file, unit (input speed / ratio)
     acceleration    |p'_j u + p''_j x| <= a_j        motion file
     torque          |a_j u + b_j x + c_j| <= T_j     unit's repeated peak (its static limit in
                                                      a piece where the joint does not move),
@@ -63,7 +63,7 @@ class JointLimits:
 
     Attributes:
         velocity: Speed limit [rad/s or m/s].
-        velocity_source: ``"motion"`` (the motion file), ``"robot"`` (the URDF) or
+        velocity_source: ``"motion"`` (the motion file), ``"robot"`` (the robot file) or
             ``"unit"`` (its maximum input speed over its ratio).
         acceleration: Acceleration limit, the motion file's [rad/s^2 or m/s^2].
         torque: Torque limit while the joint moves [N m]: the unit's repeated peak
@@ -87,7 +87,7 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
     """What bounds each joint of the robot along the path, in the robot's joint order.
 
     Args:
-        robot: The robot (its URDF velocity limits).
+        robot: The robot (its robot file's velocity limits).
         motion: The motion (its velocity, acceleration and torque limits).
         units: The unit of every sized joint.
         options: Stop time and motor rotor inertia.
@@ -97,9 +97,12 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
     assert velocity is not None and acceleration is not None  # waypoint planners require them
     out = []
     for j, name in enumerate(robot.joint_names):
-        speeds = [(float(velocity[j]), "motion")]
         urdf = float(robot.velocity_limit[j])
-        if math.isfinite(urdf) and urdf > 0.0:
+        from_file = math.isfinite(urdf) and urdf > 0.0
+        # a joint the motion file gives no speed for runs at the robot file's: that is its source
+        speeds = ([] if from_file and name in motion.velocity_from_robot
+                  else [(float(velocity[j]), "motion")])
+        if from_file:
             speeds.append((urdf, "robot"))
         torque = math.inf if motion.torque_limit is None else float(motion.torque_limit[j])
         static, momentary, gain = torque, math.inf, 0.0

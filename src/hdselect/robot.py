@@ -7,7 +7,7 @@ file whose meshes are absent still loads.
 from __future__ import annotations
 
 import logging
-import xml.etree.ElementTree as ET
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -18,6 +18,7 @@ import pinocchio as pin
 
 from hdselect.arrays import frozen
 from hdselect.errors import InputError
+from hdselect.robotfile import Mimic, read_robot_file
 
 logger = logging.getLogger(__name__)
 
@@ -46,7 +47,8 @@ class Payload:
         com: Centre of mass in the frame it is attached to [m], shape (3,).
         inertia: Rotational inertia about the centre of mass, frame axes [kg m^2], (3, 3),
             symmetric positive semi-definite.
-        frame: Name of the frame it is attached to; None means the last link.
+        frame: Name of the frame it is attached to; None means the tip of the longest chain
+            of sized joints (`Robot.default_payload_frame`).
 
     Raises:
         InputError: A value is not finite or not physical (the field names it).
@@ -121,6 +123,13 @@ class Robot:
         payload: The attached payload, if any.
         gearhead_masses: Point mass mounted at each named joint's origin, on the link
             before it (a gearhead and its motor) [kg].
+        root_link: The link held fixed to the world (the base).
+        mimic: Follower joints (no degree of freedom of their own: each moves with its
+            leader and gets no gearhead), by name.
+        file_order: The degrees of freedom in the order the file writes them, when known.
+        notes: What loading set aside or found suspicious in the file, one line each.
+        uncoupled_followers: Mimic followers Pinocchio could not couple to their leaders:
+            degrees of freedom here, not sized unless named.
     """
 
     path: Path
@@ -135,6 +144,11 @@ class Robot:
     gravity: np.ndarray
     payload: Payload | None = None
     gearhead_masses: Mapping[str, float] = field(default_factory=dict)
+    root_link: str = ""
+    mimic: Mapping[str, Mimic] = field(default_factory=dict)
+    file_order: tuple[str, ...] | None = None
+    notes: tuple[str, ...] = ()
+    uncoupled_followers: tuple[str, ...] = ()
     _q_index: tuple[tuple[int, int], ...] = field(default=(), repr=False)
     _bare: pin.Model | None = field(default=None, repr=False)
 
@@ -210,14 +224,56 @@ class Robot:
             self.joint_index(name, field="gearhead_masses")
         return self._rebuilt(gearhead_masses=MappingProxyType(dict(masses)))
 
-    def with_sized_joints(self, joints: Sequence[str] | None) -> Robot:
-        """The same robot with another choice of joints to size (None: every rotary joint).
+    def with_sized_joints(self, joints: Sequence[str] | None,
+                          exclude: Sequence[str] = ()) -> Robot:
+        """The same robot with another choice of joints to size.
+
+        Joints left out still move and load the others; they get no gearhead. A
+        payload without a frame follows the new `default_payload_frame`.
+
+        Args:
+            joints: The joints to size; None: every revolute and continuous joint.
+            exclude: Joints not to size, taken out of `joints` (or out of the default).
 
         Raises:
-            InputError: A name is unknown or names a prismatic joint.
+            InputError: A name is unknown, names a prismatic or a mimic follower joint,
+                or no joint is left to size.
         """
-        return replace(self, sized_joints=_sized(self.joint_names, self.revolute, joints,
-                                                 self.path))
+        sized = _sized(self, joints, exclude)
+        if self.payload is not None and self.payload.frame is None:
+            return self._rebuilt(sized_joints=sized)
+        return replace(self, sized_joints=sized)
+
+    def joint_type(self, name: str) -> str:
+        """``"revolute"``, ``"continuous"``, ``"prismatic"`` or ``"mimic"`` (a follower)."""
+        if name in self.mimic:
+            return "mimic"
+        j = self.joint_index(name)
+        if not self.revolute[j]:
+            return "prismatic"
+        return "continuous" if self._q_index[j][1] == 2 else "revolute"
+
+    def moved_mass(self, joint: str) -> float:
+        """Mass of everything `joint` moves: links, payload and gearheads further out [kg]."""
+        model = self.model
+        return float(sum(model.inertias[k].mass for k in model.subtrees[model.getJointId(joint)]))
+
+    @property
+    def default_payload_frame(self) -> str:
+        """Where a payload without a frame goes: the tip of the longest chain of sized joints.
+
+        The chain's length counts sized joints from the base; of equally long chains
+        the first in the model's order wins. Its tip is a tool frame its last joint
+        moves rigidly (a link named like ``tool0``, ``*_tcp``, ``ee_link``,
+        ``end_effector``, ``flange``), else that joint's own link.
+        """
+        return _tip_frame(self._bare_model, self.sized_joints)
+
+    @property
+    def payload_frame(self) -> str:
+        """The frame the payload is (or a payload would be) attached to."""
+        frame = self.payload.frame if self.payload is not None else None
+        return frame or self.default_payload_frame
 
     def carried_mass(self, joint: str) -> float:
         """Total of the gearhead masses mounted on links that `joint` moves [kg]."""
@@ -242,7 +298,7 @@ class Robot:
         bare = self._bare_model
         model = pin.Model(bare)
         if robot.payload is not None:
-            frame = _payload_frame(model, robot.payload, robot.path)
+            frame = _payload_frame(model, robot.payload, robot.path, robot.default_payload_frame)
             model.appendBodyToJoint(frame.parentJoint, pin.Inertia(
                 robot.payload.mass, np.array(robot.payload.com), np.array(robot.payload.inertia)),
                 frame.placement)
@@ -262,6 +318,7 @@ def load_robot(
     payload: Payload | None = None,
     mounting: str | Sequence[float] = "floor",
     joints: Sequence[str] | None = None,
+    exclude: Sequence[str] = (),
 ) -> Robot:
     """Load a fixed-base robot from a URDF or MJCF file.
 
@@ -270,51 +327,54 @@ def load_robot(
         payload: A payload to attach, if any (same as `Robot.with_payload`).
         mounting: ``"floor"``, ``"wall"``, ``"ceiling"`` or a gravity vector in the
             base frame [m/s^2] (same as `Robot.with_mounting`).
-        joints: Joints to size; default every revolute and continuous joint.
+        joints: Joints to size; default every revolute and continuous joint that
+            is not a mimic follower.
+        exclude: Joints not to size (they still move and load the others).
 
     Returns:
         The loaded robot.
 
     Raises:
-        InputError: The file is missing or malformed, a link's inertia is not
-            physically consistent, a joint type is not supported, or an option
-            names an unknown frame or joint.
+        InputError: The file is missing or Pinocchio rejects it (the parser's reason
+            in the message), a body's inertia is not physical, a joint type is not
+            supported, or an option names an unknown frame or joint.
     """
     path = Path(path)
     if not path.is_file():
         raise InputError("file not found", path=path)
-    model = _build_model(path)
+    file = read_robot_file(path)
+    model = file.model
     names, revolute, q_index = _joints(model, path)
-    _check_inertias(model, path)
     lower, upper = _position_limits(model, q_index)
     robot = Robot(
         path=path,
         model=model,
         joint_names=names,
         revolute=revolute,
-        sized_joints=_sized(names, revolute, joints, path),
+        sized_joints=(),
         lower=frozen(lower),
         upper=frozen(upper),
-        velocity_limit=frozen(model.velocityLimit),
-        effort_limit=frozen(model.effortLimit),
+        velocity_limit=frozen(_limit(model, "upperVelocityLimit", "velocityLimit")),
+        effort_limit=frozen(_limit(model, "upperEffortLimit", "effortLimit")),
         gravity=frozen(gravity_of(mounting)),
+        root_link=file.root_link,
+        mimic=file.mimic,
+        file_order=file.file_order,
+        notes=file.notes,
+        uncoupled_followers=file.uncoupled_followers,
         _q_index=q_index,
     )
+    robot = replace(robot, sized_joints=_sized(robot, joints, exclude))
     skipped = [n for n, r in zip(names, revolute, strict=True) if not r]
     if skipped:
         logger.info("prismatic joints are reported but not sized: %s", ", ".join(skipped))
     return robot._rebuilt(payload=payload)
 
 
-def _build_model(path: Path) -> pin.Model:
-    try:
-        if path.suffix.lower() in (".xml", ".mjcf"):
-            return pin.buildModelFromMJCF(str(path))
-        return pin.buildModelFromUrdf(str(path))
-    except (RuntimeError, ValueError) as err:
-        kind = "MJCF" if path.suffix.lower() in (".xml", ".mjcf") else "URDF"
-        first_line = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-        raise InputError(f"not a valid {kind} robot: {first_line}", path=path) from err
+def _limit(model: pin.Model, name: str, old_name: str) -> np.ndarray:
+    """A per-degree-of-freedom limit of the file; Pinocchio 3 and 4 name them differently."""
+    return np.array(getattr(model, name) if hasattr(model, name) else getattr(model, old_name),
+                    dtype=float)
 
 
 def _joints(model: pin.Model, path: Path):
@@ -324,6 +384,8 @@ def _joints(model: pin.Model, path: Path):
     for joint_id in range(1, model.njoints):
         joint = model.joints[joint_id]
         kind = joint.shortname().removeprefix("JointModel")
+        if kind == "Mimic":
+            continue  # a follower: no degree of freedom of its own
         if kind not in _REVOLUTE + _PRISMATIC:
             raise InputError(
                 f"joint '{model.names[joint_id]}' is of type {kind}; only revolute, continuous "
@@ -348,22 +410,42 @@ def _position_limits(model: pin.Model, q_index) -> tuple[np.ndarray, np.ndarray]
     return lower, upper
 
 
-def _sized(names, revolute, joints, path) -> tuple[str, ...]:
+def _sized(robot: Robot, joints: Sequence[str] | None, exclude: Sequence[str]
+           ) -> tuple[str, ...]:
+    """The joints to size: `joints` (default every rotary non-follower joint) minus `exclude`."""
+    names, path = robot.joint_names, robot.path
+    for option, given in (("joints", joints), ("exclude", exclude)):
+        if isinstance(given, str):
+            raise InputError(f"expected a list of joint names, got {given!r}", path=path,
+                             field=option)
+        for name in given or ():
+            _known(robot, name, option)
     if joints is None:
-        return tuple(n for n, r in zip(names, revolute, strict=True) if r)
-    if isinstance(joints, str):
-        raise InputError(f"expected a list of joint names, got {joints!r}", path=path,
-                         field="joints")
-    chosen = []
-    for name in joints:
-        if name not in names:
-            raise InputError(f"unknown joint '{name}'; joints are: {', '.join(names)}",
-                             path=path, field="--joint")
-        if not revolute[names.index(name)]:
-            raise InputError(f"joint '{name}' is prismatic; only rotary joints take a gearhead",
-                             path=path, field="--joint")
-        chosen.append(name)
+        chosen = {n for n, r in zip(names, robot.revolute, strict=True)
+                  if r and n not in robot.uncoupled_followers}
+    else:
+        for name in joints:
+            if not robot.revolute[names.index(name)]:
+                raise InputError(f"joint '{name}' is prismatic; only rotary joints take a "
+                                 "gearhead", path=path, field="joints")
+        chosen = set(joints)
+    chosen -= set(exclude)
+    if not chosen and (joints is not None or exclude):
+        raise InputError("no joint left to size; rotary joints are: "
+                         + ", ".join(n for n, r in zip(names, robot.revolute, strict=True) if r),
+                         path=path, field="exclude" if exclude else "joints")
     return tuple(n for n in names if n in chosen)
+
+
+def _known(robot: Robot, name: str, option: str) -> None:
+    """Reject a name that is not a degree of freedom, explaining a mimic follower."""
+    if name in robot.mimic:
+        raise InputError(f"joint '{name}' follows '{robot.mimic[name].leader}' (mimic) and gets "
+                         "no gearhead of its own; its leader carries its load",
+                         path=robot.path, field=option)
+    if name not in robot.joint_names:
+        raise InputError(f"unknown joint '{name}'; joints are: {', '.join(robot.joint_names)}",
+                         path=robot.path, field=option)
 
 
 def gravity_of(mounting: str | Sequence[float]) -> np.ndarray:
@@ -387,9 +469,9 @@ def gravity_of(mounting: str | Sequence[float]) -> np.ndarray:
     return gravity
 
 
-def _payload_frame(model: pin.Model, payload: Payload, path: Path) -> pin.Frame:
-    """The frame a payload is attached to: its own, or the last link's."""
-    frame_name = payload.frame or _last_link(model)
+def _payload_frame(model: pin.Model, payload: Payload, path: Path, default: str) -> pin.Frame:
+    """The frame a payload is attached to: its own, or `default`."""
+    frame_name = payload.frame or default
     if not model.existFrame(frame_name):
         bodies = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
         raise InputError(f"unknown frame '{frame_name}' for the payload; links are: "
@@ -401,67 +483,31 @@ def _payload_frame(model: pin.Model, payload: Payload, path: Path) -> pin.Frame:
     return frame
 
 
-def _last_link(model: pin.Model) -> str:
-    deepest = model.njoints - 1
-    bodies = [f.name for f in model.frames
-              if f.type == pin.FrameType.BODY and f.parentJoint == deepest]
-    return bodies[-1]
+_TOOL_FRAMES = ("tcp", "tool0", "tool", "end_effector", "endeffector", "eef", "ee_link", "ee",
+                "flange")
+"""Name parts of the frames users attach tools to, in order of preference."""
 
 
-def _check_inertias(model: pin.Model, path: Path) -> None:
-    """Every moving link must have a physically consistent inertia."""
-    moving = {f.name for f in model.frames
-              if f.type == pin.FrameType.BODY and f.parentJoint != 0}
-    if path.suffix.lower() == ".urdf":
-        for link, mass, inertia in _urdf_inertials(path):
-            if link in moving:
-                _check_one(link, mass, inertia, path)
-    else:
-        for joint_id in range(1, model.njoints):
-            body = model.inertias[joint_id]
-            if body.mass > 0.0 or np.any(body.inertia != 0.0):
-                _check_one(model.names[joint_id], body.mass, body.inertia, path)
+def _tip_frame(model: pin.Model, sized: Sequence[str]) -> str:
+    """The tip of the longest chain of `sized` joints (see `default_payload_frame`).
 
-
-def _urdf_inertials(path: Path):
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as err:
-        raise InputError(f"not valid XML: {err}", path=path) from err
-    for link in root.iter("link"):
-        inertial = link.find("inertial")
-        if inertial is None:
-            continue
-        name = link.get("name", "?")
-        mass_el, inertia_el = inertial.find("mass"), inertial.find("inertia")
-        try:
-            mass = float(mass_el.get("value", "nan")) if mass_el is not None else 0.0
-            keys = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-            i = {k: float(inertia_el.get(k, "0")) for k in keys} if inertia_el is not None \
-                else dict.fromkeys(keys, 0.0)
-        except ValueError as err:
-            raise InputError(f"link '{name}': inertial values must be numbers", path=path,
-                             field=f"link[{name}].inertial") from err
-        tensor = np.array([[i["ixx"], i["ixy"], i["ixz"]],
-                           [i["ixy"], i["iyy"], i["iyz"]],
-                           [i["ixz"], i["iyz"], i["izz"]]])
-        yield name, mass, tensor
-
-
-def _check_one(link: str, mass: float, inertia: np.ndarray, path: Path) -> None:
-    field = f"link[{link}].inertial"
-    if not np.isfinite(mass) or mass <= 0.0:
-        raise InputError(f"link '{link}' has mass {mass:g} kg; a moving link with an "
-                         "inertial must have positive mass", path=path, field=field)
-    if not np.all(np.isfinite(inertia)):
-        raise InputError(f"link '{link}' has a non-finite inertia", path=path, field=field)
-    moments = np.linalg.eigvalsh(inertia)
-    scale = max(float(moments[-1]), 1e-12)
-    if moments[0] <= 1e-9 * scale:
-        raise InputError(f"link '{link}' inertia is not positive definite (principal moments "
-                         f"{', '.join(f'{m:.3g}' for m in moments)} kg m^2)", path=path,
-                         field=field)
-    if moments[0] + moments[1] < moments[2] * (1.0 - 1e-6):
-        raise InputError(f"link '{link}' inertia violates the triangle inequality (principal "
-                         f"moments {', '.join(f'{m:.3g}' for m in moments)} kg m^2)",
-                         path=path, field=field)
+    Of the links its last joint moves rigidly, a tool frame (named like one of
+    `_TOOL_FRAMES`) wins, else the joint's own link. With no sized joint, the
+    deepest joint of the model ends the chain.
+    """
+    chosen = set(sized)
+    best, best_length = model.njoints - 1, -1
+    for joint_id in range(1, model.njoints):
+        if model.names[joint_id] in chosen:
+            length = sum(model.names[k] in chosen for k in model.supports[joint_id])
+            if length > best_length:
+                best, best_length = joint_id, length
+    if best_length < 0:
+        best = max(range(1, model.njoints), key=lambda j: (len(model.supports[j]), j))
+    links = [f.name for f in model.frames
+             if f.type == pin.FrameType.BODY and f.parentJoint == best]
+    for part in _TOOL_FRAMES:
+        for link in links:
+            if re.search(rf"(^|[^a-z]){part}([^a-z]|$)", link.lower()):
+                return link
+    return links[0]

@@ -19,6 +19,7 @@ from hdselect.arrays import frozen
 from hdselect.catalog import Unit, load_catalog
 from hdselect.dynamics import CycleTorques, cycle_torques, gravity_torques
 from hdselect.errors import InputError
+from hdselect.loads import JointLoad, joint_loads
 from hdselect.motion import Motion, load_case, robot_for_motion
 from hdselect.options import Options, options_for
 from hdselect.planning import Trajectory, plan
@@ -33,7 +34,7 @@ REST_FRACTION = 1e-3
 this fraction of their largest values in the cycle [-]."""
 GRAVITY_LOADED = 1e-3
 """Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
-_GRAVITY_SAMPLES = 400
+GRAVITY_SAMPLES = 400
 """Poses at which the gravity torque is evaluated for the backdriving warning."""
 _GUESS_SAMPLES = 200
 """Samples on which the carried masses are first guessed."""
@@ -91,6 +92,8 @@ class SizingResult:
         options: The assumptions used.
         units: The catalog.
         motion: The motion the trajectory was planned from, when `size` planned it.
+        loads: Every joint of the robot, sized or not, followers included, in the
+            model's order: what it does beside its file's limits.
     """
 
     robot: Robot
@@ -99,6 +102,29 @@ class SizingResult:
     options: Options
     units: tuple[Unit, ...]
     motion: Motion | None = None
+    loads: tuple[JointLoad, ...] = ()
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What the robot file and the motion file raised, and limits the cycle exceeds.
+
+        Each line starts with where it comes from: ``robot file:``, ``motion file:`` or
+        ``cycle:``.
+        """
+        asked = self.motion.warnings if self.motion is not None else ()
+        lines = [f"robot file: {note}" for note in self.robot.notes]
+        lines += [f"motion file: {warning}" for warning in asked]
+        for load in self.loads:
+            if load.above_effort:
+                lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} "
+                             f"{'N' if load.linear else 'N m'}, above the robot file's effort "
+                             f"limit {load.effort_limit:.3g}")
+            if load.above_velocity and not any(f"'{load.name}'" in w for w in asked):
+                per_s = "m/s" if load.linear else "rad/s"
+                lines.append(f"cycle: joint '{load.name}' moves at up to {load.max_speed:.3g} "
+                             f"{per_s}, above the robot file's velocity limit "
+                             f"{load.velocity_limit:.3g}")
+        return tuple(lines)
 
     @property
     def feasible(self) -> bool:
@@ -127,6 +153,7 @@ def size(
     payload: Payload | None = None,
     mounting: str | Sequence[float] | None = None,
     joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
     **options: object,
 ) -> SizingResult:
     """Choose a gearhead for every joint of a robot from its motion: load, plan, size.
@@ -138,7 +165,10 @@ def size(
         units: The catalog already loaded (instead of `catalog`).
         payload: Payload, overriding the motion file's.
         mounting: Mounting, overriding the motion file's.
-        joints: Joints to size (default every revolute joint).
+        joints: Joints to size (default: the motion file's ``[sizing] joints``, else every
+            revolute joint that is not a mimic follower).
+        exclude: Joints not to size; they still move and load the others (default: the
+            motion file's ``[sizing] exclude``).
         **options: Fields of `hdselect.options.Options` (``stop_time``, ``efficiency``,
             ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
             ``life_hours``, ``life_basis``, ``threads``); what is not given comes from
@@ -163,10 +193,10 @@ def size(
                                  path=motion.path, field="robot")
             robot = load_robot(file)
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
-                                 joints=joints)
+                                 joints=joints, exclude=exclude)
     else:
         robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
-                                  joints=joints)
+                                  joints=joints, exclude=exclude)
     resolved = options_for(motion, **options)
     units = tuple(units) if units is not None else load_catalog(catalog)
     trajectory = plan(robot, motion)
@@ -224,7 +254,8 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     joints = _with_gravity(carrying, trajectory, joints, options)
     if any(joint.selected is None for joint in joints):
         joints = _with_slowdowns(carrying, trajectory, joints, units, options)
-    return SizingResult(robot, trajectory, tuple(joints), options, units)
+    return SizingResult(robot, trajectory, tuple(joints), options, units,
+                        loads=joint_loads(robot, trajectory, torques.tau))
 
 
 def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
@@ -272,13 +303,14 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
                                   options))
     distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))
     return SizingResult(robot, trajectory, tuple(_with_gravity(carrying, trajectory, joints,
-                                                               options)), options, distinct)
+                                                               options)), options, distinct,
+                        loads=joint_loads(robot, trajectory, torques.tau))
 
 
 def _with_gravity(carrying: Robot, trajectory: Trajectory, joints: list[JointSizing],
                   options: Options) -> list[JointSizing]:
     """The joints with their carried mass and whether gravity loads them (from ~400 poses)."""
-    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, _GRAVITY_SAMPLES).astype(int))
+    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))
     gravity = np.abs(gravity_torques(carrying, trajectory.q[poses], threads=options.threads))
     return [replace(joint, carried_mass=carrying.carried_mass(joint.name),
                     gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
@@ -358,14 +390,29 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
                 torque=torques.tau[:, j], stop_torque=torques.stop[:, j],
                 gravity=torques.gravity[:, j], coast=torques.coasting[:, j],
                 stop_time=options.stop_time)
-            scales = joint_scales(cycle, units, efficiency=options.efficiency,
-                                  rotor_inertia=options.rotor_inertia,
-                                  check_options={"life_hours": options.life_hours,
-                                                 "life_basis": options.life_basis})
-            joint = replace(joint, slowdown=_rounded(scales.slowdown(), scales, traj.duration),
-                            scales=scales)
+            slowdown, scales = fitting_time_scales(cycle, units, options)
+            joint = replace(joint, slowdown=slowdown, scales=scales)
         out.append(joint)
     return out
+
+
+def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit],
+                        options: Options) -> tuple[Slowdown, JointScales]:
+    """For a joint no unit fits: every unit's feasible time scales and the smallest slow-down.
+
+    Args:
+        cycle: The joint's cycle split by how its torques scale.
+        units: The catalog.
+        options: The assumptions (efficiency, rotor inertia, life requirement).
+
+    Returns:
+        The slow-down, its factor rounded to 0.001 (see `_rounded`), and the scales.
+    """
+    scales = joint_scales(cycle, units, efficiency=options.efficiency,
+                          rotor_inertia=options.rotor_inertia,
+                          check_options={"life_hours": options.life_hours,
+                                         "life_basis": options.life_basis})
+    return _rounded(scales.slowdown(), scales, cycle.duration), scales
 
 
 def _rounded(slowdown: Slowdown, scales: JointScales, duration: float) -> Slowdown:

@@ -65,6 +65,10 @@ class Summary:
         feasible: Every joint has a unit.
         options: The assumptions (`hdselect.options.Options` as a dict).
         joints: One per sized joint, in the robot's order.
+        root_link: The link held fixed to the world.
+        payload_mass: The payload's mass [kg]; 0 without one.
+        payload_frame: The frame the payload is (or would be) attached to.
+        warnings: The result's warning lines (robot file, motion file, cycle).
     """
 
     robot: str
@@ -74,6 +78,10 @@ class Summary:
     feasible: bool
     options: dict[str, Any]
     joints: tuple[JointSummary, ...]
+    root_link: str = ""
+    payload_mass: float = 0.0
+    payload_frame: str = ""
+    warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """Plain lists, dicts, strings and numbers, ready for JSON."""
@@ -97,6 +105,10 @@ def summarize(result: SizingResult) -> Summary:
         feasible=result.feasible,
         options=asdict(result.options),
         joints=tuple(_joint(joint) for joint in result.joints),
+        root_link=result.robot.root_link,
+        payload_mass=0.0 if result.robot.payload is None else result.robot.payload.mass,
+        payload_frame=result.robot.payload_frame,
+        warnings=result.warnings,
     )
 
 

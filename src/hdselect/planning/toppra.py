@@ -3,7 +3,11 @@
 The path is a clamped cubic spline through the waypoints (chord-length
 parametrised), with 200 cosine-spaced TOPPRA gridpoints per waypoint of a piece
 (`path_pieces`). A waypoint with a dwell splits the path into pieces that each
-start and end at rest. TOPPRA's answer is the path speed s' at every gridpoint,
+start and end at rest. A cubic spline overshoots its waypoints: where that would
+take a joint past its position limit (a waypoint on or near the limit, such as a
+home pose on a stop), that joint alone follows a shape-preserving cubic instead
+(PCHIP slopes, zero at the ends), which never leaves the range of its neighbouring
+waypoints. TOPPRA's answer is the path speed s' at every gridpoint,
 with constant path acceleration between them (`Profile`, which samples it with
 numpy exactly as toppra's ``ParametrizeConstAccel`` does). That parametrisation
 overshoots the limits between gridpoints (measured up to 2.5e-3 relative); each
@@ -13,8 +17,9 @@ piece is therefore slowed down uniformly by its overshoot (plus 1e-4,
 paths) for a cycle at most that much longer than TOPPRA's. Torque limits hold
 within ``TOPPRA_TORQUE_TOLERANCE`` (measured up to 6e-5 relative).
 
-Co-design (`hdselect.codesign`) solves the same pieces under more constraints
-with `solve_piece`.
+Co-design (`hdselect.codesign`) solves the same pieces, built by the same
+`path_pieces` (so under the same rule at the position limits), under more
+constraints with `solve_piece`.
 """
 
 from __future__ import annotations
@@ -60,8 +65,8 @@ class PathPiece:
     Attributes:
         first: Index of the waypoint it starts from.
         last: Index of the waypoint it ends at (the next one with a dwell, or the last).
-        path: The toppra ``SplineInterpolator`` over s in [0, 1], or None when the
-            piece has zero length.
+        path: The path over s in [0, 1] (`_Path`, toppra's path interface), or None when
+            the piece has zero length.
         gridpoints: TOPPRA's gridpoints s, shape (m,).
         q: p(s) at the gridpoints [rad or m], shape (m, dof).
         dq: p'(s) at the gridpoints [rad or m per unit of s], shape (m, dof).
@@ -171,18 +176,20 @@ def _quiet() -> Iterator[None]:
         log.setLevel(level)
 
 
-def path_pieces(motion: Motion, grid_per_waypoint: int = _GRID_PER_SEGMENT, *,
+def path_pieces(robot: Robot, motion: Motion, grid_per_waypoint: int = _GRID_PER_SEGMENT, *,
                 speeds: np.ndarray | None = None) -> list[PathPiece]:
     """The motion's path split where it dwells: a clamped cubic spline per piece.
 
     Repeated consecutive waypoints are dropped; a piece whose waypoints all coincide
-    has no path (zero length). The spline's knots are at the cumulative chord length
-    (the TOPPRA planner's path) or, given `speeds`, at the cumulative time each
-    segment takes at those speeds, max_j |dq_j| / speed_j, which weighs joints in
-    different units (rad, m) alike. Each piece gets ``grid_per_waypoint``
-    cosine-spaced gridpoints per waypoint.
+    has no path (zero length). A joint whose spline would leave the robot's position
+    limits follows a shape-preserving cubic instead (`_Path`). The knots are at the
+    cumulative chord length (the TOPPRA planner's path) or, given `speeds`, at the
+    cumulative time each segment takes at those speeds, max_j |dq_j| / speed_j, which
+    weighs joints in different units (rad, m) alike. Each piece gets
+    ``grid_per_waypoint`` cosine-spaced gridpoints per waypoint.
 
     Args:
+        robot: The robot (position limits).
         motion: The motion (waypoints and dwells).
         grid_per_waypoint: Gridpoints per waypoint of a piece.
         speeds: Joint speeds that set the knots [rad/s or m/s], shape (dof,); None for
@@ -191,8 +198,6 @@ def path_pieces(motion: Motion, grid_per_waypoint: int = _GRID_PER_SEGMENT, *,
     Returns:
         The pieces, in order.
     """
-    with _quiet():
-        import toppra
     splits = [0, *np.flatnonzero(motion.dwells[1:-1] > 0.0) + 1, len(motion.waypoints) - 1]
     pieces: list[PathPiece] = []
     for first, last in zip(splits[:-1], splits[1:], strict=True):
@@ -211,11 +216,71 @@ def path_pieces(motion: Motion, grid_per_waypoint: int = _GRID_PER_SEGMENT, *,
         chord = np.r_[0.0, np.cumsum(lengths)]
         grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, grid_per_waypoint * len(points) + 1))
         with _quiet():
-            path = toppra.SplineInterpolator(chord / chord[-1], points, bc_type="clamped")
+            path = _Path(chord / chord[-1], points, robot.lower, robot.upper)
             q, dq, ddq = path(grid), path(grid, 1), path(grid, 2)
         pieces.append(PathPiece(first, last, path, frozen(grid), frozen(q), frozen(dq),
                                 frozen(ddq), indices, frozen(chord / chord[-1])))
     return pieces
+
+
+class _Path:
+    """A geometric path through waypoints, as TOPPRA evaluates it: q(s) and its derivatives.
+
+    Each joint follows the clamped cubic spline through its waypoints unless that
+    spline leaves the joint's position limits; then it follows a monotone piecewise
+    cubic (PCHIP's slopes inside, zero slope at both ends), which stays between
+    neighbouring waypoints.
+
+    Args:
+        ss: Path parameter at each waypoint, increasing from 0 to 1 [-].
+        points: Waypoints [rad or m], shape (k, dof).
+        lower: Lower position limits [rad or m], shape (dof,).
+        upper: Upper position limits [rad or m], shape (dof,).
+    """
+
+    def __init__(self, ss: np.ndarray, points: np.ndarray, lower: np.ndarray,
+                 upper: np.ndarray):
+        from scipy.interpolate import CubicHermiteSpline, CubicSpline, PchipInterpolator
+
+        spline = CubicSpline(ss, points, bc_type="clamped")
+        dense = spline(np.linspace(ss[0], ss[-1], _GRID_PER_SEGMENT * len(ss) + 1))
+        leaves = np.any((dense < lower - 1e-12) | (dense > upper + 1e-12), axis=0)
+        self.shape_preserving = tuple(int(j) for j in np.flatnonzero(leaves))
+        if self.shape_preserving:
+            slopes = PchipInterpolator(ss, points, axis=0).derivative()(ss)
+            slopes[[0, -1]] = 0.0
+            monotone = CubicHermiteSpline(ss, points, slopes, axis=0)
+            spline.c[:, :, leaves] = monotone.c[:, :, leaves]
+        self._splines = (spline, spline.derivative(), spline.derivative(2))
+        self._ss, self._points = ss, points
+
+    def __call__(self, path_positions, order: int = 0):
+        """Positions (order 0) or their first or second derivative along the path."""
+        return self._splines[order](path_positions)
+
+    def eval(self, ss):  # noqa: D102  (TOPPRA's path interface)
+        return self(ss, 0)
+
+    def evald(self, ss):  # noqa: D102
+        return self(ss, 1)
+
+    def evaldd(self, ss):  # noqa: D102
+        return self(ss, 2)
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom."""
+        return int(self._points.shape[1])
+
+    @property
+    def path_interval(self) -> np.ndarray:
+        """First and last path parameter."""
+        return np.array([self._ss[0], self._ss[-1]])
+
+    @property
+    def waypoints(self):
+        """Path parameters and positions of the waypoints."""
+        return self._ss, self._points
 
 
 def kinematic_constraints(velocity: np.ndarray, acceleration: np.ndarray) -> list[Any]:
@@ -284,7 +349,7 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
     assert velocity is not None and acceleration is not None  # load_motion requires them
     kinematic = kinematic_constraints(velocity, acceleration)
     moves: list[Move] = []
-    for piece in path_pieces(motion):
+    for piece in path_pieces(robot, motion):
         first, last = piece.first, piece.last
         if piece.path is None:
             moves.append(Move(first, last, 0.0, None))

@@ -1,0 +1,313 @@
+"""Read a study file (TOML): the cases of a design study, each resolved and keyed.
+
+A study is a grid (every combination of the lists in ``[grid]``), an explicit list
+(``[[case]]``), or both (each listed case crossed with the grid), over the values in
+``[base]``. Paths are relative to the study file. Each case gets a stable key: a hash
+of everything its result depends on, the contents of its files included, so a study
+re-run skips what it already has and re-runs exactly what changed.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, fields, replace
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+from hdselect.catalog import BUILTIN
+from hdselect.errors import InputError
+from hdselect.options import Options
+from hdselect.robot import MOUNTINGS, Payload
+from hdselect.tomlfile import as_number, check_keys, read_toml, table_of
+
+OPTION_KEYS = tuple(f.name for f in fields(Options) if f.name != "threads")
+"""Sizing options a study may set or vary (`hdselect.Options` fields; workers use one thread)."""
+CASE_KEYS = ("motion", "robot", "payload", "time_scale", "mounting", "catalog", "ratio",
+             *OPTION_KEYS)
+"""Every key of ``[base]``, ``[grid]`` and ``[[case]]``, in the order of the CSV columns."""
+_TOP_KEYS = ("title", "compute", "base", "grid", "case")
+_PAYLOAD_KEYS = ("mass", "com", "inertia", "frame")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One case of a study, resolved.
+
+    Attributes:
+        index: Position in the study, from 0.
+        compute: Name of what is computed (a key of `hdselect.study.compute.COMPUTATIONS`).
+        values: The case's parameters as the study gives them (paths relative to the study
+            file, payload as its mass [kg]); the columns of its rows.
+        motion: The motion file.
+        robot: The robot file, or None for the motion file's ``robot``.
+        payload: The payload mass [kg], or None for the motion file's payload.
+        payload_shape: Centre of mass [m], inertia about it [kg m^2] and frame, when the study
+            gives them; None keeps the motion file's (or a point mass at the robot's
+            default payload frame).
+        time_scale: The motion run s times slower [-] (0.8: 1.25 times faster).
+        mounting: Mounting overriding the motion file's, or None.
+        catalog: Extra catalog files.
+        ratio: Only units of this ratio are candidates, or None for every unit.
+        options: Sizing options given (fields of `hdselect.Options`).
+        key: Stable hash of everything the result depends on.
+        files: The files the case reads, resolved (robot, motion, log, catalogs).
+    """
+
+    index: int
+    compute: str
+    values: Mapping[str, Any]
+    motion: Path
+    robot: Path | None
+    payload: float | None
+    payload_shape: tuple[tuple[float, ...], tuple[tuple[float, ...], ...], str | None] | None
+    time_scale: float
+    mounting: str | tuple[float, ...] | None
+    catalog: tuple[Path, ...]
+    ratio: int | None
+    options: Mapping[str, Any]
+    key: str
+    files: tuple[Path, ...]
+
+    def payload_for(self, file_payload: Payload | None) -> Payload | None:
+        """The case's payload, given the motion file's.
+
+        The study's mass replaces the file's; the study's shape (centre of mass, inertia
+        about it, frame), else the file's, else a point mass at the robot's default payload frame
+        (`hdselect.Robot.default_payload_frame`), goes with it.
+        """
+        if self.payload is None:
+            return file_payload
+        if self.payload_shape is not None:
+            com, inertia, frame = self.payload_shape
+            return Payload(self.payload, com, inertia, frame)  # type: ignore[arg-type]
+        if file_payload is not None:
+            return replace(file_payload, mass=self.payload)
+        return Payload(self.payload)
+
+
+@dataclass(frozen=True)
+class Study:
+    """A study file, read.
+
+    Attributes:
+        path: The study file.
+        title: Its title (default: the file name).
+        compute: What is computed for every case, in order.
+        cases: Every case (each computation of each combination), in study order.
+        keys: The keys the study sets anywhere, in `CASE_KEYS` order: the CSV's parameter columns.
+        varied: The keys whose value differs between cases, in the order the file gives
+            them: the pivot and the plot use the first two.
+    """
+
+    path: Path
+    title: str
+    compute: tuple[str, ...]
+    cases: tuple[Case, ...]
+    keys: tuple[str, ...]
+    varied: tuple[str, ...]
+
+
+def load_study(path: str | Path, computations: Sequence[str] | None = None) -> Study:
+    """Read and validate a study file; resolve and key every case.
+
+    Args:
+        path: The study file (TOML).
+        computations: The computations this version knows (default: every registered one).
+
+    Returns:
+        The study.
+
+    Raises:
+        InputError: The study file is missing, malformed, or gives a value that is not
+            valid (a missing robot or motion file is not an error here: that case fails
+            when it runs, and says so in its row).
+    """
+    if computations is None:
+        from hdselect.study.compute import COMPUTATIONS
+
+        computations = tuple(COMPUTATIONS)
+    path = Path(path)
+    doc = read_toml(path)
+    check_keys(doc, _TOP_KEYS, path, "")
+    title = doc.get("title", path.stem)
+    if not isinstance(title, str):
+        raise InputError("expected a string", path=path, field="title")
+    compute = _compute(doc.get("compute", "size"), computations, path)
+    base = _values(table_of(doc.get("base", {}), path, "base"), path, "base")
+    grid_table = table_of(doc.get("grid", {}), path, "grid")
+    check_keys(grid_table, CASE_KEYS, path, "grid")
+    grid: dict[str, list[Any]] = {}
+    for key, values in grid_table.items():
+        if not isinstance(values, list) or not values:
+            raise InputError("expected a non-empty list of values", path=path,
+                             field=f"grid.{key}")
+        grid[key] = [_value(key, value, path, f"grid.{key}[{i}]")
+                     for i, value in enumerate(values)]
+    listed = doc.get("case", [{}])
+    if not isinstance(listed, list) or not listed:
+        raise InputError("expected [[case]] tables", path=path, field="case")
+    rows = []
+    for i, item in enumerate(listed):
+        given = _values(table_of(item, path, f"case[{i}]"), path, f"case[{i}]")
+        for combination in itertools.product(*grid.values()):
+            rows.append({**base, **given, **dict(zip(grid, combination, strict=True))})
+    order = [*base, *(k for item in listed for k in item), *grid]
+    keys = tuple(k for k in CASE_KEYS if k in order)
+    varied = tuple(dict.fromkeys(k for k in order if len({_canonical(r.get(k))
+                                                          for r in rows}) > 1))
+    cases: list[Case] = []
+    for values in rows:
+        if "motion" not in values:
+            raise InputError("every case needs a motion file: set it in [base], [grid] or "
+                             "[[case]]", path=path, field="base.motion")
+        for name in compute:
+            cases.append(_case(len(cases), name, values, path))
+    return Study(path, title, compute, tuple(cases), keys, varied)
+
+
+def _compute(value: Any, known: Sequence[str], path: Path) -> tuple[str, ...]:
+    names = [value] if isinstance(value, str) else value
+    if not isinstance(names, list) or not names or not all(isinstance(n, str) for n in names):
+        raise InputError("expected a computation name or a list of them", path=path,
+                         field="compute")
+    for name in names:
+        if name not in known:
+            raise InputError(f"'{name}' is not in this version of hdselect; it computes: "
+                             f"{', '.join(known)}", path=path, field="compute")
+    return tuple(dict.fromkeys(names))
+
+
+def _values(table: dict[str, Any], path: Path, where: str) -> dict[str, Any]:
+    check_keys(table, CASE_KEYS, path, where)
+    return {key: _value(key, value, path, f"{where}.{key}") for key, value in table.items()}
+
+
+def _value(key: str, value: Any, path: Path, field: str) -> Any:
+    """One parameter, validated; paths stay as written (strings), relative to the study."""
+    if key in ("motion", "robot"):
+        if not isinstance(value, str) or not value:
+            raise InputError("expected a file name, relative to the study file", path=path,
+                             field=field)
+        return value
+    if key == "catalog":
+        files = [value] if isinstance(value, str) else value
+        if not isinstance(files, list) or not all(isinstance(f, str) and f for f in files):
+            raise InputError("expected a catalog file or a list of them", path=path,
+                             field=field)
+        return tuple(files)
+    if key == "payload":
+        if isinstance(value, dict):
+            check_keys(value, _PAYLOAD_KEYS, path, field)
+            if "mass" not in value:
+                raise InputError("required key is missing", path=path, field=f"{field}.mass")
+            payload = _payload(value, path, field)
+            return {"mass": payload.mass, "com": list(payload.com),
+                    "inertia": [list(row) for row in payload.inertia], "frame": payload.frame}
+        return _payload({"mass": value}, path, field, mass_only=True).mass
+    if key == "time_scale":
+        return as_number(value, path, field, positive=True)
+    if key == "mounting":
+        if isinstance(value, str):
+            if value not in MOUNTINGS:
+                raise InputError(f"unknown mounting {value!r}; choose one of: "
+                                 f"{', '.join(MOUNTINGS)} or a gravity vector [gx, gy, gz] in "
+                                 "m/s^2", path=path, field=field)
+            return value
+        if not isinstance(value, list) or len(value) != 3:
+            raise InputError("expected floor, wall, ceiling or [gx, gy, gz] in m/s^2",
+                             path=path, field=field)
+        return tuple(as_number(v, path, f"{field}[{i}]") for i, v in enumerate(value))
+    if key == "ratio":
+        if isinstance(value, bool) or not isinstance(value, int) or value <= 0:
+            raise InputError(f"expected a positive whole ratio, got {value!r}", path=path,
+                             field=field)
+        return value
+    try:
+        Options(**{key: value})
+    except InputError as err:
+        raise InputError(err.reason, path=path, field=field) from err
+    return value
+
+
+def _payload(table: dict[str, Any], path: Path, field: str, mass_only: bool = False) -> Payload:
+    try:
+        return Payload(table["mass"], table.get("com", (0.0, 0.0, 0.0)),
+                       table.get("inertia", ((0.0,) * 3,) * 3), table.get("frame"))
+    except InputError as err:
+        where = field if mass_only else field + str(err.field).removeprefix("payload")
+        raise InputError(err.reason, path=path, field=where) from err
+
+
+def _canonical(value: Any) -> str:
+    return json.dumps(value, sort_keys=True)
+
+
+def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
+    """Resolve one combination's paths and payload and key it."""
+    from hdselect import __version__  # the package is still loading when this module is
+
+    folder = path.parent
+    motion = folder / values["motion"]
+    robot = folder / values["robot"] if "robot" in values else None
+    payload = values.get("payload")
+    shape = None
+    if isinstance(payload, dict):
+        shape = (tuple(payload["com"]), tuple(tuple(r) for r in payload["inertia"]),
+                 payload["frame"])
+        payload = payload["mass"]
+    catalog = tuple(folder / f for f in values.get("catalog", ()))
+    options = {k: values[k] for k in OPTION_KEYS if k in values}
+    files = _inputs(motion, robot, catalog)
+    resolved = {
+        "version": __version__, "compute": compute, "payload": payload, "payload_shape": shape,
+        "time_scale": values.get("time_scale", 1.0), "mounting": values.get("mounting"),
+        "ratio": values.get("ratio"), "options": options,
+        "motion": _digest(motion), "robot": None if robot is None else _digest(robot),
+        "catalog": [_digest(f) for f in catalog], "builtin": _builtin_digest(),
+        "inputs": [_digest(f) for f in files],
+    }
+    key = hashlib.sha256(_canonical(resolved).encode()).hexdigest()[:20]
+    shown = {k: (payload if k == "payload" else values[k]) for k in CASE_KEYS if k in values}
+    return Case(index, compute, shown, motion, robot, payload, shape,
+                float(values.get("time_scale", 1.0)), values.get("mounting"), catalog,
+                values.get("ratio"), options, key, files)
+
+
+def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tuple[Path, ...]:
+    """Every file a case reads: the motion, its robot and log, the catalogs.
+
+    The motion file is only skimmed here for the files it names; it is read for real,
+    and any error in it reported, when the case runs.
+    """
+    files = [motion]
+    try:
+        doc = tomllib.loads(motion.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        doc = {}
+    if robot is not None:
+        files.append(robot)
+    elif isinstance(doc.get("robot"), str):
+        files.append(motion.parent / doc["robot"])
+    samples = doc.get("samples")
+    if isinstance(samples, dict) and isinstance(samples.get("file"), str):
+        files.append(motion.parent / samples["file"])
+    return tuple(dict.fromkeys([*files, *catalog]))
+
+
+def _digest(path: Path) -> str:
+    """SHA-256 of a file's bytes, or a marker when it cannot be read."""
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError as err:
+        return f"unreadable: {type(err).__name__}"
+
+
+def _builtin_digest() -> str:
+    """SHA-256 of the built-in catalog file."""
+    return hashlib.sha256(resources.files("hdselect").joinpath("data", BUILTIN)
+                          .read_bytes()).hexdigest()

@@ -1,0 +1,262 @@
+"""Keep a study's results: a CSV of rows and a JSON Lines journal beside it, resumable.
+
+Each case's record is appended to ``NAME.jsonl`` and its rows to ``NAME.csv`` and
+both are flushed as soon as the case completes, so a study killed at any moment
+keeps everything finished before. On the next run the journal says which keys are
+done (a half-written last line is dropped) and only the rest run. When every case is
+done, both files are rewritten atomically in study order with the study's current
+cases only: the CSV is then the same whichever executor ran the study, and a journal
+record carries what differs between runs (time taken, host, when).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import tempfile
+import time
+from collections.abc import Iterable
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any, TextIO
+
+from hdselect.errors import InputError
+from hdselect.study.compute import COMPUTATIONS, Outcome
+from hdselect.study.spec import Case, Study
+
+STATUS_COLUMNS = ("case", "compute", "status", "error")
+"""Columns before the case's parameters."""
+
+
+def journal_path(out: str | Path) -> Path:
+    """The JSON Lines file beside a CSV: the same name, ``.jsonl``."""
+    return Path(out).with_suffix(".jsonl")
+
+
+def columns(study: Study) -> tuple[str, ...]:
+    """The CSV header of a study: status, the parameters it sets, the per-joint results."""
+    results: list[str] = []
+    for name in study.compute:
+        results += [c for c in COMPUTATIONS[name].columns if c not in results]
+    return (*STATUS_COLUMNS, *study.keys, *results)
+
+
+def rows(study: Study, case: Case, record: dict[str, Any]) -> list[dict[str, Any]]:
+    """The rows of one case (one per joint; one with the error if it failed), typed values."""
+    head: dict[str, Any] = {"case": case.index, "compute": case.compute,
+                            "status": "ok" if record["ok"] else "failed",
+                            "error": record["error"]}
+    head.update({key: case.values.get(key) for key in study.keys})
+    if not record["ok"]:
+        return [head]
+    return [{**head, **fields} for fields in COMPUTATIONS[case.compute].rows(record["result"])]
+
+
+def cell(value: Any) -> str:
+    """A CSV cell: 10 significant digits for numbers, empty for none, JSON for lists."""
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return f"{value:.10g}" if math.isfinite(value) else str(value)
+    if isinstance(value, tuple | list | dict):
+        return ";".join(map(str, value)) if all(isinstance(v, str) for v in value) else (
+            json.dumps(value))
+    return str(value)
+
+
+class Store:
+    """The CSV and the journal of one study, opened for appending."""
+
+    def __init__(self, out: str | Path, study: Study) -> None:
+        """Read what the journal already holds.
+
+        Args:
+            out: The CSV file; the journal is `journal_path(out)`.
+            study: The study the files are for.
+
+        Raises:
+            InputError: A file cannot be read or written, or the output is an input.
+        """
+        self.csv_path, self.journal_path = Path(out), journal_path(out)
+        self.study = study
+        inputs = {f.resolve() for case in study.cases for f in case.files} | {
+            study.path.resolve()}
+        for path in (self.csv_path, self.journal_path):
+            if path.resolve() in inputs:
+                raise InputError("is an input file; choose another output path", path=path)
+        self.records: dict[str, dict[str, Any]] = {}
+        if self.journal_path.exists():
+            for record in _read_journal(self.journal_path):
+                self.records[record["key"]] = record
+        self._csv: TextIO | None = None
+        self._journal: TextIO | None = None
+        self._writer: Any = None
+
+    def done(self, case: Case, retry_failed: bool = False) -> bool:
+        """The case's key has a record (a failed one counts unless `retry_failed`)."""
+        record = self.records.get(case.key)
+        return record is not None and (record["ok"] or not retry_failed)
+
+    def open(self) -> None:
+        """Rewrite the CSV from the journal's records of this study, then append to both."""
+        _atomic(self.csv_path, lambda stream: self._write_csv(stream))
+        try:
+            self._csv = self.csv_path.open("a", encoding="utf-8", newline="")
+            self._journal = self.journal_path.open("a", encoding="utf-8")
+        except OSError as err:
+            raise InputError(f"cannot write here ({err.strerror})", path=self.csv_path) from err
+        self._writer = csv.DictWriter(self._csv, columns(self.study), lineterminator="\n")
+
+    def add(self, outcome: Outcome) -> dict[str, Any]:
+        """Append and flush one case's record and rows; returns the record."""
+        assert self._csv is not None and self._journal is not None
+        case = self.study.cases[outcome.index]
+        record = {"key": outcome.key, "case": outcome.index, "compute": case.compute,
+                  "values": dict(case.values), **asdict(outcome),
+                  "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
+        del record["index"]
+        self._journal.write(json.dumps(record) + "\n")
+        self._journal.flush()
+        self.records[outcome.key] = record
+        self._writer.writerows({k: cell(v) for k, v in row.items()}
+                               for row in rows(self.study, case, record))
+        self._csv.flush()
+        return record
+
+    def close(self, complete: bool) -> None:
+        """Close both files; when every case is done, rewrite them in study order."""
+        for stream in (self._csv, self._journal):
+            if stream is not None:
+                stream.close()
+        self._csv = self._journal = None
+        if complete:
+            current = [self.records[case.key] for case in self.study.cases]
+            _atomic(self.journal_path, lambda stream: stream.writelines(
+                json.dumps(record) + "\n" for record in current))
+            _atomic(self.csv_path, lambda stream: self._write_csv(stream))
+
+    def _write_csv(self, stream: TextIO) -> None:
+        stream.write(csv_text(self.study, self.records))
+
+
+def _read_journal(path: Path) -> Iterable[dict[str, Any]]:
+    """The journal's records; a last line cut short by a kill is dropped."""
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as err:
+        raise InputError(f"cannot read the study's journal ({err})", path=path) from err
+    for number, line in enumerate(lines, 1):
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError as err:
+            if number == len(lines):
+                return  # written when the study was killed
+            raise InputError(f"line {number} is not JSON; delete the file to start over",
+                             path=path) from err
+        if not isinstance(record, dict) or not {"key", "ok"} <= set(record):
+            raise InputError(f"line {number} is not a study record; delete the file to start "
+                             "over", path=path)
+        yield record
+
+
+def _atomic(target: Path, write: Any) -> None:
+    """Write a text file through a temporary file and a rename."""
+    try:
+        fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.")
+    except OSError as err:
+        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as stream:
+            write(stream)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def table(study: Study, records: dict[str, dict[str, Any]]) -> list[dict[str, Any]]:
+    """Every row of the study's done cases, in study order, values typed (for Python)."""
+    out: list[dict[str, Any]] = []
+    for case in study.cases:
+        record = records.get(case.key)
+        if record is not None:
+            out += rows(study, case, record)
+    return out
+
+
+def csv_text(study: Study, records: dict[str, dict[str, Any]]) -> str:
+    """The CSV the store writes when the study is complete, as a string."""
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, columns(study), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows({k: cell(v) for k, v in row.items()} for row in table(study, records))
+    return buffer.getvalue()
+
+
+@dataclass(frozen=True)
+class Pivot:
+    """The unit selected for one joint against the first two varied parameters.
+
+    Attributes:
+        joint: The joint.
+        rows: The parameter down the side (the first varied one).
+        columns: The parameter across (the second varied one), or None.
+        row_values: Its values, in study order (as CSV cells).
+        column_values: Its values, in study order (as CSV cells); ``[""]`` when None.
+        cells: (row value, column value) -> the units selected there, in catalog order of
+            first appearance: ``none`` where no unit fits, ``failed`` for a failed case.
+    """
+
+    joint: str
+    rows: str
+    columns: str | None
+    row_values: list[str]
+    column_values: list[str]
+    cells: dict[tuple[str, str], list[str]]
+
+
+def pivots(study: Study, records: dict[str, dict[str, Any]],
+           compute: str = "size") -> tuple[list[Pivot], dict[str, str]]:
+    """Pivot tables of the selected units, and the joints whose unit never changes.
+
+    Returns:
+        One pivot per joint whose selection varies, and joint -> unit for the others.
+    """
+    first = study.varied[0] if study.varied else "case"
+    second = study.varied[1] if len(study.varied) > 1 else None
+    done = [(case, records[case.key]) for case in study.cases
+            if case.compute == compute and case.key in records]
+    by_joint: dict[str, dict[tuple[str, str], list[str]]] = {}
+    row_values: list[str] = []
+    column_values: list[str] = []
+    failed: list[tuple[str, str]] = []
+    for case, record in done:
+        row = cell(case.index if first == "case" else case.values.get(first))
+        column = "" if second is None else cell(case.values.get(second))
+        row_values += [row] if row not in row_values else []
+        column_values += [column] if column not in column_values else []
+        if not record["ok"]:
+            failed.append((row, column))
+            continue
+        for joint in record["result"]["joints"]:
+            cells = by_joint.setdefault(joint["name"], {}).setdefault((row, column), [])
+            unit = joint["unit"] or "none"
+            cells += [unit] if unit not in cells else []
+    out, constant = [], {}
+    for joint, grid in by_joint.items():
+        for place in failed:
+            grid.setdefault(place, []).append("failed")
+        units = {u for values in grid.values() for u in values}
+        if len(units) == 1:
+            constant[joint] = units.pop()
+        else:
+            out.append(Pivot(joint, first, second, row_values, column_values, grid))
+    return out, constant

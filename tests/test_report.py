@@ -1,0 +1,240 @@
+"""Terminal tables at any width: every unit id, joint name, binding rule and verdict whole.
+
+The tables are rendered as the command line prints them when piped (no colour, no
+trailing spaces) at 60, 80, 100 and 160 columns, for an arm with ROS-style joint
+names that no unit fits at one joint, and for the catalog and a duty cycle.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+from pathlib import Path
+
+import pytest
+
+import hdselect
+from hdselect.catalog import load_catalog
+from hdselect.cli import main
+from hdselect.duty import load_duty, size_duty
+from hdselect.joints import describe_joints
+from hdselect.report import (
+    catalog_table,
+    compare_table,
+    duty_table,
+    joints_table,
+    loads_table,
+    size_table,
+    utilization_text,
+    verdict,
+)
+from hdselect.tables import console_for
+from test_sizing import PLANAR2, REPO
+
+WIDTHS = (60, 80, 100, 160)
+LONG = {"shoulder": "left_arm_shoulder_lift_joint", "elbow": "left_arm_elbow_flex_joint"}
+CONVEYOR = REPO / "trajectories" / "duty" / "conveyor_index.toml"
+
+
+def ros_arm(directory: Path) -> Path:
+    """planar2 with ROS-style joint names, swinging 1.5 kg too fast for any shoulder unit."""
+    urdf = PLANAR2.read_text()
+    for short, long in LONG.items():
+        urdf = urdf.replace(f'joint name="{short}"', f'joint name="{long}"')
+    robot = directory / "ros_arm.urdf"
+    robot.write_text(urdf)
+    motion = directory / "swing.toml"
+    motion.write_text(f"""\
+robot = "{robot.as_posix()}"
+planner = "ruckig"
+angle_unit = "deg"
+[payload]
+mass = 1.5
+frame = "tool"
+[limits]
+velocity = 300
+acceleration = 3000
+jerk = 60000
+[safety]
+stop_time = 0.5
+[[waypoint]]
+q = [60, -30]
+dwell = 0.3
+[[waypoint]]
+q = [-20, 40]
+dwell = 0.3
+[[waypoint]]
+q = [60, -30]
+""")
+    return motion
+
+
+@pytest.fixture(scope="module")
+def overloaded(tmp_path_factory):
+    result = hdselect.size(None, ros_arm(tmp_path_factory.mktemp("ros")))
+    assert [j.name for j in result.joints] == list(LONG.values())
+    assert result.joints[0].selected is None and result.joints[1].selected is not None
+    return result
+
+
+def printed(renderable, width: int) -> str:
+    stream = io.StringIO()
+    console = console_for(stream)
+    console.width = width
+    console.print(renderable)
+    return stream.getvalue()
+
+
+def assert_fits(text: str, width: int) -> list[str]:
+    lines = text.splitlines()
+    assert all(len(line) <= width for line in lines), max(lines, key=len)
+    assert all(line == line.rstrip() for line in lines)  # piped: no trailing spaces
+    return lines
+
+
+def whole(text: str, value: str) -> bool:
+    """`value` appears on one line, not cut (no ellipsis) and not split."""
+    return any(value in line for line in text.splitlines())
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_size_table_keeps_every_name_and_verdict_whole(overloaded, width):
+    text = printed(size_table(overloaded), width)
+    assert_fits(text, width)
+    assert "…" not in text
+    shoulder, elbow = overloaded.joints
+    for joint in overloaded.joints:
+        assert whole(text, joint.name)
+    assert whole(text, verdict(shoulder.strongest))  # the joint no unit fits
+    chosen = elbow.selected
+    assert whole(text, chosen.unit.id)
+    binding = chosen.checks[chosen.binding]
+    assert whole(text, f"{chosen.binding} {utilization_text(binding.utilization, True)}")
+    motor = f"{chosen.motor.rms_torque:.3g}"  # motor figures move, never vanish
+    assert whole(text, motor)
+    assert whole(text, "gravity")
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_compare_table_keeps_every_unit_and_verdict_whole(overloaded, width):
+    for joint in overloaded.joints:
+        text = printed(compare_table(overloaded, joint), width)
+        assert_fits(text, width)
+        assert "…" not in text
+        for c in joint.candidates:
+            assert whole(text, c.unit.id)
+            row = next(line for line in text.splitlines() if c.unit.id in line)
+            assert verdict(c) in row or not re.search(r"\bok\b|\+", row)  # on its row, or
+            assert whole(text, verdict(c))  # below: never lost
+        failing = sum(not check.ok for c in joint.candidates for check in c.checks.values())
+        rows = [line for line in text.splitlines() if "PSA-" in line]
+        assert sum(row.count("✗") for row in rows) == failing
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_loads_table_keeps_every_joint_and_figure_whole(overloaded, width):
+    text = printed(loads_table(overloaded), width)
+    assert_fits(text, width)
+    over = 0
+    for load in overloaded.loads:
+        assert whole(text, load.name)
+        high = math.degrees(load.travel[1])
+        assert whole(text, f"{load.peak:.3g}") and whole(text, f"{high:.3g} deg")
+        over += load.above_effort + load.above_velocity
+    assert over and text.count("✗") == over + 1  # each figure above its limit, and the key
+    assert whole(text, "✗ above the robot file's limit")
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_joints_table_keeps_every_joint_and_limit_whole(width):
+    robot = hdselect.load_robot(REPO / "robots" / "scara.urdf")
+    text = printed(joints_table(robot, describe_joints(robot)), width)
+    assert_fits(text, width)
+    for name, range_ in (("shoulder", "-2.62 .. 2.62"), ("lift", "0 .. 0.04")):
+        assert whole(text, name) and whole(text, range_)
+    assert whole(text, "0.879")  # the mass the shoulder moves: moved below, never lost
+    lift = next(line for line in text.splitlines() if line.startswith("lift "))
+    assert lift.split()[:4] == ["lift", "2", "prismatic", "no"]  # the key columns stay
+
+
+@pytest.mark.parametrize("width", WIDTHS)
+def test_catalog_and_duty_tables_fit(width):
+    units = load_catalog()
+    for imperial in (False, True):
+        text = printed(catalog_table(units, imperial=imperial), width)
+        assert_fits(text, width)
+        for unit in units:
+            assert whole(text, unit.id)
+    result = size_duty(load_duty(CONVEYOR), units)
+    text = printed(duty_table(result), width)
+    assert_fits(text, width)
+    for c in result.candidates:
+        assert whole(text, c.unit.id) and whole(text, verdict(c))
+
+
+def test_a_wide_terminal_prints_one_table(overloaded):
+    text = printed(size_table(overloaded), 160)
+    header = [line for line in text.splitlines() if line.startswith("joint")]
+    assert len(header) == 1 and "notes" in header[0]
+
+
+def test_a_narrow_terminal_moves_the_motor_figures_below(overloaded):
+    text = printed(size_table(overloaded), 80)
+    headers = [line for line in text.splitlines() if line.startswith("joint")]
+    assert len(headers) == 2
+    assert "binding" in headers[0] and "notes" in headers[1]
+
+
+def test_imperial_catalog_notes_are_in_lb_in():
+    text = " ".join(printed(catalog_table(load_catalog(), imperial=True), 100).split())
+    # 2.6 N m / 0.1129848 = 23.01 lb-in; 0.0062 kg cm^2 / 2.9264 kg cm^2 per lb-in^2
+    assert "the repeated-peak limit (23 lb-in) is used" in text
+    assert "(0.00212 lb-in^2) bounds it" in text
+    assert "the lower, 70 lb-in, is used" in text and "the lower, 300 lb-in, is used" in text
+    assert "N m) is used" not in text
+
+
+def test_utilization_next_to_the_limit_never_reads_as_its_opposite():
+    assert utilization_text(0.9996, True) == "99.9%"
+    assert utilization_text(1.0004, False) == "100.1%"
+    assert utilization_text(1.0, True) == "100.0%"
+    assert utilization_text(0.5, True) == "50%" and utilization_text(1.5, False) == "150%"
+
+
+def test_columns_sets_the_width_of_piped_output(overloaded, capsys, monkeypatch):
+    motion = overloaded.motion.path
+    for width, tables in ((60, 2), (160, 1)):
+        monkeypatch.setenv("COLUMNS", str(width))
+        assert main(["compare", str(motion), "--joint", LONG["elbow"]]) == 1
+        lines = assert_fits(capsys.readouterr().out, width)
+        assert sum(line.startswith("unit ") for line in lines) == tables
+
+
+def test_case_notes_need_no_verbose(capsys, tmp_path, monkeypatch):
+    """The unsized prismatic joint, a still joint and the default payload frame are stated."""
+    monkeypatch.setenv("COLUMNS", "100")
+    assert main(["size", str(REPO / "trajectories" / "scara_wafer_transfer.toml")]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "not sized: lift (prismatic" in text
+    still = tmp_path / "still.toml"
+    still.write_text(f"""\
+robot = "{PLANAR2.as_posix()}"
+planner = "ruckig"
+angle_unit = "deg"
+[payload]
+mass = 0.4
+[limits]
+velocity = 90
+acceleration = 300
+jerk = 3000
+[[waypoint]]
+q = [10, 20]
+[[waypoint]]
+q = [10, 20]
+""")
+    assert main(["size", str(still)]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert "zero length" in text and "the motion moves no joint" in text
+    assert ("payload: 0.4 kg on tool, the tip of the longest chain of sized joints, since no "
+            "frame was given") in text

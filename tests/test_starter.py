@@ -1,0 +1,88 @@
+"""Tests of hdselect.starter and `hdselect init`: a starter motion that plans and sizes."""
+
+from __future__ import annotations
+
+import math
+import tomllib
+
+import numpy as np
+import pytest
+
+import hdselect
+from hdselect.cli import main
+from hdselect.starter import ACCELERATION_TIME, JERK_TIME, starter_motion
+from test_robot import JOINTS, robot_path
+from test_robotfile import LIMIT, gripper, revolute, urdf
+
+
+@pytest.mark.parametrize("name", JOINTS)
+def test_init_writes_a_motion_that_loads_plans_and_sizes(name, tmp_path, capsys):
+    out = tmp_path / "motions" / f"{name}.toml"
+    out.parent.mkdir()
+    assert main(["init", str(robot_path(name)), "--out", str(out)]) == 0
+    assert " ".join(capsys.readouterr().out.split()) == (  # may wrap
+        f"wrote {out}; edit its waypoints, limits and payload, then: hdselect size {out}")
+    doc = tomllib.loads(out.read_text())
+    assert (out.parent / doc["robot"]).resolve() == robot_path(name).resolve()
+    robot, motion = hdselect.load_case(out)
+    assert motion.warnings == ()  # never above the file's velocity limits
+    deg = np.where(robot.revolute, math.pi / 180, 1.0)
+    for j, joint in enumerate(robot.joint_names):
+        velocity = doc["limits"]["velocity"][joint] * deg[j]
+        if math.isfinite(robot.velocity_limit[j]):
+            assert velocity <= robot.velocity_limit[j] < velocity * 1.001
+        assert doc["limits"]["acceleration"][joint] == pytest.approx(
+            doc["limits"]["velocity"][joint] / ACCELERATION_TIME, rel=1e-5)
+        assert doc["limits"]["jerk"][joint] == pytest.approx(
+            doc["limits"]["acceleration"][joint] / JERK_TIME, rel=1e-5)
+    start, second, back = motion.waypoints
+    np.testing.assert_array_equal(start, back)
+    assert np.all(start > robot.lower) and np.all(start < robot.upper)
+    assert np.all(second >= robot.lower) and np.all(second <= robot.upper)
+    assert np.all(np.abs(second - start) <= np.where(robot.revolute, math.radians(30), 0.05)
+                  + 1e-12)
+    result = hdselect.size(robot, motion)
+    assert result.cycle_time > 1.5
+
+
+def test_init_prints_to_stdout_and_never_overwrites(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["init", str(robot_path("planar2"))]) == 0
+    text = capsys.readouterr().out
+    assert tomllib.loads(text)["robot"] == str(robot_path("planar2"))  # no common folder
+    mine = tmp_path / "mine.toml"
+    mine.write_text("# my edits\n")
+    assert main(["init", str(robot_path("planar2")), "--out", str(mine)]) == 2
+    assert "mine.toml: exists; choose another path or remove it first" in capsys.readouterr().err
+    assert mine.read_text() == "# my edits\n"
+
+
+def test_the_start_pose_keeps_off_a_limit_at_zero(tmp_path):
+    # zero on a stop (like Z1's and SO-100's home poses): the start moves 10 % inside
+    body = ('<link name="base"/>' + revolute("j", "base", "a").replace(
+        LIMIT, '<limit lower="0" upper="2" effort="20" velocity="3"/>')
+        + '<link name="a"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" '
+          'iyy="0.01" iyz="0" izz="0.01"/></inertial></link>')
+    robot = hdselect.load_robot(urdf(tmp_path, body))
+    doc = tomllib.loads(starter_motion(robot, "robot.urdf"))
+    start, second = (w["q"]["j"] for w in doc["waypoint"][:2])
+    assert start == pytest.approx(round(math.degrees(0.2), 1))
+    assert second == pytest.approx(start + 28.6, abs=0.05)  # 25 % of the 114.6 deg range
+
+
+def test_followers_get_no_value_and_gripper_joints_a_hint(tmp_path):
+    robot = hdselect.load_robot(gripper(tmp_path))
+    text = starter_motion(robot, "gripper.urdf")
+    doc = tomllib.loads(text)
+    assert set(doc["waypoint"][0]["q"]) == {"arm_joint", "finger_joint"}
+    assert '# exclude = ["finger_joint"]   # named like a gripper\'s' in text
+    assert doc["sizing"] == {}
+
+
+def test_joint_names_that_are_not_bare_keys_are_quoted(tmp_path):
+    body = ('<link name="base"/>' + revolute("link_3.0 joint", "base", "a")
+            + '<link name="a"><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" '
+              'iyy="0.01" iyz="0" izz="0.01"/></inertial></link>')
+    robot = hdselect.load_robot(urdf(tmp_path, body))
+    doc = tomllib.loads(starter_motion(robot, "robot.urdf"))
+    assert list(doc["limits"]["velocity"]) == ["link_3.0 joint"]

@@ -1,0 +1,268 @@
+"""`hdselect study`: study files, executors, resuming, failures kept per case."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+import hdselect
+from hdselect.cli import main
+from hdselect.errors import InputError
+from hdselect.study import COMPUTATIONS, Computation, load_study, run_study
+from hdselect.study.compute import SIZE, Outcome, run_size
+from hdselect.study.run import _local_cluster
+from hdselect.study.store import journal_path
+from test_dynamics import REPO
+
+SRC = REPO / "src"
+
+
+def workspace(tmp_path: Path) -> Path:
+    """Copies of the shipped robots and motions, free to edit."""
+    for name in ("robots", "trajectories"):
+        shutil.copytree(REPO / name, tmp_path / name)
+    return tmp_path
+
+
+def small_study(root: Path, extra: str = "") -> Path:
+    """2 robots x 3 payloads x 2 speeds: 12 cases, two groups of 6."""
+    path = root / "study.toml"
+    path.write_text(f"""title = "small"
+[grid]
+motion = ["trajectories/planar2_pick_place.toml", "trajectories/index_table_indexing.toml"]
+payload = [0.2, 0.4, 0.6]
+time_scale = [1.0, 1.25]
+{extra}""")
+    return path
+
+
+def journal(csv: Path) -> list[dict]:
+    return [json.loads(line) for line in journal_path(csv).read_text().splitlines()]
+
+
+# --- the study file ----------------------------------------------------------------------
+
+
+def test_grid_cases_and_list_cross_the_grid(tmp_path):
+    root = workspace(tmp_path)
+    study = load_study(small_study(root))
+    assert len(study.cases) == 12 and study.varied == ("motion", "payload", "time_scale")
+    assert [c.values["payload"] for c in study.cases[:6]] == [0.2, 0.2, 0.4, 0.4, 0.6, 0.6]
+    assert study.cases[0].motion == root / "trajectories" / "planar2_pick_place.toml"
+    assert len({case.key for case in study.cases}) == 12
+    listed = root / "listed.toml"
+    listed.write_text("""[base]
+motion = "trajectories/planar2_pick_place.toml"
+stop_time = 0.2
+[[case]]
+payload = {mass = 0.3, com = [0.05, 0, 0], frame = "tool"}
+[[case]]
+mounting = "wall"
+[grid]
+time_scale = [1.0, 2.0]
+""")
+    study = load_study(listed)
+    assert len(study.cases) == 4 and study.varied == ("payload", "mounting", "time_scale")
+    assert study.cases[0].payload == 0.3 and study.cases[0].payload_shape[2] == "tool"
+    assert study.cases[2].payload is None and study.cases[2].mounting == "wall"
+    assert all(case.options == {"stop_time": 0.2} for case in study.cases)
+
+
+@pytest.mark.parametrize(("text", "field", "words"), [
+    ("compute = 'fastest'\n[base]\nmotion = 'm.toml'", "compute", "it computes: size"),
+    ("[base]\nmotion = 'm.toml'\npayloda = 1", "base.payloda", "did you mean 'payload'"),
+    ("[grid]\nmotion = []", "grid.motion", "non-empty list"),
+    ("[grid]\nmotion = ['m.toml']\npayload = [1, -2]", "grid.payload[1]", "positive"),
+    ("[grid]\nmotion = ['m.toml']\nstop_time = [0]", "grid.stop_time[0]", "positive"),
+    ("[grid]\nmotion = ['m.toml']\nratio = [1.5]", "grid.ratio[0]", "whole ratio"),
+    ("[grid]\npayload = [1.0]", "base.motion", "needs a motion"),
+])
+def test_a_bad_study_file_names_the_field(tmp_path, text, field, words):
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    with pytest.raises(InputError) as error:
+        load_study(path)
+    assert error.value.field == field and words in str(error.value)
+    assert main(["study", str(path), "--out", str(tmp_path / "r.csv")]) == 2
+    assert not (tmp_path / "r.csv").exists()
+
+
+# --- executors and determinism ----------------------------------------------------------
+
+
+def test_rows_are_identical_with_1_worker_2_workers_and_a_dask_local_cluster(tmp_path):
+    study = load_study(small_study(workspace(tmp_path)))
+    outputs = {}
+    for name, options in {"one": {"workers": 1}, "two": {"workers": 2},
+                          "dask": {"workers": 2, "scheduler": "local"},
+                          "alone": {"workers": 1, "grouping": False}}.items():
+        done = run_study(study, tmp_path / f"{name}.csv", **options)
+        assert done.ran == 12 and done.failed == 0
+        outputs[name] = (tmp_path / f"{name}.csv").read_text()
+    assert outputs["one"] == outputs["two"] == outputs["dask"] == outputs["alone"]
+    lines = outputs["one"].splitlines()
+    assert len(lines) == 1 + 6 * 2 + 6 * 1  # planar2: two joints; index table: one
+    assert {record["method"] for record in journal(tmp_path / "one.csv")} == {"grouped"}
+    assert {record["method"] for record in journal(tmp_path / "alone.csv")} == {"direct"}
+
+
+def test_the_local_dask_cluster_listens_on_localhost_only():
+    cluster = _local_cluster(1)
+    try:
+        addresses = [cluster.scheduler_address, *cluster.scheduler_info["workers"],
+                     *(nanny.address for nanny in cluster.workers.values())]
+        assert len(addresses) == 3
+        assert all(a.startswith("tcp://127.0.0.1:") for a in addresses), addresses
+        assert "127.0.0.1" in cluster.dashboard_link
+    finally:
+        cluster.close()
+
+
+def test_without_dask_one_line_says_how_to_install_it(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    path = small_study(workspace(tmp_path))
+    assert main(["study", str(path), "--out", str(tmp_path / "r.csv"),
+                 "--scheduler", "local"]) == 2
+    error = capsys.readouterr().err.strip()
+    assert error.count("\n") == 0 and "pip install 'hdselect[dask]'" in error
+
+
+# --- nothing lost: resume, failures, changed inputs -------------------------------------
+
+
+def test_a_study_stopped_after_k_cases_resumes_and_has_every_case_once(tmp_path):
+    study = load_study(small_study(workspace(tmp_path)))
+    out = tmp_path / "r.csv"
+
+    def stop_after_5(done, total, record):
+        if done == 5:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_study(study, out, workers=0, grouping=False, progress=stop_after_5)
+    assert len(journal(out)) == 5 and len(out.read_text().splitlines()) > 5
+    with journal_path(out).open("a") as stream:
+        stream.write('{"key": "half-writ')  # a kill in the middle of a line
+    again = run_study(study, out, workers=0, grouping=False)
+    assert (again.skipped, again.ran) == (5, 7)
+    keys = [record["key"] for record in journal(out)]
+    assert sorted(keys) == sorted(case.key for case in study.cases)
+    once = run_study(study, tmp_path / "fresh.csv", workers=0, grouping=False)
+    assert once.ran == 12 and out.read_text() == (tmp_path / "fresh.csv").read_text()
+    finished = run_study(study, out, workers=0)
+    assert (finished.ran, finished.skipped) == (0, 12)
+
+
+def test_a_killed_command_resumes_where_it_stopped(tmp_path):
+    path = small_study(workspace(tmp_path))
+    out = tmp_path / "r.csv"
+    command = [sys.executable, "-m", "hdselect.cli", "study", str(path), "--out", str(out),
+               "--workers", "1", "--no-grouping"]
+    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    process = subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            if journal_path(out).exists() and len(journal(out)) >= 3:
+                break
+            time.sleep(0.05)
+    finally:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+    first = len(journal(out))
+    assert 3 <= first < 12
+    done = subprocess.run(command, env=env, capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "already done" in done.stdout and f"{12 - first} run now" in done.stdout
+    assert sorted(r["case"] for r in journal(out)) == list(range(12))
+
+
+def test_a_broken_robot_file_fails_its_cases_only(tmp_path, capsys):
+    root = workspace(tmp_path)
+    (root / "robots" / "index_table.urdf").write_text("<robot name='x'><link name=")
+    out = tmp_path / "r.csv"
+    assert main(["study", str(small_study(root)), "--out", str(out), "--workers", "2"]) == 3
+    printed = capsys.readouterr().out
+    assert "6 failed" in printed
+    records = journal(out)
+    failed = [r for r in records if not r["ok"]]
+    assert len(failed) == 6 and all("index_table.urdf" in r["error"] for r in failed)
+    assert all(r["ok"] for r in records if r["values"]["motion"].endswith("planar2_pick_place"
+                                                                          ".toml"))
+    rows = [line for line in out.read_text().splitlines() if ",failed," in line]
+    assert len(rows) == 6 and all("not a valid URDF" in row for row in rows)
+
+
+def dies_on_04(cases, grouped):
+    """A computation whose worker process dies on the cases with a 0.4 kg payload."""
+    for case in cases:
+        if case.payload == 0.4:
+            os._exit(7)
+        yield from run_size([case], False)
+
+
+def test_a_case_that_kills_its_worker_is_recorded_and_the_rest_run(tmp_path, monkeypatch):
+    monkeypatch.setitem(COMPUTATIONS, "dies", Computation("dies", "test", dies_on_04,
+                                                          SIZE.rows, SIZE.columns))
+    path = small_study(workspace(tmp_path), extra="")
+    path.write_text("compute = 'dies'\n" + path.read_text())
+    done = run_study(load_study(path), tmp_path / "r.csv", workers=2)
+    assert done.ran == 12 and done.failed == 4
+    failed = [r for r in journal(tmp_path / "r.csv") if not r["ok"]]
+    assert {r["values"]["payload"] for r in failed} == {0.4}
+    assert all(r["error"] == "the worker process died running this case (exit status 7)"
+               for r in failed)
+
+
+def test_changing_one_input_file_reruns_only_its_cases(tmp_path):
+    root = workspace(tmp_path)
+    path = small_study(root)
+    out = tmp_path / "r.csv"
+    assert run_study(load_study(path), out, workers=0).ran == 12
+    motion = root / "trajectories" / "index_table_indexing.toml"
+    motion.write_text(motion.read_text().replace("dt = 0.001", "dt = 0.002"))
+    again = run_study(load_study(path), out, workers=0)
+    assert (again.ran, again.skipped) == (6, 6)
+    assert len(journal(out)) == 12  # the old records of the changed cases are gone
+
+
+def test_outcome_fields_are_what_the_journal_keeps(tmp_path):
+    study = load_study(small_study(workspace(tmp_path)))
+    run_study(study, tmp_path / "r.csv", workers=0)
+    record = journal(tmp_path / "r.csv")[0]
+    assert set(Outcome.__dataclass_fields__) - {"index"} <= set(record)
+    assert record["result"]["joints"][0]["name"] == "shoulder"
+
+
+# --- the command and the Python API -----------------------------------------------------
+
+
+def test_the_command_prints_the_pivot_and_draws_the_plot(tmp_path, capsys):
+    path = small_study(workspace(tmp_path))
+    out, plot = tmp_path / "r.csv", tmp_path / "r.png"
+    assert main(["study", str(path), "--out", str(out), "--plot", str(plot)]) == 0
+    printed = capsys.readouterr().out
+    assert "small: 12 cases: 12 run now (12 grouped), 0 already done, 0 failed" in printed
+    assert plot.stat().st_size > 10_000
+    assert main(["study", str(path), "--out", str(out)]) == 0
+    assert "12 cases: 0 run now, 12 already done, 0 failed" in capsys.readouterr().out
+
+
+def test_python_api_returns_rows_as_dicts(tmp_path):
+    rows = hdselect.study(small_study(workspace(tmp_path)), workers=0)
+    assert len(rows) == 18 and rows[0]["joint"] == "shoulder" and rows[0]["status"] == "ok"
+    assert isinstance(rows[0]["life_l50_h"], float) and rows[0]["payload"] == 0.2
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        with pytest.raises(InputError, match="pip install pandas"):
+            hdselect.study(small_study(tmp_path), workers=0, frame=True)

@@ -1,0 +1,171 @@
+"""`hdselect.study.group`: every grouped case against its own separate sizing run.
+
+The oracle is the sizing core run the ordinary way for each case: load, plan, scale
+the path, `size_trajectory` (for s = 1, `hdselect.size` itself), every pass of
+inverse dynamics done with the case's own payload and carried gearhead masses.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import pytest
+
+import hdselect
+from hdselect import Options, load_case, load_catalog, plan, size_trajectory, summarize
+from hdselect.study.compute import scaled
+from hdselect.study.group import build_basis, size_case
+from test_dynamics import REPO
+
+BENCHTOP = REPO / "trajectories" / "benchtop6_pick_place.toml"
+SCARA = REPO / "trajectories" / "scara_wafer_transfer.toml"
+
+
+def differences(grouped, separate, path=""):
+    """Largest relative difference of two summaries as dicts; raises on any other mismatch."""
+    if isinstance(grouped, dict):
+        assert grouped.keys() == separate.keys(), path
+        return max([differences(grouped[k], separate[k], f"{path}.{k}") for k in grouped
+                    if k != "threads"], default=0.0)
+    if isinstance(grouped, list | tuple):
+        assert len(grouped) == len(separate), path
+        return max([differences(a, b, f"{path}[{i}]")
+                    for i, (a, b) in enumerate(zip(grouped, separate, strict=True))], default=0.0)
+    if isinstance(grouped, float) and isinstance(separate, float):
+        scale = max(abs(grouped), abs(separate))
+        return 0.0 if grouped == separate else abs(grouped - separate) / scale
+    assert grouped == separate, (path, grouped, separate)
+    return 0.0
+
+
+def separate(robot, motion, mass, time_scale, units, options):
+    carrying = robot.with_payload(None if mass is None else replace(motion.payload, mass=mass))
+    trajectory = scaled(plan(carrying, motion), time_scale)
+    return summarize(replace(size_trajectory(carrying, trajectory, units, options),
+                             motion=motion))
+
+
+@pytest.fixture(scope="module")
+def benchtop():
+    robot, motion = load_case(BENCHTOP)
+    bare = robot.with_payload(None)
+    return bare, motion, build_basis(bare, motion, motion.payload)
+
+
+@pytest.mark.parametrize(("mass", "time_scale", "given"), [
+    (0.5, 1.0, {}),
+    (2.0, 0.8, {"stop_time": 0.1}),
+    (1.2, 1.3, {"motor_mass": 0.4, "rotor_inertia": 2e-6, "efficiency": 0.8}),
+    (0.75, 1.1, {"prefer": "motor-rms", "life_basis": "L10"}),
+    (1.6, 0.95, {"prefer": "margin", "stop_time": 0.2}),
+    (3.0, 0.6, {}),  # shoulder joints fit nothing: their slow-downs
+])
+def test_grouped_cases_equal_their_separate_runs(benchtop, mass, time_scale, given):
+    robot, motion, basis = benchtop
+    units = load_catalog()
+    options = Options(**{"stop_time": 0.15, "life_hours": 20000.0, "threads": 1, **given})
+    assert options.mass_coupling
+    grouped = size_case(basis, mass, time_scale, units, options)
+    reference = separate(robot, motion, mass, time_scale, units, options)
+    assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+    assert any(joint.carried_mass > 0.0 for joint in grouped.joints)
+    if mass == 3.0:
+        assert not grouped.feasible and all(j.slowdown for j in grouped.joints if not j.unit)
+
+
+def test_a_grouped_case_at_speed_one_equals_hdselect_size(benchtop):
+    _, _, basis = benchtop
+    grouped = size_case(basis, 1.0, 1.0, load_catalog(), Options(stop_time=0.15,
+                                                                 life_hours=20000.0))
+    payload = replace(basis.payload, mass=1.0)
+    reference = summarize(hdselect.size(None, BENCHTOP, payload=payload))
+    assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+
+
+def test_prismatic_joint_ratio_subset_and_no_payload_on_the_scara():
+    robot, motion = load_case(SCARA)
+    assert motion.payload is None and not all(robot.revolute)
+    basis = build_basis(robot, motion, None)
+    units = tuple(u for u in load_catalog() if u.ratio == 80)
+    for time_scale in (0.7, 1.0):
+        options = Options(stop_time=0.1, life_hours=30000.0, threads=1)
+        grouped = size_case(basis, None, time_scale, units, options)
+        reference = separate(robot, motion, None, time_scale, units, options)
+        assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+
+
+def test_dwells_are_kept_once_with_their_length(benchtop):
+    _, _, basis = benchtop
+    assert basis.weight.sum() == len(basis.trajectory.t)
+    assert len(basis.rows) < 0.5 * len(basis.trajectory.t)  # 6 s of the 9.9 s cycle at rest
+    assert math.isclose(float(basis.weight.max()) * basis.trajectory.dt, 3.0, rel_tol=0.01)
+
+
+
+def grouped_and_direct(motion, payloads=(0.5, 2.0), scales=(0.5, 1.0)):
+    """A payload x speed study of `motion` run grouped and direct: outcomes by case index."""
+    from hdselect.study import load_study
+    from hdselect.study.compute import run_size
+
+    study = motion.parent / "study.toml"
+    study.write_text(f'[base]\nmotion = "{motion.name}"\n[grid]\npayload = {list(payloads)}\n'
+                     f"time_scale = {list(scales)}\n")
+    cases = load_study(study).cases
+    grouped = {o.index: o for o in run_size(cases, True)}
+    direct = {o.index: o for o in run_size(cases, False)}
+    assert {o.method for o in grouped.values()} == {"grouped"}
+    assert {o.method for o in direct.values()} == {"direct"}
+    for index, outcome in grouped.items():
+        assert outcome.ok and direct[index].ok, (outcome.error, direct[index].error)
+        assert differences(outcome.result, direct[index].result) < 1e-9
+        assert outcome.result["payload_mass"] == cases[index].payload
+    return cases, grouped
+
+
+def starter(robot_file, out, exclude=None, mass=0.5):
+    """``hdselect init``'s motion for a robot, with a payload (no frame) and an exclusion."""
+    from hdselect.cli import main
+
+    assert main(["init", str(robot_file), "--out", str(out)]) == 0
+    text = out.read_text()
+    if exclude is not None:
+        text = text.replace(f'# exclude = ["{exclude}"]', f'exclude = ["{exclude}"]')
+    out.write_text(text.replace("# [payload]", f"[payload]\nmass = {mass}\n# ", 1))
+    return out
+
+
+def test_a_real_arm_with_sizing_exclude_groups_exactly(tmp_path):
+    """TALOS's left arm, its gripper joint excluded by the motion file's ``[sizing]``.
+
+    The default payload frame follows the joints sized; the faster cases leave the robot
+    file's velocity limits, so their records carry those warnings. Every grouped record equals
+    the direct one (`hdselect size`'s path) but for the method.
+    """
+    from test_example_robots import ARMS, example_robots
+
+    motion = starter(example_robots() / ARMS["TALOS left arm"], tmp_path / "talos.toml",
+                     exclude="gripper_left_joint")
+    robot, _ = load_case(motion)
+    assert "gripper_left_joint" not in robot.sized_joints
+    assert robot.payload_frame == "wrist_left_ft_tool_link"  # the tip without the gripper
+    cases, grouped = grouped_and_direct(motion)
+    for index, outcome in grouped.items():
+        assert outcome.result["payload_frame"] == "wrist_left_ft_tool_link"
+        assert [j["name"] for j in outcome.result["joints"]] == list(robot.sized_joints)
+        fast = cases[index].time_scale == 0.5
+        assert fast == any(w.startswith("cycle: ") and "velocity limit" in w
+                           for w in outcome.result["warnings"])
+
+
+def test_mimic_followers_group_exactly(tmp_path):
+    """A gripper leader whose two mimic followers (one reversed, offset) load it."""
+    from test_robotfile import gripper
+
+    motion = starter(gripper(tmp_path), tmp_path / "gripper.toml", mass=0.1)
+    robot, _ = load_case(motion)
+    assert set(robot.mimic) == {"left_inner", "right_outer"}
+    assert robot.sized_joints == ("arm_joint", "finger_joint")
+    _, grouped = grouped_and_direct(motion, payloads=(0.05, 0.2))
+    for outcome in grouped.values():
+        assert [j["name"] for j in outcome.result["joints"]] == ["arm_joint", "finger_joint"]
