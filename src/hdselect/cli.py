@@ -542,10 +542,10 @@ def run_study(args: argparse.Namespace) -> int:
     """``hdselect study``: every case of a study, in parallel, kept as it completes."""
     import time
 
-    from hdselect.report import console, study_tables
+    from hdselect.report import console, study_tables, study_value_table
     from hdselect.study.run import run_study as run
     from hdselect.study.spec import load_study
-    from hdselect.study.store import journal_path, pivots, table
+    from hdselect.study.store import journal_path, pivots, table, value_pivot
     from hdselect.tables import Paragraphs
 
     study = load_study(args.study)
@@ -565,6 +565,10 @@ def run_study(args: argparse.Namespace) -> int:
         tables, constant = pivots(study, done.records)
         for item in study_tables(tables, constant):
             out.print(Paragraphs((item,)) if isinstance(item, str) else item)
+    for name, what, value in _STUDY_VALUES:
+        pivot = value_pivot(study, done.records, name, value) if name in study.compute else None
+        if pivot is not None:
+            out.print(study_value_table(pivot, what))
     out.print(Paragraphs((f"rows: {args.out}; records: {journal_path(args.out)}",)))
     if args.plot and "size" in study.compute:
         from hdselect.figures import write_study_png
@@ -578,6 +582,18 @@ def run_study(args: argparse.Namespace) -> int:
         print(f"hdselect: {done.ran} cases in {time.perf_counter() - started:.1f} s on "
               f"{done.executor}", file=sys.stderr)
     return 3 if done.failed else 0
+
+
+def _payload_cell(result: dict) -> str:
+    if result["unlimited"]:
+        return "no limit"
+    mass = result["max_payload_kg"]
+    return "none" if mass is None else f"{mass:.3g}"
+
+
+_STUDY_VALUES = (("fastest", "fastest cycle s", lambda r: f"{r['cycle_time_s']:.3f}"),
+                 ("max-payload", "largest payload kg", _payload_cell))
+"""The number a study prints per case of a computation other than ``size``."""
 
 
 class _progress:

@@ -247,7 +247,8 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
 
 def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] | None,
                   catalog: Sequence[Unit], options: Options, *,
-                  selection: bool = True) -> tuple[dict[str, Unit], dict[str, str]]:
+                  selection: bool = True, trajectory: Trajectory | None = None
+                  ) -> tuple[dict[str, Unit], dict[str, str]]:
     """The unit of every sized joint: those given, the sizing's selection for the others.
 
     Args:
@@ -257,6 +258,8 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
         catalog: The units ids refer to, and the sizing chooses from.
         options: The assumptions of the sizing.
         selection: Size the motion even when every joint has a unit given.
+        trajectory: The trajectory the selection sizes (default: the motion as planned;
+            a study gives it run s times slower).
 
     Returns:
         The unit per sized joint, and the unit id the sizing selects per joint (where
@@ -284,7 +287,8 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
         chosen[name] = unit
     if not selection and all(name in chosen for name in robot.sized_joints):
         return chosen, {}
-    sizing = size_trajectory(robot, plan(robot, motion), catalog, options)
+    sized = trajectory if trajectory is not None else plan(robot, motion)
+    sizing = size_trajectory(robot, sized, catalog, options)
     selected: dict[str, str] = {}
     for joint in sizing.joints:
         pick = joint.selected.unit.id if joint.selected is not None else (

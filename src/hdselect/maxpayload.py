@@ -99,7 +99,8 @@ class MaxPayloadResult:
 
 def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
                 catalog: Sequence[Unit] | None = None, frame: str | None = None,
-                com: Sequence[float] | None = None) -> MaxPayloadResult:
+                com: Sequence[float] | None = None,
+                trajectory: Trajectory | None = None) -> MaxPayloadResult:
     """The largest payload mass for which every joint still has a feasible unit.
 
     Args:
@@ -111,6 +112,8 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
             the longest chain of sized joints, `Robot.default_payload_frame`).
         com: Its centre of mass in that frame [m] (default: the payload's, else the
             frame's origin).
+        trajectory: The trajectory the payload rides (default: the motion as planned;
+            a study gives it run s times slower). It must not depend on the payload.
 
     Returns:
         The mass, where it binds, and the sizing there.
@@ -129,7 +132,7 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
     payload = per_kilogram(robot.payload, frame=frame, com=com)
     bare = robot.with_payload(None)
     bare.with_payload(payload)  # the frame must exist
-    trajectory = plan(robot, motion)
+    trajectory = trajectory if trajectory is not None else plan(robot, motion)
     masses: dict[str, float] = {}
     result = None
     for _ in range(_ROUNDS):

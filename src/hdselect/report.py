@@ -511,6 +511,22 @@ def study_tables(pivots: Iterable[Any], constant: dict[str, str]) -> list[Fitted
     return out
 
 
+def study_value_table(pivot: Any, what: str) -> FittedTable:
+    """One number per case against the first two varied parameters of a study.
+
+    Args:
+        pivot: `hdselect.study.store.value_pivot` of one computation.
+        what: What the number is, with its unit (``fastest cycle s``).
+    """
+    across = f", {pivot.columns} across" if pivot.columns else ""
+    columns = (Column(pivot.rows), *(Column(value or what, group=f"{k}")
+                                     for k, value in enumerate(pivot.column_values)))
+    rows = tuple((row, *("/".join(pivot.cells.get((row, c), [])) or "-"
+                         for c in pivot.column_values))
+                 for row in pivot.row_values)
+    return FittedTable(f"{what} ({pivot.rows} down{across})", columns, rows)
+
+
 def _short(unit: str) -> str:
     """PSA-14-100 -> 14-100: a series prefix common to a catalog adds nothing in a pivot."""
     return unit.split("-", 1)[1] if unit.startswith("PSA-") else unit
