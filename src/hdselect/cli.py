@@ -102,6 +102,36 @@ def _parser() -> argparse.ArgumentParser:
                          help="write an HTML report of the joints shown into DIR")
     compare.set_defaults(run=run_compare)
 
+    fastest = commands.add_parser(
+        "fastest", parents=[verbose],
+        help="the shortest cycle of the motion's path that the gearheads allow")
+    _robot_motion(fastest)
+    _sizing_options(fastest)
+    fastest.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
+                         help="the unit of a joint, as `hdselect catalog` names it (repeatable; "
+                              "default: the unit `size` selects)")
+    fastest.add_argument("--compare-ratios", action="store_true",
+                         help="the shortest cycle with every catalog unit on each joint, the "
+                              "others fixed")
+    fastest.add_argument("--joint", action="append", metavar="NAME",
+                         help="with --compare-ratios: compare this joint only (repeatable)")
+    fastest.add_argument("--out", metavar="FILE",
+                         help="CSV of the fastest trajectory: t, then q_, qd_, qdd_, tau_ per "
+                              "sized joint (SI)")
+    fastest.add_argument("--plot", metavar="PNG",
+                         help="speed and torque per joint; with --compare-ratios, cycle time "
+                              "against unit")
+    _json_option(fastest)
+    fastest.set_defaults(run=run_fastest)
+
+    payload = commands.add_parser(
+        "max-payload", parents=[verbose],
+        help="the largest payload with a feasible unit on every joint")
+    _robot_motion(payload, mass=False)
+    _sizing_options(payload)
+    _json_option(payload)
+    payload.set_defaults(run=run_max_payload)
+
     joints = commands.add_parser("joints", parents=[verbose],
                                   help="list a robot's joints in the order lists use")
     joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
@@ -149,14 +179,16 @@ def _json_option(parser: argparse.ArgumentParser) -> None:
                         help="also write JSON to FILE ('-': to stdout, instead of the table)")
 
 
-def _robot_motion(parser: argparse.ArgumentParser) -> None:
+def _robot_motion(parser: argparse.ArgumentParser, *, mass: bool = True) -> None:
     parser.add_argument("robot", nargs="?", metavar="ROBOT",
                         help="robot file, URDF or MJCF (default: the motion file's `robot`)")
     parser.add_argument("motion", metavar="MOTION", help="motion file (TOML)")
-    parser.add_argument("--payload", type=float, metavar="KG",
-                        help="payload mass, overriding the motion file's [kg]")
+    if mass:
+        parser.add_argument("--payload", type=float, metavar="KG",
+                            help="payload mass, overriding the motion file's [kg]")
     parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
-                        default=(0.0, 0.0, 0.0), help="payload centre of mass in its frame [m]")
+                        default=None if not mass else (0.0, 0.0, 0.0),
+                        help="payload centre of mass in its frame [m]")
     parser.add_argument("--payload-frame", metavar="LINK",
                         help="link carrying the payload (default: the tip of the longest chain "
                              "of sized joints)")
@@ -312,6 +344,123 @@ def run_compare(args: argparse.Namespace) -> int:
     return 0 if result.feasible else 1
 
 
+def run_fastest(args: argparse.Namespace) -> int:
+    """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
+    from hdselect.catalog import load_catalog
+    from hdselect.codesign import compare_ratios, fastest
+    from hdselect.export import fastest_json, ratios_json, write_json, write_trajectory_csv
+    from hdselect.report import binding_table, console, fastest_table, ratios_table
+
+    if args.joint and not args.compare_ratios:
+        raise InputError("only with --compare-ratios", field="--joint")
+    robot, motion = _load_case(args)
+    options = _options(args, motion)
+    _keep_inputs([args.json, args.out, args.plot], [*_inputs(robot, motion), *args.catalog])
+    units = load_catalog(args.catalog)
+    given = _unit_pairs(args.units)
+    try:
+        if args.compare_ratios:
+            comparison = compare_ratios(robot, motion, given, options, catalog=units,
+                                        joints=args.joint)
+            result = comparison.base
+        else:
+            result = fastest(robot, motion, given, options, catalog=units)
+    except InputError as err:
+        field = {"units": "--units", "joint": "--joint"}.get(str(err.field), err.field)
+        raise InputError(err.reason, path=err.path, field=field) from err
+    if args.plot:
+        from hdselect.figures import write_fastest_png, write_ratios_png
+
+        if args.compare_ratios:
+            write_ratios_png(args.plot, comparison)
+        else:
+            write_fastest_png(args.plot, result)
+    if args.out:
+        write_trajectory_csv(args.out, result.trajectory, _gear_torques(result),
+                             result.robot.sized_joints)
+    if args.json:
+        write_json(args.json, ratios_json(comparison) if args.compare_ratios
+                   else fastest_json(result))
+    if args.json != "-":
+        out = console()
+        if args.compare_ratios:
+            for i, joint in enumerate(comparison.joints):
+                if i:
+                    out.print()
+                out.print(ratios_table(comparison, joint))
+        else:
+            out.print(fastest_table(result))
+            out.print()
+            out.print(binding_table(result))
+    written = []
+    if args.out:
+        written.append(f"wrote {args.out}: t, then q_, qd_, qdd_, tau_ of "
+                       f"{', '.join(result.robot.sized_joints)} (SI) along the fastest cycle")
+    if args.plot:
+        written.append(f"wrote {args.plot}: " + (
+            "the shortest cycle against the unit on each joint compared" if args.compare_ratios
+            else "speed and torque of each sized joint against its limits"))
+    _say_files(args, written)
+    return 0
+
+
+def run_max_payload(args: argparse.Namespace) -> int:
+    """``hdselect max-payload``: the largest payload mass with a unit on every joint."""
+    from hdselect.catalog import load_catalog
+    from hdselect.export import max_payload_json, write_json
+    from hdselect.maxpayload import max_payload
+    from hdselect.report import console, max_payload_text, size_table
+
+    robot, motion = _load_case(args)
+    options = _options(args, motion)
+    _keep_inputs([args.json], [*_inputs(robot, motion), *args.catalog])
+    units = load_catalog(args.catalog)
+    try:
+        result = max_payload(robot, motion, options, catalog=units, frame=args.payload_frame,
+                             com=args.payload_com)
+    except InputError as err:
+        flag = {"payload.frame": "--payload-frame", "payload.com": "--payload-com"}.get(
+            str(err.field))
+        if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
+            raise
+        raise InputError(err.reason, field=flag) from err
+    if args.json:
+        write_json(args.json, max_payload_json(result, motion))
+    if args.json != "-":
+        out = console()
+        out.print(max_payload_text(result, robot, motion))
+        if result.selection is not None:
+            from dataclasses import replace
+
+            out.print()
+            out.print(size_table(replace(result.selection, motion=motion)))
+    _say_files(args, [])
+    return 0 if result.mass is not None else 1
+
+
+def _gear_torques(result):
+    """The output torque of every joint (n, dof), as the gears carry it; 0 where unsized."""
+    import numpy as np
+
+    tau = np.zeros_like(result.trajectory.q)
+    for joint in result.check.joints:
+        tau[:, result.robot.joint_index(joint.name)] = joint.torque
+    return tau
+
+
+def _unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
+    """``JOINT=UNIT`` pairs as a dict; each joint once."""
+    out: dict[str, str] = {}
+    for pair in pairs:
+        joint, sep, unit = pair.partition("=")
+        if not sep or not joint.strip() or not unit.strip():
+            raise InputError(f"expected JOINT=UNIT, got {pair!r}", field="--units")
+        if joint.strip() in out:
+            raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
+        out[joint.strip()] = unit.strip()
+    return out
+
+
 def run_joints(args: argparse.Namespace) -> int:
     """``hdselect joints``: every joint of a robot file, in the order lists use."""
     from hdselect.export import joints_json, write_json
@@ -376,15 +525,20 @@ def _write_outputs(args: argparse.Namespace, result) -> None:
 
 
 def _say_written(args: argparse.Namespace) -> None:
-    """Name the files written, on standard error when standard output carries JSON."""
-    from hdselect.tables import Paragraphs, console_for
-
+    """Name the report and JSON written (`_say_files`)."""
     written = []
     if args.report:
         written.append(f"wrote {Path(args.report) / 'index.html'}: the report, figures "
                        "embedded (also as PNG files beside it)")
+    _say_files(args, written)
+
+
+def _say_files(args: argparse.Namespace, written: list[str]) -> None:
+    """Name the files written and the JSON file; on standard error when stdout carries JSON."""
+    from hdselect.tables import Paragraphs, console_for
+
     if args.json and args.json != "-":
-        written.append(f"wrote {args.json}")
+        written = [*written, f"wrote {args.json}"]
     if written:
         console_for(sys.stderr if args.json == "-" else sys.stdout).print(
             Paragraphs(tuple(written)))
@@ -394,10 +548,10 @@ def run_study(args: argparse.Namespace) -> int:
     """``hdselect study``: every case of a study, in parallel, kept as it completes."""
     import time
 
-    from hdselect.report import console, study_tables
+    from hdselect.report import console, study_tables, study_value_table
     from hdselect.study.run import run_study as run
     from hdselect.study.spec import load_study
-    from hdselect.study.store import journal_path, pivots, table
+    from hdselect.study.store import journal_path, pivots, table, value_pivot
     from hdselect.tables import Paragraphs
 
     study = load_study(args.study)
@@ -417,6 +571,10 @@ def run_study(args: argparse.Namespace) -> int:
         tables, constant = pivots(study, done.records)
         for item in study_tables(tables, constant):
             out.print(Paragraphs((item,)) if isinstance(item, str) else item)
+    for name, what, value in _STUDY_VALUES:
+        pivot = value_pivot(study, done.records, name, value) if name in study.compute else None
+        if pivot is not None:
+            out.print(study_value_table(pivot, what))
     out.print(Paragraphs((f"rows: {args.out}; records: {journal_path(args.out)}",)))
     if args.plot and "size" in study.compute:
         from hdselect.figures import write_study_png
@@ -430,6 +588,18 @@ def run_study(args: argparse.Namespace) -> int:
         print(f"hdselect: {done.ran} cases in {time.perf_counter() - started:.1f} s on "
               f"{done.executor}", file=sys.stderr)
     return 3 if done.failed else 0
+
+
+def _payload_cell(result: dict) -> str:
+    if result["unlimited"]:
+        return "no limit"
+    mass = result["max_payload_kg"]
+    return "none" if mass is None else f"{mass:.3g}"
+
+
+_STUDY_VALUES = (("fastest", "fastest cycle s", lambda r: f"{r['cycle_time_s']:.3f}"),
+                 ("max-payload", "largest payload kg", _payload_cell))
+"""The number a study prints per case of a computation other than ``size``."""
 
 
 class _progress:
@@ -473,7 +643,7 @@ def _load_case(args: argparse.Namespace):
     from hdselect.robot import Payload
 
     payload = None
-    if args.payload is not None:
+    if getattr(args, "payload", None) is not None:
         try:
             payload = Payload(args.payload, tuple(args.payload_com), frame=args.payload_frame)
         except InputError as err:
@@ -496,7 +666,6 @@ def _size(args: argparse.Namespace):
 
     from hdselect.catalog import load_catalog
     from hdselect.motors import load_motors
-    from hdselect.options import options_for
     from hdselect.planning import plan
     from hdselect.sizing import motion_motors, size_trajectory
 
@@ -514,14 +683,7 @@ def _size(args: argparse.Namespace):
                          else f"[motor] of {motion.path.name}")
                 raise InputError(f"the motors come from {given}, with their own rotor inertia "
                                  "and mass; drop this option", field=flag)
-    try:
-        options = options_for(
-            motion, stop_time=args.stop_time, efficiency=args.efficiency,
-            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
-            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
-            life_hours=args.life_hours, life_basis=args.life_basis)
-    except InputError as err:
-        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
+    options = _options(args, motion)
     _keep_inputs([getattr(args, "json", None)],
                  [*_inputs(robot, motion), *args.catalog,
                   *([args.motor_catalog] if args.motor_catalog else [])])
@@ -530,6 +692,20 @@ def _size(args: argparse.Namespace):
     units = load_catalog(args.catalog)
     result = size_trajectory(robot, plan(robot, motion), units, options, motors=motors)
     return replace(result, motion=motion)
+
+
+def _options(args: argparse.Namespace, motion):
+    """The validated options of the sizing flags, the motion file's where a flag is absent."""
+    from hdselect.options import options_for
+
+    try:
+        return options_for(
+            motion, stop_time=args.stop_time, efficiency=args.efficiency,
+            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
+            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
+            life_hours=args.life_hours, life_basis=args.life_basis)
+    except InputError as err:
+        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
 
 
 def _inputs(robot, motion) -> list[Path]:

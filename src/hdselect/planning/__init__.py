@@ -34,7 +34,7 @@ PLANNERS: dict[str, Callable[[Robot, Motion], Trajectory]] = {
 """Planner functions by the name a motion file's ``planner`` key gives."""
 assert tuple(PLANNERS) == PLANNER_NAMES
 
-__all__ = ["PLANNERS", "Trajectory", "plan"]
+__all__ = ["PLANNERS", "Trajectory", "check_within_limits", "plan"]
 
 
 def plan(robot: Robot, motion: Motion) -> Trajectory:
@@ -55,15 +55,33 @@ def plan(robot: Robot, motion: Motion) -> Trajectory:
     """
     motion.check_joints(robot)
     trajectory = PLANNERS[motion.planner](robot, motion)
-    q = trajectory.q
-    outside = (q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)
-    if outside.any():
-        raise PlanningError(_outside_message(robot, motion, trajectory, outside))
+    check_within_limits(robot, motion, trajectory)
     return trajectory
 
 
+def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,
+                        what: str | None = None) -> None:
+    """Refuse a trajectory that leaves a joint's position limits (by more than 1e-9).
+
+    Args:
+        robot: The robot (its position limits).
+        motion: The motion it was planned from (its file, units and waypoints).
+        trajectory: The trajectory.
+        what: What made it, for the message (default: the motion's planner).
+
+    Raises:
+        PlanningError: Naming the joint, how far past which limit, when, and the
+            waypoint to move.
+    """
+    q = trajectory.q
+    outside = (q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)
+    if outside.any():
+        raise PlanningError(_outside_message(robot, motion, trajectory, outside,
+                                             what or motion.planner))
+
+
 def _outside_message(robot: Robot, motion: Motion, trajectory: Trajectory,
-                     outside: np.ndarray) -> str:
+                     outside: np.ndarray, what: str) -> str:
     """Where the first joint to leave its limits goes furthest, in the file's units, and why."""
     j = int(np.argwhere(outside)[0][1])
     name, q = robot.joint_names[j], trajectory.q[:, j]
@@ -72,7 +90,7 @@ def _outside_message(robot: Robot, motion: Motion, trajectory: Trajectory,
     side, limit = ("upper", robot.upper[j]) if q[k] > robot.upper[j] else ("lower", robot.lower[j])
     scale = ANGLE_UNITS[motion.angle_unit] if robot.revolute[j] else 1.0
     unit = motion.angle_unit if robot.revolute[j] else "m"
-    text = (f"{motion.path}: the {motion.planner} trajectory takes joint '{name}' "
+    text = (f"{motion.path}: the {what} trajectory takes joint '{name}' "
             f"{over[k] / scale:.3g} {unit} past its {side} limit {limit / scale:g} {unit} "
             f"(t = {trajectory.t[k]:.4g} s")
     if motion.planner == "samples" or not len(motion.waypoints):
