@@ -33,6 +33,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 ROBOT = ROOT / "robots" / "benchtop6.urdf"
 MOTION = ROOT / "trajectories" / "benchtop6_pick_place.toml"
+CONTOUR = ROOT / "trajectories" / "benchtop6_contour.toml"
+"""The shipped 6-axis TOPPRA motion."""
+FAST_PICK = ROOT / "trajectories" / "benchtop6_fast_pick.toml"
+"""The shipped 6-axis co-design motion (its limits at the arm's own)."""
 
 QUICK_SAMPLES = 1_500
 """Samples per trajectory in --quick mode (the full mode uses the ~10,000 of the cycle); at
@@ -235,6 +239,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
     from hdselect.study import run_study
 
     samples = f"{n:,} samples of {MOTION.name}" + (f" (every {step}th)" if step > 1 else "")
+    codesign = _codesign_rows(quick, units, rnea_loop_for=_rnea_loop)
     cli = [sys.executable, "-m", "hdselect.cli"]
     return [
         Benchmark(
@@ -272,6 +277,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
             "payload sweep x10", sweep_core, sweep_size, None, repeats=5,
             notes="10 payload masses: one load and one plan, then size_trajectory on "
                   "robot.with_payload(m), vs 10 size() calls from the files (load, plan, size)"),
+        *codesign,
         Benchmark(
             "study: grouped vs one by one",
             lambda: run_study(study_speed, workers=0),
@@ -303,6 +309,82 @@ def benchmarks(quick: bool) -> list[Benchmark]:
             notes=f"{pairs} (gearhead, motor) pairs per joint ({len(motor_catalog)} example "
                   f"motors) vs {len(units)} units alone, Options(); target: at most the "
                   "motor count", repeats=9),
+    ]
+
+
+def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:
+    """TOPPRA planning, and co-design on the shipped 6-axis arm (fixtures built here)."""
+    import toppra
+    import toppra.algorithm as algorithm
+    import toppra.constraint as constraint
+
+    from hdselect import compare_ratios, fastest, load_case, plan, size
+    from hdselect.planning.toppra import path_pieces
+
+    robot, motion = load_case(CONTOUR)
+    velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
+    pieces = [p for p in path_pieces(robot, motion) if p.path is not None]
+    knots = [(p.knots, motion.waypoints[list(p.waypoints)], p.gridpoints) for p in pieces]
+
+    def plain_toppra() -> float:
+        """toppra as its examples call it: spline, constraints, TOPPRA, trajectory."""
+        duration = 0.0
+        for ss, waypoints, grid in knots:
+            path = toppra.SplineInterpolator(ss, waypoints, bc_type="clamped")
+            limits = [constraint.JointVelocityConstraint(np.column_stack([-velocity, velocity])),
+                      constraint.JointAccelerationConstraint(
+                          np.column_stack([-acceleration, acceleration]),
+                          discretization_scheme=constraint.DiscretizationType.Interpolation)]
+            found = algorithm.TOPPRA(limits, path, parametrizer="ParametrizeConstAccel",
+                                     gridpoints=grid).compute_trajectory()
+            duration += found.duration
+        return duration
+
+    planned = plan(robot, motion)
+
+    def contour_loop() -> np.ndarray:
+        return rnea_loop_for(robot, planned.q, planned.qd, planned.qdd)
+
+    def plan_gap() -> float:
+        """Relative excess of plan's moving time over toppra's (its overshoot slow-down)."""
+        moving = planned.duration - float(np.sum(motion.dwells))
+        return moving / plain_toppra() - 1.0
+
+    fast_robot, fast_motion = load_case(FAST_PICK)
+    joints = ["shoulder_pan"] if quick else None
+    comparisons = len(units) * (1 if quick else len(fast_robot.sized_joints))
+    first = fastest(fast_robot, fast_motion)
+
+    def infeasible() -> float:
+        return 0.0 if first.feasible else 1.0
+
+    gridpoints = sum(len(p.gridpoints) for p in pieces)
+    return [
+        Benchmark(
+            "plan (TOPPRA) vs toppra", lambda: plan(robot, motion), plain_toppra, 1.5,
+            notes=f"plan of {CONTOUR.name} ({len(motion.waypoints)} waypoints, {gridpoints} "
+                  "gridpoints) vs the plain toppra call (SplineInterpolator, velocity and "
+                  "acceleration constraints, TOPPRA, ParametrizeConstAccel) on the same path and "
+                  "gridpoints", repeats=9,
+            check=Check("plan's moving time over toppra's, minus 1", plan_gap, 1e-3)),
+        Benchmark(
+            "size() of the TOPPRA motion", lambda: size(robot, motion, units=units),
+            contour_loop, 3.0, repeats=9,
+            notes=f"size() of {CONTOUR.name} (plans with TOPPRA, then sizes) vs the Python loop "
+                  f"of pin.rnea over its {len(planned.t):,} samples"),
+        Benchmark(
+            "fastest (6-axis, torques)", lambda: fastest(fast_robot, fast_motion),
+            lambda: size(fast_robot, fast_motion, units=units), 1.0, unit="s", absolute=True,
+            repeats=5,
+            notes=f"fastest on {FAST_PICK.name} with size's units (that selection included) vs "
+                  "size() of the motion as planned",
+            check=Check("fastest's result fails a rule", infeasible, 0.0)),
+        Benchmark(
+            f"compare ratios ({comparisons} units x joints)",
+            lambda: compare_ratios(fast_robot, fast_motion, joints=joints),
+            lambda: fastest(fast_robot, fast_motion), 5.0, unit="s", absolute=True, repeats=3,
+            notes=f"--compare-ratios on {FAST_PICK.name}, {comparisons} unit-joint "
+                  "configurations sharing one path model, vs one fastest() call"),
     ]
 
 

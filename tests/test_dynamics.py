@@ -96,6 +96,20 @@ def test_batched_equals_per_sample_rnea(path, mounting):
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-10)
 
 
+def test_repeated_states_are_computed_once_and_equal():
+    # dwells: 3,001 copies of states after 400 moving ones; every sample checked
+    robot = load_robot(REPO / "robots" / "benchtop6.urdf")
+    q, qd, qdd = random_states(robot, 400, seed=7)
+    hold = np.repeat([0, 1, 2, 399], [1000, 1500, 500, 1])
+    q, qd, qdd = (np.concatenate([x, x[hold]]) for x in (q, qd, qdd))
+    got = inverse_dynamics(robot, q, qd, qdd)
+    assert got.shape == (3401, robot.dof)
+    np.testing.assert_array_equal(got, inverse_dynamics(robot, q[:400], qd[:400],
+                                                        qdd[:400])[np.r_[:400, hold]])
+    np.testing.assert_allclose(got[::17], rnea_loop(robot.model, q[::17], qd[::17],
+                                                    qdd[::17]), rtol=0, atol=1e-10)
+
+
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
 def test_joint_torques_along_shipped_motions(path):
     robot, motion, trajectory = planned(path)

@@ -367,6 +367,51 @@ def test_a_long_log_is_resampled_in_chunks_equal_to_one_spline(tmp_path, monkeyp
     assert np.abs(short - whole(times, 2)).max() > 1e-6 * np.abs(short).max()
 
 
+def test_batched_torque_constraint_equals_toppras_own(tmp_path):
+    # TOPPRA's JointTorqueConstraint calls pinocchio's rnea three times per gridpoint;
+    # SecondOrderBounds gets the same a, b, c from three batched passes.
+    import toppra.constraint as constraint
+
+    from hdselect.dynamics import rnea_function
+    from hdselect.planning.constraints import SecondOrderBounds, path_torque_coefficients
+    from hdselect.planning.toppra import path_pieces
+
+    points = [[0.0, -1.2], [1.0, 0.4], [0.2, 1.1], [-0.6, 0.3]]
+    robot, motion = make_motion(tmp_path, "toppra", points, velocity=3, acceleration=20)
+    (piece,) = path_pieces(robot, motion, 40)
+    limit = np.array([2.0, 1.5])
+    theirs = constraint.JointTorqueConstraint(
+        rnea_function(robot), np.column_stack([-limit, limit]), np.zeros(2),
+        discretization_scheme=constraint.DiscretizationType.Interpolation)
+    a, b, c = path_torque_coefficients(robot, piece.q, piece.dq, piece.ddq)
+    mine = SecondOrderBounds.two_sided(piece.gridpoints, a, b, c, -limit, limit)
+    expected = theirs.compute_constraint_params(piece.path, piece.gridpoints)
+    got = mine.compute_constraint_params(piece.path, piece.gridpoints)
+    for x, y in zip(got, expected, strict=True):
+        if y is None:
+            assert x is None
+        else:
+            np.testing.assert_allclose(x, y, rtol=0, atol=1e-12)
+
+
+def test_toppra_profile_samples_as_toppras_parametrizer(tmp_path):
+    import toppra.algorithm as algorithm
+
+    from hdselect.planning.toppra import kinematic_constraints, path_pieces, solve_piece
+
+    robot, motion = make_motion(tmp_path, "toppra", CASES[2], velocity=[1.0, 2.0],
+                                acceleration=[3.0, 5.0])
+    (piece,) = path_pieces(robot, motion, 30)
+    constraints = kinematic_constraints(motion.velocity_limit, motion.acceleration_limit)
+    profile = solve_piece(piece, constraints, where="test")
+    reference = algorithm.TOPPRA(constraints, piece.path, parametrizer="ParametrizeConstAccel",
+                                 gridpoints=piece.gridpoints).compute_trajectory()
+    assert profile.duration == pytest.approx(reference.duration, rel=1e-12)
+    times = np.linspace(0.0, profile.duration, 777)
+    for order, mine in enumerate(profile.sample(times)):
+        np.testing.assert_allclose(mine, reference(times, order), rtol=0, atol=1e-12)
+
+
 def test_a_log_leaving_a_limit_names_the_joint_in_the_files_units(tmp_path):
     """A logged sample past a joint's limit is refused as the log is read: the first one,
     by column, data row and line, in the file's units (the planner's own check then only

@@ -58,7 +58,8 @@ def test_python_examples_run(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(workdir(tmp_path))
     blocks = re.findall(r"```python\n(.*?)```", README, flags=re.S)
     (motor_example,) = [block for block in blocks if "load_motors" in block]
-    size_example, core_example = [block for block in blocks if block is not motor_example]
+    size_example, core_example, codesign_example = [
+        block for block in blocks if block is not motor_example]
     exec(compile(size_example, "README.md", "exec"), {})
     lines = capsys.readouterr().out.splitlines()
     assert [line.split()[0] for line in lines] == JOINTS
@@ -74,6 +75,13 @@ def test_python_examples_run(tmp_path, monkeypatch, capsys):
         name, unit, plus, motor, rule, ratio = line.split()
         assert unit.startswith("PSA-") and plus == "+" and motor.startswith("EX-")
         assert rule.startswith("motor_") and float(ratio) > 0
+    exec(compile(codesign_example, "README.md", "exec"), {})
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 9
+    assert lines[0].endswith("lengthened by None") or "lengthened by ('shoulder_pan'" in lines[0]
+    assert [line.split()[0] for line in lines[1:8]] == [
+        "PSA-08-80", "PSA-08-100", "PSA-10-50", "PSA-10-80", "PSA-14-50", "PSA-14-80", "PSA-14-100"]
+    assert lines[8].endswith("kg: shoulder PSA-14-100 momentary")
 
 
 JOINTS = ["shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"]

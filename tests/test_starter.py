@@ -49,7 +49,8 @@ def test_init_prints_to_stdout_and_never_overwrites(tmp_path, capsys, monkeypatc
     monkeypatch.chdir(tmp_path)
     assert main(["init", str(robot_path("planar2"))]) == 0
     text = capsys.readouterr().out
-    assert tomllib.loads(text)["robot"] == str(robot_path("planar2"))  # no common folder
+    written = tmp_path / tomllib.loads(text)["robot"]  # relative to the motion file's folder
+    assert written.resolve() == robot_path("planar2").resolve()
     mine = tmp_path / "mine.toml"
     mine.write_text("# my edits\n")
     assert main(["init", str(robot_path("planar2")), "--out", str(mine)]) == 2

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 import shutil
 import signal
@@ -16,7 +17,7 @@ import pytest
 import hdselect
 from hdselect.cli import main
 from hdselect.errors import InputError
-from hdselect.study import COMPUTATIONS, Computation, load_study, run_study
+from hdselect.study import COMPUTATIONS, Computation, compute, load_study, run_study
 from hdselect.study.compute import SIZE, Outcome, run_size
 from hdselect.study.run import _local_cluster
 from hdselect.study.store import journal_path
@@ -77,7 +78,8 @@ time_scale = [1.0, 2.0]
 
 
 @pytest.mark.parametrize(("text", "field", "words"), [
-    ("compute = 'fastest'\n[base]\nmotion = 'm.toml'", "compute", "it computes: size"),
+    ("compute = 'duty'\n[base]\nmotion = 'm.toml'", "compute",
+     "it computes: size, fastest, max-payload"),
     ("[base]\nmotion = 'm.toml'\npayloda = 1", "base.payloda", "did you mean 'payload'"),
     ("[grid]\nmotion = []", "grid.motion", "non-empty list"),
     ("[grid]\nmotion = ['m.toml']\npayload = [1, -2]", "grid.payload[1]", "positive"),
@@ -326,3 +328,90 @@ def test_a_motion_files_motor_files_are_inputs_of_its_cases(tmp_path):
     assert root / "trajectories" / ".." / "motors" / "example_motors.toml" in case.files
     outcome = next(iter(run_size([case], False)))
     assert outcome.ok and all(joint["motor"] for joint in outcome.result["joints"])
+
+
+# --- fastest and max-payload -----------------------------------------------------------------
+
+
+def test_fastest_and_max_payload_rows_equal_the_direct_calls(tmp_path, capsys):
+    root = workspace(tmp_path)
+    path = root / "codesign.toml"
+    path.write_text("""compute = ["fastest", "max-payload"]
+[base]
+motion = "trajectories/planar2_pick_place.toml"
+ratio = 100
+[grid]
+time_scale = [1.0, 0.8]
+""")
+    study = load_study(path)
+    assert [(c.compute, c.time_scale) for c in study.cases] == [
+        ("fastest", 1.0), ("max-payload", 1.0), ("fastest", 0.8), ("max-payload", 0.8)]
+    out = root / "codesign.csv"
+    assert main(["study", str(path), "--out", str(out), "--workers", "0"]) == 0
+    printed = " ".join(capsys.readouterr().out.split())
+    rows = hdselect.study(path, out=out, workers=0)  # every case already done: read back
+    assert {row["status"] for row in rows} == {"ok"}
+
+    robot, motion = hdselect.load_case(root / "trajectories" / "planar2_pick_place.toml")
+    options = hdselect.options.options_for(motion)
+    units = [u for u in hdselect.load_catalog() if u.ratio == 100]
+    for s in (1.0, 0.8):
+        trajectory = compute.scaled(hdselect.plan(robot, motion), s)
+        # fastest: the units `size` selects for the motion run s times slower, then the
+        # shortest cycle they allow (at s = 1: hdselect.fastest's own default units)
+        sized = hdselect.size_trajectory(robot, trajectory, units, options)
+        chosen = {j.name: j.selected.unit for j in sized.joints}
+        direct = hdselect.fastest(robot, motion, chosen if s != 1.0 else None, options,
+                                  catalog=units)
+        mine = [r for r in rows if r["compute"] == "fastest" and r["time_scale"] == s]
+        assert [(r["joint"], r["unit"]) for r in mine] == [(n, u.id) for n, u in
+                                                           direct.units.items()]
+        assert [r["cycle_time_s"] for r in mine] == pytest.approx(
+            [direct.cycle_time] * len(mine), rel=1e-9)
+        assert all(r["feasible"] for r in mine) and direct.feasible
+        assert f"{direct.cycle_time:.3f}" in printed
+        # max-payload: the largest payload on the motion run s times slower
+        largest = hdselect.max_payload(robot, motion, options, catalog=units,
+                                       trajectory=trajectory if s != 1.0 else None)
+        mine = [r for r in rows if r["compute"] == "max-payload" and r["time_scale"] == s]
+        assert [r["joint"] for r in mine] == list(robot.sized_joints)
+        assert [r["max_payload_kg"] for r in mine] == pytest.approx(
+            [largest.mass] * len(mine), rel=1e-12)
+        assert [r["unit"] for r in mine] == [j.selected.unit.id
+                                             for j in largest.selection.joints]
+        limit = [r["payload_limit"] for r in mine if r["payload_limit"]]
+        assert limit == [f"{largest.unit.id} {largest.rule}"]
+        assert f"{largest.mass:.3g}" in printed
+    assert "fastest cycle s (time_scale down)" in printed
+    assert "largest payload kg (time_scale down)" in printed
+    # the time scale is used: 1.25 times faster, `size` picks a bigger elbow unit, and the
+    # arm carries less
+    elbow = [r["unit"] for r in rows if r["compute"] == "fastest" and r["joint"] == "elbow"]
+    assert elbow == ["PSA-08-100", "PSA-14-100"]
+    payloads = [r["max_payload_kg"] for r in rows if r["compute"] == "max-payload"]
+    assert payloads[-1] < payloads[0]
+
+
+def test_fastest_of_a_log_and_max_payload_under_toppra_torque_limits_fail_alone(tmp_path):
+    root = workspace(tmp_path)
+    contour = (root / "trajectories" / "benchtop6_contour.toml").read_text()
+    (root / "trajectories" / "torque.toml").write_text(contour.replace(
+        "[limits]", "[limits]\ntorque = 50", 1))
+    path = root / "fails.toml"
+    path.write_text("""compute = ["fastest", "max-payload"]
+[grid]
+motion = ["trajectories/pan_tilt_logged.toml", "trajectories/torque.toml"]
+""")
+    rows = hdselect.study(path, workers=0)
+    status = {(row["motion"], row["compute"]): (row["status"], row["error"]) for row in rows}
+    logged = status["trajectories/pan_tilt_logged.toml", "fastest"]
+    assert logged[0] == "failed" and "has no path to run faster" in logged[1]
+    # the pan-tilt's default payload frame, the laser, sits on both axes: a point mass
+    # there loads neither joint, so one row says there is no limit
+    (unlimited,) = [row for row in rows if row["compute"] == "max-payload"
+                    and row["motion"] == "trajectories/pan_tilt_logged.toml"]
+    assert unlimited["status"] == "ok" and unlimited["max_payload_kg"] == math.inf
+    assert unlimited["payload_frame"] == "laser" and unlimited.get("joint") is None
+    assert unlimited["payload_limit"] == "no rule depends on the payload mass"
+    torque = status["trajectories/torque.toml", "max-payload"]
+    assert torque[0] == "failed" and "limits.torque" in torque[1]

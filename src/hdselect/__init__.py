@@ -13,25 +13,32 @@ from typing import TYPE_CHECKING, Any
 __version__ = "0.1.0"
 
 _HOME = {
+    "FastestResult": "codesign",
     "HdselectError": "errors",
     "InputError": "errors",
+    "MaxPayloadResult": "maxpayload",
     "Motion": "motion",
     "Motor": "motors",
     "Options": "options",
     "Payload": "robot",
     "PlanningError": "errors",
+    "RatioComparison": "codesign",
     "Robot": "robot",
     "SizingResult": "sizing",
     "Summary": "summary",
     "Trajectory": "planning",
     "Unit": "catalog",
+    "check_units": "sizing",
+    "compare_ratios": "codesign",
     "describe_joints": "joints",
+    "fastest": "codesign",
     "load_catalog": "catalog",
     "load_case": "motion",
     "load_duty": "duty",
     "load_motion": "motion",
     "load_motors": "motors",
     "load_robot": "robot",
+    "max_payload": "maxpayload",
     "plan": "planning",
     "size": "sizing",
     "size_duty": "duty",
@@ -43,26 +50,33 @@ _HOME = {
 """The module each public name lives in."""
 
 __all__ = [
+    "FastestResult",
     "HdselectError",
     "InputError",
+    "MaxPayloadResult",
     "Motion",
     "Motor",
     "Options",
     "Payload",
     "PlanningError",
+    "RatioComparison",
     "Robot",
     "SizingResult",
     "Summary",
     "Trajectory",
     "Unit",
     "__version__",
+    "check_units",
+    "compare_ratios",
     "describe_joints",
+    "fastest",
     "load_catalog",
     "load_case",
     "load_duty",
     "load_motion",
     "load_motors",
     "load_robot",
+    "max_payload",
     "plan",
     "size",
     "size_duty",
@@ -74,15 +88,17 @@ __all__ = [
 
 if TYPE_CHECKING:
     from hdselect.catalog import Unit, load_catalog
+    from hdselect.codesign import FastestResult, RatioComparison, compare_ratios, fastest
     from hdselect.duty import load_duty, size_duty
     from hdselect.errors import HdselectError, InputError, PlanningError
     from hdselect.joints import describe_joints
+    from hdselect.maxpayload import MaxPayloadResult, max_payload
     from hdselect.motion import Motion, load_case, load_motion
     from hdselect.motors import Motor, load_motors
     from hdselect.options import Options
     from hdselect.planning import Trajectory, plan
     from hdselect.robot import Payload, Robot, load_robot
-    from hdselect.sizing import SizingResult, size, size_trajectory
+    from hdselect.sizing import SizingResult, check_units, size, size_trajectory
     from hdselect.starter import starter_motion
     from hdselect.study import study
     from hdselect.summary import Summary, summarize

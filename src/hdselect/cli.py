@@ -161,6 +161,36 @@ def _parser() -> argparse.ArgumentParser:
                               "page alone, to stdout)")
     compare.set_defaults(run=run_compare)
 
+    fastest = commands.add_parser(
+        "fastest", parents=[verbose],
+        help="the shortest cycle of the motion's path that the gearheads allow")
+    _robot_motion(fastest)
+    _sizing_options(fastest)
+    fastest.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
+                         help="the unit of a joint, as `hdselect catalog` names it (repeatable; "
+                              "default: the unit `size` selects)")
+    fastest.add_argument("--compare-ratios", action="store_true",
+                         help="the shortest cycle with every catalog unit on each joint, the "
+                              "others fixed")
+    fastest.add_argument("--joint", action="append", metavar="NAME",
+                         help="with --compare-ratios: compare this joint only (repeatable)")
+    fastest.add_argument("--out", metavar="FILE",
+                         help="CSV of the fastest trajectory: t, then q_, qd_, qdd_, tau_ per "
+                              "sized joint (SI)")
+    fastest.add_argument("--plot", metavar="PNG",
+                         help="speed and torque per joint; with --compare-ratios, cycle time "
+                              "against unit")
+    _json_option(fastest)
+    fastest.set_defaults(run=run_fastest)
+
+    payload = commands.add_parser(
+        "max-payload", parents=[verbose],
+        help="the largest payload with a feasible unit on every joint")
+    _robot_motion(payload, mass=False)
+    _sizing_options(payload)
+    _json_option(payload)
+    payload.set_defaults(run=run_max_payload)
+
     joints = commands.add_parser("joints", parents=[verbose],
                                   help="list a robot's joints in the order lists use")
     joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
@@ -209,13 +239,14 @@ def _json_option(parser: argparse.ArgumentParser) -> None:
                         help="also write JSON to FILE ('-': to stdout, instead of the table)")
 
 
-def _robot_motion(parser: argparse.ArgumentParser) -> None:
+def _robot_motion(parser: argparse.ArgumentParser, *, mass: bool = True) -> None:
     parser.add_argument("robot", nargs="?", metavar="ROBOT",
                         help="robot file, URDF or MJCF (default: the motion file's `robot`)")
     parser.add_argument("motion", metavar="MOTION", help="motion file (TOML)")
-    parser.add_argument("--payload", type=float, metavar="KG",
-                        help="payload mass [kg]; the motion file's payload keeps its centre of "
-                             "mass, inertia and frame")
+    if mass:
+        parser.add_argument("--payload", type=float, metavar="KG",
+                            help="payload mass [kg]; the motion file's payload keeps its centre "
+                                 "of mass, inertia and frame")
     parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
                         help="payload centre of mass in its frame [m] (changes the motion "
                              "file's payload, or the one --payload gives)")
@@ -388,6 +419,125 @@ def run_compare(args: argparse.Namespace) -> int:
     return EXIT_OK if result.feasible else EXIT_NO_FIT
 
 
+def run_fastest(args: argparse.Namespace) -> int:
+    """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
+    from hdselect.catalog import load_catalog
+    from hdselect.codesign import compare_ratios, fastest
+    from hdselect.export import fastest_json, ratios_json, write_json, write_trajectory_csv
+    from hdselect.outputs import Outputs
+    from hdselect.report import binding_table, fastest_table, ratios_table
+
+    if args.joint and not args.compare_ratios:
+        raise InputError("only with --compare-ratios", field="--joint")
+    robot, motion = _load_case(args)
+    options = _options(args, motion)
+    units = load_catalog(args.catalog)
+    given = _unit_pairs(args.units)
+    with Outputs([*_inputs(robot, motion), *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        csv_file = outputs.file(args.out, "--out") if args.out else None
+        figure = outputs.file(args.plot, "--plot") if args.plot else None
+        try:
+            if args.compare_ratios:
+                comparison = compare_ratios(robot, motion, given, options, catalog=units,
+                                            joints=args.joint)
+                result = comparison.base
+            else:
+                result = fastest(robot, motion, given, options, catalog=units)
+        except InputError as err:
+            field = {"units": "--units", "joint": "--joint"}.get(str(err.field), err.field)
+            raise InputError(err.reason, path=err.path, field=field) from err
+        if figure is not None:
+            from hdselect.figures import write_fastest_png, write_ratios_png
+
+            if args.compare_ratios:
+                write_ratios_png(figure, comparison)
+            else:
+                write_fastest_png(figure, result)
+        if csv_file is not None:
+            write_trajectory_csv(csv_file, result.trajectory, _gear_torques(result),
+                                 result.robot.sized_joints)
+        if json_file is not None:
+            write_json(json_file, ratios_json(comparison) if args.compare_ratios
+                       else fastest_json(result))
+        tables: list[Any] = []
+        if args.compare_ratios:
+            for joint in comparison.joints:
+                tables += [""] if tables else []
+                tables.append(ratios_table(comparison, joint))
+        else:
+            tables = [fastest_table(result), "", binding_table(result)]
+        text = "" if _to_stdout(args) else _rendered(*tables)
+        outputs.commit()
+    sys.stdout.write(text)
+    _say_written([
+        (args.out, f"t, then q_, qd_, qdd_, tau_ of {', '.join(result.robot.sized_joints)} "
+                   "(SI) along the fastest cycle"),
+        (args.plot, "the shortest cycle against the unit on each joint compared"
+         if args.compare_ratios else "speed and torque of each sized joint against its limits"),
+        (args.json, None)], args)
+    return EXIT_OK
+
+
+def run_max_payload(args: argparse.Namespace) -> int:
+    """``hdselect max-payload``: the largest payload mass with a unit on every joint."""
+    from dataclasses import replace
+
+    from hdselect.catalog import load_catalog
+    from hdselect.export import max_payload_json, write_json
+    from hdselect.maxpayload import max_payload
+    from hdselect.outputs import Outputs
+    from hdselect.report import max_payload_text, size_table
+
+    robot, motion = _load_case(args)
+    options = _options(args, motion)
+    units = load_catalog(args.catalog)
+    with Outputs([*_inputs(robot, motion), *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        try:
+            result = max_payload(robot, motion, options, catalog=units,
+                                 frame=args.payload_frame, com=args.payload_com)
+        except InputError as err:
+            flag = {"payload.frame": "--payload-frame", "payload.com": "--payload-com"}.get(
+                str(err.field))
+            if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
+                raise
+            raise InputError(err.reason, field=flag) from err
+        if json_file is not None:
+            write_json(json_file, max_payload_json(result, motion))
+        items: list[Any] = [max_payload_text(result, robot, motion)]
+        if result.selection is not None:
+            items += ["", size_table(replace(result.selection, motion=motion))]
+        text = "" if _to_stdout(args) else _rendered(*items)
+        outputs.commit()
+    sys.stdout.write(text)
+    _say_written([(args.json, None)], args)
+    return EXIT_OK if result.mass is not None else EXIT_NO_FIT
+
+
+def _gear_torques(result):
+    """The output torque of every joint (n, dof), as the gears carry it; 0 where unsized."""
+    import numpy as np
+
+    tau = np.zeros_like(result.trajectory.q)
+    for joint in result.check.joints:
+        tau[:, result.robot.joint_index(joint.name)] = joint.torque
+    return tau
+
+
+def _unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
+    """``JOINT=UNIT`` pairs as a dict; each joint once."""
+    out: dict[str, str] = {}
+    for pair in pairs:
+        joint, sep, unit = pair.partition("=")
+        if not sep or not joint.strip() or not unit.strip():
+            raise InputError(f"expected JOINT=UNIT, got {pair!r}", field="--units")
+        if joint.strip() in out:
+            raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
+        out[joint.strip()] = unit.strip()
+    return out
+
+
 def run_joints(args: argparse.Namespace) -> int:
     """``hdselect joints``: every joint of a robot file, in the order lists use."""
     from hdselect.export import joints_json, write_json
@@ -450,10 +600,10 @@ def run_study(args: argparse.Namespace) -> int:
     import time
 
     from hdselect.outputs import Outputs
-    from hdselect.report import study_tables
+    from hdselect.report import study_tables, study_value_table
     from hdselect.study.run import run_study as run
     from hdselect.study.spec import load_study
-    from hdselect.study.store import Store, journal_path, pivots, table
+    from hdselect.study.store import Store, journal_path, pivots, table, value_pivot
     from hdselect.tables import Paragraphs
 
     study = load_study(args.study)
@@ -477,6 +627,11 @@ def run_study(args: argparse.Namespace) -> int:
             tables, constant = pivots(study, done.records)
             items += [Paragraphs((item,)) if isinstance(item, str) else item
                       for item in study_tables(tables, constant)]
+        for name, what, value in _STUDY_VALUES:
+            pivot = (value_pivot(study, done.records, name, value) if name in study.compute
+                     else None)
+            if pivot is not None:
+                items.append(study_value_table(pivot, what))
         csv_shown = store.csv_path if Path(args.out).is_symlink() else Path(args.out)
         journal_shown = (store.journal_path if Path(args.out).is_symlink()
                          else journal_path(args.out))
@@ -497,6 +652,18 @@ def run_study(args: argparse.Namespace) -> int:
         print(f"hdselect: {done.ran} cases in {time.perf_counter() - started:.1f} s on "
               f"{done.executor}", file=sys.stderr)
     return EXIT_CASES_FAILED if done.failed else EXIT_OK
+
+
+def _payload_cell(result: dict) -> str:
+    if result["unlimited"]:
+        return "no limit"
+    mass = result["max_payload_kg"]
+    return "none" if mass is None else f"{mass:.3g}"
+
+
+_STUDY_VALUES = (("fastest", "fastest cycle s", lambda r: f"{r['cycle_time_s']:.3f}"),
+                 ("max-payload", "largest payload kg", _payload_cell))
+"""The number a study prints per case of a computation other than ``size``."""
 
 
 class _progress:
@@ -566,7 +733,7 @@ def _load_case(args: argparse.Namespace):
     given = [flag for flag, value in (("--payload", args.payload),
                                       ("--payload-com", args.payload_com),
                                       ("--payload-frame", args.payload_frame))
-             if value is not None]
+             if value is not None] if hasattr(args, "payload") else []  # max-payload: its own
     payload = None
     if given:
         if base is None and args.payload is None:
@@ -617,7 +784,6 @@ def _prepare(args: argparse.Namespace):
     """The robot, the motion, the catalog, the validated options and the motors."""
     from hdselect.catalog import load_catalog
     from hdselect.motors import load_motors
-    from hdselect.options import options_for
     from hdselect.sizing import motion_motors
 
     robot, motion = _load_case(args)
@@ -634,15 +800,7 @@ def _prepare(args: argparse.Namespace):
                          else f"[motor] of {motion.path.name}")
                 raise InputError(f"the motors come from {given}, with their own rotor inertia "
                                  "and mass; drop this option", field=flag)
-    try:
-        options = options_for(
-            motion, stop_time=args.stop_time, efficiency=args.efficiency,
-            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
-            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
-            life_hours=args.life_hours, life_basis=args.life_basis,
-            max_samples=args.max_samples)
-    except InputError as err:
-        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
+    options = _options(args, motion)
     return robot, motion, load_catalog(args.catalog), options, motors
 
 
@@ -751,6 +909,21 @@ def _rendered(*items: Any) -> str:
         out.print(item)
     out.file.flush()
     return buffer.getvalue()
+
+
+def _options(args: argparse.Namespace, motion):
+    """The validated options of the sizing flags, the motion file's where a flag is absent."""
+    from hdselect.options import options_for
+
+    try:
+        return options_for(
+            motion, stop_time=args.stop_time, efficiency=args.efficiency,
+            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
+            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
+            life_hours=args.life_hours, life_basis=args.life_basis,
+            max_samples=args.max_samples)
+    except InputError as err:
+        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
 
 
 def _inputs(robot, motion) -> list[Path]:

@@ -16,6 +16,9 @@ _SAMPLES_PER_THREAD = 2048
 CHUNK = 1 << 16
 """Samples per batched call: bounds the temporaries of a long trajectory (a few MB) while
 keeping the per-call overhead negligible."""
+_REPEATS_WORTH = 8
+"""Repeated states are computed once when more than 1 in this many samples repeat the one
+before (dwells): the same inputs give the same torques, bit for bit."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,6 +118,8 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
                      threads: int | None = None) -> np.ndarray:
     """Batched recursive Newton-Euler: one Pinocchio call per `CHUNK` samples.
 
+    A sample that repeats the one before (a dwell) is not computed again.
+
     Args:
         robot: The robot.
         q: Joint positions [rad or m], shape (n, dof).
@@ -127,6 +132,13 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         Joint torques [N m or N], shape (n, dof).
     """
     n = q.shape[0]
+    if n > _SAMPLES_PER_THREAD:  # a dwell repeats one state: compute it once
+        repeat = (np.all(q[1:] == q[:-1], axis=1) & np.all(qd[1:] == qd[:-1], axis=1)
+                  & np.all(qdd[1:] == qdd[:-1], axis=1))
+        if np.count_nonzero(repeat) * _REPEATS_WORTH > n:
+            keep = np.r_[True, ~repeat]
+            tau = inverse_dynamics(robot, q[keep], qd[keep], qdd[keep], threads=threads)
+            return tau[np.cumsum(keep) - 1]
     if threads is None:
         threads = min(os.cpu_count() or 1, max(1, min(n, CHUNK) // _SAMPLES_PER_THREAD))
     pool = pin.ModelPool(robot.model, threads)  # 0.05 ms: cheaper than keeping models alive

@@ -119,6 +119,17 @@ class Motion:
     motors: Mapping[str, tuple[Motor, ...]] | None = None
     motor_joints: tuple[str, ...] = ()
 
+    def refuse_motors(self, command: str) -> None:
+        """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
+
+        Raises:
+            InputError: The file gives motors.
+        """
+        if self.motors:
+            raise InputError(f"{command} does not choose motors yet; the motors given here "
+                             "would be left out: remove [motor] (size and compare choose "
+                             "motor and gearhead together)", path=self.path, field="motor")
+
     def check_joints(self, robot: Robot) -> None:
         """Check that the motion was read for this robot's joints.
 

@@ -358,13 +358,10 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         masses = chosen
     else:  # each round settles at least one more joint from the tip
         raise AssertionError("the tip-to-base sizing did not settle")
-    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))
-    gravity = np.abs(gravity_torques(carrying, trajectory.q[poses], threads=options.threads))
-    joints = [replace(joint, carried_mass=carrying.carried_mass(joint.name),
-                      gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
-                      max_gravity_torque=float(gravity[:, j].max()))
-              for joint in joints for j in [robot.joint_index(joint.name)]]
+    joints = _with_gravity(carrying, trajectory, joints, options)
     if motors:
+        poses = np.unique(np.linspace(0, len(trajectory.t) - 1,
+                                      GRAVITY_SAMPLES).astype(int))
         with_motors = [name for name in robot.sized_joints if name in motors]
         inertia = joint_inertias(carrying, trajectory.q[poses], with_motors,
                                  threads=options.threads).max(axis=0)
@@ -453,6 +450,76 @@ def _check_trajectory(trajectory: Trajectory) -> None:
                              field=f"trajectory.{name}")
         if not np.all(np.isfinite(array)):
             raise InputError("holds a number that is not finite", field=f"trajectory.{name}")
+
+
+def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
+                options: Options | None = None) -> SizingResult:
+    """Check given units, one per sized joint, along a planned trajectory: no selection.
+
+    Each joint's only candidate is its unit, `selected` when it passes every rule.
+    With mass coupling, each unit's mass (and the motor mass) is carried by the
+    joints nearer the base, as `size_trajectory` carries the units it chooses.
+
+    Args:
+        robot: The robot (payload and mounting applied).
+        trajectory: The trajectory, with the robot's joints.
+        units: The unit of every sized joint, by joint name.
+        options: The assumptions (default `Options()`).
+
+    Returns:
+        The result for every sized joint (its ``motion`` is None, its ``units`` the
+        distinct units given).
+
+    Raises:
+        InputError: An argument is of the wrong type, the trajectory's arrays are
+            malformed, a sized joint has no unit, or a name is not a sized joint.
+    """
+    expect_type(robot, (Robot,), "robot", "a Robot")
+    expect_type(trajectory, (Trajectory,), "trajectory", "a Trajectory (hdselect.plan)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    if not isinstance(units, Mapping):
+        raise InputError(f"expected a mapping of joint names to catalog units, got "
+                         f"{type(units).__name__}", field="units")
+    for unit in units.values():
+        expect_type(unit, (Unit,), "units", "catalog units (hdselect.load_catalog)")
+    if trajectory.joint_names != robot.joint_names:
+        raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
+                         f"robot has {', '.join(robot.joint_names)}", field="trajectory")
+    _check_trajectory(trajectory)
+    for name in units:
+        if name not in robot.sized_joints:
+            raise InputError(f"'{name}' is not a sized joint; sized joints are: "
+                             f"{', '.join(robot.sized_joints)}", field="units")
+    missing = [name for name in robot.sized_joints if name not in units]
+    if missing:
+        raise InputError(f"no unit given for {', '.join(missing)}", field="units")
+    options = options if options is not None else Options()
+    masses = ({name: unit.mass + options.motor_mass for name, unit in units.items()}
+              if options.mass_coupling else {})
+    carrying = robot.with_gearheads(masses)
+    torques = cycle_torques(carrying, trajectory.q, trajectory.qd, trajectory.qdd,
+                            options.stop_time, threads=options.threads)
+    joints = []
+    for name in robot.sized_joints:
+        j = robot.joint_index(name)
+        joints.append(_size_joint(name, trajectory, trajectory.qd[:, j], trajectory.qdd[:, j],
+                                  torques.tau[:, j], torques.stop[:, j], (units[name],),
+                                  options))
+    distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))
+    return SizingResult(robot, trajectory, tuple(_with_gravity(carrying, trajectory, joints,
+                                                               options)), options, distinct,
+                        loads=joint_loads(robot, trajectory, torques.tau))
+
+
+def _with_gravity(carrying: Robot, trajectory: Trajectory, joints: list[JointSizing],
+                  options: Options) -> list[JointSizing]:
+    """The joints with their carried mass and whether gravity loads them (from ~400 poses)."""
+    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))
+    gravity = np.abs(gravity_torques(carrying, trajectory.q[poses], threads=options.threads))
+    return [replace(joint, carried_mass=carrying.carried_mass(joint.name),
+                    gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
+                    max_gravity_torque=float(gravity[:, j].max()))
+            for joint in joints for j in [carrying.joint_index(joint.name)]]
 
 
 def _unit_masses(joints: list[JointSizing], options: Options) -> dict[str, float]:

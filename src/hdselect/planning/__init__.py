@@ -36,7 +36,7 @@ PLANNERS: dict[str, Callable[..., Trajectory]] = {
 the motion and a keyword ``max_samples``."""
 assert tuple(PLANNERS) == PLANNER_NAMES
 
-__all__ = ["PLANNERS", "Trajectory", "plan"]
+__all__ = ["PLANNERS", "Trajectory", "check_within_limits", "plan"]
 
 
 def plan(robot: Robot, motion: Motion, *, max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
@@ -67,19 +67,37 @@ def plan(robot: Robot, motion: Motion, *, max_samples: int = DEFAULT_MAX_SAMPLES
     max_samples = check_max_samples(max_samples)
     motion.check_joints(robot)
     trajectory = PLANNERS[motion.planner](robot, motion, max_samples=max_samples)
+    check_within_limits(robot, motion, trajectory)
+    return trajectory
+
+
+def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,
+                        what: str | None = None) -> None:
+    """Refuse a trajectory that is not finite or leaves a joint's position limits (by > 1e-9).
+
+    Args:
+        robot: The robot (its position limits).
+        motion: The motion it was planned from (its file, units and waypoints).
+        trajectory: The trajectory.
+        what: What made it, for the message (default: the motion's planner).
+
+    Raises:
+        PlanningError: A position, velocity or acceleration is not finite; or naming
+            the joint, how far past which limit, when, and the waypoint to move.
+    """
     for name in ("q", "qd", "qdd"):
         if not np.all(np.isfinite(getattr(trajectory, name))):
-            raise PlanningError(f"{motion.path}: the {motion.planner} trajectory has a "
+            raise PlanningError(f"{motion.path}: the {what or motion.planner} trajectory has a "
                                 f"{name} that is not finite")
     q = trajectory.q
     outside = (q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)
     if outside.any():
-        raise PlanningError(_outside_message(robot, motion, trajectory, outside))
-    return trajectory
+        raise PlanningError(_outside_message(robot, motion, trajectory, outside,
+                                             what or motion.planner))
 
 
 def _outside_message(robot: Robot, motion: Motion, trajectory: Trajectory,
-                     outside: np.ndarray) -> str:
+                     outside: np.ndarray, what: str) -> str:
     """Where the first joint to leave its limits goes furthest, in the file's units, and why."""
     j = int(np.argwhere(outside)[0][1])
     name, q = robot.joint_names[j], trajectory.q[:, j]
@@ -88,7 +106,7 @@ def _outside_message(robot: Robot, motion: Motion, trajectory: Trajectory,
     side, limit = ("upper", robot.upper[j]) if q[k] > robot.upper[j] else ("lower", robot.lower[j])
     scale = ANGLE_UNITS[motion.angle_unit] if robot.revolute[j] else 1.0
     unit = motion.angle_unit if robot.revolute[j] else "m"
-    text = (f"{motion.path}: the {motion.planner} trajectory takes joint '{name}' "
+    text = (f"{motion.path}: the {what} trajectory takes joint '{name}' "
             f"{over[k] / scale:.3g} {unit} past its {side} limit {limit / scale:g} {unit} "
             f"(t = {trajectory.t[k]:.4g} s")
     if motion.planner == "samples" or not len(motion.waypoints):

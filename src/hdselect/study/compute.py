@@ -1,4 +1,4 @@
-"""What a study computes per case: a registry keyed by name, and the ``size`` computation.
+"""What a study computes per case: a registry keyed by name: ``size``, ``fastest``, ``max-payload``.
 
 A computation takes the cases of one group (same robot file, motion file, mounting
 and payload shape) and yields one `Outcome` per case as each completes; a case whose
@@ -9,10 +9,18 @@ to repay the basis, or a motion whose plan depends on the payload (TOPPRA under
 torque limits). Either way the answer is the sizing core's, to rounding. A case's
 motors (its motion file's ``[motor]``, or its ``motor_catalog``) are sized as pairs on
 both paths.
+
+``fastest`` and ``max-payload`` run each case on its own, through the same public
+calls as their commands (`hdselect.fastest`, `hdselect.max_payload`), and record the
+commands' JSON. A case's ``time_scale`` s runs the planned motion s times slower
+before it is used: ``max-payload`` carries the payload along it; ``fastest`` takes the
+units `size` selects for it (its candidates: the case's catalog and ratio) and then
+finds the shortest cycle they allow, which does not depend on s otherwise.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import socket
 import time
@@ -22,7 +30,10 @@ from pathlib import Path
 from typing import Any
 
 from hdselect.catalog import Unit, load_catalog
+from hdselect.codesign import fastest, resolve_units
 from hdselect.errors import HdselectError, InputError
+from hdselect.export import fastest_json, max_payload_json
+from hdselect.maxpayload import max_payload
 from hdselect.motion import Motion, load_motion, robot_file_named, robot_for_motion
 from hdselect.motors import Motor, load_motors
 from hdselect.options import Options, options_for
@@ -274,5 +285,141 @@ def _failed(case: Case, err: HdselectError, method: str, start: float, host: str
 
 SIZE = Computation("size", "choose a gearhead for every joint (hdselect size)", run_size,
                    size_rows, SIZE_COLUMNS)
-COMPUTATIONS: dict[str, Computation] = {"size": SIZE}
+
+
+def fastest_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, Any]:
+    """One case's shortest cycle: ``hdselect fastest`` with `size`'s units for the case.
+
+    The units are those `size` selects for the motion run ``time_scale`` times slower,
+    from the case's catalog and ratio; the result is `hdselect.export.fastest_json`.
+
+    Raises:
+        HdselectError: An input is bad, the motion is a log, or the path cannot be run.
+    """
+    inputs = inputs or _Inputs()
+    robot, motion, payload = inputs.case(case)
+    units = inputs.catalog(case)
+    options = case_options(case, motion)
+    carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
+    sized = (None if case.time_scale == 1.0 else
+             scaled(plan(carrying, motion, max_samples=options.max_samples), case.time_scale))
+    chosen, _ = resolve_units(carrying, motion, None, units, options, trajectory=sized)
+    return fastest_json(fastest(carrying, motion, chosen, options, catalog=units))
+
+
+def max_payload_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, Any]:
+    """One case's largest payload: ``hdselect max-payload`` on the case's trajectory.
+
+    The payload's shape (frame, centre of mass, inertia per kg) is the case's; its mass
+    is what is found. The result is `hdselect.export.max_payload_json` with the
+    selection as `Summary.to_dict` (the shape a ``size`` case records).
+
+    Raises:
+        HdselectError: An input is bad or the motion's plan depends on the payload.
+    """
+    inputs = inputs or _Inputs()
+    robot, motion, payload = inputs.case(case)
+    units = inputs.catalog(case)
+    options = case_options(case, motion)
+    carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
+    trajectory = None
+    if case.time_scale != 1.0 and not plan_depends_on_payload(motion):  # else refused below
+        trajectory = scaled(plan(carrying, motion, max_samples=options.max_samples),
+                            case.time_scale)
+    result = max_payload(carrying, motion, options, catalog=units, trajectory=trajectory)
+    document = max_payload_json(replace(result, selection=None), motion)
+    document["robot"] = str(carrying.path)
+    if result.selection is not None:
+        document["selection"] = summarize(replace(result.selection, motion=motion)).to_dict()
+    return document
+
+
+def run_fastest(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
+    """``fastest`` for the cases of one group, each on its own (no grouped evaluation)."""
+    return _each(cases, fastest_direct)
+
+
+def run_max_payload(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
+    """``max-payload`` for the cases of one group, each on its own (no grouped evaluation)."""
+    return _each(cases, max_payload_direct)
+
+
+def _each(cases: Sequence[Case],
+          compute: Callable[[Case, _Inputs], dict[str, Any]]) -> Iterator[Outcome]:
+    """Each case on its own, its files read once per task; a case that fails fails alone."""
+    inputs = _Inputs()
+    host = f"{socket.gethostname()}:{os.getpid()}"
+    for case in cases:
+        start = time.perf_counter()
+        try:
+            result = compute(case, inputs)
+        except HdselectError as err:
+            yield _failed(case, err, "direct", start, host)
+            continue
+        yield Outcome(case.index, case.key, True, None, result, "direct", None,
+                      time.perf_counter() - start, host)
+
+
+FASTEST_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50_h",
+                   "life_l10_h", "cycle_time_s", "carried_mass_kg", "flags", "optimum_s",
+                   "lengthened_by", "derating", "velocity_limit", "velocity_limit_source",
+                   "torque_limit_nm", "binds_longest", "binds_share")
+"""Per-joint columns of a ``fastest`` row."""
+
+
+def fastest_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
+    """One row per sized joint of a ``fastest`` result (``hdselect fastest --json``)."""
+    reason = result["lengthened_by"]
+    rows = []
+    for joint in result["joints"]:
+        candidate = joint["candidate"]
+        shares = joint["binding_share"]
+        longest = max(shares, key=shares.get) if shares else None
+        rows.append({
+            "joint": joint["name"], "unit": joint["unit"], "feasible": candidate["feasible"],
+            "binding": candidate["binding"],
+            "utilization": candidate["checks"][candidate["binding"]]["utilization"],
+            "life_l50_h": candidate["life_hours"], "life_l10_h": candidate["l10_hours"],
+            "cycle_time_s": result["cycle_time_s"], "carried_mass_kg": joint["carried_mass_kg"],
+            "flags": " ".join(candidate["flags"]), "optimum_s": result["optimum_s"],
+            "lengthened_by": None if reason is None else f"{reason['joint']} {reason['rule']}",
+            "derating": joint["derating"], "velocity_limit": joint["velocity_limit"],
+            "velocity_limit_source": joint["velocity_limit_source"],
+            "torque_limit_nm": joint["torque_limit_nm"], "binds_longest": longest,
+            "binds_share": None if longest is None else shares[longest],
+        })
+    return rows
+
+
+MAX_PAYLOAD_COLUMNS = (*SIZE_COLUMNS, "max_payload_kg", "payload_frame", "payload_limit")
+"""Per-joint columns of a ``max-payload`` row: the selection at the largest mass."""
+
+
+def max_payload_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
+    """One row per sized joint of the selection at the largest payload (one row without it).
+
+    ``payload_limit`` names, on the joint that runs out of units, the unit and the rule
+    it reaches; ``max_payload_kg`` is inf where no rule depends on the mass and empty
+    where no mass, not even none, fits.
+    """
+    mass = math.inf if result["unlimited"] else result["max_payload_kg"]
+    head = {"max_payload_kg": mass, "payload_frame": result["payload"]["frame"]}
+    if result["selection"] is None:
+        why = ("no rule depends on the payload mass" if result["unlimited"] else
+               "no mass, not even none, leaves every joint a unit")
+        return [{**head, "payload_limit": why}]
+    binding = result["binding"] or {}
+    return [{**row, **head, "payload_limit": f"{binding['unit']} {binding['rule']}"
+             if row["joint"] == binding.get("joint") else None}
+            for row in size_rows(result["selection"])]
+
+
+FASTEST = Computation("fastest", "the shortest cycle the units `size` selects allow "
+                      "(hdselect fastest)", run_fastest, fastest_rows,
+                      FASTEST_COLUMNS)
+MAX_PAYLOAD = Computation("max-payload", "the largest payload with a unit on every joint "
+                          "(hdselect max-payload)", run_max_payload,
+                          max_payload_rows, MAX_PAYLOAD_COLUMNS)
+COMPUTATIONS: dict[str, Computation] = {"size": SIZE, "fastest": FASTEST,
+                                        "max-payload": MAX_PAYLOAD}
 """Every computation a study can ask for, by name."""

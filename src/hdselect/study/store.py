@@ -16,7 +16,7 @@ import io
 import json
 import math
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, TextIO
@@ -270,3 +270,37 @@ def pivots(study: Study, records: dict[str, dict[str, Any]],
         else:
             out.append(Pivot(joint, first, second, row_values, column_values, grid))
     return out, constant
+
+
+def value_pivot(study: Study, records: dict[str, dict[str, Any]], compute: str,
+                value: Callable[[dict[str, Any]], str]) -> Pivot | None:
+    """One number per case of a computation against the first two varied parameters.
+
+    Args:
+        study: The study.
+        records: The records done, by key.
+        compute: The computation (``fastest``, ``max-payload``).
+        value: A case's result -> its cell text.
+
+    Returns:
+        The pivot (its ``joint`` is the computation), or None when no case of it is done.
+    """
+    first = study.varied[0] if study.varied else "case"
+    second = study.varied[1] if len(study.varied) > 1 else None
+    cells: dict[tuple[str, str], list[str]] = {}
+    row_values: list[str] = []
+    column_values: list[str] = []
+    for case in study.cases:
+        record = records.get(case.key)
+        if case.compute != compute or record is None:
+            continue
+        row = cell(case.index if first == "case" else case.values.get(first))
+        column = "" if second is None else cell(case.values.get(second))
+        row_values += [row] if row not in row_values else []
+        column_values += [column] if column not in column_values else []
+        text = value(record["result"]) if record["ok"] else "failed"
+        place = cells.setdefault((row, column), [])
+        place += [text] if text not in place else []
+    if not cells:
+        return None
+    return Pivot(compute, first, second, row_values, column_values, cells)

@@ -1,0 +1,130 @@
+"""`hdselect.maxpayload` against the sizing itself, re-run around the answer, and against
+inverse dynamics re-run with the payload written into the model."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from hdselect.cli import main
+from hdselect.dynamics import inverse_dynamics
+from hdselect.errors import InputError
+from hdselect.maxpayload import max_payload, per_kilogram, scaled
+from hdselect.motion import load_case
+from hdselect.options import options_for
+from hdselect.planning import plan
+from hdselect.robot import Payload
+from hdselect.sizing import size
+from test_dynamics import REPO
+from test_plan import make_motion
+
+MOTIONS = REPO / "trajectories"
+
+
+@pytest.mark.parametrize(("name", "frame", "com"), [
+    ("benchtop6_pick_place", None, None), ("planar2_pick_place", None, None),
+    ("index_table_indexing", "fixture_1", None),  # off the axis: the disk's origin is on it
+    ("pan_tilt_logged", None, (0.1, 0.0, 0.05))])
+def test_one_percent_more_fails_and_one_percent_less_passes(name, frame, com):
+    robot, motion = load_case(MOTIONS / f"{name}.toml")
+    result = max_payload(robot, motion, frame=frame, com=com)
+    assert result.mass is not None and 0.1 < result.mass < 100.0
+    below = size(robot, motion, payload=scaled(result.payload, 0.99 * result.mass))
+    above = size(robot, motion, payload=scaled(result.payload, 1.01 * result.mass))
+    assert below.feasible
+    assert not above.feasible
+    failing = [joint for joint in above.joints if joint.selected is None]
+    assert [joint.name for joint in failing] == [result.joint]
+    (at_limit,) = [c for c in failing[0].candidates if c.unit.id == result.unit.id]
+    assert at_limit.binding == result.rule
+    assert [j.selected.unit.id for j in result.selection.joints] == \
+        [j.selected.unit.id for j in below.joints]
+
+
+def test_torque_is_affine_in_the_payload_mass():
+    robot, motion = load_case(MOTIONS / "benchtop6_pick_place.toml")
+    trajectory = plan(robot, motion)
+    q, qd, qdd = (x[::50] for x in (trajectory.q, trajectory.qd, trajectory.qdd))
+    unit = per_kilogram(robot.payload)
+    assert unit.inertia[0][0] == pytest.approx(2.1e-4 / 0.5)
+    bare = robot.with_payload(None)
+    zero = inverse_dynamics(bare, q, qd, qdd)
+    per_kg = inverse_dynamics(bare.with_payload(unit), q, qd, qdd) - zero
+    for mass in (0.25, 1.7, 4.0):  # the payload written into the model, mass and inertia
+        direct = inverse_dynamics(bare.with_payload(scaled(unit, mass)), q, qd, qdd)
+        np.testing.assert_allclose(direct, zero + mass * per_kg, rtol=0, atol=1e-10)
+
+
+def test_exact_to_a_millionth():
+    robot, motion = load_case(MOTIONS / "planar2_pick_place.toml")
+    result = max_payload(robot, motion)
+    for factor, feasible in ((1 - 1e-6, True), (1 + 1e-6, False)):
+        assert size(robot, motion, payload=scaled(result.payload, factor * result.mass)
+                    ).feasible is feasible
+
+
+def test_a_farther_centre_of_mass_carries_less():
+    robot, motion = load_case(MOTIONS / "planar2_pick_place.toml")
+    near = max_payload(robot, motion, com=(0.0, 0.0, 0.0))
+    far = max_payload(robot, motion, com=(0.15, 0.0, 0.0))
+    assert far.mass < near.mass
+    assert far.payload.com == (0.15, 0.0, 0.0) and far.payload.frame == "tool"
+    assert far.payload.inertia == ((0.0,) * 3,) * 3
+    checked = size(robot, motion, payload=Payload(0.99 * far.mass, (0.15, 0.0, 0.0),
+                                                  frame="tool"))
+    assert checked.feasible
+
+
+def test_a_payload_on_the_axis_has_no_limit(capsys):
+    path = MOTIONS / "index_table_indexing.toml"
+    robot, motion = load_case(path)
+    result = max_payload(robot, motion, frame="disk", com=(0.0, 0.0, 0.0))
+    assert result.mass == math.inf and result.joint is None
+    assert main(["max-payload", str(path), "--payload-frame", "disk", "--payload-com", "0", "0",
+                 "0", "--json", "-"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert document["unlimited"] is True and document["max_payload_kg"] is None
+
+
+def test_a_point_mass_on_the_axes_loads_nothing():
+    # the index table's default payload frame is the disk, whose origin is on the axis:
+    # a point mass there has no moment and no inertia about it, whatever its mass
+    robot, motion = load_case(MOTIONS / "index_table_indexing.toml")
+    assert robot.payload_frame == "disk"
+    result = max_payload(robot, motion)
+    assert result.mass == math.inf and result.frame == "disk" and result.joint is None
+
+
+def test_json_and_table(capsys):
+    path = MOTIONS / "index_table_indexing.toml"
+    assert main(["max-payload", str(path), "--payload-frame", "fixture_1", "--json", "-"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert set(document) == {"robot", "motion", "max_payload_kg", "unlimited", "payload",
+                             "ranges_kg", "binding", "selection"}
+    assert document["binding"]["joint"] == "table"
+    assert document["ranges_kg"] == [[0.0, document["max_payload_kg"]]]
+    assert document["selection"]["feasible"] is True
+    assert document["payload"]["frame"] == "fixture_1" and document["payload"]["frame_given"]
+    assert main(["max-payload", str(path), "--payload-frame", "fixture_1"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert f"the largest payload is {document['max_payload_kg']:.4g} kg" in out
+
+
+def test_bad_input(tmp_path, capsys):
+    path = MOTIONS / "planar2_pick_place.toml"
+    assert main(["max-payload", str(path), "--payload-frame", "nowhere"]) == 2
+    err = capsys.readouterr().err
+    assert err == ("hdselect: error: --payload-frame: unknown frame 'nowhere' for the payload; "
+                   "links are: base_link, link1, link2, tool\n")
+    with pytest.raises(SystemExit) as exit_info:  # the mass is what it finds
+        main(["max-payload", str(path), "--payload", "2.0"])
+    assert exit_info.value.code == 2
+    assert "error: ambiguous option: --payload could match" in capsys.readouterr().err
+    robot, motion = make_motion(tmp_path, "toppra", [[0.0, 0.0], [1.0, 0.5]], velocity=2,
+                                acceleration=5, torque=50.0)
+    with pytest.raises(InputError, match=r"limits\.torque: the TOPPRA torque limits make the "
+                                         "trajectory depend on the payload"):
+        max_payload(robot, motion, options_for(motion))
