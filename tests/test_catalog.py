@@ -202,8 +202,17 @@ def test_user_unit_in_imperial_units(tmp_path: Path) -> None:
     ({"mass_kg": None}, "unit[XYZ-20-50].mass_kg", "required"),
     ({"max_input_speed_rpm": None}, "unit[XYZ-20-50].max_input_speed_rpm", "required"),
     ({"ratio": None}, "unit[0].ratio", "required"),
-    ({"rated_torque_nm": 0.0}, "unit[XYZ-20-50].rated_torque_nm", "positive"),
-    ({"static_torque_nm": -5.0}, "unit[XYZ-20-50].static_torque_nm", "positive"),
+    ({"rated_torque_nm": 0.0}, "unit[XYZ-20-50].rated_torque_nm",
+     "must be a torque between 0.0001 and 1e+07 N m"),
+    ({"static_torque_nm": -5.0}, "unit[XYZ-20-50].static_torque_nm", "between 0.0001"),
+    ({"rated_torque_nm": 1e308}, "unit[XYZ-20-50].rated_torque_nm", "between 0.0001"),
+    ({"rated_torque_nm": 1e-300}, "unit[XYZ-20-50].rated_torque_nm", "between 0.0001"),
+    ({"ratio": 1e300}, "unit[0].ratio", "a ratio between 1 and 100000"),
+    ({"input_inertia_kg_cm2": 1e300}, "unit[XYZ-20-50].input_inertia_kg_cm2",
+     "at most 1e+07 kg cm^2"),
+    ({"mass_kg": 1e6}, "unit[XYZ-20-50].mass_kg", "at most 100000 kg"),
+    ({"max_input_speed_rpm": 1e308}, "unit[XYZ-20-50].max_input_speed_rpm",
+     "between 1 and 1e+06 rpm"),
     ({"mass_kg": math.inf}, "unit[XYZ-20-50].mass_kg", "finite"),
     ({"repeated_torque_nm": math.nan}, "unit[XYZ-20-50].repeated_torque_nm", "finite"),
     ({"max_input_speed_rpm": "fast"}, "unit[XYZ-20-50].max_input_speed_rpm", "number"),
@@ -335,7 +344,7 @@ def test_efficiency_over_load_only(tmp_path: Path) -> None:
 
 @pytest.mark.parametrize(("lines", "field", "reason"), [
     ("[unit.efficiency]\ntorque_percent = [0, 100]\nvalue = [0.6, 1.2]\n",
-     "unit[XYZ-20-50].efficiency.value", "exceed 1"),
+     "unit[XYZ-20-50].efficiency.value", "between 0.01 and 1"),
     ("[unit.efficiency]\ntorque_percent = [100, 0]\nvalue = [0.6, 0.9]\n",
      "unit[XYZ-20-50].efficiency.torque_percent", "increasing"),
     ("[unit.efficiency]\ntorque_percent = [0, 100]\nvalue = [0.6]\n",
@@ -447,7 +456,7 @@ def test_tabulated_rule_needs_the_average_torque(tmp_path: Path) -> None:
     ({"life_basis": "L90"}, "rules.life_basis", "'L10', 'L50'"),
     ({"mean_torque_limit": "rated"}, "rules.mean_torque_limit", "'tabulated', 'speed-adjusted'"),
     ({"mean_speed": "average"}, "rules.mean_speed", "'whole-cycle', 'moving'"),
-    ({"rated_input_speed_rpm": 0}, "rules.rated_input_speed_rpm", "positive"),
+    ({"rated_input_speed_rpm": 0}, "rules.rated_input_speed_rpm", "between 1 and 1e+06 rpm"),
     ({"rated_life_hours": -7000}, "rules.rated_life_hours", "positive"),
     ({"rated_life_hours": math.inf}, "rules.rated_life_hours", "finite"),
     ({"max_momentary_events": math.nan}, "rules.max_momentary_events", "finite"),
@@ -476,6 +485,6 @@ def test_rules_must_be_a_table(tmp_path: Path) -> None:
 
 def test_bad_average_input_speed_limit(tmp_path: Path) -> None:
     path = write_catalog(tmp_path, unit_toml(max_average_input_speed_rpm=-1))
-    with pytest.raises(InputError, match="positive") as info:
+    with pytest.raises(InputError, match=r"between 1 and 1e\+06 rpm") as info:
         load_catalog([path])
     assert info.value.field == "unit[XYZ-20-50].max_average_input_speed_rpm"

@@ -247,11 +247,11 @@ def test_duty_json_onto_a_directory(tmp_path: Path, capsys: pytest.CaptureFixtur
 
 
 @pytest.mark.parametrize(("phases", "extra", "field", "reason"), [
-    ([(3.0, -0.1, 10.0)], "", "phase[0].time", "positive"),
+    ([(3.0, -0.1, 10.0)], "", "phase[0].time", "between 1e-06 and 1e+09 s"),
     ([(3.0, math.inf, 10.0)], "", "phase[0].time", "finite"),
     ([(3.0, math.nan, 10.0)], "", "phase[0].time", "finite"),
-    ([(3.0, 0.1, 0.0), (1.0, 0.2, -0.0)], "", "phase", "no motion"),
-    ([(0.0, 0.1, 0.0)], "", "phase", "no motion"),
+    ([(3.0, 0.1, 1e308)], "", "phase[0].speed", "between -100000 and 100000 rpm"),
+    ([(1e308, 0.1, 10.0)], "", "phase[0].torque", "between -1e+07 and 1e+07 N m"),
     ([], 'description = "empty"\n', "phase", "no [[phase]] entries"),
     ([], "phase = []\n", "phase", "no [[phase]] entries"),
     ([(3.0, 0.1, 10.0)], "[static]\ntorqe = 2.0\n", "static.torqe", "did you mean 'torque'"),
@@ -263,6 +263,21 @@ def test_duty_bad_profile(tmp_path: Path, capsys: pytest.CaptureFixture[str],
     assert status == 2
     assert out == ""
     assert_one_error_line(err, f"{profile}: {field}: ", reason)
+
+
+def test_duty_hold_only_is_sized_and_says_so(tmp_path: Path,
+                                             capsys: pytest.CaptureFixture[str]) -> None:
+    profile = write_profile(tmp_path, [(3.0, 0.1, 0.0), (1.0, 0.2, -0.0)])
+    status, out, err = run(capsys, "duty", profile)
+    assert status == 0 and err == ""
+    assert "hold only: nothing moves in this cycle" in " ".join(out.split())
+    status, out, _ = run(capsys, "duty", profile, "--json", "-")
+    document = json.loads(out)
+    assert document["hold_only"] is True
+    # held with the input locked: 3 N m against each unit's static limit, nothing else
+    chosen = next(c for c in document["candidates"] if c["unit"] == document["selected"])
+    assert chosen["checks"]["static"]["value"] == 3.0
+    assert chosen["checks"]["peak"]["value"] == 0.0 and chosen["checks"]["mean"]["value"] is None
 
 
 @pytest.mark.parametrize(("text", "field", "reason"), [

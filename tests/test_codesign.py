@@ -52,11 +52,14 @@ FAST_PICK = REPO / "trajectories" / "benchtop6_fast_pick.toml"
 UNITS = {unit.id: unit for unit in load_catalog()}
 
 
-def index_table(directory: Path, inertia: float, theta: float, *, stop_time: float = 10.0):
+def index_table(directory: Path, inertia: float, theta: float, *, stop_time: float = 10.0,
+                dt: float = 0.001):
     """A one-axis table of `inertia` [kg m^2] about a vertical axis, moving `theta` [rad].
 
     The motion's own limits are far beyond any gearhead's; a long stop time keeps the
-    emergency stop and the crash far from their limits unless a test wants them.
+    emergency stop and the crash far from their limits unless a test wants them. Planned
+    at those limits (as `size` would) the move takes about 1 ms: only a fine `dt`
+    resolves it.
     """
     (directory / "table.urdf").write_text(
         '<robot name="table"><link name="base"/><link name="disk"><inertial><mass value="1"/>'
@@ -68,7 +71,7 @@ def index_table(directory: Path, inertia: float, theta: float, *, stop_time: flo
         robot = "table.urdf"
         planner = "toppra"
         angle_unit = "rad"
-        dt = 0.001
+        dt = {dt!r}
         [limits]
         velocity = 1e4
         acceleration = 1e7
@@ -385,7 +388,8 @@ def test_stronger_unit_never_gives_a_longer_cycle(tmp_path):
 
 def test_compare_ratios_equals_fastest_unit_by_unit(tmp_path):
     unit = UNITS["PSA-14-100"]
-    robot, motion = index_table(tmp_path, 0.5, 3.0, stop_time=0.2)
+    # the units are chosen on the plan at the motion's own limits (about 1 ms long)
+    robot, motion = index_table(tmp_path, 0.5, 3.0, stop_time=0.2, dt=2e-5)
     options = Options(stop_time=0.2, life_hours=20000)
     comparison = compare_ratios(robot, motion, {"table": unit}, options)
     (joint,) = comparison.joints

@@ -95,12 +95,14 @@ def test_size_duty_by_hand(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(("extra", "phases", "field", "reason"), [
-    ("", [("a", 3.0, -0.1, 10.0)], "phase[0].time", "positive"),
-    ("", [("a", 3.0, 0.0, 10.0)], "phase[0].time", "positive"),
+    ("", [("a", 3.0, -0.1, 10.0)], "phase[0].time", "between 1e-06 and 1e+09 s"),
+    ("", [("a", 3.0, 0.0, 10.0)], "phase[0].time", "between 1e-06 and 1e+09 s"),
     ("", [("a", 3.0, math.inf, 10.0)], "phase[0].time", "finite"),
     ("", [("a", 3.0, math.nan, 10.0)], "phase[0].time", "finite"),
     ("", [("a", 3.0, 0.1, math.nan)], "phase[0].speed", "finite"),
-    ("", [("a", 1.0, 0.1, 0.0), ("b", 0.0, 0.2, 0.0)], "phase", "no motion"),
+    ("", [("a", 1.0, 0.1, 1e308)], "phase[0].speed", "between -100000 and 100000 rpm"),
+    ("", [("a", 1.0, 1e-300, 10.0)], "phase[0].time", "between 1e-06 and 1e+09 s"),
+    ("[momentary]\ntorque = 1e308\n", None, "momentary.torque", "between -1e+07 and 1e+07"),
     ("phase = []\n", [], "phase", "no [[phase]]"),
     ('description = "nothing"\n', [], "phase", "no [[phase]]"),
     ("[momentary]\nspeed = 10.0\n", None, "momentary.torque", "required"),

@@ -9,7 +9,7 @@ import pytest
 import ruckig
 from scipy.interpolate import CubicSpline
 
-from hdselect.errors import PlanningError
+from hdselect.errors import InputError, PlanningError
 from hdselect.motion import load_case
 from hdselect.planning import PLANNERS, plan
 from hdselect.planning.ruckig import sample_profiles
@@ -242,7 +242,7 @@ def test_a_trajectory_leaving_a_limit_names_the_waypoint_and_the_overshoot(tmp_p
     planned = plan(robot, motion)
     bump = np.exp(-((planned.t - planned.t[np.argmax(planned.q[:, 0])]) / 0.05) ** 2)
     bumped = replace(planned, q=planned.q + np.column_stack([0.01 * bump, 0 * bump]))
-    monkeypatch.setitem(PLANNERS, "ruckig", lambda robot, motion: bumped)
+    monkeypatch.setitem(PLANNERS, "ruckig", lambda robot, motion, **_: bumped)
     with pytest.raises(PlanningError) as info:
         plan(robot, motion)
     message = str(info.value)
@@ -330,6 +330,43 @@ def test_samples_uniform_log_used_as_is(tmp_path):
     np.testing.assert_allclose(trajectory.qdd[:, 1], qdd, atol=1e-8)
 
 
+def test_a_long_log_is_resampled_in_chunks_equal_to_one_spline(tmp_path, monkeypatch):
+    """The spline through a long log is evaluated chunk by chunk, each from the log samples
+    it spans plus 64 on either side; the result is the spline through the whole log."""
+    from scipy.interpolate import CubicSpline
+
+    import hdselect.planning.samples as samples
+
+    rng = np.random.default_rng(7)
+    t = np.cumsum(rng.uniform(0.008, 0.012, 1500))
+    t -= t[0]
+    write_chain(tmp_path, [("turn", "revolute", -3, 3), ("slide", "prismatic", -1, 1)])
+    (tmp_path / "log.csv").write_text("t,q_turn,q_slide\n" + "".join(
+        f"{x!r},{40 * math.sin(x) + 5 * math.sin(7.3 * x)!r},{0.5 * math.cos(2.1 * x)!r}\n"
+        for x in t.tolist()))
+    robot, motion = load_case(write_motion(tmp_path, """\
+        robot = "arm.urdf"
+        planner = "samples"
+        angle_unit = "deg"
+        dt = 0.001
+        [samples]
+        file = "log.csv"
+    """))
+    monkeypatch.setattr(samples, "CHUNK", 997)  # 15 chunks, boundaries anywhere
+    trajectory = plan(robot, motion)
+    log = motion.samples
+    whole = CubicSpline(log.t, log.q, axis=0)
+    inside = trajectory.t <= log.t[-1]  # a last sample past the log holds its end
+    times = trajectory.t[inside]
+    for order, array in enumerate((trajectory.q, trajectory.qd, trajectory.qdd)):
+        expected = whole(times, order)
+        np.testing.assert_allclose(array[inside], expected, rtol=0,
+                                   atol=1e-12 * np.abs(expected).max())
+    monkeypatch.setattr(samples, "MARGIN", 2)  # too short a margin shows
+    short = plan(robot, motion).qdd[inside]
+    assert np.abs(short - whole(times, 2)).max() > 1e-6 * np.abs(short).max()
+
+
 def test_batched_torque_constraint_equals_toppras_own(tmp_path):
     # TOPPRA's JointTorqueConstraint calls pinocchio's rnea three times per gridpoint;
     # SecondOrderBounds gets the same a, b, c from three batched passes.
@@ -376,23 +413,24 @@ def test_toppra_profile_samples_as_toppras_parametrizer(tmp_path):
 
 
 def test_a_log_leaving_a_limit_names_the_joint_in_the_files_units(tmp_path):
+    """A logged sample past a joint's limit is refused as the log is read: the first one,
+    by column, data row and line, in the file's units (the planner's own check then only
+    meets a spline that overshoots between samples)."""
     write_chain(tmp_path, [("turn", "revolute", -0.5, 0.5), ("slide", "prismatic", -1, 1)])
     t = np.arange(101) * 0.01
     turn = 40.0 * np.sin(np.pi * t)  # deg: peaks at 40 deg, 11.35 deg past the 0.5 rad stop
     (tmp_path / "log.csv").write_text("t,q_turn,q_slide\n" + "\n".join(
         f"{a:.6f},{b:.9f},0.0" for a, b in zip(t, turn, strict=True)) + "\n")
-    robot, motion = load_case(write_motion(tmp_path, """\
-        robot = "arm.urdf"
-        planner = "samples"
-        angle_unit = "deg"
-        dt = 0.01
-        [samples]
-        file = "log.csv"
-    """))
-    with pytest.raises(PlanningError) as info:
-        plan(robot, motion)
+    first = int(np.argmax(turn > math.degrees(0.5)))  # the first sample past the stop
+    with pytest.raises(InputError) as info:
+        load_case(write_motion(tmp_path, """\
+            robot = "arm.urdf"
+            planner = "samples"
+            angle_unit = "deg"
+            dt = 0.01
+            [samples]
+            file = "log.csv"
+        """))
     message = str(info.value)
-    over = 40.0 - math.degrees(0.5)
-    assert f"takes joint 'turn' {over:.3g} deg past its upper limit 28.6479 deg (t = 0.5 s)" \
-        in message
-    assert "correct the log" in message
+    assert (f"log.csv: q_turn: data row {first + 1} (line {first + 2}): {turn[first]:g} deg is "
+            "outside the limits of joint 'turn' [-28.6479, 28.6479] deg") in message

@@ -234,12 +234,13 @@ acceleration = 300
 jerk = 3000
 [[waypoint]]
 q = [10, 20]
+dwell = 0.5
 [[waypoint]]
 q = [10, 20]
 """)
     assert main(["size", str(still)]) == 0
     text = " ".join(capsys.readouterr().out.split())
-    assert "zero length" in text and "the motion moves no joint" in text
+    assert "hold only: nothing moves in this cycle, so only holding the pose (static)" in text
     assert ("payload: 0.4 kg on tool, the tip of the longest chain of sized joints, since no "
             "frame was given") in text
 

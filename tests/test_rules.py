@@ -410,7 +410,7 @@ def test_unknown_order_lists_the_choices() -> None:
     assert "'cheapest'" in message
     for name in PREFERENCES:
         assert name in message
-    assert info.value.field == "--prefer"
+    assert info.value.field == "prefer"
 
 
 def random_load(rng: np.random.Generator) -> tuple[CycleLoad, Momentary | None]:

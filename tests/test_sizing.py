@@ -440,6 +440,42 @@ def test_gravity_only_overload_no_slowdown_helps(tmp_path):
     assert document["joints"][0]["time_scales"] == {u.id: [] for u in result.units}
 
 
+def test_chunked_work_gives_the_answer_of_whole_arrays(tmp_path, monkeypatch):
+    """Long cycles are processed in chunks of bounded memory (dynamics, reflection, the
+    cycle's sums, the exact time scales). Chunks of a few dozen samples, boundaries
+    falling everywhere, must give the answer of chunks larger than the cycle."""
+    import hdselect.dynamics
+    import hdselect.reflect
+    import hdselect.rules
+    import hdselect.timescale
+
+    path = overload_motion(tmp_path, **OVERLOADS["estop-bound"])
+    modules = (hdselect.dynamics, hdselect.reflect, hdselect.rules, hdselect.timescale)
+    names = ("CHUNK", "CHUNK", "_CHUNK", "_CHUNK")
+    for module, name in zip(modules, names, strict=True):
+        monkeypatch.setattr(module, name, 1 << 30)
+    whole = size(None, path)
+    for module, name, chunk in zip(modules, names, (61, 37, 53, 29), strict=True):
+        monkeypatch.setattr(module, name, chunk)
+    chunked = size(None, path)
+    assert not whole.feasible and len(whole.trajectory.t) > 1000
+    for a, b in zip(whole.joints, chunked.joints, strict=True):
+        assert (a.selected and a.selected.unit.id) == (b.selected and b.selected.unit.id)
+        np.testing.assert_allclose(a.torque, b.torque, rtol=1e-13, atol=1e-13)
+        np.testing.assert_allclose(a.stop_torque, b.stop_torque, rtol=1e-13, atol=1e-13)
+        for x, y in zip(a.candidates, b.candidates, strict=True):
+            for key in ("peak_torque", "rms_torque", "max_speed"):
+                assert getattr(x.motor, key) == pytest.approx(getattr(y.motor, key), rel=1e-12)
+            assert x.checks["momentary"].detail == y.checks["momentary"].detail
+            for check in x.checks:
+                assert x.checks[check].utilization == pytest.approx(
+                    y.checks[check].utilization, rel=1e-12)
+        if a.scales is not None:
+            assert b.scales is not None and a.slowdown == b.slowdown
+            for unit, fits in a.scales.fits.items():
+                np.testing.assert_allclose(fits, b.scales.fits[unit], rtol=1e-9)
+
+
 # --- every shipped motion sizes; the JSON shape ---------------------------------------------
 
 CHECK_KEYS = {"value", "limit", "ok"}

@@ -178,7 +178,7 @@ def test_index_table_psa_14_100_numbers():
 # --- a motor of zero rotor inertia and mass changes nothing ----------------------------------
 
 def null_motor() -> Motor:
-    return Motor("null", rated_torque=1e9, peak_torque=1e9, max_speed=1e9, rated_speed=1.0,
+    return Motor("null", rated_torque=1e7, peak_torque=1e7, max_speed=1e6, rated_speed=1.0,
                  rotor_inertia=0.0, mass=0.0)
 
 
@@ -206,7 +206,7 @@ def test_zero_inertia_zero_mass_motor_gives_todays_results_exactly(prefer):
                 assert cb.checks[name] == check, name
             assert set(cb.checks) - set(ca.checks) == {"motor_peak", "motor_rms",
                                                        "motor_speed"}
-            assert all(cb.checks[m].utilization < 1e-5 for m in set(cb.checks) - set(ca.checks))
+            assert all(cb.checks[m].utilization < 1e-2 for m in set(cb.checks) - set(ca.checks))
         # the selected pair's motor torque per sample, kept for the figure
         assert np.abs(b.motor_torque).max() == b.selected.motor.peak_torque
 

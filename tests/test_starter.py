@@ -54,7 +54,8 @@ def test_init_prints_to_stdout_and_never_overwrites(tmp_path, capsys, monkeypatc
     mine = tmp_path / "mine.toml"
     mine.write_text("# my edits\n")
     assert main(["init", str(robot_path("planar2")), "--out", str(mine)]) == 2
-    assert "mine.toml: exists; choose another path or remove it first" in capsys.readouterr().err
+    assert "mine.toml: --out: exists; choose another path or remove it first" in \
+        capsys.readouterr().err
     assert mine.read_text() == "# my edits\n"
 
 

@@ -11,3 +11,8 @@ def frozen(array: ArrayLike) -> np.ndarray:
     out = np.array(array, dtype=float, order="C")
     out.setflags(write=False)
     return out
+
+
+def readonly(array: np.ndarray) -> np.ndarray:
+    """`array` itself if it is already read-only (a view costs no copy), else a frozen copy."""
+    return array if not array.flags.writeable else frozen(array)

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from hdselect import bounds
 from hdselect.errors import InputError
 from hdselect.tomlfile import as_number, check_keys, read_toml, table_of
 
@@ -57,12 +58,19 @@ _UNIT_KEYS = ["id", "size", "ratio", "max_input_speed_rpm", "max_average_input_s
     key for pair in _QUANTITIES.values() for key, _ in pair
 ]
 _EFFICIENCY_KEYS = ["input_speed_rpm", "torque_percent", "value"]
-# [rules] key -> the choices it takes, or None for a positive number
-_RULE_KEYS: dict[str, tuple[str, ...] | None] = {
-    "rated_input_speed_rpm": None, "rated_life_hours": None, "life_basis": LIFE_BASES,
-    "mean_torque_limit": MEAN_TORQUE_LIMITS, "mean_speed": MEAN_SPEED_RULES,
-    "max_momentary_events": None,
+# [rules] key -> the choices it takes, or the range of the number it is
+_RULE_KEYS: dict[str, tuple[str, ...] | bounds.Bound] = {
+    "rated_input_speed_rpm": bounds.INPUT_SPEED, "rated_life_hours": bounds.LIFE,
+    "life_basis": LIFE_BASES, "mean_torque_limit": MEAN_TORQUE_LIMITS,
+    "mean_speed": MEAN_SPEED_RULES, "max_momentary_events": bounds.EVENTS,
 }
+# quantity -> its physical range in SI
+_RANGES = {"rated_torque": bounds.TORQUE, "repeated_torque": bounds.TORQUE,
+           "momentary_torque": bounds.TORQUE, "static_torque": bounds.TORQUE,
+           "average_torque": bounds.TORQUE, "input_inertia": bounds.GEAR_INERTIA,
+           "mass": bounds.MASS}
+_EFFICIENCY_AXES = {"input_speed_rpm": bounds.Bound("a speed", "rpm", 0.0, 1e6),
+                    "torque_percent": bounds.PERCENT}
 BUILTIN = "psa_g.toml"
 
 
@@ -219,8 +227,10 @@ def load_catalog(extra: Sequence[str | Path] = ()) -> tuple[Unit, ...]:
 
     Raises:
         InputError: A file is missing or malformed, a value is missing, not a
-            positive finite number or inconsistent, or two units share an id.
+            finite number in its range (`hdselect.bounds`) or inconsistent, two units
+            share an id, or `extra` is not a list of files.
     """
+    extra = bounds.files_argument(extra, "extra")
     builtin = resources.files("hdselect") / "data" / BUILTIN
     with resources.as_file(builtin) as path:
         units = list(_read_file(Path(path), None))
@@ -281,9 +291,9 @@ def _read_rules(table: dict[str, Any], path: Path) -> SeriesRules:
         field = f"rules.{key}"
         if key not in table:
             raise InputError("required key is missing", path=path, field=field)
-        if choices is None:
-            values[key] = as_number(table[key], path, field, positive=True)
-        elif table[key] in choices:
+        if isinstance(choices, bounds.Bound):
+            values[key] = as_number(table[key], path, field, bound=choices)
+        elif isinstance(table[key], str) and table[key] in choices:
             values[key] = table[key]
         else:
             raise InputError(f"expected one of {', '.join(map(repr, choices))}, got "
@@ -300,15 +310,18 @@ def _read_unit(entry: dict[str, Any], series: str, rules: SeriesRules, path: Pat
     where = f"unit[{index}]"
     check_keys(entry, _UNIT_KEYS, path, where)
     values: dict[str, Any] = {"series": series, "rules": rules, "flags": []}
-    for key in ("size", "ratio"):
+    for key, bound in (("size", bounds.FRAME_SIZE), ("ratio", bounds.RATIO)):
         if key not in entry:
             raise InputError("required key is missing", path=path, field=f"{where}.{key}")
-        number = as_number(entry[key], path, f"{where}.{key}", positive=True)
+        number = as_number(entry[key], path, f"{where}.{key}", bound=bound)
         if number != int(number):
             raise InputError(f"must be a whole number, got {number:g}", path=path,
                              field=f"{where}.{key}")
         values[key] = int(number)
     default_id = f"{series}-{values['size']:02d}-{values['ratio']}"
+    if "id" in entry and (not isinstance(entry["id"], str) or not entry["id"].strip()):
+        raise InputError(f"expected a non-empty unit id, got {entry['id']!r}", path=path,
+                         field=f"{where}.id")
     values["id"] = str(entry.get("id", default_id))
     where = f"unit[{values['id']}]"
     values["where"] = where
@@ -316,16 +329,18 @@ def _read_unit(entry: dict[str, Any], series: str, rules: SeriesRules, path: Pat
         raise InputError("required key is missing", path=path,
                          field=f"{where}.max_input_speed_rpm")
     values["max_input_speed"] = as_number(entry["max_input_speed_rpm"], path,
-                                          f"{where}.max_input_speed_rpm", positive=True)
+                                          f"{where}.max_input_speed_rpm",
+                                          bound=bounds.INPUT_SPEED)
     values["max_average_input_speed"] = (
         as_number(entry["max_average_input_speed_rpm"], path,
-                  f"{where}.max_average_input_speed_rpm", positive=True)
+                  f"{where}.max_average_input_speed_rpm", bound=bounds.INPUT_SPEED)
         if "max_average_input_speed_rpm" in entry else None)
     for quantity, ((si_key, si_factor), (imp_key, imp_factor)) in _QUANTITIES.items():
         given = [(key, entry[key], factor) for key, factor in
                  ((si_key, si_factor), (imp_key, imp_factor)) if key in entry]
-        for key, raw, _ in given:
-            as_number(raw, path, f"{where}.{key}", positive=True)
+        for key, raw, factor in given:
+            as_number(raw, path, f"{where}.{key}", bound=_RANGES[quantity], scale=factor,
+                      unit=_unit_label(key))
         if not given:
             if quantity in _REQUIRED:
                 raise InputError(f"required: {si_key} or {imp_key}", path=path,
@@ -439,12 +454,12 @@ def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Pa
 def _efficiency(table: dict[str, Any], path: Path, where: str) -> EfficiencyTable:
     check_keys(table, _EFFICIENCY_KEYS, path, where)
     axes = {}
-    for axis in ("input_speed_rpm", "torque_percent"):
+    for axis, bound in _EFFICIENCY_AXES.items():
         raw = table.get(axis, [0.0])
         if not isinstance(raw, list) or not raw:
             raise InputError("expected a non-empty list of numbers", path=path,
                              field=f"{where}.{axis}")
-        values = [as_number(v, path, f"{where}.{axis}", minimum=0.0) for v in raw]
+        values = [as_number(v, path, f"{where}.{axis}", bound=bound) for v in raw]
         if any(b <= a for a, b in zip(values, values[1:], strict=False)):
             raise InputError("must be strictly increasing", path=path, field=f"{where}.{axis}")
         axes[axis] = tuple(values)
@@ -457,8 +472,6 @@ def _efficiency(table: dict[str, Any], path: Path, where: str) -> EfficiencyTabl
             not isinstance(r, list) or len(r) != shape[1] for r in rows):
         raise InputError(f"expected {shape[0]} x {shape[1]} efficiencies (input speeds x torque "
                          "percentages)", path=path, field=f"{where}.value")
-    value = tuple(tuple(as_number(v, path, f"{where}.value", positive=True) for v in row)
-                  for row in rows)
-    if any(v > 1.0 for row in value for v in row):
-        raise InputError("efficiency must not exceed 1", path=path, field=f"{where}.value")
+    value = tuple(tuple(as_number(v, path, f"{where}.value", bound=bounds.EFFICIENCY)
+                        for v in row) for row in rows)
     return EfficiencyTable(axes["input_speed_rpm"], axes["torque_percent"], value)

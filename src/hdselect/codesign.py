@@ -289,7 +289,8 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
         chosen[name] = unit
     if not selection and all(name in chosen for name in robot.sized_joints):
         return chosen, {}
-    sized = trajectory if trajectory is not None else plan(robot, motion)
+    sized = (trajectory if trajectory is not None
+             else plan(robot, motion, max_samples=options.max_samples))
     sizing = size_trajectory(robot, sized, catalog, options)
     selected: dict[str, str] = {}
     for joint in sizing.joints:

@@ -79,7 +79,7 @@ def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
     limits = joint_limits(model.robot, motion, units, options, derating)
     profiles = solve(model, limits, masses, stop_time=options.stop_time)
     kinematic = kinematic_scales(profiles, limits)
-    trajectory, held = cycle(motion, profiles, kinematic)
+    trajectory, held = cycle(motion, profiles, kinematic, max_samples=options.max_samples)
     moving = sum(p.duration * r for p, r in zip(profiles, kinematic, strict=True)
                  if p is not None)
     cycles, held = _scalable(carrying, trajectory, held, units, options)
@@ -274,7 +274,8 @@ def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
     passing = None
     for _ in range(_VERIFY_ROUNDS):
         trajectory, held = cycle(model.motion, trial.profiles,
-                                 [r * scale for r in trial.kinematic])
+                                 [r * scale for r in trial.kinematic],
+                                 max_samples=options.max_samples)
         check = check_units(model.robot, trajectory, units, options)
         candidates = [c for joint in check.joints for c in joint.candidates]
         excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks

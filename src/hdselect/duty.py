@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from hdselect import bounds
 from hdselect.catalog import LIFE_BASES, Unit
 from hdselect.errors import InputError
 from hdselect.rules import RPM_PER_RAD_S, Candidate, CycleLoad, Momentary, check_unit, cycle_load
@@ -71,6 +73,11 @@ class DutyResult:
     candidates: tuple[Candidate, ...]
     selected: Candidate | None
 
+    @property
+    def hold_only(self) -> bool:
+        """No phase moves (every speed is 0): only the static and momentary checks apply."""
+        return self.load.moving_time == 0.0
+
 
 def load_duty(path: str | Path) -> DutyCycle:
     """Read a duty-cycle profile (TOML).
@@ -84,7 +91,7 @@ def load_duty(path: str | Path) -> DutyCycle:
     Raises:
         InputError: The file is missing, malformed or inconsistent.
     """
-    path = Path(path)
+    path = bounds.file_argument(path, "path")
     document = read_toml(path)
     check_keys(document, _TOP_KEYS, path, "")
     raw_phases = document.get("phase")
@@ -95,40 +102,41 @@ def load_duty(path: str | Path) -> DutyCycle:
         where = f"phase[{i}]"
         table = table_of(raw, path, where)
         check_keys(table, _PHASE_KEYS, path, where)
+        name = table.get("name", f"phase {i + 1}")
+        if not isinstance(name, str):
+            raise InputError(f"expected a label, got {name!r}", path=path, field=f"{where}.name")
         phases.append(Phase(
-            name=str(table.get("name", f"phase {i + 1}")),
-            torque=abs(number(table, "torque", path, where)),
-            time=number(table, "time", path, where, positive=True),
-            speed=abs(number(table, "speed", path, where)) / RPM_PER_RAD_S,
+            name=name,
+            torque=abs(number(table, "torque", path, where, bound=bounds.LOAD_TORQUE)),
+            time=number(table, "time", path, where, bound=bounds.PHASE_TIME),
+            speed=abs(number(table, "speed", path, where, bound=bounds.OUTPUT_SPEED))
+            / RPM_PER_RAD_S,
         ))
-    if all(phase.speed == 0.0 for phase in phases):
-        raise InputError("the cycle has no motion: every phase has speed 0", path=path,
-                         field="phase")
     momentary = None
     if "momentary" in document:
         table = table_of(document["momentary"], path, "momentary")
         check_keys(table, ["torque", "speed", "time"], path, "momentary")
-        speed = (number(table, "speed", path, "momentary", minimum=0.0)
-                 if "speed" in table else None)
+        speed = (number(table, "speed", path, "momentary", minimum=0.0,
+                        bound=bounds.OUTPUT_SPEED) if "speed" in table else None)
         momentary = Momentary(
-            torque=abs(number(table, "torque", path, "momentary")),
+            torque=abs(number(table, "torque", path, "momentary", bound=bounds.LOAD_TORQUE)),
             kind="given",
             speed=None if speed is None else speed / RPM_PER_RAD_S,
-            duration=number(table, "time", path, "momentary", positive=True)
+            duration=number(table, "time", path, "momentary", bound=bounds.PHASE_TIME)
             if "time" in table else None,
         )
     static = None
     if "static" in document:
         table = table_of(document["static"], path, "static")
         check_keys(table, ["torque"], path, "static")
-        static = abs(number(table, "torque", path, "static"))
+        static = abs(number(table, "torque", path, "static", bound=bounds.LOAD_TORQUE))
     life, basis = None, "L50"
     if "requirements" in document:
         table = table_of(document["requirements"], path, "requirements")
         check_keys(table, ["life_hours", "life_basis"], path, "requirements")
-        life = number(table, "life_hours", path, "requirements", positive=True)
+        life = number(table, "life_hours", path, "requirements", bound=bounds.LIFE)
         basis = table.get("life_basis", basis)
-        if basis not in LIFE_BASES:
+        if not isinstance(basis, str) or basis not in LIFE_BASES:
             raise InputError(f"expected one of {', '.join(map(repr, LIFE_BASES))}, got "
                              f"{basis!r}", path=path, field="requirements.life_basis")
     return DutyCycle(path, tuple(phases), momentary, static, life, basis)
@@ -144,7 +152,15 @@ def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size"
 
     Returns:
         Every candidate and the selection.
+
+    Raises:
+        InputError: An argument is of the wrong type, or `prefer` is unknown.
     """
+    bounds.expect_type(cycle, DutyCycle, "cycle", "a DutyCycle (hdselect.load_duty)")
+    if isinstance(units, str | bytes) or not isinstance(units, Sequence) or not units:
+        raise InputError("expected a non-empty sequence of catalog units", field="units")
+    for unit in units:
+        bounds.expect_type(unit, Unit, "units", "catalog units (hdselect.load_catalog)")
     phases = cycle.phases
     load = cycle_load(
         torque=np.array([p.torque for p in phases]),

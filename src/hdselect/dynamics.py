@@ -9,11 +9,13 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from hdselect.arrays import frozen
 from hdselect.robot import Robot
 
 _SAMPLES_PER_THREAD = 2048
 """Below this many samples per thread, starting a thread costs more than it saves."""
+CHUNK = 1 << 16
+"""Samples per batched call: bounds the temporaries of a long trajectory (a few MB) while
+keeping the per-call overhead negligible."""
 _REPEATS_WORTH = 8
 """Repeated states are computed once when more than 1 in this many samples repeat the one
 before (dwells): the same inputs give the same torques, bit for bit."""
@@ -40,8 +42,8 @@ class CycleTorques:
 
 
 def cycle_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                  stop_time: float, *, split: bool = False,
-                  threads: int | None = None) -> CycleTorques:
+                  stop_time: float, *, split: bool = False, threads: int | None = None,
+                  columns: Sequence[int] | None = None) -> CycleTorques:
     """The motion's torques and an emergency stop's, in two batched passes (four if split).
 
     Args:
@@ -52,18 +54,31 @@ def cycle_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
         stop_time: Time in which an emergency stop brings every joint to rest [s].
         split: Also compute the gravity and coasting parts (for time scaling).
         threads: Threads for the batched passes; None chooses from the sample count.
+        columns: Keep only these joints' torques (indices in the robot's joint order);
+            None keeps every joint.
 
     Returns:
-        The torques.
+        The torques, shape (n, dof) or (n, len(columns)).
     """
-    tau = inverse_dynamics(robot, q, qd, qdd, threads=threads)
-    stop = inverse_dynamics(robot, q, qd, qd * (-1.0 / stop_time), threads=threads)
+    n = q.shape[0]
+    keep = list(range(robot.dof)) if columns is None else list(columns)
+    outputs = [np.empty((n, len(keep))) for _ in range(4 if split else 2)]
+    for start in range(0, n, CHUNK):
+        rows = slice(start, start + CHUNK)
+        cq, cqd = q[rows], qd[rows]
+        outputs[0][rows] = inverse_dynamics(robot, cq, cqd, qdd[rows], threads=threads)[:, keep]
+        outputs[1][rows] = inverse_dynamics(robot, cq, cqd, cqd * (-1.0 / stop_time),
+                                            threads=threads)[:, keep]
+        if split:
+            still = np.zeros_like(cqd)
+            outputs[2][rows] = inverse_dynamics(robot, cq, still, still,
+                                                threads=threads)[:, keep]
+            outputs[3][rows] = inverse_dynamics(robot, cq, cqd, still, threads=threads)[:, keep]
+    for array in outputs:
+        array.setflags(write=False)
     if not split:
-        return CycleTorques(frozen(tau), frozen(stop))
-    still = np.zeros_like(qd)
-    gravity = inverse_dynamics(robot, q, still, still, threads=threads)
-    coasting = inverse_dynamics(robot, q, qd, still, threads=threads)
-    return CycleTorques(frozen(tau), frozen(stop), frozen(gravity), frozen(coasting))
+        return CycleTorques(outputs[0], outputs[1])
+    return CycleTorques(*outputs)
 
 
 def gravity_torques(robot: Robot, q: np.ndarray, *, threads: int | None = None) -> np.ndarray:
@@ -101,7 +116,7 @@ def joint_inertias(robot: Robot, q: np.ndarray, joints: Sequence[str], *,
 
 def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, *,
                      threads: int | None = None) -> np.ndarray:
-    """Batched recursive Newton-Euler: one Pinocchio call over all samples.
+    """Batched recursive Newton-Euler: one Pinocchio call per `CHUNK` samples.
 
     A sample that repeats the one before (a dwell) is not computed again.
 
@@ -124,15 +139,20 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
             keep = np.r_[True, ~repeat]
             tau = inverse_dynamics(robot, q[keep], qd[keep], qdd[keep], threads=threads)
             return tau[np.cumsum(keep) - 1]
-    config = robot.configuration(q)
-    velocity = np.asfortranarray(qd.T)
-    acceleration = np.asfortranarray(qdd.T)
-    tau = np.empty((robot.model.nv, n), order="F")
     if threads is None:
-        threads = min(os.cpu_count() or 1, max(1, n // _SAMPLES_PER_THREAD))
+        threads = min(os.cpu_count() or 1, max(1, min(n, CHUNK) // _SAMPLES_PER_THREAD))
     pool = pin.ModelPool(robot.model, threads)  # 0.05 ms: cheaper than keeping models alive
-    pin.rneaInParallel(threads, pool, config, velocity, acceleration, tau)
-    return tau.T
+    out = np.empty((n, robot.model.nv))
+    for start in range(0, n, CHUNK):
+        rows = slice(start, start + CHUNK)
+        m = len(range(*rows.indices(n)))
+        config = robot.configuration(q[rows])
+        velocity = np.asfortranarray(qd[rows].T)
+        acceleration = np.asfortranarray(qdd[rows].T)
+        tau = np.empty((robot.model.nv, m), order="F")
+        pin.rneaInParallel(threads, pool, config, velocity, acceleration, tau)
+        out[rows] = tau.T
+    return out
 
 
 def rnea_function(robot: Robot) -> Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]:

@@ -4,9 +4,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import sys
-import tempfile
 from collections.abc import Callable, Iterable
 from dataclasses import replace
 from pathlib import Path
@@ -17,12 +14,12 @@ import numpy as np
 from hdselect.catalog import SeriesRules, Unit
 from hdselect.codesign import FastestResult, RatioComparison
 from hdselect.duty import DutyResult
-from hdselect.errors import InputError
 from hdselect.joints import JointInfo
 from hdselect.loads import JointLoad
 from hdselect.maxpayload import MaxPayloadResult
 from hdselect.motion import Motion
 from hdselect.motors import Motor
+from hdselect.outputs import write_file
 from hdselect.planning import Trajectory
 from hdselect.robot import Robot
 from hdselect.rules import RPM_PER_RAD_S, Candidate, Check
@@ -39,6 +36,12 @@ WHOLE_CYCLE_NOTE = ("mean speed follows each unit's series rules: over the whole
                     "included, where its catalog's [rules] say mean_speed = \"whole-cycle\"; "
                     "over the moving part only where they say \"moving\"")
 
+_CSV_ROWS = 1 << 14
+"""Rows of a trajectory CSV formatted at a time."""
+HOLD_NOTE = ("hold only: nothing moves in this cycle, so only holding the pose (static) and an "
+             "emergency stop (momentary) are checked; mean torque, speed and life do not apply")
+"""The note on a cycle in which nothing moves (``"hold_only": true`` in JSON)."""
+
 
 def mean_speed_note(units: Iterable[Unit]) -> str:
     """How the mean speed of these units is taken, for reports."""
@@ -51,6 +54,11 @@ def write_output(target: str | Path, write: Callable[[Any], None], *,
                  binary: bool = False) -> None:
     """Write a file atomically (temporary file, then rename); ``-`` is standard output.
 
+    The same as `hdselect.outputs.write_file`: a symlink is followed and its target
+    replaced; a character device or a FIFO (``/dev/null``, a named pipe) is written
+    directly, never replaced. For several outputs that must appear together, see
+    `hdselect.outputs.Outputs`.
+
     Args:
         target: The file, or ``-``.
         write: Writes the content to the open stream it is given.
@@ -59,35 +67,18 @@ def write_output(target: str | Path, write: Callable[[Any], None], *,
     Raises:
         InputError: The file cannot be written.
     """
-    if str(target) == "-":
-        write(sys.stdout)
-        return
-    target = Path(target)
-    try:
-        fd, tmp = tempfile.mkstemp(dir=target.parent or Path("."), prefix=f".{target.name}.")
-    except OSError as err:
-        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
-    try:
-        with (os.fdopen(fd, "wb") if binary else
-              os.fdopen(fd, "w", encoding="utf-8", newline="")) as stream:
-            write(stream)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it private; a report is not
-        os.replace(tmp, target)
-    except OSError as err:
-        Path(tmp).unlink(missing_ok=True)
-        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    write_file(target, write, binary=binary)
 
 
 def write_json(target: str | Path, document: dict[str, Any]) -> None:
-    """Write a JSON document to a file or ``-`` (standard output)."""
+    """Write a JSON document to a file or ``-`` (standard output).
+
+    Strict JSON: a number that is not finite is an error (ValueError), never ``NaN``.
+    """
+    text = json.dumps(document, indent=2, allow_nan=False) + "\n"
+
     def write(stream: Any) -> None:
-        json.dump(document, stream, indent=2)
-        stream.write("\n")
+        stream.write(text)
 
     write_output(target, write)
 
@@ -164,6 +155,7 @@ def duty_json(result: DutyResult) -> dict[str, Any]:
         "life_basis": result.cycle.life_basis,
         "mean_speed_rule": mean_speed_note(c.unit for c in result.candidates),
         "selected": result.selected.unit.id if result.selected else None,
+        "hold_only": result.hold_only,
         "candidates": [candidate_json(c) for c in result.candidates],
     }
 
@@ -319,6 +311,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
         "cycle_time_s": result.cycle_time,
         "samples": len(result.trajectory.t),
         "feasible": result.feasible,
+        "hold_only": result.hold_only,
         "assumptions": {
             "efficiency": options.efficiency, "stop_time_s": options.stop_time,
             "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,
@@ -349,13 +342,16 @@ def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
     header = ["t"] + [f"{kind}_{names[j]}" for j in columns
                       for kind in ("q", "qd", "qdd", "tau")]
 
-    data = np.column_stack([trajectory.t] + [
-        array[:, j] for j in columns
-        for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)])
+    def rows(part: slice) -> np.ndarray:
+        return np.column_stack([trajectory.t[part]] + [
+            array[part, j] for j in columns
+            for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)])
 
     def write(stream: Any) -> None:
-        np.savetxt(stream, data, fmt="%.10g", delimiter=",", header=",".join(header),
-                   comments="")
+        stream.write(",".join(header) + "\n")
+        for start in range(0, len(trajectory.t), _CSV_ROWS):  # bounded memory, any length
+            np.savetxt(stream, rows(slice(start, start + _CSV_ROWS)), fmt="%.10g",
+                       delimiter=",")
 
     write_output(target, write)
 

@@ -25,6 +25,7 @@ from functools import partial
 
 import numpy as np
 
+from hdselect.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.dynamics import inverse_dynamics
 from hdselect.motion import Motion
 from hdselect.pathbounds import (
@@ -209,9 +210,12 @@ def _solve_piece(model: PathModel, index: int, limits: Sequence[JointLimits],
     return profile
 
 
-def cycle(motion: Motion, profiles: Sequence[Profile | None],
-          scales: Sequence[float]) -> tuple[Trajectory, np.ndarray]:
+def cycle(motion: Motion, profiles: Sequence[Profile | None], scales: Sequence[float], *,
+          max_samples: int = DEFAULT_MAX_SAMPLES) -> tuple[Trajectory, np.ndarray]:
     """The whole cycle: each piece run at its time scale [-], with the motion's dwells.
+
+    The grid is checked as `hdselect.planning.plan` checks it: it must resolve every
+    piece and dwell and have at most `max_samples` samples.
 
     Returns:
         The trajectory, sampled every ``motion.dt``, and a mask of its samples that
@@ -220,7 +224,7 @@ def cycle(motion: Motion, profiles: Sequence[Profile | None],
     moves = [Move(p.piece.first, p.piece.last, p.duration * scale,
                   partial(p.sample, scale=scale))
              for p, scale in zip(profiles, scales, strict=True) if p is not None]
-    trajectory = assemble(motion, moves)
+    trajectory = assemble(motion, moves, max_samples=max_samples)
     held = np.ones(len(trajectory.t), dtype=bool)
     clock = motion.dwells[0]
     for move in moves:

@@ -6,8 +6,6 @@ matplotlib is imported here only, so commands that draw nothing start fast.
 from __future__ import annotations
 
 import io
-import shutil
-import tempfile
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -22,12 +20,48 @@ from matplotlib.figure import Figure  # noqa: E402
 from hdselect.codesign import FastestResult, RatioComparison  # noqa: E402
 from hdselect.errors import InputError  # noqa: E402
 from hdselect.export import write_output  # noqa: E402
+from hdselect.outputs import Outputs  # noqa: E402
 from hdselect.planning import Trajectory  # noqa: E402
 from hdselect.report import ratio_text, utilization_text  # noqa: E402
 from hdselect.rules import RPM_PER_RAD_S  # noqa: E402
 from hdselect.sizing import JointSizing, SizingResult, at_rest  # noqa: E402
 
 DEG_PER_RAD = 180.0 / np.pi
+PLOT_POINTS = 20_000
+"""Most points drawn per curve; a longer one is drawn by its extremes (`envelope`)."""
+
+
+def envelope(t: np.ndarray, y: np.ndarray, points: int = PLOT_POINTS):
+    """A curve thinned for drawing without losing its extremes.
+
+    Up to `points` samples are drawn as they are; a longer curve is cut into
+    `points` / 2 runs of equal length and each run drawn by its minimum and maximum (in
+    time order), so every peak a reader looks for is still on the figure. NaN (a gap
+    in the curve) is kept where a run holds nothing else.
+
+    Returns:
+        Times [s] and values, at most about `points` of each.
+    """
+    index = _extremes(y, points)
+    return (t, y) if index is None else (t[index], y[index])
+
+
+def _extremes(y: np.ndarray, points: int = PLOT_POINTS) -> np.ndarray | None:
+    """Indices of each run's minimum and maximum (see `envelope`); None when short enough."""
+    n = len(y)
+    if n <= points:
+        return None
+    width = -(-n // (points // 2))
+    runs = -(-n // width)
+    padded = np.full(runs * width, np.nan)
+    padded[:n] = y
+    blocks = padded.reshape(runs, width)
+    gaps = np.isnan(blocks)
+    low = np.argmin(np.where(gaps, np.inf, blocks), axis=1)
+    high = np.argmax(np.where(gaps, -np.inf, blocks), axis=1)
+    first, second = np.minimum(low, high), np.maximum(low, high)
+    index = np.column_stack([first, second]) + (np.arange(runs) * width)[:, None]
+    return np.minimum(index.ravel(), n - 1)
 
 
 def write_profiles_png(path: str | Path, trajectory: Trajectory, tau: np.ndarray,
@@ -47,9 +81,10 @@ def write_profiles_png(path: str | Path, trajectory: Trajectory, tau: np.ndarray
     for row, name in enumerate(joints):
         j = names.index(name)
         speed_ax, torque_ax = axes[row]
-        speed_ax.plot(trajectory.t, trajectory.qd[:, j] * DEG_PER_RAD, color="tab:blue", lw=1)
+        speed_ax.plot(*envelope(trajectory.t, trajectory.qd[:, j] * DEG_PER_RAD),
+                      color="tab:blue", lw=1)
         speed_ax.set_ylabel(f"{name}\nspeed [deg/s]")
-        torque_ax.plot(trajectory.t, tau[:, j], color="tab:red", lw=1)
+        torque_ax.plot(*envelope(trajectory.t, tau[:, j]), color="tab:red", lw=1)
         torque_ax.set_ylabel("torque [N m]")
         for ax in (speed_ax, torque_ax):
             ax.axhline(0.0, color="0.6", lw=0.6)
@@ -68,12 +103,13 @@ def write_report(directory: str | Path, result: SizingResult, *,
 
     ``index.html`` embeds every figure, so it can be mailed or printed on its own;
     the figures are also written beside it as ``joint_<name>.png`` (and, for a joint
-    with motors, its motor's torque-speed plane as ``motor_<name>.png``). It is built in a
-    temporary directory beside `directory` and moved into place file by file, so no
-    file is ever half-written.
+    with motors, its motor's torque-speed plane as ``motor_<name>.png``). Every file is
+    written aside first and the whole report moved into place at the end
+    (`hdselect.outputs`): a failure leaves no part of it, and puts back any file it
+    would have replaced.
 
     Args:
-        directory: Where to write; made if missing.
+        directory: Where to write; made (with its parents) if missing.
         result: The sizing result.
         command: The command line that made the result (program name first), recorded
             so that the report can be re-run; None from Python.
@@ -81,41 +117,48 @@ def write_report(directory: str | Path, result: SizingResult, *,
     Raises:
         InputError: The directory cannot be written.
     """
-    from hdselect.html import page, slug
+    with Outputs() as outputs:
+        staging = outputs.directory(directory, "--report")
+        report_files(staging, result, command=command)
+        outputs.commit()
+
+
+def report_files(directory: Path, result: SizingResult, *,
+                 command: Sequence[str] | None = None) -> None:
+    """Write the report's files into an existing (staging) directory, as `write_report` does.
+
+    Raises:
+        InputError: A file cannot be written.
+    """
+    from hdselect.html import slug
+
+    page, figures, motor_figures = _report(result, command)
+    try:
+        for prefix, pngs in (("joint", figures), ("motor", motor_figures)):
+            for name, png in pngs.items():
+                (directory / f"{prefix}_{slug(name)}.png").write_bytes(png)
+        (directory / "index.html").write_text(page, encoding="utf-8")
+    except OSError as err:
+        raise InputError(f"cannot write the report ({err.strerror})", path=directory,
+                         field="--report") from err
+
+
+def report_page(result: SizingResult, *, command: Sequence[str] | None = None) -> str:
+    """The HTML report as one self-contained page, its figures embedded (``--report -``)."""
+    return _report(result, command)[0]
+
+
+def _report(result: SizingResult, command: Sequence[str] | None
+            ) -> tuple[str, dict[str, bytes], dict[str, bytes]]:
+    """The page, each joint's figure and each motor figure (PNG content by joint name)."""
+    from hdselect.html import page
     from hdselect.provenance import provenance
 
-    target = Path(directory)
-    if target.exists() and not target.is_dir():
-        raise InputError("exists and is not a directory", path=target, field="--report")
     origin = provenance(result, command)
-    try:
-        parent = target.resolve().parent
-        parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(dir=parent, prefix=f".{target.name}."))
-    except OSError as err:
-        raise InputError(f"cannot write here ({err.strerror})", path=target,
-                         field="--report") from err
-    try:
-        figures = {}
-        for joint in result.joints:
-            figures[joint.name] = png_bytes(joint_figure(result, joint))
-            (staging / f"joint_{slug(joint.name)}.png").write_bytes(figures[joint.name])
-        motor_figures = {}
-        for joint in result.joints:
-            if joint.motor_torque is not None:
-                motor_figures[joint.name] = png_bytes(motor_figure(result, joint))
-                (staging / f"motor_{slug(joint.name)}.png").write_bytes(
-                    motor_figures[joint.name])
-        write_output(staging / "index.html",
-                     lambda stream: stream.write(page(result, figures, origin, motor_figures)))
-        target.mkdir(exist_ok=True)
-        for file in staging.iterdir():
-            file.replace(target / file.name)
-    except OSError as err:
-        raise InputError(f"cannot write the report ({err.strerror})", path=target,
-                         field="--report") from err
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
+    figures = {joint.name: png_bytes(joint_figure(result, joint)) for joint in result.joints}
+    motor_figures = {joint.name: png_bytes(motor_figure(result, joint))
+                     for joint in result.joints if joint.motor_torque is not None}
+    return page(result, figures, origin, motor_figures), figures, motor_figures
 
 
 def png_bytes(fig: Figure, dpi: int = 130) -> bytes:
@@ -162,7 +205,7 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
         for start, end in _runs(rest, t, traj.dt):
             ax.axvspan(start, end, color="0.88", lw=0, zorder=0)
     output_rpm = np.abs(traj.qd[:, j]) * RPM_PER_RAD_S
-    speed_ax.plot(t, output_rpm, color=_MOVING, lw=1.2, label="|output speed|")
+    speed_ax.plot(*envelope(t, output_rpm), color=_MOVING, lw=1.2, label="|output speed|")
     top = float(output_rpm.max()) * 1.15
     if top == 0.0:
         top = 1.0
@@ -188,11 +231,12 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     moving = np.where(rest, np.nan, torque)
     held = np.where(rest, torque, np.nan)
     stop = np.abs(joint.stop_torque)
-    torque_ax.plot(t, stop, color=_STOP, lw=0.7, alpha=0.8,
+    torque_ax.plot(*envelope(t, stop), color=_STOP, lw=0.7, alpha=0.8,
                    label=f"emergency stop from each instant ({result.options.stop_time:g} s)")
-    torque_ax.plot(t, moving, color=_MOVING, lw=1.3, label="|T| moving: repeated-peak limit")
+    torque_ax.plot(*envelope(t, moving), color=_MOVING, lw=1.3,
+                   label="|T| moving: repeated-peak limit")
     if np.any(rest):
-        torque_ax.plot(t, held, color=_REST, lw=2.2, label="|T| at rest: static limit")
+        torque_ax.plot(*envelope(t, held), color=_REST, lw=2.2, label="|T| at rest: static limit")
     event = chosen.checks["momentary"]
     peak_at = int(np.nanargmax(moving)) if np.any(~rest) else None
     tops = [float(np.nanmax(torque)), float(stop.max())]
@@ -275,8 +319,13 @@ def motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
     speed = np.abs(traj.qd[:, j]) * unit.ratio * RPM_PER_RAD_S
     torque = np.abs(joint.motor_torque)
     fig, ax = plt.subplots(figsize=(11, 5.2), layout="constrained")
-    ax.plot(speed, torque, ".", color=_REST, ms=2.5, alpha=0.35,
-            label=f"cycle: every {traj.dt * 1e3:g} ms sample (|n|, |T_motor|)")
+    shown, fast = _extremes(torque), _extremes(speed)
+    label = f"cycle: every {traj.dt * 1e3:g} ms sample (|n|, |T_motor|)"
+    if shown is not None and fast is not None:  # a long cycle: each run's extremes
+        shown = np.union1d(shown, fast)
+        speed, torque = speed[shown], torque[shown]
+        label = "cycle: the extreme samples of each stretch (|n|, |T_motor|)"
+    ax.plot(speed, torque, ".", color=_REST, ms=2.5, alpha=0.35, label=label)
     top = max(motor.max_speed, float(speed.max())) * 1.08
     grid = np.linspace(0.0, motor.max_speed, 400)
     curve = "torque-speed curve" if motor.curve is not None else "flat: no curve given"

@@ -133,7 +133,8 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
     payload = per_kilogram(robot.payload, frame=frame, com=com)
     bare = robot.with_payload(None)
     bare.with_payload(payload)  # the frame must exist
-    trajectory = trajectory if trajectory is not None else plan(robot, motion)
+    if trajectory is None:
+        trajectory = plan(robot, motion, max_samples=options.max_samples)
     masses: dict[str, float] = {}
     result = None
     for _ in range(_ROUNDS):

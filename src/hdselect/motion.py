@@ -17,7 +17,6 @@ which is a candidate; files are relative to the motion file.
 
 from __future__ import annotations
 
-import csv
 import logging
 import math
 from collections.abc import Mapping, Sequence
@@ -27,8 +26,10 @@ from typing import Any
 
 import numpy as np
 
+from hdselect import bounds
 from hdselect.arrays import frozen
 from hdselect.errors import InputError
+from hdselect.logfile import SampleLog, read_log
 from hdselect.motors import MOTOR_KEYS, Motor, load_motors, motor_from_table
 from hdselect.robot import MOUNTINGS, Payload, Robot, load_robot
 from hdselect.tomlfile import as_number, check_keys, join, number, read_toml, table_of
@@ -52,25 +53,6 @@ LIFE_BASES = ("L50", "L10")
 """Valid values of ``[requirements] life_basis``: L50 (average) or L10 (90 % survival) life."""
 _ALLOWED = {"ruckig": _NEEDED["ruckig"], "toppra": ("velocity", "acceleration", "torque"),
             "samples": ()}
-
-
-@dataclass(frozen=True)
-class SampleLog:
-    """A logged joint trajectory, in SI units, with time as logged.
-
-    Attributes:
-        path: The CSV file it came from.
-        t: Sample times [s], strictly increasing, shape (n,).
-        q: Joint positions [rad or m], shape (n, dof).
-        qd: Joint velocities [rad/s or m/s], shape (n, dof), or None if not logged.
-        qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof), or None if not logged.
-    """
-
-    path: Path
-    t: np.ndarray
-    q: np.ndarray
-    qd: np.ndarray | None
-    qdd: np.ndarray | None
 
 
 @dataclass(frozen=True, eq=False)
@@ -179,13 +161,15 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         InputError: The motion file, the robot file or the log is missing, malformed
             or inconsistent; the message names the file and the field.
     """
-    path = Path(path)
+    path = bounds.file_argument(path, "path")
+    bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
+                       "a Robot, a robot file or None")
     doc = read_toml(path)
     check_keys(doc, _TOP_KEYS, path, "")
     planner = _choice(doc, "planner", PLANNERS, path)
     angle_unit = _choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)
     unit = ANGLE_UNITS[angle_unit]
-    dt = number(doc, "dt", path, "", default=0.001, positive=True)
+    dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
     file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
     robot_file = _robot_file(doc, path)
@@ -208,14 +192,16 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                              f"'{planner}' takes: {', '.join(_ALLOWED[planner]) or 'no limits'})",
                              path=path, field=f"limits.{key}")
     lists = _Lists(robot)
-    lim = {k: frozen(_per_joint(v, robot, path, f"limits.{k}", positive=True, lists=lists)
-                      * (1.0 if k == "torque" else scale))
+    lim = {k: frozen(_per_joint(v, robot, path, f"limits.{k}", bound=bounds.MOTION_LIMITS[k],
+                                scale=np.ones(robot.dof) if k == "torque" else scale,
+                                units=_limit_units(k, units), lists=lists)
+                     * (1.0 if k == "torque" else scale))
            for k, v in limits.items() if k != "velocity"}
     from_robot: tuple[str, ...] = ()
     warnings: list[str] = []
     if "velocity" in _NEEDED[planner]:
-        velocity, from_robot = _velocity_limit(limits.get("velocity"), robot, path, scale, lists,
-                                               planner)
+        velocity, from_robot = _velocity_limit(limits.get("velocity"), robot, path, scale, units,
+                                               lists, planner)
         lim["velocity"] = frozen(velocity)
         warnings += _beyond_robot(velocity, robot, scale, units, from_robot)
     sizing = _sizing(doc, path, robot)
@@ -227,7 +213,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
             raise InputError("planner 'samples' takes its motion from [samples] file; remove "
                              "the waypoints", path=path, field="waypoint")
         waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
-        samples = _samples(doc, path, robot, scale)
+        samples = _samples(doc, path, robot, scale, units)
     else:
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
@@ -285,6 +271,9 @@ def robot_for_motion(
         InputError: The joints differ from the motion's, the payload is ambiguous, or
             its frame does not exist (the message names the file that set it).
     """
+    bounds.expect_type(robot, Robot, "robot", "a Robot")
+    bounds.expect_type(motion, Motion, "motion", "a Motion")
+    bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
     motion.check_joints(robot)
     if payload is None and motion.payload is not None:
         if robot.payload is not None and robot.payload != motion.payload:
@@ -338,8 +327,10 @@ def load_case(
     Raises:
         InputError: A file or option is invalid.
     """
+    motion_path = bounds.file_argument(motion, "motion")
+    bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
+                       "a Robot, a robot file or None")
     if not isinstance(robot, Robot):
-        motion_path = Path(motion)
         robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
     loaded = load_motion(motion, robot)
     return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
@@ -368,7 +359,8 @@ def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
             if key in table:
                 values[key] = _choice(table, key, LIFE_BASES, path, where=section)
         elif key in table:
-            values[key] = number(table, key, path, section, positive=True)
+            values[key] = number(table, key, path, section,
+                                 bound=bounds.STOP_TIME if key == "stop_time" else bounds.LIFE)
     return values
 
 
@@ -384,8 +376,13 @@ def _robot_file(doc: dict[str, Any], path: Path) -> Path | None:
     return robot
 
 
-def robot_file_named(path: Path) -> Path:
-    """The robot file a motion file names, for loading the robot before the motion."""
+def robot_file_named(path: str | Path) -> Path:
+    """The robot file a motion file names, for loading the robot before the motion.
+
+    Raises:
+        InputError: The motion file is unreadable or names no robot file that exists.
+    """
+    path = bounds.file_argument(path, "motion")
     doc = read_toml(path)
     robot = _robot_file(doc, path)
     if robot is None:
@@ -495,6 +492,8 @@ def _mounting(value: Any, path: Path) -> str | tuple[float, float, float]:
                              field="mounting")
         return value
     x, y, z = _vector(value, 3, path, "mounting")
+    for i, g in enumerate((x, y, z)):
+        bounds.GRAVITY.check(g, path=path, field=f"mounting[{i}]")
     return (x, y, z)
 
 
@@ -524,9 +523,16 @@ class _Lists:
                 f"them ({', '.join(written)}); tables keyed by joint name avoid the question"]
 
 
-def _per_joint(value: Any, robot: Robot, path: Path, field: str, *,
-               positive: bool = False, lists: _Lists | None = None) -> np.ndarray:
-    """One number per joint: from a number (all joints), a list or a table keyed by joint."""
+def _per_joint(value: Any, robot: Robot, path: Path, field: str, *, bound: bounds.Bound,
+               scale: np.ndarray, units: Sequence[str], lists: _Lists | None = None
+               ) -> np.ndarray:
+    """One number per joint: from a number (all joints), a list or a table keyed by joint.
+
+    Each value, times its joint's `scale` (SI per file unit), must lie within `bound`.
+    """
+    def read(raw: Any, j: int, where: str) -> float:
+        return as_number(raw, path, where, bound=bound, scale=float(scale[j]), unit=units[j])
+
     if isinstance(value, dict):
         for name in value:
             _joint_key(robot, name, path, f"{field}.{name}")
@@ -534,8 +540,8 @@ def _per_joint(value: Any, robot: Robot, path: Path, field: str, *,
         if missing:
             raise InputError(f"missing joint(s) {', '.join(missing)}; give every joint: "
                              f"{', '.join(robot.joint_names)}", path=path, field=field)
-        return np.array([as_number(value[n], path, f"{field}.{n}", positive=positive)
-                         for n in robot.joint_names])
+        return np.array([read(value[n], j, f"{field}.{n}")
+                         for j, n in enumerate(robot.joint_names)])
     if isinstance(value, list):
         lists = lists or _Lists(robot)
         lists.used.append(field)
@@ -543,14 +549,22 @@ def _per_joint(value: Any, robot: Robot, path: Path, field: str, *,
             raise InputError(f"expected {robot.dof} values ({lists.order}), got {len(value)}",
                              path=path, field=field)
         numbers = []
-        for i, v in enumerate(value):
+        for j, v in enumerate(value):
             try:
-                numbers.append(as_number(v, path, f"{field}[{i}]", positive=positive))
+                numbers.append(read(v, j, f"{field}[{j}]"))
             except InputError as err:
-                raise InputError(f"{err.reason} for joint '{robot.joint_names[i]}' ({lists.order})",
+                raise InputError(f"{err.reason} for joint '{robot.joint_names[j]}' ({lists.order})",
                                  path=path, field=err.field) from err
         return np.array(numbers)
-    return np.full(robot.dof, as_number(value, path, field, positive=positive))
+    return np.array([read(value, j, field) for j in range(robot.dof)])
+
+
+def _limit_units(kind: str, units: Sequence[str]) -> list[str]:
+    """The unit labels of a ``[limits]`` kind per joint, e.g. ``deg/s^2``."""
+    if kind == "torque":
+        return ["N m" if unit != "m" else "N" for unit in units]
+    power = {"velocity": "/s", "acceleration": "/s^2", "jerk": "/s^3"}[kind]
+    return [unit + power for unit in units]
 
 
 def _joint_key(robot: Robot, name: str, path: Path, field: str) -> None:
@@ -561,16 +575,21 @@ def _joint_key(robot: Robot, name: str, path: Path, field: str) -> None:
     robot.joint_index(name, source=path, field=field)
 
 
-def _velocity_limit(value: Any, robot: Robot, path: Path, scale: np.ndarray, lists: _Lists,
+def _velocity_limit(value: Any, robot: Robot, path: Path, scale: np.ndarray,
+                    units: Sequence[str], lists: _Lists,
                     planner: str) -> tuple[np.ndarray, tuple[str, ...]]:
     """Velocity limits [rad/s or m/s]: the file's, else per joint the robot file's.
+
+    Every limit, the robot file's included, lies within ``bounds.MOTION_LIMITS["velocity"]``.
 
     Returns:
         The limits and the joints whose limit came from the robot file.
 
     Raises:
-        InputError: A joint has neither (the message names them).
+        InputError: A joint has neither (the message names them), or a limit is out of range.
     """
+    bound = bounds.MOTION_LIMITS["velocity"]
+    labels = _limit_units("velocity", units)
     urdf = np.where((robot.velocity_limit > 0.0) & np.isfinite(robot.velocity_limit),
                     robot.velocity_limit, np.nan)
     if value is None:
@@ -578,8 +597,8 @@ def _velocity_limit(value: Any, robot: Robot, path: Path, scale: np.ndarray, lis
     elif isinstance(value, dict):
         given = value
     else:
-        return _per_joint(value, robot, path, "limits.velocity", positive=True,
-                          lists=lists) * scale, ()
+        return _per_joint(value, robot, path, "limits.velocity", bound=bound, scale=scale,
+                          units=labels, lists=lists) * scale, ()
     for name in given:
         _joint_key(robot, name, path, f"limits.velocity.{name}")
     missing = [n for n in robot.joint_names if n not in given]
@@ -587,10 +606,18 @@ def _velocity_limit(value: Any, robot: Robot, path: Path, scale: np.ndarray, lis
     if lacking:
         raise InputError(f"required by planner '{planner}' for {', '.join(lacking)}: the robot "
                          "file gives no velocity limit there", path=path, field="limits.velocity")
+    for name in missing:
+        j = robot.joint_index(name)
+        try:
+            bound.check(float(urdf[j]), path=robot.path, field=f"joint[{name}].limit.velocity")
+        except InputError as err:
+            raise InputError(f"{err.reason} (used for {path.name}'s limits.velocity; give the "
+                             "limit there)", path=robot.path, field=err.field) from err
     velocity = urdf.copy()
     for name, limit in given.items():
         j = robot.joint_index(name)
-        velocity[j] = as_number(limit, path, f"limits.velocity.{name}", positive=True) * scale[j]
+        velocity[j] = as_number(limit, path, f"limits.velocity.{name}", bound=bound,
+                                scale=float(scale[j]), unit=labels[j]) * scale[j]
     return velocity, tuple(missing)
 
 
@@ -642,7 +669,8 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
         if not isinstance(table["q"], list | dict):
             raise InputError("expected a list or a table keyed by joint name", path=path,
                              field=f"{where}.q")
-        given = _per_joint(table["q"], robot, path, f"{where}.q", lists=lists)
+        given = _per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
+                           scale=scale, units=units, lists=lists)
         q = given * scale
         for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):
             name = robot.joint_names[j]
@@ -654,11 +682,12 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
                 + (f" ({lists.order})" if listed else ""),
                 path=path, field=f"{where}.q{key}")
         points.append(q)
-        dwells.append(number(table, "dwell", path, where, default=0.0, minimum=0.0))
+        dwells.append(number(table, "dwell", path, where, default=0.0, bound=bounds.DWELL))
     return np.array(points), np.array(dwells)
 
 
-def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray) -> SampleLog:
+def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
+             units: list[str]) -> SampleLog:
     table = table_of(doc.get("samples", {}), path, "samples")
     check_keys(table, ("file",), path, "samples")
     if not isinstance(table.get("file"), str):
@@ -667,62 +696,4 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray) -
     log = path.parent / table["file"]
     if not log.is_file():
         raise InputError(f"log file not found: {log}", path=path, field="samples.file")
-    try:
-        with log.open(newline="", encoding="utf-8-sig") as stream:
-            rows = [[c.strip() for c in r] for r in csv.reader(stream) if any(c.strip() for c in r)]
-    except (OSError, UnicodeDecodeError, csv.Error) as err:
-        raise InputError(f"cannot read CSV ({err})", path=log) from err
-    if len(rows) < 3:
-        raise InputError("need a header row and at least two samples", path=log)
-    header, body = rows[0], rows[1:]
-    for r, row in enumerate(body, start=1):
-        if len(row) != len(header):
-            raise InputError(f"data row {r} (line {r + 1}) has {len(row)} cells, the header "
-                             f"{len(header)}", path=log)
-    columns = {name: i for i, name in enumerate(header)}
-    for name in header:
-        for prefix in ("qdd_", "qd_", "q_"):
-            if name.startswith(prefix):
-                robot.joint_index(name[len(prefix):], source=log, field=name)
-                break
-    cells = np.array(body, dtype=object)
-
-    def column(name: str) -> np.ndarray:
-        if name not in columns:
-            raise InputError(f"column '{name}' is missing; columns are: {', '.join(header)}",
-                             path=log, field=name)
-        text = cells[:, columns[name]]
-        try:
-            values = text.astype(float)
-        except ValueError:
-            values = np.array([_float(v) for v in text])
-        bad = np.flatnonzero(~np.isfinite(values))
-        if bad.size:
-            r = int(bad[0]) + 1
-            raise InputError(f"data row {r} (line {r + 1}): not a finite number: {text[r - 1]!r}",
-                             path=log, field=name)
-        return values
-
-    def joints(prefix: str) -> np.ndarray:
-        names = [f"{prefix}_{n}" for n in robot.joint_names]
-        return frozen(np.column_stack([column(n) for n in names]) * scale)
-
-    def logged(prefix: str) -> bool:
-        return any(f"{prefix}_{n}" in columns for n in robot.joint_names)
-
-    t = column("t")
-    back = np.flatnonzero(np.diff(t) <= 0.0)
-    if back.size:
-        r = int(back[0]) + 2
-        raise InputError(f"time must increase; data row {r} (line {r + 1}) has t = {t[r - 1]:g}"
-                         f" after {t[r - 2]:g}", path=log, field="t")
-    return SampleLog(path=log, t=frozen(t), q=joints("q"),
-                     qd=joints("qd") if logged("qd") else None,
-                     qdd=joints("qdd") if logged("qdd") else None)
-
-
-def _float(text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        return math.nan
+    return read_log(log, robot, scale, units)

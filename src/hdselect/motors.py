@@ -12,8 +12,6 @@ a file go through the same checks.
 
 from __future__ import annotations
 
-import math
-import numbers
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from hdselect import bounds
 from hdselect.catalog import KG_M2_PER_KG_CM2
 from hdselect.errors import InputError
 from hdselect.tomlfile import as_number, check_keys, read_toml, table_of
@@ -37,6 +36,11 @@ _KEYS = {
 }
 _INERTIA_KEYS = (("rotor_inertia_kg_cm2", KG_M2_PER_KG_CM2), ("rotor_inertia_kg_m2", 1.0))
 _OPTIONAL = ("torque_constant", "resistance")
+_BOUNDS = {"rated_torque": bounds.MOTOR_TORQUE, "peak_torque": bounds.MOTOR_TORQUE,
+           "max_speed": bounds.MOTOR_SPEED, "rated_speed": bounds.MOTOR_SPEED,
+           "rotor_inertia": bounds.ROTOR_INERTIA, "mass": bounds.ADDED_MASS,
+           "torque_constant": bounds.TORQUE_CONSTANT, "resistance": bounds.RESISTANCE}
+"""The physical range of each number of a motor (`hdselect.bounds`)."""
 MOTOR_KEYS = ("id", *(key for key, _ in _KEYS.values()), *(key for key, _ in _INERTIA_KEYS),
               "curve")
 """Keys of one motor's table, in a motor file or inline in a motion file."""
@@ -66,8 +70,9 @@ class Motor:
         source: The file it came from, or None.
 
     Raises:
-        InputError: A value is missing, not a finite number, out of range, or the curve
-            is not a function of speed; the field is the attribute's name.
+        InputError: A value is missing, not a finite number, out of its range in
+            `hdselect.bounds`, or the curve is not a function of speed; the field is the
+            attribute's name.
     """
 
     id: str
@@ -85,15 +90,9 @@ class Motor:
     def __post_init__(self) -> None:
         if not isinstance(self.id, str) or not self.id.strip():
             raise InputError(f"expected a non-empty name, got {self.id!r}", field="id")
-        for name in ("rated_torque", "peak_torque", "max_speed", "rated_speed"):
-            _set(self, name, _number(getattr(self, name), name, lambda v: v > 0.0, "positive"))
-        for name in ("rotor_inertia", "mass"):
-            _set(self, name, _number(getattr(self, name), name, lambda v: v >= 0.0,
-                                     "zero or positive"))
-        for name in _OPTIONAL:
-            if getattr(self, name) is not None:
-                _set(self, name, _number(getattr(self, name), name, lambda v: v > 0.0,
-                                         "positive"))
+        for name, bound in _BOUNDS.items():
+            if name not in _OPTIONAL or getattr(self, name) is not None:
+                _set(self, name, bound.check(getattr(self, name), field=name))
         if self.peak_torque < self.rated_torque:
             raise InputError(f"the peak torque {self.peak_torque:.4g} N m is below the rated "
                              f"torque {self.rated_torque:.4g} N m", field="peak_torque")
@@ -128,10 +127,9 @@ class Motor:
             if not isinstance(point, Sequence) or isinstance(point, str) or len(point) != 2:
                 raise InputError(f"point {i}: expected (speed [rpm], peak torque [N m]), got "
                                  f"{point!r}", field="curve")
-            speed = _number(point[0], f"curve[{i}].speed", lambda v: v >= 0.0, "zero or positive")
-            torque = _number(point[1], f"curve[{i}].peak_torque", lambda v: v >= 0.0,
-                             "zero or positive")
-            points.append((speed, torque))
+            speed = bounds.CURVE_SPEED.check(point[0], field=f"curve[{i}].speed")
+            torque = bounds.CURVE_TORQUE.check(point[1], field=f"curve[{i}].peak_torque")
+            points.append((float(speed), float(torque)))
         for i, ((a, _), (b, _)) in enumerate(zip(points, points[1:], strict=False)):
             if b <= a:
                 raise InputError(f"not a function of speed: point {i + 1} has speed {b:g} rpm "
@@ -171,7 +169,7 @@ def load_motors(path: str | Path) -> tuple[Motor, ...]:
             a curve is not a function of speed, or two motors share an id; the message
             names the file and the field.
     """
-    path = Path(path)
+    path = bounds.file_argument(path, "path")
     document = read_toml(path)
     check_keys(document, ["source", "motor"], path, "")
     if "source" in document and not isinstance(document["source"], str):
@@ -228,7 +226,9 @@ def motor_from_table(table: Mapping[str, Any], path: Path, where: str, *,
         raise InputError(f"give exactly one of {keys}", path=path,
                          field=f"{where}.{given[-1][0] if given else _INERTIA_KEYS[0][0]}")
     key, factor = given[0]
-    values["rotor_inertia"] = as_number(table[key], path, f"{where}.{key}") * factor
+    values["rotor_inertia"] = as_number(  # checked as given: kg cm^2 may underflow to 0
+        table[key], path, f"{where}.{key}", bound=bounds.ROTOR_INERTIA, scale=factor,
+        unit="kg cm^2" if factor != 1.0 else None) * factor
     if "curve" in table:
         values["curve"] = _curve(table_of(table["curve"], path, f"{where}.curve"), path,
                                  f"{where}.curve")
@@ -264,17 +264,6 @@ def _file_key(field: str, inertia_key: str) -> str:
         index, part = field[len("curve["):].split("].")
         return f"curve.{'speed_rpm' if part == 'speed' else 'peak_torque_nm'}[{index}]"
     return _KEYS[field][0] if field in _KEYS else field
-
-
-def _number(value: Any, field: str, ok: Any, expected: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise InputError(f"expected a number, got {value!r}", field=field)
-    value = float(value)
-    if not math.isfinite(value):
-        raise InputError(f"must be finite, got {value}", field=field)
-    if not ok(value):
-        raise InputError(f"must be {expected}, got {value:g}", field=field)
-    return value
 
 
 def _set(motor: Motor, name: str, value: object) -> None:

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import math
-import numbers
 from dataclasses import dataclass, fields
 from typing import Any
 
+from hdselect import bounds
 from hdselect.errors import InputError
 from hdselect.motion import LIFE_BASES, Motion
 from hdselect.reflect import DEFAULT_EFFICIENCY
@@ -14,6 +13,8 @@ from hdselect.select import PREFERENCES
 
 DEFAULT_STOP_TIME = 0.1
 """Time in which an emergency stop or a crash brings the arm to rest [s]."""
+MAX_THREADS = 256
+"""Most threads the batched dynamics may be given (each holds a copy of the model)."""
 
 
 @dataclass(frozen=True)
@@ -36,6 +37,8 @@ class Options:
         life_basis: ``"L50"`` (average life) or ``"L10"`` (90 % survive it).
         threads: Threads for the batched dynamics, a positive whole number, or None to
             choose from the sample count (a study's workers use 1).
+        max_samples: Most samples a trajectory may have (`hdselect.bounds.DEFAULT_MAX_SAMPLES`);
+            a motion needing more is refused before anything is allocated.
 
     Raises:
         InputError: A value is out of range or of the wrong type; the field is its name.
@@ -50,32 +53,31 @@ class Options:
     life_hours: float | None = None
     life_basis: str = "L50"
     threads: int | None = None
+    max_samples: int = bounds.DEFAULT_MAX_SAMPLES
 
     def __post_init__(self) -> None:
-        _set(self, "stop_time", _number(self.stop_time, "stop_time", "a positive time [s]",
-                                        lambda v: v > 0.0))
-        _set(self, "efficiency", _number(self.efficiency, "efficiency", "in (0, 1]",
-                                         lambda v: 0.0 < v <= 1.0))
-        for name, what in (("rotor_inertia", "[kg m^2]"), ("motor_mass", "[kg]")):
-            _set(self, name, _number(getattr(self, name), name, f"zero or positive {what}",
-                                     lambda v: v >= 0.0))
+        for name, bound in (("stop_time", bounds.STOP_TIME), ("efficiency", bounds.EFFICIENCY),
+                            ("rotor_inertia", bounds.ROTOR_INERTIA),
+                            ("motor_mass", bounds.ADDED_MASS)):
+            _set(self, name, bound.check(getattr(self, name), field=name))
         if not isinstance(self.mass_coupling, bool):
             raise InputError(f"expected true or false, got {self.mass_coupling!r}",
                              field="mass_coupling")
-        if self.prefer is not None and self.prefer not in PREFERENCES:
+        if self.prefer is not None and (not isinstance(self.prefer, str)
+                                        or self.prefer not in PREFERENCES):
             raise InputError(f"unknown order {self.prefer!r}; choose one of: "
                              f"{', '.join(PREFERENCES)}", field="prefer")
         if self.life_hours is not None:
-            _set(self, "life_hours", _number(self.life_hours, "life_hours",
-                                             "a positive number of hours", lambda v: v > 0.0))
-        if self.life_basis not in LIFE_BASES:
+            _set(self, "life_hours", bounds.LIFE.check(self.life_hours, field="life_hours"))
+        if not isinstance(self.life_basis, str) or self.life_basis not in LIFE_BASES:
             raise InputError(f"unknown basis {self.life_basis!r}; choose one of: "
                              f"{', '.join(LIFE_BASES)}", field="life_basis")
         if self.threads is not None and (isinstance(self.threads, bool)
                                          or not isinstance(self.threads, int)
-                                         or self.threads < 1):
-            raise InputError(f"must be a positive whole number, got {self.threads!r}",
-                             field="threads")
+                                         or not 1 <= self.threads <= MAX_THREADS):
+            raise InputError(f"must be a whole number in [1, {MAX_THREADS}], got "
+                             f"{self.threads!r}", field="threads")
+        _set(self, "max_samples", bounds.check_max_samples(self.max_samples))
 
 
 def options_for(motion: Motion | None, **given: Any) -> Options:
@@ -91,6 +93,9 @@ def options_for(motion: Motion | None, **given: Any) -> Options:
     Raises:
         InputError: An unknown name, or a value out of range.
     """
+    if motion is not None and not isinstance(motion, Motion):
+        raise InputError(f"expected a Motion or None, got {type(motion).__name__}",
+                         field="motion")
     names = [f.name for f in fields(Options)]
     for name in given:
         if name not in names:
@@ -102,14 +107,6 @@ def options_for(motion: Motion | None, **given: Any) -> Options:
             if name not in values and getattr(motion, name) is not None:
                 values[name] = getattr(motion, name)
     return Options(**values)
-
-
-def _number(value: Any, field: str, expected: str, ok: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise InputError(f"expected a number, {expected}; got {value!r}", field=field)
-    if not math.isfinite(float(value)) or not ok(float(value)):
-        raise InputError(f"must be {expected}, got {value:g}", field=field)
-    return float(value)
 
 
 def _set(options: Options, name: str, value: object) -> None:

@@ -14,7 +14,7 @@ at the input speed N qd.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -27,6 +27,10 @@ efficiency curves but no numbers; 70 % is a mid-range reading for small
 Harmonic Drive units near rated torque, and lower at light load."""
 
 
+CHUNK = 1 << 15
+"""Samples reflected at a time: the per-unit work of a long cycle stays a few MB."""
+
+
 @dataclass(frozen=True, eq=False)
 class Reflection:
     """One joint's cycle seen through one gearhead.
@@ -35,13 +39,25 @@ class Reflection:
         unit: The gearhead.
         motor: What the motor must deliver over the cycle.
         momentary: The worse of an emergency stop and a crash.
-        motor_torque: Motor torque per sample [N m], shape (n,).
     """
 
     unit: Unit
     motor: MotorDemand
     momentary: Momentary
-    motor_torque: np.ndarray
+    _cycle: tuple[np.ndarray, np.ndarray, np.ndarray, float, float] = field(repr=False)
+    _torque: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def motor_torque(self) -> np.ndarray:
+        """Motor torque per sample [N m], shape (n,).
+
+        Kept from the reflection for a cycle of one `CHUNK`; for a longer one computed
+        when asked for (the same floats), so a long cycle's reflections stay small.
+        """
+        if self._torque is not None:
+            return self._torque
+        tau, qd, qdd, efficiency, rotor_inertia = self._cycle
+        return _motor_torques([self.unit], tau, qd, qdd, efficiency, rotor_inertia)[0]
 
 
 def reflect(
@@ -56,7 +72,7 @@ def reflect(
     efficiency: float = DEFAULT_EFFICIENCY,
     rotor_inertia: float = 0.0,
 ) -> list[Reflection]:
-    """Reflect one joint's cycle through every unit at once.
+    """Reflect one joint's cycle through every unit at once, `CHUNK` samples at a time.
 
     Emergency stop: from any instant every joint is brought to rest within
     `stop_time`; `stop_tau` is the output torque at the start of that stop.
@@ -96,9 +112,10 @@ def reflect_motors(
 ) -> list[list[Reflection]]:
     """Reflect one joint's cycle through every unit, behind each of several motors.
 
-    The gear side (efficiency, ratio) is computed once; each motor's rotor inertia
-    J_m then adds (J_in + J_m) N qdd to the motor torque and (J_in + J_m) N^2 |qd| /
-    stop_time to the crash, exactly as `reflect` does for one rotor inertia.
+    The gear side (efficiency, ratio) is computed once per `CHUNK` samples; each
+    motor's rotor inertia J_m then adds (J_in + J_m) N qdd to the motor torque and
+    (J_in + J_m) N^2 |qd| / stop_time to the crash, exactly as `reflect` does for one
+    rotor inertia.
 
     Args:
         units: The gearheads.
@@ -114,62 +131,84 @@ def reflect_motors(
     Returns:
         Per rotor inertia, in the order given, one reflection per unit.
     """
+    n = len(t)
     ratio = np.array([unit.ratio for unit in units], dtype=float)
+    inertias = [float(j) for j in rotor_inertias]
+    inertia = np.add.outer(inertias, [unit.input_inertia for unit in units])  # (motors, units)
+    crash_gain = inertia * ratio**2 / stop_time
+    peak = np.zeros(inertia.shape)
+    squares = np.zeros(inertia.shape)
+    crash_best = np.full(inertia.shape, -np.inf)
+    crash_at = np.zeros(inertia.shape, dtype=int)
+    rows = np.arange(len(units))
+    kept: list[np.ndarray | None] = [None] * len(inertias)  # a one-chunk cycle's torques
+    for start in range(0, n, CHUNK):
+        part = slice(start, start + CHUNK)
+        geared = _geared(units, ratio, tau[part], qd[part], efficiency)
+        speed, held = np.abs(qd[part]), np.abs(tau[part])
+        for k in range(len(inertias)):
+            motor = geared + np.multiply.outer(inertia[k] * ratio, qdd[part])
+            peak[k] = np.maximum(peak[k], np.maximum(motor.max(axis=1), -motor.min(axis=1)))
+            squares[k] += np.einsum("ij,ij->i", motor, motor)
+            crash = np.multiply.outer(crash_gain[k], speed)
+            crash += held
+            i = crash.argmax(axis=1)
+            better = crash[rows, i] > crash_best[k]  # strictly: the first worst instant wins
+            crash_best[k] = np.where(better, crash[rows, i], crash_best[k])
+            crash_at[k] = np.where(better, i + start, crash_at[k])
+            if n <= CHUNK:
+                kept[k] = motor
+    rms = np.sqrt(squares / n)
+    max_speed = float(np.abs(qd).max()) * RPM_PER_RAD_S * ratio
+    rms_speed = float(np.sqrt(np.dot(qd, qd) / n)) * RPM_PER_RAD_S * ratio
+    stop = np.abs(stop_tau)
+    i_stop = int(stop.argmax())
+    out = []
+    for k, rotor_inertia in enumerate(inertias):
+        behind = []
+        for row, unit in enumerate(units):
+            at = int(crash_at[k, row])
+            if stop[i_stop] >= crash_best[k, row]:
+                event = Momentary(float(stop[i_stop]), "emergency stop",
+                                  float(abs(qd[i_stop])), stop_time, float(t[i_stop]))
+            else:
+                event = Momentary(float(crash_best[k, row]), "crash", float(abs(qd[at])),
+                                  stop_time, float(t[at]))
+            demand = MotorDemand(float(peak[k, row]), float(rms[k, row]), float(max_speed[row]),
+                                 "table" if unit.efficiency is not None else efficiency,
+                                 float(rms_speed[row]))
+            torque = kept[k]
+            behind.append(Reflection(unit, demand, event,
+                                     (tau, qd, qdd, efficiency, rotor_inertia),
+                                     None if torque is None else torque[row]))
+        out.append(behind)
+    return out
+
+
+def _geared(units: Sequence[Unit], ratio: np.ndarray, tau: np.ndarray, qd: np.ndarray,
+            efficiency: float) -> np.ndarray:
+    """Gear-side torque over the ratio of every unit at every sample given [N m], (units, n).
+
+    tau / eta while the motor drives (tau qd >= 0), tau eta while the load drives back.
+    """
     driving = tau * qd >= 0.0
-    speed = np.abs(qd)
-    # gear side: tau / eta while the motor drives, tau eta while the load drives back
-    load = np.empty((len(units), len(t)))
+    load = np.empty((len(units), len(tau)))
     load[:] = np.where(driving, tau * (1.0 / efficiency), tau * efficiency)
     for row, unit in enumerate(units):
         if unit.efficiency is not None:
-            eta = unit.efficiency(speed * unit.ratio * RPM_PER_RAD_S,
+            eta = unit.efficiency(np.abs(qd) * unit.ratio * RPM_PER_RAD_S,
                                   100.0 * np.abs(tau) / unit.rated_torque)
             load[row] = tau * np.where(driving, 1.0 / eta, eta)
     load *= (1.0 / ratio)[:, None]
-    max_speed = speed.max() * RPM_PER_RAD_S * ratio
-    rms_speed = np.sqrt(np.dot(speed, speed) / len(t)) * RPM_PER_RAD_S * ratio
-    stop = np.abs(stop_tau)
-    i_stop = int(stop.argmax())
-    held = np.abs(tau)
-    last = len(rotor_inertias) - 1  # the last motor takes the gear-side array over, in place
-    return [_behind(units, ratio, load if k == last else load.copy(), float(rotor_inertia), t,
-                    speed, qdd, held, stop, i_stop, (max_speed, rms_speed), stop_time,
-                    efficiency)
-            for k, rotor_inertia in enumerate(rotor_inertias)]
+    return load
 
 
-def _behind(units: Sequence[Unit], ratio: np.ndarray, geared: np.ndarray, rotor_inertia: float,
-            t: np.ndarray, speed: np.ndarray, qdd: np.ndarray, held: np.ndarray,
-            stop: np.ndarray, i_stop: int, speeds: tuple[np.ndarray, np.ndarray],
-            stop_time: float, efficiency: float) -> list[Reflection]:
-    """Every unit behind one motor.
-
-    `geared` is the gear-side torque over N [N m], turned into the motor torque in
-    place; `speeds` the largest and the RMS input speed per unit [rpm].
-    """
-    max_speed, rms_speed = speeds
+def _motor_torques(units: Sequence[Unit], tau: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                   efficiency: float, rotor_inertia: float) -> np.ndarray:
+    """Motor torque of every unit at every sample given [N m], shape (units, n)."""
+    ratio = np.array([unit.ratio for unit in units], dtype=float)
     inertia = np.array([unit.input_inertia for unit in units]) + rotor_inertia
-    motor = geared
-    motor += np.multiply.outer(inertia * ratio, qdd)
-    peak = np.maximum(motor.max(axis=1), -motor.min(axis=1))
-    rms = np.sqrt(np.einsum("ij,ij->i", motor, motor) / len(t))
-    crash = np.multiply.outer(inertia * ratio**2 / stop_time, speed)
-    crash += held
-    i_crash = crash.argmax(axis=1)
-    out = []
-    for row, unit in enumerate(units):
-        k = int(i_crash[row])
-        if stop[i_stop] >= crash[row, k]:
-            event = Momentary(float(stop[i_stop]), "emergency stop", float(speed[i_stop]),
-                              stop_time, float(t[i_stop]))
-        else:
-            event = Momentary(float(crash[row, k]), "crash", float(speed[k]), stop_time,
-                              float(t[k]))
-        demand = MotorDemand(float(peak[row]), float(rms[row]), float(max_speed[row]),
-                             "table" if unit.efficiency is not None else efficiency,
-                             float(rms_speed[row]))
-        out.append(Reflection(unit, demand, event, motor[row]))
-    return out
+    return _geared(units, ratio, tau, qd, efficiency) + np.multiply.outer(inertia * ratio, qdd)
 
 
 def weighted_demand(demand: MotorDemand, motor_torque: np.ndarray, qd: np.ndarray, ratio: float,

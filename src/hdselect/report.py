@@ -21,7 +21,7 @@ from hdselect.catalog import (
 )
 from hdselect.codesign import FastestResult, JointRatios, RatioComparison
 from hdselect.duty import DutyResult
-from hdselect.export import assumptions, base_text, mean_speed_note
+from hdselect.export import HOLD_NOTE, assumptions, base_text, mean_speed_note
 from hdselect.joints import JointInfo
 from hdselect.loads import JointLoad
 from hdselect.maxpayload import MaxPayloadResult
@@ -161,6 +161,8 @@ def duty_table(result: DutyResult) -> FittedTable:
     notes = [f"▶ selected. utilization = demand / limit, ✗ over the limit; mom. = momentary "
              f"(T4); {'avg speed = mean input speed; ' if average else ''}L10 = L50 / 5; "
              f"{mean_speed_note(units)}."]
+    if result.hold_only:
+        notes.append(HOLD_NOTE + ".")
     if cycle.life_hours is not None and cycle.life_basis != "L50":
         notes.append(f"life: the required {cycle.life_hours:,.0f} h {cycle.life_basis} over each "
                      f"unit's {cycle.life_basis} life.")
@@ -521,7 +523,7 @@ def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
     """What a reader must know about the case before trusting a result.
 
     The joints not sized, mimic followers, a payload frame chosen by default,
-    joints that never move, and a motion of zero length.
+    joints that never move, and a motion that moves no joint at all (a hold).
 
     Args:
         robot: The robot as planned and sized.
@@ -554,14 +556,10 @@ def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
     if payload is not None and payload.frame is None:
         notes.append(f"payload: {payload.mass:g} kg on {robot.payload_frame}, the tip of the "
                      "longest chain of sized joints, since no frame was given.")
-    if trajectory.duration <= 0.0:
-        notes.append("The motion has zero length (its waypoints are one pose and it has no "
-                     "dwell): only holding that pose is checked.")
     still = [name for name in robot.sized_joints
              if not np.any(trajectory.qd[:, robot.joint_index(name)])]
     if still and len(still) == len(robot.sized_joints):
-        notes.append("still: the motion moves no joint, so only holding the pose (static) and "
-                     "an emergency stop are checked; mean torque, speed and life do not apply.")
+        notes.append(HOLD_NOTE + ".")
     elif still:
         notes.append(f"still: {', '.join(still)} {'does' if len(still) == 1 else 'do'} not move "
                      "in this motion, so only holding (static) and an emergency stop are checked "

@@ -7,6 +7,7 @@ file whose meshes are absent still loads.
 from __future__ import annotations
 
 import logging
+import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -16,8 +17,10 @@ from types import MappingProxyType
 import numpy as np
 import pinocchio as pin
 
+from hdselect import bounds
 from hdselect.arrays import frozen
 from hdselect.errors import InputError
+from hdselect.robotcheck import model_limit
 from hdselect.robotfile import Mimic, read_robot_file
 
 logger = logging.getLogger(__name__)
@@ -60,43 +63,40 @@ class Payload:
     frame: str | None = None
 
     def __post_init__(self) -> None:
-        mass = _finite_array(self.mass, (), "payload.mass")
-        if not mass > 0.0:
-            raise InputError(f"must be a positive mass [kg], got {float(mass):g}",
-                             field="payload.mass")
-        com = _finite_array(self.com, (3,), "payload.com")
-        inertia = _finite_array(self.inertia, (3, 3), "payload.inertia")
+        mass = float(_finite_array(self.mass, (), "payload.mass", bounds.MASS))
+        com = _finite_array(self.com, (3,), "payload.com", bounds.LENGTH)
+        inertia = _finite_array(self.inertia, (3, 3), "payload.inertia", bounds.INERTIA)
         if not np.allclose(inertia, inertia.T) or np.linalg.eigvalsh(inertia)[0] < -1e-12:
             raise InputError("must be symmetric positive semi-definite [kg m^2]",
                              field="payload.inertia")
-        if self.frame is not None and not isinstance(self.frame, str):
+        if self.frame is not None and (not isinstance(self.frame, str) or not self.frame):
             raise InputError(f"expected a frame name, got {self.frame!r}", field="payload.frame")
-        object.__setattr__(self, "mass", float(mass))
+        object.__setattr__(self, "mass", mass)
         object.__setattr__(self, "com", tuple(float(c) for c in com))
         object.__setattr__(self, "inertia", tuple(tuple(float(v) for v in row)
                                                   for row in inertia))
 
 
-def _finite_array(value: object, shape: tuple[int, ...], field: str) -> np.ndarray:
-    """`value` as a float array of `shape` with every element finite.
+def _finite_array(value: object, shape: tuple[int, ...], field: str,
+                  bound: bounds.Bound) -> np.ndarray:
+    """`value` as a float array of `shape`, every element finite and within `bound`.
 
     Raises:
         InputError: It is not.
     """
-    if isinstance(value, bool | str) or (isinstance(value, Sequence)
-                                          and any(isinstance(v, bool | str) for v in value)):
+    if isinstance(value, bool | str | bytes) or (
+            isinstance(value, Sequence) and any(isinstance(v, bool | str | bytes) for v in value)):
         raise InputError(f"expected numbers, got {value!r}", field=field)
     try:
         array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError) as err:
+    except (TypeError, ValueError, OverflowError) as err:
         raise InputError(f"expected numbers, got {value!r}", field=field) from err
     if array.shape != shape:
         raise InputError(f"expected shape {shape or 'a single number'}, got {value!r}",
                          field=field)
-    bad = np.argwhere(~np.isfinite(array))
-    if bad.size:
-        index = "".join(f"[{i}]" for i in bad[0])
-        raise InputError(f"must be finite, got {array[tuple(bad[0])]}", field=field + index)
+    for index in np.ndindex(shape):
+        where = field + "".join(f"[{i}]" for i in index)
+        bound.check(float(array[index]), field=where)
     return array
 
 
@@ -196,6 +196,7 @@ class Robot:
         Raises:
             InputError: The payload's frame does not exist or does not move.
         """
+        bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
         return self._rebuilt(payload=payload)
 
     def with_mounting(self, mounting: str | Sequence[float]) -> Robot:
@@ -220,8 +221,11 @@ class Robot:
         Args:
             masses: Mass mounted at each joint [kg]; replaces the current masses.
         """
-        for name in masses:
-            self.joint_index(name, field="gearhead_masses")
+        bounds.expect_type(masses, Mapping, "masses", "a mapping of joint name to mass [kg]")
+        for name, mass in masses.items():
+            bounds.expect_type(name, str, "masses", "joint names")
+            self.joint_index(name, field="masses")
+            bounds.ADDED_MASS.check(mass, field=f"masses.{name}")
         return self._rebuilt(gearhead_masses=MappingProxyType(dict(masses)))
 
     def with_sized_joints(self, joints: Sequence[str] | None,
@@ -339,13 +343,14 @@ def load_robot(
             in the message), a body's inertia is not physical, a joint type is not
             supported, or an option names an unknown frame or joint.
     """
-    path = Path(path)
+    path = bounds.file_argument(path, "path")
+    bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
     if not path.is_file():
         raise InputError("file not found", path=path)
     file = read_robot_file(path)
     model = file.model
     names, revolute, q_index = _joints(model, path)
-    lower, upper = _position_limits(model, q_index)
+    lower, upper = _position_limits(model, names, q_index, path)
     robot = Robot(
         path=path,
         model=model,
@@ -354,8 +359,8 @@ def load_robot(
         sized_joints=(),
         lower=frozen(lower),
         upper=frozen(upper),
-        velocity_limit=frozen(_limit(model, "upperVelocityLimit", "velocityLimit")),
-        effort_limit=frozen(_limit(model, "upperEffortLimit", "effortLimit")),
+        velocity_limit=frozen(model_limit(model, "upperVelocityLimit", "velocityLimit")),
+        effort_limit=frozen(model_limit(model, "upperEffortLimit", "effortLimit")),
         gravity=frozen(gravity_of(mounting)),
         root_link=file.root_link,
         mimic=file.mimic,
@@ -371,10 +376,6 @@ def load_robot(
     return robot._rebuilt(payload=payload)
 
 
-def _limit(model: pin.Model, name: str, old_name: str) -> np.ndarray:
-    """A per-degree-of-freedom limit of the file; Pinocchio 3 and 4 name them differently."""
-    return np.array(getattr(model, name) if hasattr(model, name) else getattr(model, old_name),
-                    dtype=float)
 
 
 def _joints(model: pin.Model, path: Path):
@@ -400,13 +401,32 @@ def _joints(model: pin.Model, path: Path):
     return tuple(names), tuple(revolute), tuple(q_index)
 
 
-def _position_limits(model: pin.Model, q_index) -> tuple[np.ndarray, np.ndarray]:
+def _position_limits(model: pin.Model, names: Sequence[str], q_index,
+                     path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Each single-coordinate joint's limits as the file gives them (+-inf where it gives none).
+
+    Raises:
+        InputError: A limit is NaN, or a joint's lower limit is not below its upper one.
+    """
     lower = np.full(len(q_index), -np.inf)
     upper = np.full(len(q_index), np.inf)
     for dof, (iq, nq) in enumerate(q_index):
-        lo, hi = model.lowerPositionLimit[iq], model.upperPositionLimit[iq]
-        if nq == 1 and np.isfinite(lo) and np.isfinite(hi) and hi > lo:
-            lower[dof], upper[dof] = lo, hi
+        if nq != 1:  # a continuous joint: (cos, sin), no limits
+            continue
+        lo, hi = float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])
+        name = names[dof]
+        if math.isnan(lo) or math.isnan(hi):
+            raise InputError(f"joint '{name}' has a position limit that is not a number",
+                             path=path, field=f"joint[{name}].limit")
+        if hi <= lo:
+            relation = "equals" if hi == lo else "is above"
+            raise InputError(f"joint '{name}': the lower limit {lo:g} {relation} the upper limit "
+                             f"{hi:g}; give lower < upper (a joint that cannot move is a fixed "
+                             "joint)", path=path, field=f"joint[{name}].limit")
+        for value in (lo, hi):
+            if math.isfinite(value):
+                bounds.POSITION.check(value, path=path, field=f"joint[{name}].limit")
+        lower[dof], upper[dof] = lo, hi
     return lower, upper
 
 
@@ -415,7 +435,8 @@ def _sized(robot: Robot, joints: Sequence[str] | None, exclude: Sequence[str]
     """The joints to size: `joints` (default every rotary non-follower joint) minus `exclude`."""
     names, path = robot.joint_names, robot.path
     for option, given in (("joints", joints), ("exclude", exclude)):
-        if isinstance(given, str):
+        if given is not None and (isinstance(given, str | bytes) or not isinstance(given, Sequence)
+                                  or any(not isinstance(name, str) for name in given)):
             raise InputError(f"expected a list of joint names, got {given!r}", path=path,
                              field=option)
         for name in given or ():
@@ -459,13 +480,19 @@ def gravity_of(mounting: str | Sequence[float]) -> np.ndarray:
             raise InputError(f"unknown mounting '{mounting}'; choose one of: "
                              f"{', '.join(MOUNTINGS)} or a gravity vector", field="mounting")
         return np.array(MOUNTINGS[mounting])
+    if isinstance(mounting, bytes) or (
+            isinstance(mounting, Sequence) and any(isinstance(g, bool | str | bytes)
+                                                   for g in mounting)):
+        raise InputError("gravity must be three finite numbers [m/s^2]", field="mounting")
     try:
         gravity = np.asarray(mounting, dtype=float)
-    except (TypeError, ValueError) as err:
+    except (TypeError, ValueError, OverflowError) as err:
         raise InputError("gravity must be three finite numbers [m/s^2]",
                          field="mounting") from err
     if gravity.shape != (3,) or not np.all(np.isfinite(gravity)):
         raise InputError("gravity must be three finite numbers [m/s^2]", field="mounting")
+    for i, value in enumerate(gravity):
+        bounds.GRAVITY.check(float(value), field=f"mounting[{i}]")
     return gravity
 
 

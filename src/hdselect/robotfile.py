@@ -4,11 +4,12 @@ Pinocchio decides what a valid robot file is; this module only makes its
 answer usable. The parser's own messages (urdfdom prints them on the C++
 standard error, MJCF errors carry them after ``message:``) are folded into one
 line. Mimic joints are built as such: a follower has no degree of freedom and
-moves with its leader. Only the bodies Pinocchio builds are checked, after it
-has merged every link on a fixed joint into its moving body; an empty body
-(frame links such as ``tool0``) is skipped. Armature, joint damping, friction
-and springs model the motor's and the joint's own inertia and losses, not load
-on the gear output: they are set to zero and reported. A second, lenient pass
+moves with its leader. Only the bodies Pinocchio builds are checked
+(`hdselect.robotcheck`), after it has merged every link on a fixed joint into
+its moving body; an empty body (frame links such as ``tool0``) is skipped.
+Armature, joint damping, friction and springs model the motor's and the joint's
+own inertia and losses, not load on the gear output: they are set to zero and
+reported. A second, lenient pass
 over the XML (namespaces not resolved, so extensions such as ``drake:`` never
 break it) only reads the order in which the file writes its joints.
 """
@@ -30,6 +31,7 @@ import numpy as np
 import pinocchio as pin
 
 from hdselect.errors import InputError
+from hdselect.robotcheck import check_bodies, check_geometry
 
 logger = logging.getLogger(__name__)
 
@@ -109,7 +111,8 @@ def read_robot_file(path: Path) -> RobotFile:
                      f"): {', '.join(uncoupled)} move as independent joints here, carry their "
                      "own load and are not sized unless named")
     losses = _set_aside_losses(model)
-    notes += _check_bodies(model, path)
+    notes += check_bodies(model, path)
+    check_geometry(model, path)
     mimic = _mimic_joints(model)
     root = _root_link(model)
     notes += _free_body_note(model, root)
@@ -124,10 +127,18 @@ def read_robot_file(path: Path) -> RobotFile:
 
 @contextmanager
 def _stderr_captured() -> Iterator[list[str]]:
-    """Collect what C++ code writes on standard error (file descriptor 2) meanwhile."""
+    """Collect what C++ code writes on standard error (file descriptor 2) meanwhile.
+
+    Where descriptor 2 cannot be redirected (closed, say) the lines go where they
+    always went.
+    """
     lines: list[str] = []
-    sys.stderr.flush()
-    saved = os.dup(2)
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):
+        yield lines
+        return
     with tempfile.TemporaryFile() as capture:
         os.dup2(capture.fileno(), 2)
         try:
@@ -245,51 +256,6 @@ def _set_aside_losses(model: pin.Model) -> list[str]:
     return [f"the file's {', '.join(given)}: the motor's and the joints' own inertia and "
             "losses, not load on the gear output; left out of the gear torque (give a motor's "
             "rotor inertia with the motor)"]
-
-
-def _body_links(model: pin.Model, joint_id: int) -> list[str]:
-    """The links a joint moves rigidly: its own first, then those merged on fixed joints."""
-    return [f.name for f in model.frames
-            if f.type == pin.FrameType.BODY and f.parentJoint == joint_id]
-
-
-def _check_bodies(model: pin.Model, path: Path) -> list[str]:
-    """Reject a moving body whose inertia is not physical; note one that is barely so.
-
-    Returns:
-        A note for each body whose principal moments violate the triangle inequality.
-
-    Raises:
-        InputError: A body has a negative or non-finite mass, rotational inertia
-            without mass, or a negative principal moment.
-    """
-    notes = []
-    for joint_id in range(1, model.njoints):
-        body = model.inertias[joint_id]
-        mass, com, inertia = float(body.mass), np.array(body.lever), np.array(body.inertia)
-        if mass == 0.0 and not np.any(inertia):
-            continue  # an empty body: frames only
-        links = _body_links(model, joint_id)
-        link = links[0] if links else model.names[joint_id]
-        merged = f" (with {', '.join(links[1:])} merged)" if len(links) > 1 else ""
-        field = f"link[{link}].inertial"
-        where = f"link '{link}'{merged}"
-        if not (np.isfinite(mass) and np.all(np.isfinite(com)) and np.all(np.isfinite(inertia))):
-            raise InputError(f"{where} has a non-finite mass, centre of mass or inertia",
-                             path=path, field=field)
-        if mass <= 0.0:
-            raise InputError(f"{where} has mass {mass:g} kg; a moving body with rotational "
-                             "inertia must have positive mass", path=path, field=field)
-        moments = np.linalg.eigvalsh(inertia)
-        scale = max(float(np.abs(moments).max()), mass * 1e-6)  # 1e-6: a point mass at 1 mm
-        text = ", ".join(f"{m:.3g}" for m in moments)
-        if moments[0] < -1e-9 * scale:
-            raise InputError(f"{where} inertia is not positive semi-definite (principal moments "
-                             f"{text} kg m^2)", path=path, field=field)
-        if moments[0] + moments[1] < moments[2] * (1.0 - 1e-6) - 1e-9 * scale:
-            notes.append(f"{where}: principal moments {text} kg m^2 violate the triangle "
-                         "inequality (no rigid body has them); used as written")
-    return notes
 
 
 def _mimic_joints(model: pin.Model) -> dict[str, Mimic]:

@@ -34,6 +34,8 @@ CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed
                 "momentary": "mom.", "static": "static", "life": "life",
                 "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed"}
 """Short names of the checks, for table headers (``m.``: the motor's)."""
+_CHUNK = 1 << 16
+"""Samples summed at a time by `cycle_load`."""
 
 
 @dataclass(frozen=True)
@@ -218,24 +220,32 @@ def cycle_load(
         The summary. `CycleLoad.mean_speed` averages over the moving part; a series
         whose rules average over the whole cycle reads `CycleLoad.mean_speed_under`.
     """
-    torque = np.abs(np.asarray(torque, dtype=float))
-    speed = np.abs(np.asarray(speed, dtype=float))
+    torque = np.asarray(torque, dtype=float)
+    speed = np.asarray(speed, dtype=float)
     duration = np.broadcast_to(np.asarray(duration, dtype=float), torque.shape)
-    moving = ~np.asarray(at_rest, dtype=bool)
-    weight = speed * duration * moving
-    moving_time = float(duration[moving].sum())
-    travel = float(weight.sum())
-    mean_torque = (float(np.cbrt(np.dot(weight, torque**3) / travel)) if travel > 0.0 else None)
-    held = [float(torque[~moving].max())] if (~moving).any() else []
-    if static_torque is not None:
-        held.append(abs(static_torque))
+    at_rest = np.broadcast_to(np.asarray(at_rest, dtype=bool), torque.shape)
+    moving_time = travel = cubes = cycle_time = 0.0
+    peak = max_speed = 0.0
+    held: list[float] = [] if static_torque is None else [abs(static_torque)]
+    for start in range(0, len(torque), _CHUNK):  # a long cycle in pieces of bounded memory
+        part = slice(start, start + _CHUNK)
+        tau, moving, step = np.abs(torque[part]), ~at_rest[part], duration[part]
+        weight = np.abs(speed[part]) * step * moving
+        moving_time += float(step[moving].sum())
+        travel += float(weight.sum())
+        cubes += float(np.dot(weight, tau**3))
+        cycle_time += float(step.sum())
+        peak = max(peak, float(tau[moving].max(initial=0.0)))
+        max_speed = max(max_speed, float(np.abs(speed[part]).max(initial=0.0)))
+        if not moving.all():
+            held.append(float(tau[~moving].max()))
     return CycleLoad(
-        peak_torque=float(torque[moving].max()) if moving.any() else 0.0,
-        mean_torque=mean_torque,
+        peak_torque=peak,
+        mean_torque=float(np.cbrt(cubes / travel)) if travel > 0.0 else None,
         mean_speed=travel / moving_time if moving_time > 0.0 else 0.0,
-        max_speed=float(speed.max()) if speed.size else 0.0,
+        max_speed=max_speed,
         moving_time=moving_time,
-        cycle_time=float(duration.sum()),
+        cycle_time=cycle_time,
         static_torque=max(held) if held else None,
     )
 
@@ -267,13 +277,18 @@ def allowable_mean_torque(unit: Unit, mean_input_speed_rpm: float) -> tuple[floa
 def l50_life_hours(unit: Unit, mean_torque: float, mean_input_speed_rpm: float) -> float | None:
     """L50 = L50_rated x (n_rated / N_av) x (T_N / T_av)^3 [h]; None when unlimited.
 
-    L50_rated is the series' rated life on the L50 basis (5 x a rated L10).
+    L50_rated is the series' rated life on the L50 basis (5 x a rated L10). A life too
+    long for a float (a torque or speed vanishingly small) is unlimited too.
     """
     if mean_torque <= 0.0 or mean_input_speed_rpm <= 0.0:
         return None
     rules = unit.rules
-    return (rules.rated_l50_hours * (rules.rated_input_speed / mean_input_speed_rpm)
-            * (unit.rated_torque / mean_torque) ** 3)
+    try:
+        life = (rules.rated_l50_hours * (rules.rated_input_speed / mean_input_speed_rpm)
+                * (unit.rated_torque / mean_torque) ** 3)
+    except OverflowError:
+        return None
+    return life if math.isfinite(life) else None
 
 
 def allowed_momentary_events(input_speed_rpm: float, duration: float, *,

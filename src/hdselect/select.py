@@ -59,8 +59,8 @@ def select(candidates: Sequence[Candidate], prefer: str = "size") -> Candidate |
     Raises:
         InputError: `prefer` is not a known order.
     """
-    if prefer not in PREFERENCES:
+    if not isinstance(prefer, str) or prefer not in PREFERENCES:
         raise InputError(f"unknown order '{prefer}'; choose one of: {', '.join(PREFERENCES)}",
-                         field="--prefer")
+                         field="prefer")
     feasible = [c for c in candidates if c.feasible]
     return min(feasible, key=PREFERENCES[prefer][1]) if feasible else None

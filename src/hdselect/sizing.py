@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hdselect.arrays import frozen
+from hdselect.arrays import frozen, readonly
+from hdselect.bounds import expect_type, files_argument
 from hdselect.catalog import Unit, load_catalog
 from hdselect.dynamics import CycleTorques, cycle_torques, gravity_torques, joint_inertias
 from hdselect.errors import InputError
@@ -179,6 +180,11 @@ class SizingResult:
         return self.trajectory.duration
 
     @property
+    def hold_only(self) -> bool:
+        """No sized joint moves: a held pose, judged by the static and momentary checks only."""
+        return all(joint.load.moving_time == 0.0 for joint in self.joints)
+
+    @property
     def title(self) -> str:
         """What was sized, for headings: the robot file, the motion file and its planner."""
         if self.motion is None:
@@ -226,10 +232,14 @@ def size(
         InputError: A file or argument is invalid, or two arguments contradict.
         PlanningError: The motion cannot be planned.
     """
-    if isinstance(catalog, str | Path):
-        raise InputError("expected a list of catalog files", field="catalog")
+    catalog = files_argument(catalog, "catalog")
     if units is not None and catalog:
         raise InputError("give either catalog files or loaded units, not both", field="units")
+    if units is not None:
+        units = _units_argument(units)
+    expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
+    expect_type(motion, (Motion, str, Path), "motion", "a Motion or a motion file")
+    expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
     if isinstance(motion, Motion):
         if not isinstance(robot, Robot):
             file = robot if robot is not None else motion.robot_file
@@ -246,7 +256,7 @@ def size(
     units = tuple(units) if units is not None else load_catalog(catalog)
     if motors is None:
         motors = motion_motors(robot, motion)
-    trajectory = plan(robot, motion)
+    trajectory = plan(robot, motion, max_samples=resolved.max_samples)
     return replace(size_trajectory(robot, trajectory, units, resolved, motors=motors),
                    motion=motion)
 
@@ -307,16 +317,24 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         selection order used.
 
     Raises:
-        InputError: The trajectory's joints are not the robot's, the catalog is empty,
-            the motors name a joint that is not sized or give none for one, or motors and
-            the options' rotor inertia or motor mass are both given.
+        InputError: An argument is of the wrong type, the trajectory's joints are not the
+            robot's or its arrays are malformed, the catalog is empty, the robot has no
+            rotary joint to size, the motors name a joint that is not sized or give none
+            for one, or motors and the options' rotor inertia or motor mass are both given.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot")
+    expect_type(trajectory, (Trajectory,), "trajectory", "a Trajectory (hdselect.plan)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
     if trajectory.joint_names != robot.joint_names:
         raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
                          f"robot has {', '.join(robot.joint_names)}", field="trajectory")
-    units = tuple(units)
+    _check_trajectory(trajectory)
+    units = _units_argument(units)
     if not units:
         raise InputError("no gearhead to choose from", field="units")
+    if not robot.sized_joints:
+        raise InputError("the robot has no rotary joint to size (prismatic joints take no "
+                         "gearhead)", path=robot.path, field="joints")
     options = options if options is not None else Options()
     motors = checked_motors(robot, motors, options)
     if options.prefer is None:
@@ -328,8 +346,11 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         for _ in range(2):
             masses = _unit_masses(_size_joints(robot.with_gearheads(masses), coarse, units,
                                                options, motors)[0], options)
+    joints: list[JointSizing] = []
+    torques: CycleTorques | None = None
     for _ in range(robot.dof + 1):
         carrying = robot.with_gearheads(masses)
+        joints, torques = [], None  # let the last round's torques go before computing the next
         joints, torques = _size_joints(carrying, trajectory, units, options, motors)
         chosen = _unit_masses(joints, options)
         if not options.mass_coupling or chosen == masses:
@@ -349,6 +370,7 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
                   if joint.name in by_name else joint for joint in joints]
     if any(joint.selected is None for joint in joints):
         joints = _with_slowdowns(carrying, trajectory, joints, units, options, motors)
+    assert torques is not None
     return SizingResult(robot, trajectory, tuple(joints), options, units, motors=motors,
                         loads=joint_loads(robot, trajectory, torques.tau))
 
@@ -396,6 +418,40 @@ def checked_motors(robot: Robot, motors: Motors | None,
     return checked
 
 
+def _units_argument(units: object) -> tuple[Unit, ...]:
+    """The `units` argument as a tuple of units.
+
+    Raises:
+        InputError: It is not a sequence of `hdselect.catalog.Unit`.
+    """
+    if isinstance(units, str | bytes | Path) or not isinstance(units, Sequence):
+        raise InputError(f"expected a sequence of catalog units, got {type(units).__name__}",
+                         field="units")
+    for unit in units:
+        expect_type(unit, (Unit,), "units", "catalog units (hdselect.load_catalog)")
+    return tuple(units)
+
+
+def _check_trajectory(trajectory: Trajectory) -> None:
+    """A trajectory's arrays agree in shape and hold finite numbers.
+
+    Raises:
+        InputError: They do not (the field names the array).
+    """
+    n, dof = len(trajectory.t), len(trajectory.joint_names)
+    if not (isinstance(trajectory.dt, float | int) and math.isfinite(trajectory.dt)
+            and trajectory.dt > 0.0):
+        raise InputError(f"must be a positive time [s], got {trajectory.dt!r}",
+                         field="trajectory.dt")
+    for name, shape in (("t", (n,)), ("q", (n, dof)), ("qd", (n, dof)), ("qdd", (n, dof))):
+        array = np.asarray(getattr(trajectory, name))
+        if array.shape != shape or n == 0:
+            raise InputError(f"expected shape {shape} with n >= 1, got {array.shape}",
+                             field=f"trajectory.{name}")
+        if not np.all(np.isfinite(array)):
+            raise InputError("holds a number that is not finite", field=f"trajectory.{name}")
+
+
 def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
                 options: Options | None = None) -> SizingResult:
     """Check given units, one per sized joint, along a planned trajectory: no selection.
@@ -415,11 +471,21 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
         distinct units given).
 
     Raises:
-        InputError: A sized joint has no unit, or a name is not a sized joint.
+        InputError: An argument is of the wrong type, the trajectory's arrays are
+            malformed, a sized joint has no unit, or a name is not a sized joint.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot")
+    expect_type(trajectory, (Trajectory,), "trajectory", "a Trajectory (hdselect.plan)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    if not isinstance(units, Mapping):
+        raise InputError(f"expected a mapping of joint names to catalog units, got "
+                         f"{type(units).__name__}", field="units")
+    for unit in units.values():
+        expect_type(unit, (Unit,), "units", "catalog units (hdselect.load_catalog)")
     if trajectory.joint_names != robot.joint_names:
         raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
                          f"robot has {', '.join(robot.joint_names)}", field="trajectory")
+    _check_trajectory(trajectory)
     for name in units:
         if name not in robot.sized_joints:
             raise InputError(f"'{name}' is not a sized joint; sized joints are: "
@@ -502,11 +568,11 @@ def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, ta
                                  life_hours=options.life_hours, life_basis=options.life_basis,
                                  motor=r.motor) for r in reflections]
         return JointSizing(name, load, tuple(candidates), select(candidates, prefer),
-                           0.0, False, 0.0, frozen(tau), frozen(stop_tau))
+                           0.0, False, 0.0, readonly(tau), readonly(stop_tau))
     behind = reflect_motors(units, [m.rotor_inertia for m in motors], traj.t, tau, qd, qdd,
                             stop_tau, stop_time=options.stop_time, efficiency=options.efficiency)
     speed = np.abs(qd) * RPM_PER_RAD_S
-    pairs, torque = [], {}
+    pairs, reflection = [], {}
     for u, unit in enumerate(units):
         for m, motor in enumerate(motors):
             r = behind[m][u]
@@ -515,12 +581,12 @@ def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, ta
                                   motor=r.motor)
             pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio)
             pairs.append(pair)
-            torque[id(pair)] = r.motor_torque
+            reflection[id(pair)] = r
     selected = select(pairs, prefer)
-    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, frozen(tau),
-                        frozen(stop_tau))
+    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, readonly(tau),
+                        readonly(stop_tau))
     shown = selected or joint.strongest
-    return replace(joint, motor_torque=frozen(torque[id(shown)]))
+    return replace(joint, motor_torque=frozen(reflection[id(shown)].motor_torque))
 
 
 def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
@@ -546,18 +612,20 @@ def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
     `robot` carries the chosen units' masses. Two more batched passes (gravity, and
     gravity plus velocity terms) split the motion's torques by how they scale.
     """
+    failing = [robot.joint_index(joint.name) for joint in joints if joint.selected is None]
     torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time, split=True,
-                            threads=options.threads)
+                            threads=options.threads, columns=failing)
     assert torques.gravity is not None and torques.coasting is not None
     out = []
     for joint in joints:
         if joint.selected is None:
             j = robot.joint_index(joint.name)
+            c = failing.index(j)
             qd, qdd = traj.qd[:, j], traj.qdd[:, j]
             cycle = ScalableCycle.split(
                 traj.t, traj.dt, traj.duration, qd, qdd, at_rest(qd, qdd),
-                torque=torques.tau[:, j], stop_torque=torques.stop[:, j],
-                gravity=torques.gravity[:, j], coast=torques.coasting[:, j],
+                torque=torques.tau[:, c], stop_torque=torques.stop[:, c],
+                gravity=torques.gravity[:, c], coast=torques.coasting[:, c],
                 stop_time=options.stop_time)
             slowdown, scales = fitting_time_scales(
                 cycle, units, options,

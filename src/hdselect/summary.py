@@ -6,9 +6,11 @@ The full `SizingResult` keeps every sample's torque for reports and figures
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from hdselect.bounds import expect_type
 from hdselect.sizing import JointSizing, SizingResult
 
 
@@ -94,8 +96,12 @@ class Summary:
     warnings: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain lists, dicts, strings and numbers, ready for JSON."""
-        return asdict(self)
+        """Plain lists, dicts, strings and numbers, ready for strict JSON.
+
+        A number that is not finite (the infinite life of a joint that carries no load)
+        is None, as in the command line's JSON.
+        """
+        return _finite(asdict(self))
 
 
 def summarize(result: SizingResult) -> Summary:
@@ -106,7 +112,11 @@ def summarize(result: SizingResult) -> Summary:
 
     Returns:
         Its summary.
+
+    Raises:
+        InputError: `result` is not a SizingResult.
     """
+    expect_type(result, SizingResult, "result", "a SizingResult (hdselect.size)")
     return Summary(
         robot=str(result.robot.path),
         motion=None if result.motion is None else str(result.motion.path),
@@ -148,3 +158,14 @@ def _joint(joint: JointSizing) -> JointSummary:
         motor_binding=chosen.motor_binding,
         inertia_ratio=joint.inertia_ratio(chosen),
     )
+
+
+def _finite(value: Any) -> Any:
+    """`value` with every float that is not finite replaced by None, containers walked."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(item) for item in value]
+    return value

@@ -45,6 +45,8 @@ failing stretch shorter than one step (a factor 10^(1/12) = 1.21) can be missed.
 
 Interval = tuple[float, float]
 """A closed interval of time scales (lo, hi) [-]; hi may be math.inf."""
+_CHUNK = 1 << 15
+"""Samples whose quadratic inequalities are solved at a time by `exact_scales`."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,7 +108,7 @@ class ScalableCycle:
             raise ValueError("a cycle needs 1-D samples and a positive stop time")
         for name in ("t", "dt", "qd", "qdd", "gravity", "velocity", "inertial",
                      "stop_inertial"):
-            object.__setattr__(self, name, frozen(np.broadcast_to(getattr(self, name), n)))
+            object.__setattr__(self, name, _shared(getattr(self, name), n))
         rest = np.array(np.broadcast_to(self.at_rest, n), dtype=bool)
         rest.setflags(write=False)
         object.__setattr__(self, "at_rest", rest)
@@ -139,6 +141,18 @@ class ScalableCycle:
             array.setflags(write=False)
         t, dt, qd, qdd, torque, stop = arrays
         return ScaledCycle(s, t, dt, self.duration * s, qd, qdd, self.at_rest, torque, stop)
+
+
+def _shared(value: np.ndarray | float, shape: tuple[int, ...]) -> np.ndarray:
+    """`value` as a read-only float array of `shape`, copied only if it could still change.
+
+    A read-only array of the right shape is kept as it is, and a scalar is broadcast (a
+    view of one number): a long cycle is not duplicated.
+    """
+    array = np.asarray(value, dtype=float)
+    if array.ndim == 0 or (array.shape == shape and not array.flags.writeable):
+        return np.broadcast_to(array, shape)
+    return frozen(np.broadcast_to(array, shape))
 
 
 @dataclass(frozen=True)
@@ -234,25 +248,33 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
     Returns:
         Sorted disjoint closed intervals of s in (0, inf) [-]; lo may be 0, hi inf.
     """
-    g, v, e = cycle.gravity, cycle.velocity, cycle.stop_inertial
-    a, rest, moving, none = v + cycle.inertial, cycle.at_rest, ~cycle.at_rest, np.zeros_like(g)
     if motor is not None:
         rotor_inertia = motor.rotor_inertia
     k = (unit.input_inertia + rotor_inertia) * unit.ratio**2 / cycle.stop_time
-    crash = k * np.abs(cycle.qd)
     speed = float(np.abs(cycle.qd).max(initial=0.0)) * unit.ratio * RPM_PER_RAD_S
     top = unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed)
-    rows = [  # (c2, c1, c0) of c2 y^2 + c1 y + c0 <= 0
-        *_within(a[moving], none[moving], g[moving], unit.repeated_torque),
-        *_within(a[rest], none[rest], g[rest], unit.static_torque),
-        *_within(v, e, g, unit.momentary_torque),
-        (a, crash, g - unit.momentary_torque),  # tau + K |qd| y <= limit
-        (-a, crash, -g - unit.momentary_torque),  # -tau + K |qd| y <= limit
-        (np.zeros(1), np.array([speed]), np.array([-top])),
-    ]
-    c2, c1, c0 = (np.concatenate(column) for column in zip(*rows, strict=True))
+    # input speed: speed y <= the unit's maximum (and the motor's)
+    found = _intersect(*_solve(np.zeros(1), np.array([speed]), np.array([-top])))
+    for start in range(0, len(cycle.t), _CHUNK):  # pieces of bounded memory, intersected
+        if not found:
+            break
+        part = slice(start, start + _CHUNK)
+        g, v, e = cycle.gravity[part], cycle.velocity[part], cycle.stop_inertial[part]
+        a = v + cycle.inertial[part]
+        rest = cycle.at_rest[part]
+        moving, none = ~rest, np.zeros_like(g)
+        crash = k * np.abs(cycle.qd[part])
+        rows = [  # (c2, c1, c0) of c2 y^2 + c1 y + c0 <= 0
+            *_within(a[moving], none[moving], g[moving], unit.repeated_torque),
+            *_within(a[rest], none[rest], g[rest], unit.static_torque),
+            *_within(v, e, g, unit.momentary_torque),
+            (a, crash, g - unit.momentary_torque),  # tau + K |qd| y <= limit
+            (-a, crash, -g - unit.momentary_torque),  # -tau + K |qd| y <= limit
+        ]
+        c2, c1, c0 = (np.concatenate(column) for column in zip(*rows, strict=True))
+        found = _overlap(found, _intersect(*_solve(c2, c1, c0)))
     return tuple((1.0 / y_hi, 1.0 / y_lo if y_lo > 0.0 else math.inf)
-                 for y_lo, y_hi in reversed(_intersect(*_solve(c2, c1, c0))) if y_hi > 0.0)
+                 for y_lo, y_hi in reversed(found) if y_hi > 0.0)
 
 
 def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEFAULT_EFFICIENCY,
@@ -366,6 +388,21 @@ def _intersect(lo: np.ndarray, hi: np.ndarray) -> list[Interval]:
     where = where[order]
     full = np.flatnonzero(np.cumsum(step[order]) == rows)  # the next end closes each
     return [(float(where[k]), float(where[k + 1])) for k in full]
+
+
+def _overlap(a: list[Interval], b: list[Interval]) -> list[Interval]:
+    """The intersection of two sorted lists of disjoint closed intervals."""
+    out: list[Interval] = []
+    i = j = 0
+    while i < len(a) and j < len(b):
+        lo, hi = max(a[i][0], b[j][0]), min(a[i][1], b[j][1])
+        if lo <= hi:
+            out.append((lo, hi))
+        if a[i][1] < b[j][1]:
+            i += 1
+        else:
+            j += 1
+    return out
 
 
 def _passing(passes: Callable[[float], bool], first: float, last: float,

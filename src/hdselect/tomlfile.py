@@ -9,6 +9,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+from hdselect.bounds import Bound
 from hdselect.errors import InputError
 
 
@@ -60,6 +61,7 @@ def number(
     default: float | None = None,
     minimum: float | None = None,
     positive: bool = False,
+    bound: Bound | None = None,
 ) -> float:
     """Read one finite number from a TOML table.
 
@@ -71,6 +73,7 @@ def number(
         default: Value when the key is absent; None makes the key required.
         minimum: Smallest allowed value (inclusive), if any.
         positive: Require a value strictly greater than zero.
+        bound: The physical range of the quantity (`hdselect.bounds`), if any.
 
     Returns:
         The value as a float.
@@ -83,27 +86,54 @@ def number(
         if default is None:
             raise InputError("required key is missing", path=path, field=field)
         return default
-    return as_number(table[key], path, field, minimum=minimum, positive=positive)
+    return as_number(table[key], path, field, minimum=minimum, positive=positive, bound=bound)
 
 
 def as_number(
-    value: Any, path: Path, field: str, *, minimum: float | None = None, positive: bool = False
+    value: Any, path: Path, field: str, *, minimum: float | None = None, positive: bool = False,
+    bound: Bound | None = None, scale: float = 1.0, unit: str | None = None,
 ) -> float:
     """Check that `value` is a finite number in range and return it as a float.
+
+    Args:
+        value: The value as read.
+        path: The file, for messages.
+        field: The dotted field, for messages.
+        minimum: Smallest allowed value (inclusive), if any.
+        positive: Require a value strictly greater than zero.
+        bound: The physical range of the quantity, checked in SI (`hdselect.bounds`).
+        scale: SI per unit of `value`, for `bound`.
+        unit: The label of the unit of `value`, for `bound`'s message.
 
     Raises:
         InputError: It is not.
     """
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise InputError(f"expected a number, got {value!r}", path=path, field=field)
-    value = float(value)
-    if not math.isfinite(value):
-        raise InputError(f"must be finite, got {value}", path=path, field=field)
+    value = finite_float(value, path, field)
+    if bound is not None:
+        bound.check(value, path=path, field=field, scale=scale, unit=unit)
     if positive and value <= 0.0:
         raise InputError(f"must be positive, got {value:g}", path=path, field=field)
     if minimum is not None and value < minimum:
         raise InputError(f"must be at least {minimum:g}, got {value:g}", path=path, field=field)
     return value
+
+
+def finite_float(value: int | float, path: Path | None, field: str | None) -> float:
+    """A number as a finite float (a huge integer does not fit one).
+
+    Raises:
+        InputError: It is not finite or does not fit a float.
+    """
+    try:
+        number = float(value)
+    except OverflowError as err:
+        raise InputError("must be finite, got an integer too large for a float", path=path,
+                         field=field) from err
+    if not math.isfinite(number):
+        raise InputError(f"must be finite, got {number}", path=path, field=field)
+    return number
 
 
 def table_of(value: Any, path: Path, field: str) -> dict[str, Any]:

@@ -17,7 +17,8 @@ from collections.abc import Callable
 
 import numpy as np
 
-from hdselect.errors import PlanningError
+from hdselect.bounds import DEFAULT_MAX_SAMPLES, check_max_samples
+from hdselect.errors import InputError, PlanningError
 from hdselect.motion import ANGLE_UNITS, Motion
 from hdselect.motion import PLANNERS as PLANNER_NAMES
 from hdselect.planning.ruckig import plan_ruckig
@@ -26,42 +27,53 @@ from hdselect.planning.toppra import plan_toppra
 from hdselect.planning.trajectory import Trajectory
 from hdselect.robot import Robot
 
-PLANNERS: dict[str, Callable[[Robot, Motion], Trajectory]] = {
+PLANNERS: dict[str, Callable[..., Trajectory]] = {
     "ruckig": plan_ruckig,
     "toppra": plan_toppra,
     "samples": plan_samples,
 }
-"""Planner functions by the name a motion file's ``planner`` key gives."""
+"""Planner functions by the name a motion file's ``planner`` key gives: each takes the robot,
+the motion and a keyword ``max_samples``."""
 assert tuple(PLANNERS) == PLANNER_NAMES
 
 __all__ = ["PLANNERS", "Trajectory", "check_within_limits", "plan"]
 
 
-def plan(robot: Robot, motion: Motion) -> Trajectory:
+def plan(robot: Robot, motion: Motion, *, max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
     """Plan the motion for the robot and sample it on its time grid.
+
+    The grid is checked before it is allocated (`hdselect.planning.grid`): it must
+    resolve every move and dwell, and have at most `max_samples` samples.
 
     Args:
         robot: The robot as the motion runs it (its payload matters to TOPPRA's
             torque limits).
         motion: A validated motion read for the robot's joints.
+        max_samples: Most samples the trajectory may have.
 
     Returns:
         The trajectory, sampled every ``motion.dt`` [s].
 
     Raises:
-        InputError: The motion was read for other joints.
+        InputError: The arguments are not a Robot and a Motion, the motion was read
+            for other joints, or the grid is too coarse or too large (field ``dt``).
         PlanningError: The planner failed, the limits cannot be met, or the
             trajectory leaves a joint's position limits.
     """
+    if not isinstance(robot, Robot):
+        raise InputError(f"expected a Robot, got {type(robot).__name__}", field="robot")
+    if not isinstance(motion, Motion):
+        raise InputError(f"expected a Motion, got {type(motion).__name__}", field="motion")
+    max_samples = check_max_samples(max_samples)
     motion.check_joints(robot)
-    trajectory = PLANNERS[motion.planner](robot, motion)
+    trajectory = PLANNERS[motion.planner](robot, motion, max_samples=max_samples)
     check_within_limits(robot, motion, trajectory)
     return trajectory
 
 
 def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,
                         what: str | None = None) -> None:
-    """Refuse a trajectory that leaves a joint's position limits (by more than 1e-9).
+    """Refuse a trajectory that is not finite or leaves a joint's position limits (by > 1e-9).
 
     Args:
         robot: The robot (its position limits).
@@ -70,9 +82,13 @@ def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,
         what: What made it, for the message (default: the motion's planner).
 
     Raises:
-        PlanningError: Naming the joint, how far past which limit, when, and the
-            waypoint to move.
+        PlanningError: A position, velocity or acceleration is not finite; or naming
+            the joint, how far past which limit, when, and the waypoint to move.
     """
+    for name in ("q", "qd", "qdd"):
+        if not np.all(np.isfinite(getattr(trajectory, name))):
+            raise PlanningError(f"{motion.path}: the {what or motion.planner} trajectory has a "
+                                f"{name} that is not finite")
     q = trajectory.q
     outside = (q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)
     if outside.any():

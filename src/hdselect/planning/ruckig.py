@@ -14,16 +14,19 @@ from functools import partial
 import numpy as np
 import ruckig
 
+from hdselect.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.errors import PlanningError
 from hdselect.motion import Motion
 from hdselect.planning.trajectory import Move, Trajectory, assemble
 from hdselect.robot import Robot
 
 
-def plan_ruckig(robot: Robot, motion: Motion) -> Trajectory:
+def plan_ruckig(robot: Robot, motion: Motion, *,
+                max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
     """Plan the motion's waypoints as Ruckig moves and sample them every ``motion.dt``.
 
     Raises:
+        InputError: The grid does not resolve a move or exceeds `max_samples`.
         PlanningError: Ruckig rejects a move.
     """
     dof = robot.dof
@@ -46,7 +49,7 @@ def plan_ruckig(robot: Robot, motion: Motion) -> Trajectory:
             raise PlanningError(f"{motion.path}: ruckig failed on the move from waypoint[{i}] "
                                 f"to waypoint[{i + 1}] ({result.name})")
         moves.append(Move(i, i + 1, traj.duration, partial(sample_profiles, traj)))
-    return assemble(motion, moves)
+    return assemble(motion, moves, max_samples=max_samples)
 
 
 def _integrate(t, p, v, a, j):

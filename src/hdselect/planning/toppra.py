@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from hdselect.arrays import frozen
+from hdselect.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.errors import PlanningError
 from hdselect.motion import Motion
 from hdselect.planning.trajectory import Move, Trajectory, assemble
@@ -152,14 +153,16 @@ class Profile:
         return q, dq * sd[:, None] / scale, (ddq * sd[:, None] ** 2 + dq * u[:, None]) / scale**2
 
 
-def plan_toppra(robot: Robot, motion: Motion) -> Trajectory:
+def plan_toppra(robot: Robot, motion: Motion, *,
+                max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
     """Plan the motion's path time-optimally and sample it every ``motion.dt``.
 
     Raises:
+        InputError: The grid does not resolve a path piece or exceeds `max_samples`.
         PlanningError: The limits make a piece of the path infeasible (the message
             names the constraint set at fault) or TOPPRA fails.
     """
-    return assemble(motion, _toppra_pieces(robot, motion))
+    return assemble(motion, _toppra_pieces(robot, motion), max_samples=max_samples)
 
 
 @contextmanager
@@ -216,7 +219,11 @@ def path_pieces(robot: Robot, motion: Motion, grid_per_waypoint: int = _GRID_PER
         chord = np.r_[0.0, np.cumsum(lengths)]
         grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, grid_per_waypoint * len(points) + 1))
         with _quiet():
-            path = _Path(chord / chord[-1], points, robot.lower, robot.upper)
+            try:
+                path = _Path(chord / chord[-1], points, robot.lower, robot.upper)
+            except (ValueError, ArithmeticError) as err:
+                raise PlanningError(f"{motion.path}: toppra: no spline through waypoint[{first}]"
+                                    f" to waypoint[{last}]: {err}") from err
             q, dq, ddq = path(grid), path(grid, 1), path(grid, 2)
         pieces.append(PathPiece(first, last, path, frozen(grid), frozen(q), frozen(dq),
                                 frozen(ddq), indices, frozen(chord / chord[-1])))
@@ -371,6 +378,14 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
                 f"{motion.path}: toppra: the velocity and acceleration limits (limits.velocity, "
                 f"limits.acceleration) make the path from waypoint[{first}] to "
                 f"waypoint[{last}] infeasible")
-        scale = overshoot_scale(found, velocity, acceleration)
-        moves.append(Move(first, last, found.duration * scale, partial(found.sample, scale=scale)))
+        try:
+            scale = overshoot_scale(found, velocity, acceleration)
+            duration = found.duration * scale
+            if not (math.isfinite(duration) and duration > 0.0 and np.all(np.isfinite(found.sd))):
+                raise ArithmeticError(f"duration {duration!r} s")
+        except (ValueError, ArithmeticError) as err:
+            raise PlanningError(f"{motion.path}: toppra: the path from waypoint[{first}] to "
+                                f"waypoint[{last}] cannot be timed with these limits "
+                                f"({type(err).__name__}: {err})") from err
+        moves.append(Move(first, last, duration, partial(found.sample, scale=scale)))
     return moves

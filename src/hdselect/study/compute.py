@@ -193,7 +193,8 @@ def size_direct(case: Case, inputs: _Inputs | None = None) -> Summary:
     options = case_options(case, motion)
     carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
     motors = inputs.motors(case, carrying, motion)
-    trajectory = scaled(plan(carrying, motion), case.time_scale)
+    trajectory = scaled(plan(carrying, motion, max_samples=options.max_samples),
+                        case.time_scale)
     result = size_trajectory(carrying, trajectory, units, options, motors=motors)
     return summarize(replace(result, motion=motion))
 
@@ -300,7 +301,8 @@ def fastest_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, Any]:
     units = inputs.catalog(case)
     options = case_options(case, motion)
     carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
-    sized = None if case.time_scale == 1.0 else scaled(plan(carrying, motion), case.time_scale)
+    sized = (None if case.time_scale == 1.0 else
+             scaled(plan(carrying, motion, max_samples=options.max_samples), case.time_scale))
     chosen, _ = resolve_units(carrying, motion, None, units, options, trajectory=sized)
     return fastest_json(fastest(carrying, motion, chosen, options, catalog=units))
 
@@ -322,7 +324,8 @@ def max_payload_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, A
     carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
     trajectory = None
     if case.time_scale != 1.0 and not plan_depends_on_payload(motion):  # else refused below
-        trajectory = scaled(plan(carrying, motion), case.time_scale)
+        trajectory = scaled(plan(carrying, motion, max_samples=options.max_samples),
+                            case.time_scale)
     result = max_payload(carrying, motion, options, catalog=units, trajectory=trajectory)
     document = max_payload_json(replace(result, selection=None), motion)
     document["robot"] = str(carrying.path)

@@ -88,14 +88,16 @@ def default_workers() -> int:
     return max(1, os.cpu_count() or 1)
 
 
-def run_study(study: Study, out: str | Path | None = None, *, workers: int | None = None,
+def run_study(study: Study, out: str | Path | Store | None = None, *,
+              workers: int | None = None,
               scheduler: str | None = None, grouping: bool = True, retry_failed: bool = False,
               progress: Callable[[int, int, dict[str, Any]], None] | None = None) -> StudyRun:
     """Run every case of a study not yet done, keeping each result as it arrives.
 
     Args:
         study: The study.
-        out: The CSV file (its journal beside it); None keeps the results in memory only.
+        out: The CSV file (its journal beside it), or its `Store`; None keeps the results
+            in memory only.
         workers: Worker processes (default: the cores here); 0 runs the cases in this
             process, without isolation. With ``scheduler="local"``: Dask workers.
         scheduler: None for local worker processes; ``"local"`` for a Dask ``LocalCluster``
@@ -116,7 +118,7 @@ def run_study(study: Study, out: str | Path | None = None, *, workers: int | Non
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise InputError(f"expected a whole number of workers, 0 or more; got {workers!r}",
                          field="--workers")
-    store = Store(out, study) if out is not None else None
+    store = out if isinstance(out, Store) or out is None else Store(out, study)
     records: dict[str, dict[str, Any]] = dict(store.records) if store is not None else {}
     todo = [case for case in study.cases
             if store is None or not store.done(case, retry_failed)]

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import math
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields, replace
@@ -19,6 +20,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from hdselect import bounds
 from hdselect.catalog import BUILTIN
 from hdselect.errors import InputError
 from hdselect.options import Options
@@ -134,7 +136,7 @@ def load_study(path: str | Path, computations: Sequence[str] | None = None) -> S
         from hdselect.study.compute import COMPUTATIONS
 
         computations = tuple(COMPUTATIONS)
-    path = Path(path)
+    path = bounds.file_argument(path, "path")
     doc = read_toml(path)
     check_keys(doc, _TOP_KEYS, path, "")
     title = doc.get("title", path.stem)
@@ -154,6 +156,10 @@ def load_study(path: str | Path, computations: Sequence[str] | None = None) -> S
     listed = doc.get("case", [{}])
     if not isinstance(listed, list) or not listed:
         raise InputError("expected [[case]] tables", path=path, field="case")
+    count = len(listed) * len(compute) * math.prod(len(values) for values in grid.values())
+    if count > bounds.MAX_STUDY_CASES:
+        raise InputError(f"makes {count:,} cases, more than {bounds.MAX_STUDY_CASES:,}; split "
+                         "the study", path=path, field="grid" if grid else "case")
     rows = []
     for i, item in enumerate(listed):
         given = _values(table_of(item, path, f"case[{i}]"), path, f"case[{i}]")
@@ -213,7 +219,7 @@ def _value(key: str, value: Any, path: Path, field: str) -> Any:
                     "inertia": [list(row) for row in payload.inertia], "frame": payload.frame}
         return _payload({"mass": value}, path, field, mass_only=True).mass
     if key == "time_scale":
-        return as_number(value, path, field, positive=True)
+        return as_number(value, path, field, bound=bounds.TIME_SCALE)
     if key == "mounting":
         if isinstance(value, str):
             if value not in MOUNTINGS:
@@ -224,11 +230,13 @@ def _value(key: str, value: Any, path: Path, field: str) -> Any:
         if not isinstance(value, list) or len(value) != 3:
             raise InputError("expected floor, wall, ceiling or [gx, gy, gz] in m/s^2",
                              path=path, field=field)
-        return tuple(as_number(v, path, f"{field}[{i}]") for i, v in enumerate(value))
+        return tuple(as_number(v, path, f"{field}[{i}]", bound=bounds.GRAVITY)
+                     for i, v in enumerate(value))
     if key == "ratio":
         if isinstance(value, bool) or not isinstance(value, int) or value <= 0:
             raise InputError(f"expected a positive whole ratio, got {value!r}", path=path,
                              field=field)
+        bounds.RATIO.check(value, path=path, field=field)
         return value
     try:
         Options(**{key: value})

@@ -15,8 +15,6 @@ import csv
 import io
 import json
 import math
-import os
-import tempfile
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass
@@ -24,6 +22,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from hdselect.errors import InputError
+from hdselect.outputs import writable_target, write_file
 from hdselect.study.compute import COMPUTATIONS, Outcome
 from hdselect.study.spec import Case, Study
 
@@ -70,25 +69,33 @@ def cell(value: Any) -> str:
 
 
 class Store:
-    """The CSV and the journal of one study, opened for appending."""
+    """The CSV and the journal of one study, opened for appending.
+
+    Both are regular files, read back to resume and rewritten when the study is
+    complete: a symlink is followed (the journal goes beside the file it points to),
+    and standard output, a device or a FIFO is refused.
+    """
 
     def __init__(self, out: str | Path, study: Study) -> None:
-        """Read what the journal already holds.
+        """Check both paths and read what the journal already holds.
 
         Args:
             out: The CSV file; the journal is `journal_path(out)`.
             study: The study the files are for.
 
         Raises:
-            InputError: A file cannot be read or written, or the output is an input.
+            InputError: A file cannot be read or written, is not a regular file, or is an
+                input.
         """
-        self.csv_path, self.journal_path = Path(out), journal_path(out)
+        self.csv_path = _regular(out)
+        self.journal_path = _regular(journal_path(self.csv_path))
         self.study = study
         inputs = {f.resolve() for case in study.cases for f in case.files} | {
             study.path.resolve()}
         for path in (self.csv_path, self.journal_path):
             if path.resolve() in inputs:
-                raise InputError("is an input file; choose another output path", path=path)
+                raise InputError("is an input file; choose another output path", path=path,
+                                 field="--out")
         self.records: dict[str, dict[str, Any]] = {}
         if self.journal_path.exists():
             for record in _read_journal(self.journal_path):
@@ -97,6 +104,11 @@ class Store:
         self._journal: TextIO | None = None
         self._writer: Any = None
 
+    @property
+    def paths(self) -> tuple[Path, Path]:
+        """The CSV and the journal."""
+        return self.csv_path, self.journal_path
+
     def done(self, case: Case, retry_failed: bool = False) -> bool:
         """The case's key has a record (a failed one counts unless `retry_failed`)."""
         record = self.records.get(case.key)
@@ -104,7 +116,7 @@ class Store:
 
     def open(self) -> None:
         """Rewrite the CSV from the journal's records of this study, then append to both."""
-        _atomic(self.csv_path, lambda stream: self._write_csv(stream))
+        write_file(self.csv_path, lambda stream: self._write_csv(stream))
         try:
             self._csv = self.csv_path.open("a", encoding="utf-8", newline="")
             self._journal = self.journal_path.open("a", encoding="utf-8")
@@ -120,7 +132,7 @@ class Store:
                   "values": dict(case.values), **asdict(outcome),
                   "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         del record["index"]
-        self._journal.write(json.dumps(record) + "\n")
+        self._journal.write(json.dumps(record, allow_nan=False) + "\n")
         self._journal.flush()
         self.records[outcome.key] = record
         self._writer.writerows({k: cell(v) for k, v in row.items()}
@@ -136,9 +148,9 @@ class Store:
         self._csv = self._journal = None
         if complete:
             current = [self.records[case.key] for case in self.study.cases]
-            _atomic(self.journal_path, lambda stream: stream.writelines(
-                json.dumps(record) + "\n" for record in current))
-            _atomic(self.csv_path, lambda stream: self._write_csv(stream))
+            write_file(self.journal_path, lambda stream: stream.writelines(
+                json.dumps(record, allow_nan=False) + "\n" for record in current))
+            write_file(self.csv_path, lambda stream: self._write_csv(stream))
 
     def _write_csv(self, stream: TextIO) -> None:
         stream.write(csv_text(self.study, self.records))
@@ -164,22 +176,20 @@ def _read_journal(path: Path) -> Iterable[dict[str, Any]]:
         yield record
 
 
-def _atomic(target: Path, write: Any) -> None:
-    """Write a text file through a temporary file and a rename."""
-    try:
-        fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.")
-    except OSError as err:
-        raise InputError(f"cannot write here ({err.strerror})", path=target) from err
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as stream:
-            write(stream)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+def _regular(out: str | Path) -> Path:
+    """Where a study file goes: a regular file (symlinks followed), whose directory exists.
+
+    Raises:
+        InputError: It is ``-``, a directory, a device, a FIFO or another special file.
+    """
+    if str(out) == "-":
+        raise InputError("a study keeps its rows in a file it reads back to resume; standard "
+                         "output cannot be one", field="--out")
+    real, kind = writable_target(out, "--out")
+    if kind != "file":
+        raise InputError("is a device or a named pipe; a study keeps its rows in a regular "
+                         "file it reads back to resume", path=out, field="--out")
+    return real
 
 
 def table(study: Study, records: dict[str, dict[str, Any]]) -> list[dict[str, Any]]:

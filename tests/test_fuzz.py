@@ -1,0 +1,645 @@
+"""Property-based fuzzing of everything a user can hand hdselect (issue 9).
+
+Motion files, logs, catalogs, duty profiles, robot files, motor files (a file for
+``--motor-catalog`` and a ``[motor]`` table inline in a motion file), study files
+and command lines are generated with random and extreme values (NaN, inf, 0, -0, negative, 1e-300,
+1e308, integers too large for a float, wrong types, missing, unknown and
+duplicated keys) and run through the command line, in process. Whatever comes
+in, the promise holds:
+
+- the exit status is 0, 1 or 2 (3 too for a study: a case failed, its row says why;
+  never 70, a bug; never a traceback);
+- on 2: exactly one line on standard error, nothing on standard output, and no
+  file created, changed or removed;
+- on 0 or 1: every number of the JSON written is finite (and the JSON strict);
+- no Python warning (pytest turns warnings into errors, which would be status 3).
+
+Profiles: ``ci`` (the default: a fixed seed, a few dozen cases per target, well
+under a minute in all) and ``long`` (``HDSELECT_FUZZ=long``: thousands of cases,
+random seeds, for local runs). ``pytest --hypothesis-show-statistics`` counts
+the cases run.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+
+from hdselect.cli import main
+from test_dynamics import REPO
+
+settings.register_profile(
+    "ci", max_examples=60, derandomize=True, deadline=None, database=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+settings.register_profile(
+    "long", max_examples=2000, deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+settings.load_profile(os.environ.get("HDSELECT_FUZZ", "ci"))
+
+MAX_SAMPLES = "20000"
+"""Every generated run is bounded to this many samples, so no case takes long."""
+
+# --- values -------------------------------------------------------------------------------------
+
+EXTREMES = [math.nan, math.inf, -math.inf, 0.0, -0.0, -1.0, 1e-300, -1e-300, 5e-324, 1e308,
+            -1e308, 1e300, 1e-7, 1e9, 10**20, -(10**20), 10**400]
+"""Numbers that broke something once, or could."""
+
+extreme = st.sampled_from(EXTREMES)
+wrong_type = st.one_of(st.text(max_size=6), st.booleans(), st.just([]), st.just([1, "x"]),
+                       st.just({}), st.just({"a": 1}))
+anything = st.one_of(extreme, st.floats(), st.integers(-(10**6), 10**6), wrong_type)
+
+
+corruptions = st.sampled_from([0, 0, 0, 0, 1, 1, 1, 2, 3])
+"""How many values of an otherwise sane input are made extreme or of the wrong type."""
+
+
+def toml_value(value: object) -> str:
+    """A value as TOML text (nan and inf included, as TOML writes them)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{json.dumps(str(k))} = {toml_value(v)}"
+                               for k, v in value.items()) + "}"
+    raise TypeError(value)
+
+
+def toml_text(entries: list[tuple[str, object]]) -> str:
+    """TOML from (key, value) pairs in order; ``[table]`` / ``[[array]]`` keys open tables.
+
+    Pairs may repeat a key (a duplicated key is itself a case to test).
+    """
+    lines = []
+    for key, value in entries:
+        if key.startswith("["):
+            lines.append(key)
+        else:
+            lines.append(f"{key} = {toml_value(value)}")
+    return "\n".join(lines) + "\n"
+
+
+@st.composite
+def shuffled_entries(draw, entries: list[tuple[str, object]]) -> list[tuple[str, object]]:
+    """Corrupt a few values, and drop, duplicate or add a key now and then.
+
+    Tables (``[name]`` keys) keep their keys under them.
+    """
+    entries = list(entries)
+    keyed = [i for i, (key, _) in enumerate(entries) if not key.startswith("[")]
+    for _ in range(draw(corruptions) if keyed else 0):
+        i = keyed[draw(st.integers(0, len(keyed) - 1))]
+        entries[i] = (entries[i][0], draw(anything))
+    if keyed and draw(st.integers(0, 3)) == 0:
+        i = draw(st.sampled_from(keyed))
+        key, value = entries[i]
+        change = draw(st.sampled_from(["missing", "duplicated", "unknown"]))
+        if change == "missing":
+            del entries[i]
+        elif change == "duplicated":
+            entries.insert(i + 1, (key, draw(st.one_of(st.just(value), anything))))
+        else:
+            entries.insert(i + 1, (key + draw(st.sampled_from(["x", "_", "s"])), value))
+    return entries
+
+
+# --- running ------------------------------------------------------------------------------------
+
+@contextlib.contextmanager
+def workdir() -> Iterator[Path]:
+    """A fresh directory with the shipped robots and motions, as the working directory."""
+    old = Path.cwd()
+    with tempfile.TemporaryDirectory() as name:
+        work = Path(name)
+        (work / "robots").symlink_to(REPO / "robots")
+        (work / "motors").symlink_to(REPO / "motors")
+        shutil.copytree(REPO / "trajectories", work / "tr")
+        (work / "existing_dir").mkdir()
+        os.chdir(work)
+        try:
+            yield work
+        finally:
+            os.chdir(old)
+
+
+def snapshot(work: Path) -> dict[str, tuple[int, float]]:
+    """Every file and directory under `work` (not following links): a file with its size
+    and time (a directory's time changes when a temporary comes and goes: not an output)."""
+    files = {}
+    for root, dirs, names in os.walk(work):
+        for name in dirs:
+            files[str(Path(root, name).relative_to(work))] = (0, 0)
+        for name in names:
+            path = Path(root, name)
+            info = path.lstat()
+            files[str(path.relative_to(work))] = (info.st_size, info.st_mtime_ns)
+    return files
+
+
+@contextlib.contextmanager
+def c_level_stderr() -> Iterator[io.StringIO]:
+    """What C and C++ code writes straight to file descriptor 2 while the block runs."""
+    captured = io.StringIO()
+    saved = os.dup(2)
+    with tempfile.TemporaryFile() as sink:
+        os.dup2(sink.fileno(), 2)
+        try:
+            yield captured
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            sink.seek(0)
+            captured.write(sink.read().decode("utf-8", errors="replace"))
+            captured.seek(0)
+
+
+def finite_json(text: str) -> object:
+    """Parse strict JSON and check every number is finite."""
+    def refuse(constant: str) -> None:
+        raise AssertionError(f"not strict JSON: {constant}")
+
+    document = json.loads(text, parse_constant=refuse)
+
+    def walk(node: object) -> None:
+        if isinstance(node, float):
+            assert math.isfinite(node), node
+        elif isinstance(node, dict):
+            for value in node.values():
+                walk(value)
+        elif isinstance(node, list):
+            for value in node:
+                walk(value)
+
+    walk(document)
+    return document
+
+
+def check_run(work: Path, argv: list[str], *, stdout_json: bool = False,
+              json_files: tuple[str, ...] = (), csv_files: tuple[str, ...] = (),
+              jsonl_files: tuple[str, ...] = (), statuses: tuple[int, ...] = (0, 1, 2)) -> int:
+    """Run the command line and check the promise; returns the exit status.
+
+    `stdout_json`: on success standard output is a JSON document; `json_files`, `csv_files`,
+    `jsonl_files` (JSON Lines): files the command may have written (``-``: standard output);
+    `statuses`: the exit statuses allowed.
+    """
+    before = snapshot(work)
+    out, err = io.StringIO(), io.StringIO()
+    with c_level_stderr() as c_err, contextlib.redirect_stdout(out), \
+            contextlib.redirect_stderr(err):
+        try:
+            status = main(argv)
+        except SystemExit as exit:  # argparse refuses an argument from inside main()
+            status = int(exit.code or 0)
+    error_text = err.getvalue() + c_err.read()
+    out_text, err_lines = out.getvalue(), error_text.strip().splitlines()
+    event(f"exit {status}")
+    assert status in statuses, (argv, status, error_text)
+    assert "Traceback" not in error_text, error_text
+    if status == 2:
+        assert len(err_lines) == 1, (argv, error_text)
+        event("refused: " + ": ".join(err_lines[0].split(": ")[2:4])[:40])
+        assert out_text == "", (argv, out_text[:200])
+        assert snapshot(work) == before, argv
+    else:
+        if stdout_json:
+            finite_json(out_text)
+        for name in json_files:
+            if Path(name).is_file():
+                finite_json(Path(name).read_text())
+        for name in csv_files:
+            text = out_text if name == "-" else Path(name).read_text() if Path(name).is_file() \
+                else None
+            if text is not None:
+                data = np.loadtxt(io.StringIO(text), delimiter=",", skiprows=1, ndmin=2)
+                assert data.size and np.all(np.isfinite(data)), name
+        for name in jsonl_files:
+            for line in Path(name).read_text().splitlines():
+                finite_json(line)
+    return status
+
+
+# --- motion files -------------------------------------------------------------------------------
+
+angle = st.floats(-80, 110)
+elbow = st.floats(-140, 140)
+
+
+@st.composite
+def motions(draw) -> str:
+    planner = draw(st.sampled_from(["ruckig", "ruckig", "toppra"]))
+    unit = draw(st.sampled_from(["deg", "deg", "deg", "rad"]))
+    k = 1.0 if unit == "deg" else math.pi / 180  # file units per degree
+    entries: list[tuple[str, object]] = [
+        ("robot", "../robots/planar2.urdf"),
+        ("planner", planner),
+        ("angle_unit", unit),
+        ("dt", draw(st.sampled_from([0.001, 0.001, 0.002, 0.005]))),
+        ("mounting", draw(st.sampled_from(["floor", "wall", "ceiling", [0, 0, -9.81]]))),
+        ("[payload]", None),
+        ("mass", draw(st.floats(0.01, 3.0))),
+        ("com", draw(st.lists(st.floats(-0.1, 0.1), min_size=3, max_size=3))),
+        ("frame", "tool"),
+        ("[limits]", None),
+        ("velocity", draw(st.floats(30, 400)) * k),
+        ("acceleration", draw(st.floats(200, 5000)) * k),
+    ]
+    if planner == "ruckig":
+        entries.append(("jerk", draw(st.floats(2000, 60000)) * k))
+    entries += [("[safety]", None), ("stop_time", draw(st.floats(0.01, 0.5))),
+                ("[requirements]", None),
+                ("life_hours", draw(st.floats(100, 1e6))),
+                ("life_basis", draw(st.sampled_from(["L50", "L10"])))]
+    for _ in range(draw(st.integers(2, 4))):
+        q = {"shoulder": draw(angle) * k, "elbow": draw(elbow) * k}
+        entries += [("[[waypoint]]", None), ("q", draw(st.sampled_from([q, list(q.values())])))]
+        if draw(st.booleans()):
+            entries.append(("dwell", draw(st.floats(0.0, 1.0))))
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@given(motions())
+def test_fuzz_motion_files(text):
+    with workdir() as work:
+        Path("tr/fuzz.toml").write_text(text)
+        check_run(work, ["size", "tr/fuzz.toml", "--json", "-", "--max-samples", MAX_SAMPLES],
+                  stdout_json=True)
+
+
+# --- logs ---------------------------------------------------------------------------------------
+
+@st.composite
+def logs(draw) -> tuple[str, float]:
+    n = draw(st.integers(2, 120))
+    period = draw(st.sampled_from([0.002, 0.005, 0.01]))
+    jitter = draw(st.booleans())
+    header = ["t", "q_pan", "q_tilt"]
+    if draw(st.integers(0, 4)) == 0:
+        header.append(draw(st.sampled_from(["q_pan", "qd_pan", "q_elbow", "note", "t", ""])))
+    if draw(st.integers(0, 6)) == 0:
+        header.remove(draw(st.sampled_from(["t", "q_pan", "q_tilt"])))
+    rows = []
+    pan_amp, tilt_amp = draw(st.floats(0, 160)), draw(st.floats(0, 55))
+    for k in range(n):
+        t = k * period * (1 + (0.01 * ((k * 7919) % 13 - 6) / 6 if jitter else 0))
+        cells = {"t": repr(t), "q_pan": repr(pan_amp * math.sin(3 * t)),
+                 "q_tilt": repr(tilt_amp * math.sin(2 * t))}
+        row = [cells.get(name, "0") for name in header]
+        rows.append(row)
+    for _ in range(draw(corruptions)):
+        r = draw(st.integers(0, n - 1))
+        c = draw(st.integers(0, len(header) - 1))
+        rows[r][c] = draw(st.one_of(extreme.map(repr), st.sampled_from(
+            ["", "abc", "nan", "-inf", "1e400", '"5"', "0x10", " 1 "])))
+    if draw(st.integers(0, 8)) == 0:
+        rows[draw(st.integers(0, n - 1))].append("9")  # ragged
+    text = "\n".join(",".join(row) for row in [header, *rows]) + "\n"
+    dt = draw(st.sampled_from([period, 0.001, 0.002]))
+    return text, dt
+
+
+@given(logs())
+def test_fuzz_logs(case):
+    text, dt = case
+    with workdir() as work:
+        Path("tr/logs/fuzz.csv").write_text(text)
+        Path("tr/fuzz.toml").write_text(toml_text([
+            ("robot", "../robots/pan_tilt.urdf"), ("planner", "samples"),
+            ("angle_unit", "deg"), ("dt", dt), ("[samples]", None), ("file", "logs/fuzz.csv")]))
+        check_run(work, ["size", "tr/fuzz.toml", "--json", "-", "--max-samples", MAX_SAMPLES],
+                  stdout_json=True)
+
+
+# --- catalogs -----------------------------------------------------------------------------------
+
+@st.composite
+def catalogs(draw) -> str:
+    entries: list[tuple[str, object]] = [("series", draw(st.just("ACME")))]
+    if draw(st.booleans()):
+        entries += [("[rules]", None),
+                    ("rated_input_speed_rpm", draw(st.floats(500, 3000))),
+                    ("rated_life_hours", draw(st.floats(1000, 50000))),
+                    ("life_basis", draw(st.sampled_from(["L10", "L50"]))),
+                    ("mean_torque_limit", draw(st.sampled_from(["speed-adjusted"]))),
+                    ("mean_speed", draw(st.sampled_from(["moving", "whole-cycle"]))),
+                    ("max_momentary_events", draw(st.floats(10, 1e5)))]
+    for i in range(draw(st.integers(1, 3))):
+        rated = draw(st.floats(0.5, 50))
+        entries += [
+            ("[[unit]]", None),
+            ("size", draw(st.just(20 + 2 * i))),
+            ("ratio", draw(st.sampled_from([30, 50, 100, 160]))),
+            ("rated_torque_nm", draw(st.just(rated))),
+            ("repeated_torque_nm", draw(st.just(rated * 1.5))),
+            ("momentary_torque_nm", draw(st.just(rated * 3))),
+            ("max_input_speed_rpm", draw(st.floats(1000, 8000))),
+            ("input_inertia_kg_cm2", draw(st.floats(0.001, 1.0))),
+            ("mass_kg", draw(st.floats(0.1, 5.0))),
+        ]
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@given(catalogs(), st.sampled_from(["size", "duty", "catalog"]))
+def test_fuzz_catalogs(text, command):
+    with workdir() as work:
+        Path("mine.toml").write_text(text)
+        argv = {"size": ["size", "tr/planar2_pick_place.toml", "--json", "-"],
+                "duty": ["duty", "tr/duty/conveyor_index.toml", "--json", "-"],
+                "catalog": ["catalog", "--json"]}[command]
+        check_run(work, [*argv, "--catalog", "mine.toml"], stdout_json=True)
+
+
+# --- duty profiles ------------------------------------------------------------------------------
+
+@st.composite
+def duty_profiles(draw) -> str:
+    entries: list[tuple[str, object]] = []
+    for _ in range(draw(st.integers(0, 5))):
+        entries += [("[[phase]]", None),
+                    ("torque", draw(st.floats(-20, 20))),
+                    ("time", draw(st.floats(0.01, 2.0))),
+                    ("speed", draw(st.floats(-60, 60)))]
+        if draw(st.integers(0, 3)) == 0:
+            entries.append(("name", draw(st.text(max_size=12))))
+    if draw(st.booleans()):
+        entries += [("[momentary]", None), ("torque", draw(st.floats(0, 40))),
+                    ("speed", draw(st.floats(0, 60))),
+                    ("time", draw(st.floats(0.001, 0.5)))]
+    if draw(st.booleans()):
+        entries += [("[static]", None), ("torque", draw(st.floats(0, 30)))]
+    if draw(st.booleans()):
+        entries += [("[requirements]", None), ("life_hours", draw(st.floats(1, 1e6))),
+                    ("life_basis", draw(st.sampled_from(["L50", "L10"])))]
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@given(duty_profiles())
+def test_fuzz_duty_profiles(text):
+    with workdir() as work:
+        Path("duty.toml").write_text(text)
+        check_run(work, ["duty", "duty.toml", "--json", "-"], stdout_json=True)
+
+
+# --- robot files --------------------------------------------------------------------------------
+
+NUMERIC_ATTRIBUTE = r'(value|ixx|iyy|izz|ixy|lower|upper|xyz)="([^"]*)"'
+
+
+@st.composite
+def robot_files(draw) -> str:
+    import re
+
+    text = (REPO / "robots" / "planar2.urdf").read_text()
+    matches = list(re.finditer(NUMERIC_ATTRIBUTE, text))
+    for _ in range(draw(st.integers(1, 3))):
+        match = matches[draw(st.integers(0, len(matches) - 1))]
+        value = draw(st.one_of(extreme.map(repr), st.sampled_from(["nan", "inf", "", "abc",
+                                                                    "1 2", "0 0 1e308"])))
+        if match.group(1) == "xyz":
+            value = draw(st.sampled_from([f"{value} 0 0", "nan 0 0", "0 0 1e308", "1 2"]))
+        start, end = match.span(2)
+        text = text[:start] + value + text[end:] if len(text) > end else text
+        matches = list(re.finditer(NUMERIC_ATTRIBUTE, text))
+    return text
+
+
+@given(robot_files())
+def test_fuzz_robot_files(text):
+    with workdir() as work:
+        Path("fuzz.urdf").write_text(text)
+        check_run(work, ["size", "fuzz.urdf", "tr/planar2_pick_place.toml", "--json", "-",
+                         "--max-samples", MAX_SAMPLES], stdout_json=True)
+
+
+# --- motor files --------------------------------------------------------------------------------
+
+MOTOR_SAMPLES = "4000"
+"""Motor pairs multiply the candidates: these runs are bounded tighter."""
+
+
+@st.composite
+def motor_entries(draw, header: str) -> list[tuple[str, object]]:
+    """One motor's keys under `header` (``[[motor]]``, or ``[motor]`` inline in a motion)."""
+    rated = draw(st.floats(0.005, 0.5))
+    top = draw(st.floats(2000, 9000))
+    entries: list[tuple[str, object]] = [
+        (header, None),
+        ("rated_torque_nm", rated),
+        ("peak_torque_nm", rated * draw(st.floats(1.0, 4.0))),
+        ("max_speed_rpm", top),
+        ("rated_speed_rpm", top * draw(st.floats(0.3, 1.0))),
+        (draw(st.sampled_from(["rotor_inertia_kg_cm2", "rotor_inertia_kg_m2"])),
+         draw(st.floats(0.0, 0.05))),
+        ("mass_kg", draw(st.floats(0.0, 1.5))),
+    ]
+    if draw(st.booleans()):
+        entries += [("torque_constant_nm_per_a", draw(st.floats(0.01, 0.5))),
+                    ("resistance_ohm", draw(st.floats(0.1, 30)))]
+    if header == "[[motor]]":
+        entries.insert(1, ("id", draw(st.sampled_from(["M1", "M2", "M3", "M1"]))))
+    return entries
+
+
+@st.composite
+def motor_files(draw) -> str:
+    entries: list[tuple[str, object]] = [("source", "fuzz")]
+    for _ in range(draw(st.integers(1, 3))):
+        entries += draw(motor_entries("[[motor]]"))
+        if draw(st.integers(0, 2)) == 0:  # a torque-speed curve
+            top = dict(entries)["max_speed_rpm"]
+            entries += [("[motor.curve]", None),
+                        ("speed_rpm", [0, draw(st.floats(0, 1)) * top, top * 1.01]),
+                        ("peak_torque_nm", [draw(st.floats(0, 1)) for _ in range(3)])]
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@given(motor_files())
+def test_fuzz_motor_files(text):
+    with workdir() as work:
+        Path("motors.toml").write_text(text)
+        check_run(work, ["size", "tr/planar2_pick_place.toml", "--motor-catalog", "motors.toml",
+                         "--json", "-", "--max-samples", MOTOR_SAMPLES], stdout_json=True)
+
+
+@st.composite
+def motor_tables(draw) -> str:
+    """A ``[motor]`` table (every rotary joint) or ``[motor.shoulder]`` (one joint)."""
+    entries = draw(motor_entries("[motor]"))
+    if draw(st.booleans()):
+        entries[0] = ("[motor.shoulder]", None)
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@given(motor_tables())
+def test_fuzz_motor_tables_in_motion_files(table):
+    with workdir() as work:
+        base = Path("tr/planar2_pick_place.toml").read_text()
+        Path("tr/fuzz.toml").write_text(base + "\n" + table)
+        check_run(work, ["size", "tr/fuzz.toml", "--json", "-", "--max-samples",
+                         MOTOR_SAMPLES], stdout_json=True)
+
+
+# --- study files --------------------------------------------------------------------------------
+
+STUDY_EXAMPLES = 25 if os.environ.get("HDSELECT_FUZZ", "ci") == "ci" else 300
+"""Each study case is a whole sizing run: fewer examples than the other targets."""
+
+
+@st.composite
+def study_files(draw) -> str:
+    entries: list[tuple[str, object]] = [
+        ("title", draw(st.sampled_from(["fuzz", "a study"]))),
+        ("compute", draw(st.sampled_from(["size", ["size"]]))),
+        ("[base]", None),
+        ("motion", draw(st.sampled_from(["tr/planar2_pick_place.toml",
+                                         "tr/pan_tilt_logged.toml", "tr/missing.toml"]))),
+        ("stop_time", draw(st.floats(0.01, 0.5))),
+        ("max_samples", int(MAX_SAMPLES)),
+    ]
+    if draw(st.booleans()):
+        entries.append(("payload", draw(st.one_of(
+            st.floats(0.01, 2.0),
+            st.fixed_dictionaries({"mass": st.floats(0.01, 2.0),
+                                   "com": st.lists(st.floats(-0.1, 0.1), min_size=3,
+                                                   max_size=3)})))))
+    grid: list[tuple[str, object]] = [("[grid]", None)]
+    for key, values in draw(st.lists(st.sampled_from([
+            ("time_scale", st.floats(0.5, 3.0)), ("ratio", st.sampled_from([50, 80, 100])),
+            ("efficiency", st.floats(0.3, 1.0)), ("mounting", st.sampled_from(
+                ["floor", "wall", "ceiling"])), ("life_hours", st.floats(100, 1e5))]),
+            max_size=2, unique_by=lambda pair: pair[0])):
+        grid.append((key, draw(st.lists(values, min_size=1, max_size=2))))
+    entries += grid if len(grid) > 1 else []
+    if draw(st.integers(0, 3)) == 0:
+        entries += [("[[case]]", None), ("motor_catalog", draw(st.sampled_from(
+            ["motors/example_motors.toml", "nowhere.toml"])))]
+    return toml_text(draw(shuffled_entries(entries)))
+
+
+@settings(max_examples=STUDY_EXAMPLES)
+@given(study_files(), st.sampled_from(["out.csv", "out.csv", os.devnull, "-", "existing_dir",
+                                       "none/out.csv", "study.toml", "link.csv"]))
+def test_fuzz_study_files(text, out):
+    with workdir() as work:
+        Path("study.toml").write_text(text)
+        if out == "link.csv":  # a symlink: followed, the rows land in its target
+            Path("link.csv").symlink_to("target.csv")
+        status = check_run(work, ["study", "study.toml", "--out", out, "--workers", "0"],
+                           statuses=(0, 2, 3),
+                           jsonl_files=("out.jsonl",) if out == "out.csv" else ())
+        if status != 2:
+            real = Path("target.csv" if out == "link.csv" else out)
+            assert real.is_file() and real.with_suffix(".jsonl").is_file()
+            assert not Path(out).is_symlink() or out == "link.csv" and Path(out).is_symlink()
+
+
+# --- command lines ------------------------------------------------------------------------------
+
+option_value = st.one_of(st.sampled_from(
+    ["nan", "inf", "-inf", "0", "-0", "-1", "1e-300", "1e308", "1e400", "abc", "", "0.5", "1",
+     "2", "100", "20000", "0.05", "0.9"]), extreme.map(repr))
+output_path = st.sampled_from(["-", "out.json", os.devnull, "/proc/x/out.json", "none/out.json",
+                               "existing_dir", "tr/planar2_pick_place.toml", "out.csv"])
+OPTIONS = {  # option -> how many values it takes
+    "--payload": 1, "--payload-com": 3, "--payload-frame": 1, "--mounting": 1,
+    "--stop-time": 1, "--efficiency": 1, "--motor-inertia": 1, "--motor-mass": 1,
+    "--life-hours": 1, "--life-basis": 1, "--prefer": 1, "--max-samples": 1,
+    "--joints": 1, "--exclude": 1, "--motor-catalog": 1,
+}
+
+
+@st.composite
+def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
+    command = draw(st.sampled_from(["size", "size", "compare", "plan", "duty", "catalog",
+                                    "joints", "init"]))
+    if command in ("joints", "init"):
+        robot = draw(st.sampled_from(["robots/planar2.urdf", "robots/pan_tilt.urdf",
+                                      "tr/planar2_pick_place.toml", "none.urdf"]))
+        path = draw(output_path)
+        option = "--json" if command == "joints" else "--out"
+        return [command, robot, *([option, path] if draw(st.booleans()) else [])], (
+            (path,) if command == "joints" else ()), ()
+    if command == "catalog":
+        return ["catalog", *draw(st.sampled_from([[], ["--json"], ["--units", "imperial"],
+                                                  ["--units", "si"]]))], (), ()
+    if command == "duty":
+        path = draw(output_path)
+        return ["duty", "tr/duty/conveyor_index.toml", "--json", path], (path,), ()
+    motion = draw(st.sampled_from(["tr/planar2_pick_place.toml", "tr/index_table_indexing.toml",
+                                   "tr/pan_tilt_logged.toml"]))
+    argv = [command, motion]
+    written: tuple[str, ...] = ()
+    csv: tuple[str, ...] = ()
+    if command == "plan":
+        out = draw(output_path)
+        argv += ["--out", out]
+        csv = (out,) if out in ("-", "out.csv") else ()
+        if draw(st.booleans()):
+            argv += ["--plot", draw(st.sampled_from(["-", "fig.png", "/proc/x.png"]))]
+    for option in draw(st.lists(st.sampled_from(list(OPTIONS)), max_size=4, unique=True)):
+        if command == "plan" and option not in ("--payload", "--payload-com", "--payload-frame",
+                                                "--mounting", "--max-samples", "--joints",
+                                                "--exclude"):
+            continue
+        if command == "plan" and option == "--motor-catalog":
+            continue
+        if option == "--payload-frame":
+            values = [draw(st.sampled_from(["tool", "link1", "base_link", "nowhere", ""]))]
+        elif option in ("--joints", "--exclude"):
+            values = [draw(st.sampled_from(["shoulder", "elbow", "shoulder,elbow", "pan", ",",
+                                            "nope", "tilt,pan", ""]))]
+        elif option == "--motor-catalog":
+            values = [draw(st.sampled_from(["motors/example_motors.toml", "none.toml",
+                                            "tr/planar2_pick_place.toml", "existing_dir"]))]
+        elif option == "--mounting":
+            values = [draw(st.sampled_from(["floor", "wall", "ceiling", "roof", "nan"]))]
+        elif option == "--life-basis":
+            values = [draw(st.sampled_from(["L10", "L50", "L90"]))]
+        elif option == "--prefer":
+            values = [draw(st.sampled_from(["size", "margin", "motor-rms", "cheapest"]))]
+        else:
+            values = [draw(option_value) for _ in range(OPTIONS[option])]
+        argv += [option, *values]
+    if command in ("size", "compare") and draw(st.booleans()):
+        path = draw(output_path)
+        argv += ["--json", path]
+        written = (path,)
+    if command in ("size", "compare") and draw(st.integers(0, 3)) == 0:
+        argv += ["--report", draw(st.sampled_from(["-", "report", "existing_dir", os.devnull,
+                                                   "tr/planar2_pick_place.toml"]))]
+    if "--max-samples" not in argv:
+        argv += ["--max-samples", MAX_SAMPLES]
+    return argv, written, csv
+
+
+@given(command_lines())
+def test_fuzz_command_lines(case):
+    argv, written, csv = case
+    stdout_json = argv[:2] == ["catalog", "--json"] or (
+        "--json" in argv and argv[argv.index("--json") + 1] == "-")
+    with workdir() as work:
+        check_run(work, argv, stdout_json=stdout_json,
+                  json_files=tuple(p for p in written if p.endswith(".json")), csv_files=csv)
