@@ -20,7 +20,6 @@ from hdselect.export import MOTOR_MODEL_NOTE, assumptions, base_text
 from hdselect.loads import JointLoad
 from hdselect.provenance import Provenance
 from hdselect.report import (
-    DEG_PER_RAD,
     case_notes,
     life_text,
     ratio_text,
@@ -283,10 +282,7 @@ def _loads(result: SizingResult) -> str:
 
 def _load_cells(load: JointLoad, angle: str) -> list[str]:
     """Peak, effort limit, speed, velocity limit and travel of one joint, with units."""
-    if load.linear:
-        force, length, scale = "N", "m", 1.0
-    else:
-        force, length, scale = "N m", angle, (DEG_PER_RAD if angle == "deg" else 1.0)
+    force, length, scale = load.units(angle)
 
     def value(figure: float | None, limit: float, unit: str, over: bool) -> str:
         if figure is None:

@@ -60,6 +60,19 @@ class JointLoad:
         """The largest speed exceeds the robot file's velocity limit."""
         return self.max_speed > self.velocity_limit * (1.0 + 1e-6)
 
+    def units(self, angle: str) -> tuple[str, str, float]:
+        """Force unit, length unit and the factor from SI for showing this joint.
+
+        Args:
+            angle: ``"deg"`` or ``"rad"``, the unit a rotary joint's angles are shown in.
+
+        Returns:
+            ``("N", "m", 1)`` for a linear joint; ``("N m", angle, factor)`` for a rotary one.
+        """
+        if self.linear:
+            return "N", "m", 1.0
+        return "N m", angle, (180.0 / math.pi if angle == "deg" else 1.0)
+
 
 def joint_loads(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> tuple[JointLoad, ...]:
     """Every joint's peak torque, speed and travel beside its file's limits.

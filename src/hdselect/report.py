@@ -446,10 +446,7 @@ def loads_table(result: SizingResult) -> FittedTable:
 
 def _load_cells(load: JointLoad, angle: str) -> list[str]:
     """Peak and effort limit, speed and velocity limit, travel of one joint, with units."""
-    if load.linear:
-        force, length, scale = "N", "m", 1.0
-    else:
-        force, length, scale = "N m", angle, (DEG_PER_RAD if angle == "deg" else 1.0)
+    force, length, scale = load.units(angle)
 
     def pair(value: float | None, limit: float, unit: str, over: bool) -> str:
         if value is None:
