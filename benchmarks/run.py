@@ -189,9 +189,9 @@ def _max_difference(a, b) -> float:
 def benchmarks(quick: bool) -> list[Benchmark]:
     """Every row, with its fixtures built (imports and planning happen here, untimed)."""
     from hdselect import Options, Payload, load_case, plan, size, size_trajectory
-    from hdselect.catalog import load_catalog
-    from hdselect.dynamics import inverse_dynamics
-    from hdselect.planning.ruckig import sample_profiles
+    from hdselect.catalog.units import load_catalog
+    from hdselect.motion.planning.ruckig import sample_profiles
+    from hdselect.robot.dynamics import inverse_dynamics
 
     robot, motion = load_case(MOTION, ROBOT)
     full = plan(robot, motion)
@@ -206,7 +206,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
     motion_for_size = motion if step == 1 else replace(motion, dt=motion.dt * step)
     payloads = [Payload(0.1 * (k + 1), (0.0, 0.0, 0.03), frame="tool0") for k in range(10)]
 
-    from hdselect.motors import load_motors
+    from hdselect.catalog.motors import load_motors
 
     motor_catalog = load_motors(ROOT / "motors" / "example_motors.toml")
     motors = {name: motor_catalog for name in robot.sized_joints}
@@ -297,7 +297,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
         Benchmark(
             "cold start: --help", lambda: _process(cli + ["--help"]),
             lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
-            notes="whole process, python -m hdselect.cli --help vs python -c pass", repeats=9),
+            notes="whole process, python -m hdselect.cli.main --help vs python -c pass", repeats=9),
         Benchmark(
             "cold start: catalog", lambda: _process(cli + ["catalog"]),
             lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
@@ -319,7 +319,7 @@ def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:
     import toppra.constraint as constraint
 
     from hdselect import compare_ratios, fastest, load_case, plan, size
-    from hdselect.planning.toppra import path_pieces
+    from hdselect.motion.planning.toppra import path_pieces
 
     robot, motion = load_case(CONTOUR)
     velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
@@ -487,7 +487,7 @@ def run_row(bench: Benchmark, quick: bool) -> dict[str, Any]:
 
 _PROBE = """
 import contextlib, io, json, sys
-from hdselect.cli import main
+from hdselect.cli.main import main
 with contextlib.redirect_stdout(io.StringIO()):
     try:
         status = main(sys.argv[1:])

@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.cli import EXIT_BAD_INPUT, EXIT_BUG, EXIT_CASES_FAILED, EXIT_NO_FIT, main
+from hdselect.cli.main import main
+from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_CASES_FAILED, EXIT_NO_FIT
 from test_dynamics import REPO
 
 TRAJECTORIES = REPO / "trajectories"
@@ -311,7 +312,7 @@ def test_a_robot_with_no_rotary_joint_is_refused_with_report(work, capsys):
 
 def cli_process(*argv: str, cwd: Path, env: dict | None = None, text: bool = True):
     return subprocess.Popen(
-        [sys.executable, "-c", "import sys; from hdselect.cli import main; sys.exit(main())",
+        [sys.executable, "-c", "import sys; from hdselect.cli.main import main; sys.exit(main())",
          *argv], cwd=cwd, env={**os.environ, "PYTHONPATH": str(REPO / "src"), **(env or {})},
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=text)
 
@@ -325,12 +326,12 @@ def test_an_ascii_terminal_gets_the_table_not_a_traceback(work):
 
 
 def test_ctrl_c_anywhere_is_one_line_and_leaves_nothing(work, capsys, monkeypatch):
-    import hdselect.planning
+    import hdselect.motion.planning
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(hdselect.planning, "plan", interrupted)
+    monkeypatch.setattr(hdselect.motion.planning, "plan", interrupted)
     status, out, err = run(capsys, "size", f"tr/{PLANAR2}", "--json", "out.json",
                            "--report", "report")
     assert status == 130 and out == ""
@@ -340,12 +341,12 @@ def test_ctrl_c_anywhere_is_one_line_and_leaves_nothing(work, capsys, monkeypatc
 
 
 def test_a_bug_is_its_own_status_one_line_and_no_output(work, capsys, monkeypatch):
-    import hdselect.sizing
+    import hdselect.sizing.core
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("float division by zero")
 
-    monkeypatch.setattr(hdselect.sizing, "size_trajectory", broken)
+    monkeypatch.setattr(hdselect.sizing.core, "size_trajectory", broken)
     status, out, err = run(capsys, "size", f"tr/{PLANAR2}", "--json", "out.json")
     lines = err.strip().splitlines()
     assert status == EXIT_BUG == 70 and out == "" and len(lines) == 1
@@ -616,15 +617,15 @@ def test_init_never_replaces_a_file_even_through_a_symlink(work, capsys):
 
 
 def test_a_file_that_appears_while_init_runs_is_not_replaced(work, capsys, monkeypatch):
-    import hdselect.starter
+    import hdselect.motion.starter
 
-    real = hdselect.starter.starter_motion
+    real = hdselect.motion.starter.starter_motion
 
     def racing(*args, **kwargs):
         Path("new.toml").write_text("someone else's")
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(hdselect.starter, "starter_motion", racing)
+    monkeypatch.setattr(hdselect.motion.starter, "starter_motion", racing)
     status, out, err = run(capsys, "init", "robots/planar2.urdf", "--out", "new.toml")
     assert status == 2 and out == "" and "new.toml" in err and "not replaced" in err
     assert Path("new.toml").read_text() == "someone else's"
@@ -678,7 +679,7 @@ def test_size_refuses_wrong_arguments_naming_the_parameter():
 
 def test_the_other_entry_points_refuse_wrong_arguments_naming_the_parameter():
     import hdselect
-    from hdselect.options import options_for
+    from hdselect.sizing.options import options_for
 
     robot, motion = hdselect.load_case(PLANAR2_PATH)
     trajectory = hdselect.plan(robot, motion)
@@ -722,7 +723,7 @@ def test_a_robot_given_with_a_loaded_motion_is_used_not_ignored():
 
 
 def test_json_is_strict():
-    from hdselect.export import write_json
+    from hdselect.report.export import write_json
 
     with pytest.raises(ValueError, match="JSON compliant"):
         write_json(os.devnull, {"x": math.nan})

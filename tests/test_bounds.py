@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect import bounds
-from hdselect.errors import InputError
+from hdselect.base import bounds
+from hdselect.base.errors import InputError
 
 
 @pytest.mark.parametrize(("value", "text"), [

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.catalog import load_catalog
-from hdselect.errors import InputError
+from hdselect.base.errors import InputError
+from hdselect.catalog.units import load_catalog
 
 NM_PER_LB_IN = 0.1129848  # DESIGN.md, "The catalog"
 KG_M2_PER_LB_IN2 = 2.9264e-4
@@ -285,7 +285,7 @@ def test_file_without_units(tmp_path: Path) -> None:
 def test_limit_below_repeated_is_accepted_with_a_warning(
         tmp_path: Path, caplog: pytest.LogCaptureFixture, key: str, name: str) -> None:
     path = write_catalog(tmp_path, unit_toml(**{key: 35.0}))  # repeated is 40 N m
-    with caplog.at_level(logging.WARNING, logger="hdselect.catalog"):
+    with caplog.at_level(logging.WARNING, logger="hdselect.catalog.units"):
         units = {u.id: u for u in load_catalog([path])}
     assert getattr(units["XYZ-20-50"], key.removesuffix("_nm")) == 35.0  # kept as given
     warnings = [r for r in caplog.records if r.levelno == logging.WARNING]

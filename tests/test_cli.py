@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from hdselect.cli import main
+from hdselect.cli.main import main
 
 REPO = Path(__file__).resolve().parents[1]
 CONVEYOR = REPO / "trajectories" / "duty" / "conveyor_index.toml"
@@ -316,7 +316,7 @@ def test_duty_error_in_a_real_process(tmp_path: Path) -> None:
     """The installed entry point: one line on stderr, exit 2, no traceback."""
     profile = write_profile(tmp_path, [(3.0, math.nan, 10.0)])
     completed = subprocess.run(
-        [sys.executable, "-c", "from hdselect.cli import main; raise SystemExit(main())",
+        [sys.executable, "-c", "from hdselect.cli.main import main; raise SystemExit(main())",
          "duty", str(profile)],
         capture_output=True, text=True, timeout=60, check=False)
     assert completed.returncode == 2

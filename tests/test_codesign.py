@@ -26,22 +26,22 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.catalog import load_catalog
-from hdselect.cli import main
-from hdselect.codesign import compare_ratios, fastest
-from hdselect.errors import InputError, PlanningError
-from hdselect.fastpath import GRID_PER_WAYPOINT
-from hdselect.motion import load_case
-from hdselect.options import Options
-from hdselect.pathbounds import PathInfeasible
-from hdselect.planning import plan
-from hdselect.planning.toppra import (
+from hdselect.base.errors import InputError, PlanningError
+from hdselect.catalog.units import load_catalog
+from hdselect.cli.main import main
+from hdselect.codesign.fastest_cycle import compare_ratios, fastest
+from hdselect.codesign.fastpath import GRID_PER_WAYPOINT
+from hdselect.codesign.pathbounds import PathInfeasible
+from hdselect.motion.motionfile import load_case
+from hdselect.motion.planning import plan
+from hdselect.motion.planning.toppra import (
     kinematic_constraints,
     overshoot_scale,
     path_pieces,
     solve_piece,
 )
-from hdselect.sizing import size
+from hdselect.sizing.core import size
+from hdselect.sizing.options import Options
 from test_dynamics import REPO
 from test_motion import write_motion, write_robot
 
@@ -256,7 +256,7 @@ def test_fastest_follows_plans_path_rule_at_a_position_limit(tmp_path, planner):
 
 
 def test_fastest_leaving_a_limit_is_refused_as_plan_refuses_it(tmp_path, monkeypatch):
-    import hdselect.codesign as codesign
+    import hdselect.codesign.fastest_cycle as codesign
 
     write_robot(tmp_path, 2)
     robot, motion = load_case(write_motion(tmp_path, f"""\

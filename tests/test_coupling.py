@@ -16,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.robot import load_robot
+from hdselect.robot.model import load_robot
 from test_dynamics import MOTIONS, REPO, ROBOTS, G, planned, random_states, rnea_loop, thinned
 
 STOP_TIME = 0.1  # [s]

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from hdselect.catalog import load_catalog
-from hdselect.cli import main
-from hdselect.duty import load_duty, size_duty
-from hdselect.errors import InputError
+from hdselect.base.errors import InputError
+from hdselect.catalog.duty import load_duty, size_duty
+from hdselect.catalog.units import load_catalog
+from hdselect.cli.main import main
 
 REPO = Path(__file__).resolve().parents[1]
 CONVEYOR = REPO / "trajectories" / "duty" / "conveyor_index.toml"

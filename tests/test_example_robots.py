@@ -18,9 +18,9 @@ import pinocchio as pin
 import pytest
 
 import hdselect
-from hdselect.cli import main
-from hdselect.export import size_json
-from hdselect.robot import STANDARD_GRAVITY
+from hdselect.cli.main import main
+from hdselect.robot.model import STANDARD_GRAVITY
+from hdselect.sizing.records import size_json
 
 
 def example_robots() -> Path:

@@ -36,7 +36,7 @@ import numpy as np
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from hdselect.cli import main
+from hdselect.cli.main import main
 from test_dynamics import REPO
 
 settings.register_profile(

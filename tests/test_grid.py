@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.errors import InputError
-from hdselect.planning import plan
-from hdselect.planning.grid import (
+from hdselect.base.errors import InputError
+from hdselect.motion.planning import plan
+from hdselect.motion.planning.grid import (
     MIN_MOVE_SAMPLES,
     check_log_period,
     check_resolution,

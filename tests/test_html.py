@@ -13,8 +13,8 @@ from pathlib import Path
 import pytest
 
 from browser import Browser, chromium
-from hdselect.cli import main
-from hdselect.html import FAIL_COLOURS, PASS_COLOURS, utilization_colour
+from hdselect.cli.main import main
+from hdselect.report.html import FAIL_COLOURS, PASS_COLOURS, utilization_colour
 from test_report import LONG, ros_arm
 
 CREATED = re.compile(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ")
@@ -236,8 +236,8 @@ def test_a_phone_sized_window_scrolls_tables_not_the_page(report, browser, tmp_p
 
 def test_a_report_from_python_says_so_and_hashes_a_logged_trajectory(tmp_path):
     import hdselect
-    from hdselect.figures import write_report
-    from hdselect.provenance import provenance
+    from hdselect.report.provenance import provenance
+    from hdselect.report.report_files import write_report
     from test_sizing import REPO
 
     result = hdselect.size(None, REPO / "trajectories" / "pan_tilt_logged.toml")

@@ -1,4 +1,4 @@
-"""Tests of hdselect.joints and `hdselect joints`: a robot's joints as a motion file sees them."""
+"""Tests of hdselect.robot.joints and `hdselect joints`: a robot's joints as motions see them."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from hdselect.cli import main
-from hdselect.joints import describe_joints
-from hdselect.robot import load_robot
+from hdselect.cli.main import main
+from hdselect.robot.joints import describe_joints
+from hdselect.robot.model import load_robot
 from test_robot import robot_path
 from test_robotfile import gripper
 

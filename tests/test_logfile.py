@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from hdselect.errors import InputError
-from hdselect.logfile import read_log
-from hdselect.robot import load_robot
+from hdselect.base.errors import InputError
+from hdselect.motion.logfile import read_log
+from hdselect.robot.model import load_robot
 from test_motion import write_chain
 
 DEG = math.pi / 180

@@ -9,15 +9,15 @@ import math
 import numpy as np
 import pytest
 
-from hdselect.cli import main
-from hdselect.dynamics import inverse_dynamics
-from hdselect.errors import InputError
-from hdselect.maxpayload import max_payload, per_kilogram, scaled
-from hdselect.motion import load_case
-from hdselect.options import options_for
-from hdselect.planning import plan
-from hdselect.robot import Payload
-from hdselect.sizing import size
+from hdselect.base.errors import InputError
+from hdselect.cli.main import main
+from hdselect.codesign.maxpayload import max_payload, per_kilogram, scaled
+from hdselect.motion.motionfile import load_case
+from hdselect.motion.planning import plan
+from hdselect.robot.dynamics import inverse_dynamics
+from hdselect.robot.model import Payload
+from hdselect.sizing.core import size
+from hdselect.sizing.options import options_for
 from test_dynamics import REPO
 from test_plan import make_motion
 

@@ -7,9 +7,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.errors import InputError
-from hdselect.motion import load_case, load_motion, robot_for_motion
-from hdselect.robot import Payload, load_robot
+from hdselect.base.errors import InputError
+from hdselect.motion.motionfile import load_case, load_motion, robot_for_motion
+from hdselect.robot.model import Payload, load_robot
 
 # --- factories (also used by test_plan.py) ---------------------------------------------------
 

@@ -13,11 +13,11 @@ from pathlib import Path
 import pytest
 
 from hdselect import load_case, plan, size, size_trajectory
-from hdselect.catalog import load_catalog
-from hdselect.cli import main
-from hdselect.errors import InputError
-from hdselect.motion import load_motion
-from hdselect.motors import load_motors
+from hdselect.base.errors import InputError
+from hdselect.catalog.motors import load_motors
+from hdselect.catalog.units import load_catalog
+from hdselect.cli.main import main
+from hdselect.motion.motionfile import load_motion
 from test_dynamics import REPO
 
 EXAMPLE = REPO / "motors" / "example_motors.toml"

@@ -12,10 +12,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.cli import main
-from hdselect.errors import InputError
-from hdselect.motors import Motor, load_motors
-from hdselect.sizing import size
+from hdselect.base.errors import InputError
+from hdselect.catalog.motors import Motor, load_motors
+from hdselect.cli.main import main
+from hdselect.sizing.core import size
 from test_dynamics import REPO
 
 EXAMPLE = REPO / "motors" / "example_motors.toml"

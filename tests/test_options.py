@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 
 from hdselect import Options, Payload, load_case, plan, size, size_trajectory
-from hdselect.catalog import load_catalog
-from hdselect.cli import main
-from hdselect.errors import InputError
-from hdselect.options import options_for
-from hdselect.select import PREFERENCES
+from hdselect.base.errors import InputError
+from hdselect.catalog.select import PREFERENCES
+from hdselect.catalog.units import load_catalog
+from hdselect.cli.main import main
+from hdselect.sizing.options import options_for
 from test_dynamics import J_TABLE, REPO, G
 
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
@@ -177,7 +177,7 @@ def test_payload_and_its_centre_of_mass_reach_the_gravity_torque():
     m = 0.4
     near = robot.with_payload(Payload(m, (0.0, 0.0, 0.0), frame="tool"))
     far = robot.with_payload(Payload(m, (0.1, 0.0, 0.0), frame="tool"))
-    from hdselect.dynamics import gravity_torques
+    from hdselect.robot.dynamics import gravity_torques
 
     q = np.zeros((1, 2))  # both links along +x, horizontal
     diff = gravity_torques(far, q) - gravity_torques(near, q)

@@ -8,9 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from hdselect.errors import InputError
-from hdselect.export import write_json
-from hdselect.outputs import Outputs, writable_target
+from hdselect.base.errors import InputError
+from hdselect.base.outputs import Outputs, writable_target
+from hdselect.report.export import write_json
 
 
 def names(directory: Path) -> list[str]:

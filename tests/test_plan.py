@@ -9,11 +9,11 @@ import pytest
 import ruckig
 from scipy.interpolate import CubicSpline
 
-from hdselect.errors import InputError, PlanningError
-from hdselect.motion import load_case
-from hdselect.planning import PLANNERS, plan
-from hdselect.planning.ruckig import sample_profiles
-from hdselect.planning.toppra import TOPPRA_TOLERANCE, TOPPRA_TORQUE_TOLERANCE
+from hdselect.base.errors import InputError, PlanningError
+from hdselect.motion.motionfile import load_case
+from hdselect.motion.planning import PLANNERS, plan
+from hdselect.motion.planning.ruckig import sample_profiles
+from hdselect.motion.planning.toppra import TOPPRA_TOLERANCE, TOPPRA_TORQUE_TOLERANCE
 from test_motion import write_chain, write_motion, write_robot
 
 
@@ -335,7 +335,7 @@ def test_a_long_log_is_resampled_in_chunks_equal_to_one_spline(tmp_path, monkeyp
     it spans plus 64 on either side; the result is the spline through the whole log."""
     from scipy.interpolate import CubicSpline
 
-    import hdselect.planning.samples as samples
+    import hdselect.motion.planning.samples as samples
 
     rng = np.random.default_rng(7)
     t = np.cumsum(rng.uniform(0.008, 0.012, 1500))
@@ -372,9 +372,9 @@ def test_batched_torque_constraint_equals_toppras_own(tmp_path):
     # SecondOrderBounds gets the same a, b, c from three batched passes.
     import toppra.constraint as constraint
 
-    from hdselect.dynamics import rnea_function
-    from hdselect.planning.constraints import SecondOrderBounds, path_torque_coefficients
-    from hdselect.planning.toppra import path_pieces
+    from hdselect.motion.planning.constraints import SecondOrderBounds, path_torque_coefficients
+    from hdselect.motion.planning.toppra import path_pieces
+    from hdselect.robot.dynamics import rnea_function
 
     points = [[0.0, -1.2], [1.0, 0.4], [0.2, 1.1], [-0.6, 0.3]]
     robot, motion = make_motion(tmp_path, "toppra", points, velocity=3, acceleration=20)
@@ -397,7 +397,7 @@ def test_batched_torque_constraint_equals_toppras_own(tmp_path):
 def test_toppra_profile_samples_as_toppras_parametrizer(tmp_path):
     import toppra.algorithm as algorithm
 
-    from hdselect.planning.toppra import kinematic_constraints, path_pieces, solve_piece
+    from hdselect.motion.planning.toppra import kinematic_constraints, path_pieces, solve_piece
 
     robot, motion = make_motion(tmp_path, "toppra", CASES[2], velocity=[1.0, 2.0],
                                 acceleration=[3.0, 5.0])

@@ -14,8 +14,8 @@ import math
 import numpy as np
 import pytest
 
-from hdselect.catalog import load_catalog
-from hdselect.reflect import DEFAULT_EFFICIENCY, reflect, reflect_motors, weighted_demand
+from hdselect.catalog.units import load_catalog
+from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, reflect_motors, weighted_demand
 
 
 def unit(unit_id: str, extra=()):
@@ -249,7 +249,7 @@ def test_efficiency_table_is_interpolated_by_hand(tmp_path):
 
 def test_efficiency_table_reaches_size(tmp_path):
     """`size` uses the table for that unit and the default for the others."""
-    from hdselect.sizing import size
+    from hdselect.sizing.core import size
     from test_dynamics import REPO
 
     path = tmp_path / "tst.toml"

@@ -15,25 +15,17 @@ from pathlib import Path
 import pytest
 
 import hdselect
-from hdselect.catalog import load_catalog
-from hdselect.cli import main
-from hdselect.duty import load_duty, size_duty
-from hdselect.joints import describe_joints
-from hdselect.motors import load_motors
-from hdselect.report import (
-    catalog_table,
-    compare_table,
-    duty_table,
-    joints_table,
-    life_text,
-    loads_table,
-    ratio_text,
-    size_table,
-    utilization_text,
-    verdict,
-)
-from hdselect.rules import MOTOR_CHECKS
-from hdselect.tables import console_for
+from hdselect.catalog.duty import load_duty, size_duty
+from hdselect.catalog.motors import load_motors
+from hdselect.catalog.rules import MOTOR_CHECKS
+from hdselect.catalog.units import load_catalog
+from hdselect.cli.main import main
+from hdselect.report.case_tables import joints_table
+from hdselect.report.catalog_tables import catalog_table, duty_table
+from hdselect.report.size_tables import compare_table, loads_table, size_table
+from hdselect.report.tables import console_for
+from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
+from hdselect.robot.joints import describe_joints
 from test_sizing import PLANAR2, REPO
 
 WIDTHS = (60, 80, 100, 160)

@@ -1,4 +1,4 @@
-"""Tests of hdselect.robot on the shipped robots and on small hand-written URDFs."""
+"""Tests of hdselect.robot.model on the shipped robots and on small hand-written URDFs."""
 
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.errors import InputError
-from hdselect.robot import STANDARD_GRAVITY, Payload, load_robot
+from hdselect.base.errors import InputError
+from hdselect.robot.model import STANDARD_GRAVITY, Payload, load_robot
 
 ROBOTS = Path(__file__).resolve().parents[1] / "robots"
 AL, STEEL, SI = 2700.0, 7850.0, 2329.0

@@ -1,4 +1,4 @@
-"""Tests of hdselect.robotfile: what a real robot file holds, and what loading it assumes."""
+"""Tests of hdselect.robot.reading: what a real robot file holds, and what loading it assumes."""
 
 from __future__ import annotations
 
@@ -11,10 +11,10 @@ import pinocchio as pin
 import pytest
 
 import hdselect
-from hdselect.cli import main
-from hdselect.dynamics import inverse_dynamics
-from hdselect.errors import InputError
-from hdselect.robot import STANDARD_GRAVITY, load_robot
+from hdselect.base.errors import InputError
+from hdselect.cli.main import main
+from hdselect.robot.dynamics import inverse_dynamics
+from hdselect.robot.model import STANDARD_GRAVITY, load_robot
 from test_dynamics import REPO
 from test_robot import robot_path
 
@@ -188,7 +188,7 @@ def test_followers_follow_their_leader_and_get_no_gearhead(tmp_path):
     robot = load_robot(gripper(tmp_path))
     assert robot.joint_names == ("arm_joint", "finger_joint")
     assert robot.sized_joints == ("arm_joint", "finger_joint")
-    assert robot.mimic["right_outer"] == hdselect.robot.Mimic("finger_joint", -1.0, 0.1)
+    assert robot.mimic["right_outer"] == hdselect.robot.model.Mimic("finger_joint", -1.0, 0.1)
     assert robot.joint_type("left_inner") == "mimic"
     # virtual work: the leader carries its own torque plus each follower's, times its multiplier
     free = pin.buildModelFromUrdf(str(robot.path))  # followers as independent joints

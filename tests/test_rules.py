@@ -10,9 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.catalog import Flag, SeriesRules, Unit, load_catalog
-from hdselect.errors import InputError
-from hdselect.rules import (
+from hdselect.base.errors import InputError
+from hdselect.catalog.rules import (
     CHECKS,
     MOTOR_CHECKS,
     Candidate,
@@ -25,7 +24,8 @@ from hdselect.rules import (
     cycle_load,
     l50_life_hours,
 )
-from hdselect.select import PREFERENCES, select
+from hdselect.catalog.select import PREFERENCES, select
+from hdselect.catalog.units import Flag, SeriesRules, Unit, load_catalog
 
 RPM = 2.0 * math.pi / 60.0  # rad/s in one rpm
 # The PSA-G page's rules, as psa_g.toml states them: T_N at 1750 rpm input, L50 = 35000 h,
@@ -364,15 +364,15 @@ def test_assumed_rules_are_flagged_on_every_result() -> None:
 
 
 def test_rules_does_not_import_reflect() -> None:
-    import hdselect.reflect
-    import hdselect.rules
+    import hdselect.catalog.rules
+    import hdselect.sizing.reflect
 
-    tree = ast.parse(Path(hdselect.rules.__file__).read_text(encoding="utf-8"))
+    tree = ast.parse(Path(hdselect.catalog.rules.__file__).read_text(encoding="utf-8"))
     imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
     imported |= {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import)
                  for alias in node.names}
-    assert "hdselect.reflect" not in imported
-    assert hdselect.reflect.MotorDemand is hdselect.rules.MotorDemand
+    assert "hdselect.sizing.reflect" not in imported
+    assert hdselect.sizing.reflect.MotorDemand is hdselect.catalog.rules.MotorDemand
 
 
 # ----------------------------------------------------------------------------- select
@@ -466,8 +466,8 @@ def test_a_stronger_unit_is_never_less_feasible() -> None:
 def test_motor_rules_by_hand():
     """Three samples at 0, 3000 and 6000 rpm under a curve 0.3 -> 0.3 -> 0 N m: the last
     sample's 0.01 N m at 6000 rpm exceeds a zero limit; zero torque at zero limit is fine."""
-    from hdselect.motors import Motor
-    from hdselect.rules import MotorDemand, check_motor, inertia_ratio
+    from hdselect.catalog.motors import Motor
+    from hdselect.catalog.rules import MotorDemand, check_motor, inertia_ratio
 
     motor = Motor("M", rated_torque=0.1, peak_torque=0.3, max_speed=6000.0, rated_speed=3000.0,
                   rotor_inertia=4e-6, mass=0.3, torque_constant=0.05, resistance=2.0,

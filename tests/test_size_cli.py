@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hdselect.cli import main
-from hdselect.motion import load_case
+from hdselect.cli.main import main
+from hdselect.motion.motionfile import load_case
 from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
 from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
@@ -275,7 +275,7 @@ def test_plan_into_a_missing_directory_is_one_line(capsys, tmp_path):
 # --- size --report -----------------------------------------------------------------------------
 
 def test_report_writes_html_and_pngs(capsys, tmp_path):
-    pytest.importorskip("hdselect.figures")
+    pytest.importorskip("hdselect.report.figures")
     report = tmp_path / "report"
     status, out, err = run(capsys, "size", PLANAR2_MOTION, "--report", report)
     assert status == 0, err
@@ -299,7 +299,7 @@ def test_report_writes_html_and_pngs(capsys, tmp_path):
 
 
 def test_report_dir_that_cannot_be_written(capsys, tmp_path):
-    pytest.importorskip("hdselect.figures")
+    pytest.importorskip("hdselect.report.figures")
     blocker = tmp_path / "file.txt"
     blocker.write_text("a regular file")
     target = blocker / "report"
@@ -314,7 +314,7 @@ def test_report_dir_that_cannot_be_written(capsys, tmp_path):
 
 
 def test_report_onto_an_existing_file(capsys, tmp_path):
-    pytest.importorskip("hdselect.figures")
+    pytest.importorskip("hdselect.report.figures")
     target = tmp_path / "report.html"
     target.write_text("keep me")
     status, _, err = run(capsys, "size", PLANAR2_MOTION, "--report", target)
@@ -451,7 +451,7 @@ def test_verbose_goes_anywhere(capsys, tmp_path, where):
     argv = ["-v", *argv] if where == "before" else [*argv, "-v"]
     status, out, _ = run(capsys, *argv)
     assert status == 0 and json.loads(out)["units"]
-    from hdselect.cli import _parser
+    from hdselect.cli.main import _parser
 
     assert _parser().parse_args(argv).verbose is True
     assert _parser().parse_args(["catalog"]).verbose is False

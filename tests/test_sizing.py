@@ -1,4 +1,4 @@
-"""`hdselect.sizing.size` against sizing done by hand, Pinocchio with the units' masses
+"""`hdselect.sizing.core.size` against sizing done by hand, Pinocchio with the units' masses
 written into the model, re-runs of slowed motions, and invariants of the catalog rules.
 
 The catalog's rules (DESIGN.md, "The rules"), with n the input speed, T the output torque:
@@ -20,10 +20,10 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.catalog import load_catalog
-from hdselect.export import payload_json, size_json
-from hdselect.robot import load_robot
-from hdselect.sizing import size
+from hdselect.catalog.units import load_catalog
+from hdselect.robot.model import load_robot
+from hdselect.sizing.core import size
+from hdselect.sizing.records import payload_json, size_json
 from test_coupling import with_point_masses
 from test_dynamics import J_TABLE, MOTIONS, REPO, G, planned, rnea_loop, thinned
 
@@ -444,13 +444,14 @@ def test_chunked_work_gives_the_answer_of_whole_arrays(tmp_path, monkeypatch):
     """Long cycles are processed in chunks of bounded memory (dynamics, reflection, the
     cycle's sums, the exact time scales). Chunks of a few dozen samples, boundaries
     falling everywhere, must give the answer of chunks larger than the cycle."""
-    import hdselect.dynamics
-    import hdselect.reflect
-    import hdselect.rules
-    import hdselect.timescale
+    import hdselect.catalog.rules
+    import hdselect.robot.dynamics
+    import hdselect.sizing.reflect
+    import hdselect.sizing.timescale
 
     path = overload_motion(tmp_path, **OVERLOADS["estop-bound"])
-    modules = (hdselect.dynamics, hdselect.reflect, hdselect.rules, hdselect.timescale)
+    modules = (hdselect.robot.dynamics, hdselect.sizing.reflect, hdselect.catalog.rules,
+               hdselect.sizing.timescale)
     names = ("CHUNK", "CHUNK", "_CHUNK", "_CHUNK")
     for module, name in zip(modules, names, strict=True):
         monkeypatch.setattr(module, name, 1 << 30)

@@ -25,12 +25,12 @@ import pinocchio as pin
 import pytest
 
 from hdselect import Options, load_case, plan, size, size_trajectory, summarize
-from hdselect.catalog import load_catalog
-from hdselect.cli import main
-from hdselect.export import size_json
-from hdselect.motors import Motor, load_motors
-from hdselect.robot import load_robot
-from hdselect.select import PREFERENCES
+from hdselect.catalog.motors import Motor, load_motors
+from hdselect.catalog.select import PREFERENCES
+from hdselect.catalog.units import load_catalog
+from hdselect.cli.main import main
+from hdselect.robot.model import load_robot
+from hdselect.sizing.records import size_json
 from test_coupling import urdf_with_masses
 from test_dynamics import J_TABLE, REPO, pin_config, rnea_loop, thinned
 
@@ -398,7 +398,7 @@ def test_report_without_motor_data_says_inertia_and_mass_not_included(capsys):
 
 
 def test_html_report_has_a_motor_figure_per_joint(tmp_path, capsys):
-    pytest.importorskip("hdselect.figures")
+    pytest.importorskip("hdselect.report.figures")
     report = tmp_path / "report"
     status = main(["size", str(index_motion(tmp_path)), "--report", str(report)])
     capsys.readouterr()

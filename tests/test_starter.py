@@ -1,4 +1,4 @@
-"""Tests of hdselect.starter and `hdselect init`: a starter motion that plans and sizes."""
+"""Tests of hdselect.motion.starter and `hdselect init`: a starter motion that plans and sizes."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import hdselect
-from hdselect.cli import main
-from hdselect.starter import ACCELERATION_TIME, JERK_TIME, starter_motion
+from hdselect.cli.main import main
+from hdselect.motion.starter import ACCELERATION_TIME, JERK_TIME, starter_motion
 from test_robot import JOINTS, robot_path
 from test_robotfile import LIMIT, gripper, revolute, urdf
 

@@ -15,8 +15,8 @@ from pathlib import Path
 import pytest
 
 import hdselect
-from hdselect.cli import main
-from hdselect.errors import InputError
+from hdselect.base.errors import InputError
+from hdselect.cli.main import main
 from hdselect.study import COMPUTATIONS, Computation, compute, load_study, run_study
 from hdselect.study.compute import SIZE, Outcome, run_size
 from hdselect.study.run import _local_cluster
@@ -353,7 +353,7 @@ time_scale = [1.0, 0.8]
     assert {row["status"] for row in rows} == {"ok"}
 
     robot, motion = hdselect.load_case(root / "trajectories" / "planar2_pick_place.toml")
-    options = hdselect.options.options_for(motion)
+    options = hdselect.sizing.options.options_for(motion)
     units = [u for u in hdselect.load_catalog() if u.ratio == 100]
     for s in (1.0, 0.8):
         trajectory = compute.scaled(hdselect.plan(robot, motion), s)

@@ -13,9 +13,9 @@ from dataclasses import replace
 import pytest
 
 import hdselect
-import hdselect.sizing
+import hdselect.sizing.core
 from hdselect import Options, load_case, load_catalog, plan, size_trajectory, summarize
-from hdselect.errors import InputError
+from hdselect.base.errors import InputError
 from hdselect.study.compute import scaled
 from hdselect.study.group import build_basis, size_case
 from test_dynamics import REPO
@@ -127,7 +127,7 @@ def grouped_and_direct(motion, payloads=(0.5, 2.0), scales=(0.5, 1.0)):
 
 def starter(robot_file, out, exclude=None, mass=0.5):
     """``hdselect init``'s motion for a robot, with a payload (no frame) and an exclusion."""
-    from hdselect.cli import main
+    from hdselect.cli.main import main
 
     assert main(["init", str(robot_file), "--out", str(out)]) == 0
     text = out.read_text()
@@ -242,7 +242,7 @@ catalog = "{EXAMPLE_MOTORS.as_posix()}"
 id = "EX-16"
 """)
     motion = hdselect.load_motion(path, robot)
-    motors = hdselect.sizing.motion_motors(robot, motion)
+    motors = hdselect.sizing.core.motion_motors(robot, motion)
     assert set(motors) == {"elbow", "wrist_3"} and len(motors["wrist_3"]) == 1
     units = load_catalog()
     options = Options(stop_time=0.15, life_hours=20000.0, threads=1)

@@ -8,7 +8,7 @@ import pickle
 import pytest
 
 from hdselect import size
-from hdselect.summary import summarize
+from hdselect.sizing.summary import summarize
 from test_dynamics import MOTIONS, REPO
 
 

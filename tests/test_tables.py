@@ -6,7 +6,7 @@ import io
 
 from rich.console import Console
 
-from hdselect.tables import Column, FittedTable, console_for
+from hdselect.report.tables import Column, FittedTable, console_for
 
 COLUMNS = (Column("name", "left"), Column("answer", "left"), Column("a", group="one"),
            Column("b", group="one"), Column("c", group="two"))

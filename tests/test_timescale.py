@@ -20,11 +20,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.catalog import Unit, load_catalog
-from hdselect.reflect import reflect
-from hdselect.robot import load_robot
-from hdselect.rules import check_unit, cycle_load
-from hdselect.timescale import (
+from hdselect.catalog.rules import check_unit, cycle_load
+from hdselect.catalog.units import Unit, load_catalog
+from hdselect.robot.model import load_robot
+from hdselect.sizing.reflect import reflect
+from hdselect.sizing.timescale import (
     JointScales,
     ScalableCycle,
     Slowdown,

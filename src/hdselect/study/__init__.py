@@ -2,16 +2,19 @@
 
 `study` reads a study file, runs every case not yet done (worker processes here, or
 a Dask cluster) and returns one row per case and joint. `load_study`, `run_study`
-and `hdselect.study.store` are the steps on their own.
+and `hdselect.study.store` are the steps on their own. The package is callable:
+``hdselect.study(path)`` is `study`, and ``hdselect.study.load_study`` still works.
 """
 
 from __future__ import annotations
 
+import sys
+import types
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from hdselect.errors import InputError
+from hdselect.base.errors import InputError
 from hdselect.study.compute import COMPUTATIONS, Computation, Outcome
 from hdselect.study.run import StudyRun, run_study
 from hdselect.study.spec import Case, Study, load_study
@@ -56,3 +59,13 @@ def study(path: str | Path, out: str | Path | None = None, *, workers: int | Non
                     retry_failed=retry_failed, progress=progress)
     rows = table(loaded, run.records)
     return pandas.DataFrame(rows) if frame else rows
+
+
+class _CallableModule(types.ModuleType):
+    """This package, callable as the function `study` it exports."""
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        return study(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

@@ -29,20 +29,20 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from hdselect.catalog import Unit, load_catalog
-from hdselect.codesign import fastest, resolve_units
-from hdselect.errors import HdselectError, InputError
-from hdselect.export import fastest_json, max_payload_json
-from hdselect.maxpayload import max_payload
-from hdselect.motion import Motion, load_motion, robot_file_named, robot_for_motion
-from hdselect.motors import Motor, load_motors
-from hdselect.options import Options, options_for
-from hdselect.planning import Trajectory, plan
-from hdselect.robot import Payload, Robot, load_robot
-from hdselect.sizing import motion_motors, size_trajectory
+from hdselect.base.errors import HdselectError, InputError
+from hdselect.catalog.motors import Motor, load_motors
+from hdselect.catalog.units import Unit, load_catalog
+from hdselect.codesign.fastest_cycle import fastest, resolve_units
+from hdselect.codesign.maxpayload import max_payload
+from hdselect.codesign.records import fastest_json, max_payload_json
+from hdselect.motion.motionfile import Motion, load_motion, robot_file_named, robot_for_motion
+from hdselect.motion.planning import Trajectory, plan
+from hdselect.robot.model import Payload, Robot, load_robot
+from hdselect.sizing.core import motion_motors, size_trajectory
+from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.summary import Summary, summarize
 from hdselect.study.group import build_basis, plan_depends_on_payload, size_case
 from hdselect.study.spec import Case
-from hdselect.summary import Summary, summarize
 
 MIN_GROUP = 4
 """Cases of one robot and path from which a group is evaluated from a shared basis: below
@@ -291,7 +291,7 @@ def fastest_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, Any]:
     """One case's shortest cycle: ``hdselect fastest`` with `size`'s units for the case.
 
     The units are those `size` selects for the motion run ``time_scale`` times slower,
-    from the case's catalog and ratio; the result is `hdselect.export.fastest_json`.
+    from the case's catalog and ratio; the result is `hdselect.report.export.fastest_json`.
 
     Raises:
         HdselectError: An input is bad, the motion is a log, or the path cannot be run.
@@ -311,7 +311,7 @@ def max_payload_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, A
     """One case's largest payload: ``hdselect max-payload`` on the case's trajectory.
 
     The payload's shape (frame, centre of mass, inertia per kg) is the case's; its mass
-    is what is found. The result is `hdselect.export.max_payload_json` with the
+    is what is found. The result is `hdselect.report.export.max_payload_json` with the
     selection as `Summary.to_dict` (the shape a ``size`` case records).
 
     Raises:

@@ -33,17 +33,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from hdselect.arrays import frozen
-from hdselect.catalog import Unit
-from hdselect.dynamics import inverse_dynamics, joint_inertias
-from hdselect.loads import joint_loads
-from hdselect.motion import Motion
-from hdselect.motors import Motor
-from hdselect.options import Options
-from hdselect.planning import Trajectory, plan
-from hdselect.reflect import Reflection, reflect, reflect_motors, weighted_demand
-from hdselect.robot import Payload, Robot
-from hdselect.rules import (
+from hdselect.base.arrays import frozen
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.rules import (
     RPM_PER_RAD_S,
     Candidate,
     CycleLoad,
@@ -52,8 +44,13 @@ from hdselect.rules import (
     cycle_load,
     with_motor,
 )
-from hdselect.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
-from hdselect.sizing import (
+from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
+from hdselect.catalog.units import Unit
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning import Trajectory, plan
+from hdselect.robot.dynamics import inverse_dynamics, joint_inertias
+from hdselect.robot.model import Payload, Robot
+from hdselect.sizing.core import (
     GRAVITY_LOADED,
     GRAVITY_SAMPLES,  # the core's own choices, so that a grouped case equals it
     JointSizing,
@@ -63,8 +60,11 @@ from hdselect.sizing import (
     checked_motors,
     fitting_time_scales,
 )
-from hdselect.summary import Summary, summarize
-from hdselect.timescale import ScalableCycle
+from hdselect.sizing.loads import joint_loads
+from hdselect.sizing.options import Options
+from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
+from hdselect.sizing.summary import Summary, summarize
+from hdselect.sizing.timescale import ScalableCycle
 
 REFERENCE_MASS = 1.0
 """Payload mass of the reference robot the group is planned and evaluated with [kg]."""

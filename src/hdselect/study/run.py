@@ -26,7 +26,7 @@ from multiprocessing.connection import Connection, wait
 from pathlib import Path
 from typing import Any
 
-from hdselect.errors import HdselectError, InputError
+from hdselect.base.errors import HdselectError, InputError
 from hdselect.study.compute import COMPUTATIONS, MIN_GROUP, Computation, Outcome
 from hdselect.study.spec import Case, Study, _canonical
 from hdselect.study.store import Store

@@ -20,12 +20,12 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from hdselect import bounds
-from hdselect.catalog import BUILTIN
-from hdselect.errors import InputError
-from hdselect.options import Options
-from hdselect.robot import MOUNTINGS, Payload
-from hdselect.tomlfile import as_number, check_keys, read_toml, table_of
+from hdselect.base import bounds
+from hdselect.base.errors import InputError
+from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
+from hdselect.catalog.units import BUILTIN
+from hdselect.robot.model import MOUNTINGS, Payload
+from hdselect.sizing.options import Options
 
 OPTION_KEYS = tuple(f.name for f in fields(Options) if f.name != "threads")
 """Sizing options a study may set or vary (`hdselect.Options` fields; workers use one thread)."""
@@ -328,5 +328,5 @@ def _digest(path: Path) -> str:
 
 def _builtin_digest() -> str:
     """SHA-256 of the built-in catalog file."""
-    return hashlib.sha256(resources.files("hdselect").joinpath("data", BUILTIN)
+    return hashlib.sha256(resources.files("hdselect.catalog").joinpath("data", BUILTIN)
                           .read_bytes()).hexdigest()

@@ -21,8 +21,8 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any, TextIO
 
-from hdselect.errors import InputError
-from hdselect.outputs import writable_target, write_file
+from hdselect.base.errors import InputError
+from hdselect.base.outputs import writable_target, write_file
 from hdselect.study.compute import COMPUTATIONS, Outcome
 from hdselect.study.spec import Case, Study
 

@@ -1,0 +1,474 @@
+"""The catalog's rules: one joint's cycle against one gearhead's limits.
+
+Both front ends use this module: `hdselect duty` builds the cycle from the
+catalog page's phases, `hdselect size` from the sampled dynamics. A phase is
+simply a sample whose duration is the phase time. Every rule reads the unit's
+series rules (`hdselect.catalog.units.SeriesRules`); no series' numbers live here.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hdselect.base.errors import InputError
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.units import L50_PER_L10, LIFE_BASES, Flag, SeriesRules, Unit
+
+RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
+"""Revolutions per minute in one radian per second."""
+ALLOWABLE_TORQUE_EXPONENT = 0.33
+"""Exponent of the speed-adjusted mean-torque rule, T = (n_rated / N_av)^0.33 T_N."""
+MOMENTARY_EVENTS_FACTOR = 1.0e4
+"""Harmonic Drive's momentary-overload rule: allowed events = 1e4 / (2 (n/60) t)."""
+MOTOR_CHECKS = ("motor_peak", "motor_rms", "motor_speed")
+"""The checks of the motor behind a gearhead, when one is given (`check_motor`)."""
+CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life",
+          *MOTOR_CHECKS)
+"""Every check by name, in the order of results and reports. ``life`` is present only
+when a life is required, the motor checks only when a motor is given; the others
+always, with value None where they do not apply."""
+CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
+                "momentary": "mom.", "static": "static", "life": "life",
+                "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed"}
+"""Short names of the checks, for table headers (``m.``: the motor's)."""
+_CHUNK = 1 << 16
+"""Samples summed at a time by `cycle_load`."""
+
+
+@dataclass(frozen=True)
+class CycleLoad:
+    """The output-side load of one joint over one cycle; the same for every gearhead.
+
+    Attributes:
+        peak_torque: Largest |T| while moving (the catalog's T1..T3) [N m].
+        mean_torque: The mean torque T_av over the moving part [N m]; None when the
+            joint never moves.
+        mean_speed: Mean output speed over the moving part (dwells excluded) [rad/s].
+        max_speed: Largest output speed [rad/s].
+        moving_time: Time spent moving [s].
+        cycle_time: Time of the whole cycle, dwells included [s].
+        static_torque: Largest |T| held at rest, input locked [N m]; None if never at rest.
+    """
+
+    peak_torque: float
+    mean_torque: float | None
+    mean_speed: float
+    max_speed: float
+    moving_time: float
+    cycle_time: float
+    static_torque: float | None
+
+    @property
+    def cycle_mean_speed(self) -> float:
+        """Mean output speed over the whole cycle, dwells included [rad/s]."""
+        if self.cycle_time <= 0.0:
+            return 0.0
+        return self.mean_speed * self.moving_time / self.cycle_time
+
+    def mean_speed_under(self, rules: SeriesRules) -> float:
+        """Mean output speed N_av as a series' rules define it [rad/s].
+
+        ``"moving"``: over the moving part (`mean_speed`); ``"whole-cycle"``: over the
+        whole cycle, dwells included (`cycle_mean_speed`).
+        """
+        return self.mean_speed if rules.mean_speed == "moving" else self.cycle_mean_speed
+
+
+@dataclass(frozen=True)
+class Momentary:
+    """The worst momentary (T4) event of a cycle for one gearhead.
+
+    Attributes:
+        torque: Output torque of the event [N m].
+        kind: What it was: ``"given"``, ``"emergency stop"`` or ``"crash"``.
+        speed: Output speed when it happens [rad/s], if known.
+        duration: How long it lasts [s], if known.
+        time: When in the cycle it happens [s], if known.
+    """
+
+    torque: float
+    kind: str
+    speed: float | None = None
+    duration: float | None = None
+    time: float | None = None
+
+
+@dataclass(frozen=True)
+class MotorDemand:
+    """What the motor behind one gearhead must deliver over the cycle.
+
+    Attributes:
+        peak_torque: Largest |T_motor| [N m].
+        rms_torque: Root mean square of T_motor over the whole cycle [N m].
+        max_speed: Largest input speed [rpm].
+        efficiency: The efficiency used: a number, or ``"table"`` for the unit's own table.
+        rms_speed: Root mean square of the input speed over the whole cycle [rpm]: with
+            `rms_torque`, the cycle's RMS point on the motor's torque-speed plane.
+    """
+
+    peak_torque: float
+    rms_torque: float
+    max_speed: float
+    efficiency: float | str
+    rms_speed: float | None = None
+
+
+@dataclass(frozen=True)
+class Check:
+    """One rule applied to one gearhead.
+
+    Attributes:
+        value: The demand ([N m], input speed [rpm] or life [h]); None if the rule
+            does not apply to this cycle or this unit.
+        limit: What the gearhead allows (for ``life``: what the user requires); infinite
+            where the unit has no such limit.
+        ok: The rule holds.
+        utilization: Demand over allowance [-] (life: required over expected); 0 if
+            the rule does not apply, above 1 when it fails.
+        detail: Extra figures for reports, e.g. ``{"kind": "crash"}``.
+    """
+
+    value: float | None
+    limit: float
+    ok: bool
+    utilization: float
+    detail: dict[str, object] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One gearhead against one joint's cycle.
+
+    Attributes:
+        unit: The gearhead.
+        checks: Each rule by name, in the order of `CHECKS`.
+        life_hours: L50 life [h]; None when unlimited (no load while moving).
+        flags: Catalog stand-ins, corrections and assumed rules this result depends on.
+        motor: What the motor behind it must deliver, when computed (hdselect size).
+        motor_unit: The motor paired with the gearhead, when motors are given; its checks
+            (`MOTOR_CHECKS`) are then among `checks`.
+    """
+
+    unit: Unit
+    checks: dict[str, Check]
+    life_hours: float | None
+    flags: tuple[Flag, ...]
+    motor: MotorDemand | None = None
+    motor_unit: Motor | None = None
+
+    @property
+    def feasible(self) -> bool:
+        """Every rule holds."""
+        return all(check.ok for check in self.checks.values())
+
+    @property
+    def binding(self) -> str:
+        """Name of the rule with the highest utilization."""
+        return max(self.checks, key=lambda name: self.checks[name].utilization)
+
+    @property
+    def gearhead_binding(self) -> str:
+        """Name of the gearhead's rule with the highest utilization."""
+        return max((name for name in self.checks if name not in MOTOR_CHECKS),
+                   key=lambda name: self.checks[name].utilization)
+
+    @property
+    def motor_binding(self) -> str | None:
+        """Name of the motor's rule with the highest utilization; None without a motor."""
+        names = [name for name in self.checks if name in MOTOR_CHECKS]
+        return max(names, key=lambda name: self.checks[name].utilization) if names else None
+
+    @property
+    def label(self) -> str:
+        """The gearhead's id, and the motor's after a ``+`` when one is paired."""
+        return self.unit.id if self.motor_unit is None else f"{self.unit.id} + {self.motor_unit.id}"
+
+    @property
+    def l10_hours(self) -> float | None:
+        """L10 life, L50 / 5 [h]; None when unlimited."""
+        return None if self.life_hours is None else self.life_hours / L50_PER_L10
+
+    @property
+    def margin(self) -> float:
+        """Worst-case margin, 1 minus the highest utilization [-]."""
+        return 1.0 - self.checks[self.binding].utilization
+
+
+def cycle_load(
+    torque: np.ndarray,
+    speed: np.ndarray,
+    duration: np.ndarray | float,
+    at_rest: np.ndarray,
+    *,
+    static_torque: float | None = None,
+) -> CycleLoad:
+    """Summarise one joint's cycle with the catalog page's formulas.
+
+    Args:
+        torque: Output torque of each sample or phase [N m]; sign ignored.
+        speed: Output speed of each sample or phase [rad/s]; sign ignored.
+        duration: Duration of each sample or phase [s].
+        at_rest: True where the joint is held still (input locked): these count
+            towards the static check, not towards the peak, mean torque or the
+            moving-part mean speed.
+        static_torque: An extra torque held at rest [N m], if any.
+
+    Returns:
+        The summary. `CycleLoad.mean_speed` averages over the moving part; a series
+        whose rules average over the whole cycle reads `CycleLoad.mean_speed_under`.
+    """
+    torque = np.asarray(torque, dtype=float)
+    speed = np.asarray(speed, dtype=float)
+    duration = np.broadcast_to(np.asarray(duration, dtype=float), torque.shape)
+    at_rest = np.broadcast_to(np.asarray(at_rest, dtype=bool), torque.shape)
+    moving_time = travel = cubes = cycle_time = 0.0
+    peak = max_speed = 0.0
+    held: list[float] = [] if static_torque is None else [abs(static_torque)]
+    for start in range(0, len(torque), _CHUNK):  # a long cycle in pieces of bounded memory
+        part = slice(start, start + _CHUNK)
+        tau, moving, step = np.abs(torque[part]), ~at_rest[part], duration[part]
+        weight = np.abs(speed[part]) * step * moving
+        moving_time += float(step[moving].sum())
+        travel += float(weight.sum())
+        cubes += float(np.dot(weight, tau**3))
+        cycle_time += float(step.sum())
+        peak = max(peak, float(tau[moving].max(initial=0.0)))
+        max_speed = max(max_speed, float(np.abs(speed[part]).max(initial=0.0)))
+        if not moving.all():
+            held.append(float(tau[~moving].max()))
+    return CycleLoad(
+        peak_torque=peak,
+        mean_torque=float(np.cbrt(cubes / travel)) if travel > 0.0 else None,
+        mean_speed=travel / moving_time if moving_time > 0.0 else 0.0,
+        max_speed=max_speed,
+        moving_time=moving_time,
+        cycle_time=cycle_time,
+        static_torque=max(held) if held else None,
+    )
+
+
+def allowable_mean_torque(unit: Unit, mean_input_speed_rpm: float) -> tuple[float, bool]:
+    """The limit for the mean output torque under the unit's series rules.
+
+    ``"tabulated"``: the unit's own limit for average torque. ``"speed-adjusted"``:
+    (rated input speed / N_av)^0.33 x T_N, never above the repeated-peak limit.
+
+    Args:
+        unit: The gearhead.
+        mean_input_speed_rpm: Mean input speed N_av [rpm].
+
+    Returns:
+        The allowable mean output torque [N m] and whether the repeated-peak cap bound it.
+    """
+    rules = unit.rules
+    if rules.mean_torque_limit == "tabulated":
+        assert unit.average_torque is not None  # the catalog requires it for this rule
+        return unit.average_torque, False
+    if mean_input_speed_rpm <= 0.0:
+        return unit.repeated_torque, True
+    rule = (rules.rated_input_speed / mean_input_speed_rpm) ** ALLOWABLE_TORQUE_EXPONENT
+    allowed = rule * unit.rated_torque
+    return min(allowed, unit.repeated_torque), allowed >= unit.repeated_torque
+
+
+def l50_life_hours(unit: Unit, mean_torque: float, mean_input_speed_rpm: float) -> float | None:
+    """L50 = L50_rated x (n_rated / N_av) x (T_N / T_av)^3 [h]; None when unlimited.
+
+    L50_rated is the series' rated life on the L50 basis (5 x a rated L10). A life too
+    long for a float (a torque or speed vanishingly small) is unlimited too.
+    """
+    if mean_torque <= 0.0 or mean_input_speed_rpm <= 0.0:
+        return None
+    rules = unit.rules
+    try:
+        life = (rules.rated_l50_hours * (rules.rated_input_speed / mean_input_speed_rpm)
+                * (unit.rated_torque / mean_torque) ** 3)
+    except OverflowError:
+        return None
+    return life if math.isfinite(life) else None
+
+
+def allowed_momentary_events(input_speed_rpm: float, duration: float, *,
+                             cap: float | None = None) -> float | None:
+    """Momentary overloads a unit survives: 1e4 / (2 (n_in/60) t), at most `cap`.
+
+    Args:
+        input_speed_rpm: Input speed during the event [rpm].
+        duration: Duration of the event [s].
+        cap: Most events ever allowed [-], the series' rules; None for no cap.
+
+    Returns:
+        The count [-]; None when unlimited (no revolution and no cap).
+    """
+    revolutions = 2.0 * (input_speed_rpm / 60.0) * duration
+    allowed = MOMENTARY_EVENTS_FACTOR / revolutions if revolutions > 0.0 else math.inf
+    if cap is not None:
+        allowed = min(allowed, cap)
+    return allowed if math.isfinite(allowed) else None
+
+
+def check_unit(
+    load: CycleLoad,
+    unit: Unit,
+    *,
+    momentary: Momentary | None = None,
+    life_hours: float | None = None,
+    life_basis: str = "L50",
+    motor: MotorDemand | None = None,
+) -> Candidate:
+    """Apply every rule of the unit's series to one gearhead.
+
+    Args:
+        load: The joint's cycle on the output side.
+        unit: The gearhead.
+        momentary: The worst momentary (T4) event for this unit, if any.
+        life_hours: Required life [h] on `life_basis`; adds the ``life`` check.
+        life_basis: ``"L10"`` or ``"L50"``: the basis of `life_hours`, and of the
+            ``life`` check's value.
+        motor: The motor-side demand, carried into the result as is.
+
+    Returns:
+        The candidate with every check, life and the flags it depends on.
+
+    Raises:
+        InputError: `life_basis` is not one of ``L10``, ``L50``.
+    """
+    if life_basis not in LIFE_BASES:
+        raise InputError(f"unknown life basis {life_basis!r}; choices are: "
+                         f"{', '.join(LIFE_BASES)}", field="life_basis")
+    rules = unit.rules
+    mean_input_rpm = load.mean_speed_under(rules) * RPM_PER_RAD_S * unit.ratio
+    allowed, capped = allowable_mean_torque(unit, mean_input_rpm)
+    average_limit = unit.max_average_input_speed
+    checks = {
+        "peak": _check(load.peak_torque, unit.repeated_torque),
+        "mean": _check(load.mean_torque, allowed, mean_input_speed_rpm=mean_input_rpm,
+                       capped_by_repeated=capped),
+        "speed": _check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed),
+        "average_speed": _check(None if average_limit is None else mean_input_rpm,
+                                math.inf if average_limit is None else average_limit),
+        "momentary": _momentary(momentary, unit),
+        "static": _check(load.static_torque, unit.static_torque),
+    }
+    life = (l50_life_hours(unit, load.mean_torque, mean_input_rpm)
+            if load.mean_torque is not None else None)
+    if life_hours is not None:
+        expected = life if life is None or life_basis == "L50" else life / L50_PER_L10
+        utilization = 0.0 if expected is None else life_hours / expected
+        checks["life"] = Check(expected, life_hours, utilization <= 1.0, utilization,
+                               {"basis": life_basis})
+    used = {"peak": "repeated_torque", "momentary": "momentary_torque", "static": "static_torque",
+            "mean": ("average_torque" if rules.mean_torque_limit == "tabulated"
+                     else "rated_torque")}
+    fields = [used[name] for name, check in checks.items()
+              if name in used and check.value is not None]
+    if life is not None:
+        fields.append("rated_torque")
+    if motor is not None:
+        fields.append("input_inertia")
+    flags = unit.flags_for(*fields) + ((rules.flag,) if rules.flag is not None else ())
+    return Candidate(unit, checks, life, flags, motor)
+
+
+def check_motor(motor: Motor, torque: np.ndarray, speed_rpm: np.ndarray,
+                demand: MotorDemand) -> dict[str, Check]:
+    """The motor's rules on what it must deliver behind one gearhead.
+
+    ``motor_peak``: every sample's |T_motor| under the motor's peak torque at that
+    sample's input speed (its curve, or its flat peak torque); the value and limit are
+    those of the worst sample. ``motor_rms``: the RMS torque over the whole cycle, dwells
+    included, at most the rated torque. This is the thermal rule of one cycle repeated
+    back to back, with no thermal model: the motor's thermal time constant is taken as
+    long against the cycle, and the rated torque as the datasheet rates it (its ambient
+    and mounting). ``motor_speed``: the largest input speed at most the motor's maximum.
+    Torque and speed count by magnitude: the motor is taken as symmetric in all four
+    quadrants. With a torque constant the checks carry the currents (I = T / k_t), and
+    with a resistance too the copper loss R I_rms^2.
+
+    Args:
+        motor: The motor.
+        torque: Motor torque per sample [N m], shape (n,).
+        speed_rpm: Input speed per sample [rpm], shape (n,).
+        demand: The cycle's peak and RMS motor torque and largest input speed.
+
+    Returns:
+        The three checks by name, in the order of `MOTOR_CHECKS`.
+    """
+    magnitude = np.abs(torque)
+    allowed = motor.peak_torque_at(speed_rpm)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        share = np.where(magnitude > 0.0, magnitude / allowed, 0.0)
+    k = int(share.argmax()) if share.size else 0
+    peak_detail: dict[str, object] = {"speed_rpm": float(abs(speed_rpm[k])) if share.size
+                                      else 0.0}
+    rms_detail: dict[str, object] = {}
+    if motor.torque_constant is not None:
+        peak_detail["current_a"] = demand.peak_torque / motor.torque_constant
+        rms_current = demand.rms_torque / motor.torque_constant
+        rms_detail["current_a"] = rms_current
+        if motor.resistance is not None:
+            rms_detail["copper_loss_w"] = motor.resistance * rms_current**2
+    peak = (Check(float(magnitude[k]), float(allowed[k]), bool(share[k] <= 1.0), float(share[k]),
+                  peak_detail) if share.size else _check(0.0, motor.peak_torque))
+    return {"motor_peak": peak,
+            "motor_rms": _check(demand.rms_torque, motor.rated_torque, **rms_detail),
+            "motor_speed": _check(demand.max_speed, motor.max_speed)}
+
+
+def with_motor(candidate: Candidate, motor: Motor, torque: np.ndarray,
+               speed_rpm: np.ndarray) -> Candidate:
+    """A gearhead's candidate paired with a motor: its checks plus the motor's.
+
+    Args:
+        candidate: The gearhead checked with this motor's rotor inertia (`check_unit`).
+        motor: The motor.
+        torque: Motor torque per sample behind this gearhead [N m], shape (n,).
+        speed_rpm: Input speed per sample [rpm], shape (n,).
+
+    Returns:
+        The pair, its checks in the order of `CHECKS`.
+    """
+    assert candidate.motor is not None  # the motor demand comes with the reflection
+    checks = {**candidate.checks, **check_motor(motor, torque, speed_rpm, candidate.motor)}
+    return Candidate(candidate.unit, checks, candidate.life_hours, candidate.flags,
+                     candidate.motor, motor)
+
+
+def inertia_ratio(load_inertia: float, unit: Unit, motor: Motor) -> float | None:
+    """Load inertia at the motor shaft over the rotor inertia [-].
+
+    The load at the motor shaft is the joint's output inertia through the ratio plus
+    the gearhead's own input inertia, J_load / N^2 + J_in.
+
+    Args:
+        load_inertia: The joint's output-side inertia J_load [kg m^2].
+        unit: The gearhead.
+        motor: The motor.
+
+    Returns:
+        (J_load / N^2 + J_in) / J_m; None when the rotor inertia is zero.
+    """
+    if motor.rotor_inertia <= 0.0:
+        return None
+    return (load_inertia / unit.ratio**2 + unit.input_inertia) / motor.rotor_inertia
+
+
+def _momentary(event: Momentary | None, unit: Unit) -> Check:
+    if event is None:
+        return _check(None, unit.momentary_torque)
+    detail: dict[str, object] = {"kind": event.kind}
+    if event.speed is not None and event.duration is not None:
+        event_rpm = abs(event.speed) * RPM_PER_RAD_S * unit.ratio
+        detail["allowed_events"] = allowed_momentary_events(
+            event_rpm, event.duration, cap=unit.rules.max_momentary_events)
+    if event.time is not None:
+        detail["time_s"] = event.time
+    return _check(abs(event.torque), unit.momentary_torque, **detail)
+
+
+def _check(value: float | None, limit: float, **detail: object) -> Check:
+    utilization = 0.0 if value is None else value / limit
+    return Check(value, limit, utilization <= 1.0, utilization, dict(detail))

@@ -1,0 +1,44 @@
+"""``hdselect catalog`` and ``hdselect duty``: the catalog, and its own sizing method."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written
+
+
+def run_catalog(args: argparse.Namespace) -> int:
+    """``hdselect catalog``: print the catalog."""
+    from hdselect.catalog.units import load_catalog
+    from hdselect.report.catalog_tables import catalog_table
+    from hdselect.report.export import catalog_json, write_json
+
+    units = load_catalog(args.catalog)
+    if args.json:
+        write_json("-", catalog_json(units))
+    else:
+        sys.stdout.write(rendered(catalog_table(units, imperial=args.units == "imperial")))
+    return EXIT_OK
+
+
+def run_duty(args: argparse.Namespace) -> int:
+    """``hdselect duty``: the catalog's torque-speed method for one joint."""
+    from hdselect.base.outputs import Outputs
+    from hdselect.catalog.duty import load_duty, size_duty
+    from hdselect.catalog.units import load_catalog
+    from hdselect.report.catalog_tables import duty_table
+    from hdselect.report.export import duty_json, write_json
+
+    units = load_catalog(args.catalog)
+    cycle = load_duty(args.profile)
+    with Outputs([args.profile, *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        result = size_duty(cycle, units)
+        if json_file is not None:
+            write_json(json_file, duty_json(result))
+        table = rendered(duty_table(result)) if args.json != "-" else ""
+        outputs.commit()
+    sys.stdout.write(table)
+    say_written([(args.json, None)], args)
+    return EXIT_OK if result.selected is not None else EXIT_NO_FIT

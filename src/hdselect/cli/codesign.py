@@ -1,0 +1,134 @@
+"""``hdselect fastest`` and ``hdselect max-payload``: co-design."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from typing import Any
+
+from hdselect.base.errors import InputError
+from hdselect.cli.inputs import input_files, robot_and_motion, sizing_options_of
+from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
+
+
+def run_fastest(args: argparse.Namespace) -> int:
+    """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
+    from hdselect.base.outputs import Outputs
+    from hdselect.catalog.units import load_catalog
+    from hdselect.codesign.fastest_cycle import compare_ratios, fastest
+    from hdselect.codesign.records import fastest_json, ratios_json
+    from hdselect.report.codesign_tables import binding_table, fastest_table, ratios_table
+    from hdselect.report.export import write_json, write_trajectory_csv
+
+    if args.joint and not args.compare_ratios:
+        raise InputError("only with --compare-ratios", field="--joint")
+    robot, motion = robot_and_motion(args)
+    options = sizing_options_of(args, motion)
+    units = load_catalog(args.catalog)
+    given = _unit_pairs(args.units)
+    with Outputs([*input_files(robot, motion), *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        csv_file = outputs.file(args.out, "--out") if args.out else None
+        figure = outputs.file(args.plot, "--plot") if args.plot else None
+        try:
+            if args.compare_ratios:
+                comparison = compare_ratios(robot, motion, given, options, catalog=units,
+                                            joints=args.joint)
+                result = comparison.base
+            else:
+                result = fastest(robot, motion, given, options, catalog=units)
+        except InputError as err:
+            field = {"units": "--units", "joint": "--joint"}.get(str(err.field), err.field)
+            raise InputError(err.reason, path=err.path, field=field) from err
+        if figure is not None:
+            from hdselect.report.codesign_figures import write_fastest_png, write_ratios_png
+
+            if args.compare_ratios:
+                write_ratios_png(figure, comparison)
+            else:
+                write_fastest_png(figure, result)
+        if csv_file is not None:
+            write_trajectory_csv(csv_file, result.trajectory, _gear_torques(result),
+                                 result.robot.sized_joints)
+        if json_file is not None:
+            write_json(json_file, ratios_json(comparison) if args.compare_ratios
+                       else fastest_json(result))
+        tables: list[Any] = []
+        if args.compare_ratios:
+            for joint in comparison.joints:
+                tables += [""] if tables else []
+                tables.append(ratios_table(comparison, joint))
+        else:
+            tables = [fastest_table(result), "", binding_table(result)]
+        text = "" if to_stdout(args) else rendered(*tables)
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written([
+        (args.out, f"t, then q_, qd_, qdd_, tau_ of {', '.join(result.robot.sized_joints)} "
+                   "(SI) along the fastest cycle"),
+        (args.plot, "the shortest cycle against the unit on each joint compared"
+         if args.compare_ratios else "speed and torque of each sized joint against its limits"),
+        (args.json, None)], args)
+    return EXIT_OK
+
+
+def run_max_payload(args: argparse.Namespace) -> int:
+    """``hdselect max-payload``: the largest payload mass with a unit on every joint."""
+    from dataclasses import replace
+
+    from hdselect.base.outputs import Outputs
+    from hdselect.catalog.units import load_catalog
+    from hdselect.codesign.maxpayload import max_payload
+    from hdselect.codesign.records import max_payload_json
+    from hdselect.report.codesign_tables import max_payload_text
+    from hdselect.report.export import write_json
+    from hdselect.report.size_tables import size_table
+
+    robot, motion = robot_and_motion(args)
+    options = sizing_options_of(args, motion)
+    units = load_catalog(args.catalog)
+    with Outputs([*input_files(robot, motion), *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        try:
+            result = max_payload(robot, motion, options, catalog=units,
+                                 frame=args.payload_frame, com=args.payload_com)
+        except InputError as err:
+            flag = {"payload.frame": "--payload-frame", "payload.com": "--payload-com"}.get(
+                str(err.field))
+            if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
+                raise
+            raise InputError(err.reason, field=flag) from err
+        if json_file is not None:
+            write_json(json_file, max_payload_json(result, motion))
+        items: list[Any] = [max_payload_text(result, robot, motion)]
+        if result.selection is not None:
+            items += ["", size_table(replace(result.selection, motion=motion))]
+        text = "" if to_stdout(args) else rendered(*items)
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written([(args.json, None)], args)
+    return EXIT_OK if result.mass is not None else EXIT_NO_FIT
+
+
+def _gear_torques(result):
+    """The output torque of every joint (n, dof), as the gears carry it; 0 where unsized."""
+    import numpy as np
+
+    tau = np.zeros_like(result.trajectory.q)
+    for joint in result.check.joints:
+        tau[:, result.robot.joint_index(joint.name)] = joint.torque
+    return tau
+
+
+def _unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
+    """``JOINT=UNIT`` pairs as a dict; each joint once."""
+    out: dict[str, str] = {}
+    for pair in pairs:
+        joint, sep, unit = pair.partition("=")
+        if not sep or not joint.strip() or not unit.strip():
+            raise InputError(f"expected JOINT=UNIT, got {pair!r}", field="--units")
+        if joint.strip() in out:
+            raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
+        out[joint.strip()] = unit.strip()
+    return out

@@ -1,0 +1,235 @@
+"""A command's inputs: the options several commands share, and what they give.
+
+The robot and the motion with the flags applied, the validated sizing options and
+the motors, each flag named in the message when it is bad.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
+from hdselect.base.errors import InputError
+
+
+def catalog_argument(parser: argparse.ArgumentParser) -> None:
+    """--catalog: extra catalog files."""
+    parser.add_argument("--catalog", metavar="FILE", action="append", default=[],
+                        help="add the units of a catalog file (TOML; repeatable)")
+
+
+def json_argument(parser: argparse.ArgumentParser) -> None:
+    """--json FILE."""
+    parser.add_argument("--json", metavar="FILE",
+                        help="also write JSON to FILE ('-': to stdout, instead of the table)")
+
+
+def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True) -> None:
+    """ROBOT, MOTION and the flags that change the case: payload, mounting, joints, samples."""
+    parser.add_argument("robot", nargs="?", metavar="ROBOT",
+                        help="robot file, URDF or MJCF (default: the motion file's `robot`)")
+    parser.add_argument("motion", metavar="MOTION", help="motion file (TOML)")
+    if mass:
+        parser.add_argument("--payload", type=float, metavar="KG",
+                            help="payload mass [kg]; the motion file's payload keeps its centre "
+                                 "of mass, inertia and frame")
+    parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                        help="payload centre of mass in its frame [m] (changes the motion "
+                             "file's payload, or the one --payload gives)")
+    parser.add_argument("--payload-frame", metavar="LINK",
+                        help="link carrying the payload (default: the motion file's, else the "
+                             "tip of the longest chain of sized joints)")
+    parser.add_argument("--mounting", metavar="floor|wall|ceiling",
+                        help="mounting, overriding the motion file's")
+    parser.add_argument("--joints", metavar="A,B", action="append",
+                        help="size only these joints (comma-separated; overrides the motion "
+                             "file's [sizing] joints)")
+    parser.add_argument("--exclude", metavar="A,B", action="append",
+                        help="do not size these joints; they still move and load the others "
+                             "(overrides the motion file's [sizing] exclude)")
+    parser.add_argument("--max-samples", type=int, metavar="N",
+                        default=DEFAULT_MAX_SAMPLES,
+                        help="refuse a trajectory of more samples than this, before allocating "
+                             f"it (default {DEFAULT_MAX_SAMPLES:,}: an 8-hour log at 1 kHz)")
+
+
+def sizing_arguments(parser: argparse.ArgumentParser) -> None:
+    """The flags of the sizing assumptions (`hdselect.sizing.core.options.Options`)."""
+    from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, PREFERENCES
+    from hdselect.motion.motionfile import LIFE_BASES
+    from hdselect.sizing.options import Options
+
+    defaults = Options()
+    catalog_argument(parser)
+    parser.add_argument("--stop-time", type=float, metavar="S",
+                        help="emergency-stop and crash time [s] (default: the motion file's "
+                             f"[safety] stop_time, else {defaults.stop_time:g})")
+    parser.add_argument("--efficiency", type=float,
+                        help=f"gear efficiency where a unit has no table (default "
+                             f"{defaults.efficiency:g})")
+    parser.add_argument("--motor-inertia", type=float, metavar="KG_M2",
+                        help="motor rotor inertia [kg m^2] where no motor data is given "
+                             "(default 0)")
+    parser.add_argument("--motor-mass", type=float, metavar="KG",
+                        help="motor mass carried with each gearhead [kg] where no motor data "
+                             "is given (default 0)")
+    parser.add_argument("--motor-catalog", metavar="FILE",
+                        help="motor file (TOML): every sized joint chooses its motor from it, "
+                             "with its gearhead (replaces the motion file's [motor])")
+    parser.add_argument("--no-mass-coupling", action="store_true",
+                        help="do not carry chosen units' masses on the joints nearer the base")
+    parser.add_argument("--prefer", choices=tuple(PREFERENCES),
+                        help="; ".join(f"{k}: {v[0]}" for k, v in PREFERENCES.items())
+                        + f" (default: {DEFAULT_PREFER_WITH_MOTORS} where motors are given, "
+                          f"else {DEFAULT_PREFER})")
+    parser.add_argument("--life-hours", type=float, metavar="H",
+                        help="required life [h] (default: the motion file's requirement)")
+    parser.add_argument("--life-basis", choices=LIFE_BASES,
+                        help="basis of the required life: L50, average life, or L10, 90 %% "
+                             "survive it (default: the motion file's, else L50)")
+
+
+_OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
+                 "rotor_inertia": "--motor-inertia", "motor_mass": "--motor-mass",
+                 "prefer": "--prefer", "life_hours": "--life-hours",
+                 "life_basis": "--life-basis", "max_samples": "--max-samples"}
+"""The command-line option of each field of `hdselect.sizing.options.Options`."""
+
+
+SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile")
+"""Loggers whose warnings a sizing result carries (`SizingResult.warnings`)."""
+
+
+_PAYLOAD_FLAGS = {"payload.mass": "--payload", "payload.com": "--payload-com",
+                  "payload.frame": "--payload-frame"}
+
+
+def _names(given: list[str] | None) -> list[str] | None:
+    """Joint names from repeatable, comma-separated options."""
+    if given is None:
+        return None
+    return [name.strip() for text in given for name in text.split(",") if name.strip()]
+
+
+def robot_and_motion(args: argparse.Namespace):
+    """The robot and the motion, with the command line's payload, mounting and joints applied.
+
+    ``--payload KG`` changes the mass of the motion file's payload and keeps its centre
+    of mass, inertia and frame; ``--payload-com`` and ``--payload-frame`` change those of
+    the file's payload (or of the one ``--payload`` makes) and are refused when there is
+    none. A payload without a frame goes on the robot's default payload frame.
+    """
+    from hdselect.motion.motionfile import load_motion, robot_file_named, robot_for_motion
+    from hdselect.robot.model import Payload, load_robot
+
+    robot = load_robot(args.robot if args.robot is not None else robot_file_named(args.motion))
+    motion = load_motion(args.motion, robot)
+    base = motion.payload
+    given = [flag for flag, value in (("--payload", args.payload),
+                                      ("--payload-com", args.payload_com),
+                                      ("--payload-frame", args.payload_frame))
+             if value is not None] if hasattr(args, "payload") else []  # max-payload: its own
+    payload = None
+    if given:
+        if base is None and args.payload is None:
+            raise InputError(f"the motion file gives no payload for {given[0]} to change; give "
+                             "its mass with --payload KG", path=motion.path, field=given[0])
+        if args.payload is not None:
+            mass = float(args.payload)
+        else:
+            assert base is not None  # refused above
+            mass = base.mass
+        try:
+            payload = Payload(
+                mass,
+                tuple(args.payload_com) if args.payload_com is not None
+                else (base.com if base is not None else (0.0, 0.0, 0.0)),
+                base.inertia if base is not None else ((0.0,) * 3,) * 3,
+                args.payload_frame if args.payload_frame is not None
+                else (base.frame if base is not None else None))
+        except InputError as err:
+            field = str(err.field)
+            flag = next((f for k, f in _PAYLOAD_FLAGS.items() if field.startswith(k)), field)
+            raise InputError(err.reason, field=flag) from err
+    joints, exclude = _names(args.joints), _names(args.exclude)
+    try:
+        robot = robot_for_motion(robot, motion, payload=payload, mounting=args.mounting,
+                                 joints=joints, exclude=exclude)
+    except InputError as err:
+        options = {"joints": joints, "exclude": exclude}
+        if err.field in options and options[str(err.field)] is not None:
+            raise InputError(err.reason, field=f"--{err.field}") from err
+        if err.field == "payload.frame" and args.payload_frame is not None:
+            raise InputError(err.reason, field="--payload-frame") from err
+        if err.field == "payload.frame" and payload is not None:
+            raise InputError(err.reason, path=motion.path, field="payload.frame") from err
+        if str(err.field).startswith("mounting") and args.mounting is not None:
+            raise InputError(err.reason, field="--mounting") from err
+        raise
+    return robot, motion
+
+
+def max_samples_of(args: argparse.Namespace) -> int:
+    """The --max-samples flag, checked."""
+    from hdselect.base.bounds import check_max_samples
+
+    return check_max_samples(args.max_samples, field="--max-samples")
+
+
+def sizing_case(args: argparse.Namespace):
+    """The robot, the motion, the catalog, the validated options and the motors."""
+    from hdselect.catalog.motors import load_motors
+    from hdselect.catalog.units import load_catalog
+    from hdselect.sizing.core import motion_motors
+
+    robot, motion = robot_and_motion(args)
+    if args.motor_catalog:
+        catalog = load_motors(args.motor_catalog)
+        motors = {name: catalog for name in robot.sized_joints}
+    else:
+        motors = motion_motors(robot, motion)
+    if motors:
+        for value, flag in ((args.motor_inertia, "--motor-inertia"),
+                            (args.motor_mass, "--motor-mass")):
+            if value is not None:
+                given = ("--motor-catalog" if args.motor_catalog
+                         else f"[motor] of {motion.path.name}")
+                raise InputError(f"the motors come from {given}, with their own rotor inertia "
+                                 "and mass; drop this option", field=flag)
+    options = sizing_options_of(args, motion)
+    return robot, motion, load_catalog(args.catalog), options, motors
+
+
+def planned_and_sized(robot, motion, units, options, motors):
+    """Plan and size through the public core, as `hdselect.size` does."""
+    from dataclasses import replace
+
+    from hdselect.motion.planning import plan
+    from hdselect.sizing.core import size_trajectory
+
+    trajectory = plan(robot, motion, max_samples=options.max_samples)
+    return replace(size_trajectory(robot, trajectory, units, options, motors=motors),
+                   motion=motion)
+
+
+def sizing_options_of(args: argparse.Namespace, motion):
+    """The validated options of the sizing flags, the motion file's where a flag is absent."""
+    from hdselect.sizing.options import options_for
+
+    try:
+        return options_for(
+            motion, stop_time=args.stop_time, efficiency=args.efficiency,
+            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
+            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
+            life_hours=args.life_hours, life_basis=args.life_basis,
+            max_samples=args.max_samples)
+    except InputError as err:
+        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
+
+
+def input_files(robot, motion) -> list[Path]:
+    """The files a robot and a motion were read from (logs and motor files included)."""
+    files = [motion.path, robot.path]
+    motors = {m.source for ms in (motion.motors or {}).values() for m in ms if m.source}
+    return files + ([motion.samples.path] if motion.samples is not None else []) + sorted(motors)

@@ -1,0 +1,62 @@
+"""``hdselect joints`` and ``hdselect init``: a robot's joints, a starter motion."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from hdselect.cli.output import EXIT_OK, rendered, say_written
+
+
+def run_joints(args: argparse.Namespace) -> int:
+    """``hdselect joints``: every joint of a robot file, in the order lists use."""
+    from hdselect.base.outputs import Outputs
+    from hdselect.report.case_tables import joints_table
+    from hdselect.report.export import joints_json, write_json
+    from hdselect.robot.joints import describe_joints
+    from hdselect.robot.model import load_robot
+
+    robot = load_robot(args.robot)
+    with Outputs([robot.path]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        infos = describe_joints(robot)
+        if json_file is not None:
+            write_json(json_file, joints_json(robot, infos))
+        text = "" if args.json == "-" else rendered(joints_table(robot, infos))
+        outputs.commit()
+    args.held.shown(("hdselect.robot.reading",))  # the table and the JSON list them
+    sys.stdout.write(text)
+    say_written([(args.json, None)], args)
+    return EXIT_OK
+
+
+def run_init(args: argparse.Namespace) -> int:
+    """``hdselect init``: a starter motion file that plans and sizes as written."""
+    from hdselect.base.outputs import Outputs
+    from hdselect.motion.starter import starter_motion
+    from hdselect.report.tables import Paragraphs
+    from hdselect.robot.model import load_robot
+
+    robot = load_robot(args.robot)
+    out = None if args.out in (None, "-") else Path(args.out)
+
+    def text() -> str:
+        where = os.path.abspath(out.parent if out is not None else Path.cwd())
+        target = os.path.abspath(robot.path)
+        shared = os.path.commonpath([target, where])
+        return starter_motion(robot, str(target) if shared == os.sep
+                              else os.path.relpath(target, where))
+
+    if out is None:
+        sys.stdout.write(text())
+        return EXIT_OK
+    with Outputs([robot.path]) as outputs:
+        staging = outputs.file(out, "--out", exclusive=True)
+        staging.write_text(text(), encoding="utf-8")
+        note = rendered(Paragraphs((f"wrote {out}; edit its waypoints, limits and payload, "
+                                     f"then: hdselect size {out}",)))
+        outputs.commit()
+    sys.stdout.write(note)
+    return EXIT_OK

@@ -1,0 +1,64 @@
+"""``hdselect size`` and ``hdselect compare``: a gearhead for every joint."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+from hdselect.base.errors import InputError
+from hdselect.cli.inputs import SHOWN_LOGGERS, planned_and_sized, sizing_case
+from hdselect.cli.output import (
+    EXIT_NO_FIT,
+    EXIT_OK,
+    rendered,
+    report_and_json,
+    reserved_outputs,
+    say_written,
+    to_stdout,
+    write_report_and_json,
+)
+
+
+def run_size(args: argparse.Namespace) -> int:
+    """``hdselect size``: a gearhead for every joint."""
+    from hdselect.report.size_tables import loads_table, size_table
+
+    robot, motion, units, options, motors = sizing_case(args)
+    with reserved_outputs(args, robot, motion) as (outputs, json_file, report):
+        result = planned_and_sized(robot, motion, units, options, motors)
+        write_report_and_json(args, result, json_file, report)
+        table = "" if to_stdout(args) else rendered(size_table(result), "",
+                                                      loads_table(result))
+        outputs.commit()
+    args.held.shown(SHOWN_LOGGERS)  # the table, the JSON and the report list them
+    sys.stdout.write(table)
+    say_written(report_and_json(args), args)
+    return EXIT_OK if result.feasible else EXIT_NO_FIT
+
+
+def run_compare(args: argparse.Namespace) -> int:
+    """``hdselect compare``: every unit against every joint."""
+    from dataclasses import replace
+
+    from hdselect.report.size_tables import compare_table
+
+    robot, motion, units, options, motors = sizing_case(args)
+    for name in args.joint or []:
+        if name not in robot.sized_joints:
+            raise InputError(f"unknown joint '{name}'; sized joints are: "
+                             f"{', '.join(robot.sized_joints)}", field="--joint")
+    with reserved_outputs(args, robot, motion) as (outputs, json_file, report):
+        result = planned_and_sized(robot, motion, units, options, motors)
+        shown = replace(result, joints=tuple(joint for joint in result.joints
+                                             if not args.joint or joint.name in args.joint))
+        write_report_and_json(args, shown, json_file, report)
+        tables: list[Any] = []
+        for joint in shown.joints:
+            tables += [""] if tables else []
+            tables.append(compare_table(result, joint))
+        text = "" if to_stdout(args) else rendered(*tables)
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written(report_and_json(args), args)
+    return EXIT_OK if result.feasible else EXIT_NO_FIT

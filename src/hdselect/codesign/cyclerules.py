@@ -1,0 +1,295 @@
+"""The rules over the whole cycle on TOPPRA's run: the smallest slow-down, the derating, the check.
+
+TOPPRA (`hdselect.fastpath`) meets every rule that holds sample by sample. The rules
+over the whole cycle (mean torque, life, average input speed) are checked on its run
+with the sizing's own `check_unit`. Where one fails, `smallest_scale` finds the
+smallest uniform slow-down s of the moves (dwells keep their length) at which every
+rule of every joint passes, with the exact time scaling of `hdselect.timescale`: the
+rules on single samples exactly, the whole-cycle rules on 1 % steps, bisected to
+1e-6. `derated` instead holds the failing joints to a fraction of their
+repeated-peak limit (0.9, 0.8, ..., re-solved by TOPPRA, each with its own smallest
+slow-down) and refines the best by golden section: the moves keep their speed while
+the torque drops. `verified` samples the winner on the motion's grid and checks it
+with `hdselect.sizing.core.check_units`, slowing it by the excess where a sample lands on a
+peak the scaled model missed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from hdselect.catalog.rules import Candidate, check_unit, cycle_load
+from hdselect.catalog.units import Unit
+from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, solve
+from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning import Trajectory
+from hdselect.motion.planning.toppra import Profile
+from hdselect.robot.dynamics import cycle_torques
+from hdselect.robot.model import Robot
+from hdselect.sizing.core import SizingResult, at_rest, check_units
+from hdselect.sizing.options import Options
+from hdselect.sizing.reflect import reflect
+from hdselect.sizing.timescale import S_MAX, ScalableCycle, exact_scales
+
+WHOLE_CYCLE_RULES = ("mean", "life", "average_speed")
+"""Rules on the whole cycle: a slow-down or a derating fixes them, TOPPRA cannot."""
+DERATINGS = (0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3)
+"""Fractions of the repeated-peak limit tried, until the cycle stops getting shorter."""
+DERATING_RESOLUTION = 0.01
+"""Width to which the best derating is refined [-]."""
+SCALE_STEP = 1.01
+"""Step of the search for the smallest slow-down, before bisection [-]."""
+SCALE_RTOL = 1e-6
+"""Relative accuracy of the slow-down [-]."""
+WRITTEN_MARGIN = 1e-7
+"""Utilization a rule that scales with speed must stay below 1 by, so that the
+trajectory written with 10 significant digits passes too [-]."""
+_VERIFY_ROUNDS = 12
+
+
+@dataclass(frozen=True, eq=False)
+class Trial:
+    """TOPPRA's profiles for one derating, and the smallest slow-down that passes."""
+
+    derating: Mapping[str, float]
+    profiles: list[Profile | None]
+    kinematic: list[float]
+    moving: float
+    dwell: float
+    scale: float
+    reason: tuple[str, str] | None
+    whole_cycle_failing: tuple[str, ...] = ()
+
+    @property
+    def cycle_time(self) -> float:
+        """Its cycle at its slow-down [s]."""
+        return self.moving * self.scale + self.dwell
+
+
+def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
+              masses: Mapping[str, float], derating: Mapping[str, float],
+              options: Options) -> Trial:
+    """Solve TOPPRA at one derating and find the smallest slow-down at which all passes."""
+    motion = model.motion
+    limits = joint_limits(model.robot, motion, units, options, derating)
+    profiles = solve(model, limits, masses, stop_time=options.stop_time)
+    kinematic = kinematic_scales(profiles, limits)
+    trajectory, held = cycle(motion, profiles, kinematic, max_samples=options.max_samples)
+    moving = sum(p.duration * r for p, r in zip(profiles, kinematic, strict=True)
+                 if p is not None)
+    cycles, held = _scalable(carrying, trajectory, held, units, options)
+    scale, reason = smallest_scale(cycles, held, units, options, motion)
+    failing = {name for name, cycle_ in cycles.items()
+               if any(not c.ok for rule, c in _check_scaled(cycle_, held, units[name], 1.0,
+                                                             options).checks.items()
+                      if rule in WHOLE_CYCLE_RULES)}
+    return Trial(dict(derating), profiles, kinematic, moving, trajectory.duration - moving,
+                 scale, reason, tuple(sorted(failing)))
+
+
+def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
+              units: Mapping[str, Unit],
+              options: Options) -> tuple[dict[str, ScalableCycle], np.ndarray]:
+    """Each sized joint's cycle split by how its torque scales with time (four passes).
+
+    A dwell holds one pose at rest: it is kept as one sample that lasts the whole
+    dwell, which every rule weighs alike (the motor's RMS torque, which assumes equal
+    samples, is not a rule).
+
+    Returns:
+        The cycles by joint, and which of their samples are dwells.
+    """
+    keep = np.flatnonzero(~held | np.r_[True, ~held[:-1]])
+    lasts = np.diff(np.r_[keep, len(held)]) * trajectory.dt
+    q, qd, qdd = trajectory.q[keep], trajectory.qd[keep], trajectory.qdd[keep]
+    dt = np.where(held[keep], lasts, trajectory.dt)
+    torques = cycle_torques(carrying, q, qd, qdd, options.stop_time, split=True,
+                            threads=options.threads)
+    assert torques.gravity is not None and torques.coasting is not None
+    out = {}
+    for name in units:
+        j = carrying.joint_index(name)
+        out[name] = ScalableCycle.split(
+            trajectory.t[keep], dt, trajectory.duration, qd[:, j], qdd[:, j],
+            at_rest(qd[:, j], qdd[:, j]), torque=torques.tau[:, j],
+            stop_torque=torques.stop[:, j], gravity=torques.gravity[:, j],
+            coast=torques.coasting[:, j], stop_time=options.stop_time)
+    return out, held[keep]
+
+
+def _check_scaled(cycle_: ScalableCycle, held: np.ndarray, unit: Unit, s: float,
+                  options: Options) -> Candidate:
+    """Every rule of `check_unit` on a joint's cycle with its moves run s times slower [-].
+
+    As `hdselect.sizing.timescale.check_at`, except that dwells keep their length.
+    """
+    at = cycle_.at(s)
+    dt = np.where(held, cycle_.dt, at.dt)
+    load = cycle_load(at.torque, at.qd, dt, at.at_rest)
+    (reflection,) = reflect([unit], at.t, at.torque, at.qd, at.qdd, at.stop_torque,
+                            stop_time=cycle_.stop_time, efficiency=options.efficiency,
+                            rotor_inertia=options.rotor_inertia)
+    return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
+                      life_hours=options.life_hours, life_basis=options.life_basis)
+
+
+def _failing(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
+             units: Mapping[str, Unit], options: Options, s: float) -> tuple[str, str] | None:
+    """The (joint, rule) that fails worst at scale s [-], or None when all pass."""
+    worst: tuple[float, str, str] | None = None
+    for name, cycle_ in cycles.items():
+        candidate = _check_scaled(cycle_, held, units[name], s, options)
+        if not candidate.feasible:
+            rule = candidate.binding
+            utilization = candidate.checks[rule].utilization
+            if worst is None or utilization > worst[0]:
+                worst = (utilization, name, rule)
+    return None if worst is None else (worst[1], worst[2])
+
+
+def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
+                   units: Mapping[str, Unit], options: Options,
+                   motion: Motion) -> tuple[float, tuple[str, str] | None]:
+    """The smallest s >= 1 [-] at which every joint passes every rule, and what set it.
+
+    The rules on single samples give exact intervals of s (`exact_scales`); inside
+    them the whole-cycle rules are checked on steps of `SCALE_STEP` (20 % beyond
+    s = 2) and the first pass is bisected to `SCALE_RTOL`.
+
+    Returns:
+        s, and the (joint, rule) failing just below it (None when s = 1).
+
+    Raises:
+        PathInfeasible: No s from 1 to `S_MAX` passes.
+    """
+    feasible: list[tuple[float, float]] = [(1.0, S_MAX)]
+    for name, cycle_ in cycles.items():
+        feasible = _intersect(feasible, list(exact_scales(
+            cycle_, units[name], rotor_inertia=options.rotor_inertia)))
+        if not feasible:
+            failing = _failing({name: cycle_}, held, units, options, S_MAX)
+            raise hopeless(motion, name, failing[1] if failing else "peak", units[name])
+
+    def fails(s: float) -> tuple[str, str] | None:
+        return _failing(cycles, held, units, options, s)
+
+    for lo, hi in feasible:
+        below: float | None = None
+        s = lo
+        while True:
+            if fails(s) is None:
+                if below is None:
+                    return s, (fails(s / (1.0 + 1e-3)) if s > 1.0 else None)
+                low, high = below, s
+                while high > low * (1.0 + SCALE_RTOL):
+                    middle = math.sqrt(low * high)
+                    low, high = (middle, high) if fails(middle) else (low, middle)
+                return high, fails(low)
+            below = s
+            if s >= hi:
+                break
+            s = min(hi, s * (SCALE_STEP if s < 2.0 else 1.2))
+    name, rule = fails(S_MAX) or (next(iter(cycles)), "mean")
+    raise hopeless(motion, name, rule, units[name])
+
+
+def hopeless(motion: Motion, joint: str, rule: str, unit: Unit) -> PathInfeasible:
+    """The error for a rule no speed lets the unit pass."""
+    return PathInfeasible(f"{motion.path}: joint '{joint}' fails its {rule} rule with "
+                          f"{unit.id} at every speed (from as fast as the limits allow to "
+                          f"{S_MAX:g} times slower)", joint=joint, limit=rule,
+                          gravity=rule in ("static", "peak", "momentary"))
+
+
+def _intersect(a: list[tuple[float, float]],
+               b: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """Intersection of two sorted lists of disjoint closed intervals."""
+    out = []
+    for lo1, hi1 in a:
+        for lo2, hi2 in b:
+            lo, hi = max(lo1, lo2), min(hi1, hi2)
+            if lo <= hi:
+                out.append((lo, hi))
+    return sorted(out)
+
+
+def derated(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
+            masses: Mapping[str, float], first: Trial, options: Options) -> Trial:
+    """The derating of the failing joints' torque limits that gives the shortest cycle."""
+    joints = first.whole_cycle_failing
+
+    def attempt(fraction: float) -> Trial | None:
+        try:
+            return run_trial(model, carrying, units, masses, dict.fromkeys(joints, fraction),
+                             options)
+        except PathInfeasible:
+            return None
+
+    tried: dict[float, Trial | None] = {1.0: first}
+    best, previous = first, first.cycle_time
+    for fraction in DERATINGS:
+        found = tried[fraction] = attempt(fraction)
+        if found is None or found.cycle_time > previous:
+            break
+        previous = found.cycle_time
+        if found.cycle_time < best.cycle_time:
+            best = found
+    centre = max(best.derating.values(), default=1.0)
+    lo, hi = max(centre - 0.1, 0.05), min(centre + 0.1, 1.0)
+    golden = (math.sqrt(5.0) - 1.0) / 2.0
+
+    def cycle_at(fraction: float) -> float:
+        if fraction not in tried:
+            tried[fraction] = attempt(fraction)
+        found = tried[fraction]
+        return math.inf if found is None else found.cycle_time
+
+    x1, x2 = hi - golden * (hi - lo), lo + golden * (hi - lo)
+    while hi - lo > DERATING_RESOLUTION:
+        if cycle_at(x1) <= cycle_at(x2):
+            hi, x2 = x2, x1
+            x1 = hi - golden * (hi - lo)
+        else:
+            lo, x1 = x1, x2
+            x2 = lo + golden * (hi - lo)
+    for found in tried.values():
+        if found is not None and found.cycle_time < best.cycle_time:
+            best = found
+    return best
+
+
+def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
+             options: Options) -> tuple[Trajectory, np.ndarray, SizingResult, float]:
+    """The trajectory on the motion's grid and its check, slowed until every rule passes.
+
+    Returns:
+        The trajectory, its dwell samples, its check and the slow-down [-].
+    """
+    scale = trial.scale
+    passing = None
+    for _ in range(_VERIFY_ROUNDS):
+        trajectory, held = cycle(model.motion, trial.profiles,
+                                 [r * scale for r in trial.kinematic],
+                                 max_samples=options.max_samples)
+        check = check_units(model.robot, trajectory, units, options)
+        candidates = [c for joint in check.joints for c in joint.candidates]
+        excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks
+                      if rule != "static"), default=0.0)
+        if check.feasible:
+            passing = passing or (trajectory, held, check, scale)
+            if excess <= 1.0 - WRITTEN_MARGIN:
+                return trajectory, held, check, scale
+        if any(not c.checks["static"].ok for c in candidates):
+            break  # a held load: no speed helps
+        scale *= max(math.sqrt(excess), 1.0 + 10.0 * WRITTEN_MARGIN)
+    if passing is not None:  # at its limit to within the margin, whatever the speed
+        return passing
+    failing = [(joint.name, c.binding) for joint in check.joints for c in joint.candidates
+               if not c.feasible]
+    name, rule = failing[0] if failing else (next(iter(units)), "peak")
+    raise hopeless(model.motion, name, rule, units[name])

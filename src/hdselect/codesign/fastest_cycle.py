@@ -1,0 +1,358 @@
+"""Co-design: the shortest cycle a choice of gearheads allows, and every ratio compared on it.
+
+`fastest` runs the motion's path as fast as the units allow, in three steps:
+
+1. TOPPRA under every limit that holds sample by sample (`hdselect.fastpath`,
+   `hdselect.pathbounds`): the motion's and the robot file's speeds, the units' maximum
+   input speeds over their ratios, the motion's accelerations, the units'
+   repeated-peak torques (through the dynamics, payload and carried gearheads
+   included), the emergency stop and the crash. Any trajectory that passes the rules
+   meets these, so this cycle, the `optimum`, is the shortest possible to the grid's
+   resolution.
+2. The rules over the whole cycle (mean torque, life, average input speed) are
+   checked on it; where one fails, the cycle is lengthened by the smallest exact
+   slow-down, or by derating the failing joints' torque limits, whichever is shorter
+   (`hdselect.cyclerules`). A pure bang-bang move gives the same answer both ways
+   (both run it at the mean-torque allowance); a move that cruises is faster derated.
+3. The trajectory is sampled on the motion's time grid and checked by
+   `hdselect.sizing.core.check_units`, the sizing's own path, and slowed by any excess.
+
+`compare_ratios` does this for every catalog unit on each joint, the others fixed,
+sharing one path and its dynamics (a unit's mass changes the torque coefficients
+linearly, so no unit needs new dynamics passes on the path).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+
+from hdselect.base.errors import InputError, PlanningError
+from hdselect.catalog.units import Unit, load_catalog
+from hdselect.codesign.bindings import Binding, bindings
+from hdselect.codesign.cyclerules import derated, run_trial, verified
+from hdselect.codesign.fastpath import PathModel
+from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limits
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning import Trajectory, check_within_limits, plan
+from hdselect.robot.model import Robot
+from hdselect.sizing.core import SizingResult, size_trajectory
+from hdselect.sizing.options import Options, options_for
+
+OPTIMAL_WITHIN = 1e-3
+"""A cycle at most this fraction longer than the optimum counts as the optimum: the
+slow-down that corrects TOPPRA's overshoot between gridpoints is of this order [-]."""
+@dataclass(frozen=True, eq=False)
+class FastestResult:
+    """The shortest cycle of a motion's path that a choice of units allows.
+
+    Attributes:
+        robot: The robot (payload and mounting applied, no gearhead masses).
+        motion: The motion whose path was run.
+        units: The unit of every sized joint.
+        options: The assumptions.
+        trajectory: The trajectory, sampled every ``motion.dt``.
+        check: Every rule of every joint's unit on that trajectory (`check_units`).
+        limits: What bounded each joint along the path, by joint name.
+        optimum: The time-optimal cycle under the limits on single samples, before any
+            slow-down or derating [s].
+        slowdown: The uniform slow-down of the moves beyond TOPPRA's own overshoot
+            correction [-]; 1 when none was needed.
+        derating: Fraction of its repeated-peak limit each derated joint was held to [-].
+        reason: What made the cycle longer than `optimum` (by more than `OPTIMAL_WITHIN`):
+            ``(joint, rule)``, or None.
+        binding: Which limit is closest to its bound along the moves, stretch by stretch.
+        grid_per_waypoint: TOPPRA gridpoints per waypoint.
+    """
+
+    robot: Robot
+    motion: Motion
+    units: Mapping[str, Unit]
+    options: Options
+    trajectory: Trajectory
+    check: SizingResult
+    limits: Mapping[str, JointLimits]
+    optimum: float
+    slowdown: float
+    derating: Mapping[str, float]
+    reason: tuple[str, str] | None
+    binding: tuple[Binding, ...]
+    grid_per_waypoint: int
+
+    @property
+    def cycle_time(self) -> float:
+        """The cycle time, dwells included [s]."""
+        return self.trajectory.duration
+
+    @property
+    def feasible(self) -> bool:
+        """Every rule of every joint passes on the trajectory."""
+        return self.check.feasible
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What the robot and motion files raised, and robot-file limits the cycle exceeds.
+
+        As `hdselect.sizing.core.SizingResult.warnings`: each line starts with ``robot file:``,
+        ``motion file:`` or ``cycle:``.
+        """
+        return replace(self.check, motion=self.motion).warnings
+
+    def binding_shares(self) -> list[tuple[str, str, float]]:
+        """(joint, limit, share of the moving time) [-], longest first."""
+        total: dict[tuple[str, str], float] = {}
+        for b in self.binding:
+            total[(b.joint, b.limit)] = total.get((b.joint, b.limit), 0.0) + b.end - b.start
+        moving = sum(total.values()) or 1.0
+        return sorted(((j, lim, t / moving) for (j, lim), t in total.items()),
+                      key=lambda item: -item[2])
+
+
+@dataclass(frozen=True)
+class RatioRow:
+    """One unit on one joint, the other joints' units fixed.
+
+    Attributes:
+        unit: The unit.
+        cycle_time: The shortest cycle [s]; None when the units cannot run the path.
+        optimum: The time-optimal cycle under the limits on single samples [s], or None.
+        gravity: The units cannot run the path at any speed because a load that does not
+            depend on the speed (gravity, held at rest or moving) is beyond a limit.
+        note: Why there is no cycle, or what lengthened it beyond `optimum`, in a few words.
+        binding: The limit that binds longest, ``(joint, limit)``, or None.
+        lengthened_by: The ``(joint, rule)`` that lengthened the cycle, or None.
+        derating: The fraction of its repeated-peak limit the derated joint kept [-].
+        slowdown: The uniform slow-down of the moves [-].
+    """
+
+    unit: Unit
+    cycle_time: float | None
+    optimum: float | None
+    gravity: bool
+    note: str | None
+    binding: tuple[str, str] | None
+    lengthened_by: tuple[str, str] | None = None
+    derating: float | None = None
+    slowdown: float = 1.0
+
+
+@dataclass(frozen=True)
+class JointRatios:
+    """Every catalog unit on one joint.
+
+    Attributes:
+        joint: The joint.
+        selected: The unit `hdselect.size` picks for the motion as planned, or None.
+        rows: One per unit, in catalog order.
+    """
+
+    joint: str
+    selected: str | None
+    rows: tuple[RatioRow, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class RatioComparison:
+    """The shortest cycle with each unit on each joint compared.
+
+    Attributes:
+        robot: The robot (payload and mounting applied).
+        motion: The motion whose path was run.
+        units: The units the other joints keep.
+        options: The assumptions.
+        joints: One comparison per joint compared.
+        base: The fastest cycle with `units` everywhere.
+    """
+
+    robot: Robot
+    motion: Motion
+    units: Mapping[str, Unit]
+    options: Options
+    joints: tuple[JointRatios, ...]
+    base: FastestResult = field(repr=False)
+
+
+def fastest(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None = None,
+            options: Options | None = None, *,
+            catalog: Sequence[Unit] | None = None) -> FastestResult:
+    """The shortest cycle of the motion's path that the units allow, every rule passing.
+
+    Args:
+        robot: The robot as the motion runs it (`hdselect.load_case`).
+        motion: A motion with waypoints (a Ruckig or TOPPRA motion, not a log).
+        units: Unit (or unit id) per sized joint; joints not given get the unit
+            `hdselect.size_trajectory` selects for the motion as planned.
+        options: The assumptions (default: `options_for(motion)`).
+        catalog: Units to resolve ids and defaults from (default: the built-in catalog).
+
+    Returns:
+        The fastest trajectory, its check and what bounds it.
+
+    Raises:
+        InputError: The motion is a log, or a joint or unit id is unknown.
+        PlanningError: The path cannot be run with these units at any speed (the
+            message names the joint, the limit and where), or TOPPRA fails.
+    """
+    motion.refuse_motors("fastest")
+    options = options if options is not None else options_for(motion)
+    catalog = tuple(catalog) if catalog is not None else load_catalog()
+    chosen, _ = resolve_units(robot, motion, units, catalog, options, selection=False)
+    model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
+    return _fastest(model, chosen, options)
+
+
+def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None = None,
+                   options: Options | None = None, *, catalog: Sequence[Unit] | None = None,
+                   joints: Sequence[str] | None = None) -> RatioComparison:
+    """The shortest cycle with each catalog unit on each joint, the other joints' units fixed.
+
+    Args:
+        robot: The robot as the motion runs it.
+        motion: A motion with waypoints.
+        units: Units the other joints keep (defaults as in `fastest`).
+        options: The assumptions (default: `options_for(motion)`).
+        catalog: The units compared (default: the built-in catalog).
+        joints: The joints compared (default: every sized joint).
+
+    Returns:
+        One row per unit and joint.
+
+    Raises:
+        InputError: The motion is a log, or a joint or unit id is unknown.
+        PlanningError: The units given cannot run the path at all.
+    """
+    motion.refuse_motors("fastest --compare-ratios")
+    options = options if options is not None else options_for(motion)
+    catalog = tuple(catalog) if catalog is not None else load_catalog()
+    chosen, selected = resolve_units(robot, motion, units, catalog, options)
+    names = list(robot.sized_joints)
+    for name in joints or ():
+        if name not in names:
+            raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",
+                             field="joint")
+    model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
+    base = _fastest(model, chosen, options)
+    out = []
+    for name in joints or names:
+        rows = []
+        for unit in catalog:
+            if unit is chosen[name]:
+                rows.append(_row(unit, base))
+                continue
+            try:
+                rows.append(_row(unit, _fastest(model, {**chosen, name: unit}, options)))
+            except PathInfeasible as err:
+                rows.append(RatioRow(unit, None, None, err.gravity, _short(err), None))
+        out.append(JointRatios(name, selected.get(name), tuple(rows)))
+    return RatioComparison(robot, motion, chosen, options, tuple(out), base)
+
+
+def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] | None,
+                  catalog: Sequence[Unit], options: Options, *,
+                  selection: bool = True, trajectory: Trajectory | None = None
+                  ) -> tuple[dict[str, Unit], dict[str, str]]:
+    """The unit of every sized joint: those given, the sizing's selection for the others.
+
+    Args:
+        robot: The robot as the motion runs it.
+        motion: The motion (planned with its own planner for the selection).
+        given: Unit or unit id per joint.
+        catalog: The units ids refer to, and the sizing chooses from.
+        options: The assumptions of the sizing.
+        selection: Size the motion even when every joint has a unit given.
+        trajectory: The trajectory the selection sizes (default: the motion as planned;
+            a study gives it run s times slower).
+
+    Returns:
+        The unit per sized joint, and the unit id the sizing selects per joint (where
+        one fits; else the one that fits with the smallest slow-down; empty when the
+        motion was not sized).
+
+    Raises:
+        InputError: The motion is a log, a name is not a sized joint, or an id is unknown.
+        PlanningError: No unit can run a joint not given, at any speed.
+    """
+    if motion.planner == "samples":
+        raise InputError("a logged trajectory ('samples') has no path to run faster; give "
+                         "a motion with waypoints", path=motion.path, field="planner")
+    by_id = {unit.id: unit for unit in catalog}
+    chosen: dict[str, Unit] = {}
+    for name, unit in (given or {}).items():
+        if name not in robot.sized_joints:
+            raise InputError(f"unknown joint '{name}'; sized joints are: "
+                             f"{', '.join(robot.sized_joints)}", field="units")
+        if isinstance(unit, str):
+            if unit not in by_id:
+                raise InputError(f"unknown unit '{unit}' for joint '{name}'; units are: "
+                                 f"{', '.join(by_id)}", field="units")
+            unit = by_id[unit]
+        chosen[name] = unit
+    if not selection and all(name in chosen for name in robot.sized_joints):
+        return chosen, {}
+    sized = (trajectory if trajectory is not None
+             else plan(robot, motion, max_samples=options.max_samples))
+    sizing = size_trajectory(robot, sized, catalog, options)
+    selected: dict[str, str] = {}
+    for joint in sizing.joints:
+        pick = joint.selected.unit.id if joint.selected is not None else (
+            joint.slowdown.unit if joint.slowdown is not None else None)
+        if pick is not None:
+            selected[joint.name] = pick
+        if joint.name not in chosen:
+            if pick is None:
+                raise PlanningError(f"{motion.path}: no unit can run joint '{joint.name}' on "
+                                    "this motion at any speed; give one with --units")
+            chosen[joint.name] = by_id[pick]
+    return chosen, selected
+
+
+def _fastest(model: PathModel, units: Mapping[str, Unit], options: Options) -> FastestResult:
+    """Steps 1 to 3 of the module's method for one choice of units."""
+    robot = model.robot
+    masses = ({name: unit.mass + options.motor_mass for name, unit in units.items()}
+              if options.mass_coupling else {})
+    carrying = robot.with_gearheads(masses)
+    first = run_trial(model, carrying, units, masses, {}, options)
+    best = first
+    if first.whole_cycle_failing:
+        best = derated(model, carrying, units, masses, first, options)
+    limits = joint_limits(robot, model.motion, units, options, best.derating)
+    trajectory, held, check, scale = verified(model, units, best, options)
+    check_within_limits(robot, model.motion, trajectory, what="fastest")  # as plan does
+    slowdown = scale
+    optimum = first.moving + first.dwell
+    reason = None
+    if trajectory.duration > optimum * (1.0 + OPTIMAL_WITHIN):
+        reason = first.reason if best is not first else best.reason
+    return FastestResult(
+        robot=robot, motion=model.motion, units=dict(units), options=options,
+        trajectory=trajectory, check=check,
+        limits=dict(zip(robot.joint_names, limits, strict=True)),
+        optimum=optimum, slowdown=slowdown, derating=dict(best.derating),
+        reason=reason, binding=bindings(model, best, scale, check, held,
+                                        joint_limits(robot, model.motion, units, options)),
+        grid_per_waypoint=model.grid_per_waypoint)
+
+
+def _row(unit: Unit, result: FastestResult) -> RatioRow:
+    shares = result.binding_shares()
+    derating = min(result.derating.values()) if result.derating else None
+    note = None
+    if result.reason is not None:
+        how = [f"derated {derating:.0%}"] if derating is not None else []
+        if result.slowdown > 1.0 + 1e-9:
+            how.append(f"x{result.slowdown:.4f}")
+        note = f"{result.reason[0]} {result.reason[1]}: {', '.join(how)}"
+    return RatioRow(unit, result.cycle_time, result.optimum, False, note,
+                    (shares[0][0], shares[0][1]) if shares else None, result.reason, derating,
+                    result.slowdown)
+
+
+def _short(err: PathInfeasible) -> str:
+    """A few words for a table: who cannot do what."""
+    if err.joint is None:
+        return f"{err.limit} limits"
+    if err.gravity:
+        limit = "momentary" if err.limit == "emergency stop" else err.limit
+        return f"gravity on {err.joint} > its {limit} limit"
+    return f"{err.joint} {err.limit} fails at any speed"

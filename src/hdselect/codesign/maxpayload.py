@@ -1,0 +1,379 @@
+"""The largest payload a motion can carry with some unit on every joint, found exactly.
+
+For a fixed trajectory the joint torques are affine in the payload mass m (its
+inertia about its centre of mass scales with m: the same body, denser):
+tau(m) = tau_0 + m tau_1, and so is the emergency stop's. Two pairs of batched passes
+(without payload, and with 1 kg) therefore give every rule of every unit as a
+function of m:
+
+- peak, static, emergency stop, crash: |tau_0 + m tau_1| <= limit (minus K |qd| for the
+  crash) at every sample: an interval of m per sample, intersected;
+- mean torque and life: T_av(m) = (sum w |tau_0 + m tau_1|^3 / sum w)^(1/3), w = |qd| dt
+  over the moving samples, is convex in m, so T_av(m) <= T_allow (the allowance, and
+  the torque that gives the required life, do not depend on m) is an interval whose
+  ends are bisected to machine precision;
+- input speed and average input speed do not depend on m.
+
+The units chosen (and so the gearhead masses the joints nearer the base carry)
+depend on m: the largest mass with the masses of the units `size` selects there is
+found, the selection redone at it, and the two repeated until the masses settle.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from hdselect.base.errors import InputError
+from hdselect.catalog.rules import RPM_PER_RAD_S, allowable_mean_torque
+from hdselect.catalog.units import L50_PER_L10, Unit, load_catalog
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning import Trajectory, plan
+from hdselect.robot.dynamics import cycle_torques
+from hdselect.robot.model import Payload, Robot
+from hdselect.sizing.core import SizingResult, at_rest, size_trajectory
+from hdselect.sizing.options import Options, options_for
+
+Interval = tuple[float, float]
+"""A closed interval of payload masses (lo, hi) [kg]; hi may be math.inf."""
+_ROUNDS = 12
+_ROUNDOFF = 1e-12
+"""Per-kg torque below this fraction of a joint's torques is rounding, not load [-]."""
+
+
+@dataclass(frozen=True)
+class UnitBound:
+    """The payload masses at which one unit passes every rule on one joint.
+
+    Attributes:
+        unit: The unit.
+        masses: The interval of masses [kg], or None when no mass >= 0 passes.
+        ends: For each rule, the interval of masses it allows [kg] (None: none).
+    """
+
+    unit: Unit
+    masses: Interval | None
+    ends: Mapping[str, Interval | None]
+
+    def limiting(self, mass: float) -> str:
+        """The rule whose interval ends at (or closest above) `mass` [kg]."""
+        hi = {rule: span[1] if span is not None else -math.inf
+              for rule, span in self.ends.items()}
+        return min(hi, key=lambda rule: abs(hi[rule] - mass))
+
+
+@dataclass(frozen=True, eq=False)
+class MaxPayloadResult:
+    """The largest payload with a feasible unit on every joint.
+
+    Attributes:
+        mass: The largest payload mass [kg]; math.inf when no rule depends on it; None
+            when no mass, not even 0, has a unit on every joint.
+        payload: The payload's geometry per kilogram: frame, centre of mass [m] and
+            inertia about it [kg m^2 per kg].
+        ranges: Every interval of masses with a unit on every joint [kg].
+        joint: The joint that runs out of units at `mass`, or None.
+        unit: The last of its units to pass there, or None.
+        rule: The rule that unit fails just above `mass`, or None.
+        selection: The sizing at `mass` (just inside it), or None.
+        trajectory: The trajectory the payload rides.
+        bounds: Per joint, each unit's interval of masses.
+        frame: The link the payload is attached to (the robot's default payload frame,
+            the tip of the longest chain of sized joints, when `payload` names none).
+    """
+
+    mass: float | None
+    payload: Payload
+    ranges: tuple[Interval, ...]
+    joint: str | None
+    unit: Unit | None
+    rule: str | None
+    selection: SizingResult | None
+    trajectory: Trajectory
+    bounds: Mapping[str, tuple[UnitBound, ...]]
+    frame: str = ""
+
+
+def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
+                catalog: Sequence[Unit] | None = None, frame: str | None = None,
+                com: Sequence[float] | None = None,
+                trajectory: Trajectory | None = None) -> MaxPayloadResult:
+    """The largest payload mass for which every joint still has a feasible unit.
+
+    Args:
+        robot: The robot as the motion runs it (its payload, if any, sets the geometry).
+        motion: The motion.
+        options: The assumptions (default: `options_for(motion)`).
+        catalog: The units (default: the built-in catalog).
+        frame: Frame the payload is attached to (default: the payload's, else the tip of
+            the longest chain of sized joints, `Robot.default_payload_frame`).
+        com: Its centre of mass in that frame [m] (default: the payload's, else the
+            frame's origin).
+        trajectory: The trajectory the payload rides (default: the motion as planned;
+            a study gives it run s times slower). It must not depend on the payload.
+
+    Returns:
+        The mass, where it binds, and the sizing there.
+
+    Raises:
+        InputError: The motion's trajectory depends on the payload (TOPPRA with torque
+            limits), or the frame does not exist.
+        PlanningError: The motion cannot be planned.
+    """
+    motion.refuse_motors("max-payload")
+    if motion.planner == "toppra" and motion.torque_limit is not None:
+        raise InputError("the TOPPRA torque limits make the trajectory depend on the payload;"
+                         " max-payload needs a trajectory that does not: remove them",
+                         path=motion.path, field="limits.torque")
+    options = options if options is not None else options_for(motion)
+    units = tuple(catalog) if catalog is not None else load_catalog()
+    payload = per_kilogram(robot.payload, frame=frame, com=com)
+    bare = robot.with_payload(None)
+    bare.with_payload(payload)  # the frame must exist
+    if trajectory is None:
+        trajectory = plan(robot, motion, max_samples=options.max_samples)
+    masses: dict[str, float] = {}
+    result = None
+    for _ in range(_ROUNDS):
+        bounds = joint_bounds(bare.with_gearheads(masses), payload, trajectory, units, options)
+        ranges = _feasible(bounds)
+        mass = ranges[-1][1] if ranges else None
+        selection = None
+        if mass is not None and math.isfinite(mass):
+            inside = max(mass * (1.0 - 1e-9), ranges[-1][0])
+            selection = size_trajectory(bare.with_payload(scaled(payload, inside)) if inside > 0
+                                        else bare, trajectory, units, options)
+        result = (mass, ranges, bounds, selection)
+        if selection is None or not options.mass_coupling:
+            break
+        chosen = {joint.name: (joint.selected or joint.strongest).unit.mass + options.motor_mass
+                  for joint in selection.joints}
+        if chosen == masses:
+            break
+        masses = chosen
+    assert result is not None
+    mass, ranges, bounds, selection = result
+    joint = unit = rule = None
+    if mass is not None and math.isfinite(mass):
+        joint, best = _binding(bounds, mass)
+        unit, rule = best.unit, best.limiting(mass)
+    return MaxPayloadResult(mass, payload, tuple(ranges), joint, unit, rule, selection,
+                            trajectory, bounds, bare.with_payload(payload).payload_frame)
+
+
+def per_kilogram(payload: Payload | None, *, frame: str | None = None,
+                 com: Sequence[float] | None = None) -> Payload:
+    """A 1 kg payload of the given geometry; its inertia is the payload's per kg.
+
+    With `frame` or `com` given, a point mass there (the payload's inertia was about
+    its own centre, in its own frame).
+    """
+    if payload is not None and frame is None and com is None:
+        return Payload(1.0, payload.com, tuple(tuple(v / payload.mass for v in row)
+                                               for row in payload.inertia), payload.frame)
+    at = tuple(com) if com is not None else (payload.com if payload is not None and frame is None
+                                              else (0.0, 0.0, 0.0))
+    where = frame if frame is not None else (payload.frame if payload is not None else None)
+    return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where)
+
+
+def scaled(payload: Payload, mass: float) -> Payload:
+    """The payload of `payload`'s geometry with `mass` [kg] (inertia scaled alike)."""
+    return replace(payload, mass=mass,
+                   inertia=tuple(tuple(v * mass / payload.mass for v in row)
+                                 for row in payload.inertia))
+
+
+def joint_bounds(carrying: Robot, payload: Payload, trajectory: Trajectory,
+                 units: Sequence[Unit], options: Options) -> dict[str, tuple[UnitBound, ...]]:
+    """Each unit's interval of payload masses on each sized joint, for fixed gearhead masses.
+
+    Args:
+        carrying: The robot without payload, carrying the gearhead masses.
+        payload: The 1 kg payload.
+        trajectory: The trajectory.
+        units: The catalog.
+        options: The assumptions.
+    """
+    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
+    empty = cycle_torques(carrying, q, qd, qdd, options.stop_time, threads=options.threads)
+    loaded = cycle_torques(carrying.with_payload(payload), q, qd, qdd, options.stop_time,
+                           threads=options.threads)
+    out = {}
+    for name in carrying.sized_joints:
+        j = carrying.joint_index(name)
+        tau0, stop0 = empty.tau[:, j], empty.stop[:, j]
+        tau1 = _per_kg(loaded.tau[:, j], tau0)
+        stop1 = _per_kg(loaded.stop[:, j], stop0)
+        out[name] = tuple(_unit_bound(unit, trajectory, qd[:, j], qdd[:, j], tau0, tau1, stop0,
+                                      stop1, options) for unit in units)
+    return out
+
+
+def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:
+    """The torque of 1 kg [N m]: loaded - empty, zero where it is within their roundoff.
+
+    A payload on a joint's axis (its centre of mass on it, no inertia) loads it with
+    nothing; the difference of two dynamics passes is then rounding, ~1e-16 of the
+    torques, which would read as a limit of ~1e16 kg rather than none.
+    """
+    difference = loaded - empty
+    scale = float(np.max(np.abs(loaded), initial=0.0) + np.max(np.abs(empty), initial=0.0))
+    return np.where(np.abs(difference) <= _ROUNDOFF * scale, 0.0, difference)
+
+
+def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndarray,
+                tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
+                options: Options) -> UnitBound:
+    """Every rule of `hdselect.catalog.rules.check_unit` as an interval of payload mass [kg]."""
+    rest = at_rest(qd, qdd)
+    moving = ~rest
+    speed = np.abs(qd)
+    gain = (unit.input_inertia + options.rotor_inertia) * unit.ratio**2 / options.stop_time
+    ends: dict[str, Interval | None] = {
+        "peak": _within(tau0[moving], tau1[moving], unit.repeated_torque),
+        "static": _within(tau0[rest], tau1[rest], unit.static_torque),
+        "momentary": _meet(_within(stop0, stop1, unit.momentary_torque),
+                           _within(tau0, tau1, unit.momentary_torque - gain * speed)),
+    }
+    dt = trajectory.dt
+    weight = speed * dt * moving
+    moving_time = float(dt * moving.sum())
+    travel = float(weight.sum())
+    mean_speed = travel / moving_time if moving_time > 0.0 else 0.0
+    rules = unit.rules
+    cycle_speed = travel / (dt * len(qd)) if len(qd) else 0.0
+    n_av = (mean_speed if rules.mean_speed == "moving" else cycle_speed) * RPM_PER_RAD_S \
+        * unit.ratio
+    everything: Interval = (-math.inf, math.inf)
+    ends["speed"] = everything if speed.max(initial=0.0) * RPM_PER_RAD_S * unit.ratio \
+        <= unit.max_input_speed else None
+    average = unit.max_average_input_speed
+    ends["average_speed"] = everything if average is None or n_av <= average else None
+    if travel > 0.0:
+        allowed, _ = allowable_mean_torque(unit, n_av)
+        ends["mean"] = _mean_at_most(tau0, tau1, weight, allowed)
+        if options.life_hours is not None:
+            required = options.life_hours * (L50_PER_L10 if options.life_basis == "L10" else 1.0)
+            most = (unit.rated_torque * (rules.rated_l50_hours * rules.rated_input_speed
+                                         / (n_av * required)) ** (1.0 / 3.0)
+                    if n_av > 0.0 else math.inf)
+            ends["life"] = _mean_at_most(tau0, tau1, weight, most)
+    masses: Interval | None = (0.0, math.inf)
+    for span in ends.values():
+        masses = _meet(masses, span)
+    return UnitBound(unit, masses, ends)
+
+
+def _within(c0: np.ndarray, c1: np.ndarray, limit: np.ndarray | float) -> Interval | None:
+    """Where |c0 + m c1| <= limit at every sample: an interval of m, or None."""
+    limit = np.broadcast_to(np.asarray(limit, dtype=float), np.shape(c0))
+    if np.shape(c0)[0] == 0:
+        return (-math.inf, math.inf)
+    if np.any(limit < 0.0):
+        return None
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a, b = (-limit - c0) / c1, (limit - c0) / c1
+    flat = c1 == 0.0
+    if np.any(flat & (np.abs(c0) > limit)):
+        return None
+    lo = np.where(flat, -np.inf, np.minimum(a, b))
+    hi = np.where(flat, np.inf, np.maximum(a, b))
+    low, high = float(lo.max()), float(hi.min())
+    return (low, high) if low <= high else None
+
+
+def _meet(a: Interval | None, b: Interval | None) -> Interval | None:
+    if a is None or b is None:
+        return None
+    lo, hi = max(a[0], b[0]), min(a[1], b[1])
+    return (lo, hi) if lo <= hi else None
+
+
+def _mean_at_most(c0: np.ndarray, c1: np.ndarray, weight: np.ndarray,
+                  most: float) -> Interval | None:
+    """Where (sum w |c0 + m c1|^3 / sum w)^(1/3) <= most: an interval of m (convex), or None."""
+    total = float(weight.sum())
+    keep = weight > 0.0
+    c0, c1, w = c0[keep], c1[keep], weight[keep] / total
+
+    def excess(m: float) -> float:
+        return float(np.dot(w, np.abs(c0 + m * c1) ** 3)) - most**3
+
+    def slope(m: float) -> float:
+        value = c0 + m * c1
+        return float(np.dot(w, 3.0 * c1 * value * np.abs(value)))
+
+    if not np.any(c1 != 0.0):
+        return (-math.inf, math.inf) if excess(0.0) <= 0.0 else None
+    # the minimiser of the convex excess: where its slope changes sign
+    lo, hi = -1.0, 1.0
+    while slope(lo) > 0.0:
+        lo *= 2.0
+    while slope(hi) < 0.0:
+        hi *= 2.0
+    centre = _bisect(slope, lo, hi)
+    if excess(centre) > 0.0:
+        return None
+    step = max(1.0, abs(centre))
+    right = centre + step
+    while excess(right) <= 0.0:
+        right = centre + 2.0 * (right - centre)
+    left = centre - step
+    while excess(left) <= 0.0:
+        left = centre - 2.0 * (centre - left)
+    return (_bisect(excess, left, centre, rising=False), _bisect(excess, centre, right))
+
+
+def _bisect(function, lo: float, hi: float, *, rising: bool = True) -> float:
+    """The point in [lo, hi] where `function` changes sign, to machine precision.
+
+    With `rising`, function(lo) <= 0 < function(hi); otherwise the mirror image. The
+    end returned is the one on the `<= 0` side.
+    """
+    for _ in range(200):
+        middle = 0.5 * (lo + hi)
+        if middle in (lo, hi):
+            break
+        if (function(middle) <= 0.0) == rising:
+            lo = middle
+        else:
+            hi = middle
+    return lo if rising else hi
+
+
+def _feasible(bounds: Mapping[str, tuple[UnitBound, ...]]) -> list[Interval]:
+    """The masses >= 0 at which every joint has some unit: union per joint, then meet."""
+    spans: list[Interval] = [(0.0, math.inf)]
+    for per_unit in bounds.values():
+        union = _union([b.masses for b in per_unit if b.masses is not None])
+        spans = [s for a in spans for b in union for s in [_meet(a, b)] if s is not None]
+    return sorted(spans)
+
+
+def _union(spans: list[Interval]) -> list[Interval]:
+    out: list[Interval] = []
+    for lo, hi in sorted(spans):
+        if out and lo <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], hi))
+        else:
+            out.append((lo, hi))
+    return out
+
+
+def _binding(bounds: Mapping[str, tuple[UnitBound, ...]], mass: float) -> tuple[str, UnitBound]:
+    """The joint whose units all stop passing at `mass` [kg], and the last of them."""
+    last: dict[str, UnitBound] = {}
+    for joint, per_unit in bounds.items():
+        passing = [b for b in per_unit if b.masses is not None and b.masses[0] <= mass]
+        if passing:
+            last[joint] = max(passing, key=_upper)
+    joint = min(last, key=lambda name: _upper(last[name]))
+    return joint, last[joint]
+
+
+def _upper(bound: UnitBound) -> float:
+    return bound.masses[1] if bound.masses is not None else -math.inf

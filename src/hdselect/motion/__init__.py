@@ -1,0 +1,12 @@
+"""What the robot must do: motion files and logs, and the trajectory planned from them.
+
+`load_motion` reads a motion file (`motionfile`, logs through `logfile`), `plan` turns it
+into a `Trajectory` sampled on a fixed time grid (`planning`), and `starter` writes a
+first motion file for a robot.
+"""
+
+from hdselect.motion.motionfile import Motion, load_case, load_motion
+from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.starter import starter_motion
+
+__all__ = ["Motion", "Trajectory", "load_case", "load_motion", "plan", "starter_motion"]

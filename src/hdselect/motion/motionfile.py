@@ -1,0 +1,699 @@
+"""Read a motion file (TOML): the waypoints, limits and planner a robot's cycle is made of.
+
+Everything is validated here, once, and converted to SI: revolute positions
+[rad], prismatic positions [m], times [s]. The file's ``angle_unit`` applies to
+revolute positions and every revolute limit (and to a ``samples`` log);
+prismatic joints are always in m, m/s, m/s^2 and m/s^3.
+
+A ``samples`` log is a CSV file with a header row: ``t`` [s], ``q_<joint>`` for
+every joint, and optionally ``qd_<joint>`` and ``qdd_<joint>`` for every joint;
+other columns are ignored.
+
+``[motor]`` gives the motors behind the gearheads: for every rotary joint, and
+``[motor.JOINT]`` for one joint (replacing ``[motor]`` there). Each is a fixed motor
+(its data inline, or ``id`` from ``catalog``) or ``catalog`` alone, every motor of
+which is a candidate; files are relative to the motion file.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hdselect.base import bounds
+from hdselect.base.arrays import frozen
+from hdselect.base.errors import InputError
+from hdselect.base.tomlfile import as_number, check_keys, join, number, read_toml, table_of
+from hdselect.catalog.motors import MOTOR_KEYS, Motor, load_motors, motor_from_table
+from hdselect.motion.logfile import SampleLog, read_log
+from hdselect.robot.model import MOUNTINGS, Payload, Robot, load_robot
+
+logger = logging.getLogger(__name__)
+
+PLANNERS = ("ruckig", "toppra", "samples")
+"""Valid values of the ``planner`` key."""
+
+ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
+"""Valid values of ``angle_unit`` and their size [rad]."""
+
+_TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "limits", "safety",
+             "requirements", "waypoint", "samples", "sizing", "motor")
+_LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
+_NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity", "acceleration"),
+           "samples": ()}
+_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis")}
+_SIZING_KEYS = ("joints", "exclude")
+LIFE_BASES = ("L50", "L10")
+"""Valid values of ``[requirements] life_basis``: L50 (average) or L10 (90 % survival) life."""
+_ALLOWED = {"ruckig": _NEEDED["ruckig"], "toppra": ("velocity", "acceleration", "torque"),
+            "samples": ()}
+
+
+@dataclass(frozen=True, eq=False)
+class Motion:
+    """A validated motion file, all in SI units, joints named.
+
+    A Motion is planned against a Robot with the same joints (`hdselect.plan`); it
+    does not hold one. What the file says about the robot (its file, payload and
+    mounting) is kept here as given, and applied by `robot_for_motion`.
+
+    Attributes:
+        path: The motion file.
+        joint_names: The joints, in the order of the arrays' columns.
+        planner: ``"ruckig"``, ``"toppra"`` or ``"samples"``.
+        dt: Sample period of the planned trajectory [s].
+        waypoints: Joint positions to pass through [rad or m], shape (k, dof); (0, dof)
+            for the samples planner.
+        dwells: Time held at rest after reaching each waypoint [s], shape (k,).
+        velocity_limit: Joint speed limit [rad/s or m/s], shape (dof,), or None.
+        acceleration_limit: Joint acceleration limit [rad/s^2 or m/s^2], (dof,), or None.
+        jerk_limit: Joint jerk limit [rad/s^3 or m/s^3], shape (dof,), or None.
+        torque_limit: Joint torque limit for TOPPRA [N m or N], shape (dof,), or None.
+        stop_time: Time to stop every joint in an emergency stop [s], or None.
+        life_hours: Required gearhead life [h], or None.
+        life_basis: The basis of `life_hours`, ``"L10"`` or ``"L50"``, or None if not given.
+        samples: The logged trajectory for the samples planner, else None.
+        robot_file: The file's ``robot``, relative to the motion file resolved, or None.
+        payload: The file's ``[payload]``, or None.
+        mounting: The file's ``mounting``, or None when it gives none.
+        angle_unit: The file's ``angle_unit`` (``"deg"`` or ``"rad"``), for messages.
+        sized_joints: The file's ``[sizing] joints``, or None when it gives none.
+        excluded_joints: The file's ``[sizing] exclude``: joints that move but get no gearhead.
+        velocity_from_robot: Joints whose velocity limit the file does not give, so the
+            robot file's velocity limit is used.
+        warnings: What the file asks beyond the robot file's limits, or how its lists are
+            read, one line each.
+        motors: The file's ``[motor]``: candidate motors per rotary joint (one for a
+            fixed motor), or None when it gives none.
+        motor_joints: The joints the file gives a ``[motor.JOINT]`` block of their own.
+    """
+
+    path: Path
+    joint_names: tuple[str, ...]
+    planner: str
+    dt: float
+    waypoints: np.ndarray
+    dwells: np.ndarray
+    velocity_limit: np.ndarray | None = None
+    acceleration_limit: np.ndarray | None = None
+    jerk_limit: np.ndarray | None = None
+    torque_limit: np.ndarray | None = None
+    stop_time: float | None = None
+    life_hours: float | None = None
+    life_basis: str | None = None
+    samples: SampleLog | None = None
+    robot_file: Path | None = None
+    payload: Payload | None = None
+    mounting: str | tuple[float, float, float] | None = None
+    angle_unit: str = "deg"
+    sized_joints: tuple[str, ...] | None = None
+    excluded_joints: tuple[str, ...] = ()
+    velocity_from_robot: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = ()
+    motors: Mapping[str, tuple[Motor, ...]] | None = None
+    motor_joints: tuple[str, ...] = ()
+
+    def refuse_motors(self, command: str) -> None:
+        """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
+
+        Raises:
+            InputError: The file gives motors.
+        """
+        if self.motors:
+            raise InputError(f"{command} does not choose motors yet; the motors given here "
+                             "would be left out: remove [motor] (size and compare choose "
+                             "motor and gearhead together)", path=self.path, field="motor")
+
+    def check_joints(self, robot: Robot) -> None:
+        """Check that the motion was read for this robot's joints.
+
+        Raises:
+            InputError: The joints differ.
+        """
+        if robot.joint_names != self.joint_names:
+            raise InputError(f"the motion was read for joints {', '.join(self.joint_names)}; "
+                             f"the robot has {', '.join(robot.joint_names)}", path=self.path)
+
+
+def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Motion:
+    """Read and validate a motion file.
+
+    The robot is needed to read the file: list-form values follow its joint order,
+    ``angle_unit`` applies to its revolute joints only, and waypoints are checked
+    against its position limits.
+
+    Args:
+        path: The motion file (TOML).
+        robot: The robot, a robot file, or None to load the file named by the motion
+            file's ``robot`` key (relative to the motion file).
+
+    Returns:
+        The motion, in SI units. The file's payload and mounting are recorded, not
+        applied: see `robot_for_motion` and `load_case`.
+
+    Raises:
+        InputError: The motion file, the robot file or the log is missing, malformed
+            or inconsistent; the message names the file and the field.
+    """
+    path = bounds.file_argument(path, "path")
+    bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
+                       "a Robot, a robot file or None")
+    doc = read_toml(path)
+    check_keys(doc, _TOP_KEYS, path, "")
+    planner = _choice(doc, "planner", PLANNERS, path)
+    angle_unit = _choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)
+    unit = ANGLE_UNITS[angle_unit]
+    dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
+    file_payload = _payload(doc["payload"], path) if "payload" in doc else None
+    file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
+    robot_file = _robot_file(doc, path)
+    if not isinstance(robot, Robot):
+        file = robot if robot is not None else robot_file
+        if file is None:
+            raise InputError("no robot given: set the key or pass a robot file",
+                             path=path, field="robot")
+        robot = load_robot(file)
+    scale = np.where(robot.revolute, unit, 1.0)
+    units = [("deg" if unit != 1.0 else "rad") if r else "m" for r in robot.revolute]
+    limits = table_of(doc.get("limits", {}), path, "limits")
+    check_keys(limits, _LIMIT_KEYS, path, "limits")
+    for key in _NEEDED[planner]:
+        if key not in limits and key != "velocity":  # velocity: the robot file's by default
+            raise InputError(f"required by planner '{planner}'", path=path, field=f"limits.{key}")
+    for key in limits:
+        if key not in _ALLOWED[planner]:
+            raise InputError(f"not used by planner '{planner}'; remove it (planner "
+                             f"'{planner}' takes: {', '.join(_ALLOWED[planner]) or 'no limits'})",
+                             path=path, field=f"limits.{key}")
+    lists = _Lists(robot)
+    lim = {k: frozen(_per_joint(v, robot, path, f"limits.{k}", bound=bounds.MOTION_LIMITS[k],
+                                scale=np.ones(robot.dof) if k == "torque" else scale,
+                                units=_limit_units(k, units), lists=lists)
+                     * (1.0 if k == "torque" else scale))
+           for k, v in limits.items() if k != "velocity"}
+    from_robot: tuple[str, ...] = ()
+    warnings: list[str] = []
+    if "velocity" in _NEEDED[planner]:
+        velocity, from_robot = _velocity_limit(limits.get("velocity"), robot, path, scale, units,
+                                               lists, planner)
+        lim["velocity"] = frozen(velocity)
+        warnings += _beyond_robot(velocity, robot, scale, units, from_robot)
+    sizing = _sizing(doc, path, robot)
+    stop_time = _section(doc, "safety", path).get("stop_time")
+    requirements = _section(doc, "requirements", path)
+    samples = None
+    if planner == "samples":
+        if "waypoint" in doc:
+            raise InputError("planner 'samples' takes its motion from [samples] file; remove "
+                             "the waypoints", path=path, field="waypoint")
+        waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
+        samples = _samples(doc, path, robot, scale, units)
+    else:
+        if "samples" in doc:
+            raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
+                             field="samples")
+        waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units, lists)
+    warnings += lists.warnings()
+    for warning in warnings:
+        logger.warning("%s: %s", path, warning)
+    motors = _motors(doc["motor"], path, robot) if "motor" in doc else None
+    return Motion(
+        path=path, joint_names=robot.joint_names, planner=planner, dt=dt,
+        waypoints=frozen(waypoints), dwells=frozen(dwells),
+        velocity_limit=lim.get("velocity"), acceleration_limit=lim.get("acceleration"),
+        jerk_limit=lim.get("jerk"), torque_limit=lim.get("torque"),
+        stop_time=stop_time, life_hours=requirements.get("life_hours"),
+        life_basis=requirements.get("life_basis"), samples=samples,
+        robot_file=robot_file, payload=file_payload, mounting=file_mounting,
+        angle_unit=angle_unit, sized_joints=sizing.get("joints"),
+        excluded_joints=sizing.get("exclude", ()), velocity_from_robot=from_robot,
+        warnings=tuple(warnings), motors=motors,
+        motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
+                           if isinstance(block, dict) and key != "curve"),
+    )
+
+
+def robot_for_motion(
+    robot: Robot,
+    motion: Motion,
+    *,
+    payload: Payload | None = None,
+    mounting: str | Sequence[float] | None = None,
+    joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
+) -> Robot:
+    """The robot as the motion runs it: payload, mounting and sized joints applied.
+
+    Each of payload and mounting comes from the argument if given, else from the
+    motion file if it gives one, else it is the robot's own. Nothing is dropped in
+    silence: a robot that already carries a payload and a motion file that gives
+    another, with no argument to choose, is an error.
+
+    Args:
+        robot: The robot, as loaded (or already transformed).
+        motion: The motion read for it.
+        payload: Payload overriding the motion file's.
+        mounting: Mounting overriding the motion file's.
+        joints: Joints to size, overriding the file's ``[sizing] joints`` (default: the
+            file's, else the robot's choice).
+        exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
+
+    Returns:
+        The robot to plan and size with.
+
+    Raises:
+        InputError: The joints differ from the motion's, the payload is ambiguous, or
+            its frame does not exist (the message names the file that set it).
+    """
+    bounds.expect_type(robot, Robot, "robot", "a Robot")
+    bounds.expect_type(motion, Motion, "motion", "a Motion")
+    bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
+    motion.check_joints(robot)
+    if payload is None and motion.payload is not None:
+        if robot.payload is not None and robot.payload != motion.payload:
+            raise InputError("the robot already carries a payload and this file gives another;"
+                             " pass the payload to use explicitly", path=motion.path,
+                             field="payload")
+        try:
+            robot = robot.with_payload(motion.payload)
+        except InputError as err:
+            raise InputError(err.reason, path=motion.path, field=err.field) from err
+    elif payload is not None:
+        robot = robot.with_payload(payload)
+    mounting = mounting if mounting is not None else motion.mounting
+    if mounting is not None:
+        robot = robot.with_mounting(mounting)
+    chosen = joints if joints is not None else motion.sized_joints
+    left_out = exclude if exclude is not None else motion.excluded_joints
+    if chosen is not None or left_out:
+        try:
+            robot = robot.with_sized_joints(chosen, left_out)
+        except InputError as err:
+            given = joints if err.field == "joints" else exclude
+            if given is not None or err.field not in ("joints", "exclude"):
+                raise
+            raise InputError(err.reason, path=motion.path, field=f"sizing.{err.field}") from err
+    return robot
+
+
+def load_case(
+    motion: str | Path,
+    robot: Robot | str | Path | None = None,
+    *,
+    payload: Payload | None = None,
+    mounting: str | Sequence[float] | None = None,
+    joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
+) -> tuple[Robot, Motion]:
+    """Load a motion file and the robot that runs it, payload and mounting applied.
+
+    Args:
+        motion: The motion file.
+        robot: The robot or its file; None loads the motion file's ``robot``.
+        payload: Payload overriding the motion file's.
+        mounting: Mounting overriding the motion file's.
+        joints: Joints to size, overriding the file's ``[sizing] joints``.
+        exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
+
+    Returns:
+        The robot as the motion runs it (see `robot_for_motion`) and the motion.
+
+    Raises:
+        InputError: A file or option is invalid.
+    """
+    motion_path = bounds.file_argument(motion, "motion")
+    bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
+                       "a Robot, a robot file or None")
+    if not isinstance(robot, Robot):
+        robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
+    loaded = load_motion(motion, robot)
+    return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
+                            joints=joints, exclude=exclude), loaded
+
+
+def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path,
+            where: str = "") -> str:
+    field = join(where, key)
+    if key not in doc:
+        raise InputError(f"required key is missing; choose one of: {', '.join(choices)}",
+                         path=path, field=field)
+    if doc[key] not in choices:
+        raise InputError(f"unknown value {doc[key]!r}; choose one of: {', '.join(choices)}",
+                         path=path, field=field)
+    return doc[key]
+
+
+def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
+    """The numbers of ``[safety]`` or ``[requirements]``, validated."""
+    table = table_of(doc.get(section, {}), path, section)
+    check_keys(table, _SECTIONS[section], path, section)
+    values: dict[str, Any] = {}
+    for key in _SECTIONS[section]:
+        if key == "life_basis":
+            if key in table:
+                values[key] = _choice(table, key, LIFE_BASES, path, where=section)
+        elif key in table:
+            values[key] = number(table, key, path, section,
+                                 bound=bounds.STOP_TIME if key == "stop_time" else bounds.LIFE)
+    return values
+
+
+def _robot_file(doc: dict[str, Any], path: Path) -> Path | None:
+    """The file's ``robot``, resolved against the motion file's folder, if given."""
+    if "robot" not in doc:
+        return None
+    if not isinstance(doc["robot"], str):
+        raise InputError("expected a file name", path=path, field="robot")
+    robot = path.parent / doc["robot"]
+    if not robot.is_file():
+        raise InputError(f"robot file not found: {robot}", path=path, field="robot")
+    return robot
+
+
+def robot_file_named(path: str | Path) -> Path:
+    """The robot file a motion file names, for loading the robot before the motion.
+
+    Raises:
+        InputError: The motion file is unreadable or names no robot file that exists.
+    """
+    path = bounds.file_argument(path, "motion")
+    doc = read_toml(path)
+    robot = _robot_file(doc, path)
+    if robot is None:
+        raise InputError("no robot given: set the key or pass a robot file",
+                         path=path, field="robot")
+    return robot
+
+
+def _motors(value: Any, path: Path, robot: Robot) -> Mapping[str, tuple[Motor, ...]]:
+    """``[motor]`` and ``[motor.JOINT]``: the candidate motors of every rotary joint given."""
+    table = table_of(value, path, "motor")
+    own = {}
+    for key, block in table.items():
+        if isinstance(block, dict) and key != "curve":
+            j = robot.joint_index(key, source=path, field=f"motor.{key}")
+            if not robot.revolute[j]:
+                raise InputError(f"'{key}' is a prismatic joint; gearheads and motors are "
+                                 "sized for rotary joints only", path=path, field=f"motor.{key}")
+            own[key] = table_of(block, path, f"motor.{key}")
+    shared = {key: block for key, block in table.items() if key not in own}
+    check_keys(shared, ["catalog", *MOTOR_KEYS], path, "motor")
+    files: dict[Path, tuple[Motor, ...]] = {}
+    shared_catalog = _motor_catalog(shared, path, "motor", files)
+    every = _motor_block(shared, path, "motor", files, None) if shared else None
+    motors: dict[str, tuple[Motor, ...]] = {}
+    for name, revolute in zip(robot.joint_names, robot.revolute, strict=True):
+        if name in own:
+            check_keys(own[name], ["catalog", *MOTOR_KEYS], path, f"motor.{name}")
+            motors[name] = _motor_block(own[name], path, f"motor.{name}", files, shared_catalog)
+        elif every is not None and revolute:
+            motors[name] = every
+    return motors
+
+
+def _motor_catalog(block: dict[str, Any], path: Path, where: str,
+                   files: dict[Path, tuple[Motor, ...]]) -> tuple[Path, tuple[Motor, ...]] | None:
+    """The motor file a block's ``catalog`` names (read once per file), or None."""
+    if "catalog" not in block:
+        return None
+    if not isinstance(block["catalog"], str):
+        raise InputError("expected a motor file name, relative to this file", path=path,
+                         field=f"{where}.catalog")
+    file = path.parent / block["catalog"]
+    if not file.is_file():
+        raise InputError(f"motor file not found: {file}", path=path, field=f"{where}.catalog")
+    key = file.resolve()
+    if key not in files:
+        files[key] = load_motors(file)
+    return file, files[key]
+
+
+def _motor_block(block: dict[str, Any], path: Path, where: str,
+                 files: dict[Path, tuple[Motor, ...]],
+                 shared: tuple[Path, tuple[Motor, ...]] | None) -> tuple[Motor, ...]:
+    """One block's motors: its inline motor, the motor `id` of a catalog, or the whole catalog.
+
+    A joint's block giving only ``id`` looks it up in the ``[motor]`` block's catalog.
+    """
+    data = [key for key in block if key not in ("catalog", "id")]
+    if data:
+        if "catalog" in block:
+            raise InputError("give either a catalog (and an id from it) or the motor's data, "
+                             "not both", path=path, field=f"{where}.catalog")
+        return (motor_from_table(block, path, where, default_id=where),)
+    catalog = _motor_catalog(block, path, where, files) or shared
+    if catalog is None:
+        what = ("an id needs a catalog: give catalog here or in [motor]" if "id" in block else
+                "give catalog (choose from its motors), catalog and id (a fixed motor), or the "
+                "motor's data")
+        raise InputError(what, path=path, field=f"{where}.{'id' if 'id' in block else 'catalog'}")
+    file, motors = catalog
+    if "id" not in block:
+        return motors
+    motor_id = block["id"]
+    found = [motor for motor in motors if motor.id == motor_id]
+    if not found:
+        raise InputError(f"unknown motor id {motor_id!r}; {file.name} has: "
+                         f"{', '.join(motor.id for motor in motors)}", path=path,
+                         field=f"{where}.id")
+    return (found[0],)
+
+
+def _vector(value: Any, size: int, path: Path, field: str) -> list[float]:
+    if not isinstance(value, list) or len(value) != size:
+        raise InputError(f"expected a list of {size} numbers, got {value!r}", path=path,
+                         field=field)
+    return [as_number(v, path, f"{field}[{i}]") for i, v in enumerate(value)]
+
+
+def _payload(value: Any, path: Path) -> Payload:
+    table = table_of(value, path, "payload")
+    check_keys(table, ("mass", "com", "inertia", "frame"), path, "payload")
+    if "mass" not in table:
+        raise InputError("required key is missing", path=path, field="payload.mass")
+    try:
+        return Payload(table["mass"], table.get("com", (0.0, 0.0, 0.0)),
+                       table.get("inertia", ((0.0,) * 3,) * 3), table.get("frame"))
+    except InputError as err:
+        raise InputError(err.reason, path=path, field=err.field) from err
+
+
+def _mounting(value: Any, path: Path) -> str | tuple[float, float, float]:
+    if isinstance(value, str):
+        if value not in MOUNTINGS:
+            raise InputError(f"unknown mounting {value!r}; choose one of: {', '.join(MOUNTINGS)}"
+                             " or a gravity vector [gx, gy, gz] in m/s^2", path=path,
+                             field="mounting")
+        return value
+    x, y, z = _vector(value, 3, path, "mounting")
+    for i, g in enumerate((x, y, z)):
+        bounds.GRAVITY.check(g, path=path, field=f"mounting[{i}]")
+    return (x, y, z)
+
+
+class _Lists:
+    """How a motion file's lists map onto joints: the model's order, named in every message.
+
+    Remembers whether the file used a list, to warn once when the model's order is not
+    the order the robot file writes its joints.
+    """
+
+    def __init__(self, robot: Robot):
+        self.robot = robot
+        self.used: list[str] = []
+
+    @property
+    def order(self) -> str:
+        """The joints in list order, for messages."""
+        return f"list order: {', '.join(self.robot.joint_names)}"
+
+    def warnings(self) -> list[str]:
+        """One line if a list was used and the robot file writes its joints in another order."""
+        written = self.robot.file_order
+        if not self.used or written is None or written == self.robot.joint_names:
+            return []
+        return [f"{self.used[0]} and any other list follows the model's joint order "
+                f"({', '.join(self.robot.joint_names)}), not the order the robot file writes "
+                f"them ({', '.join(written)}); tables keyed by joint name avoid the question"]
+
+
+def _per_joint(value: Any, robot: Robot, path: Path, field: str, *, bound: bounds.Bound,
+               scale: np.ndarray, units: Sequence[str], lists: _Lists | None = None
+               ) -> np.ndarray:
+    """One number per joint: from a number (all joints), a list or a table keyed by joint.
+
+    Each value, times its joint's `scale` (SI per file unit), must lie within `bound`.
+    """
+    def read(raw: Any, j: int, where: str) -> float:
+        return as_number(raw, path, where, bound=bound, scale=float(scale[j]), unit=units[j])
+
+    if isinstance(value, dict):
+        for name in value:
+            _joint_key(robot, name, path, f"{field}.{name}")
+        missing = [n for n in robot.joint_names if n not in value]
+        if missing:
+            raise InputError(f"missing joint(s) {', '.join(missing)}; give every joint: "
+                             f"{', '.join(robot.joint_names)}", path=path, field=field)
+        return np.array([read(value[n], j, f"{field}.{n}")
+                         for j, n in enumerate(robot.joint_names)])
+    if isinstance(value, list):
+        lists = lists or _Lists(robot)
+        lists.used.append(field)
+        if len(value) != robot.dof:
+            raise InputError(f"expected {robot.dof} values ({lists.order}), got {len(value)}",
+                             path=path, field=field)
+        numbers = []
+        for j, v in enumerate(value):
+            try:
+                numbers.append(read(v, j, f"{field}[{j}]"))
+            except InputError as err:
+                raise InputError(f"{err.reason} for joint '{robot.joint_names[j]}' ({lists.order})",
+                                 path=path, field=err.field) from err
+        return np.array(numbers)
+    return np.array([read(value, j, field) for j in range(robot.dof)])
+
+
+def _limit_units(kind: str, units: Sequence[str]) -> list[str]:
+    """The unit labels of a ``[limits]`` kind per joint, e.g. ``deg/s^2``."""
+    if kind == "torque":
+        return ["N m" if unit != "m" else "N" for unit in units]
+    power = {"velocity": "/s", "acceleration": "/s^2", "jerk": "/s^3"}[kind]
+    return [unit + power for unit in units]
+
+
+def _joint_key(robot: Robot, name: str, path: Path, field: str) -> None:
+    """Reject a table key that is not a degree of freedom (a mimic follower explained)."""
+    if name in robot.mimic:
+        raise InputError(f"joint '{name}' follows '{robot.mimic[name].leader}' (mimic); give "
+                         "its leader instead", path=path, field=field)
+    robot.joint_index(name, source=path, field=field)
+
+
+def _velocity_limit(value: Any, robot: Robot, path: Path, scale: np.ndarray,
+                    units: Sequence[str], lists: _Lists,
+                    planner: str) -> tuple[np.ndarray, tuple[str, ...]]:
+    """Velocity limits [rad/s or m/s]: the file's, else per joint the robot file's.
+
+    Every limit, the robot file's included, lies within ``bounds.MOTION_LIMITS["velocity"]``.
+
+    Returns:
+        The limits and the joints whose limit came from the robot file.
+
+    Raises:
+        InputError: A joint has neither (the message names them), or a limit is out of range.
+    """
+    bound = bounds.MOTION_LIMITS["velocity"]
+    labels = _limit_units("velocity", units)
+    urdf = np.where((robot.velocity_limit > 0.0) & np.isfinite(robot.velocity_limit),
+                    robot.velocity_limit, np.nan)
+    if value is None:
+        given: dict[str, Any] = {}
+    elif isinstance(value, dict):
+        given = value
+    else:
+        return _per_joint(value, robot, path, "limits.velocity", bound=bound, scale=scale,
+                          units=labels, lists=lists) * scale, ()
+    for name in given:
+        _joint_key(robot, name, path, f"limits.velocity.{name}")
+    missing = [n for n in robot.joint_names if n not in given]
+    lacking = [n for n in missing if np.isnan(urdf[robot.joint_index(n)])]
+    if lacking:
+        raise InputError(f"required by planner '{planner}' for {', '.join(lacking)}: the robot "
+                         "file gives no velocity limit there", path=path, field="limits.velocity")
+    for name in missing:
+        j = robot.joint_index(name)
+        try:
+            bound.check(float(urdf[j]), path=robot.path, field=f"joint[{name}].limit.velocity")
+        except InputError as err:
+            raise InputError(f"{err.reason} (used for {path.name}'s limits.velocity; give the "
+                             "limit there)", path=robot.path, field=err.field) from err
+    velocity = urdf.copy()
+    for name, limit in given.items():
+        j = robot.joint_index(name)
+        velocity[j] = as_number(limit, path, f"limits.velocity.{name}", bound=bound,
+                                scale=float(scale[j]), unit=labels[j]) * scale[j]
+    return velocity, tuple(missing)
+
+
+def _beyond_robot(velocity: np.ndarray, robot: Robot, scale: np.ndarray, units: list[str],
+                  from_robot: tuple[str, ...]) -> list[str]:
+    """One line per joint whose velocity limit exceeds the robot file's."""
+    lines = []
+    for j, name in enumerate(robot.joint_names):
+        urdf = robot.velocity_limit[j]
+        if name in from_robot or not (0.0 < urdf < np.inf) or velocity[j] <= urdf * (1 + 1e-9):
+            continue
+        lines.append(f"limits.velocity: joint '{name}' may move at {velocity[j] / scale[j]:g} "
+                     f"{units[j]}/s, above the robot file's velocity limit "
+                     f"{urdf / scale[j]:.4g} {units[j]}/s")
+    return lines
+
+
+def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[str, ...]]:
+    """The ``[sizing]`` table: joints to size and to leave out, checked against the robot."""
+    table = table_of(doc.get("sizing", {}), path, "sizing")
+    check_keys(table, _SIZING_KEYS, path, "sizing")
+    names = {}
+    for key in _SIZING_KEYS:
+        if key in table:
+            value = table[key]
+            if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+                raise InputError(f"expected a list of joint names, got {value!r}", path=path,
+                                 field=f"sizing.{key}")
+            names[key] = tuple(value)
+    if names:
+        try:
+            robot.with_sized_joints(names.get("joints"), names.get("exclude", ()))
+        except InputError as err:
+            raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
+    return names
+
+
+def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: list[str],
+               lists: _Lists):
+    if not isinstance(value, list) or len(value) < 2:
+        raise InputError("give at least two [[waypoint]] tables", path=path, field="waypoint")
+    points, dwells = [], []
+    for i, item in enumerate(value):
+        where = f"waypoint[{i}]"
+        table = table_of(item, path, where)
+        check_keys(table, ("q", "dwell"), path, where)
+        if "q" not in table:
+            raise InputError("required key is missing", path=path, field=f"{where}.q")
+        if not isinstance(table["q"], list | dict):
+            raise InputError("expected a list or a table keyed by joint name", path=path,
+                             field=f"{where}.q")
+        given = _per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
+                           scale=scale, units=units, lists=lists)
+        q = given * scale
+        for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):
+            name = robot.joint_names[j]
+            listed = isinstance(table["q"], list)
+            key = f"[{j}]" if listed else f".{name}"
+            raise InputError(
+                f"{given[j]:g} {units[j]} is outside the limits of joint '{name}' "
+                f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
+                + (f" ({lists.order})" if listed else ""),
+                path=path, field=f"{where}.q{key}")
+        points.append(q)
+        dwells.append(number(table, "dwell", path, where, default=0.0, bound=bounds.DWELL))
+    return np.array(points), np.array(dwells)
+
+
+def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
+             units: list[str]) -> SampleLog:
+    table = table_of(doc.get("samples", {}), path, "samples")
+    check_keys(table, ("file",), path, "samples")
+    if not isinstance(table.get("file"), str):
+        raise InputError("required: the CSV log, relative to this file", path=path,
+                         field="samples.file")
+    log = path.parent / table["file"]
+    if not log.is_file():
+        raise InputError(f"log file not found: {log}", path=path, field="samples.file")
+    return read_log(log, robot, scale, units)

@@ -1,0 +1,120 @@
+"""Turn a motion into a trajectory sampled on a uniform time grid.
+
+Three planners, chosen by the motion file, one module each:
+
+- ``ruckig`` (`hdselect.motion.planning.ruckig`): jerk-limited, time-synchronized moves
+  from rest to rest between consecutive waypoints, then each waypoint's dwell.
+- ``toppra`` (`hdselect.motion.planning.toppra`): a time-optimal traversal of a spline
+  through the waypoints, split where the arm dwells.
+- ``samples`` (`hdselect.motion.planning.samples`): a logged trajectory.
+
+Every planned trajectory is checked against the robot's position limits.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from hdselect.base.bounds import DEFAULT_MAX_SAMPLES, check_max_samples
+from hdselect.base.errors import InputError, PlanningError
+from hdselect.motion.motionfile import ANGLE_UNITS, Motion
+from hdselect.motion.motionfile import PLANNERS as PLANNER_NAMES
+from hdselect.motion.planning.ruckig import plan_ruckig
+from hdselect.motion.planning.samples import plan_samples
+from hdselect.motion.planning.toppra import plan_toppra
+from hdselect.motion.planning.trajectory import Trajectory
+from hdselect.robot.model import Robot
+
+PLANNERS: dict[str, Callable[..., Trajectory]] = {
+    "ruckig": plan_ruckig,
+    "toppra": plan_toppra,
+    "samples": plan_samples,
+}
+"""Planner functions by the name a motion file's ``planner`` key gives: each takes the robot,
+the motion and a keyword ``max_samples``."""
+assert tuple(PLANNERS) == PLANNER_NAMES
+
+__all__ = ["PLANNERS", "Trajectory", "check_within_limits", "plan"]
+
+
+def plan(robot: Robot, motion: Motion, *, max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
+    """Plan the motion for the robot and sample it on its time grid.
+
+    The grid is checked before it is allocated (`hdselect.motion.planning.grid`): it must
+    resolve every move and dwell, and have at most `max_samples` samples.
+
+    Args:
+        robot: The robot as the motion runs it (its payload matters to TOPPRA's
+            torque limits).
+        motion: A validated motion read for the robot's joints.
+        max_samples: Most samples the trajectory may have.
+
+    Returns:
+        The trajectory, sampled every ``motion.dt`` [s].
+
+    Raises:
+        InputError: The arguments are not a Robot and a Motion, the motion was read
+            for other joints, or the grid is too coarse or too large (field ``dt``).
+        PlanningError: The planner failed, the limits cannot be met, or the
+            trajectory leaves a joint's position limits.
+    """
+    if not isinstance(robot, Robot):
+        raise InputError(f"expected a Robot, got {type(robot).__name__}", field="robot")
+    if not isinstance(motion, Motion):
+        raise InputError(f"expected a Motion, got {type(motion).__name__}", field="motion")
+    max_samples = check_max_samples(max_samples)
+    motion.check_joints(robot)
+    trajectory = PLANNERS[motion.planner](robot, motion, max_samples=max_samples)
+    check_within_limits(robot, motion, trajectory)
+    return trajectory
+
+
+def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,
+                        what: str | None = None) -> None:
+    """Refuse a trajectory that is not finite or leaves a joint's position limits (by > 1e-9).
+
+    Args:
+        robot: The robot (its position limits).
+        motion: The motion it was planned from (its file, units and waypoints).
+        trajectory: The trajectory.
+        what: What made it, for the message (default: the motion's planner).
+
+    Raises:
+        PlanningError: A position, velocity or acceleration is not finite; or naming
+            the joint, how far past which limit, when, and the waypoint to move.
+    """
+    for name in ("q", "qd", "qdd"):
+        if not np.all(np.isfinite(getattr(trajectory, name))):
+            raise PlanningError(f"{motion.path}: the {what or motion.planner} trajectory has a "
+                                f"{name} that is not finite")
+    q = trajectory.q
+    outside = (q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)
+    if outside.any():
+        raise PlanningError(_outside_message(robot, motion, trajectory, outside,
+                                             what or motion.planner))
+
+
+def _outside_message(robot: Robot, motion: Motion, trajectory: Trajectory,
+                     outside: np.ndarray, what: str) -> str:
+    """Where the first joint to leave its limits goes furthest, in the file's units, and why."""
+    j = int(np.argwhere(outside)[0][1])
+    name, q = robot.joint_names[j], trajectory.q[:, j]
+    over = np.maximum(robot.lower[j] - q, q - robot.upper[j])
+    k = int(np.argmax(over))
+    side, limit = ("upper", robot.upper[j]) if q[k] > robot.upper[j] else ("lower", robot.lower[j])
+    scale = ANGLE_UNITS[motion.angle_unit] if robot.revolute[j] else 1.0
+    unit = motion.angle_unit if robot.revolute[j] else "m"
+    text = (f"{motion.path}: the {what} trajectory takes joint '{name}' "
+            f"{over[k] / scale:.3g} {unit} past its {side} limit {limit / scale:g} {unit} "
+            f"(t = {trajectory.t[k]:.4g} s")
+    if motion.planner == "samples" or not len(motion.waypoints):
+        return text + "); correct the log, or give the robot file the range the log uses"
+    near = int(np.argmin(np.linalg.norm(motion.waypoints - trajectory.q[k], axis=1)))
+    at_limit = abs(motion.waypoints[near, j] - limit) <= 1e-9 + 1e-6 * abs(limit)
+    return text + (f", near waypoint[{near}], which lies "
+                   + ("on that limit" if at_limit else
+                      f"{abs(motion.waypoints[near, j] - limit) / scale:.3g} {unit} inside it")
+                   + f"); move waypoint[{near}].{name} at least {over[k] / scale:.3g} {unit} "
+                   "further inside, or add a waypoint that keeps the path away from the limit")

@@ -1,0 +1,125 @@
+"""The sampled trajectory every planner produces, and the grid it is sampled on.
+
+Grid: t_k = k dt for k = 0..ceil(T/dt), T the cycle time; samples past T hold
+the final state at rest. The grid is checked (`hdselect.motion.planning.grid`) before
+any array is allocated: it must resolve every move and dwell and stay within the
+sample limit.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
+from hdselect.base.errors import InputError, PlanningError
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning.grid import check_resolution, check_size
+
+Sampler = Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]
+"""Positions, velocities and accelerations [rad or m, per s, per s^2], each (n, dof), at
+times [s] from the start of a move."""
+
+
+@dataclass(frozen=True)
+class Move:
+    """One planned move between two waypoints, from rest to rest.
+
+    Attributes:
+        first: Index of the waypoint it starts from.
+        last: Index of the waypoint it ends at.
+        duration: Its duration [s].
+        sample: Its state at given times, or None for a move of zero length.
+    """
+
+    first: int
+    last: int
+    duration: float
+    sample: Sampler | None
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """A joint trajectory sampled at t_k = k dt.
+
+    Attributes:
+        joint_names: Name of every degree of freedom, in the columns' order.
+        dt: Sample period [s].
+        duration: Cycle time T [s]; samples after it are at rest.
+        t: Sample times [s], shape (n,).
+        q: Joint positions [rad or m], shape (n, dof).
+        qd: Joint velocities [rad/s or m/s], shape (n, dof).
+        qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof).
+    """
+
+    joint_names: tuple[str, ...]
+    dt: float
+    duration: float
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+
+
+def trajectory(motion: Motion, duration: float, t: np.ndarray, q: np.ndarray, qd: np.ndarray,
+               qdd: np.ndarray) -> Trajectory:
+    """A read-only Trajectory of the motion's joints from sampled arrays (taken over)."""
+    for array in (t, q, qd, qdd):
+        array.setflags(write=False)
+    return Trajectory(motion.joint_names, motion.dt, float(duration), t, q, qd, qdd)
+
+
+def assemble(motion: Motion, moves: Sequence[Move], *,
+             max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
+    """Sample rest-to-rest moves and the waypoints' dwells on the motion's time grid.
+
+    Args:
+        motion: The motion (waypoints, dwells, dt).
+        moves: One move per consecutive pair of the waypoints it joins, in order.
+        max_samples: Most samples the grid may have.
+
+    Returns:
+        The whole cycle: the first dwell, then each move followed by its last
+        waypoint's dwell. A cycle in which nothing moves (every waypoint the same)
+        is a hold: every sample at rest.
+
+    Raises:
+        InputError: The cycle takes no time, dt does not resolve a move or a dwell, or
+            the grid would exceed `max_samples` (the field is ``dt``).
+        PlanningError: A planner gave a move a duration that is not finite.
+    """
+    waypoints, dwells = motion.waypoints, motion.dwells
+    piece = "path piece" if motion.planner == "toppra" else "move"
+    for move in moves:
+        if not math.isfinite(move.duration) or move.duration < 0.0:
+            raise PlanningError(f"{motion.path}: the {motion.planner} {piece} from "
+                                f"waypoint[{move.first}] to waypoint[{move.last}] has no finite "
+                                f"duration ({move.duration})")
+    check_resolution(
+        motion.path, motion.dt,
+        [(f"the {piece} from waypoint[{m.first}] to waypoint[{m.last}]", m.duration)
+         for m in moves],
+        [(f"the dwell at waypoint[{i}]", float(d)) for i, d in enumerate(dwells)])
+    starts, ends, rest = [], [], [waypoints[0]]
+    clock = float(dwells[0])
+    for move in moves:
+        starts.append(clock)
+        ends.append(clock + move.duration)
+        rest.append(waypoints[move.last])
+        clock += move.duration + float(dwells[move.last])
+    if clock == 0.0:
+        raise InputError("the cycle takes no time: every waypoint is the same and none has a "
+                         "dwell; give a dwell to size holding the pose", path=motion.path,
+                         field="waypoint")
+    count = check_size(motion.path, clock, motion.dt, len(motion.joint_names), max_samples)
+    t = np.arange(count) * motion.dt
+    q = np.asarray(rest)[np.searchsorted(ends, t, side="right")]
+    qd, qdd = np.zeros_like(q), np.zeros_like(q)
+    for move, start, end in zip(moves, starts, ends, strict=True):
+        k0, k1 = np.searchsorted(t, [start, end], side="left")
+        if k1 > k0 and move.sample is not None:
+            q[k0:k1], qd[k0:k1], qdd[k0:k1] = move.sample(t[k0:k1] - start)
+    return trajectory(motion, clock, t, q, qd, qdd)

@@ -1,0 +1,166 @@
+"""A commented starter motion file for a robot: `hdselect init`.
+
+The file plans and sizes as written: the robot file's velocity limits, an
+acceleration and jerk derived from them (a robot file gives neither), and a
+cycle from a start pose to a second pose and back, every joint well inside its
+limits. Everything the user should look at is a commented key.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import textwrap
+
+import numpy as np
+
+from hdselect.robot.joints import describe_joints
+from hdselect.robot.model import Robot
+
+DEG_PER_RAD = 180.0 / math.pi
+
+ACCELERATION_TIME = 0.5
+"""The starter's acceleration reaches the velocity limit in this time [s]."""
+JERK_TIME = 0.1
+"""The starter's jerk reaches the acceleration limit in this time [s]."""
+GUESSED_SPEED = {"deg": 90.0, "m": 0.1}
+"""Speed limit where the robot file gives none [deg/s or m/s]."""
+MOVE = {"deg": 30.0, "m": 0.05}
+"""Largest move of a joint in the starter cycle [deg or m] ..."""
+MOVE_FRACTION = 0.25
+"""... and at most this fraction of its range [-]."""
+INSIDE = 0.1
+"""The start pose keeps this fraction of a joint's range from each limit [-]."""
+
+
+def starter_motion(robot: Robot, robot_file: str) -> str:
+    """The text of a starter motion file (TOML) for a robot.
+
+    Args:
+        robot: The loaded robot.
+        robot_file: The robot file as the motion file's ``robot`` key gives it
+            (relative to the motion file).
+
+    Returns:
+        The motion file, commented.
+    """
+    infos = [i for i in describe_joints(robot) if i.index is not None]
+    units = ["deg" if i.kind != "prismatic" else "m" for i in infos]
+    scale = [DEG_PER_RAD if u == "deg" else 1.0 for u in units]
+    start, second = _poses(infos, units, scale)
+    speeds, guessed = [], []
+    for info, unit, k in zip(infos, units, scale, strict=True):
+        if math.isfinite(info.velocity_limit):
+            speeds.append(_floor4(info.velocity_limit * k))
+        else:
+            speeds.append(GUESSED_SPEED[unit])
+            guessed.append(info.name)
+    grippers = [i.name for i in infos if i.sized and i.gripper_like]
+    lines = [
+        f"# Starter motion for {robot.path.name}, written by `hdselect init`: it plans and sizes"
+        " as it is.",
+        "# Edit the waypoints, limits and payload to your cycle, then: hdselect size THIS_FILE",
+        "# Joints are keyed by name here; a list (q = [...]) follows the model's order instead:",
+        *textwrap.wrap(", ".join(i.name for i in infos), 96, initial_indent="#   ",
+                       subsequent_indent="#   ", break_on_hyphens=False),
+        "# `hdselect joints ROBOT` prints every joint with its limits.",
+        "",
+        f"robot = {json.dumps(robot_file)}   # relative to this file (or absolute)",
+        'planner = "ruckig"      # "ruckig": jerk-limited moves waypoint to waypoint; "toppra": '
+        "time-optimal path",
+        'angle_unit = "deg"      # revolute angles in degrees; prismatic joints in m',
+        "dt = 0.001              # sample period [s]",
+        'mounting = "floor"      # "floor", "wall", "ceiling" or [gx, gy, gz] in m/s^2',
+        "",
+        "# [payload]             # what the tool carries: uncomment and set",
+        "# mass = 1.0            # kg",
+        "# com = [0.0, 0.0, 0.05]   # m, in the frame below",
+        f"# frame = {json.dumps(robot.default_payload_frame)}   # the default: the tip of the "
+        "longest chain of sized joints",
+        "",
+        "[sizing]                # every revolute joint gets a gearhead unless excluded here",
+        (f"# exclude = {json.dumps(grippers)}   # named like a gripper's: exclude to size the "
+         "arm alone" if grippers else "# exclude = []          # joints that move but get no "
+         "gearhead"),
+        "",
+        "# Velocity: the robot file's <limit velocity>. A robot file gives no acceleration or "
+        "jerk:",
+        f"# these reach full speed in {ACCELERATION_TIME:g} s and full acceleration in "
+        f"{JERK_TIME:g} s. Set your own.",
+    ]
+    for key, unit_suffix, factor in (("velocity", "/s", 1.0),
+                                     ("acceleration", "/s^2", 1.0 / ACCELERATION_TIME),
+                                     ("jerk", "/s^3", 1.0 / (ACCELERATION_TIME * JERK_TIME))):
+        lines += ["", f"[limits.{key}]   # deg{unit_suffix} (m{unit_suffix} for prismatic "
+                  "joints)"]
+        for info, speed in zip(infos, speeds, strict=True):
+            note = "   # not in the robot file: a guess" if key == "velocity" and \
+                info.name in guessed else ""
+            lines.append(f"{_key(info.name)} = {_number(speed * factor)}{note}")
+    lines += [
+        "",
+        "[safety]",
+        "stop_time = 0.1         # s: an emergency stop brings every joint to rest this fast",
+        "",
+        "[requirements]",
+        "life_hours = 20000      # required gearhead life [h]",
+        'life_basis = "L50"      # "L50" (average life) or "L10" (90 % survive it)',
+        "",
+        "# The cycle: a start pose inside every joint's limits, a second pose and back, resting",
+        "# 0.5 s at each. Positions in deg (m for prismatic joints), keyed by joint name.",
+    ]
+    for pose in (start, second, start):
+        lines += ["", "[[waypoint]]", "dwell = 0.5", "[waypoint.q]"]
+        lines += [f"{_key(i.name)} = {_number(v)}" for i, v in zip(infos, pose, strict=True)]
+    return "\n".join(lines) + "\n"
+
+
+def _poses(infos, units, scale) -> tuple[list[float], list[float]]:
+    """A start pose near zero but inside every limit, and a second pose a move away [file units].
+
+    Values are rounded towards the inside of the range (0.1 deg, 0.1 mm).
+    """
+    start, second = [], []
+    for info, unit, k in zip(infos, units, scale, strict=True):
+        lo, hi = info.lower * k, info.upper * k
+        step = MOVE[unit]
+        if math.isfinite(lo) and math.isfinite(hi):
+            margin = INSIDE * (hi - lo)
+            a = float(np.clip(0.0, lo + margin, hi - margin))
+            step = min(step, MOVE_FRACTION * (hi - lo))
+            b = a + step if hi - a >= a - lo else a - step
+        else:
+            a, b = 0.0, step
+        digits = 1 if unit == "deg" else 4
+        start.append(_inside(a, lo, hi, digits))
+        second.append(_inside(b, lo, hi, digits))
+    return start, second
+
+
+def _inside(value: float, lo: float, hi: float, digits: int) -> float:
+    """`value` rounded to `digits` decimals, moved inside [lo, hi] if rounding left it."""
+    rounded = round(value, digits)
+    unit = 10.0 ** -digits
+    if rounded < lo:
+        rounded = math.ceil(lo / unit) * unit
+    if rounded > hi:
+        rounded = math.floor(hi / unit) * unit
+    return round(rounded, digits)
+
+
+def _floor4(value: float) -> float:
+    """`value` > 0 rounded down to four significant digits: never above a file's limit."""
+    unit = 10.0 ** (math.floor(math.log10(value)) - 3)
+    return round(math.floor(value / unit * (1 + 1e-12)) * unit, 12)
+
+
+def _number(value: float) -> str:
+    """A float for TOML, without trailing noise."""
+    text = f"{value:.6g}"
+    return text if re.fullmatch(r"-?\d+(\.\d+)?", text) else repr(float(value))
+
+
+def _key(name: str) -> str:
+    """A joint name as a TOML key: bare when it can be, else quoted."""
+    return name if re.fullmatch(r"[A-Za-z0-9_-]+", name) else json.dumps(name)

@@ -1,0 +1,120 @@
+"""Terminal tables of a robot and a planned motion: the joints, what a plan did."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+
+import numpy as np
+from rich.markup import escape
+
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning import Trajectory
+from hdselect.report.tables import Column, FittedTable, Paragraphs
+from hdselect.report.terminal import DEG_PER_RAD
+from hdselect.robot.joints import JointInfo
+from hdselect.robot.model import Robot
+from hdselect.sizing.records import HOLD_NOTE
+
+
+def joints_table(robot: Robot, infos: Iterable[JointInfo]) -> FittedTable:
+    """A robot's joints in list order: type, limits, the file's speed and effort, mass moved.
+
+    On a narrow terminal the ranges, then the file's limits, then the mass moved go below.
+    """
+    columns = (Column("joint", "left"), Column("#"), Column("type", "left"),
+               Column("sized", "left"), Column("range\nrad or m", group="range"),
+               Column("range\ndeg", group="range"),
+               Column("max speed\ndeg/s, m/s", group="limits"),
+               Column("effort\nN m, N", group="limits"), Column("moves\nkg", group="moves"))
+    rows, notes = [], []
+    for info in infos:
+        linear = info.kind == "prismatic"
+        if info.leader is not None:
+            offset = f" {info.offset:+g}" if info.offset else ""
+            notes.append(f"{info.name} follows {info.leader} (x {info.multiplier:g}{offset}): no "
+                         "gearhead of its own; its leader carries its load")
+            rows.append((escape(info.name), "-", "mimic", "no", "-", "-", "-", "-",
+                         f"{info.moved_mass:.3g}"))
+            continue
+        limited = math.isfinite(info.lower) and math.isfinite(info.upper)
+        span = f"{info.lower:.3g} .. {info.upper:.3g}" if limited else "none"
+        degrees = (f"{info.lower * DEG_PER_RAD:.3g} .. {info.upper * DEG_PER_RAD:.3g}"
+                   if limited and not linear else "-")
+        speed = info.velocity_limit * (1.0 if linear else DEG_PER_RAD)
+        rows.append((
+            escape(info.name), str(info.index), info.kind, "yes" if info.sized else "no", span,
+            degrees, f"{speed:.3g}" if math.isfinite(speed) else "-",
+            f"{info.effort_limit:.3g}" if math.isfinite(info.effort_limit) else "-",
+            f"{info.moved_mass:.3g}"))
+        if not info.sized:
+            notes.append(f"{info.name}: not sized: " + (
+                "the catalog is rotary" if linear else
+                "a mimic follower Pinocchio could not couple" if info.name in
+                robot.uncoupled_followers else "excluded"))
+    notes.append(f"base: '{robot.root_link}' held fixed; a payload goes on "
+                 f"'{robot.default_payload_frame}' unless its frame is given; moves: the mass a "
+                 "joint moves, links further out included")
+    if robot.file_order is not None and robot.file_order != robot.joint_names:
+        notes.append(f"the robot file writes the joints in another order "
+                     f"({', '.join(robot.file_order)}): lists follow # above")
+    notes += [f"robot file: {note}" for note in robot.notes]
+    return FittedTable(f"{robot.path.name}: {robot.dof} joints; # is the position in a motion "
+                       "file's lists (q = [...]); tables keyed by name need no order", columns,
+                       tuple(rows), notes=tuple(notes))
+
+
+def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory) -> Paragraphs:
+    """What ``hdselect plan`` planned, and what a reader must know about it."""
+    count = len(trajectory.t)
+    return Paragraphs((f"{robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
+                       f"{trajectory.duration:.3f} s, {count:,} sample{'s' if count != 1 else ''}",
+                       *case_notes(robot, trajectory)))
+
+
+def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
+    """What a reader must know about the case before trusting a result.
+
+    The joints not sized, mimic followers, a payload frame chosen by default,
+    joints that never move, and a motion that moves no joint at all (a hold).
+
+    Args:
+        robot: The robot as planned and sized.
+        trajectory: Its trajectory.
+
+    Returns:
+        One sentence per fact; empty when there is nothing to say.
+    """
+    notes = []
+    skipped = [(name, revolute) for name, revolute in zip(robot.joint_names, robot.revolute,
+                                                          strict=True)
+               if name not in robot.sized_joints]
+    prismatic = [name for name, revolute in skipped if not revolute]
+    uncoupled = [name for name, revolute in skipped
+                 if revolute and name in robot.uncoupled_followers]
+    left_out = [name for name, revolute in skipped
+                if revolute and name not in robot.uncoupled_followers]
+    if prismatic:
+        notes.append(f"not sized: {', '.join(prismatic)} (prismatic; these gearheads are "
+                     "rotary). The dynamics include it.")
+    if left_out:
+        notes.append(f"not sized: {', '.join(left_out)} (not among the joints asked for, or "
+                     "excluded). The dynamics include it.")
+    if uncoupled:
+        notes.append(f"not sized: {', '.join(uncoupled)} (mimic followers Pinocchio could not "
+                     "couple to their leaders: each moves on its own here).")
+    notes += [f"{name} follows {mimic.leader} (mimic): no gearhead of its own; {mimic.leader} "
+              "carries its load." for name, mimic in robot.mimic.items()]
+    payload = robot.payload
+    if payload is not None and payload.frame is None:
+        notes.append(f"payload: {payload.mass:g} kg on {robot.payload_frame}, the tip of the "
+                     "longest chain of sized joints, since no frame was given.")
+    still = [name for name in robot.sized_joints
+             if not np.any(trajectory.qd[:, robot.joint_index(name)])]
+    if still and len(still) == len(robot.sized_joints):
+        notes.append(HOLD_NOTE + ".")
+    elif still:
+        notes.append(f"still: {', '.join(still)} {'does' if len(still) == 1 else 'do'} not move "
+                     "in this motion, so only holding (static) and an emergency stop are checked "
+                     "there; mean torque, speed and life do not apply.")
+    return notes

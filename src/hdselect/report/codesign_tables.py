@@ -1,0 +1,212 @@
+"""Terminal tables of co-design.
+
+The fastest cycle, what binds it, ratios compared, the largest payload.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from rich.markup import escape
+
+from hdselect.catalog.rules import (
+    CHECK_LABELS,
+)
+from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioComparison
+from hdselect.codesign.maxpayload import MaxPayloadResult
+from hdselect.motion.motionfile import Motion
+from hdselect.report.case_tables import case_notes
+from hdselect.report.tables import Column, FittedTable, Paragraphs
+from hdselect.report.terminal import life_text, percent, utilization_text
+from hdselect.robot.model import Robot
+from hdselect.sizing.records import assumptions, base_text
+
+
+def short(unit: str) -> str:
+    """PSA-14-100 -> 14-100: a series prefix common to a catalog adds nothing in a pivot."""
+    return unit.split("-", 1)[1] if unit.startswith("PSA-") else unit
+
+
+_SOURCES = {"motion": "motion", "robot": "robot", "unit": "unit"}
+
+
+_SHORT_LIMITS = {"velocity (motion file)": "speed", "velocity (robot file)": "speed",
+                 "max input speed": "speed", "acceleration": "accel.", "torque": "torque",
+                 "emergency stop": "e-stop", "crash": "crash"}
+
+
+def fastest_table(result: FastestResult) -> FittedTable:
+    """One row per sized joint: its unit, the limits it ran under, what bound it, its rules.
+
+    On a narrow terminal the limits, then what binds longest, then the life move below;
+    the joint, its unit and its highest rule stay.
+    """
+    robot, motion = result.robot, result.motion
+    pieces = 1 + int(np.count_nonzero(motion.dwells[1:-1] > 0.0))
+    title = (f"{motion.path.name} on {robot.path.name}: fastest cycle {result.cycle_time:.3f} s "
+             f"({len(motion.waypoints)} waypoints, {pieces} piece{'s' if pieces > 1 else ''})"
+             f"\n{base_text(robot)}")
+    columns = (Column("joint", "left"), Column("unit", "left"), Column("rule", "left"),
+               Column("speed\nlimit", "left", group="limits"),
+               Column("torque\nlimit", group="limits"),
+               Column("binds\nlongest", "left", group="binds"), Column("L50 h", group="life"))
+    shares: dict[str, tuple[str, float]] = {}
+    for name, limit, share in result.binding_shares():  # longest first
+        shares.setdefault(name, (limit, share))
+    rows, styles = [], []
+    for joint in result.check.joints:
+        (candidate,) = joint.candidates
+        lim = result.limits[joint.name]
+        derated = result.derating.get(joint.name)
+        bound = shares.get(joint.name)
+        check = candidate.checks[candidate.binding]
+        rule = f"{CHECK_LABELS[candidate.binding]} " + (
+            utilization_text(check.utilization, True) if check.ok
+            else f"[red]{utilization_text(check.utilization, False)}✗[/red]")
+        rows.append((
+            escape(joint.name), escape(candidate.unit.id) + ("*" if candidate.flags else ""),
+            rule, f"{lim.velocity:.3g} {_SOURCES[lim.velocity_source]}",
+            f"{lim.torque:.3g}" + (f" ({derated:.0%})" if derated else ""),
+            "-" if bound is None else f"{_SHORT_LIMITS[bound[0]]} {percent(bound[1])}",
+            life_text(candidate.life_hours, "")))
+        styles.append(None if check.ok else "bold")
+    return FittedTable(title, columns, tuple(rows), tuple(styles),
+                       tuple(_fastest_notes(result)))
+
+
+def _fastest_notes(result: FastestResult) -> list[str]:
+    motion = result.motion
+    moving = result.cycle_time - float(np.sum(motion.dwells))
+    notes = [f"Moving {moving:.3f} s, dwells {float(np.sum(motion.dwells)):.3f} s, "
+             f"{len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms."]
+    if result.reason is None:
+        notes.append(f"Every rule holds on the time-optimal run under the limits on single "
+                     f"samples ({result.optimum:.3f} s): no shorter cycle passes, to the grid's "
+                     f"resolution ({result.grid_per_waypoint} TOPPRA gridpoints per waypoint).")
+    else:
+        joint, rule = result.reason
+        how = [f"{name}'s repeated-peak limit derated to {value:.0%}"
+               for name, value in result.derating.items()]
+        if result.slowdown > 1.0 + 1e-9:
+            how.append(f"the moves slowed x{result.slowdown:.4f}")
+        notes.append(f"The time-optimal run under the limits on single samples takes "
+                     f"{result.optimum:.3f} s; {joint}'s {rule} rule fails there, so "
+                     f"{' and '.join(how)} (the shortest cycle found that passes).")
+    stops = [str(i) for i in range(len(motion.waypoints)) if motion.dwells[i] > 0.0]
+    path = ("the TOPPRA planner's path" if motion.planner == "toppra" else
+            "a clamped cubic spline through the waypoints, knots at each segment's time at "
+            "the motion's velocity limits")
+    notes.append(f"Path: {path}; it stops only where the motion dwells"
+                 f"{' (waypoint ' + ', '.join(stops) + ')' if stops else ''}, and keeps "
+                 "the dwells." + (" Ruckig's jerk limits do not apply: TOPPRA runs at a "
+                                  "piecewise-constant path acceleration."
+                                  if motion.jerk_limit is not None else ""))
+    notes.append("rule: the rule with the highest utilization on the result (* catalog "
+                 "stand-in). speed limit [rad/s, m/s for a prismatic joint]: the lowest of the "
+                 "motion file's, the robot file's and the unit's (maximum input speed / ratio). "
+                 "torque limit [N m]: the unit's repeated peak (derated: the fraction kept). "
+                 "binds longest: the joint's limit that is the closest to its bound of all for "
+                 "the longest share of the moving time.")
+    notes.append("Assumptions: " + "; ".join(f"{k}: {v}" for k, v in
+                                              assumptions(result.check).items()))
+    notes += case_notes(result.robot, result.trajectory)
+    flagged = {(c.unit.id, flag.code): flag.note for joint in result.check.joints
+               for c in joint.candidates for flag in c.flags}
+    notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
+    notes += list(result.warnings)
+    return notes
+
+
+def binding_table(result: FastestResult) -> FittedTable:
+    """The limit closest to its bound, stretch by stretch along the moves."""
+    columns = (Column("from s"), Column("to s"), Column("joint", "left"),
+               Column("limit", "left"), Column("peak"),
+               Column("waypoints", "left", group="waypoints"))
+    rows = tuple((f"{b.start:.3f}", f"{b.end:.3f}", escape(b.joint), b.limit,
+                  percent(b.utilization), f"{b.waypoints[0]} to {b.waypoints[1]}")
+                 for b in result.binding)
+    return FittedTable(
+        "What binds along the moves", columns, rows,
+        notes=("peak: the largest demand / limit over the stretch (torque against the limit "
+               "before any derating). A stretch under 1 % of the moving time joins its "
+               "neighbour.",))
+
+
+def ratios_table(comparison: RatioComparison, joint: JointRatios) -> FittedTable:
+    """Every unit on one joint: its shortest cycle, the other joints' units fixed.
+
+    A limit or rule of the joint compared is named alone, another joint's with its name.
+    On a narrow terminal what binds longest, then the notes, move below.
+    """
+    columns = (Column("unit", "left"), Column("cycle s"), Column("vs ▶"),
+               Column("binds\nlongest", "left", group="binds"),
+               Column("lengthened by\n/ note", "left", group="note"))
+
+    def whose(name: str) -> str:
+        return "" if name == joint.joint else f"{escape(name)} "
+
+    reference = next((row.cycle_time for row in joint.rows if row.unit.id == joint.selected),
+                     None)
+    rows, styles = [], []
+    for row in joint.rows:
+        chosen = row.unit.id == joint.selected
+        mark = "▶" if chosen else " "
+        styles.append("bold" if chosen else None)
+        if row.cycle_time is None:  # the note names the joint: the table's own goes without
+            note = (row.note or "").replace(f"gravity on {joint.joint} > ", "gravity > ")
+            note = note.removeprefix(f"{joint.joint} ")
+            rows.append((mark + escape(row.unit.id), "[red]none[/red]", "", "-", escape(note)))
+            continue
+        change = "" if reference is None or chosen else \
+            f"{(row.cycle_time / reference - 1.0) * 100:+.1f}%"
+        binding = "-" if row.binding is None else \
+            f"{whose(row.binding[0])}{_SHORT_LIMITS[row.binding[1]]}"
+        lengthened = ""
+        if row.lengthened_by is not None:
+            how = [f"derated {row.derating:.0%}"] if row.derating is not None else []
+            how += [f"x{row.slowdown:.4f}"] if row.slowdown > 1.0 + 1e-9 else []
+            lengthened = (f"{whose(row.lengthened_by[0])}{escape(row.lengthened_by[1])}: "
+                          + ", ".join(how))
+        rows.append((mark + escape(row.unit.id), f"{row.cycle_time:.3f}", change, binding,
+                     lengthened))
+    others = ", ".join(f"{name} {unit.id}" for name, unit in comparison.units.items()
+                       if name != joint.joint)
+    note = ((f"Other joints: {others}. " if others else "")
+            + f"▶ the unit `size` selects for {comparison.motion.path.name} as planned. none: "
+            "the units cannot run the path at any speed. lengthened by: the rule that made the "
+            "cycle longer than the time-optimal run under the limits on single samples, and "
+            "how (derated: the repeated-peak limit held to that fraction; x: the moves slowed).")
+    shown = len(columns) if any(row[-1] for row in rows) else -1  # no empty note column
+    return FittedTable(f"Joint {joint.joint}: the shortest cycle with each unit",
+                       columns[:shown], tuple(row[:shown] for row in rows), tuple(styles),
+                       (note,))
+
+
+def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> Paragraphs:
+    """The largest payload, where it sits, and which joint runs out of units there."""
+    payload = result.payload
+    where = (f"on '{result.frame}'"
+             + ("" if payload.frame is not None else
+                " (the tip of the longest chain of sized joints: no frame was given)")
+             + f", centre of mass ({', '.join(f'{c:g}' for c in payload.com)}) m")
+    inertia = np.asarray(payload.inertia)
+    if inertia.any():
+        where += (f", inertia about it {np.diag(inertia)[0]:.3g}, {np.diag(inertia)[1]:.3g}, "
+                  f"{np.diag(inertia)[2]:.3g} kg m² per kg (diagonal)")
+    head = f"{robot.path.name} running {motion.path.name} ({motion.planner})"
+    if result.mass is None:
+        return Paragraphs((f"{head}: no payload mass, not even none, leaves every joint a "
+                           f"feasible unit ({where}).",))
+    if not math.isfinite(result.mass):
+        return Paragraphs((f"{head}: no rule depends on the payload mass {where}: no limit.",))
+    lines = [f"{head}: the largest payload is {result.mass:.4g} kg {where}."]
+    lines.append(f"{result.joint} runs out of units there: {result.unit.id if result.unit else '-'}"
+                 f" reaches its {result.rule} limit. Torque is affine in the payload mass on a "
+                 "fixed trajectory, so each rule's limit is solved exactly; the inertia about the "
+                 "centre of mass grows with the mass.")
+    if len(result.ranges) > 1 or result.ranges[0][0] > 0.0:
+        spans = ", ".join(f"{lo:.4g} to {hi:.4g} kg" for lo, hi in result.ranges)
+        lines.append(f"Every joint has a unit only from {spans}.")
+    lines.append(f"The selection at {result.mass:.4g} kg:")
+    return Paragraphs(tuple(lines))

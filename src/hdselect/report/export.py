@@ -1,0 +1,133 @@
+"""Write results as JSON and CSV, atomically: a file is complete or absent."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hdselect.base.outputs import write_file
+from hdselect.catalog.duty import DutyResult
+from hdselect.catalog.rules import RPM_PER_RAD_S
+from hdselect.catalog.units import Unit
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.joints import JointInfo
+from hdselect.robot.model import Robot
+from hdselect.sizing.records import candidate_json, finite_or_none, mean_speed_note
+
+_CSV_ROWS = 1 << 14
+"""Rows of a trajectory CSV formatted at a time."""
+
+
+def write_output(target: str | Path, write: Callable[[Any], None], *,
+                 binary: bool = False) -> None:
+    """Write a file atomically (temporary file, then rename); ``-`` is standard output.
+
+    The same as `hdselect.base.outputs.write_file`: a symlink is followed and its target
+    replaced; a character device or a FIFO (``/dev/null``, a named pipe) is written
+    directly, never replaced. For several outputs that must appear together, see
+    `hdselect.base.outputs.Outputs`.
+
+    Args:
+        target: The file, or ``-``.
+        write: Writes the content to the open stream it is given.
+        binary: Open the file in binary mode (text, UTF-8, otherwise).
+
+    Raises:
+        InputError: The file cannot be written.
+    """
+    write_file(target, write, binary=binary)
+
+
+def write_json(target: str | Path, document: dict[str, Any]) -> None:
+    """Write a JSON document to a file or ``-`` (standard output).
+
+    Strict JSON: a number that is not finite is an error (ValueError), never ``NaN``.
+    """
+    text = json.dumps(document, indent=2, allow_nan=False) + "\n"
+
+    def write(stream: Any) -> None:
+        stream.write(text)
+
+    write_output(target, write)
+
+
+def duty_json(result: DutyResult) -> dict[str, Any]:
+    """A duty-cycle result as JSON; each candidate's life on both bases (L50 and L10)."""
+    load = result.load
+    return {
+        "profile": str(result.cycle.path),
+        "mean_torque_nm": finite_or_none(load.mean_torque),
+        "mean_output_speed_rpm": load.mean_speed * RPM_PER_RAD_S,
+        "cycle_mean_output_speed_rpm": load.cycle_mean_speed * RPM_PER_RAD_S,
+        "cycle_time_s": load.cycle_time,
+        "peak_torque_nm": load.peak_torque,
+        "required_life_hours": result.cycle.life_hours,
+        "life_basis": result.cycle.life_basis,
+        "mean_speed_rule": mean_speed_note(c.unit for c in result.candidates),
+        "selected": result.selected.unit.id if result.selected else None,
+        "hold_only": result.hold_only,
+        "candidates": [candidate_json(c) for c in result.candidates],
+    }
+
+
+def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
+    """The catalog as JSON, in SI, with flags."""
+    return {"units": [{
+        "unit": u.id, "series": u.series, "size": u.size, "ratio": u.ratio,
+        "rated_torque_nm": u.rated_torque, "repeated_torque_nm": u.repeated_torque,
+        "momentary_torque_nm": u.momentary_torque, "static_torque_nm": u.static_torque,
+        "max_input_speed_rpm": u.max_input_speed, "input_inertia_kg_m2": u.input_inertia,
+        "mass_kg": u.mass, "efficiency_table": u.efficiency is not None,
+        "flags": [{"field": f.field, "kind": f.kind, "note": f.note} for f in u.flags],
+        "source": str(u.source),
+    } for u in units]}
+
+
+def joints_json(robot: Robot, infos: Iterable[JointInfo]) -> dict[str, Any]:
+    """A robot's joints as JSON (``hdselect joints --json``), in SI; null for no limit."""
+    joints = []
+    for info in infos:
+        linear = info.kind == "prismatic"
+        joints.append({
+            "name": info.name, "index": info.index, "type": info.kind, "sized": info.sized,
+            "lower": finite_or_none(info.lower), "upper": finite_or_none(info.upper),
+            "unit": "m" if linear else "rad",
+            "velocity_limit": finite_or_none(info.velocity_limit),
+            "effort_limit": finite_or_none(info.effort_limit),
+            "moved_mass_kg": info.moved_mass, "leader": info.leader,
+            "multiplier": info.multiplier if info.leader else None,
+            "offset": info.offset if info.leader else None})
+    return {"robot": str(robot.path), "root_link": robot.root_link,
+            "payload_frame": robot.default_payload_frame,
+            "list_order": list(robot.joint_names),
+            "file_order": None if robot.file_order is None else list(robot.file_order),
+            "notes": list(robot.notes), "joints": joints}
+
+
+def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
+                         joints: Iterable[str]) -> None:
+    """One row per sample: t, then q_, qd_, qdd_, tau_ of every listed joint (SI).
+
+    A prismatic joint's columns are in m, m/s, m/s^2 and N.
+    """
+    names = list(trajectory.joint_names)
+    columns = [names.index(name) for name in joints]
+    header = ["t"] + [f"{kind}_{names[j]}" for j in columns
+                      for kind in ("q", "qd", "qdd", "tau")]
+
+    def rows(part: slice) -> np.ndarray:
+        return np.column_stack([trajectory.t[part]] + [
+            array[part, j] for j in columns
+            for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)])
+
+    def write(stream: Any) -> None:
+        stream.write(",".join(header) + "\n")
+        for start in range(0, len(trajectory.t), _CSV_ROWS):  # bounded memory, any length
+            np.savetxt(stream, rows(slice(start, start + _CSV_ROWS)), fmt="%.10g",
+                       delimiter=",")
+
+    write_output(target, write)

@@ -1,0 +1,463 @@
+"""The HTML report: one self-contained page to mail, print and check.
+
+Everything is inside the page: the figures as base64 PNG, the styles, no script
+and no external request. Utilization is coloured on one colour-blind-safe scale
+that changes character at 100 %: blues that darken towards the limit, then
+hatched oranges and browns, each failing cell also marked ✗ and classed ``fail``.
+Where motors are given, every (gearhead, motor) pair is a candidate: the motor's
+checks join the gearhead's in the heat maps and tables, and each joint shows its
+motor's torque-speed plane.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+from collections.abc import Mapping, Sequence
+
+from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidate, Check
+from hdselect.catalog.units import Flag
+from hdselect.report.case_tables import case_notes
+from hdselect.report.provenance import Provenance
+from hdselect.report.size_tables import time_scale_text
+from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
+from hdselect.sizing.core import JointSizing, SizingResult
+from hdselect.sizing.loads import JointLoad
+from hdselect.sizing.records import MOTOR_MODEL_NOTE, assumptions, base_text
+
+PASS_COLOURS = ((0.0, "#f7fbff"), (0.5, "#9ecae1"), (1.0, "#2166ac"))
+"""Utilization (0 to 1) -> colour of a passing cell: ColorBrewer Blues."""
+FAIL_COLOURS = ((1.0, "#fdb863"), (1.5, "#e66101"), (2.0, "#7f3b08"))
+"""Utilization (above 1, clipped at 2) -> colour of a failing cell: ColorBrewer PuOr's oranges."""
+_UNITS = {"peak": "N m", "mean": "N m", "speed": "rpm", "average_speed": "rpm",
+          "momentary": "N m", "static": "N m", "life": "h", "motor_peak": "N m",
+          "motor_rms": "N m", "motor_speed": "rpm"}
+esc = html.escape
+
+
+def utilization_colour(utilization: float) -> str:
+    """The colour of a utilization on the report's scale, as ``#rrggbb``.
+
+    Args:
+        utilization: Demand over limit [-]; above 1 fails.
+    """
+    anchors = PASS_COLOURS if utilization <= 1.0 else FAIL_COLOURS
+    u = min(max(utilization, anchors[0][0]), anchors[-1][0])
+    for (u0, c0), (u1, c1) in zip(anchors, anchors[1:], strict=False):
+        if u <= u1:
+            f = (u - u0) / (u1 - u0)
+            rgb = [round(a + f * (b - a)) for a, b in zip(_rgb(c0), _rgb(c1), strict=True)]
+            return "#" + "".join(f"{v:02x}" for v in rgb)
+    return anchors[-1][1]
+
+
+def _rgb(colour: str) -> tuple[int, int, int]:
+    return int(colour[1:3], 16), int(colour[3:5], 16), int(colour[5:7], 16)
+
+
+def _ink(colour: str) -> str:
+    """Black or white, whichever reads on `colour`."""
+    r, g, b = _rgb(colour)
+    return "#000" if 0.299 * r + 0.587 * g + 0.114 * b > 140 else "#fff"
+
+
+def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
+         motor_figures: Mapping[str, bytes] | None = None) -> str:
+    """The report page.
+
+    Args:
+        result: The sizing result.
+        figures: PNG content of each joint's figure, by joint name.
+        origin: Where the result came from.
+        motor_figures: PNG content of each joint's motor torque-speed figure, by joint
+            name, for the joints with motors.
+
+    Returns:
+        The page, self-contained.
+    """
+    count = len(result.trajectory.t)
+    verdict_text = ("Every joint has a unit." if result.feasible
+                    else "<strong>Some joints have no unit.</strong>")
+    sections = [_selection(result), _warnings(result), _notes(result), _heat_maps(result),
+                _loads(result),
+                *(_joint_section(result, joint, figures.get(joint.name),
+                                 (motor_figures or {}).get(joint.name))
+                  for joint in result.joints),
+                _assumptions(result), _provenance(origin)]
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<title>hdselect: {esc(result.title)}</title>
+<style>{_STYLE}</style></head><body>
+<h1>{"Gearhead and motor" if result.motors else "Gearhead"} selection: {esc(result.title)}</h1>
+<p>Cycle {result.cycle_time:.3f} s, {count:,} sample{"s" if count != 1 else ""} every
+{result.trajectory.dt * 1e3:g} ms. {verdict_text} Made by hdselect {esc(origin.version)} on
+{esc(origin.created)}; <a href="#provenance">how to re-run it</a>.</p>
+<p>{esc(base_text(result.robot))}</p>
+{"".join(sections)}
+</body></html>
+"""
+
+
+_STYLE = """
+body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;max-width:1200px;
+margin:1.5em auto;padding:0 1em;color:#1a1a1a;line-height:1.4}
+h1{font-size:1.5em}h2{font-size:1.25em;margin-top:1.6em;border-bottom:1px solid #ccc}
+h3{font-size:1.05em;margin:1em 0 .3em}
+.scroll{overflow-x:auto}
+table{border-collapse:collapse;margin:.4em 0;font-size:.9em}
+td,th{border:1px solid #bbb;padding:2px 6px;text-align:right;white-space:nowrap;
+vertical-align:top}
+th{background:#eee;white-space:normal;vertical-align:bottom}td.t,th.t{text-align:left}td.wrap{white-space:normal;min-width:9em}
+td.u small{display:block;font-size:.75em;opacity:.9}
+td.fail{font-weight:bold;outline:2px solid #000;outline-offset:-2px;
+background-image:repeating-linear-gradient(45deg,rgba(0,0,0,.2) 0 2px,transparent 2px 7px)}
+tr.chosen td:first-child{font-weight:bold}
+.maps{display:flex;flex-wrap:wrap;gap:1em 2em}.maps>div{min-width:0;max-width:100%}
+.maps table{font-size:.8em}
+.bar{display:flex;flex-wrap:wrap;align-items:center;gap:.6em;font-size:.85em;margin:.5em 0}
+.ramp{position:relative;width:320px;height:16px;border:1px solid #555;background:
+linear-gradient(to right,#f7fbff 0%,#9ecae1 25%,#2166ac 50%,#fdb863 50%,#e66101 75%,#7f3b08 100%)}
+.ramp .hatch{position:absolute;left:50%;top:0;right:0;bottom:0;background-image:
+repeating-linear-gradient(45deg,rgba(0,0,0,.2) 0 2px,transparent 2px 7px)}
+.ticks{display:flex;justify-content:space-between;width:320px;font-size:.8em}
+img{max-width:100%;height:auto}figure{margin:.6em 0}figcaption{font-size:.85em;color:#444}
+code,pre{font-family:ui-monospace,Menlo,Consolas,monospace;font-size:.85em}
+pre{background:#f4f4f4;padding:.5em;white-space:pre-wrap;word-break:break-all}
+:target{background:#ffe9a8}
+*{-webkit-print-color-adjust:exact;print-color-adjust:exact}
+@page{margin:12mm}
+@media print{body{max-width:none;margin:0;padding:0;font-size:9pt}.scroll{overflow:visible}
+table{font-size:7pt}td.u small{font-size:6pt}
+section.joint,#provenance{break-before:page}figure,table{break-inside:avoid}a{color:inherit}}
+"""
+
+
+def _table(header: Sequence[str], rows: Sequence[Sequence[str]], *, left: int = 1,
+           classes: Sequence[str] = (), text: Sequence[int] = ()) -> str:
+    """A table of already-escaped cells; the first `left` columns, and `text`, align left.
+
+    A cell given as a whole ``<td ...>`` element keeps its own attributes.
+    """
+    head = "".join(f'<th{" class=t" if i < left or i in text else ""}>{_unbroken(h)}</th>'
+                   for i, h in enumerate(header))
+    body = "".join(
+        f'<tr{f" class={classes[k]}" if k < len(classes) and classes[k] else ""}>'
+        + "".join(c if c.startswith("<td") else f'<td{" class=t" if i < left else ""}>{c}</td>'
+                  for i, c in enumerate(row)) + "</tr>" for k, row in enumerate(rows))
+    return f'<div class="scroll"><table><tr>{head}</tr>{body}</table></div>'
+
+
+def _unbroken(header: str) -> str:
+    """A header that may wrap between words, but not inside a unit like ``[N m]``."""
+    for unit in ("[N m]", "L50 h", "L10 h"):
+        header = header.replace(unit, unit.replace(" ", "&nbsp;"))
+    return header
+
+
+def _anchor(unit_id: str) -> str:
+    return "note-" + "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in unit_id)
+
+
+def _unit_cell(candidate: Candidate) -> str:
+    """The unit's id, with a * linked to its notes when a stand-in or correction is used."""
+    if not candidate.flags:
+        return esc(candidate.unit.id)
+    return (f'{esc(candidate.unit.id)}<a href="#{_anchor(candidate.unit.id)}" '
+            f'title="depends on a catalog stand-in or correction">*</a>')
+
+
+def _motor_cell(candidate: Candidate) -> str:
+    """The paired motor's id, or ``-``."""
+    return "-" if candidate.motor_unit is None else esc(candidate.motor_unit.id)
+
+
+def _selection(result: SizingResult) -> str:
+    motors = bool(result.motors)
+    rows = []
+    for joint in result.joints:
+        c = joint.selected
+        notes = []
+        if joint.gravity_loaded:
+            notes.append("gravity-loaded: fail-safe needed")
+        if joint.load.max_speed == 0.0:
+            notes.append("still")
+        if c is None:
+            strongest = joint.strongest
+            cells = [esc(joint.name), "<td class='t fail'>none</td>",
+                     *(["none"] if motors else []),
+                     esc(f"{verdict(strongest)} ({strongest.label})"),
+                     *(["-", "-"] if motors else []), "-", "-", "-", "-", "-"]
+            notes.append(f"no {'pair' if motors else 'unit'} fits: see below")
+        else:
+            assert c.motor is not None
+            side = c.motor_binding
+            binding = c.gearhead_binding if motors else c.binding
+            cells = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>', _unit_cell(c),
+                     *([_motor_cell(c)] if motors else []),
+                     esc(f"{binding} {utilization_text(c.checks[binding].utilization, True)}"),
+                     *([("-" if side is None else esc(
+                         f"{side.removeprefix('motor_')} "
+                         f"{utilization_text(c.checks[side].utilization, True)}")),
+                        ratio_text(joint.inertia_ratio(c))] if motors else []),
+                     esc(life_text(c.life_hours)), esc(life_text(c.l10_hours)),
+                     f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
+                     f"{c.motor.max_speed:,.0f}"]
+        rows.append([*cells, f"{joint.carried_mass:.2f}",
+                     f"<td class='t wrap'>{esc('; '.join(notes))}</td>"])
+    header = ["joint", "unit", *(["motor", "gearhead binding", "motor binding",
+                                  "load/rotor inertia"] if motors else ["binding rule"]),
+              "L50 life", "L10 life", "motor peak [N m]", "motor rms [N m]", "motor max [rpm]",
+              "carries [kg]", "notes"]
+    what = "pair" if motors else "unit"
+    slow = "".join(
+        f"<p><b>{esc(joint.name)}</b>: no {what} fits; the strongest, "
+        f"{esc(joint.strongest.label)}, fails {esc(verdict(joint.strongest))}. "
+        f"{esc(time_scale_text(joint))}.</p>" for joint in result.joints if joint.selected is None)
+    legend = ("<p>Gearhead binding: the gearhead's check closest to its limit (demand / limit); "
+              "motor binding: the motor's (peak under its torque-speed curve, RMS against its "
+              "rated torque, speed). load/rotor inertia = (M_jj / N&sup2; + J_in) / J_m, M_jj "
+              "the joint's largest diagonal inertia over the cycle (payload and carried masses "
+              "included): reported, not checked. carries: the gearheads' and motors' mass "
+              "carried from joints further out. * the result depends on a catalog stand-in or "
+              "correction: follow it to the note.</p>" if motors else
+              "<p>Binding rule: the check closest to its limit (demand / limit). * the result "
+              "depends on a catalog stand-in or correction: follow it to the note.</p>")
+    return (f"<section id=selection><h2>Selection</h2>"
+            f"{_table(header, rows, left=5 if motors else 3, text=[len(header) - 1])}{slow}"
+            f"{legend}</section>")
+
+
+def _notes(result: SizingResult) -> str:
+    flags: dict[str, dict[str, Flag]] = {}
+    for joint in result.joints:
+        for c in joint.candidates:
+            for flag in c.flags:
+                flags.setdefault(c.unit.id, {})[flag.code] = flag
+    items = "".join(f'<li id="{_anchor(unit)}"><b>{esc(unit)}</b>: '
+                    + "; ".join(esc(f.note) for f in found.values()) + "</li>"
+                    for unit, found in flags.items())
+    case = "".join(f"<li>{esc(note)}</li>" for note in case_notes(result.robot,
+                                                                  result.trajectory))
+    loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
+    gravity = (f"<p><b>Backdriving.</b> {esc(', '.join(loaded))} carry gravity. Harmonic Drive "
+               "gearing backdrives when its input is free: where a falling load could injure, "
+               "a fail-safe device on the output is needed.</p>" if loaded else "")
+    return (f"<section id=notes><h2>Notes</h2>{f'<ul>{case}</ul>' if case else ''}"
+            f"<h3>Catalog stand-ins and corrections</h3><ul>{items or '<li>none</li>'}</ul>"
+            f"{gravity}</section>")
+
+
+def _warnings(result: SizingResult) -> str:
+    """What the robot file and the motion file raised, and the file's limits the cycle exceeds."""
+    if not result.warnings:
+        return ""
+    items = "".join(f"<li>{esc(warning)}</li>" for warning in result.warnings)
+    return f"<section id=warnings><h2>Warnings</h2><ul>{items}</ul></section>"
+
+
+def _loads(result: SizingResult) -> str:
+    """Every joint of the robot, sized or not, beside its robot file's limits."""
+    if not result.loads:
+        return ""
+    angle = result.motion.angle_unit if result.motion is not None else "deg"
+    rows = [[esc(load.name), esc(load.kind), "yes" if load.sized else "no",
+             *_load_cells(load, angle)] for load in result.loads]
+    notes = "".join(f"<li><b>{esc(load.name)}</b>: {esc(load.note)}</li>"
+                    for load in result.loads if load.note)
+    header = ["joint", "type", "sized", "peak torque or force", "file effort limit",
+              "top speed", "file velocity limit", "travel"]
+    return ("<section id=loads><h2>Every joint over the cycle</h2>"
+            "<p>Peak torque (force, for a prismatic joint) with the gearheads"
+            f"{' and motors' if result.motors else ''} carried, top "
+            "speed and travel of every joint of the robot, beside the robot file's limits. ✗ "
+            f"above the limit.</p>{_table(header, rows, left=3, text=[7])}"
+            f"{f'<ul>{notes}</ul>' if notes else ''}</section>")
+
+
+def _load_cells(load: JointLoad, angle: str) -> list[str]:
+    """Peak, effort limit, speed, velocity limit and travel of one joint, with units."""
+    force, length, scale = load.units(angle)
+
+    def value(figure: float | None, limit: float, unit: str, over: bool) -> str:
+        if figure is None:
+            return "-"
+        text = esc(f"{number(figure)} {unit}")
+        if not over:
+            return text
+        colour = utilization_colour(figure / limit)
+        return (f"<td class=fail style='background-color:{colour};color:{_ink(colour)}' "
+                f"title='above the robot file&#x27;s limit'>{text} ✗</td>")
+
+    def limit(figure: float, unit: str) -> str:
+        return esc(f"{number(figure)} {unit}") if figure < float("inf") else "none"
+
+    low, high = (x * scale for x in load.travel)
+    return [value(load.peak, load.effort_limit, force, load.above_effort),
+            limit(load.effort_limit, force),
+            value(load.max_speed * scale, load.velocity_limit * scale, f"{length}/s",
+                  load.above_velocity),
+            limit(load.velocity_limit * scale, f"{length}/s"),
+            esc(f"{number(low)} .. {number(high)} {length}")]
+
+
+def _rules(result: SizingResult) -> list[str]:
+    return [r for r in CHECKS if any(r in c.checks and c.checks[r].value is not None
+                                     for j in result.joints for c in j.candidates)]
+
+
+def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
+    """One check's cell, coloured; `where` names its joint and unit as data attributes."""
+    if check is None or check.value is None:
+        return f"<td class='u na' data-check='{name}' {where}>-</td>"
+    colour = utilization_colour(check.utilization)
+    state = "ok" if check.ok else "fail"
+    text = utilization_text(check.utilization, check.ok) + ("" if check.ok else " ✗")
+    if name == "life":
+        figures = f"needs {check.limit:,.0f} of {life_text(check.value)}"
+    else:
+        figures = f"{number(check.value)} / {number(check.limit)} {_UNITS.get(name, '')}"
+    kind = check.detail.get("kind")
+    if isinstance(kind, str) and name == "momentary":
+        figures += f", {kind.replace('emergency ', '')}"
+    small = f"<small>{esc(figures)}</small>" if detail else ""
+    return (f"<td class='u {state}' data-check='{name}' {where} style='background-color:{colour};"
+            f"color:{_ink(colour)}' title='{esc(figures)}'>{esc(text)}{small}</td>")
+
+
+def number(value: float) -> str:
+    """A figure for a table: three significant digits, whole numbers from 1000 up."""
+    if abs(value) >= 1000.0:
+        return f"{value:,.0f}"
+    return "0" if abs(value) < 1e-9 else f"{value:.3g}"
+
+
+def _where(joint: JointSizing, candidate: Candidate) -> str:
+    motor = candidate.motor_unit
+    return (f"data-joint='{esc(joint.name)}' data-unit='{esc(candidate.unit.id)}'"
+            + ("" if motor is None else f" data-motor='{esc(motor.id)}'"))
+
+
+def _colour_bar() -> str:
+    return ("<div class=bar><span>utilization</span><div><div class=ramp><div class=hatch>"
+            "</div></div><div class=ticks><span>0</span><span>50</span><span>100 %</span>"
+            "<span>150</span><span>≥200</span></div></div><span>blue: within the limit, darker "
+            "nearer it; hatched orange to brown and ✗: over it</span></div>")
+
+
+def _heat_maps(result: SizingResult) -> str:
+    rules = _rules(result)
+    maps = []
+    for joint in result.joints:
+        rows = [[("▶ " if c is joint.selected else "") + esc(c.label),
+                 *(_heat_cell(c.checks.get(r), False, r, _where(joint, c)) for r in rules)]
+                for c in joint.candidates]
+        header = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>',
+                  *(esc(CHECK_LABELS[r]) for r in rules)]
+        maps.append(f"<div>{_table(header, rows)}</div>")
+    return (f"<section id=heatmap><h2>Utilization of every candidate</h2>{_colour_bar()}"
+            f"<div class=maps>{''.join(maps)}</div><p>▶ selected. Utilization = demand / limit "
+            "of each check (life: required over expected). mom. = momentary (T4), the worse of "
+            "an emergency stop and a crash."
+            + (" Each row is a gearhead and motor pair: the gearhead's checks behind that motor "
+               "(its rotor inertia in the motor torque and the crash), then m. = the motor's: "
+               "peak under its torque-speed curve, RMS against its rated torque, speed."
+               if result.motors else "") + "</p></section>")
+
+
+def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
+                   motor_png: bytes | None = None) -> str:
+    rules = _rules(result)
+    pairs = joint.name in result.motors
+    rows, classes = [], []
+    for c in joint.candidates:
+        assert c.motor is not None
+        rows.append([_unit_cell(c), *([_motor_cell(c)] if pairs else []),
+                     *(_heat_cell(c.checks.get(r), True, r, _where(joint, c)) for r in rules),
+                     *([ratio_text(joint.inertia_ratio(c))] if pairs else []),
+                     esc(life_text(c.life_hours, "")), esc(life_text(c.l10_hours, "")),
+                     f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
+                     f"{c.motor.max_speed:,.0f}", f"<td class=t>{esc(verdict(c))}</td>"])
+        classes.append("chosen" if c is joint.selected else "")
+    header = ["unit", *(["motor"] if pairs else []), *(esc(CHECK_LABELS[r]) for r in rules),
+              *(["load/rotor"] if pairs else []), "L50 h", "L10 h",
+              "motor peak [N m]", "motor rms [N m]", "motor max [rpm]", "result"]
+    load = joint.load
+    mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
+    chosen = joint.selected
+    inertia = ("" if joint.load_inertia is None else
+               f", load inertia M_jj up to {number(joint.load_inertia)} kg m^2")
+    summary = (f"peak {load.peak_torque:.3g} N m while moving, mean torque {mean}, mean output "
+               f"speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm, largest gravity torque "
+               f"{number(joint.max_gravity_torque)} N m{inertia}, carries "
+               f"{joint.carried_mass:.2f} kg of gearheads{' and motors' if result.motors else ''}"
+               f". Selected: {chosen.label if chosen else 'none'}.")
+    shown = chosen or joint.strongest
+    figure = ""
+    if png is not None:
+        figure = (f"<figure>{_img(png)} alt='speed and torque of {esc(joint.name)} over the "
+                  f"cycle, with the limits of {esc(shown.unit.id)}'><figcaption>Speed (output "
+                  "and input) and output torque over the cycle. Grey bands: at rest, input "
+                  "locked (static limit); elsewhere moving (repeated-peak limit).</figcaption>"
+                  "</figure>")
+    if motor_png is not None and shown.motor_unit is not None:
+        figure += (f"<figure>{_img(motor_png)} alt='torque-speed plane of the motor "
+                   f"{esc(shown.motor_unit.id)} of {esc(joint.name)}'><figcaption>The motor "
+                   f"{esc(shown.motor_unit.id)} behind {esc(shown.unit.id)}: every sample of the "
+                   "cycle as (input speed, motor torque) under its peak torque over speed, its "
+                   "rated torque (the limit of the RMS torque) and its maximum speed; the RMS "
+                   "point and the worst sample against the peak marked.</figcaption></figure>")
+    table = _table(header, rows, classes=classes, text=[len(header) - 1],
+                   left=2 if pairs else 1)
+    return (f"<section class=joint id='joint-{slug(joint.name)}'><h2>Joint "
+            f"{esc(joint.name)}</h2><p>{esc(summary)}</p>{table}"
+            "<p>Each check: utilization, then demand / limit. ✗ over the limit."
+            + (" m. = the motor's checks; load/rotor = (M_jj / N² + J_in) / J_m." if pairs
+               else "") + f"</p>{figure}</section>")
+
+
+def _img(png: bytes) -> str:
+    """The start of an ``img`` element embedding a PNG (the caller adds ``alt`` and ``>``)."""
+    return f"<img src='data:image/png;base64,{base64.b64encode(png).decode('ascii')}'"
+
+
+def _assumptions(result: SizingResult) -> str:
+    given = {**assumptions(result),
+             **({"motor rules": MOTOR_MODEL_NOTE} if result.motors else {})}
+    items = "".join(f"<li><b>{esc(k)}</b>: {esc(v)}</li>" for k, v in given.items())
+    return f"<section id=assumptions><h2>Assumptions</h2><ul>{items}</ul></section>"
+
+
+def _provenance(origin: Provenance) -> str:
+    import shlex
+
+    if origin.command is None:
+        run = ("<p>Made through the Python API: there is no command line. The case below is "
+               "everything it was given.</p>")
+    else:
+        run = (f"<p>Re-run it in <code>{esc(origin.cwd)}</code> with the files below "
+               f"(same hashes):</p><pre id=command>{esc(shlex.join(origin.command))}</pre>")
+    software = ", ".join(f"{name} {version}" for name, version in origin.software)
+    files = _table(["role", "file", "bytes", "SHA-256"], [
+        [esc(f.role), f"<code>{esc(f.path)}</code>", "-" if f.size is None else f"{f.size:,}",
+         f"<code>{esc(f.sha256)}</code>"] for f in origin.files], left=2)
+    settings = _table(["what", "value"], [[esc(k), f"<td class='t wrap'>{esc(v)}</td>"]
+                                          for k, v in origin.settings], left=2)
+    limits = (f"<h3>Limits of the motion</h3>{_table(*_escaped(origin.limits))}"
+              if origin.limits[0] else "")
+    waypoints = (f"<h3>Waypoints</h3>{_table(*_escaped(origin.waypoints))}"
+                 if origin.waypoints[0] else "")
+    return (f"<section id=provenance><h2>Provenance</h2>{run}"
+            f"<p>hdselect {esc(origin.version)}, made {esc(origin.created)}; {esc(software)}.</p>"
+            f"<h3>Input files</h3>{files}<h3>The case as run</h3>{settings}{limits}{waypoints}"
+            "</section>")
+
+
+def _escaped(table: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]):
+    header, rows = table
+    return [esc(h) for h in header], [[esc(c) for c in row] for row in rows]
+
+
+def slug(name: str) -> str:
+    """A joint name as a fragment of an id or a file name."""
+    return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name)

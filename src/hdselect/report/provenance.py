@@ -1,0 +1,225 @@
+"""Where a result came from: the command, the software, every input file and the case as run.
+
+A report carries this so that a reader can check it and re-run it: the same
+command, in the same directory, on files with the same hashes, gives the same
+numbers.
+"""
+
+from __future__ import annotations
+
+import datetime
+import hashlib
+import math
+import os
+import platform
+from collections.abc import Sequence
+from dataclasses import dataclass, fields
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+from hdselect.robot.model import MOUNTINGS
+from hdselect.sizing.core import SizingResult
+
+DEG_PER_RAD = 180.0 / math.pi
+_SOFTWARE = ("pin", "ruckig", "toppra", "numpy", "scipy", "matplotlib")
+"""The distributions whose versions can change a result, by their PyPI names."""
+
+
+@dataclass(frozen=True)
+class InputFile:
+    """One file a result was computed from.
+
+    Attributes:
+        role: What it is: ``robot``, ``motion``, ``samples``, ``catalog`` or ``motors``.
+        path: The path as the result holds it (relative to `Provenance.cwd` if relative).
+        sha256: Hex SHA-256 of its content, or an explanation if it cannot be read now.
+        size: Its size [bytes], or None if it cannot be read.
+    """
+
+    role: str
+    path: str
+    sha256: str
+    size: int | None
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """What a report needs to be checked and re-run.
+
+    Attributes:
+        version: The hdselect version.
+        created: When it was made, ISO 8601 in UTC, to the second.
+        command: The command line as given (program name first), or None when the
+            result came from the Python API.
+        cwd: The working directory the command ran in.
+        software: Python and each library that can change a number, with its version.
+        files: Every input file, hashed.
+        settings: The case as resolved, as (what, value) text pairs.
+        limits: Header and rows of the motion's kinematic limits per joint.
+        waypoints: Header and rows of the waypoints (positions and dwell).
+    """
+
+    version: str
+    created: str
+    command: tuple[str, ...] | None
+    cwd: str
+    software: tuple[tuple[str, str], ...]
+    files: tuple[InputFile, ...]
+    settings: tuple[tuple[str, str], ...]
+    limits: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]
+    waypoints: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]
+
+
+def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
+               cwd: str | Path | None = None,
+               created: datetime.datetime | None = None) -> Provenance:
+    """Collect the provenance of a sizing result.
+
+    Args:
+        result: The result.
+        command: The command line that produced it, program name first; None for the
+            Python API.
+        cwd: The working directory (default: the current one).
+        created: The time to record (default: now).
+
+    Returns:
+        The provenance; files that cannot be read are listed with the reason.
+    """
+    from hdselect import __version__
+
+    when = created or datetime.datetime.now(datetime.UTC)
+    robot, motion = result.robot, result.motion
+    files = [("robot", robot.path)]
+    if motion is not None:
+        files.append(("motion", motion.path))
+        if motion.samples is not None:
+            files.append(("samples", motion.samples.path))
+    builtin = Path(__file__).parent / "data"
+    files += [("catalog (built in)" if Path(source).parent == builtin else "catalog", source)
+              for source in dict.fromkeys(u.source for u in result.units)]
+    files += [("motors", source) for source in dict.fromkeys(
+        m.source for ms in result.motors.values() for m in ms if m.source is not None)]
+    software = [("Python", platform.python_version())]
+    for name in _SOFTWARE:
+        try:
+            software.append((name, metadata.version(name)))
+        except metadata.PackageNotFoundError:
+            software.append((name, "not installed"))
+    return Provenance(
+        version=__version__,
+        created=when.astimezone(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        command=None if command is None else tuple(command),
+        cwd=str(cwd if cwd is not None else os.getcwd()),
+        software=tuple(software),
+        files=tuple(_hashed(role, path) for role, path in files),
+        settings=tuple(_settings(result)),
+        limits=_limits(result),
+        waypoints=_waypoints(result),
+    )
+
+
+def _hashed(role: str, path: Path) -> InputFile:
+    try:
+        content = Path(path).read_bytes()
+    except OSError as err:
+        return InputFile(role, str(path), f"cannot be read now ({err.strerror})", None)
+    return InputFile(role, str(path), hashlib.sha256(content).hexdigest(), len(content))
+
+
+def _settings(result: SizingResult) -> list[tuple[str, str]]:
+    """The resolved case: robot, mounting, payload, planner, trajectory and options."""
+    robot, motion, traj = result.robot, result.motion, result.trajectory
+    kinds = ", ".join(f"{name} ({'revolute' if rev else 'prismatic'}"
+                      f"{'' if name in robot.sized_joints else ', not sized'})"
+                      for name, rev in zip(robot.joint_names, robot.revolute, strict=True))
+    gravity = tuple(float(g) for g in robot.gravity)
+    named = [name for name, vector in MOUNTINGS.items() if np.allclose(vector, gravity)]
+    rows = [("joints", kinds),
+            ("mounting", f"{named[0] + ': ' if named else ''}gravity "
+                         f"[{', '.join(f'{g:g}' for g in gravity)}] m/s^2 in the base frame")]
+    payload = robot.payload
+    if payload is None:
+        rows.append(("payload", "none"))
+    else:
+        default = " (by default: the tip of the longest chain of sized joints)"
+        frame = f"{robot.payload_frame}{'' if payload.frame else default}"
+        inertia = "; ".join(", ".join(f"{v:g}" for v in row) for row in payload.inertia)
+        rows.append(("payload", f"{payload.mass:g} kg on {frame}, centre of mass "
+                                f"[{', '.join(f'{c:g}' for c in payload.com)}] m, inertia about "
+                                f"it [{inertia}] kg m^2"))
+    if motion is not None:
+        rows.append(("planner", f"{motion.planner}, sampled every {motion.dt:g} s"))
+        rows.append(("requirements in the motion file",
+                     f"stop time {_opt(motion.stop_time, ' s')}, life "
+                     f"{_opt(motion.life_hours, ' h')} {motion.life_basis or ''}".rstrip()))
+    else:
+        rows.append(("planner", "none: the trajectory was given directly"))
+    rows.append(("trajectory", f"cycle {traj.duration:.6g} s, {len(traj.t):,} samples every "
+                               f"{traj.dt:g} s"))
+    if result.motors:
+        lists = {name: ", ".join(m.id for m in ms) for name, ms in result.motors.items()}
+        same = len(set(lists.values())) == 1 and len(lists) == len(robot.sized_joints)
+        rows.append(("motors", f"every sized joint chooses from {next(iter(lists.values()))}"
+                     if same else "; ".join(f"{name}: {ids}" for name, ids in lists.items())))
+    else:
+        rows.append(("motors", "none given"))
+    options = result.options
+    rows.append(("options", ", ".join(f"{f.name} = {getattr(options, f.name)}"
+                                      for f in fields(options))))
+    return rows
+
+
+def _opt(value: float | None, unit: str) -> str:
+    return "not given" if value is None else f"{value:g}{unit}"
+
+
+def _scales(result: SizingResult) -> list[tuple[float, str]]:
+    """Per joint, the factor from SI to the unit shown and that unit's name."""
+    return [(DEG_PER_RAD, "deg") if revolute else (1.0, "m") for revolute in result.robot.revolute]
+
+
+def _limits(result: SizingResult) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
+    motion = result.motion
+    if motion is None:
+        return (), ()
+    given = [(name, values) for name, values in (
+        ("velocity", motion.velocity_limit), ("acceleration", motion.acceleration_limit),
+        ("jerk", motion.jerk_limit), ("torque", motion.torque_limit)) if values is not None]
+    header = ("joint", *(name for name, _ in given))
+    rows = []
+    for j, (name, (scale, unit)) in enumerate(zip(motion.joint_names, _scales(result),
+                                                  strict=True)):
+        cells = [name]
+        for quantity, values in given:
+            factor = 1.0 if quantity == "torque" else scale
+            cells.append(f"{values[j] * factor:.6g} {_unit(quantity, unit)}")
+        rows.append(tuple(cells))
+    return header, tuple(rows)
+
+
+def _per(quantity: str) -> str:
+    return {"velocity": "/s", "acceleration": "/s^2", "jerk": "/s^3",
+            "torque": "N m or N"}[quantity]
+
+
+def _unit(quantity: str, unit: str) -> str:
+    if quantity == "torque":
+        return "N m" if unit == "deg" else "N"
+    return unit + _per(quantity)
+
+
+def _waypoints(result: SizingResult) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
+    motion = result.motion
+    if motion is None or not len(motion.waypoints):
+        return (), ()
+    scales = _scales(result)
+    header = ("#", *(f"{name} [{unit}]" for name, (_, unit) in zip(motion.joint_names, scales,
+                                                                   strict=True)), "dwell [s]")
+    rows = tuple((str(k), *(f"{q * scale:.6g}" for q, (scale, _) in zip(point, scales,
+                                                                       strict=True)),
+                  f"{dwell:g}")
+                 for k, (point, dwell) in enumerate(zip(motion.waypoints, motion.dwells,
+                                                        strict=True)))
+    return header, rows

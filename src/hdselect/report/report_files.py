@@ -1,0 +1,76 @@
+"""The HTML report written: the page, its figures embedded and as PNG files beside it."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from hdselect.base.errors import InputError
+from hdselect.base.outputs import Outputs
+from hdselect.report.figures import png_bytes
+from hdselect.report.joint_figures import joint_figure, motor_figure
+from hdselect.sizing.core import SizingResult
+
+
+def write_report(directory: str | Path, result: SizingResult, *,
+                 command: Sequence[str] | None = None) -> None:
+    """Write the HTML report into `directory`: ``index.html``, self-contained, and its figures.
+
+    ``index.html`` embeds every figure, so it can be mailed or printed on its own;
+    the figures are also written beside it as ``joint_<name>.png`` (and, for a joint
+    with motors, its motor's torque-speed plane as ``motor_<name>.png``). Every file is
+    written aside first and the whole report moved into place at the end
+    (`hdselect.outputs`): a failure leaves no part of it, and puts back any file it
+    would have replaced.
+
+    Args:
+        directory: Where to write; made (with its parents) if missing.
+        result: The sizing result.
+        command: The command line that made the result (program name first), recorded
+            so that the report can be re-run; None from Python.
+
+    Raises:
+        InputError: The directory cannot be written.
+    """
+    with Outputs() as outputs:
+        staging = outputs.directory(directory, "--report")
+        report_files(staging, result, command=command)
+        outputs.commit()
+
+
+def report_files(directory: Path, result: SizingResult, *,
+                 command: Sequence[str] | None = None) -> None:
+    """Write the report's files into an existing (staging) directory, as `write_report` does.
+
+    Raises:
+        InputError: A file cannot be written.
+    """
+    from hdselect.report.html import slug
+
+    page, figures, motor_figures = _report(result, command)
+    try:
+        for prefix, pngs in (("joint", figures), ("motor", motor_figures)):
+            for name, png in pngs.items():
+                (directory / f"{prefix}_{slug(name)}.png").write_bytes(png)
+        (directory / "index.html").write_text(page, encoding="utf-8")
+    except OSError as err:
+        raise InputError(f"cannot write the report ({err.strerror})", path=directory,
+                         field="--report") from err
+
+
+def report_page(result: SizingResult, *, command: Sequence[str] | None = None) -> str:
+    """The HTML report as one self-contained page, its figures embedded (``--report -``)."""
+    return _report(result, command)[0]
+
+
+def _report(result: SizingResult, command: Sequence[str] | None
+            ) -> tuple[str, dict[str, bytes], dict[str, bytes]]:
+    """The page, each joint's figure and each motor figure (PNG content by joint name)."""
+    from hdselect.report.html import page
+    from hdselect.report.provenance import provenance
+
+    origin = provenance(result, command)
+    figures = {joint.name: png_bytes(joint_figure(result, joint)) for joint in result.joints}
+    motor_figures = {joint.name: png_bytes(motor_figure(result, joint))
+                     for joint in result.joints if joint.motor_torque is not None}
+    return page(result, figures, origin, motor_figures), figures, motor_figures

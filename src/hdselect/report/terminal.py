@@ -1,0 +1,98 @@
+"""What every terminal table shares: percentages, lives and verdicts as text.
+
+Tables format; they do not compute. A number shown comes from a result.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from collections.abc import Iterable
+
+from rich.console import Console
+
+from hdselect.catalog.rules import (
+    CHECK_LABELS,
+    Candidate,
+    Check,
+)
+from hdselect.report.tables import console_for
+
+DEG_PER_RAD = 180.0 / math.pi
+
+
+def console() -> Console:
+    """A console for standard output.
+
+    A terminal: its width (or ``COLUMNS``), in colour. Else ``COLUMNS`` or 80
+    columns, no colour, no trailing spaces.
+    """
+    return console_for(sys.stdout)
+
+
+def percent(utilization: float) -> str:
+    """A utilization as a whole percentage."""
+    return f"{utilization * 100:.0f}%"
+
+
+def utilization_text(utilization: float, ok: bool) -> str:
+    """A utilization as a percentage that never reads as its verdict's opposite.
+
+    Whole percent, except next to the limit: a passing 99.96 % reads ``99.9%`` and a
+    failing 100.04 % ``100.1%``, never ``100%`` either way.
+    """
+    text = percent(utilization)
+    if text != "100%":
+        return text
+    tenths = math.floor(utilization * 1000.0) if ok else math.ceil(utilization * 1000.0)
+    return f"{tenths / 10:.1f}%"
+
+
+def life_text(hours: float | None, suffix: str = " h") -> str:
+    """An L50 life for a table; beyond a million hours the digits stop mattering."""
+    if hours is None:
+        return "unlimited"
+    return f"{hours:,.0f}{suffix}" if hours < 1e6 else f"> 1e6{suffix}"
+
+
+def verdict(candidate: Candidate) -> str:
+    """``ok``, or the worst failing rule and how far it exceeds its limit."""
+    if candidate.feasible:
+        return "ok"
+    worst = candidate.binding
+    return f"{CHECK_LABELS.get(worst, worst)} +{excess(candidate.checks[worst].utilization)}"
+
+
+def excess(utilization: float) -> str:
+    """How far a failing utilization exceeds its limit, e.g. ``19%`` (``0.4%`` below 1 %)."""
+    over = (utilization - 1.0) * 100.0
+    return f"{over:.1f}%" if over < 0.95 else f"{over:.0f}%"
+
+
+def assumed_notes(candidates: Iterable[Candidate]) -> list[str]:
+    """Each assumption (rules a catalog file does not state) once, with the units it concerns.
+
+    Stand-ins and corrections of catalog values are listed by ``hdselect catalog``.
+    """
+    units: dict[str, list[str]] = {}
+    for c in candidates:
+        for flag in c.flags:
+            if flag.kind == "assumed":
+                units.setdefault(flag.note, []).append(c.unit.id)
+    return [f"{', '.join(ids)}: {note}" for note, ids in units.items()]
+
+
+def utilization_cell(check: Check, pad: bool = False) -> str:
+    """A utilization for a table; one over its limit is marked ✗ (and red, in colour).
+
+    `pad` leaves room for the mark in a column where another cell has it.
+    """
+    if check.value is None:
+        return "- " if pad else "-"
+    text = utilization_text(check.utilization, check.ok)
+    return (text + (" " if pad else "")) if check.ok else f"[red]{text}✗[/red]"
+
+
+def ratio_text(ratio: float | None) -> str:
+    """An inertia ratio (load at the motor shaft over the rotor) for tables."""
+    return "-" if ratio is None else f"{ratio:.3g}"

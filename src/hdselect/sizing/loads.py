@@ -1,0 +1,120 @@
+"""Every joint of a robot over a cycle, sized or not, beside its robot file's limits.
+
+The sizing chooses gearheads for the sized joints; this says what all the others
+do too (prismatic joints, joints left out, mimic followers), and how each
+joint's peak torque and top speed compare with the file's effort and velocity
+limits.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.model import Robot
+
+
+@dataclass(frozen=True)
+class JointLoad:
+    """What one joint of the robot does over the cycle, sized or not, beside its file's limits.
+
+    Torque is force and angles are lengths for a prismatic joint: [N m or N], [rad or m].
+
+    Attributes:
+        name: Joint name.
+        kind: ``"revolute"``, ``"continuous"``, ``"prismatic"`` or ``"mimic"`` (a follower).
+        sized: The joint gets a gearhead (it has a row in `SizingResult.joints`).
+        note: Why it is not sized, or what drives it; None for a sized joint.
+        peak: Largest torque over the cycle, gearheads carried [N m or N]; None for a
+            follower (its leader carries its load).
+        max_speed: Largest speed [rad/s or m/s].
+        travel: Smallest and largest position reached [rad or m].
+        effort_limit: The robot file's effort limit [N m or N]; inf when it gives none.
+        velocity_limit: The robot file's velocity limit [rad/s or m/s]; inf when it gives none.
+        leader: For a follower, the joint it follows.
+        linear: A prismatic joint, or a follower of one: forces [N], lengths [m].
+    """
+
+    name: str
+    kind: str
+    sized: bool
+    note: str | None
+    peak: float | None
+    max_speed: float
+    travel: tuple[float, float]
+    effort_limit: float
+    velocity_limit: float
+    leader: str | None = None
+    linear: bool = False
+
+    @property
+    def above_effort(self) -> bool:
+        """The peak exceeds the robot file's effort limit."""
+        return self.peak is not None and self.peak > self.effort_limit * (1.0 + 1e-9)
+
+    @property
+    def above_velocity(self) -> bool:
+        """The largest speed exceeds the robot file's velocity limit."""
+        return self.max_speed > self.velocity_limit * (1.0 + 1e-6)
+
+    def units(self, angle: str) -> tuple[str, str, float]:
+        """Force unit, length unit and the factor from SI for showing this joint.
+
+        Args:
+            angle: ``"deg"`` or ``"rad"``, the unit a rotary joint's angles are shown in.
+
+        Returns:
+            ``("N", "m", 1)`` for a linear joint; ``("N m", angle, factor)`` for a rotary one.
+        """
+        if self.linear:
+            return "N", "m", 1.0
+        return "N m", angle, (180.0 / math.pi if angle == "deg" else 1.0)
+
+
+def joint_loads(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> tuple[JointLoad, ...]:
+    """Every joint's peak torque, speed and travel beside its file's limits.
+
+    Args:
+        robot: The robot.
+        trajectory: The trajectory, with the robot's joints.
+        tau: Joint torques along it [N m or N], shape (n, dof).
+
+    Returns:
+        One per joint of the model (followers included), in the model's order.
+    """
+    model = robot.model
+    loads = []
+    for joint_id in range(1, model.njoints):
+        name = model.names[joint_id]
+        if name in robot.mimic:
+            mimic = robot.mimic[name]
+            leader = robot.joint_index(mimic.leader)
+            q = mimic.multiplier * trajectory.q[:, leader] + mimic.offset
+            loads.append(JointLoad(
+                name, "mimic", False, f"driven by {mimic.leader} (x {mimic.multiplier:g})", None,
+                float(np.abs(mimic.multiplier * trajectory.qd[:, leader]).max()),
+                (float(q.min()), float(q.max())), math.inf, math.inf, leader=mimic.leader,
+                linear=not robot.revolute[leader]))
+            continue
+        j = robot.joint_index(name)
+        kind = robot.joint_type(name)
+        sized = name in robot.sized_joints
+        if sized:
+            note = None
+        elif kind == "prismatic":
+            note = "not sized: the catalog is rotary"
+        elif name in robot.uncoupled_followers:
+            note = "not sized: a mimic follower, moved on its own here"
+        else:
+            note = "not sized: excluded"
+        effort, velocity = robot.effort_limit[j], robot.velocity_limit[j]
+        loads.append(JointLoad(
+            name, kind, sized, note, float(np.abs(tau[:, j]).max()),
+            float(np.abs(trajectory.qd[:, j]).max()),
+            (float(trajectory.q[:, j].min()), float(trajectory.q[:, j].max())),
+            float(effort) if effort > 0.0 else math.inf,
+            float(velocity) if velocity > 0.0 else math.inf, linear=kind == "prismatic"))
+    return tuple(loads)

@@ -1,0 +1,114 @@
+"""The assumptions of a sizing run: validated once, whichever front end built them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Any
+
+from hdselect.base import bounds
+from hdselect.base.errors import InputError
+from hdselect.catalog.select import PREFERENCES
+from hdselect.motion.motionfile import LIFE_BASES, Motion
+from hdselect.sizing.reflect import DEFAULT_EFFICIENCY
+
+DEFAULT_STOP_TIME = 0.1
+"""Time in which an emergency stop or a crash brings the arm to rest [s]."""
+MAX_THREADS = 256
+"""Most threads the batched dynamics may be given (each holds a copy of the model)."""
+
+
+@dataclass(frozen=True)
+class Options:
+    """Assumptions of a sizing run, stated in every report.
+
+    Every value is checked when an Options is made: the command line, a motion
+    file and a Python caller all go through the same checks.
+
+    Attributes:
+        stop_time: Emergency-stop and crash time [s], positive.
+        efficiency: Gear efficiency where a unit has no table [-], in (0, 1].
+        rotor_inertia: Motor rotor inertia J_m [kg m^2], zero or positive.
+        motor_mass: Motor mass carried with each gearhead [kg], zero or positive.
+        mass_coupling: Whether chosen units' masses load the joints nearer the base.
+        prefer: Selection order, a key of `hdselect.catalog.select.PREFERENCES`, or None for the
+            default: ``"mass"`` (the lightest pair) where motors are given, else ``"size"``.
+            A sizing result holds the order it used.
+        life_hours: Required life [h] on `life_basis`, positive, or None.
+        life_basis: ``"L50"`` (average life) or ``"L10"`` (90 % survive it).
+        threads: Threads for the batched dynamics, a positive whole number, or None to
+            choose from the sample count (a study's workers use 1).
+        max_samples: Most samples a trajectory may have
+            (`hdselect.base.bounds.DEFAULT_MAX_SAMPLES`);
+            a motion needing more is refused before anything is allocated.
+
+    Raises:
+        InputError: A value is out of range or of the wrong type; the field is its name.
+    """
+
+    stop_time: float = DEFAULT_STOP_TIME
+    efficiency: float = DEFAULT_EFFICIENCY
+    rotor_inertia: float = 0.0
+    motor_mass: float = 0.0
+    mass_coupling: bool = True
+    prefer: str | None = None
+    life_hours: float | None = None
+    life_basis: str = "L50"
+    threads: int | None = None
+    max_samples: int = bounds.DEFAULT_MAX_SAMPLES
+
+    def __post_init__(self) -> None:
+        for name, bound in (("stop_time", bounds.STOP_TIME), ("efficiency", bounds.EFFICIENCY),
+                            ("rotor_inertia", bounds.ROTOR_INERTIA),
+                            ("motor_mass", bounds.ADDED_MASS)):
+            _set(self, name, bound.check(getattr(self, name), field=name))
+        if not isinstance(self.mass_coupling, bool):
+            raise InputError(f"expected true or false, got {self.mass_coupling!r}",
+                             field="mass_coupling")
+        if self.prefer is not None and (not isinstance(self.prefer, str)
+                                        or self.prefer not in PREFERENCES):
+            raise InputError(f"unknown order {self.prefer!r}; choose one of: "
+                             f"{', '.join(PREFERENCES)}", field="prefer")
+        if self.life_hours is not None:
+            _set(self, "life_hours", bounds.LIFE.check(self.life_hours, field="life_hours"))
+        if not isinstance(self.life_basis, str) or self.life_basis not in LIFE_BASES:
+            raise InputError(f"unknown basis {self.life_basis!r}; choose one of: "
+                             f"{', '.join(LIFE_BASES)}", field="life_basis")
+        if self.threads is not None and (isinstance(self.threads, bool)
+                                         or not isinstance(self.threads, int)
+                                         or not 1 <= self.threads <= MAX_THREADS):
+            raise InputError(f"must be a whole number in [1, {MAX_THREADS}], got "
+                             f"{self.threads!r}", field="threads")
+        _set(self, "max_samples", bounds.check_max_samples(self.max_samples))
+
+
+def options_for(motion: Motion | None, **given: Any) -> Options:
+    """Options from keyword values, else the motion file's, else the defaults.
+
+    Args:
+        motion: The motion whose ``[safety]`` and ``[requirements]`` fill what is not given.
+        **given: Fields of `Options`; a value of None means "not given".
+
+    Returns:
+        The validated options.
+
+    Raises:
+        InputError: An unknown name, or a value out of range.
+    """
+    if motion is not None and not isinstance(motion, Motion):
+        raise InputError(f"expected a Motion or None, got {type(motion).__name__}",
+                         field="motion")
+    names = [f.name for f in fields(Options)]
+    for name in given:
+        if name not in names:
+            raise InputError(f"unknown option {name!r}; options are: {', '.join(names)}",
+                             field=name)
+    values = {name: value for name, value in given.items() if value is not None}
+    if motion is not None:
+        for name in ("stop_time", "life_hours", "life_basis"):
+            if name not in values and getattr(motion, name) is not None:
+                values[name] = getattr(motion, name)
+    return Options(**values)
+
+
+def _set(options: Options, name: str, value: object) -> None:
+    object.__setattr__(options, name, value)

@@ -1,0 +1,257 @@
+"""A sizing result as a JSON document: the shape `hdselect size --json` writes.
+
+Studies keep the same shape per case, so the document is built here, beside the
+result, and written by `hdselect.report.export`. Every assumption is stated in it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from typing import Any
+
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
+from hdselect.catalog.units import SeriesRules, Unit
+from hdselect.robot.model import Robot
+from hdselect.sizing.core import SizingResult
+from hdselect.sizing.loads import JointLoad
+
+MOTOR_MODEL_NOTE = ("peak: every sample's motor torque under the motor's torque-speed curve (its "
+                    "flat peak torque without one); rms: the RMS torque of one cycle repeated "
+                    "back to back against the rated torque, with no thermal model (no thermal "
+                    "time constants), no drive current limit and no bus voltage beyond the "
+                    "curve; speed: the largest input speed against the motor's maximum")
+
+
+MEAN_SPEED_NOTE = ("mean speed averages the moving part of the cycle only (the catalog page's "
+                   "t1..t3); dwells do not dilute it, which is the conservative reading")
+
+
+WHOLE_CYCLE_NOTE = ("mean speed follows each unit's series rules: over the whole cycle, dwells "
+                    "included, where its catalog's [rules] say mean_speed = \"whole-cycle\"; "
+                    "over the moving part only where they say \"moving\"")
+
+
+HOLD_NOTE = ("hold only: nothing moves in this cycle, so only holding the pose (static) and an "
+             "emergency stop (momentary) are checked; mean torque, speed and life do not apply")
+"""The note on a cycle in which nothing moves (``"hold_only": true`` in JSON)."""
+
+
+def mean_speed_note(units: Iterable[Unit]) -> str:
+    """How the mean speed of these units is taken, for reports."""
+    if all(unit.rules.mean_speed == "moving" for unit in units):
+        return MEAN_SPEED_NOTE
+    return WHOLE_CYCLE_NOTE
+
+
+def check_json(check: Check) -> dict[str, Any]:
+    """One check as JSON: value, limit, ok, utilization and any detail."""
+    document: dict[str, Any] = {"value": finite_or_none(check.value),
+                                "limit": finite_or_none(check.limit),
+                                "ok": check.ok, "utilization": finite_or_none(check.utilization)}
+    document.update({key: finite_or_none(value) for key, value in check.detail.items()})
+    return document
+
+
+def candidate_json(candidate: Candidate) -> dict[str, Any]:
+    """One candidate as JSON, the shape shared by ``duty`` and ``size`` (which adds ``motor``)."""
+    unit = candidate.unit
+    document: dict[str, Any] = {
+        "unit": unit.id,
+        "size": unit.size,
+        "ratio": unit.ratio,
+        "feasible": candidate.feasible,
+        "life_hours": finite_or_none(candidate.life_hours),
+        "l10_hours": finite_or_none(candidate.l10_hours),
+        "flags": sorted({flag.code for flag in candidate.flags}),
+        "notes": [flag.note for flag in candidate.flags],
+        "binding": candidate.binding,
+        "rules": rules_json(unit.rules),
+        "checks": {name: check_json(check) for name, check in candidate.checks.items()},
+    }
+    motor = candidate.motor
+    if motor is not None:
+        document["motor"] = {"peak_torque_nm": motor.peak_torque,
+                             "rms_torque_nm": motor.rms_torque,
+                             "max_speed_rpm": motor.max_speed,
+                             "efficiency": motor.efficiency,
+                             "rms_speed_rpm": motor.rms_speed}
+        if candidate.motor_unit is not None:
+            document["motor"]["id"] = candidate.motor_unit.id
+            document["gearhead_binding"] = candidate.gearhead_binding
+            document["motor_binding"] = candidate.motor_binding
+    return document
+
+
+def motor_json(motor: Motor) -> dict[str, Any]:
+    """One motor's data as JSON, in SI (speeds in rpm)."""
+    return {"id": motor.id, "rated_torque_nm": motor.rated_torque,
+            "peak_torque_nm": motor.peak_torque, "max_speed_rpm": motor.max_speed,
+            "rated_speed_rpm": motor.rated_speed, "rotor_inertia_kg_m2": motor.rotor_inertia,
+            "mass_kg": motor.mass, "torque_constant_nm_per_a": motor.torque_constant,
+            "resistance_ohm": motor.resistance,
+            "curve": None if motor.curve is None else [list(p) for p in motor.curve],
+            "source": None if motor.source is None else str(motor.source)}
+
+
+def rules_json(rules: SeriesRules) -> dict[str, Any]:
+    """A series' rules as JSON; ``assumed`` when the unit's catalog file states none."""
+    return {"rated_input_speed_rpm": rules.rated_input_speed,
+            "rated_life_hours": rules.rated_life_hours, "life_basis": rules.life_basis,
+            "mean_torque_limit": rules.mean_torque_limit, "mean_speed": rules.mean_speed,
+            "max_momentary_events": rules.max_momentary_events,
+            "assumed": rules.flag is not None}
+
+
+def assumptions(result: SizingResult) -> dict[str, str]:
+    """The assumptions of a sizing run, as text for reports."""
+    options = result.options
+    if result.motors:
+        files = sorted({m.source.name if m.source is not None else "given in Python"
+                        for ms in result.motors.values() for m in ms})
+        bare = [j.name for j in result.joints if j.name not in result.motors]
+        motor = {"motors": (f"chosen with each gearhead from {', '.join(files)} (rotor inertia "
+                            "in the motor torque and the crash, mass carried)"
+                            + (f"; none for {', '.join(bare)}: rotor inertia and mass not "
+                               "included there" if bare else ""))}
+    elif options.rotor_inertia == 0.0 and options.motor_mass == 0.0:
+        motor = {"motor": "none given: motor rotor inertia and mass not included"}
+    else:
+        motor = {"motor rotor inertia": f"{options.rotor_inertia:g} kg m^2",
+                 "motor mass": f"{options.motor_mass:g} kg"}
+    return {
+        "efficiency": f"{options.efficiency:.2f} (where a unit has no table)",
+        "stop time": f"{options.stop_time:g} s (emergency stop and crash)",
+        **motor,
+        "mass coupling": (("on: each chosen gearhead's and motor's mass is carried by the joints "
+                           "nearer the base" if result.motors else
+                           "on: each chosen unit's mass is carried by the joints nearer the base")
+                          if options.mass_coupling else "off"),
+        "selection": str(options.prefer),
+        "required life": ("none" if options.life_hours is None
+                          else f"{options.life_hours:g} h ({options.life_basis})"),
+        "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
+        "joint losses": JOINT_LOSSES_NOTE,
+    }
+
+
+JOINT_LOSSES_NOTE = ("the robot file's armature, joint damping, friction and springs are the "
+                     "motor's and the joint's own, not load on the gear output: left out")
+
+
+def base_text(robot: Robot) -> str:
+    """The fixed link and the payload in a line, for headers."""
+    payload = robot.payload
+    if payload is None:
+        carried = f"none (a payload would go on '{robot.payload_frame}')"
+    else:
+        com = ", ".join(f"{c:g}" for c in payload.com)
+        carried = f"{payload.mass:g} kg on '{robot.payload_frame}', centre of mass ({com}) m"
+    return f"base: '{robot.root_link}' held fixed; payload: {carried}"
+
+
+def payload_json(robot: Robot) -> dict[str, Any]:
+    """The payload as JSON: mass 0 when none; the frame it is (or would be) attached to."""
+    payload = robot.payload
+    return {"mass_kg": 0.0 if payload is None else payload.mass,
+            "frame": robot.payload_frame,
+            "frame_given": payload is not None and payload.frame is not None,
+            "com_m": [0.0, 0.0, 0.0] if payload is None else list(payload.com),
+            "inertia_kg_m2": [[0.0] * 3] * 3 if payload is None
+            else [list(row) for row in payload.inertia]}
+
+
+def joint_load_json(load: JointLoad) -> dict[str, Any]:
+    """One joint's load over the cycle as JSON, in SI (N m or N, rad or m)."""
+    linear = load.linear
+    force, per_s, position = ("n", "m_s", "m") if linear else ("nm", "rad_s", "rad")
+    return {"name": load.name, "type": load.kind, "sized": load.sized, "note": load.note,
+            "leader": load.leader,
+            f"peak_{'force' if linear else 'torque'}_{force}": load.peak,
+            f"effort_limit_{force}": finite_or_none(load.effort_limit),
+            f"max_speed_{per_s}": load.max_speed,
+            f"velocity_limit_{per_s}": finite_or_none(load.velocity_limit),
+            f"travel_{position}": list(load.travel),
+            "above_effort_limit": load.above_effort,
+            "above_velocity_limit": load.above_velocity}
+
+
+def size_json(result: SizingResult) -> dict[str, Any]:
+    """A sizing result as JSON; each candidate has the ``duty`` shape plus ``motor``."""
+    options = result.options
+    joints = []
+    for joint in result.joints:
+        slowdown = joint.slowdown
+        document: dict[str, Any] = {
+            "name": joint.name,
+            "selected": joint.selected.unit.id if joint.selected else None,
+            "binding": joint.selected.binding if joint.selected else None,
+            "carried_mass_kg": joint.carried_mass,
+            "gravity_loaded": joint.gravity_loaded,
+            "max_gravity_torque_nm": joint.max_gravity_torque,
+            "peak_torque_nm": joint.load.peak_torque,
+            "mean_torque_nm": joint.load.mean_torque,
+            "mean_output_speed_rpm": joint.load.mean_speed * RPM_PER_RAD_S,
+            "effort_limit_nm": finite_or_none(float(
+                result.robot.effort_limit[result.robot.joint_index(joint.name)]) or math.inf),
+            "slowdown": None if slowdown is None else {
+                "factor": slowdown.factor, "unit": slowdown.unit,
+                "cycle_time_s": slowdown.cycle_time},
+            "time_scales": None if joint.scales is None else {
+                unit: [[lo, finite_or_none(hi)] for lo, hi in intervals]
+                for unit, intervals in joint.scales.fits.items()},
+            "candidates": [candidate_json(c) for c in joint.candidates],
+        }
+        if joint.name in result.motors:
+            chosen = joint.selected
+            document.update({
+                "selected_motor": (chosen.motor_unit.id if chosen is not None
+                                   and chosen.motor_unit is not None else None),
+                "gearhead_binding": chosen.gearhead_binding if chosen else None,
+                "motor_binding": chosen.motor_binding if chosen else None,
+                "load_inertia_kg_m2": joint.load_inertia,
+                "inertia_ratio": None if chosen is None else joint.inertia_ratio(chosen)})
+            for candidate, entry in zip(joint.candidates, document["candidates"], strict=True):
+                entry["motor"]["inertia_ratio"] = joint.inertia_ratio(candidate)
+        joints.append(document)
+    return {
+        "robot": str(result.robot.path),
+        "motion": None if result.motion is None else str(result.motion.path),
+        "cycle_time_s": result.cycle_time,
+        "samples": len(result.trajectory.t),
+        "feasible": result.feasible,
+        "hold_only": result.hold_only,
+        "assumptions": {
+            "efficiency": options.efficiency, "stop_time_s": options.stop_time,
+            "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,
+            "mass_coupling": options.mass_coupling, "prefer": options.prefer,
+            "life_hours": options.life_hours, "life_basis": options.life_basis,
+            "mean_speed_rule": mean_speed_note(result.units),
+            "joint_losses": JOINT_LOSSES_NOTE,
+            "motors": ({name: [m.id for m in ms] for name, ms in result.motors.items()}
+                       if result.motors else None),
+            "motor_rules": MOTOR_MODEL_NOTE if result.motors else None},
+        "motors": [motor_json(m) for m in _distinct(result.motors)],
+        "joints": joints,
+        "root_link": result.robot.root_link,
+        "payload": payload_json(result.robot),
+        "warnings": list(result.warnings),
+        "joint_loads": [joint_load_json(load) for load in result.loads],
+    }
+
+
+def _distinct(motors: Any) -> list[Motor]:
+    """Every motor of a joint -> motors mapping once, in order of appearance."""
+    seen: dict[tuple[str, str | None], Motor] = {}
+    for candidates in motors.values():
+        for motor in candidates:
+            seen.setdefault((motor.id, str(motor.source)), motor)
+    return list(seen.values())
+
+
+def finite_or_none(value: Any) -> Any:
+    """A float that is not finite as None (JSON has no infinity); anything else as it is."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value

@@ -1,0 +1,171 @@
+"""A compact, picklable record of a sizing result: what studies keep and JSON carries.
+
+The full `SizingResult` keeps every sample's torque for reports and figures
+(megabytes for a long cycle); a `Summary` keeps the answer (a few kB).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from hdselect.base.bounds import expect_type
+from hdselect.sizing.core import JointSizing, SizingResult
+
+
+@dataclass(frozen=True)
+class JointSummary:
+    """One joint's answer.
+
+    Attributes:
+        name: Joint name.
+        unit: The selected unit's id, or None when no unit fits.
+        candidate: The unit the figures below describe: the selected one, else the strongest.
+        feasible: A unit fits.
+        binding: The check with the highest utilization for `candidate`.
+        utilization: Demand over limit of every check for `candidate` [-] (life:
+            required over expected).
+        life_l50_hours: L50 life of `candidate` [h]; None when unlimited.
+        life_l10_hours: L10 life of `candidate` [h]; None when unlimited.
+        motor_peak_torque: Peak motor torque behind `candidate` [N m].
+        motor_rms_torque: RMS motor torque over the cycle [N m].
+        motor_max_speed: Largest input speed [rpm].
+        carried_mass: Gearhead and motor mass carried from joints further out [kg].
+        gravity_loaded: Gravity loads the joint (it backdrives when the input is free).
+        flags: Catalog stand-ins and corrections the figures depend on.
+        slowdown: Smallest uniform slow-down that would fit, when no unit fits; None otherwise
+            or when none helps.
+        motor: Where motors are given, the selected motor's id (None when no pair fits);
+            None without motor data.
+        motor_candidate: Where motors are given, the motor of `candidate`.
+        motor_binding: The motor's check with the highest utilization for `candidate`.
+        inertia_ratio: Load inertia at the motor shaft over the rotor inertia for
+            `candidate` [-] (`hdselect.sizing.core.JointSizing.inertia_ratio`).
+    """
+
+    name: str
+    unit: str | None
+    candidate: str
+    feasible: bool
+    binding: str
+    utilization: dict[str, float]
+    life_l50_hours: float | None
+    life_l10_hours: float | None
+    motor_peak_torque: float
+    motor_rms_torque: float
+    motor_max_speed: float
+    carried_mass: float
+    gravity_loaded: bool
+    flags: tuple[str, ...]
+    slowdown: float | None
+    motor: str | None = None
+    motor_candidate: str | None = None
+    motor_binding: str | None = None
+    inertia_ratio: float | None = None
+
+
+@dataclass(frozen=True)
+class Summary:
+    """A sizing result without its samples.
+
+    Attributes:
+        robot: The robot file.
+        motion: The motion file, or None for a trajectory sized directly.
+        cycle_time: Cycle time [s].
+        samples: Number of samples sized.
+        feasible: Every joint has a unit.
+        options: The assumptions (`hdselect.sizing.options.Options` as a dict).
+        joints: One per sized joint, in the robot's order.
+        root_link: The link held fixed to the world.
+        payload_mass: The payload's mass [kg]; 0 without one.
+        payload_frame: The frame the payload is (or would be) attached to.
+        warnings: The result's warning lines (robot file, motion file, cycle).
+    """
+
+    robot: str
+    motion: str | None
+    cycle_time: float
+    samples: int
+    feasible: bool
+    options: dict[str, Any]
+    joints: tuple[JointSummary, ...]
+    root_link: str = ""
+    payload_mass: float = 0.0
+    payload_frame: str = ""
+    warnings: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain lists, dicts, strings and numbers, ready for strict JSON.
+
+        A number that is not finite (the infinite life of a joint that carries no load)
+        is None, as in the command line's JSON.
+        """
+        return _finite(asdict(self))
+
+
+def summarize(result: SizingResult) -> Summary:
+    """The compact record of a sizing result.
+
+    Args:
+        result: A result of `hdselect.size` or `hdselect.size_trajectory`.
+
+    Returns:
+        Its summary.
+
+    Raises:
+        InputError: `result` is not a SizingResult.
+    """
+    expect_type(result, SizingResult, "result", "a SizingResult (hdselect.size)")
+    return Summary(
+        robot=str(result.robot.path),
+        motion=None if result.motion is None else str(result.motion.path),
+        cycle_time=result.cycle_time,
+        samples=len(result.trajectory.t),
+        feasible=result.feasible,
+        options=asdict(result.options),
+        joints=tuple(_joint(joint) for joint in result.joints),
+        root_link=result.robot.root_link,
+        payload_mass=0.0 if result.robot.payload is None else result.robot.payload.mass,
+        payload_frame=result.robot.payload_frame,
+        warnings=result.warnings,
+    )
+
+
+def _joint(joint: JointSizing) -> JointSummary:
+    chosen = joint.selected or joint.strongest
+    motor = chosen.motor
+    slowdown = joint.slowdown
+    return JointSummary(
+        name=joint.name,
+        unit=None if joint.selected is None else joint.selected.unit.id,
+        candidate=chosen.unit.id,
+        feasible=joint.selected is not None,
+        binding=chosen.binding,
+        utilization={name: float(check.utilization) for name, check in chosen.checks.items()},
+        life_l50_hours=chosen.life_hours,
+        life_l10_hours=chosen.l10_hours,
+        motor_peak_torque=0.0 if motor is None else motor.peak_torque,
+        motor_rms_torque=0.0 if motor is None else motor.rms_torque,
+        motor_max_speed=0.0 if motor is None else motor.max_speed,
+        carried_mass=joint.carried_mass,
+        gravity_loaded=joint.gravity_loaded,
+        flags=tuple(sorted({flag.code for flag in chosen.flags})),
+        slowdown=None if slowdown is None else slowdown.factor,
+        motor=(joint.selected.motor_unit.id if joint.selected is not None
+               and joint.selected.motor_unit is not None else None),
+        motor_candidate=None if chosen.motor_unit is None else chosen.motor_unit.id,
+        motor_binding=chosen.motor_binding,
+        inertia_ratio=joint.inertia_ratio(chosen),
+    )
+
+
+def _finite(value: Any) -> Any:
+    """`value` with every float that is not finite replaced by None, containers walked."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {key: _finite(item) for key, item in value.items()}
+    if isinstance(value, list | tuple):
+        return [_finite(item) for item in value]
+    return value
