@@ -189,7 +189,7 @@ def _max_difference(a, b) -> float:
 def benchmarks(quick: bool) -> list[Benchmark]:
     """Every row, with its fixtures built (imports and planning happen here, untimed)."""
     from hdselect import Options, Payload, load_case, plan, size, size_trajectory
-    from hdselect.catalog.units import load_catalog
+    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.motion.planning.ruckig import sample_profiles
     from hdselect.robot.dynamics import inverse_dynamics
 

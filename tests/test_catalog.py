@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from hdselect.base.errors import InputError
-from hdselect.catalog.units import load_catalog
+from hdselect.catalog.catalogfile import load_catalog
 
 NM_PER_LB_IN = 0.1129848  # DESIGN.md, "The catalog"
 KG_M2_PER_LB_IN2 = 2.9264e-4

@@ -27,12 +27,12 @@ import numpy as np
 import pytest
 
 from hdselect.base.errors import InputError, PlanningError
-from hdselect.catalog.units import load_catalog
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.cli.main import main
 from hdselect.codesign.fastest_cycle import compare_ratios, fastest
 from hdselect.codesign.fastpath import GRID_PER_WAYPOINT
 from hdselect.codesign.pathbounds import PathInfeasible
-from hdselect.motion.motionfile import load_case
+from hdselect.motion.case import load_case
 from hdselect.motion.planning import plan
 from hdselect.motion.planning.toppra import (
     kinematic_constraints,

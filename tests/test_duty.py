@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from hdselect.base.errors import InputError
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.duty import load_duty, size_duty
-from hdselect.catalog.units import load_catalog
 from hdselect.cli.main import main
 
 REPO = Path(__file__).resolve().parents[1]

@@ -18,10 +18,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.motion.motionfile import load_case
+from hdselect.motion.case import load_case
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import cycle_torques, inverse_dynamics
-from hdselect.robot.model import STANDARD_GRAVITY, load_robot
+from hdselect.robot.model import load_robot
+from hdselect.robot.mounting import STANDARD_GRAVITY
 
 REPO = Path(__file__).resolve().parents[1]
 ROBOTS = sorted((REPO / "robots").glob("*.urdf"))

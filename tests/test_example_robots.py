@@ -19,7 +19,7 @@ import pytest
 
 import hdselect
 from hdselect.cli.main import main
-from hdselect.robot.model import STANDARD_GRAVITY
+from hdselect.robot.mounting import STANDARD_GRAVITY
 from hdselect.sizing.records import size_json
 
 

@@ -1,9 +1,10 @@
-"""The README's data-flow diagram is the import graph: no cycle, no module reaching back.
+"""The package tree is the data flow that docs/architecture.md draws.
 
-The diagram under "Where every number comes from" lists the modules in the
-order data flows through them, one step per line. Every import of one hdselect
-module by another (function-local imports included) must point to the same
-line or an earlier one, and the imports must form no cycle.
+The listing under "Packages, in the order data flows" names every package in the
+order data flows through them, and every module of each package in the order its
+imports allow. Every import of an hdselect module (function-local imports
+included) must point to an earlier package, or to an earlier module of its own
+package; so the imports form no cycle.
 """
 
 from __future__ import annotations
@@ -15,19 +16,39 @@ from pathlib import Path
 from test_dynamics import REPO
 
 PACKAGE = REPO / "src" / "hdselect"
+DOC = REPO / "docs" / "architecture.md"
 
 
-def module_name(path: Path) -> str:
-    """``planning`` for planning/__init__.py and planning/ruckig.py alike; else the stem."""
-    relative = path.relative_to(PACKAGE)
-    return relative.parts[0] if len(relative.parts) > 1 else relative.stem
+def listing() -> list[tuple[str, list[str]]]:
+    """Each package of the architecture page, with its modules in order."""
+    section = DOC.read_text().split("## Packages, in the order data flows", 1)[1]
+    block = section.split("```", 2)[1]
+    rows = []
+    for line in block.splitlines():
+        match = re.fullmatch(r"(\w+)/\s+(.*)", line.strip())
+        if match:
+            rows.append((match[1], match[2].split()))
+    return rows
 
 
-def imports() -> dict[str, set[str]]:
-    """Module -> the hdselect modules it imports (modules of a sub-package count as one)."""
-    graph: dict[str, set[str]] = {}
+def module_of(path: Path) -> tuple[str, str] | None:
+    """(package, module) of a source file; a sub-package counts as one module ("planning/")."""
+    parts = path.relative_to(PACKAGE).parts
+    if len(parts) == 1:
+        return None
+    stem = parts[1].removesuffix(".py")
+    if len(parts) > 2:
+        return parts[0], f"{stem}/"
+    return (parts[0], stem) if stem not in ("__init__", "__main__") else (parts[0], "")
+
+
+def imports() -> dict[tuple[str, str], set[tuple[str, str]]]:
+    """(package, module) -> the (package, module) it imports; "" is a package's __init__."""
+    graph: dict[tuple[str, str], set[tuple[str, str]]] = {}
     for path in sorted(PACKAGE.rglob("*.py")):
-        source = module_name(path)
+        source = module_of(path)
+        if source is None:
+            continue
         targets = graph.setdefault(source, set())
         for node in ast.walk(ast.parse(path.read_text(), str(path))):
             names = []
@@ -37,52 +58,45 @@ def imports() -> dict[str, set[str]]:
                 names = [alias.name for alias in node.names]
             for name in names:
                 parts = name.split(".")
-                if parts[0] == "hdselect" and len(parts) > 1:
-                    targets.add(parts[1])
+                if parts[0] != "hdselect" or len(parts) < 2:
+                    continue
+                module = ""
+                if len(parts) > 2:
+                    module = parts[2] + ("/" if (PACKAGE / parts[1] / parts[2]).is_dir() else "")
+                targets.add((parts[1], module))
         targets.discard(source)
-    graph.pop("__init__")  # the package's public face imports from everywhere
     return graph
 
 
-def diagram_lines() -> list[set[str]]:
-    """The modules named on each line of the README's data-flow diagram, in order."""
-    text = (REPO / "README.md").read_text()
-    section = text.split("## Where every number comes from", 1)[1]
-    block = section.split("```", 2)[1]
-    lines = []
-    for line in block.splitlines():
-        names = set(re.findall(r"\b([a-z_]+)(?:\.py|/)", line))
-        if names:
-            lines.append(names)
-    return lines
+def test_every_package_and_module_is_listed_once():
+    rows = listing()
+    packages = [name for name, _ in rows]
+    on_disk = sorted(p.name for p in PACKAGE.iterdir() if (p / "__init__.py").exists())
+    assert sorted(packages) == on_disk and len(set(packages)) == len(packages)
+    listed = {(package, module) for package, modules in rows for module in modules}
+    assert sum(len(modules) for _, modules in rows) == len(listed), "a module is listed twice"
+    found = {key for key in imports() if key[1]}
+    assert listed == found, "the page and the source tree list other modules"
 
 
-def test_every_module_is_in_the_diagram_once():
-    lines = diagram_lines()
-    named = [name for line in lines for name in line]
-    assert sorted(named) == sorted(set(named)), "a module is named twice"
-    assert set(named) == set(imports()), "the diagram and the package list other modules"
-
-
-def test_no_module_imports_one_further_down_the_flow():
-    rank = {name: i for i, line in enumerate(diagram_lines()) for name in line}
-    backwards = [(source, target) for source, targets in imports().items()
-                 for target in targets if rank[target] > rank[source]]
+def test_imports_point_up_the_flow():
+    rows = listing()
+    package_rank = {name: i for i, (name, _) in enumerate(rows)}
+    module_rank = {(name, module): i for name, modules in rows for i, module in enumerate(modules)}
+    backwards = []
+    for source, targets in imports().items():
+        for target in targets:
+            if package_rank[target[0]] > package_rank[source[0]]:
+                backwards.append((source, target))
+            elif (target[0] == source[0] and target[1] and source[1]
+                  and module_rank[target] >= module_rank[source]):
+                backwards.append((source, target))
+            elif target[0] == source[0] and not target[1] and source[1]:
+                backwards.append((source, target))  # a module importing its own package
     assert backwards == []
 
 
-def test_the_imports_form_no_cycle():
-    graph = imports()
-    state: dict[str, str] = {}
-
-    def visit(node: str, path: list[str]) -> None:
-        state[node] = "open"
-        for target in sorted(graph[node]):
-            assert state.get(target) != "open", " -> ".join([*path, node, target])
-            if target not in state:
-                visit(target, [*path, node])
-        state[node] = "done"
-
-    for node in sorted(graph):
-        if node not in state:
-            visit(node, [])
+def test_modules_stay_short():
+    long = {str(path.relative_to(PACKAGE)): n for path in PACKAGE.rglob("*.py")
+            if (n := len(path.read_text().splitlines())) > 450}
+    assert long == {}, "a module over 450 lines holds more than one step"

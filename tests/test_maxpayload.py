@@ -12,10 +12,10 @@ import pytest
 from hdselect.base.errors import InputError
 from hdselect.cli.main import main
 from hdselect.codesign.maxpayload import max_payload, per_kilogram, scaled
-from hdselect.motion.motionfile import load_case
+from hdselect.motion.case import load_case
 from hdselect.motion.planning import plan
 from hdselect.robot.dynamics import inverse_dynamics
-from hdselect.robot.model import Payload
+from hdselect.robot.payload import Payload
 from hdselect.sizing.core import size
 from hdselect.sizing.options import options_for
 from test_dynamics import REPO

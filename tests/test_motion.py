@@ -8,8 +8,10 @@ import numpy as np
 import pytest
 
 from hdselect.base.errors import InputError
-from hdselect.motion.motionfile import load_case, load_motion, robot_for_motion
-from hdselect.robot.model import Payload, load_robot
+from hdselect.motion.case import load_case, robot_for_motion
+from hdselect.motion.motionfile import load_motion
+from hdselect.robot.model import load_robot
+from hdselect.robot.payload import Payload
 
 # --- factories (also used by test_plan.py) ---------------------------------------------------
 

@@ -14,8 +14,8 @@ import pytest
 
 from hdselect import load_case, plan, size, size_trajectory
 from hdselect.base.errors import InputError
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import load_motors
-from hdselect.catalog.units import load_catalog
 from hdselect.cli.main import main
 from hdselect.motion.motionfile import load_motion
 from test_dynamics import REPO

@@ -16,8 +16,8 @@ import pytest
 
 from hdselect import Options, Payload, load_case, plan, size, size_trajectory
 from hdselect.base.errors import InputError
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.select import PREFERENCES
-from hdselect.catalog.units import load_catalog
 from hdselect.cli.main import main
 from hdselect.sizing.options import options_for
 from test_dynamics import J_TABLE, REPO, G

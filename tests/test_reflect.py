@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from hdselect.catalog.units import load_catalog
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, reflect_motors, weighted_demand
 
 

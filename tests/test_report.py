@@ -15,10 +15,10 @@ from pathlib import Path
 import pytest
 
 import hdselect
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.duty import load_duty, size_duty
 from hdselect.catalog.motors import load_motors
 from hdselect.catalog.rules import MOTOR_CHECKS
-from hdselect.catalog.units import load_catalog
 from hdselect.cli.main import main
 from hdselect.report.case_tables import joints_table
 from hdselect.report.catalog_tables import catalog_table, duty_table

@@ -11,7 +11,9 @@ import pinocchio as pin
 import pytest
 
 from hdselect.base.errors import InputError
-from hdselect.robot.model import STANDARD_GRAVITY, Payload, load_robot
+from hdselect.robot.model import load_robot
+from hdselect.robot.mounting import STANDARD_GRAVITY
+from hdselect.robot.payload import Payload
 
 ROBOTS = Path(__file__).resolve().parents[1] / "robots"
 AL, STEEL, SI = 2700.0, 7850.0, 2329.0

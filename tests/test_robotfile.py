@@ -14,7 +14,8 @@ import hdselect
 from hdselect.base.errors import InputError
 from hdselect.cli.main import main
 from hdselect.robot.dynamics import inverse_dynamics
-from hdselect.robot.model import STANDARD_GRAVITY, load_robot
+from hdselect.robot.model import load_robot
+from hdselect.robot.mounting import STANDARD_GRAVITY
 from test_dynamics import REPO
 from test_robot import robot_path
 

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from hdselect.cli.main import main
-from hdselect.motion.motionfile import load_case
+from hdselect.motion.case import load_case
 from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
 from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 

@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.catalog.units import load_catalog
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.robot.model import load_robot
 from hdselect.sizing.core import size
 from hdselect.sizing.records import payload_json, size_json

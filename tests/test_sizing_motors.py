@@ -25,9 +25,9 @@ import pinocchio as pin
 import pytest
 
 from hdselect import Options, load_case, plan, size, size_trajectory, summarize
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor, load_motors
 from hdselect.catalog.select import PREFERENCES
-from hdselect.catalog.units import load_catalog
 from hdselect.cli.main import main
 from hdselect.robot.model import load_robot
 from hdselect.sizing.records import size_json

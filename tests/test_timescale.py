@@ -20,8 +20,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import check_unit, cycle_load
-from hdselect.catalog.units import Unit, load_catalog
+from hdselect.catalog.units import Unit
 from hdselect.robot.model import load_robot
 from hdselect.sizing.reflect import reflect
 from hdselect.sizing.timescale import (

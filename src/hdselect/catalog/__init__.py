@@ -5,9 +5,10 @@ joint's cycle against one unit, `select` chooses among the checked candidates,
 `motors` reads motor files, and `duty` is the catalog page's own phase-by-phase method.
 """
 
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.duty import DutyResult, load_duty, size_duty
 from hdselect.catalog.motors import Motor, load_motors
-from hdselect.catalog.units import SeriesRules, Unit, load_catalog
+from hdselect.catalog.units import SeriesRules, Unit
 
 __all__ = ["DutyResult", "Motor", "SeriesRules", "Unit", "load_catalog", "load_duty",
            "load_motors", "size_duty"]

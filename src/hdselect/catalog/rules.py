@@ -19,21 +19,33 @@ from hdselect.catalog.units import L50_PER_L10, LIFE_BASES, Flag, SeriesRules, U
 
 RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
 """Revolutions per minute in one radian per second."""
+
+
 ALLOWABLE_TORQUE_EXPONENT = 0.33
 """Exponent of the speed-adjusted mean-torque rule, T = (n_rated / N_av)^0.33 T_N."""
+
+
 MOMENTARY_EVENTS_FACTOR = 1.0e4
 """Harmonic Drive's momentary-overload rule: allowed events = 1e4 / (2 (n/60) t)."""
+
+
 MOTOR_CHECKS = ("motor_peak", "motor_rms", "motor_speed")
 """The checks of the motor behind a gearhead, when one is given (`check_motor`)."""
+
+
 CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life",
           *MOTOR_CHECKS)
 """Every check by name, in the order of results and reports. ``life`` is present only
 when a life is required, the motor checks only when a motor is given; the others
 always, with value None where they do not apply."""
+
+
 CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
                 "momentary": "mom.", "static": "static", "life": "life",
                 "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed"}
 """Short names of the checks, for table headers (``m.``: the motor's)."""
+
+
 _CHUNK = 1 << 16
 """Samples summed at a time by `cycle_load`."""
 
@@ -344,14 +356,14 @@ def check_unit(
     allowed, capped = allowable_mean_torque(unit, mean_input_rpm)
     average_limit = unit.max_average_input_speed
     checks = {
-        "peak": _check(load.peak_torque, unit.repeated_torque),
-        "mean": _check(load.mean_torque, allowed, mean_input_speed_rpm=mean_input_rpm,
+        "peak": limit_check(load.peak_torque, unit.repeated_torque),
+        "mean": limit_check(load.mean_torque, allowed, mean_input_speed_rpm=mean_input_rpm,
                        capped_by_repeated=capped),
-        "speed": _check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed),
-        "average_speed": _check(None if average_limit is None else mean_input_rpm,
+        "speed": limit_check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed),
+        "average_speed": limit_check(None if average_limit is None else mean_input_rpm,
                                 math.inf if average_limit is None else average_limit),
         "momentary": _momentary(momentary, unit),
-        "static": _check(load.static_torque, unit.static_torque),
+        "static": limit_check(load.static_torque, unit.static_torque),
     }
     life = (l50_life_hours(unit, load.mean_torque, mean_input_rpm)
             if load.mean_torque is not None else None)
@@ -373,92 +385,9 @@ def check_unit(
     return Candidate(unit, checks, life, flags, motor)
 
 
-def check_motor(motor: Motor, torque: np.ndarray, speed_rpm: np.ndarray,
-                demand: MotorDemand) -> dict[str, Check]:
-    """The motor's rules on what it must deliver behind one gearhead.
-
-    ``motor_peak``: every sample's |T_motor| under the motor's peak torque at that
-    sample's input speed (its curve, or its flat peak torque); the value and limit are
-    those of the worst sample. ``motor_rms``: the RMS torque over the whole cycle, dwells
-    included, at most the rated torque. This is the thermal rule of one cycle repeated
-    back to back, with no thermal model: the motor's thermal time constant is taken as
-    long against the cycle, and the rated torque as the datasheet rates it (its ambient
-    and mounting). ``motor_speed``: the largest input speed at most the motor's maximum.
-    Torque and speed count by magnitude: the motor is taken as symmetric in all four
-    quadrants. With a torque constant the checks carry the currents (I = T / k_t), and
-    with a resistance too the copper loss R I_rms^2.
-
-    Args:
-        motor: The motor.
-        torque: Motor torque per sample [N m], shape (n,).
-        speed_rpm: Input speed per sample [rpm], shape (n,).
-        demand: The cycle's peak and RMS motor torque and largest input speed.
-
-    Returns:
-        The three checks by name, in the order of `MOTOR_CHECKS`.
-    """
-    magnitude = np.abs(torque)
-    allowed = motor.peak_torque_at(speed_rpm)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        share = np.where(magnitude > 0.0, magnitude / allowed, 0.0)
-    k = int(share.argmax()) if share.size else 0
-    peak_detail: dict[str, object] = {"speed_rpm": float(abs(speed_rpm[k])) if share.size
-                                      else 0.0}
-    rms_detail: dict[str, object] = {}
-    if motor.torque_constant is not None:
-        peak_detail["current_a"] = demand.peak_torque / motor.torque_constant
-        rms_current = demand.rms_torque / motor.torque_constant
-        rms_detail["current_a"] = rms_current
-        if motor.resistance is not None:
-            rms_detail["copper_loss_w"] = motor.resistance * rms_current**2
-    peak = (Check(float(magnitude[k]), float(allowed[k]), bool(share[k] <= 1.0), float(share[k]),
-                  peak_detail) if share.size else _check(0.0, motor.peak_torque))
-    return {"motor_peak": peak,
-            "motor_rms": _check(demand.rms_torque, motor.rated_torque, **rms_detail),
-            "motor_speed": _check(demand.max_speed, motor.max_speed)}
-
-
-def with_motor(candidate: Candidate, motor: Motor, torque: np.ndarray,
-               speed_rpm: np.ndarray) -> Candidate:
-    """A gearhead's candidate paired with a motor: its checks plus the motor's.
-
-    Args:
-        candidate: The gearhead checked with this motor's rotor inertia (`check_unit`).
-        motor: The motor.
-        torque: Motor torque per sample behind this gearhead [N m], shape (n,).
-        speed_rpm: Input speed per sample [rpm], shape (n,).
-
-    Returns:
-        The pair, its checks in the order of `CHECKS`.
-    """
-    assert candidate.motor is not None  # the motor demand comes with the reflection
-    checks = {**candidate.checks, **check_motor(motor, torque, speed_rpm, candidate.motor)}
-    return Candidate(candidate.unit, checks, candidate.life_hours, candidate.flags,
-                     candidate.motor, motor)
-
-
-def inertia_ratio(load_inertia: float, unit: Unit, motor: Motor) -> float | None:
-    """Load inertia at the motor shaft over the rotor inertia [-].
-
-    The load at the motor shaft is the joint's output inertia through the ratio plus
-    the gearhead's own input inertia, J_load / N^2 + J_in.
-
-    Args:
-        load_inertia: The joint's output-side inertia J_load [kg m^2].
-        unit: The gearhead.
-        motor: The motor.
-
-    Returns:
-        (J_load / N^2 + J_in) / J_m; None when the rotor inertia is zero.
-    """
-    if motor.rotor_inertia <= 0.0:
-        return None
-    return (load_inertia / unit.ratio**2 + unit.input_inertia) / motor.rotor_inertia
-
-
 def _momentary(event: Momentary | None, unit: Unit) -> Check:
     if event is None:
-        return _check(None, unit.momentary_torque)
+        return limit_check(None, unit.momentary_torque)
     detail: dict[str, object] = {"kind": event.kind}
     if event.speed is not None and event.duration is not None:
         event_rpm = abs(event.speed) * RPM_PER_RAD_S * unit.ratio
@@ -466,9 +395,10 @@ def _momentary(event: Momentary | None, unit: Unit) -> Check:
             event_rpm, event.duration, cap=unit.rules.max_momentary_events)
     if event.time is not None:
         detail["time_s"] = event.time
-    return _check(abs(event.torque), unit.momentary_torque, **detail)
+    return limit_check(abs(event.torque), unit.momentary_torque, **detail)
 
 
-def _check(value: float | None, limit: float, **detail: object) -> Check:
+def limit_check(value: float | None, limit: float, **detail: object) -> Check:
+    """One check: a value against its limit [same unit], utilization = value / limit."""
     utilization = 0.0 if value is None else value / limit
     return Check(value, limit, utilization <= 1.0, utilization, dict(detail))

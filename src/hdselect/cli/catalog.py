@@ -10,7 +10,7 @@ from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written
 
 def run_catalog(args: argparse.Namespace) -> int:
     """``hdselect catalog``: print the catalog."""
-    from hdselect.catalog.units import load_catalog
+    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.report.catalog_tables import catalog_table
     from hdselect.report.export import catalog_json, write_json
 
@@ -25,8 +25,8 @@ def run_catalog(args: argparse.Namespace) -> int:
 def run_duty(args: argparse.Namespace) -> int:
     """``hdselect duty``: the catalog's torque-speed method for one joint."""
     from hdselect.base.outputs import Outputs
+    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.catalog.duty import load_duty, size_duty
-    from hdselect.catalog.units import load_catalog
     from hdselect.report.catalog_tables import duty_table
     from hdselect.report.export import duty_json, write_json
 

@@ -15,7 +15,7 @@ from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_
 def run_fastest(args: argparse.Namespace) -> int:
     """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
     from hdselect.base.outputs import Outputs
-    from hdselect.catalog.units import load_catalog
+    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
     from hdselect.codesign.records import fastest_json, ratios_json
     from hdselect.report.codesign_tables import binding_table, fastest_table, ratios_table
@@ -78,7 +78,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from hdselect.base.outputs import Outputs
-    from hdselect.catalog.units import load_catalog
+    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.records import max_payload_json
     from hdselect.report.codesign_tables import max_payload_text

@@ -120,8 +120,10 @@ def robot_and_motion(args: argparse.Namespace):
     the file's payload (or of the one ``--payload`` makes) and are refused when there is
     none. A payload without a frame goes on the robot's default payload frame.
     """
-    from hdselect.motion.motionfile import load_motion, robot_file_named, robot_for_motion
-    from hdselect.robot.model import Payload, load_robot
+    from hdselect.motion.case import robot_for_motion
+    from hdselect.motion.motionfile import load_motion, robot_file_named
+    from hdselect.robot.model import load_robot
+    from hdselect.robot.payload import Payload
 
     robot = load_robot(args.robot if args.robot is not None else robot_file_named(args.motion))
     motion = load_motion(args.motion, robot)
@@ -179,8 +181,8 @@ def max_samples_of(args: argparse.Namespace) -> int:
 
 def sizing_case(args: argparse.Namespace):
     """The robot, the motion, the catalog, the validated options and the motors."""
+    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.catalog.motors import load_motors
-    from hdselect.catalog.units import load_catalog
     from hdselect.sizing.core import motion_motors
 
     robot, motion = robot_and_motion(args)

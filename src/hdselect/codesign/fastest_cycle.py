@@ -28,7 +28,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
 from hdselect.base.errors import InputError, PlanningError
-from hdselect.catalog.units import Unit, load_catalog
+from hdselect.catalog.catalogfile import load_catalog
+from hdselect.catalog.units import Unit
 from hdselect.codesign.bindings import Binding, bindings
 from hdselect.codesign.cyclerules import derated, run_trial, verified
 from hdselect.codesign.fastpath import PathModel

@@ -5,7 +5,8 @@ into a `Trajectory` sampled on a fixed time grid (`planning`), and `starter` wri
 first motion file for a robot.
 """
 
-from hdselect.motion.motionfile import Motion, load_case, load_motion
+from hdselect.motion.case import load_case
+from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.motion.starter import starter_motion
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -29,28 +29,54 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
-from hdselect.base.tomlfile import as_number, check_keys, join, number, read_toml, table_of
-from hdselect.catalog.motors import MOTOR_KEYS, Motor, load_motors, motor_from_table
+from hdselect.base.tomlfile import check_keys, join, number, read_toml, table_of
+from hdselect.catalog.motors import Motor
+from hdselect.motion.limits import (
+    JointLists,
+    beyond_robot,
+    limit_units,
+    per_joint,
+    vector,
+    velocity_limit,
+)
 from hdselect.motion.logfile import SampleLog, read_log
-from hdselect.robot.model import MOUNTINGS, Payload, Robot, load_robot
+from hdselect.motion.motor_tables import motion_file_motors
+from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.mounting import MOUNTINGS
+from hdselect.robot.payload import Payload
 
 logger = logging.getLogger(__name__)
+
 
 PLANNERS = ("ruckig", "toppra", "samples")
 """Valid values of the ``planner`` key."""
 
+
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
 
+
 _TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "limits", "safety",
              "requirements", "waypoint", "samples", "sizing", "motor")
+
+
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
+
+
 _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity", "acceleration"),
            "samples": ()}
+
+
 _SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis")}
+
+
 _SIZING_KEYS = ("joints", "exclude")
+
+
 LIFE_BASES = ("L50", "L10")
 """Valid values of ``[requirements] life_basis``: L50 (average) or L10 (90 % survival) life."""
+
+
 _ALLOWED = {"ruckig": _NEEDED["ruckig"], "toppra": ("velocity", "acceleration", "torque"),
             "samples": ()}
 
@@ -191,19 +217,19 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
             raise InputError(f"not used by planner '{planner}'; remove it (planner "
                              f"'{planner}' takes: {', '.join(_ALLOWED[planner]) or 'no limits'})",
                              path=path, field=f"limits.{key}")
-    lists = _Lists(robot)
-    lim = {k: frozen(_per_joint(v, robot, path, f"limits.{k}", bound=bounds.MOTION_LIMITS[k],
+    lists = JointLists(robot)
+    lim = {k: frozen(per_joint(v, robot, path, f"limits.{k}", bound=bounds.MOTION_LIMITS[k],
                                 scale=np.ones(robot.dof) if k == "torque" else scale,
-                                units=_limit_units(k, units), lists=lists)
+                                units=limit_units(k, units), lists=lists)
                      * (1.0 if k == "torque" else scale))
            for k, v in limits.items() if k != "velocity"}
     from_robot: tuple[str, ...] = ()
     warnings: list[str] = []
     if "velocity" in _NEEDED[planner]:
-        velocity, from_robot = _velocity_limit(limits.get("velocity"), robot, path, scale, units,
+        velocity, from_robot = velocity_limit(limits.get("velocity"), robot, path, scale, units,
                                                lists, planner)
         lim["velocity"] = frozen(velocity)
-        warnings += _beyond_robot(velocity, robot, scale, units, from_robot)
+        warnings += beyond_robot(velocity, robot, scale, units, from_robot)
     sizing = _sizing(doc, path, robot)
     stop_time = _section(doc, "safety", path).get("stop_time")
     requirements = _section(doc, "requirements", path)
@@ -222,7 +248,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     warnings += lists.warnings()
     for warning in warnings:
         logger.warning("%s: %s", path, warning)
-    motors = _motors(doc["motor"], path, robot) if "motor" in doc else None
+    motors = motion_file_motors(doc["motor"], path, robot) if "motor" in doc else None
     return Motion(
         path=path, joint_names=robot.joint_names, planner=planner, dt=dt,
         waypoints=frozen(waypoints), dwells=frozen(dwells),
@@ -237,104 +263,6 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
     )
-
-
-def robot_for_motion(
-    robot: Robot,
-    motion: Motion,
-    *,
-    payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
-    joints: Sequence[str] | None = None,
-    exclude: Sequence[str] | None = None,
-) -> Robot:
-    """The robot as the motion runs it: payload, mounting and sized joints applied.
-
-    Each of payload and mounting comes from the argument if given, else from the
-    motion file if it gives one, else it is the robot's own. Nothing is dropped in
-    silence: a robot that already carries a payload and a motion file that gives
-    another, with no argument to choose, is an error.
-
-    Args:
-        robot: The robot, as loaded (or already transformed).
-        motion: The motion read for it.
-        payload: Payload overriding the motion file's.
-        mounting: Mounting overriding the motion file's.
-        joints: Joints to size, overriding the file's ``[sizing] joints`` (default: the
-            file's, else the robot's choice).
-        exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
-
-    Returns:
-        The robot to plan and size with.
-
-    Raises:
-        InputError: The joints differ from the motion's, the payload is ambiguous, or
-            its frame does not exist (the message names the file that set it).
-    """
-    bounds.expect_type(robot, Robot, "robot", "a Robot")
-    bounds.expect_type(motion, Motion, "motion", "a Motion")
-    bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
-    motion.check_joints(robot)
-    if payload is None and motion.payload is not None:
-        if robot.payload is not None and robot.payload != motion.payload:
-            raise InputError("the robot already carries a payload and this file gives another;"
-                             " pass the payload to use explicitly", path=motion.path,
-                             field="payload")
-        try:
-            robot = robot.with_payload(motion.payload)
-        except InputError as err:
-            raise InputError(err.reason, path=motion.path, field=err.field) from err
-    elif payload is not None:
-        robot = robot.with_payload(payload)
-    mounting = mounting if mounting is not None else motion.mounting
-    if mounting is not None:
-        robot = robot.with_mounting(mounting)
-    chosen = joints if joints is not None else motion.sized_joints
-    left_out = exclude if exclude is not None else motion.excluded_joints
-    if chosen is not None or left_out:
-        try:
-            robot = robot.with_sized_joints(chosen, left_out)
-        except InputError as err:
-            given = joints if err.field == "joints" else exclude
-            if given is not None or err.field not in ("joints", "exclude"):
-                raise
-            raise InputError(err.reason, path=motion.path, field=f"sizing.{err.field}") from err
-    return robot
-
-
-def load_case(
-    motion: str | Path,
-    robot: Robot | str | Path | None = None,
-    *,
-    payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
-    joints: Sequence[str] | None = None,
-    exclude: Sequence[str] | None = None,
-) -> tuple[Robot, Motion]:
-    """Load a motion file and the robot that runs it, payload and mounting applied.
-
-    Args:
-        motion: The motion file.
-        robot: The robot or its file; None loads the motion file's ``robot``.
-        payload: Payload overriding the motion file's.
-        mounting: Mounting overriding the motion file's.
-        joints: Joints to size, overriding the file's ``[sizing] joints``.
-        exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
-
-    Returns:
-        The robot as the motion runs it (see `robot_for_motion`) and the motion.
-
-    Raises:
-        InputError: A file or option is invalid.
-    """
-    motion_path = bounds.file_argument(motion, "motion")
-    bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
-                       "a Robot, a robot file or None")
-    if not isinstance(robot, Robot):
-        robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
-    loaded = load_motion(motion, robot)
-    return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
-                            joints=joints, exclude=exclude), loaded
 
 
 def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path,
@@ -391,87 +319,6 @@ def robot_file_named(path: str | Path) -> Path:
     return robot
 
 
-def _motors(value: Any, path: Path, robot: Robot) -> Mapping[str, tuple[Motor, ...]]:
-    """``[motor]`` and ``[motor.JOINT]``: the candidate motors of every rotary joint given."""
-    table = table_of(value, path, "motor")
-    own = {}
-    for key, block in table.items():
-        if isinstance(block, dict) and key != "curve":
-            j = robot.joint_index(key, source=path, field=f"motor.{key}")
-            if not robot.revolute[j]:
-                raise InputError(f"'{key}' is a prismatic joint; gearheads and motors are "
-                                 "sized for rotary joints only", path=path, field=f"motor.{key}")
-            own[key] = table_of(block, path, f"motor.{key}")
-    shared = {key: block for key, block in table.items() if key not in own}
-    check_keys(shared, ["catalog", *MOTOR_KEYS], path, "motor")
-    files: dict[Path, tuple[Motor, ...]] = {}
-    shared_catalog = _motor_catalog(shared, path, "motor", files)
-    every = _motor_block(shared, path, "motor", files, None) if shared else None
-    motors: dict[str, tuple[Motor, ...]] = {}
-    for name, revolute in zip(robot.joint_names, robot.revolute, strict=True):
-        if name in own:
-            check_keys(own[name], ["catalog", *MOTOR_KEYS], path, f"motor.{name}")
-            motors[name] = _motor_block(own[name], path, f"motor.{name}", files, shared_catalog)
-        elif every is not None and revolute:
-            motors[name] = every
-    return motors
-
-
-def _motor_catalog(block: dict[str, Any], path: Path, where: str,
-                   files: dict[Path, tuple[Motor, ...]]) -> tuple[Path, tuple[Motor, ...]] | None:
-    """The motor file a block's ``catalog`` names (read once per file), or None."""
-    if "catalog" not in block:
-        return None
-    if not isinstance(block["catalog"], str):
-        raise InputError("expected a motor file name, relative to this file", path=path,
-                         field=f"{where}.catalog")
-    file = path.parent / block["catalog"]
-    if not file.is_file():
-        raise InputError(f"motor file not found: {file}", path=path, field=f"{where}.catalog")
-    key = file.resolve()
-    if key not in files:
-        files[key] = load_motors(file)
-    return file, files[key]
-
-
-def _motor_block(block: dict[str, Any], path: Path, where: str,
-                 files: dict[Path, tuple[Motor, ...]],
-                 shared: tuple[Path, tuple[Motor, ...]] | None) -> tuple[Motor, ...]:
-    """One block's motors: its inline motor, the motor `id` of a catalog, or the whole catalog.
-
-    A joint's block giving only ``id`` looks it up in the ``[motor]`` block's catalog.
-    """
-    data = [key for key in block if key not in ("catalog", "id")]
-    if data:
-        if "catalog" in block:
-            raise InputError("give either a catalog (and an id from it) or the motor's data, "
-                             "not both", path=path, field=f"{where}.catalog")
-        return (motor_from_table(block, path, where, default_id=where),)
-    catalog = _motor_catalog(block, path, where, files) or shared
-    if catalog is None:
-        what = ("an id needs a catalog: give catalog here or in [motor]" if "id" in block else
-                "give catalog (choose from its motors), catalog and id (a fixed motor), or the "
-                "motor's data")
-        raise InputError(what, path=path, field=f"{where}.{'id' if 'id' in block else 'catalog'}")
-    file, motors = catalog
-    if "id" not in block:
-        return motors
-    motor_id = block["id"]
-    found = [motor for motor in motors if motor.id == motor_id]
-    if not found:
-        raise InputError(f"unknown motor id {motor_id!r}; {file.name} has: "
-                         f"{', '.join(motor.id for motor in motors)}", path=path,
-                         field=f"{where}.id")
-    return (found[0],)
-
-
-def _vector(value: Any, size: int, path: Path, field: str) -> list[float]:
-    if not isinstance(value, list) or len(value) != size:
-        raise InputError(f"expected a list of {size} numbers, got {value!r}", path=path,
-                         field=field)
-    return [as_number(v, path, f"{field}[{i}]") for i, v in enumerate(value)]
-
-
 def _payload(value: Any, path: Path) -> Payload:
     table = table_of(value, path, "payload")
     check_keys(table, ("mass", "com", "inertia", "frame"), path, "payload")
@@ -491,148 +338,10 @@ def _mounting(value: Any, path: Path) -> str | tuple[float, float, float]:
                              " or a gravity vector [gx, gy, gz] in m/s^2", path=path,
                              field="mounting")
         return value
-    x, y, z = _vector(value, 3, path, "mounting")
+    x, y, z = vector(value, 3, path, "mounting")
     for i, g in enumerate((x, y, z)):
         bounds.GRAVITY.check(g, path=path, field=f"mounting[{i}]")
     return (x, y, z)
-
-
-class _Lists:
-    """How a motion file's lists map onto joints: the model's order, named in every message.
-
-    Remembers whether the file used a list, to warn once when the model's order is not
-    the order the robot file writes its joints.
-    """
-
-    def __init__(self, robot: Robot):
-        self.robot = robot
-        self.used: list[str] = []
-
-    @property
-    def order(self) -> str:
-        """The joints in list order, for messages."""
-        return f"list order: {', '.join(self.robot.joint_names)}"
-
-    def warnings(self) -> list[str]:
-        """One line if a list was used and the robot file writes its joints in another order."""
-        written = self.robot.file_order
-        if not self.used or written is None or written == self.robot.joint_names:
-            return []
-        return [f"{self.used[0]} and any other list follows the model's joint order "
-                f"({', '.join(self.robot.joint_names)}), not the order the robot file writes "
-                f"them ({', '.join(written)}); tables keyed by joint name avoid the question"]
-
-
-def _per_joint(value: Any, robot: Robot, path: Path, field: str, *, bound: bounds.Bound,
-               scale: np.ndarray, units: Sequence[str], lists: _Lists | None = None
-               ) -> np.ndarray:
-    """One number per joint: from a number (all joints), a list or a table keyed by joint.
-
-    Each value, times its joint's `scale` (SI per file unit), must lie within `bound`.
-    """
-    def read(raw: Any, j: int, where: str) -> float:
-        return as_number(raw, path, where, bound=bound, scale=float(scale[j]), unit=units[j])
-
-    if isinstance(value, dict):
-        for name in value:
-            _joint_key(robot, name, path, f"{field}.{name}")
-        missing = [n for n in robot.joint_names if n not in value]
-        if missing:
-            raise InputError(f"missing joint(s) {', '.join(missing)}; give every joint: "
-                             f"{', '.join(robot.joint_names)}", path=path, field=field)
-        return np.array([read(value[n], j, f"{field}.{n}")
-                         for j, n in enumerate(robot.joint_names)])
-    if isinstance(value, list):
-        lists = lists or _Lists(robot)
-        lists.used.append(field)
-        if len(value) != robot.dof:
-            raise InputError(f"expected {robot.dof} values ({lists.order}), got {len(value)}",
-                             path=path, field=field)
-        numbers = []
-        for j, v in enumerate(value):
-            try:
-                numbers.append(read(v, j, f"{field}[{j}]"))
-            except InputError as err:
-                raise InputError(f"{err.reason} for joint '{robot.joint_names[j]}' ({lists.order})",
-                                 path=path, field=err.field) from err
-        return np.array(numbers)
-    return np.array([read(value, j, field) for j in range(robot.dof)])
-
-
-def _limit_units(kind: str, units: Sequence[str]) -> list[str]:
-    """The unit labels of a ``[limits]`` kind per joint, e.g. ``deg/s^2``."""
-    if kind == "torque":
-        return ["N m" if unit != "m" else "N" for unit in units]
-    power = {"velocity": "/s", "acceleration": "/s^2", "jerk": "/s^3"}[kind]
-    return [unit + power for unit in units]
-
-
-def _joint_key(robot: Robot, name: str, path: Path, field: str) -> None:
-    """Reject a table key that is not a degree of freedom (a mimic follower explained)."""
-    if name in robot.mimic:
-        raise InputError(f"joint '{name}' follows '{robot.mimic[name].leader}' (mimic); give "
-                         "its leader instead", path=path, field=field)
-    robot.joint_index(name, source=path, field=field)
-
-
-def _velocity_limit(value: Any, robot: Robot, path: Path, scale: np.ndarray,
-                    units: Sequence[str], lists: _Lists,
-                    planner: str) -> tuple[np.ndarray, tuple[str, ...]]:
-    """Velocity limits [rad/s or m/s]: the file's, else per joint the robot file's.
-
-    Every limit, the robot file's included, lies within ``bounds.MOTION_LIMITS["velocity"]``.
-
-    Returns:
-        The limits and the joints whose limit came from the robot file.
-
-    Raises:
-        InputError: A joint has neither (the message names them), or a limit is out of range.
-    """
-    bound = bounds.MOTION_LIMITS["velocity"]
-    labels = _limit_units("velocity", units)
-    urdf = np.where((robot.velocity_limit > 0.0) & np.isfinite(robot.velocity_limit),
-                    robot.velocity_limit, np.nan)
-    if value is None:
-        given: dict[str, Any] = {}
-    elif isinstance(value, dict):
-        given = value
-    else:
-        return _per_joint(value, robot, path, "limits.velocity", bound=bound, scale=scale,
-                          units=labels, lists=lists) * scale, ()
-    for name in given:
-        _joint_key(robot, name, path, f"limits.velocity.{name}")
-    missing = [n for n in robot.joint_names if n not in given]
-    lacking = [n for n in missing if np.isnan(urdf[robot.joint_index(n)])]
-    if lacking:
-        raise InputError(f"required by planner '{planner}' for {', '.join(lacking)}: the robot "
-                         "file gives no velocity limit there", path=path, field="limits.velocity")
-    for name in missing:
-        j = robot.joint_index(name)
-        try:
-            bound.check(float(urdf[j]), path=robot.path, field=f"joint[{name}].limit.velocity")
-        except InputError as err:
-            raise InputError(f"{err.reason} (used for {path.name}'s limits.velocity; give the "
-                             "limit there)", path=robot.path, field=err.field) from err
-    velocity = urdf.copy()
-    for name, limit in given.items():
-        j = robot.joint_index(name)
-        velocity[j] = as_number(limit, path, f"limits.velocity.{name}", bound=bound,
-                                scale=float(scale[j]), unit=labels[j]) * scale[j]
-    return velocity, tuple(missing)
-
-
-def _beyond_robot(velocity: np.ndarray, robot: Robot, scale: np.ndarray, units: list[str],
-                  from_robot: tuple[str, ...]) -> list[str]:
-    """One line per joint whose velocity limit exceeds the robot file's."""
-    lines = []
-    for j, name in enumerate(robot.joint_names):
-        urdf = robot.velocity_limit[j]
-        if name in from_robot or not (0.0 < urdf < np.inf) or velocity[j] <= urdf * (1 + 1e-9):
-            continue
-        lines.append(f"limits.velocity: joint '{name}' may move at {velocity[j] / scale[j]:g} "
-                     f"{units[j]}/s, above the robot file's velocity limit "
-                     f"{urdf / scale[j]:.4g} {units[j]}/s")
-    return lines
 
 
 def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[str, ...]]:
@@ -656,7 +365,7 @@ def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[st
 
 
 def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: list[str],
-               lists: _Lists):
+               lists: JointLists):
     if not isinstance(value, list) or len(value) < 2:
         raise InputError("give at least two [[waypoint]] tables", path=path, field="waypoint")
     points, dwells = [], []
@@ -669,7 +378,7 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
         if not isinstance(table["q"], list | dict):
             raise InputError("expected a list or a table keyed by joint name", path=path,
                              field=f"{where}.q")
-        given = _per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
+        given = per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
                            scale=scale, units=units, lists=lists)
         q = given * scale
         for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):

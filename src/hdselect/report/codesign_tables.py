@@ -10,9 +10,7 @@ import math
 import numpy as np
 from rich.markup import escape
 
-from hdselect.catalog.rules import (
-    CHECK_LABELS,
-)
+from hdselect.catalog.rules import CHECK_LABELS
 from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
 from hdselect.motion.motionfile import Motion

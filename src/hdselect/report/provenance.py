@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hdselect.robot.model import MOUNTINGS
+from hdselect.robot.mounting import MOUNTINGS
 from hdselect.sizing.core import SizingResult
 
 DEG_PER_RAD = 180.0 / math.pi

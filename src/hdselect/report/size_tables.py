@@ -16,9 +16,7 @@ from hdselect.catalog.rules import (
     CycleLoad,
     MotorDemand,
 )
-from hdselect.catalog.units import (
-    Unit,
-)
+from hdselect.catalog.units import Unit
 from hdselect.report.case_tables import case_notes
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import (

@@ -11,11 +11,7 @@ from collections.abc import Iterable
 
 from rich.console import Console
 
-from hdselect.catalog.rules import (
-    CHECK_LABELS,
-    Candidate,
-    Check,
-)
+from hdselect.catalog.rules import CHECK_LABELS, Candidate, Check
 from hdselect.report.tables import console_for
 
 DEG_PER_RAD = 180.0 / math.pi

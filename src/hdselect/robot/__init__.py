@@ -6,6 +6,7 @@ immutable `Robot` (`model`) that payload and mounting variants are made from;
 """
 
 from hdselect.robot.joints import JointInfo, describe_joints
-from hdselect.robot.model import Payload, Robot, load_robot
+from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.payload import Payload
 
 __all__ = ["JointInfo", "Payload", "Robot", "describe_joints", "load_robot"]

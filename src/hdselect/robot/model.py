@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import logging
 import math
-import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -21,83 +20,18 @@ from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.robot.checks import model_limit
+from hdselect.robot.mounting import gravity_of
+from hdselect.robot.payload import Payload, payload_frame, tip_frame
 from hdselect.robot.reading import Mimic, read_robot_file
 
 logger = logging.getLogger(__name__)
 
-STANDARD_GRAVITY = 9.80665
-"""Standard gravity [m/s^2]."""
-
-MOUNTINGS = {
-    "floor": (0.0, 0.0, -STANDARD_GRAVITY),
-    "ceiling": (0.0, 0.0, STANDARD_GRAVITY),
-    "wall": (-STANDARD_GRAVITY, 0.0, 0.0),
-}
-"""Gravity in the base frame [m/s^2] for each named mounting. On a wall the base z
-axis is horizontal and gravity points along the base's -x axis."""
 
 _REVOLUTE = ("RX", "RY", "RZ", "RevoluteUnaligned", "RUBX", "RUBY", "RUBZ",
              "RevoluteUnboundedUnaligned")
+
+
 _PRISMATIC = ("PX", "PY", "PZ", "PrismaticUnaligned")
-
-
-@dataclass(frozen=True)
-class Payload:
-    """A rigid payload attached to a frame of the robot.
-
-    Attributes:
-        mass: Mass [kg], positive.
-        com: Centre of mass in the frame it is attached to [m], shape (3,).
-        inertia: Rotational inertia about the centre of mass, frame axes [kg m^2], (3, 3),
-            symmetric positive semi-definite.
-        frame: Name of the frame it is attached to; None means the tip of the longest chain
-            of sized joints (`Robot.default_payload_frame`).
-
-    Raises:
-        InputError: A value is not finite or not physical (the field names it).
-    """
-
-    mass: float
-    com: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    inertia: tuple[tuple[float, ...], ...] = ((0.0,) * 3,) * 3
-    frame: str | None = None
-
-    def __post_init__(self) -> None:
-        mass = float(_finite_array(self.mass, (), "payload.mass", bounds.MASS))
-        com = _finite_array(self.com, (3,), "payload.com", bounds.LENGTH)
-        inertia = _finite_array(self.inertia, (3, 3), "payload.inertia", bounds.INERTIA)
-        if not np.allclose(inertia, inertia.T) or np.linalg.eigvalsh(inertia)[0] < -1e-12:
-            raise InputError("must be symmetric positive semi-definite [kg m^2]",
-                             field="payload.inertia")
-        if self.frame is not None and (not isinstance(self.frame, str) or not self.frame):
-            raise InputError(f"expected a frame name, got {self.frame!r}", field="payload.frame")
-        object.__setattr__(self, "mass", mass)
-        object.__setattr__(self, "com", tuple(float(c) for c in com))
-        object.__setattr__(self, "inertia", tuple(tuple(float(v) for v in row)
-                                                  for row in inertia))
-
-
-def _finite_array(value: object, shape: tuple[int, ...], field: str,
-                  bound: bounds.Bound) -> np.ndarray:
-    """`value` as a float array of `shape`, every element finite and within `bound`.
-
-    Raises:
-        InputError: It is not.
-    """
-    if isinstance(value, bool | str | bytes) or (
-            isinstance(value, Sequence) and any(isinstance(v, bool | str | bytes) for v in value)):
-        raise InputError(f"expected numbers, got {value!r}", field=field)
-    try:
-        array = np.asarray(value, dtype=float)
-    except (TypeError, ValueError, OverflowError) as err:
-        raise InputError(f"expected numbers, got {value!r}", field=field) from err
-    if array.shape != shape:
-        raise InputError(f"expected shape {shape or 'a single number'}, got {value!r}",
-                         field=field)
-    for index in np.ndindex(shape):
-        where = field + "".join(f"[{i}]" for i in index)
-        bound.check(float(array[index]), field=where)
-    return array
 
 
 @dataclass(frozen=True, eq=False)
@@ -271,7 +205,7 @@ class Robot:
         moves rigidly (a link named like ``tool0``, ``*_tcp``, ``ee_link``,
         ``end_effector``, ``flange``), else that joint's own link.
         """
-        return _tip_frame(self._bare_model, self.sized_joints)
+        return tip_frame(self._bare_model, self.sized_joints)
 
     @property
     def payload_frame(self) -> str:
@@ -302,7 +236,7 @@ class Robot:
         bare = self._bare_model
         model = pin.Model(bare)
         if robot.payload is not None:
-            frame = _payload_frame(model, robot.payload, robot.path, robot.default_payload_frame)
+            frame = payload_frame(model, robot.payload, robot.path, robot.default_payload_frame)
             model.appendBodyToJoint(frame.parentJoint, pin.Inertia(
                 robot.payload.mass, np.array(robot.payload.com), np.array(robot.payload.inertia)),
                 frame.placement)
@@ -374,8 +308,6 @@ def load_robot(
     if skipped:
         logger.info("prismatic joints are reported but not sized: %s", ", ".join(skipped))
     return robot._rebuilt(payload=payload)
-
-
 
 
 def _joints(model: pin.Model, path: Path):
@@ -467,74 +399,3 @@ def _known(robot: Robot, name: str, option: str) -> None:
     if name not in robot.joint_names:
         raise InputError(f"unknown joint '{name}'; joints are: {', '.join(robot.joint_names)}",
                          path=robot.path, field=option)
-
-
-def gravity_of(mounting: str | Sequence[float]) -> np.ndarray:
-    """Gravity in the base frame [m/s^2] for a named mounting or a gravity vector.
-
-    Raises:
-        InputError: The mounting is neither a known name nor three finite numbers.
-    """
-    if isinstance(mounting, str):
-        if mounting not in MOUNTINGS:
-            raise InputError(f"unknown mounting '{mounting}'; choose one of: "
-                             f"{', '.join(MOUNTINGS)} or a gravity vector", field="mounting")
-        return np.array(MOUNTINGS[mounting])
-    if isinstance(mounting, bytes) or (
-            isinstance(mounting, Sequence) and any(isinstance(g, bool | str | bytes)
-                                                   for g in mounting)):
-        raise InputError("gravity must be three finite numbers [m/s^2]", field="mounting")
-    try:
-        gravity = np.asarray(mounting, dtype=float)
-    except (TypeError, ValueError, OverflowError) as err:
-        raise InputError("gravity must be three finite numbers [m/s^2]",
-                         field="mounting") from err
-    if gravity.shape != (3,) or not np.all(np.isfinite(gravity)):
-        raise InputError("gravity must be three finite numbers [m/s^2]", field="mounting")
-    for i, value in enumerate(gravity):
-        bounds.GRAVITY.check(float(value), field=f"mounting[{i}]")
-    return gravity
-
-
-def _payload_frame(model: pin.Model, payload: Payload, path: Path, default: str) -> pin.Frame:
-    """The frame a payload is attached to: its own, or `default`."""
-    frame_name = payload.frame or default
-    if not model.existFrame(frame_name):
-        bodies = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
-        raise InputError(f"unknown frame '{frame_name}' for the payload; links are: "
-                         f"{', '.join(bodies)}", path=path, field="payload.frame")
-    frame = model.frames[model.getFrameId(frame_name)]
-    if frame.parentJoint == 0:
-        raise InputError(f"frame '{frame_name}' does not move; a payload there loads no joint",
-                         path=path, field="payload.frame")
-    return frame
-
-
-_TOOL_FRAMES = ("tcp", "tool0", "tool", "end_effector", "endeffector", "eef", "ee_link", "ee",
-                "flange")
-"""Name parts of the frames users attach tools to, in order of preference."""
-
-
-def _tip_frame(model: pin.Model, sized: Sequence[str]) -> str:
-    """The tip of the longest chain of `sized` joints (see `default_payload_frame`).
-
-    Of the links its last joint moves rigidly, a tool frame (named like one of
-    `_TOOL_FRAMES`) wins, else the joint's own link. With no sized joint, the
-    deepest joint of the model ends the chain.
-    """
-    chosen = set(sized)
-    best, best_length = model.njoints - 1, -1
-    for joint_id in range(1, model.njoints):
-        if model.names[joint_id] in chosen:
-            length = sum(model.names[k] in chosen for k in model.supports[joint_id])
-            if length > best_length:
-                best, best_length = joint_id, length
-    if best_length < 0:
-        best = max(range(1, model.njoints), key=lambda j: (len(model.supports[j]), j))
-    links = [f.name for f in model.frames
-             if f.type == pin.FrameType.BODY and f.parentJoint == best]
-    for part in _TOOL_FRAMES:
-        for link in links:
-            if re.search(rf"(^|[^a-z]){part}([^a-z]|$)", link.lower()):
-                return link
-    return links[0]

@@ -20,22 +20,18 @@ import numpy as np
 from hdselect.base.arrays import frozen, readonly
 from hdselect.base.bounds import expect_type, files_argument
 from hdselect.base.errors import InputError
+from hdselect.catalog.catalogfile import load_catalog
+from hdselect.catalog.motor_rules import inertia_ratio, with_motor
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import (
-    RPM_PER_RAD_S,
-    Candidate,
-    CycleLoad,
-    check_unit,
-    cycle_load,
-    inertia_ratio,
-    with_motor,
-)
+from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, CycleLoad, check_unit, cycle_load
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
-from hdselect.catalog.units import Unit, load_catalog
-from hdselect.motion.motionfile import Motion, load_case, robot_for_motion
+from hdselect.catalog.units import Unit
+from hdselect.motion.case import load_case, robot_for_motion
+from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import CycleTorques, cycle_torques, gravity_torques, joint_inertias
-from hdselect.robot.model import Payload, Robot, load_robot
+from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.payload import Payload
 from hdselect.sizing.loads import JointLoad, joint_loads
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.reflect import reflect, reflect_motors

@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 
 from hdselect.base.arrays import frozen
+from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load, with_motor
+from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load
 from hdselect.catalog.units import Unit
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 

@@ -15,9 +15,10 @@ from pathlib import Path
 from typing import Any
 
 from hdselect.base.errors import InputError
+from hdselect.study.case import Case
 from hdselect.study.compute import COMPUTATIONS, Computation, Outcome
 from hdselect.study.run import StudyRun, run_study
-from hdselect.study.spec import Case, Study, load_study
+from hdselect.study.spec import Study, load_study
 from hdselect.study.store import table
 
 __all__ = ["COMPUTATIONS", "Case", "Computation", "Outcome", "Study", "StudyRun", "load_study",

@@ -30,19 +30,22 @@ from pathlib import Path
 from typing import Any
 
 from hdselect.base.errors import HdselectError, InputError
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor, load_motors
-from hdselect.catalog.units import Unit, load_catalog
+from hdselect.catalog.units import Unit
 from hdselect.codesign.fastest_cycle import fastest, resolve_units
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
-from hdselect.motion.motionfile import Motion, load_motion, robot_file_named, robot_for_motion
+from hdselect.motion.case import robot_for_motion
+from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
 from hdselect.motion.planning import Trajectory, plan
-from hdselect.robot.model import Payload, Robot, load_robot
+from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.payload import Payload
 from hdselect.sizing.core import motion_motors, size_trajectory
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.summary import Summary, summarize
+from hdselect.study.case import Case
 from hdselect.study.group import build_basis, plan_depends_on_payload, size_case
-from hdselect.study.spec import Case
 
 MIN_GROUP = 4
 """Cases of one robot and path from which a group is evaluated from a shared basis: below

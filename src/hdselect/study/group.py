@@ -34,6 +34,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from hdselect.base.arrays import frozen
+from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import (
     RPM_PER_RAD_S,
@@ -42,14 +43,14 @@ from hdselect.catalog.rules import (
     Momentary,
     check_unit,
     cycle_load,
-    with_motor,
 )
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import inverse_dynamics, joint_inertias
-from hdselect.robot.model import Payload, Robot
+from hdselect.robot.model import Robot
+from hdselect.robot.payload import Payload
 from hdselect.sizing.core import (
     GRAVITY_LOADED,
     GRAVITY_SAMPLES,  # the core's own choices, so that a grouped case equals it

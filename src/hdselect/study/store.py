@@ -23,8 +23,9 @@ from typing import Any, TextIO
 
 from hdselect.base.errors import InputError
 from hdselect.base.outputs import writable_target, write_file
+from hdselect.study.case import Case
 from hdselect.study.compute import COMPUTATIONS, Outcome
-from hdselect.study.spec import Case, Study
+from hdselect.study.spec import Study
 
 STATUS_COLUMNS = ("case", "compute", "status", "error")
 """Columns before the case's parameters."""

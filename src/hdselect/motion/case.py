@@ -1,0 +1,110 @@
+"""A robot and its motion together: the motion file's payload, mounting and joints applied."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from hdselect.base import bounds
+from hdselect.base.errors import InputError
+from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
+from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.payload import Payload
+
+
+def robot_for_motion(
+    robot: Robot,
+    motion: Motion,
+    *,
+    payload: Payload | None = None,
+    mounting: str | Sequence[float] | None = None,
+    joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
+) -> Robot:
+    """The robot as the motion runs it: payload, mounting and sized joints applied.
+
+    Each of payload and mounting comes from the argument if given, else from the
+    motion file if it gives one, else it is the robot's own. Nothing is dropped in
+    silence: a robot that already carries a payload and a motion file that gives
+    another, with no argument to choose, is an error.
+
+    Args:
+        robot: The robot, as loaded (or already transformed).
+        motion: The motion read for it.
+        payload: Payload overriding the motion file's.
+        mounting: Mounting overriding the motion file's.
+        joints: Joints to size, overriding the file's ``[sizing] joints`` (default: the
+            file's, else the robot's choice).
+        exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
+
+    Returns:
+        The robot to plan and size with.
+
+    Raises:
+        InputError: The joints differ from the motion's, the payload is ambiguous, or
+            its frame does not exist (the message names the file that set it).
+    """
+    bounds.expect_type(robot, Robot, "robot", "a Robot")
+    bounds.expect_type(motion, Motion, "motion", "a Motion")
+    bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
+    motion.check_joints(robot)
+    if payload is None and motion.payload is not None:
+        if robot.payload is not None and robot.payload != motion.payload:
+            raise InputError("the robot already carries a payload and this file gives another;"
+                             " pass the payload to use explicitly", path=motion.path,
+                             field="payload")
+        try:
+            robot = robot.with_payload(motion.payload)
+        except InputError as err:
+            raise InputError(err.reason, path=motion.path, field=err.field) from err
+    elif payload is not None:
+        robot = robot.with_payload(payload)
+    mounting = mounting if mounting is not None else motion.mounting
+    if mounting is not None:
+        robot = robot.with_mounting(mounting)
+    chosen = joints if joints is not None else motion.sized_joints
+    left_out = exclude if exclude is not None else motion.excluded_joints
+    if chosen is not None or left_out:
+        try:
+            robot = robot.with_sized_joints(chosen, left_out)
+        except InputError as err:
+            given = joints if err.field == "joints" else exclude
+            if given is not None or err.field not in ("joints", "exclude"):
+                raise
+            raise InputError(err.reason, path=motion.path, field=f"sizing.{err.field}") from err
+    return robot
+
+
+def load_case(
+    motion: str | Path,
+    robot: Robot | str | Path | None = None,
+    *,
+    payload: Payload | None = None,
+    mounting: str | Sequence[float] | None = None,
+    joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
+) -> tuple[Robot, Motion]:
+    """Load a motion file and the robot that runs it, payload and mounting applied.
+
+    Args:
+        motion: The motion file.
+        robot: The robot or its file; None loads the motion file's ``robot``.
+        payload: Payload overriding the motion file's.
+        mounting: Mounting overriding the motion file's.
+        joints: Joints to size, overriding the file's ``[sizing] joints``.
+        exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
+
+    Returns:
+        The robot as the motion runs it (see `robot_for_motion`) and the motion.
+
+    Raises:
+        InputError: A file or option is invalid.
+    """
+    motion_path = bounds.file_argument(motion, "motion")
+    bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
+                       "a Robot, a robot file or None")
+    if not isinstance(robot, Robot):
+        robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
+    loaded = load_motion(motion, robot)
+    return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
+                            joints=joints, exclude=exclude), loaded
