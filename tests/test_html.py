@@ -14,7 +14,7 @@ import pytest
 
 from browser import Browser, chromium
 from hdselect.cli.main import main
-from hdselect.report.html import FAIL_COLOURS, PASS_COLOURS, utilization_colour
+from hdselect.report.colours import FAIL_COLOURS, PASS_COLOURS, utilization_colour
 from test_report import LONG, ros_arm
 
 CREATED = re.compile(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ")

@@ -46,6 +46,9 @@ CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed
 """Short names of the checks, for table headers (``m.``: the motor's)."""
 
 
+REST_FRACTION = 1e-3
+"""A joint is at rest (input held) where both its speed and its acceleration are below
+this fraction of their largest values in the cycle [-]."""
 _CHUNK = 1 << 16
 """Samples summed at a time by `cycle_load`."""
 
@@ -402,3 +405,18 @@ def limit_check(value: float | None, limit: float, **detail: object) -> Check:
     """One check: a value against its limit [same unit], utilization = value / limit."""
     utilization = 0.0 if value is None else value / limit
     return Check(value, limit, utilization <= 1.0, utilization, dict(detail))
+
+
+def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """Samples where a joint is held still: speed and acceleration both negligible.
+
+    Args:
+        qd: The joint's speed [rad/s], shape (n,).
+        qdd: The joint's acceleration [rad/s^2], shape (n,).
+
+    Returns:
+        True where both are at most `REST_FRACTION` of their largest values.
+    """
+    speed, acceleration = np.abs(qd), np.abs(qdd)
+    return ((speed <= REST_FRACTION * speed.max())
+            & (acceleration <= REST_FRACTION * acceleration.max()))

@@ -15,10 +15,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hdselect.catalog.rules import at_rest
 from hdselect.codesign.cyclerules import Trial
 from hdselect.codesign.fastpath import PathModel
 from hdselect.codesign.pathbounds import JointLimits
-from hdselect.sizing.core import SizingResult, at_rest
+from hdselect.sizing.result import SizingResult
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hdselect.catalog.rules import Candidate, check_unit, cycle_load
+from hdselect.catalog.rules import Candidate, at_rest, check_unit, cycle_load
 from hdselect.catalog.units import Unit
 from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, solve
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
@@ -31,9 +31,10 @@ from hdselect.motion.planning import Trajectory
 from hdselect.motion.planning.toppra import Profile
 from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
-from hdselect.sizing.core import SizingResult, at_rest, check_units
+from hdselect.sizing.core import check_units
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import reflect
+from hdselect.sizing.result import SizingResult
 from hdselect.sizing.timescale import S_MAX, ScalableCycle, exact_scales
 
 WHOLE_CYCLE_RULES = ("mean", "life", "average_speed")

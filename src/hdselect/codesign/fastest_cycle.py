@@ -37,8 +37,9 @@ from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limi
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
 from hdselect.robot.model import Robot
-from hdselect.sizing.core import SizingResult, size_trajectory
+from hdselect.sizing.core import size_trajectory
 from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.result import SizingResult
 
 OPTIMAL_WITHIN = 1e-3
 """A cycle at most this fraction longer than the optimum counts as the optimum: the

@@ -29,15 +29,16 @@ import numpy as np
 
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.rules import RPM_PER_RAD_S, allowable_mean_torque
+from hdselect.catalog.rules import RPM_PER_RAD_S, allowable_mean_torque, at_rest
 from hdselect.catalog.units import L50_PER_L10, Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.core import SizingResult, at_rest, size_trajectory
+from hdselect.sizing.core import size_trajectory
 from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.result import SizingResult
 
 Interval = tuple[float, float]
 """A closed interval of payload masses (lo, hi) [kg]; hi may be math.inf."""

@@ -18,47 +18,20 @@ from collections.abc import Mapping, Sequence
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.units import Flag
 from hdselect.report.case_tables import case_notes
+from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
 from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
-from hdselect.sizing.core import JointSizing, SizingResult
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.records import MOTOR_MODEL_NOTE, assumptions, base_text
+from hdselect.sizing.result import JointSizing, SizingResult
 
-PASS_COLOURS = ((0.0, "#f7fbff"), (0.5, "#9ecae1"), (1.0, "#2166ac"))
-"""Utilization (0 to 1) -> colour of a passing cell: ColorBrewer Blues."""
-FAIL_COLOURS = ((1.0, "#fdb863"), (1.5, "#e66101"), (2.0, "#7f3b08"))
-"""Utilization (above 1, clipped at 2) -> colour of a failing cell: ColorBrewer PuOr's oranges."""
 _UNITS = {"peak": "N m", "mean": "N m", "speed": "rpm", "average_speed": "rpm",
           "momentary": "N m", "static": "N m", "life": "h", "motor_peak": "N m",
           "motor_rms": "N m", "motor_speed": "rpm"}
+
+
 esc = html.escape
-
-
-def utilization_colour(utilization: float) -> str:
-    """The colour of a utilization on the report's scale, as ``#rrggbb``.
-
-    Args:
-        utilization: Demand over limit [-]; above 1 fails.
-    """
-    anchors = PASS_COLOURS if utilization <= 1.0 else FAIL_COLOURS
-    u = min(max(utilization, anchors[0][0]), anchors[-1][0])
-    for (u0, c0), (u1, c1) in zip(anchors, anchors[1:], strict=False):
-        if u <= u1:
-            f = (u - u0) / (u1 - u0)
-            rgb = [round(a + f * (b - a)) for a, b in zip(_rgb(c0), _rgb(c1), strict=True)]
-            return "#" + "".join(f"{v:02x}" for v in rgb)
-    return anchors[-1][1]
-
-
-def _rgb(colour: str) -> tuple[int, int, int]:
-    return int(colour[1:3], 16), int(colour[3:5], 16), int(colour[5:7], 16)
-
-
-def _ink(colour: str) -> str:
-    """Black or white, whichever reads on `colour`."""
-    r, g, b = _rgb(colour)
-    return "#000" if 0.299 * r + 0.587 * g + 0.114 * b > 140 else "#fff"
 
 
 def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
@@ -286,7 +259,7 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
         if not over:
             return text
         colour = utilization_colour(figure / limit)
-        return (f"<td class=fail style='background-color:{colour};color:{_ink(colour)}' "
+        return (f"<td class=fail style='background-color:{colour};color:{ink(colour)}' "
                 f"title='above the robot file&#x27;s limit'>{text} ✗</td>")
 
     def limit(figure: float, unit: str) -> str:
@@ -322,7 +295,7 @@ def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
         figures += f", {kind.replace('emergency ', '')}"
     small = f"<small>{esc(figures)}</small>" if detail else ""
     return (f"<td class='u {state}' data-check='{name}' {where} style='background-color:{colour};"
-            f"color:{_ink(colour)}' title='{esc(figures)}'>{esc(text)}{small}</td>")
+            f"color:{ink(colour)}' title='{esc(figures)}'>{esc(text)}{small}</td>")
 
 
 def number(value: float) -> str:

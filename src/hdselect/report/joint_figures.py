@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from hdselect.catalog.rules import RPM_PER_RAD_S
+from hdselect.catalog.rules import RPM_PER_RAD_S, at_rest
 from hdselect.report.figures import ALLOWED, MEAN, MOVING, REST, STOP, envelope, extremes
 from hdselect.report.terminal import ratio_text, utilization_text
-from hdselect.sizing.core import JointSizing, SizingResult, at_rest
+from hdselect.sizing.result import JointSizing, SizingResult
 
 _SHOW_BINDING = 0.25
 """From this utilization on, the binding rule's limit is always on the axis [-]."""

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from hdselect.robot.mounting import MOUNTINGS
-from hdselect.sizing.core import SizingResult
+from hdselect.sizing.result import SizingResult
 
 DEG_PER_RAD = 180.0 / math.pi
 _SOFTWARE = ("pin", "ruckig", "toppra", "numpy", "scipy", "matplotlib")

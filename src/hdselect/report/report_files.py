@@ -9,7 +9,7 @@ from hdselect.base.errors import InputError
 from hdselect.base.outputs import Outputs
 from hdselect.report.figures import png_bytes
 from hdselect.report.joint_figures import joint_figure, motor_figure
-from hdselect.sizing.core import SizingResult
+from hdselect.sizing.result import SizingResult
 
 
 def write_report(directory: str | Path, result: SizingResult, *,

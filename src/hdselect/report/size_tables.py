@@ -27,9 +27,9 @@ from hdselect.report.terminal import (
     utilization_text,
     verdict,
 )
-from hdselect.sizing.core import JointSizing, SizingResult
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.records import assumptions, base_text
+from hdselect.sizing.result import JointSizing, SizingResult
 
 
 def candidates_table(title: str, candidates: Iterable[Candidate], selected: Candidate | None,

@@ -6,8 +6,9 @@ finds the slow-down a unit needs, `loads` lists every joint against its robot-fi
 limits, and `summary` keeps a compact record of a result.
 """
 
-from hdselect.sizing.core import JointSizing, SizingResult, check_units, size, size_trajectory
+from hdselect.sizing.core import check_units, size, size_trajectory
 from hdselect.sizing.options import Options
+from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.summary import Summary, summarize
 
 __all__ = ["JointSizing", "Options", "SizingResult", "Summary", "check_units", "size",

@@ -10,9 +10,8 @@ pair's mass is carried. `size` is load + plan + `size_trajectory`. Every front e
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -21,9 +20,9 @@ from hdselect.base.arrays import frozen, readonly
 from hdselect.base.bounds import expect_type, files_argument
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.motor_rules import inertia_ratio, with_motor
+from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, CycleLoad, check_unit, cycle_load
+from hdselect.catalog.rules import RPM_PER_RAD_S, at_rest, check_unit, cycle_load
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
 from hdselect.motion.case import load_case, robot_for_motion
@@ -32,160 +31,27 @@ from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import CycleTorques, cycle_torques, gravity_torques, joint_inertias
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.loads import JointLoad, joint_loads
+from hdselect.sizing.arguments import check_trajectory, checked_motors, units_argument
+from hdselect.sizing.loads import joint_loads
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.reflect import reflect, reflect_motors
-from hdselect.sizing.timescale import JointScales, ScalableCycle, Slowdown, joint_scales
+from hdselect.sizing.result import JointSizing, Motors, SizingResult
+from hdselect.sizing.slowdown import with_slowdowns
 
-REST_FRACTION = 1e-3
-"""A joint is at rest (input held) where both its speed and its acceleration are below
-this fraction of their largest values in the cycle [-]."""
 GRAVITY_LOADED = 1e-3
 """Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
+
+
 GRAVITY_SAMPLES = 400
 """Poses at which the gravity torque is evaluated for the backdriving warning."""
+
+
 _GUESS_SAMPLES = 200
 """Samples on which the carried masses are first guessed."""
-_INERTIA_POSES = GRAVITY_SAMPLES
+
+
+INERTIA_POSES = GRAVITY_SAMPLES
 """Poses, evenly spread over the cycle, at which a joint's load inertia M_jj is evaluated."""
-
-Motors = Mapping[str, Sequence[Motor]]
-"""Candidate motors per joint name: the motors each joint's gearhead may be paired with."""
-
-
-@dataclass(frozen=True, eq=False)
-class JointSizing:
-    """One joint: every unit (or every gearhead and motor pair) checked, the selection and why.
-
-    Attributes:
-        name: Joint name.
-        load: Output-side summary of the cycle (with carried masses).
-        candidates: One per catalog unit; where motors are given, one per (unit, motor)
-            pair, unit by unit.
-        selected: The chosen unit (or pair), or None when none fits.
-        carried_mass: Gearhead and motor mass this joint carries from joints
-            further out [kg].
-        gravity_loaded: Gravity loads this joint somewhere in the cycle: a
-            fail-safe device is needed where a falling load could injure.
-        max_gravity_torque: Largest gravity torque over the cycle's poses [N m].
-        torque: Output torque along the cycle [N m], shape (n,).
-        stop_torque: Output torque of an emergency stop from each instant [N m], (n,).
-        slowdown: For a joint with no feasible unit, the smallest slow-down that would
-            fit (its factor rounded up to 0.001).
-        scales: For a joint with no feasible unit, the time scales at which each unit
-            would fit.
-        load_inertia: Where motors are given, the joint's output-side inertia: the largest
-            diagonal entry M_jj of the joint-space inertia matrix over the cycle's poses
-            (`_INERTIA_POSES` of them), carried masses and payload included [kg m^2].
-        motor_torque: Where motors are given, the motor torque of the selected pair (else
-            of the strongest) per sample [N m], shape (n,).
-    """
-
-    name: str
-    load: CycleLoad
-    candidates: tuple[Candidate, ...]
-    selected: Candidate | None
-    carried_mass: float
-    gravity_loaded: bool
-    max_gravity_torque: float
-    torque: np.ndarray
-    stop_torque: np.ndarray
-    slowdown: Slowdown | None = None
-    scales: JointScales | None = None
-    load_inertia: float | None = None
-    motor_torque: np.ndarray | None = None
-
-    @property
-    def strongest(self) -> Candidate:
-        """The candidate with the highest repeated-peak limit.
-
-        With motors: behind the motor with the highest peak, then rated torque.
-        """
-        return max(self.candidates, key=lambda c: (
-            c.unit.repeated_torque, c.unit.momentary_torque, c.unit.rated_torque,
-            *((c.motor_unit.peak_torque, c.motor_unit.rated_torque)
-              if c.motor_unit is not None else ())))
-
-    def inertia_ratio(self, candidate: Candidate) -> float | None:
-        """Load inertia at the motor shaft over the rotor inertia for one pair [-].
-
-        (M_jj / N^2 + J_in) / J_m with M_jj the `load_inertia`; None without a motor, or
-        for a motor without rotor inertia (`hdselect.catalog.rules.inertia_ratio`).
-        """
-        if self.load_inertia is None or candidate.motor_unit is None:
-            return None
-        return inertia_ratio(self.load_inertia, candidate.unit, candidate.motor_unit)
-
-
-@dataclass(frozen=True, eq=False)
-class SizingResult:
-    """Everything `hdselect size` prints, as values.
-
-    Attributes:
-        robot: The robot as sized (payload and mounting applied, no gearhead masses).
-        trajectory: The trajectory sized.
-        joints: One result per sized joint, in the robot's joint order.
-        options: The assumptions used.
-        units: The catalog.
-        motion: The motion the trajectory was planned from, when `size` planned it.
-        motors: The candidate motors per joint; empty where no motor data was given
-            (then `options` say which rotor inertia and motor mass were assumed).
-        loads: Every joint of the robot, sized or not, followers included, in the
-            model's order: what it does beside its file's limits.
-    """
-
-    robot: Robot
-    trajectory: Trajectory
-    joints: tuple[JointSizing, ...]
-    options: Options
-    units: tuple[Unit, ...]
-    motion: Motion | None = None
-    motors: Mapping[str, tuple[Motor, ...]] = field(default_factory=dict)
-    loads: tuple[JointLoad, ...] = ()
-
-    @property
-    def warnings(self) -> tuple[str, ...]:
-        """What the robot file and the motion file raised, and limits the cycle exceeds.
-
-        Each line starts with where it comes from: ``robot file:``, ``motion file:`` or
-        ``cycle:``.
-        """
-        asked = self.motion.warnings if self.motion is not None else ()
-        lines = [f"robot file: {note}" for note in self.robot.notes]
-        lines += [f"motion file: {warning}" for warning in asked]
-        for load in self.loads:
-            if load.above_effort:
-                lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} "
-                             f"{'N' if load.linear else 'N m'}, above the robot file's effort "
-                             f"limit {load.effort_limit:.3g}")
-            if load.above_velocity and not any(f"'{load.name}'" in w for w in asked):
-                per_s = "m/s" if load.linear else "rad/s"
-                lines.append(f"cycle: joint '{load.name}' moves at up to {load.max_speed:.3g} "
-                             f"{per_s}, above the robot file's velocity limit "
-                             f"{load.velocity_limit:.3g}")
-        return tuple(lines)
-
-    @property
-    def feasible(self) -> bool:
-        """Every joint has a unit."""
-        return all(joint.selected is not None for joint in self.joints)
-
-    @property
-    def cycle_time(self) -> float:
-        """Cycle time [s]."""
-        return self.trajectory.duration
-
-    @property
-    def hold_only(self) -> bool:
-        """No sized joint moves: a held pose, judged by the static and momentary checks only."""
-        return all(joint.load.moving_time == 0.0 for joint in self.joints)
-
-    @property
-    def title(self) -> str:
-        """What was sized, for headings: the robot file, the motion file and its planner."""
-        if self.motion is None:
-            return f"{self.robot.path.name} on a given trajectory"
-        return f"{self.robot.path.name} running {self.motion.path.name} ({self.motion.planner})"
 
 
 def size(
@@ -232,7 +98,7 @@ def size(
     if units is not None and catalog:
         raise InputError("give either catalog files or loaded units, not both", field="units")
     if units is not None:
-        units = _units_argument(units)
+        units = units_argument(units)
     expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
     expect_type(motion, (Motion, str, Path), "motion", "a Motion or a motion file")
     expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
@@ -324,8 +190,8 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     if trajectory.joint_names != robot.joint_names:
         raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
                          f"robot has {', '.join(robot.joint_names)}", field="trajectory")
-    _check_trajectory(trajectory)
-    units = _units_argument(units)
+    check_trajectory(trajectory)
+    units = units_argument(units)
     if not units:
         raise InputError("no gearhead to choose from", field="units")
     if not robot.sized_joints:
@@ -365,88 +231,10 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
         joints = [replace(joint, load_inertia=float(by_name[joint.name]))
                   if joint.name in by_name else joint for joint in joints]
     if any(joint.selected is None for joint in joints):
-        joints = _with_slowdowns(carrying, trajectory, joints, units, options, motors)
+        joints = with_slowdowns(carrying, trajectory, joints, units, options, motors)
     assert torques is not None
     return SizingResult(robot, trajectory, tuple(joints), options, units, motors=motors,
                         loads=joint_loads(robot, trajectory, torques.tau))
-
-
-def checked_motors(robot: Robot, motors: Motors | None,
-                   options: Options) -> dict[str, tuple[Motor, ...]]:
-    """The candidate motors per sized joint, checked; empty when none are given.
-
-    Args:
-        robot: The robot as sized.
-        motors: Candidate motors per joint name (a single `Motor` is one candidate).
-        options: The assumptions: with motors, their rotor inertia and motor mass must
-            not be given too.
-
-    Returns:
-        Joint name -> its candidate motors, in the order given.
-
-    Raises:
-        InputError: A joint is not sized, has no motor or a motor id twice, or the
-            options give a rotor inertia or motor mass beside the motors.
-    """
-    if not motors:
-        return {}
-    if isinstance(motors, str | Path) or not isinstance(motors, Mapping):
-        raise InputError("expected a mapping of joint name to candidate motors",
-                         field="motors")
-    checked: dict[str, tuple[Motor, ...]] = {}
-    for name, given in motors.items():
-        if name not in robot.sized_joints:
-            raise InputError(f"'{name}' is not a sized joint; sized joints are: "
-                             f"{', '.join(robot.sized_joints)}", field=f"motors.{name}")
-        candidates = (given,) if isinstance(given, Motor) else tuple(given)
-        if not candidates or not all(isinstance(m, Motor) for m in candidates):
-            raise InputError("expected one or more hdselect.catalog.motors.Motor",
-                             field=f"motors.{name}")
-        ids = [m.id for m in candidates]
-        for motor_id in ids:
-            if ids.count(motor_id) > 1:
-                raise InputError(f"motor id '{motor_id}' is given twice",
-                                 field=f"motors.{name}")
-        checked[name] = candidates
-    if options.rotor_inertia > 0.0 or options.motor_mass > 0.0:
-        raise InputError("motor data is given, so the rotor inertia and motor mass come from "
-                         "the motors; drop rotor_inertia and motor_mass (--motor-inertia, "
-                         "--motor-mass)", field="motors")
-    return checked
-
-
-def _units_argument(units: object) -> tuple[Unit, ...]:
-    """The `units` argument as a tuple of units.
-
-    Raises:
-        InputError: It is not a sequence of `hdselect.catalog.units.Unit`.
-    """
-    if isinstance(units, str | bytes | Path) or not isinstance(units, Sequence):
-        raise InputError(f"expected a sequence of catalog units, got {type(units).__name__}",
-                         field="units")
-    for unit in units:
-        expect_type(unit, (Unit,), "units", "catalog units (hdselect.load_catalog)")
-    return tuple(units)
-
-
-def _check_trajectory(trajectory: Trajectory) -> None:
-    """A trajectory's arrays agree in shape and hold finite numbers.
-
-    Raises:
-        InputError: They do not (the field names the array).
-    """
-    n, dof = len(trajectory.t), len(trajectory.joint_names)
-    if not (isinstance(trajectory.dt, float | int) and math.isfinite(trajectory.dt)
-            and trajectory.dt > 0.0):
-        raise InputError(f"must be a positive time [s], got {trajectory.dt!r}",
-                         field="trajectory.dt")
-    for name, shape in (("t", (n,)), ("q", (n, dof)), ("qd", (n, dof)), ("qdd", (n, dof))):
-        array = np.asarray(getattr(trajectory, name))
-        if array.shape != shape or n == 0:
-            raise InputError(f"expected shape {shape} with n >= 1, got {array.shape}",
-                             field=f"trajectory.{name}")
-        if not np.all(np.isfinite(array)):
-            raise InputError("holds a number that is not finite", field=f"trajectory.{name}")
 
 
 def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
@@ -482,7 +270,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
     if trajectory.joint_names != robot.joint_names:
         raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
                          f"robot has {', '.join(robot.joint_names)}", field="trajectory")
-    _check_trajectory(trajectory)
+    check_trajectory(trajectory)
     for name in units:
         if name not in robot.sized_joints:
             raise InputError(f"'{name}' is not a sized joint; sized joints are: "
@@ -584,87 +372,3 @@ def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, ta
                         readonly(stop_tau))
     shown = selected or joint.strongest
     return replace(joint, motor_torque=frozen(reflection[id(shown)].motor_torque))
-
-
-def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
-    """Samples where a joint is held still: speed and acceleration both negligible.
-
-    Args:
-        qd: The joint's speed [rad/s], shape (n,).
-        qdd: The joint's acceleration [rad/s^2], shape (n,).
-
-    Returns:
-        True where both are at most `REST_FRACTION` of their largest values.
-    """
-    speed, acceleration = np.abs(qd), np.abs(qdd)
-    return ((speed <= REST_FRACTION * speed.max())
-            & (acceleration <= REST_FRACTION * acceleration.max()))
-
-
-def _with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
-                    units: tuple[Unit, ...], options: Options,
-                    motors: Motors | None = None) -> list[JointSizing]:
-    """Attach to each joint without a unit the time scales at which each unit would fit.
-
-    `robot` carries the chosen units' masses. Two more batched passes (gravity, and
-    gravity plus velocity terms) split the motion's torques by how they scale.
-    """
-    failing = [robot.joint_index(joint.name) for joint in joints if joint.selected is None]
-    torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time, split=True,
-                            threads=options.threads, columns=failing)
-    assert torques.gravity is not None and torques.coasting is not None
-    out = []
-    for joint in joints:
-        if joint.selected is None:
-            j = robot.joint_index(joint.name)
-            c = failing.index(j)
-            qd, qdd = traj.qd[:, j], traj.qdd[:, j]
-            cycle = ScalableCycle.split(
-                traj.t, traj.dt, traj.duration, qd, qdd, at_rest(qd, qdd),
-                torque=torques.tau[:, c], stop_torque=torques.stop[:, c],
-                gravity=torques.gravity[:, c], coast=torques.coasting[:, c],
-                stop_time=options.stop_time)
-            slowdown, scales = fitting_time_scales(
-                cycle, units, options,
-                motors=tuple(motors.get(joint.name, ())) if motors else ())
-            joint = replace(joint, slowdown=slowdown, scales=scales)
-        out.append(joint)
-    return out
-
-
-def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Options, *,
-                        motors: Sequence[Motor] = ()) -> tuple[Slowdown, JointScales]:
-    """For a joint no unit fits: every unit's feasible time scales and the smallest slow-down.
-
-    Args:
-        cycle: The joint's cycle split by how its torques scale.
-        units: The catalog.
-        options: The assumptions (efficiency, rotor inertia, life requirement).
-        motors: The joint's candidate motors: then the scales are per (gearhead, motor)
-            pair, each with its motor's rotor inertia and rules.
-
-    Returns:
-        The slow-down, its factor rounded to 0.001 (see `_rounded`), and the scales.
-    """
-    scales = joint_scales(cycle, units, efficiency=options.efficiency,
-                          rotor_inertia=options.rotor_inertia,
-                          check_options={"life_hours": options.life_hours,
-                                         "life_basis": options.life_basis},
-                          motors=tuple(motors))
-    return _rounded(scales.slowdown(), scales, cycle.duration), scales
-
-
-def _rounded(slowdown: Slowdown, scales: JointScales, duration: float) -> Slowdown:
-    """The slow-down with its factor rounded to 0.001, away from the edge of what fits.
-
-    The exact factor is the edge of the feasible range, where a re-planned motion
-    sampled on its own grid can fail by the change over one sample. Rounding up (or
-    down, for a speed-up) keeps inside the range whenever the range allows it.
-    """
-    if slowdown.factor is None or slowdown.unit is None:
-        return slowdown
-    exact = slowdown.factor
-    rounded = (math.ceil(exact * 1000.0) if exact >= 1.0 else math.floor(exact * 1000.0)) / 1000.0
-    if not any(lo <= rounded <= hi for lo, hi in scales.fits[slowdown.unit]):
-        rounded = exact
-    return replace(slowdown, factor=rounded, cycle_time=rounded * duration)

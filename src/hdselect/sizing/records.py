@@ -14,8 +14,8 @@ from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.units import SeriesRules, Unit
 from hdselect.robot.model import Robot
-from hdselect.sizing.core import SizingResult
 from hdselect.sizing.loads import JointLoad
+from hdselect.sizing.result import SizingResult
 
 MOTOR_MODEL_NOTE = ("peak: every sample's motor torque under the motor's torque-speed curve (its "
                     "flat peak torque without one); rms: the RMS torque of one cycle repeated "

@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from hdselect.base.bounds import expect_type
-from hdselect.sizing.core import JointSizing, SizingResult
+from hdselect.sizing.result import JointSizing, SizingResult
 
 
 @dataclass(frozen=True)

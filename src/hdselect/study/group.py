@@ -41,6 +41,7 @@ from hdselect.catalog.rules import (
     Candidate,
     CycleLoad,
     Momentary,
+    at_rest,
     check_unit,
     cycle_load,
 )
@@ -51,19 +52,13 @@ from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import inverse_dynamics, joint_inertias
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.core import (
-    GRAVITY_LOADED,
-    GRAVITY_SAMPLES,  # the core's own choices, so that a grouped case equals it
-    JointSizing,
-    Motors,
-    SizingResult,
-    at_rest,
-    checked_motors,
-    fitting_time_scales,
-)
+from hdselect.sizing.arguments import checked_motors
+from hdselect.sizing.core import GRAVITY_LOADED, GRAVITY_SAMPLES  # the core's own choices
 from hdselect.sizing.loads import joint_loads
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
+from hdselect.sizing.result import JointSizing, Motors, SizingResult
+from hdselect.sizing.slowdown import fitting_time_scales
 from hdselect.sizing.summary import Summary, summarize
 from hdselect.sizing.timescale import ScalableCycle
 

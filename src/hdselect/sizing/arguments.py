@@ -1,0 +1,96 @@
+"""The sizing core's arguments checked once: units, motors per joint, a trajectory's arrays."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from hdselect.base.bounds import expect_type
+from hdselect.base.errors import InputError
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.units import Unit
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.model import Robot
+from hdselect.sizing.options import Options
+from hdselect.sizing.result import Motors
+
+
+def checked_motors(robot: Robot, motors: Motors | None,
+                   options: Options) -> dict[str, tuple[Motor, ...]]:
+    """The candidate motors per sized joint, checked; empty when none are given.
+
+    Args:
+        robot: The robot as sized.
+        motors: Candidate motors per joint name (a single `Motor` is one candidate).
+        options: The assumptions: with motors, their rotor inertia and motor mass must
+            not be given too.
+
+    Returns:
+        Joint name -> its candidate motors, in the order given.
+
+    Raises:
+        InputError: A joint is not sized, has no motor or a motor id twice, or the
+            options give a rotor inertia or motor mass beside the motors.
+    """
+    if not motors:
+        return {}
+    if isinstance(motors, str | Path) or not isinstance(motors, Mapping):
+        raise InputError("expected a mapping of joint name to candidate motors",
+                         field="motors")
+    checked: dict[str, tuple[Motor, ...]] = {}
+    for name, given in motors.items():
+        if name not in robot.sized_joints:
+            raise InputError(f"'{name}' is not a sized joint; sized joints are: "
+                             f"{', '.join(robot.sized_joints)}", field=f"motors.{name}")
+        candidates = (given,) if isinstance(given, Motor) else tuple(given)
+        if not candidates or not all(isinstance(m, Motor) for m in candidates):
+            raise InputError("expected one or more hdselect.catalog.motors.Motor",
+                             field=f"motors.{name}")
+        ids = [m.id for m in candidates]
+        for motor_id in ids:
+            if ids.count(motor_id) > 1:
+                raise InputError(f"motor id '{motor_id}' is given twice",
+                                 field=f"motors.{name}")
+        checked[name] = candidates
+    if options.rotor_inertia > 0.0 or options.motor_mass > 0.0:
+        raise InputError("motor data is given, so the rotor inertia and motor mass come from "
+                         "the motors; drop rotor_inertia and motor_mass (--motor-inertia, "
+                         "--motor-mass)", field="motors")
+    return checked
+
+
+def units_argument(units: object) -> tuple[Unit, ...]:
+    """The `units` argument as a tuple of units.
+
+    Raises:
+        InputError: It is not a sequence of `hdselect.catalog.units.Unit`.
+    """
+    if isinstance(units, str | bytes | Path) or not isinstance(units, Sequence):
+        raise InputError(f"expected a sequence of catalog units, got {type(units).__name__}",
+                         field="units")
+    for unit in units:
+        expect_type(unit, (Unit,), "units", "catalog units (hdselect.load_catalog)")
+    return tuple(units)
+
+
+def check_trajectory(trajectory: Trajectory) -> None:
+    """A trajectory's arrays agree in shape and hold finite numbers.
+
+    Raises:
+        InputError: They do not (the field names the array).
+    """
+    n, dof = len(trajectory.t), len(trajectory.joint_names)
+    if not (isinstance(trajectory.dt, float | int) and math.isfinite(trajectory.dt)
+            and trajectory.dt > 0.0):
+        raise InputError(f"must be a positive time [s], got {trajectory.dt!r}",
+                         field="trajectory.dt")
+    for name, shape in (("t", (n,)), ("q", (n, dof)), ("qd", (n, dof)), ("qdd", (n, dof))):
+        array = np.asarray(getattr(trajectory, name))
+        if array.shape != shape or n == 0:
+            raise InputError(f"expected shape {shape} with n >= 1, got {array.shape}",
+                             field=f"trajectory.{name}")
+        if not np.all(np.isfinite(array)):
+            raise InputError("holds a number that is not finite", field=f"trajectory.{name}")

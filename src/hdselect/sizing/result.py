@@ -1,0 +1,156 @@
+"""What a sizing gives: every joint's candidates, the selection and why, as values."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hdselect.catalog.motor_rules import inertia_ratio
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.rules import Candidate, CycleLoad
+from hdselect.catalog.units import Unit
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.model import Robot
+from hdselect.sizing.loads import JointLoad
+from hdselect.sizing.options import Options
+from hdselect.sizing.timescale import JointScales, Slowdown
+
+Motors = Mapping[str, Sequence[Motor]]
+"""Candidate motors per joint name: the motors each joint's gearhead may be paired with."""
+
+@dataclass(frozen=True, eq=False)
+class JointSizing:
+    """One joint: every unit (or every gearhead and motor pair) checked, the selection and why.
+
+    Attributes:
+        name: Joint name.
+        load: Output-side summary of the cycle (with carried masses).
+        candidates: One per catalog unit; where motors are given, one per (unit, motor)
+            pair, unit by unit.
+        selected: The chosen unit (or pair), or None when none fits.
+        carried_mass: Gearhead and motor mass this joint carries from joints
+            further out [kg].
+        gravity_loaded: Gravity loads this joint somewhere in the cycle: a
+            fail-safe device is needed where a falling load could injure.
+        max_gravity_torque: Largest gravity torque over the cycle's poses [N m].
+        torque: Output torque along the cycle [N m], shape (n,).
+        stop_torque: Output torque of an emergency stop from each instant [N m], (n,).
+        slowdown: For a joint with no feasible unit, the smallest slow-down that would
+            fit (its factor rounded up to 0.001).
+        scales: For a joint with no feasible unit, the time scales at which each unit
+            would fit.
+        load_inertia: Where motors are given, the joint's output-side inertia: the largest
+            diagonal entry M_jj of the joint-space inertia matrix over the cycle's poses
+            (`INERTIA_POSES` of them), carried masses and payload included [kg m^2].
+        motor_torque: Where motors are given, the motor torque of the selected pair (else
+            of the strongest) per sample [N m], shape (n,).
+    """
+
+    name: str
+    load: CycleLoad
+    candidates: tuple[Candidate, ...]
+    selected: Candidate | None
+    carried_mass: float
+    gravity_loaded: bool
+    max_gravity_torque: float
+    torque: np.ndarray
+    stop_torque: np.ndarray
+    slowdown: Slowdown | None = None
+    scales: JointScales | None = None
+    load_inertia: float | None = None
+    motor_torque: np.ndarray | None = None
+
+    @property
+    def strongest(self) -> Candidate:
+        """The candidate with the highest repeated-peak limit.
+
+        With motors: behind the motor with the highest peak, then rated torque.
+        """
+        return max(self.candidates, key=lambda c: (
+            c.unit.repeated_torque, c.unit.momentary_torque, c.unit.rated_torque,
+            *((c.motor_unit.peak_torque, c.motor_unit.rated_torque)
+              if c.motor_unit is not None else ())))
+
+    def inertia_ratio(self, candidate: Candidate) -> float | None:
+        """Load inertia at the motor shaft over the rotor inertia for one pair [-].
+
+        (M_jj / N^2 + J_in) / J_m with M_jj the `load_inertia`; None without a motor, or
+        for a motor without rotor inertia (`hdselect.catalog.rules.inertia_ratio`).
+        """
+        if self.load_inertia is None or candidate.motor_unit is None:
+            return None
+        return inertia_ratio(self.load_inertia, candidate.unit, candidate.motor_unit)
+
+
+@dataclass(frozen=True, eq=False)
+class SizingResult:
+    """Everything `hdselect size` prints, as values.
+
+    Attributes:
+        robot: The robot as sized (payload and mounting applied, no gearhead masses).
+        trajectory: The trajectory sized.
+        joints: One result per sized joint, in the robot's joint order.
+        options: The assumptions used.
+        units: The catalog.
+        motion: The motion the trajectory was planned from, when `size` planned it.
+        motors: The candidate motors per joint; empty where no motor data was given
+            (then `options` say which rotor inertia and motor mass were assumed).
+        loads: Every joint of the robot, sized or not, followers included, in the
+            model's order: what it does beside its file's limits.
+    """
+
+    robot: Robot
+    trajectory: Trajectory
+    joints: tuple[JointSizing, ...]
+    options: Options
+    units: tuple[Unit, ...]
+    motion: Motion | None = None
+    motors: Mapping[str, tuple[Motor, ...]] = field(default_factory=dict)
+    loads: tuple[JointLoad, ...] = ()
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """What the robot file and the motion file raised, and limits the cycle exceeds.
+
+        Each line starts with where it comes from: ``robot file:``, ``motion file:`` or
+        ``cycle:``.
+        """
+        asked = self.motion.warnings if self.motion is not None else ()
+        lines = [f"robot file: {note}" for note in self.robot.notes]
+        lines += [f"motion file: {warning}" for warning in asked]
+        for load in self.loads:
+            if load.above_effort:
+                lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} "
+                             f"{'N' if load.linear else 'N m'}, above the robot file's effort "
+                             f"limit {load.effort_limit:.3g}")
+            if load.above_velocity and not any(f"'{load.name}'" in w for w in asked):
+                per_s = "m/s" if load.linear else "rad/s"
+                lines.append(f"cycle: joint '{load.name}' moves at up to {load.max_speed:.3g} "
+                             f"{per_s}, above the robot file's velocity limit "
+                             f"{load.velocity_limit:.3g}")
+        return tuple(lines)
+
+    @property
+    def feasible(self) -> bool:
+        """Every joint has a unit."""
+        return all(joint.selected is not None for joint in self.joints)
+
+    @property
+    def cycle_time(self) -> float:
+        """Cycle time [s]."""
+        return self.trajectory.duration
+
+    @property
+    def hold_only(self) -> bool:
+        """No sized joint moves: a held pose, judged by the static and momentary checks only."""
+        return all(joint.load.moving_time == 0.0 for joint in self.joints)
+
+    @property
+    def title(self) -> str:
+        """What was sized, for headings: the robot file, the motion file and its planner."""
+        if self.motion is None:
+            return f"{self.robot.path.name} on a given trajectory"
+        return f"{self.robot.path.name} running {self.motion.path.name} ({self.motion.planner})"

@@ -1,0 +1,86 @@
+"""For a joint no unit fits: the time scales at which each unit would, and the smallest."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.rules import at_rest
+from hdselect.catalog.units import Unit
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.dynamics import cycle_torques
+from hdselect.robot.model import Robot
+from hdselect.sizing.options import Options
+from hdselect.sizing.result import JointSizing, Motors
+from hdselect.sizing.timescale import JointScales, ScalableCycle, Slowdown, joint_scales
+
+
+def with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
+                    units: tuple[Unit, ...], options: Options,
+                    motors: Motors | None = None) -> list[JointSizing]:
+    """Attach to each joint without a unit the time scales at which each unit would fit.
+
+    `robot` carries the chosen units' masses. Two more batched passes (gravity, and
+    gravity plus velocity terms) split the motion's torques by how they scale.
+    """
+    failing = [robot.joint_index(joint.name) for joint in joints if joint.selected is None]
+    torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time, split=True,
+                            threads=options.threads, columns=failing)
+    assert torques.gravity is not None and torques.coasting is not None
+    out = []
+    for joint in joints:
+        if joint.selected is None:
+            j = robot.joint_index(joint.name)
+            c = failing.index(j)
+            qd, qdd = traj.qd[:, j], traj.qdd[:, j]
+            cycle = ScalableCycle.split(
+                traj.t, traj.dt, traj.duration, qd, qdd, at_rest(qd, qdd),
+                torque=torques.tau[:, c], stop_torque=torques.stop[:, c],
+                gravity=torques.gravity[:, c], coast=torques.coasting[:, c],
+                stop_time=options.stop_time)
+            slowdown, scales = fitting_time_scales(
+                cycle, units, options,
+                motors=tuple(motors.get(joint.name, ())) if motors else ())
+            joint = replace(joint, slowdown=slowdown, scales=scales)
+        out.append(joint)
+    return out
+
+
+def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Options, *,
+                        motors: Sequence[Motor] = ()) -> tuple[Slowdown, JointScales]:
+    """For a joint no unit fits: every unit's feasible time scales and the smallest slow-down.
+
+    Args:
+        cycle: The joint's cycle split by how its torques scale.
+        units: The catalog.
+        options: The assumptions (efficiency, rotor inertia, life requirement).
+        motors: The joint's candidate motors: then the scales are per (gearhead, motor)
+            pair, each with its motor's rotor inertia and rules.
+
+    Returns:
+        The slow-down, its factor rounded to 0.001 (see `_rounded`), and the scales.
+    """
+    scales = joint_scales(cycle, units, efficiency=options.efficiency,
+                          rotor_inertia=options.rotor_inertia,
+                          check_options={"life_hours": options.life_hours,
+                                         "life_basis": options.life_basis},
+                          motors=tuple(motors))
+    return _rounded(scales.slowdown(), scales, cycle.duration), scales
+
+
+def _rounded(slowdown: Slowdown, scales: JointScales, duration: float) -> Slowdown:
+    """The slow-down with its factor rounded to 0.001, away from the edge of what fits.
+
+    The exact factor is the edge of the feasible range, where a re-planned motion
+    sampled on its own grid can fail by the change over one sample. Rounding up (or
+    down, for a speed-up) keeps inside the range whenever the range allows it.
+    """
+    if slowdown.factor is None or slowdown.unit is None:
+        return slowdown
+    exact = slowdown.factor
+    rounded = (math.ceil(exact * 1000.0) if exact >= 1.0 else math.floor(exact * 1000.0)) / 1000.0
+    if not any(lo <= rounded <= hi for lo, hi in scales.fits[slowdown.unit]):
+        rounded = exact
+    return replace(slowdown, factor=rounded, cycle_time=rounded * duration)
