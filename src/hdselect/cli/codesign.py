@@ -28,9 +28,9 @@ def run_fastest(args: argparse.Namespace) -> int:
     units = load_catalog(args.catalog)
     given = _unit_pairs(args.units)
     with Outputs([*input_files(robot, motion), *args.catalog]) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json else None
-        csv_file = outputs.file(args.out, "--out") if args.out else None
-        figure = outputs.file(args.plot, "--plot") if args.plot else None
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
+        csv_file = outputs.file(args.out, "--out") if args.out is not None else None
+        figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         try:
             if args.compare_ratios:
                 comparison = compare_ratios(robot, motion, given, options, catalog=units,
@@ -89,7 +89,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
     options = sizing_options_of(args, motion)
     units = load_catalog(args.catalog)
     with Outputs([*input_files(robot, motion), *args.catalog]) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json else None
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
         try:
             result = max_payload(robot, motion, options, catalog=units,
                                  frame=args.payload_frame, com=args.payload_com)

@@ -21,7 +21,7 @@ def run_plan(args: argparse.Namespace) -> int:
     max_samples = max_samples_of(args)
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")
-        figure = outputs.file(args.plot, "--plot") if args.plot else None
+        figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         trajectory = plan(robot, motion, max_samples=max_samples)
         tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
         write_trajectory_csv(out, trajectory, tau, robot.joint_names)

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hdselect.base.inputfiles import readable
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.sizing.result import SizingResult
 
@@ -122,7 +123,7 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
 
 def _hashed(role: str, path: Path) -> InputFile:
     try:
-        content = Path(path).read_bytes()
+        content = readable(Path(path)).read_bytes()
     except OSError as err:
         return InputFile(role, str(path), f"cannot be read now ({err.strerror})", None)
     return InputFile(role, str(path), hashlib.sha256(content).hexdigest(), len(content))
