@@ -40,6 +40,7 @@ from hdselect.motion.limits import (
     vector,
     velocity_limit,
 )
+from hdselect.motion.logderivatives import UNCERTAIN, acceleration_uncertainty
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.robot.model import Robot, load_robot
@@ -248,6 +249,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                              "the waypoints", path=path, field="waypoint")
         waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
         samples = _samples(doc, path, robot, scale, units)
+        warnings += derived_warnings(samples, robot)
     else:
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
@@ -411,6 +413,20 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
         points.append(np.clip(q, lower, upper))  # on the limit its file rounded
         dwells.append(number(table, "dwell", path, where, default=0.0, bound=bounds.DWELL))
     return np.array(points), np.array(dwells)
+
+
+def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:
+    """A warning when a log of positions only does not fix its accelerations to 1 %."""
+    if log.qd is not None or len(log.t) < 8:
+        return []
+    uncertain = acceleration_uncertainty(log.t - log.t[0], log.q)
+    j = int(np.argmax(uncertain))
+    if uncertain[j] <= UNCERTAIN:
+        return []
+    return [f"{log.path.name} gives positions only, and the accelerations derived from them are"
+            f" uncertain by about {uncertain[j]:.0%} of the peak of joint "
+            f"'{robot.joint_names[j]}' (estimated from every other sample): torques may be off "
+            "as much; log the qd_ and qdd_ columns too (or sample faster)"]
 
 
 def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,

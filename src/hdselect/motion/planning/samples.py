@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
+from hdselect.motion.logderivatives import from_positions
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.grid import check_log_period, check_size
 from hdselect.motion.planning.trajectory import Trajectory, trajectory
@@ -24,10 +25,11 @@ def plan_samples(robot: Robot, motion: Motion, *,
     relative) at the motion's dt, its samples are used as they are; otherwise
     positions (and logged velocities, accelerations) are resampled onto the grid
     with a not-a-knot cubic spline (``scipy.interpolate.CubicSpline``). Velocities
-    and accelerations that were not logged are the first and second derivatives
-    of the cubic spline through the positions (accelerations from the spline
-    through logged velocities when those exist). Differentiation amplifies
-    measurement noise: filter the log first.
+    and accelerations that were not logged come from the positions (`from_positions`:
+    exactly 0 where a joint rests, a spline with zero end velocities through each
+    stretch where it moves); accelerations from the spline through logged velocities
+    when those exist. Differentiation amplifies measurement noise: filter the log
+    first.
 
     Raises:
         InputError: dt is coarser than the log's sample period, or the grid would
@@ -56,11 +58,11 @@ def plan_samples(robot: Robot, motion: Motion, *,
         return result
 
     q = resample(log.q)
-    qd = resample(log.q, 1) if log.qd is None else resample(log.qd)
-    if log.qdd is not None:
-        qdd = resample(log.qdd)
+    if log.qd is None:
+        qd, qdd = from_positions(t, log.q, at, inside)
     else:
-        qdd = resample(log.q if log.qd is None else log.qd, 2 if log.qd is None else 1)
+        qd = resample(log.qd)
+        qdd = resample(log.qdd) if log.qdd is not None else resample(log.qd, 1)
     return trajectory(motion, duration, grid, q, qd, qdd)
 
 
