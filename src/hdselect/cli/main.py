@@ -191,6 +191,10 @@ def _parser() -> argparse.ArgumentParser:
         help="the largest payload with a feasible unit on every joint")
     robot_motion_arguments(payload, mass=False)
     sizing_arguments(payload)
+    payload.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
+                         help="a fixed unit for a joint, as `hdselect catalog` names it "
+                              "(repeatable; give every sized joint one; default: the unit "
+                              "`size` selects at each payload)")
     json_argument(payload)
     payload.set_defaults(run=run_max_payload)
 

@@ -238,18 +238,22 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
 
 
 def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
-                options: Options | None = None) -> SizingResult:
+                options: Options | None = None, *,
+                motors: Mapping[str, Motor] | None = None) -> SizingResult:
     """Check given units, one per sized joint, along a planned trajectory: no selection.
 
-    Each joint's only candidate is its unit, `selected` when it passes every rule.
-    With mass coupling, each unit's mass (and the motor mass) is carried by the
-    joints nearer the base, as `size_trajectory` carries the units it chooses.
+    Each joint's only candidate is its unit (paired with its motor, where one is
+    given), `selected` when it passes every rule. With mass coupling, each unit's mass
+    (and its motor's, else the options' motor mass) is carried by the joints nearer the
+    base, as `size_trajectory` carries the units it chooses.
 
     Args:
         robot: The robot (payload and mounting applied).
         trajectory: The trajectory, with the robot's joints.
         units: The unit of every sized joint, by joint name.
         options: The assumptions (default `Options()`).
+        motors: A fixed motor behind the unit of some sized joints, by joint name; its
+            rotor inertia and mass replace the options' and its rules are checked.
 
     Returns:
         The result for every sized joint (its ``motion`` is None, its ``units`` the
@@ -279,8 +283,16 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
     if missing:
         raise InputError(f"no unit given for {', '.join(missing)}", field="units")
     options = options if options is not None else Options()
-    masses = ({name: unit.mass + options.motor_mass for name, unit in units.items()}
-              if options.mass_coupling else {})
+    fixed = checked_motors(robot, motors, options) if motors else {}
+    for name, given in fixed.items():
+        if len(given) != 1:
+            raise InputError(f"expected one motor to check, got {len(given)}",
+                             field=f"motors.{name}")
+    if options.prefer is None:
+        options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if fixed
+                          else DEFAULT_PREFER)
+    masses = ({name: unit.mass + (fixed[name][0].mass if name in fixed else options.motor_mass)
+               for name, unit in units.items()} if options.mass_coupling else {})
     carrying = robot.with_gearheads(masses)
     torques = cycle_torques(carrying, trajectory.q, trajectory.qd, trajectory.qdd,
                             options.stop_time, threads=options.threads)
@@ -289,11 +301,11 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
         j = robot.joint_index(name)
         joints.append(_size_joint(name, trajectory, trajectory.qd[:, j], trajectory.qdd[:, j],
                                   torques.tau[:, j], torques.stop[:, j], (units[name],),
-                                  options))
+                                  options, motors=fixed.get(name, ())))
     distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))
     return SizingResult(robot, trajectory, tuple(_with_gravity(carrying, trajectory, joints,
                                                                options)), options, distinct,
-                        loads=joint_loads(robot, trajectory, torques.tau))
+                        motors=fixed, loads=joint_loads(robot, trajectory, torques.tau))
 
 
 def _with_gravity(carrying: Robot, trajectory: Trajectory, joints: list[JointSizing],
