@@ -115,7 +115,7 @@ def _inputs(args: argparse.Namespace, robot, motion) -> list:
 def _flagged(err: InputError, args: argparse.Namespace) -> InputError:
     """An error of the library with the command line's option as its field."""
     field = str(err.field)
-    flag = {"units": "--units", "joint": "--joint"}.get(field)
+    flag = {"units": "--units", "joint": "--joint", "joints": "--joint"}.get(field)
     if field.startswith("motors") and args.motor_catalog:
         flag = "--motor-catalog"
     return InputError(err.reason, path=err.path, field=flag or err.field)

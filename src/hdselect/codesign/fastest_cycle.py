@@ -252,6 +252,9 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
     chosen, selected, paired = resolve_case(robot, motion, units, catalog, options,
                                             motors=motors)
     names = list(robot.sized_joints)
+    if joints is not None and (isinstance(joints, str) or not isinstance(joints, Sequence)
+                               or not all(isinstance(name, str) for name in joints)):
+        raise InputError(f"expected a list of joint names, got {joints!r}", field="joints")
     for name in joints or ():
         if name not in names:
             raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hdselect.base.bounds import expect_type
+from hdselect.base.bounds import LENGTH, expect_type
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, allowable_mean_torque, at_rest
@@ -209,6 +209,11 @@ def per_kilogram(payload: Payload | None, *, frame: str | None = None,
     With `frame` or `com` given, a point mass there (the payload's inertia was about
     its own centre, in its own frame).
     """
+    expect_type(frame, (str, type(None)), "frame", "a link name or None")
+    if com is not None:
+        if isinstance(com, str) or not isinstance(com, Sequence) or len(com) != 3:
+            raise InputError(f"expected three numbers [m], got {com!r}", field="com")
+        com = [LENGTH.check(c, field=f"com[{i}]") for i, c in enumerate(com)]
     if payload is not None and frame is None and com is None:
         return Payload(1.0, payload.com, tuple(tuple(v / payload.mass for v in row)
                                                for row in payload.inertia), payload.frame)

@@ -16,6 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 
+CHUNK = 1 << 16
+"""Grid points evaluated from one spline at a time [-]."""
+MARGIN = 64
+"""Log samples on either side of a chunk that its spline passes through [-]."""
 UNCERTAIN = 0.01
 """Estimated acceleration error, as a fraction of a joint's peak, above which a motion file
 reading the log warns and asks for the log's own qd and qdd columns [-]."""
@@ -45,16 +49,17 @@ def from_positions(t: np.ndarray, q: np.ndarray, at: np.ndarray,
     """
     qd, qdd = np.zeros((len(at), q.shape[1])), np.zeros((len(at), q.shape[1]))
     for j in range(q.shape[1]):
-        for first, last in _moving_stretches(q[:, j]):
+        stretches, rest = _moving_stretches(q[:, j])
+        for first, last in stretches:
             lo, hi = np.searchsorted(at, [t[first], t[last]], side="left")
             hi = int(np.searchsorted(at, t[last], side="right"))
             if hi <= lo:
                 continue
-            clamped = (first > 0, last < len(t) - 1)  # a rest on that side
-            spline = _stretch_spline(t[first:last + 1], q[first:last + 1, j], clamped)
-            with np.errstate(all="ignore"):  # `plan` refuses a result that is not finite
-                qd[lo:hi, j] = spline(at[lo:hi], 1)
-                qdd[lo:hi, j] = spline(at[lo:hi], 2)
+            clamped = (bool(rest[first]), bool(rest[last]))  # a rest on that side
+            part = slice(first, last + 1)
+            for order, out in ((1, qd), (2, qdd)):
+                out[lo:hi, j] = spline_values(t[part], q[part, j], at[lo:hi], order,
+                                              clamped=clamped)
     qd[~inside] = 0.0
     qdd[~inside] = 0.0
     return qd, qdd
@@ -64,39 +69,51 @@ REST_RUN = 3
 """Equal positions in a row that make a joint at rest in a positions-only log [-]."""
 
 
-def _moving_stretches(q: np.ndarray) -> list[tuple[int, int]]:
-    """(first, last) log index of each stretch where a joint moves, bounding rests included.
+def _moving_stretches(q: np.ndarray) -> tuple[list[tuple[int, int]], np.ndarray]:
+    """(first, last) log index of each stretch where a joint moves, and which samples rest.
 
-    A sample is at rest when it begins or continues a run of at least `REST_RUN` equal
-    positions; a moving stretch runs from the last rest sample before it to the first
-    after it (or the log's ends).
+    A sample rests when it is one of a run of at least `REST_RUN` equal positions. The
+    interval between two samples is still when both rest at the same position, else
+    moving; a stretch is a run of moving intervals, from its first sample to its last.
     """
-    same = np.r_[False, q[1:] == q[:-1]]  # equal to the sample before
-    starts = np.flatnonzero(np.diff(np.r_[0, same.astype(np.int8), 0]) == 1)  # run of equals
-    ends = np.flatnonzero(np.diff(np.r_[0, same.astype(np.int8), 0]) == -1)
+    equal = q[1:] == q[:-1]
     rest = np.zeros(len(q), dtype=bool)
-    for a, b in zip(starts, ends, strict=True):  # samples a-1 .. b-1 are equal
-        if b - a + 1 >= REST_RUN:
-            rest[a - 1:b] = True
-    moving = np.flatnonzero(~rest)
-    if not moving.size:
-        return []
-    breaks = np.flatnonzero(np.diff(moving) > 1)
-    out = []
-    for first, last in zip(np.r_[moving[0], moving[breaks + 1]],
-                           np.r_[moving[breaks], moving[-1]], strict=True):
-        out.append((max(int(first) - 1, 0), min(int(last) + 1, len(q) - 1)))
-    return out
+    edges = np.diff(np.r_[0, equal.astype(np.int8), 0])
+    for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True):
+        if b - a + 1 >= REST_RUN:  # intervals a .. b-1 equal: samples a .. b
+            rest[a:b + 1] = True
+    moving = ~(equal & rest[:-1] & rest[1:])
+    edges = np.diff(np.r_[0, moving.astype(np.int8), 0])
+    return [(int(a), int(b)) for a, b in zip(np.flatnonzero(edges == 1),
+                                             np.flatnonzero(edges == -1), strict=True)], rest
 
 
-def _stretch_spline(t: np.ndarray, q: np.ndarray, clamped: tuple[bool, bool]):
-    """The cubic spline of one moving stretch: zero velocity at an end that meets a rest."""
+def spline_values(t: np.ndarray, values: np.ndarray, at: np.ndarray, order: int, *,
+                  clamped: tuple[bool, bool] = (False, False)) -> np.ndarray:
+    """The cubic spline through (t, values), or a derivative, evaluated at `at`.
+
+    Not-a-knot at each end, or zero first derivative at an end that is `clamped`.
+    Evaluated `CHUNK` points at a time, each from a spline through the log samples
+    that chunk spans plus `MARGIN` on either side: a cubic spline's dependence on a
+    distant sample decays by 2 - sqrt(3) = 0.27 per knot, so beyond 64 knots it is
+    below 1e-36 of the values and the result equals the spline through the whole log
+    to rounding, in memory bounded by the chunk.
+    """
     from scipy.interpolate import CubicSpline
 
-    if len(t) < 4 and not all(clamped):
-        return CubicSpline(t, q, bc_type="natural")
-    ends = tuple((1, 0.0) if rest else "not-a-knot" for rest in clamped)
-    return CubicSpline(t, q, bc_type=ends)
+    out = np.empty((len(at),) + values.shape[1:])
+    for start in range(0, len(at), CHUNK):
+        part = slice(start, start + CHUNK)
+        first, last = np.searchsorted(t, [at[part][0], at[part][-1]])
+        lo, hi = max(0, int(first) - MARGIN), min(len(t), int(last) + MARGIN + 1)
+        ends = tuple((1, 0.0) if rest and edge else "not-a-knot"
+                     for rest, edge in zip(clamped, (lo == 0, hi == len(t)), strict=True))
+        if hi - lo < 4 and "not-a-knot" in ends and ends != ("not-a-knot", "not-a-knot"):
+            ends = tuple("natural" if end == "not-a-knot" else end for end in ends)
+        with np.errstate(all="ignore"):  # `plan` refuses a result that is not finite
+            out[part] = CubicSpline(t[lo:hi], values[lo:hi], axis=0, bc_type=ends)(at[part],
+                                                                                  order)
+    return out
 
 
 def acceleration_uncertainty(t: np.ndarray, q: np.ndarray) -> np.ndarray:

@@ -90,7 +90,6 @@ class Store:
         """
         self.csv_path = _regular(out)
         self.journal_path = _regular(journal_path(self.csv_path))
-        _check_ours(self.csv_path, out)
         self.study = study
         inputs = {f.resolve() for case in study.cases for f in case.files} | {
             study.path.resolve()}
@@ -98,6 +97,7 @@ class Store:
             if path.resolve() in inputs:
                 raise InputError("is an input file; choose another output path", path=path,
                                  field="--out")
+        _check_ours(self.csv_path, out)
         self.records: dict[str, dict[str, Any]] = {}
         if self.journal_path.exists():
             for record in _read_journal(self.journal_path):

@@ -100,16 +100,25 @@ def resolving_factor(dt: float, moves: Sequence[tuple[str, float]],
     timed = [(duration, what) for what, duration in moves if duration > 0.0]
     if timed:
         shortest, what = min(timed)
-        need = math.ceil(MIN_MOVE_SAMPLES * dt / shortest * (1.0 - 1e-9))
+        need = _whole(MIN_MOVE_SAMPLES * dt / shortest)
         if need > factor:
             factor, reason = need, f"{what} ({shortest:.3g} s)"
     held = [(duration, what) for what, duration in dwells if duration > 0.0]
     if held:
         shortest, what = min(held)
-        need = math.ceil(dt / shortest * (1.0 - 1e-9))
+        need = _whole(dt / shortest)
         if need > factor:
             factor, reason = need, f"{what} ({shortest:.3g} s)"
     return factor, reason
+
+
+def _whole(ratio: float) -> int:
+    """The smallest whole number at least `ratio` (to rounding), capped where no grid can be."""
+    return math.ceil(min(ratio, MAX_FACTOR) * (1.0 - 1e-9))
+
+
+MAX_FACTOR = 1e15
+"""Largest refinement tried: any grid it makes is refused by the sample limit [-]."""
 
 
 def check_log_period(path: Path, log_path: Path, t: np.ndarray, dt: float) -> None:

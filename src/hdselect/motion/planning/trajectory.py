@@ -130,8 +130,9 @@ def assemble(motion: Motion, moves: Sequence[Move], *,
         except InputError as err:
             if factor == 1:
                 raise
+            advice = "; or lengthen that dwell" if reason.startswith("the dwell") else ""
             raise InputError(f"dt = {motion.dt:g} s is refined to {motion.dt / factor:.3g} s "
-                             f"to resolve {reason}: {err.reason}", path=motion.path,
+                             f"to resolve {reason}: {err.reason}{advice}", path=motion.path,
                              field="dt") from err
         worst = int(np.argmax(miss)) if len(miss) else 0
         if not len(miss) or miss[worst] <= PEAK_RESOLUTION:
