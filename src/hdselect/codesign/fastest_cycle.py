@@ -350,7 +350,8 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
     paired: dict[str, Motor] = {}
     for joint in sizing.joints:
         pick = joint.selected.unit.id if joint.selected is not None else (
-            joint.slowdown.unit.split(" + ")[0] if joint.slowdown is not None else None)
+            joint.slowdown.unit.split(" + ")[0]
+            if joint.slowdown is not None and joint.slowdown.unit is not None else None)
         if pick is not None:  # a slow-down names a pair "UNIT + MOTOR"
             selected[joint.name] = pick
         if joint.name not in chosen:
