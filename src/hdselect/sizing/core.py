@@ -288,9 +288,8 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
         if len(given) != 1:
             raise InputError(f"expected one motor to check, got {len(given)}",
                              field=f"motors.{name}")
-    if options.prefer is None:
-        options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if fixed
-                          else DEFAULT_PREFER)
+    if options.prefer is None and fixed:
+        options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS)
     masses = ({name: unit.mass + (fixed[name][0].mass if name in fixed else options.motor_mass)
                for name, unit in units.items()} if options.mass_coupling else {})
     carrying = robot.with_gearheads(masses)
