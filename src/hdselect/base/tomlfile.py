@@ -11,6 +11,7 @@ from typing import Any
 
 from hdselect.base.bounds import Bound
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import readable
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:
@@ -27,7 +28,7 @@ def read_toml(path: str | Path) -> dict[str, Any]:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = readable(path).read_text(encoding="utf-8")
     except FileNotFoundError as err:
         raise InputError("file not found", path=path) from err
     except (OSError, UnicodeDecodeError) as err:
