@@ -23,7 +23,7 @@ def test_first_screen_has_the_two_setup_commands_and_ci_runs_the_test_one():
 
 
 def test_the_readme_fits_on_a_few_screens():
-    assert len(README.splitlines()) <= 270
+    assert len(README.splitlines()) <= 250
 
 
 def test_your_own_robot_steps_run_in_order(tmp_path):
