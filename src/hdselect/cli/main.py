@@ -142,7 +142,7 @@ def _parser() -> argparse.ArgumentParser:
 
     plan = commands.add_parser(
         "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
-    robot_motion_arguments(plan)
+    robot_motion_arguments(plan, sizes=False)
     plan.add_argument("--out", metavar="FILE", required=True,
                       help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
     plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")

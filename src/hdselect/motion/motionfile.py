@@ -199,7 +199,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     path = bounds.file_argument(path, "path")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
                        "a Robot, a robot file or None")
-    doc = read_toml(path)
+    doc = _read_motion_toml(path)
     check_keys(doc, _TOP_KEYS, path, "")
     planner = _choice(doc, "planner", PLANNERS, path)
     angle_unit = _choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)
@@ -328,12 +328,18 @@ def robot_file_named(path: str | Path) -> Path:
         InputError: The motion file is unreadable or names no robot file that exists.
     """
     path = bounds.file_argument(path, "motion")
-    doc = read_toml(path)
+    doc = _read_motion_toml(path)
     robot = _robot_file(doc, path)
     if robot is None:
         raise InputError("no robot given: set the key or pass a robot file",
                          path=path, field="robot")
     return robot
+
+
+def _read_motion_toml(path: Path) -> dict[str, Any]:
+    """A motion file's TOML; a robot file given in its place is told so."""
+    return read_toml(path, kind="a motion file", hint=(
+        f"; give a motion file (hdselect init {path} --out motion.toml writes one)"))
 
 
 def _payload(value: Any, path: Path) -> Payload:

@@ -169,9 +169,17 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
     else:
         rows.append(("motors", "none given"))
     options = result.options
-    rows.append(("options", ", ".join(f"{f.name} = {getattr(options, f.name)}"
-                                      for f in fields(options))))
+    rows.append(("options", ", ".join(
+        f"{f.name} = {_option_text(f.name, getattr(options, f.name))}" for f in fields(options))))
     return rows
+
+
+def _option_text(name: str, value: object) -> str:
+    """An option as a reader wants it: what None stands for, not None."""
+    if value is not None:
+        return str(value)
+    return {"threads": "automatic (up to the cores)", "life_hours": "none required",
+            "prefer": "size (mass with motors)"}.get(name, "default")
 
 
 def _opt(value: float | None, unit: str) -> str:
