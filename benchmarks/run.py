@@ -77,6 +77,8 @@ class Benchmark:
         check: Optional correctness check; the run fails when it fails.
         absolute: Whether `target` bounds the candidate's figure itself.
         repeats: Timed repeats in full mode (after one warm-up call).
+        load: Print the machine's load average over the row's run (rows that need idle
+            cores).
     """
 
     name: str
@@ -90,6 +92,7 @@ class Benchmark:
     check: Check | None = None
     absolute: bool = False
     repeats: int = 21
+    load: bool = False
 
 
 def machine() -> dict[str, Any]:
@@ -293,7 +296,9 @@ def benchmarks(quick: bool) -> list[Benchmark]:
             lambda: run_study(study_workers, workers=1, grouping=False), 0.6, unit="ms",
             per=len(study_workers.cases), per_label="case", repeats=3,
             notes=f"{len(study_workers.cases)} cases each sized on its own, worker processes "
-                  "started included; the target is a throughput of at least 1.67x"),
+                  "forked from the fork server (started once, at the warm-up) included; the "
+                  "target is a throughput of at least 1.67x; needs 2 idle cores",
+            load=True),
         Benchmark(
             "cold start: --help", lambda: _process(cli + ["--help"]),
             lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
@@ -453,6 +458,8 @@ def run_row(bench: Benchmark, quick: bool) -> dict[str, Any]:
     row: dict[str, Any] = {"name": bench.name, "unit": unit, "repeats": repeats,
                            "notes": bench.notes, "target": bench.target,
                            "target_on": "candidate" if bench.absolute else "ratio"}
+    if bench.load and hasattr(os, "getloadavg"):
+        row["load_before"] = list(os.getloadavg())
     try:
         bench.candidate()
         if bench.baseline is not None:
@@ -474,6 +481,8 @@ def run_row(bench: Benchmark, quick: bool) -> dict[str, Any]:
             row["ratio_range"] = [pairs[0], pairs[-1]]
         figure = row["candidate"] if bench.absolute else row.get("ratio")
         row["met"] = None if bench.target is None or figure is None else figure <= bench.target
+        if bench.load and hasattr(os, "getloadavg"):
+            row["load_after"] = list(os.getloadavg())
         if bench.check is not None:
             value = float(bench.check.run())
             row["check"] = {"name": bench.check.name, "value": value,
@@ -589,6 +598,10 @@ def print_report(info: dict[str, Any], rows: list[dict[str, Any]],
         if check is not None:
             notes.append(f"   check: {check['name']} = {check['value']:.3g} "
                          f"(tolerance {check['tolerance']:g})")
+        if "load_after" in row:
+            notes.append("   load average (1, 5, 15 min) at the row's start "
+                         + " ".join(f"{x:.2f}" for x in row["load_before"]) + ", at its end "
+                         + " ".join(f"{x:.2f}" for x in row["load_after"]))
         if "ratio_range" in row:
             low, high = row["ratio_range"]
             notes.append(f"   ratio of each candidate/baseline pair: {low:.3g} to {high:.3g}")
