@@ -364,13 +364,15 @@ def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:
         return 0.0 if first.feasible else 1.0
 
     gridpoints = sum(len(p.gridpoints) for p in pieces)
+    solved = _gridpoints_solved(robot, motion)
     return [
         Benchmark(
             "plan (TOPPRA) vs toppra", lambda: plan(robot, motion), plain_toppra, 1.5,
-            notes=f"plan of {CONTOUR.name} ({len(motion.waypoints)} waypoints, {gridpoints} "
-                  "gridpoints) vs the plain toppra call (SplineInterpolator, velocity and "
-                  "acceleration constraints, TOPPRA, ParametrizeConstAccel) on the same path and "
-                  "gridpoints", repeats=9,
+            notes=f"plan of {CONTOUR.name} ({len(motion.waypoints)} waypoints; {solved} "
+                  "gridpoints solved, refined where a limit is broken between them) vs the plain "
+                  "toppra call (SplineInterpolator, velocity and acceleration constraints, "
+                  f"TOPPRA, ParametrizeConstAccel) on the same path and {gridpoints} gridpoints "
+                  "(200 per waypoint, the planner's grid before it refined)", repeats=9,
             check=Check("plan's moving time over toppra's, minus 1", plan_gap, 1e-3)),
         Benchmark(
             "size() of the TOPPRA motion", lambda: size(robot, motion, units=units),
@@ -391,6 +393,27 @@ def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:
             notes=f"--compare-ratios on {FAST_PICK.name}, {comparisons} unit-joint "
                   "configurations sharing one path model, vs one fastest() call"),
     ]
+
+
+def _gridpoints_solved(robot, motion) -> int:
+    """Gridpoints TOPPRA solves when `plan` plans the motion (every round of refinement)."""
+    import hdselect.motion.planning.toppra as planner
+
+    count = [0]
+    solve = planner.solve_piece
+
+    def counted(piece, constraints, *, where):
+        count[0] += len(piece.gridpoints)
+        return solve(piece, constraints, where=where)
+
+    planner.solve_piece = counted
+    try:
+        from hdselect import plan
+
+        plan(robot, motion)
+    finally:
+        planner.solve_piece = solve
+    return count[0]
 
 
 def _studies(quick: bool):
