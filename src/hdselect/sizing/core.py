@@ -221,15 +221,6 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     else:  # each round settles at least one more joint from the tip
         raise AssertionError("the tip-to-base sizing did not settle")
     joints = _with_gravity(carrying, trajectory, joints, options)
-    if motors:
-        poses = np.unique(np.linspace(0, len(trajectory.t) - 1,
-                                      GRAVITY_SAMPLES).astype(int))
-        with_motors = [name for name in robot.sized_joints if name in motors]
-        inertia = joint_inertias(carrying, trajectory.q[poses], with_motors,
-                                 threads=options.threads).max(axis=0)
-        by_name = dict(zip(with_motors, inertia, strict=True))
-        joints = [replace(joint, load_inertia=float(by_name[joint.name]))
-                  if joint.name in by_name else joint for joint in joints]
     if any(joint.selected is None for joint in joints):
         joints = with_slowdowns(carrying, trajectory, joints, units, options, motors)
     assert torques is not None
@@ -324,13 +315,30 @@ def _size_joints(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
     """Every sized joint against every unit (or pair), for the masses in the robot's model."""
     torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time,
                             threads=options.threads)
+    inertia = _load_inertias(robot, traj, [n for n in robot.sized_joints if n in (motors or {})],
+                             options)
     joints = []
     for name in robot.sized_joints:
         j = robot.joint_index(name)
         joints.append(_size_joint(name, traj, traj.qd[:, j], traj.qdd[:, j], torques.tau[:, j],
                                   torques.stop[:, j], units, options,
-                                  motors=tuple(motors.get(name, ())) if motors else ()))
+                                  motors=tuple(motors.get(name, ())) if motors else (),
+                                  load_inertia=inertia.get(name)))
     return joints, torques
+
+
+def _load_inertias(robot: Robot, traj: Trajectory, names: list[str],
+                   options: Options) -> dict[str, float]:
+    """Each named joint's load inertia, its largest M_jj over `INERTIA_POSES` poses [kg m^2].
+
+    Known before selection (the inertia-ratio rule needs it): M_jj depends only on the
+    bodies beyond the joint, whose units are already in `robot`.
+    """
+    if not names:
+        return {}
+    poses = np.unique(np.linspace(0, len(traj.t) - 1, INERTIA_POSES).astype(int))
+    inertia = joint_inertias(robot, traj.q[poses], names, threads=options.threads).max(axis=0)
+    return {name: float(value) for name, value in zip(names, inertia, strict=True)}
 
 
 def _decimated(traj: Trajectory, step: int) -> Trajectory:
@@ -341,18 +349,24 @@ def _decimated(traj: Trajectory, step: int) -> Trajectory:
 
 def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray,
                 stop_tau: np.ndarray, units: tuple[Unit, ...], options: Options, *,
-                motors: tuple[Motor, ...] = ()) -> JointSizing:
-    """Check every unit (every pair with `motors`) against one joint's torques; select one."""
+                motors: tuple[Motor, ...] = (), load_inertia: float | None = None,
+                ) -> JointSizing:
+    """Check every unit (every pair with `motors`) against one joint's torques; select one.
+
+    `load_inertia` [kg m^2], where motors are given, gives each pair its inertia ratio.
+    """
     load = cycle_load(tau, qd, traj.dt, at_rest(qd, qdd))
     prefer = options.prefer or (DEFAULT_PREFER_WITH_MOTORS if motors else DEFAULT_PREFER)
+    target = options.inertia_target
     if not motors:
         reflections = reflect(units, traj.t, tau, qd, qdd, stop_tau,
                               stop_time=options.stop_time, efficiency=options.efficiency,
                               rotor_inertia=options.rotor_inertia)
         candidates = [check_unit(load, r.unit, momentary=r.momentary,
                                  life_hours=options.life_hours, life_basis=options.life_basis,
-                                 motor=r.motor) for r in reflections]
-        return JointSizing(name, load, tuple(candidates), select(candidates, prefer),
+                                 motor=r.motor, margin=options.margin) for r in reflections]
+        return JointSizing(name, load, tuple(candidates),
+                           select(candidates, prefer, inertia_target=target),
                            0.0, False, 0.0, readonly(tau), readonly(stop_tau))
     behind = reflect_motors(units, [m.rotor_inertia for m in motors], traj.t, tau, qd, qdd,
                             stop_tau, stop_time=options.stop_time, efficiency=options.efficiency)
@@ -363,12 +377,14 @@ def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, ta
             r = behind[m][u]
             gearhead = check_unit(load, unit, momentary=r.momentary,
                                   life_hours=options.life_hours, life_basis=options.life_basis,
-                                  motor=r.motor)
-            pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio)
+                                  motor=r.motor, margin=options.margin)
+            pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio,
+                              load_inertia=load_inertia,
+                              max_inertia_ratio=options.max_inertia_ratio)
             pairs.append(pair)
             reflection[id(pair)] = r
-    selected = select(pairs, prefer)
+    selected = select(pairs, prefer, inertia_target=target)
     joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, readonly(tau),
-                        readonly(stop_tau))
+                        readonly(stop_tau), load_inertia=load_inertia)
     shown = selected or joint.strongest
     return replace(joint, motor_torque=frozen(reflection[id(shown)].motor_torque))

@@ -229,14 +229,17 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
         stop = coast + (weights @ basis.stopping[j, used]) * (y / options.stop_time)
         pairs = motors.get(name, ())
         if pairs:
+            assert basis.inertia is not None  # M_jj: only the units beyond j, all chosen
+            inertia = float((theta @ basis.inertia[sized.index(name)]).max())
             joint = _size_pairs(name, t, dt, basis.weight, qd[:, j], qdd[:, j], tau, stop,
-                                units, pairs, options)
+                                units, pairs, options, inertia)
         else:
             joint = _size_joint(name, t, dt, basis.weight, qd[:, j], qdd[:, j], tau, stop,
                                 units, limits, options)
         if joint.selected is None:
             joint = _with_scales(joint, t, dt, traj.duration * time_scale, qd[:, j], qdd[:, j],
-                                 tau, stop, gravity, coast, units, options, pairs)
+                                 tau, stop, gravity, coast, units, options, pairs,
+                                 joint.load_inertia)
         found[name] = joint
         if options.mass_coupling and name in basis.carriers:
             chosen = joint.selected or joint.strongest
@@ -252,12 +255,8 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
             if basis.carried[i, c] and masses[c] > 0.0:
                 carried += float(masses[c])
         worst = float(at_poses[:, j].max())
-        joint = replace(found[name], carried_mass=carried,
-                        gravity_loaded=worst > GRAVITY_LOADED, max_gravity_torque=worst)
-        if name in motors:
-            assert basis.inertia is not None
-            joint = replace(joint, load_inertia=float((theta @ basis.inertia[i]).max()))
-        joints.append(joint)
+        joints.append(replace(found[name], carried_mass=carried,
+                              gravity_loaded=worst > GRAVITY_LOADED, max_gravity_torque=worst))
     # every joint's torque with the masses chosen, on the kept rows (a run of identical
     # states has one torque): the peaks, speeds and travel the core's `joint_loads` finds
     tau = np.einsum("p,dpn->nd", theta, basis.gravity + basis.dynamic * y**2)
@@ -317,11 +316,12 @@ def _size_joint(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd
     i_crash = crash.argmax(axis=1)
     worst_crash = crash[np.arange(len(units)), i_crash]
     momentary = np.maximum(stopping[i_stop], worst_crash)
-    passes = ((load.peak_torque / limits.repeated <= 1.0)
-              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= 1.0)
-              & (momentary / limits.momentary <= 1.0))
+    most = 1.0 - options.margin  # `holds`, on every unit at once
+    passes = ((load.peak_torque / limits.repeated <= most)
+              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= most)
+              & (momentary / limits.momentary <= most))
     if load.static_torque is not None:
-        passes &= load.static_torque / limits.static <= 1.0
+        passes &= load.static_torque / limits.static <= most
     survivors = [k for k in range(len(units)) if passes[k]]
     assert options.prefer is not None  # resolved by size_case
     motor_order = options.prefer.startswith("motor")
@@ -339,10 +339,11 @@ def _size_joint(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd
                         checked.append(check_unit(
                             load, units[k], momentary=_event(k, i_stop, i_crash, stopping,
                                                              crash, speed, t, options),
-                            life_hours=options.life_hours, life_basis=options.life_basis))
+                            life_hours=options.life_hours, life_basis=options.life_basis,
+                            margin=options.margin))
             if options.prefer != "size" or any(c.feasible for c in checked):
                 break
-    selected = select(checked, options.prefer)
+    selected = select(checked, options.prefer, inertia_target=options.inertia_target)
     if selected is None or not motor_order:
         unit = units[limits.strongest] if selected is None else selected.unit
         (reflection,) = _reflect([unit], t, tau, qd, qdd, stop, options)
@@ -355,7 +356,7 @@ def _size_joint(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd
 
 def _size_pairs(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd: np.ndarray,
                 qdd: np.ndarray, tau: np.ndarray, stop: np.ndarray, units: tuple[Unit, ...],
-                motors: Sequence[Motor], options: Options) -> JointSizing:
+                motors: Sequence[Motor], options: Options, load_inertia: float) -> JointSizing:
     """Every (gearhead, motor) pair against one joint on the kept rows, as the core checks them.
 
     The core's own steps (`reflect_motors`, `check_unit`, `with_motor`, `select`), the
@@ -373,12 +374,15 @@ def _size_pairs(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd
             demand = weighted_demand(r.motor, r.motor_torque, qd, unit.ratio, weight)
             gearhead = check_unit(load, unit, momentary=r.momentary,
                                   life_hours=options.life_hours, life_basis=options.life_basis,
-                                  motor=demand)
-            pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio)
+                                  motor=demand, margin=options.margin)
+            pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio,
+                              load_inertia=load_inertia,
+                              max_inertia_ratio=options.max_inertia_ratio)
             pairs.append(pair)
             torque[id(pair)] = r.motor_torque
-    selected = select(pairs, options.prefer)
-    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, tau, stop)
+    selected = select(pairs, options.prefer, inertia_target=options.inertia_target)
+    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, tau, stop,
+                        load_inertia=load_inertia)
     return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
 
 
@@ -406,18 +410,20 @@ def _candidate(load: CycleLoad, reflection: Reflection, qd: np.ndarray, weight: 
                              reflection.unit.ratio, weight)
     return check_unit(load, reflection.unit, momentary=reflection.momentary,
                       life_hours=options.life_hours, life_basis=options.life_basis,
-                      motor=demand)
+                      motor=demand, margin=options.margin)
 
 
 def _with_scales(joint: JointSizing, t: np.ndarray, dt: np.ndarray, duration: float,
                  qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray, stop: np.ndarray,
                  gravity: np.ndarray, coast: np.ndarray, units: tuple[Unit, ...],
-                 options: Options, motors: Sequence[Motor] = ()) -> JointSizing:
+                 options: Options, motors: Sequence[Motor] = (),
+                 load_inertia: float | None = None) -> JointSizing:
     """The time scales at which each unit (or pair) would fit a joint none fits, as in the core."""
     cycle = ScalableCycle.split(t, dt, duration, qd, qdd, at_rest(qd, qdd), torque=tau,
                                 stop_torque=stop, gravity=gravity, coast=coast,
                                 stop_time=options.stop_time)
-    slowdown, scales = fitting_time_scales(cycle, units, options, motors=motors)
+    slowdown, scales = fitting_time_scales(cycle, units, options, motors=motors,
+                                           load_inertia=load_inertia)
     return replace(joint, slowdown=slowdown, scales=scales)
 
 
