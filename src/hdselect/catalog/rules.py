@@ -33,17 +33,63 @@ MOTOR_CHECKS = ("motor_peak", "motor_rms", "motor_speed")
 """The checks of the motor behind a gearhead, when one is given (`check_motor`)."""
 
 
+PAIR_CHECKS = ("inertia_ratio",)
+"""The checks of a gearhead and motor pair as a whole: the load-to-rotor inertia ratio
+against the largest allowed, present only when a largest ratio is given. The design margin
+does not apply to it: the largest ratio is itself a design choice, not a rating."""
+
+
 CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life",
-          *MOTOR_CHECKS)
+          *MOTOR_CHECKS, *PAIR_CHECKS)
 """Every check by name, in the order of results and reports. ``life`` is present only
-when a life is required, the motor checks only when a motor is given; the others
-always, with value None where they do not apply."""
+when a life is required, the motor checks only when a motor is given, ``inertia_ratio``
+only when a largest inertia ratio is given too; the others always, with value None where
+they do not apply."""
 
 
 CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
                 "momentary": "mom.", "static": "static", "life": "life",
-                "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed"}
+                "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed",
+                "inertia_ratio": "inertia"}
 """Short names of the checks, for table headers (``m.``: the motor's)."""
+
+
+CHECK_NAMES = {"peak": "repeated peak torque", "mean": "mean torque", "speed": "input speed",
+               "average_speed": "average input speed", "momentary": "momentary torque",
+               "static": "static torque", "life": "life", "motor_peak": "motor peak torque",
+               "motor_rms": "motor RMS torque", "motor_speed": "motor speed",
+               "inertia_ratio": "load-to-rotor inertia ratio"}
+"""The checks in words, for figure titles and summaries read by people."""
+
+
+DEFAULT_MARGIN = 0.0
+"""Design margin by default [-]: every rule holds at up to 100 % of its limit."""
+
+
+def holds(utilization: float, margin: float = DEFAULT_MARGIN) -> bool:
+    """Whether a rule holds with a design margin: utilization <= 1 - margin.
+
+    The one place a check decides pass or fail: every rule of `check_unit`, the motor's
+    rules and every front end built on them (size, compare, fastest, duty, studies,
+    max-payload) judge through it. Utilization stays demand / limit.
+
+    Args:
+        utilization: Demand over limit [-] (life: required over expected).
+        margin: Share of every limit kept in reserve [-], in [0, 1).
+
+    Returns:
+        True when the rule holds with the margin.
+    """
+    return utilization <= 1.0 - margin
+
+
+def derated(limit: float, margin: float = DEFAULT_MARGIN) -> float:
+    """The usable part of a limit with a design margin, (1 - margin) x limit [same unit].
+
+    What the closed-form solvers (time scales, path bounds, payload intervals) use as the
+    limit, so that they agree with `holds`.
+    """
+    return limit * (1.0 - margin)
 
 
 REST_FRACTION = 1e-3
@@ -165,6 +211,9 @@ class Candidate:
         motor: What the motor behind it must deliver, when computed (hdselect size).
         motor_unit: The motor paired with the gearhead, when motors are given; its checks
             (`MOTOR_CHECKS`) are then among `checks`.
+        inertia_ratio: For a pair, the load-to-rotor inertia ratio (J_load / N^2 + J_in) /
+            J_m [-] where the load inertia is known; None otherwise.
+        required_margin: The design margin every rule was judged with [-].
     """
 
     unit: Unit
@@ -173,6 +222,8 @@ class Candidate:
     flags: tuple[Flag, ...]
     motor: MotorDemand | None = None
     motor_unit: Motor | None = None
+    inertia_ratio: float | None = None
+    required_margin: float = DEFAULT_MARGIN
 
     @property
     def feasible(self) -> bool:
@@ -187,7 +238,8 @@ class Candidate:
     @property
     def gearhead_binding(self) -> str:
         """Name of the gearhead's rule with the highest utilization."""
-        return max((name for name in self.checks if name not in MOTOR_CHECKS),
+        return max((name for name in self.checks
+                    if name not in MOTOR_CHECKS and name not in PAIR_CHECKS),
                    key=lambda name: self.checks[name].utilization)
 
     @property
@@ -333,6 +385,7 @@ def check_unit(
     life_hours: float | None = None,
     life_basis: str = "L50",
     motor: MotorDemand | None = None,
+    margin: float = DEFAULT_MARGIN,
 ) -> Candidate:
     """Apply every rule of the unit's series to one gearhead.
 
@@ -344,6 +397,8 @@ def check_unit(
         life_basis: ``"L10"`` or ``"L50"``: the basis of `life_hours`, and of the
             ``life`` check's value.
         motor: The motor-side demand, carried into the result as is.
+        margin: Design margin [-], in [0, 1): every rule must hold at (1 - margin) of
+            its limit (`holds`); utilization stays demand / limit.
 
     Returns:
         The candidate with every check, life and the flags it depends on.
@@ -359,21 +414,23 @@ def check_unit(
     allowed, capped = allowable_mean_torque(unit, mean_input_rpm)
     average_limit = unit.max_average_input_speed
     checks = {
-        "peak": limit_check(load.peak_torque, unit.repeated_torque),
-        "mean": limit_check(load.mean_torque, allowed, mean_input_speed_rpm=mean_input_rpm,
-                       capped_by_repeated=capped),
-        "speed": limit_check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed),
+        "peak": limit_check(load.peak_torque, unit.repeated_torque, margin=margin),
+        "mean": limit_check(load.mean_torque, allowed, margin=margin,
+                            mean_input_speed_rpm=mean_input_rpm, capped_by_repeated=capped),
+        "speed": limit_check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed,
+                             margin=margin),
         "average_speed": limit_check(None if average_limit is None else mean_input_rpm,
-                                math.inf if average_limit is None else average_limit),
-        "momentary": _momentary(momentary, unit),
-        "static": limit_check(load.static_torque, unit.static_torque),
+                                     math.inf if average_limit is None else average_limit,
+                                     margin=margin),
+        "momentary": _momentary(momentary, unit, margin),
+        "static": limit_check(load.static_torque, unit.static_torque, margin=margin),
     }
     life = (l50_life_hours(unit, load.mean_torque, mean_input_rpm)
             if load.mean_torque is not None else None)
     if life_hours is not None:
         expected = life if life is None or life_basis == "L50" else life / L50_PER_L10
         utilization = 0.0 if expected is None else life_hours / expected
-        checks["life"] = Check(expected, life_hours, utilization <= 1.0, utilization,
+        checks["life"] = Check(expected, life_hours, holds(utilization, margin), utilization,
                                {"basis": life_basis})
     used = {"peak": "repeated_torque", "momentary": "momentary_torque", "static": "static_torque",
             "mean": ("average_torque" if rules.mean_torque_limit == "tabulated"
@@ -385,12 +442,12 @@ def check_unit(
     if motor is not None:
         fields.append("input_inertia")
     flags = unit.flags_for(*fields) + ((rules.flag,) if rules.flag is not None else ())
-    return Candidate(unit, checks, life, flags, motor)
+    return Candidate(unit, checks, life, flags, motor, required_margin=margin)
 
 
-def _momentary(event: Momentary | None, unit: Unit) -> Check:
+def _momentary(event: Momentary | None, unit: Unit, margin: float) -> Check:
     if event is None:
-        return limit_check(None, unit.momentary_torque)
+        return limit_check(None, unit.momentary_torque, margin=margin)
     detail: dict[str, object] = {"kind": event.kind}
     if event.speed is not None and event.duration is not None:
         event_rpm = abs(event.speed) * RPM_PER_RAD_S * unit.ratio
@@ -398,13 +455,17 @@ def _momentary(event: Momentary | None, unit: Unit) -> Check:
             event_rpm, event.duration, cap=unit.rules.max_momentary_events)
     if event.time is not None:
         detail["time_s"] = event.time
-    return limit_check(abs(event.torque), unit.momentary_torque, **detail)
+    return limit_check(abs(event.torque), unit.momentary_torque, margin=margin, **detail)
 
 
-def limit_check(value: float | None, limit: float, **detail: object) -> Check:
-    """One check: a value against its limit [same unit], utilization = value / limit."""
+def limit_check(value: float | None, limit: float, *, margin: float = DEFAULT_MARGIN,
+                **detail: object) -> Check:
+    """One check: a value against its limit [same unit], utilization = value / limit.
+
+    It holds when the utilization is at most 1 - `margin` (`holds`).
+    """
     utilization = 0.0 if value is None else value / limit
-    return Check(value, limit, utilization <= 1.0, utilization, dict(detail))
+    return Check(value, limit, holds(utilization, margin), utilization, dict(detail))
 
 
 def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:

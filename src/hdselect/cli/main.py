@@ -18,6 +18,7 @@ from hdselect.cli.codesign import run_fastest, run_max_payload
 from hdselect.cli.inputs import (
     catalog_argument,
     json_argument,
+    margin_argument,
     robot_motion_arguments,
     sizing_arguments,
 )
@@ -131,6 +132,7 @@ def _parser() -> argparse.ArgumentParser:
         "duty", parents=[verbose], help="size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     catalog_argument(duty)
+    margin_argument(duty)
     json_argument(duty)
     duty.set_defaults(run=run_duty)
 

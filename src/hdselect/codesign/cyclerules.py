@@ -136,7 +136,8 @@ def _check_scaled(cycle_: ScalableCycle, held: np.ndarray, unit: Unit, s: float,
                             stop_time=cycle_.stop_time, efficiency=options.efficiency,
                             rotor_inertia=options.rotor_inertia)
     return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
-                      life_hours=options.life_hours, life_basis=options.life_basis)
+                      life_hours=options.life_hours, life_basis=options.life_basis,
+                      margin=options.margin)
 
 
 def _failing(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
@@ -171,7 +172,7 @@ def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
     feasible: list[tuple[float, float]] = [(1.0, S_MAX)]
     for name, cycle_ in cycles.items():
         feasible = _intersect(feasible, list(exact_scales(
-            cycle_, units[name], rotor_inertia=options.rotor_inertia)))
+            cycle_, units[name], rotor_inertia=options.rotor_inertia, margin=options.margin)))
         if not feasible:
             failing = _failing({name: cycle_}, held, units, options, S_MAX)
             raise hopeless(motion, name, failing[1] if failing else "peak", units[name])
@@ -280,7 +281,7 @@ def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
         check = check_units(model.robot, trajectory, units, options)
         candidates = [c for joint in check.joints for c in joint.candidates]
         excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks
-                      if rule != "static"), default=0.0)
+                      if rule != "static"), default=0.0) / (1.0 - options.margin)
         if check.feasible:
             passing = passing or (trajectory, held, check, scale)
             if excess <= 1.0 - WRITTEN_MARGIN:

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from hdselect.base.errors import PlanningError
-from hdselect.catalog.rules import RPM_PER_RAD_S
+from hdselect.catalog.rules import RPM_PER_RAD_S, derated
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.toppra import PathPiece, Profile, kinematic_constraints, solve_piece
@@ -107,11 +107,13 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
         torque = math.inf if motion.torque_limit is None else float(motion.torque_limit[j])
         static, momentary, gain = torque, math.inf, 0.0
         unit = units.get(name)
-        if unit is not None:
-            speeds.append((unit.max_input_speed / unit.ratio / RPM_PER_RAD_S, "unit"))
-            torque = min(torque, unit.repeated_torque * (derating or {}).get(name, 1.0))
-            static = min(static, unit.static_torque)
-            momentary = unit.momentary_torque
+        if unit is not None:  # the unit's limits less the design margin (`derated`)
+            speeds.append((derated(unit.max_input_speed, options.margin) / unit.ratio
+                           / RPM_PER_RAD_S, "unit"))
+            torque = min(torque, derated(unit.repeated_torque, options.margin)
+                         * (derating or {}).get(name, 1.0))
+            static = min(static, derated(unit.static_torque, options.margin))
+            momentary = derated(unit.momentary_torque, options.margin)
             gain = (unit.input_inertia + options.rotor_inertia) * unit.ratio**2 / options.stop_time
         limit, source = min(speeds)
         out.append(JointLimits(limit, source, float(acceleration[j]), torque, static,
