@@ -9,11 +9,23 @@ series rules (`hdselect.catalog.units.SeriesRules`); no series' numbers live her
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from hdselect.base.errors import InputError
+from hdselect.catalog.checks import (  # noqa: F401  (re-exported: their public home was here)
+    CHECK_LABELS,
+    CHECK_NAMES,
+    CHECKS,
+    DEFAULT_MARGIN,
+    MOTOR_CHECKS,
+    PAIR_CHECKS,
+    Check,
+    derated,
+    holds,
+    limit_check,
+)
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import L50_PER_L10, LIFE_BASES, Flag, SeriesRules, Unit
 
@@ -27,69 +39,6 @@ ALLOWABLE_TORQUE_EXPONENT = 0.33
 
 MOMENTARY_EVENTS_FACTOR = 1.0e4
 """Harmonic Drive's momentary-overload rule: allowed events = 1e4 / (2 (n/60) t)."""
-
-
-MOTOR_CHECKS = ("motor_peak", "motor_rms", "motor_speed")
-"""The checks of the motor behind a gearhead, when one is given (`check_motor`)."""
-
-
-PAIR_CHECKS = ("inertia_ratio",)
-"""The checks of a gearhead and motor pair as a whole: the load-to-rotor inertia ratio
-against the largest allowed, present only when a largest ratio is given. The design margin
-does not apply to it: the largest ratio is itself a design choice, not a rating."""
-
-
-CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life",
-          *MOTOR_CHECKS, *PAIR_CHECKS)
-"""Every check by name, in the order of results and reports. ``life`` is present only
-when a life is required, the motor checks only when a motor is given, ``inertia_ratio``
-only when a largest inertia ratio is given too; the others always, with value None where
-they do not apply."""
-
-
-CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
-                "momentary": "mom.", "static": "static", "life": "life",
-                "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed",
-                "inertia_ratio": "inertia"}
-"""Short names of the checks, for table headers (``m.``: the motor's)."""
-
-
-CHECK_NAMES = {"peak": "repeated peak torque", "mean": "mean torque", "speed": "input speed",
-               "average_speed": "average input speed", "momentary": "momentary torque",
-               "static": "static torque", "life": "life", "motor_peak": "motor peak torque",
-               "motor_rms": "motor RMS torque", "motor_speed": "motor speed",
-               "inertia_ratio": "load-to-rotor inertia ratio"}
-"""The checks in words, for figure titles and summaries read by people."""
-
-
-DEFAULT_MARGIN = 0.0
-"""Design margin by default [-]: every rule holds at up to 100 % of its limit."""
-
-
-def holds(utilization: float, margin: float = DEFAULT_MARGIN) -> bool:
-    """Whether a rule holds with a design margin: utilization <= 1 - margin.
-
-    The one place a check decides pass or fail: every rule of `check_unit`, the motor's
-    rules and every front end built on them (size, compare, fastest, duty, studies,
-    max-payload) judge through it. Utilization stays demand / limit.
-
-    Args:
-        utilization: Demand over limit [-] (life: required over expected).
-        margin: Share of every limit kept in reserve [-], in [0, 1).
-
-    Returns:
-        True when the rule holds with the margin.
-    """
-    return utilization <= 1.0 - margin
-
-
-def derated(limit: float, margin: float = DEFAULT_MARGIN) -> float:
-    """The usable part of a limit with a design margin, (1 - margin) x limit [same unit].
-
-    What the closed-form solvers (time scales, path bounds, payload intervals) use as the
-    limit, so that they agree with `holds`.
-    """
-    return limit * (1.0 - margin)
 
 
 REST_FRACTION = 1e-3
@@ -175,28 +124,6 @@ class MotorDemand:
     max_speed: float
     efficiency: float | str
     rms_speed: float | None = None
-
-
-@dataclass(frozen=True)
-class Check:
-    """One rule applied to one gearhead.
-
-    Attributes:
-        value: The demand ([N m], input speed [rpm] or life [h]); None if the rule
-            does not apply to this cycle or this unit.
-        limit: What the gearhead allows (for ``life``: what the user requires); infinite
-            where the unit has no such limit.
-        ok: The rule holds.
-        utilization: Demand over allowance [-] (life: required over expected); 0 if
-            the rule does not apply, above 1 when it fails.
-        detail: Extra figures for reports, e.g. ``{"kind": "crash"}``.
-    """
-
-    value: float | None
-    limit: float
-    ok: bool
-    utilization: float
-    detail: dict[str, object] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -456,16 +383,6 @@ def _momentary(event: Momentary | None, unit: Unit, margin: float) -> Check:
     if event.time is not None:
         detail["time_s"] = event.time
     return limit_check(abs(event.torque), unit.momentary_torque, margin=margin, **detail)
-
-
-def limit_check(value: float | None, limit: float, *, margin: float = DEFAULT_MARGIN,
-                **detail: object) -> Check:
-    """One check: a value against its limit [same unit], utilization = value / limit.
-
-    It holds when the utilization is at most 1 - `margin` (`holds`).
-    """
-    utilization = 0.0 if value is None else value / limit
-    return Check(value, limit, holds(utilization, margin), utilization, dict(detail))
 
 
 def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:

@@ -255,9 +255,8 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0
         rotor_inertia = motor.rotor_inertia
     k = (unit.input_inertia + rotor_inertia) * unit.ratio**2 / cycle.stop_time
     speed = float(np.abs(cycle.qd).max(initial=0.0)) * unit.ratio * RPM_PER_RAD_S
-    top = derated(unit.max_input_speed if motor is None
-                  else min(unit.max_input_speed, motor.max_speed), margin)
-    repeated, static, momentary = (derated(limit, margin) for limit in (
+    top, repeated, static, momentary = (derated(limit, margin) for limit in (
+        unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed),
         unit.repeated_torque, unit.static_torque, unit.momentary_torque))
     # input speed: speed y <= the unit's maximum (and the motor's)
     found = _intersect(*_solve(np.zeros(1), np.array([speed]), np.array([-top])))
@@ -303,8 +302,7 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
         check_options: Keywords for `hdselect.catalog.rules.check_unit`, e.g. ``life_hours``.
         motor: A motor paired with the unit: its rotor inertia replaces `rotor_inertia`,
             and its rules (`hdselect.catalog.rules.check_motor`) must hold too.
-        pair_options: Keywords for `hdselect.catalog.motor_rules.with_motor` (the load
-            inertia and the largest inertia ratio).
+        pair_options: Keywords for `hdselect.catalog.motor_rules.with_motor`.
 
     Returns:
         Sorted disjoint closed intervals (lo, hi) of s [-], lo >= S_MIN, hi may be
