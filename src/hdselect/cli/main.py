@@ -152,6 +152,9 @@ def _parser() -> argparse.ArgumentParser:
     size.add_argument("--report", metavar="DIR",
                       help="write an HTML report with figures into DIR ('-': the page alone, "
                            "to stdout)")
+    size.add_argument("--bom", metavar="CSV",
+                      help="write the parts list: per joint the gearhead and motor, ratio, "
+                           "masses, binding rule and margin, then the totals ('-': to stdout)")
     size.set_defaults(run=run_size)
 
     compare = commands.add_parser(
@@ -164,6 +167,9 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--report", metavar="DIR",
                          help="write an HTML report of the joints shown into DIR ('-': the "
                               "page alone, to stdout)")
+    compare.add_argument("--bom", metavar="CSV",
+                         help="write the parts list of the selection, every joint (as size "
+                              "--bom; '-': to stdout)")
     compare.set_defaults(run=run_compare)
 
     fastest = commands.add_parser(

@@ -133,8 +133,10 @@ def assumptions(result: SizingResult) -> dict[str, str]:
         "selection": str(options.prefer) + (
             f" (target load-to-rotor inertia ratio {options.inertia_target:g})"
             if options.prefer == "inertia" else ""),
-        "design margin": margin_text(options.margin),
-        **({"largest inertia ratio": inertia_limit_text(result)} if result.motors else {}),
+        # stated where it changes the judgement: the HTML summary and the JSON always state them
+        **({"design margin": margin_text(options.margin)} if options.margin > 0.0 else {}),
+        **({"largest inertia ratio": inertia_limit_text(result)}
+           if result.motors and _inertia_limited(result) else {}),
         "required life": ("none" if options.life_hours is None
                           else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
@@ -148,6 +150,12 @@ def margin_text(margin: float) -> str:
         return "none: every rule may reach 100 % of its limit"
     return (f"{margin * 100:g} %: every rule must hold at up to {(1 - margin) * 100:g} % of its "
             "limit (utilization is still demand / limit)")
+
+
+def _inertia_limited(result: SizingResult) -> bool:
+    """A largest load-to-rotor inertia ratio applies to some pair."""
+    return result.options.max_inertia_ratio is not None or any(
+        m.max_inertia_ratio is not None for ms in result.motors.values() for m in ms)
 
 
 def inertia_limit_text(result: SizingResult) -> str:
