@@ -83,12 +83,12 @@ def _part(result: SizingResult, joint: JointSizing) -> Part:
 
 
 def parts_csv(result: SizingResult) -> str:
-    """The parts list as CSV text (`PARTS_COLUMNS`; numbers in full precision, empty: n/a)."""
+    """The parts list as CSV text (`PARTS_COLUMNS`; numbers to 6 significant digits, empty: n/a)."""
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(PARTS_COLUMNS)
     for part in parts(result):
-        writer.writerow(["" if value is None else (f"{value:.12g}" if isinstance(value, float)
+        writer.writerow(["" if value is None else (f"{value:.6g}" if isinstance(value, float)
                                                      else value)
                          for value in (getattr(part, name) for name in PARTS_COLUMNS)])
     return buffer.getvalue()
