@@ -285,10 +285,13 @@ def _heat_maps(result: SizingResult) -> str:
         header = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>',
                   *(esc(CHECK_LABELS[r]) for r in rules)]
         maps.append(f"<div>{table(header, rows)}</div>")
-    return (f"<section id=heatmap><h2>Utilization of every candidate</h2>{_colour_bar()}"
-            f"<div class=maps>{''.join(maps)}</div><p>▶ selected. Utilization = demand / limit "
-            "of each check (life: required over expected). mom. = momentary (T4), the worse of "
-            "an emergency stop and a crash."
+    pairs = (" class=pairs", "<p class=printnote>Printed without the maps: each joint's "
+             "table below has every pair's checks, coloured the same way.</p>") \
+        if result.motors else ("", "")
+    return (f"<section id=heatmap{pairs[0]}><h2>Utilization of every candidate</h2>"
+            f"{_colour_bar()}{pairs[1]}<div class=maps>{''.join(maps)}</div><p>▶ selected. "
+            "Utilization = demand / limit of each check (life: required over expected). "
+            "mom. = momentary (T4), the worse of an emergency stop and a crash."
             + (" Each row is a gearhead and motor pair: the gearhead's checks behind that motor "
                "(its rotor inertia in the motor torque and the crash), then m. = the motor's: "
                "peak under its torque-speed curve, RMS against its rated torque, speed."
@@ -340,17 +343,24 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
                    "cycle as (input speed, motor torque) under its peak torque over speed, its "
                    "rated torque (the limit of the RMS torque) and its maximum speed; the RMS "
                    "point and the worst sample against the peak marked.</figcaption></figure>")
-    checks = table(header, rows, classes=classes, text=[len(header) - 1],
-                   left=2 if pairs else 1)
-    demands = table(figure_header, figures, classes=classes, left=2 if pairs else 1)
+    shown = joint.selected or joint.strongest  # in print, the pairs that could be chosen
+    kept = [c.feasible or c is shown or not pairs for c in joint.candidates]
+    checks = table(header, rows, text=[len(header) - 1], left=2 if pairs else 1, classes=[
+        " ".join(filter(None, (k, "" if keep else "out")))
+        for k, keep in zip(classes, kept, strict=True)])
+    demands = table(figure_header, figures, left=2 if pairs else 1, classes=[
+        " ".join(filter(None, (k, "" if keep else "no")))
+        for k, keep in zip(classes, kept, strict=True)])
     return (f"<section class=joint id='joint-{slug(joint.name)}'><h2>Joint "
             f"{esc(joint.name)}</h2><p>{esc(text)}</p>{checks}"
             "<p>Each check: utilization, then demand / limit. ✗ over the limit (or above "
             "what the design margin leaves)."
             + (" m. = the motor's checks; inertia = the load-to-rotor inertia ratio against "
-               "the largest allowed." if pairs else "")
+               "the largest allowed. On paper, demand / limit is printed for the pairs that "
+               "could be chosen." if pairs else "")
             + f"</p>{demands}<p>Life and what the motor must deliver behind each "
-            + ("pair; load/rotor inertia = (M_jj / N² + J_in) / J_m." if pairs else "unit.")
+            + ("pair (printed: the feasible pairs); load/rotor inertia = (M_jj / N² + J_in) / "
+               "J_m." if pairs else "unit.")
             + f"</p>{figure}</section>")
 
 

@@ -10,11 +10,13 @@ from __future__ import annotations
 
 from hdselect.catalog.checks import CHECK_NAMES
 from hdselect.catalog.rules import Candidate
+from hdselect.motion.motionfile import Motion
 from hdselect.report.html_tables import esc, slug, table
 from hdselect.report.parts import parts
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
 from hdselect.report.terminal import binding_words, life_text, ratio_text, verdict
+from hdselect.robot.model import Robot
 from hdselect.sizing.records import inertia_limit_text, margin_text
 from hdselect.sizing.result import SizingResult
 
@@ -40,15 +42,22 @@ def summary(result: SizingResult, origin: Provenance) -> str:
 
 
 def _tasks(result: SizingResult) -> str:
-    """Each task of the duty: its motion, cycle, payload and share (one task today)."""
-    motion = result.motion
-    name = motion.path.name if motion is not None else "a given trajectory"
-    planner = f" ({motion.planner})" if motion is not None else ""
-    payload = result.robot.payload
-    carried = ("none" if payload is None
-               else f"{payload.mass:g} kg on {result.robot.payload_frame}")
-    rows = [[esc(name + planner), f"{result.cycle_time:.3f} s", esc(carried), "100 %"]]
+    """Each task of the duty: its motion, cycle, payload and share of the operating time."""
+    alone = result.motion if len(result.tasks) == 1 else None  # the motion size planned
+    rows = [_task_row(task.name, task.motion or alone, task.trajectory.duration, task.robot,
+                      task.share) for task in result.tasks]
+    if not rows:  # a result not made from tasks: its own trajectory, the whole time
+        rows.append(_task_row("", result.motion, result.cycle_time, result.robot, 1.0))
     return table(["task", "cycle", "payload", "share of the time"], rows, left=1, text=[2])
+
+
+def _task_row(label: str, motion: Motion | None, cycle: float, robot: Robot,
+              share: float) -> list[str]:
+    name = label or (motion.path.name if motion is not None else "a given trajectory")
+    planner = f" ({motion.planner})" if motion is not None else ""
+    payload = robot.payload
+    carried = "none" if payload is None else f"{payload.mass:g} kg on {robot.payload_frame}"
+    return [esc(name + planner), f"{cycle:.3f} s", esc(carried), f"{share * 100:g} %"]
 
 
 def _selection(result: SizingResult) -> str:
@@ -69,13 +78,16 @@ def _selection(result: SizingResult) -> str:
         words = binding_words(c, binding)
         if motors and c.motor_binding is not None:
             words += "; motor: " + binding_words(c, c.motor_binding)
+        if c.binding not in (binding, c.motor_binding):  # the pair's inertia ratio
+            words += "; " + binding_words(c, c.binding)
         rows.append([name, esc(c.unit.id), *([esc(_motor(c))] if motors else []), esc(words),
                      f"{(1.0 - c.checks[c.binding].utilization) * 100:.0f} %",
-                     esc(life_text(c.l10_hours if life == "L10" else c.life_hours)),
+                     esc(life_text(c.l10_hours if life == "L10" else c.life_hours)).replace(
+                         " h", "&nbsp;h"),
                      *([esc(ratio_text(joint.inertia_ratio(c)))] if motors else [])])
     header = ["joint", "unit", *(["motor"] if motors else []), "closest to its limit",
               "margin left", f"{life} life", *(["load/rotor inertia"] if motors else [])]
-    return table(header, rows, left=2, text=[3 if motors else 2])
+    return table(header, rows, left=3 if motors else 2, text=[3 if motors else 2])
 
 
 def _motor(candidate: Candidate) -> str:

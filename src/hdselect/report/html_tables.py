@@ -50,7 +50,7 @@ pre{background:#f4f4f4;padding:.5em;white-space:pre-wrap;word-break:break-all}
 .summary{font-size:.95em}.summary ul{margin:.2em 0;padding-left:1.3em}
 .summary h2{margin-top:.6em}.summary h3{margin:.6em 0 .2em}
 .facts{display:flex;flex-wrap:wrap;gap:0 2em}.facts>div{min-width:0}
-.verdict{font-weight:600}.warn li{margin:.1em 0}
+.verdict{font-weight:600}.warn li{margin:.1em 0}.printnote{display:none}
 *{-webkit-print-color-adjust:exact;print-color-adjust:exact}
 @page{margin:12mm}
 @media print{body{max-width:none;margin:0;padding:0;font-size:8.5pt}
@@ -61,6 +61,7 @@ details>summary{list-style:none;margin-left:0}details{border:none}
 details[data-of=joint],details[data-of=provenance]{break-before:page}
 summary,h2,h3{break-after:avoid}figure,tr{break-inside:avoid}
 figure img{max-height:95mm;width:auto}
+section.pairs .maps,tr.no,tr.out td.u small{display:none}.printnote{display:block}
 a{color:inherit}}
 @media (max-width:640px){body{padding:0 .5em}
 table.stack,table.stack tbody,table.stack tr,table.stack td{display:block;width:auto}
@@ -87,7 +88,7 @@ def table(header: Sequence[str], rows: Sequence[Sequence[str]], *, left: int = 1
     head = "".join(f'<th{" class=t" if i < left or i in text else ""}>{unbroken(h)}</th>'
                    for i, h in enumerate(header))
     body = "".join(
-        f'<tr{f" class={classes[k]}" if k < len(classes) and classes[k] else ""}>'
+        (f"<tr class='{classes[k]}'>" if k < len(classes) and classes[k] else "<tr>")
         + "".join(_cell(c, labels[i] if i < len(labels) else "", i < left, i in text)
                   for i, c in enumerate(row)) + "</tr>" for k, row in enumerate(rows))
     return f'<div class=fit><table class=stack><tr class=h>{head}</tr>{body}</table></div>'
