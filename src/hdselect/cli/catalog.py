@@ -34,7 +34,7 @@ def run_duty(args: argparse.Namespace) -> int:
     units = load_catalog(args.catalog)
     cycle = load_duty(args.profile)
     with Outputs([args.profile, *args.catalog]) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json else None
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
         try:
             result = size_duty(cycle, units, margin=0.0 if args.margin is None else args.margin)
         except InputError as err:
