@@ -76,8 +76,7 @@ _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity"
            "samples": ()}
 
 
-_SECTIONS = {"safety": ("stop_time",),
-             "requirements": ("life_hours", "life_basis", "margin")}
+_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin")}
 _BOUNDS = {"stop_time": bounds.STOP_TIME, "life_hours": bounds.LIFE, "margin": bounds.MARGIN}
 
 
@@ -276,8 +275,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         warnings=tuple(warnings), motors=motors,
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
-        margin=requirements.get("margin"),
-    )
+        margin=requirements.get("margin"))
 
 
 def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path,

@@ -34,7 +34,7 @@ def summary(result: SizingResult, origin: Provenance) -> str:
                     "Some joints have no unit: see the warnings.")
     return (f"<section id=summary class=summary><h2>Review summary</h2>"
             f"<p class=verdict>{esc(verdict_text)}</p>"
-            f"<div class=fit><table class=stack>{fact_rows}</table></div>"
+            f"<div class=fit><table>{fact_rows}</table></div>"
             f"<h3>Motion</h3>{_tasks(result)}"
             f"<h3>Selection</h3>{_selection(result)}{_totals(result)}"
             f"<h3>Warnings that change a decision</h3>{_warnings(result)}"
