@@ -12,9 +12,9 @@ from hdselect.cli.output import EXIT_OK, rendered, say_written, to_stdout
 def run_plan(args: argparse.Namespace) -> int:
     """``hdselect plan``: the trajectory and the torques along it, as CSV (and a plot)."""
     from hdselect.base.outputs import Outputs
-    from hdselect.motion.planning import plan
+    from hdselect.motion.planning import plan_motion
     from hdselect.report.case_tables import plan_text
-    from hdselect.report.export import write_trajectory_csv
+    from hdselect.report.export import write_trajectory_csv, write_waypoints_csv
     from hdselect.robot.dynamics import inverse_dynamics
 
     robot, motion = robot_and_motion(args)
@@ -22,18 +22,27 @@ def run_plan(args: argparse.Namespace) -> int:
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")
         figure = outputs.file(args.plot, "--plot") if args.plot else None
-        trajectory = plan(robot, motion, max_samples=max_samples)
+        solved = outputs.file(args.waypoints, "--waypoints") if args.waypoints else None
+        planned = plan_motion(robot, motion, max_samples=max_samples)
+        motion, trajectory = planned.motion, planned.trajectory
         tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-        write_trajectory_csv(out, trajectory, tau, robot.joint_names)
+        write_trajectory_csv(out, trajectory, tau, robot.joint_names, planned.lines)
+        if solved is not None:
+            write_waypoints_csv(solved, motion)
         if figure is not None:
             from hdselect.report.figures import write_profiles_png
 
             write_profiles_png(figure, trajectory, tau, robot.sized_joints,
                                title=f"{robot.path.name} running {motion.path.name}")
-        text = "" if to_stdout(args) else rendered(plan_text(robot, motion, trajectory))
+        text = "" if to_stdout(args) else rendered(plan_text(robot, motion, trajectory,
+                                                             planned.lines))
         outputs.commit()
     sys.stdout.write(text)
     say_written([(args.out, f"t, then q_, qd_, qdd_, tau_ of {', '.join(robot.joint_names)} "
-                             "(SI)"),
+                             "(SI)" + ("; line, line_distance, line_angle: the tool's "
+                                       "deviation from each straight line" if planned.lines
+                                       else "")),
+                  (args.waypoints, "the joint path as solved: waypoints and line samples, "
+                                   "with the tool's pose error at each (SI)"),
                   (args.plot, "speed and torque of each joint over the cycle")], args)
     return EXIT_OK

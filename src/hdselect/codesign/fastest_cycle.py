@@ -36,6 +36,7 @@ from hdselect.codesign.fastpath import PathModel
 from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limits
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
+from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
 from hdselect.sizing.core import size_trajectory
 from hdselect.sizing.options import Options, options_for
@@ -196,6 +197,7 @@ def fastest(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None
             message names the joint, the limit and where), or TOPPRA fails.
     """
     motion.refuse_motors("fastest")
+    motion = solve_motion(robot, motion)
     options = options if options is not None else options_for(motion)
     catalog = tuple(catalog) if catalog is not None else load_catalog()
     chosen, _ = resolve_units(robot, motion, units, catalog, options, selection=False)
@@ -224,6 +226,7 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
         PlanningError: The units given cannot run the path at all.
     """
     motion.refuse_motors("fastest --compare-ratios")
+    motion = solve_motion(robot, motion)
     options = options if options is not None else options_for(motion)
     catalog = tuple(catalog) if catalog is not None else load_catalog()
     chosen, selected = resolve_units(robot, motion, units, catalog, options)

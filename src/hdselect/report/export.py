@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -13,7 +13,9 @@ from hdselect.base.outputs import write_file
 from hdselect.catalog.duty import DutyResult
 from hdselect.catalog.rules import RPM_PER_RAD_S
 from hdselect.catalog.units import Unit
+from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
+from hdselect.motion.planning.toolpath import LineDeviation
 from hdselect.robot.joints import JointInfo
 from hdselect.robot.model import Robot
 from hdselect.sizing.records import candidate_json, finite_or_none, mean_speed_note
@@ -109,25 +111,66 @@ def joints_json(robot: Robot, infos: Iterable[JointInfo]) -> dict[str, Any]:
 
 
 def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
-                         joints: Iterable[str]) -> None:
+                         joints: Iterable[str], lines: Sequence[LineDeviation] = ()) -> None:
     """One row per sample: t, then q_, qd_, qdd_, tau_ of every listed joint (SI).
 
-    A prismatic joint's columns are in m, m/s, m/s^2 and N.
+    A prismatic joint's columns are in m, m/s, m/s^2 and N. Given straight lines, three
+    more columns: ``line`` (the waypoint the line a sample lies on ends at),
+    ``line_distance`` [m] and ``line_angle`` [rad], the tool's deviation from that line
+    (`hdselect.motion.planning.toolpath.LineDeviation`); nan off the lines.
     """
     names = list(trajectory.joint_names)
     columns = [names.index(name) for name in joints]
     header = ["t"] + [f"{kind}_{names[j]}" for j in columns
                       for kind in ("q", "qd", "qdd", "tau")]
+    extra = np.full((len(trajectory.t), 3 if lines else 0), np.nan)
+    for found in lines:
+        extra[found.index] = np.column_stack([np.full(len(found.index), found.last),
+                                              found.position, found.orientation])
+    header += ["line", "line_distance", "line_angle"] if lines else []
 
     def rows(part: slice) -> np.ndarray:
         return np.column_stack([trajectory.t[part]] + [
             array[part, j] for j in columns
-            for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)])
+            for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)] + [extra[part]])
 
     def write(stream: Any) -> None:
         stream.write(",".join(header) + "\n")
         for start in range(0, len(trajectory.t), _CSV_ROWS):  # bounded memory, any length
             np.savetxt(stream, rows(slice(start, start + _CSV_ROWS)), fmt="%.10g",
                        delimiter=",")
+
+    write_output(target, write)
+
+
+def write_waypoints_csv(target: str | Path, motion: Motion) -> None:
+    """The solved motion's joint path: every waypoint, and every joint sample of a line.
+
+    One row per point, in the order the path passes them: ``waypoint`` (a line sample:
+    the waypoint its line ends at), ``fraction`` (a line sample's fraction of its line;
+    nan for a waypoint), ``q_`` of every joint [rad or m], ``position_error`` [m] and
+    ``orientation_error`` [rad]: the tool's distance from the pose asked for (a line
+    sample: the line's pose at its fraction); nan for a joint waypoint.
+    """
+    solution = motion.solution
+    nothing = np.full(len(motion.waypoints), np.nan)
+    position = solution.position_error if solution is not None else nothing
+    orientation = solution.orientation_error if solution is not None else nothing
+    lines = {line.last: line for line in motion.lines}
+    rows = []
+    for i, q in enumerate(motion.waypoints):
+        if i in lines:
+            line = lines[i]
+            for f, sample, p, o in zip(line.fractions[1:-1], line.interior,
+                                       line.position_error[1:-1],
+                                       line.orientation_error[1:-1], strict=True):
+                rows.append([i, f, *sample, p, o])
+        rows.append([i, np.nan, *q, position[i], orientation[i]])
+    header = ["waypoint", "fraction", *(f"q_{name}" for name in motion.joint_names),
+              "position_error", "orientation_error"]
+
+    def write(stream: Any) -> None:
+        stream.write(",".join(header) + "\n")
+        np.savetxt(stream, np.array(rows), fmt="%.10g", delimiter=",")
 
     write_output(target, write)

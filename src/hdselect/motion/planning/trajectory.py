@@ -33,12 +33,15 @@ class Move:
         last: Index of the waypoint it ends at.
         duration: Its duration [s].
         sample: Its state at given times, or None for a move of zero length.
+        passes: Time from its start at which it reaches each waypoint from `first` to
+            `last` [s]; empty when only the ends are known (at 0 and `duration`).
     """
 
     first: int
     last: int
     duration: float
     sample: Sampler | None
+    passes: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,6 +56,9 @@ class Trajectory:
         q: Joint positions [rad or m], shape (n, dof).
         qd: Joint velocities [rad/s or m/s], shape (n, dof).
         qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof).
+        waypoint_times: When the arm reaches each waypoint of the motion it was planned
+            from, before that waypoint's dwell [s], shape (k,); NaN where a planner does
+            not say (an interior waypoint of a co-design piece); None for a log.
     """
 
     joint_names: tuple[str, ...]
@@ -62,14 +68,16 @@ class Trajectory:
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
+    waypoint_times: np.ndarray | None = None
 
 
 def trajectory(motion: Motion, duration: float, t: np.ndarray, q: np.ndarray, qd: np.ndarray,
-               qdd: np.ndarray) -> Trajectory:
+               qdd: np.ndarray, waypoint_times: np.ndarray | None = None) -> Trajectory:
     """A read-only Trajectory of the motion's joints from sampled arrays (taken over)."""
-    for array in (t, q, qd, qdd):
+    for array in (t, q, qd, qdd, *([] if waypoint_times is None else [waypoint_times])):
         array.setflags(write=False)
-    return Trajectory(motion.joint_names, motion.dt, float(duration), t, q, qd, qdd)
+    return Trajectory(motion.joint_names, motion.dt, float(duration), t, q, qd, qdd,
+                      waypoint_times)
 
 
 def assemble(motion: Motion, moves: Sequence[Move], *,
@@ -104,11 +112,16 @@ def assemble(motion: Motion, moves: Sequence[Move], *,
          for m in moves],
         [(f"the dwell at waypoint[{i}]", float(d)) for i, d in enumerate(dwells)])
     starts, ends, rest = [], [], [waypoints[0]]
+    reached = np.full(len(waypoints), np.nan)
+    reached[0] = 0.0
     clock = float(dwells[0])
     for move in moves:
         starts.append(clock)
         ends.append(clock + move.duration)
         rest.append(waypoints[move.last])
+        if len(move.passes) == move.last - move.first + 1:
+            reached[move.first + 1:move.last + 1] = clock + np.asarray(move.passes[1:])
+        reached[move.last] = clock + move.duration
         clock += move.duration + float(dwells[move.last])
     if clock == 0.0:
         raise InputError("the cycle takes no time: every waypoint is the same and none has a "
@@ -122,4 +135,4 @@ def assemble(motion: Motion, moves: Sequence[Move], *,
         k0, k1 = np.searchsorted(t, [start, end], side="left")
         if k1 > k0 and move.sample is not None:
             q[k0:k1], qd[k0:k1], qdd[k0:k1] = move.sample(t[k0:k1] - start)
-    return trajectory(motion, clock, t, q, qd, qdd)
+    return trajectory(motion, clock, t, q, qd, qdd, reached)
