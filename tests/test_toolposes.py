@@ -10,6 +10,7 @@ brute-force search for the nearest point of a line.
 from __future__ import annotations
 
 import math
+import re
 import shlex
 
 import mujoco
@@ -240,9 +241,9 @@ def test_joint_waypoints_on_the_wall_print_a_note(capsys):
 
 def test_plan_writes_the_solved_waypoints_and_the_line_errors(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("COLUMNS", "80")
-    out, solved = tmp_path / "trajectory.csv", tmp_path / "solved.csv"
+    out, solved, errors = (tmp_path / name for name in ("out.csv", "solved.csv", "lines.csv"))
     assert main(["plan", str(EXAMPLE), "--mounting", "wall", "--out", str(out), "--waypoints",
-                 str(solved)]) == 0
+                 str(solved), "--line-errors", str(errors)]) == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "tool poses: 8 waypoints solved for 'tool0' on the wall mounting" in text
     assert "straight lines: 4, through" in text
@@ -250,24 +251,25 @@ def test_plan_writes_the_solved_waypoints_and_the_line_errors(tmp_path, capsys, 
     rows = np.genfromtxt(solved, delimiter=",", names=True)
     assert rows.dtype.names == ("waypoint", "fraction", *(f"q_{n}" for n in robot.joint_names),
                                 "position_error", "orientation_error")
-    waypoints = rows[np.isnan(rows["fraction"])]
-    np.testing.assert_array_equal(waypoints["waypoint"], np.arange(8))
+    assert np.all(np.isfinite(rows.view((float, len(rows.dtype.names)))))
+    at_waypoints = rows[rows["fraction"] == 1.0]
+    np.testing.assert_array_equal(at_waypoints["waypoint"], np.arange(8))
     kin = FrameKinematics(robot, "tool0")
-    for row in rows:
+    for row in at_waypoints:  # the errors written are those of the joints written
         q = np.array([row[f"q_{n}"] for n in robot.joint_names])
-        assert row["position_error"] <= TOLERANCE.position
-        if np.isnan(row["fraction"]):
-            reached = BASES["wall"] * fk(kin, q)
-            error = pose_error(reached, written_pose(motion, int(row["waypoint"])))
-            assert error[0] == pytest.approx(row["position_error"], abs=1e-9)
-    samples = rows[~np.isnan(rows["fraction"])]
+        error = pose_error(BASES["wall"] * fk(kin, q), written_pose(motion, int(row["waypoint"])))
+        assert error[0] == pytest.approx(row["position_error"], abs=1e-9)
+        assert error[1] == pytest.approx(row["orientation_error"], abs=1e-9)
+    samples = rows[rows["fraction"] < 1.0]
     assert set(samples["waypoint"]) == {2, 3, 5, 6} and len(samples) > 20
+    assert samples["position_error"].max() <= TOLERANCE.position
     trajectory = np.genfromtxt(out, delimiter=",", names=True)
-    assert trajectory.dtype.names[-3:] == ("line", "line_distance", "line_angle")
-    on = ~np.isnan(trajectory["line"])
-    assert set(trajectory["line"][on]) == {2, 3, 5, 6}
-    assert trajectory["line_distance"][on].max() <= TOLERANCE.position
-    assert np.isnan(trajectory["line_distance"][~on]).all()
+    assert len(trajectory.dtype.names) == 1 + 4 * 6  # as for any motion
+    lines = np.loadtxt(errors, delimiter=",", skiprows=1)
+    assert errors.read_text().split("\n", 1)[0] == "t,line,distance,angle,fraction"
+    assert set(lines[:, 1]) == {2, 3, 5, 6} and len(lines) > 400
+    assert lines[:, 2].max() <= TOLERANCE.position and lines[:, 3].max() <= TOLERANCE.orientation
+    np.testing.assert_allclose(lines[:, 0], trajectory["t"][np.isin(trajectory["t"], lines[:, 0])])
 
 
 def test_init_writes_a_tool_pose_starter_that_solves_back_and_sizes(tmp_path, capsys):
@@ -376,3 +378,31 @@ def test_a_change_of_branch_is_refused_unless_allowed(tmp_path):
 def test_the_example_runs_on_the_floor_and_on_the_wall(command, capsys):
     assert main(shlex.split(command)) in (0, 1)
     assert capsys.readouterr().err == ""
+
+
+DOC = REPO / "docs" / "tool-poses.md"
+
+
+def doc_examples() -> list[tuple[str, str]]:
+    """Each ``$ hdselect ...`` console block of docs/tool-poses.md, with the output shown."""
+    examples = []
+    for block in re.findall(r"```console\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.S):
+        command, *shown = block.rstrip("\n").split("\n")
+        examples.append((command.removeprefix("$ "), "\n".join(shown)))
+    return examples
+
+
+@pytest.mark.parametrize(("command", "shown"), doc_examples(), ids=lambda x: x[:50])
+def test_the_docs_examples_print_what_the_page_shows(command, shown, tmp_path, monkeypatch,
+                                                     capsys):
+    for name in ("robots", "trajectories"):
+        (tmp_path / name).symlink_to(REPO / name)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("COLUMNS", "80")
+    args = shlex.split(command)
+    assert args[0] == "hdselect" and main(args[1:]) == 0
+    printed = "\n".join(line.rstrip() for line in capsys.readouterr().out.rstrip().split("\n"))
+    assert printed == shown.rstrip()
+    for option in ("--out", "--waypoints"):
+        if option in args:
+            assert (tmp_path / args[args.index(option) + 1]).stat().st_size > 0

@@ -143,6 +143,9 @@ def _parser() -> argparse.ArgumentParser:
     plan.add_argument("--waypoints", metavar="FILE",
                       help="CSV of the joint path as solved: every waypoint and line sample "
                            "(tool poses solved for the mounting), with the tool's pose error")
+    plan.add_argument("--line-errors", metavar="FILE",
+                      help="CSV of every planned sample on a straight line: the tool's distance "
+                           "and angle from the line")
     plan.set_defaults(run=run_plan)
 
     size = commands.add_parser(

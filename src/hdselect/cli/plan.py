@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from hdselect.base.errors import InputError
 from hdselect.cli.inputs import input_files, max_samples_of, robot_and_motion
 from hdselect.cli.output import EXIT_OK, rendered, say_written, to_stdout
 
@@ -14,21 +15,35 @@ def run_plan(args: argparse.Namespace) -> int:
     from hdselect.base.outputs import Outputs
     from hdselect.motion.planning import plan_motion
     from hdselect.report.case_tables import plan_text
-    from hdselect.report.export import write_trajectory_csv, write_waypoints_csv
+    from hdselect.report.export import (
+        write_line_errors_csv,
+        write_trajectory_csv,
+        write_waypoints_csv,
+    )
     from hdselect.robot.dynamics import inverse_dynamics
 
     robot, motion = robot_and_motion(args)
     max_samples = max_samples_of(args)
+    if args.line_errors and not motion.lines:
+        raise InputError("the motion has no straight line (line = true) to measure",
+                         field="--line-errors")
+    if args.waypoints and not len(motion.waypoints):
+        raise InputError("a logged trajectory (planner \"samples\") has no waypoints",
+                         field="--waypoints")
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")
         figure = outputs.file(args.plot, "--plot") if args.plot else None
         solved = outputs.file(args.waypoints, "--waypoints") if args.waypoints else None
+        deviations = outputs.file(args.line_errors, "--line-errors") if args.line_errors \
+            else None
         planned = plan_motion(robot, motion, max_samples=max_samples)
         motion, trajectory = planned.motion, planned.trajectory
         tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-        write_trajectory_csv(out, trajectory, tau, robot.joint_names, planned.lines)
+        write_trajectory_csv(out, trajectory, tau, robot.joint_names)
         if solved is not None:
             write_waypoints_csv(solved, motion)
+        if deviations is not None:
+            write_line_errors_csv(deviations, trajectory, planned.lines)
         if figure is not None:
             from hdselect.report.figures import write_profiles_png
 
@@ -39,10 +54,11 @@ def run_plan(args: argparse.Namespace) -> int:
         outputs.commit()
     sys.stdout.write(text)
     say_written([(args.out, f"t, then q_, qd_, qdd_, tau_ of {', '.join(robot.joint_names)} "
-                             "(SI)" + ("; line, line_distance, line_angle: the tool's "
-                                       "deviation from each straight line" if planned.lines
-                                       else "")),
+                             "(SI)"),
                   (args.waypoints, "the joint path as solved: waypoints and line samples, "
                                    "with the tool's pose error at each (SI)"),
+                  (args.line_errors, f"the tool's distance and angle from its straight line "
+                                     f"at each of {sum(len(d.index) for d in planned.lines):,}"
+                                     " planned samples on a line (SI)"),
                   (args.plot, "speed and torque of each joint over the cycle")], args)
     return EXIT_OK

@@ -129,13 +129,16 @@ def _descend(kin: FrameKinematics, target: pin.SE3, q: np.ndarray, tolerance: To
     history = [cost]
     wrapped = ~kin.full_turn if wrap else np.ones(kin.dof, dtype=bool)
     held = np.zeros(kin.dof, dtype=bool)
+    identity = np.eye(kin.dof)
     while iterations < MAX_ITERATIONS:
-        if goal.holds(*pose_error(current, target)):
+        # log6's angular part is the rotation between the two orientations
+        if goal.holds(float(np.linalg.norm(target.translation - current.translation)),
+                      float(np.linalg.norm(error[3:]))):
             break
         iterations += 1
         jacobian = -pin.Jlog6(target.actInv(current)) @ kin.jacobian(q)
         gradient = jacobian.T @ error
-        hessian = jacobian.T @ jacobian + (mu * cost + _DAMPING_FLOOR) * np.eye(kin.dof)
+        hessian = jacobian.T @ jacobian + (mu * cost + _DAMPING_FLOOR) * identity
         step, held = _step_within_limits(kin, q, hessian, gradient)
         biggest = float(np.abs(step).max(initial=0.0))
         if biggest > MAX_STEP:

@@ -68,6 +68,7 @@ class FrameKinematics:
         self.full_turn = np.asarray(robot.revolute) & np.isfinite(span) & (span >= 2 * np.pi)
         """Revolute joints with a range of a full turn or more: an angle pressed against one
         limit has an equal angle 2 pi away inside the range."""
+        self._plain = model.nq == robot.dof  # no (cos, sin) joint: q is Pinocchio's q
         self.length = self._reach()
         """The arm's stretched reach [m], at least 0.1: it makes tool motion in m and in
         rad comparable (`sigma_min`, `tool_motion`)."""
@@ -81,9 +82,13 @@ class FrameKinematics:
         """`q` with every joint clipped into its limits (a copy) [rad or m]."""
         return np.clip(np.asarray(q, dtype=float), self.lower, self.upper)
 
+    def configuration(self, q: np.ndarray) -> np.ndarray:
+        """Pinocchio's configuration of joint positions `q` [rad or m]."""
+        return np.asarray(q, dtype=float) if self._plain else self.robot.configuration(q)[:, 0]
+
     def placement(self, q: np.ndarray) -> pin.SE3:
         """The frame's pose in the base frame at joint positions `q` [rad or m]."""
-        pin.framesForwardKinematics(self.model, self.data, self.robot.configuration(q)[:, 0])
+        pin.framesForwardKinematics(self.model, self.data, self.configuration(q))
         return self.data.oMf[self.frame_id].copy()
 
     def jacobian(self, q: np.ndarray, *, aligned: bool = False) -> np.ndarray:
@@ -95,9 +100,8 @@ class FrameKinematics:
                 frame's own axes.
         """
         reference = pin.LOCAL_WORLD_ALIGNED if aligned else pin.LOCAL
-        jacobian = pin.computeFrameJacobian(self.model, self.data,
-                                            self.robot.configuration(q)[:, 0], self.frame_id,
-                                            reference)
+        jacobian = pin.computeFrameJacobian(self.model, self.data, self.configuration(q),
+                                            self.frame_id, reference)
         return np.asarray(jacobian).reshape(6, self.model.nv)  # one joint: pinocchio gives (6,)
 
     def sigma_min(self, q: np.ndarray) -> float:

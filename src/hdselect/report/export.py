@@ -111,28 +111,20 @@ def joints_json(robot: Robot, infos: Iterable[JointInfo]) -> dict[str, Any]:
 
 
 def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
-                         joints: Iterable[str], lines: Sequence[LineDeviation] = ()) -> None:
+                         joints: Iterable[str]) -> None:
     """One row per sample: t, then q_, qd_, qdd_, tau_ of every listed joint (SI).
 
-    A prismatic joint's columns are in m, m/s, m/s^2 and N. Given straight lines, three
-    more columns: ``line`` (the waypoint the line a sample lies on ends at),
-    ``line_distance`` [m] and ``line_angle`` [rad], the tool's deviation from that line
-    (`hdselect.motion.planning.toolpath.LineDeviation`); nan off the lines.
+    A prismatic joint's columns are in m, m/s, m/s^2 and N.
     """
     names = list(trajectory.joint_names)
     columns = [names.index(name) for name in joints]
     header = ["t"] + [f"{kind}_{names[j]}" for j in columns
                       for kind in ("q", "qd", "qdd", "tau")]
-    extra = np.full((len(trajectory.t), 3 if lines else 0), np.nan)
-    for found in lines:
-        extra[found.index] = np.column_stack([np.full(len(found.index), found.last),
-                                              found.position, found.orientation])
-    header += ["line", "line_distance", "line_angle"] if lines else []
 
     def rows(part: slice) -> np.ndarray:
         return np.column_stack([trajectory.t[part]] + [
             array[part, j] for j in columns
-            for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)] + [extra[part]])
+            for array in (trajectory.q, trajectory.qd, trajectory.qdd, tau)])
 
     def write(stream: Any) -> None:
         stream.write(",".join(header) + "\n")
@@ -143,19 +135,43 @@ def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
     write_output(target, write)
 
 
+def write_line_errors_csv(target: str | Path, trajectory: Trajectory,
+                          lines: Sequence[LineDeviation]) -> None:
+    """One row per planned sample on a straight line: how far the tool strays from it.
+
+    Columns: ``t`` [s], ``line`` (the waypoint the line ends at; it starts at the one
+    before), ``distance`` [m] (the tool origin's distance from the line's segment),
+    ``angle`` [rad] (the tool orientation's angle from the nearest orientation of the
+    line's slerp) and ``fraction`` (the fraction of the line the sample is nearest).
+    """
+    rows = np.concatenate([np.column_stack([trajectory.t[found.index],
+                                            np.full(len(found.index), found.last),
+                                            found.position, found.orientation, found.fraction])
+                           for found in lines]) if lines else np.zeros((0, 5))
+
+    def write(stream: Any) -> None:
+        stream.write("t,line,distance,angle,fraction\n")
+        np.savetxt(stream, rows, fmt="%.10g", delimiter=",")
+
+    write_output(target, write)
+
+
 def write_waypoints_csv(target: str | Path, motion: Motion) -> None:
     """The solved motion's joint path: every waypoint, and every joint sample of a line.
 
     One row per point, in the order the path passes them: ``waypoint`` (a line sample:
-    the waypoint its line ends at), ``fraction`` (a line sample's fraction of its line;
-    nan for a waypoint), ``q_`` of every joint [rad or m], ``position_error`` [m] and
-    ``orientation_error`` [rad]: the tool's distance from the pose asked for (a line
-    sample: the line's pose at its fraction); nan for a joint waypoint.
+    the waypoint its line ends at), ``fraction`` (of the way from the waypoint before:
+    a line sample's fraction of its line, 1 at a waypoint), ``q_`` of every joint [rad
+    or m], ``position_error`` [m] and ``orientation_error`` [rad]: the tool's distance
+    from the pose asked for (a line sample: the line's pose at its fraction); 0 for a
+    joint waypoint, which is where its joint positions put it.
     """
     solution = motion.solution
-    nothing = np.full(len(motion.waypoints), np.nan)
-    position = solution.position_error if solution is not None else nothing
-    orientation = solution.orientation_error if solution is not None else nothing
+    nothing = np.zeros(len(motion.waypoints))
+    position = (np.nan_to_num(solution.position_error) if solution is not None
+                and len(solution.position_error) == len(nothing) else nothing)
+    orientation = (np.nan_to_num(solution.orientation_error) if solution is not None
+                   and len(solution.orientation_error) == len(nothing) else nothing)
     lines = {line.last: line for line in motion.lines}
     rows = []
     for i, q in enumerate(motion.waypoints):
@@ -165,7 +181,7 @@ def write_waypoints_csv(target: str | Path, motion: Motion) -> None:
                                        line.position_error[1:-1],
                                        line.orientation_error[1:-1], strict=True):
                 rows.append([i, f, *sample, p, o])
-        rows.append([i, np.nan, *q, position[i], orientation[i]])
+        rows.append([i, 1.0, *q, position[i], orientation[i]])
     header = ["waypoint", "fraction", *(f"q_{name}" for name in motion.joint_names),
               "position_error", "orientation_error"]
 
