@@ -227,6 +227,8 @@ def test_joint_and_pose_waypoints_mix(tmp_path):
         "waypoint 0 (joint positions) keeps its joint angles on the wall mounting: the task "
         "moved with the robot; write them as tool poses (pose = {xyz, rpy}) to keep the task "
         "where it is in the world",)
+    on_the_floor = solve_motion(robot.with_mounting("floor"), motion)
+    assert on_the_floor.warnings == ()  # the wall's note went with the wall
 
 
 def test_joint_waypoints_on_the_wall_print_a_note(capsys):
@@ -354,9 +356,13 @@ def test_line_through_a_singularity_names_where(tmp_path):
     assert any(word in message for word in ("singularity", "in the way", "reach"))
 
 
+ELBOW_UP = SHORT.replace("dwell = 0.2\n", "near = {{elbow = 80}}\ndwell = 0.2\n", 1)
+"""`SHORT` with its first pose's branch chosen: elbow bent up."""
+
+
 def test_a_change_of_branch_is_refused_unless_allowed(tmp_path):
     """The same pose twice, the second with a hint that bends the elbow the other way."""
-    flip = SHORT.replace(
+    flip = ELBOW_UP.replace(
         "[[waypoint]]\npose = {{xyz = [0.28, -0.20, 0.08], rpy = [180, 0, -135]}}\nline = true",
         "[[waypoint]]\npose = {{xyz = [0.28, -0.20, 0.16], rpy = [180, 0, -135]}}\n"
         "near = {{shoulder_lift = -10, elbow = -97, wrist_1 = 110}}")
@@ -365,11 +371,38 @@ def test_a_change_of_branch_is_refused_unless_allowed(tmp_path):
     assert caught.value.field == "waypoint[2]"
     message = str(caught.value)
     assert "the arm changes branch between waypoint[1] and waypoint[2]" in message
-    assert "elbow indicator changes sign" in message and "reconfigure = true" in message
+    assert "elbow indicator changes sign" in message
+    assert message.endswith("waypoint[2]'s near chose the other branch: change it, or allow the "
+                            "change with reconfigure = true")
     allowed = flip.replace("wrist_1 = 110}}", "wrist_1 = 110}}\nreconfigure = true")
     robot, motion = hdselect.load_case(write(tmp_path, allowed))
     assert motion.waypoints[2][2] < 0 < motion.waypoints[1][2]  # the elbow bent the other way
     assert any("allowed by waypoint[2].reconfigure" in w for w in motion.warnings)
+
+
+def test_a_joint_waypoint_on_another_branch_than_the_pose_before_is_named(tmp_path):
+    text = ELBOW_UP.replace(
+        "[[waypoint]]\npose = {{xyz = [0.28, -0.20, 0.16], rpy = [180, 0, -135]}}",
+        "[[waypoint]]\nq = [-13, -20, -80, 120, -90, -13]", 1).replace(
+        "line = true\n", "")
+    with pytest.raises(InputError) as caught:
+        hdselect.load_case(write(tmp_path, text))
+    assert caught.value.field == "waypoint[1]"
+    assert "waypoint[0]'s pose was solved on another branch than waypoint[1]'s joints: give " \
+        "waypoint[0] a hint such as near = {" in str(caught.value)
+
+
+def test_the_first_pose_takes_the_branch_that_carries_the_motion_through(tmp_path):
+    """Without a hint, a first pose whose first solution leads into a change of branch is
+    solved on another of its branches: here the second pose forces the elbow down."""
+    text = SHORT.replace(
+        "[[waypoint]]\npose = {{xyz = [0.28, -0.20, 0.08], rpy = [180, 0, -135]}}\nline = true",
+        "[[waypoint]]\npose = {{xyz = [0.28, -0.20, 0.16], rpy = [180, 0, -135]}}\n"
+        "near = {{shoulder_lift = -10, elbow = -97, wrist_1 = 110}}")
+    robot, motion = hdselect.load_case(write(tmp_path, text))
+    assert np.all(motion.waypoints[:, 2] < 0)  # every waypoint with the elbow down
+    kin = FrameKinematics(robot, "tool0")
+    assert TOLERANCE.holds(*pose_error(fk(kin, motion.waypoints[0]), written_pose(motion, 0)))
 
 
 @pytest.mark.parametrize("command", [
@@ -406,3 +439,11 @@ def test_the_docs_examples_print_what_the_page_shows(command, shown, tmp_path, m
     for option in ("--out", "--waypoints"):
         if option in args:
             assert (tmp_path / args[args.index(option) + 1]).stat().st_size > 0
+
+
+def test_the_docs_python_example_prints_what_the_page_shows(monkeypatch, capsys):
+    monkeypatch.chdir(REPO)
+    (code, shown), = re.findall(r"```python\n(.*?)```\n\n```text\n(.*?)```",
+                               DOC.read_text(encoding="utf-8"), flags=re.S)
+    exec(compile(code, str(DOC), "exec"), {})
+    assert capsys.readouterr().out == shown

@@ -91,15 +91,15 @@ def solve_motion(robot: Robot, motion: Motion) -> Motion:
         raise InputError(err.reason + ("" if tool.frame else " (the payload's frame, which "
                                        "the poses place when [tool] gives no frame)"),
                          path=motion.path, field=field) from err
-    solver = _Solver(kin, motion, tool, base)
-    waypoints, lines = solver.run()
+    solver = _first_branch(kin, motion, tool, base)
+    waypoints, lines = solver.waypoints, solver.lines
     notes = [*solver.notes, *_moved_with_robot(motion, base)]
     for note in notes:
         logger.warning("%s: %s", motion.path, note)
     solution = ToolSolution(frame, base, frozen(solver.position_error),
                             frozen(solver.orientation_error), tuple(notes), key)
     solved = replace(motion, waypoints=frozen(waypoints), lines=tuple(lines), solution=solution,
-                     warnings=motion.warnings + tuple(notes))
+                     warnings=_file_warnings(motion) + tuple(notes))
     return fit_lines(kin, solved, tool.tolerance) if lines else solved
 
 
@@ -107,14 +107,22 @@ def _joint_motion(robot: Robot, motion: Motion) -> Motion:
     """A motion of joint waypoints: as it is, with the note of a mounting off the floor once."""
     base = robot.base_pose
     notes = _moved_with_robot(motion, base) if len(motion.waypoints) else []
-    if not notes or (motion.solution is not None and motion.solution.base == base):
+    if motion.solution is not None and motion.solution.base == base:
         return motion
+    if not notes:
+        return replace(motion, warnings=_file_warnings(motion), solution=None)
     for note in notes:
         logger.warning("%s: %s", motion.path, note)
     nothing = frozen(np.full(len(motion.waypoints), np.nan))
     assert base is not None  # no note for a gravity vector
-    return replace(motion, warnings=motion.warnings + tuple(notes), solution=ToolSolution(
+    return replace(motion, warnings=_file_warnings(motion) + tuple(notes), solution=ToolSolution(
         "", base, nothing, nothing, tuple(notes), ()))
+
+
+def _file_warnings(motion: Motion) -> tuple[str, ...]:
+    """The motion's warnings without the notes of an earlier solving (for another mounting)."""
+    earlier = motion.solution.notes if motion.solution is not None else ()
+    return tuple(w for w in motion.warnings if w not in earlier)
 
 
 def _moved_with_robot(motion: Motion, base: BasePose | None) -> list[str]:
@@ -132,6 +140,52 @@ def _moved_with_robot(motion: Motion, base: BasePose | None) -> list[str]:
             "the task where it is in the world"]
 
 
+def _first_branch(kin: FrameKinematics, motion: Motion, tool: ToolPoses,
+                  base: BasePose) -> _Solver:
+    """The motion solved from the first branch of its first pose that carries it through.
+
+    The first waypoint's branch decides every other's. When it is a pose without a
+    ``near`` hint, its solution from the middle of the joint ranges comes first, then its
+    other solutions (`FIRST_SEEDS` random starts, the nearest to the middle first); the
+    first from which every waypoint and line solves without a change of branch wins.
+
+    Raises:
+        InputError: No branch carries the motion through: the first branch's error.
+    """
+    first = tool.at(0)
+    starts: list[np.ndarray | None] = [None]
+    if first is not None and not first.near:
+        starts += _other_solutions(kin, in_base(base, first.pose), tool)
+    failure = None
+    for start in starts:
+        solver = _Solver(kin, motion, tool, base)
+        try:
+            solver.run(start)
+            return solver
+        except InputError as err:
+            failure = failure or err
+    assert failure is not None
+    raise failure
+
+
+FIRST_SEEDS = 16
+"""Random starts that look for other branches of the first pose [-]."""
+
+
+def _other_solutions(kin: FrameKinematics, target: pin.SE3,
+                     tolerance_of: ToolPoses) -> list[np.ndarray]:
+    """Distinct solutions of a pose from random starts, the nearest to the ranges' middle first."""
+    rng = np.random.default_rng(0)
+    found: list[np.ndarray] = []
+    lower, upper = np.maximum(kin.lower, -np.pi), np.minimum(kin.upper, np.pi)
+    for _ in range(FIRST_SEEDS):
+        solution = solve_pose(kin, target, rng.uniform(lower, upper),
+                              tolerance=tolerance_of.tolerance)
+        if solution.converged and all(np.abs(solution.q - q).max() > 0.1 for q in found):
+            found.append(np.array(solution.q))
+    return sorted(found, key=lambda q: float(np.abs(q - kin.middle).max()))
+
+
 class _Solver:
     """The waypoints of one motion solved in order, each from the one before."""
 
@@ -143,18 +197,24 @@ class _Solver:
         self.orientation_error = np.full(count, np.nan)
         self.notes: list[str] = []
         self.angle = ANGLE_UNITS[motion.angle_unit]
+        self.waypoints = np.array(motion.waypoints)
+        self.lines: list[LinePath] = []
 
-    def run(self) -> tuple[np.ndarray, list[LinePath]]:
-        """Every waypoint in joint positions, and the lines' samples."""
+    def run(self, first: np.ndarray | None = None) -> None:
+        """Every waypoint in joint positions, and the lines' samples, in order.
+
+        Args:
+            first: Joint positions that solve the first pose (its branch), or None to
+                solve it from the middle of the ranges.
+        """
         kin, tool = self.kin, self.tool
-        waypoints = np.array(self.motion.waypoints)
-        lines: list[LinePath] = []
+        waypoints, lines = self.waypoints, self.lines
         for i in range(len(waypoints)):
             written = tool.at(i)
             before = waypoints[i - 1] if i else None
             if written is None:
                 if before is not None and tool.at(i - 1) is not None:
-                    self._check_branch(i, before, waypoints[i], restart=0)
+                    self._check_branch(i, before, waypoints[i], "joints")
                 continue
             target = in_base(self.base, written.pose)
             if written.line:
@@ -171,7 +231,8 @@ class _Solver:
                 self.position_error[i] = found.position_error[-1]
                 self.orientation_error[i] = found.orientation_error[-1]
                 continue
-            seed = kin.hinted(before if before is not None else kin.seed(), written.near)
+            seed = kin.hinted(before if before is not None else
+                              first if first is not None else kin.seed(), written.near)
             solution = solve_pose(kin, target, seed, tolerance=tool.tolerance,
                                   restarts=RESTARTS, rng_seed=i)
             if not solution.converged:
@@ -184,8 +245,8 @@ class _Solver:
             self.position_error[i] = solution.position_error
             self.orientation_error[i] = solution.orientation_error
             if before is not None:
-                self._check_branch(i, before, waypoints[i], solution.restart)
-        return waypoints, lines
+                self._check_branch(i, before, waypoints[i],
+                                   "near" if written.near else "searched")
 
     def _on_branch(self, i: int, target: pin.SE3, before: np.ndarray,
                    found: PoseSolution) -> PoseSolution:
@@ -207,9 +268,12 @@ class _Solver:
                 best, smallest = other, check.joint_move
         return best
 
-    def _check_branch(self, i: int, before: np.ndarray, after: np.ndarray,
-                      restart: int) -> None:
-        """Refuse a change of branch into waypoint `i`, unless it says ``reconfigure``."""
+    def _check_branch(self, i: int, before: np.ndarray, after: np.ndarray, how: str) -> None:
+        """Refuse a change of branch into waypoint `i`, unless it says ``reconfigure``.
+
+        `how` says how waypoint `i` got its joints: ``"joints"`` (given), ``"near"`` (solved
+        from its hint) or ``"searched"`` (solved, no same-branch solution found).
+        """
         check = check_branch(self.kin, before, after)
         if not check.flipped:
             return
@@ -222,13 +286,18 @@ class _Solver:
         if i in self.tool.reconfigure:
             self.notes.append(f"{what}; allowed by waypoint[{i}].reconfigure")
             return
-        cause = (f"the pose cannot be reached from waypoint[{i - 1}]'s branch (it was found "
-                 "from a random start)" if restart else "")
-        hint = ", ".join(f"{names[j]} = {self._number(j, before[j])}" for j in moved)
-        raise InputError(f"{what}{'; ' + cause if cause else ''}. Keep the branch with a hint "
-                         f"such as near = {{{hint}}} (waypoint[{i - 1}]'s joints), or allow it "
-                         "with reconfigure = true", path=self.motion.path,
-                         field=f"waypoint[{i}]")
+        if how == "joints":
+            hint = ", ".join(f"{names[j]} = {self._number(j, after[j])}" for j in moved)
+            advice = (f"waypoint[{i - 1}]'s pose was solved on another branch than waypoint"
+                      f"[{i}]'s joints: give waypoint[{i - 1}] a hint such as near = {{{hint}}}")
+        elif how == "near":
+            advice = f"waypoint[{i}]'s near chose the other branch: change it"
+        else:
+            advice = (f"no solution on waypoint[{i - 1}]'s branch was found from "
+                      f"{BRANCH_SEEDS + 1} starts: move the pose, or give waypoint[{i}] a near "
+                      "hint of the joints it should have")
+        raise InputError(f"{what}; {advice}, or allow the change with reconfigure = true",
+                         path=self.motion.path, field=f"waypoint[{i}]")
 
     def _unreachable(self, solution: PoseSolution) -> str:
         """Why a pose does not solve: the error left and the joint limits in the way."""

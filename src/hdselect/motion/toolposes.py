@@ -25,9 +25,8 @@ mounting by `hdselect.motion.solve`.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -57,15 +56,20 @@ class PoseWaypoint:
         xyz: The tool frame's origin in the world [m].
         rpy: Its roll, pitch, yaw in the world [rad] (fixed axes X, Y, Z).
         line: Reached from the waypoint before along a straight line.
-        near: Joints the solver starts at, by name [rad or m] (empty: from the waypoint
-            before).
+        hints: The joints the solver starts at, as (name, position [rad or m]) pairs
+            (empty: all from the waypoint before).
     """
 
     index: int
     xyz: tuple[float, float, float]
     rpy: tuple[float, float, float]
     line: bool = False
-    near: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
+    hints: tuple[tuple[str, float], ...] = ()
+
+    @property
+    def near(self) -> dict[str, float]:
+        """The file's ``near``: the hinted joints' positions by name [rad or m]."""
+        return dict(self.hints)
 
     @property
     def pose(self) -> pin.SE3:
@@ -158,7 +162,7 @@ def read_pose(table: Mapping[str, Any], index: int, path: Path, robot: Robot,
             unit = angle_unit if robot.revolute[j] else "m"
             near[name] = as_number(value, path, f"{where}.near.{name}", bound=bounds.POSITION,
                                    scale=scale, unit=unit) * scale
-    return PoseWaypoint(index, xyz, rpy, line, MappingProxyType(near))
+    return PoseWaypoint(index, xyz, rpy, line, tuple(near.items()))
 
 
 def read_flags(table: Mapping[str, Any], index: int, path: Path, pose: bool) -> bool:
