@@ -31,6 +31,8 @@ from hdselect.robot.dynamics import inverse_dynamics
 from hdselect.robot.model import load_robot
 from hdselect.robot.mounting import STANDARD_GRAVITY, BasePose
 from test_dynamics import REPO
+from test_example_robots import ARMS as EXAMPLE_ARMS
+from test_example_robots import example_robots
 from test_ik import fk
 from test_robot import robot_path
 
@@ -64,6 +66,31 @@ line = true
 dwell = 0.2
 """
 """A short tool-pose motion of benchtop6: home, above a part, straight down to it."""
+
+
+@pytest.mark.parametrize("name", ["floor", "wall", "ceiling"])
+def test_a_named_mounting_is_one_placement_for_gravity_and_poses(name):
+    g = STANDARD_GRAVITY
+    by_hand = {"floor": (0, 0, -g), "wall": (-g, 0, 0), "ceiling": (0, 0, g)}[name]
+    robot = load_robot(robot_path("planar2"), mounting=name)
+    np.testing.assert_array_equal(robot.base_pose.matrix, BASES[name].rotation)
+    np.testing.assert_allclose(robot.gravity, by_hand, atol=1e-15)
+    np.testing.assert_allclose(robot.model.gravity.linear, by_hand, atol=1e-15)
+
+
+def test_a_base_pose_sets_gravity_and_a_gravity_vector_no_pose():
+    tilted = BasePose.from_xyz_rpy([0.1, 0.2, 0.3], [0.0, math.radians(30), 0.0])
+    robot = load_robot(robot_path("planar2")).with_mounting(tilted)
+    # pitched 30 deg about y, the base x axis points 30 deg below the horizon, (cos 30, 0,
+    # -sin 30) in the world, and base z is (sin 30, 0, cos 30): g_base = R^T (0, 0, -g)
+    # = (g sin 30, 0, -g cos 30)
+    np.testing.assert_allclose(robot.gravity, [STANDARD_GRAVITY * math.sin(math.radians(30)),
+                                               0.0,
+                                               -STANDARD_GRAVITY * math.cos(math.radians(30))],
+                               atol=1e-12)
+    assert robot.with_mounting([0.0, 0.0, -9.81]).base_pose is None
+    with pytest.raises(InputError, match="rotation matrix"):
+        BasePose(rotation=((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, -1.0)))
 
 
 def write(tmp_path, text: str, name: str = "motion.toml"):
@@ -284,6 +311,20 @@ def test_init_writes_a_tool_pose_starter_that_solves_back_and_sizes(tmp_path, ca
                                    atol=1e-3)  # the poses solve back to the configuration
         np.testing.assert_allclose(motion.waypoints[2], motion.waypoints[0], atol=1e-3)
         assert main(["size", str(out)]) in (0, 1)
+    capsys.readouterr()
+
+
+@pytest.mark.parametrize("arm", ["UR5", "Panda", "Kinova", "SO-101", "TIAGo arm"])
+def test_init_tool_poses_for_real_arms_plan_and_size(arm, tmp_path, capsys):
+    """6 joints, 7 joints and a finger, continuous joints, a 5-joint arm, 12 joints."""
+    out = tmp_path / "starter.toml"
+    assert main(["init", str(example_robots() / EXAMPLE_ARMS[arm]), "--tool-poses", "--out",
+                 str(out)]) == 0
+    robot, motion = hdselect.load_case(out)
+    near = motion.tool.poses[0].near
+    np.testing.assert_allclose(motion.waypoints[0], [near[n] for n in robot.joint_names],
+                               atol=1e-3)
+    assert main(["size", str(out)]) in (0, 1)  # a big arm's shoulder may fit no unit
     capsys.readouterr()
 
 
