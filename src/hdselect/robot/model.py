@@ -218,12 +218,18 @@ class Robot:
         frame = self.payload.frame if self.payload is not None else None
         return frame or self.default_payload_frame
 
-    def carried_mass(self, joint: str) -> float:
-        """Total of the gearhead masses mounted on links that `joint` moves [kg]."""
+    def carried_mass(self, joint: str, masses: Mapping[str, float] | None = None) -> float:
+        """Total of the gearhead masses mounted on links that `joint` moves [kg].
+
+        Args:
+            joint: The joint.
+            masses: Mass mounted at each joint [kg] (as `with_gearheads` takes them);
+                None: this robot's own.
+        """
         model = self.model
         joint_id = model.getJointId(joint)
         total = 0.0
-        for name, mass in self.gearhead_masses.items():
+        for name, mass in (self.gearhead_masses if masses is None else masses).items():
             ancestor = model.parents[model.getJointId(name)]
             while ancestor > joint_id:
                 ancestor = model.parents[ancestor]
