@@ -10,7 +10,6 @@ brute-force search for the nearest point of a line.
 from __future__ import annotations
 
 import math
-import re
 import shlex
 
 import mujoco
@@ -20,6 +19,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import hdselect
+from docs_examples import examples, matches, run, scratch
 from hdselect.base.errors import InputError
 from hdselect.cli.main import main
 from hdselect.motion.kinematics import FrameKinematics
@@ -457,34 +457,12 @@ def test_the_example_runs_on_the_floor_and_on_the_wall(command, capsys):
 DOC = REPO / "docs" / "tool-poses.md"
 
 
-def doc_examples() -> list[tuple[str, str]]:
-    """Each ``$ hdselect ...`` console block of docs/tool-poses.md, with the output shown."""
-    examples = []
-    for block in re.findall(r"```console\n(.*?)```", DOC.read_text(encoding="utf-8"), flags=re.S):
-        command, *shown = block.rstrip("\n").split("\n")
-        examples.append((command.removeprefix("$ "), "\n".join(shown)))
-    return examples
-
-
-@pytest.mark.parametrize(("command", "shown"), doc_examples(), ids=lambda x: x[:50])
-def test_the_docs_examples_print_what_the_page_shows(command, shown, tmp_path, monkeypatch,
-                                                     capsys):
-    for name in ("robots", "trajectories"):
-        (tmp_path / name).symlink_to(REPO / name)
-    monkeypatch.chdir(tmp_path)
-    monkeypatch.setenv("COLUMNS", "80")
-    args = shlex.split(command)
-    assert args[0] == "hdselect" and main(args[1:]) == 0
-    printed = "\n".join(line.rstrip() for line in capsys.readouterr().out.rstrip().split("\n"))
-    assert printed == shown.rstrip()
-    for option in ("--out", "--waypoints"):
-        if option in args:
-            assert (tmp_path / args[args.index(option) + 1]).stat().st_size > 0
-
-
-def test_the_docs_python_example_prints_what_the_page_shows(monkeypatch, capsys):
-    monkeypatch.chdir(REPO)
-    (code, shown), = re.findall(r"```python\n(.*?)```\n\n```text\n(.*?)```",
-                               DOC.read_text(encoding="utf-8"), flags=re.S)
-    exec(compile(code, str(DOC), "exec"), {})
-    assert capsys.readouterr().out == shown
+@pytest.mark.parametrize("example", [e for e in examples(DOC) if e.shown is not None],
+                         ids=lambda e: e.source.splitlines()[0][:50])
+def test_the_docs_examples_print_what_tool_poses_md_shows(example, tmp_path):
+    """docs/tool-poses.md, run as tests/docs_examples.py runs every page (outputs in out/)."""
+    printed = run(example, scratch(tmp_path))
+    assert printed is not None and matches(printed, example.shown), printed
+    for word in example.source.split():
+        if word.startswith("out/"):
+            assert (tmp_path / word).stat().st_size > 0

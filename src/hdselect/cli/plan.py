@@ -22,6 +22,10 @@ def run_plan(args: argparse.Namespace) -> int:
     )
     from hdselect.robot.dynamics import inverse_dynamics
 
+    for flag, given in (("--joints", args.joints), ("--exclude", args.exclude)):
+        if given is not None and args.plot is None:
+            raise InputError("only with --plot (it chooses the joints plotted; the CSV has "
+                             "every joint)", field=flag)
     robot, motion = robot_and_motion(args)
     max_samples = max_samples_of(args)
     if args.line_errors and not motion.lines:
@@ -32,7 +36,7 @@ def run_plan(args: argparse.Namespace) -> int:
                          field="--waypoints")
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")
-        figure = outputs.file(args.plot, "--plot") if args.plot else None
+        figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         solved = outputs.file(args.waypoints, "--waypoints") if args.waypoints else None
         deviations = outputs.file(args.line_errors, "--line-errors") if args.line_errors \
             else None

@@ -20,6 +20,7 @@ import textwrap
 
 import numpy as np
 
+from hdselect.base.bounds import expect_type
 from hdselect.motion.branches import check_branch
 from hdselect.motion.ik import solve_pose
 from hdselect.motion.kinematics import FrameKinematics
@@ -55,7 +56,12 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
 
     Returns:
         The motion file, commented.
+
+    Raises:
+        InputError: An argument is of the wrong type.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_robot)")
+    expect_type(robot_file, (str,), "robot_file", "the robot file's name, a string")
     infos = [i for i in describe_joints(robot) if i.index is not None]
     units = ["deg" if i.kind != "prismatic" else "m" for i in infos]
     scale = [DEG_PER_RAD if u == "deg" else 1.0 for u in units]

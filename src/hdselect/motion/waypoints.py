@@ -26,6 +26,12 @@ from hdselect.motion.toolposes import (
 )
 from hdselect.robot.model import Robot
 
+LIMIT_ROUNDING = 5e-6
+"""How far a waypoint may lie beyond a robot file's position limit and still be taken as on
+it, relative to max(1, |limit|) [-]. A limit written to 6 significant digits differs from
+the angle its author meant by less (pi/2 written 1.5707963 or 1.5708: 2.7e-8 and 3.7e-6 rad;
+pi written 3.14159: 2.7e-6 rad), so a waypoint at 90 deg against 1.5707963 rad is that
+limit. The waypoint is moved onto the limit, by at most this much."""
 
 def read_waypoints(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
                units: list[str], lists: JointLists, angle: tuple[float, str]
@@ -76,7 +82,10 @@ def read_waypoints(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndar
         given = per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
                            scale=scale, units=units, lists=lists)
         q = given * scale
-        for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):
+        lower, upper = robot.lower, robot.upper
+        slack_low = LIMIT_ROUNDING * np.maximum(1.0, np.abs(lower))
+        slack_high = LIMIT_ROUNDING * np.maximum(1.0, np.abs(upper))
+        for j in np.flatnonzero((q < lower - slack_low) | (q > upper + slack_high)):
             name = robot.joint_names[j]
             listed = isinstance(table["q"], list)
             key = f"[{j}]" if listed else f".{name}"
@@ -85,6 +94,6 @@ def read_waypoints(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndar
                 f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
                 + (f" ({lists.order})" if listed else ""),
                 path=path, field=f"{where}.q{key}")
-        points.append(q)
+        points.append(np.clip(q, lower, upper))  # on the limit its file rounded
     tool = read_tool(doc.get("tool"), path, *angle, poses, reconfigure)
     return np.array(points), np.array(dwells), tool
