@@ -29,6 +29,7 @@ import numpy as np
 import pinocchio as pin
 
 from hdselect.base.arrays import frozen
+from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
 from hdselect.motion.branches import SINGULARITY_NAMES, check_branch
 from hdselect.motion.ik import PoseSolution, solve_pose
@@ -69,8 +70,10 @@ def solve_motion(robot: Robot, motion: Motion) -> Motion:
         InputError: A pose is out of reach, a line cannot be followed, the arm changes
             branch where the file does not allow it, the frame is unknown, or the robot's
             mounting is a gravity vector that places no base in the world; the message
-            names the waypoint.
+            names the waypoint. An argument of the wrong type.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_robot)")
+    expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_motion)")
     motion.check_joints(robot)
     base = robot.base_pose
     tool = motion.tool

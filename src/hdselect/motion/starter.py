@@ -62,6 +62,7 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
     """
     expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_robot)")
     expect_type(robot_file, (str,), "robot_file", "the robot file's name, a string")
+    expect_type(tool_poses, (bool,), "tool_poses", "True or False")
     infos = [i for i in describe_joints(robot) if i.index is not None]
     units = ["deg" if i.kind != "prismatic" else "m" for i in infos]
     scale = [DEG_PER_RAD if u == "deg" else 1.0 for u in units]
