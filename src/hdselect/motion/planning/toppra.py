@@ -46,6 +46,7 @@ from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.base.errors import PlanningError
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.path import (
+    GRID_PER_LINE_SAMPLE,
     GRID_PER_WAYPOINT,
     PathPiece,
     path_pieces,
@@ -55,8 +56,9 @@ from hdselect.motion.planning.path import (
 from hdselect.motion.planning.trajectory import Move, Trajectory, assemble
 from hdselect.robot.model import Robot
 
-__all__ = ["PathPiece", "Profile", "kinematic_constraints", "overshoot_scale", "path_pieces",
-           "plan_toppra", "solve_piece", "solve_refined", "step_excess", "with_gridpoints"]
+__all__ = ["GRID_PER_LINE_SAMPLE", "PathPiece", "Profile", "kinematic_constraints",
+           "overshoot_scale", "path_pieces", "plan_toppra", "solve_piece", "solve_refined",
+           "step_excess", "with_gridpoints"]
 
 TOPPRA_TOLERANCE = 1e-6
 """Relative amount by which a TOPPRA trajectory may exceed its velocity and
@@ -80,6 +82,7 @@ REFINE_ROUNDS = 3
 
 _SPLIT_MARGIN = 1.25
 """Parts a step is split into, over the square root of its excess over the tolerance [-]."""
+
 
 _DENSE_CHECK = 10
 """Check points per TOPPRA gridpoint when measuring its overshoot."""
@@ -146,6 +149,19 @@ class Profile:
         u = self.sdd[index]
         s = self.piece.gridpoints[index] + step * self.sd[index] + 0.5 * step**2 * u
         return s, self.sd[index] + step * u, u
+
+    def time_at(self, positions: np.ndarray) -> np.ndarray:
+        """The time [s] from the start at which the piece reaches path positions s [-]."""
+        s = np.asarray(positions, dtype=float)
+        index = np.clip(np.searchsorted(self.piece.gridpoints, s, side="right") - 1, 0,
+                        len(self.sdd) - 1)
+        ahead = s - self.piece.gridpoints[index]
+        speed, u = self.sd[index], self.sdd[index]
+        # s_i + speed tau + u tau^2 / 2 = s, in the form that stays exact as u -> 0
+        root = np.sqrt(np.maximum(speed**2 + 2.0 * u * ahead, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tau = np.where(speed + root > 0.0, 2.0 * ahead / (speed + root), 0.0)
+        return self.t[index] + tau
 
     def sample(self, times: np.ndarray,
                scale: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -288,11 +304,6 @@ def solve_refined(piece: PathPiece, constraints: Callable[[PathPiece], Sequence[
     raise AssertionError("unreachable")
 
 
-def _cosine(steps: int) -> np.ndarray:
-    """`steps` + 1 cosine-spaced path positions from 0 to 1 [-] (as `path_pieces` spaces them)."""
-    return 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, steps + 1))
-
-
 def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
     """Time-optimal pieces of the spline path, split at waypoints with a dwell."""
     from hdselect.motion.planning.constraints import (
@@ -307,8 +318,8 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
     torque = motion.torque_limit
     where = str(motion.path)
 
-    def constraints(piece: PathPiece, with_torque: bool = True) -> list[Any]:
-        if torque is None or not with_torque:
+    def constraints(piece: PathPiece) -> list[Any]:
+        if torque is None:
             return kinematic
         a, b, c = path_torque_coefficients(robot, piece.q, piece.dq, piece.ddq)
         return [*kinematic, SecondOrderBounds.two_sided(piece.gridpoints, a, b, c, -torque,
@@ -321,18 +332,18 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
         return over
 
     moves: list[Move] = []
-    for coarse in path_pieces(robot, motion, SOLVE_GRID):
-        first, last = coarse.first, coarse.last
-        if coarse.path is None:
+    for dense in path_pieces(robot, motion):
+        first, last = dense.first, dense.last
+        if dense.path is None:
             moves.append(Move(first, last, 0.0, None))
             continue
-        if coarse.path.shape_preserving:  # p'' steps at its knots: refining cannot help
-            piece = with_gridpoints(coarse, _cosine(GRID_PER_WAYPOINT * len(coarse.waypoints)))
-            piece, found = piece, solve_piece(piece, constraints(piece), where=where)
+        steps = len(dense.gridpoints) - 1  # GRID_PER_WAYPOINT per waypoint, and line samples
+        if dense.path.shape_preserving:  # p'' steps at its knots: refining cannot help
+            piece, found = dense, solve_piece(dense, constraints(dense), where=where)
         else:
-            if len(coarse.gridpoints) <= MIN_SOLVE_GRIDPOINTS:
-                coarse = with_gridpoints(coarse, _cosine(MIN_SOLVE_GRIDPOINTS))
-            piece, found = solve_refined(coarse, constraints, excess, where=where)
+            coarse = max(MIN_SOLVE_GRIDPOINTS, steps * SOLVE_GRID // GRID_PER_WAYPOINT)
+            piece, found = solve_refined(with_gridpoints(dense, _cosine(min(coarse, steps))),
+                                         constraints, excess, where=where)
         if found is None and torque is not None:
             if solve_piece(piece, kinematic, where=where) is not None:
                 raise PlanningError(
@@ -353,9 +364,19 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
             raise PlanningError(f"{motion.path}: toppra: the path from waypoint[{first}] to "
                                 f"waypoint[{last}] cannot be timed with these limits "
                                 f"({type(err).__name__}: {err})") from err
-        # sampled at least as finely as the median step of 200 gridpoints per waypoint,
-        # on which the 1 % promise of the sampled demands was measured
-        dense = min(1.0, len(piece.gridpoints) / (GRID_PER_WAYPOINT * len(piece.waypoints) + 1))
+        assert piece.knots is not None  # every piece with a path has its knots
+        reached = found.time_at(piece.knots) * scale
+        passes = tuple(float(reached[max(k for k, w in enumerate(piece.waypoints) if w <= i)])
+                       for i in range(first, last + 1))
+        # sampled at least as finely as the median step of the dense grid (200 gridpoints
+        # per waypoint), on which the 1 % promise of the sampled demands was measured
+        finer = min(1.0, len(piece.gridpoints) / len(dense.gridpoints))
         moves.append(Move(first, last, duration, partial(found.sample, scale=scale),
-                          found.peak_accelerations(scale), found.time_step * scale * dense))
+                          found.peak_accelerations(scale), found.time_step * scale * finer,
+                          passes=passes))
     return moves
+
+
+def _cosine(steps: int) -> np.ndarray:
+    """`steps` + 1 cosine-spaced path positions from 0 to 1 [-] (as `path_pieces` spaces them)."""
+    return 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, steps + 1))
