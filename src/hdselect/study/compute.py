@@ -129,10 +129,16 @@ class _Inputs:
         self.motions: dict[tuple[Path, Path], Motion] = {}
         self.units: dict[tuple[tuple[Path, ...], int | None], tuple[Unit, ...]] = {}
         self.motor_files: dict[Path, tuple[Motor, ...]] = {}
+        self.robot_files: dict[Path, Path] = {}
 
     def case(self, case: Case) -> tuple[Robot, Motion, Payload | None]:
         """The bare robot, the motion and the case's payload."""
-        robot_file = case.robot if case.robot is not None else robot_file_named(case.motion)
+        if case.robot is not None:
+            robot_file = case.robot
+        else:  # the motion file read once for the robot it names
+            if case.motion not in self.robot_files:
+                self.robot_files[case.motion] = robot_file_named(case.motion)
+            robot_file = self.robot_files[case.motion]
         if robot_file not in self.robots:
             self.robots[robot_file] = load_robot(robot_file)
         robot = self.robots[robot_file]
