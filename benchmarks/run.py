@@ -77,7 +77,7 @@ class Benchmark:
         unit: Display unit, a key of `SCALE`.
         per: Divide times by this (the sample count for per-sample figures).
         per_label: Name of what `per` counts, e.g. "sample".
-        notes: One line of context for the table.
+        notes: One line of context for the table (or what gives it after the timing).
         check: Optional correctness check; the run fails when it fails.
         absolute: Whether `target` bounds the candidate's figure itself.
         repeats: Timed repeats in full mode (after one warm-up call).
@@ -92,7 +92,7 @@ class Benchmark:
     unit: str = "ms"
     per: int = 1
     per_label: str = ""
-    notes: str = ""
+    notes: str | Callable[[], str] = ""
     check: Check | None = None
     absolute: bool = False
     repeats: int = 21
@@ -248,6 +248,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
     samples = f"{n:,} samples of {MOTION.name}" + (f" (every {step}th)" if step > 1 else "")
     codesign = _codesign_rows(quick, units, rnea_loop_for=_rnea_loop)
     tool_poses = _tool_pose_rows(quick)
+    long_cycles = _long_cycle_rows(quick, units)
     cli = [sys.executable, "-m", "hdselect.cli"]
     return [
         Benchmark(
@@ -320,6 +321,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
                   f"motors) vs {len(units)} units alone, Options(); target: at most the "
                   "motor count", repeats=9),
         *tool_poses,
+        *long_cycles,
     ]
 
 
@@ -420,6 +422,101 @@ def _gridpoints_solved(robot, motion) -> int:
     finally:
         planner.solve_piece = solve
     return count[0]
+
+
+LONG_WAYPOINTS = 65
+"""Waypoints of the long benchtop6 motion whose log the max-payload row reads (72 s)."""
+
+
+def _long_log(folder: Path, quick: bool) -> Path:
+    """A long log (72,241 samples at 1 ms; 1/10 of it in quick mode): a benchtop6 motion
+    through random waypoints with dwells, planned with Ruckig and written as
+    ``hdselect plan --out`` writes it, and a motion file that reads it."""
+    from hdselect import load_case, plan
+    from hdselect.report.export import write_trajectory_csv
+    from hdselect.robot.dynamics import inverse_dynamics
+
+    rng = np.random.default_rng(3)
+    lines = [f'robot = "{ROBOT}"', 'planner = "ruckig"', 'angle_unit = "deg"', "dt = 0.001",
+             "[payload]", "mass = 0.5", "com = [0.0, 0.0, 0.03]", 'frame = "tool0"',
+             "[limits]", "velocity = 120", "acceleration = 600", "jerk = 6000"]
+    low, high = np.array([-60, -80, 70, -150, 70, -90]), np.array([60, -30, 110, -90, 110, 90])
+    for _ in range(LONG_WAYPOINTS // (10 if quick else 1)):
+        q = np.round(rng.uniform(low, high), 1)
+        lines += ["[[waypoint]]", f"q = {q.tolist()}",
+                  f"dwell = {rng.choice([0.0, 0.0, 0.2, 0.5])}"]
+    planned = folder / "long.toml"
+    planned.write_text("\n".join(lines) + "\n")
+    robot, motion = load_case(planned)
+    trajectory = plan(robot, motion)  # written as `hdselect plan --out` writes it
+    write_trajectory_csv(folder / "long.csv", trajectory, inverse_dynamics(
+        robot, trajectory.q, trajectory.qd, trajectory.qdd), robot.joint_names)
+    logged = folder / "long_log.toml"
+    logged.write_text(f'robot = "{ROBOT}"\nplanner = "samples"\nangle_unit = "rad"\n'
+                      'dt = 0.001\n[payload]\nmass = 0.5\ncom = [0.0, 0.0, 0.03]\n'
+                      'frame = "tool0"\n[samples]\nfile = "long.csv"\n')
+    return logged
+
+
+def _derating_case(folder: Path) -> Path:
+    """benchtop6_fast_pick.toml with 1 kg, 150,000 h and short dwells: the whole-cycle rules
+    bind on most unit-joint configurations, so `fastest` derates them."""
+    text = FAST_PICK.read_text().replace('"../robots/', f'"{ROOT}/robots/')
+    text = text.replace("dwell = 3.0", "dwell = 0.2").replace("dwell = 1.5", "dwell = 0.1")
+    text = text.replace("life_hours = 20000", "life_hours = 150000")
+    text = text.replace("mass = 0.5                  # kg", "mass = 1.0                  # kg")
+    path = folder / "derating.toml"
+    path.write_text(text)
+    return path
+
+
+def _long_cycle_rows(quick: bool, units) -> list[Benchmark]:
+    """max-payload on a long log, and compare-ratios where derating binds (fixtures here)."""
+    import tempfile
+
+    from hdselect import compare_ratios, fastest, load_case, size
+    from hdselect.codesign.maxpayload import max_payload
+
+    folder = Path(tempfile.mkdtemp(prefix="hdselect-bench-long-"))
+    robot, motion = load_case(_long_log(folder, quick))
+    samples = len(size(robot, motion, units=units).trajectory.t)
+    derate_robot, derate_motion = load_case(_derating_case(folder))
+    joints = ["shoulder_pan"] if quick else None
+    comparisons = len(units) * (1 if quick else len(derate_robot.sized_joints))
+    derated = [0]
+
+    def compared() -> object:
+        found = compare_ratios(derate_robot, derate_motion, joints=joints)
+        derated[0] = sum(row.derating is not None for j in found.joints for row in j.rows)
+        return found
+
+    def exact_mass() -> float:
+        """How far the largest payload is from where `size` changes its verdict [-]."""
+        found = max_payload(robot, motion)
+        assert found.mass is not None and found.payload is not None
+        inside = size(robot, motion, units=units, payload=replace(
+            found.payload, mass=found.mass * (1 - 1e-6))).feasible
+        outside = size(robot, motion, units=units, payload=replace(
+            found.payload, mass=found.mass * (1 + 1e-6))).feasible
+        return 0.0 if inside and not outside else 1.0
+
+    rows = [
+        Benchmark(
+            "max-payload on a long log", lambda: max_payload(robot, motion),
+            lambda: size(robot, motion, units=units), 3.0, repeats=3,
+            notes=f"max_payload of a {samples:,}-sample log (a {LONG_WAYPOINTS}-waypoint "
+                  "benchtop6 motion written by plan --out) vs size() of the same log",
+            check=Check("max-payload's mass not at size's verdict change (+-1e-6)",
+                        exact_mass, 0.0)),
+        Benchmark(
+            f"compare ratios, derating ({comparisons} units x joints)", compared,
+            lambda: fastest(derate_robot, derate_motion), 5.0, unit="s", absolute=True,
+            repeats=1,
+            notes=lambda: f"--compare-ratios on {FAST_PICK.name} with 1 kg, life 150,000 h "
+                          "and short dwells, where the whole-cycle rules make most rows derate "
+                          f"({derated[0]} of {comparisons}), vs one fastest()"),
+    ]
+    return rows
 
 
 def _tool_pose_rows(quick: bool) -> list[Benchmark]:
@@ -557,7 +654,8 @@ def run_row(bench: Benchmark, quick: bool) -> dict[str, Any]:
     scale = SCALE[bench.unit] / bench.per
     unit = f"{bench.unit}/{bench.per_label}" if bench.per_label else bench.unit
     row: dict[str, Any] = {"name": bench.name, "unit": unit, "repeats": repeats,
-                           "notes": bench.notes, "target": bench.target,
+                           "notes": bench.notes if isinstance(bench.notes, str) else "",
+                           "target": bench.target,
                            "target_on": "candidate" if bench.absolute else "ratio"}
     if bench.load and hasattr(os, "getloadavg"):
         row["load_before"] = list(os.getloadavg())
@@ -584,6 +682,8 @@ def run_row(bench: Benchmark, quick: bool) -> dict[str, Any]:
         row["met"] = None if bench.target is None or figure is None else figure <= bench.target
         if bench.load and hasattr(os, "getloadavg"):
             row["load_after"] = list(os.getloadavg())
+        if callable(bench.notes):
+            row["notes"] = bench.notes()
         if bench.check is not None:
             value = float(bench.check.run())
             row["check"] = {"name": bench.check.name, "value": value,

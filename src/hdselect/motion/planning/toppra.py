@@ -21,9 +21,10 @@ the path needs them. What overshoot remains is removed by slowing the piece down
 uniformly (plus 1e-4, `overshoot_scale`), which keeps the sampled velocity and
 acceleration within ``TOPPRA_TOLERANCE`` of the limits for a cycle at most that
 much longer than TOPPRA's. Cycle times are within 0.1 % of those on 200 gridpoints
-per waypoint (tests/test_plan.py). A piece with a shape-preserving joint is solved on
-those 200 per waypoint: its p'' steps at the knots, so halving the step that holds a
-knot never removes its excess. Torque limits hold within
+per waypoint (tests/test_plan.py). A piece with a shape-preserving joint, or with a
+straight line's joint samples, is solved on those 200 per waypoint (and 8 per line
+sample): its p'' steps at the knots, so halving the step that holds a knot never
+removes its excess, and a line's samples are close together. Torque limits hold within
 ``TOPPRA_TORQUE_TOLERANCE``.
 
 Co-design (`hdselect.codesign`) solves the same pieces, built by the same
@@ -338,7 +339,10 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
             moves.append(Move(first, last, 0.0, None))
             continue
         steps = len(dense.gridpoints) - 1  # GRID_PER_WAYPOINT per waypoint, and line samples
-        if dense.path.shape_preserving:  # p'' steps at its knots: refining cannot help
+        knots, _ = dense.path.waypoints
+        if dense.path.shape_preserving or len(knots) > len(dense.waypoints):
+            # p'' steps at a shape-preserving joint's knots, and a straight line's samples
+            # are close together: both keep the dense grid, refining cannot match it
             piece, found = dense, solve_piece(dense, constraints(dense), where=where)
         else:
             coarse = max(MIN_SOLVE_GRIDPOINTS, steps * SOLVE_GRID // GRID_PER_WAYPOINT)
