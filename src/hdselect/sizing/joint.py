@@ -93,6 +93,8 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
     """
     load = cycle.load()
     if motors:
+        if not detail:
+            return _selected_pair(name, cycle, load, units, motors, options, load_inertia)
         return _size_pairs(name, cycle, load, units, motors, options, load_inertia)
     if detail:
         candidates = [_candidate(load, r, cycle, options) for r in _reflect(units, cycle, options)]
@@ -148,6 +150,31 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit
     joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0,
                         readonly(cycle.torque), readonly(cycle.stop), load_inertia=load_inertia)
     return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
+
+
+def _selected_pair(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit, ...],
+                   motors: Sequence[Motor], options: Options,
+                   load_inertia: float | None) -> JointSizing:
+    """The selected pair, from the pairs whose gearhead passes the rules no motor changes.
+
+    Those are its rules on single figures but the momentary one (peak, input speed,
+    static); where no such pair fits, every pair is checked. A pair whose gearhead
+    fails one of them is infeasible with any motor, so the selection is the one among
+    every pair; the strongest (where none fits) is found among every pair, as with
+    detail.
+    """
+    limits = _Limits.of(units, options)
+    most = 1.0 - options.margin  # `holds`, on every unit at once
+    passes = ((load.peak_torque / limits.repeated <= most)
+              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= most))
+    if load.static_torque is not None:
+        passes &= load.static_torque / limits.static <= most
+    survivors = tuple(unit for unit, ok in zip(units, passes, strict=True) if ok)
+    if survivors and len(survivors) < len(units):
+        found = _size_pairs(name, cycle, load, survivors, motors, options, load_inertia)
+        if found.selected is not None:
+            return found
+    return _size_pairs(name, cycle, load, units, motors, options, load_inertia)
 
 
 def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit, ...],
