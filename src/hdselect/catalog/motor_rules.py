@@ -75,7 +75,7 @@ def with_motor(candidate: Candidate, motor: Motor, torque: np.ndarray,
     assert candidate.motor is not None  # the motor demand comes with the reflection
     checks = {**candidate.checks, **check_motor(motor, torque, speed_rpm, candidate.motor)}
     return Candidate(candidate.unit, checks, candidate.life_hours, candidate.flags,
-                     candidate.motor, motor)
+                     candidate.motor, motor, candidate.bearing)
 
 
 def inertia_ratio(load_inertia: float, unit: Unit, motor: Motor) -> float | None:

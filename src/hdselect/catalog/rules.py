@@ -9,11 +9,19 @@ series rules (`hdselect.catalog.units.SeriesRules`); no series' numbers live her
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from hdselect.base.errors import InputError
+from hdselect.catalog.bearing_rules import (
+    BEARING_CHECKS,
+    BearingFigures,
+    BearingLoad,
+    bearing_checks,
+    bearing_figures,
+)
+from hdselect.catalog.checks import Check, limit_check
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import L50_PER_L10, LIFE_BASES, Flag, SeriesRules, Unit
 
@@ -34,16 +42,21 @@ MOTOR_CHECKS = ("motor_peak", "motor_rms", "motor_speed")
 
 
 CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life",
-          *MOTOR_CHECKS)
+          *BEARING_CHECKS, *MOTOR_CHECKS)
 """Every check by name, in the order of results and reports. ``life`` is present only
-when a life is required, the motor checks only when a motor is given; the others
-always, with value None where they do not apply."""
+when a life is required, the output bearing's only where the catalog rates it (and
+its loads are known), the motor checks only when a motor is given; the others always,
+with value None where they do not apply."""
 
 
 CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
                 "momentary": "mom.", "static": "static", "life": "life",
+                "bearing_moment": "b.moment", "bearing_radial": "b.radial",
+                "bearing_axial": "b.axial", "bearing_life": "b.life",
+                "bearing_static": "b.static",
                 "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed"}
-"""Short names of the checks, for table headers (``m.``: the motor's)."""
+"""Short names of the checks, for table headers (``b.``: the output bearing's, ``m.``: the
+motor's)."""
 
 
 REST_FRACTION = 1e-3
@@ -132,28 +145,6 @@ class MotorDemand:
 
 
 @dataclass(frozen=True)
-class Check:
-    """One rule applied to one gearhead.
-
-    Attributes:
-        value: The demand ([N m], input speed [rpm] or life [h]); None if the rule
-            does not apply to this cycle or this unit.
-        limit: What the gearhead allows (for ``life``: what the user requires); infinite
-            where the unit has no such limit.
-        ok: The rule holds.
-        utilization: Demand over allowance [-] (life: required over expected); 0 if
-            the rule does not apply, above 1 when it fails.
-        detail: Extra figures for reports, e.g. ``{"kind": "crash"}``.
-    """
-
-    value: float | None
-    limit: float
-    ok: bool
-    utilization: float
-    detail: dict[str, object] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
 class Candidate:
     """One gearhead against one joint's cycle.
 
@@ -165,6 +156,8 @@ class Candidate:
         motor: What the motor behind it must deliver, when computed (hdselect size).
         motor_unit: The motor paired with the gearhead, when motors are given; its checks
             (`MOTOR_CHECKS`) are then among `checks`.
+        bearing: The output bearing's figures where the catalog rates it and its loads
+            are known (its checks, `BEARING_CHECKS`, are then among `checks`); else None.
     """
 
     unit: Unit
@@ -173,6 +166,7 @@ class Candidate:
     flags: tuple[Flag, ...]
     motor: MotorDemand | None = None
     motor_unit: Motor | None = None
+    bearing: BearingFigures | None = None
 
     @property
     def feasible(self) -> bool:
@@ -333,6 +327,7 @@ def check_unit(
     life_hours: float | None = None,
     life_basis: str = "L50",
     motor: MotorDemand | None = None,
+    bearing: BearingLoad | None = None,
 ) -> Candidate:
     """Apply every rule of the unit's series to one gearhead.
 
@@ -344,6 +339,8 @@ def check_unit(
         life_basis: ``"L10"`` or ``"L50"``: the basis of `life_hours`, and of the
             ``life`` check's value.
         motor: The motor-side demand, carried into the result as is.
+        bearing: The loads on the unit's output bearing, about its centre: checked where
+            the unit's catalog rates the bearing (`hdselect.catalog.bearing_rules`).
 
     Returns:
         The candidate with every check, life and the flags it depends on.
@@ -375,6 +372,10 @@ def check_unit(
         utilization = 0.0 if expected is None else life_hours / expected
         checks["life"] = Check(expected, life_hours, utilization <= 1.0, utilization,
                                {"basis": life_basis})
+    figures = None
+    if unit.bearing is not None and bearing is not None:
+        figures = bearing_figures(bearing, unit.bearing, rules, load.mean_speed_under(rules))
+        checks.update(bearing_checks(figures, unit.bearing, rules, life_hours=life_hours))
     used = {"peak": "repeated_torque", "momentary": "momentary_torque", "static": "static_torque",
             "mean": ("average_torque" if rules.mean_torque_limit == "tabulated"
                      else "rated_torque")}
@@ -385,7 +386,7 @@ def check_unit(
     if motor is not None:
         fields.append("input_inertia")
     flags = unit.flags_for(*fields) + ((rules.flag,) if rules.flag is not None else ())
-    return Candidate(unit, checks, life, flags, motor)
+    return Candidate(unit, checks, life, flags, motor, bearing=figures)
 
 
 def _momentary(event: Momentary | None, unit: Unit) -> Check:
@@ -399,12 +400,6 @@ def _momentary(event: Momentary | None, unit: Unit) -> Check:
     if event.time is not None:
         detail["time_s"] = event.time
     return limit_check(abs(event.torque), unit.momentary_torque, **detail)
-
-
-def limit_check(value: float | None, limit: float, **detail: object) -> Check:
-    """One check: a value against its limit [same unit], utilization = value / limit."""
-    utilization = 0.0 if value is None else value / limit
-    return Check(value, limit, utilization <= 1.0, utilization, dict(detail))
 
 
 def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:

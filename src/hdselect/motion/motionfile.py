@@ -20,7 +20,7 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -29,7 +29,7 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
-from hdselect.base.tomlfile import check_keys, join, number, read_toml, table_of
+from hdselect.base.tomlfile import as_number, check_keys, join, number, read_toml, table_of
 from hdselect.catalog.motors import Motor
 from hdselect.motion.limits import (
     JointLists,
@@ -70,7 +70,7 @@ _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity"
 _SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis")}
 
 
-_SIZING_KEYS = ("joints", "exclude")
+_SIZING_KEYS = ("joints", "exclude", "bearing_offset_m")
 
 
 LIFE_BASES = ("L50", "L10")
@@ -118,6 +118,8 @@ class Motion:
         motors: The file's ``[motor]``: candidate motors per rotary joint (one for a
             fixed motor), or None when it gives none.
         motor_joints: The joints the file gives a ``[motor.JOINT]`` block of their own.
+        bearing_offset: The file's ``[sizing] bearing_offset_m``: where a joint's output
+            flange sits along its axis from the joint origin [m], by joint name.
     """
 
     path: Path
@@ -144,6 +146,7 @@ class Motion:
     warnings: tuple[str, ...] = ()
     motors: Mapping[str, tuple[Motor, ...]] | None = None
     motor_joints: tuple[str, ...] = ()
+    bearing_offset: Mapping[str, float] = field(default_factory=dict)
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
@@ -262,6 +265,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         warnings=tuple(warnings), motors=motors,
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
+        bearing_offset=_bearing_offset(doc, path, robot),
     )
 
 
@@ -349,7 +353,7 @@ def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[st
     table = table_of(doc.get("sizing", {}), path, "sizing")
     check_keys(table, _SIZING_KEYS, path, "sizing")
     names = {}
-    for key in _SIZING_KEYS:
+    for key in ("joints", "exclude"):
         if key in table:
             value = table[key]
             if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
@@ -362,6 +366,20 @@ def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[st
         except InputError as err:
             raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
     return names
+
+
+def _bearing_offset(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, float]:
+    """``[sizing] bearing_offset_m``: each named rotary joint's flange along its axis [m]."""
+    where = "sizing.bearing_offset_m"
+    table = table_of(table_of(doc.get("sizing", {}), path, "sizing").get("bearing_offset_m", {}),
+                     path, where)
+    for name in table:
+        j = robot.joint_index(name, source=path, field=f"{where}.{name}")
+        if not robot.revolute[j]:
+            raise InputError(f"joint '{name}' is prismatic; only rotary joints take a gearhead "
+                             "and its bearing", path=path, field=f"{where}.{name}")
+    return {name: as_number(value, path, f"{where}.{name}", bound=bounds.AXIAL_OFFSET)
+            for name, value in table.items()}
 
 
 def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: list[str],

@@ -247,8 +247,10 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
     found: dict[str, JointSizing] = {}
     for name in reversed(robot.sized_joints):  # a parent's index is below its children's
         tau, stop = model.torques(name, masses)
-        joint = size_joint(name, JointCycle(model.samples, robot.joint_index(name), tau, stop),
-                           units[name], options, motors=motors.get(name, ()), detail=detail)
+        cycle = JointCycle(model.samples, robot.joint_index(name), tau, stop,
+                           model.wrench(name, masses), options.bearing_offset.get(name, 0.0))
+        joint = size_joint(name, cycle, units[name], options, motors=motors.get(name, ()),
+                           detail=detail)
         if name in motors:
             joint = replace(joint, load_inertia=model.load_inertia(name, masses))
         found[name] = joint

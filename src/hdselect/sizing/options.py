@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 from hdselect.base import bounds
@@ -40,6 +41,10 @@ class Options:
         max_samples: Most samples a trajectory may have
             (`hdselect.base.bounds.DEFAULT_MAX_SAMPLES`);
             a motion needing more is refused before anything is allocated.
+        bearing_offset: Where each named joint's output flange sits along its axis from
+            the joint origin [m], signed along the robot file's axis (the motion file's
+            ``[sizing] bearing_offset_m``): its output bearing's loads are taken about
+            that point, or a unit's catalog offset from it. Joints not named: 0.
 
     Raises:
         InputError: A value is out of range or of the wrong type; the field is its name.
@@ -55,6 +60,7 @@ class Options:
     life_basis: str = "L50"
     threads: int | None = None
     max_samples: int = bounds.DEFAULT_MAX_SAMPLES
+    bearing_offset: Mapping[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name, bound in (("stop_time", bounds.STOP_TIME), ("efficiency", bounds.EFFICIENCY),
@@ -79,6 +85,13 @@ class Options:
             raise InputError(f"must be a whole number in [1, {MAX_THREADS}], got "
                              f"{self.threads!r}", field="threads")
         _set(self, "max_samples", bounds.check_max_samples(self.max_samples))
+        if not isinstance(self.bearing_offset, Mapping) or not all(
+                isinstance(name, str) for name in self.bearing_offset):
+            raise InputError("expected a mapping of joint names to offsets [m], got "
+                             f"{self.bearing_offset!r}", field="bearing_offset")
+        _set(self, "bearing_offset", {
+            name: bounds.AXIAL_OFFSET.check(value, field=f"bearing_offset.{name}")
+            for name, value in self.bearing_offset.items()})
 
 
 def options_for(motion: Motion | None, **given: Any) -> Options:
@@ -107,6 +120,8 @@ def options_for(motion: Motion | None, **given: Any) -> Options:
         for name in ("stop_time", "life_hours", "life_basis"):
             if name not in values and getattr(motion, name) is not None:
                 values[name] = getattr(motion, name)
+        if "bearing_offset" not in values and motion.bearing_offset:
+            values["bearing_offset"] = dict(motion.bearing_offset)
     return Options(**values)
 
 

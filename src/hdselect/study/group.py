@@ -21,6 +21,12 @@ Runs of identical samples (dwells) are kept once, weighted by their length.
 Where a case gives motors, a joint's load inertia M_jj, linear in the same
 parameters, comes from one more set of passes per parameter at the core's poses
 (`build_basis(..., inertias=True)`).
+
+The whole force and moment through each sized joint (its output bearing's loads) is
+linear in the same parameters and scales the same way: w = sum_p theta_p (W_p + B_p
+y^2), W the gravity wrench and B the rest along the motion, two more batched passes
+per parameter (`hdselect.robot.wrenches.axis_wrenches`). So a grouped case reports
+and checks the bearing loads as the core does.
 """
 
 from __future__ import annotations
@@ -41,6 +47,7 @@ from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import inverse_dynamics, joint_inertias
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
+from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.arguments import checked_motors
 from hdselect.sizing.core import select_units
 from hdselect.sizing.loads import JointLoad, joint_loads
@@ -79,6 +86,11 @@ class Basis:
         poses: The kept row of each pose at which gravity loading is judged.
         inertia: M_jj per sized joint and parameter at the same poses [kg m^2], shape
             (sized joints, P, poses), as `gravity`; None unless asked for (motors).
+        wrench_gravity: W, each sized joint's wrench at rest in its axis frame, rows 0-4
+            of `axis_wrenches` [N, N m], shape (sized joints, 5, P, n).
+        wrench_dynamic: B, the rest of its wrench along the motion at s = 1 [N, N m],
+            same shape.
+        wrench_used: Per sized joint, the parameters that load its wrench.
     """
 
     robot: Robot
@@ -99,6 +111,9 @@ class Basis:
     carried: np.ndarray
     poses: np.ndarray
     inertia: np.ndarray | None = None
+    wrench_gravity: np.ndarray | None = None
+    wrench_dynamic: np.ndarray | None = None
+    wrench_used: tuple[np.ndarray, ...] = ()
 
 
 def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
@@ -113,7 +128,8 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
             (what cases with motors need for their inertia ratio).
 
     Returns:
-        The basis, 4 (2 + carriers) passes over the kept samples.
+        The basis: 4 (2 + carriers) passes of the torques over the kept samples, and 2
+        (2 + carriers) of the wrenches.
     """
     reference = robot.with_payload(None if payload is None
                                    else replace(payload, mass=REFERENCE_MASS))
@@ -147,10 +163,18 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
                       for variant in variants])  # (P, poses, sized)
         m[1:] -= m[0]
         inertia = frozen(np.ascontiguousarray(m.transpose(2, 0, 1)))
+    wrench = np.stack([_wrench_parts(variant, trajectory, rows) for variant in variants])
+    wrench[1:] -= wrench[0]  # (P, 2, sized, 5, n)
+    wrench_gravity, wrench_dynamic = (frozen(wrench[:, k].transpose(1, 2, 0, 3))
+                                      for k in range(2))
+    loaded = np.abs(wrench).max(axis=(1, 3, 4)) > 0.0  # (P, sized)
+    wrench_used = tuple(_read_only(np.flatnonzero(loaded[:, s]))
+                        for s in range(len(robot.sized_joints)))
     return Basis(reference, motion, trajectory, payload, rows, weight, frozen(trajectory.t[rows]),
                  frozen(trajectory.qd[rows]), frozen(trajectory.qdd[rows]), carriers,
                  frozen(gravity), frozen(dynamic), frozen(coasting), frozen(stopping), used,
-                 frozen(carried), _read_only(poses), inertia)
+                 frozen(carried), _read_only(poses), inertia, wrench_gravity, wrench_dynamic,
+                 wrench_used)
 
 
 def plan_depends_on_payload(motion: Motion) -> bool:
@@ -166,6 +190,16 @@ def _parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
                            np.vstack([still, still, qdd, -qd]), threads=1)
     gravity, coast, full, stop = tau.reshape(4, len(rows), -1)
     return np.stack([gravity, full - gravity, coast - gravity, stop - coast])
+
+
+def _wrench_parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
+    """W and B of one robot's sized joints on the kept rows, shape (2, sized, 5, n)."""
+    q, qd, qdd = traj.q[rows], traj.qd[rows], traj.qdd[rows]
+    still = np.zeros_like(qd)
+    wrench = axis_wrenches(robot, np.vstack([q, q]), np.vstack([still, qd]),
+                           np.vstack([still, qdd]), robot.sized_joints, threads=1)[:, :5]
+    gravity, full = wrench[:, :, :len(rows)], wrench[:, :, len(rows):]
+    return np.stack([gravity, full - gravity])
 
 
 def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequence[Unit],
@@ -256,6 +290,18 @@ class BasisTorques:
         stop = coast + (weights @ self.basis.stopping[j, used]) * (
             self.y / self.stop_time)
         return tau, stop
+
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The force and moment through a sized joint along the kept rows [N, N m], (5, n)."""
+        basis = self.basis
+        if basis.wrench_gravity is None or basis.wrench_dynamic is None:
+            return None
+        s = self.robot.sized_joints.index(joint)
+        used = basis.wrench_used[s]
+        weights = self._with(masses)[used]
+        wrench = np.einsum("p,cpn->cn", weights, basis.wrench_gravity[s][:, used])
+        wrench += np.einsum("p,cpn->cn", weights * self.y**2, basis.wrench_dynamic[s][:, used])
+        return wrench
 
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
