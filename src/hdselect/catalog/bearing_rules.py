@@ -124,21 +124,27 @@ def bearing_load(axial: np.ndarray, radial: np.ndarray, moment: np.ndarray,
     n = len(axial)
     duration = np.broadcast_to(np.asarray(duration, dtype=float), (n,))
     rest = np.broadcast_to(np.asarray(at_rest, dtype=bool), (n,))
-    peaks = np.zeros(3)
-    sums = np.zeros(3)
+    peaks = [0.0, 0.0, 0.0]
+    sums = [0.0, 0.0, 0.0]
     travel = 0.0
     for start in range(0, n, _CHUNK):  # a long cycle in pieces of bounded memory
         part = slice(start, start + _CHUNK)
-        loads = np.abs(np.stack([axial[part], radial[part], moment[part]]))
-        np.maximum(peaks, loads.max(axis=1, initial=0.0), out=peaks)
-        weight = np.abs(speed[part]) * duration[part] * ~rest[part]
+        weight = np.abs(speed[part])
+        weight *= duration[part]
+        weight[rest[part]] = 0.0
         travel += float(weight.sum())
-        sums += (loads**3 * np.cbrt(loads)) @ weight  # |F|^(10/3), faster than a power
+        for k, values in enumerate((axial, radial, moment)):
+            load = np.abs(values[part])
+            peaks[k] = max(peaks[k], float(load.max(initial=0.0)))
+            power = np.cbrt(load)  # |F|^(10/3) = |F|^3 cbrt|F|, faster than a power
+            power *= load
+            power *= load
+            power *= load
+            sums[k] += float(np.dot(power, weight))
+    means: list[float | None] = [None, None, None]
     if travel > 0.0:
-        means: tuple[float | None, ...] = tuple(float(x) for x in (sums / travel) ** 0.3)
-    else:
-        means = (None, None, None)
-    return BearingLoad(float(peaks[0]), float(peaks[1]), float(peaks[2]), *means,
+        means = [(total / travel) ** 0.3 for total in sums]
+    return BearingLoad(peaks[0], peaks[1], peaks[2], means[0], means[1], means[2],
                        offset=offset, spread=spread)
 
 

@@ -164,8 +164,8 @@ def _read_rules(table: dict[str, Any], path: Path) -> SeriesRules:
         else:
             raise InputError(f"expected one of {', '.join(map(repr, choices))}, got "
                              f"{table[key]!r}", path=path, field=field)
-    bearing = {key: as_number(table[key], path, f"rules.{key}", bound=bound)
-               for key, bound in BEARING_RULE_KEYS.items() if key in table}
+    bearing: dict[str, Any] = {key: as_number(table[key], path, f"rules.{key}", bound=bound)
+                               for key, bound in BEARING_RULE_KEYS.items() if key in table}
     return SeriesRules(
         rated_input_speed=values["rated_input_speed_rpm"],
         rated_life_hours=values["rated_life_hours"], life_basis=values["life_basis"],

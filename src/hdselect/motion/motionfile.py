@@ -352,7 +352,7 @@ def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[st
     """The ``[sizing]`` table: joints to size and to leave out, checked against the robot."""
     table = table_of(doc.get("sizing", {}), path, "sizing")
     check_keys(table, _SIZING_KEYS, path, "sizing")
-    names = {}
+    names: dict[str, tuple[str, ...]] = {}
     for key in ("joints", "exclude"):
         if key in table:
             value = table[key]

@@ -134,8 +134,8 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     n = q.shape[0]
     distinct = distinct_states(q, qd, qdd)
     if distinct is not None:  # a dwell repeats one state: compute it once
-        rows, back = distinct
-        return inverse_dynamics(robot, q[rows], qd[rows], qdd[rows], threads=threads)[back]
+        keep, back = distinct
+        return inverse_dynamics(robot, q[keep], qd[keep], qdd[keep], threads=threads)[back]
     if threads is None:
         threads = min(os.cpu_count() or 1, max(1, min(n, CHUNK) // _SAMPLES_PER_THREAD))
     pool = pin.ModelPool(robot.model, threads)  # 0.05 ms: cheaper than keeping models alive

@@ -78,10 +78,12 @@ def joint_motions(model: pin.Model, path: Path | None = None) -> tuple[JointMoti
     """
     leaders = {int(f): int(leader) for f, leader in zip(model.mimicking_joints,
                                                         model.mimicked_joints, strict=True)}
-    return tuple(_motion(model, i, leaders, path) for i in range(1, model.njoints))
+    neutral = pin.neutral(model)
+    return tuple(_motion(model, i, leaders, neutral, path) for i in range(1, model.njoints))
 
 
-def _motion(model: pin.Model, i: int, leaders: dict[int, int], path: Path | None) -> JointMotion:
+def _motion(model: pin.Model, i: int, leaders: dict[int, int], neutral: np.ndarray,
+            path: Path | None) -> JointMotion:
     """Joint i's kind, axis and driving coordinate."""
     joint, name = model.joints[i], model.names[i]
     kind = joint.shortname()
@@ -94,22 +96,23 @@ def _motion(model: pin.Model, i: int, leaders: dict[int, int], path: Path | None
                              "of a joint that is not one revolute or prismatic coordinate; "
                              "the joint loads need a non-zero multiplier of such a joint",
                              path=path, field=f"joint[{name}]")
-        axis, revolute = _axis(model, i, scaling)
+        axis, revolute = _axis(model, i, neutral, scaling)
         return JointMotion(name, revolute, axis, model.joints[leader].idx_q,
                            model.joints[leader].idx_v, False, scaling, float(mimic.offset))
     if kind not in _ANGLE + _UNBOUNDED + _SLIDE:
         raise InputError(f"joint '{name}' is a {kind}; the joint loads handle fixed-base "
                          "trees of revolute, continuous, prismatic and mimic joints",
                          path=path, field=f"joint[{name}]")
-    axis, revolute = _axis(model, i, 1.0)
+    axis, revolute = _axis(model, i, neutral, 1.0)
     return JointMotion(name, revolute, axis, joint.idx_q, joint.idx_v, kind in _UNBOUNDED)
 
 
-def _axis(model: pin.Model, i: int, scaling: float) -> tuple[np.ndarray, bool]:
-    """Joint i's unit axis and whether it rotates, from its motion subspace S."""
+def _axis(model: pin.Model, i: int, neutral: np.ndarray,
+          scaling: float) -> tuple[np.ndarray, bool]:
+    """Joint i's unit axis and whether it rotates, from its motion subspace S at `neutral`."""
     joint = model.joints[i]
     data = joint.createData()
-    joint.calc(data, pin.neutral(model))
+    joint.calc(data, neutral)
     subspace = np.asarray(data.S).ravel() / scaling  # a follower's S carries its multiplier
     linear, angular = subspace[:3], subspace[3:]
     revolute = bool(np.any(angular))

@@ -170,12 +170,16 @@ class _Rnea:
     def run(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, keep: Sequence[int], *,
             aligned: bool, threads: int | None) -> np.ndarray:
         """The kept joints' wrenches over every sample, repeated states computed once."""
-        n = q.shape[0]
         distinct = distinct_states(q, qd, qdd)
         if distinct is not None:
-            rows, back = distinct
-            return self.run(q[rows], qd[rows], qdd[rows], keep, aligned=aligned,
-                            threads=threads)[:, :, back]
+            once, back = distinct
+            return self._run(q[once], qd[once], qdd[once], keep, aligned, threads)[:, :, back]
+        return self._run(q, qd, qdd, keep, aligned, threads)
+
+    def _run(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, keep: Sequence[int],
+             aligned: bool, threads: int | None) -> np.ndarray:
+        """`run` on every sample given, in blocks shared by the threads."""
+        n = q.shape[0]
         config = self.robot.configuration(q)
         velocity, acceleration = np.ascontiguousarray(qd.T), np.ascontiguousarray(qdd.T)
         keep = list(keep)

@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from hdselect.base.arrays import frozen, readonly
-from hdselect.catalog.bearing_rules import BearingLoad, bearing_load
+from hdselect.catalog.bearing_rules import BearingLoad
 from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import (
@@ -30,7 +30,7 @@ from hdselect.catalog.rules import (
 )
 from hdselect.catalog.select import select
 from hdselect.catalog.units import Unit
-from hdselect.robot.wrenches import bearing_loads
+from hdselect.sizing.bearing import cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
 from hdselect.sizing.result import JointSizing
@@ -86,10 +86,8 @@ class JointCycle:
         """
         if self.wrench is None:
             return None
-        axial, radial, moment = bearing_loads(self.wrench, self.offset, spread)
-        return bearing_load(axial, radial, moment, self.qd, self.samples.dt,
-                            self.samples.rest[:, self.column], offset=self.offset,
-                            spread=spread)
+        return cycle_bearing(self.wrench, self.offset, spread, self.qd, self.samples.dt,
+                             self.samples.rest[:, self.column])
 
 
 def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: Options, *,

@@ -45,6 +45,9 @@ class Options:
             the joint origin [m], signed along the robot file's axis (the motion file's
             ``[sizing] bearing_offset_m``): its output bearing's loads are taken about
             that point, or a unit's catalog offset from it. Joints not named: 0.
+        bearing_loads: Compute the loads on every sized joint's output bearing (one more
+            batched pass); False leaves them out, and is refused where a candidate unit's
+            catalog rates its bearing (its checks need them).
 
     Raises:
         InputError: A value is out of range or of the wrong type; the field is its name.
@@ -61,15 +64,17 @@ class Options:
     threads: int | None = None
     max_samples: int = bounds.DEFAULT_MAX_SAMPLES
     bearing_offset: Mapping[str, float] = field(default_factory=dict)
+    bearing_loads: bool = True
 
     def __post_init__(self) -> None:
         for name, bound in (("stop_time", bounds.STOP_TIME), ("efficiency", bounds.EFFICIENCY),
                             ("rotor_inertia", bounds.ROTOR_INERTIA),
                             ("motor_mass", bounds.ADDED_MASS)):
             _set(self, name, bound.check(getattr(self, name), field=name))
-        if not isinstance(self.mass_coupling, bool):
-            raise InputError(f"expected true or false, got {self.mass_coupling!r}",
-                             field="mass_coupling")
+        for name in ("mass_coupling", "bearing_loads"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(f"expected true or false, got {getattr(self, name)!r}",
+                                 field=name)
         if self.prefer is not None and (not isinstance(self.prefer, str)
                                         or self.prefer not in PREFERENCES):
             raise InputError(f"unknown order {self.prefer!r}; choose one of: "

@@ -29,6 +29,7 @@ from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load
 from hdselect.catalog.units import Unit
+from hdselect.sizing.bearing import ScalableWrench
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 
 S_MIN = 1e-3
@@ -89,6 +90,7 @@ class ScalableCycle:
         stop_inertial: e = RNEA(q, qd, -qd / stop_time) - RNEA(q, qd, 0) [N m], an
             emergency stop's inertial part; scales as 1/s.
         stop_time: Emergency-stop and crash time t_stop [s]; the same at every s.
+        wrench: The joint's wrench split likewise, for a unit that rates its bearing.
     """
 
     t: np.ndarray
@@ -102,6 +104,7 @@ class ScalableCycle:
     inertial: np.ndarray
     stop_inertial: np.ndarray
     stop_time: float
+    wrench: ScalableWrench | None = None
 
     def __post_init__(self) -> None:
         n = np.shape(self.t)
@@ -227,8 +230,10 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
     demand = reflection.motor
     if at.dt.size and np.ptp(at.dt) > 0.0:  # samples of unequal length: RMS weighted by it
         demand = weighted_demand(demand, reflection.motor_torque, at.qd, unit.ratio, at.dt)
+    bearing = (None if cycle.wrench is None or unit.bearing is None else
+               cycle.wrench.load(s, at.qd, at.dt, at.at_rest, unit.bearing.offset))
     candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
-                           **(check_options or {}))
+                           bearing=bearing, **(check_options or {}))
     if motor is None:
         return candidate
     return with_motor(candidate, motor, reflection.motor_torque,

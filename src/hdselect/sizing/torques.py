@@ -55,6 +55,9 @@ class TorqueModel(Protocol):
         the model computes no wrenches.
         """
 
+    def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The wrench holding each pose of the samples still, as `wrench` gives it, or None."""
+
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
         """A joint's gravity part RNEA(q, 0, 0) and coasting part RNEA(q, qd, 0) [N m]."""
@@ -129,6 +132,17 @@ class DirectTorques:
             self._pass(masses)
         assert self._wrench is not None
         return self._wrench[self.robot.sized_joints.index(joint)]
+
+    def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The wrench holding each pose still [N, N m], (6, n): one pass per task."""
+        if not self.wrenches:
+            return None
+        parts = []
+        for task in self.tasks:
+            still = np.zeros_like(task.trajectory.qd)
+            parts.append(axis_wrenches(self._carrying(task, masses), task.trajectory.q, still,
+                                       still, [joint], threads=self.threads)[0])
+        return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)
 
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:

@@ -48,7 +48,7 @@ from hdselect.robot.dynamics import inverse_dynamics, joint_inertias
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import axis_wrenches
-from hdselect.sizing.arguments import checked_motors
+from hdselect.sizing.arguments import check_bearing_options, checked_motors
 from hdselect.sizing.core import select_units
 from hdselect.sizing.loads import JointLoad, joint_loads
 from hdselect.sizing.options import Options
@@ -228,7 +228,9 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
                           else DEFAULT_PREFER)
     if motors and basis.inertia is None:
         raise ValueError("a case with motors needs a basis built with inertias=True")
-    model = BasisTorques(basis, mass, time_scale, options.stop_time)
+    check_bearing_options(basis.robot, units, options)
+    model = BasisTorques(basis, mass, time_scale, options.stop_time,
+                         wrenches=options.bearing_loads)
     joints, masses = select_units(model, {name: units for name in basis.robot.sized_joints},
                                   options, motors, detail=False)
     # only the cycle time and the sample count of the trajectory go into the summary
@@ -249,7 +251,7 @@ class BasisTorques:
     """
 
     def __init__(self, basis: Basis, mass: float | None, time_scale: float,
-                 stop_time: float) -> None:
+                 stop_time: float, *, wrenches: bool = True) -> None:
         """One case of the basis: its samples are the basis's kept rows.
 
         Args:
@@ -257,8 +259,10 @@ class BasisTorques:
             mass: Payload mass [kg] (None exactly when the basis has no payload).
             time_scale: The path run s times slower [-].
             stop_time: The emergency-stop time [s].
+            wrenches: Give the sized joints' wrenches (the bearing loads).
         """
         self.basis = basis
+        self.wrenches = wrenches
         self.stop_time = stop_time
         self.robot = basis.robot
         self.y = 1.0 / time_scale
@@ -294,7 +298,7 @@ class BasisTorques:
     def wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
         """The force and moment through a sized joint along the kept rows [N, N m], (5, n)."""
         basis = self.basis
-        if basis.wrench_gravity is None or basis.wrench_dynamic is None:
+        if not self.wrenches or basis.wrench_gravity is None or basis.wrench_dynamic is None:
             return None
         s = self.robot.sized_joints.index(joint)
         used = basis.wrench_used[s]
@@ -302,6 +306,15 @@ class BasisTorques:
         wrench = np.einsum("p,cpn->cn", weights, basis.wrench_gravity[s][:, used])
         wrench += np.einsum("p,cpn->cn", weights * self.y**2, basis.wrench_dynamic[s][:, used])
         return wrench
+
+    def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The wrench holding each kept row's pose still [N, N m], (5, n)."""
+        basis = self.basis
+        if not self.wrenches or basis.wrench_gravity is None:
+            return None
+        s = self.robot.sized_joints.index(joint)
+        used = basis.wrench_used[s]
+        return np.einsum("p,cpn->cn", self._with(masses)[used], basis.wrench_gravity[s][:, used])
 
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
