@@ -17,6 +17,7 @@ from collections.abc import Mapping, Sequence
 
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.units import Flag
+from hdselect.report.bearing_html import BEARING_UNITS, bearing_figure_html, bearing_section
 from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.provenance import Provenance
@@ -28,14 +29,15 @@ from hdselect.sizing.result import JointSizing, SizingResult
 
 _UNITS = {"peak": "N m", "mean": "N m", "speed": "rpm", "average_speed": "rpm",
           "momentary": "N m", "static": "N m", "life": "h", "motor_peak": "N m",
-          "motor_rms": "N m", "motor_speed": "rpm"}
+          "motor_rms": "N m", "motor_speed": "rpm", **BEARING_UNITS}
 
 
 esc = html.escape
 
 
 def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
-         motor_figures: Mapping[str, bytes] | None = None) -> str:
+         motor_figures: Mapping[str, bytes] | None = None,
+         bearing_figures: Mapping[str, bytes] | None = None) -> str:
     """The report page.
 
     Args:
@@ -44,6 +46,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
         origin: Where the result came from.
         motor_figures: PNG content of each joint's motor torque-speed figure, by joint
             name, for the joints with motors.
+        bearing_figures: PNG content of each joint's output-bearing figure, by joint name.
 
     Returns:
         The page, self-contained.
@@ -52,9 +55,10 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
     verdict_text = ("Every joint has a unit." if result.feasible
                     else "<strong>Some joints have no unit.</strong>")
     sections = [_selection(result), _warnings(result), _notes(result), _heat_maps(result),
-                _loads(result),
+                _loads(result), bearing_section(result),
                 *(_joint_section(result, joint, figures.get(joint.name),
-                                 (motor_figures or {}).get(joint.name))
+                                 (motor_figures or {}).get(joint.name), bearing_figure_html(
+                                     joint, (bearing_figures or {}).get(joint.name)))
                   for joint in result.joints),
                 _assumptions(result), _provenance(origin)]
     return f"""<!DOCTYPE html>
@@ -286,8 +290,9 @@ def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
     colour = utilization_colour(check.utilization)
     state = "ok" if check.ok else "fail"
     text = utilization_text(check.utilization, check.ok) + ("" if check.ok else " ✗")
-    if name == "life":
-        figures = f"needs {check.limit:,.0f} of {life_text(check.value)}"
+    if name in ("life", "bearing_life", "bearing_static"):
+        figures = (f"needs {check.limit:,.3g} of {check.value:.3g}" if name == "bearing_static"
+                   else f"needs {check.limit:,.0f} of {life_text(check.value)}")
     else:
         figures = f"{number(check.value)} / {number(check.limit)} {_UNITS.get(name, '')}"
     kind = check.detail.get("kind")
@@ -339,7 +344,7 @@ def _heat_maps(result: SizingResult) -> str:
 
 
 def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
-                   motor_png: bytes | None = None) -> str:
+                   motor_png: bytes | None = None, bearing: str = "") -> str:
     rules = _rules(result)
     pairs = joint.name in result.motors
     rows, classes = [], []
@@ -386,7 +391,7 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
             f"{esc(joint.name)}</h2><p>{esc(summary)}</p>{table}"
             "<p>Each check: utilization, then demand / limit. ✗ over the limit."
             + (" m. = the motor's checks; load/rotor = (M_jj / N² + J_in) / J_m." if pairs
-               else "") + f"</p>{figure}</section>")
+               else "") + f"</p>{figure}{bearing}</section>")
 
 
 def _img(png: bytes) -> str:

@@ -49,12 +49,14 @@ def candidates_table(title: str, candidates: Iterable[Candidate], selected: Cand
                Column("L50 h", group="life hours"),
                *(Column(header, group=extra_group) for header in extra),
                Column("result", "left")]
-    failing = {name for name in names for c in candidates if not c.checks[name].ok}
+    failing = {name for name in names for c in candidates
+               if name in c.checks and not c.checks[name].ok}
     rows, styles = [], []
     for c in candidates:
         chosen = c is selected
         cells = [("▶" if chosen else " ") + escape(c.unit.id)]
-        cells += [utilization_cell(c.checks[name], pad=name in failing) for name in names]
+        cells += [utilization_cell(c.checks[name], pad=name in failing) if name in c.checks
+                  else "-" + " " * (name in failing) for name in names]
         cells += [life_text(c.life_hours, ""), *(cell(c) for cell in extra.values()),
                   verdict(c)]
         rows.append(tuple(cells))
@@ -188,7 +190,11 @@ def compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:
                "motor\nrms N m": lambda c: f"{_motor(c).rms_torque:.3g}",
                "motor\nmax rpm": lambda c: f"{_motor(c).max_speed:,.0f}"},
         notes=["▶ selected. utilization = demand / limit, ✗ over the limit; mom. = momentary "
-               "(T4): the worse of an emergency stop and a crash."])
+               "(T4): the worse of an emergency stop and a crash."
+               + (" b. = the output bearing's checks (b.life: its L10 life, b.static: "
+                  "the static safety C0 / P0; utilization = required / reached), - where the "
+                  "unit's catalog does not rate the bearing."
+                  if any(c.bearing is not None for c in joint.candidates) else "")])
 
 
 def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:

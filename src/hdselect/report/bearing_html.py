@@ -1,0 +1,92 @@
+"""The output bearing in the HTML report: every joint's loads, and its unit's rating."""
+
+from __future__ import annotations
+
+import base64
+import html
+
+from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
+from hdselect.sizing.records import BEARING_RULE_NOTE
+from hdselect.sizing.result import JointSizing, SizingResult
+
+esc = html.escape
+
+
+BEARING_UNITS = {"bearing_moment": "N m", "bearing_radial": "N", "bearing_axial": "N",
+                 "bearing_life": "h", "bearing_static": ""}
+"""The unit of each bearing check's value and limit, for the heat maps."""
+
+
+def figure(value: float | None, unit: str = "") -> str:
+    """A load for a table, three significant digits (``-`` for none)."""
+    if value is None:
+        return "-"
+    text = f"{value:,.0f}" if abs(value) >= 1000.0 else f"{value:.3g}"
+    return f"{text} {unit}".strip()
+
+
+def bearing_section(result: SizingResult) -> str:
+    """Every sized joint's output-bearing loads, and what its unit's catalog says of them."""
+    joints = [joint for joint in result.joints if joint.bearing is not None]
+    if not joints:
+        return ""
+    rows = "".join(_row(joint) for joint in joints)
+    header = "".join(f"<th{' class=t' if h in ('joint', 'unit', 'rating') else ''}>{h}</th>"
+                     for h in ("joint", "unit", "flange along axis [m]",
+                               "tilting moment M [N m] max / mean", "radial F_r [N] max / mean",
+                               "axial F_a [N] max / mean", "bearing L10 life",
+                               "static safety C0 / P0", "P_c [N]", "rating"))
+    return ("<section id=bearing><h2>Output bearings</h2><p>The force and moment through each "
+            "sized joint, from the inverse dynamics of the cycle with the carried units and the "
+            "payload, load its gearhead's output bearing: the tilting moment M, the radial force "
+            "F_r and the axial force F_a, about the output flange. Largest over the cycle (held "
+            "poses included) / the 10/3-power mean over the moving part weighted by |n| t. "
+            "Where the unit's catalog rates the bearing, its checks join the unit's in the "
+            f"tables above (b. = bearing).</p><div class=scroll><table><tr>{header}</tr>{rows}"
+            f"</table></div><p>{esc(BEARING_RULE_NOTE)}.</p></section>")
+
+
+def _row(joint: JointSizing) -> str:
+    load = joint.bearing
+    assert load is not None
+    shown = joint.selected or joint.strongest
+    figures = shown.bearing
+    if shown.unit.bearing is None:
+        rating = f"<td class='t wrap'>{esc(NOT_RATED)}</td>"
+        life = safety = equivalent = "-"
+    else:
+        rating = "<td class=t>rated: checked</td>" if figures else "<td class=t>rated</td>"
+        life = "-" if figures is None else ("unlimited" if figures.life_hours is None
+                                            else figure(figures.life_hours, "h"))
+        safety = "-" if figures is None else figure(figures.static_safety)
+        equivalent = "-" if figures is None else figure(figures.equivalent_load)
+    cells = [f"<td class=t>{esc(joint.name)}</td>",
+             f"<td class=t>{esc(shown.unit.id)}</td>", f"<td>{load.offset:g}</td>",
+             *(f"<td>{_pair(a, b)}</td>" for a, b in _loads(load)), f"<td>{esc(life)}</td>",
+             f"<td>{esc(safety)}</td>", f"<td>{esc(equivalent)}</td>", rating]
+    return f"<tr>{''.join(cells)}</tr>"
+
+
+def _loads(load: BearingLoad) -> tuple[tuple[float, float | None], ...]:
+    return ((load.max_moment, load.mean_moment), (load.max_radial, load.mean_radial),
+            (load.max_axial, load.mean_axial))
+
+
+def _pair(largest: float, mean: float | None) -> str:
+    return esc(f"{figure(largest)} / {figure(mean)}")
+
+
+def bearing_figure_html(joint: JointSizing, png: bytes | None) -> str:
+    """A joint's bearing figure, embedded, with its caption; empty without one."""
+    if png is None or joint.bearing is None:
+        return ""
+    shown = joint.selected or joint.strongest
+    data = base64.b64encode(png).decode("ascii")
+    rated = ("its allowable loads drawn" if shown.unit.bearing is not None
+             else f"{esc(shown.unit.id)}: {esc(NOT_RATED)}")
+    return (f"<figure><img src='data:image/png;base64,{data}' alt='output bearing loads of "
+            f"{esc(joint.name)} over the cycle'><figcaption>Output bearing of "
+            f"{esc(joint.name)}: tilting moment, radial and axial force over the cycle, the "
+            f"largest marked, the 10/3-power mean dotted; {rated}. Grey bands: at rest."
+            "</figcaption></figure>")
+
