@@ -96,27 +96,36 @@ def _motion(model: pin.Model, i: int, leaders: dict[int, int], neutral: np.ndarr
                              "of a joint that is not one revolute or prismatic coordinate; "
                              "the joint loads need a non-zero multiplier of such a joint",
                              path=path, field=f"joint[{name}]")
-        axis, revolute = _axis(model, i, neutral, scaling)
+        axis, revolute = _axis(model, i, neutral, scaling, path)
         return JointMotion(name, revolute, axis, model.joints[leader].idx_q,
                            model.joints[leader].idx_v, False, scaling, float(mimic.offset))
     if kind not in _ANGLE + _UNBOUNDED + _SLIDE:
         raise InputError(f"joint '{name}' is a {kind}; the joint loads handle fixed-base "
                          "trees of revolute, continuous, prismatic and mimic joints",
                          path=path, field=f"joint[{name}]")
-    axis, revolute = _axis(model, i, neutral, 1.0)
+    axis, revolute = _axis(model, i, neutral, 1.0, path)
     return JointMotion(name, revolute, axis, joint.idx_q, joint.idx_v, kind in _UNBOUNDED)
 
 
-def _axis(model: pin.Model, i: int, neutral: np.ndarray,
-          scaling: float) -> tuple[np.ndarray, bool]:
-    """Joint i's unit axis and whether it rotates, from its motion subspace S at `neutral`."""
+def _axis(model: pin.Model, i: int, neutral: np.ndarray, scaling: float,
+          path: Path | None) -> tuple[np.ndarray, bool]:
+    """Joint i's unit axis and whether it rotates, from its motion subspace S at `neutral`.
+
+    Raises:
+        InputError: Pinocchio's model moves the joint along no axis (an axis written so
+            long that normalising it overflowed).
+    """
     joint = model.joints[i]
     data = joint.createData()
     joint.calc(data, neutral)
     subspace = np.asarray(data.S).ravel() / scaling  # a follower's S carries its multiplier
+    if not np.all(np.isfinite(subspace)) or not np.any(subspace):
+        raise InputError(f"joint '{model.names[i]}': Pinocchio reads its axis as zero; write "
+                         "a unit axis", path=path, field=f"joint[{model.names[i]}].axis")
     linear, angular = subspace[:3], subspace[3:]
     revolute = bool(np.any(angular))
     axis = angular if revolute else linear
-    axis = axis / np.linalg.norm(axis)
+    axis = axis / np.abs(axis).max()  # first to 1 at most: an axis written 1e308 long
+    axis /= np.linalg.norm(axis)
     axis.setflags(write=False)
     return axis, revolute

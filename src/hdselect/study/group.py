@@ -87,10 +87,10 @@ class Basis:
         inertia: M_jj per sized joint and parameter at the same poses [kg m^2], shape
             (sized joints, P, poses), as `gravity`; None unless asked for (motors).
         wrench_gravity: W, each sized joint's wrench at rest in its axis frame, rows 0-4
-            of `axis_wrenches` [N, N m], shape (sized joints, 5, P, n).
+            of `axis_wrenches` [N, N m], shape (sized joints, P, 5 n): a parameter's row
+            is its (5, n) wrench flattened, so a case's is one product with theta.
         wrench_dynamic: B, the rest of its wrench along the motion at s = 1 [N, N m],
             same shape.
-        wrench_used: Per sized joint, the parameters that load its wrench.
     """
 
     robot: Robot
@@ -113,7 +113,6 @@ class Basis:
     inertia: np.ndarray | None = None
     wrench_gravity: np.ndarray | None = None
     wrench_dynamic: np.ndarray | None = None
-    wrench_used: tuple[np.ndarray, ...] = ()
 
 
 def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
@@ -165,16 +164,14 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
         inertia = frozen(np.ascontiguousarray(m.transpose(2, 0, 1)))
     wrench = np.stack([_wrench_parts(variant, trajectory, rows) for variant in variants])
     wrench[1:] -= wrench[0]  # (P, 2, sized, 5, n)
-    wrench_gravity, wrench_dynamic = (frozen(wrench[:, k].transpose(1, 2, 0, 3))
-                                      for k in range(2))
-    loaded = np.abs(wrench).max(axis=(1, 3, 4)) > 0.0  # (P, sized)
-    wrench_used = tuple(_read_only(np.flatnonzero(loaded[:, s]))
-                        for s in range(len(robot.sized_joints)))
+    wrench_gravity, wrench_dynamic = (
+        frozen(wrench[:, k].transpose(1, 0, 2, 3).reshape(len(robot.sized_joints),
+                                                           len(variants), -1))
+        for k in range(2))
     return Basis(reference, motion, trajectory, payload, rows, weight, frozen(trajectory.t[rows]),
                  frozen(trajectory.qd[rows]), frozen(trajectory.qdd[rows]), carriers,
                  frozen(gravity), frozen(dynamic), frozen(coasting), frozen(stopping), used,
-                 frozen(carried), _read_only(poses), inertia, wrench_gravity, wrench_dynamic,
-                 wrench_used)
+                 frozen(carried), _read_only(poses), inertia, wrench_gravity, wrench_dynamic)
 
 
 def plan_depends_on_payload(motion: Motion) -> bool:
@@ -301,11 +298,10 @@ class BasisTorques:
         if not self.wrenches or basis.wrench_gravity is None or basis.wrench_dynamic is None:
             return None
         s = self.robot.sized_joints.index(joint)
-        used = basis.wrench_used[s]
-        weights = self._with(masses)[used]
-        wrench = np.einsum("p,cpn->cn", weights, basis.wrench_gravity[s][:, used])
-        wrench += np.einsum("p,cpn->cn", weights * self.y**2, basis.wrench_dynamic[s][:, used])
-        return wrench
+        theta = self._with(masses)  # a parameter that does not load the joint adds 0
+        wrench = theta @ basis.wrench_gravity[s]
+        wrench += (theta * self.y**2) @ basis.wrench_dynamic[s]
+        return wrench.reshape(5, -1)
 
     def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
         """The wrench holding each kept row's pose still [N, N m], (5, n)."""
@@ -313,8 +309,7 @@ class BasisTorques:
         if not self.wrenches or basis.wrench_gravity is None:
             return None
         s = self.robot.sized_joints.index(joint)
-        used = basis.wrench_used[s]
-        return np.einsum("p,cpn->cn", self._with(masses)[used], basis.wrench_gravity[s][:, used])
+        return (self._with(masses) @ basis.wrench_gravity[s]).reshape(5, -1)
 
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
