@@ -239,8 +239,8 @@ def benchmarks(quick: bool) -> list[Benchmark]:
     def wrench_torque_error() -> float:
         """The bearing pass's axis row against the sizing's own torques [N m]."""
         joints = size_trajectory(robot, traj, units, coupled).joints
-        return max(float(np.max(np.abs(joint.wrench[5] - joint.torque))) for joint in joints
-                   if joint.wrench is not None)
+        return max(float(np.max(np.abs(joint.wrench.full()[5] - joint.torque)))
+                   for joint in joints if joint.wrench is not None)
 
     study_speed, study_workers = _studies(quick)
     from hdselect.study import run_study

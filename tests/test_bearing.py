@@ -47,7 +47,7 @@ def test_a_rated_bearing_changes_the_selection_and_binds_it(rated):
     assert not small.feasible and small.binding == "bearing_moment"
     assert small.checks["bearing_moment"].value > 6.0 > 0.0
     # the unit's centre is its catalog offset from the flange, the worse side per sample
-    axial, radial, tilting = bearing_loads(pan.wrench, 0.0, 0.006)
+    axial, radial, tilting = bearing_loads(pan.wrench.full(), 0.0, 0.006)
     assert pan.selected.bearing.load.max_moment == pytest.approx(tilting.max(), rel=1e-12)
     assert pan.selected.bearing.load.max_moment >= pan.bearing.max_moment
     assert pan.selected.checks["bearing_moment"].value == pytest.approx(tilting.max())
@@ -126,7 +126,7 @@ def test_the_motion_files_offset_moves_the_flange(tmp_path):
     lift = result.joints[1]
     assert result.options.bearing_offset == {"shoulder_lift": 0.04}
     assert lift.bearing.offset == 0.04
-    _, _, tilting = bearing_loads(lift.wrench, 0.04)
+    _, _, tilting = bearing_loads(lift.wrench.full(), 0.04)
     assert lift.bearing.max_moment == pytest.approx(tilting.max(), rel=1e-12)
     for bad, message in (('{ wrist = 0.1 }', "unknown joint 'wrist'"),
                          ('{ elbow = 500 }', "must be a position along the axis")):
@@ -202,7 +202,7 @@ def test_the_slow_down_a_radial_limit_needs_is_the_hand_value(tmp_path):
     radial = 2.0 * 0.3 * np.sqrt(qd**4 + qdd**2)
     result = size_trajectory(robot, trajectory, units, Options())
     (joint,) = result.joints
-    np.testing.assert_allclose(bearing_loads(joint.wrench)[1], radial, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(bearing_loads(joint.wrench.full())[1], radial, rtol=1e-9, atol=1e-9)
     assert joint.selected is None and joint.strongest.binding == "bearing_radial"
     exact = math.sqrt(radial.max() / 8.0)
     assert exact > 1.1

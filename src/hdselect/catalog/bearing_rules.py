@@ -121,18 +121,32 @@ def bearing_load(axial: np.ndarray, radial: np.ndarray, moment: np.ndarray,
     Returns:
         The summary.
     """
-    n = len(axial)
-    duration = np.broadcast_to(np.asarray(duration, dtype=float), (n,))
-    rest = np.broadcast_to(np.asarray(at_rest, dtype=bool), (n,))
+    return weighted_bearing_load(axial, radial, moment, travel_weights(speed, duration, at_rest),
+                                 offset=offset, spread=spread)
+
+
+def travel_weights(speed: np.ndarray, duration: np.ndarray | float,
+                   at_rest: np.ndarray) -> np.ndarray:
+    """|n| t of each sample, 0 where the joint is held still: the means' weights [rad]."""
+    weight = np.abs(np.asarray(speed, dtype=float))
+    weight *= duration
+    weight[np.broadcast_to(np.asarray(at_rest, dtype=bool), weight.shape)] = 0.0
+    return weight
+
+
+def weighted_bearing_load(axial: np.ndarray, radial: np.ndarray, moment: np.ndarray,
+                          weight: np.ndarray, *, offset: float = 0.0,
+                          spread: float = 0.0) -> BearingLoad:
+    """`bearing_load` from each sample's weight |n| t (`travel_weights`) [rad].
+
+    A state that several samples share may be given once, with their weights summed:
+    the maxima and the means are the same.
+    """
     peaks = [0.0, 0.0, 0.0]
     sums = [0.0, 0.0, 0.0]
-    travel = 0.0
-    for start in range(0, n, _CHUNK):  # a long cycle in pieces of bounded memory
+    travel = float(weight.sum())
+    for start in range(0, len(axial), _CHUNK):  # a long cycle in pieces of bounded memory
         part = slice(start, start + _CHUNK)
-        weight = np.abs(speed[part])
-        weight *= duration[part]
-        weight[rest[part]] = 0.0
-        travel += float(weight.sum())
         for k, values in enumerate((axial, radial, moment)):
             load = np.abs(values[part])
             peaks[k] = max(peaks[k], float(load.max(initial=0.0)))
@@ -140,7 +154,7 @@ def bearing_load(axial: np.ndarray, radial: np.ndarray, moment: np.ndarray,
             power *= load
             power *= load
             power *= load
-            sums[k] += float(np.dot(power, weight))
+            sums[k] += float(np.dot(power, weight[part]))
     means: list[float | None] = [None, None, None]
     if travel > 0.0:
         means = [(total / travel) ** 0.3 for total in sums]

@@ -9,7 +9,6 @@ from hdselect.catalog.bearing_rules import NOT_RATED
 from hdselect.catalog.rules import at_rest
 from hdselect.report.figures import ALLOWED, MEAN, MOVING, envelope
 from hdselect.report.joint_figures import rest_spans
-from hdselect.robot.wrenches import bearing_loads
 from hdselect.sizing.result import JointSizing, SizingResult
 
 
@@ -34,7 +33,7 @@ def bearing_figure(result: SizingResult, joint: JointSizing) -> Figure | None:
     traj = result.trajectory
     t = traj.t
     j = result.robot.joint_index(joint.name)
-    axial, radial, moment = bearing_loads(joint.wrench[:, :len(t)], load.offset)  # 1st task
+    axial, radial, moment = (values[:len(t)] for values in joint.wrench.loads(load.offset))
     shown = joint.selected or joint.strongest
     rating = shown.unit.bearing
     rest = at_rest(traj.qd[:, j], traj.qdd[:, j])

@@ -57,7 +57,12 @@ def joint_wrenches(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
         parent side applies to the child side, in the joint frame.
     """
     rnea = _Rnea(robot)
-    return rnea.run(q, qd, qdd, range(len(rnea.joints)), aligned=False, threads=threads)
+    distinct = distinct_states(q, qd, qdd)
+    if distinct is None:
+        return rnea.run(q, qd, qdd, range(len(rnea.joints)), aligned=False, threads=threads)
+    once, index = distinct
+    return rnea.run(q[once], qd[once], qdd[once], range(len(rnea.joints)), aligned=False,
+                    threads=threads)[:, :, index]
 
 
 def axis_wrenches(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
@@ -80,9 +85,39 @@ def axis_wrenches(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
     Returns:
         Wrenches [N, N m], shape (len(joints), 6, n).
     """
+    rows, index = distinct_axis_wrenches(robot, q, qd, qdd, joints, threads=threads)
+    return rows if index is None else rows[:, :, index]
+
+
+def distinct_axis_wrenches(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                           joints: Sequence[str], *, threads: int | None = None,
+                           distinct: tuple[np.ndarray, np.ndarray] | None | bool = True
+                           ) -> tuple[np.ndarray, np.ndarray | None]:
+    """`axis_wrenches`, a state repeated by the samples after it (a dwell) given once.
+
+    Args:
+        robot: The robot (payload and gearhead masses included).
+        q: Joint positions [rad or m], shape (n, dof).
+        qd: Joint velocities [rad/s or m/s], shape (n, dof).
+        qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof).
+        joints: The joints wanted, by name.
+        threads: Threads sharing the blocks; None chooses from the sample count.
+        distinct: These states' `hdselect.robot.dynamics.distinct_states`, when already
+            known (None: every sample its own); True finds them.
+
+    Returns:
+        The wrenches of the distinct states [N, N m], (len(joints), 6, m), and the row of
+        each sample among them, (n,); None when every sample has its own row.
+    """
     model = robot.model
-    return _Rnea(robot).run(q, qd, qdd, [model.getJointId(name) - 1 for name in joints],
-                            aligned=True, threads=threads)
+    keep = [model.getJointId(name) - 1 for name in joints]
+    rnea = _Rnea(robot)
+    if distinct is True:
+        distinct = distinct_states(q, qd, qdd)
+    if distinct is None or distinct is False:
+        return rnea.run(q, qd, qdd, keep, aligned=True, threads=threads), None
+    once, index = distinct
+    return rnea.run(q[once], qd[once], qdd[once], keep, aligned=True, threads=threads), index
 
 
 def bearing_loads(wrench: np.ndarray, offset: float = 0.0,
@@ -169,16 +204,7 @@ class _Rnea:
 
     def run(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, keep: Sequence[int], *,
             aligned: bool, threads: int | None) -> np.ndarray:
-        """The kept joints' wrenches over every sample, repeated states computed once."""
-        distinct = distinct_states(q, qd, qdd)
-        if distinct is not None:
-            once, back = distinct
-            return self._run(q[once], qd[once], qdd[once], keep, aligned, threads)[:, :, back]
-        return self._run(q, qd, qdd, keep, aligned, threads)
-
-    def _run(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, keep: Sequence[int],
-             aligned: bool, threads: int | None) -> np.ndarray:
-        """`run` on every sample given, in blocks shared by the threads."""
+        """The kept joints' wrenches over every sample given, in blocks shared by the threads."""
         n = q.shape[0]
         config = self.robot.configuration(q)
         velocity, acceleration = np.ascontiguousarray(qd.T), np.ascontiguousarray(qdd.T)

@@ -30,7 +30,7 @@ from hdselect.catalog.rules import (
 )
 from hdselect.catalog.select import select
 from hdselect.catalog.units import Unit
-from hdselect.sizing.bearing import cycle_bearing
+from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
 from hdselect.sizing.result import JointSizing
@@ -47,8 +47,7 @@ class JointCycle:
         torque: Output torque along the samples [N m], shape (n,).
         stop: Output torque at the start of an emergency stop from each sample [N m], (n,).
         wrench: The whole force and moment through the joint along the samples, in its
-            axis frame about the joint origin (`hdselect.robot.wrenches.axis_wrenches`),
-            shape (5 or 6, n) [N, N m]; None when not computed.
+            axis frame about the joint origin; None when not computed.
         offset: Where the output flange sits along the axis from the joint origin [m].
     """
 
@@ -56,7 +55,7 @@ class JointCycle:
     column: int
     torque: np.ndarray
     stop: np.ndarray
-    wrench: np.ndarray | None = None
+    wrench: SampledWrench | None = None
     offset: float = 0.0
 
     @property

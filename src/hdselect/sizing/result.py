@@ -15,6 +15,7 @@ from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.options import Options
 from hdselect.sizing.tasks import Task
@@ -53,9 +54,9 @@ class JointSizing:
             flange (the joint origin, or the options' ``bearing_offset``); None where
             not computed. A unit that rates its bearing is checked about its own centre
             (`hdselect.catalog.rules.Candidate.bearing`).
-        wrench: The force and moment through the joint per sample, in its axis frame
-            about the joint origin (`hdselect.robot.wrenches.axis_wrenches`), shape
-            (5 or 6, n) [N, N m]; None where not computed.
+        wrench: The force and moment through the joint along the samples, in its axis
+            frame about the joint origin (`SampledWrench.full` gives them per sample,
+            rows as `hdselect.robot.wrenches.axis_wrenches`); None where not computed.
     """
 
     name: str
@@ -72,7 +73,7 @@ class JointSizing:
     load_inertia: float | None = None
     motor_torque: np.ndarray | None = None
     bearing: BearingLoad | None = None
-    wrench: np.ndarray | None = None
+    wrench: SampledWrench | None = None
 
     @property
     def strongest(self) -> Candidate:

@@ -41,7 +41,7 @@ def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
                 still = model.gravity_wrench(joint.name, masses)
                 if still is not None:
                     cycle = replace(cycle, wrench=ScalableWrench(
-                        np.asarray(still[:5]), joint.wrench,
+                        np.asarray(still[:5]), joint.wrench.full(),
                         options.bearing_offset.get(joint.name, 0.0)))
             slowdown, scales = fitting_time_scales(cycle, units[joint.name], options,
                                                    motors=tuple(motors.get(joint.name, ())))

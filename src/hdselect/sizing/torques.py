@@ -19,9 +19,15 @@ from typing import Protocol
 import numpy as np
 
 from hdselect.motion.planning import Trajectory
-from hdselect.robot.dynamics import cycle_torques, gravity_torques, joint_inertias
+from hdselect.robot.dynamics import (
+    cycle_torques,
+    distinct_states,
+    gravity_torques,
+    joint_inertias,
+)
 from hdselect.robot.model import Robot
-from hdselect.robot.wrenches import axis_wrenches
+from hdselect.robot.wrenches import axis_wrenches, distinct_axis_wrenches
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
 from hdselect.sizing.tasks import Samples, Task
 
@@ -47,12 +53,12 @@ class TorqueModel(Protocol):
         `masses` [kg] gives at least every unit further out than `joint`.
         """
 
-    def wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> SampledWrench | None:
         """The force and moment through a sized joint along the samples, or None.
 
         In the joint's axis frame about its origin (rows as
-        `hdselect.robot.wrenches.axis_wrenches`), shape (5 or 6, n) [N, N m]; None where
-        the model computes no wrenches.
+        `hdselect.robot.wrenches.axis_wrenches`) [N, N m]; None where the model computes
+        no wrenches.
         """
 
     def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
@@ -113,6 +119,10 @@ class DirectTorques:
         self._tau: np.ndarray | None = None
         self._stop: np.ndarray | None = None
         self._wrench: np.ndarray | None = None
+        self._index: np.ndarray | None = None
+        self._distinct = [distinct_states(task.trajectory.q, task.trajectory.qd,
+                                          task.trajectory.qdd) if wrenches else None
+                          for task in self.tasks]  # the same states at every pass
 
     def torques(self, joint: str, masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
         """A joint's torque and emergency-stop torque along the samples [N m], each (n,)."""
@@ -123,15 +133,15 @@ class DirectTorques:
         j = self.robot.joint_index(joint)
         return np.array(self._tau[:, j]), np.array(self._stop[:, j])
 
-    def wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
-        """The force and moment through a sized joint along the samples [N, N m], (6, n)."""
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> SampledWrench | None:
+        """The force and moment through a sized joint along the samples [N, N m]."""
         if not self.wrenches:
             return None
         if self._masses is None or any(self._masses.get(k, 0.0) != masses.get(k, 0.0)
                                        for k in self._below[joint]):
             self._pass(masses)
         assert self._wrench is not None
-        return self._wrench[self.robot.sized_joints.index(joint)]
+        return SampledWrench(self._wrench[self.robot.sized_joints.index(joint)], self._index)
 
     def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
         """The wrench holding each pose still [N, N m], (6, n): one pass per task."""
@@ -187,15 +197,16 @@ class DirectTorques:
         """Both batched passes of every task with `masses`, the guess where none is given."""
         merged = {**self.guess, **masses}
         ordered = {name: merged[name] for name in self.robot.sized_joints if name in merged}
-        self._masses = self._tau = self._stop = self._wrench = None  # let the last go first
+        self._masses = self._tau = self._stop = self._wrench = self._index = None  # go first
         robots = [self._carrying(task, ordered) for task in self.tasks]
         parts = [cycle_torques(robot, task.trajectory.q, task.trajectory.qd,
                                task.trajectory.qdd, self.stop_time, threads=self.threads)
                  for robot, task in zip(robots, self.tasks, strict=True)]
-        wrenches = [axis_wrenches(robot, task.trajectory.q, task.trajectory.qd,
-                                  task.trajectory.qdd, self.robot.sized_joints,
-                                  threads=self.threads)
-                    for robot, task in zip(robots, self.tasks, strict=True)
+        wrenches = [distinct_axis_wrenches(robot, task.trajectory.q, task.trajectory.qd,
+                                           task.trajectory.qdd, self.robot.sized_joints,
+                                           threads=self.threads, distinct=distinct)
+                    for robot, task, distinct in zip(robots, self.tasks, self._distinct,
+                                                     strict=True)
                     if self.wrenches]
         if len(parts) == 1:
             self._tau, self._stop = parts[0].tau, parts[0].stop
@@ -203,8 +214,7 @@ class DirectTorques:
             self._tau = np.concatenate([p.tau for p in parts])
             self._stop = np.concatenate([p.stop for p in parts])
         if wrenches:
-            self._wrench = wrenches[0] if len(wrenches) == 1 else np.concatenate(wrenches,
-                                                                                  axis=2)
+            self._wrench, self._index = _pooled(wrenches)
             self._wrench.setflags(write=False)
         self._masses = ordered
 
@@ -212,6 +222,22 @@ class DirectTorques:
         """The task's robot with the units' masses, in the robot's joint order."""
         ordered = {name: masses[name] for name in self.robot.sized_joints if name in masses}
         return task.robot.with_gearheads(ordered) if ordered else task.robot
+
+
+def _pooled(parts: list[tuple[np.ndarray, np.ndarray | None]]
+            ) -> tuple[np.ndarray, np.ndarray | None]:
+    """Every task's distinct wrenches in one array, and each pooled sample's row among them."""
+    if len(parts) == 1:
+        return parts[0]
+    rows = np.concatenate([wrench for wrench, _ in parts], axis=2)
+    if all(index is None for _, index in parts):
+        return rows, None
+    index, start = [], 0
+    for wrench, own in parts:
+        count = wrench.shape[2]
+        index.append(start + (np.arange(count) if own is None else own))
+        start += count
+    return rows, np.concatenate(index)
 
 
 def _moves(model: object, joint_id: int, other_id: int) -> bool:

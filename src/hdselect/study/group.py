@@ -49,6 +49,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.arguments import check_bearing_options, checked_motors
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.core import select_units
 from hdselect.sizing.loads import JointLoad, joint_loads
 from hdselect.sizing.options import Options
@@ -292,7 +293,7 @@ class BasisTorques:
             self.y / self.stop_time)
         return tau, stop
 
-    def wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> SampledWrench | None:
         """The force and moment through a sized joint along the kept rows [N, N m], (5, n)."""
         basis = self.basis
         if not self.wrenches or basis.wrench_gravity is None or basis.wrench_dynamic is None:
@@ -301,7 +302,7 @@ class BasisTorques:
         theta = self._with(masses)  # a parameter that does not load the joint adds 0
         wrench = theta @ basis.wrench_gravity[s]
         wrench += (theta * self.y**2) @ basis.wrench_dynamic[s]
-        return wrench.reshape(5, -1)
+        return SampledWrench(wrench.reshape(5, -1))
 
     def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
         """The wrench holding each kept row's pose still [N, N m], (5, n)."""
