@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import re
-import shlex
 from pathlib import Path
 
 import numpy as np
@@ -228,30 +226,7 @@ def test_a_grouped_case_with_rated_bearings_equals_the_direct_sizing(mass, time_
     assert any(name.startswith("bearing_") for j in grouped.joints for name in j.utilization)
 
 
-# --- the docs page, run as a user would --------------------------------------------------------
-
-def test_the_docs_console_example_prints_what_it_shows(tmp_path, monkeypatch, capsys):
-    for name in ("trajectories", "catalogs", "robots"):
-        (tmp_path / name).symlink_to(REPO / name)
-    monkeypatch.chdir(tmp_path)
-    monkeypatch.setenv("COLUMNS", "80")
-    (block,) = re.findall(r"```console\n(.*?)```", DOC, flags=re.S)
-    command, *shown = block.rstrip("\n").split("\n")
-    args = shlex.split(command.removeprefix("$ "))
-    assert main(args[1:]) == 0
-    printed = "\n".join(line.rstrip() for line in capsys.readouterr().out.rstrip().split("\n"))
-    assert printed == "\n".join(shown).rstrip()
-
-
-def test_the_docs_python_example_prints_what_it_shows(tmp_path, monkeypatch, capsys):
-    for name in ("trajectories", "catalogs", "robots"):
-        (tmp_path / name).symlink_to(REPO / name)
-    monkeypatch.chdir(tmp_path)
-    (code,) = re.findall(r"```python\n(.*?)```", DOC, flags=re.S)
-    (shown,) = re.findall(r"```text\n(.*?)```", DOC, flags=re.S)
-    exec(compile(code, "docs/bearing.md", "exec"), {})
-    assert capsys.readouterr().out == shown
-
+# --- the example catalog (its page's examples run in test_docs) ----------------------------
 
 def test_the_example_catalog_says_it_is_not_vendor_data():
     text = EXAMPLE.read_text()

@@ -69,13 +69,11 @@ def bearing_notes(result: SizingResult) -> list[str]:
     offsets = result.options.bearing_offset
     where = ("the joint origin" if not offsets else "the joint origin, moved along the axis "
              "for " + ", ".join(f"{name} by {value:g} m" for name, value in offsets.items()))
-    notes = [f"bearing: the output bearing's tilting moment M, radial force F_r and axial force "
-             f"F_a through each joint, about its output flange ({where}): the largest over the "
-             "cycle / the 10/3-power mean over the moving part weighted by |n| t; then the "
-             "unit's bearing check closest to its limit."]
     chosen = [joint.selected or joint.strongest for joint in result.joints
               if joint.bearing is not None]
     unrated = sorted({c.unit.id for c in chosen if c.unit.bearing is None})
-    if unrated:
-        notes.append(f"not rated: {', '.join(unrated)}: {NOT_RATED}.")
+    notes = [f"bearing: tilting moment M, radial F_r and axial F_a through each joint about "
+             f"its output flange ({where}), largest / 10/3-power mean (moving, weighted by "
+             "|n| t); the unit's bearing check nearest its limit."
+             + (f" not rated: {NOT_RATED} ({', '.join(unrated)})." if unrated else "")]
     return notes
