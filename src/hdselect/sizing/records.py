@@ -116,16 +116,20 @@ def bearing_load_json(load: BearingLoad) -> dict[str, Any]:
             "mean_radial_n": load.mean_radial, "mean_axial_n": load.mean_axial}
 
 
-def candidate_bearing_json(candidate: Candidate) -> dict[str, Any]:
-    """What one unit's catalog rates its output bearing for, and its figures on this cycle."""
-    rating = candidate.unit.bearing
+def bearing_rating_json(unit: Unit) -> dict[str, Any]:
+    """What a unit's catalog rates its output bearing for, in SI; ``rated`` false if nothing."""
+    rating = unit.bearing
     if rating is None:
         return {"rated": False, "note": NOT_RATED}
-    document: dict[str, Any] = {
-        "rated": True, "pitch_diameter_m": rating.pitch_diameter,
-        "dynamic_rating_n": rating.dynamic_rating, "static_rating_n": rating.static_rating,
-        "max_moment_nm": rating.max_moment, "max_radial_n": rating.max_radial,
-        "max_axial_n": rating.max_axial, "offset_m": rating.offset}
+    return {"rated": True, "pitch_diameter_m": rating.pitch_diameter,
+            "dynamic_rating_n": rating.dynamic_rating, "static_rating_n": rating.static_rating,
+            "max_moment_nm": rating.max_moment, "max_radial_n": rating.max_radial,
+            "max_axial_n": rating.max_axial, "offset_m": rating.offset}
+
+
+def candidate_bearing_json(candidate: Candidate) -> dict[str, Any]:
+    """What one unit's catalog rates its output bearing for, and its figures on this cycle."""
+    document = bearing_rating_json(candidate.unit)
     figures = candidate.bearing
     if figures is not None:
         document.update({
