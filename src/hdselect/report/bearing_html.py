@@ -6,6 +6,7 @@ import base64
 import html
 
 from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
+from hdselect.report.terminal import life_text
 from hdselect.sizing.records import BEARING_RULE_NOTE
 from hdselect.sizing.result import JointSizing, SizingResult
 
@@ -56,8 +57,7 @@ def _row(joint: JointSizing) -> str:
         life = safety = equivalent = "-"
     else:
         rating = "<td class=t>rated: checked</td>" if figures else "<td class=t>rated</td>"
-        life = "-" if figures is None else ("unlimited" if figures.life_hours is None
-                                            else figure(figures.life_hours, "h"))
+        life = "-" if figures is None else life_text(figures.life_hours)
         safety = "-" if figures is None else figure(figures.static_safety)
         equivalent = "-" if figures is None else figure(figures.equivalent_load)
     cells = [f"<td class=t>{esc(joint.name)}</td>",
