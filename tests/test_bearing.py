@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +21,7 @@ from hdselect.base.errors import InputError
 from hdselect.cli.main import main
 from hdselect.motion.motionfile import load_motion
 from hdselect.robot.wrenches import bearing_loads
-from hdselect.study.compute import size_rows
+from hdselect.study.compute import scaled, size_rows
 from hdselect.study.group import build_basis, size_case
 from test_study_group import differences, separate
 
@@ -211,19 +212,55 @@ def test_the_slow_down_a_radial_limit_needs_is_the_hand_value(tmp_path):
 
 # --- studies --------------------------------------------------------------------------------
 
-@pytest.mark.parametrize(("mass", "time_scale"), [(0.5, 1.0), (2.0, 0.8)])
-def test_a_grouped_case_with_rated_bearings_equals_the_direct_sizing(mass, time_scale):
-    """The basis of wrenches gives the loads and checks `size_trajectory` gives."""
+@pytest.fixture(scope="module")
+def rated_basis():
+    """The pick-and-place basis with load inertias, the example rated catalog, its motors."""
     robot, motion = load_case(PICK)
     bare = robot.with_payload(None)
-    units = load_catalog([EXAMPLE])
-    basis = build_basis(bare, motion, motion.payload)
-    options = Options(life_hours=20_000.0)
+    basis = build_basis(bare, motion, motion.payload, inertias=True)
+    motors = hdselect.load_motors(REPO / "motors" / "example_motors.toml")
+    return bare, motion, basis, load_catalog([EXAMPLE]), motors
+
+
+@pytest.mark.parametrize(("mass", "time_scale", "given"), [
+    (0.5, 1.0, {}),
+    (2.0, 0.8, {}),
+    (1.0, 1.0, {"margin": 0.2}),
+    (1.5, 0.9, {"margin": 0.1, "stop_time": 0.2}),
+])
+def test_a_grouped_case_with_rated_bearings_equals_the_direct_sizing(rated_basis, mass,
+                                                                      time_scale, given):
+    """The basis of wrenches gives the loads and checks `size_trajectory` gives, under a
+    design margin too."""
+    bare, motion, basis, units, _ = rated_basis
+    options = Options(**{"life_hours": 20_000.0, "threads": 1, **given})
     grouped = size_case(basis, mass, time_scale, units, options)
     direct = separate(bare, motion, mass, time_scale, units, options)
     assert differences(grouped.to_dict(), direct.to_dict()) < 1e-9
     assert any(joint.bearing_rated for joint in grouped.joints)
     assert any(name.startswith("bearing_") for j in grouped.joints for name in j.utilization)
+
+
+@pytest.mark.parametrize(("mass", "time_scale", "given"), [
+    (0.5, 1.0, {"margin": 0.15, "max_inertia_ratio": 10.0}),
+    (1.0, 0.9, {"prefer": "inertia", "inertia_target": 5.0, "max_inertia_ratio": 30.0}),
+])
+def test_grouped_pairs_with_rated_bearings_equal_the_direct_sizing(rated_basis, mass,
+                                                                   time_scale, given):
+    """Gearhead and motor pairs on rated bearings with a margin and a largest inertia ratio:
+    the grouped case's bearing, motor and inertia-ratio checks are the core's."""
+    bare, motion, basis, units, motors = rated_basis
+    per_joint = {name: motors for name in bare.sized_joints}
+    options = Options(**{"life_hours": 20_000.0, "threads": 1, **given})
+    grouped = size_case(basis, mass, time_scale, units, options, per_joint)
+    carrying = bare.with_payload(replace(motion.payload, mass=mass))
+    trajectory = scaled(plan(carrying, motion), time_scale)
+    direct = summarize(replace(size_trajectory(carrying, trajectory, units, options,
+                                               motors=per_joint), motion=motion))
+    assert differences(grouped.to_dict(), direct.to_dict()) < 1e-9
+    checked = {name for j in grouped.joints for name in j.utilization}
+    assert {"bearing_moment", "motor_rms", "inertia_ratio"} <= checked
+    assert all(joint.inertia_ratio > 0.0 for joint in grouped.joints)
 
 
 # --- the example catalog (its page's examples run in test_docs) ----------------------------

@@ -13,6 +13,7 @@ on a bearing with d_p = 0.05 m, C = 2000 N, C0 = 3000 N, f_w = 1.2.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -20,13 +21,13 @@ import pytest
 
 from hdselect.base.errors import InputError
 from hdselect.catalog.bearing_rules import (
-    BEARING_CHECKS,
     BearingLoad,
     bearing_checks,
     bearing_figures,
     bearing_load,
 )
 from hdselect.catalog.catalogfile import load_catalog
+from hdselect.catalog.checks import BEARING_CHECKS
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, check_unit
 from hdselect.catalog.units import BearingRating
 from test_rules import PSA_RULES, make_load, make_unit
@@ -120,6 +121,37 @@ def test_check_unit_adds_the_bearing_checks_only_where_rated():
     plain = check_unit(load, make_unit(), life_hours=30_000.0, bearing=example())
     assert plain.bearing is None and not set(BEARING_CHECKS) & set(plain.checks)
     assert all(name in CHECK_LABELS for name in CHECKS)
+
+
+def test_the_design_margin_judges_the_bearing_as_every_rule():
+    """The example cycle on a bearing allowing M_max = 24 N m, with 24,000 h required and a
+    static safety of 2 (the hand figures of `test_life_and_static_safety_by_hand`):
+    moment 20 / 24 = 83.3 %; life 24,000 / 28,248.5 = 84.96 % (required over reached);
+    static safety 2 / (3000 / 1276) = 85.07 % (required over reached); radial 300 / 2000
+    = 15 %, axial 400 / 3000 = 13.3 %. The gear: T_av 5 N m against (1750 / 2500)^0.33
+    x 10 = 8.89 N m (56 %), peak 8 / 20 (40 %), 2500 / 6000 rpm (42 %), L50 196,000 h
+    (12 %). Margin 0: every rule holds. Margin 0.2 (80 % of each limit): the three bearing
+    checks above 80 % fail, nothing else. Margin 0.15 (85 %): only the static safety
+    fails. The utilizations are the same at every margin."""
+    rating = replace(RATING, max_moment=24.0)
+    rules = replace(PSA_RULES, bearing_static_safety=2.0)
+    load = make_load(peak=8.0, mean=5.0, mean_speed=50.0 * RPM)
+    unit = make_unit(bearing=rating, rules=rules)
+    judged = {margin: check_unit(load, unit, life_hours=24_000.0, bearing=example(),
+                                 margin=margin) for margin in (0.0, 0.15, 0.2)}
+    plain, edge, kept = judged[0.0], judged[0.15], judged[0.2]
+    hand = {"bearing_moment": 20.0 / 24.0, "bearing_radial": 0.15,
+            "bearing_axial": 400.0 / 3000.0, "bearing_life": 24_000.0 / 28_248.5,
+            "bearing_static": 2.0 * 1276.0 / 3000.0}
+    for name, utilization in hand.items():
+        for candidate in judged.values():
+            assert candidate.checks[name].utilization == pytest.approx(utilization, rel=1e-5)
+    assert plain.feasible and all(check.ok for check in plain.checks.values())
+    assert {name for name, check in kept.checks.items() if not check.ok} == {
+        "bearing_moment", "bearing_life", "bearing_static"}
+    assert not kept.feasible and kept.required_margin == 0.2
+    assert {name for name, check in edge.checks.items() if not check.ok} == {"bearing_static"}
+    assert kept.binding == edge.binding == plain.binding == "bearing_static"
 
 
 # --- catalog files ------------------------------------------------------------------------------

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hdselect.catalog.checks import Check, limit_check
+from hdselect.catalog.checks import DEFAULT_MARGIN, Check, holds, limit_check
 from hdselect.catalog.units import BearingRating, SeriesRules
 
 LIFE_EXPONENT = 10.0 / 3.0
@@ -41,10 +41,6 @@ LOAD_FACTORS = ((1.0, 0.45), (0.67, 0.67))
 """(X, Y) of the dynamic equivalent load, up to `AXIAL_RATIO` and above it [-]."""
 STATIC_AXIAL_FACTOR = 0.44
 """Factor of F_a,max in the static equivalent load P_0 [-]."""
-BEARING_CHECKS = ("bearing_moment", "bearing_radial", "bearing_axial", "bearing_life",
-                  "bearing_static")
-"""The checks of a rated output bearing, each present where its rating is given (the life
-also needs a required life)."""
 NOT_RATED = "bearing not rated by the source: its loads are reported, not checked"
 """What every result says of a unit whose catalog rates no output bearing."""
 _CHUNK = 1 << 16
@@ -215,7 +211,8 @@ def l10_bearing_hours(dynamic_rating: float, equivalent_load: float, load_factor
 
 
 def bearing_checks(figures: BearingFigures, rating: BearingRating, rules: SeriesRules, *,
-                   life_hours: float | None = None) -> dict[str, Check]:
+                   life_hours: float | None = None,
+                   margin: float = DEFAULT_MARGIN) -> dict[str, Check]:
     """The checks of a rated bearing, each where its rating is given, in `BEARING_CHECKS` order.
 
     Args:
@@ -224,6 +221,9 @@ def bearing_checks(figures: BearingFigures, rating: BearingRating, rules: Series
         rules: The series' rules (the required static safety).
         life_hours: Required life [h]: adds ``bearing_life`` where C is rated. The
             bearing's life is an L10 life; against a required L50 it is conservative.
+        margin: Design margin [-], in [0, 1): each check holds at (1 - margin) of its
+            limit (`hdselect.catalog.checks.holds`), a life and a safety as the gear's
+            life: required over reached.
 
     Returns:
         Check name -> check.
@@ -234,18 +234,18 @@ def bearing_checks(figures: BearingFigures, rating: BearingRating, rules: Series
                                ("bearing_radial", load.max_radial, rating.max_radial),
                                ("bearing_axial", load.max_axial, rating.max_axial)):
         if limit is not None:
-            checks[name] = limit_check(value, limit)
+            checks[name] = limit_check(value, limit, margin=margin)
     if life_hours is not None and rating.dynamic_rating is not None:
         expected = figures.life_hours
         utilization = 0.0 if expected is None else life_hours / expected
         checks["bearing_life"] = Check(
-            expected, life_hours, utilization <= 1.0, utilization,
+            expected, life_hours, holds(utilization, margin), utilization,
             {"basis": "L10", "equivalent_load_n": figures.equivalent_load,
              "mean_output_speed_rpm": figures.mean_speed})
     if rating.static_rating is not None:
         safety, static = figures.static_safety, figures.static_load
         utilization = 0.0 if safety is None else rules.bearing_static_safety / safety
         checks["bearing_static"] = Check(safety, rules.bearing_static_safety,
-                                         utilization <= 1.0, utilization,
+                                         holds(utilization, margin), utilization,
                                          {"static_load_n": static})
     return checks

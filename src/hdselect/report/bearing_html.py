@@ -3,15 +3,12 @@
 from __future__ import annotations
 
 import base64
-import html
 
 from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
+from hdselect.report.html_tables import esc, table
 from hdselect.report.terminal import life_text
 from hdselect.sizing.records import BEARING_RULE_NOTE
 from hdselect.sizing.result import JointSizing, SizingResult
-
-esc = html.escape
-
 
 BEARING_UNITS = {"bearing_moment": "N m", "bearing_radial": "N", "bearing_axial": "N",
                  "bearing_life": "h", "bearing_static": ""}
@@ -31,23 +28,21 @@ def bearing_section(result: SizingResult) -> str:
     joints = [joint for joint in result.joints if joint.bearing is not None]
     if not joints:
         return ""
-    rows = "".join(_row(joint) for joint in joints)
-    header = "".join(f"<th{' class=t' if h in ('joint', 'unit', 'rating') else ''}>{h}</th>"
-                     for h in ("joint", "unit", "flange along axis [m]",
-                               "tilting moment M [N m] max / mean", "radial F_r [N] max / mean",
-                               "axial F_a [N] max / mean", "bearing L10 life",
-                               "static safety C0 / P0", "P_c [N]", "rating"))
+    header = ["joint", "unit", "flange along axis [m]", "tilting moment M [N m] max / mean",
+              "radial F_r [N] max / mean", "axial F_a [N] max / mean", "bearing L10 life",
+              "static safety C0 / P0", "P_c [N]", "rating"]
+    rows = table(header, [_row(joint) for joint in joints], left=2, text=[9])
     return ("<section id=bearing><h2>Output bearings</h2><p>The force and moment through each "
             "sized joint, from the inverse dynamics of the cycle with the carried units and the "
             "payload, load its gearhead's output bearing: the tilting moment M, the radial force "
             "F_r and the axial force F_a, about the output flange. Largest over the cycle (held "
             "poses included) / the 10/3-power mean over the moving part weighted by |n| t. "
             "Where the unit's catalog rates the bearing, its checks join the unit's in the "
-            f"tables above (b. = bearing).</p><div class=scroll><table><tr>{header}</tr>{rows}"
-            f"</table></div><p>{esc(BEARING_RULE_NOTE)}.</p></section>")
+            f"tables above (b. = bearing), under the same design margin.</p>{rows}"
+            f"<p>{esc(BEARING_RULE_NOTE)}.</p></section>")
 
 
-def _row(joint: JointSizing) -> str:
+def _row(joint: JointSizing) -> list[str]:
     load = joint.bearing
     assert load is not None
     shown = joint.selected or joint.strongest
@@ -56,15 +51,13 @@ def _row(joint: JointSizing) -> str:
         rating = f"<td class='t wrap'>{esc(NOT_RATED)}</td>"
         life = safety = equivalent = "-"
     else:
-        rating = "<td class=t>rated: checked</td>" if figures else "<td class=t>rated</td>"
+        rating = "rated: checked" if figures else "rated"
         life = "-" if figures is None else life_text(figures.life_hours)
         safety = "-" if figures is None else figure(figures.static_safety)
         equivalent = "-" if figures is None else figure(figures.equivalent_load)
-    cells = [f"<td class=t>{esc(joint.name)}</td>",
-             f"<td class=t>{esc(shown.unit.id)}</td>", f"<td>{load.offset:g}</td>",
-             *(f"<td>{_pair(a, b)}</td>" for a, b in _loads(load)), f"<td>{esc(life)}</td>",
-             f"<td>{esc(safety)}</td>", f"<td>{esc(equivalent)}</td>", rating]
-    return f"<tr>{''.join(cells)}</tr>"
+    return [esc(joint.name), esc(shown.unit.id), f"{load.offset:g}",
+            *(_pair(a, b) for a, b in _loads(load)), esc(life).replace(" h", "&nbsp;h"),
+            esc(safety), esc(equivalent), rating]
 
 
 def _loads(load: BearingLoad) -> tuple[tuple[float, float | None], ...]:

@@ -18,7 +18,7 @@ from hdselect.catalog.rules import (
 )
 from hdselect.catalog.units import Unit
 from hdselect.report.bearing_tables import BEARING_COLUMNS, bearing_cells, bearing_notes, load_line
-from hdselect.report.case_tables import case_notes
+from hdselect.report.case_tables import case_notes, tool_pose_notes
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import (
     life_text,
@@ -308,7 +308,7 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
-    notes += case_notes(result.robot, result.trajectory)
+    notes += tool_pose_notes(result.motion) + case_notes(result.robot, result.trajectory)
     notes += bearing_notes(result)
     for joint in result.joints:
         if joint.selected is None:

@@ -94,7 +94,8 @@ class JointCycle:
 
 
 def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: Options, *,
-               motors: Sequence[Motor] = (), detail: bool = True) -> JointSizing:
+               motors: Sequence[Motor] = (), detail: bool = True,
+               load_inertia: float | None = None) -> JointSizing:
     """Check every unit (every pair, with `motors`) against one joint; select one.
 
     Args:
@@ -105,6 +106,8 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
         motors: The joint's candidate motors: then every (gearhead, motor) pair is checked.
         detail: Keep every candidate checked; False keeps only the selected one (or the
             strongest, when none fits), judged exactly as with detail.
+        load_inertia: With motors, the joint's load inertia M_jj [kg m^2]: each pair's
+            inertia ratio, and the ``inertia_ratio`` rule where a largest ratio is given.
 
     Returns:
         The joint's candidates and selection; its carried mass and gravity figures are
@@ -113,11 +116,13 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
     load = cycle.load()
     bearings = _Bearings(cycle)
     if motors:
-        joint = _size_pairs(name, cycle, load, bearings, units, motors, options)
+        joint = _size_pairs(name, cycle, load, bearings, units, motors, options, load_inertia)
     elif detail:
         candidates = [_candidate(load, r, cycle, bearings, options)
                       for r in _reflect(units, cycle, options)]
-        joint = JointSizing(name, load, tuple(candidates), select(candidates, _prefer(options)),
+        joint = JointSizing(name, load, tuple(candidates),
+                            select(candidates, _prefer(options),
+                                   inertia_target=options.inertia_target),
                             0.0, False, 0.0, readonly(cycle.torque), readonly(cycle.stop))
     else:
         joint = _selected_only(name, cycle, load, bearings, units, options)
@@ -160,7 +165,7 @@ def _candidate(load: CycleLoad, reflection: Reflection, cycle: JointCycle,
     unit = reflection.unit
     return check_unit(load, unit, momentary=reflection.momentary,
                       life_hours=options.life_hours, life_basis=options.life_basis,
-                      motor=demand, bearing=_rated(bearings, unit))
+                      motor=demand, bearing=_rated(bearings, unit), margin=options.margin)
 
 
 def _rated(bearings: _Bearings, unit: Unit) -> BearingLoad | None:
@@ -169,8 +174,8 @@ def _rated(bearings: _Bearings, unit: Unit) -> BearingLoad | None:
 
 
 def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,
-                units: tuple[Unit, ...], motors: Sequence[Motor],
-                options: Options) -> JointSizing:
+                units: tuple[Unit, ...], motors: Sequence[Motor], options: Options,
+                load_inertia: float | None = None) -> JointSizing:
     """Every (gearhead, motor) pair: each motor's rotor inertia in the motor torque and crash."""
     behind = reflect_motors(units, [m.rotor_inertia for m in motors], cycle.samples.t,
                             cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
@@ -182,12 +187,13 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearin
         for m, motor in enumerate(motors):
             r = behind[m][u]
             pair = with_motor(_candidate(load, r, cycle, bearings, options), motor,
-                              r.motor_torque, speed * unit.ratio)
+                              r.motor_torque, speed * unit.ratio, load_inertia=load_inertia,
+                              max_inertia_ratio=options.max_inertia_ratio)
             pairs.append(pair)
             torque[id(pair)] = r.motor_torque
-    selected = select(pairs, _prefer(options))
+    selected = select(pairs, _prefer(options), inertia_target=options.inertia_target)
     joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0,
-                        readonly(cycle.torque), readonly(cycle.stop))
+                        readonly(cycle.torque), readonly(cycle.stop), load_inertia=load_inertia)
     return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
 
 
@@ -208,11 +214,12 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
     i_crash = crash.argmax(axis=1)
     worst_crash = crash[np.arange(len(units)), i_crash]
     momentary = np.maximum(stopping[i_stop], worst_crash)
-    passes = ((load.peak_torque / limits.repeated <= 1.0)
-              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= 1.0)
-              & (momentary / limits.momentary <= 1.0))
+    most = 1.0 - options.margin  # `holds`, on every unit at once
+    passes = ((load.peak_torque / limits.repeated <= most)
+              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= most)
+              & (momentary / limits.momentary <= most))
     if load.static_torque is not None:
-        passes &= load.static_torque / limits.static <= 1.0
+        passes &= load.static_torque / limits.static <= most
     survivors = [k for k in range(len(units)) if passes[k]]
     motor_order = prefer.startswith("motor")
     if motor_order:
@@ -226,11 +233,11 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
                                    momentary=_event(k, i_stop, i_crash, stopping, crash, speed,
                                                     cycle.samples.t, options),
                                    life_hours=options.life_hours, life_basis=options.life_basis,
-                                   bearing=_rated(bearings, units[k]))
+                                   bearing=_rated(bearings, units[k]), margin=options.margin)
                         for k in survivors if units[k].size == size or prefer != "size"]
             if prefer != "size" or any(c.feasible for c in checked):
                 break
-    selected = select(checked, prefer)
+    selected = select(checked, prefer, inertia_target=options.inertia_target)
     if selected is None or not motor_order:  # the figures of the selected, else the strongest
         unit = units[limits.strongest] if selected is None else selected.unit
         (reflection,) = _reflect([unit], cycle, options)

@@ -27,9 +27,10 @@ import numpy as np
 from hdselect.base.arrays import frozen
 from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load
+from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load, derated
 from hdselect.catalog.units import Unit
 from hdselect.sizing.bearing import ScalableWrench
+from hdselect.sizing.intervals import Interval, intersect, overlap, solve_quadratics, within
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 
 S_MIN = 1e-3
@@ -45,8 +46,6 @@ GRID_PER_DECADE = 12
 """Scales per decade at which the whole-cycle rules are first checked; a passing or
 failing stretch shorter than one step (a factor 10^(1/12) = 1.21) can be missed."""
 
-Interval = tuple[float, float]
-"""A closed interval of time scales (lo, hi) [-]; hi may be math.inf."""
 _CHUNK = 1 << 15
 """Samples whose quadratic inequalities are solved at a time by `exact_scales`."""
 
@@ -215,7 +214,8 @@ class JointScales:
 def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
              efficiency: float = DEFAULT_EFFICIENCY, rotor_inertia: float = 0.0,
              check_options: Mapping[str, Any] | None = None,
-             motor: Motor | None = None) -> Candidate:
+             motor: Motor | None = None,
+             pair_options: Mapping[str, Any] | None = None) -> Candidate:
     """Every rule of one unit on the cycle run s times slower [-], as the sizing checks.
 
     The keywords are those of `feasible_scales`. Returns the candidate with its motor
@@ -237,11 +237,11 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
     if motor is None:
         return candidate
     return with_motor(candidate, motor, reflection.motor_torque,
-                      np.abs(at.qd) * unit.ratio * RPM_PER_RAD_S)
+                      np.abs(at.qd) * unit.ratio * RPM_PER_RAD_S, **(pair_options or {}))
 
 
-def exact_scales(cycle: ScalableCycle, unit: Unit, *,
-                 rotor_inertia: float = 0.0, motor: Motor | None = None) -> tuple[Interval, ...]:
+def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0,
+                 motor: Motor | None = None, margin: float = 0.0) -> tuple[Interval, ...]:
     """The scales at which every rule on single samples holds, solved exactly.
 
     Peak (moving samples) and static (at rest): |tau(s)| <= the limit; emergency
@@ -249,7 +249,8 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
     limit, K = (J_in + J_m) N^2 / t_stop [N m s]; input speed: max |qd| N / s <= the
     unit's maximum [rpm] (and the motor's, with a `motor`, whose rotor inertia is then
     J_m). Per sample each is a quadratic inequality in y = 1/s. The motor's
-    torque-speed rule is not among them: `feasible_scales` checks it on its grid.
+    torque-speed rule is not among them: `feasible_scales` checks it on its grid. With a
+    design `margin` every limit is (1 - margin) of its value (`derated`).
 
     Returns:
         Sorted disjoint closed intervals of s in (0, inf) [-]; lo may be 0, hi inf.
@@ -258,9 +259,11 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
         rotor_inertia = motor.rotor_inertia
     k = (unit.input_inertia + rotor_inertia) * unit.ratio**2 / cycle.stop_time
     speed = float(np.abs(cycle.qd).max(initial=0.0)) * unit.ratio * RPM_PER_RAD_S
-    top = unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed)
+    top, repeated, static, momentary = (derated(limit, margin) for limit in (
+        unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed),
+        unit.repeated_torque, unit.static_torque, unit.momentary_torque))
     # input speed: speed y <= the unit's maximum (and the motor's)
-    found = _intersect(*_solve(np.zeros(1), np.array([speed]), np.array([-top])))
+    found = intersect(*solve_quadratics(np.zeros(1), np.array([speed]), np.array([-top])))
     for start in range(0, len(cycle.t), _CHUNK):  # pieces of bounded memory, intersected
         if not found:
             break
@@ -271,14 +274,14 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
         moving, none = ~rest, np.zeros_like(g)
         crash = k * np.abs(cycle.qd[part])
         rows = [  # (c2, c1, c0) of c2 y^2 + c1 y + c0 <= 0
-            *_within(a[moving], none[moving], g[moving], unit.repeated_torque),
-            *_within(a[rest], none[rest], g[rest], unit.static_torque),
-            *_within(v, e, g, unit.momentary_torque),
-            (a, crash, g - unit.momentary_torque),  # tau + K |qd| y <= limit
-            (-a, crash, -g - unit.momentary_torque),  # -tau + K |qd| y <= limit
+            *within(a[moving], none[moving], g[moving], repeated),
+            *within(a[rest], none[rest], g[rest], static),
+            *within(v, e, g, momentary),
+            (a, crash, g - momentary),  # tau + K |qd| y <= limit
+            (-a, crash, -g - momentary),  # -tau + K |qd| y <= limit
         ]
         c2, c1, c0 = (np.concatenate(column) for column in zip(*rows, strict=True))
-        found = _overlap(found, _intersect(*_solve(c2, c1, c0)))
+        found = overlap(found, intersect(*solve_quadratics(c2, c1, c0)))
     return tuple((1.0 / y_hi, 1.0 / y_lo if y_lo > 0.0 else math.inf)
                  for y_lo, y_hi in reversed(found) if y_hi > 0.0)
 
@@ -286,7 +289,8 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
 def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEFAULT_EFFICIENCY,
                     rotor_inertia: float = 0.0,
                     check_options: Mapping[str, Any] | None = None,
-                    motor: Motor | None = None) -> tuple[Interval, ...]:
+                    motor: Motor | None = None,
+                    pair_options: Mapping[str, Any] | None = None) -> tuple[Interval, ...]:
     """Every time scale s at which one unit passes every rule of `check_unit`.
 
     Inside each interval of `exact_scales`, clipped to [S_MIN, S_MAX], `check_at` is
@@ -302,6 +306,7 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
         check_options: Keywords for `hdselect.catalog.rules.check_unit`, e.g. ``life_hours``.
         motor: A motor paired with the unit: its rotor inertia replaces `rotor_inertia`,
             and its rules (`hdselect.catalog.rules.check_motor`) must hold too.
+        pair_options: Keywords for `hdselect.catalog.motor_rules.with_motor`.
 
     Returns:
         Sorted disjoint closed intervals (lo, hi) of s [-], lo >= S_MIN, hi may be
@@ -310,10 +315,13 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
 
     def passes(s: float) -> bool:
         return check_at(cycle, unit, s, efficiency=efficiency, rotor_inertia=rotor_inertia,
-                        check_options=check_options, motor=motor).feasible
+                        check_options=check_options, motor=motor,
+                        pair_options=pair_options).feasible
 
     found: list[Interval] = []
-    for lo, hi in exact_scales(cycle, unit, rotor_inertia=rotor_inertia, motor=motor):
+    margin = float((check_options or {}).get("margin", 0.0))
+    for lo, hi in exact_scales(cycle, unit, rotor_inertia=rotor_inertia, motor=motor,
+                               margin=margin):
         first, last = max(lo, S_MIN), min(hi, S_MAX)
         if first <= last:
             found.extend(_passing(passes, first, last, hi))
@@ -323,7 +331,8 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
 def joint_scales(cycle: ScalableCycle, units: Sequence[Unit], *,
                  efficiency: float = DEFAULT_EFFICIENCY, rotor_inertia: float = 0.0,
                  check_options: Mapping[str, Any] | None = None,
-                 motors: Sequence[Motor] = ()) -> JointScales:
+                 motors: Sequence[Motor] = (),
+                 pair_options: Mapping[str, Any] | None = None) -> JointScales:
     """`feasible_scales` of every unit for one joint (same arguments, one unit each).
 
     With `motors`, of every (unit, motor) pair, keyed ``"unit + motor"``, unit by unit.
@@ -331,7 +340,8 @@ def joint_scales(cycle: ScalableCycle, units: Sequence[Unit], *,
     if motors:
         return JointScales(cycle.duration, {
             f"{unit.id} + {motor.id}": feasible_scales(
-                cycle, unit, efficiency=efficiency, check_options=check_options, motor=motor)
+                cycle, unit, efficiency=efficiency, check_options=check_options, motor=motor,
+                pair_options=pair_options)
             for unit in units for motor in motors})
     return JointScales(cycle.duration, {
         unit.id: feasible_scales(cycle, unit, efficiency=efficiency,
@@ -345,70 +355,6 @@ def find_slowdown(cycle: ScalableCycle, units: Sequence[Unit], *,
     """`joint_scales(...).slowdown()`: the smallest slow-down over all units (`Slowdown`)."""
     return joint_scales(cycle, units, efficiency=efficiency, rotor_inertia=rotor_inertia,
                         check_options=check_options).slowdown()
-
-
-def _within(c2: np.ndarray, c1: np.ndarray, c0: np.ndarray,
-            limit: float) -> tuple[tuple[np.ndarray, ...], ...]:
-    """|c2 y^2 + c1 y + c0| <= limit as two rows of `... <= 0`."""
-    return (c2, c1, c0 - limit), (-c2, -c1, -c0 - limit)
-
-
-def _solve(c2: np.ndarray, c1: np.ndarray, c0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Where c2 y^2 + c1 y + c0 <= 0 for y >= 0: lo, hi of shape (2, rows).
-
-    At most two disjoint closed pieces per row; a piece with lo > hi is empty.
-    """
-    flat, up = c2 == 0.0, c2 > 0.0
-    with np.errstate(divide="ignore", invalid="ignore"):  # an infinite limit: every y
-        disc = c1 * c1 - 4.0 * c2 * c0
-        line = -c0 / c1
-        q = -0.5 * (c1 + np.copysign(np.sqrt(np.maximum(disc, 0.0)), c1))
-        r1, r2 = q / c2, np.where(q != 0.0, c0 / q, 0.0)  # stable roots
-    small, big = np.minimum(r1, r2), np.maximum(r1, r2)
-    free = np.isneginf(c0)  # no limit
-    cap = ~free & ~flat & ~up & (disc > 0.0) & (small < big)  # outside the roots
-    every = free | (flat & (c1 == 0.0) & (c0 <= 0.0)) | (~flat & ~up & ~cap)
-    below = flat & (c1 > 0.0)  # y <= -c0 / c1
-    above = flat & (c1 < 0.0)  # y >= -c0 / c1
-    cup = up & (disc >= 0.0)  # between the roots
-    lo = np.stack([np.select([every | below, above, cup, cap], [0.0, line, small, 0.0], np.inf),
-                   np.where(cap, big, np.inf)])
-    hi = np.stack([np.select([every | above, below, cup, cap], [np.inf, line, big, small],
-                             -np.inf), np.where(cap, np.inf, -np.inf)])
-    return np.maximum(lo, 0.0), hi
-
-
-def _intersect(lo: np.ndarray, hi: np.ndarray) -> list[Interval]:
-    """Where every row covers y, by counting the pieces over the sorted ends."""
-    keep = ~((lo[0] <= 0.0) & (hi[0] == np.inf))  # rows that hold everywhere drop out
-    lo, hi = lo[:, keep], hi[:, keep]
-    rows = lo.shape[1]
-    piece = lo <= hi
-    if not piece.any(axis=0).all():
-        return []  # a row holds nowhere
-    if rows == 0:
-        return [(0.0, math.inf)]
-    where = np.concatenate([lo[piece], hi[piece]])
-    step = np.repeat([1, -1], piece.sum())
-    order = np.lexsort((-step, where))  # on a tie starts come first: closed ends meet
-    where = where[order]
-    full = np.flatnonzero(np.cumsum(step[order]) == rows)  # the next end closes each
-    return [(float(where[k]), float(where[k + 1])) for k in full]
-
-
-def _overlap(a: list[Interval], b: list[Interval]) -> list[Interval]:
-    """The intersection of two sorted lists of disjoint closed intervals."""
-    out: list[Interval] = []
-    i = j = 0
-    while i < len(a) and j < len(b):
-        lo, hi = max(a[i][0], b[j][0]), min(a[i][1], b[j][1])
-        if lo <= hi:
-            out.append((lo, hi))
-        if a[i][1] < b[j][1]:
-            i += 1
-        else:
-            j += 1
-    return out
 
 
 def _passing(passes: Callable[[float], bool], first: float, last: float,
