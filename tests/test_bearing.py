@@ -275,7 +275,7 @@ def test_the_example_catalog_says_it_is_not_vendor_data():
 
 # --- the HTML report ----------------------------------------------------------------------------
 
-def test_the_report_has_a_bearing_section_and_a_figure_per_joint(rated, tmp_path):
+def test_the_report_has_a_bearing_section_with_a_figure_per_joint(rated, tmp_path):
     from hdselect.report.report_files import write_report
 
     write_report(tmp_path / "report", rated)
@@ -286,8 +286,6 @@ def test_the_report_has_a_bearing_section_and_a_figure_per_joint(rated, tmp_path
     assert section.count("rated: checked") == 5
     for joint in rated.joints:
         assert (tmp_path / "report" / f"bearing_{joint.name}.png").stat().st_size > 10_000
-        joint_section = page[page.index(f"id='joint-{joint.name}'"):]
-        joint_section = joint_section[:joint_section.index("</section>")]
-        assert f"alt='output bearing loads of {joint.name}" in joint_section
+        assert f"alt='output bearing loads of {joint.name}" in section
     assert "data-check='bearing_moment'" in page
 

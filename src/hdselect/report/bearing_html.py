@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import base64
+from collections.abc import Mapping
 
 from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
 from hdselect.report.html_tables import esc, table
@@ -23,8 +24,12 @@ def figure(value: float | None, unit: str = "") -> str:
     return f"{text} {unit}".strip()
 
 
-def bearing_section(result: SizingResult) -> str:
-    """Every sized joint's output-bearing loads, and what its unit's catalog says of them."""
+def bearing_section(result: SizingResult, figures: Mapping[str, bytes]) -> str:
+    """Every sized joint's output-bearing loads and what its unit's catalog says of them.
+
+    Each joint's bearing figure (PNG content by joint name) follows the table, two to a row
+    on paper.
+    """
     joints = [joint for joint in result.joints if joint.bearing is not None]
     if not joints:
         return ""
@@ -39,7 +44,9 @@ def bearing_section(result: SizingResult) -> str:
             "poses included) / the 10/3-power mean over the moving part weighted by |n| t. "
             "Where the unit's catalog rates the bearing, its checks join the unit's in the "
             f"tables above (b. = bearing), under the same design margin.</p>{rows}"
-            f"<p>{esc(BEARING_RULE_NOTE)}.</p></section>")
+            f"<p>{esc(BEARING_RULE_NOTE)}.</p><div class=bearingfigs>"
+            + "".join(_figure(joint, figures.get(joint.name)) for joint in joints)
+            + "</div></section>")
 
 
 def _row(joint: JointSizing) -> list[str]:
@@ -69,7 +76,7 @@ def _pair(largest: float, mean: float | None) -> str:
     return esc(f"{figure(largest)} / {figure(mean)}")
 
 
-def bearing_figure_html(joint: JointSizing, png: bytes | None) -> str:
+def _figure(joint: JointSizing, png: bytes | None) -> str:
     """A joint's bearing figure, embedded, with its caption; empty without one."""
     if png is None or joint.bearing is None:
         return ""

@@ -17,7 +17,7 @@ from collections.abc import Mapping
 
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.units import Flag
-from hdselect.report.bearing_html import BEARING_UNITS, bearing_figure_html, bearing_section
+from hdselect.report.bearing_html import BEARING_UNITS, bearing_section
 from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.html_summary import parts_section, summary
@@ -60,10 +60,10 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
     """
     count = len(result.trajectory.t)
     sections = [_selection(result), parts_section(result), _warnings(result), _notes(result),
-                _heat_maps(result), _loads(result), bearing_section(result),
+                _heat_maps(result), _loads(result),
+                bearing_section(result, bearing_figures or {}),
                 *(_joint_section(result, joint, figures.get(joint.name),
-                                 (motor_figures or {}).get(joint.name), bearing_figure_html(
-                                     joint, (bearing_figures or {}).get(joint.name)))
+                                 (motor_figures or {}).get(joint.name))
                   for joint in result.joints),
                 _assumptions(result), _provenance(origin)]
     return f"""<!DOCTYPE html>
@@ -307,7 +307,7 @@ def _heat_maps(result: SizingResult) -> str:
 
 
 def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
-                   motor_png: bytes | None = None, bearing: str = "") -> str:
+                   motor_png: bytes | None = None) -> str:
     rules = _rules(result)
     pairs = joint.name in result.motors
     rows, figures, classes = [], [], []
@@ -369,7 +369,7 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
             + f"</p>{demands}<p>Life and what the motor must deliver behind each "
             + ("pair (printed: the feasible pairs); load/rotor inertia = (M_jj / N² + J_in) / "
                "J_m." if pairs else "unit.")
-            + f"</p>{figure}{bearing}</section>")
+            + f"</p>{figure}</section>")
 
 
 def _img(png: bytes) -> str:
