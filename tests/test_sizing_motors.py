@@ -30,6 +30,7 @@ from hdselect.catalog.motors import Motor, load_motors
 from hdselect.catalog.select import PREFERENCES
 from hdselect.cli.main import main
 from hdselect.robot.model import load_robot
+from hdselect.robot.payload import Payload
 from hdselect.sizing.records import size_json
 from test_coupling import urdf_with_masses
 from test_dynamics import J_TABLE, REPO, pin_config, rnea_loop, thinned
@@ -405,8 +406,48 @@ def test_html_report_has_a_motor_figure_per_joint(tmp_path, capsys):
     assert status == 0
     assert (report / "motor_table.png").stat().st_size > 10_000
     page = (report / "index.html").read_text()
-    images = re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)
-    assert len(images) == 2  # the joint's profiles and its motor's torque-speed plane, embedded
-    assert base64.b64decode(images[1]) == (report / "motor_table.png").read_bytes()
+    images = {alt.split()[0]: data for data, alt in re.findall(
+        r"src='data:image/png;base64,([A-Za-z0-9+/=]+)' alt='([^']+)'", page)}
+    # the joint's profiles, its motor's torque-speed plane, its output bearing's loads
+    assert sorted(images) == ["output", "speed", "torque-speed"]
+    assert base64.b64decode(images["torque-speed"]) == (report / "motor_table.png").read_bytes()
+    assert base64.b64decode(images["output"]) == (report / "bearing_table.png").read_bytes()
     assert "torque-speed plane of the motor T1" in page and "load/rotor inertia" in page
     assert "no thermal model" in page
+
+
+@pytest.mark.parametrize(("prefer", "margin", "mass"), [
+    ("mass", 0.0, None), ("size", 0.3, None), ("motor-rms", 0.1, 2.0), ("mass", 0.2, 8.0)])
+def test_the_selection_without_detail_is_the_one_among_every_pair(prefer, margin, mass):
+    """A second method: the choice among every (gearhead, motor) pair.
+
+    Without detail (the coarse guess, a study's case) only the pairs whose gearhead
+    passes the rules no motor changes are checked; the selection, its figures, and where
+    no pair fits the strongest, are those found among every pair, rated bearings and the
+    design margin included (the heavier payloads leave joints without a pair).
+    """
+    from hdselect.sizing.core import select_units
+    from hdselect.sizing.tasks import Task, pooled
+    from hdselect.sizing.torques import DirectTorques
+
+    robot, motion = load_case(BENCHTOP, payload=None if mass is None else Payload(mass))
+    units = load_catalog([REPO / "catalogs" / "example_rated_bearing.toml"])
+    assert any(u.bearing is not None for u in units)
+    motors = {name: load_motors(EXAMPLE) for name in robot.sized_joints}
+    options = Options(prefer=prefer, margin=margin)
+    samples = pooled((Task(robot, plan(robot, motion)),))
+    model = DirectTorques(samples.tasks, samples, options.stop_time)
+    per_joint = {name: units for name in robot.sized_joints}
+    every, _ = select_units(model, per_joint, options, motors, slowdowns=False)
+    chosen, _ = select_units(model, per_joint, options, motors, detail=False, slowdowns=False)
+    none_fits = 0
+    for full, pruned in zip(every, chosen, strict=True):
+        want = full.selected or full.strongest
+        got = pruned.selected or pruned.strongest
+        none_fits += full.selected is None
+        assert (pruned.selected is None) == (full.selected is None), full.name
+        assert (got.unit.id, got.motor_unit.id) == (want.unit.id, want.motor_unit.id)
+        assert got.checks == want.checks
+        assert np.array_equal(pruned.motor_torque, full.motor_torque)
+        assert pruned.bearing == full.bearing
+    assert (none_fits > 0) == (mass is not None)  # both branches: a pair found, none found
