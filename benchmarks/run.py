@@ -440,18 +440,22 @@ def _gridpoints_solved(robot, motion) -> int:
 
 
 LONG_WAYPOINTS = 65
-"""Waypoints of the long benchtop6 motion whose log the max-payload row reads (72 s)."""
+"""Waypoints of the long benchtop6 motion whose log the max-payload row reads (70 s)."""
 
 
 def _long_log(folder: Path, quick: bool) -> Path:
-    """A long log (72,241 samples at 1 ms; 1/10 of it in quick mode): a benchtop6 motion
+    """A long log (69,877 samples at 1 ms; 5,170 in quick mode): a benchtop6 motion
     through random waypoints with dwells, planned with Ruckig and written as
-    ``hdselect plan --out`` writes it, and a motion file that reads it."""
+    ``hdselect plan --out`` writes it, and a motion file that reads it.
+
+    Seed 1: the waypoints of seeds 0, 2, 3 and 4 each hold a move Ruckig 0.19.4 cannot
+    compute ("error in step 1", a numerical failure of its own on ordinary inputs).
+    """
     from hdselect import load_case, plan
     from hdselect.report.export import write_trajectory_csv
     from hdselect.robot.dynamics import inverse_dynamics
 
-    rng = np.random.default_rng(3)
+    rng = np.random.default_rng(1)
     lines = [f'robot = "{ROBOT}"', 'planner = "ruckig"', 'angle_unit = "deg"', "dt = 0.001",
              "[payload]", "mass = 0.5", "com = [0.0, 0.0, 0.03]", 'frame = "tool0"',
              "[limits]", "velocity = 120", "acceleration = 600", "jerk = 6000"]

@@ -170,8 +170,8 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
             inside = max(mass * (1.0 - 1e-9), ranges[-1][0])
             if fixed or candidates:  # their rules are the sizing's: bisect on it
                 mass, selection, failing = sizing.largest(ranges[-1][0], inside)
-            else:
-                selection = sizing.at(inside)
+            else:  # a round's sizing gives the masses: slow-downs only for the answer
+                selection = sizing.at(inside, slowdowns=False)
         result = (mass, ranges, bounds, selection, failing)
         if selection is None or not options.mass_coupling:
             break
@@ -182,6 +182,8 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
         masses = chosen
     assert result is not None
     mass, ranges, bounds, selection, failing = result
+    if selection is not None and failing is None and not selection.feasible:
+        selection = sizing.at(inside)  # a joint no unit fits: its slow-downs, as size gives
     joint = unit = rule = None
     if failing is not None:  # a motor's rule or a fixed unit binds
         stuck = next(j for j in failing.joints if j.selected is None)

@@ -172,7 +172,7 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
 
 
 def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | None = None,
-               *, motors: Motors | None = None) -> SizingResult:
+               *, motors: Motors | None = None, slowdowns: bool = True) -> SizingResult:
     """Choose a gearhead (or a pair) for every sized joint for everything a robot does.
 
     Per joint and unit, the rules of one sample (repeated peak, static, speed,
@@ -189,6 +189,8 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
         units: The catalog.
         options: The assumptions (default `Options()`).
         motors: Candidate motors per sized joint.
+        slowdowns: For a joint no unit fits, find the time scales at which each would;
+            False leaves them out (the verdict and the figures are the same).
 
     Returns:
         The result for every sized joint; its robot, trajectory and motion are the first
@@ -227,7 +229,7 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
     samples = pooled(tasks)
     model = DirectTorques(samples.tasks, samples, options.stop_time, threads=options.threads,
                           guess=guess, wrenches=options.bearing_loads)
-    joints, masses = select_units(model, per_joint, options, motors)
+    joints, masses = select_units(model, per_joint, options, motors, slowdowns=slowdowns)
     first = samples.tasks[0]
     return SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
                         first.motion, motors=motors, loads=model.loads(masses),
