@@ -40,6 +40,11 @@ when a life is required, the motor checks only when a motor is given; the others
 always, with value None where they do not apply."""
 
 
+PER_SAMPLE_CHECKS = ("peak", "speed", "momentary", "static", "motor_peak", "motor_speed")
+"""The checks of single samples: over several tasks, the worst task's. The others (mean
+torque, average speed, life, motor RMS) pool every task's samples."""
+
+
 CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
                 "momentary": "mom.", "static": "static", "life": "life",
                 "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed"}
@@ -219,6 +224,7 @@ def cycle_load(
     at_rest: np.ndarray,
     *,
     static_torque: float | None = None,
+    idle: float = 0.0,
 ) -> CycleLoad:
     """Summarise one joint's cycle with the catalog page's formulas.
 
@@ -230,6 +236,9 @@ def cycle_load(
             towards the static check, not towards the peak, mean torque or the
             moving-part mean speed.
         static_torque: An extra torque held at rest [N m], if any.
+        idle: Time at rest that no sample stands for [s], in the samples' time: the
+            idle part of a robot's hour. A pause, it counts in the cycle time (the
+            whole-cycle mean speed) and in nothing else.
 
     Returns:
         The summary. `CycleLoad.mean_speed` averages over the moving part; a series
@@ -260,7 +269,7 @@ def cycle_load(
         mean_speed=travel / moving_time if moving_time > 0.0 else 0.0,
         max_speed=max_speed,
         moving_time=moving_time,
-        cycle_time=cycle_time,
+        cycle_time=cycle_time + idle,
         static_torque=max(held) if held else None,
     )
 

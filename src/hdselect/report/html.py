@@ -19,6 +19,7 @@ from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidat
 from hdselect.catalog.units import Flag
 from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
+from hdselect.report.mix_html import duty_line, mix_section
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
 from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
@@ -51,7 +52,8 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
     count = len(result.trajectory.t)
     verdict_text = ("Every joint has a unit." if result.feasible
                     else "<strong>Some joints have no unit.</strong>")
-    sections = [_selection(result), _warnings(result), _notes(result), _heat_maps(result),
+    sections = [_selection(result), mix_section(result), _warnings(result), _notes(result),
+                _heat_maps(result),
                 _loads(result),
                 *(_joint_section(result, joint, figures.get(joint.name),
                                  (motor_figures or {}).get(joint.name))
@@ -63,10 +65,13 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
 <title>hdselect: {esc(result.title)}</title>
 <style>{_STYLE}</style></head><body>
 <h1>{"Gearhead and motor" if result.motors else "Gearhead"} selection: {esc(result.title)}</h1>
-<p>Cycle {result.cycle_time:.3f} s, {count:,} sample{"s" if count != 1 else ""} every
-{result.trajectory.dt * 1e3:g} ms. {verdict_text} Made by hdselect {esc(origin.version)} on
+<p>{esc(duty_line(result)) if len(result.tasks) > 1 else f"Cycle {result.cycle_time:.3f} s, "
+     f"{count:,} sample{'s' if count != 1 else ''} every {result.trajectory.dt * 1e3:g} ms"}.
+{verdict_text} Made by hdselect {esc(origin.version)} on
 {esc(origin.created)}; <a href="#provenance">how to re-run it</a>.</p>
-<p>{esc(base_text(result.robot))}</p>
+<p>{esc(base_text(result.robot) if len(result.tasks) < 2 else
+       f"base: '{result.robot.root_link}' held fixed; each task's payload and mounting under "
+       "Tasks")}</p>
 {"".join(sections)}
 </body></html>
 """
@@ -186,7 +191,8 @@ def _selection(result: SizingResult) -> str:
     slow = "".join(
         f"<p><b>{esc(joint.name)}</b>: no {what} fits; the strongest, "
         f"{esc(joint.strongest.label)}, fails {esc(verdict(joint.strongest))}. "
-        f"{esc(time_scale_text(joint))}.</p>" for joint in result.joints if joint.selected is None)
+        f"{esc(time_scale_text(joint, result))}.</p>" for joint in result.joints
+        if joint.selected is None)
     legend = ("<p>Gearhead binding: the gearhead's check closest to its limit (demand / limit); "
               "motor binding: the motor's (peak under its torque-speed curve, RMS against its "
               "rated torque, speed). load/rotor inertia = (M_jj / N&sup2; + J_in) / J_m, M_jj "
@@ -210,8 +216,8 @@ def _notes(result: SizingResult) -> str:
     items = "".join(f'<li id="{_anchor(unit)}"><b>{esc(unit)}</b>: '
                     + "; ".join(esc(f.note) for f in found.values()) + "</li>"
                     for unit, found in flags.items())
-    case = "".join(f"<li>{esc(note)}</li>" for note in case_notes(result.robot,
-                                                                  result.trajectory))
+    case = "".join(f"<li>{esc(note)}</li>" for note in case_notes(
+        result.robot, [task.trajectory for task in result.counted] or result.trajectory))
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     gravity = (f"<p><b>Backdriving.</b> {esc(', '.join(loaded))} carry gravity. Harmonic Drive "
                "gearing backdrives when its input is free: where a falling load could injure, "

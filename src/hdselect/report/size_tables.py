@@ -28,7 +28,7 @@ from hdselect.report.terminal import (
     verdict,
 )
 from hdselect.sizing.loads import JointLoad
-from hdselect.sizing.records import assumptions, base_text
+from hdselect.sizing.records import assumptions, base_text, set_by
 from hdselect.sizing.result import JointSizing, SizingResult
 
 
@@ -101,7 +101,8 @@ def size_table(result: SizingResult) -> FittedTable:
         mark = "*" if chosen.flags else ""
         rows.append((
             escape(joint.name), escape(chosen.unit.id) + mark,
-            f"{chosen.binding} {utilization_text(check.utilization, True)}",
+            f"{chosen.binding} {utilization_text(check.utilization, True)}"
+            + _task_of(result, joint, chosen.binding),
             life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             ", ".join(notes)))
@@ -146,14 +147,22 @@ def _pairs_table(result: SizingResult) -> FittedTable:
         rows.append((
             escape(joint.name), escape(chosen.unit.id) + ("*" if chosen.flags else ""),
             "-" if chosen.motor_unit is None else escape(chosen.motor_unit.id),
-            _binding_text(chosen, chosen.gearhead_binding),
-            "-" if side is None else _binding_text(chosen, side).removeprefix("motor_"),
+            _binding_text(chosen, chosen.gearhead_binding)
+            + _task_of(result, joint, chosen.gearhead_binding),
+            "-" if side is None else _binding_text(chosen, side).removeprefix("motor_")
+            + _task_of(result, joint, side),
             ratio_text(joint.inertia_ratio(chosen)), life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             ", ".join(notes)))
     shown = len(columns) if any(row[-1] for row in rows) else -1  # no empty notes column
     return FittedTable(_size_title(result), columns[:shown], tuple(row[:shown] for row in rows),
                        notes=tuple(_size_notes(result)))
+
+
+def _task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
+    """The task that sets a rule, in brackets, for a duty of several tasks; else nothing."""
+    who = set_by(result, joint, rule)
+    return "" if who is None else f" ({escape(who)})"
 
 
 def _binding_text(candidate: Candidate, name: str) -> str:
@@ -224,8 +233,12 @@ def _motor(candidate: Candidate) -> MotorDemand:
     return candidate.motor
 
 
-def time_scale_text(joint: JointSizing) -> str:
-    """For a joint no unit fits: the uniform time scale that would fit, and each unit's range."""
+def time_scale_text(joint: JointSizing, result: SizingResult | None = None) -> str:
+    """For a joint no unit fits: the uniform time scale that would fit, and each unit's range.
+
+    For a duty of several tasks (`result` given), every task runs s times slower at the
+    same shares of the time: each task's cycle is stated.
+    """
     slowdown, scales = joint.slowdown, joint.scales
     if slowdown is None or slowdown.factor is None or scales is None:
         what = "pair" if any(c.motor_unit is not None for c in joint.candidates) else "unit"
@@ -235,11 +248,21 @@ def time_scale_text(joint: JointSizing) -> str:
     speed = (f"{factor:.3f}x slower" if factor >= 1.0 else f"{1.0 / factor:.3f}x faster")
     ranges = [f"{unit} for s in " + " or ".join(f"[{lo:.3g}, {hi:.3g}]" for lo, hi in intervals)
               for unit, intervals in scales.fits.items() if intervals]
-    return (f"Run {speed} (cycle {slowdown.cycle_time:.3f} s) and {slowdown.unit} fits; "
+    cycle = f"cycle {slowdown.cycle_time:.3f} s"
+    if result is not None and len(result.counted) > 1:
+        speed = "every task " + speed
+        cycle = "cycles " + ", ".join(f"{task.label} {factor * task.trajectory.duration:.3f} s"
+                                      for task in result.counted)
+    return (f"Run {speed} ({cycle}) and {slowdown.unit} fits; "
             f"run s times slower, it fits: {'; '.join(ranges)}")
 
 
 def _size_title(result: SizingResult) -> str:
+    if len(result.tasks) > 1:
+        cycles = ", ".join(f"{task.label} {task.trajectory.duration:.3f} s"
+                           for task in result.tasks)
+        return (f"{result.title}, one duty: cycles {cycles}\nbase: '{result.robot.root_link}' "
+                "held fixed; each task's share, payload and mounting below")
     count = len(result.trajectory.t)
     return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
             f"{count:,} sample{'s' if count != 1 else ''}\n{base_text(result.robot)}")
@@ -286,7 +309,8 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
-    notes += case_notes(result.robot, result.trajectory)
+    notes += case_notes(result.robot, [task.trajectory for task in result.counted]
+                        if result.counted else result.trajectory)
     for joint in result.joints:
         if joint.selected is None:
             strongest = joint.strongest
@@ -294,7 +318,7 @@ def _size_notes(result: SizingResult) -> list[str]:
             what = "pair" if strongest.motor_unit is not None else "unit"
             line = (f"{joint.name}: no {what} fits; the strongest, {strongest.label}, fails "
                     f"{strongest.binding} at {percent(check.utilization)} of its limit. ")
-            notes.append(line + time_scale_text(joint) + ".")
+            notes.append(line + time_scale_text(joint, result) + ".")
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
                for c in [joint.selected] if c is not None for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]

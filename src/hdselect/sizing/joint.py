@@ -32,7 +32,7 @@ from hdselect.catalog.units import Unit
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
 from hdselect.sizing.result import JointSizing
-from hdselect.sizing.tasks import Samples
+from hdselect.sizing.tasks import Samples, alone
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,7 +64,7 @@ class JointCycle:
     def load(self) -> CycleLoad:
         """The cycle on the output side, by the catalog page's formulas."""
         return cycle_load(self.torque, self.qd, self.samples.dt,
-                          self.samples.rest[:, self.column])
+                          self.samples.rest[:, self.column], idle=self.samples.idle)
 
 
 def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: Options, *,
@@ -92,6 +92,41 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
         return JointSizing(name, load, tuple(candidates), select(candidates, _prefer(options)),
                            0.0, False, 0.0, readonly(cycle.torque), readonly(cycle.stop))
     return _selected_only(name, cycle, load, units, options)
+
+
+def task_checks(cycle: JointCycle, chosen: Candidate,
+                options: Options) -> tuple[Candidate, ...]:
+    """The chosen unit (or pair) against each counted task's samples alone: the same rules.
+
+    Args:
+        cycle: The joint's pooled samples and torques.
+        chosen: The selected candidate (or the strongest, where none fits).
+        options: The assumptions.
+
+    Returns:
+        One candidate per counted task, in the samples' task order; empty for one task.
+    """
+    samples = cycle.samples
+    if len(samples.tasks) < 2:
+        return ()
+    out = []
+    for k in range(len(samples.tasks)):
+        rows = samples.task == k
+        part = JointCycle(alone(samples, k), cycle.column, cycle.torque[rows], cycle.stop[rows])
+        load = part.load()
+        motor = chosen.motor_unit
+        if motor is None:
+            (reflection,) = _reflect([chosen.unit], part, options)
+            out.append(_candidate(load, reflection, part, options))
+            continue
+        ((reflection,),) = reflect_motors([chosen.unit], [motor.rotor_inertia], part.samples.t,
+                                          part.torque, part.qd, part.qdd, part.stop,
+                                          stop_time=options.stop_time,
+                                          efficiency=options.efficiency)
+        out.append(with_motor(_candidate(load, reflection, part, options), motor,
+                              reflection.motor_torque,
+                              np.abs(part.qd) * RPM_PER_RAD_S * chosen.unit.ratio))
+    return tuple(out)
 
 
 def _prefer(options: Options) -> str:

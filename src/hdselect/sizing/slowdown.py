@@ -32,7 +32,7 @@ def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
             cycle = ScalableCycle.split(
                 samples.t, samples.dt, samples.duration, samples.qd[:, j], samples.qdd[:, j],
                 samples.rest[:, j], torque=joint.torque, stop_torque=joint.stop_torque,
-                gravity=gravity, coast=coast, stop_time=options.stop_time)
+                gravity=gravity, coast=coast, stop_time=options.stop_time, idle=samples.idle)
             slowdown, scales = fitting_time_scales(cycle, units[joint.name], options,
                                                    motors=tuple(motors.get(joint.name, ())))
             joint = replace(joint, slowdown=slowdown, scales=scales)

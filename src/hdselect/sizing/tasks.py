@@ -7,25 +7,28 @@ take the worst over every sample of every task; the averaged rules (mean torque,
 mean speed, life, motor RMS) pool the samples, each standing for its own duration
 times how often its task's cycle runs (share / cycle time). So a task with share 0
 counts in no rule, and one task alone is judged exactly as its trajectory is.
+
+The shares may leave part of the time idle (a mix given in cycles per hour): idle
+time is a pause that no sample stands for. It counts only where a series' rules
+divide the mean speed by the whole cycle, pauses included (`Samples.idle`); every
+other rule is over the time the robot works.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from hdselect.base.arrays import frozen
-from hdselect.base.errors import InputError
 from hdselect.catalog.rules import at_rest
+from hdselect.motion.mixfile import SHARE_TOLERANCE, check_shares
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 
-SHARE_TOLERANCE = 1e-9
-"""How far the shares of a robot's tasks may sum from 1 [-]."""
+__all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "check_shares", "cycle_of", "pooled"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,6 +76,8 @@ class Samples:
         task: Index (into `tasks`) of each sample's task, shape (n,).
         tasks: The tasks counted (share above 0), in the order given.
         duration: The first task's cycle time [s] (the one a slow-down is stated for).
+        idle: Time the robot stands idle, in the samples' time [s]: the idle share of
+            the time over the first task's rate; 0 when the shares fill the time.
     """
 
     t: np.ndarray
@@ -84,31 +89,18 @@ class Samples:
     task: np.ndarray
     tasks: tuple[Task, ...]
     duration: float
+    idle: float = 0.0
 
     def __len__(self) -> int:
         return len(self.t)
 
 
-def check_shares(shares: Sequence[float], *, field: str = "share") -> None:
-    """Shares of operating time are non-negative, finite, not all zero, and sum to 1.
-
-    Raises:
-        InputError: They do not (the message gives the sum).
-    """
-    for i, share in enumerate(shares):
-        if not (isinstance(share, float | int) and math.isfinite(share) and share >= 0.0):
-            raise InputError(f"must be a fraction of time >= 0, got {share!r}",
-                             field=f"{field}[{i}]")
-    total = math.fsum(shares)
-    if abs(total - 1.0) > SHARE_TOLERANCE:
-        raise InputError(f"the shares sum to {total!r}; they must sum to 1", field=field)
-
-
-def pooled(tasks: Sequence[Task]) -> Samples:
+def pooled(tasks: Sequence[Task], idle: float = 0.0) -> Samples:
     """The samples of every task with a share above 0, weighted by how often each runs.
 
     Args:
         tasks: The robot's tasks; every trajectory has the same joints.
+        idle: The fraction of the time no task runs [-] (the shares and it sum to 1).
 
     Returns:
         The pooled samples. One task (or one with a share above 0) gives its own
@@ -117,14 +109,15 @@ def pooled(tasks: Sequence[Task]) -> Samples:
     counted = tuple(task for task in tasks if task.share > 0.0)
     first = counted[0]
     rests = [_rest(task.trajectory) for task in counted]
+    reference = first.share / cycle_of(first.trajectory)
+    pause = idle / reference if idle > 0.0 else 0.0
     if len(counted) == 1:
         traj = first.trajectory
         index = np.zeros(len(traj.t), dtype=np.intp)
         index.setflags(write=False)
         return Samples(traj.t, traj.dt, None, traj.qd, traj.qdd, rests[0], index, counted,
-                       traj.duration)
-    reference = first.share / _cycle(first.trajectory)
-    rates = [task.share / _cycle(task.trajectory) / reference for task in counted]
+                       traj.duration, pause)
+    rates = [task.share / cycle_of(task.trajectory) / reference for task in counted]
     dt = np.concatenate([np.full(len(task.trajectory.t), task.trajectory.dt * rate)
                          for task, rate in zip(counted, rates, strict=True)])
     return Samples(
@@ -135,11 +128,36 @@ def pooled(tasks: Sequence[Task]) -> Samples:
         frozen(np.concatenate(rests)),
         frozen(np.concatenate([np.full(len(task.trajectory.t), k, dtype=np.intp)
                                for k, task in enumerate(counted)])),
-        counted, first.trajectory.duration)
+        counted, first.trajectory.duration, pause)
 
 
-def _cycle(traj: Trajectory) -> float:
-    """The time a trajectory's samples stand for, one cycle [s]: n dt."""
+def alone(samples: Samples, k: int) -> Samples:
+    """The samples of counted task k alone, as if the robot did nothing else.
+
+    Its samples keep their lengths relative to each other (so every rule reads them
+    as it reads the task's own trajectory); no idle time.
+
+    Args:
+        samples: Pooled samples.
+        k: Index into ``samples.tasks``.
+    """
+    if len(samples.tasks) == 1:
+        return replace(samples, idle=0.0) if samples.idle else samples
+    rows = np.flatnonzero(samples.task == k)
+    task = samples.tasks[k]
+    dt = samples.dt if np.ndim(samples.dt) == 0 else samples.dt[rows]
+    weight = None if samples.weight is None else samples.weight[rows]
+    if weight is not None and np.all(weight == weight[0]):
+        weight, dt = None, task.trajectory.dt  # one trajectory's equal samples
+    return Samples(frozen(samples.t[rows]), dt if np.ndim(dt) == 0 else frozen(dt),
+                   None if weight is None else frozen(weight), frozen(samples.qd[rows]),
+                   frozen(samples.qdd[rows]), frozen(samples.rest[rows]),
+                   frozen(np.zeros(len(rows), dtype=np.intp)), (task,),
+                   task.trajectory.duration)
+
+
+def cycle_of(traj: Trajectory) -> float:
+    """The time one cycle's samples stand for [s]: n dt (the cycle time and one period)."""
     return len(traj.t) * traj.dt
 
 

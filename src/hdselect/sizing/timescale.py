@@ -56,7 +56,8 @@ class ScaledCycle:
 
     Attributes t [s], dt [s], duration [s], qd [rad/s], qdd [rad/s^2] and at_rest are
     those of `ScalableCycle` at scale s; torque and stop_torque [N m] are the output
-    torque along the motion and of an emergency stop from each sample, shape (n,).
+    torque along the motion and of an emergency stop from each sample, shape (n,); idle
+    [s] is the pause no sample stands for, at scale s.
     """
 
     s: float
@@ -68,6 +69,7 @@ class ScaledCycle:
     at_rest: np.ndarray
     torque: np.ndarray
     stop_torque: np.ndarray
+    idle: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,6 +91,8 @@ class ScalableCycle:
         stop_inertial: e = RNEA(q, qd, -qd / stop_time) - RNEA(q, qd, 0) [N m], an
             emergency stop's inertial part; scales as 1/s.
         stop_time: Emergency-stop and crash time t_stop [s]; the same at every s.
+        idle: Time at rest that no sample stands for [s] (`hdselect.sizing.tasks.Samples`);
+            scales as s, as every task's cycle does, so the shares of the time stay.
     """
 
     t: np.ndarray
@@ -102,6 +106,7 @@ class ScalableCycle:
     inertial: np.ndarray
     stop_inertial: np.ndarray
     stop_time: float
+    idle: float = 0.0
 
     def __post_init__(self) -> None:
         n = np.shape(self.t)
@@ -118,14 +123,14 @@ class ScalableCycle:
     def split(cls, t: np.ndarray, dt: np.ndarray | float, duration: float, qd: np.ndarray,
               qdd: np.ndarray, at_rest: np.ndarray, *, torque: np.ndarray,
               stop_torque: np.ndarray, gravity: np.ndarray, coast: np.ndarray,
-              stop_time: float) -> ScalableCycle:
+              stop_time: float, idle: float = 0.0) -> ScalableCycle:
         """The cycle from the joint's torques at s = 1 [N m].
 
         `torque` is RNEA(q, qd, qdd), `stop_torque` RNEA(q, qd, -qd / stop_time),
         `gravity` RNEA(q, 0, 0), `coast` RNEA(q, qd, 0); the rest are attributes.
         """
         return cls(t, np.asarray(dt, dtype=float), duration, qd, qdd, at_rest, gravity,
-                   coast - gravity, torque - coast, stop_torque - coast, stop_time)
+                   coast - gravity, torque - coast, stop_torque - coast, stop_time, idle)
 
     def at(self, s: float) -> ScaledCycle:
         """The cycle run s times slower (s < 1: faster): exact for a fixed path.
@@ -141,7 +146,8 @@ class ScalableCycle:
         for array in arrays:
             array.setflags(write=False)
         t, dt, qd, qdd, torque, stop = arrays
-        return ScaledCycle(s, t, dt, self.duration * s, qd, qdd, self.at_rest, torque, stop)
+        return ScaledCycle(s, t, dt, self.duration * s, qd, qdd, self.at_rest, torque, stop,
+                           self.idle * s)
 
 
 def _shared(value: np.ndarray | float, shape: tuple[int, ...]) -> np.ndarray:
@@ -219,7 +225,7 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
     demand; with a `motor`, the pair, its rotor inertia used and its rules checked.
     """
     at = cycle.at(s)
-    load = cycle_load(at.torque, at.qd, at.dt, at.at_rest)
+    load = cycle_load(at.torque, at.qd, at.dt, at.at_rest, idle=at.idle)
     (reflection,) = reflect([unit], at.t, at.torque, at.qd, at.qdd, at.stop_torque,
                             stop_time=cycle.stop_time, efficiency=efficiency,
                             rotor_inertia=rotor_inertia if motor is None

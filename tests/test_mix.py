@@ -1,0 +1,324 @@
+"""Tests of a robot's working day sized as one duty: mix files (hdselect.motion.mixfile,
+hdselect.sizing.duty) through the core (hdselect.sizing.core.size_tasks).
+
+Oracles: a two-task index-table mix computed by hand from its bang-bang samples (the
+table's inertia summed from the URDF's own numbers, independently of Pinocchio); each
+motion sized alone (shares 1 and 0 must reproduce it to the last bit); a motion mixed
+with itself; and `check_units` of each task alone with the mix's units (a rule of
+single samples over the mix is the worst task's, never less).
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hdselect import InputError, load_catalog, size
+from hdselect.catalog.rules import PER_SAMPLE_CHECKS, RPM_PER_RAD_S
+from hdselect.cli.main import main
+from hdselect.sizing.core import check_units
+from hdselect.sizing.summary import summarize
+from test_study_group import differences
+
+REPO = Path(__file__).resolve().parents[1]
+TABLE = REPO / "robots" / "index_table.urdf"
+PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"
+INSPECT = REPO / "trajectories" / "benchtop6_inspect.toml"
+PICK_INSPECT = REPO / "trajectories" / "mixes" / "benchtop6_pick_inspect.toml"
+DT = 0.001
+
+
+# ------------------------------------------------------------------ the index table by hand
+
+def table_inertia() -> float:
+    """The index table's inertia about its vertical axis [kg m^2], from the URDF's numbers.
+
+    The disk's izz plus, for each fixture block fixed to it, its own izz and m r^2 with r
+    its centre of mass's distance from the axis (mount origin plus inertial origin, in x
+    and y; every frame is unrotated).
+    """
+    root = ET.parse(TABLE).getroot()
+    offset = {j.find("child").get("link"): [float(v) for v in j.find("origin").get("xyz").split()]
+              for j in root.iter("joint") if j.get("type") == "fixed"}
+    total = 0.0
+    for link in root.iter("link"):
+        inertial = link.find("inertial")
+        if inertial is None:
+            continue
+        mass = float(inertial.find("mass").get("value"))
+        izz = float(inertial.find("inertia").get("izz"))
+        x, y, _ = offset.get(link.get("name"), (0.0, 0.0, 0.0))
+        cx, cy, _ = (float(v) for v in inertial.find("origin").get("xyz").split())
+        total += izz + mass * ((x + cx) ** 2 + (y + cy) ** 2)
+    return total
+
+
+BANG_BANG = {"fast": (30.0, 150, 250, 0.05), "slow": (10.0, 300, 400, 0.02)}
+"""Per task: acceleration a [rad/s^2], samples accelerating n (and as many braking),
+samples dwelling m, and the part's inertia about the table axis [kg m^2]."""
+
+
+def bang_bang(a: float, n: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """qd, qdd of one bang-bang index and its dwell, sampled every DT: qd = a i DT up, then down.
+
+    qd_i = a i DT for i < n (qdd = +a), a (2n - i) DT for n <= i < 2n (qdd = -a), then m
+    samples at rest (qd = qdd = 0).
+    """
+    i = np.arange(2 * n + m)
+    qd = np.where(i < n, a * i * DT, np.where(i < 2 * n, a * (2 * n - i) * DT, 0.0))
+    qdd = np.where(i < n, a, np.where(i < 2 * n, -a, 0.0))
+    return qd, qdd, i * DT
+
+
+def write_index_mix(folder: Path, *, shares=None, cycles_per_hour=None) -> Path:
+    """Two logged index-table tasks (`BANG_BANG`), each with its part's inertia, and their mix."""
+    lines = ['robot = "' + str(TABLE) + '"']
+    for k, (name, (a, n, m, inertia)) in enumerate(BANG_BANG.items()):
+        qd, qdd, t = bang_bang(a, n, m)
+        q = np.concatenate(([0.0], np.cumsum(qd[:-1]) * DT))
+        rows = "\n".join(",".join(repr(float(v)) for v in (t[i], q[i], qd[i], qdd[i]))
+                         for i in range(len(t)))
+        (folder / f"{name}.csv").write_text("t,q_table,qd_table,qdd_table\n" + rows + "\n")
+        (folder / f"{name}.toml").write_text(
+            f'robot = "{TABLE}"\nplanner = "samples"\nangle_unit = "rad"\ndt = {DT}\n'
+            f'[samples]\nfile = "{name}.csv"\n[payload]\nmass = 1.0\ncom = [0.0, 0.0, 0.03]\n'
+            f"inertia = [[{inertia / 2}, 0, 0], [0, {inertia / 2}, 0], [0, 0, {inertia}]]\n"
+            'frame = "disk"\n')
+        how = (f"share = {shares[k]}" if shares is not None
+               else f"cycles_per_hour = {cycles_per_hour[k]}")
+        lines.append(f'[[task]]\nname = "{name}"\nmotion = "{name}.toml"\n{how}')
+    mix = folder / "mix.toml"
+    mix.write_text("\n".join(lines) + "\n")
+    return mix
+
+
+def hand_figures(rates: dict[str, float], idle_time: float = 0.0):
+    """T_av [N m], moving mean speed [rad/s] and whole-cycle mean speed [rad/s] of the mix.
+
+    Task k runs r_k cycles per unit time. Its moving samples carry torque
+    tau_k = (J_table + J_k) a_k in magnitude and speed |qd_i|; summed over one cycle,
+    sum |qd_i| DT = a DT^2 (sum_{i<n} i + sum_{i=1..n} i) = a n^2 DT^2 (the travel),
+    sum |qd_i| |tau|^3 DT = tau_k^3 a n^2 DT^2, and the moving time is 2 n DT. So
+
+        T_av^3 = sum r_k tau_k^3 a_k n_k^2 DT^2 / sum r_k a_k n_k^2 DT^2,
+        N_av (moving) = sum r_k a_k n_k^2 DT^2 / sum r_k 2 n_k DT,
+        N_av (whole cycle) = sum r_k a_k n_k^2 DT^2 / (sum r_k (2 n_k + m_k) DT + idle),
+
+    the last with the idle time per unit time, where the pauses count.
+    """
+    table = table_inertia()
+    travel = {k: a * n * n * DT * DT for k, (a, n, _, _) in BANG_BANG.items()}
+    tau = {k: (table + inertia) * a for k, (a, _, _, inertia) in BANG_BANG.items()}
+    cubes = sum(rates[k] * tau[k] ** 3 * travel[k] for k in BANG_BANG)
+    moved = sum(rates[k] * travel[k] for k in BANG_BANG)
+    moving = sum(rates[k] * 2 * BANG_BANG[k][1] * DT for k in BANG_BANG)
+    whole = sum(rates[k] * (2 * BANG_BANG[k][1] + BANG_BANG[k][2]) * DT for k in BANG_BANG)
+    return math.cbrt(cubes / moved), moved / moving, moved / (whole + idle_time)
+
+
+def l50(unit, mean_torque: float, mean_speed: float) -> float:
+    """The catalog page's L50 = 35000 (1750 / N_av,in) (T_N / T_av)^3 [h], N_av,in in rpm."""
+    rules = unit.rules
+    speed_in = mean_speed * RPM_PER_RAD_S * unit.ratio
+    return (rules.rated_l50_hours * (rules.rated_input_speed / speed_in)
+            * (unit.rated_torque / mean_torque) ** 3)
+
+
+def test_index_table_mix_by_hand(tmp_path):
+    shares = {"fast": 0.35, "slow": 0.65}
+    mix = write_index_mix(tmp_path, shares=list(shares.values()))
+    result = size(None, mix)
+    (joint,) = result.joints
+    cycle = {k: (2 * n + m) * DT for k, (_, n, m, _) in BANG_BANG.items()}
+    mean_torque, mean_speed, _ = hand_figures({k: shares[k] / cycle[k] for k in shares})
+    assert joint.load.mean_torque == pytest.approx(mean_torque, rel=1e-9)
+    assert joint.load.mean_speed == pytest.approx(mean_speed, rel=1e-9)
+    chosen = joint.selected
+    assert chosen is not None
+    assert chosen.life_hours == pytest.approx(l50(chosen.unit, mean_torque, mean_speed),
+                                              rel=1e-9)
+    # each task alone with the same unit: its own T_av and speed, by the same formulas
+    for task, alone in zip(result.counted, joint.per_task, strict=True):
+        torque, speed, _ = hand_figures({k: float(k == task.label) for k in BANG_BANG})
+        assert alone.life_hours == pytest.approx(l50(chosen.unit, torque, speed), rel=1e-9)
+    # the peak is the faster task's, (J_table + J_fast) a_fast, and it sets the rule
+    a, _, _, inertia = BANG_BANG["fast"]
+    assert joint.load.peak_torque == pytest.approx((table_inertia() + inertia) * a, rel=1e-9)
+    assert result.counted[joint.setting_task("peak")].label == "fast"
+
+
+def test_idle_hours_count_only_where_the_mean_speed_takes_the_whole_cycle(tmp_path):
+    """Cycles per hour leave the rest of the hour idle: a pause in a whole-cycle mean speed."""
+    per_hour = {"fast": 900.0, "slow": 1200.0}
+    mix = write_index_mix(tmp_path, cycles_per_hour=list(per_hour.values()))
+    moving_rules = load_catalog()
+    whole_rules = tuple(replace(u, rules=replace(u.rules, mean_speed="whole-cycle"))
+                        for u in moving_rules)
+    rates = {k: per_hour[k] / 3600.0 for k in per_hour}  # cycles per second
+    busy = sum(rates[k] * (2 * n + m) * DT for k, (_, n, m, _) in BANG_BANG.items())
+    assert busy < 1.0
+    mean_torque, moving_speed, whole_speed = hand_figures(rates, idle_time=1.0 - busy)
+    for units, speed in ((moving_rules, moving_speed), (whole_rules, whole_speed)):
+        result = size(None, mix, units=units)
+        (joint,) = result.joints
+        assert result.idle == pytest.approx(1.0 - busy, rel=1e-12)
+        assert [t.share for t in result.tasks] == pytest.approx(
+            [rates[k] * (2 * n + m) * DT for k, (_, n, m, _) in BANG_BANG.items()], rel=1e-12)
+        assert joint.load.mean_torque == pytest.approx(mean_torque, rel=1e-9)
+        chosen = joint.selected
+        assert chosen is not None
+        assert chosen.life_hours == pytest.approx(l50(chosen.unit, mean_torque, speed),
+                                                  rel=1e-9)
+    assert whole_speed < moving_speed  # the pauses (dwells and idle) dilute it
+
+
+def test_cycles_per_hour_cannot_overfill_the_hour(tmp_path):
+    mix = write_index_mix(tmp_path, cycles_per_hour=[4000.0, 2000.0])
+    with pytest.raises(InputError, match="the cycles take .* s of every hour") as info:
+        size(None, mix)
+    assert info.value.path == mix and info.value.field == "task.cycles_per_hour"
+
+
+# ------------------------------------------------------------ mixes of the shipped motions
+
+def _mix(folder: Path, *tasks: tuple[str, Path, float]) -> Path:
+    text = "".join(f'[[task]]\nname = "{name}"\nmotion = "{motion}"\nshare = {share}\n'
+                   for name, motion, share in tasks)
+    path = folder / "mix.toml"
+    path.write_text(text)
+    return path
+
+
+def _plain(result):
+    """A result as nested plain values (its summary), without warnings."""
+    return replace(summarize(result), warnings=()).to_dict()
+
+
+@pytest.mark.parametrize("shares", [(1.0, 0.0), (0.0, 1.0)])
+def test_a_share_of_one_is_the_motion_sized_alone(tmp_path, shares):
+    mix = _mix(tmp_path, ("pick", PICK, shares[0]), ("inspect", INSPECT, shares[1]))
+    mixed = size(None, mix)
+    alone = size(None, PICK if shares[0] == 1.0 else INSPECT)
+    assert differences(_plain(mixed), _plain(alone)) == 0.0  # to the last bit
+    assert len(mixed.tasks) == 2 and len(mixed.counted) == 1
+    assert all(not joint.per_task for joint in mixed.joints)
+
+
+def test_a_motion_mixed_with_itself_is_the_motion(tmp_path):
+    mix = _mix(tmp_path, ("a", PICK, 0.4), ("b", PICK, 0.6))
+    mixed, alone = size(None, mix), size(None, PICK)
+    for a, b in zip(alone.joints, mixed.joints, strict=True):
+        assert a.selected.unit.id == b.selected.unit.id
+        for name, check in a.selected.checks.items():
+            assert b.selected.checks[name].utilization == pytest.approx(
+                check.utilization, rel=1e-12, abs=1e-15), (a.name, name)
+        if a.selected.life_hours is not None:
+            assert b.selected.life_hours == pytest.approx(a.selected.life_hours, rel=1e-12)
+
+
+@pytest.fixture(scope="module")
+def pick_inspect():
+    return size(None, PICK_INSPECT)
+
+
+def test_a_mix_is_never_less_demanding_on_a_rule_of_single_samples(pick_inspect):
+    """Each task alone, checked with the mix's units by `check_units` (another path)."""
+    result = pick_inspect
+    units = {joint.name: joint.selected.unit for joint in result.joints}
+    for k, task in enumerate(result.counted):
+        alone = check_units(task.robot, task.trajectory, units, result.options)
+        for mixed, own in zip(result.joints, alone.joints, strict=True):
+            for rule in PER_SAMPLE_CHECKS:
+                if rule not in own.selected.checks or own.selected.checks[rule].value is None:
+                    continue
+                worst = mixed.selected.checks[rule].utilization
+                mine = own.selected.checks[rule].utilization
+                assert worst >= mine * (1.0 - 1e-12), (task.label, mixed.name, rule)
+                # and the core's own check of that task alone agrees with `check_units`
+                assert mixed.per_task[k].checks[rule].utilization == pytest.approx(
+                    mine, rel=1e-9, abs=1e-12), (task.label, mixed.name, rule)
+    for joint in result.joints:
+        for rule in PER_SAMPLE_CHECKS:
+            if rule in joint.selected.checks:
+                assert joint.selected.checks[rule].utilization == max(
+                    c.checks[rule].utilization for c in joint.per_task)
+
+
+def test_the_pooled_mean_torque_lies_between_the_tasks_alone(pick_inspect):
+    for joint in pick_inspect.joints:
+        alone = [c.checks["mean"].value for c in joint.per_task
+                 if c.checks["mean"].value is not None]
+        if joint.load.mean_torque is not None and alone:
+            assert min(alone) * (1 - 1e-12) <= joint.load.mean_torque <= max(alone) * (1 + 1e-12)
+
+
+def test_the_report_names_the_task_that_sets_each_rule(pick_inspect):
+    from hdselect.sizing.records import size_json
+
+    document = size_json(pick_inspect)
+    assert [t["name"] for t in document["tasks"]] == ["pick", "inspect"]
+    assert [t["share"] for t in document["tasks"]] == [0.7, 0.3]
+    assert document["tasks"][0]["payload"]["mass_kg"] == 0.4  # the mix's, over the file's 0.5
+    assert document["tasks"][1]["payload"]["com_m"] == [0.04, 0.0, 0.05]
+    for joint, sized in zip(document["joints"], pick_inspect.joints, strict=True):
+        assert joint["set_by"]["mean"] == "pooled"
+        assert joint["set_by"]["peak"] in ("pick", "inspect")
+        k = sized.setting_task("momentary")
+        assert joint["set_by"]["momentary"] == pick_inspect.counted[k].label
+        assert [entry["task"] for entry in joint["per_task"]] == ["pick", "inspect"]
+
+
+# ------------------------------------------------------------------------------ bad input
+
+@pytest.mark.parametrize("body, field, message", [
+    ('[[task]]\nmotion = "{pick}"\nshare = 0.6\n[[task]]\nmotion = "{inspect}"\nshare = 0.3\n',
+     "task.share", "the shares sum to 0.9"),
+    ('[[task]]\nmotion = "{pick}"\nshare = -0.5\n', "task[0].share", "at least 0"),
+    ('[[task]]\nmotion = "{pick}"\nshare = 1\ncycles_per_hour = 3\n', "task[0]", "one of them"),
+    ('[[task]]\nmotion = "{pick}"\nshare = 0.5\n[[task]]\nmotion = "{inspect}"\n'
+     "cycles_per_hour = 3\n", "task", "not some of each"),
+    ('[[task]]\nmotion = "nowhere.toml"\nshare = 1\n', "task[0].motion", "not found"),
+    ('[[task]]\nmotion = "{pick}"\nshare = 0.5\n[[task]]\nmotion = "{pick}"\nshare = 0.5\n',
+     "task[1].name", "give each task its own `name`"),
+    ('[requirements]\nlife_hours = 30000\n[[task]]\nmotion = "{pick}"\nshare = 1\n',
+     "requirements.life_hours", "gives requirements.life_hours 20000"),
+    ('[[task]]\nmotion = "{pick}"\nshare = 1\npayload = {{mass = 0.3, frame = "nowhere"}}\n',
+     "task[0].payload.frame", "nowhere"),
+    ("title = 1\n[[task]]\nmotion = \"{pick}\"\nshare = 1\n", "title", "unknown key"),
+])
+def test_bad_mix_files_name_the_file_and_the_field(tmp_path, body, field, message):
+    path = tmp_path / "mix.toml"
+    path.write_text(body.format(pick=PICK, inspect=INSPECT))
+    with pytest.raises(InputError, match=message) as info:
+        size(None, path)
+    assert info.value.path == path and info.value.field == field
+
+
+def test_motions_that_disagree_on_the_duty_are_named_both(tmp_path):
+    other = tmp_path / "other.toml"
+    other.write_text(INSPECT.read_text().replace("life_hours = 20000", "life_hours = 9000")
+                     .replace('"../robots/', f'"{REPO}/robots/'))
+    path = _mix(tmp_path, ("pick", PICK, 0.5), ("other", other, 0.5))
+    with pytest.raises(InputError) as info:
+        size(None, path)
+    assert str(PICK) in info.value.reason and str(other) in info.value.reason
+    assert "9000" in info.value.reason and "20000" in info.value.reason
+    # the command line settles it
+    assert size(None, path, life_hours=15000.0).options.life_hours == 15000.0
+
+
+def test_the_command_line_takes_a_mix(tmp_path, capsys):
+    status = main(["size", str(PICK_INSPECT), "--json", str(tmp_path / "out.json")])
+    out = capsys.readouterr().out
+    assert status == 0
+    assert "peak 95% (inspect)" in out and "Which task sets each rule" in out
+    assert (tmp_path / "out.json").is_file()
+    status = main(["size", str(PICK_INSPECT), "--payload", "1.0"])
+    err = capsys.readouterr().err
+    assert status == 2 and "--payload: a mix's tasks carry their own payloads" in err
+    assert err.count("\n") == 1
