@@ -19,7 +19,7 @@ from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidat
 from hdselect.catalog.units import Flag
 from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
-from hdselect.report.mix_html import duty_line, mix_section
+from hdselect.report.mix_html import duty_line, mix_section, task_of
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
 from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
@@ -173,7 +173,8 @@ def _selection(result: SizingResult) -> str:
             binding = c.gearhead_binding if motors else c.binding
             cells = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>', _unit_cell(c),
                      *([_motor_cell(c)] if motors else []),
-                     esc(f"{binding} {utilization_text(c.checks[binding].utilization, True)}"),
+                     esc(f"{binding} {utilization_text(c.checks[binding].utilization, True)}"
+                         + task_of(result, joint, binding)),
                      *([("-" if side is None else esc(
                          f"{side.removeprefix('motor_')} "
                          f"{utilization_text(c.checks[side].utilization, True)}")),

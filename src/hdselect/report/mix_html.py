@@ -14,7 +14,7 @@ from hdselect.catalog.rules import CHECK_LABELS, CHECKS, Candidate
 from hdselect.report.mix_tables import POOLED_NOTE, mounting_text, payload_text, spread_notes
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.sizing.records import set_by
-from hdselect.sizing.result import SizingResult
+from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
 
 esc = html.escape
@@ -40,6 +40,12 @@ def mix_section(result: SizingResult) -> str:
     return (f"<section id=tasks><h2>Tasks: {esc(name)}, one duty</h2><p>The units above are "
             "chosen for every task together. " + esc(POOLED_NOTE) + ".</p>"
             + "".join(parts) + "</section>")
+
+
+def task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
+    """The task that sets a rule, in brackets, for a duty of several tasks; else nothing."""
+    who = set_by(result, joint, rule)
+    return "" if who is None else f" ({who})"
 
 
 def duty_line(result: SizingResult) -> str:

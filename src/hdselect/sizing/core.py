@@ -110,8 +110,10 @@ def size(
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
                                  joints=joints, exclude=exclude)
     else:
-        robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
+        robot, loaded = load_case(motion, robot, payload=payload, mounting=mounting,
                                   joints=joints, exclude=exclude)
+        assert isinstance(loaded, Motion)  # a mix file went to _size_mix
+        motion = loaded
     resolved = options_for(motion, **options)
     units = tuple(units) if units is not None else load_catalog(catalog)
     if motors is None:

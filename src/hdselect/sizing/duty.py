@@ -108,8 +108,8 @@ def mix_tasks(robot: Robot, mix: Mix, *, mounting: str | Sequence[float] | None 
         planned.append((item, carrying, plan(carrying, item.motion, max_samples=limit)))
     if shares is None:
         shares = [item.share if item.share is not None
-                  else item.cycles_per_hour * cycle_of(traj) / SECONDS_PER_HOUR
-                  for item, _, traj in planned]  # type: ignore[operator]
+                  else (item.cycles_per_hour or 0.0) * cycle_of(traj) / SECONDS_PER_HOUR
+                  for item, _, traj in planned]
     idle = 0.0
     if not mix.shares_given:
         busy = math.fsum(shares)

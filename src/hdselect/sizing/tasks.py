@@ -145,7 +145,7 @@ def alone(samples: Samples, k: int) -> Samples:
         return replace(samples, idle=0.0) if samples.idle else samples
     rows = np.flatnonzero(samples.task == k)
     task = samples.tasks[k]
-    dt = samples.dt if np.ndim(samples.dt) == 0 else samples.dt[rows]
+    dt = samples.dt[rows] if isinstance(samples.dt, np.ndarray) else samples.dt
     weight = None if samples.weight is None else samples.weight[rows]
     if weight is not None and np.all(weight == weight[0]):
         weight, dt = None, task.trajectory.dt  # one trajectory's equal samples
