@@ -196,7 +196,7 @@ def _mix(folder: Path, *tasks: tuple[str, Path, float]) -> Path:
 
 def _plain(result):
     """A result as nested plain values (its summary), without warnings."""
-    return replace(summarize(result), warnings=()).to_dict()
+    return replace(summarize(result), warnings=(), tasks=()).to_dict()  # tasks: listed apart
 
 
 @pytest.mark.parametrize("shares", [(1.0, 0.0), (0.0, 1.0)])
@@ -207,6 +207,8 @@ def test_a_share_of_one_is_the_motion_sized_alone(tmp_path, shares):
     assert differences(_plain(mixed), _plain(alone)) == 0.0  # to the last bit
     assert len(mixed.tasks) == 2 and len(mixed.counted) == 1
     assert all(not joint.per_task for joint in mixed.joints)
+    assert [(t["name"], t["share"]) for t in summarize(mixed).tasks] == [
+        ("pick", shares[0]), ("inspect", shares[1])]
 
 
 def test_a_motion_mixed_with_itself_is_the_motion(tmp_path):
@@ -322,3 +324,69 @@ def test_the_command_line_takes_a_mix(tmp_path, capsys):
     err = capsys.readouterr().err
     assert status == 2 and "--payload: a mix's tasks carry their own payloads" in err
     assert err.count("\n") == 1
+
+
+# ------------------------------------------------------------------------------- studies
+
+STUDY = """compute = "size"
+[base]
+motion = "{mix}"
+[[case]]
+shares = [0.7, 0.3]
+[[case]]
+shares = [0.2, 0.8]
+payloads = {{pick = 0.8}}
+time_scale = 0.9
+[[case]]
+shares = [1.0, 0.0]
+time_scale = 1.2
+stop_time = 0.2
+prefer = "margin"
+[[case]]
+payloads = {{pick = 3.0, inspect = 1.5}}
+time_scale = 0.6
+[[case]]
+shares = [0.5, 0.5]
+payloads = {{inspect = 0.9}}
+life_hours = 40000
+"""
+
+
+def test_grouped_mix_cases_equal_the_direct_core(tmp_path):
+    """One basis per task, pooled with each case's shares: the core's answer to 1e-9."""
+    from hdselect.study.compute import _Inputs
+    from hdselect.study.mixgroup import mix_group, size_mix_direct
+    from hdselect.study.spec import load_study
+
+    path = tmp_path / "study.toml"
+    path.write_text(STUDY.format(mix=PICK_INSPECT))
+    study = load_study(path)
+    inputs = _Inputs()
+    grouped = mix_group(study.cases, inputs.catalog, inputs.mix_motors, inputs.robots, "here")
+    outcomes = []
+    try:
+        while True:
+            outcomes.append(next(grouped))
+    except StopIteration as done:
+        assert done.value == []  # none left to size direct
+    assert [o.index for o in outcomes] == list(range(len(study.cases)))
+    for case, outcome in zip(study.cases, outcomes, strict=True):
+        assert outcome.ok, outcome.error
+        direct = size_mix_direct(case, inputs.catalog(case), inputs.mix_motors, inputs.robots)
+        assert differences(outcome.result, direct.to_dict()) < 1e-9, case.values
+    last = outcomes[3].result  # 3 kg and 1.5 kg, 1.67 times faster: slow-downs
+    assert not last["feasible"] and any(j["slowdown"] for j in last["joints"])
+    assert outcomes[0].result["tasks"][0]["share"] == 0.7
+    assert outcomes[1].result["tasks"][0]["payload_mass"] == 0.8
+    assert {j["binding_task"] for j in outcomes[0].result["joints"]} <= {"pick", "inspect",
+                                                                           "pooled"}
+
+
+def test_a_mix_study_names_its_parameters(tmp_path):
+    from hdselect.study.spec import load_study
+
+    path = tmp_path / "study.toml"
+    path.write_text(f'[base]\nmotion = "{PICK_INSPECT}"\n[grid]\nshares = [[0.6, 0.3]]\n')
+    with pytest.raises(InputError, match="sum to 0.9") as info:
+        load_study(path)
+    assert info.value.field == "grid.shares[0]"

@@ -125,7 +125,7 @@ def _plain(result):
     """A result as nested plain values, for `differences` (the summary's record)."""
     from hdselect import summarize
 
-    return replace(summarize(result), warnings=()).to_dict()
+    return replace(summarize(result), warnings=(), tasks=()).to_dict()  # tasks: listed apart
 
 
 def test_the_pooled_mean_torque_weights_each_task_by_its_rate():

@@ -13,7 +13,6 @@ from collections.abc import Sequence
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, Candidate
 from hdselect.report.mix_tables import POOLED_NOTE, mounting_text, payload_text, spread_notes
 from hdselect.report.terminal import life_text, percent, utilization_text
-from hdselect.sizing.records import set_by
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
 
@@ -44,7 +43,7 @@ def mix_section(result: SizingResult) -> str:
 
 def task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
     """The task that sets a rule, in brackets, for a duty of several tasks; else nothing."""
-    who = set_by(result, joint, rule)
+    who = result.set_by(joint, rule)
     return "" if who is None else f" ({who})"
 
 
@@ -70,7 +69,7 @@ def _rules(result: SizingResult) -> str:
             if check is None or check.value is None:
                 cells.append("-")
                 continue
-            text = f"{utilization_text(check.utilization, check.ok)} {set_by(result, joint, name)}"
+            text = f"{utilization_text(check.utilization, check.ok)} {result.set_by(joint, name)}"
             cells.append(esc(text) if check.ok else f"<td class=fail>{esc(text)} ✗</td>")
         rows.append(cells)
     return ("<h3>Which task sets each rule</h3>"

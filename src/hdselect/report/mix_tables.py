@@ -16,7 +16,6 @@ from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import MOUNTINGS
-from hdselect.sizing.records import set_by
 from hdselect.sizing.result import SizingResult
 from hdselect.sizing.tasks import cycle_of
 
@@ -96,7 +95,7 @@ def rules_table(result: SizingResult) -> FittedTable:
             if check is None or check.value is None:
                 cells.append("-")
                 continue
-            who = set_by(result, joint, name) or ""
+            who = result.set_by(joint, name) or ""
             text = f"{utilization_text(check.utilization, check.ok)} {escape(who)}"
             cells.append(text if check.ok else f"[red]{text}✗[/red]")
         rows.append(tuple(cells))

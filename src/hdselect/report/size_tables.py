@@ -28,7 +28,7 @@ from hdselect.report.terminal import (
     verdict,
 )
 from hdselect.sizing.loads import JointLoad
-from hdselect.sizing.records import assumptions, base_text, set_by
+from hdselect.sizing.records import assumptions, base_text
 from hdselect.sizing.result import JointSizing, SizingResult
 
 
@@ -161,7 +161,7 @@ def _pairs_table(result: SizingResult) -> FittedTable:
 
 def _task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
     """The task that sets a rule, in brackets, for a duty of several tasks; else nothing."""
-    who = set_by(result, joint, rule)
+    who = result.set_by(joint, rule)
     return "" if who is None else f" ({escape(who)})"
 
 

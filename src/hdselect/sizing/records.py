@@ -11,7 +11,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import PER_SAMPLE_CHECKS, RPM_PER_RAD_S, Candidate, Check
+from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.units import SeriesRules, Unit
 from hdselect.motion.mixfile import SECONDS_PER_HOUR
 from hdselect.robot.model import Robot
@@ -179,20 +179,6 @@ def joint_load_json(load: JointLoad) -> dict[str, Any]:
             "above_velocity_limit": load.above_velocity}
 
 
-def set_by(result: SizingResult, joint: JointSizing, rule: str) -> str | None:
-    """Which task sets a rule of a joint's unit: its name, ``"pooled"``, or None for one task.
-
-    A rule of single samples is set by the task whose samples reach the worst value;
-    the mean torque, average speed, life and motor RMS pool every task.
-    """
-    if not joint.per_task:
-        return None
-    k = joint.setting_task(rule)
-    if k is not None:
-        return result.counted[k].label
-    return "pooled" if rule not in PER_SAMPLE_CHECKS else None
-
-
 def tasks_json(result: SizingResult) -> list[dict[str, Any]]:
     """Every task of a duty as JSON: its motion, share, cycle, payload and mounting."""
     out = []
@@ -211,7 +197,8 @@ def tasks_json(result: SizingResult) -> list[dict[str, Any]]:
 def _mix_joint_json(result: SizingResult, joint: JointSizing) -> dict[str, Any]:
     """A joint's rules by the task that sets each, and its unit against each task alone."""
     chosen = joint.selected or joint.strongest
-    return {"set_by": {rule: set_by(result, joint, rule) for rule in chosen.checks},
+    return {"set_by": {rule: result.set_by(joint, rule) if check.value is not None else None
+                       for rule, check in chosen.checks.items()},
             "per_task": [{"task": task.label, **candidate_json(candidate)}
                          for task, candidate in zip(result.counted, joint.per_task,
                                                     strict=True)]}

@@ -143,6 +143,19 @@ class SizingResult:
         """The tasks that count (share above 0), in order: what `JointSizing.per_task` follows."""
         return tuple(task for task in self.tasks if task.share > 0.0)
 
+    def set_by(self, joint: JointSizing, rule: str) -> str | None:
+        """Which task sets a rule of a joint's unit: its name, ``"pooled"``, or None for one task.
+
+        A rule of single samples is set by the task whose samples reach the worst value;
+        the mean torque, average speed, life and motor RMS pool every task.
+        """
+        if not joint.per_task:
+            return None
+        k = joint.setting_task(rule)
+        if k is not None:
+            return self.counted[k].label
+        return "pooled" if rule not in PER_SAMPLE_CHECKS else None
+
     @property
     def warnings(self) -> tuple[str, ...]:
         """What the robot file and the motion file raised, and limits the cycle exceeds.

@@ -28,7 +28,8 @@ from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 
-__all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "check_shares", "cycle_of", "pooled"]
+__all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "check_shares", "cycle_of", "merged",
+           "pooled"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -107,28 +108,48 @@ def pooled(tasks: Sequence[Task], idle: float = 0.0) -> Samples:
         trajectory's samples, with its scalar dt and no weights.
     """
     counted = tuple(task for task in tasks if task.share > 0.0)
-    first = counted[0]
-    rests = [_rest(task.trajectory) for task in counted]
-    reference = first.share / cycle_of(first.trajectory)
-    pause = idle / reference if idle > 0.0 else 0.0
-    if len(counted) == 1:
-        traj = first.trajectory
+    own = []
+    for task in counted:
+        traj = task.trajectory
         index = np.zeros(len(traj.t), dtype=np.intp)
         index.setflags(write=False)
-        return Samples(traj.t, traj.dt, None, traj.qd, traj.qdd, rests[0], index, counted,
-                       traj.duration, pause)
-    rates = [task.share / cycle_of(task.trajectory) / reference for task in counted]
-    dt = np.concatenate([np.full(len(task.trajectory.t), task.trajectory.dt * rate)
-                         for task, rate in zip(counted, rates, strict=True)])
+        own.append(Samples(traj.t, traj.dt, None, traj.qd, traj.qdd, _rest(traj), index,
+                           (task,), traj.duration))
+    return merged(own, idle)
+
+
+def merged(parts: Sequence[Samples], idle: float = 0.0) -> Samples:
+    """Several tasks' own samples pooled, each task weighted by how often its cycle runs.
+
+    Task k (the only task of ``parts[k]``, with its share) runs share_k / cycle_k cycles
+    per unit time, cycle_k the time its whole trajectory's samples stand for
+    (`cycle_of`); its samples' durations are scaled by that rate over the first task's.
+
+    Args:
+        parts: Each counted task's samples (`Samples` of one task, its share above 0).
+        idle: The fraction of the time no task runs [-].
+
+    Returns:
+        The pooled samples; one part as it is (with its idle time).
+    """
+    first = parts[0].tasks[0]
+    reference = first.share / cycle_of(first.trajectory)
+    pause = idle / reference if idle > 0.0 else 0.0
+    if len(parts) == 1:
+        return replace(parts[0], idle=pause) if pause else parts[0]
+    rates = [part.tasks[0].share / cycle_of(part.tasks[0].trajectory) / reference
+             for part in parts]
+    dt = np.concatenate([np.broadcast_to(part.dt, len(part)) * rate
+                         for part, rate in zip(parts, rates, strict=True)])
     return Samples(
-        frozen(np.concatenate([task.trajectory.t for task in counted])), frozen(dt),
+        frozen(np.concatenate([part.t for part in parts])), frozen(dt),
         frozen(dt / first.trajectory.dt),
-        frozen(np.concatenate([task.trajectory.qd for task in counted])),
-        frozen(np.concatenate([task.trajectory.qdd for task in counted])),
-        frozen(np.concatenate(rests)),
-        frozen(np.concatenate([np.full(len(task.trajectory.t), k, dtype=np.intp)
-                               for k, task in enumerate(counted)])),
-        counted, first.trajectory.duration, pause)
+        frozen(np.concatenate([part.qd for part in parts])),
+        frozen(np.concatenate([part.qdd for part in parts])),
+        frozen(np.concatenate([part.rest for part in parts])),
+        frozen(np.concatenate([np.full(len(part), k, dtype=np.intp)
+                               for k, part in enumerate(parts)])),
+        tuple(part.tasks[0] for part in parts), first.trajectory.duration, pause)
 
 
 def alone(samples: Samples, k: int) -> Samples:
