@@ -390,3 +390,39 @@ def test_a_mix_study_names_its_parameters(tmp_path):
     with pytest.raises(InputError, match="sum to 0.9") as info:
         load_study(path)
     assert info.value.field == "grid.shares[0]"
+
+
+# ----------------------------------------------------------------------------- co-design
+
+def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
+    """The factor found: the duty sized just below fits, just above some joint has no unit."""
+    from hdselect.codesign.mixpayload import at_factor, mix_max_payload
+    from hdselect.motion.case import load_case
+    from hdselect.sizing.core import size_tasks
+
+    robot, mix = load_case(PICK_INSPECT)
+    result = mix_max_payload(robot, mix)
+    assert result.scaled == ("pick", "inspect") and 1.0 < result.factor < math.inf
+    assert result.masses() == pytest.approx({"pick": 0.4 * result.factor,
+                                             "inspect": 0.3 * result.factor}, rel=1e-12)
+    units = load_catalog()
+    for factor, fits in ((0.999 * result.factor, True), (1.001 * result.factor, False)):
+        tasks = at_factor(result.tasks, result.scaled, factor)
+        assert size_tasks(tasks, units, result.selection.options).feasible is fits
+    assert result.selection.feasible and result.selection.mix is mix
+    binding = next(j for j in result.selection.joints if j.name == result.joint)
+    assert binding.selected.checks[result.rule].utilization == pytest.approx(1.0, abs=2e-3)
+
+
+def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
+    from hdselect.codesign.maxpayload import max_payload
+    from hdselect.codesign.mixpayload import mix_max_payload
+    from hdselect.motion.case import load_case
+
+    path = _mix(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
+    robot, mix = load_case(path)
+    mixed = mix_max_payload(robot, mix, tasks=["pick"])
+    assert mixed.scaled == ("pick",)
+    alone = max_payload(*load_case(PICK))
+    assert mixed.masses()["pick"] == pytest.approx(alone.mass, rel=1e-9)
+    assert (mixed.joint, mixed.unit.id, mixed.rule) == (alone.joint, alone.unit.id, alone.rule)

@@ -10,6 +10,7 @@ from typing import Any
 from hdselect.base.errors import InputError
 from hdselect.cli.inputs import input_files, robot_and_motion, sizing_options_of
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
+from hdselect.motion.motionfile import Motion
 
 
 def run_fastest(args: argparse.Namespace) -> int:
@@ -86,6 +87,10 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from hdselect.report.size_tables import size_table
 
     robot, motion = robot_and_motion(args)
+    if not isinstance(motion, Motion):
+        return _mix_max_payload(args, robot, motion)
+    if args.task:
+        raise InputError("only for a mix file: its tasks whose payload scales", field="--task")
     options = sizing_options_of(args, motion)
     units = load_catalog(args.catalog)
     with Outputs([*input_files(robot, motion), *args.catalog]) as outputs:
@@ -132,3 +137,33 @@ def _unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
             raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
         out[joint.strip()] = unit.strip()
     return out
+
+
+def _mix_max_payload(args: argparse.Namespace, robot, mix) -> int:
+    """``hdselect max-payload`` on a mix: one factor on the payloads of its tasks."""
+    from hdselect.base.outputs import Outputs
+    from hdselect.catalog.catalogfile import load_catalog
+    from hdselect.codesign.mixpayload import mix_max_payload
+    from hdselect.codesign.records import mix_payload_json
+    from hdselect.report.codesign_tables import mix_payload_text
+    from hdselect.report.export import write_json
+    from hdselect.report.mix_tables import mix_tables
+    from hdselect.report.size_tables import size_table
+
+    if args.motor_catalog:
+        raise InputError("max-payload on a mix does not choose motors yet", field="--motor-catalog")
+    options = sizing_options_of(args, mix)
+    units = load_catalog([*mix.catalog, *args.catalog])
+    with Outputs([*input_files(robot, mix), *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        result = mix_max_payload(robot, mix, options, catalog=units, tasks=args.task)
+        if json_file is not None:
+            write_json(json_file, mix_payload_json(result))
+        items: list[Any] = [mix_payload_text(result, robot)]
+        if result.selection is not None:
+            items += ["", size_table(result.selection), *mix_tables(result.selection)]
+        text = "" if to_stdout(args) else rendered(*items)
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written([(args.json, None)], args)
+    return EXIT_OK if result.factor is not None else EXIT_NO_FIT

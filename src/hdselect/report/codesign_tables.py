@@ -13,6 +13,7 @@ from rich.markup import escape
 from hdselect.catalog.rules import CHECK_LABELS
 from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
+from hdselect.codesign.mixpayload import MixPayloadResult
 from hdselect.motion.motionfile import Motion
 from hdselect.report.case_tables import case_notes
 from hdselect.report.tables import Column, FittedTable, Paragraphs
@@ -207,4 +208,30 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> 
         spans = ", ".join(f"{lo:.4g} to {hi:.4g} kg" for lo, hi in result.ranges)
         lines.append(f"Every joint has a unit only from {spans}.")
     lines.append(f"The selection at {result.mass:.4g} kg:")
+    return Paragraphs(tuple(lines))
+
+
+def mix_payload_text(result: MixPayloadResult, robot: Robot) -> Paragraphs:
+    """The largest payloads of a mix, which tasks they are, and where the duty binds."""
+    name = result.selection.mix.path.name if (result.selection is not None and
+                                              result.selection.mix is not None) else "the mix"
+    given = ", ".join(f"{task} {payload.mass:g} kg" for task, payload in result.payloads.items())
+    head = (f"{robot.path.name} running {name}: the payloads of {', '.join(result.scaled)} "
+            f"(as given: {given}) scaled by one factor, mass and inertia alike")
+    if result.factor is None:
+        return Paragraphs((f"{head}: no factor, not even 0, leaves every joint a feasible "
+                           "unit.",))
+    if not math.isfinite(result.factor):
+        return Paragraphs((f"{head}: no rule depends on them: no limit.",))
+    masses = ", ".join(f"{task} {mass:.4g} kg" for task, mass in result.masses().items())
+    lines = [f"{head}: the largest factor is {result.factor:.4g}: {masses}.",
+             f"{result.joint} runs out of units there: "
+             f"{result.unit.id if result.unit else '-'} reaches its {result.rule} limit "
+             "over the duty (rules of single samples: the worst task; mean torque and life: "
+             "every task pooled at its share). Torque is affine in the factor on fixed "
+             "trajectories, so each rule's limit is solved exactly."]
+    if len(result.ranges) > 1 or result.ranges[0][0] > 0.0:
+        spans = ", ".join(f"{lo:.4g} to {hi:.4g}" for lo, hi in result.ranges)
+        lines.append(f"Every joint has a unit only for factors from {spans}.")
+    lines.append(f"The selection at a factor of {result.factor:.4g}:")
     return Paragraphs(tuple(lines))

@@ -146,9 +146,9 @@ def merged(parts: Sequence[Samples], idle: float = 0.0) -> Samples:
         frozen(dt / first.trajectory.dt),
         frozen(np.concatenate([part.qd for part in parts])),
         frozen(np.concatenate([part.qdd for part in parts])),
-        frozen(np.concatenate([part.rest for part in parts])),
-        frozen(np.concatenate([np.full(len(part), k, dtype=np.intp)
-                               for k, part in enumerate(parts)])),
+        _locked(np.concatenate([part.rest for part in parts])),
+        _locked(np.concatenate([np.full(len(part), k, dtype=np.intp)
+                                for k, part in enumerate(parts)])),
         tuple(part.tasks[0] for part in parts), first.trajectory.duration, pause)
 
 
@@ -172,14 +172,20 @@ def alone(samples: Samples, k: int) -> Samples:
         weight, dt = None, task.trajectory.dt  # one trajectory's equal samples
     return Samples(frozen(samples.t[rows]), dt if np.ndim(dt) == 0 else frozen(dt),
                    None if weight is None else frozen(weight), frozen(samples.qd[rows]),
-                   frozen(samples.qdd[rows]), frozen(samples.rest[rows]),
-                   frozen(np.zeros(len(rows), dtype=np.intp)), (task,),
+                   frozen(samples.qdd[rows]), _locked(samples.rest[rows]),
+                   _locked(np.zeros(len(rows), dtype=np.intp)), (task,),
                    task.trajectory.duration)
 
 
 def cycle_of(traj: Trajectory) -> float:
     """The time one cycle's samples stand for [s]: n dt (the cycle time and one period)."""
     return len(traj.t) * traj.dt
+
+
+def _locked(array: np.ndarray) -> np.ndarray:
+    """`array` made read-only, its dtype kept (bool, index)."""
+    array.setflags(write=False)
+    return array
 
 
 def _rest(traj: Trajectory) -> np.ndarray:
