@@ -426,3 +426,45 @@ def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
     alone = max_payload(*load_case(PICK))
     assert mixed.masses()["pick"] == pytest.approx(alone.mass, rel=1e-9)
     assert (mixed.joint, mixed.unit.id, mixed.rule) == (alone.joint, alone.unit.id, alone.rule)
+
+
+def test_fastest_of_a_mix_of_one_task_is_its_motions(tmp_path):
+    from hdselect.codesign.fastest_cycle import fastest
+    from hdselect.codesign.mixfastest import mix_fastest
+    from hdselect.motion.case import load_case
+
+    path = _mix(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
+    mixed = mix_fastest(*load_case(path))
+    alone = fastest(*load_case(PICK), {name: unit.id for name, unit in mixed.units.items()})
+    assert alone.reason is None and mixed.reason is None and mixed.slowdown == 1.0
+    (task,) = mixed.tasks
+    assert task.cycle_time == pytest.approx(alone.cycle_time, rel=1e-9)
+    assert task.task.trajectory.qd == pytest.approx(alone.trajectory.qd, rel=1e-9, abs=1e-12)
+
+
+def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
+    """A required life the optima miss: every task slowed by one factor until it holds."""
+    from hdselect.codesign.mixfastest import _optimum, mix_fastest, pooled_check
+    from hdselect.motion.case import load_case
+    from hdselect.sizing.duty import mix_options
+
+    robot, mix = load_case(PICK_INSPECT)
+    units = {"shoulder_pan": "PSA-10-80", "shoulder_lift": "PSA-14-100", "elbow": "PSA-10-80",
+             "wrist_1": "PSA-08-80", "wrist_2": "PSA-08-80", "wrist_3": "PSA-08-80"}
+    options = mix_options(mix, life_hours=6e5)  # shoulder_lift: 3.8e5 h at the optima
+    result = mix_fastest(robot, mix, units, options=options)
+    assert result.slowdown > 1.0 and result.reason == ("shoulder_lift", "life")
+    assert result.feasible
+    check = next(j for j in result.check.joints
+                 if j.name == "shoulder_lift").selected.checks["life"]
+    assert 0.99 < check.utilization <= 1.0  # at the limit, by the core's own check
+    for item in result.tasks:
+        assert item.optimum < item.cycle_time
+    # the search's pooled figures: failing just faster than the slow-down, passing at it
+    masses = {name: unit.mass for name, unit in result.units.items()}
+    paths = [_optimum(item.task, result.units, masses, options) for item in result.tasks]
+    unit = result.units["shoulder_lift"]
+    faster = pooled_check(paths, "shoulder_lift", unit, result.slowdown / 1.001, options, 0.0)
+    assert not faster.checks["life"].ok
+    assert pooled_check(paths, "shoulder_lift", unit, result.slowdown, options,
+                        0.0).checks["life"].ok

@@ -25,6 +25,8 @@ def run_fastest(args: argparse.Namespace) -> int:
     if args.joint and not args.compare_ratios:
         raise InputError("only with --compare-ratios", field="--joint")
     robot, motion = robot_and_motion(args)
+    if not isinstance(motion, Motion):
+        return _mix_fastest(args, robot, motion)
     options = sizing_options_of(args, motion)
     units = load_catalog(args.catalog)
     given = _unit_pairs(args.units)
@@ -167,3 +169,37 @@ def _mix_max_payload(args: argparse.Namespace, robot, mix) -> int:
     sys.stdout.write(text)
     say_written([(args.json, None)], args)
     return EXIT_OK if result.factor is not None else EXIT_NO_FIT
+
+
+def _mix_fastest(args: argparse.Namespace, robot, mix) -> int:
+    """``hdselect fastest`` on a mix: the shortest cycle of each task with the duty's units."""
+    from hdselect.base.outputs import Outputs
+    from hdselect.catalog.catalogfile import load_catalog
+    from hdselect.codesign.mixfastest import mix_fastest
+    from hdselect.codesign.records import mix_fastest_json
+    from hdselect.report.codesign_tables import mix_fastest_table
+    from hdselect.report.export import write_json
+    from hdselect.report.mix_tables import mix_tables
+    from hdselect.report.size_tables import size_table
+
+    for flag, value in (("--compare-ratios", args.compare_ratios), ("--out", args.out),
+                        ("--plot", args.plot), ("--motor-catalog", args.motor_catalog)):
+        if value:
+            raise InputError("not for a mix yet: give one of its motion files", field=flag)
+    options = sizing_options_of(args, mix)
+    units = load_catalog([*mix.catalog, *args.catalog])
+    with Outputs([*input_files(robot, mix), *args.catalog]) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json else None
+        try:
+            result = mix_fastest(robot, mix, _unit_pairs(args.units), options, catalog=units)
+        except InputError as err:
+            field = {"units": "--units"}.get(str(err.field), err.field)
+            raise InputError(err.reason, path=err.path, field=field) from err
+        if json_file is not None:
+            write_json(json_file, mix_fastest_json(result))
+        text = "" if to_stdout(args) else rendered(
+            mix_fastest_table(result), "", size_table(result.check), *mix_tables(result.check))
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written([(args.json, None)], args)
+    return EXIT_OK if result.feasible else EXIT_NO_FIT

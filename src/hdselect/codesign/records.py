@@ -14,6 +14,7 @@ import numpy as np
 
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
+from hdselect.codesign.mixfastest import MixFastestResult
 from hdselect.codesign.mixpayload import MixPayloadResult
 from hdselect.motion.motionfile import Motion
 from hdselect.sizing.records import (
@@ -140,4 +141,24 @@ def mix_payload_json(result: MixPayloadResult) -> dict[str, Any]:
             "joint": result.joint, "unit": result.unit.id if result.unit else None,
             "rule": result.rule},
         "selection": None if selection is None else size_json(selection),
+    }
+
+
+def mix_fastest_json(result: MixFastestResult) -> dict[str, Any]:
+    """The shortest cycle of each task of a mix as JSON, with the duty's check (``check``)."""
+    return {
+        "robot": str(result.check.robot.path),
+        "mix": str(result.mix.path),
+        "units": {name: unit.id for name, unit in result.units.items()},
+        "tasks": [{"name": item.task.label, "share": item.task.share,
+                   "planned_cycle_s": item.planned, "optimum_s": item.optimum,
+                   "cycle_time_s": item.cycle_time,
+                   "cycles_per_hour": item.task.share * 3600.0 / item.cycle_time}
+                  for item in result.tasks],
+        "idle_share": result.idle,
+        "slowdown": result.slowdown,
+        "lengthened_by": None if result.reason is None else {
+            "joint": result.reason[0], "rule": result.reason[1]},
+        "feasible": result.feasible,
+        "check": size_json(result.check),
     }
