@@ -339,6 +339,10 @@ def _each(cases: Sequence[Case],
     for case in cases:
         start = time.perf_counter()
         try:
+            if is_mix_case(case):  # their JSON is a duty's, not these rows'
+                raise InputError(f"{case.compute} of a mix file is not a study computation "
+                                 f"yet; run `hdselect {case.compute}` on it, or compute size",
+                                 field="compute")
             result = compute(case, inputs)
         except HdselectError as err:
             yield _failed(case, err, "direct", start, host)
