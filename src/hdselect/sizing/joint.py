@@ -32,7 +32,7 @@ from hdselect.catalog.units import Unit
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
 from hdselect.sizing.result import JointSizing
-from hdselect.sizing.tasks import Samples, alone
+from hdselect.sizing.tasks import Samples, alone, task_rows
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,7 +111,7 @@ def task_checks(cycle: JointCycle, chosen: Candidate,
         return ()
     out = []
     for k in range(len(samples.tasks)):
-        rows = samples.task == k
+        rows = task_rows(samples, k)
         part = JointCycle(alone(samples, k), cycle.column, cycle.torque[rows], cycle.stop[rows])
         load = part.load()
         motor = chosen.motor_unit

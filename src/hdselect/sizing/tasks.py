@@ -29,7 +29,7 @@ from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 
 __all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "check_shares", "cycle_of", "merged",
-           "pooled"]
+           "pooled", "task_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -156,7 +156,7 @@ def alone(samples: Samples, k: int) -> Samples:
     """The samples of counted task k alone, as if the robot did nothing else.
 
     Its samples keep their lengths relative to each other (so every rule reads them
-    as it reads the task's own trajectory); no idle time.
+    as it reads the task's own trajectory); no idle time. The arrays are views.
 
     Args:
         samples: Pooled samples.
@@ -164,17 +164,21 @@ def alone(samples: Samples, k: int) -> Samples:
     """
     if len(samples.tasks) == 1:
         return replace(samples, idle=0.0) if samples.idle else samples
-    rows = np.flatnonzero(samples.task == k)
+    rows = task_rows(samples, k)
     task = samples.tasks[k]
     dt = samples.dt[rows] if isinstance(samples.dt, np.ndarray) else samples.dt
     weight = None if samples.weight is None else samples.weight[rows]
     if weight is not None and np.all(weight == weight[0]):
         weight, dt = None, task.trajectory.dt  # one trajectory's equal samples
-    return Samples(frozen(samples.t[rows]), dt if np.ndim(dt) == 0 else frozen(dt),
-                   None if weight is None else frozen(weight), frozen(samples.qd[rows]),
-                   frozen(samples.qdd[rows]), _locked(samples.rest[rows]),
-                   _locked(np.zeros(len(rows), dtype=np.intp)), (task,),
-                   task.trajectory.duration)
+    return Samples(samples.t[rows], dt, weight, samples.qd[rows], samples.qdd[rows],
+                   samples.rest[rows], np.zeros(rows.stop - rows.start, dtype=np.intp),
+                   (task,), task.trajectory.duration)
+
+
+def task_rows(samples: Samples, k: int) -> slice:
+    """Where counted task k's samples lie in the pooled samples (they are in task order)."""
+    start, stop = np.searchsorted(samples.task, (k, k + 1))
+    return slice(int(start), int(stop))
 
 
 def cycle_of(traj: Trajectory) -> float:
