@@ -468,3 +468,34 @@ def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
     assert not faster.checks["life"].ok
     assert pooled_check(paths, "shoulder_lift", unit, result.slowdown, options,
                         0.0).checks["life"].ok
+
+
+def test_the_duty_life_is_the_tasks_lives_combined_by_miners_rule(pick_inspect):
+    """L50 = c / (N_av T_av^3) with N_av T_av^3 = sum |n| |T|^3 t / (moving time): damage
+    per moving hour adds over the tasks, so 1 / L = sum_k w_k / L_k with w_k task k's share
+    of the moving time, w_k ~ share_k / cycle_k x (its moving time per cycle). The
+    share-weighted mean of the lives is then optimistic, the shortest life pessimistic.
+    """
+    from hdselect.catalog.rules import at_rest
+    from hdselect.sizing.tasks import cycle_of
+
+    result = pick_inspect
+    for joint in result.joints:
+        j = result.robot.joint_index(joint.name)
+        moving = []
+        for task in result.counted:
+            traj = task.trajectory
+            still = at_rest(traj.qd[:, j], traj.qdd[:, j])
+            moving.append(task.share / cycle_of(traj) * traj.dt * float((~still).sum()))
+        weights = [m / sum(moving) for m in moving]
+        lives = [math.inf if c.life_hours is None else c.life_hours for c in joint.per_task]
+        duty = joint.selected.life_hours
+        assert duty == pytest.approx(1.0 / sum(w / life for w, life in zip(weights, lives,
+                                                                            strict=True)),
+                                     rel=1e-9), joint.name
+        if math.inf in lives:  # a task where the joint does not move: no damage there
+            continue
+        shares = [task.share for task in result.counted]
+        assert sum(s * life for s, life in zip(shares, lives, strict=True)) > duty * (1 - 1e-12) \
+            or math.isclose(min(lives), max(lives), rel_tol=1e-9)
+        assert min(lives) <= duty * (1 + 1e-12)

@@ -201,7 +201,7 @@ def _units(robot: Robot, tasks: Sequence[Task], idle: float,
             unit = by_id[unit]
         chosen[name] = unit
     if all(name in chosen for name in robot.sized_joints):
-        return chosen
+        return {name: chosen[name] for name in robot.sized_joints}
     sizing = size_tasks(tasks, catalog, options, idle=idle)
     for joint in sizing.joints:
         pick = joint.selected.unit.id if joint.selected is not None else (
@@ -212,7 +212,7 @@ def _units(robot: Robot, tasks: Sequence[Task], idle: float,
                                      "any speed; give one with --units", joint=joint.name,
                                      limit="peak", gravity=True)
             chosen[joint.name] = by_id[pick]
-    return chosen
+    return {name: chosen[name] for name in robot.sized_joints}
 
 
 def _optimum(task: Task, units: Mapping[str, Unit], masses: Mapping[str, float],
