@@ -499,3 +499,35 @@ def test_the_duty_life_is_the_tasks_lives_combined_by_miners_rule(pick_inspect):
         assert sum(s * life for s, life in zip(shares, lives, strict=True)) > duty * (1 - 1e-12) \
             or math.isclose(min(lives), max(lives), rel_tol=1e-9)
         assert min(lives) <= duty * (1 + 1e-12)
+
+
+def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
+    """Heavy parts, 1.67x faster: a joint no unit fits, and its slow-down s. Every task's
+    trajectory run s times slower (the shares kept) must let that unit fit."""
+    from hdselect.codesign.mixfastest import check_tasks
+    from hdselect.codesign.mixpayload import at_factor
+    from hdselect.motion.case import load_case
+    from hdselect.sizing.core import size_tasks
+    from hdselect.sizing.duty import mix_options, mix_tasks
+    from hdselect.sizing.records import size_json
+    from hdselect.study.mixgroup import scaled
+
+    robot, mix = load_case(PICK_INSPECT)
+    tasks, _ = mix_tasks(robot, mix)
+    tasks = at_factor(tasks, ("pick", "inspect"), 5.0)
+    fast = tuple(replace(t, trajectory=scaled(t.trajectory, 0.6)) for t in tasks)
+    units, options = load_catalog(), mix_options(mix)
+    result = size_tasks(fast, units, options)
+    stuck = [joint for joint in result.joints if joint.selected is None]
+    assert stuck and all(joint.slowdown.factor > 1.0 for joint in stuck)
+    document = size_json(result)
+    for joint in stuck:
+        factor, unit = joint.slowdown.factor, joint.slowdown.unit
+        entry = next(j for j in document["joints"] if j["name"] == joint.name)
+        assert entry["slowdown"]["task_cycle_times_s"] == pytest.approx(
+            {t.label: factor * t.trajectory.duration for t in fast}, rel=1e-12)
+        slower = tuple(replace(t, trajectory=scaled(t.trajectory, factor)) for t in fast)
+        fixed = {j.name: (j.selected or j.strongest).unit for j in result.joints}
+        fixed[joint.name] = next(u for u in units if u.id == unit)
+        again = check_tasks(slower, fixed, options)  # the units further out as chosen
+        assert next(j for j in again.joints if j.name == joint.name).selected is not None

@@ -11,13 +11,19 @@ from hdselect.cli.output import EXIT_OK, rendered, say_written, to_stdout
 
 def run_plan(args: argparse.Namespace) -> int:
     """``hdselect plan``: the trajectory and the torques along it, as CSV (and a plot)."""
+    from hdselect.base.errors import InputError
     from hdselect.base.outputs import Outputs
+    from hdselect.motion.mixfile import Mix
     from hdselect.motion.planning import plan
     from hdselect.report.case_tables import plan_text
     from hdselect.report.export import write_trajectory_csv
     from hdselect.robot.dynamics import inverse_dynamics
 
     robot, motion = robot_and_motion(args)
+    if isinstance(motion, Mix):
+        raise InputError("plan takes one motion file; this is a mix: plan each of its "
+                         f"motions ({', '.join(m.path.name for m in motion.motions)})",
+                         path=motion.path, field="task")
     max_samples = max_samples_of(args)
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")

@@ -209,7 +209,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
 
     A duty of several tasks (a mix) adds ``mix``, ``tasks`` and ``idle_share`` at the
     top, and per joint ``set_by`` (rule -> the task setting it, or ``"pooled"``) and
-    ``per_task`` (the joint's unit checked against each counted task alone).
+    ``per_task`` (the joint's unit checked against each counted task alone); a slow-down
+    (every task s times slower, at the same shares) gives ``task_cycle_times_s``.
     """
     options = result.options
     joints = []
@@ -248,6 +249,11 @@ def size_json(result: SizingResult) -> dict[str, Any]:
                 entry["motor"]["inertia_ratio"] = joint.inertia_ratio(candidate)
         if joint.per_task:
             document.update(_mix_joint_json(result, joint))
+        if slowdown is not None and slowdown.factor is not None and len(result.counted) > 1:
+            # every task s times slower, at the same shares of the time
+            document["slowdown"]["task_cycle_times_s"] = {
+                task.label: slowdown.factor * task.trajectory.duration
+                for task in result.counted}
         joints.append(document)
     mix: dict[str, Any] = {}
     if len(result.tasks) > 1 or result.mix is not None:
