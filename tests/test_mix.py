@@ -531,3 +531,34 @@ def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
         fixed[joint.name] = next(u for u in units if u.id == unit)
         again = check_tasks(slower, fixed, options)  # the units further out as chosen
         assert next(j for j in again.joints if j.name == joint.name).selected is not None
+
+
+def test_the_html_report_of_a_mix_has_its_tasks(pick_inspect, tmp_path):
+    from hdselect.report.report_files import write_report
+
+    write_report(tmp_path / "report", pick_inspect)
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert "<section id=tasks>" in page and "Which task sets each rule" in page
+    assert "benchtop6_pick_place.toml" in page and "benchtop6_inspect.toml" in page
+    assert "peak 95% (inspect)" in page and "pooled" in page
+    assert "One duty of 2 tasks: pick (cycle 9.855 s, 70% of the time)" in page
+    for joint in pick_inspect.joints:
+        assert (tmp_path / "report" / f"joint_{joint.name}.png").stat().st_size > 10_000
+
+
+def test_the_tables_of_a_mix_fit_a_narrow_terminal(pick_inspect, monkeypatch):
+    import io
+
+    from hdselect.report.mix_tables import mix_tables
+    from hdselect.report.size_tables import size_table
+    from hdselect.report.tables import console_for
+
+    buffer = io.StringIO()
+    monkeypatch.setenv("COLUMNS", "60")
+    out = console_for(buffer)
+    for item in [size_table(pick_inspect), *mix_tables(pick_inspect)]:
+        out.print(item)
+    lines = buffer.getvalue().splitlines()
+    assert max(len(line) for line in lines) <= 60
+    assert any("peak 95% (inspect)" in line for line in lines)
+    assert sum(line.startswith("shoulder_lift") for line in lines) >= 4  # tables moved below
