@@ -10,7 +10,6 @@ from typing import Any
 from hdselect.base.errors import InputError
 from hdselect.cli.inputs import input_files, robot_and_motion, sizing_options_of
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
-from hdselect.motion.motionfile import Motion
 
 
 def run_fastest(args: argparse.Namespace) -> int:
@@ -24,8 +23,10 @@ def run_fastest(args: argparse.Namespace) -> int:
 
     if args.joint and not args.compare_ratios:
         raise InputError("only with --compare-ratios", field="--joint")
+    from hdselect.motion.mixfile import Mix
+
     robot, motion = robot_and_motion(args)
-    if not isinstance(motion, Motion):
+    if isinstance(motion, Mix):
         return _mix_fastest(args, robot, motion)
     options = sizing_options_of(args, motion)
     units = load_catalog(args.catalog)
@@ -84,12 +85,13 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from hdselect.catalog.catalogfile import load_catalog
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.records import max_payload_json
+    from hdselect.motion.mixfile import Mix
     from hdselect.report.codesign_tables import max_payload_text
     from hdselect.report.export import write_json
     from hdselect.report.size_tables import size_table
 
     robot, motion = robot_and_motion(args)
-    if not isinstance(motion, Motion):
+    if isinstance(motion, Mix):
         return _mix_max_payload(args, robot, motion)
     if args.task:
         raise InputError("only for a mix file: its tasks whose payload scales", field="--task")
