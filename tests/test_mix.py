@@ -562,3 +562,22 @@ def test_the_tables_of_a_mix_fit_a_narrow_terminal(pick_inspect, monkeypatch):
     assert max(len(line) for line in lines) <= 60
     assert any("peak 95% (inspect)" in line for line in lines)
     assert sum(line.startswith("shoulder_lift") for line in lines) >= 4  # tables moved below
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["--joints", "elbo"], "--joints: unknown joint 'elbo'"),
+    (["--mounting", "sideways"], "--mounting: unknown mounting 'sideways'"),
+    (["--payload-com", "0", "0", "0.1"], "--payload-com: a mix's tasks carry their own"),
+])
+def test_bad_flags_with_a_mix_name_the_flag(argv, flag, capsys):
+    assert main(["size", str(PICK_INSPECT), *argv]) == 2
+    err = capsys.readouterr().err
+    assert flag in err and err.count("\n") == 1
+
+
+def test_a_flag_mounting_goes_on_every_task(tmp_path):
+    from hdselect.sizing.records import size_json
+
+    document = size_json(size(None, PICK_INSPECT, mounting="wall"))
+    gravity = [task["gravity_m_s2"] for task in document["tasks"]]
+    assert gravity[0] == gravity[1] and gravity[0] != [0.0, 0.0, -9.80665]

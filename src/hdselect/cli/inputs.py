@@ -200,7 +200,8 @@ def _robot_and_mix(args: argparse.Namespace):
     try:
         return robot_for_mix(robot, mix, joints=joints, exclude=exclude), mix
     except InputError as err:
-        if err.field in ("joints", "exclude") and err.path is None:
+        given = {"joints": joints, "exclude": exclude}
+        if err.field in given and given[str(err.field)] is not None:
             raise InputError(err.reason, field=f"--{err.field}") from err
         raise
 
