@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 import sys
 
+from hdselect.base.errors import InputError
 from hdselect.cli.inputs import input_files, max_samples_of, robot_and_motion
 from hdselect.cli.output import EXIT_OK, rendered, say_written, to_stdout
 
 
 def run_plan(args: argparse.Namespace) -> int:
     """``hdselect plan``: the trajectory and the torques along it, as CSV (and a plot)."""
-    from hdselect.base.errors import InputError
     from hdselect.base.outputs import Outputs
     from hdselect.motion.mixfile import Mix
     from hdselect.motion.planning import plan
@@ -19,6 +19,10 @@ def run_plan(args: argparse.Namespace) -> int:
     from hdselect.report.export import write_trajectory_csv
     from hdselect.robot.dynamics import inverse_dynamics
 
+    for flag, given in (("--joints", args.joints), ("--exclude", args.exclude)):
+        if given is not None and args.plot is None:
+            raise InputError("only with --plot (it chooses the joints plotted; the CSV has "
+                             "every joint)", field=flag)
     robot, motion = robot_and_motion(args)
     if isinstance(motion, Mix):
         raise InputError("plan takes one motion file; this is a mix: plan each of its "
@@ -27,7 +31,7 @@ def run_plan(args: argparse.Namespace) -> int:
     max_samples = max_samples_of(args)
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")
-        figure = outputs.file(args.plot, "--plot") if args.plot else None
+        figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         trajectory = plan(robot, motion, max_samples=max_samples)
         tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
         write_trajectory_csv(out, trajectory, tau, robot.joint_names)

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hdselect.base.inputfiles import readable
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.sizing.result import SizingResult
 from hdselect.sizing.tasks import Task
@@ -127,7 +128,7 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
 
 def _hashed(role: str, path: Path) -> InputFile:
     try:
-        content = Path(path).read_bytes()
+        content = readable(Path(path)).read_bytes()
     except OSError as err:
         return InputFile(role, str(path), f"cannot be read now ({err.strerror})", None)
     return InputFile(role, str(path), hashlib.sha256(content).hexdigest(), len(content))
@@ -155,7 +156,9 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
                                 f"[{', '.join(f'{c:g}' for c in payload.com)}] m, inertia about "
                                 f"it [{inertia}] kg m^2"))
     if motion is not None:
-        rows.append(("planner", f"{motion.planner}, sampled every {motion.dt:g} s"))
+        rows.append(("planner", f"{motion.planner}, sampled every {motion.dt:g} s" + (
+            f", refined to {traj.dt:.3g} s to resolve every move" if traj.dt < motion.dt
+            * (1.0 - 1e-12) else "")))
         rows.append(("requirements in the motion file",
                      f"stop time {_opt(motion.stop_time, ' s')}, life "
                      f"{_opt(motion.life_hours, ' h')} {motion.life_basis or ''}".rstrip()))
@@ -178,8 +181,8 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
         if result.idle > 0.0:
             rows.append(("idle", f"{result.idle:.6g} of the time"))
     options = result.options
-    rows.append(("options", ", ".join(f"{f.name} = {getattr(options, f.name)}"
-                                      for f in fields(options))))
+    rows.append(("options", ", ".join(
+        f"{f.name} = {_option_text(f.name, getattr(options, f.name))}" for f in fields(options))))
     return rows
 
 
@@ -194,6 +197,14 @@ def _task_text(task: Task) -> str:
     return (f"{planner}share {task.share:.6g}, cycle {traj.duration:.6g} s, {len(traj.t):,} "
             f"samples every {traj.dt:g} s, {carried}, gravity "
             f"[{', '.join(f'{g:g}' for g in robot.gravity)}] m/s^2")
+
+
+def _option_text(name: str, value: object) -> str:
+    """An option as a reader wants it: what None stands for, not None."""
+    if value is not None:
+        return str(value)
+    return {"threads": "automatic (up to the cores)", "life_hours": "none required",
+            "prefer": "size (mass with motors)"}.get(name, "default")
 
 
 def _opt(value: float | None, unit: str) -> str:
