@@ -10,8 +10,8 @@ import re
 import shlex
 from pathlib import Path
 
-from hdselect.cli.main import main
 from docs_examples import scratch
+from hdselect.cli.main import main
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE = (ROOT / "docs" / "mix.md").read_text(encoding="utf-8")

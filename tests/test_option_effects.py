@@ -18,6 +18,7 @@ import pytest
 import hdselect
 from hdselect import InputError
 from hdselect.cli.main import _parser, main
+from hdselect.sizing.tasks import Task
 from test_dynamics import REPO
 
 ONE_MOVE = """\
@@ -69,7 +70,8 @@ EFFECTS = {
                 ("--compare-ratios", []), ("--joint", ["elbow"]), ("--out", ["f.csv"]),
                 ("--plot", ["f.png"])],
     "max-payload": [*[row for row in SIZING if row[0] != "--prefer"],
-                    ("--units", ["shoulder=PSA-14-100", "--units", "elbow=PSA-14-100"])],
+                    ("--units", ["shoulder=PSA-14-100", "--units", "elbow=PSA-14-100"]),
+                    ("--task", ["pick"])],  # a mix's: refused for a motion file
     "plan": [("--payload", ["0.9"]), ("--payload-com", ["0", "0", "0.1"]),
              ("--payload-frame", ["link2"]), ("--mounting", ["wall"]),
              ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),  # refused without --plot
@@ -189,7 +191,7 @@ def test_a_public_function_names_the_parameter_of_a_wrong_type(case, name):
     robot, motion, trajectory, units = case
     valid = {"robot": robot, "motion": motion, "trajectory": trajectory, "units": units,
              "path": REPO / "robots" / "planar2.urdf", "robot_file": "planar2.urdf",
-             "result": None}
+             "result": None, "tasks": (Task(robot, trajectory),)}
     if name == "check_units":
         valid["units"] = {j: units[-1] for j in robot.sized_joints}
     if name in ("load_catalog",):

@@ -25,6 +25,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import Candidate, check_unit, cycle_load
@@ -147,6 +148,9 @@ def mix_fastest(robot: Robot, mix: Mix, units: Mapping[str, Unit | str] | None =
         InputError: A task is a log, motors are given, or a joint or unit id is unknown.
         PlanningError: A path cannot be run with these units at any speed, or TOPPRA fails.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
+    expect_type(mix, (Mix,), "mix", "a Mix (hdselect.load_case of a mix file)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
     for item in mix.tasks:
         if item.motion.planner == "samples":
             raise InputError("a logged trajectory ('samples') has no path to run faster; give "

@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.units import Unit
@@ -104,6 +105,9 @@ def mix_max_payload(robot: Robot, mix: Mix, options: Options | None = None, *,
             motors are given, a name is not a task, or no task named carries a payload.
         PlanningError: A motion cannot be planned.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
+    expect_type(mix, (Mix,), "mix", "a Mix (hdselect.load_case of a mix file)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
     for item in mix.tasks:
         if item.motion.planner == "toppra" and item.motion.torque_limit is not None:
             raise InputError("the TOPPRA torque limits make the trajectory depend on the "

@@ -178,12 +178,20 @@ class Mix:
 
 
 def is_mix_file(path: str | Path) -> bool:
-    """Whether a TOML file is a mix file: it has ``[[task]]`` tables.
+    """Whether a file is a mix file: TOML with ``[[task]]`` tables.
+
+    A file that cannot be read as TOML is not one (reading it as a motion file then
+    says what is wrong with it).
 
     Raises:
-        InputError: The file cannot be read as TOML.
+        InputError: `path` is not a file name.
     """
-    return "task" in read_toml(bounds.file_argument(path, "motion"))
+    try:
+        return "task" in read_toml(bounds.file_argument(path, "motion"))
+    except InputError as err:
+        if err.field == "motion" and err.path is None:
+            raise
+        return False
 
 
 def mix_robot_file(path: str | Path) -> Path:
@@ -230,7 +238,7 @@ def load_mix(path: str | Path, robot: Robot | str | Path | None = None) -> Mix:
         InputError: A file is missing, malformed or inconsistent; the message names the
             file and the field.
     """
-    path = bounds.file_argument(path, "motion")
+    path = bounds.file_argument(path, "path")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
                        "a Robot, a robot file or None")
     doc = read_toml(path)
