@@ -258,7 +258,7 @@ def pooled_check(paths: Sequence[_Path], name: str, unit: Unit, s: float, option
     load = cycle_load(torque, qd, dt, joined("at_rest"), idle=idle / reference)
     (reflection,) = reflect([unit], joined("t"), torque, qd, joined("qdd"), stop,
                             stop_time=options.stop_time, efficiency=options.efficiency,
-                            rotor_inertia=options.rotor_inertia)
+                            rotor_inertia=options.rotor_inertia, rest=joined("at_rest"))
     demand = weighted_demand(reflection.motor, reflection.motor_torque, qd, unit.ratio, dt)
     return check_unit(load, unit, momentary=reflection.momentary, motor=demand,
                       life_hours=options.life_hours, life_basis=options.life_basis)

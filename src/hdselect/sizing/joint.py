@@ -61,10 +61,15 @@ class JointCycle:
         """The joint's acceleration [rad/s^2], shape (n,)."""
         return self.samples.qdd[:, self.column]
 
+    @property
+    def rest(self) -> np.ndarray:
+        """Where the joint is held still in its own task, shape (n,)."""
+        return self.samples.rest[:, self.column]
+
     def load(self) -> CycleLoad:
         """The cycle on the output side, by the catalog page's formulas."""
-        return cycle_load(self.torque, self.qd, self.samples.dt,
-                          self.samples.rest[:, self.column], idle=self.samples.idle)
+        return cycle_load(self.torque, self.qd, self.samples.dt, self.rest,
+                          idle=self.samples.idle)
 
 
 def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: Options, *,
@@ -122,7 +127,7 @@ def task_checks(cycle: JointCycle, chosen: Candidate,
         ((reflection,),) = reflect_motors([chosen.unit], [motor.rotor_inertia], part.samples.t,
                                           part.torque, part.qd, part.qdd, part.stop,
                                           stop_time=options.stop_time,
-                                          efficiency=options.efficiency)
+                                          efficiency=options.efficiency, rest=part.rest)
         out.append(with_motor(_candidate(load, reflection, part, options), motor,
                               reflection.motor_torque,
                               np.abs(part.qd) * RPM_PER_RAD_S * chosen.unit.ratio))
@@ -137,7 +142,7 @@ def _prefer(options: Options) -> str:
 def _reflect(units: Sequence[Unit], cycle: JointCycle, options: Options) -> list[Reflection]:
     return reflect(units, cycle.samples.t, cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
                    stop_time=options.stop_time, efficiency=options.efficiency,
-                   rotor_inertia=options.rotor_inertia)
+                   rotor_inertia=options.rotor_inertia, rest=cycle.rest)
 
 
 def _candidate(load: CycleLoad, reflection: Reflection, cycle: JointCycle,
@@ -157,7 +162,8 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit
     """Every (gearhead, motor) pair: each motor's rotor inertia in the motor torque and crash."""
     behind = reflect_motors(units, [m.rotor_inertia for m in motors], cycle.samples.t,
                             cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
-                            stop_time=options.stop_time, efficiency=options.efficiency)
+                            stop_time=options.stop_time, efficiency=options.efficiency,
+                            rest=cycle.rest)
     speed = np.abs(cycle.qd) * RPM_PER_RAD_S
     pairs, torque = [], {}
     for u, unit in enumerate(units):

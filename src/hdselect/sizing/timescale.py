@@ -229,7 +229,7 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
     (reflection,) = reflect([unit], at.t, at.torque, at.qd, at.qdd, at.stop_torque,
                             stop_time=cycle.stop_time, efficiency=efficiency,
                             rotor_inertia=rotor_inertia if motor is None
-                            else motor.rotor_inertia)
+                            else motor.rotor_inertia, rest=at.at_rest)
     demand = reflection.motor
     if at.dt.size and np.ptp(at.dt) > 0.0:  # samples of unequal length: RMS weighted by it
         demand = weighted_demand(demand, reflection.motor_torque, at.qd, unit.ratio, at.dt)
