@@ -540,7 +540,7 @@ def test_the_html_report_of_a_mix_has_its_tasks(pick_inspect, tmp_path):
     page = (tmp_path / "report" / "index.html").read_text()
     assert "<section id=tasks>" in page and "Which task sets each rule" in page
     assert "benchtop6_pick_place.toml" in page and "benchtop6_inspect.toml" in page
-    assert "peak 95% (inspect)" in page and "pooled" in page
+    assert "repeated peak torque, 95 % of its limit (inspect)" in page and "pooled" in page
     assert "One duty of 2 tasks: pick (cycle 9.855 s, 70% of the time)" in page
     for joint in pick_inspect.joints:
         assert (tmp_path / "report" / f"joint_{joint.name}.png").stat().st_size > 10_000

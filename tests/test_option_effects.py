@@ -3,7 +3,8 @@ wrong type with an `InputError` naming the parameter.
 
 Each option is run against the same command without it: what it writes must differ (or the
 command refuses it in one line). `test_every_option_is_in_the_table` keeps the table whole:
-a new option without a row here fails.
+a new option without a row here fails. The commands that take a mix file (several motions
+sized as one duty) run the same table on one too: a mix honours every option a motion does.
 """
 
 from __future__ import annotations
@@ -56,7 +57,10 @@ SIZING = [
     ("--prefer", ["margin"]), ("--life-hours", ["1e5"]), ("--life-basis", ["L10"]),
     ("--payload-com", ["0", "0", "0.1"]), ("--payload-frame", ["link2"]),
     ("--mounting", ["wall"]), ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),
-    ("--max-samples", ["100"]),
+    ("--max-samples", ["100"]), ("--margin", ["0.3"]),
+    ("--max-inertia-ratio", ["3"], ["--motor-catalog", "motors/example_motors.toml"]),
+    ("--inertia-target", ["50"], ["--motor-catalog", "motors/example_motors.toml",
+                                  "--prefer", "inertia"]),
 ]
 """Options every sizing command takes, with a value that must change its answer."""
 
@@ -76,19 +80,49 @@ EFFECTS = {
              ("--payload-frame", ["link2"]), ("--mounting", ["wall"]),
              ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),  # refused without --plot
              ("--joints", ["shoulder"], ["--plot", "p.png"]),  # the joints plotted
-             ("--max-samples", ["100"]), ("--plot", ["p.png"])],
+             ("--max-samples", ["100"]), ("--plot", ["p.png"]),
+             ("--waypoints", ["w.csv"]),  # the joint path as solved (here the file's)
+             ("--line-errors", ["l.csv"])],  # refused: the motion has no straight line
 }
 """Per command, each option and its value."""
 
+DAY = """\
+[[task]]
+name = "pick"
+motion = "move.toml"
+share = 0.7
+[[task]]
+name = "heavy"
+motion = "move.toml"
+share = 0.3
+payload = {mass = 0.8, com = [0.03, 0.0, 0.0], frame = "tool"}
+"""
+"""A mix of the move twice, the second with twice the payload: one duty of two tasks."""
+
+MIX_EFFECTS = {command: EFFECTS[command] for command in ("size", "compare", "fastest",
+                                                        "max-payload")}
+"""The commands that take a mix, each with every option of its motion table: on a mix the
+payload options are refused (each task gives its own) and max-payload's --task chooses the
+tasks whose payload scales."""
+
+MIX_NOT_YET = {"fastest": ("--motor-catalog", "--compare-ratios"),
+               "max-payload": ("--motor-catalog", "--units")}
+"""What co-design on a mix refuses for now, in one line naming the option: it chooses no
+motors (so --max-inertia-ratio and --inertia-target, which act on pairs, cannot act
+either), fastest compares no ratios, max-payload takes no units fixed beforehand."""
+
 OTHER = {
-    "catalog": ["--catalog", "--units", "--json"], "duty": ["--catalog", "--json"],
-    "joints": ["--json"], "init": ["--out"],
+    "catalog": ["--catalog", "--units", "--json"],
+    "duty": ["--catalog", "--json", "--margin"],  # test_margins: the duty example by hand
+    "joints": ["--json"], "init": ["--out", "--tool-poses"],
     "study": ["--out", "--workers", "--scheduler", "--no-grouping", "--retry-failed", "--plot"],
-    "plan": ["--out"], "size": ["--json"], "compare": ["--json"], "fastest": ["--json"],
+    "plan": ["--out"], "size": ["--json", "--bom"], "compare": ["--json", "--bom"],
+    "fastest": ["--json"],
     "max-payload": ["--json", "--prefer"],
 }
 """Options covered elsewhere (test_cli, test_study, test_outputs, test_bad_input): outputs,
 executors and listings, which change where a result goes or how it runs, not the result.
+init's --tool-poses writes another starter: test_toolposes solves, plans and sizes it.
 max-payload's --prefer orders the units that pass at the largest payload, where the joint
 that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used."""
 
@@ -99,19 +133,22 @@ def work(tmp_path, monkeypatch):
     (tmp_path / "motors").symlink_to(REPO / "motors")
     (tmp_path / "tr").mkdir()
     (tmp_path / "tr" / "move.toml").write_text(ONE_MOVE)
+    (tmp_path / "tr" / "day.toml").write_text(DAY)
     (tmp_path / "acme.toml").write_text(ACME)
     monkeypatch.chdir(tmp_path)
     return tmp_path
 
 
-def outcome(capsys, command: str, extra: list[str], tag: str) -> tuple[int, str, bytes]:
+def outcome(capsys, command: str, extra: list[str], tag: str,
+            motion: str = "tr/move.toml") -> tuple[int, str, bytes]:
     """Exit status, standard error, and every byte the command wrote (files, JSON, stdout)."""
     out_dir = Path(tag)
     out_dir.mkdir()
-    argv = [command, "tr/move.toml"]
+    argv = [command, motion]
     argv += ["--out", str(out_dir / "t.csv")] if command == "plan" else [
         "--json", str(out_dir / "r.json")]
-    extra = [str(out_dir / x) if x in ("rep", "f.csv", "f.png", "p.png") else x for x in extra]
+    extra = [str(out_dir / x) if x in ("rep", "f.csv", "f.png", "p.png", "w.csv", "l.csv") else x
+             for x in extra]
     status = main([*argv, *extra])
     out, err = capsys.readouterr()
     written = []
@@ -146,6 +183,30 @@ def test_an_option_changes_the_answer_or_is_refused(work, capsys, command, optio
         return
     assert status in (0, 1), err
     assert written != base[2], f"{command} {option} took no effect"
+
+
+@pytest.mark.parametrize(("command", "option", "values", "base_args"), [
+    (command, row[0], row[1], row[2] if len(row) > 2 else [])
+    for command, rows in MIX_EFFECTS.items() for row in rows])
+def test_an_option_changes_the_answer_of_a_mix_or_is_refused(work, capsys, command, option,
+                                                             values, base_args):
+    refused = [arg for arg in [*base_args, option] if arg in MIX_NOT_YET.get(command, ())]
+    if refused:
+        status, err, _ = outcome(capsys, command, [*base_args, option, *values], "with",
+                                 "tr/day.toml")
+        assert status == 2 and len(err.strip().splitlines()) == 1 and refused[0] in err, err
+        return
+    base = outcome(capsys, command, base_args, "base", "tr/day.toml")
+    assert base[0] in (0, 1), base[1]
+    status, err, written = outcome(capsys, command, [*base_args, option, *values], "with",
+                                   "tr/day.toml")
+    if status == 2:
+        assert len(err.strip().splitlines()) == 1 and option in err, err
+        assert not option.startswith("--payload") or "each task's `payload`" in err, err
+        return
+    assert not option.startswith("--payload"), f"{command} {option} taken for a mix"
+    assert status in (0, 1), err
+    assert written != base[2], f"{command} {option} took no effect on a mix"
 
 
 def test_max_payload_selects_in_the_order_preferred(work):

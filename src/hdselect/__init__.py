@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 __version__ = "0.1.0"
 
 _HOME = {
+    "BasePose": "robot",
     "FastestResult": "codesign",
     "HdselectError": "base",
     "InputError": "base",
@@ -40,10 +41,12 @@ _HOME = {
     "load_robot": "robot",
     "max_payload": "codesign",
     "plan": "motion",
+    "plan_motion": "motion",
     "size": "sizing",
     "size_duty": "catalog",
     "size_tasks": "sizing",
     "size_trajectory": "sizing",
+    "solve_motion": "motion",
     "starter_motion": "motion",
     "study": "study",
     "summarize": "sizing",
@@ -51,6 +54,7 @@ _HOME = {
 """The module each public name lives in."""
 
 __all__ = [
+    "BasePose",
     "FastestResult",
     "HdselectError",
     "InputError",
@@ -81,10 +85,12 @@ __all__ = [
     "load_robot",
     "max_payload",
     "plan",
+    "plan_motion",
     "size",
     "size_duty",
     "size_tasks",
     "size_trajectory",
+    "solve_motion",
     "starter_motion",
     "study",
     "summarize",
@@ -109,9 +115,11 @@ if TYPE_CHECKING:
         load_mix,
         load_motion,
         plan,
+        plan_motion,
+        solve_motion,
         starter_motion,
     )
-    from hdselect.robot import Payload, Robot, describe_joints, load_robot
+    from hdselect.robot import BasePose, Payload, Robot, describe_joints, load_robot
     from hdselect.sizing import (
         Options,
         SizingResult,

@@ -125,6 +125,13 @@ MOTION_LIMITS = {
     "torque": Bound("a torque limit", "N m", 1e-6, 1e9),
 }
 """The limits of a motion file's ``[limits]`` table, in SI per joint."""
+ANGLE = Bound("an angle", "rad", -1e3, 1e3)
+"""A roll, pitch or yaw angle of a tool pose or a base pose [rad]."""
+POSE_POSITION_TOLERANCE = Bound("a position tolerance", "m", 1e-9, 1e-2)
+"""How far a solved tool position may be from the one asked for [m]: 1 nm to 10 mm."""
+POSE_ORIENTATION_TOLERANCE = Bound("an orientation tolerance", "rad", 1e-9, 0.1)
+"""How far a solved tool orientation may be turned from the one asked for [rad]: up to
+about 5.7 deg."""
 TIME = Bound("a time", "s", 0.0, 1e12, low_open=True)
 """A sample period [s]; its samples are bounded by the sample limit, not here."""
 PHASE_TIME = Bound("a time", "s", 1e-6, 1e9)
@@ -157,6 +164,10 @@ EVENTS = Bound("a count", "", 1.0, 1e12)
 """A cap on momentary events [-]."""
 PERCENT = Bound("a percentage", "%", 0.0, 1e4)
 """A load in % of the rated torque."""
+MARGIN = Bound("a margin", "", 0.0, 0.9)
+"""A design margin [-]: the share of every limit kept in reserve, 0 to 90 %."""
+INERTIA_RATIO = Bound("a ratio", "", 0.0, 1e6, low_open=True)
+"""A load-to-rotor inertia ratio [-], largest allowed or aimed at."""
 
 # --- motors ------------------------------------------------------------------------------------
 MOTOR_TORQUE = TORQUE
@@ -247,3 +258,35 @@ def files_argument(value: object, field: str) -> list[Path]:
     if isinstance(value, str | Path | bytes) or not isinstance(value, Iterable):
         raise InputError(f"expected a list of files, got {value!r}", field=field)
     return [file_argument(item, field) for item in value]
+
+
+SHARE_TOLERANCE = 1e-9
+"""How far the shares of a robot's tasks may sum from 1 [-]."""
+
+
+def check_shares(shares: list[float] | tuple[float, ...], *, field: str = "share",
+                 idle: float = 0.0) -> None:
+    """Shares of operating time are non-negative, finite, not all zero, and sum to 1.
+
+    Args:
+        shares: Each task's fraction of the time [-].
+        field: The field named in messages.
+        idle: The fraction of the time no task runs [-], in [0, 1).
+
+    Raises:
+        InputError: They do not (the message gives the sum).
+    """
+    if not (isinstance(idle, float | int) and math.isfinite(idle) and 0.0 <= idle < 1.0):
+        raise InputError(f"must be a fraction of time in [0, 1), got {idle!r}", field="idle")
+    for i, share in enumerate(shares):
+        if not (isinstance(share, float | int) and not isinstance(share, bool)
+                and math.isfinite(share) and share >= 0.0):
+            raise InputError(f"must be a fraction of time >= 0, got {share!r}",
+                             field=f"{field}[{i}]")
+    total = math.fsum([*shares, idle])
+    if abs(total - 1.0) > SHARE_TOLERANCE:
+        what = "the shares" if idle == 0.0 else f"the shares and the idle time {idle:.12g}"
+        raise InputError(f"{what} sum to {total:.12g}; they must sum to 1 (within "
+                         f"{SHARE_TOLERANCE:g})", field=field)
+    if not any(share > 0.0 for share in shares):
+        raise InputError("every share is 0: some task must run", field=field)

@@ -98,16 +98,34 @@ def sizing_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--life-basis", choices=LIFE_BASES,
                         help="basis of the required life: L50, average life, or L10, 90 %% "
                              "survive it (default: the motion file's, else L50)")
+    margin_argument(parser)
+    parser.add_argument("--max-inertia-ratio", type=float, metavar="R",
+                        help="a gearhead and motor pair whose load-to-rotor inertia ratio is "
+                             "above R is not feasible (default: the motor file's "
+                             "max_inertia_ratio, else none)")
+    parser.add_argument("--inertia-target", type=float, metavar="R",
+                        help="the load-to-rotor inertia ratio --prefer inertia aims at "
+                             f"(default {defaults.inertia_target:g})")
+
+
+def margin_argument(parser: argparse.ArgumentParser) -> None:
+    """--margin: the design margin every rule must keep."""
+    parser.add_argument("--margin", type=float, metavar="M",
+                        help="design margin: every rule must hold at (1 - M) of its limit, "
+                             "e.g. 0.2 for 80 %% (default: the motion file's [requirements] "
+                             "margin, else 0)")
 
 
 _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
                  "rotor_inertia": "--motor-inertia", "motor_mass": "--motor-mass",
                  "prefer": "--prefer", "life_hours": "--life-hours",
-                 "life_basis": "--life-basis", "max_samples": "--max-samples"}
+                 "life_basis": "--life-basis", "max_samples": "--max-samples",
+                 "margin": "--margin", "max_inertia_ratio": "--max-inertia-ratio",
+                 "inertia_target": "--inertia-target"}
 """The command-line option of each field of `hdselect.sizing.options.Options`."""
 
 
-SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile")
+SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile", "hdselect.motion.solve")
 """Loggers whose warnings a sizing result carries (`SizingResult.warnings`)."""
 
 
@@ -133,6 +151,7 @@ def robot_and_motion(args: argparse.Namespace):
     from hdselect.motion.case import robot_for_motion
     from hdselect.motion.mixfile import is_mix_file
     from hdselect.motion.motionfile import load_motion, robot_file_named
+    from hdselect.motion.solve import solve_motion
     from hdselect.robot.model import load_robot
     from hdselect.robot.payload import Payload
 
@@ -182,13 +201,11 @@ def robot_and_motion(args: argparse.Namespace):
         if str(err.field).startswith("mounting") and args.mounting is not None:
             raise InputError(err.reason, field="--mounting") from err
         raise
-    return robot, motion
+    return robot, solve_motion(robot, motion)
 
 
 def _robot_and_mix(args: argparse.Namespace):
     """The robot with the mix's sized joints, and the mix with ``--mounting`` on every task."""
-    from dataclasses import replace
-
     from hdselect.motion.case import robot_for_mix
     from hdselect.motion.mixfile import load_mix, mix_robot_file
     from hdselect.robot.model import load_robot
@@ -204,8 +221,7 @@ def _robot_and_mix(args: argparse.Namespace):
             robot.with_mounting(args.mounting)
         except InputError as err:
             raise InputError(err.reason, field="--mounting") from err
-        mix = replace(mix, tasks=tuple(replace(task, mounting=args.mounting)
-                                       for task in mix.tasks))
+        mix = mix.with_mounting(args.mounting)
     joints, exclude = _names(args.joints), _names(args.exclude)
     try:
         return robot_for_mix(robot, mix, joints=joints, exclude=exclude), mix
@@ -283,7 +299,8 @@ def sizing_options_of(args: argparse.Namespace, motion):
              "rotor_inertia": args.motor_inertia, "motor_mass": args.motor_mass,
              "mass_coupling": not args.no_mass_coupling, "prefer": args.prefer,
              "life_hours": args.life_hours, "life_basis": args.life_basis,
-             "max_samples": args.max_samples}
+             "max_samples": args.max_samples, "margin": args.margin,
+             "max_inertia_ratio": args.max_inertia_ratio, "inertia_target": args.inertia_target}
     if isinstance(motion, Mix) and not args.no_mass_coupling:
         given["mass_coupling"] = None  # the mix file's, else on
     try:

@@ -175,7 +175,7 @@ def mix_fastest(robot: Robot, mix: Mix, units: Mapping[str, Unit | str] | None =
         check = check_tasks(tasks, chosen, options, idle)
         excess = max((c.checks[rule].utilization for joint in check.joints
                       for c in joint.candidates for rule in c.checks if rule != "static"),
-                     default=0.0)
+                     default=0.0) / (1.0 - options.margin)  # of the usable part of a limit
         if check.feasible and excess <= 1.0 - WRITTEN_MARGIN:
             break
         if any(not c.checks["static"].ok for joint in check.joints for c in joint.candidates):
@@ -261,7 +261,8 @@ def pooled_check(paths: Sequence[_Path], name: str, unit: Unit, s: float, option
                             rotor_inertia=options.rotor_inertia, rest=joined("at_rest"))
     demand = weighted_demand(reflection.motor, reflection.motor_torque, qd, unit.ratio, dt)
     return check_unit(load, unit, momentary=reflection.momentary, motor=demand,
-                      life_hours=options.life_hours, life_basis=options.life_basis)
+                      life_hours=options.life_hours, life_basis=options.life_basis,
+                      margin=options.margin)
 
 
 def _smallest_scale(paths: Sequence[_Path], units: Mapping[str, Unit], options: Options,
@@ -276,7 +277,8 @@ def _smallest_scale(paths: Sequence[_Path], units: Mapping[str, Unit], options: 
     for name, unit in units.items():
         for path in paths:
             feasible = _intersect(feasible, list(exact_scales(
-                path.cycles[name], unit, rotor_inertia=options.rotor_inertia)))
+                path.cycles[name], unit, rotor_inertia=options.rotor_inertia,
+                margin=options.margin)))
         if not feasible:
             raise _hopeless(mix, name, "peak", unit)
 

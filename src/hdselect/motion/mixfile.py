@@ -4,6 +4,7 @@ A mix file lists tasks, each a motion file with a share of the operating time (o
 cycles per hour) and, optionally, its own payload and mounting::
 
     robot = "../robots/benchtop6.urdf"   # optional: else the motions' own (all one file)
+    angle_unit = "deg"                   # optional: of a task's base rpy (default deg)
     [[task]]
     motion = "benchtop6_pick_place.toml"
     share = 0.7
@@ -12,27 +13,31 @@ cycles per hour) and, optionally, its own payload and mounting::
     share = 0.3
     payload = {mass = 0.3, com = [0.04, 0, 0.05], frame = "tool0"}
 
-What belongs to the whole duty (the sized joints, the stop time, the required life,
-the motors, the selection order, efficiency, mass coupling, catalogs) comes from
-the command line, else the mix file's ``[sizing]``, ``[requirements]``, ``[safety]``
-and ``[motor]`` tables, else the motion files, which must then agree: a motion
-whose value differs from the mix file's, or from another motion's, is an error
-naming both files (`Mix.duty_value`). Files are relative to the mix file.
+A task's ``mounting`` (a name or a gravity vector) or ``base = {xyz, rpy}`` replaces its
+motion file's; a motion of tool poses is solved for its task's own mounting when it is
+planned (`hdselect.sizing.duty`). What belongs to the whole duty (the sized joints, the
+stop time, the required life, the design margin, the motors, the selection order,
+efficiency, mass coupling, catalogs) comes from the command line, else the mix file's
+``[sizing]``, ``[requirements]``, ``[safety]`` and ``[motor]`` tables, else the motion
+files, which must then agree: a motion whose value differs from the mix file's, or from
+another motion's, is an error naming both files (`Mix.duty_value`). Files are relative
+to the mix file.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 from hdselect.base import bounds
+from hdselect.base.bounds import SHARE_TOLERANCE, check_shares  # noqa: F401  (re-exported)
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.catalog.select import PREFERENCES
 from hdselect.motion.motionfile import (
+    ANGLE_UNITS,
     LIFE_BASES,
     Motion,
     _mounting,
@@ -42,21 +47,21 @@ from hdselect.motion.motionfile import (
 )
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 
-_TOP_KEYS = ("robot", "task", "sizing", "requirements", "safety", "motor")
-_TASK_KEYS = ("motion", "name", "share", "cycles_per_hour", "payload", "mounting")
+_TOP_KEYS = ("robot", "angle_unit", "task", "sizing", "requirements", "safety", "motor")
+_TASK_KEYS = ("motion", "name", "share", "cycles_per_hour", "payload", "mounting", "base")
 _SIZING_KEYS = ("joints", "exclude", "catalog", "prefer", "efficiency", "mass_coupling",
                 "rotor_inertia", "motor_mass")
 _SECTION_OF = {"stop_time": "safety", "life_hours": "requirements",
-               "life_basis": "requirements", "joints": "sizing", "exclude": "sizing",
-               "motors": "motor"}
+               "life_basis": "requirements", "margin": "requirements", "joints": "sizing",
+               "exclude": "sizing", "motors": "motor"}
 """Where each duty-wide value a motion file may also give lives in the mix file."""
 _MOTION_FIELD = {"stop_time": "safety.stop_time", "life_hours": "requirements.life_hours",
-                 "life_basis": "requirements.life_basis", "joints": "sizing.joints",
+                 "life_basis": "requirements.life_basis", "margin": "requirements.margin",
+                 "joints": "sizing.joints",
                  "exclude": "sizing.exclude", "motors": "motor"}
-SHARE_TOLERANCE = 1e-9
-"""How far the shares of a robot's tasks may sum from 1 [-]."""
 SECONDS_PER_HOUR = 3600.0
 """Seconds in the hour that ``cycles_per_hour`` counts in [s]."""
 
@@ -73,7 +78,8 @@ class MixTask:
         cycles_per_hour: How many of its cycles run per hour [1/h], or None.
         payload: The mix file's payload for this task (replacing the motion file's), or
             None to keep the motion file's.
-        mounting: The mix file's mounting for this task, or None for the motion file's.
+        mounting: The mix file's mounting for this task (a name, a gravity vector
+            [m/s^2] or a `hdselect.BasePose`), or None for the motion file's.
     """
 
     motion: Motion
@@ -81,7 +87,7 @@ class MixTask:
     share: float | None
     cycles_per_hour: float | None
     payload: Payload | None = None
-    mounting: str | tuple[float, float, float] | None = None
+    mounting: Mounting | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -127,6 +133,11 @@ class Mix:
         """The tasks give shares (else cycles per hour)."""
         return self.tasks[0].share is not None
 
+    def with_mounting(self, mounting: Mounting) -> Mix:
+        """The mix with one mounting on every task (a command line's ``--mounting``)."""
+        return replace(self, tasks=tuple(replace(task, mounting=mounting)
+                                         for task in self.tasks))
+
     def check_joints(self, robot: Robot) -> None:
         """Check that the mix was read for this robot's joints.
 
@@ -141,8 +152,8 @@ class Mix:
         """A duty-wide value: the mix file's, else the one every motion that gives it agrees on.
 
         Args:
-            name: ``stop_time``, ``life_hours``, ``life_basis``, ``joints``, ``exclude``
-                or ``motors``.
+            name: ``stop_time``, ``life_hours``, ``life_basis``, ``margin``, ``joints``,
+                ``exclude`` or ``motors``.
 
         Returns:
             The value, or None when neither the mix file nor any motion gives it.
@@ -244,12 +255,16 @@ def load_mix(path: str | Path, robot: Robot | str | Path | None = None) -> Mix:
     doc = read_toml(path)
     check_keys(doc, _TOP_KEYS, path, "")
     tables = _task_tables(doc, path)
+    angle_unit = doc.get("angle_unit", "deg")
+    if angle_unit not in ANGLE_UNITS:
+        raise InputError(f"unknown value {angle_unit!r}; choose one of: "
+                         f"{', '.join(ANGLE_UNITS)}", path=path, field="angle_unit")
     if not isinstance(robot, Robot):
         robot = load_robot(robot if robot is not None else mix_robot_file(path))
     motions: dict[Path, Motion] = {}
     tasks: list[MixTask] = []
     for i, table in enumerate(tables):
-        tasks.append(_task(table, path, i, robot, motions))
+        tasks.append(_task(table, path, i, robot, motions, angle_unit))
     names = [task.name for task in tasks]
     for i, name in enumerate(names):
         if name in names[:i]:
@@ -291,7 +306,7 @@ def _motion_path(table: dict[str, Any], path: Path, i: int) -> Path:
 
 
 def _task(table: dict[str, Any], path: Path, i: int, robot: Robot,
-          motions: dict[Path, Motion]) -> MixTask:
+          motions: dict[Path, Motion], angle_unit: str) -> MixTask:
     where = f"task[{i}]"
     check_keys(table, _TASK_KEYS, path, where)
     file = _motion_path(table, path, i)
@@ -320,7 +335,10 @@ def _task(table: dict[str, Any], path: Path, i: int, robot: Robot,
             robot.with_payload(payload)
         except InputError as err:
             raise InputError(err.reason, path=path, field=f"{where}.{err.field}") from err
-    mounting = _mounting(table["mounting"], path) if "mounting" in table else None
+    try:
+        mounting = _mounting(table, path, ANGLE_UNITS[angle_unit], angle_unit)
+    except InputError as err:
+        raise InputError(err.reason, path=path, field=f"{where}.{err.field}") from err
     return MixTask(motion, name.strip(), share, cycles, payload, mounting)
 
 
@@ -334,10 +352,10 @@ def _duty_tables(doc: dict[str, Any], path: Path,
         given["stop_time"] = as_number(safety["stop_time"], path, "safety.stop_time",
                                        bound=bounds.STOP_TIME)
     needs = table_of(doc.get("requirements", {}), path, "requirements")
-    check_keys(needs, ("life_hours", "life_basis"), path, "requirements")
-    if "life_hours" in needs:
-        given["life_hours"] = as_number(needs["life_hours"], path, "requirements.life_hours",
-                                        bound=bounds.LIFE)
+    check_keys(needs, ("life_hours", "life_basis", "margin"), path, "requirements")
+    for key, bound in (("life_hours", bounds.LIFE), ("margin", bounds.MARGIN)):
+        if key in needs:
+            given[key] = as_number(needs[key], path, f"requirements.{key}", bound=bound)
     if "life_basis" in needs:
         if needs["life_basis"] not in LIFE_BASES:
             raise InputError(f"unknown value {needs['life_basis']!r}; choose one of: "
@@ -412,31 +430,3 @@ def _shown(value: Any) -> str:
     if isinstance(value, list | tuple):
         return "[" + ", ".join(map(str, value)) + "]"
     return f"{value:g}" if isinstance(value, float) else str(value)
-
-
-def check_shares(shares: list[float] | tuple[float, ...], *, field: str = "share",
-                 idle: float = 0.0) -> None:
-    """Shares of operating time are non-negative, finite, not all zero, and sum to 1.
-
-    Args:
-        shares: Each task's fraction of the time [-].
-        field: The field named in messages.
-        idle: The fraction of the time no task runs [-], in [0, 1).
-
-    Raises:
-        InputError: They do not (the message gives the sum).
-    """
-    if not (isinstance(idle, float | int) and math.isfinite(idle) and 0.0 <= idle < 1.0):
-        raise InputError(f"must be a fraction of time in [0, 1), got {idle!r}", field="idle")
-    for i, share in enumerate(shares):
-        if not (isinstance(share, float | int) and not isinstance(share, bool)
-                and math.isfinite(share) and share >= 0.0):
-            raise InputError(f"must be a fraction of time >= 0, got {share!r}",
-                             field=f"{field}[{i}]")
-    total = math.fsum([*shares, idle])
-    if abs(total - 1.0) > SHARE_TOLERANCE:
-        what = "the shares" if idle == 0.0 else f"the shares and the idle time {idle:.12g}"
-        raise InputError(f"{what} sum to {total:.12g}; they must sum to 1 (within "
-                         f"{SHARE_TOLERANCE:g})", field=field)
-    if not any(share > 0.0 for share in shares):
-        raise InputError("every share is 0: some task must run", field=field)

@@ -7,16 +7,13 @@ unit (or ``pooled``); and the unit against each task alone beside the duty.
 
 from __future__ import annotations
 
-import html
-from collections.abc import Sequence
-
-from hdselect.catalog.rules import CHECK_LABELS, CHECKS, Candidate
+from hdselect.catalog.checks import CHECK_LABELS, CHECKS
+from hdselect.catalog.rules import Candidate
+from hdselect.report.html_tables import esc, table
 from hdselect.report.mix_tables import POOLED_NOTE, mounting_text, payload_text, spread_notes
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
-
-esc = html.escape
 
 
 def mix_section(result: SizingResult) -> str:
@@ -31,7 +28,7 @@ def mix_section(result: SizingResult) -> str:
     idle = (f"<p>Idle {percent(result.idle)} of the time: a pause, counted only where a "
             "series' rules take the mean speed over the whole cycle, pauses included.</p>"
             if result.idle > 0.0 else "")
-    parts = [_table(["task", "motion", "share", "cycle [s]", "cycles per hour", "payload",
+    parts = [table(["task", "motion", "share", "cycle [s]", "cycles per hour", "payload",
                      "mounting"], rows, left=2, text=[5, 6]), idle]
     if any(joint.per_task for joint in result.joints):
         parts += [_rules(result), _alone(result)]
@@ -73,7 +70,7 @@ def _rules(result: SizingResult) -> str:
             cells.append(esc(text) if check.ok else f"<td class=fail>{esc(text)} ✗</td>")
         rows.append(cells)
     return ("<h3>Which task sets each rule</h3>"
-            + _table(["joint", "unit", *(CHECK_LABELS[name] for name in names)], rows, left=2))
+            + table(["joint", "unit", *(CHECK_LABELS[name] for name in names)], rows, left=2))
 
 
 def _alone(result: SizingResult) -> str:
@@ -92,7 +89,7 @@ def _alone(result: SizingResult) -> str:
     return ("<h3>Each joint's unit against each task alone</h3><p>As if the robot did nothing "
             "else: the rules of single samples reach the duty's in the task that sets them; "
             "the life alone differs from the duty's, which pools the tasks.</p>"
-            + _table(header, rows, left=2) + (f"<ul>{notes}</ul>" if notes else ""))
+            + table(header, rows, left=2) + (f"<ul>{notes}</ul>" if notes else ""))
 
 
 def _cells(candidate: Candidate) -> list[str]:
@@ -101,13 +98,3 @@ def _cells(candidate: Candidate) -> list[str]:
     return [esc(f"{CHECK_LABELS.get(rule, rule)} {utilization_text(check.utilization, check.ok)}"),
             esc(life_text(candidate.life_hours, ""))]
 
-
-def _table(header: Sequence[str], rows: Sequence[Sequence[str]], *, left: int = 1,
-           text: Sequence[int] = ()) -> str:
-    """A table of escaped cells (a cell given as a ``<td ...>`` element keeps it)."""
-    head = "".join(f'<th{" class=t" if i < left or i in text else ""}>{esc(h)}</th>'
-                   for i, h in enumerate(header))
-    body = "".join("<tr>" + "".join(
-        c if c.startswith("<td") else f'<td{" class=t" if i < left or i in text else ""}>{c}</td>'
-        for i, c in enumerate(row)) + "</tr>" for row in rows)
-    return f'<div class="scroll"><table><tr>{head}</tr>{body}</table></div>'

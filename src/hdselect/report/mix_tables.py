@@ -8,21 +8,21 @@ task pooled), and how the unit fares against each task alone.
 
 from __future__ import annotations
 
-import numpy as np
 from rich.markup import escape
 
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, Candidate
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.robot.model import Robot
-from hdselect.robot.mounting import MOUNTINGS
+from hdselect.robot.mounting import mounting_name
 from hdselect.sizing.result import SizingResult
 from hdselect.sizing.tasks import cycle_of
 
 POOLED_NOTE = ("pooled: mean torque, average speed, life and motor RMS pool every task's "
                "samples, each weighted by how often its cycle runs (share / cycle time); "
                "peak, speed, momentary (an emergency stop from every instant of every task, "
-               "and the crash) and static are the worst task's")
+               "and the crash), static and the inertia ratio (the largest load inertia of "
+               "any task) are the worst task's")
 """How the rules combine the tasks, for notes."""
 
 
@@ -36,10 +36,9 @@ def payload_text(robot: Robot) -> str:
 
 
 def mounting_text(robot: Robot) -> str:
-    """A task's mounting: its name, else its gravity vector [m/s^2]."""
-    for name, gravity in MOUNTINGS.items():
-        if np.allclose(robot.gravity, gravity, rtol=0.0, atol=1e-12):
-            return name
+    """A task's mounting: its name, else its base pose, else its gravity vector [m/s^2]."""
+    if robot.base_pose is not None:
+        return mounting_name(robot.base_pose).removeprefix("the ").removesuffix(" mounting")
     return "g = (" + ", ".join(f"{g:.3g}" for g in robot.gravity) + ") m/s^2"
 
 

@@ -17,7 +17,7 @@ from hdselect.catalog.rules import (
     MotorDemand,
 )
 from hdselect.catalog.units import Unit
-from hdselect.report.case_tables import case_notes
+from hdselect.report.case_tables import case_notes, tool_pose_notes
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import (
     life_text,
@@ -309,8 +309,11 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
-    notes += case_notes(result.robot, [task.trajectory for task in result.counted]
-                        if result.counted else result.trajectory)
+    poses = ([f"{task.label}: {note}" for task in result.counted
+              for note in tool_pose_notes(task.motion)] if len(result.counted) > 1
+             else tool_pose_notes(result.motion))
+    notes += poses + case_notes(result.robot, [task.trajectory for task in result.counted]
+                                if result.counted else result.trajectory)
     for joint in result.joints:
         if joint.selected is None:
             strongest = joint.strongest

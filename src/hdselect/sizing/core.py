@@ -27,7 +27,9 @@ from hdselect.motion.case import load_case, robot_for_mix, robot_for_motion
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import check_trajectory, checked_motors, units_argument
 from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
@@ -51,7 +53,7 @@ def size(
     catalog: Sequence[str | Path] = (),
     units: Sequence[Unit] | None = None,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
+    mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
     motors: Motors | None = None,
@@ -109,6 +111,7 @@ def size(
             robot = load_robot(file)
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
                                  joints=joints, exclude=exclude)
+        motion = solve_motion(robot, motion)
     else:
         robot, loaded = load_case(motion, robot, payload=payload, mounting=mounting,
                                   joints=joints, exclude=exclude)
@@ -124,7 +127,7 @@ def size(
 
 def _size_mix(robot: Robot | str | Path | None, mix: Mix | str | Path, *,
               catalog: Sequence[Path], units: Sequence[Unit] | None, payload: Payload | None,
-              mounting: str | Sequence[float] | None, joints: Sequence[str] | None,
+              mounting: Mounting | None, joints: Sequence[str] | None,
               exclude: Sequence[str] | None, motors: Motors | None,
               options: Mapping[str, object]) -> SizingResult:
     """`size` of a mix: every task planned with its own payload and mounting, one duty."""
@@ -290,14 +293,16 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
     found: dict[str, JointSizing] = {}
     for name in reversed(robot.sized_joints):  # a parent's index is below its children's
         tau, stop = model.torques(name, masses)
+        # the load inertia before the selection (the inertia-ratio rule): M_jj depends only
+        # on the bodies beyond the joint, whose units are chosen
+        inertia = model.load_inertia(name, masses) if name in motors else None
         cycle = JointCycle(model.samples, robot.joint_index(name), tau, stop)
         joint = size_joint(name, cycle, units[name], options, motors=motors.get(name, ()),
-                           detail=detail)
+                           detail=detail, load_inertia=inertia)
         if per_task and len(model.samples.tasks) > 1:
+            inertias = model.task_inertias(name, masses) if name in motors else None
             joint = replace(joint, per_task=task_checks(cycle, joint.selected or joint.strongest,
-                                                        options))
-        if name in motors:
-            joint = replace(joint, load_inertia=model.load_inertia(name, masses))
+                                                        options, inertias))
         found[name] = joint
         if options.mass_coupling:
             chosen = joint.selected or joint.strongest

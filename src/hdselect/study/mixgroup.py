@@ -88,6 +88,10 @@ class MixTorques:
         """The joint's largest M_jj over every task's poses [kg m^2]."""
         return max(model.load_inertia(joint, masses) for model in self.models)
 
+    def task_inertias(self, joint: str, masses: Mapping[str, float]) -> tuple[float, ...]:
+        """The joint's largest M_jj over each task's poses [kg m^2], in task order."""
+        return tuple(model.load_inertia(joint, masses) for model in self.models)
+
     def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
         """Every joint against its file's limits over every task."""
         return merged_loads([model.loads(masses) for model in self.models])
