@@ -228,9 +228,28 @@ def pick_inspect():
     return size(None, PICK_INSPECT)
 
 
+@pytest.fixture(scope="module")
+def pick_inspect_rated():
+    """The same day on the example catalog that rates its output bearings."""
+    return size(None, PICK_INSPECT, catalog=[REPO / "catalogs" / "example_rated_bearing.toml"])
+
+
 def test_a_mix_is_never_less_demanding_on_a_rule_of_single_samples(pick_inspect):
+    _never_less_demanding(pick_inspect)
+
+
+def test_a_mix_takes_the_worse_tasks_bearing_loads(pick_inspect_rated):
+    """The bearing's largest moment and forces are rules of single samples too; the task
+    that sets them is named."""
+    _never_less_demanding(pick_inspect_rated)
+    rated = [joint for joint in pick_inspect_rated.joints
+             if joint.selected.unit.bearing is not None]
+    assert rated and all(joint.setting_task("bearing_moment") is not None for joint in rated)
+    assert all("bearing_moment" in joint.selected.checks for joint in rated)
+
+
+def _never_less_demanding(result) -> None:
     """Each task alone, checked with the mix's units by `check_units` (another path)."""
-    result = pick_inspect
     units = {joint.name: joint.selected.unit for joint in result.joints}
     for k, task in enumerate(result.counted):
         alone = check_units(task.robot, task.trajectory, units, result.options)

@@ -42,7 +42,7 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     fig = Figure(figsize=(11, 6.6), layout="constrained")
     speed_ax, torque_ax = fig.subplots(2, 1, sharex=True)
     for ax in (speed_ax, torque_ax):
-        for start, end in _runs(rest, t, traj.dt):
+        for start, end in rest_spans(rest, t, traj.dt):
             ax.axvspan(start, end, color="0.88", lw=0, zorder=0)
         for start, _, _ in spans[1:]:
             ax.axvline(start, color="0.3", lw=0.8, ls="--")
@@ -239,7 +239,7 @@ def timeline(result: SizingResult, j: int
     return np.concatenate(times), np.concatenate(speeds), np.concatenate(rests), spans
 
 
-def _runs(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, float]]:
+def rest_spans(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, float]]:
     """The time spans [s] where `mask` holds, each sample standing for one period."""
     edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
     return [(float(t[a]) - dt / 2, float(t[b - 1]) + dt / 2)

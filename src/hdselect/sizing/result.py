@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from hdselect.catalog.bearing_rules import BearingLoad
 from hdselect.catalog.motor_rules import inertia_ratio
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import PER_SAMPLE_CHECKS, Candidate, CycleLoad
@@ -15,6 +16,7 @@ from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.options import Options
 from hdselect.sizing.tasks import Task
@@ -52,6 +54,13 @@ class JointSizing:
         per_task: Where several tasks count, the selected candidate (else the strongest)
             checked against each counted task's samples alone, in the order of the
             result's counted tasks; empty for one task.
+        bearing: The loads on the joint's output bearing over the cycle, about its output
+            flange (the joint origin, or the options' ``bearing_offset``); None where
+            not computed. A unit that rates its bearing is checked about its own centre
+            (`hdselect.catalog.rules.Candidate.bearing`).
+        wrench: The force and moment through the joint along the samples, in its axis
+            frame about the joint origin (`SampledWrench.full` gives them per sample,
+            rows as `hdselect.robot.wrenches.axis_wrenches`); None where not computed.
     """
 
     name: str
@@ -68,6 +77,8 @@ class JointSizing:
     load_inertia: float | None = None
     motor_torque: np.ndarray | None = None
     per_task: tuple[Candidate, ...] = ()
+    bearing: BearingLoad | None = None
+    wrench: SampledWrench | None = None
 
     def setting_task(self, rule: str) -> int | None:
         """The counted task that sets a rule of single samples: its index, else None.

@@ -28,7 +28,8 @@ from hdselect.motion.mixfile import Mix, is_mix_file, load_mix, mix_robot_file
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.arguments import checked_motors
+from hdselect.sizing.arguments import check_bearing_options, checked_motors
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.core import select_units, size_tasks
 from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
 from hdselect.sizing.loads import JointLoad, merged_loads
@@ -91,6 +92,21 @@ class MixTorques:
     def task_inertias(self, joint: str, masses: Mapping[str, float]) -> tuple[float, ...]:
         """The joint's largest M_jj over each task's poses [kg m^2], in task order."""
         return tuple(model.load_inertia(joint, masses) for model in self.models)
+
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> SampledWrench | None:
+        """The force and moment through a sized joint along the pooled samples [N, N m]."""
+        parts = [model.wrench(joint, masses) for model in self.models]
+        if any(part is None for part in parts):
+            return None
+        full = [part.full() for part in parts if part is not None]
+        return SampledWrench(np.concatenate(full, axis=1))
+
+    def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The wrench holding each pooled sample's pose still [N, N m], (5, n)."""
+        parts = [model.gravity_wrench(joint, masses) for model in self.models]
+        if any(part is None for part in parts):
+            return None
+        return np.concatenate([part for part in parts if part is not None], axis=1)
 
     def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
         """Every joint against its file's limits over every task."""
@@ -261,6 +277,7 @@ def size_mix_case(bases: Sequence[Basis], mix: Mix, case: Case, units: Sequence[
     if options.prefer is None:
         options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
                           else DEFAULT_PREFER)
+    check_bearing_options(bases[0].robot, units, options)
     payloads = case_payloads(case, mix)
     shares = case_shares(case, mix)
     if shares is None:
@@ -282,7 +299,8 @@ def size_mix_case(bases: Sequence[Basis], mix: Mix, case: Case, units: Sequence[
         task = Task(basis.robot, timing, shares[k], item.motion, item.name)
         tasks.append(task)
         if task.share > 0.0:
-            model = BasisTorques(basis, mass, case.time_scale, options.stop_time)
+            model = BasisTorques(basis, mass, case.time_scale, options.stop_time,
+                                 wrenches=options.bearing_loads)
             model.samples = replace(model.samples, tasks=(task,))
             models.append(model)
     pooled = MixTorques(models)
