@@ -247,8 +247,7 @@ def joint_bounds(carrying: Robot, payload: Payload, trajectory: Trajectory,
         tau0, stop0 = empty.tau[:, j], empty.stop[:, j]
         tau1 = _per_kg(loaded.tau[:, j], tau0)
         stop1 = _per_kg(loaded.stop[:, j], stop0)
-        moving = ~at_rest(qd[:, j], qdd[:, j])
-        cubic = CubicMean(tau0, tau1, np.abs(qd[:, j]) * trajectory.dt * moving)
+        cubic = joint_mean(trajectory.dt, at_rest(qd[:, j], qdd[:, j]), qd[:, j], tau0, tau1)
         out[name] = tuple(_unit_bound(unit, trajectory, qd[:, j], qdd[:, j], tau0, tau1, stop0,
                                       stop1, options, cubic) for unit in units)
     return out
@@ -271,10 +270,51 @@ def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndar
                 options: Options, cubic: CubicMean | None = None) -> UnitBound:
     """Every rule of `hdselect.catalog.rules.check_unit` as an interval of payload mass [kg].
 
-    `cubic`: the joint's cubic mean torque (`CubicMean` of tau0, tau1 and |qd| dt over
-    the moving samples), shared by its units; None builds it.
+    `cubic`: the joint's cubic mean torque (`joint_mean`), shared by its units; None
+    builds it.
     """
-    rest = at_rest(qd, qdd)
+    return unit_bound(unit, trajectory.dt, at_rest(qd, qdd), qd, tau0, tau1, stop0, stop1,
+                      options, cubic=cubic)
+
+
+def joint_mean(dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray, tau0: np.ndarray,
+               tau1: np.ndarray) -> CubicMean:
+    """A joint's cubic mean torque as a function of x, tau = tau0 + x tau1 [N m].
+
+    The catalog's weights, |qd| dt over the moving samples, do not depend on the unit:
+    one `CubicMean` (one sort of the samples' roots) serves every unit of the joint.
+
+    Args:
+        dt: What each sample stands for [s], a number or (n,).
+        rest: Where the joint is held still, (n,).
+        qd: The joint's speed [rad/s], (n,).
+        tau0: Torque at x = 0 [N m], (n,).
+        tau1: Its change per unit of x [N m], (n,).
+    """
+    step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
+    return CubicMean(tau0, tau1, np.abs(qd) * step * ~rest)
+
+
+def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray,
+               tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
+               options: Options, idle: float = 0.0, *,
+               cubic: CubicMean | None = None) -> UnitBound:
+    """Every rule of `check_unit` as an interval of x, with tau = tau0 + x tau1 [N m].
+
+    Args:
+        unit: The unit.
+        dt: What each sample stands for [s] (pooled samples: `hdselect.sizing.tasks`).
+        rest: Where the joint is held still, (n,).
+        qd: The joint's speed [rad/s], (n,).
+        tau0: Torque at x = 0 [N m], (n,).
+        tau1: Its change per unit of x [N m], (n,).
+        stop0: Emergency-stop torque at x = 0 [N m], (n,).
+        stop1: Its change per unit of x [N m], (n,).
+        options: The assumptions.
+        idle: Time at rest no sample stands for [s] (a pause in a whole-cycle mean speed).
+        cubic: The joint's mean torque (`joint_mean` of the same samples), shared by its
+            units; None builds it.
+    """
     moving = ~rest
     speed = np.abs(qd)
     gain = (unit.input_inertia + options.rotor_inertia) * unit.ratio**2 / options.stop_time
@@ -285,14 +325,14 @@ def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndar
         "momentary": _meet(_within(stop0, stop1, unit.momentary_torque * usable),
                            _within(tau0, tau1, unit.momentary_torque * usable - gain * speed)),
     }
-    dt = trajectory.dt
-    weight = speed * dt * moving
-    mean: CubicMean | None = None
-    moving_time = float(dt * moving.sum())
+    step = np.broadcast_to(np.asarray(dt, dtype=float), speed.shape)
+    weight = speed * step * moving
+    moving_time = float(step[moving].sum())
     travel = float(weight.sum())
     mean_speed = travel / moving_time if moving_time > 0.0 else 0.0
     rules = unit.rules
-    cycle_speed = travel / (dt * len(qd)) if len(qd) else 0.0
+    whole = float(step.sum()) + idle
+    cycle_speed = travel / whole if whole > 0.0 else 0.0
     n_av = (mean_speed if rules.mean_speed == "moving" else cycle_speed) * RPM_PER_RAD_S \
         * unit.ratio
     everything: Interval = (-math.inf, math.inf)
@@ -302,7 +342,7 @@ def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndar
     ends["average_speed"] = everything if average is None or n_av <= average * usable else None
     if travel > 0.0:
         allowed, _ = allowable_mean_torque(unit, n_av)
-        mean = CubicMean(tau0, tau1, weight) if cubic is None else cubic
+        mean = joint_mean(dt, rest, qd, tau0, tau1) if cubic is None else cubic
         ends["mean"] = mean.at_most(allowed * usable)
         if options.life_hours is not None:  # required / expected <= usable
             required = (options.life_hours / usable
