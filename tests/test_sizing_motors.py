@@ -451,3 +451,32 @@ def test_the_selection_without_detail_is_the_one_among_every_pair(prefer, margin
         assert np.array_equal(pruned.motor_torque, full.motor_torque)
         assert pruned.bearing == full.bearing
     assert (none_fits > 0) == (mass is not None)  # both branches: a pair found, none found
+
+
+def test_the_motor_peak_judged_once_per_dwell_is_the_one_of_every_sample():
+    """A second method: `check_motor` on every sample against once per run of identical
+    samples (`Reflection.distinct_motor_torque`), on the benchtop motion's dwells, for
+    every unit and motor (a motor with a speed curve among them)."""
+    from hdselect.catalog.motor_rules import check_motor
+    from hdselect.robot.dynamics import inverse_dynamics
+    from hdselect.sizing.reflect import reflect_motors
+
+    robot, motion = load_case(BENCHTOP)
+    trajectory = plan(robot, motion)
+    torques = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+    units = load_catalog()
+    motors = load_motors(EXAMPLE)
+    j = robot.joint_index("shoulder_lift")
+    qd, qdd = trajectory.qd[:, j], trajectory.qdd[:, j]
+    behind = reflect_motors(units, [m.rotor_inertia for m in motors], trajectory.t,
+                            torques[:, j], qd, qdd, torques[:, j], stop_time=0.1,
+                            efficiency=ETA)
+    speed = np.abs(qd) * RPM
+    assert any(m.curve is not None for m in motors)
+    for m, motor in enumerate(motors):
+        for r in behind[m]:
+            torque, starts = r.distinct_motor_torque()
+            assert starts is not None and len(starts) < len(qd) / 2  # dwells merged
+            every = check_motor(motor, r.motor_torque, speed * r.unit.ratio, r.motor)
+            once = check_motor(motor, torque, (speed * r.unit.ratio)[starts], r.motor)
+            assert once == every

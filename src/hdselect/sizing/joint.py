@@ -229,19 +229,23 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearin
                             stop_time=options.stop_time, efficiency=options.efficiency,
                             rest=cycle.rest)
     speed = np.abs(cycle.qd) * RPM_PER_RAD_S
-    pairs, torque = [], {}
+    pairs, reflections = [], {}
     for u, unit in enumerate(units):
+        input_speed = speed * unit.ratio
         for m, motor in enumerate(motors):
             r = behind[m][u]
-            pair = with_motor(_candidate(load, r, cycle, bearings, options), motor,
-                              r.motor_torque, speed * unit.ratio, load_inertia=load_inertia,
+            torque, starts = r.distinct_motor_torque()  # the motor's peak: once per dwell
+            pair = with_motor(_candidate(load, r, cycle, bearings, options), motor, torque,
+                              input_speed if starts is None else input_speed[starts],
+                              load_inertia=load_inertia,
                               max_inertia_ratio=options.max_inertia_ratio)
             pairs.append(pair)
-            torque[id(pair)] = r.motor_torque
+            reflections[id(pair)] = r
     selected = select(pairs, _prefer(options), inertia_target=options.inertia_target)
     joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0,
                         readonly(cycle.torque), readonly(cycle.stop), load_inertia=load_inertia)
-    return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
+    chosen = reflections[id(selected or joint.strongest)]
+    return replace(joint, motor_torque=frozen(chosen.motor_torque))
 
 
 def _selected_pair(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,

@@ -52,6 +52,7 @@ class Reflection:
         repr=False)
     _torque: np.ndarray | None = field(default=None, repr=False)
     _expand: np.ndarray | None = field(default=None, repr=False)
+    _starts: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def motor_torque(self) -> np.ndarray:
@@ -65,6 +66,17 @@ class Reflection:
             return self._torque if self._expand is None else self._torque[self._expand]
         tau, qd, qdd, efficiency, rotor_inertia, rest = self._cycle
         return _motor_torques([self.unit], tau, qd, qdd, efficiency, rotor_inertia, rest)[0]
+
+    def distinct_motor_torque(self) -> tuple[np.ndarray, np.ndarray | None]:
+        """Motor torque once per run of identical samples [N m], and each run's first sample.
+
+        A run's samples are identical, so a rule of single samples (the motor's peak at
+        its speed) judged on these is judged on every sample, first worst sample first.
+        Where the reflection keeps no runs: every sample, and None.
+        """
+        if self._torque is not None and self._starts is not None:
+            return self._torque, self._starts
+        return self.motor_torque, None
 
 
 def reflect(
@@ -197,7 +209,8 @@ def reflect_motors(
             torque = kept[k]
             behind.append(Reflection(unit, demand, event,
                                      (tau, qd, qdd, efficiency, rotor_inertia, resting),
-                                     None if torque is None else torque[row], expand))
+                                     None if torque is None else torque[row], expand,
+                                     None if counts is None else starts))
         out.append(behind)
     return out
 
