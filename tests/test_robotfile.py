@@ -216,15 +216,14 @@ def test_followers_follow_their_leader_and_get_no_gearhead(tmp_path):
                                           - each[ids["right_outer"]], rel=1e-12, abs=1e-12)
 
 
-def test_a_follower_cannot_be_sized_or_given_a_value(tmp_path):
+def test_a_follower_cannot_be_sized_or_given_a_limit(tmp_path):
     robot = load_robot(gripper(tmp_path))
     with pytest.raises(InputError, match="'left_inner' follows 'finger_joint' \\(mimic\\)"):
         robot.with_sized_joints(["arm_joint", "left_inner"])
     motion = tmp_path / "m.toml"
     motion.write_text('robot = "gripper.urdf"\nplanner = "ruckig"\nangle_unit = "deg"\n'
-                      "[limits]\nacceleration = 100\njerk = 1000\n[[waypoint]]\n"
-                      "q = {arm_joint = 0, finger_joint = 0, left_inner = 0}\n"
-                      "[[waypoint]]\nq = [10, 10]\n")
+                      "[limits]\nacceleration = 100\njerk = 1000\nvelocity = {left_inner = 1}\n"
+                      "[[waypoint]]\nq = [0, 0]\n[[waypoint]]\nq = [10, 10]\n")
     with pytest.raises(InputError, match="follows 'finger_joint' \\(mimic\\); give its leader"):
         hdselect.load_motion(motion)
 

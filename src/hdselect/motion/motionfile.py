@@ -31,6 +31,7 @@ from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import check_keys, join, number, read_toml, table_of
 from hdselect.catalog.motors import Motor
+from hdselect.motion.followers import check_waypoint_followers
 from hdselect.motion.limits import (
     JointLists,
     beyond_robot,
@@ -41,6 +42,12 @@ from hdselect.motion.limits import (
 )
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
+from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: public here too)
+    load_named,
+    named_file,
+    robot_file_named,
+    xacro_args_of,
+)
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.robot.payload import Payload
@@ -56,8 +63,8 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
 
 
-_TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "limits", "safety",
-             "requirements", "waypoint", "samples", "sizing", "motor")
+_TOP_KEYS = ("robot", "xacro_args", "planner", "angle_unit", "dt", "mounting", "payload",
+             "limits", "safety", "requirements", "waypoint", "samples", "sizing", "motor")
 
 
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
@@ -198,13 +205,15 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
     file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
-    robot_file = _robot_file(doc, path)
-    if not isinstance(robot, Robot):
-        file = robot if robot is not None else robot_file
-        if file is None:
+    robot_file = named_file(doc, path)
+    xacro_args = xacro_args_of(doc, path)
+    if robot is None:
+        if robot_file is None:
             raise InputError("no robot given: set the key or pass a robot file",
                              path=path, field="robot")
-        robot = load_robot(file)
+        robot = load_named(robot_file, xacro_args, path)
+    elif not isinstance(robot, Robot):
+        robot = load_robot(robot)
     scale = np.where(robot.revolute, unit, 1.0)
     units = [("deg" if unit != 1.0 else "rad") if r else "m" for r in robot.revolute]
     limits = table_of(doc.get("limits", {}), path, "limits")
@@ -239,12 +248,13 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
             raise InputError("planner 'samples' takes its motion from [samples] file; remove "
                              "the waypoints", path=path, field="waypoint")
         waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
-        samples = _samples(doc, path, robot, scale, units)
+        samples = _samples(doc, path, robot, scale, units, (unit, angle_unit))
     else:
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
                              field="samples")
-        waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units, lists)
+        waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units, lists,
+                                       (unit, angle_unit))
     warnings += lists.warnings()
     for warning in warnings:
         logger.warning("%s: %s", path, warning)
@@ -290,33 +300,6 @@ def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
             values[key] = number(table, key, path, section,
                                  bound=bounds.STOP_TIME if key == "stop_time" else bounds.LIFE)
     return values
-
-
-def _robot_file(doc: dict[str, Any], path: Path) -> Path | None:
-    """The file's ``robot``, resolved against the motion file's folder, if given."""
-    if "robot" not in doc:
-        return None
-    if not isinstance(doc["robot"], str):
-        raise InputError("expected a file name", path=path, field="robot")
-    robot = path.parent / doc["robot"]
-    if not robot.is_file():
-        raise InputError(f"robot file not found: {robot}", path=path, field="robot")
-    return robot
-
-
-def robot_file_named(path: str | Path) -> Path:
-    """The robot file a motion file names, for loading the robot before the motion.
-
-    Raises:
-        InputError: The motion file is unreadable or names no robot file that exists.
-    """
-    path = bounds.file_argument(path, "motion")
-    doc = read_toml(path)
-    robot = _robot_file(doc, path)
-    if robot is None:
-        raise InputError("no robot given: set the key or pass a robot file",
-                         path=path, field="robot")
-    return robot
 
 
 def _payload(value: Any, path: Path) -> Payload:
@@ -365,7 +348,12 @@ def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[st
 
 
 def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: list[str],
-               lists: JointLists):
+               lists: JointLists, angle: tuple[float, str]):
+    """The waypoints [rad or m] and dwells [s], each within every joint's limits.
+
+    Followers' limits included; a table may list a mimic follower's value if it agrees
+    with its leader's.
+    """
     if not isinstance(value, list) or len(value) < 2:
         raise InputError("give at least two [[waypoint]] tables", path=path, field="waypoint")
     points, dwells = [], []
@@ -378,7 +366,11 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
         if not isinstance(table["q"], list | dict):
             raise InputError("expected a list or a table keyed by joint name", path=path,
                              field=f"{where}.q")
-        given = per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
+        positions, followers = table["q"], {}
+        if isinstance(positions, dict):
+            followers = {k: v for k, v in positions.items() if k in robot.mimic}
+            positions = {k: v for k, v in positions.items() if k not in robot.mimic}
+        given = per_joint(positions, robot, path, f"{where}.q", bound=bounds.POSITION,
                            scale=scale, units=units, lists=lists)
         q = given * scale
         for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):
@@ -390,13 +382,14 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
                 f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
                 + (f" ({lists.order})" if listed else ""),
                 path=path, field=f"{where}.q{key}")
+        check_waypoint_followers(robot, q, followers, angle, path, f"{where}.q")
         points.append(q)
         dwells.append(number(table, "dwell", path, where, default=0.0, bound=bounds.DWELL))
     return np.array(points), np.array(dwells)
 
 
 def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
-             units: list[str]) -> SampleLog:
+             units: list[str], angle: tuple[float, str]) -> SampleLog:
     table = table_of(doc.get("samples", {}), path, "samples")
     check_keys(table, ("file",), path, "samples")
     if not isinstance(table.get("file"), str):
@@ -405,4 +398,4 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
     log = path.parent / table["file"]
     if not log.is_file():
         raise InputError(f"log file not found: {log}", path=path, field="samples.file")
-    return read_log(log, robot, scale, units)
+    return read_log(log, robot, scale, units, angle)

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.robot.checks import check_bodies, check_geometry
 from hdselect.robot.pinurdf import build_urdf
@@ -57,6 +58,7 @@ class Mimic:
         offset: Follower position when the leader is at zero [rad or m].
         lower: The follower's own lower position limit [rad or m] (-inf: none).
         upper: The follower's own upper position limit [rad or m] (+inf: none).
+        revolute: The follower turns (False: it slides; its positions are in m).
     """
 
     leader: str
@@ -64,6 +66,7 @@ class Mimic:
     offset: float
     lower: float = -math.inf
     upper: float = math.inf
+    revolute: bool = True
 
     def follow(self, leader: np.ndarray) -> np.ndarray:
         """The follower's positions for the leader's [rad or m]."""
@@ -206,7 +209,8 @@ def _urdf_mimic(model: pin.Model, tree: UrdfTree, path: Path) -> dict[str, Mimic
         lower, upper = -math.inf, math.inf
         if not unlimited(written) and written.limit is not None:
             lower, upper = written.limit.lower, written.limit.upper
-        mimic[name] = Mimic(model.names[leader], given.multiplier, given.offset, lower, upper)
+        mimic[name] = Mimic(model.names[leader], given.multiplier, given.offset, lower, upper,
+                            written.kind != "prismatic")
     return mimic
 
 
@@ -224,10 +228,14 @@ def _read_mjcf(path: Path) -> RobotFile:
         if leader_id > follower_id or model.joints[follower_id].nq != 1:
             uncoupled.append(follower)
             continue
+        field = f"equality[{coupling.equality}]"
+        bounds.MIMIC_MULTIPLIER.check(coupling.multiplier, path=path, field=f"{field}.polycoef")
+        bounds.POSITION.check(coupling.offset, path=path, field=f"{field}.polycoef")
         iq = model.joints[follower_id].idx_q
         lower, upper = float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])
+        slides = model.joints[follower_id].shortname().startswith(("JointModelP",))
         mimic[follower] = Mimic(coupling.leader, coupling.multiplier, coupling.offset,
-                                lower, upper)
+                                lower, upper, not slides)
     for follower in sorted(mimic, key=model.getJointId, reverse=True):
         model = _made_mimic(model, follower, mimic[follower])
     if mimic:

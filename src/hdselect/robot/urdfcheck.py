@@ -24,8 +24,6 @@ from hdselect.robot.urdfxml import MOVABLE, UrdfJoint, UrdfTree
 
 TOLERANCE = 1e-9
 """Agreement asked of Pinocchio's numbers and the file's, relative to their scale [-]."""
-_AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]),
-         "Z": np.array([0.0, 0.0, 1.0])}
 
 
 def check_model(model: pin.Model, tree: UrdfTree, path: Path) -> None:
@@ -144,13 +142,14 @@ def _same_placement(theirs: pin.SE3, ours: pin.SE3, path: Path, field: str) -> N
 
 
 def _same_axis(model: pin.Model, joint_id: int, joint: UrdfJoint, path: Path) -> None:
-    kind = model.joints[joint_id].shortname().removeprefix("JointModel")
-    if kind == "Mimic":
+    """The joint's motion subspace is the file's axis, normalised (angular for a rotation)."""
+    pin_joint = model.joints[joint_id]
+    if pin_joint.shortname() == "JointModelMimic":
         return  # the axis is the follower's own; its numbers were checked as read
-    if kind[-1] in _AXES and kind[:-1] in ("R", "RUB", "P"):
-        axis = _AXES[kind[-1]]
-    else:
-        axis = np.array(model.joints[joint_id].extract().axis)
+    data = pin_joint.createData()
+    pin_joint.calc(data, pin.neutral(model))
+    subspace = np.array(data.S).ravel()
+    axis = subspace[:3] if joint.kind == "prismatic" else subspace[3:]
     ours = joint.axis / np.linalg.norm(joint.axis)
     if np.abs(axis - ours).max() > TOLERANCE:
         raise InputError(f"Pinocchio's axis is {_text(axis)}, the file's {_text(joint.axis)}",

@@ -84,6 +84,9 @@ def expand_xacro(path: Path, arguments: Mapping[str, str]) -> tuple[str, list[st
             document = xacro.process_file(str(path), mappings=dict(arguments))
         except Exception as err:  # xacro evaluates the file's Python expressions: any error
             reason = " ".join(str(err).split()) or type(err).__name__
+            if "package://" in reason or "$(find" in reason or "rospkg" in reason:
+                reason += " (ROS package paths need a ROS installation; give paths relative " \
+                          "to the including file)"
             raise InputError(f"xacro cannot expand it: {reason}", path=path) from err
     warnings = [" ".join(line.split()) for line in printed.getvalue().splitlines()
                 if line.strip() and not line.startswith(("when processing file:", "in file:",
