@@ -7,7 +7,8 @@ from pathlib import Path
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
-from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
+from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.robot_named import load_motion_robot
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.payload import Payload
 
@@ -88,7 +89,8 @@ def load_case(
 
     Args:
         motion: The motion file.
-        robot: The robot or its file; None loads the motion file's ``robot``.
+        robot: The robot or its file; None loads the motion file's ``robot`` (a ``.xacro``
+            with the motion file's ``xacro_args``).
         payload: Payload overriding the motion file's.
         mounting: Mounting overriding the motion file's.
         joints: Joints to size, overriding the file's ``[sizing] joints``.
@@ -103,8 +105,10 @@ def load_case(
     motion_path = bounds.file_argument(motion, "motion")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
                        "a Robot, a robot file or None")
-    if not isinstance(robot, Robot):
-        robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
+    if robot is None:
+        robot = load_motion_robot(motion_path)
+    elif not isinstance(robot, Robot):
+        robot = load_robot(robot)
     loaded = load_motion(motion, robot)
     return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
                             joints=joints, exclude=exclude), loaded

@@ -20,7 +20,7 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -125,6 +125,7 @@ class Motion:
         motors: The file's ``[motor]``: candidate motors per rotary joint (one for a
             fixed motor), or None when it gives none.
         motor_joints: The joints the file gives a ``[motor.JOINT]`` block of their own.
+        xacro_args: The file's ``xacro_args`` for the ``.xacro`` robot it names.
     """
 
     path: Path
@@ -151,6 +152,7 @@ class Motion:
     warnings: tuple[str, ...] = ()
     motors: Mapping[str, tuple[Motor, ...]] | None = None
     motor_joints: tuple[str, ...] = ()
+    xacro_args: Mapping[str, str] = field(default_factory=dict)
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
@@ -272,6 +274,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         warnings=tuple(warnings), motors=motors,
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
+        xacro_args=xacro_args,
     )
 
 

@@ -104,8 +104,9 @@ def open_limits(model: pin.Model, tree: UrdfTree) -> list[str]:
         opened.append(joint.name)
     if not opened:
         return []
-    return [f"{', '.join(opened)}: position limits 0 .. 0 in the file (no range given): "
-            "treated as unlimited, as a continuous joint"]
+    which = f"joint{'s' if len(opened) > 1 else ''} {', '.join(opened)}"
+    return [f"{which}: the file's position limits are 0 .. 0 (no range given): treated as "
+            "unlimited, as a continuous joint"]
 
 
 def unlimited(joint: UrdfJoint) -> bool:

@@ -37,8 +37,9 @@ from hdselect.codesign.fastest_cycle import fastest, resolve_units
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
 from hdselect.motion.case import robot_for_motion
-from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
+from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.robot_named import robot_source
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import motion_motors, size_trajectory
@@ -125,20 +126,22 @@ class _Inputs:
     """Robots, motions and catalogs read once per worker task, keyed by file."""
 
     def __init__(self) -> None:
-        self.robots: dict[Path, Robot] = {}
-        self.motions: dict[tuple[Path, Path], Motion] = {}
+        self.robots: dict[tuple[Path, tuple[tuple[str, str], ...]], Robot] = {}
+        self.motions: dict[tuple[Path, tuple[Path, tuple[tuple[str, str], ...]]], Motion] = {}
         self.units: dict[tuple[tuple[Path, ...], int | None], tuple[Unit, ...]] = {}
         self.motor_files: dict[Path, tuple[Motor, ...]] = {}
 
     def case(self, case: Case) -> tuple[Robot, Motion, Payload | None]:
         """The bare robot, the motion and the case's payload."""
-        robot_file = case.robot if case.robot is not None else robot_file_named(case.motion)
-        if robot_file not in self.robots:
-            self.robots[robot_file] = load_robot(robot_file)
-        robot = self.robots[robot_file]
-        if (case.motion, robot_file) not in self.motions:
-            self.motions[case.motion, robot_file] = load_motion(case.motion, robot)
-        motion = self.motions[case.motion, robot_file]
+        robot_file, arguments = (case.robot, {}) if case.robot is not None else \
+            robot_source(case.motion)
+        key = (robot_file, tuple(sorted(arguments.items())))
+        if key not in self.robots:
+            self.robots[key] = load_robot(robot_file, xacro_args=arguments)
+        robot = self.robots[key]
+        if (case.motion, key) not in self.motions:
+            self.motions[case.motion, key] = load_motion(case.motion, robot)
+        motion = self.motions[case.motion, key]
         return robot, motion, case.payload_for(motion.payload)
 
     def catalog(self, case: Case) -> tuple[Unit, ...]:
