@@ -25,13 +25,15 @@ from hdselect.base.errors import InputError
 logger = logging.getLogger(__name__)
 
 
-def build_urdf(path: Path, text: str | None, *, mimic: bool) -> pin.Model:
+def build_urdf(path: Path, text: str | None, *, mimic: bool,
+               said: list[str] | None = None) -> pin.Model:
     """Pinocchio's model of a URDF file, or of its expanded text.
 
     Args:
         path: The robot file (read by Pinocchio when `text` is None; named in messages).
         text: The URDF document to read instead of the file (an expanded xacro).
         mimic: Build mimic joints as followers of their leaders.
+        said: Where to put what urdfdom printed (errors it recovered from), one line each.
 
     Returns:
         The model, with the file's armature, damping and friction as Pinocchio reads them.
@@ -56,6 +58,8 @@ def build_urdf(path: Path, text: str | None, *, mimic: bool) -> pin.Model:
         raise InputError(f"not a valid URDF robot: {reason}", path=path) from error
     for line in _messages(printed, source):
         logger.info("%s: parser: %s", path, line)
+        if said is not None:
+            said.append(line)
     return model
 
 

@@ -174,18 +174,25 @@ def _read_urdf(path: Path, text: str | None, root: Element | None, notes: list[s
                          path=path)
     tree = read_urdf_tree(root, path)
     uncoupled: tuple[str, ...] = ()
+    said: list[str] = []
     try:
-        model = build_urdf(path, text, mimic=True)
+        model = build_urdf(path, text, mimic=True, said=said)
     except InputError as err:
         if "mimic" not in err.reason:
             raise
-        model = build_urdf(path, text, mimic=False)
+        model = build_urdf(path, text, mimic=False, said=said)
         uncoupled = tuple(name for name, joint in tree.joints.items()
                           if joint.mimic is not None and model.existJointName(name))
         notes.append(f"Pinocchio cannot couple the mimic joints ({err.reason.split(': ', 1)[-1]}"
                      f"): {', '.join(uncoupled)} move as independent joints here, carry their "
                      "own load and are not sized unless named")
-    check_model(model, tree, path)
+    try:
+        check_model(model, tree, path)
+    except InputError as err:
+        if not said:
+            raise
+        raise InputError(f"{err.reason}; urdfdom said: {said[0]}", path=path,
+                         field=err.field) from err
     mimic = _urdf_mimic(model, tree, path)
     notes += open_limits(model, tree)
     order = _file_joint_order(tree, model, mimic)
