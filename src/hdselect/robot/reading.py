@@ -262,8 +262,8 @@ def _made_mimic(model: pin.Model, follower: str, mimic: Mimic) -> pin.Model:
     """The model with `follower` turned into a mimic joint of its leader."""
     follower_id = model.getJointId(follower)
     iq = model.joints[follower_id].idx_q
-    configurations = {name: np.delete(np.array(q), iq)
-                      for name, q in model.referenceConfigurations}
+    configurations = {entry.key(): np.delete(np.array(entry.data()), iq)
+                      for entry in model.referenceConfigurations}
     model = pin.transformJointIntoMimic(model, model.getJointId(mimic.leader), follower_id,
                                         mimic.multiplier, mimic.offset)
     for name, q in configurations.items():
