@@ -170,9 +170,9 @@ def check_logged_followers(robot: Robot, columns: dict[str, np.ndarray],
                              "agree with", path=log, field=column)
         leader = arrays[kind][:, robot.joint_index(mimic.leader)]
         expected = (mimic.follow(leader) if kind == "q" else mimic.multiplier * leader) / scale
-        off = np.abs(values - expected)
-        k = int(np.argmax(off))
-        if not off[k] <= AGREEMENT:
+        disagree = np.flatnonzero(~(np.abs(values - expected) <= AGREEMENT))
+        if disagree.size:
+            k = int(disagree[0])
             per = {"q": "", "qd": "/s", "qdd": "/s^2"}[kind]
             raise InputError(f"{where(k + 1)}: {values[k]:g} {unit}{per} for "
                              f"{describe(robot, name)} disagrees with its leader, which puts it "

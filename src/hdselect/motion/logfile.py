@@ -118,7 +118,7 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str],
         if kind == "q":
             _check_limits(log, header_line, robot, block, scale, units)
         arrays[kind] = frozen(block)
-    if follower_columns:
+    if robot.mimic:
         check_logged_followers(robot, dict(zip(follower_columns, data[:, len(wanted):].T,
                                                strict=True)), arrays, angle or (1.0, "rad"),
                                log, lambda row: _where(log, header_line, row))
