@@ -20,7 +20,7 @@ import pinocchio as pin
 
 from hdselect.base.errors import InputError
 from hdselect.robot.checks import model_limit
-from hdselect.robot.urdfxml import MOVABLE, UrdfJoint, UrdfTree
+from hdselect.robot.urdfxml import MOVABLE, UrdfJoint, UrdfTree, direction
 
 TOLERANCE = 1e-9
 """Agreement asked of Pinocchio's numbers and the file's, relative to their scale [-]."""
@@ -151,7 +151,8 @@ def _same_axis(model: pin.Model, joint_id: int, joint: UrdfJoint, path: Path) ->
     pin_joint.calc(data, pin.neutral(model))
     subspace = np.array(data.S).ravel()
     axis = subspace[:3] if joint.kind == "prismatic" else subspace[3:]
-    ours = joint.axis / np.linalg.norm(joint.axis)
+    ours = direction(joint.axis)
+    assert ours is not None  # refused as read
     if np.abs(axis - ours).max() > TOLERANCE:
         raise InputError(f"Pinocchio's axis is {_text(axis)}, the file's {_text(joint.axis)}",
                          path=path, field=f"joint[{joint.name}].axis")

@@ -228,7 +228,7 @@ def _joint(element: Element, name: str, path: Path) -> UrdfJoint:
     axis_element = element.first("axis")
     if axis_element is not None and "xyz" in axis_element.attributes:
         axis = _vector(axis_element.attributes["xyz"], path, f"{where}.axis", failed)
-    if kind in MOVABLE and not np.linalg.norm(axis) > 1e-12:
+    if kind in MOVABLE and direction(axis) is None:
         raise InputError(f"the axis {_text(axis)} has no direction; give a unit vector such as "
                          "0 0 1", path=path, field=f"{where}.axis")
     limit = None
@@ -248,6 +248,15 @@ def _joint(element: Element, name: str, path: Path) -> UrdfJoint:
     return UrdfJoint(name, kind, "" if parent is None else parent.attributes.get("link", ""),
                      "" if child is None else child.attributes.get("link", ""), origin, axis,
                      limit, mimic)
+
+
+def direction(axis: np.ndarray) -> np.ndarray | None:
+    """The unit vector along `axis` (no overflow for huge components); None when too short."""
+    largest = float(np.abs(axis).max())
+    if not largest > 1e-12:
+        return None
+    scaled = axis / largest
+    return scaled / np.linalg.norm(scaled)
 
 
 def _limit(element: Element, path: Path, where: str, failed: str, positions: bool) -> Limit:
