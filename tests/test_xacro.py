@@ -178,3 +178,13 @@ def test_what_xacro_cannot_expand_is_one_line_naming_the_file(tmp_path, change, 
 def test_a_urdf_named_file_holding_xacro_elements_is_expanded_too(tmp_path):
     path = xacro_robot(tmp_path).rename(tmp_path / "planar2_gripper.urdf")
     same_dynamics(hdselect.load_robot(path), hdselect.load_robot(by_hand(tmp_path, 2.0)))
+
+
+def test_init_writes_the_xacro_arguments_into_the_starter(tmp_path):
+    path = xacro_robot(tmp_path)
+    status, _, err = run(["init", str(path), "--xacro-arg", "gripper_mass:=1.0", "--out",
+                          str(tmp_path / "starter.toml")])
+    assert status == 0, err
+    assert 'xacro_args = {gripper_mass = "1.0"}' in (tmp_path / "starter.toml").read_text()
+    robot, _ = hdselect.load_case(tmp_path / "starter.toml")
+    same_dynamics(robot, hdselect.load_robot(by_hand(tmp_path, 1.0)))
