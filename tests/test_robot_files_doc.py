@@ -1,39 +1,18 @@
-"""docs/robot-files.md: its console examples print what it shows, its counts are the tests'."""
+"""docs/robot-files.md: its counts are the tests', its example robots the same arm.
+
+Its console examples are run with every page's (test_docs).
+"""
 
 from __future__ import annotations
 
-import re
-import shlex
-
 import numpy as np
-import pytest
 
 import hdselect
-from hdselect.cli.main import main
 from hdselect.robot.dynamics import inverse_dynamics
 from test_dynamics import REPO
 from test_mujoco_oracle import EXAMPLE_ROBOTS, KNOWN_REFUSALS
 
 DOC = (REPO / "docs" / "robot-files.md").read_text(encoding="utf-8")
-
-
-def console_examples() -> list[tuple[str, str]]:
-    """Each ``$ hdselect ...`` line of a console block, with the output shown under it."""
-    examples = []
-    for block in re.findall(r"```console\n(.*?)```", DOC, flags=re.S):
-        command, *shown = block.rstrip("\n").split("\n")
-        examples.append((command.removeprefix("$ "), "\n".join(shown)))
-    return examples
-
-
-@pytest.mark.parametrize(("command", "shown"), console_examples(), ids=lambda x: x[:50])
-def test_console_example_prints_what_the_page_shows(command, shown, monkeypatch, capsys):
-    monkeypatch.chdir(REPO)
-    monkeypatch.setenv("COLUMNS", "80")
-    args = shlex.split(command)
-    assert args[0] == "hdselect" and main(args[1:]) == 0
-    printed = "\n".join(line.rstrip() for line in capsys.readouterr().out.rstrip().split("\n"))
-    assert printed == shown.rstrip()
 
 
 def test_the_example_robot_count_is_the_oracle_tests():

@@ -188,3 +188,22 @@ def test_init_writes_the_xacro_arguments_into_the_starter(tmp_path):
     assert 'xacro_args = {gripper_mass = "1.0"}' in (tmp_path / "starter.toml").read_text()
     robot, _ = hdselect.load_case(tmp_path / "starter.toml")
     same_dynamics(robot, hdselect.load_robot(by_hand(tmp_path, 1.0)))
+
+
+@pytest.mark.parametrize(("command", "output"), [
+    ("size", "--json"), ("compare", "--json"), ("fastest", "--json"), ("max-payload", "--json"),
+    ("plan", "--out"), ("joints", "--json"), ("init", "--out")])
+def test_every_command_takes_xacro_arguments(tmp_path, command, output):
+    """--xacro-arg changes what each command writes (the gripper's mass)."""
+    path = xacro_robot(tmp_path)
+    motion = tmp_path / "motion.toml"
+    motion.write_text(MOTION.replace('robot = "../robots/planar2.urdf"', f'robot = "{path.name}"'))
+    written = []
+    suffix = {"plan": "csv", "init": "toml"}.get(command, "json")
+    for tag, extra in (("default", []), ("given", ["--xacro-arg", "gripper_mass:=0.2"])):
+        out = tmp_path / f"{tag}.{suffix}"
+        target = [str(path)] if command in ("joints", "init") else [str(motion)]
+        status, _, err = run([command, *target, *extra, output, str(out)])
+        assert status in (0, 1), err
+        written.append(out.read_text())
+    assert written[0] != written[1]

@@ -20,13 +20,12 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number
+from hdselect.motion.limits import LIMIT_ROUNDING
 from hdselect.robot.model import Robot
 
 AGREEMENT = 1e-4
 """How far a listed follower value may lie from where its leader puts it [the file's unit:
 deg, rad or m] (rounding of an export to 4 decimals)."""
-MARGIN = 1e-9
-"""A position within this of a limit is on it [rad or m], as for every joint."""
 
 
 def follower_scale(robot: Robot, name: str, angle_scale: float, angle_unit: str
@@ -75,15 +74,18 @@ def outside(robot: Robot, q: np.ndarray) -> tuple[str, int, float] | None:
 
     Returns:
         (follower, sample index of its furthest excursion, its position [rad or m]),
-        or None when every follower stays within its limits.
+        or None when every follower stays within its limits (within `LIMIT_ROUNDING` of
+        one is on it: its file's rounding, as for a waypoint of any joint).
     """
     for name, mimic in robot.mimic.items():
         if not (math.isfinite(mimic.lower) or math.isfinite(mimic.upper)):
             continue
         positions = mimic.follow(q[:, robot.joint_index(mimic.leader)])
-        over = np.maximum(mimic.lower - positions, positions - mimic.upper)
+        over = np.maximum(
+            (mimic.lower - positions) - LIMIT_ROUNDING * max(1.0, abs(mimic.lower)),
+            (positions - mimic.upper) - LIMIT_ROUNDING * max(1.0, abs(mimic.upper)))
         k = int(np.argmax(over))
-        if over[k] > MARGIN:
+        if over[k] > 0.0:
             return name, k, float(positions[k])
     return None
 
@@ -182,3 +184,26 @@ def check_logged_followers(robot: Robot, columns: dict[str, np.ndarray],
         name, k, position = found
         raise InputError(f"{where(k + 1)}: {outside_reason(robot, name, position, *angle)}",
                          path=log, field=f"q_{robot.mimic[name].leader}")
+
+
+def leader_range(robot: Robot, name: str, lower: float, upper: float) -> tuple[float, float]:
+    """The part of a joint's range that keeps every follower of it within its own limits.
+
+    Args:
+        robot: The robot.
+        name: The joint (a degree of freedom).
+        lower: Its lower limit [rad or m] (-inf: none).
+        upper: Its upper limit [rad or m] (+inf: none).
+
+    Returns:
+        The narrowed range [rad or m]; the joint's own when no position satisfies every
+        follower (a motion moving it is then refused naming the follower).
+    """
+    low, high = lower, upper
+    for mimic in robot.mimic.values():
+        if mimic.leader != name or mimic.multiplier == 0.0:
+            continue
+        ends = sorted(((mimic.lower - mimic.offset) / mimic.multiplier,
+                       (mimic.upper - mimic.offset) / mimic.multiplier))
+        low, high = max(low, ends[0]), min(high, ends[1])
+    return (low, high) if low <= high else (lower, upper)

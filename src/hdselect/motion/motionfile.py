@@ -29,10 +29,12 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
-from hdselect.base.tomlfile import check_keys, join, number, read_toml, table_of
+from hdselect.base.inputfiles import is_input_file
+from hdselect.base.tomlfile import check_keys, join, number, table_of
 from hdselect.catalog.motors import Motor
 from hdselect.motion.followers import check_waypoint_followers
 from hdselect.motion.limits import (
+    LIMIT_ROUNDING,
     JointLists,
     beyond_robot,
     limit_units,
@@ -40,11 +42,13 @@ from hdselect.motion.limits import (
     vector,
     velocity_limit,
 )
+from hdselect.motion.logderivatives import UNCERTAIN, acceleration_uncertainty
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: public here too)
     load_named,
     named_file,
+    read_motion_toml,
     robot_file_named,
     xacro_args_of,
 )
@@ -61,6 +65,7 @@ PLANNERS = ("ruckig", "toppra", "samples")
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
+
 
 
 _TOP_KEYS = ("robot", "xacro_args", "planner", "angle_unit", "dt", "mounting", "payload",
@@ -199,7 +204,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     path = bounds.file_argument(path, "path")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
                        "a Robot, a robot file or None")
-    doc = read_toml(path)
+    doc = read_motion_toml(path)
     check_keys(doc, _TOP_KEYS, path, "")
     planner = _choice(doc, "planner", PLANNERS, path)
     angle_unit = _choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)
@@ -207,7 +212,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
     file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
-    robot_file = named_file(doc, path)
+    robot_file = named_file(doc, path, must_exist=robot is None)  # a robot given overrides it
     xacro_args = xacro_args_of(doc, path)
     if robot is None:
         if robot_file is None:
@@ -251,6 +256,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                              "the waypoints", path=path, field="waypoint")
         waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
         samples = _samples(doc, path, robot, scale, units, (unit, angle_unit))
+        warnings += derived_warnings(samples, robot)
     else:
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
@@ -376,7 +382,10 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
         given = per_joint(positions, robot, path, f"{where}.q", bound=bounds.POSITION,
                            scale=scale, units=units, lists=lists)
         q = given * scale
-        for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):
+        lower, upper = robot.lower, robot.upper
+        slack_low = LIMIT_ROUNDING * np.maximum(1.0, np.abs(lower))
+        slack_high = LIMIT_ROUNDING * np.maximum(1.0, np.abs(upper))
+        for j in np.flatnonzero((q < lower - slack_low) | (q > upper + slack_high)):
             name = robot.joint_names[j]
             listed = isinstance(table["q"], list)
             key = f"[{j}]" if listed else f".{name}"
@@ -385,10 +394,25 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
                 f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
                 + (f" ({lists.order})" if listed else ""),
                 path=path, field=f"{where}.q{key}")
+        q = np.clip(q, lower, upper)  # on the limit its file rounded
         check_waypoint_followers(robot, q, followers, angle, path, f"{where}.q")
         points.append(q)
         dwells.append(number(table, "dwell", path, where, default=0.0, bound=bounds.DWELL))
     return np.array(points), np.array(dwells)
+
+
+def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:
+    """A warning when a log of positions only does not fix its accelerations to 1 %."""
+    if log.qd is not None or len(log.t) < 8:
+        return []
+    uncertain = acceleration_uncertainty(log.t - log.t[0], log.q)
+    j = int(np.argmax(uncertain))
+    if uncertain[j] <= UNCERTAIN:
+        return []
+    return [f"{log.path.name} gives positions only, and the accelerations derived from them are"
+            f" uncertain by about {uncertain[j]:.0%} of the peak of joint "
+            f"'{robot.joint_names[j]}' (estimated from every other sample): torques may be off "
+            "as much; log the qd_ and qdd_ columns too (or sample faster)"]
 
 
 def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
@@ -399,6 +423,6 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
         raise InputError("required: the CSV log, relative to this file", path=path,
                          field="samples.file")
     log = path.parent / table["file"]
-    if not log.is_file():
+    if not is_input_file(log):
         raise InputError(f"log file not found: {log}", path=path, field="samples.file")
     return read_log(log, robot, scale, units, angle)

@@ -15,19 +15,33 @@ from typing import Any
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import is_input_file
 from hdselect.base.tomlfile import read_toml, table_of
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.xacrofile import xacro_arguments
 
 
-def named_file(doc: dict[str, Any], path: Path) -> Path | None:
-    """The file's ``robot``, resolved against the motion file's folder, if given."""
+def read_motion_toml(path: Path) -> dict[str, Any]:
+    """A motion file's TOML; a robot file given in its place is told so."""
+    return read_toml(path, kind="a motion file", hint=(
+        f"; give a motion file (hdselect init {path} --out motion.toml writes one)"))
+
+
+def named_file(doc: dict[str, Any], path: Path, *, must_exist: bool = True) -> Path | None:
+    """The file's ``robot``, resolved against the motion file's folder, if given.
+
+    Args:
+        doc: The motion file's document.
+        path: The motion file.
+        must_exist: Refuse a file that does not exist (not when a robot given instead
+            overrides it).
+    """
     if "robot" not in doc:
         return None
     if not isinstance(doc["robot"], str):
         raise InputError("expected a file name", path=path, field="robot")
     robot = path.parent / doc["robot"]
-    if not robot.is_file():
+    if must_exist and not is_input_file(robot):
         raise InputError(f"robot file not found: {robot}", path=path, field="robot")
     return robot
 
@@ -50,7 +64,7 @@ def robot_source(path: str | Path) -> tuple[Path, dict[str, str]]:
         InputError: The motion file is unreadable or names no robot file that exists.
     """
     path = bounds.file_argument(path, "motion")
-    doc = read_toml(path)
+    doc = read_motion_toml(path)
     robot = named_file(doc, path)
     if robot is None:
         raise InputError("no robot given: set the key or pass a robot file",

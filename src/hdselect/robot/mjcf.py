@@ -74,7 +74,8 @@ class MjcfRead:
 
     Attributes:
         model: Pinocchio model of the kept kinematic tree(s); gravity is MuJoCo's [m/s^2].
-        root_body: The body held fixed to the world (``"world"`` when several trees are kept).
+        root_body: The body held fixed to the world; ``"world"`` when several trees are kept
+            or the tree's top body itself turns or slides.
         couplings: Active linear joint couplings by follower name (the model leaves
             both joints independent; `hdselect.robot.reading` makes the followers mimic).
         notes: What was assumed or left out that changes the torques, one line each.
@@ -137,7 +138,9 @@ def model_from_mjcf(path: str | PathLike[str]) -> MjcfRead:
     coupled, eq_notes = couplings(mj, model)
     notes += eq_notes
     roots = sorted({int(mj.body_rootid[b]) for b in kept})
-    root = body_label(mj, roots[0]) if len(roots) == 1 else "world"
+    turns = len(roots) > 1 or any(int(mj.jnt_type[j]) in (HINGE, SLIDE)
+                                  for j in joints(mj, roots[0]))
+    root = "world" if turns else body_label(mj, roots[0])
     for array in (qpos_index, dof_index):
         array.setflags(write=False)
     return MjcfRead(model, root, coupled, tuple(notes), tuple(set_aside(mj, kept)), qpos_index,

@@ -19,6 +19,7 @@ import pinocchio as pin
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import is_input_file, readable
 from hdselect.robot.checks import model_limit
 from hdselect.robot.mounting import gravity_of
 from hdselect.robot.payload import Payload, payload_frame, tip_frame
@@ -216,12 +217,18 @@ class Robot:
         frame = self.payload.frame if self.payload is not None else None
         return frame or self.default_payload_frame
 
-    def carried_mass(self, joint: str) -> float:
-        """Total of the gearhead masses mounted on links that `joint` moves [kg]."""
+    def carried_mass(self, joint: str, masses: Mapping[str, float] | None = None) -> float:
+        """Total of the gearhead masses mounted on links that `joint` moves [kg].
+
+        Args:
+            joint: The joint.
+            masses: Mass mounted at each joint [kg] (as `with_gearheads` takes them);
+                None: this robot's own.
+        """
         model = self.model
         joint_id = model.getJointId(joint)
         total = 0.0
-        for name, mass in self.gearhead_masses.items():
+        for name, mass in (self.gearhead_masses if masses is None else masses).items():
             ancestor = model.parents[model.getJointId(name)]
             while ancestor > joint_id:
                 ancestor = model.parents[ancestor]
@@ -289,9 +296,15 @@ def load_robot(
     path = bounds.file_argument(path, "path")
     bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
     arguments = xacro_arguments(xacro_args)
-    if not path.is_file():
+    if not is_input_file(path):
         raise InputError("file not found", path=path)
-    file = read_robot_file(path, arguments)
+    copy = readable(path)  # a FIFO read once
+    try:
+        file = read_robot_file(copy, arguments)
+    except InputError as err:
+        if copy == path or err.path != copy:
+            raise
+        raise InputError(err.reason, path=path, field=err.field) from err
     model = file.model
     names, revolute, q_index = _joints(model, path)
     lower, upper = _position_limits(model, names, q_index, path)

@@ -1,10 +1,13 @@
-"""Size every joint of a robot from its motion: the product's main job, and its one core.
+"""Size every joint of a robot from what it does: the product's main job, and its one core.
 
-`size_trajectory` takes a robot and a planned trajectory and chooses a gearhead
-per joint from the tip to the base, each chosen unit's mass (and motor mass)
-carried by the joints nearer the base. Where motors are given, it chooses a
-gearhead and a motor together: every (gearhead, motor) pair is checked, and the
-pair's mass is carried. `size` is load + plan + `size_trajectory`. Every front end
+`size_tasks` takes a robot's tasks (one or more planned trajectories, each with its
+own payload and mounting, and a share of the time) and chooses a gearhead per joint
+from the tip to the base, each chosen unit's mass (and motor mass) carried by the
+joints nearer the base. Where motors are given it chooses a gearhead and a motor
+together. `size_trajectory` is one task, `size` is load + plan + `size_trajectory`.
+
+The selection (`select_units`) reads its torques from a `TorqueModel`: batched
+inverse dynamics here, a study's basis in `hdselect.study.group`. Every front end
 (the command line, studies, co-design, Python) goes through it.
 """
 
@@ -14,44 +17,29 @@ from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
-
-from hdselect.base.arrays import frozen, readonly
 from hdselect.base.bounds import expect_type, files_argument
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, at_rest, check_unit, cycle_load
-from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
+from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import Unit
 from hdselect.motion.case import load_case, robot_for_motion
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
-from hdselect.robot.dynamics import CycleTorques, cycle_torques, gravity_torques, joint_inertias
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import check_trajectory, checked_motors, units_argument
-from hdselect.sizing.loads import joint_loads
+from hdselect.sizing.joint import JointCycle, size_joint
 from hdselect.sizing.options import Options, options_for
-from hdselect.sizing.reflect import reflect, reflect_motors
 from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.slowdown import with_slowdowns
+from hdselect.sizing.tasks import Task, check_shares, pooled
+from hdselect.sizing.torques import DirectTorques, TorqueModel
 
 GRAVITY_LOADED = 1e-3
 """Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
-
-
-GRAVITY_SAMPLES = 400
-"""Poses at which the gravity torque is evaluated for the backdriving warning."""
-
-
-_GUESS_SAMPLES = 200
-"""Samples on which the carried masses are first guessed."""
-
-
-INERTIA_POSES = GRAVITY_SAMPLES
-"""Poses, evenly spread over the cycle, at which a joint's load inertia M_jj is evaluated."""
+GUESS_SAMPLES = 200
+"""Samples per task on which the carried masses are first guessed (a coarse selection)."""
 
 
 def size(
@@ -119,8 +107,7 @@ def size(
     if motors is None:
         motors = motion_motors(robot, motion)
     trajectory = plan(robot, motion, max_samples=resolved.max_samples)
-    return replace(size_trajectory(robot, trajectory, units, resolved, motors=motors),
-                   motion=motion)
+    return size_tasks((Task(robot, trajectory, motion=motion),), units, resolved, motors=motors)
 
 
 def motion_motors(robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
@@ -151,20 +138,7 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
                     motors: Motors | None = None) -> SizingResult:
     """Choose a gearhead (or a gearhead and a motor) for every sized joint along a trajectory.
 
-    Joint j's torque depends only on the units chosen further out, so sizing
-    from the tip to the base is one pass. It is found here as a fixed point:
-    size every joint with the masses of a guess in the model, put the chosen
-    units' masses in, and repeat until the choice no longer changes. At that
-    point each joint was sized with exactly the units chosen beyond it, which is
-    the tip-to-base answer (each round settles at least one more joint from the
-    tip). The guess comes from two rounds on a coarse subset of the samples, so
-    the full trajectory usually takes one round: two batched passes of inverse
-    dynamics, the motion's and the emergency stop's.
-
-    Where a joint has candidate motors, every (gearhead, motor) pair is checked: the
-    gearhead's rules with this motor's rotor inertia in the motor torque and the crash,
-    and the motor's rules (`hdselect.catalog.rules.check_motor`). The selected pair's mass,
-    gearhead and motor, is carried by the joints nearer the base.
+    One task: `size_tasks` of this trajectory alone.
 
     Args:
         robot: The robot (payload and mounting applied).
@@ -186,14 +160,43 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     """
     expect_type(robot, (Robot,), "robot", "a Robot")
     expect_type(trajectory, (Trajectory,), "trajectory", "a Trajectory (hdselect.plan)")
-    expect_type(options, (Options, type(None)), "options", "an Options or None")
-    if trajectory.joint_names != robot.joint_names:
-        raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
-                         f"robot has {', '.join(robot.joint_names)}", field="trajectory")
-    check_trajectory(trajectory)
+    return size_tasks((Task(robot, trajectory),), units, options, motors=motors)
+
+
+def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | None = None,
+               *, motors: Motors | None = None) -> SizingResult:
+    """Choose a gearhead (or a pair) for every sized joint for everything a robot does.
+
+    Per joint and unit, the rules of one sample (repeated peak, static, speed,
+    momentary) take the worst over every task, and the averaged ones (mean torque,
+    mean speed, life, motor RMS) pool every task's samples weighted by how often
+    its cycle runs (`hdselect.sizing.tasks`). Sizing goes from the tip to the base,
+    so each joint is sized with exactly the units chosen further out; the carried
+    masses are first guessed from a coarse selection on a few hundred samples per
+    task, so that the full trajectories usually take one pair of batched passes.
+
+    Args:
+        tasks: The robot's tasks: the same robot file and sized joints, each with its own
+            payload and mounting; shares summing to 1.
+        units: The catalog.
+        options: The assumptions (default `Options()`).
+        motors: Candidate motors per sized joint.
+
+    Returns:
+        The result for every sized joint; its robot, trajectory and motion are the first
+        counted task's, its `tasks` every task given.
+
+    Raises:
+        InputError: An argument is of the wrong type or inconsistent (see
+            `size_trajectory`), the tasks are not of one robot, or the shares are not
+            fractions summing to 1.
+    """
+    tasks = _tasks_argument(tasks)
     units = units_argument(units)
     if not units:
         raise InputError("no gearhead to choose from", field="units")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    robot = tasks[0].robot
     if not robot.sized_joints:
         raise InputError("the robot has no rotary joint to size (prismatic joints take no "
                          "gearhead)", path=robot.path, field="joints")
@@ -202,54 +205,86 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     if options.prefer is None:
         options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
                           else DEFAULT_PREFER)
-    masses: dict[str, float] = {}
+    per_joint = {name: units for name in robot.sized_joints}
+    guess: dict[str, float] = {}
     if options.mass_coupling:
-        coarse = _decimated(trajectory, max(1, len(trajectory.t) // _GUESS_SAMPLES))
-        for _ in range(2):
-            masses = _unit_masses(_size_joints(robot.with_gearheads(masses), coarse, units,
-                                               options, motors)[0], options)
-    joints: list[JointSizing] = []
-    torques: CycleTorques | None = None
-    for _ in range(robot.dof + 1):
-        carrying = robot.with_gearheads(masses)
-        joints, torques = [], None  # let the last round's torques go before computing the next
-        joints, torques = _size_joints(carrying, trajectory, units, options, motors)
-        chosen = _unit_masses(joints, options)
-        if not options.mass_coupling or chosen == masses:
-            break
-        masses = chosen
-    else:  # each round settles at least one more joint from the tip
-        raise AssertionError("the tip-to-base sizing did not settle")
-    joints = _with_gravity(carrying, trajectory, joints, options)
-    if motors:
-        poses = np.unique(np.linspace(0, len(trajectory.t) - 1,
-                                      GRAVITY_SAMPLES).astype(int))
-        with_motors = [name for name in robot.sized_joints if name in motors]
-        inertia = joint_inertias(carrying, trajectory.q[poses], with_motors,
-                                 threads=options.threads).max(axis=0)
-        by_name = dict(zip(with_motors, inertia, strict=True))
-        joints = [replace(joint, load_inertia=float(by_name[joint.name]))
-                  if joint.name in by_name else joint for joint in joints]
-    if any(joint.selected is None for joint in joints):
-        joints = with_slowdowns(carrying, trajectory, joints, units, options, motors)
-    assert torques is not None
-    return SizingResult(robot, trajectory, tuple(joints), options, units, motors=motors,
-                        loads=joint_loads(robot, trajectory, torques.tau))
+        coarse = [replace(task, trajectory=_decimated(task.trajectory)) for task in tasks]
+        coarse_samples = pooled(coarse)
+        coarse_model = DirectTorques(coarse_samples.tasks, coarse_samples, options.stop_time,
+                                     threads=options.threads)
+        _, guess = select_units(coarse_model, per_joint, options, motors, detail=False,
+                                slowdowns=False)
+    samples = pooled(tasks)
+    model = DirectTorques(samples.tasks, samples, options.stop_time, threads=options.threads,
+                          guess=guess)
+    joints, masses = select_units(model, per_joint, options, motors)
+    first = samples.tasks[0]
+    return SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
+                        first.motion, motors=motors, loads=model.loads(masses),
+                        tasks=tuple(tasks))
+
+
+def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], options: Options,
+                 motors: Motors, *, detail: bool = True,
+                 slowdowns: bool = True) -> tuple[list[JointSizing], dict[str, float]]:
+    """The one selection: every sized joint from the tip to the base, masses carried.
+
+    Args:
+        model: Where the torques come from.
+        units: The candidate units of every sized joint.
+        options: The assumptions, ``prefer`` resolved.
+        motors: Candidate motors per sized joint (checked).
+        detail: Keep every candidate checked (reports); False keeps the selected one.
+        slowdowns: For a joint no unit fits, find the time scales at which each would.
+
+    Returns:
+        The sized joints in the robot's order, with their carried masses, gravity figures
+        and load inertias; and the mass each joint's unit (or, where none fits, its
+        strongest candidate) and motor add [kg], by joint (empty without mass coupling).
+    """
+    robot = model.robot
+    masses: dict[str, float] = {}
+    found: dict[str, JointSizing] = {}
+    for name in reversed(robot.sized_joints):  # a parent's index is below its children's
+        tau, stop = model.torques(name, masses)
+        joint = size_joint(name, JointCycle(model.samples, robot.joint_index(name), tau, stop),
+                           units[name], options, motors=motors.get(name, ()), detail=detail)
+        if name in motors:
+            joint = replace(joint, load_inertia=model.load_inertia(name, masses))
+        found[name] = joint
+        if options.mass_coupling:
+            chosen = joint.selected or joint.strongest
+            masses[name] = chosen.unit.mass + (chosen.motor_unit.mass if chosen.motor_unit
+                                               is not None else options.motor_mass)
+    masses = {name: masses[name] for name in robot.sized_joints if name in masses}
+    gravity = model.gravity(masses)
+    joints = []
+    for name in robot.sized_joints:
+        worst = float(gravity[robot.joint_index(name)])
+        joints.append(replace(found[name], carried_mass=robot.carried_mass(name, masses),
+                              gravity_loaded=worst > GRAVITY_LOADED, max_gravity_torque=worst))
+    if slowdowns and any(joint.selected is None for joint in joints):
+        joints = with_slowdowns(model, joints, units, options, motors, masses)
+    return joints, masses
 
 
 def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
-                options: Options | None = None) -> SizingResult:
+                options: Options | None = None, *,
+                motors: Mapping[str, Motor] | None = None) -> SizingResult:
     """Check given units, one per sized joint, along a planned trajectory: no selection.
 
-    Each joint's only candidate is its unit, `selected` when it passes every rule.
-    With mass coupling, each unit's mass (and the motor mass) is carried by the
-    joints nearer the base, as `size_trajectory` carries the units it chooses.
+    Each joint's only candidate is its unit (paired with its motor, where one is
+    given), `selected` when it passes every rule. With mass coupling, each unit's mass
+    (and its motor's, else the options' motor mass) is carried by the joints nearer the
+    base, as `size_trajectory` carries the units it chooses.
 
     Args:
         robot: The robot (payload and mounting applied).
         trajectory: The trajectory, with the robot's joints.
         units: The unit of every sized joint, by joint name.
         options: The assumptions (default `Options()`).
+        motors: A fixed motor behind the unit of some sized joints, by joint name; its
+            rotor inertia and mass replace the options' and its rules are checked.
 
     Returns:
         The result for every sized joint (its ``motion`` is None, its ``units`` the
@@ -279,96 +314,58 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
     if missing:
         raise InputError(f"no unit given for {', '.join(missing)}", field="units")
     options = options if options is not None else Options()
-    masses = ({name: unit.mass + options.motor_mass for name, unit in units.items()}
-              if options.mass_coupling else {})
-    carrying = robot.with_gearheads(masses)
-    torques = cycle_torques(carrying, trajectory.q, trajectory.qd, trajectory.qdd,
-                            options.stop_time, threads=options.threads)
-    joints = []
-    for name in robot.sized_joints:
-        j = robot.joint_index(name)
-        joints.append(_size_joint(name, trajectory, trajectory.qd[:, j], trajectory.qdd[:, j],
-                                  torques.tau[:, j], torques.stop[:, j], (units[name],),
-                                  options))
+    fixed = checked_motors(robot, motors, options) if motors else {}
+    for name, given in fixed.items():
+        if len(given) != 1:
+            raise InputError(f"expected one motor to check, got {len(given)}",
+                             field=f"motors.{name}")
+    resolved = options if options.prefer is not None else replace(
+        options, prefer=DEFAULT_PREFER_WITH_MOTORS if fixed else DEFAULT_PREFER)
+    masses = ({name: units[name].mass + (fixed[name][0].mass if name in fixed
+                                         else options.motor_mass)
+               for name in robot.sized_joints} if options.mass_coupling else {})
+    task = Task(robot, trajectory)
+    samples = pooled((task,))
+    model = DirectTorques((task,), samples, options.stop_time, threads=options.threads,
+                          guess=masses)
+    joints, masses = select_units(model, {name: (units[name],) for name in robot.sized_joints},
+                                  resolved, fixed, slowdowns=False)
     distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))
-    return SizingResult(robot, trajectory, tuple(_with_gravity(carrying, trajectory, joints,
-                                                               options)), options, distinct,
-                        loads=joint_loads(robot, trajectory, torques.tau))
+    return SizingResult(robot, trajectory, tuple(joints), options if not fixed else resolved,
+                        distinct, motors=fixed, loads=model.loads(masses))
 
 
-def _with_gravity(carrying: Robot, trajectory: Trajectory, joints: list[JointSizing],
-                  options: Options) -> list[JointSizing]:
-    """The joints with their carried mass and whether gravity loads them (from ~400 poses)."""
-    poses = np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))
-    gravity = np.abs(gravity_torques(carrying, trajectory.q[poses], threads=options.threads))
-    return [replace(joint, carried_mass=carrying.carried_mass(joint.name),
-                    gravity_loaded=bool(gravity[:, j].max() > GRAVITY_LOADED),
-                    max_gravity_torque=float(gravity[:, j].max()))
-            for joint in joints for j in [carrying.joint_index(joint.name)]]
+def _tasks_argument(tasks: object) -> tuple[Task, ...]:
+    """The tasks checked: one robot file and sized joints, trajectories of its joints.
+
+    Raises:
+        InputError: They are not `Task` records of one robot, or their shares are wrong.
+    """
+    if isinstance(tasks, str | bytes | Path) or not isinstance(tasks, Sequence) or not tasks:
+        raise InputError("expected one or more hdselect.sizing.tasks.Task", field="tasks")
+    for task in tasks:
+        expect_type(task, (Task,), "tasks", "hdselect.sizing.tasks.Task records")
+    first = tasks[0].robot
+    for i, task in enumerate(tasks):
+        field = f"tasks[{i}]"
+        expect_type(task.robot, (Robot,), f"{field}.robot", "a Robot")
+        expect_type(task.trajectory, (Trajectory,), f"{field}.trajectory",
+                    "a Trajectory (hdselect.plan)")
+        if (task.robot.path != first.path or task.robot.sized_joints != first.sized_joints
+                or task.robot.joint_names != first.joint_names):
+            raise InputError("every task must run the same robot file with the same sized "
+                             f"joints; {task.label} differs from {tasks[0].label}", field=field)
+        if task.trajectory.joint_names != task.robot.joint_names:
+            raise InputError(f"the trajectory has joints {', '.join(task.trajectory.joint_names)}"
+                             f"; the robot has {', '.join(task.robot.joint_names)}",
+                             field="trajectory" if len(tasks) == 1 else f"{field}.trajectory")
+        check_trajectory(task.trajectory)
+    check_shares([task.share for task in tasks], field="tasks.share")
+    return tuple(tasks)
 
 
-def _unit_masses(joints: list[JointSizing], options: Options) -> dict[str, float]:
-    """Mass each joint's unit (or, where none fits, the strongest) and motor add [kg]."""
-    masses = {}
-    for joint in joints:
-        chosen = joint.selected or joint.strongest
-        motor = chosen.motor_unit
-        masses[joint.name] = chosen.unit.mass + (motor.mass if motor is not None
-                                                 else options.motor_mass)
-    return masses
-
-
-def _size_joints(robot: Robot, traj: Trajectory, units: tuple[Unit, ...],
-                 options: Options, motors: Motors | None = None,
-                 ) -> tuple[list[JointSizing], CycleTorques]:
-    """Every sized joint against every unit (or pair), for the masses in the robot's model."""
-    torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time,
-                            threads=options.threads)
-    joints = []
-    for name in robot.sized_joints:
-        j = robot.joint_index(name)
-        joints.append(_size_joint(name, traj, traj.qd[:, j], traj.qdd[:, j], torques.tau[:, j],
-                                  torques.stop[:, j], units, options,
-                                  motors=tuple(motors.get(name, ())) if motors else ()))
-    return joints, torques
-
-
-def _decimated(traj: Trajectory, step: int) -> Trajectory:
-    """Every `step`-th sample of a trajectory, each standing for `step` periods."""
+def _decimated(traj: Trajectory) -> Trajectory:
+    """Every k-th sample of a trajectory (about `GUESS_SAMPLES`), each standing for k periods."""
+    step = max(1, len(traj.t) // GUESS_SAMPLES)
     return replace(traj, dt=traj.dt * step, t=traj.t[::step], q=traj.q[::step],
                    qd=traj.qd[::step], qdd=traj.qdd[::step])
-
-
-def _size_joint(name: str, traj: Trajectory, qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray,
-                stop_tau: np.ndarray, units: tuple[Unit, ...], options: Options, *,
-                motors: tuple[Motor, ...] = ()) -> JointSizing:
-    """Check every unit (every pair with `motors`) against one joint's torques; select one."""
-    load = cycle_load(tau, qd, traj.dt, at_rest(qd, qdd))
-    prefer = options.prefer or (DEFAULT_PREFER_WITH_MOTORS if motors else DEFAULT_PREFER)
-    if not motors:
-        reflections = reflect(units, traj.t, tau, qd, qdd, stop_tau,
-                              stop_time=options.stop_time, efficiency=options.efficiency,
-                              rotor_inertia=options.rotor_inertia)
-        candidates = [check_unit(load, r.unit, momentary=r.momentary,
-                                 life_hours=options.life_hours, life_basis=options.life_basis,
-                                 motor=r.motor) for r in reflections]
-        return JointSizing(name, load, tuple(candidates), select(candidates, prefer),
-                           0.0, False, 0.0, readonly(tau), readonly(stop_tau))
-    behind = reflect_motors(units, [m.rotor_inertia for m in motors], traj.t, tau, qd, qdd,
-                            stop_tau, stop_time=options.stop_time, efficiency=options.efficiency)
-    speed = np.abs(qd) * RPM_PER_RAD_S
-    pairs, reflection = [], {}
-    for u, unit in enumerate(units):
-        for m, motor in enumerate(motors):
-            r = behind[m][u]
-            gearhead = check_unit(load, unit, momentary=r.momentary,
-                                  life_hours=options.life_hours, life_basis=options.life_basis,
-                                  motor=r.motor)
-            pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio)
-            pairs.append(pair)
-            reflection[id(pair)] = r
-    selected = select(pairs, prefer)
-    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, readonly(tau),
-                        readonly(stop_tau))
-    shown = selected or joint.strongest
-    return replace(joint, motor_torque=frozen(reflection[id(shown)].motor_torque))

@@ -9,7 +9,8 @@ limits.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -118,3 +119,25 @@ def joint_loads(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> tuple[
             float(effort) if effort > 0.0 else math.inf,
             float(velocity) if velocity > 0.0 else math.inf, linear=kind == "prismatic"))
     return tuple(loads)
+
+
+def merged_loads(per_task: Sequence[tuple[JointLoad, ...]]) -> tuple[JointLoad, ...]:
+    """Every joint's loads over several tasks: the largest peak and speed, the whole travel.
+
+    Args:
+        per_task: `joint_loads` of each task, joints in the same order.
+
+    Returns:
+        One per joint; one task's loads as they are.
+    """
+    if len(per_task) == 1:
+        return per_task[0]
+    merged = []
+    for loads in zip(*per_task, strict=True):
+        peaks = [load.peak for load in loads if load.peak is not None]
+        merged.append(replace(
+            loads[0], peak=max(peaks) if peaks else None,
+            max_speed=max(load.max_speed for load in loads),
+            travel=(min(load.travel[0] for load in loads),
+                    max(load.travel[1] for load in loads))))
+    return tuple(merged)

@@ -8,7 +8,11 @@ rotor inertia J_m) must deliver
               tau eta / N     while the load drives back (tau qd < 0),
             + (J_in + J_m) N qdd
 
-at the input speed N qd.
+at the input speed N qd. A joint at rest (`hdselect.catalog.rules.at_rest`: speed and
+acceleration negligible, the input held) counts as driven: the motor holds the load
+through the gear, tau / (N eta). The direction of the power flow is then no more than
+the sign of a speed that is zero but for rounding (a logged position's spline), and
+must not decide the holding torque.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from hdselect.catalog.rules import RPM_PER_RAD_S, Momentary, MotorDemand
+from hdselect.catalog.rules import RPM_PER_RAD_S, Momentary, MotorDemand, at_rest
 from hdselect.catalog.units import Unit
 
 DEFAULT_EFFICIENCY = 0.70
@@ -44,7 +48,8 @@ class Reflection:
     unit: Unit
     motor: MotorDemand
     momentary: Momentary
-    _cycle: tuple[np.ndarray, np.ndarray, np.ndarray, float, float] = field(repr=False)
+    _cycle: tuple[np.ndarray, np.ndarray, np.ndarray, float, float, np.ndarray] = field(
+        repr=False)
     _torque: np.ndarray | None = field(default=None, repr=False)
 
     @property
@@ -56,8 +61,8 @@ class Reflection:
         """
         if self._torque is not None:
             return self._torque
-        tau, qd, qdd, efficiency, rotor_inertia = self._cycle
-        return _motor_torques([self.unit], tau, qd, qdd, efficiency, rotor_inertia)[0]
+        tau, qd, qdd, efficiency, rotor_inertia, rest = self._cycle
+        return _motor_torques([self.unit], tau, qd, qdd, efficiency, rotor_inertia, rest)[0]
 
 
 def reflect(
@@ -71,6 +76,7 @@ def reflect(
     stop_time: float,
     efficiency: float = DEFAULT_EFFICIENCY,
     rotor_inertia: float = 0.0,
+    rest: np.ndarray | None = None,
 ) -> list[Reflection]:
     """Reflect one joint's cycle through every unit at once, `CHUNK` samples at a time.
 
@@ -90,12 +96,13 @@ def reflect(
         stop_time: Time to bring everything to rest [s].
         efficiency: Gear efficiency [-], for units without a table.
         rotor_inertia: Motor rotor inertia J_m [kg m^2].
+        rest: Where the joint is held still, shape (n,); None: `at_rest` of these samples.
 
     Returns:
         One reflection per unit, in the order given.
     """
     return reflect_motors(units, (rotor_inertia,), t, tau, qd, qdd, stop_tau,
-                          stop_time=stop_time, efficiency=efficiency)[0]
+                          stop_time=stop_time, efficiency=efficiency, rest=rest)[0]
 
 
 def reflect_motors(
@@ -109,6 +116,7 @@ def reflect_motors(
     *,
     stop_time: float,
     efficiency: float = DEFAULT_EFFICIENCY,
+    rest: np.ndarray | None = None,
 ) -> list[list[Reflection]]:
     """Reflect one joint's cycle through every unit, behind each of several motors.
 
@@ -127,6 +135,8 @@ def reflect_motors(
         stop_tau: Output torque at the start of an emergency stop from each sample [N m].
         stop_time: Time to bring everything to rest [s].
         efficiency: Gear efficiency [-], for units without a table.
+        rest: Where the joint is held still, shape (n,); None: `at_rest` of these samples
+            (a robot's pooled tasks give each task's own).
 
     Returns:
         Per rotor inertia, in the order given, one reflection per unit.
@@ -142,9 +152,10 @@ def reflect_motors(
     crash_at = np.zeros(inertia.shape, dtype=int)
     rows = np.arange(len(units))
     kept: list[np.ndarray | None] = [None] * len(inertias)  # a one-chunk cycle's torques
+    resting = at_rest(qd, qdd) if rest is None else np.asarray(rest, dtype=bool)
     for start in range(0, n, CHUNK):
         part = slice(start, start + CHUNK)
-        geared = _geared(units, ratio, tau[part], qd[part], efficiency)
+        geared = _geared(units, ratio, tau[part], qd[part], efficiency, resting[part])
         speed, held = np.abs(qd[part]), np.abs(tau[part])
         for k in range(len(inertias)):
             motor = geared + np.multiply.outer(inertia[k] * ratio, qdd[part])
@@ -179,19 +190,20 @@ def reflect_motors(
                                  float(rms_speed[row]))
             torque = kept[k]
             behind.append(Reflection(unit, demand, event,
-                                     (tau, qd, qdd, efficiency, rotor_inertia),
+                                     (tau, qd, qdd, efficiency, rotor_inertia, resting),
                                      None if torque is None else torque[row]))
         out.append(behind)
     return out
 
 
 def _geared(units: Sequence[Unit], ratio: np.ndarray, tau: np.ndarray, qd: np.ndarray,
-            efficiency: float) -> np.ndarray:
+            efficiency: float, held: np.ndarray) -> np.ndarray:
     """Gear-side torque over the ratio of every unit at every sample given [N m], (units, n).
 
-    tau / eta while the motor drives (tau qd >= 0), tau eta while the load drives back.
+    tau / eta while the motor drives (tau qd >= 0) or holds (`held`, at rest), tau eta
+    while the load drives back.
     """
-    driving = tau * qd >= 0.0
+    driving = (tau * qd >= 0.0) | held
     load = np.empty((len(units), len(tau)))
     load[:] = np.where(driving, tau * (1.0 / efficiency), tau * efficiency)
     for row, unit in enumerate(units):
@@ -204,11 +216,12 @@ def _geared(units: Sequence[Unit], ratio: np.ndarray, tau: np.ndarray, qd: np.nd
 
 
 def _motor_torques(units: Sequence[Unit], tau: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                   efficiency: float, rotor_inertia: float) -> np.ndarray:
+                   efficiency: float, rotor_inertia: float, rest: np.ndarray) -> np.ndarray:
     """Motor torque of every unit at every sample given [N m], shape (units, n)."""
     ratio = np.array([unit.ratio for unit in units], dtype=float)
     inertia = np.array([unit.input_inertia for unit in units]) + rotor_inertia
-    return _geared(units, ratio, tau, qd, efficiency) + np.multiply.outer(inertia * ratio, qdd)
+    return (_geared(units, ratio, tau, qd, efficiency, rest)
+            + np.multiply.outer(inertia * ratio, qdd))
 
 
 def weighted_demand(demand: MotorDemand, motor_torque: np.ndarray, qd: np.ndarray, ratio: float,

@@ -16,6 +16,7 @@ from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.options import Options
+from hdselect.sizing.tasks import Task
 from hdselect.sizing.timescale import JointScales, Slowdown
 
 Motors = Mapping[str, Sequence[Motor]]
@@ -99,7 +100,10 @@ class SizingResult:
         motors: The candidate motors per joint; empty where no motor data was given
             (then `options` say which rotor inertia and motor mass were assumed).
         loads: Every joint of the robot, sized or not, followers included, in the
-            model's order: what it does beside its file's limits.
+            model's order: what it does beside its file's limits (over every task).
+        tasks: Every task the robot was sized for, as given (shares included); empty
+            where the result was not made from tasks (`robot` and `trajectory` are then
+            the only task).
     """
 
     robot: Robot
@@ -110,6 +114,7 @@ class SizingResult:
     motion: Motion | None = None
     motors: Mapping[str, tuple[Motor, ...]] = field(default_factory=dict)
     loads: tuple[JointLoad, ...] = ()
+    tasks: tuple[Task, ...] = ()
 
     @property
     def warnings(self) -> tuple[str, ...]:

@@ -3,46 +3,38 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import at_rest
 from hdselect.catalog.units import Unit
-from hdselect.motion.planning import Trajectory
-from hdselect.robot.dynamics import cycle_torques
-from hdselect.robot.model import Robot
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import JointSizing, Motors
 from hdselect.sizing.timescale import JointScales, ScalableCycle, Slowdown, joint_scales
+from hdselect.sizing.torques import TorqueModel
 
 
-def with_slowdowns(robot: Robot, traj: Trajectory, joints: list[JointSizing],
-                    units: tuple[Unit, ...], options: Options,
-                    motors: Motors | None = None) -> list[JointSizing]:
+def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
+                   units: Mapping[str, tuple[Unit, ...]], options: Options, motors: Motors,
+                   masses: Mapping[str, float]) -> list[JointSizing]:
     """Attach to each joint without a unit the time scales at which each unit would fit.
 
-    `robot` carries the chosen units' masses. Two more batched passes (gravity, and
-    gravity plus velocity terms) split the motion's torques by how they scale.
+    The model splits the joint's torques (with the chosen units' `masses` [kg]) into
+    the parts that scale differently with time: gravity, and gravity plus the
+    velocity terms.
     """
-    failing = [robot.joint_index(joint.name) for joint in joints if joint.selected is None]
-    torques = cycle_torques(robot, traj.q, traj.qd, traj.qdd, options.stop_time, split=True,
-                            threads=options.threads, columns=failing)
-    assert torques.gravity is not None and torques.coasting is not None
+    samples = model.samples
     out = []
     for joint in joints:
         if joint.selected is None:
-            j = robot.joint_index(joint.name)
-            c = failing.index(j)
-            qd, qdd = traj.qd[:, j], traj.qdd[:, j]
+            j = model.robot.joint_index(joint.name)
+            gravity, coast = model.scaling_parts(joint.name, masses)
             cycle = ScalableCycle.split(
-                traj.t, traj.dt, traj.duration, qd, qdd, at_rest(qd, qdd),
-                torque=torques.tau[:, c], stop_torque=torques.stop[:, c],
-                gravity=torques.gravity[:, c], coast=torques.coasting[:, c],
-                stop_time=options.stop_time)
-            slowdown, scales = fitting_time_scales(
-                cycle, units, options,
-                motors=tuple(motors.get(joint.name, ())) if motors else ())
+                samples.t, samples.dt, samples.duration, samples.qd[:, j], samples.qdd[:, j],
+                samples.rest[:, j], torque=joint.torque, stop_torque=joint.stop_torque,
+                gravity=gravity, coast=coast, stop_time=options.stop_time)
+            slowdown, scales = fitting_time_scales(cycle, units[joint.name], options,
+                                                   motors=tuple(motors.get(joint.name, ())))
             joint = replace(joint, slowdown=slowdown, scales=scales)
         out.append(joint)
     return out

@@ -3,7 +3,7 @@
 For a fixed robot, mounting and planned path, every joint torque is affine in the
 payload mass (its inertia about its centre of mass stays as given) and in each
 gearhead point mass the arm carries, and a uniform time scale s changes it exactly
-(`hdselect.timescale`): with y = 1/s and T the stop time,
+(`hdselect.sizing.timescale`): with y = 1/s and T the stop time,
 
     tau  = sum_p theta_p (G_p + A_p y^2)
     stop = sum_p theta_p (G_p + V_p y^2 + E_p y / T)
@@ -12,40 +12,29 @@ where p runs over the reference robot (theta = 1), the payload (theta = mass - 1
 and one gearhead point mass per joint that carries one (theta = its mass [kg]); G is
 gravity RNEA(q, 0, 0), A = RNEA(q, qd, qdd) - G, V = RNEA(q, qd, 0) - G and
 E = RNEA(q, qd, -qd) - RNEA(q, qd, 0), one stacked batched pass per parameter.
-Every case of the group is then sized from these by linear combination, joint by
-joint from the tip to the base, each joint with exactly the masses of the units
-chosen further out: the answer `hdselect.size_trajectory` reaches by its fixed
-point, from the same rules (`cycle_load`, `reflect`, `check_unit`, `select`).
+Every case of the group is then sized by the core's own selection
+(`hdselect.sizing.core.select_units`), which asks `BasisTorques` for each joint's
+torques with the units chosen further out: a linear combination, not a pass of
+inverse dynamics. The answer is the one `hdselect.size_trajectory` reaches.
 Runs of identical samples (dwells) are kept once, weighted by their length.
 
-Where a case gives motors, a joint with motors checks every (gearhead, motor) pair as
-the core does (`reflect_motors`, `with_motor`): each motor's rotor inertia in the
-motor torque and the crash, the motor's rules with its RMS torque weighted by the
-runs, and the chosen pair's mass, gearhead and motor, in the carried point mass. The
-joint's load inertia M_jj, linear in the same parameters, comes from one more set of
-passes per parameter at the core's poses (`build_basis(..., inertias=True)`).
+Where a case gives motors, a joint's load inertia M_jj, linear in the same
+parameters, comes from one more set of passes per parameter at the core's poses
+(`build_basis(..., inertias=True)`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from hdselect.base.arrays import frozen
-from hdselect.catalog.motor_rules import with_motor
-from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import (
-    RPM_PER_RAD_S,
-    Candidate,
-    CycleLoad,
-    Momentary,
     at_rest,
-    check_unit,
-    cycle_load,
 )
-from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, select
+from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
@@ -53,14 +42,13 @@ from hdselect.robot.dynamics import inverse_dynamics, joint_inertias
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import checked_motors
-from hdselect.sizing.core import GRAVITY_LOADED, GRAVITY_SAMPLES  # the core's own choices
-from hdselect.sizing.loads import joint_loads
+from hdselect.sizing.core import select_units
+from hdselect.sizing.loads import JointLoad, joint_loads
 from hdselect.sizing.options import Options
-from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
-from hdselect.sizing.result import JointSizing, Motors, SizingResult
-from hdselect.sizing.slowdown import fitting_time_scales
+from hdselect.sizing.result import Motors, SizingResult
 from hdselect.sizing.summary import Summary, summarize
-from hdselect.sizing.timescale import ScalableCycle
+from hdselect.sizing.tasks import Samples, Task
+from hdselect.sizing.torques import GRAVITY_SAMPLES
 
 REFERENCE_MASS = 1.0
 """Payload mass of the reference robot the group is planned and evaluated with [kg]."""
@@ -182,7 +170,7 @@ def _parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
 
 def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequence[Unit],
               options: Options, motors: Motors | None = None) -> Summary:
-    """One case of the group, sized as `hdselect.size_trajectory` sizes it.
+    """One case of the group, sized by the core from the basis.
 
     Args:
         basis: The group's basis (with `Basis.inertia` where motors are given).
@@ -204,221 +192,112 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
     if options.prefer is None:
         options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
                           else DEFAULT_PREFER)
-    assert options.prefer is not None
     if motors and basis.inertia is None:
         raise ValueError("a case with motors needs a basis built with inertias=True")
-    traj, y = basis.trajectory, 1.0 / time_scale
-    theta = np.zeros(basis.gravity.shape[1])
-    theta[0] = 1.0
-    if basis.payload is not None:
-        assert mass is not None
-        theta[1] = mass - REFERENCE_MASS
-    first = len(theta) - len(basis.carriers)
-    t, dt = basis.t * time_scale, traj.dt * time_scale * basis.weight
-    qd, qdd = basis.qd * y, basis.qdd * y**2
-    limits = _Limits.of(units, options)
-    sized = basis.robot.sized_joints
-    found: dict[str, JointSizing] = {}
-    for name in reversed(sized):  # tip to base: a parent's index is below its children's
-        j = basis.robot.joint_index(name)
-        used = basis.used[j]
-        weights = theta[used]
-        gravity = weights @ basis.gravity[j, used]
-        tau = gravity + (weights @ basis.dynamic[j, used]) * y**2
-        coast = gravity + (weights @ basis.coasting[j, used]) * y**2
-        stop = coast + (weights @ basis.stopping[j, used]) * (y / options.stop_time)
-        pairs = motors.get(name, ())
-        if pairs:
-            joint = _size_pairs(name, t, dt, basis.weight, qd[:, j], qdd[:, j], tau, stop,
-                                units, pairs, options)
-        else:
-            joint = _size_joint(name, t, dt, basis.weight, qd[:, j], qdd[:, j], tau, stop,
-                                units, limits, options)
-        if joint.selected is None:
-            joint = _with_scales(joint, t, dt, traj.duration * time_scale, qd[:, j], qdd[:, j],
-                                 tau, stop, gravity, coast, units, options, pairs)
-        found[name] = joint
-        if options.mass_coupling and name in basis.carriers:
-            chosen = joint.selected or joint.strongest
-            theta[first + basis.carriers.index(name)] = chosen.unit.mass + (
-                options.motor_mass if chosen.motor_unit is None else chosen.motor_unit.mass)
-    masses = theta[first:]
-    at_poses = np.abs(np.einsum("p,dpn->nd", theta, basis.gravity[:, :, basis.poses]))
-    joints = []
-    for i, name in enumerate(sized):
-        j = basis.robot.joint_index(name)
-        carried = 0.0
-        for c in range(len(basis.carriers)):
-            if basis.carried[i, c] and masses[c] > 0.0:
-                carried += float(masses[c])
-        worst = float(at_poses[:, j].max())
-        joint = replace(found[name], carried_mass=carried,
-                        gravity_loaded=worst > GRAVITY_LOADED, max_gravity_torque=worst)
-        if name in motors:
-            assert basis.inertia is not None
-            joint = replace(joint, load_inertia=float((theta @ basis.inertia[i]).max()))
-        joints.append(joint)
-    # every joint's torque with the masses chosen, on the kept rows (a run of identical
-    # states has one torque): the peaks, speeds and travel the core's `joint_loads` finds
-    tau = np.einsum("p,dpn->nd", theta, basis.gravity + basis.dynamic * y**2)
-    kept = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale, t=t,
-                   q=traj.q[basis.rows], qd=qd, qdd=qdd)
+    model = BasisTorques(basis, mass, time_scale, options.stop_time)
+    joints, masses = select_units(model, {name: units for name in basis.robot.sized_joints},
+                                  options, motors, detail=False)
     # only the cycle time and the sample count of the trajectory go into the summary
+    traj = basis.trajectory
     timing = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale)
     summary = summarize(SizingResult(basis.robot, timing, tuple(joints), options, units,
-                                     basis.motion, motors=motors,
-                                     loads=joint_loads(basis.robot, kept, tau)))
+                                     basis.motion, motors=motors, loads=model.loads(masses)))
     # the basis's robot carries the reference payload; the case carries its own mass
     return replace(summary, payload_mass=0.0 if mass is None else float(mass))
 
 
-@dataclass(frozen=True)
-class _Limits:
-    """The units' figures the rules on single numbers read, as arrays in catalog order."""
+class BasisTorques:
+    """A case's torques as a linear combination of its group's basis: a `TorqueModel`.
 
-    ratio: np.ndarray
-    crash_gain: np.ndarray
-    repeated: np.ndarray
-    momentary: np.ndarray
-    static: np.ndarray
-    max_speed: np.ndarray
-    strongest: int
-
-    @classmethod
-    def of(cls, units: tuple[Unit, ...], options: Options) -> _Limits:
-        ratio = np.array([unit.ratio for unit in units], dtype=float)
-        inertia = np.array([unit.input_inertia for unit in units]) + options.rotor_inertia
-        strongest = max(range(len(units)), key=lambda k: (
-            units[k].repeated_torque, units[k].momentary_torque, units[k].rated_torque))
-        return cls(ratio, inertia * ratio**2 / options.stop_time,
-                   np.array([unit.repeated_torque for unit in units]),
-                   np.array([unit.momentary_torque for unit in units]),
-                   np.array([unit.static_torque for unit in units]),
-                   np.array([unit.max_input_speed for unit in units]), strongest)
-
-
-def _size_joint(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd: np.ndarray,
-                qdd: np.ndarray, tau: np.ndarray, stop: np.ndarray, units: tuple[Unit, ...],
-                limits: _Limits, options: Options) -> JointSizing:
-    """Select a unit for one joint on the kept rows, each weighted by its run length.
-
-    The rules on single figures (peak, input speed, momentary, static) are first
-    applied to every unit at once, with `check_unit`'s own expressions; `check_unit`
-    then judges the units that pass them (for ``prefer = "size"`` the smallest size
-    first, up to the first size that fits), and `reflect` the one selected, or the
-    strongest when none fits: the figures `summarize` reports.
+    theta holds the parameters' weights (1 for the reference robot, the payload mass
+    above the reference, each carried unit's mass); a time scale s multiplies the
+    velocity and inertial parts by 1/s^2 and a stop's inertial part by 1/s.
     """
-    load = cycle_load(tau, qd, dt, at_rest(qd, qdd))
-    speed = np.abs(qd)
-    stopping = np.abs(stop)
-    i_stop = int(stopping.argmax())
-    crash = np.multiply.outer(limits.crash_gain, speed)
-    crash += np.abs(tau)
-    i_crash = crash.argmax(axis=1)
-    worst_crash = crash[np.arange(len(units)), i_crash]
-    momentary = np.maximum(stopping[i_stop], worst_crash)
-    passes = ((load.peak_torque / limits.repeated <= 1.0)
-              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= 1.0)
-              & (momentary / limits.momentary <= 1.0))
-    if load.static_torque is not None:
-        passes &= load.static_torque / limits.static <= 1.0
-    survivors = [k for k in range(len(units)) if passes[k]]
-    assert options.prefer is not None  # resolved by size_case
-    motor_order = options.prefer.startswith("motor")
-    if motor_order:
-        checked = [_candidate(load, r, qd, weight, options)
-                   for r in _reflect([units[k] for k in survivors], t, tau, qd, qdd, stop,
-                                     options)]
-    else:
-        checked = []
-        for size in sorted({units[k].size for k in survivors}):
-            for k in survivors:
-                if units[k].size == size or options.prefer != "size":
-                    if options.prefer == "size" or size == min(units[s].size
-                                                               for s in survivors):
-                        checked.append(check_unit(
-                            load, units[k], momentary=_event(k, i_stop, i_crash, stopping,
-                                                             crash, speed, t, options),
-                            life_hours=options.life_hours, life_basis=options.life_basis))
-            if options.prefer != "size" or any(c.feasible for c in checked):
-                break
-    selected = select(checked, options.prefer)
-    if selected is None or not motor_order:
-        unit = units[limits.strongest] if selected is None else selected.unit
-        (reflection,) = _reflect([unit], t, tau, qd, qdd, stop, options)
-        chosen = _candidate(load, reflection, qd, weight, options)
-        selected = None if selected is None else chosen
-    else:
-        chosen = selected
-    return JointSizing(name, load, (chosen,), selected, 0.0, False, 0.0, tau, stop)
 
+    def __init__(self, basis: Basis, mass: float | None, time_scale: float,
+                 stop_time: float) -> None:
+        """One case of the basis: its samples are the basis's kept rows.
 
-def _size_pairs(name: str, t: np.ndarray, dt: np.ndarray, weight: np.ndarray, qd: np.ndarray,
-                qdd: np.ndarray, tau: np.ndarray, stop: np.ndarray, units: tuple[Unit, ...],
-                motors: Sequence[Motor], options: Options) -> JointSizing:
-    """Every (gearhead, motor) pair against one joint on the kept rows, as the core checks them.
+        Args:
+            basis: The group's basis.
+            mass: Payload mass [kg] (None exactly when the basis has no payload).
+            time_scale: The path run s times slower [-].
+            stop_time: The emergency-stop time [s].
+        """
+        self.basis = basis
+        self.stop_time = stop_time
+        self.robot = basis.robot
+        self.y = 1.0 / time_scale
+        self._theta = np.zeros(basis.gravity.shape[1])
+        self._theta[0] = 1.0
+        if basis.payload is not None:
+            assert mass is not None
+            self._theta[1] = mass - REFERENCE_MASS
+        self._first = len(self._theta) - len(basis.carriers)
+        traj = basis.trajectory
+        qd, qdd = frozen(basis.qd * self.y), frozen(basis.qdd * self.y**2)
+        rest = np.empty(qd.shape, dtype=bool)
+        for j in range(qd.shape[1]):
+            rest[:, j] = at_rest(qd[:, j], qdd[:, j])
+        rest.setflags(write=False)
+        timing = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale)
+        self.samples = Samples(frozen(basis.t * time_scale),
+                               frozen(traj.dt * time_scale * basis.weight), basis.weight,
+                               qd, qdd, rest, np.zeros(len(basis.rows), dtype=np.intp),
+                               (Task(basis.robot, timing, motion=basis.motion),),
+                               traj.duration * time_scale)
 
-    The core's own steps (`reflect_motors`, `check_unit`, `with_motor`, `select`), the
-    motor demand's RMS figures weighted by each row's run length (`weighted_demand`).
-    """
-    assert options.prefer is not None  # resolved by size_case
-    load = cycle_load(tau, qd, dt, at_rest(qd, qdd))
-    behind = reflect_motors(units, [m.rotor_inertia for m in motors], t, tau, qd, qdd, stop,
-                            stop_time=options.stop_time, efficiency=options.efficiency)
-    speed = np.abs(qd) * RPM_PER_RAD_S
-    pairs, torque = [], {}
-    for u, unit in enumerate(units):
-        for m, motor in enumerate(motors):
-            r = behind[m][u]
-            demand = weighted_demand(r.motor, r.motor_torque, qd, unit.ratio, weight)
-            gearhead = check_unit(load, unit, momentary=r.momentary,
-                                  life_hours=options.life_hours, life_basis=options.life_basis,
-                                  motor=demand)
-            pair = with_motor(gearhead, motor, r.motor_torque, speed * unit.ratio)
-            pairs.append(pair)
-            torque[id(pair)] = r.motor_torque
-    selected = select(pairs, options.prefer)
-    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0, tau, stop)
-    return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
+    def torques(self, joint: str, masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """A joint's torque and emergency-stop torque along the kept rows [N m]."""
+        j, used, weights = self._weights(joint, masses)
+        gravity = weights @ self.basis.gravity[j, used]
+        tau = gravity + (weights @ self.basis.dynamic[j, used]) * self.y**2
+        coast = gravity + (weights @ self.basis.coasting[j, used]) * self.y**2
+        stop = coast + (weights @ self.basis.stopping[j, used]) * (
+            self.y / self.stop_time)
+        return tau, stop
 
+    def scaling_parts(self, joint: str,
+                      masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """A joint's gravity and coasting parts along the kept rows [N m]."""
+        j, used, weights = self._weights(joint, masses)
+        gravity = weights @ self.basis.gravity[j, used]
+        return gravity, gravity + (weights @ self.basis.coasting[j, used]) * self.y**2
 
-def _event(k: int, i_stop: int, i_crash: np.ndarray, stopping: np.ndarray, crash: np.ndarray,
-           speed: np.ndarray, t: np.ndarray, options: Options) -> Momentary:
-    """Unit k's worst momentary event, as `reflect` reports it."""
-    i = int(i_crash[k])
-    if stopping[i_stop] >= crash[k, i]:
-        return Momentary(float(stopping[i_stop]), "emergency stop", float(speed[i_stop]),
-                         options.stop_time, float(t[i_stop]))
-    return Momentary(float(crash[k, i]), "crash", float(speed[i]), options.stop_time,
-                     float(t[i]))
+    def gravity(self, masses: Mapping[str, float]) -> np.ndarray:
+        """Largest |gravity torque| of every joint over the basis's poses [N m], (dof,)."""
+        theta = self._with(masses)
+        return np.abs(np.einsum("p,dpn->nd", theta,
+                                self.basis.gravity[:, :, self.basis.poses])).max(axis=0)
 
+    def load_inertia(self, joint: str, masses: Mapping[str, float]) -> float:
+        """The joint's largest M_jj over the basis's poses [kg m^2]."""
+        assert self.basis.inertia is not None
+        i = self.robot.sized_joints.index(joint)
+        return float((self._with(masses) @ self.basis.inertia[i]).max())
 
-def _reflect(units: list[Unit], t: np.ndarray, tau: np.ndarray, qd: np.ndarray,
-             qdd: np.ndarray, stop: np.ndarray, options: Options) -> list[Reflection]:
-    return reflect(units, t, tau, qd, qdd, stop, stop_time=options.stop_time,
-                   efficiency=options.efficiency, rotor_inertia=options.rotor_inertia)
+    def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
+        """Every joint on the kept rows (a run of identical states has one torque)."""
+        basis = self.basis
+        tau = np.einsum("p,dpn->nd", self._with(masses),
+                        basis.gravity + basis.dynamic * self.y**2)
+        kept = replace(basis.trajectory, t=self.samples.t, q=basis.trajectory.q[basis.rows],
+                       qd=self.samples.qd, qdd=self.samples.qdd)
+        return joint_loads(basis.robot, kept, tau)
 
+    def _with(self, masses: Mapping[str, float]) -> np.ndarray:
+        """The parameters' weights, the carried units' masses [kg] among them."""
+        theta = self._theta.copy()
+        for c, name in enumerate(self.basis.carriers):
+            theta[self._first + c] = masses.get(name, 0.0)
+        return theta
 
-def _candidate(load: CycleLoad, reflection: Reflection, qd: np.ndarray, weight: np.ndarray,
-               options: Options) -> Candidate:
-    """`check_unit` with the motor demand, its RMS figures weighted by the rows' run lengths."""
-    demand = weighted_demand(reflection.motor, reflection.motor_torque, qd,
-                             reflection.unit.ratio, weight)
-    return check_unit(load, reflection.unit, momentary=reflection.momentary,
-                      life_hours=options.life_hours, life_basis=options.life_basis,
-                      motor=demand)
-
-
-def _with_scales(joint: JointSizing, t: np.ndarray, dt: np.ndarray, duration: float,
-                 qd: np.ndarray, qdd: np.ndarray, tau: np.ndarray, stop: np.ndarray,
-                 gravity: np.ndarray, coast: np.ndarray, units: tuple[Unit, ...],
-                 options: Options, motors: Sequence[Motor] = ()) -> JointSizing:
-    """The time scales at which each unit (or pair) would fit a joint none fits, as in the core."""
-    cycle = ScalableCycle.split(t, dt, duration, qd, qdd, at_rest(qd, qdd), torque=tau,
-                                stop_torque=stop, gravity=gravity, coast=coast,
-                                stop_time=options.stop_time)
-    slowdown, scales = fitting_time_scales(cycle, units, options, motors=motors)
-    return replace(joint, slowdown=slowdown, scales=scales)
+    def _weights(self, joint: str,
+                 masses: Mapping[str, float]) -> tuple[int, np.ndarray, np.ndarray]:
+        """The joint's column, the parameters that load it, and their weights."""
+        j = self.robot.joint_index(joint)
+        used = self.basis.used[j]
+        return j, used, self._with(masses)[used]
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:

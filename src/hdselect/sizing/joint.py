@@ -1,0 +1,229 @@
+"""One joint's cycle against every unit (or every gearhead and motor pair), and the choice.
+
+The joint's torques come from the core, for the masses of the units already chosen
+further out. Every unit is reflected (`hdselect.sizing.reflect`), checked by its
+series' rules (`check_unit`) and the preferred feasible one selected. Where only
+the selection is wanted (a study's case), the rules on single figures (peak, input
+speed, momentary, static) are first applied to every unit at once, and the
+whole-cycle rules judged only for the units that can still be chosen: the same
+choice, with the figures of the selected unit (or of the strongest, when none fits).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from hdselect.base.arrays import frozen, readonly
+from hdselect.catalog.motor_rules import with_motor
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.rules import (
+    RPM_PER_RAD_S,
+    Candidate,
+    CycleLoad,
+    Momentary,
+    check_unit,
+    cycle_load,
+)
+from hdselect.catalog.select import select
+from hdselect.catalog.units import Unit
+from hdselect.sizing.options import Options
+from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
+from hdselect.sizing.result import JointSizing
+from hdselect.sizing.tasks import Samples
+
+
+@dataclass(frozen=True, eq=False)
+class JointCycle:
+    """One joint's samples and the torques it carries along them.
+
+    Attributes:
+        samples: The pooled samples of the robot's tasks.
+        column: The joint's column in the samples' arrays.
+        torque: Output torque along the samples [N m], shape (n,).
+        stop: Output torque at the start of an emergency stop from each sample [N m], (n,).
+    """
+
+    samples: Samples
+    column: int
+    torque: np.ndarray
+    stop: np.ndarray
+
+    @property
+    def qd(self) -> np.ndarray:
+        """The joint's speed [rad/s], shape (n,)."""
+        return self.samples.qd[:, self.column]
+
+    @property
+    def qdd(self) -> np.ndarray:
+        """The joint's acceleration [rad/s^2], shape (n,)."""
+        return self.samples.qdd[:, self.column]
+
+    @property
+    def rest(self) -> np.ndarray:
+        """Where the joint is held still in its own task, shape (n,)."""
+        return self.samples.rest[:, self.column]
+
+    def load(self) -> CycleLoad:
+        """The cycle on the output side, by the catalog page's formulas."""
+        return cycle_load(self.torque, self.qd, self.samples.dt, self.rest)
+
+
+def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: Options, *,
+               motors: Sequence[Motor] = (), detail: bool = True) -> JointSizing:
+    """Check every unit (every pair, with `motors`) against one joint; select one.
+
+    Args:
+        name: The joint's name.
+        cycle: The joint's samples and torques.
+        units: The candidate units.
+        options: The assumptions, with ``prefer`` resolved.
+        motors: The joint's candidate motors: then every (gearhead, motor) pair is checked.
+        detail: Keep every candidate checked; False keeps only the selected one (or the
+            strongest, when none fits), judged exactly as with detail.
+
+    Returns:
+        The joint's candidates and selection; its carried mass and gravity figures are
+        for the core to fill in.
+    """
+    load = cycle.load()
+    if motors:
+        return _size_pairs(name, cycle, load, units, motors, options)
+    if detail:
+        candidates = [_candidate(load, r, cycle, options) for r in _reflect(units, cycle, options)]
+        return JointSizing(name, load, tuple(candidates), select(candidates, _prefer(options)),
+                           0.0, False, 0.0, readonly(cycle.torque), readonly(cycle.stop))
+    return _selected_only(name, cycle, load, units, options)
+
+
+def _prefer(options: Options) -> str:
+    assert options.prefer is not None  # resolved by the core
+    return options.prefer
+
+
+def _reflect(units: Sequence[Unit], cycle: JointCycle, options: Options) -> list[Reflection]:
+    return reflect(units, cycle.samples.t, cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
+                   stop_time=options.stop_time, efficiency=options.efficiency,
+                   rotor_inertia=options.rotor_inertia, rest=cycle.rest)
+
+
+def _candidate(load: CycleLoad, reflection: Reflection, cycle: JointCycle,
+               options: Options) -> Candidate:
+    """`check_unit` with the motor demand (its RMS weighted where samples differ in length)."""
+    demand = reflection.motor
+    if cycle.samples.weight is not None:
+        demand = weighted_demand(demand, reflection.motor_torque, cycle.qd,
+                                 reflection.unit.ratio, cycle.samples.weight)
+    return check_unit(load, reflection.unit, momentary=reflection.momentary,
+                      life_hours=options.life_hours, life_basis=options.life_basis,
+                      motor=demand)
+
+
+def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit, ...],
+                motors: Sequence[Motor], options: Options) -> JointSizing:
+    """Every (gearhead, motor) pair: each motor's rotor inertia in the motor torque and crash."""
+    behind = reflect_motors(units, [m.rotor_inertia for m in motors], cycle.samples.t,
+                            cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
+                            stop_time=options.stop_time, efficiency=options.efficiency,
+                            rest=cycle.rest)
+    speed = np.abs(cycle.qd) * RPM_PER_RAD_S
+    pairs, torque = [], {}
+    for u, unit in enumerate(units):
+        for m, motor in enumerate(motors):
+            r = behind[m][u]
+            pair = with_motor(_candidate(load, r, cycle, options), motor, r.motor_torque,
+                              speed * unit.ratio)
+            pairs.append(pair)
+            torque[id(pair)] = r.motor_torque
+    selected = select(pairs, _prefer(options))
+    joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0,
+                        readonly(cycle.torque), readonly(cycle.stop))
+    return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
+
+
+def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit, ...],
+                   options: Options) -> JointSizing:
+    """The selection, judging the whole-cycle rules only where they can change it.
+
+    A unit failing a rule on single figures is infeasible whatever its whole-cycle
+    rules say. Of the rest, ``prefer = "size"`` needs only the smallest size that has
+    a feasible unit; a motor order needs every survivor's motor demand.
+    """
+    prefer = _prefer(options)
+    limits = _Limits.of(units, options)
+    speed, stopping = np.abs(cycle.qd), np.abs(cycle.stop)
+    i_stop = int(stopping.argmax())
+    crash = np.multiply.outer(limits.crash_gain, speed)
+    crash += np.abs(cycle.torque)
+    i_crash = crash.argmax(axis=1)
+    worst_crash = crash[np.arange(len(units)), i_crash]
+    momentary = np.maximum(stopping[i_stop], worst_crash)
+    passes = ((load.peak_torque / limits.repeated <= 1.0)
+              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= 1.0)
+              & (momentary / limits.momentary <= 1.0))
+    if load.static_torque is not None:
+        passes &= load.static_torque / limits.static <= 1.0
+    survivors = [k for k in range(len(units)) if passes[k]]
+    motor_order = prefer.startswith("motor")
+    if motor_order:
+        checked = [_candidate(load, r, cycle, options)
+                   for r in _reflect([units[k] for k in survivors], cycle, options)]
+    else:
+        checked = []
+        sizes = sorted({units[k].size for k in survivors})
+        for size in sizes if prefer == "size" else sizes[:1]:
+            checked += [check_unit(load, units[k],
+                                   momentary=_event(k, i_stop, i_crash, stopping, crash, speed,
+                                                    cycle.samples.t, options),
+                                   life_hours=options.life_hours, life_basis=options.life_basis)
+                        for k in survivors if units[k].size == size or prefer != "size"]
+            if prefer != "size" or any(c.feasible for c in checked):
+                break
+    selected = select(checked, prefer)
+    if selected is None or not motor_order:  # the figures of the selected, else the strongest
+        unit = units[limits.strongest] if selected is None else selected.unit
+        (reflection,) = _reflect([unit], cycle, options)
+        chosen = _candidate(load, reflection, cycle, options)
+        selected = None if selected is None else chosen
+    else:
+        chosen = selected
+    return JointSizing(name, load, (chosen,), selected, 0.0, False, 0.0, cycle.torque,
+                       cycle.stop)
+
+
+@dataclass(frozen=True)
+class _Limits:
+    """The units' figures the rules on single numbers read, as arrays in catalog order."""
+
+    ratio: np.ndarray
+    crash_gain: np.ndarray
+    repeated: np.ndarray
+    momentary: np.ndarray
+    static: np.ndarray
+    max_speed: np.ndarray
+    strongest: int
+
+    @classmethod
+    def of(cls, units: tuple[Unit, ...], options: Options) -> _Limits:
+        ratio = np.array([unit.ratio for unit in units], dtype=float)
+        inertia = np.array([unit.input_inertia for unit in units]) + options.rotor_inertia
+        strongest = max(range(len(units)), key=lambda k: (
+            units[k].repeated_torque, units[k].momentary_torque, units[k].rated_torque))
+        return cls(ratio, inertia * ratio**2 / options.stop_time,
+                   np.array([unit.repeated_torque for unit in units]),
+                   np.array([unit.momentary_torque for unit in units]),
+                   np.array([unit.static_torque for unit in units]),
+                   np.array([unit.max_input_speed for unit in units]), strongest)
+
+
+def _event(k: int, i_stop: int, i_crash: np.ndarray, stopping: np.ndarray, crash: np.ndarray,
+           speed: np.ndarray, t: np.ndarray, options: Options) -> Momentary:
+    """Unit k's worst momentary event, as `reflect` reports it."""
+    i = int(i_crash[k])
+    if stopping[i_stop] >= crash[k, i]:
+        return Momentary(float(stopping[i_stop]), "emergency stop", float(speed[i_stop]),
+                         options.stop_time, float(t[i_stop]))
+    return Momentary(float(crash[k, i]), "crash", float(speed[i]), options.stop_time,
+                     float(t[i]))

@@ -1,0 +1,179 @@
+"""Where the sizing core's torques come from: the seam between the core and the dynamics.
+
+The core chooses a unit per joint from the tip to the base, and asks for each
+joint's torques with the masses of the units chosen further out. A `TorqueModel`
+answers: `DirectTorques` by batched inverse dynamics of every task's trajectory
+(a single sizing, a mix of tasks), a study's basis by linear combination
+(`hdselect.study.group`). Both feed the same selection, so every rule lives once.
+
+Masses are keyed by the joint whose unit they are: the unit (and its motor) is
+bolted to the link before that joint, so it loads exactly the joints that move
+that link (`hdselect.Robot.with_gearheads`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Protocol
+
+import numpy as np
+
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.dynamics import cycle_torques, gravity_torques, joint_inertias
+from hdselect.robot.model import Robot
+from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
+from hdselect.sizing.tasks import Samples, Task
+
+GRAVITY_SAMPLES = 400
+"""Poses per task, evenly spread over its cycle, at which the gravity torque (the
+backdriving warning) and a joint's load inertia M_jj are evaluated."""
+
+
+class TorqueModel(Protocol):
+    """The torques of a robot's tasks for any masses carried at its joints.
+
+    Attributes:
+        robot: The robot of the first task: its joints, tree and sized joints.
+        samples: The pooled samples the torques are given on.
+    """
+
+    robot: Robot
+    samples: Samples
+
+    def torques(self, joint: str, masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """A joint's torque and emergency-stop torque along the samples [N m], each (n,).
+
+        `masses` [kg] gives at least every unit further out than `joint`.
+        """
+
+    def scaling_parts(self, joint: str,
+                      masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """A joint's gravity part RNEA(q, 0, 0) and coasting part RNEA(q, qd, 0) [N m]."""
+
+    def gravity(self, masses: Mapping[str, float]) -> np.ndarray:
+        """Largest |gravity torque| of every joint over the gravity poses [N m], (dof,)."""
+
+    def load_inertia(self, joint: str, masses: Mapping[str, float]) -> float:
+        """The joint's largest M_jj over the gravity poses [kg m^2]."""
+
+    def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
+        """Every joint of the robot against its file's limits, with these masses."""
+
+
+class DirectTorques:
+    """Torques by batched inverse dynamics of every task, one full pass per change of masses.
+
+    The pass of the last masses is kept: a joint whose units further out are those of
+    the kept pass reads its column from it. With a good `guess` of the masses (the
+    core's coarse first selection), every joint reads the same pass: two batched
+    passes of inverse dynamics per task, the motion's and the emergency stop's.
+    """
+
+    def __init__(self, tasks: Sequence[Task], samples: Samples, stop_time: float, *,
+                 threads: int | None = None, guess: Mapping[str, float] | None = None) -> None:
+        """Prepare the model; nothing is computed until asked.
+
+        Args:
+            tasks: The tasks counted, in the samples' order.
+            samples: Their pooled samples.
+            stop_time: The emergency-stop time [s].
+            threads: Threads for the batched passes; None chooses from the sample count.
+            guess: Masses [kg] expected per joint, used where the core has not chosen yet.
+        """
+        self.tasks = tuple(tasks)
+        self.robot = self.tasks[0].robot
+        self.samples = samples
+        self.stop_time = stop_time
+        self.threads = threads
+        self.guess = dict(guess or {})
+        model = self.robot.model
+        self._below = {name: {k for k in self.robot.sized_joints
+                              if _moves(model, model.getJointId(name), model.getJointId(k))}
+                       for name in self.robot.sized_joints}
+        self._carriers = tuple(k for k in self.robot.sized_joints
+                               if model.parents[model.getJointId(k)] > 0)
+        self._masses: dict[str, float] | None = None
+        self._tau: np.ndarray | None = None
+        self._stop: np.ndarray | None = None
+
+    def torques(self, joint: str, masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """A joint's torque and emergency-stop torque along the samples [N m], each (n,)."""
+        if self._masses is None or any(self._masses.get(k, 0.0) != masses.get(k, 0.0)
+                                       for k in self._below[joint]):
+            self._pass(masses)
+        assert self._tau is not None and self._stop is not None
+        j = self.robot.joint_index(joint)
+        return np.array(self._tau[:, j]), np.array(self._stop[:, j])
+
+    def scaling_parts(self, joint: str,
+                      masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
+        """A joint's gravity part RNEA(q, 0, 0) and coasting part RNEA(q, qd, 0) [N m]."""
+        j = self.robot.joint_index(joint)
+        parts = [cycle_torques(self._carrying(task, masses), task.trajectory.q,
+                               task.trajectory.qd, task.trajectory.qdd, self.stop_time,
+                               split=True, threads=self.threads, columns=[j])
+                 for task in self.tasks]
+        gravity = np.concatenate([p.gravity[:, 0] for p in parts if p.gravity is not None])
+        coast = np.concatenate([p.coasting[:, 0] for p in parts if p.coasting is not None])
+        return gravity, coast
+
+    def gravity(self, masses: Mapping[str, float]) -> np.ndarray:
+        """Largest |gravity torque| of every joint over the gravity poses [N m], (dof,)."""
+        return np.max([np.abs(gravity_torques(self._carrying(task, masses),
+                                              task.trajectory.q[_poses(task.trajectory)],
+                                              threads=self.threads)).max(axis=0)
+                       for task in self.tasks], axis=0)
+
+    def load_inertia(self, joint: str, masses: Mapping[str, float]) -> float:
+        """The joint's largest M_jj over the gravity poses [kg m^2]."""
+        return max(float(joint_inertias(self._carrying(task, masses),
+                                        task.trajectory.q[_poses(task.trajectory)], [joint],
+                                        threads=self.threads).max())
+                   for task in self.tasks)
+
+    def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
+        """Every joint of the robot against its file's limits, with these masses."""
+        if self._masses is None or any(self._masses.get(k, 0.0) != masses.get(k, 0.0)
+                                       for k in self._carriers):
+            self._pass(masses)
+        assert self._tau is not None
+        per_task, start = [], 0
+        for task in self.tasks:
+            n = len(task.trajectory.t)
+            per_task.append(joint_loads(task.robot, task.trajectory, self._tau[start:start + n]))
+            start += n
+        return merged_loads(per_task)
+
+    def _pass(self, masses: Mapping[str, float]) -> None:
+        """Both batched passes of every task with `masses`, the guess where none is given."""
+        merged = {**self.guess, **masses}
+        ordered = {name: merged[name] for name in self.robot.sized_joints if name in merged}
+        self._masses = self._tau = self._stop = None  # let the last pass go first
+        parts = [cycle_torques(self._carrying(task, ordered), task.trajectory.q,
+                               task.trajectory.qd, task.trajectory.qdd, self.stop_time,
+                               threads=self.threads) for task in self.tasks]
+        if len(parts) == 1:
+            self._tau, self._stop = parts[0].tau, parts[0].stop
+        else:
+            self._tau = np.concatenate([p.tau for p in parts])
+            self._stop = np.concatenate([p.stop for p in parts])
+        self._masses = ordered
+
+    def _carrying(self, task: Task, masses: Mapping[str, float]) -> Robot:
+        """The task's robot with the units' masses, in the robot's joint order."""
+        ordered = {name: masses[name] for name in self.robot.sized_joints if name in masses}
+        return task.robot.with_gearheads(ordered) if ordered else task.robot
+
+
+def _moves(model: object, joint_id: int, other_id: int) -> bool:
+    """`other`'s unit (on the link before it) is moved by `joint`: other is further out."""
+    parents = model.parents  # type: ignore[attr-defined]
+    ancestor = parents[other_id]
+    while ancestor > joint_id:
+        ancestor = parents[ancestor]
+    return bool(ancestor == joint_id)
+
+
+def _poses(trajectory: Trajectory) -> np.ndarray:
+    """Indices of `GRAVITY_SAMPLES` poses evenly spread over the trajectory."""
+    return np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))
