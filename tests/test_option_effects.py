@@ -55,7 +55,10 @@ SIZING = [
     ("--prefer", ["margin"]), ("--life-hours", ["1e5"]), ("--life-basis", ["L10"]),
     ("--payload-com", ["0", "0", "0.1"]), ("--payload-frame", ["link2"]),
     ("--mounting", ["wall"]), ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),
-    ("--max-samples", ["100"]),
+    ("--max-samples", ["100"]), ("--margin", ["0.3"]),
+    ("--max-inertia-ratio", ["3"], ["--motor-catalog", "motors/example_motors.toml"]),
+    ("--inertia-target", ["50"], ["--motor-catalog", "motors/example_motors.toml",
+                                  "--prefer", "inertia"]),
 ]
 """Options every sizing command takes, with a value that must change its answer."""
 
@@ -74,20 +77,24 @@ EFFECTS = {
              ("--payload-frame", ["link2"]), ("--mounting", ["wall"]),
              ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),  # refused without --plot
              ("--joints", ["shoulder"], ["--plot", "p.png"]),  # the joints plotted
-             ("--max-samples", ["100"]), ("--plot", ["p.png"])],
+             ("--max-samples", ["100"]), ("--plot", ["p.png"]),
+             ("--waypoints", ["w.csv"]),  # the joint path as solved (here the file's)
+             ("--line-errors", ["l.csv"])],  # refused: the motion has no straight line
 }
 """Per command, each option and its value."""
 
 OTHER = {
-    "catalog": ["--catalog", "--units", "--json"], "duty": ["--catalog", "--json"],
-    "joints": ["--json", "--xacro-arg"], "init": ["--out", "--xacro-arg"],
+    "catalog": ["--catalog", "--units", "--json"],
+    "duty": ["--catalog", "--json", "--margin"],  # test_margins: the duty example by hand
+    "joints": ["--json", "--xacro-arg"], "init": ["--out", "--tool-poses", "--xacro-arg"],
     "study": ["--out", "--workers", "--scheduler", "--no-grouping", "--retry-failed", "--plot"],
-    "plan": ["--out", "--xacro-arg"], "size": ["--json", "--xacro-arg"],
-    "compare": ["--json", "--xacro-arg"], "fastest": ["--json", "--xacro-arg"],
+    "plan": ["--out", "--xacro-arg"], "size": ["--json", "--bom", "--xacro-arg"],
+    "compare": ["--json", "--bom", "--xacro-arg"], "fastest": ["--json", "--xacro-arg"],
     "max-payload": ["--json", "--prefer", "--xacro-arg"],
 }
 """Options covered elsewhere (test_cli, test_study, test_outputs, test_bad_input): outputs,
 executors and listings, which change where a result goes or how it runs, not the result.
+init's --tool-poses writes another starter: test_toolposes solves, plans and sizes it.
 max-payload's --prefer orders the units that pass at the largest payload, where the joint
 that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used.
 --xacro-arg needs a .xacro robot: `test_xacro.test_every_command_takes_xacro_arguments`."""
@@ -111,7 +118,8 @@ def outcome(capsys, command: str, extra: list[str], tag: str) -> tuple[int, str,
     argv = [command, "tr/move.toml"]
     argv += ["--out", str(out_dir / "t.csv")] if command == "plan" else [
         "--json", str(out_dir / "r.json")]
-    extra = [str(out_dir / x) if x in ("rep", "f.csv", "f.png", "p.png") else x for x in extra]
+    extra = [str(out_dir / x) if x in ("rep", "f.csv", "f.png", "p.png", "w.csv", "l.csv") else x
+             for x in extra]
     status = main([*argv, *extra])
     out, err = capsys.readouterr()
     written = []

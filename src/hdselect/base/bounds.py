@@ -127,6 +127,13 @@ MOTION_LIMITS = {
     "torque": Bound("a torque limit", "N m", 1e-6, 1e9),
 }
 """The limits of a motion file's ``[limits]`` table, in SI per joint."""
+ANGLE = Bound("an angle", "rad", -1e3, 1e3)
+"""A roll, pitch or yaw angle of a tool pose or a base pose [rad]."""
+POSE_POSITION_TOLERANCE = Bound("a position tolerance", "m", 1e-9, 1e-2)
+"""How far a solved tool position may be from the one asked for [m]: 1 nm to 10 mm."""
+POSE_ORIENTATION_TOLERANCE = Bound("an orientation tolerance", "rad", 1e-9, 0.1)
+"""How far a solved tool orientation may be turned from the one asked for [rad]: up to
+about 5.7 deg."""
 TIME = Bound("a time", "s", 0.0, 1e12, low_open=True)
 """A sample period [s]; its samples are bounded by the sample limit, not here."""
 PHASE_TIME = Bound("a time", "s", 1e-6, 1e9)
@@ -159,6 +166,10 @@ EVENTS = Bound("a count", "", 1.0, 1e12)
 """A cap on momentary events [-]."""
 PERCENT = Bound("a percentage", "%", 0.0, 1e4)
 """A load in % of the rated torque."""
+MARGIN = Bound("a margin", "", 0.0, 0.9)
+"""A design margin [-]: the share of every limit kept in reserve, 0 to 90 %."""
+INERTIA_RATIO = Bound("a ratio", "", 0.0, 1e6, low_open=True)
+"""A load-to-rotor inertia ratio [-], largest allowed or aimed at."""
 
 # --- motors ------------------------------------------------------------------------------------
 MOTOR_TORQUE = TORQUE

@@ -19,6 +19,7 @@ from hdselect.cli.codesign import run_fastest, run_max_payload
 from hdselect.cli.inputs import (
     catalog_argument,
     json_argument,
+    margin_argument,
     robot_motion_arguments,
     sizing_arguments,
     xacro_argument,
@@ -138,6 +139,7 @@ def _parser() -> argparse.ArgumentParser:
         "duty", parents=[verbose], help="size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     catalog_argument(duty)
+    margin_argument(duty)
     json_argument(duty)
     duty.set_defaults(run=run_duty)
 
@@ -147,6 +149,12 @@ def _parser() -> argparse.ArgumentParser:
     plan.add_argument("--out", metavar="FILE", required=True,
                       help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
     plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
+    plan.add_argument("--waypoints", metavar="FILE",
+                      help="CSV of the joint path as solved: every waypoint and line sample "
+                           "(tool poses solved for the mounting), with the tool's pose error")
+    plan.add_argument("--line-errors", metavar="FILE",
+                      help="CSV of every planned sample on a straight line: the tool's distance "
+                           "and angle from the line")
     plan.set_defaults(run=run_plan)
 
     size = commands.add_parser(
@@ -157,6 +165,9 @@ def _parser() -> argparse.ArgumentParser:
     size.add_argument("--report", metavar="DIR",
                       help="write an HTML report with figures into DIR ('-': the page alone, "
                            "to stdout)")
+    size.add_argument("--bom", metavar="CSV",
+                      help="write the parts list: per joint the gearhead and motor, ratio, "
+                           "masses, binding rule and margin, then the totals ('-': to stdout)")
     size.set_defaults(run=run_size)
 
     compare = commands.add_parser(
@@ -169,6 +180,9 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--report", metavar="DIR",
                          help="write an HTML report of the joints shown into DIR ('-': the "
                               "page alone, to stdout)")
+    compare.add_argument("--bom", metavar="CSV",
+                         help="write the parts list of the selection, every joint (as size "
+                              "--bom; '-': to stdout)")
     compare.set_defaults(run=run_compare)
 
     fastest = commands.add_parser(
@@ -219,6 +233,9 @@ def _parser() -> argparse.ArgumentParser:
     init.add_argument("--out", metavar="FILE",
                       help="the motion file to write (default or '-': print it); an existing "
                            "file is never overwritten")
+    init.add_argument("--tool-poses", action="store_true",
+                      help="write the waypoints as tool poses in the world (solved for the "
+                           "mounting by inverse kinematics), not as joint positions")
     init.set_defaults(run=run_init)
 
     study = commands.add_parser("study", parents=[verbose],

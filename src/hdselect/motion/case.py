@@ -9,7 +9,9 @@ from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.robot_named import load_motion_robot
+from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 
 
@@ -18,7 +20,7 @@ def robot_for_motion(
     motion: Motion,
     *,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
+    mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
 ) -> Robot:
@@ -81,7 +83,7 @@ def load_case(
     robot: Robot | str | Path | None = None,
     *,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
+    mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
 ) -> tuple[Robot, Motion]:
@@ -97,10 +99,11 @@ def load_case(
         exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
 
     Returns:
-        The robot as the motion runs it (see `robot_for_motion`) and the motion.
+        The robot as the motion runs it (see `robot_for_motion`) and the motion, its
+        tool poses solved for that robot's mounting (`hdselect.motion.solve.solve_motion`).
 
     Raises:
-        InputError: A file or option is invalid.
+        InputError: A file or option is invalid, or a tool pose cannot be solved.
     """
     motion_path = bounds.file_argument(motion, "motion")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
@@ -110,5 +113,6 @@ def load_case(
     elif not isinstance(robot, Robot):
         robot = load_robot(robot)
     loaded = load_motion(motion, robot)
-    return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
-                            joints=joints, exclude=exclude), loaded
+    robot = robot_for_motion(robot, loaded, payload=payload, mounting=mounting, joints=joints,
+                             exclude=exclude)
+    return robot, solve_motion(robot, loaded)

@@ -32,9 +32,7 @@ from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import is_input_file
 from hdselect.base.tomlfile import check_keys, join, number, table_of
 from hdselect.catalog.motors import Motor
-from hdselect.motion.followers import check_waypoint_followers
 from hdselect.motion.limits import (
-    LIMIT_ROUNDING,
     JointLists,
     beyond_robot,
     limit_units,
@@ -42,6 +40,7 @@ from hdselect.motion.limits import (
     vector,
     velocity_limit,
 )
+from hdselect.motion.lines import LinePath
 from hdselect.motion.logderivatives import UNCERTAIN, acceleration_uncertainty
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
@@ -52,8 +51,10 @@ from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: publi
     robot_file_named,
     xacro_args_of,
 )
+from hdselect.motion.toolposes import ToolPoses, ToolSolution, read_base
+from hdselect.motion.waypoints import read_waypoints
 from hdselect.robot.model import Robot, load_robot
-from hdselect.robot.mounting import MOUNTINGS
+from hdselect.robot.mounting import MOUNTINGS, BasePose
 from hdselect.robot.payload import Payload
 
 logger = logging.getLogger(__name__)
@@ -67,9 +68,9 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
 
 
-
 _TOP_KEYS = ("robot", "xacro_args", "planner", "angle_unit", "dt", "mounting", "payload",
-             "limits", "safety", "requirements", "waypoint", "samples", "sizing", "motor")
+             "limits", "safety", "requirements", "waypoint", "samples", "sizing", "motor", "tool",
+             "base")
 
 
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
@@ -79,7 +80,8 @@ _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity"
            "samples": ()}
 
 
-_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis")}
+_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin")}
+_BOUNDS = {"stop_time": bounds.STOP_TIME, "life_hours": bounds.LIFE, "margin": bounds.MARGIN}
 
 
 _SIZING_KEYS = ("joints", "exclude")
@@ -99,7 +101,9 @@ class Motion:
 
     A Motion is planned against a Robot with the same joints (`hdselect.plan`); it
     does not hold one. What the file says about the robot (its file, payload and
-    mounting) is kept here as given, and applied by `robot_for_motion`.
+    mounting) is kept here as given, and applied by `robot_for_motion`. Waypoints
+    written as tool poses are solved for a robot by `hdselect.motion.solve.solve_motion`
+    (which `load_case`, `plan` and `size` call): until then their rows are NaN.
 
     Attributes:
         path: The motion file.
@@ -107,7 +111,7 @@ class Motion:
         planner: ``"ruckig"``, ``"toppra"`` or ``"samples"``.
         dt: Sample period of the planned trajectory [s].
         waypoints: Joint positions to pass through [rad or m], shape (k, dof); (0, dof)
-            for the samples planner.
+            for the samples planner; NaN rows for tool poses not solved yet.
         dwells: Time held at rest after reaching each waypoint [s], shape (k,).
         velocity_limit: Joint speed limit [rad/s or m/s], shape (dof,), or None.
         acceleration_limit: Joint acceleration limit [rad/s^2 or m/s^2], (dof,), or None.
@@ -116,10 +120,12 @@ class Motion:
         stop_time: Time to stop every joint in an emergency stop [s], or None.
         life_hours: Required gearhead life [h], or None.
         life_basis: The basis of `life_hours`, ``"L10"`` or ``"L50"``, or None if not given.
+        margin: Design margin of every rule [-] (``[requirements] margin``), or None.
         samples: The logged trajectory for the samples planner, else None.
         robot_file: The file's ``robot``, relative to the motion file resolved, or None.
         payload: The file's ``[payload]``, or None.
-        mounting: The file's ``mounting``, or None when it gives none.
+        mounting: The file's ``mounting`` (a name or a gravity vector) or its ``base``
+            pose, or None when it gives neither.
         angle_unit: The file's ``angle_unit`` (``"deg"`` or ``"rad"``), for messages.
         sized_joints: The file's ``[sizing] joints``, or None when it gives none.
         excluded_joints: The file's ``[sizing] exclude``: joints that move but get no gearhead.
@@ -130,6 +136,11 @@ class Motion:
         motors: The file's ``[motor]``: candidate motors per rotary joint (one for a
             fixed motor), or None when it gives none.
         motor_joints: The joints the file gives a ``[motor.JOINT]`` block of their own.
+        tool: The file's tool poses and ``[tool]`` table, or None when every waypoint
+            gives joint positions.
+        lines: The straight lines, solved into joint samples that the path passes through
+            (empty until solved, and for a motion without lines).
+        solution: How the tool poses were solved, or None until they are.
         xacro_args: The file's ``xacro_args`` for the ``.xacro`` robot it names.
     """
 
@@ -149,7 +160,7 @@ class Motion:
     samples: SampleLog | None = None
     robot_file: Path | None = None
     payload: Payload | None = None
-    mounting: str | tuple[float, float, float] | None = None
+    mounting: str | tuple[float, float, float] | BasePose | None = None
     angle_unit: str = "deg"
     sized_joints: tuple[str, ...] | None = None
     excluded_joints: tuple[str, ...] = ()
@@ -157,6 +168,10 @@ class Motion:
     warnings: tuple[str, ...] = ()
     motors: Mapping[str, tuple[Motor, ...]] | None = None
     motor_joints: tuple[str, ...] = ()
+    margin: float | None = None
+    tool: ToolPoses | None = None
+    lines: tuple[LinePath, ...] = ()
+    solution: ToolSolution | None = None
     xacro_args: Mapping[str, str] = field(default_factory=dict)
 
     def refuse_motors(self, command: str) -> None:
@@ -211,7 +226,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     unit = ANGLE_UNITS[angle_unit]
     dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
-    file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
+    file_mounting = _mounting(doc, path, unit, angle_unit)
     robot_file = named_file(doc, path, must_exist=robot is None)  # a robot given overrides it
     xacro_args = xacro_args_of(doc, path)
     if robot is None:
@@ -261,8 +276,12 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
                              field="samples")
-        waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units, lists,
-                                       (unit, angle_unit))
+        waypoints, dwells, tool = read_waypoints(doc, path, robot, scale, units, lists,
+                                                 (unit, angle_unit))
+        for k in tool.lines if tool is not None and planner != "toppra" else ():
+            raise InputError(f"a straight line needs planner \"toppra\" (\"{planner}\" moves "
+                             "from rest to rest between waypoints)", path=path,
+                             field=f"waypoint[{k}].line")
     warnings += lists.warnings()
     for warning in warnings:
         logger.warning("%s: %s", path, warning)
@@ -280,6 +299,8 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         warnings=tuple(warnings), motors=motors,
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
+        margin=requirements.get("margin"),
+        tool=tool if planner != "samples" else None,
         xacro_args=xacro_args,
     )
 
@@ -306,8 +327,7 @@ def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
             if key in table:
                 values[key] = _choice(table, key, LIFE_BASES, path, where=section)
         elif key in table:
-            values[key] = number(table, key, path, section,
-                                 bound=bounds.STOP_TIME if key == "stop_time" else bounds.LIFE)
+            values[key] = number(table, key, path, section, bound=_BOUNDS[key])
     return values
 
 
@@ -323,11 +343,22 @@ def _payload(value: Any, path: Path) -> Payload:
         raise InputError(err.reason, path=path, field=err.field) from err
 
 
-def _mounting(value: Any, path: Path) -> str | tuple[float, float, float]:
+def _mounting(doc: dict[str, Any], path: Path, unit: float,
+              angle_unit: str) -> str | tuple[float, float, float] | BasePose | None:
+    """The file's ``mounting`` or ``base``, or None when it gives neither."""
+    if "base" in doc:
+        if "mounting" in doc:
+            raise InputError("give either mounting or base (which sets the mounting), not both",
+                             path=path, field="base")
+        return read_base(doc["base"], path, unit, angle_unit)
+    if "mounting" not in doc:
+        return None
+    value = doc["mounting"]
     if isinstance(value, str):
         if value not in MOUNTINGS:
             raise InputError(f"unknown mounting {value!r}; choose one of: {', '.join(MOUNTINGS)}"
-                             " or a gravity vector [gx, gy, gz] in m/s^2", path=path,
+                             " or a gravity vector [gx, gy, gz] in m/s^2 (or give base = "
+                             "{xyz, rpy})", path=path,
                              field="mounting")
         return value
     x, y, z = vector(value, 3, path, "mounting")
@@ -354,51 +385,6 @@ def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[st
         except InputError as err:
             raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
     return names
-
-
-def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: list[str],
-               lists: JointLists, angle: tuple[float, str]):
-    """The waypoints [rad or m] and dwells [s], each within every joint's limits.
-
-    Followers' limits included; a table may list a mimic follower's value if it agrees
-    with its leader's.
-    """
-    if not isinstance(value, list) or len(value) < 2:
-        raise InputError("give at least two [[waypoint]] tables", path=path, field="waypoint")
-    points, dwells = [], []
-    for i, item in enumerate(value):
-        where = f"waypoint[{i}]"
-        table = table_of(item, path, where)
-        check_keys(table, ("q", "dwell"), path, where)
-        if "q" not in table:
-            raise InputError("required key is missing", path=path, field=f"{where}.q")
-        if not isinstance(table["q"], list | dict):
-            raise InputError("expected a list or a table keyed by joint name", path=path,
-                             field=f"{where}.q")
-        positions, followers = table["q"], {}
-        if isinstance(positions, dict):
-            followers = {k: v for k, v in positions.items() if k in robot.mimic}
-            positions = {k: v for k, v in positions.items() if k not in robot.mimic}
-        given = per_joint(positions, robot, path, f"{where}.q", bound=bounds.POSITION,
-                           scale=scale, units=units, lists=lists)
-        q = given * scale
-        lower, upper = robot.lower, robot.upper
-        slack_low = LIMIT_ROUNDING * np.maximum(1.0, np.abs(lower))
-        slack_high = LIMIT_ROUNDING * np.maximum(1.0, np.abs(upper))
-        for j in np.flatnonzero((q < lower - slack_low) | (q > upper + slack_high)):
-            name = robot.joint_names[j]
-            listed = isinstance(table["q"], list)
-            key = f"[{j}]" if listed else f".{name}"
-            raise InputError(
-                f"{given[j]:g} {units[j]} is outside the limits of joint '{name}' "
-                f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
-                + (f" ({lists.order})" if listed else ""),
-                path=path, field=f"{where}.q{key}")
-        q = np.clip(q, lower, upper)  # on the limit its file rounded
-        check_waypoint_followers(robot, q, followers, angle, path, f"{where}.q")
-        points.append(q)
-        dwells.append(number(table, "dwell", path, where, default=0.0, bound=bounds.DWELL))
-    return np.array(points), np.array(dwells)
 
 
 def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:

@@ -26,7 +26,9 @@ from hdselect.catalog.units import Unit
 from hdselect.motion.case import load_case, robot_for_motion
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import check_trajectory, checked_motors, units_argument
 from hdselect.sizing.joint import JointCycle, size_joint
@@ -49,7 +51,7 @@ def size(
     catalog: Sequence[str | Path] = (),
     units: Sequence[Unit] | None = None,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
+    mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
     motors: Motors | None = None,
@@ -99,6 +101,7 @@ def size(
             robot = load_robot(file, xacro_args=motion.xacro_args if robot is None else None)
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
                                  joints=joints, exclude=exclude)
+        motion = solve_motion(robot, motion)
     else:
         robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
                                   joints=joints, exclude=exclude)
@@ -247,10 +250,12 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
     found: dict[str, JointSizing] = {}
     for name in reversed(robot.sized_joints):  # a parent's index is below its children's
         tau, stop = model.torques(name, masses)
+        # the load inertia before the selection (the inertia-ratio rule): M_jj depends only
+        # on the bodies beyond the joint, whose units are chosen
+        inertia = model.load_inertia(name, masses) if name in motors else None
         joint = size_joint(name, JointCycle(model.samples, robot.joint_index(name), tau, stop),
-                           units[name], options, motors=motors.get(name, ()), detail=detail)
-        if name in motors:
-            joint = replace(joint, load_inertia=model.load_inertia(name, masses))
+                           units[name], options, motors=motors.get(name, ()), detail=detail,
+                           load_inertia=inertia)
         found[name] = joint
         if options.mass_coupling:
             chosen = joint.selected or joint.strongest
