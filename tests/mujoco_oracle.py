@@ -181,18 +181,7 @@ def mujoco_torques(mj: mujoco.MjModel, robot: hdselect.Robot, q: np.ndarray, qd:
     address = {name: _address(mj, name) for name in (*robot.joint_names, *robot.mimic)}
     out = np.zeros(q.shape)
     for k in range(q.shape[0]):
-        data.qpos[:], data.qvel[:], data.qacc[:] = mj.qpos0, 0.0, 0.0
-        for j, name in enumerate(robot.joint_names):
-            qadr, vadr = address[name]
-            data.qpos[qadr], data.qvel[vadr], data.qacc[vadr] = q[k, j], qd[k, j], qdd[k, j]
-        for name, mimic in robot.mimic.items():
-            j = robot.joint_index(mimic.leader)
-            qadr, vadr = address[name]
-            data.qpos[qadr] = mimic.multiplier * q[k, j] + mimic.offset
-            data.qvel[vadr] = mimic.multiplier * qd[k, j]
-            data.qacc[vadr] = mimic.multiplier * qdd[k, j]
-        mujoco.mj_inverse(mj, data)
-        assert not data.qfrc_constraint.any() and not data.qfrc_passive.any()
+        _inverse(mj, data, robot, address, q[k], qd[k], qdd[k])
         for j, name in enumerate(robot.joint_names):
             out[k, j] = data.qfrc_inverse[address[name][1]]
         for name, mimic in robot.mimic.items():
@@ -201,11 +190,76 @@ def mujoco_torques(mj: mujoco.MjModel, robot: hdselect.Robot, q: np.ndarray, qd:
     return out
 
 
-def _address(mj: mujoco.MjModel, name: str) -> tuple[int, int]:
+def mujoco_joint_loads(mj: mujoco.MjModel, robot: hdselect.Robot, q: np.ndarray,
+                       qd: np.ndarray, qdd: np.ndarray) -> dict[str, np.ndarray]:
+    """MuJoCo's force and moment through each joint, as a bearing on its axis sees them.
+
+    After ``mj_inverse`` and ``mj_rnePostConstraint``, ``cfrc_int[b]`` is the spatial
+    force (moment; force) [N m; N] the parent applies to body b's subtree, in world axes
+    about the subtree centre of mass of b's tree root, ``subtree_com[body_rootid[b]]``.
+    Its moment is moved to the joint's origin p (``xanchor``; for a slide, moved on by
+    the slide along ``xaxis``, where a prismatic joint's frame sits after its motion):
+    ``n_p = n_c + (c - p) x f``. Joints of one body share the body's force (the frames
+    between them are massless), each about its own origin and axis.
+
+    Returns:
+        By joint name (mimic followers included), rows (axial force F_a [N] signed along
+        the axis, radial force F_r [N], tilting moment M [N m], moment along the axis
+        [N m]), each (n,).
+    """
+    data = mujoco.MjData(mj)
+    names = (*robot.joint_names, *robot.mimic)
+    address = {name: _address(mj, name) for name in names}
+    joint = {name: _joint_id(mj, name) for name in names}
+    out = {name: np.empty((4, q.shape[0])) for name in names}
+    for k in range(q.shape[0]):
+        _inverse(mj, data, robot, address, q[k], qd[k], qdd[k])
+        mujoco.mj_rnePostConstraint(mj, data)
+        for name in names:
+            j = joint[name]
+            body = int(mj.jnt_bodyid[j])
+            moment, force = data.cfrc_int[body, :3], data.cfrc_int[body, 3:]
+            centre = data.subtree_com[int(mj.body_rootid[body])]
+            axis = data.xaxis[j]
+            origin = data.xanchor[j].copy()
+            if mj.jnt_type[j] == mujoco.mjtJoint.mjJNT_SLIDE:
+                qadr = address[name][0]
+                origin += axis * (data.qpos[qadr] - mj.qpos0[qadr])
+            moment = moment + np.cross(centre - origin, force)
+            axial, twist = force @ axis, moment @ axis
+            out[name][:, k] = (axial, np.linalg.norm(force - axial * axis),
+                               np.linalg.norm(moment - twist * axis), twist)
+    return out
+
+
+def _inverse(mj: mujoco.MjModel, data: mujoco.MjData, robot: hdselect.Robot,
+             address: dict[str, tuple[int, int]], q: np.ndarray, qd: np.ndarray,
+             qdd: np.ndarray) -> None:
+    """``mj_inverse`` at one state of the robot's degrees of freedom, followers moved."""
+    data.qpos[:], data.qvel[:], data.qacc[:] = mj.qpos0, 0.0, 0.0
+    for j, name in enumerate(robot.joint_names):
+        qadr, vadr = address[name]
+        data.qpos[qadr], data.qvel[vadr], data.qacc[vadr] = q[j], qd[j], qdd[j]
+    for name, mimic in robot.mimic.items():
+        j = robot.joint_index(mimic.leader)
+        qadr, vadr = address[name]
+        data.qpos[qadr] = mimic.multiplier * q[j] + mimic.offset
+        data.qvel[vadr] = mimic.multiplier * qd[j]
+        data.qacc[vadr] = mimic.multiplier * qdd[j]
+    mujoco.mj_inverse(mj, data)
+    assert not data.qfrc_constraint.any() and not data.qfrc_passive.any()
+
+
+def _joint_id(mj: mujoco.MjModel, name: str) -> int:
     joint = mujoco.mj_name2id(mj, _JOINT, name)
     if joint < 0 and name.startswith("unnamed_joint_"):
         joint = int(name.removeprefix("unnamed_joint_"))
     assert joint >= 0, f"MuJoCo has no joint {name}"
+    return joint
+
+
+def _address(mj: mujoco.MjModel, name: str) -> tuple[int, int]:
+    joint = _joint_id(mj, name)
     return int(mj.jnt_qposadr[joint]), int(mj.jnt_dofadr[joint])
 
 

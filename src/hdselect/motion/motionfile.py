@@ -51,6 +51,7 @@ from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: publi
     robot_file_named,
     xacro_args_of,
 )
+from hdselect.motion.sizing_table import bearing_offsets, sizing_joints
 from hdselect.motion.toolposes import ToolPoses, ToolSolution, read_base
 from hdselect.motion.waypoints import read_waypoints
 from hdselect.robot.model import Robot, load_robot
@@ -82,9 +83,6 @@ _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity"
 
 _SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin")}
 _BOUNDS = {"stop_time": bounds.STOP_TIME, "life_hours": bounds.LIFE, "margin": bounds.MARGIN}
-
-
-_SIZING_KEYS = ("joints", "exclude")
 
 
 LIFE_BASES = ("L50", "L10")
@@ -142,6 +140,8 @@ class Motion:
             (empty until solved, and for a motion without lines).
         solution: How the tool poses were solved, or None until they are.
         xacro_args: The file's ``xacro_args`` for the ``.xacro`` robot it names.
+        bearing_offset: The file's ``[sizing] bearing_offset_m``: where a joint's output
+            flange sits along its axis from the joint origin [m], by joint name.
     """
 
     path: Path
@@ -173,6 +173,7 @@ class Motion:
     lines: tuple[LinePath, ...] = ()
     solution: ToolSolution | None = None
     xacro_args: Mapping[str, str] = field(default_factory=dict)
+    bearing_offset: Mapping[str, float] = field(default_factory=dict)
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
@@ -261,7 +262,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                                                lists, planner)
         lim["velocity"] = frozen(velocity)
         warnings += beyond_robot(velocity, robot, scale, units, from_robot)
-    sizing = _sizing(doc, path, robot)
+    sizing = sizing_joints(doc, path, robot)
     stop_time = _section(doc, "safety", path).get("stop_time")
     requirements = _section(doc, "requirements", path)
     samples = None
@@ -302,6 +303,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         margin=requirements.get("margin"),
         tool=tool if planner != "samples" else None,
         xacro_args=xacro_args,
+        bearing_offset=bearing_offsets(doc, path, robot),
     )
 
 
@@ -367,24 +369,6 @@ def _mounting(doc: dict[str, Any], path: Path, unit: float,
     return (x, y, z)
 
 
-def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[str, ...]]:
-    """The ``[sizing]`` table: joints to size and to leave out, checked against the robot."""
-    table = table_of(doc.get("sizing", {}), path, "sizing")
-    check_keys(table, _SIZING_KEYS, path, "sizing")
-    names = {}
-    for key in _SIZING_KEYS:
-        if key in table:
-            value = table[key]
-            if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-                raise InputError(f"expected a list of joint names, got {value!r}", path=path,
-                                 field=f"sizing.{key}")
-            names[key] = tuple(value)
-    if names:
-        try:
-            robot.with_sized_joints(names.get("joints"), names.get("exclude", ()))
-        except InputError as err:
-            raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
-    return names
 
 
 def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:
