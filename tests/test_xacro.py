@@ -207,3 +207,23 @@ def test_every_command_takes_xacro_arguments(tmp_path, command, output):
         assert status in (0, 1), err
         written.append(out.read_text())
     assert written[0] != written[1]
+
+
+def test_a_mix_on_a_xacro_robot_takes_xacro_arguments(tmp_path):
+    """A mix file names its robot itself: --xacro-arg expands that robot too (the gripper's
+    mass changes the day's answer), and reaches every task."""
+    path = xacro_robot(tmp_path)
+    motion = tmp_path / "motion.toml"
+    motion.write_text(MOTION.replace('robot = "../robots/planar2.urdf"', f'robot = "{path.name}"'))
+    mix = tmp_path / "day.toml"
+    mix.write_text(f'robot = "{path.name}"\n\n[[task]]\nname = "a"\nmotion = "motion.toml"\n'
+                   'share = 0.6\n\n[[task]]\nname = "b"\nmotion = "motion.toml"\nshare = 0.4\n')
+    written = []
+    for tag, extra in (("default", []), ("given", ["--xacro-arg", "gripper_mass:=0.2"])):
+        out = tmp_path / f"{tag}.json"
+        status, _, err = run(["size", str(mix), *extra, "--json", str(out)])
+        assert status in (0, 1), err
+        written.append(json.loads(out.read_text()))
+    assert written[0]["joints"] != written[1]["joints"]
+    peaks = [[joint["peak_torque_nm"] for joint in doc["joints"]] for doc in written]
+    assert peaks[1][0] < peaks[0][0]  # a lighter gripper: less torque at the shoulder
