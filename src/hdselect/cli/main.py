@@ -22,6 +22,7 @@ from hdselect.cli.inputs import (
     margin_argument,
     robot_motion_arguments,
     sizing_arguments,
+    xacro_argument,
 )
 from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED
 from hdselect.cli.plan import run_plan
@@ -223,13 +224,15 @@ def _parser() -> argparse.ArgumentParser:
 
     joints = commands.add_parser("joints", parents=[verbose],
                                   help="list a robot's joints in the order lists use")
-    joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF, xacro or MJCF")
+    xacro_argument(joints)
     json_argument(joints)
     joints.set_defaults(run=run_joints)
 
     init = commands.add_parser("init", parents=[verbose],
                                 help="write a starter motion file for a robot")
-    init.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    init.add_argument("robot", metavar="ROBOT", help="robot file, URDF, xacro or MJCF")
+    xacro_argument(init)
     init.add_argument("--out", metavar="FILE",
                       help="the motion file to write (default or '-': print it); an existing "
                            "file is never overwritten")
