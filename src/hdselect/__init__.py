@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 __version__ = "0.1.0"
 
 _HOME = {
+    "EnvelopeResult": "envelope",
     "FastestResult": "codesign",
     "HdselectError": "base",
     "InputError": "base",
@@ -29,6 +30,7 @@ _HOME = {
     "check_units": "sizing",
     "compare_ratios": "codesign",
     "describe_joints": "robot",
+    "envelope": "envelope",
     "fastest": "codesign",
     "load_catalog": "catalog",
     "load_case": "motion",
@@ -48,6 +50,7 @@ _HOME = {
 """The module each public name lives in."""
 
 __all__ = [
+    "EnvelopeResult",
     "FastestResult",
     "HdselectError",
     "InputError",
@@ -67,6 +70,7 @@ __all__ = [
     "check_units",
     "compare_ratios",
     "describe_joints",
+    "envelope",
     "fastest",
     "load_catalog",
     "load_case",
@@ -95,6 +99,7 @@ if TYPE_CHECKING:
         fastest,
         max_payload,
     )
+    from hdselect.envelope import EnvelopeResult, envelope
     from hdselect.motion import Motion, Trajectory, load_case, load_motion, plan, starter_motion
     from hdselect.robot import Payload, Robot, describe_joints, load_robot
     from hdselect.sizing import (
@@ -114,7 +119,7 @@ def __getattr__(name: str) -> Any:
     if name not in _HOME:
         raise AttributeError(f"module 'hdselect' has no attribute {name!r}")
     package = importlib.import_module(f"hdselect.{_HOME[name]}")
-    value = package if name == "study" else getattr(package, name)
+    value = package if name in ("envelope", "study") else getattr(package, name)
     globals()[name] = value
     return value
 

@@ -1,0 +1,171 @@
+"""``hdselect envelope`` and its envelope file: output, JSON, limits' sources, bad input.
+
+Exit status: 0 every joint has a unit for any motion within the spec, 1 some joint has
+none, 2 bad input (one line, no output file written).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+import hdselect
+from hdselect.base.errors import InputError
+from hdselect.cli.main import main
+from hdselect.envelope import SearchSettings, envelope
+from test_dynamics import REPO
+
+PLANAR2 = REPO / "robots" / "planar2.urdf"
+PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
+DEG = math.pi / 180.0
+QUICK = ("--starts", "256", "--moves", "4")
+
+
+def run(capsys, *argv):
+    status = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def one_line_error(err: str, *fragments: str) -> None:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("hdselect: error: "), err
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, err)
+
+
+def test_envelope_prints_every_joint_and_writes_json_that_matches_the_api(capsys, tmp_path):
+    out_file = tmp_path / "envelope.json"
+    status, out, _ = run(capsys, "envelope", PLANAR2, "--velocity", "180", "--acceleration",
+                         "900", "--stop-time", "0.1", "--json", out_file, *QUICK)
+    assert status == 0
+    for text in ("shoulder", "elbow", "duty alone", "default duty: 4 random moves",
+                 "Worst states", "v given, a given"):
+        assert text in out
+    document = json.loads(out_file.read_text())
+    result = envelope(PLANAR2, velocity=180 * DEG, acceleration=900 * DEG, stop_time=0.1,
+                      moves=4, settings=SearchSettings(starts=256))
+    assert document["feasible"] is True and document["duty"]["default"] is True
+    assert document["search"]["states_evaluated"] == result.states
+    for entry, joint in zip(document["joints"], result.joints, strict=True):
+        assert entry["selected"] == joint.selected.unit.id
+        assert entry["worst"]["peak"]["torque"] == joint.worst["peak"].torque
+        assert entry["worst"]["peak"]["q"] == list(joint.worst["peak"].q)
+        assert len(entry["convergence"]["demands"]["peak"]["by_starts"]) >= 2
+    assert document["limits"]["elbow"]["velocity"] == pytest.approx(math.pi)
+    assert document["limits"]["elbow"]["sources"]["velocity"] == "given"
+    assert document["duty_sizing"]["joints"][0]["name"] == "shoulder"
+
+
+def test_an_envelope_file_gives_limits_the_flags_and_the_robot_file_complete(capsys, tmp_path):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(f'robot = "{PLANAR2}"\nangle_unit = "deg"\n'
+                    "[limits]\nvelocity = {elbow = 120}\nacceleration = [600, 700]\n"
+                    "[safety]\nstop_time = 0.2\n[duty]\nmoves = 3\nseed = 5\n")
+    status, out, _ = run(capsys, "envelope", spec, "--acceleration", "shoulder=500",
+                         "--json", "-", "--starts", "256")
+    assert status == 0
+    document = json.loads(out)
+    limits = document["limits"]
+    assert limits["shoulder"]["velocity"] == pytest.approx(4.0)  # the robot file's
+    assert limits["shoulder"]["sources"] == {"velocity": "robot file", "acceleration": "given",
+                                             "jerk": "default"}
+    assert limits["elbow"]["velocity"] == pytest.approx(120 * DEG)
+    assert limits["shoulder"]["acceleration"] == pytest.approx(500 * DEG)
+    assert limits["elbow"]["acceleration"] == pytest.approx(700 * DEG)
+    assert limits["elbow"]["duty_jerk"] == pytest.approx(700 * DEG / 0.05)
+    assert document["assumptions"]["stop_time_s"] == 0.2
+    assert document["duty"]["moves"] == 3 and document["duty"]["seed"] == 5
+    assert document["spec_file"] == str(spec)
+
+
+def test_a_motion_file_as_the_duty_is_sized_alone_beside_the_envelope(capsys):
+    status, out, _ = run(capsys, "envelope", PLANAR2, "--duty", PLANAR2_MOTION,
+                         "--velocity", "180", "--acceleration", "900", "--json", "-",
+                         "--starts", "256")
+    assert status == 0
+    document = json.loads(out)
+    alone = hdselect.size(PLANAR2, PLANAR2_MOTION)
+    assert document["duty"]["label"] == "planar2_pick_place.toml"
+    assert [j["duty_selected"] for j in document["joints"]] == [
+        j.selected.unit.id for j in alone.joints]
+    assert document["assumptions"]["stop_time_s"] == 0.1  # the motion file's [safety]
+    assert document["payload"]["mass_kg"] == 0.4  # the motion file's payload
+
+
+def test_no_unit_for_every_motion_exits_1_with_the_table(capsys):
+    status, out, _ = run(capsys, "envelope", PLANAR2, "--velocity", "180", "--acceleration",
+                         "20000", *QUICK)
+    assert status == 1
+    assert "none" in out and "no unit holds for every motion within the spec" in out
+
+
+@pytest.mark.parametrize(("argv", "fragments"), [
+    (["--velocity", "180"], ["acceleration", "no acceleration limit for shoulder, elbow"]),
+    (["--acceleration", "900", "--velocity", "wrist=3"], ["--velocity", "unknown joint 'wrist'"]),
+    (["--acceleration", "fast"], ["--acceleration", "expected a number or JOINT=NUMBER"]),
+    (["--acceleration", "-5"], ["--acceleration", "must be an acceleration limit"]),
+    (["--acceleration", "900", "--starts", "1000"], ["--starts", "power of 2"]),
+    (["--acceleration", "900", "--motor-catalog", "x.toml"], ["--motor-catalog"]),
+    (["--acceleration", "900", "--velocity", "90", "--duty", PLANAR2_MOTION],
+     ["planar2_pick_place.toml", "limits.velocity", "above the spec's velocity limit"]),
+    (["--acceleration", "900", "--workers", "0"], ["--workers"]),
+])
+def test_bad_input_is_one_line_and_exit_2_with_no_output(capsys, tmp_path, argv, fragments):
+    out_file = tmp_path / "out.json"
+    status, out, err = run(capsys, "envelope", PLANAR2, *argv, "--json", out_file)
+    assert status == 2 and out == ""
+    one_line_error(err, *fragments)
+    assert not out_file.exists()
+
+
+@pytest.mark.parametrize(("text", "fragments"), [
+    ('angle_unit = "deg"\n[limits]\nacceleration = 900\n', ["robot", "no robot given"]),
+    ('robot = "{robot}"\n[limits]\nacceleration = 900\n', ["angle_unit"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limit]\n', ["limit", "did you mean 'limits'"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = {{knee = 3}}\n',
+     ["limits.acceleration.knee", "unknown joint 'knee'"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
+     '[duty]\nmoves = 0\n', ["duty.moves"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
+     '[duty]\nmotion = "nowhere.toml"\n', ["duty.motion", "not found"]),
+])
+def test_a_bad_envelope_file_names_the_file_and_the_field(capsys, tmp_path, text, fragments):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(text.format(robot=PLANAR2))
+    status, _, err = run(capsys, "envelope", spec)
+    assert status == 2
+    one_line_error(err, "spec.toml", *fragments)
+
+
+def test_the_python_api_is_callable_from_the_package_and_checks_its_arguments():
+    assert callable(hdselect.envelope) and "envelope" in hdselect.__all__
+    with pytest.raises(InputError, match="give a robot file"):
+        hdselect.envelope()
+    with pytest.raises(InputError, match="acceleration"):
+        hdselect.envelope(PLANAR2, velocity=1.0)
+    with pytest.raises(InputError, match="missing|unknown joint"):
+        hdselect.envelope(PLANAR2, acceleration={"shoulder": 1.0, "hand": 2.0})
+    result = hdselect.envelope(PLANAR2, acceleration={"shoulder": 5.0, "elbow": 6.0},
+                               velocity=[2.0, 3.0], moves=2,
+                               settings=SearchSettings(starts=128))
+    assert np.allclose(result.spec.box.acceleration, [5.0, 6.0])
+    assert np.allclose(result.spec.box.velocity, [2.0, 3.0])
+
+
+def test_states_computed_in_worker_processes_are_the_same():
+    """The quasi-random states split over two spawned workers (each on one thread) give
+    the same worst states, bit for bit, as the batched passes here."""
+    kwargs = {"velocity": 180 * DEG, "acceleration": 900 * DEG, "moves": 2,
+              "settings": SearchSettings(starts=256)}
+    here = envelope(PLANAR2, **kwargs)
+    spread = envelope(PLANAR2, workers=2, **kwargs)
+    assert spread.executor == "2 worker processes" and here.executor == "this process"
+    for a, b in zip(here.joints, spread.joints, strict=True):
+        for figure in a.worst:
+            assert a.worst[figure].torque == b.worst[figure].torque
+            assert np.array_equal(a.worst[figure].q, b.worst[figure].q)
+    assert here.states == spread.states
