@@ -37,6 +37,8 @@ CONTOUR = ROOT / "trajectories" / "benchtop6_contour.toml"
 """The shipped 6-axis TOPPRA motion."""
 FAST_PICK = ROOT / "trajectories" / "benchtop6_fast_pick.toml"
 """The shipped 6-axis co-design motion (its limits at the arm's own)."""
+SPEC = ROOT / "specs" / "benchtop6_dispensing.toml"
+"""The shipped 6-axis envelope file (its duty: the contour motion)."""
 
 QUICK_SAMPLES = 1_500
 """Samples per trajectory in --quick mode (the full mode uses the ~10,000 of the cycle); at
@@ -309,7 +311,30 @@ def benchmarks(quick: bool) -> list[Benchmark]:
             notes=f"{pairs} (gearhead, motor) pairs per joint ({len(motor_catalog)} example "
                   f"motors) vs {len(units)} units alone, Options(); target: at most the "
                   "motor count", repeats=9),
+        _envelope_row(robot, motion_for_size, units),
     ]
+
+
+def _envelope_row(robot, motion, units) -> Benchmark:
+    """The whole envelope of the shipped 6-axis spec, against size() of its pick-and-place."""
+    from hdselect import envelope, size
+
+    found: list = []
+
+    def run() -> None:
+        found[:] = [envelope(SPEC, units=units)]
+
+    def shortfall() -> float:
+        result = found[0] if found else envelope(SPEC, units=units)
+        return float(result.states < 100_000 or not result.converged)
+
+    return Benchmark(
+        "envelope (6-axis)", run, lambda: size(robot, motion, units=units), 10.0, unit="s",
+        absolute=True, repeats=3,
+        notes=f"hdselect.envelope of {SPEC.name}: 6 joints x {len(units)} units, every "
+              "joint's worst states over the limit box (>= 1e5 states), the contour duty "
+              f"planned and sized alone, vs size() of {MOTION.name}; target: under 10 s",
+        check=Check("fewer than 1e5 states, or not converged", shortfall, 0.0))
 
 
 def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:

@@ -96,6 +96,20 @@ def test_a_motion_file_as_the_duty_is_sized_alone_beside_the_envelope(capsys):
     assert document["payload"]["mass_kg"] == 0.4  # the motion file's payload
 
 
+def test_report_writes_the_page_and_the_duty_report_beside_it(capsys, tmp_path):
+    status, out, _ = run(capsys, "envelope", PLANAR2, "--velocity", "180", "--acceleration",
+                         "900", "--report", tmp_path / "report", *QUICK)
+    assert status == 0 and "wrote" in out
+    page = (tmp_path / "report" / "index.html").read_text()
+    for text in ("Worst states", "worst by starts", "duty/index.html", "PSA-"):
+        assert text in page
+    assert (tmp_path / "report" / "duty" / "index.html").stat().st_size > 0
+    assert (tmp_path / "report" / "duty" / "joint_elbow.png").stat().st_size > 0
+    status, out, _ = run(capsys, "envelope", PLANAR2, "--velocity", "180", "--acceleration",
+                         "900", "--report", "-", *QUICK)
+    assert status == 0 and out.startswith("<!DOCTYPE html>") and "duty/index.html" not in out
+
+
 def test_no_unit_for_every_motion_exits_1_with_the_table(capsys):
     status, out, _ = run(capsys, "envelope", PLANAR2, "--velocity", "180", "--acceleration",
                          "20000", *QUICK)

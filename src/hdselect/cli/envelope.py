@@ -61,6 +61,10 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
                         help="refuse a duty of more samples than this")
     sizing_arguments(parser)
     json_argument(parser)
+    parser.add_argument("--report", metavar="DIR",
+                        help="write an HTML page of the envelope into DIR, the duty's own "
+                             "sizing report beside it in DIR/duty ('-': the page alone, to "
+                             "stdout)")
     parser.add_argument("--workers", type=int, metavar="N",
                         help="compute the search's states in N worker processes (with "
                              "--scheduler, Dask workers); default: this process, every core")
@@ -91,6 +95,11 @@ def run_envelope(args: argparse.Namespace) -> int:
     inputs = [p for p in (robot.path, spec, args.duty, *args.catalog) if p is not None]
     with Outputs(inputs) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json else None
+        report = None
+        if args.report == "-":
+            report = outputs.file("-", "--report")
+        elif args.report:
+            report = outputs.directory(args.report, "--report")
         try:
             result = envelope(
                 robot, spec, velocity=_limits(args, "velocity", robot),
@@ -105,13 +114,29 @@ def run_envelope(args: argparse.Namespace) -> int:
             raise _flagged(err) from err
         if json_file is not None:
             write_json(json_file, envelope_json(result))
+        if report is not None:
+            _write_report(args, result, report)
         text = "" if to_stdout(args) else rendered(envelope_table(result), "",
                                                       limits_table(result), "",
                                                       states_text(result))
         outputs.commit()
     sys.stdout.write(text)
-    say_written([(args.json, None)], args)
+    page = args.report if args.report in (None, "-") else str(Path(args.report) / "index.html")
+    say_written([(page, "the envelope, with the duty's own report in duty/"
+                  if args.report != "-" else None), (args.json, None)], args)
     return EXIT_OK if result.feasible else EXIT_NO_FIT
+
+
+def _write_report(args: argparse.Namespace, result, report: Path) -> None:
+    """The HTML page (``--report -``) or the report directory, into its staged place."""
+    from hdselect.report.envelope_html import envelope_page, write_envelope_report
+    from hdselect.report.provenance import provenance
+
+    if args.report == "-":
+        report.write_text(envelope_page(result, provenance(result.sizing, args.command_line),
+                                        duty_report=False), encoding="utf-8")
+    else:
+        write_envelope_report(report, result, command=args.command_line)
 
 
 _GIVEN = {"stop_time": "stop_time", "efficiency": "efficiency", "rotor_inertia": "motor_inertia",

@@ -62,6 +62,11 @@ class Duty:
         """It is the default duty of random moves."""
         return self.motion is None
 
+    @property
+    def phrase(self) -> str:
+        """The duty in a sentence: ``the default duty: ...`` or ``the duty FILE``."""
+        return f"the {self.label}" if self.default else f"the duty {self.label}"
+
 
 def default_duty(robot: Robot, spec: Spec, moves: int, seed: int, *,
                  max_samples: int) -> Duty:
@@ -139,12 +144,14 @@ def check_within(duty: Duty, spec: Spec) -> None:
             over = np.abs(values) / limit
             k, j = np.unravel_index(int(np.argmax(over)), over.shape)
             if over[k, j] > 1.0 + WITHIN:
-                unit = ("rad" if task.robot.revolute[j] else "m") + (
-                    "/s" if kind == "velocity" else "/s^2")
+                per = "/s" if kind == "velocity" else "/s^2"
+                rotary = task.robot.revolute[j]
+                scale, unit = (180.0 / np.pi, "deg" + per) if rotary else (1.0, "m" + per)
                 raise InputError(
-                    f"joint '{box.joint_names[j]}' reaches {abs(values[k, j]):.4g} {unit} at "
-                    f"t = {traj.t[k]:.4g} s, above the spec's {kind} limit {limit[j]:.4g} "
-                    f"{unit}: a duty must run within the spec (raise the limit, or slow the "
-                    "duty)", path=task.motion.path if task.motion is not None else None,
+                    f"joint '{box.joint_names[j]}' reaches {abs(values[k, j]) * scale:.4g} "
+                    f"{unit} at t = {traj.t[k]:.4g} s, above the spec's {kind} limit "
+                    f"{limit[j] * scale:.4g} {unit}: a duty must run within the spec (raise "
+                    "the limit, or slow the duty)",
+                    path=task.motion.path if task.motion is not None else None,
                     field=f"limits.{kind}")
 

@@ -88,7 +88,8 @@ def envelope(
     """The unit per joint that holds for any motion within a spec, and the worst states.
 
     Args:
-        robot: Robot file or loaded robot; None takes the envelope file's ``robot``.
+        robot: Robot file or loaded robot; None takes the envelope file's ``robot``. An
+            envelope file (``.toml``) here, with no `spec`, is the spec.
         spec: An envelope file (TOML): limits, payload, mounting, duty, options.
         velocity: Speed limits [rad/s or m/s]: one number, one per joint, or a mapping of
             joint names (the rest from the file, else the robot file).
@@ -131,6 +132,8 @@ def envelope(
     catalog = files_argument(catalog, "catalog")
     if units is not None and catalog:
         raise InputError("give either catalog files or loaded units, not both", field="units")
+    if spec is None and isinstance(robot, str | Path) and Path(robot).suffix.lower() == ".toml":
+        robot, spec = None, robot  # an envelope file alone: it names its robot
     if robot is None and spec is None:
         raise InputError("give a robot file, or an envelope file that names one", field="robot")
     base = robot if isinstance(robot, Robot) else load_robot(

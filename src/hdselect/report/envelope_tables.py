@@ -43,9 +43,8 @@ def envelope_table(result: EnvelopeResult) -> FittedTable:
                      life_text(chosen.life_hours), settled, duty))
     title = (f"{result.robot.path.name}: the unit for any motion within the spec (q in the "
              "joint ranges, |qd| <= v, |qdd| <= a)\n" + base_text(result.robot)
-             + "\nmean torque and life on " + (f"the {result.duty.label}" if result.duty.default
-                                               else f"the duty {result.duty.label}"))
-    return FittedTable(title, columns, tuple(rows), notes=tuple(_notes(result)))
+             + f"\nmean torque and life on {result.duty.phrase}")
+    return FittedTable(title, columns, tuple(rows), notes=tuple(note_lines(result)))
 
 
 def limits_table(result: EnvelopeResult) -> FittedTable:
@@ -93,14 +92,17 @@ def _vector(values: np.ndarray) -> str:
     return "(" + ", ".join(f"{v:.4g}" if abs(v) >= 5e-5 else "0" for v in values) + ")"
 
 
-def _notes(result: EnvelopeResult) -> list[str]:
+def note_lines(result: EnvelopeResult) -> list[str]:
+    """What a reader must know under the units: the figures, the search, assumptions, flags."""
     settings = result.settings
     rounds = sorted({n for joint in result.joints for w in joint.convergence.by_demand.values()
                      for n, _ in w.by_starts})
-    starts = ", ".join(f"{n:,}" for n in rounds)
+    starts = " then ".join(f"{n:,}" for n in rounds[:2]) + (
+        f" ({', '.join(f'{n:,}' for n in rounds[2:])} where those disagreed)"
+        if len(rounds) > 2 else "")
     verdict_text = ("every worst value agrees within "
                     f"{settings.tolerance:.1%} (or {ABSOLUTE:g} N m) between the last two rounds"
-                    if result.converged else "[red]not converged[/red]: see below")
+                    if result.converged else "NOT CONVERGED: see below")
     notes = [f"peak: the largest |torque| while moving, at the worst vertex of the "
              f"acceleration box; static: the largest while the joint is held (speed and "
              f"acceleration 0) and the others move anywhere within the spec; stop: an emergency "
@@ -109,7 +111,7 @@ def _notes(result: EnvelopeResult) -> list[str]:
              f"search: {starts} quasi-random starts (Sobol, seed {settings.seed}), the "
              f"{settings.refine} best distinct of each round refined; {verdict_text}; carried "
              "masses " + (f"settled in {result.rounds} round{'s' if result.rounds > 1 else ''}"
-                          if result.settled else "[red]did not settle[/red]")
+                          if result.settled else "DID NOT SETTLE")
              + ". --json gives every state and count.",
              "duty alone: what `hdselect size` of the duty selects (the worst states left out)."]
     notes += [f"{joint.name}: not converged: {joint.convergence.note}"
