@@ -299,7 +299,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
         Benchmark(
             "cold start: --help", lambda: _process(cli + ["--help"]),
             lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
-            notes="whole process, python -m hdselect.cli.main --help vs python -c pass", repeats=9),
+            notes="whole process, python -m hdselect.cli --help vs python -c pass", repeats=9),
         Benchmark(
             "cold start: catalog", lambda: _process(cli + ["catalog"]),
             lambda: _process([sys.executable, "-c", "pass"]), 1.5, unit="s", absolute=True,
