@@ -183,3 +183,17 @@ def test_states_computed_in_worker_processes_are_the_same():
             assert a.worst[figure].torque == b.worst[figure].torque
             assert np.array_equal(a.worst[figure].q, b.worst[figure].q)
     assert here.states == spread.states
+
+
+def test_states_computed_on_a_dask_cluster_are_the_same():
+    """The same split on a Dask LocalCluster (one worker, one thread) gives the same states."""
+    pytest.importorskip("distributed")
+    kwargs = {"velocity": 180 * DEG, "acceleration": 900 * DEG, "moves": 2,
+              "settings": SearchSettings(starts=128)}
+    here = envelope(PLANAR2, **kwargs)
+    cluster = envelope(PLANAR2, scheduler="local", workers=1, **kwargs)
+    assert cluster.executor == "a Dask LocalCluster of 1 worker"
+    assert [j.worst["peak"].torque for j in here.joints] == [
+        j.worst["peak"].torque for j in cluster.joints]
+    with pytest.raises(InputError, match="scheduler"):
+        envelope(PLANAR2, scheduler="udp://nowhere", **kwargs)
