@@ -17,7 +17,7 @@ import pytest
 from scipy.optimize import minimize
 
 from hdselect.envelope import SearchSettings, envelope
-from hdselect.envelope.search import _agree
+from hdselect.envelope.search import agree
 from hdselect.motion.case import load_case
 from hdselect.motion.planning import plan
 from hdselect.robot.mounting import STANDARD_GRAVITY
@@ -298,7 +298,7 @@ def test_search_convergence_is_what_its_rounds_say():
         for worst in joint.convergence.by_demand.values():
             (n1, first), (n2, second) = worst.by_starts
             assert (n1, n2) == (64, 256) and second >= first
-            assert worst.converged == _agree(first, second, 0.005)
+            assert worst.converged == agree(first, second, 0.005)
             assert worst.value >= second
     assert result.converged == (result.settled and all(
         j.convergence.converged for j in result.joints))

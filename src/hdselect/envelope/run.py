@@ -34,7 +34,7 @@ from hdselect.envelope.result import (
     JointEnvelope,
     WorstState,
 )
-from hdselect.envelope.search import Evaluate, SearchSettings, Worst, search
+from hdselect.envelope.search import Evaluate, SearchSettings, Worst, agree, search
 from hdselect.envelope.spec import Spec, resolve_spec
 from hdselect.envelope.specfile import (
     DUTY_MOVES,
@@ -262,7 +262,7 @@ def _joint(model: EnvelopeTorques, joint: JointSizing, found: Mapping[tuple[int,
                   else f"duty t = {samples.t[i]:.4g} s")
         worst[figure] = WorstState(figure, model.q[i], samples.qd[i], samples.qdd[i],
                                    float(values[i]), source)
-        if abs(values[i]) > abs(values[own]) * (1.0 + settings.tolerance) and i != own:
+        if i != own and not agree(abs(values[own]), abs(values[i]), settings.tolerance):
             notes.append(f"{figure}: a state of {_origin(model, i, duty_count)} carries "
                          f"{abs(values[i]):.4g} N m, above the search's worst "
                          f"{abs(values[own]):.4g} N m")

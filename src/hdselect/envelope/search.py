@@ -28,8 +28,9 @@ from hdselect.envelope.demands import KINDS, all_demands, joint_demands
 from hdselect.robot.model import Robot
 
 ABSOLUTE = 1e-4
-"""Worst values this close agree whatever their ratio [N m]: a thousandth of a percent of
-the smallest catalog limit, and the agreement of a joint that gravity never loads."""
+"""Worst values this close agree whatever their ratio [N m]: under 0.004 % of the smallest
+PSA-G limit (2.6 N m), and how a demand that is nil everywhere (gravity on a vertical axis)
+agrees."""
 _STEP = 1e-7
 """Forward-difference step in the search's coordinates [-]."""
 _GAIN = 1e-10
@@ -167,7 +168,7 @@ def search(robot: Robot, box: LimitBox, stop_time: float, joints: Sequence[int],
             rounds[key].append((size, max(value for (j, k, i), (_, value) in refined.items()
                                           if (j, k) == key and i < size)))
         if round_ > 0:
-            open_ = [key for key in open_ if not _agree(rounds[key][-2][1], rounds[key][-1][1],
+            open_ = [key for key in open_ if not agree(rounds[key][-2][1], rounds[key][-1][1],
                                                         settings.tolerance)]
         if round_ > 0 and not open_:
             break
@@ -175,12 +176,12 @@ def search(robot: Robot, box: LimitBox, stop_time: float, joints: Sequence[int],
     for (j, k), history in rounds.items():
         point, value = max((found for key, found in refined.items() if key[:2] == (j, k)),
                            key=lambda item: item[1])
-        converged = _agree(history[-2][1], history[-1][1], settings.tolerance)
+        converged = agree(history[-2][1], history[-1][1], settings.tolerance)
         out[(j, KINDS[k])] = Worst(j, KINDS[k], point, value, tuple(history), converged)
     return out, evaluated
 
 
-def _agree(first: float, second: float, tolerance: float) -> bool:
+def agree(first: float, second: float, tolerance: float) -> bool:
     """Two worst values agree: within `tolerance` of the larger, or within `ABSOLUTE`."""
     gap = abs(first - second)
     return gap <= ABSOLUTE or gap <= tolerance * max(abs(first), abs(second))
