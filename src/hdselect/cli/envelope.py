@@ -24,15 +24,16 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
                              "names its robot")
     parser.add_argument("spec", nargs="?", metavar="SPEC",
                         help="envelope file (TOML): [limits], payload, mounting, [duty] ...")
-    for kind, unit in (("velocity", "/s"), ("acceleration", "/s^2"), ("jerk", "/s^3")):
+    for kind, unit, default in (
+            ("velocity", "/s", "default: the envelope file's, else the robot file's"),
+            ("acceleration", "/s^2", "default: the envelope file's; no other"),
+            ("jerk", "/s^3", "of the default duty's moves only; default: the envelope "
+                             "file's, else acceleration / 0.05 s")):
         parser.add_argument(
             f"--{kind}", action="append", metavar="V|JOINT=V",
             help=f"{kind} limit [deg{unit}, or rad with --angle-unit rad; m{unit} for a "
                  "prismatic joint]: one number for every joint, or JOINT=V (repeatable, "
-                 "comma-separated)" + (" (default: the robot file's)" if kind == "velocity"
-                                       else "; no default" if kind == "acceleration"
-                                       else " of the default duty's moves (default: "
-                                            "acceleration / 0.05 s)"))
+                 f"comma-separated); {default}")
     parser.add_argument("--angle-unit", choices=tuple(_ANGLE), default="deg",
                         help="unit of the angles in --velocity, --acceleration, --jerk "
                              "(default: deg)")
@@ -60,6 +61,9 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--max-samples", type=int, metavar="N", default=None,
                         help="refuse a duty of more samples than this")
     sizing_arguments(parser)
+    for action in parser._actions:  # the shared flags, as the envelope reads them
+        if action.dest in _HELP:
+            action.help = _HELP[action.dest]
     json_argument(parser)
     parser.add_argument("--report", metavar="DIR",
                         help="write an HTML page of the envelope into DIR, the duty's own "
@@ -137,6 +141,18 @@ def _write_report(args: argparse.Namespace, result, report: Path) -> None:
                                         duty_report=False), encoding="utf-8")
     else:
         write_envelope_report(report, result, command=args.command_line)
+
+
+_HELP = {
+    "stop_time": "emergency-stop and crash time [s] (default: the envelope file's [safety] "
+                 "stop_time, else the duty's, else 0.1)",
+    "life_hours": "required life [h] (default: the envelope file's requirement, else the "
+                  "duty's)",
+    "life_basis": "basis of the required life: L50, average life, or L10, 90 %% survive it "
+                  "(default: the envelope file's, else the duty's, else L50)",
+    "motor_catalog": "not taken by envelope yet (refused): size a motion to choose motors",
+}
+"""The help of the flags shared with ``size`` where the envelope reads them otherwise."""
 
 
 _GIVEN = {"stop_time": "stop_time", "efficiency": "efficiency", "rotor_inertia": "motor_inertia",

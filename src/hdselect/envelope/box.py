@@ -72,20 +72,6 @@ class LimitBox:
         return np.hstack([(q - self.lower) / (self.upper - self.lower),
                           (qd / self.velocity + 1.0) / 2.0])
 
-    def contains(self, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, *,
-                 tolerance: float = 1e-6) -> np.ndarray:
-        """Which states lie in the box, each bound widened by `tolerance` of itself, (n,).
-
-        A continuous joint's position is always inside (its range is a whole turn).
-        """
-        slack = tolerance * np.maximum(np.abs(self.lower), np.abs(self.upper))
-        bounded = ~np.array(self.periodic)
-        inside = np.all(((q >= self.lower - slack) & (q <= self.upper + slack)) | ~bounded,
-                        axis=1)
-        inside &= np.all(np.abs(qd) <= self.velocity * (1.0 + tolerance), axis=1)
-        inside &= np.all(np.abs(qdd) <= self.acceleration * (1.0 + tolerance), axis=1)
-        return np.asarray(inside)
-
 
 Limits = float | Sequence[float] | Mapping[str, float] | np.ndarray | None
 """A limit per joint as a caller gives it: one number for every joint, one per joint in the
