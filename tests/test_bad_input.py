@@ -86,11 +86,17 @@ LOGGED = "pan_tilt_logged.toml"
 # --- silent wrong results ----------------------------------------------------------------------
 
 @pytest.mark.parametrize("dt", ["100", "0.5"])
-def test_a_move_shorter_than_its_samples_is_refused_naming_dt(work, capsys, dt):
+def test_a_dt_coarser_than_a_move_is_refined_and_sizes_as_the_file_fine(work, capsys, dt):
+    """dt is the period the file asks for; a cycle it does not resolve is sampled finer."""
+    fine = run(capsys, "size", f"tr/{PLANAR2}", "--json", "fine.json")
     motion = variant("coarse.toml", PLANAR2, ("dt = 0.001", f"dt = {dt}"))
-    line = refused(capsys, "size", motion, says=("coarse.toml: dt: ", f"dt = {dt} s",
-                                                 "the shortest (0.507 s)", "use dt <= 0.01 s"))
-    assert "waypoint[2] to waypoint[3]" in line
+    coarse = run(capsys, "size", motion, "--json", "coarse.json")
+    assert fine[0] == coarse[0] == 0
+    a, b = (json.loads(Path(name).read_text()) for name in ("fine.json", "coarse.json"))
+    assert b["samples"] > 3.8 / float(dt) + 1  # a grid finer than the file's
+    for x, y in zip(a["joints"], b["joints"], strict=True):
+        assert x["selected"] == y["selected"]
+        assert y["peak_torque_nm"] == pytest.approx(x["peak_torque_nm"], rel=0.01)
 
 
 def test_the_move_the_sampling_resolves_sizes_as_before(work, capsys):
@@ -103,7 +109,8 @@ def test_toppra_with_limits_too_high_is_refused(work, capsys):
     refused(capsys, "size", motion, says=("limits.velocity", "between"))
     motion = variant("fast.toml", SCAN, ("velocity = 150", "velocity = 5e7"),
                      ("acceleration = 1200", "acceleration = 5e10"))
-    refused(capsys, "size", motion, says=("dt", "does not resolve the path piece"))
+    refused(capsys, "size", motion, "--max-samples", "10000",
+            says=("dt", "is refined to", "to resolve the path piece", "--max-samples"))
 
 
 def write_log(name: str, rows: list[str], header: str = "t,q_pan,q_tilt") -> str:
@@ -359,8 +366,8 @@ def test_a_bug_is_its_own_status_one_line_and_no_output(work, capsys, monkeypatc
 
 def test_found_by_fuzzing_a_subnormal_dwell_is_one_line(work, capsys):
     motion = variant("tiny.toml", PLANAR2, ("dwell = 0.3", "dwell = 5e-324"))
-    refused(capsys, "size", motion, says=("tiny.toml: dt", "longer than the dwell at waypoint[0]",
-                                          "remove the dwell"))
+    refused(capsys, "size", motion, says=("tiny.toml: dt", "to resolve the dwell at waypoint[0]",
+                                          "lengthen that dwell"))
 
 
 def test_found_by_fuzzing_log_samples_1e_300_s_apart_are_one_line(work, capsys):

@@ -515,18 +515,17 @@ def test_json_of_compare_ratios(capsys):
     assert rows["PSA-14-100"]["cycle_time_s"] == pytest.approx(document["cycle_time_s"])
 
 
-def test_motor_data_is_refused_not_left_out(tmp_path):
-    """fastest and max-payload do not choose motors: a motion giving them is refused."""
+def test_motor_data_of_the_motion_file_is_taken_not_left_out(tmp_path):
+    """fastest and max-payload run the motion file's [motor] (they refused it before)."""
     from hdselect import max_payload
 
-    source = (REPO / "trajectories" / "benchtop6_fast_pick.toml").read_text()
+    source = (REPO / "trajectories" / "planar2_pick_place.toml").read_text()
     motion = tmp_path / "motors.toml"
-    robot_file = (REPO / "robots" / "benchtop6.urdf").as_posix()
+    robot_file = (REPO / "robots" / "planar2.urdf").as_posix()
     motors = (REPO / "motors" / "example_motors.toml").as_posix()
-    source = source.replace('robot = "../robots/benchtop6.urdf"', f'robot = "{robot_file}"')
+    source = source.replace('robot = "../robots/planar2.urdf"', f'robot = "{robot_file}"')
     motion.write_text(source + f'\n[motor]\ncatalog = "{motors}"\n')
     robot, loaded = load_case(motion)
-    for call in (lambda: fastest(robot, loaded), lambda: max_payload(robot, loaded)):
-        with pytest.raises(InputError, match="does not choose motors") as caught:
-            call()
-        assert caught.value.field == "motor"
+    assert set(fastest(robot, loaded).motors) == set(robot.sized_joints)
+    selection = max_payload(robot, loaded).selection
+    assert selection is not None and set(selection.motors) == set(robot.sized_joints)

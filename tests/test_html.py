@@ -7,6 +7,8 @@ import base64
 import hashlib
 import re
 import shlex
+import subprocess
+import sys
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -340,3 +342,27 @@ def test_a_browser_shows_the_pair_report(pair_report, browser, tmp_path):
               or (e.get("method") == "Log.entryAdded"
                   and e["params"]["entry"]["level"] in ("error", "warning"))]
     assert errors == []
+
+
+def test_the_case_as_run_says_what_an_option_left_unset_means():
+    """No `None` in what a reader sees: threads and life say what they stand for."""
+    import hdselect
+    from hdselect.report.provenance import provenance
+    from test_sizing import REPO
+
+    robot, motion = hdselect.load_case(REPO / "trajectories" / "planar2_pick_place.toml")
+    result = hdselect.size_trajectory(robot, hdselect.plan(robot, motion),
+                                      hdselect.load_catalog(), hdselect.Options())
+    assert result.options.threads is None and result.options.life_hours is None
+    (options,) = [value for what, value in provenance(result).settings if what == "options"]
+    assert "None" not in options
+    assert "threads = automatic (up to the cores)" in options
+    assert "life_hours = none required" in options
+    assert f"prefer = {result.options.prefer}" in options
+
+
+def test_the_report_package_gives_write_report_without_importing_matplotlib():
+    code = ("import sys, hdselect.report as r; assert 'matplotlib' not in sys.modules; "
+            "from hdselect.report.report_files import report_page, write_report; "
+            "assert r.write_report is write_report and r.report_page is report_page")
+    subprocess.run([sys.executable, "-c", code], check=True)

@@ -335,7 +335,7 @@ def test_a_long_log_is_resampled_in_chunks_equal_to_one_spline(tmp_path, monkeyp
     it spans plus 64 on either side; the result is the spline through the whole log."""
     from scipy.interpolate import CubicSpline
 
-    import hdselect.motion.planning.samples as samples
+    import hdselect.motion.logderivatives as derivatives
 
     rng = np.random.default_rng(7)
     t = np.cumsum(rng.uniform(0.008, 0.012, 1500))
@@ -352,7 +352,7 @@ def test_a_long_log_is_resampled_in_chunks_equal_to_one_spline(tmp_path, monkeyp
         [samples]
         file = "log.csv"
     """))
-    monkeypatch.setattr(samples, "CHUNK", 997)  # 15 chunks, boundaries anywhere
+    monkeypatch.setattr(derivatives, "CHUNK", 997)  # 15 chunks, boundaries anywhere
     trajectory = plan(robot, motion)
     log = motion.samples
     whole = CubicSpline(log.t, log.q, axis=0)
@@ -362,7 +362,7 @@ def test_a_long_log_is_resampled_in_chunks_equal_to_one_spline(tmp_path, monkeyp
         expected = whole(times, order)
         np.testing.assert_allclose(array[inside], expected, rtol=0,
                                    atol=1e-12 * np.abs(expected).max())
-    monkeypatch.setattr(samples, "MARGIN", 2)  # too short a margin shows
+    monkeypatch.setattr(derivatives, "MARGIN", 2)  # too short a margin shows
     short = plan(robot, motion).qdd[inside]
     assert np.abs(short - whole(times, 2)).max() > 1e-6 * np.abs(short).max()
 

@@ -455,3 +455,27 @@ def test_verbose_goes_anywhere(capsys, tmp_path, where):
 
     assert _parser().parse_args(argv).verbose is True
     assert _parser().parse_args(["catalog"]).verbose is False
+
+
+def test_a_robot_file_given_as_the_motion_is_told_to_write_a_motion_file(capsys):
+    status, out, err = run(capsys, "size", REPO / "robots" / "scara.urdf")
+    assert status == 2 and out == ""
+    assert_one_line_error(err, "scara.urdf: this is a robot file (XML), not a motion file",
+                          "hdselect init")
+    assert "TOML" not in err
+
+
+def test_help_says_what_each_command_does_with_its_options(capsys):
+    for command, absent, present in (("max-payload", "--payload ", "puts a point mass"),
+                                     ("plan", "size only", "plot only these joints")):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        text = " ".join(capsys.readouterr().out.split())
+        assert absent not in text and present in text, command
+
+
+def test_fastest_states_the_selection_order_that_chose_its_units(capsys, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")
+    status, out, _ = run(capsys, "fastest", REPO / "trajectories" / "benchtop6_fast_pick.toml")
+    assert status == 0
+    assert "selection: size;" in out and "None" not in out

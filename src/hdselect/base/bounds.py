@@ -167,8 +167,9 @@ CURVE_SPEED = Bound("a speed", "rpm", 0.0, 1e6)
 """A speed of a motor's torque-speed curve [rpm]: from standstill."""
 CURVE_TORQUE = Bound("a torque", "N m", 0.0, 1e7)
 """A peak torque of a motor's torque-speed curve [N m]."""
-TORQUE_CONSTANT = Bound("a torque constant", "N m/A", 0.0, 1e4, low_open=True)
-"""A motor's torque constant k_t [N m/A]."""
+TORQUE_CONSTANT = Bound("a torque constant", "N m/A", 1e-6, 1e4)
+"""A motor's torque constant k_t [N m/A]: from 1e-6 (below any motor; the current T / k_t
+and the copper loss R I^2 stay finite for every valid torque and resistance)."""
 RESISTANCE = Bound("a resistance", "ohm", 0.0, 1e6, low_open=True)
 """A motor's winding resistance [ohm]."""
 

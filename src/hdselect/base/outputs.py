@@ -56,7 +56,7 @@ def writable_target(target: str | Path, option: str | None = None) -> tuple[Path
     path = Path(target)
     real = Path(os.path.realpath(path))
     try:
-        mode = real.stat().st_mode
+        mode = os.stat(path).st_mode  # through symlinks, /dev/stdout on a pipe too
     except FileNotFoundError:
         mode = None
     except OSError as err:
@@ -65,7 +65,8 @@ def writable_target(target: str | Path, option: str | None = None) -> tuple[Path
         if stat.S_ISDIR(mode):
             raise InputError("is a directory; give a file name", path=path, field=option)
         if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
-            return real, "direct"
+            # a pipe's /proc link (pipe:[N]) is no path: open it by the name given
+            return (real if real.exists() else path.absolute()), "direct"
         if not stat.S_ISREG(mode):
             raise InputError("is a special file (a block device or a socket); not written",
                              path=path, field=option)
@@ -158,6 +159,7 @@ class Outputs:
             InputError: The target cannot be written, is an input, is reserved already,
                 or exists when `exclusive`.
         """
+        check_output_path(target, option, directory=False)
         if str(target) == "-":
             if any(s.kind == "stdout" for s in self._staged):
                 raise InputError("only one output can go to standard output ('-')",
@@ -180,8 +182,9 @@ class Outputs:
         replacing files of the same name; other files there are left alone.
 
         Raises:
-            InputError: The target is a file, an input, or cannot be written.
+            InputError: The target is empty, a file, an input, or cannot be written.
         """
+        check_output_path(target, option, directory=True)
         path = Path(target)
         real = Path(os.path.realpath(path))
         if real.exists() and not real.is_dir():
@@ -206,6 +209,7 @@ class Outputs:
         Raises:
             InputError: An output could not be moved into place (nothing is left changed).
         """
+        self._check_directories()
         done: list[tuple[Path, Path | None]] = []  # (target, backup of what it replaced)
         created: list[Path] = []
         current: _Staged | None = None  # the output being placed, for the message
@@ -263,6 +267,24 @@ class Outputs:
                 staged.staging.unlink(missing_ok=True)
         self._staged.clear()
 
+    def _check_directories(self) -> None:
+        """Refuse, before anything moves, a directory output that would replace an input.
+
+        Raises:
+            InputError: A file written into an output directory has the name of an input
+                file there (e.g. a motion file named ``index.html`` inside ``--report DIR``).
+        """
+        for staged in self._staged:
+            if staged.kind != "directory":
+                continue
+            assert staged.target is not None
+            for item in sorted(staged.staging.iterdir()):
+                destination = Path(os.path.realpath(staged.target / item.name))
+                if destination in self._inputs:
+                    raise InputError(f"would write {item.name} over the input file "
+                                     f"{destination}; choose another directory", path=staged.target,
+                                     field=staged.option)
+
     def _check_new(self, path: Path, real: Path, option: str) -> None:
         if real in self._inputs:
             raise InputError("is an input file; choose another output path", path=path,
@@ -283,6 +305,21 @@ class Outputs:
         staging = Path(name)
         self._staged.append(_Staged(option, target, staging, kind))
         return staging
+
+
+def check_output_path(target: str | Path, option: str, *, directory: bool = False) -> None:
+    """Refuse an empty path, and a file path ending in '/' (it names a directory).
+
+    Raises:
+        InputError: Naming the option.
+    """
+    text = str(target) if isinstance(target, Path) else target
+    if not isinstance(text, str) or not text.strip():
+        raise InputError(f"an empty path; give a {'directory' if directory else 'file'} name "
+                         "(or '-' for standard output)", field=option)
+    if not directory and text.endswith(("/", os.sep)):
+        raise InputError("ends in '/', which names a directory; give a file name", path=text,
+                         field=option)
 
 
 def _to_stdout(staged: Path) -> None:

@@ -11,13 +11,17 @@ from typing import Any
 
 from hdselect.base.bounds import Bound
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import readable
 
 
-def read_toml(path: str | Path) -> dict[str, Any]:
+def read_toml(path: str | Path, *, kind: str = "a TOML file", hint: str = "") -> dict[str, Any]:
     """Parse a TOML file.
 
     Args:
         path: The file to read.
+        kind: What the file should be, for the message when it is XML (a robot file
+            given in its place), e.g. ``"a motion file"``.
+        hint: Said after that message: how to get the right file.
 
     Returns:
         The parsed document.
@@ -27,7 +31,7 @@ def read_toml(path: str | Path) -> dict[str, Any]:
     """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = readable(path).read_text(encoding="utf-8")
     except FileNotFoundError as err:
         raise InputError("file not found", path=path) from err
     except (OSError, UnicodeDecodeError) as err:
@@ -35,6 +39,8 @@ def read_toml(path: str | Path) -> dict[str, Any]:
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as err:
+        if text.lstrip("\ufeff \t\r\n").startswith("<"):
+            raise InputError(f"this is a robot file (XML), not {kind}{hint}", path=path) from err
         raise InputError(f"not valid TOML: {err}", path=path) from err
 
 

@@ -33,7 +33,7 @@ def run_duty(args: argparse.Namespace) -> int:
     units = load_catalog(args.catalog)
     cycle = load_duty(args.profile)
     with Outputs([args.profile, *args.catalog]) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json else None
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
         result = size_duty(cycle, units)
         if json_file is not None:
             write_json(json_file, duty_json(result))

@@ -8,14 +8,13 @@ from collections.abc import Sequence
 from typing import Any
 
 from hdselect.base.errors import InputError
-from hdselect.cli.inputs import input_files, robot_and_motion, sizing_options_of
+from hdselect.cli.inputs import input_files, sizing_case
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
 
 
 def run_fastest(args: argparse.Namespace) -> int:
     """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
     from hdselect.base.outputs import Outputs
-    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
     from hdselect.codesign.records import fastest_json, ratios_json
     from hdselect.report.codesign_tables import binding_table, fastest_table, ratios_table
@@ -23,24 +22,21 @@ def run_fastest(args: argparse.Namespace) -> int:
 
     if args.joint and not args.compare_ratios:
         raise InputError("only with --compare-ratios", field="--joint")
-    robot, motion = robot_and_motion(args)
-    options = sizing_options_of(args, motion)
-    units = load_catalog(args.catalog)
+    robot, motion, units, options, motors = sizing_case(args)
     given = _unit_pairs(args.units)
-    with Outputs([*input_files(robot, motion), *args.catalog]) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json else None
-        csv_file = outputs.file(args.out, "--out") if args.out else None
-        figure = outputs.file(args.plot, "--plot") if args.plot else None
+    with Outputs(_inputs(args, robot, motion)) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
+        csv_file = outputs.file(args.out, "--out") if args.out is not None else None
+        figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         try:
             if args.compare_ratios:
                 comparison = compare_ratios(robot, motion, given, options, catalog=units,
-                                            joints=args.joint)
+                                            joints=args.joint, motors=motors)
                 result = comparison.base
             else:
-                result = fastest(robot, motion, given, options, catalog=units)
+                result = fastest(robot, motion, given, options, catalog=units, motors=motors)
         except InputError as err:
-            field = {"units": "--units", "joint": "--joint"}.get(str(err.field), err.field)
-            raise InputError(err.reason, path=err.path, field=field) from err
+            raise _flagged(err, args) from err
         if figure is not None:
             from hdselect.report.codesign_figures import write_fastest_png, write_ratios_png
 
@@ -78,26 +74,25 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from hdselect.base.outputs import Outputs
-    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.records import max_payload_json
     from hdselect.report.codesign_tables import max_payload_text
     from hdselect.report.export import write_json
     from hdselect.report.size_tables import size_table
 
-    robot, motion = robot_and_motion(args)
-    options = sizing_options_of(args, motion)
-    units = load_catalog(args.catalog)
-    with Outputs([*input_files(robot, motion), *args.catalog]) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json else None
+    robot, motion, units, options, motors = sizing_case(args)
+    given = _unit_pairs(args.units)
+    with Outputs(_inputs(args, robot, motion)) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
         try:
             result = max_payload(robot, motion, options, catalog=units,
-                                 frame=args.payload_frame, com=args.payload_com)
+                                 frame=args.payload_frame, com=args.payload_com,
+                                 units=given or None, motors=motors)
         except InputError as err:
             flag = {"payload.frame": "--payload-frame", "payload.com": "--payload-com"}.get(
                 str(err.field))
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
-                raise
+                raise _flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
         if json_file is not None:
             write_json(json_file, max_payload_json(result, motion))
@@ -109,6 +104,21 @@ def run_max_payload(args: argparse.Namespace) -> int:
     sys.stdout.write(text)
     say_written([(args.json, None)], args)
     return EXIT_OK if result.mass is not None else EXIT_NO_FIT
+
+
+def _inputs(args: argparse.Namespace, robot, motion) -> list:
+    """Every file the command reads: no output may replace one."""
+    return [*input_files(robot, motion), *args.catalog,
+            *([args.motor_catalog] if args.motor_catalog else [])]
+
+
+def _flagged(err: InputError, args: argparse.Namespace) -> InputError:
+    """An error of the library with the command line's option as its field."""
+    field = str(err.field)
+    flag = {"units": "--units", "joint": "--joint", "joints": "--joint"}.get(field)
+    if field.startswith("motors") and args.motor_catalog:
+        flag = "--motor-catalog"
+    return InputError(err.reason, path=err.path, field=flag or err.field)
 
 
 def _gear_torques(result):

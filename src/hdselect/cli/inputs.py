@@ -25,8 +25,15 @@ def json_argument(parser: argparse.ArgumentParser) -> None:
                         help="also write JSON to FILE ('-': to stdout, instead of the table)")
 
 
-def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True) -> None:
-    """ROBOT, MOTION and the flags that change the case: payload, mounting, joints, samples."""
+def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True,
+                           sizes: bool = True) -> None:
+    """ROBOT, MOTION and the flags that change the case: payload, mounting, joints, samples.
+
+    Args:
+        parser: The command's parser.
+        mass: Offer --payload (max-payload finds the mass instead).
+        sizes: The command sizes joints (plan only draws them).
+    """
     parser.add_argument("robot", nargs="?", metavar="ROBOT",
                         help="robot file, URDF or MJCF (default: the motion file's `robot`)")
     parser.add_argument("motion", metavar="MOTION", help="motion file (TOML)")
@@ -36,17 +43,20 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
                                  "of mass, inertia and frame")
     parser.add_argument("--payload-com", type=float, nargs=3, metavar=("X", "Y", "Z"),
                         help="payload centre of mass in its frame [m] (changes the motion "
-                             "file's payload, or the one --payload gives)")
+                             + ("file's payload, or the one --payload gives)" if mass else
+                                "file's payload; without one, puts a point mass there)"))
     parser.add_argument("--payload-frame", metavar="LINK",
                         help="link carrying the payload (default: the motion file's, else the "
                              "tip of the longest chain of sized joints)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
+    doing = "size" if sizes else "plot"
     parser.add_argument("--joints", metavar="A,B", action="append",
-                        help="size only these joints (comma-separated; overrides the motion "
-                             "file's [sizing] joints)")
+                        help=f"{doing} only these joints (comma-separated; overrides the motion "
+                             "file's [sizing] joints)" + ("" if sizes else "; the CSV has every "
+                                                          "joint"))
     parser.add_argument("--exclude", metavar="A,B", action="append",
-                        help="do not size these joints; they still move and load the others "
+                        help=f"do not {doing} these joints; they still move and load the others "
                              "(overrides the motion file's [sizing] exclude)")
     parser.add_argument("--max-samples", type=int, metavar="N",
                         default=DEFAULT_MAX_SAMPLES,

@@ -8,6 +8,7 @@ import os
 import signal
 import sys
 import traceback
+import warnings
 from collections.abc import Sequence
 
 from hdselect import __version__
@@ -51,8 +52,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         args.command_line = ["hdselect", *argv]
         args.kept, args.held = kept, held
         held.start(verbose=args.verbose)
-        status = int(args.run(args))
+        # Python's and numpy's warnings too are held: a refusal stays one line (the
+        # filters in force still apply; only where they print changes)
+        with warnings.catch_warnings(record=True) as caught:
+            status = int(args.run(args))
         held.publish()
+        for text in dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught):
+            _say(f"warning: {_one_line(text)}")
         return status
     except HdselectError as err:
         _say(f"error: {_one_line(str(err))}")
@@ -137,7 +143,7 @@ def _parser() -> argparse.ArgumentParser:
 
     plan = commands.add_parser(
         "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
-    robot_motion_arguments(plan)
+    robot_motion_arguments(plan, sizes=False)
     plan.add_argument("--out", metavar="FILE", required=True,
                       help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
     plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
@@ -192,6 +198,10 @@ def _parser() -> argparse.ArgumentParser:
         help="the largest payload with a feasible unit on every joint")
     robot_motion_arguments(payload, mass=False)
     sizing_arguments(payload)
+    payload.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
+                         help="a fixed unit for a joint, as `hdselect catalog` names it "
+                              "(repeatable; give every sized joint one; default: the unit "
+                              "`size` selects at each payload)")
     json_argument(payload)
     payload.set_defaults(run=run_max_payload)
 

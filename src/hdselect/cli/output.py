@@ -40,11 +40,11 @@ class reserved_outputs:
     def __enter__(self):
         args, outputs = self.args, self.outputs
         try:
-            json_file = outputs.file(args.json, "--json") if args.json else None
+            json_file = outputs.file(args.json, "--json") if args.json is not None else None
             report = None
             if args.report == "-":
                 report = outputs.file("-", "--report")
-            elif args.report:
+            elif args.report is not None:
                 report = outputs.directory(args.report, "--report")
         except BaseException:
             outputs.discard()

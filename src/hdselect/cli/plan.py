@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from hdselect.base.errors import InputError
 from hdselect.cli.inputs import input_files, max_samples_of, robot_and_motion
 from hdselect.cli.output import EXIT_OK, rendered, say_written, to_stdout
 
@@ -17,11 +18,15 @@ def run_plan(args: argparse.Namespace) -> int:
     from hdselect.report.export import write_trajectory_csv
     from hdselect.robot.dynamics import inverse_dynamics
 
+    for flag, given in (("--joints", args.joints), ("--exclude", args.exclude)):
+        if given is not None and args.plot is None:
+            raise InputError("only with --plot (it chooses the joints plotted; the CSV has "
+                             "every joint)", field=flag)
     robot, motion = robot_and_motion(args)
     max_samples = max_samples_of(args)
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")
-        figure = outputs.file(args.plot, "--plot") if args.plot else None
+        figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         trajectory = plan(robot, motion, max_samples=max_samples)
         tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
         write_trajectory_csv(out, trajectory, tau, robot.joint_names)

@@ -20,7 +20,7 @@ def run_joints(args: argparse.Namespace) -> int:
 
     robot = load_robot(args.robot)
     with Outputs([robot.path]) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json else None
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
         infos = describe_joints(robot)
         if json_file is not None:
             write_json(json_file, joints_json(robot, infos))
@@ -53,7 +53,7 @@ def run_init(args: argparse.Namespace) -> int:
         sys.stdout.write(text())
         return EXIT_OK
     with Outputs([robot.path]) as outputs:
-        staging = outputs.file(out, "--out", exclusive=True)
+        staging = outputs.file(args.out, "--out", exclusive=True)
         staging.write_text(text(), encoding="utf-8")
         note = rendered(Paragraphs((f"wrote {out}; edit its waypoints, limits and payload, "
                                      f"then: hdselect size {out}",)))

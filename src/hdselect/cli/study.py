@@ -29,7 +29,7 @@ def run_study(args: argparse.Namespace) -> int:
     study = load_study(args.study)
     store = Store(args.out, study)  # checks both paths before any case runs
     with Outputs([args.study, *store.paths]) as outputs:
-        plot = outputs.file(args.plot, "--plot") if args.plot else None
+        plot = outputs.file(args.plot, "--plot") if args.plot is not None else None
         started = time.perf_counter()
         args.kept.note = (f"the cases done are kept in {args.out} and its journal "
                           f"{store.journal_path.name}; run the same command to resume")

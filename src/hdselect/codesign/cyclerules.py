@@ -22,7 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hdselect.catalog.rules import Candidate, at_rest, check_unit, cycle_load
+from hdselect.catalog.motor_rules import with_motor
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, at_rest, check_unit, cycle_load
 from hdselect.catalog.units import Unit
 from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, solve
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
@@ -33,7 +35,7 @@ from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.sizing.core import check_units
 from hdselect.sizing.options import Options
-from hdselect.sizing.reflect import reflect
+from hdselect.sizing.reflect import reflect, weighted_demand
 from hdselect.sizing.result import SizingResult
 from hdselect.sizing.timescale import S_MAX, ScalableCycle, exact_scales
 
@@ -74,20 +76,25 @@ class Trial:
 
 def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
               masses: Mapping[str, float], derating: Mapping[str, float],
-              options: Options) -> Trial:
-    """Solve TOPPRA at one derating and find the smallest slow-down at which all passes."""
+              options: Options, motors: Mapping[str, Motor] | None = None) -> Trial:
+    """Solve TOPPRA at one derating and find the smallest slow-down at which all passes.
+
+    `motors`: the motor behind the unit of some joints (its limits and rules apply).
+    """
     motion = model.motion
-    limits = joint_limits(model.robot, motion, units, options, derating)
+    motors = motors or {}
+    limits = joint_limits(model.robot, motion, units, options, derating, motors=motors)
     profiles = solve(model, limits, masses, stop_time=options.stop_time)
     kinematic = kinematic_scales(profiles, limits)
     trajectory, held = cycle(motion, profiles, kinematic, max_samples=options.max_samples)
     moving = sum(p.duration * r for p, r in zip(profiles, kinematic, strict=True)
                  if p is not None)
     cycles, held = _scalable(carrying, trajectory, held, units, options)
-    scale, reason = smallest_scale(cycles, held, units, options, motion)
+    scale, reason = smallest_scale(cycles, held, units, options, motion, motors)
     failing = {name for name, cycle_ in cycles.items()
                if any(not c.ok for rule, c in _check_scaled(cycle_, held, units[name], 1.0,
-                                                             options).checks.items()
+                                                             options, motors.get(name)
+                                                             ).checks.items()
                       if rule in WHOLE_CYCLE_RULES)}
     return Trial(dict(derating), profiles, kinematic, moving, trajectory.duration - moving,
                  scale, reason, tuple(sorted(failing)))
@@ -124,27 +131,38 @@ def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
 
 
 def _check_scaled(cycle_: ScalableCycle, held: np.ndarray, unit: Unit, s: float,
-                  options: Options) -> Candidate:
+                  options: Options, motor: Motor | None = None) -> Candidate:
     """Every rule of `check_unit` on a joint's cycle with its moves run s times slower [-].
 
-    As `hdselect.sizing.timescale.check_at`, except that dwells keep their length.
+    As `hdselect.sizing.timescale.check_at`, except that dwells keep their length; with
+    a motor, its rules too (`with_motor`), its RMS torque weighing each sample by the
+    time it stands for.
     """
     at = cycle_.at(s)
     dt = np.where(held, cycle_.dt, at.dt)
     load = cycle_load(at.torque, at.qd, dt, at.at_rest)
     (reflection,) = reflect([unit], at.t, at.torque, at.qd, at.qdd, at.stop_torque,
                             stop_time=cycle_.stop_time, efficiency=options.efficiency,
-                            rotor_inertia=options.rotor_inertia)
-    return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
-                      life_hours=options.life_hours, life_basis=options.life_basis)
+                            rotor_inertia=(motor.rotor_inertia if motor is not None
+                                           else options.rotor_inertia))
+    if motor is None:
+        return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
+                          life_hours=options.life_hours, life_basis=options.life_basis)
+    torque = reflection.motor_torque
+    demand = weighted_demand(reflection.motor, torque, at.qd, unit.ratio, dt)
+    candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
+                           life_hours=options.life_hours, life_basis=options.life_basis)
+    return with_motor(candidate, motor, torque, np.abs(at.qd) * RPM_PER_RAD_S * unit.ratio)
 
 
 def _failing(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
-             units: Mapping[str, Unit], options: Options, s: float) -> tuple[str, str] | None:
+             units: Mapping[str, Unit], options: Options, s: float,
+             motors: Mapping[str, Motor] | None = None) -> tuple[str, str] | None:
     """The (joint, rule) that fails worst at scale s [-], or None when all pass."""
     worst: tuple[float, str, str] | None = None
     for name, cycle_ in cycles.items():
-        candidate = _check_scaled(cycle_, held, units[name], s, options)
+        candidate = _check_scaled(cycle_, held, units[name], s, options,
+                                  (motors or {}).get(name))
         if not candidate.feasible:
             rule = candidate.binding
             utilization = candidate.checks[rule].utilization
@@ -154,8 +172,9 @@ def _failing(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
 
 
 def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
-                   units: Mapping[str, Unit], options: Options,
-                   motion: Motion) -> tuple[float, tuple[str, str] | None]:
+                   units: Mapping[str, Unit], options: Options, motion: Motion,
+                   motors: Mapping[str, Motor] | None = None
+                   ) -> tuple[float, tuple[str, str] | None]:
     """The smallest s >= 1 [-] at which every joint passes every rule, and what set it.
 
     The rules on single samples give exact intervals of s (`exact_scales`); inside
@@ -168,16 +187,19 @@ def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
     Raises:
         PathInfeasible: No s from 1 to `S_MAX` passes.
     """
+    motors = motors or {}
     feasible: list[tuple[float, float]] = [(1.0, S_MAX)]
     for name, cycle_ in cycles.items():
+        motor = motors.get(name)
         feasible = _intersect(feasible, list(exact_scales(
-            cycle_, units[name], rotor_inertia=options.rotor_inertia)))
+            cycle_, units[name], rotor_inertia=(motor.rotor_inertia if motor is not None
+                                                else options.rotor_inertia))))
         if not feasible:
-            failing = _failing({name: cycle_}, held, units, options, S_MAX)
+            failing = _failing({name: cycle_}, held, units, options, S_MAX, motors)
             raise hopeless(motion, name, failing[1] if failing else "peak", units[name])
 
     def fails(s: float) -> tuple[str, str] | None:
-        return _failing(cycles, held, units, options, s)
+        return _failing(cycles, held, units, options, s, motors)
 
     for lo, hi in feasible:
         below: float | None = None
@@ -220,14 +242,15 @@ def _intersect(a: list[tuple[float, float]],
 
 
 def derated(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
-            masses: Mapping[str, float], first: Trial, options: Options) -> Trial:
+            masses: Mapping[str, float], first: Trial, options: Options,
+            motors: Mapping[str, Motor] | None = None) -> Trial:
     """The derating of the failing joints' torque limits that gives the shortest cycle."""
     joints = first.whole_cycle_failing
 
     def attempt(fraction: float) -> Trial | None:
         try:
             return run_trial(model, carrying, units, masses, dict.fromkeys(joints, fraction),
-                             options)
+                             options, motors)
         except PathInfeasible:
             return None
 
@@ -265,7 +288,8 @@ def derated(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
 
 
 def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
-             options: Options) -> tuple[Trajectory, np.ndarray, SizingResult, float]:
+             options: Options, motors: Mapping[str, Motor] | None = None
+             ) -> tuple[Trajectory, np.ndarray, SizingResult, float]:
     """The trajectory on the motion's grid and its check, slowed until every rule passes.
 
     Returns:
@@ -277,7 +301,7 @@ def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
         trajectory, held = cycle(model.motion, trial.profiles,
                                  [r * scale for r in trial.kinematic],
                                  max_samples=options.max_samples)
-        check = check_units(model.robot, trajectory, units, options)
+        check = check_units(model.robot, trajectory, units, options, motors=motors)
         candidates = [c for joint in check.joints for c in joint.candidates]
         excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks
                       if rule != "static"), default=0.0)

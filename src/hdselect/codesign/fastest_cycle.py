@@ -27,8 +27,12 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
+from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError, PlanningError
 from hdselect.catalog.catalogfile import load_catalog
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.rules import Candidate
+from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
 from hdselect.codesign.bindings import Binding, bindings
 from hdselect.codesign.cyclerules import derated, run_trial, verified
@@ -37,9 +41,10 @@ from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limi
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
 from hdselect.robot.model import Robot
-from hdselect.sizing.core import size_trajectory
+from hdselect.sizing.arguments import checked_motors, units_argument
+from hdselect.sizing.core import motion_motors, size_trajectory
 from hdselect.sizing.options import Options, options_for
-from hdselect.sizing.result import SizingResult
+from hdselect.sizing.result import Motors, SizingResult
 
 OPTIMAL_WITHIN = 1e-3
 """A cycle at most this fraction longer than the optimum counts as the optimum: the
@@ -65,6 +70,8 @@ class FastestResult:
             ``(joint, rule)``, or None.
         binding: Which limit is closest to its bound along the moves, stretch by stretch.
         grid_per_waypoint: TOPPRA gridpoints per waypoint.
+        motors: The motor behind the unit of each joint that has one (its peak torque,
+            speed and rotor inertia bound the path; its rules are checked).
     """
 
     robot: Robot
@@ -80,6 +87,7 @@ class FastestResult:
     reason: tuple[str, str] | None
     binding: tuple[Binding, ...]
     grid_per_waypoint: int
+    motors: Mapping[str, Motor] = field(default_factory=dict)
 
     @property
     def cycle_time(self) -> float:
@@ -176,7 +184,8 @@ class RatioComparison:
 
 def fastest(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None = None,
             options: Options | None = None, *,
-            catalog: Sequence[Unit] | None = None) -> FastestResult:
+            catalog: Sequence[Unit] | None = None,
+            motors: Motors | None = None) -> FastestResult:
     """The shortest cycle of the motion's path that the units allow, every rule passing.
 
     Args:
@@ -186,26 +195,36 @@ def fastest(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None
             `hdselect.size_trajectory` selects for the motion as planned.
         options: The assumptions (default: `options_for(motion)`).
         catalog: Units to resolve ids and defaults from (default: the built-in catalog).
+        motors: Candidate motors per sized joint (a `Motor` is a fixed one); None takes
+            the motion file's ``[motor]``. A joint with several gets the motor the sizing
+            pairs with its unit. The motor's peak torque (through the ratio, with the
+            reflected inertia (J_in + J_m) N qdd) and maximum speed bound the path, and
+            its rules are checked on the result.
 
     Returns:
         The fastest trajectory, its check and what bounds it.
 
     Raises:
-        InputError: The motion is a log, or a joint or unit id is unknown.
+        InputError: The motion is a log, or a joint, unit id or motor is unknown or
+            invalid.
         PlanningError: The path cannot be run with these units at any speed (the
             message names the joint, the limit and where), or TOPPRA fails.
     """
-    motion.refuse_motors("fastest")
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
+    expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
     options = options if options is not None else options_for(motion)
-    catalog = tuple(catalog) if catalog is not None else load_catalog()
-    chosen, _ = resolve_units(robot, motion, units, catalog, options, selection=False)
+    catalog = units_argument(catalog) if catalog is not None else load_catalog()
+    chosen, _, paired = resolve_case(robot, motion, units, catalog, options, selection=False,
+                                     motors=motors)
     model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
-    return _fastest(model, chosen, options)
+    return _fastest(model, chosen, options, paired)
 
 
 def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None = None,
                    options: Options | None = None, *, catalog: Sequence[Unit] | None = None,
-                   joints: Sequence[str] | None = None) -> RatioComparison:
+                   joints: Sequence[str] | None = None,
+                   motors: Motors | None = None) -> RatioComparison:
     """The shortest cycle with each catalog unit on each joint, the other joints' units fixed.
 
     Args:
@@ -215,6 +234,8 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
         options: The assumptions (default: `options_for(motion)`).
         catalog: The units compared (default: the built-in catalog).
         joints: The joints compared (default: every sized joint).
+        motors: Candidate motors per sized joint, as `fastest` takes them; each joint
+            keeps its motor whatever unit it is compared with.
 
     Returns:
         One row per unit and joint.
@@ -223,17 +244,23 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
         InputError: The motion is a log, or a joint or unit id is unknown.
         PlanningError: The units given cannot run the path at all.
     """
-    motion.refuse_motors("fastest --compare-ratios")
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
+    expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
     options = options if options is not None else options_for(motion)
-    catalog = tuple(catalog) if catalog is not None else load_catalog()
-    chosen, selected = resolve_units(robot, motion, units, catalog, options)
+    catalog = units_argument(catalog) if catalog is not None else load_catalog()
+    chosen, selected, paired = resolve_case(robot, motion, units, catalog, options,
+                                            motors=motors)
     names = list(robot.sized_joints)
+    if joints is not None and (isinstance(joints, str) or not isinstance(joints, Sequence)
+                               or not all(isinstance(name, str) for name in joints)):
+        raise InputError(f"expected a list of joint names, got {joints!r}", field="joints")
     for name in joints or ():
         if name not in names:
             raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",
                              field="joint")
     model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
-    base = _fastest(model, chosen, options)
+    base = _fastest(model, chosen, options, paired)
     out = []
     for name in joints or names:
         rows = []
@@ -242,7 +269,8 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
                 rows.append(_row(unit, base))
                 continue
             try:
-                rows.append(_row(unit, _fastest(model, {**chosen, name: unit}, options)))
+                rows.append(_row(unit, _fastest(model, {**chosen, name: unit}, options,
+                                                paired)))
             except PathInfeasible as err:
                 rows.append(RatioRow(unit, None, None, err.gravity, _short(err), None))
         out.append(JointRatios(name, selected.get(name), tuple(rows)))
@@ -255,20 +283,37 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
                   ) -> tuple[dict[str, Unit], dict[str, str]]:
     """The unit of every sized joint: those given, the sizing's selection for the others.
 
+    As `resolve_case`, with the motion file's motors; without the motors chosen.
+    """
+    chosen, selected, _ = resolve_case(robot, motion, given, catalog, options,
+                                       selection=selection, trajectory=trajectory)
+    return chosen, selected
+
+
+def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] | None,
+                 catalog: Sequence[Unit], options: Options, *,
+                 selection: bool = True, trajectory: Trajectory | None = None,
+                 motors: Motors | None = None
+                 ) -> tuple[dict[str, Unit], dict[str, str], dict[str, Motor]]:
+    """The unit (and motor) of every sized joint: those given, the sizing's for the others.
+
     Args:
         robot: The robot as the motion runs it.
         motion: The motion (planned with its own planner for the selection).
         given: Unit or unit id per joint.
         catalog: The units ids refer to, and the sizing chooses from.
         options: The assumptions of the sizing.
-        selection: Size the motion even when every joint has a unit given.
+        selection: Size the motion even when every joint has a unit and one motor given.
         trajectory: The trajectory the selection sizes (default: the motion as planned;
             a study gives it run s times slower).
+        motors: Candidate motors per joint; None takes the motion file's ``[motor]``.
 
     Returns:
-        The unit per sized joint, and the unit id the sizing selects per joint (where
-        one fits; else the one that fits with the smallest slow-down; empty when the
-        motion was not sized).
+        The unit per sized joint; the unit id the sizing selects per joint (where one
+        fits; else the one that fits with the smallest slow-down; empty when the motion
+        was not sized); the motor per joint that has motors: the only one given, else
+        the one the sizing pairs with the joint's unit (the pair it selects, else the one
+        closest to passing).
 
     Raises:
         InputError: The motion is a log, a name is not a sized joint, or an id is unknown.
@@ -277,6 +322,11 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
     if motion.planner == "samples":
         raise InputError("a logged trajectory ('samples') has no path to run faster; give "
                          "a motion with waypoints", path=motion.path, field="planner")
+    if given is not None and (isinstance(given, str) or not isinstance(given, Mapping)):
+        raise InputError(f"expected a mapping of joint names to units or unit ids, got "
+                         f"{type(given).__name__}", field="units")
+    candidates = checked_motors(robot, motion_motors(robot, motion) if motors is None
+                                else motors, options)
     by_id = {unit.id: unit for unit in catalog}
     chosen: dict[str, Unit] = {}
     for name, unit in (given or {}).items():
@@ -288,38 +338,60 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
                 raise InputError(f"unknown unit '{unit}' for joint '{name}'; units are: "
                                  f"{', '.join(by_id)}", field="units")
             unit = by_id[unit]
+        expect_type(unit, (Unit,), "units", "catalog units or unit ids")
         chosen[name] = unit
-    if not selection and all(name in chosen for name in robot.sized_joints):
-        return chosen, {}
+    single = all(len(found) == 1 for found in candidates.values())
+    if not selection and single and all(name in chosen for name in robot.sized_joints):
+        return chosen, {}, {name: found[0] for name, found in candidates.items()}
     sized = (trajectory if trajectory is not None
              else plan(robot, motion, max_samples=options.max_samples))
-    sizing = size_trajectory(robot, sized, catalog, options)
+    sizing = size_trajectory(robot, sized, catalog, options, motors=candidates)
     selected: dict[str, str] = {}
+    paired: dict[str, Motor] = {}
     for joint in sizing.joints:
         pick = joint.selected.unit.id if joint.selected is not None else (
-            joint.slowdown.unit if joint.slowdown is not None else None)
-        if pick is not None:
+            joint.slowdown.unit.split(" + ")[0]
+            if joint.slowdown is not None and joint.slowdown.unit is not None else None)
+        if pick is not None:  # a slow-down names a pair "UNIT + MOTOR"
             selected[joint.name] = pick
         if joint.name not in chosen:
             if pick is None:
                 raise PlanningError(f"{motion.path}: no unit can run joint '{joint.name}' on "
                                     "this motion at any speed; give one with --units")
             chosen[joint.name] = by_id[pick]
-    return chosen, selected
+        if joint.name in candidates:
+            paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
+                                               candidates[joint.name], sizing.options)
+    return chosen, selected, paired
 
 
-def _fastest(model: PathModel, units: Mapping[str, Unit], options: Options) -> FastestResult:
-    """Steps 1 to 3 of the module's method for one choice of units."""
+def _paired_motor(pairs: Sequence[Candidate], unit: Unit, motors: Sequence[Motor],
+                  options: Options) -> Motor:
+    """The motor for `unit`: the only one, the pair the selection order picks, or the closest."""
+    if len(motors) == 1:
+        return motors[0]
+    mine = [pair for pair in pairs if pair.unit.id == unit.id and pair.motor_unit is not None]
+    best = select(mine, options.prefer or DEFAULT_PREFER_WITH_MOTORS)
+    if best is None:
+        best = min(mine, key=lambda pair: max(c.utilization for c in pair.checks.values()))
+    assert best.motor_unit is not None
+    return best.motor_unit
+
+
+def _fastest(model: PathModel, units: Mapping[str, Unit], options: Options,
+             motors: Mapping[str, Motor] | None = None) -> FastestResult:
+    """Steps 1 to 3 of the module's method for one choice of units (and motors)."""
     robot = model.robot
-    masses = ({name: unit.mass + options.motor_mass for name, unit in units.items()}
-              if options.mass_coupling else {})
+    motors = dict(motors or {})
+    masses = ({name: unit.mass + (motors[name].mass if name in motors else options.motor_mass)
+               for name, unit in units.items()} if options.mass_coupling else {})
     carrying = robot.with_gearheads(masses)
-    first = run_trial(model, carrying, units, masses, {}, options)
+    first = run_trial(model, carrying, units, masses, {}, options, motors)
     best = first
     if first.whole_cycle_failing:
-        best = derated(model, carrying, units, masses, first, options)
-    limits = joint_limits(robot, model.motion, units, options, best.derating)
-    trajectory, held, check, scale = verified(model, units, best, options)
+        best = derated(model, carrying, units, masses, first, options, motors)
+    limits = joint_limits(robot, model.motion, units, options, best.derating, motors=motors)
+    trajectory, held, check, scale = verified(model, units, best, options, motors)
     check_within_limits(robot, model.motion, trajectory, what="fastest")  # as plan does
     slowdown = scale
     optimum = first.moving + first.dwell
@@ -332,8 +404,9 @@ def _fastest(model: PathModel, units: Mapping[str, Unit], options: Options) -> F
         limits=dict(zip(robot.joint_names, limits, strict=True)),
         optimum=optimum, slowdown=slowdown, derating=dict(best.derating),
         reason=reason, binding=bindings(model, best, scale, check, held,
-                                        joint_limits(robot, model.motion, units, options)),
-        grid_per_waypoint=model.grid_per_waypoint)
+                                        joint_limits(robot, model.motion, units, options,
+                                                     motors=motors)),
+        grid_per_waypoint=model.grid_per_waypoint, motors=motors)
 
 
 def _row(unit: Unit, result: FastestResult) -> RatioRow:

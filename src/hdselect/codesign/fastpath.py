@@ -222,7 +222,8 @@ def cycle(motion: Motion, profiles: Sequence[Profile | None], scales: Sequence[f
         lie in a dwell (or after the cycle), whose time does not scale.
     """
     moves = [Move(p.piece.first, p.piece.last, p.duration * scale,
-                  partial(p.sample, scale=scale))
+                  partial(p.sample, scale=scale), p.peak_accelerations(scale),
+                  p.time_step * scale)
              for p, scale in zip(profiles, scales, strict=True) if p is not None]
     trajectory = assemble(motion, moves, max_samples=max_samples)
     held = np.ones(len(trajectory.t), dtype=bool)

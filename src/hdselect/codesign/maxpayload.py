@@ -23,22 +23,25 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
+from hdselect.base.bounds import LENGTH, expect_type
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.rules import RPM_PER_RAD_S, allowable_mean_torque, at_rest
+from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, allowable_mean_torque, at_rest
 from hdselect.catalog.units import L50_PER_L10, Unit
+from hdselect.codesign.payloadsizing import PayloadSizing, fixed_units
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.core import size_trajectory
+from hdselect.sizing.arguments import checked_motors, units_argument
+from hdselect.sizing.core import motion_motors
 from hdselect.sizing.options import Options, options_for
-from hdselect.sizing.result import SizingResult
+from hdselect.sizing.result import Motors, SizingResult
 
 Interval = tuple[float, float]
 """A closed interval of payload masses (lo, hi) [kg]; hi may be math.inf."""
@@ -103,7 +106,9 @@ class MaxPayloadResult:
 def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
                 catalog: Sequence[Unit] | None = None, frame: str | None = None,
                 com: Sequence[float] | None = None,
-                trajectory: Trajectory | None = None) -> MaxPayloadResult:
+                trajectory: Trajectory | None = None,
+                units: Mapping[str, Unit | str] | None = None,
+                motors: Motors | None = None) -> MaxPayloadResult:
     """The largest payload mass for which every joint still has a feasible unit.
 
     Args:
@@ -117,6 +122,11 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
             frame's origin).
         trajectory: The trajectory the payload rides (default: the motion as planned;
             a study gives it run s times slower). It must not depend on the payload.
+        units: A fixed unit (or unit id) for every sized joint; None chooses them at each
+            mass, as `hdselect.size` does.
+        motors: Candidate motors per sized joint (one per joint with fixed units); None
+            takes the motion file's ``[motor]``. Their rules bound the mass too
+            (`hdselect.codesign.payloadsizing`).
 
     Returns:
         The mass, where it binds, and the sizing there.
@@ -126,45 +136,70 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
             limits), or the frame does not exist.
         PlanningError: The motion cannot be planned.
     """
-    motion.refuse_motors("max-payload")
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
+    expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    expect_type(trajectory, (Trajectory, type(None)), "trajectory", "a Trajectory or None")
     if motion.planner == "toppra" and motion.torque_limit is not None:
         raise InputError("the TOPPRA torque limits make the trajectory depend on the payload;"
                          " max-payload needs a trajectory that does not: remove them",
                          path=motion.path, field="limits.torque")
     options = options if options is not None else options_for(motion)
-    units = tuple(catalog) if catalog is not None else load_catalog()
+    catalog = units_argument(catalog) if catalog is not None else load_catalog()
     payload = per_kilogram(robot.payload, frame=frame, com=com)
     bare = robot.with_payload(None)
     bare.with_payload(payload)  # the frame must exist
+    fixed = fixed_units(units, catalog, robot)
+    candidates = checked_motors(robot, motion_motors(robot, motion) if motors is None
+                                else motors, options)
     if trajectory is None:
         trajectory = plan(robot, motion, max_samples=options.max_samples)
+    sizing = PayloadSizing(bare, payload, trajectory, catalog, options, fixed, candidates)
     masses: dict[str, float] = {}
     result = None
     for _ in range(_ROUNDS):
-        bounds = joint_bounds(bare.with_gearheads(masses), payload, trajectory, units, options)
+        bounds = joint_bounds(bare.with_gearheads(masses), payload, trajectory, catalog, options)
+        if fixed:
+            bounds = {name: tuple(b for b in per_unit if b.unit is fixed[name])
+                      for name, per_unit in bounds.items()}
         ranges = _feasible(bounds)
         mass = ranges[-1][1] if ranges else None
-        selection = None
+        selection = failing = None
         if mass is not None and math.isfinite(mass):
             inside = max(mass * (1.0 - 1e-9), ranges[-1][0])
-            selection = size_trajectory(bare.with_payload(scaled(payload, inside)) if inside > 0
-                                        else bare, trajectory, units, options)
-        result = (mass, ranges, bounds, selection)
+            if fixed or candidates:  # their rules are the sizing's: bisect on it
+                mass, selection, failing = sizing.largest(ranges[-1][0], inside)
+            else:
+                selection = sizing.at(inside)
+        result = (mass, ranges, bounds, selection, failing)
         if selection is None or not options.mass_coupling:
             break
-        chosen = {joint.name: (joint.selected or joint.strongest).unit.mass + options.motor_mass
+        chosen = {joint.name: _carried(joint.selected or joint.strongest, options)
                   for joint in selection.joints}
         if chosen == masses:
             break
         masses = chosen
     assert result is not None
-    mass, ranges, bounds, selection = result
+    mass, ranges, bounds, selection, failing = result
     joint = unit = rule = None
-    if mass is not None and math.isfinite(mass):
+    if failing is not None:  # a motor's rule or a fixed unit binds
+        stuck = next(j for j in failing.joints if j.selected is None)
+        closest = stuck.strongest
+        joint, unit, rule = stuck.name, closest.unit, closest.binding
+        ranges = [span for span in ranges if mass is not None and span[0] <= mass]
+        if ranges and mass is not None:
+            ranges[-1] = (ranges[-1][0], mass)
+    elif mass is not None and math.isfinite(mass):
         joint, best = _binding(bounds, mass)
         unit, rule = best.unit, best.limiting(mass)
     return MaxPayloadResult(mass, payload, tuple(ranges), joint, unit, rule, selection,
                             trajectory, bounds, bare.with_payload(payload).payload_frame)
+
+
+def _carried(chosen: Candidate, options: Options) -> float:
+    """Mass a joint's unit (or pair) adds to the joints nearer the base [kg]."""
+    motor = chosen.motor_unit
+    return chosen.unit.mass + (motor.mass if motor is not None else options.motor_mass)
 
 
 def per_kilogram(payload: Payload | None, *, frame: str | None = None,
@@ -174,6 +209,11 @@ def per_kilogram(payload: Payload | None, *, frame: str | None = None,
     With `frame` or `com` given, a point mass there (the payload's inertia was about
     its own centre, in its own frame).
     """
+    expect_type(frame, (str, type(None)), "frame", "a link name or None")
+    if com is not None:
+        if isinstance(com, str) or not isinstance(com, Sequence) or len(com) != 3:
+            raise InputError(f"expected three numbers [m], got {com!r}", field="com")
+        com = [LENGTH.check(c, field=f"com[{i}]") for i, c in enumerate(com)]
     if payload is not None and frame is None and com is None:
         return Payload(1.0, payload.com, tuple(tuple(v / payload.mass for v in row)
                                                for row in payload.inertia), payload.frame)
@@ -181,13 +221,6 @@ def per_kilogram(payload: Payload | None, *, frame: str | None = None,
                                               else (0.0, 0.0, 0.0))
     where = frame if frame is not None else (payload.frame if payload is not None else None)
     return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where)
-
-
-def scaled(payload: Payload, mass: float) -> Payload:
-    """The payload of `payload`'s geometry with `mass` [kg] (inertia scaled alike)."""
-    return replace(payload, mass=mass,
-                   inertia=tuple(tuple(v * mass / payload.mass for v in row)
-                                 for row in payload.inertia))
 
 
 def joint_bounds(carrying: Robot, payload: Payload, trajectory: Trajectory,

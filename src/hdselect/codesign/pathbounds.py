@@ -7,6 +7,10 @@ Along q = p(s), with u = s'' and x = s'^2, each joint j is held to
     torque          |a_j u + b_j x + c_j| <= T_j     unit's repeated peak (its static limit in
                                                      a piece where the joint does not move),
                                                      the motion file's limits.torque
+    motor torque    |k (a_j u + b_j x + c_j) + J N (p'_j u + p''_j x)| <= P_j
+                        for k = 1 / (N eta) and k = eta / N (driving and driven back: both,
+                        as the direction is not known before the solve), J = J_in + J_m,
+                        P the motor's peak torque (its curve is checked on the result)
     emergency stop  |c_j + v_j x - a_j s' / t_stop| <= M_j      unit's momentary limit
     crash           |a_j u + b_j x + c_j| + K_j |p'_j| s' <= M_j,  K = (J_in + J_m) N^2 / t_stop
 
@@ -31,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from hdselect.base.errors import PlanningError
+from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
@@ -71,6 +76,11 @@ class JointLimits:
         static: Torque limit in a piece where the joint does not move [N m].
         momentary: Momentary limit for the emergency stop and the crash [N m].
         crash_gain: K = (J_in + J_m) N^2 / t_stop [N m s]: crash torque per rad/s.
+        motor_torque: The motor's peak torque P [N m] (math.inf without a motor).
+        motor_factors: The two gear factors k of the motor torque, 1 / (N eta_low) and
+            eta_high / N [-] (`efficiency_range`).
+        motor_inertia: (J_in + J_m) N [kg m^2]: the motor torque per rad/s^2 of output
+            acceleration.
     """
 
     velocity: float
@@ -80,18 +90,25 @@ class JointLimits:
     static: float = math.inf
     momentary: float = math.inf
     crash_gain: float = 0.0
+    motor_torque: float = math.inf
+    motor_factors: tuple[float, float] = (0.0, 0.0)
+    motor_inertia: float = 0.0
 
 
 def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], options: Options,
-                 derating: Mapping[str, float] | None = None) -> list[JointLimits]:
+                 derating: Mapping[str, float] | None = None, *,
+                 motors: Mapping[str, Motor] | None = None) -> list[JointLimits]:
     """What bounds each joint of the robot along the path, in the robot's joint order.
 
     Args:
         robot: The robot (its robot file's velocity limits).
         motion: The motion (its velocity, acceleration and torque limits).
         units: The unit of every sized joint.
-        options: Stop time and motor rotor inertia.
+        options: Stop time, efficiency and motor rotor inertia.
         derating: Fraction of the repeated-peak limit per joint (default none) [-].
+        motors: The motor behind the unit of some joints: its maximum speed over the
+            ratio bounds the joint's speed, its peak torque the motor torque, and its
+            rotor inertia replaces the options'.
     """
     velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
     assert velocity is not None and acceleration is not None  # waypoint planners require them
@@ -107,16 +124,39 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
         torque = math.inf if motion.torque_limit is None else float(motion.torque_limit[j])
         static, momentary, gain = torque, math.inf, 0.0
         unit = units.get(name)
+        motor = (motors or {}).get(name)
+        peak, factors, reflected = math.inf, (0.0, 0.0), 0.0
         if unit is not None:
             speeds.append((unit.max_input_speed / unit.ratio / RPM_PER_RAD_S, "unit"))
             torque = min(torque, unit.repeated_torque * (derating or {}).get(name, 1.0))
             static = min(static, unit.static_torque)
             momentary = unit.momentary_torque
-            gain = (unit.input_inertia + options.rotor_inertia) * unit.ratio**2 / options.stop_time
+            rotor = motor.rotor_inertia if motor is not None else options.rotor_inertia
+            gain = (unit.input_inertia + rotor) * unit.ratio**2 / options.stop_time
+            if motor is not None:
+                speeds.append((motor.max_speed / unit.ratio / RPM_PER_RAD_S, "motor"))
+                low, high = efficiency_range(unit, options.efficiency)
+                peak = motor.peak_torque
+                factors = (1.0 / (unit.ratio * low), high / unit.ratio)
+                reflected = (unit.input_inertia + rotor) * unit.ratio
         limit, source = min(speeds)
         out.append(JointLimits(limit, source, float(acceleration[j]), torque, static,
-                               momentary, gain))
+                               momentary, gain, peak, factors, reflected))
     return out
+
+
+def efficiency_range(unit: Unit, default: float) -> tuple[float, float]:
+    """The unit's lowest and highest efficiency [-]: its table's, else `default` twice.
+
+    The motor torque bound takes the lowest while the motor drives and the highest while
+    the load drives back, the larger motor torque each way, for the whole path (the
+    table's speed and load are not known before the solve); the check of the result
+    uses the table itself.
+    """
+    if unit.efficiency is None:
+        return default, default
+    values = np.asarray(unit.efficiency.value, dtype=float)
+    return float(values.min()), float(values.max())
 
 
 Group = tuple[str, str | None, list[Any]]
@@ -141,9 +181,28 @@ def constraint_groups(piece: PathPiece, names: Sequence[str], limits: Sequence[J
             groups.append(("static" if still[j] else "torque", names[j], [
                 SecondOrderBounds.two_sided(piece.gridpoints, a[:, [j]], b[:, [j]], c[:, [j]],
                                             np.array([-torque]), np.array([torque]))]))
+        if math.isfinite(lim.motor_torque):
+            groups.append(("motor torque", names[j], [
+                SecondOrderBounds.two_sided(piece.gridpoints, *row,
+                                            np.array([-lim.motor_torque]),
+                                            np.array([lim.motor_torque]))
+                for row in motor_rows(piece, lim, coefficients, j)]))
         if j in stops and np.isfinite(stops[j]).any():
             groups.append(("emergency stop", names[j], [SpeedBound(piece.gridpoints, stops[j])]))
     return groups
+
+
+def motor_rows(piece: PathPiece, lim: JointLimits, coefficients: Coefficients,
+               j: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The motor torque k tau + J N qdd of joint j as (a, b, c) columns, one per factor k.
+
+    Returns:
+        Per gear factor k, the coefficients of s'', s'^2 and 1, each shape (m, 1).
+    """
+    a, b, c, _ = coefficients
+    return [(k * a[:, [j]] + lim.motor_inertia * piece.dq[:, [j]],
+             k * b[:, [j]] + lim.motor_inertia * piece.ddq[:, [j]], k * c[:, [j]])
+            for k in lim.motor_factors]
 
 
 def flatten(groups: Sequence[Group]) -> list[Any]:
@@ -258,6 +317,12 @@ def meets(profile: Profile, piece: PathPiece, limits: Sequence[JointLimits],
         tau = np.abs(a[at] * u[:, None] + b[at] * xs[:, None] + c[at])
         if np.any(tau > torque) or np.any(tau + gain[at] * np.sqrt(xs)[:, None] > momentary):
             return False
+        for j, lim in enumerate(limits):
+            for ma, mb, mc in (motor_rows(piece, lim, coefficients, j)
+                               if math.isfinite(lim.motor_torque) else ()):
+                motor = ma[at, 0] * u + mb[at, 0] * xs + mc[at, 0]
+                if np.any(np.abs(motor) > lim.motor_torque):
+                    return False
     return all(np.all(x <= np.square(bound)) for bound in stops.values())
 
 
@@ -305,11 +370,13 @@ def diagnose(motion: Motion, names: Sequence[str], piece: PathPiece, groups: Seq
         assert name is not None
         j = names.index(name)
         lim = limits[j]
-        bound = {"emergency stop": lim.momentary, "static": lim.static}.get(limit, lim.torque)
+        bound = {"emergency stop": lim.momentary, "static": lim.static,
+                 "motor torque": lim.motor_torque}.get(limit, lim.torque)
         unit = math.isfinite(lim.momentary)  # a joint with a gearhead; else limits.torque
         what = {"emergency stop": "momentary limit (emergency stop)",
                 "static": "static limit" if unit else "limits.torque",
-                "torque": "repeated-peak limit" if unit else "limits.torque"}[limit]
+                "torque": "repeated-peak limit" if unit else "limits.torque",
+                "motor torque": "motor's peak torque"}[limit]
         k = int(np.argmax(np.abs(c[:, j])))
         if abs(c[k, j]) > bound:
             lo, hi = piece.segment(float(piece.gridpoints[k]))

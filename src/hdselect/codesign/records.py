@@ -38,6 +38,9 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
             "velocity_limit_source": lim.velocity_source,
             "acceleration_limit": lim.acceleration,
             "torque_limit_nm": lim.torque,
+            "motor": result.motors[joint.name].id if joint.name in result.motors else None,
+            "motor_torque_limit_nm": (lim.motor_torque if joint.name in result.motors
+                                      else None),
             "derating": result.derating.get(joint.name),
             "carried_mass_kg": joint.carried_mass,
             "binding_share": {limit: share for name, limit, share in result.binding_shares()

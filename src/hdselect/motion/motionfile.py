@@ -29,6 +29,7 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import is_input_file
 from hdselect.base.tomlfile import check_keys, join, number, read_toml, table_of
 from hdselect.catalog.motors import Motor
 from hdselect.motion.limits import (
@@ -39,6 +40,7 @@ from hdselect.motion.limits import (
     vector,
     velocity_limit,
 )
+from hdselect.motion.logderivatives import UNCERTAIN, acceleration_uncertainty
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.robot.model import Robot, load_robot
@@ -55,6 +57,13 @@ PLANNERS = ("ruckig", "toppra", "samples")
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
 
+
+LIMIT_ROUNDING = 5e-6
+"""How far a waypoint may lie beyond a robot file's position limit and still be taken as on
+it, relative to max(1, |limit|) [-]. A limit written to 6 significant digits differs from
+the angle its author meant by less (pi/2 written 1.5707963 or 1.5708: 2.7e-8 and 3.7e-6 rad;
+pi written 3.14159: 2.7e-6 rad), so a waypoint at 90 deg against 1.5707963 rad is that
+limit. The waypoint is moved onto the limit, by at most this much."""
 
 _TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "limits", "safety",
              "requirements", "waypoint", "samples", "sizing", "motor")
@@ -190,7 +199,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     path = bounds.file_argument(path, "path")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
                        "a Robot, a robot file or None")
-    doc = read_toml(path)
+    doc = _read_motion_toml(path)
     check_keys(doc, _TOP_KEYS, path, "")
     planner = _choice(doc, "planner", PLANNERS, path)
     angle_unit = _choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)
@@ -198,7 +207,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
     file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
-    robot_file = _robot_file(doc, path)
+    robot_file = _robot_file(doc, path, must_exist=robot is None)  # a robot given overrides it
     if not isinstance(robot, Robot):
         file = robot if robot is not None else robot_file
         if file is None:
@@ -240,6 +249,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                              "the waypoints", path=path, field="waypoint")
         waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
         samples = _samples(doc, path, robot, scale, units)
+        warnings += derived_warnings(samples, robot)
     else:
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
@@ -292,14 +302,21 @@ def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
     return values
 
 
-def _robot_file(doc: dict[str, Any], path: Path) -> Path | None:
-    """The file's ``robot``, resolved against the motion file's folder, if given."""
+def _robot_file(doc: dict[str, Any], path: Path, *, must_exist: bool = True) -> Path | None:
+    """The file's ``robot``, resolved against the motion file's folder, if given.
+
+    Args:
+        doc: The motion file's document.
+        path: The motion file.
+        must_exist: Refuse a file that does not exist (not when a robot given instead
+            overrides it).
+    """
     if "robot" not in doc:
         return None
     if not isinstance(doc["robot"], str):
         raise InputError("expected a file name", path=path, field="robot")
     robot = path.parent / doc["robot"]
-    if not robot.is_file():
+    if must_exist and not is_input_file(robot):
         raise InputError(f"robot file not found: {robot}", path=path, field="robot")
     return robot
 
@@ -311,12 +328,18 @@ def robot_file_named(path: str | Path) -> Path:
         InputError: The motion file is unreadable or names no robot file that exists.
     """
     path = bounds.file_argument(path, "motion")
-    doc = read_toml(path)
+    doc = _read_motion_toml(path)
     robot = _robot_file(doc, path)
     if robot is None:
         raise InputError("no robot given: set the key or pass a robot file",
                          path=path, field="robot")
     return robot
+
+
+def _read_motion_toml(path: Path) -> dict[str, Any]:
+    """A motion file's TOML; a robot file given in its place is told so."""
+    return read_toml(path, kind="a motion file", hint=(
+        f"; give a motion file (hdselect init {path} --out motion.toml writes one)"))
 
 
 def _payload(value: Any, path: Path) -> Payload:
@@ -381,7 +404,10 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
         given = per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
                            scale=scale, units=units, lists=lists)
         q = given * scale
-        for j in np.flatnonzero((q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)):
+        lower, upper = robot.lower, robot.upper
+        slack_low = LIMIT_ROUNDING * np.maximum(1.0, np.abs(lower))
+        slack_high = LIMIT_ROUNDING * np.maximum(1.0, np.abs(upper))
+        for j in np.flatnonzero((q < lower - slack_low) | (q > upper + slack_high)):
             name = robot.joint_names[j]
             listed = isinstance(table["q"], list)
             key = f"[{j}]" if listed else f".{name}"
@@ -390,9 +416,23 @@ def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: l
                 f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
                 + (f" ({lists.order})" if listed else ""),
                 path=path, field=f"{where}.q{key}")
-        points.append(q)
+        points.append(np.clip(q, lower, upper))  # on the limit its file rounded
         dwells.append(number(table, "dwell", path, where, default=0.0, bound=bounds.DWELL))
     return np.array(points), np.array(dwells)
+
+
+def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:
+    """A warning when a log of positions only does not fix its accelerations to 1 %."""
+    if log.qd is not None or len(log.t) < 8:
+        return []
+    uncertain = acceleration_uncertainty(log.t - log.t[0], log.q)
+    j = int(np.argmax(uncertain))
+    if uncertain[j] <= UNCERTAIN:
+        return []
+    return [f"{log.path.name} gives positions only, and the accelerations derived from them are"
+            f" uncertain by about {uncertain[j]:.0%} of the peak of joint "
+            f"'{robot.joint_names[j]}' (estimated from every other sample): torques may be off "
+            "as much; log the qd_ and qdd_ columns too (or sample faster)"]
 
 
 def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
@@ -403,6 +443,6 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
         raise InputError("required: the CSV log, relative to this file", path=path,
                          field="samples.file")
     log = path.parent / table["file"]
-    if not log.is_file():
+    if not is_input_file(log):
         raise InputError(f"log file not found: {log}", path=path, field="samples.file")
     return read_log(log, robot, scale, units)

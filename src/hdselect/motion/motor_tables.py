@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import is_input_file
 from hdselect.base.tomlfile import check_keys, table_of
 from hdselect.catalog.motors import MOTOR_KEYS, Motor, load_motors, motor_from_table
 from hdselect.robot.model import Robot
@@ -47,7 +48,7 @@ def _motor_catalog(block: dict[str, Any], path: Path, where: str,
         raise InputError("expected a motor file name, relative to this file", path=path,
                          field=f"{where}.catalog")
     file = path.parent / block["catalog"]
-    if not file.is_file():
+    if not is_input_file(file):
         raise InputError(f"motor file not found: {file}", path=path, field=f"{where}.catalog")
     key = file.resolve()
     if key not in files:

@@ -15,6 +15,7 @@ import textwrap
 
 import numpy as np
 
+from hdselect.base.bounds import expect_type
 from hdselect.robot.joints import describe_joints
 from hdselect.robot.model import Robot
 
@@ -44,7 +45,12 @@ def starter_motion(robot: Robot, robot_file: str) -> str:
 
     Returns:
         The motion file, commented.
+
+    Raises:
+        InputError: An argument is of the wrong type.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_robot)")
+    expect_type(robot_file, (str,), "robot_file", "the robot file's name, a string")
     infos = [i for i in describe_joints(robot) if i.index is not None]
     units = ["deg" if i.kind != "prismatic" else "m" for i in infos]
     scale = [DEG_PER_RAD if u == "deg" else 1.0 for u in units]

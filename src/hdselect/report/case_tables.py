@@ -68,8 +68,17 @@ def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory) -> Paragraph
     """What ``hdselect plan`` planned, and what a reader must know about it."""
     count = len(trajectory.t)
     return Paragraphs((f"{robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
-                       f"{trajectory.duration:.3f} s, {count:,} sample{'s' if count != 1 else ''}",
+                       f"{trajectory.duration:.3f} s, {count:,} sample{'s' if count != 1 else ''}"
+                       + refined_note(motion.dt, trajectory.dt),
                        *case_notes(robot, trajectory)))
+
+
+def refined_note(asked: float, sampled: float) -> str:
+    """Where the file's dt [s] was refined to `sampled` [s], a clause saying so; else empty."""
+    if sampled >= asked * (1.0 - 1e-12):
+        return ""
+    return (f" every {sampled:.3g} s (the file's dt {asked:g} s, refined so that the samples "
+            "resolve every move)")
 
 
 def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:

@@ -213,7 +213,8 @@ def _notes(result: SizingResult) -> str:
     case = "".join(f"<li>{esc(note)}</li>" for note in case_notes(result.robot,
                                                                   result.trajectory))
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
-    gravity = (f"<p><b>Backdriving.</b> {esc(', '.join(loaded))} carry gravity. Harmonic Drive "
+    verb = "carry" if len(loaded) > 1 else "carries"
+    gravity = (f"<p><b>Backdriving.</b> {esc(', '.join(loaded))} {verb} gravity. Harmonic Drive "
                "gearing backdrives when its input is free: where a falling load could injure, "
                "a fail-safe device on the output is needed.</p>" if loaded else "")
     return (f"<section id=notes><h2>Notes</h2>{f'<ul>{case}</ul>' if case else ''}"

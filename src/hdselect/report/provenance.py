@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hdselect.base.inputfiles import readable
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.sizing.result import SizingResult
 
@@ -122,7 +123,7 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
 
 def _hashed(role: str, path: Path) -> InputFile:
     try:
-        content = Path(path).read_bytes()
+        content = readable(Path(path)).read_bytes()
     except OSError as err:
         return InputFile(role, str(path), f"cannot be read now ({err.strerror})", None)
     return InputFile(role, str(path), hashlib.sha256(content).hexdigest(), len(content))
@@ -150,7 +151,9 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
                                 f"[{', '.join(f'{c:g}' for c in payload.com)}] m, inertia about "
                                 f"it [{inertia}] kg m^2"))
     if motion is not None:
-        rows.append(("planner", f"{motion.planner}, sampled every {motion.dt:g} s"))
+        rows.append(("planner", f"{motion.planner}, sampled every {motion.dt:g} s" + (
+            f", refined to {traj.dt:.3g} s to resolve every move" if traj.dt < motion.dt
+            * (1.0 - 1e-12) else "")))
         rows.append(("requirements in the motion file",
                      f"stop time {_opt(motion.stop_time, ' s')}, life "
                      f"{_opt(motion.life_hours, ' h')} {motion.life_basis or ''}".rstrip()))
@@ -166,9 +169,17 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
     else:
         rows.append(("motors", "none given"))
     options = result.options
-    rows.append(("options", ", ".join(f"{f.name} = {getattr(options, f.name)}"
-                                      for f in fields(options))))
+    rows.append(("options", ", ".join(
+        f"{f.name} = {_option_text(f.name, getattr(options, f.name))}" for f in fields(options))))
     return rows
+
+
+def _option_text(name: str, value: object) -> str:
+    """An option as a reader wants it: what None stands for, not None."""
+    if value is not None:
+        return str(value)
+    return {"threads": "automatic (up to the cores)", "life_hours": "none required",
+            "prefer": "size (mass with motors)"}.get(name, "default")
 
 
 def _opt(value: float | None, unit: str) -> str:

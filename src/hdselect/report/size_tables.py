@@ -308,7 +308,8 @@ def _size_notes(result: SizingResult) -> list[str]:
     notes += list(result.warnings)
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     if loaded:
-        notes.append(f"gravity: {', '.join(loaded)} carry gravity. Harmonic Drive gearing "
+        notes.append(f"gravity: {', '.join(loaded)} carr{'y' if len(loaded) > 1 else 'ies'} "
+                     "gravity. Harmonic Drive gearing "
                      "backdrives when the input is free: where a falling load could injure, a "
                      "fail-safe device on the output is needed.")
     return notes

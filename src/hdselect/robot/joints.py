@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from hdselect.base.bounds import expect_type
 from hdselect.robot.model import Robot
 
 GRIPPER_WORDS = ("gripper", "finger", "jaw", "hand", "claw")
@@ -63,7 +64,11 @@ def describe_joints(robot: Robot) -> tuple[JointInfo, ...]:
 
     Returns:
         One record per joint.
+
+    Raises:
+        InputError: `robot` is not a Robot.
     """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_robot)")
     model = robot.model
     infos = []
     for joint_id in range(1, model.njoints):

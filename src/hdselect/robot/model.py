@@ -19,6 +19,7 @@ import pinocchio as pin
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import is_input_file, readable
 from hdselect.robot.checks import model_limit
 from hdselect.robot.mounting import gravity_of
 from hdselect.robot.payload import Payload, payload_frame, tip_frame
@@ -285,9 +286,15 @@ def load_robot(
     """
     path = bounds.file_argument(path, "path")
     bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
-    if not path.is_file():
+    if not is_input_file(path):
         raise InputError("file not found", path=path)
-    file = read_robot_file(path)
+    copy = readable(path)  # a FIFO read once
+    try:
+        file = read_robot_file(copy)
+    except InputError as err:
+        if copy == path or err.path != copy:
+            raise
+        raise InputError(err.reason, path=path, field=err.field) from err
     model = file.model
     names, revolute, q_index = _joints(model, path)
     lower, upper = _position_limits(model, names, q_index, path)

@@ -18,7 +18,7 @@ from hdselect.sizing.options import Options
 from hdselect.sizing.result import Motors
 
 
-def checked_motors(robot: Robot, motors: Motors | None,
+def checked_motors(robot: Robot, motors: Motors | Mapping[str, Motor] | None,
                    options: Options) -> dict[str, tuple[Motor, ...]]:
     """The candidate motors per sized joint, checked; empty when none are given.
 

@@ -269,18 +269,22 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
 
 
 def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
-                options: Options | None = None) -> SizingResult:
+                options: Options | None = None, *,
+                motors: Mapping[str, Motor] | None = None) -> SizingResult:
     """Check given units, one per sized joint, along a planned trajectory: no selection.
 
-    Each joint's only candidate is its unit, `selected` when it passes every rule.
-    With mass coupling, each unit's mass (and the motor mass) is carried by the
-    joints nearer the base, as `size_trajectory` carries the units it chooses.
+    Each joint's only candidate is its unit (paired with its motor, where one is
+    given), `selected` when it passes every rule. With mass coupling, each unit's mass
+    (and its motor's, else the options' motor mass) is carried by the joints nearer the
+    base, as `size_trajectory` carries the units it chooses.
 
     Args:
         robot: The robot (payload and mounting applied).
         trajectory: The trajectory, with the robot's joints.
         units: The unit of every sized joint, by joint name.
         options: The assumptions (default `Options()`).
+        motors: A fixed motor behind the unit of some sized joints, by joint name; its
+            rotor inertia and mass replace the options' and its rules are checked.
 
     Returns:
         The result for every sized joint (its ``motion`` is None, its ``units`` the
@@ -310,19 +314,25 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
     if missing:
         raise InputError(f"no unit given for {', '.join(missing)}", field="units")
     options = options if options is not None else Options()
-    resolved = options if options.prefer is not None else replace(options,
-                                                                    prefer=DEFAULT_PREFER)
-    masses = ({name: units[name].mass + options.motor_mass for name in robot.sized_joints}
-              if options.mass_coupling else {})
+    fixed = checked_motors(robot, motors, options) if motors else {}
+    for name, given in fixed.items():
+        if len(given) != 1:
+            raise InputError(f"expected one motor to check, got {len(given)}",
+                             field=f"motors.{name}")
+    resolved = options if options.prefer is not None else replace(
+        options, prefer=DEFAULT_PREFER_WITH_MOTORS if fixed else DEFAULT_PREFER)
+    masses = ({name: units[name].mass + (fixed[name][0].mass if name in fixed
+                                         else options.motor_mass)
+               for name in robot.sized_joints} if options.mass_coupling else {})
     task = Task(robot, trajectory)
     samples = pooled((task,))
     model = DirectTorques((task,), samples, options.stop_time, threads=options.threads,
                           guess=masses)
     joints, masses = select_units(model, {name: (units[name],) for name in robot.sized_joints},
-                                  resolved, {}, slowdowns=False)
+                                  resolved, fixed, slowdowns=False)
     distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))
-    return SizingResult(robot, trajectory, tuple(joints), options, distinct,
-                        loads=model.loads(masses))
+    return SizingResult(robot, trajectory, tuple(joints), options if not fixed else resolved,
+                        distinct, motors=fixed, loads=model.loads(masses))
 
 
 def _tasks_argument(tasks: object) -> tuple[Task, ...]:

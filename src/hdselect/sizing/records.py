@@ -12,6 +12,7 @@ from typing import Any
 
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
+from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import SeriesRules, Unit
 from hdselect.robot.model import Robot
 from hdselect.sizing.loads import JointLoad
@@ -128,7 +129,8 @@ def assumptions(result: SizingResult) -> dict[str, str]:
                            "nearer the base" if result.motors else
                            "on: each chosen unit's mass is carried by the joints nearer the base")
                           if options.mass_coupling else "off"),
-        "selection": str(options.prefer),
+        "selection": options.prefer or (DEFAULT_PREFER_WITH_MOTORS if result.motors
+                                         else DEFAULT_PREFER),
         "required life": ("none" if options.life_hours is None
                           else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),

@@ -8,7 +8,11 @@ rotor inertia J_m) must deliver
               tau eta / N     while the load drives back (tau qd < 0),
             + (J_in + J_m) N qdd
 
-at the input speed N qd.
+at the input speed N qd. A joint at rest (`hdselect.catalog.rules.at_rest`: speed and
+acceleration negligible, the input held) counts as driven: the motor holds the load
+through the gear, tau / (N eta). The direction of the power flow is then no more than
+the sign of a speed that is zero but for rounding (a logged position's spline), and
+must not decide the holding torque.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from hdselect.catalog.rules import RPM_PER_RAD_S, Momentary, MotorDemand
+from hdselect.catalog.rules import RPM_PER_RAD_S, Momentary, MotorDemand, at_rest
 from hdselect.catalog.units import Unit
 
 DEFAULT_EFFICIENCY = 0.70
@@ -142,9 +146,10 @@ def reflect_motors(
     crash_at = np.zeros(inertia.shape, dtype=int)
     rows = np.arange(len(units))
     kept: list[np.ndarray | None] = [None] * len(inertias)  # a one-chunk cycle's torques
+    resting = at_rest(qd, qdd)
     for start in range(0, n, CHUNK):
         part = slice(start, start + CHUNK)
-        geared = _geared(units, ratio, tau[part], qd[part], efficiency)
+        geared = _geared(units, ratio, tau[part], qd[part], efficiency, resting[part])
         speed, held = np.abs(qd[part]), np.abs(tau[part])
         for k in range(len(inertias)):
             motor = geared + np.multiply.outer(inertia[k] * ratio, qdd[part])
@@ -186,12 +191,13 @@ def reflect_motors(
 
 
 def _geared(units: Sequence[Unit], ratio: np.ndarray, tau: np.ndarray, qd: np.ndarray,
-            efficiency: float) -> np.ndarray:
+            efficiency: float, held: np.ndarray) -> np.ndarray:
     """Gear-side torque over the ratio of every unit at every sample given [N m], (units, n).
 
-    tau / eta while the motor drives (tau qd >= 0), tau eta while the load drives back.
+    tau / eta while the motor drives (tau qd >= 0) or holds (`held`, at rest), tau eta
+    while the load drives back.
     """
-    driving = tau * qd >= 0.0
+    driving = (tau * qd >= 0.0) | held
     load = np.empty((len(units), len(tau)))
     load[:] = np.where(driving, tau * (1.0 / efficiency), tau * efficiency)
     for row, unit in enumerate(units):
@@ -208,7 +214,8 @@ def _motor_torques(units: Sequence[Unit], tau: np.ndarray, qd: np.ndarray, qdd: 
     """Motor torque of every unit at every sample given [N m], shape (units, n)."""
     ratio = np.array([unit.ratio for unit in units], dtype=float)
     inertia = np.array([unit.input_inertia for unit in units]) + rotor_inertia
-    return _geared(units, ratio, tau, qd, efficiency) + np.multiply.outer(inertia * ratio, qdd)
+    return (_geared(units, ratio, tau, qd, efficiency, at_rest(qd, qdd))
+            + np.multiply.outer(inertia * ratio, qdd))
 
 
 def weighted_demand(demand: MotorDemand, motor_torque: np.ndarray, qd: np.ndarray, ratio: float,

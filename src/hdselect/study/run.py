@@ -103,6 +103,8 @@ def run_study(study: Study, out: str | Path | Store | None = None, *,
 
     def keep(outcome: Outcome) -> None:
         if store is not None:
+            if not store.opened:  # first result: a study refused before any writes nothing
+                store.open()
             record = store.add(outcome)
         else:
             record = {"key": outcome.key, "case": outcome.index, "ok": outcome.ok,
@@ -114,8 +116,6 @@ def run_study(study: Study, out: str | Path | Store | None = None, *,
         if progress is not None:
             progress(run.ran, len(todo), record)
 
-    if store is not None:
-        store.open()
     complete = False
     try:
         if scheduler is not None:

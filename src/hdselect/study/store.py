@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any, TextIO
 
 from hdselect.base.errors import InputError
-from hdselect.base.outputs import writable_target, write_file
+from hdselect.base.outputs import check_output_path, writable_target, write_file
 from hdselect.study.case import Case
 from hdselect.study.compute import COMPUTATIONS, Outcome
 from hdselect.study.spec import Study
@@ -97,6 +97,7 @@ class Store:
             if path.resolve() in inputs:
                 raise InputError("is an input file; choose another output path", path=path,
                                  field="--out")
+        _check_ours(self.csv_path, out)
         self.records: dict[str, dict[str, Any]] = {}
         if self.journal_path.exists():
             for record in _read_journal(self.journal_path):
@@ -114,6 +115,11 @@ class Store:
         """The case's key has a record (a failed one counts unless `retry_failed`)."""
         record = self.records.get(case.key)
         return record is not None and (record["ok"] or not retry_failed)
+
+    @property
+    def opened(self) -> bool:
+        """`open` was called (and `close` not yet)."""
+        return self._csv is not None
 
     def open(self) -> None:
         """Rewrite the CSV from the journal's records of this study, then append to both."""
@@ -177,12 +183,33 @@ def _read_journal(path: Path) -> Iterable[dict[str, Any]]:
         yield record
 
 
+def _check_ours(csv_path: Path, given: str | Path) -> None:
+    """Refuse to take over a CSV a study did not write (its header is not a study's).
+
+    Raises:
+        InputError: The file exists, is not empty, and does not start with a study's columns.
+    """
+    try:
+        with csv_path.open(encoding="utf-8", newline="") as stream:
+            first = stream.readline()
+    except FileNotFoundError:
+        return
+    except (OSError, UnicodeDecodeError) as err:
+        raise InputError(f"cannot read it to check it is a study's ({err})", path=given,
+                         field="--out") from err
+    if first.strip() and not first.startswith(",".join(STATUS_COLUMNS)):
+        raise InputError(f"exists and was not written by a study (its first line is not "
+                         f"'{','.join(STATUS_COLUMNS)},...'); choose another file, or remove "
+                         "it", path=given, field="--out")
+
+
 def _regular(out: str | Path) -> Path:
     """Where a study file goes: a regular file (symlinks followed), whose directory exists.
 
     Raises:
         InputError: It is ``-``, a directory, a device, a FIFO or another special file.
     """
+    check_output_path(out, "--out")
     if str(out) == "-":
         raise InputError("a study keeps its rows in a file it reads back to resume; standard "
                          "output cannot be one", field="--out")

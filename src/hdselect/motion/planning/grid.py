@@ -1,13 +1,18 @@
 """The time grid of a trajectory: its size, checked before allocating, and its resolution.
 
-A grid t_k = k dt, k = 0..ceil(T/dt), must
+Demands must not depend on how a motion file samples its cycle. A planned cycle is
+sampled every dt / k, dt the file's period and k the smallest whole number for which
 
-- resolve every move and path piece with at least `MIN_MOVE_SAMPLES` samples: a jerk-
-  limited move sampled N times has its peak acceleration missed by at most 2/N of
-  it (4 % at 50), and a move shorter than dt would otherwise be skipped outright;
-- hold every dwell for at least one sample period, so the held pose is sampled at rest;
-- not be coarser than a log it resamples (which would skip logged samples);
-- have at most ``max_samples`` samples (`hdselect.base.bounds.DEFAULT_MAX_SAMPLES`).
+- every move and path piece spans at least `MIN_MOVE_SAMPLES` samples (a move shorter
+  than dt would otherwise be skipped outright),
+- every dwell lasts at least one period, so the held pose is sampled at rest,
+- the samples find every joint's exact peak acceleration of every move (the
+  planner's profile gives it) to within `PEAK_RESOLUTION` of the joint's largest;
+
+the file's own grid points k dt stay sample times. A log is never refined (its
+samples are the data), but dt may not be coarser than the log. The grid has at most
+``max_samples`` samples (`hdselect.base.bounds.DEFAULT_MAX_SAMPLES`), checked before any
+array is allocated.
 
 Each failure is one `InputError` naming the motion file and ``dt``.
 """
@@ -25,7 +30,12 @@ from hdselect.base.bounds import bytes_per_sample, check_max_samples
 from hdselect.base.errors import InputError
 
 MIN_MOVE_SAMPLES = 50
-"""Fewest samples a move (or a TOPPRA path piece) may span [-]."""
+"""Fewest samples a move (or a TOPPRA path piece) spans [-]: a coarser dt is refined."""
+PEAK_RESOLUTION = 0.01
+"""How much of a joint's largest peak acceleration [-] the samples may miss of any move's
+exact peak before the grid is refined. Accelerations of jerk-limited moves are piecewise
+linear (TOPPRA's: piecewise smooth with steps), so a peak between samples is missed by at
+most jerk x period / 2: the miss falls in proportion to the period."""
 LOG_PERIOD_TOLERANCE = 0.01
 """How much coarser than a log's median sample period dt may be [-]."""
 
@@ -70,37 +80,45 @@ def check_size(path: Path, duration: float, dt: float, dof: int, max_samples: in
     return count
 
 
-def check_resolution(path: Path, dt: float, moves: Sequence[tuple[str, float]],
-                     dwells: Sequence[tuple[str, float]]) -> None:
-    """Every move spans `MIN_MOVE_SAMPLES` samples and every dwell at least one period.
+def resolving_factor(dt: float, moves: Sequence[tuple[str, float]],
+                     dwells: Sequence[tuple[str, float]]) -> tuple[int, str]:
+    """The smallest whole k for which the period dt / k resolves every move and dwell.
 
     Args:
-        path: The motion file, for messages.
-        dt: Sample period [s].
+        dt: The motion file's sample period [s].
         moves: (what, duration [s]) of each move or path piece, e.g.
             ``("the move from waypoint[0] to waypoint[1]", 0.62)``; zero durations
             (no motion) are skipped.
         dwells: (what, duration [s]) of each dwell; zero dwells are skipped.
 
-    Raises:
-        InputError: The shortest unresolved move or dwell, and the dt that would resolve it.
+    Returns:
+        k >= 1 such that every move spans at least `MIN_MOVE_SAMPLES` periods and every
+        dwell at least one, and what needs it (the shortest such move or dwell; empty
+        when k is 1).
     """
+    factor, reason = 1, ""
     timed = [(duration, what) for what, duration in moves if duration > 0.0]
     if timed:
         shortest, what = min(timed)
-        if shortest < MIN_MOVE_SAMPLES * dt:
-            raise InputError(
-                f"dt = {dt:g} s does not resolve {what}, the shortest ({shortest:.3g} s): a move "
-                f"needs at least {MIN_MOVE_SAMPLES} samples; use dt <= "
-                f"{_down(shortest / MIN_MOVE_SAMPLES)} s", path=path, field="dt")
+        need = _whole(MIN_MOVE_SAMPLES * dt / shortest)
+        if need > factor:
+            factor, reason = need, f"{what} ({shortest:.3g} s)"
     held = [(duration, what) for what, duration in dwells if duration > 0.0]
     if held:
         shortest, what = min(held)
-        if shortest < dt * (1.0 - 1e-9):
-            raise InputError(
-                f"dt = {dt:g} s is longer than {what} ({shortest:.3g} s), which would not be "
-                f"sampled; use dt <= {_down(shortest)} s or remove the dwell", path=path,
-                field="dt")
+        need = _whole(dt / shortest)
+        if need > factor:
+            factor, reason = need, f"{what} ({shortest:.3g} s)"
+    return factor, reason
+
+
+def _whole(ratio: float) -> int:
+    """The smallest whole number at least `ratio` (to rounding), capped where no grid can be."""
+    return math.ceil(min(ratio, MAX_FACTOR) * (1.0 - 1e-9))
+
+
+MAX_FACTOR = 1e15
+"""Largest refinement tried: any grid it makes is refused by the sample limit [-]."""
 
 
 def check_log_period(path: Path, log_path: Path, t: np.ndarray, dt: float) -> None:

@@ -9,6 +9,7 @@ within the velocity, acceleration and jerk limits to rounding.
 
 from __future__ import annotations
 
+import re
 from functools import partial
 
 import numpy as np
@@ -41,6 +42,9 @@ def plan_ruckig(robot: Robot, motion: Motion, *,
         traj = ruckig.Trajectory(dof)
         try:
             result = ruckig.Ruckig(dof).calculate(inp, traj)
+        except ValueError as err:  # a result code the Python binding's enum lacks
+            raise PlanningError(f"{motion.path}: ruckig failed on the move from waypoint[{i}] "
+                                f"to waypoint[{i + 1}]: {_result_text(err)}") from err
         except (ruckig.RuckigError, RuntimeError) as err:
             reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
             raise PlanningError(f"{motion.path}: ruckig failed on the move from waypoint[{i}] "
@@ -48,13 +52,51 @@ def plan_ruckig(robot: Robot, motion: Motion, *,
         if result not in (ruckig.Result.Working, ruckig.Result.Finished):
             raise PlanningError(f"{motion.path}: ruckig failed on the move from waypoint[{i}] "
                                 f"to waypoint[{i + 1}] ({result.name})")
-        moves.append(Move(i, i + 1, traj.duration, partial(sample_profiles, traj)))
+        moves.append(Move(i, i + 1, traj.duration, partial(sample_profiles, traj),
+                          peak_accelerations(traj)))
     return assemble(motion, moves, max_samples=max_samples)
+
+
+RESULT_CODES = {
+    -1: "an unclassified error",
+    -100: "an input Ruckig finds invalid",
+    -101: "the move would last longer than Ruckig can plan (its numerical limit on a move's "
+          "duration, about 7,600 s); raise limits.velocity, limits.acceleration or "
+          "limits.jerk",
+    -110: "the move's duration could not be calculated",
+    -111: "the joints' moves could not be synchronised",
+}
+"""Ruckig's error results (its ``Result`` enum in C++), some missing from the Python enum."""
+
+
+def _result_text(err: ValueError) -> str:
+    """What a Ruckig result code the Python binding could not name means."""
+    found = re.search(r"-?\d+", str(err))
+    code = int(found.group()) if found else None
+    return RESULT_CODES.get(code, f"result {code}") if code is not None else str(err)
 
 
 def _integrate(t, p, v, a, j):
     """Ruckig's constant-jerk integration, elementwise [s, m or rad, ...]."""
     return (p + t * (v + t * (a / 2 + t * j / 6)), v + t * (a + t * j / 2), a + t * j)
+
+
+def peak_accelerations(traj: ruckig.Trajectory) -> np.ndarray:
+    """Each joint's largest |acceleration| over a one-section Ruckig trajectory, exact.
+
+    Jerk is constant on every segment, so the acceleration is piecewise linear and its
+    extremes are among the values at the segments' ends (the profile's, the brake's).
+
+    Returns:
+        Peak |acceleration| per joint [rad/s^2 or m/s^2], shape (dof,).
+    """
+    peaks = []
+    for profile in traj.profiles[0]:
+        values = [*profile.a, profile.af]
+        if profile.brake.duration > 0.0:
+            values += [*profile.brake.a]
+        peaks.append(float(np.max(np.abs(values))))
+    return np.array(peaks)
 
 
 def sample_profiles(traj: ruckig.Trajectory, times: np.ndarray):

@@ -5,15 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
+from hdselect.motion.logderivatives import from_positions, spline_values
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.grid import check_log_period, check_size
 from hdselect.motion.planning.trajectory import Trajectory, trajectory
 from hdselect.robot.model import Robot
-
-CHUNK = 1 << 16
-"""Grid points resampled at a time [-]."""
-MARGIN = 64
-"""Log samples on either side of a chunk that its spline passes through [-]."""
 
 
 def plan_samples(robot: Robot, motion: Motion, *,
@@ -24,10 +20,11 @@ def plan_samples(robot: Robot, motion: Motion, *,
     relative) at the motion's dt, its samples are used as they are; otherwise
     positions (and logged velocities, accelerations) are resampled onto the grid
     with a not-a-knot cubic spline (``scipy.interpolate.CubicSpline``). Velocities
-    and accelerations that were not logged are the first and second derivatives
-    of the cubic spline through the positions (accelerations from the spline
-    through logged velocities when those exist). Differentiation amplifies
-    measurement noise: filter the log first.
+    and accelerations that were not logged come from the positions (`from_positions`:
+    exactly 0 where a joint rests, a spline with zero end velocities through each
+    stretch where it moves); accelerations from the spline through logged velocities
+    when those exist. Differentiation amplifies measurement noise: filter the log
+    first.
 
     Raises:
         InputError: dt is coarser than the log's sample period, or the grid would
@@ -51,35 +48,14 @@ def plan_samples(robot: Robot, motion: Motion, *,
     def resample(values, order=0):
         if uniform and order == 0:
             return values  # read-only already: shared with the log, not copied
-        result = _spline(t, values, at, order)
+        result = spline_values(t, values, at, order)
         result[~inside] = values[-1] if order == 0 else 0.0
         return result
 
     q = resample(log.q)
-    qd = resample(log.q, 1) if log.qd is None else resample(log.qd)
-    if log.qdd is not None:
-        qdd = resample(log.qdd)
+    if log.qd is None:
+        qd, qdd = from_positions(t, log.q, at, inside)
     else:
-        qdd = resample(log.q if log.qd is None else log.qd, 2 if log.qd is None else 1)
+        qd = resample(log.qd)
+        qdd = resample(log.qdd) if log.qdd is not None else resample(log.qd, 1)
     return trajectory(motion, duration, grid, q, qd, qdd)
-
-
-def _spline(t: np.ndarray, values: np.ndarray, at: np.ndarray, order: int) -> np.ndarray:
-    """The not-a-knot cubic spline through (t, values), or a derivative, evaluated at `at`.
-
-    Evaluated `CHUNK` points at a time, each from a spline through the log samples
-    that chunk spans plus `MARGIN` on either side: a cubic spline's dependence on a
-    distant sample decays by 2 - sqrt(3) = 0.27 per knot, so beyond 64 knots it is
-    below 1e-36 of the values and the result equals the spline through the whole log
-    to rounding, in memory bounded by the chunk.
-    """
-    from scipy.interpolate import CubicSpline
-
-    out = np.empty((len(at),) + values.shape[1:])
-    for start in range(0, len(at), CHUNK):
-        part = slice(start, start + CHUNK)
-        first, last = np.searchsorted(t, [at[part][0], at[part][-1]])
-        lo, hi = max(0, int(first) - MARGIN), min(len(t), int(last) + MARGIN + 1)
-        with np.errstate(all="ignore"):  # `plan` refuses a result that is not finite
-            out[part] = CubicSpline(t[lo:hi], values[lo:hi], axis=0)(at[part], order)
-    return out

@@ -126,6 +126,26 @@ class Profile:
         """Time to traverse the piece [s]."""
         return float(self.t[-1])
 
+    @property
+    def time_step(self) -> float:
+        """The median time between gridpoints [s]: the acceleration steps this often."""
+        return float(np.median(np.diff(self.t))) if len(self.t) > 1 else 0.0
+
+    def peak_accelerations(self, scale: float = 1.0) -> np.ndarray:
+        """Each joint's largest |acceleration| along the piece run `scale` times slower.
+
+        The acceleration p'' s'^2 + p' s'' steps at every gridpoint (s'' is constant
+        between them); its extremes are taken from both sides of each gridpoint.
+
+        Returns:
+            Peak |acceleration| per joint [rad/s^2 or m/s^2], shape (dof,).
+        """
+        piece, x = self.piece, np.square(self.sd)[:, None]
+        before = np.r_[self.sdd[:1], self.sdd][:, None]
+        after = np.r_[self.sdd, self.sdd[-1:]][:, None]
+        sides = [piece.ddq * x + piece.dq * u for u in (before, after)]
+        return np.max(np.abs(np.concatenate(sides)), axis=0) / scale**2
+
     def path_state(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """s, s' and s'' at times from the start of the piece [s], each shape (n,)."""
         index = np.searchsorted(self.t, times, side="right") - 1
@@ -387,5 +407,6 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
             raise PlanningError(f"{motion.path}: toppra: the path from waypoint[{first}] to "
                                 f"waypoint[{last}] cannot be timed with these limits "
                                 f"({type(err).__name__}: {err})") from err
-        moves.append(Move(first, last, duration, partial(found.sample, scale=scale)))
+        moves.append(Move(first, last, duration, partial(found.sample, scale=scale),
+                          found.peak_accelerations(scale), found.time_step * scale))
     return moves

@@ -1,0 +1,134 @@
+"""The sizing at one payload mass, with motors or fixed units, and the largest mass it passes.
+
+`hdselect.codesign.maxpayload` finds the largest payload exactly from the gearheads' rules
+(torque is affine in the payload mass). A motor's rules (peak torque through the ratio
+and the efficiency, RMS torque, speed) and a fixed unit per joint are then taken from the
+sizing itself: `PayloadSizing.at` sizes (or checks) the trajectory with the payload, and
+`PayloadSizing.largest` bisects the mass between one that passes and one that does not,
+so the answer is exactly what `hdselect.size` says at that payload. The gearheads' exact
+mass bounds it from above: a motor only adds rules (its rotor inertia, larger than none,
+only tightens the crash rule).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+
+from hdselect.base.errors import InputError
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.units import Unit
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.model import Robot
+from hdselect.robot.payload import Payload
+from hdselect.sizing.core import check_units, size_trajectory
+from hdselect.sizing.options import Options
+from hdselect.sizing.result import SizingResult
+
+MASS_RTOL = 1e-6
+"""Relative width to which the largest mass is bisected where motors or fixed units bind [-]."""
+
+
+@dataclass(frozen=True)
+class PayloadSizing:
+    """How the robot is sized at a payload mass.
+
+    Attributes:
+        bare: The robot without payload (no gearhead masses).
+        payload: The payload's geometry for 1 kg.
+        trajectory: The trajectory the payload rides.
+        catalog: The units to choose from.
+        options: The assumptions.
+        units: The fixed unit of every sized joint, or empty to choose them.
+        motors: Candidate motors per joint (one per joint with fixed units).
+    """
+
+    bare: Robot
+    payload: Payload
+    trajectory: Trajectory
+    catalog: tuple[Unit, ...]
+    options: Options
+    units: Mapping[str, Unit]
+    motors: Mapping[str, tuple[Motor, ...]]
+
+    def __post_init__(self) -> None:
+        if self.units:
+            missing = [name for name in self.bare.sized_joints if name not in self.units]
+            if missing:
+                raise InputError(f"no unit given for {', '.join(missing)}: give a unit for "
+                                 "every sized joint, or none to choose them", field="units")
+            several = [name for name, found in self.motors.items() if len(found) > 1]
+            if several:
+                raise InputError(f"with fixed units, give one motor per joint ({several[0]} "
+                                 f"has {len(self.motors[several[0]])} to choose from)",
+                                 field="motors")
+
+    def at(self, mass: float) -> SizingResult:
+        """The sizing (or the check of the fixed units) with `mass` [kg] of payload."""
+        robot = self.bare.with_payload(scaled(self.payload, mass)) if mass > 0 else self.bare
+        if self.units:
+            return check_units(robot, self.trajectory, self.units, self.options,
+                               motors={name: found[0] for name, found in self.motors.items()})
+        return size_trajectory(robot, self.trajectory, self.catalog, self.options,
+                               motors=self.motors)
+
+    def largest(self, low: float, high: float) -> tuple[float | None, SizingResult | None,
+                                                         SizingResult | None]:
+        """The largest mass in [low, high] [kg] at which every joint passes, by bisection.
+
+        Returns:
+            The mass (None when not even `low` passes), the sizing there, and the sizing
+            just above it that fails (None when `high` passes).
+        """
+        top = self.at(high)
+        if top.feasible:
+            return high, top, None
+        bottom = self.at(low)
+        if not bottom.feasible:
+            return None, None, bottom
+        failing = top
+        while high - low > MASS_RTOL * max(high, 1e-9):
+            middle = 0.5 * (low + high)
+            found = self.at(middle)
+            if found.feasible:
+                low, bottom = middle, found
+            else:
+                high, failing = middle, found
+        return low, bottom, failing
+
+
+def scaled(payload: Payload, mass: float) -> Payload:
+    """The payload of `payload`'s geometry with `mass` [kg] (inertia scaled alike)."""
+    return replace(payload, mass=mass,
+                   inertia=tuple(tuple(v * mass / payload.mass for v in row)
+                                 for row in payload.inertia))
+
+
+def fixed_units(given: Mapping[str, Unit | str] | None, catalog: Sequence[Unit],
+                robot: Robot) -> dict[str, Unit]:
+    """The units given per joint (ids resolved in the catalog).
+
+    Raises:
+        InputError: Not a mapping, a name is not a sized joint, or an id is unknown.
+    """
+    if given is None:
+        return {}
+    if isinstance(given, str) or not isinstance(given, Mapping):
+        raise InputError(f"expected a mapping of joint names to units or unit ids, got "
+                         f"{type(given).__name__}", field="units")
+    by_id = {unit.id: unit for unit in catalog}
+    out: dict[str, Unit] = {}
+    for name, unit in given.items():
+        if name not in robot.sized_joints:
+            raise InputError(f"unknown joint '{name}'; sized joints are: "
+                             f"{', '.join(robot.sized_joints)}", field="units")
+        if isinstance(unit, str):
+            if unit not in by_id:
+                raise InputError(f"unknown unit '{unit}' for joint '{name}'; units are: "
+                                 f"{', '.join(by_id)}", field="units")
+            unit = by_id[unit]
+        if not isinstance(unit, Unit):
+            raise InputError(f"expected a catalog unit or unit id for joint '{name}', got "
+                             f"{type(unit).__name__}", field="units")
+        out[name] = unit
+    return out

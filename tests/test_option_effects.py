@@ -1,0 +1,212 @@
+"""Every option of every command takes effect or is refused; every public function refuses a
+wrong type with an `InputError` naming the parameter.
+
+Each option is run against the same command without it: what it writes must differ (or the
+command refuses it in one line). `test_every_option_is_in_the_table` keeps the table whole:
+a new option without a row here fails.
+"""
+
+from __future__ import annotations
+
+import argparse
+import inspect
+import json
+from pathlib import Path
+
+import pytest
+
+import hdselect
+from hdselect import InputError
+from hdselect.cli.main import _parser, main
+from test_dynamics import REPO
+
+ONE_MOVE = """\
+robot = "../robots/planar2.urdf"
+planner = "ruckig"
+angle_unit = "deg"
+dt = 0.002
+[payload]
+mass = 0.4
+com = [0.03, 0.0, 0.0]
+frame = "tool"
+[limits]
+velocity = 180
+acceleration = 900
+jerk = 9000
+[requirements]
+life_hours = 20000
+[[waypoint]]
+q = {shoulder = 40, elbow = -80}
+dwell = 0.2
+[[waypoint]]
+q = {shoulder = -30, elbow = 20}
+dwell = 0.2
+"""
+"""planar2's first move and back: co-design in a second."""
+
+ACME = ('series = "ACME"\n[[unit]]\nsize = 20\nratio = 30\nrated_torque_nm = 40\n'
+        "repeated_torque_nm = 50\nmax_input_speed_rpm = 4000\ninput_inertia_kg_cm2 = 0.2\n"
+        "mass_kg = 1.5\n")
+
+SIZING = [
+    ("--catalog", ["acme.toml"]), ("--stop-time", ["0.3"]), ("--efficiency", ["0.5"]),
+    ("--motor-inertia", ["1e-5"]), ("--motor-mass", ["1.0"]),
+    ("--motor-catalog", ["motors/example_motors.toml"]), ("--no-mass-coupling", []),
+    ("--prefer", ["margin"]), ("--life-hours", ["1e5"]), ("--life-basis", ["L10"]),
+    ("--payload-com", ["0", "0", "0.1"]), ("--payload-frame", ["link2"]),
+    ("--mounting", ["wall"]), ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),
+    ("--max-samples", ["100"]),
+]
+"""Options every sizing command takes, with a value that must change its answer."""
+
+EFFECTS = {
+    "size": [*SIZING, ("--payload", ["0.9"]), ("--report", ["rep"])],
+    "compare": [*SIZING, ("--payload", ["0.9"]), ("--report", ["rep"]),
+                ("--joint", ["elbow"])],
+    "fastest": [*[row for row in SIZING if row[0] != "--catalog"], ("--payload", ["0.9"]),
+                ("--catalog", ["acme.toml"], ["--compare-ratios"]),  # more units compared
+                ("--units", ["shoulder=PSA-14-80"]),
+                ("--compare-ratios", []), ("--joint", ["elbow"]), ("--out", ["f.csv"]),
+                ("--plot", ["f.png"])],
+    "max-payload": [*[row for row in SIZING if row[0] != "--prefer"],
+                    ("--units", ["shoulder=PSA-14-100", "--units", "elbow=PSA-14-100"])],
+    "plan": [("--payload", ["0.9"]), ("--payload-com", ["0", "0", "0.1"]),
+             ("--payload-frame", ["link2"]), ("--mounting", ["wall"]),
+             ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),  # refused without --plot
+             ("--joints", ["shoulder"], ["--plot", "p.png"]),  # the joints plotted
+             ("--max-samples", ["100"]), ("--plot", ["p.png"])],
+}
+"""Per command, each option and its value."""
+
+OTHER = {
+    "catalog": ["--catalog", "--units", "--json"], "duty": ["--catalog", "--json"],
+    "joints": ["--json"], "init": ["--out"],
+    "study": ["--out", "--workers", "--scheduler", "--no-grouping", "--retry-failed", "--plot"],
+    "plan": ["--out"], "size": ["--json"], "compare": ["--json"], "fastest": ["--json"],
+    "max-payload": ["--json", "--prefer"],
+}
+"""Options covered elsewhere (test_cli, test_study, test_outputs, test_bad_input): outputs,
+executors and listings, which change where a result goes or how it runs, not the result.
+max-payload's --prefer orders the units that pass at the largest payload, where the joint
+that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used."""
+
+
+@pytest.fixture
+def work(tmp_path, monkeypatch):
+    (tmp_path / "robots").symlink_to(REPO / "robots")
+    (tmp_path / "motors").symlink_to(REPO / "motors")
+    (tmp_path / "tr").mkdir()
+    (tmp_path / "tr" / "move.toml").write_text(ONE_MOVE)
+    (tmp_path / "acme.toml").write_text(ACME)
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def outcome(capsys, command: str, extra: list[str], tag: str) -> tuple[int, str, bytes]:
+    """Exit status, standard error, and every byte the command wrote (files, JSON, stdout)."""
+    out_dir = Path(tag)
+    out_dir.mkdir()
+    argv = [command, "tr/move.toml"]
+    argv += ["--out", str(out_dir / "t.csv")] if command == "plan" else [
+        "--json", str(out_dir / "r.json")]
+    extra = [str(out_dir / x) if x in ("rep", "f.csv", "f.png", "p.png") else x for x in extra]
+    status = main([*argv, *extra])
+    out, err = capsys.readouterr()
+    written = []
+    for path in sorted(out_dir.rglob("*")):
+        if path.suffix == ".json":  # the options echoed back are not an effect
+            written.append(json.dumps(_without(json.loads(path.read_text()), "assumptions"),
+                                      sort_keys=True).encode())
+        elif path.is_file() and path.suffix != ".html":  # the page echoes the command
+            written.append(path.read_bytes())
+    return status, err, b"".join(written)
+
+
+def _without(document, key):
+    """The JSON document with every `key` left out, at any depth."""
+    if isinstance(document, dict):
+        return {k: _without(v, key) for k, v in document.items() if k != key}
+    if isinstance(document, list):
+        return [_without(v, key) for v in document]
+    return document
+
+
+@pytest.mark.parametrize(("command", "option", "values", "base_args"), [
+    (command, row[0], row[1], row[2] if len(row) > 2 else [])
+    for command, rows in EFFECTS.items() for row in rows])
+def test_an_option_changes_the_answer_or_is_refused(work, capsys, command, option, values,
+                                                    base_args):
+    base = outcome(capsys, command, base_args, "base")
+    assert base[0] in (0, 1), base[1]
+    status, err, written = outcome(capsys, command, [*base_args, option, *values], "with")
+    if status == 2:
+        assert len(err.strip().splitlines()) == 1 and option in err, err
+        return
+    assert status in (0, 1), err
+    assert written != base[2], f"{command} {option} took no effect"
+
+
+def test_max_payload_selects_in_the_order_preferred(work):
+    robot, motion = hdselect.load_case("tr/move.toml")
+    options = hdselect.Options(prefer="margin")
+    result = hdselect.max_payload(robot, motion, options)
+    assert result.selection is not None and result.selection.options.prefer == "margin"
+
+
+def _options(parser: argparse.ArgumentParser) -> dict[str, set[str]]:
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return {name: {o for a in sub._actions for o in a.option_strings
+                   if o.startswith("--") and o not in ("--help", "--verbose")}
+            for name, sub in commands.choices.items()}
+
+
+def test_every_option_is_in_the_table():
+    for command, options in _options(_parser()).items():
+        covered = {row[0] for row in EFFECTS.get(command, [])} | set(OTHER.get(command, []))
+        assert options <= covered, (command, options - covered)
+
+
+# --- Python ----------------------------------------------------------------------------------
+
+def _public_functions():
+    return [name for name in hdselect.__all__
+            if name[0].islower() and name not in ("study",) and inspect.isfunction(
+                getattr(hdselect, name))]
+
+
+@pytest.fixture(scope="module")
+def case():
+    robot, motion = hdselect.load_case(REPO / "trajectories" / "planar2_pick_place.toml")
+    return robot, motion, hdselect.plan(robot, motion), hdselect.load_catalog()
+
+
+WRONG = [42, object()]
+
+
+@pytest.mark.parametrize("name", _public_functions())
+def test_a_public_function_names_the_parameter_of_a_wrong_type(case, name):
+    """Each parameter in turn gets a value of no type it takes; the others valid ones."""
+    robot, motion, trajectory, units = case
+    valid = {"robot": robot, "motion": motion, "trajectory": trajectory, "units": units,
+             "path": REPO / "robots" / "planar2.urdf", "robot_file": "planar2.urdf",
+             "result": None}
+    if name == "check_units":
+        valid["units"] = {j: units[-1] for j in robot.sized_joints}
+    if name in ("load_catalog",):
+        valid["path"] = None
+    function = getattr(hdselect, name)
+    parameters = [p for p in inspect.signature(function).parameters.values()
+                  if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
+    if name in ("summarize", "size_duty", "load_duty", "load_motors", "load_catalog"):
+        pytest.skip("covered with its own inputs in test_summary, test_duty, test_motors, "
+                    "test_catalog")
+    for parameter in parameters:
+        for wrong in WRONG:
+            args = {p.name: valid.get(p.name) for p in parameters
+                    if p.default is inspect.Parameter.empty}
+            args[parameter.name] = wrong
+            with pytest.raises(InputError) as info:
+                function(**args)
+            message = f"{info.value.field} {info.value.reason}"
+            assert parameter.name.rstrip("s") in message or parameter.name in message, (
+                name, parameter.name, message)
