@@ -37,7 +37,7 @@ CONTOUR = ROOT / "trajectories" / "benchtop6_contour.toml"
 """The shipped 6-axis TOPPRA motion."""
 FAST_PICK = ROOT / "trajectories" / "benchtop6_fast_pick.toml"
 """The shipped 6-axis co-design motion (its limits at the arm's own)."""
-SPEC = ROOT / "specs" / "benchtop6_dispensing.toml"
+SPEC = ROOT / "trajectories" / "envelopes" / "benchtop6_dispensing.toml"
 """The shipped 6-axis envelope file (its duty: the contour motion)."""
 
 QUICK_SAMPLES = 1_500

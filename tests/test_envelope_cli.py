@@ -197,3 +197,75 @@ def test_states_computed_on_a_dask_cluster_are_the_same():
         j.worst["peak"].torque for j in cluster.joints]
     with pytest.raises(InputError, match="scheduler"):
         envelope(PLANAR2, scheduler="udp://nowhere", **kwargs)
+
+
+ENVELOPE_EFFECTS = [
+    ("--velocity", ["90"]), ("--acceleration", ["600"]), ("--jerk", ["2000"]),
+    ("--angle-unit", ["rad"]), ("--payload", ["0.5"]), ("--payload-com", ["0", "0", "0.1"]),
+    ("--payload-frame", ["link2"]), ("--mounting", ["wall"]), ("--joints", ["shoulder"]),
+    ("--exclude", ["elbow"]), ("--duty", [PLANAR2_MOTION]), ("--moves", ["3"]),
+    ("--seed", ["1"]), ("--starts", ["128"]), ("--max-samples", ["100"]),
+    ("--catalog", ["acme.toml"]), ("--stop-time", ["0.3"]), ("--efficiency", ["0.5"]),
+    ("--motor-inertia", ["1e-5"]), ("--motor-mass", ["1.0"]),
+    ("--motor-catalog", [REPO / "motors" / "example_motors.toml"]),
+    ("--no-mass-coupling", []), ("--prefer", ["margin"]), ("--life-hours", ["1e5"]),
+    ("--life-basis", ["L10"]),
+]
+"""Each option of ``hdselect envelope`` that changes its answer, with a value that must."""
+ENVELOPE_OUTPUTS = ("--json", "--report", "--workers", "--scheduler")
+"""Options that change where the answer goes or how it is computed (tested above)."""
+ACME = ('series = "ACME"\n[[unit]]\nsize = 20\nratio = 30\nrated_torque_nm = 40\n'
+        "repeated_torque_nm = 50\nmax_input_speed_rpm = 4000\ninput_inertia_kg_cm2 = 0.2\n"
+        "mass_kg = 1.5\n")
+
+
+def _answer(document):
+    """The JSON without what echoes the options or varies from run to run."""
+    if isinstance(document, dict):
+        return {k: _answer(v) for k, v in document.items()
+                if k not in ("assumptions", "seconds")}
+    if isinstance(document, list):
+        return [_answer(v) for v in document]
+    return document
+
+
+@pytest.mark.parametrize(("option", "values"), ENVELOPE_EFFECTS, ids=lambda x: str(x)[:20])
+def test_every_envelope_option_changes_the_answer_or_is_refused(capsys, tmp_path, monkeypatch,
+                                                                 option, values):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "acme.toml").write_text(ACME)
+    base = ["envelope", PLANAR2, "--velocity", "180", "--acceleration", "900",
+            "--life-hours", "20000", "--starts", "64", "--moves", "2", "--json", "-"]
+    status, out, err = run(capsys, *base)
+    assert status in (0, 1), err
+    before = _answer(json.loads(out))
+    status, out, err = run(capsys, *base, option, *values)
+    if status == 2:
+        one_line_error(err, option)
+        return
+    assert status in (0, 1), err
+    assert _answer(json.loads(out)) != before, f"{option} took no effect"
+
+
+def test_the_effects_table_covers_every_option_of_envelope():
+    from hdselect.cli.main import _parser
+    from test_option_effects import OTHER, _options
+
+    options = _options(_parser())["envelope"]
+    assert options == {row[0] for row in ENVELOPE_EFFECTS} | set(ENVELOPE_OUTPUTS)
+    assert set(OTHER["envelope"]) == options
+
+
+@pytest.mark.parametrize("parameter", ["robot", "spec", "velocity", "acceleration", "jerk",
+                                       "payload", "mounting", "joints", "exclude", "duty",
+                                       "moves", "seed", "catalog", "units", "settings",
+                                       "workers", "scheduler"])
+def test_the_function_names_a_parameter_of_a_wrong_type(parameter):
+    """Each parameter in turn of no type it takes, the others valid: an InputError naming it."""
+    valid = {"robot": PLANAR2, "acceleration": 5.0, "moves": 2,
+             "settings": SearchSettings(starts=64)}
+    numbers = ("velocity", "acceleration", "jerk", "moves", "seed", "workers")
+    for wrong in ("x" if parameter in numbers else 42, object()):
+        with pytest.raises(InputError) as raised:
+            envelope(**{**valid, parameter: wrong})
+        assert str(raised.value.field).split(".")[0].split("[")[0] == parameter, raised.value

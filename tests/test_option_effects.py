@@ -19,6 +19,7 @@ import hdselect
 from hdselect import InputError
 from hdselect.cli.main import _parser, main
 from test_dynamics import REPO
+from test_envelope_cli import ENVELOPE_EFFECTS, ENVELOPE_OUTPUTS
 
 ONE_MOVE = """\
 robot = "../robots/planar2.urdf"
@@ -84,11 +85,14 @@ OTHER = {
     "study": ["--out", "--workers", "--scheduler", "--no-grouping", "--retry-failed", "--plot"],
     "plan": ["--out"], "size": ["--json"], "compare": ["--json"], "fastest": ["--json"],
     "max-payload": ["--json", "--prefer"],
+    "envelope": [*(row[0] for row in ENVELOPE_EFFECTS), *ENVELOPE_OUTPUTS],
 }
 """Options covered elsewhere (test_cli, test_study, test_outputs, test_bad_input): outputs,
 executors and listings, which change where a result goes or how it runs, not the result.
 max-payload's --prefer orders the units that pass at the largest payload, where the joint
-that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used."""
+that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used.
+envelope's options take a robot file, not a motion file: test_envelope_cli runs its own
+table of effects (`ENVELOPE_EFFECTS`)."""
 
 
 @pytest.fixture

@@ -38,6 +38,7 @@ from hdselect.envelope.search import Evaluate, SearchSettings, Worst, agree, sea
 from hdselect.envelope.spec import Spec, resolve_spec
 from hdselect.envelope.specfile import (
     DUTY_MOVES,
+    MAX_DUTY_MOVES,
     EnvelopeFile,
     envelope_robot_file,
     load_envelope_file,
@@ -129,6 +130,12 @@ def envelope(
     expect_type(spec, (str, Path, type(None)), "spec", "an envelope file or None")
     expect_type(duty, (Motion, str, Path, type(None)), "duty", "a Motion, a motion file or None")
     expect_type(settings, (SearchSettings, type(None)), "settings", "a SearchSettings or None")
+    for name, value, low, high in (("moves", moves, 1, MAX_DUTY_MOVES),
+                                   ("seed", seed, 0, 2**63 - 1)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, int)
+                                  or not low <= value <= high):
+            raise InputError(f"must be a whole number in [{low}, {high}], got {value!r}",
+                             field=name)
     catalog = files_argument(catalog, "catalog")
     if units is not None and catalog:
         raise InputError("give either catalog files or loaded units, not both", field="units")

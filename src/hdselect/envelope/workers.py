@@ -67,11 +67,11 @@ class Spread:
     def __init__(self, workers: int, scheduler: str | None = None) -> None:
         if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 4096:
             raise InputError(f"must be a whole number from 1 to 4096, got {workers!r}",
-                             field="--workers")
-        if scheduler is not None and scheduler != "local" and not scheduler.startswith(
-                ("tcp://", "tls://")):
+                             field="workers")
+        if scheduler is not None and (not isinstance(scheduler, str) or (
+                scheduler != "local" and not scheduler.startswith(("tcp://", "tls://")))):
             raise InputError(f"expected 'local' or a scheduler address tcp://HOST:PORT, got "
-                             f"{scheduler!r}", field="--scheduler")
+                             f"{scheduler!r}", field="scheduler")
         self.workers = workers
         self.scheduler = scheduler
         self._pool: Executor | None = None
@@ -97,7 +97,7 @@ class Spread:
             from distributed import Client, LocalCluster
         except ImportError as err:
             raise InputError(f"needs Dask's distributed scheduler: {DASK_HINT}",
-                             field="--scheduler") from err
+                             field="scheduler") from err
         if self.scheduler == "local":
             self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
                                          processes=True, host="127.0.0.1",
@@ -108,7 +108,7 @@ class Spread:
         except (OSError, TimeoutError) as err:
             self._close()
             raise InputError(f"cannot reach the Dask scheduler ({err})",
-                             field="--scheduler") from err
+                             field="scheduler") from err
         return self
 
     def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,
