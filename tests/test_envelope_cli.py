@@ -94,6 +94,12 @@ def test_a_motion_file_as_the_duty_is_sized_alone_beside_the_envelope(capsys):
         j.selected.unit.id for j in alone.joints]
     assert document["assumptions"]["stop_time_s"] == 0.1  # the motion file's [safety]
     assert document["payload"]["mass_kg"] == 0.4  # the motion file's payload
+    status, out, _ = run(capsys, "envelope", PLANAR2, "--duty", PLANAR2_MOTION, "--payload",
+                         "0.9", "--velocity", "180", "--acceleration", "900", "--json", "-",
+                         "--starts", "64")
+    payload = json.loads(out)["payload"]  # --payload changes the duty's mass, keeps the rest
+    assert payload["mass_kg"] == 0.9 and payload["com_m"] == [0.03, 0.0, 0.0]
+    assert payload["frame"] == "tool"
 
 
 def test_report_writes_the_page_and_the_duty_report_beside_it(capsys, tmp_path):

@@ -228,7 +228,7 @@ def _limits(args: argparse.Namespace, kind: str, robot) -> dict[str, float] | No
 
 
 def _payload(args: argparse.Namespace, robot, spec: Path | None):
-    """The payload the flags give (changing the envelope file's), or None."""
+    """The payload the flags give (changing the envelope file's, else the duty's), or None."""
     from hdselect.envelope.specfile import load_envelope_file
     from hdselect.robot.payload import Payload
 
@@ -238,7 +238,13 @@ def _payload(args: argparse.Namespace, robot, spec: Path | None):
              if value is not None]
     if not given:
         return None
-    base = load_envelope_file(spec, robot).payload if spec is not None else None
+    file = load_envelope_file(spec, robot) if spec is not None else None
+    base = file.payload if file is not None else None
+    duty = args.duty if args.duty is not None else (file.duty if file is not None else None)
+    if base is None and duty is not None:  # the duty's payload, as `size --payload` changes it
+        from hdselect.motion.motionfile import load_motion
+
+        base = load_motion(duty, robot).payload
     if base is None and args.payload is None:
         raise InputError(f"no payload for {given[0]} to change; give its mass with --payload KG",
                          field=given[0])
