@@ -61,10 +61,14 @@ class JointCycle:
         """The joint's acceleration [rad/s^2], shape (n,)."""
         return self.samples.qdd[:, self.column]
 
+    @property
+    def rest(self) -> np.ndarray:
+        """Where the joint is held still in its own task, shape (n,)."""
+        return self.samples.rest[:, self.column]
+
     def load(self) -> CycleLoad:
         """The cycle on the output side, by the catalog page's formulas."""
-        return cycle_load(self.torque, self.qd, self.samples.dt,
-                          self.samples.rest[:, self.column])
+        return cycle_load(self.torque, self.qd, self.samples.dt, self.rest)
 
 
 def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: Options, *,
@@ -102,7 +106,7 @@ def _prefer(options: Options) -> str:
 def _reflect(units: Sequence[Unit], cycle: JointCycle, options: Options) -> list[Reflection]:
     return reflect(units, cycle.samples.t, cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
                    stop_time=options.stop_time, efficiency=options.efficiency,
-                   rotor_inertia=options.rotor_inertia)
+                   rotor_inertia=options.rotor_inertia, rest=cycle.rest)
 
 
 def _candidate(load: CycleLoad, reflection: Reflection, cycle: JointCycle,
@@ -122,7 +126,8 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit
     """Every (gearhead, motor) pair: each motor's rotor inertia in the motor torque and crash."""
     behind = reflect_motors(units, [m.rotor_inertia for m in motors], cycle.samples.t,
                             cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
-                            stop_time=options.stop_time, efficiency=options.efficiency)
+                            stop_time=options.stop_time, efficiency=options.efficiency,
+                            rest=cycle.rest)
     speed = np.abs(cycle.qd) * RPM_PER_RAD_S
     pairs, torque = [], {}
     for u, unit in enumerate(units):

@@ -48,7 +48,8 @@ class Reflection:
     unit: Unit
     motor: MotorDemand
     momentary: Momentary
-    _cycle: tuple[np.ndarray, np.ndarray, np.ndarray, float, float] = field(repr=False)
+    _cycle: tuple[np.ndarray, np.ndarray, np.ndarray, float, float, np.ndarray] = field(
+        repr=False)
     _torque: np.ndarray | None = field(default=None, repr=False)
 
     @property
@@ -60,8 +61,8 @@ class Reflection:
         """
         if self._torque is not None:
             return self._torque
-        tau, qd, qdd, efficiency, rotor_inertia = self._cycle
-        return _motor_torques([self.unit], tau, qd, qdd, efficiency, rotor_inertia)[0]
+        tau, qd, qdd, efficiency, rotor_inertia, rest = self._cycle
+        return _motor_torques([self.unit], tau, qd, qdd, efficiency, rotor_inertia, rest)[0]
 
 
 def reflect(
@@ -75,6 +76,7 @@ def reflect(
     stop_time: float,
     efficiency: float = DEFAULT_EFFICIENCY,
     rotor_inertia: float = 0.0,
+    rest: np.ndarray | None = None,
 ) -> list[Reflection]:
     """Reflect one joint's cycle through every unit at once, `CHUNK` samples at a time.
 
@@ -94,12 +96,13 @@ def reflect(
         stop_time: Time to bring everything to rest [s].
         efficiency: Gear efficiency [-], for units without a table.
         rotor_inertia: Motor rotor inertia J_m [kg m^2].
+        rest: Where the joint is held still, shape (n,); None: `at_rest` of these samples.
 
     Returns:
         One reflection per unit, in the order given.
     """
     return reflect_motors(units, (rotor_inertia,), t, tau, qd, qdd, stop_tau,
-                          stop_time=stop_time, efficiency=efficiency)[0]
+                          stop_time=stop_time, efficiency=efficiency, rest=rest)[0]
 
 
 def reflect_motors(
@@ -113,6 +116,7 @@ def reflect_motors(
     *,
     stop_time: float,
     efficiency: float = DEFAULT_EFFICIENCY,
+    rest: np.ndarray | None = None,
 ) -> list[list[Reflection]]:
     """Reflect one joint's cycle through every unit, behind each of several motors.
 
@@ -131,6 +135,8 @@ def reflect_motors(
         stop_tau: Output torque at the start of an emergency stop from each sample [N m].
         stop_time: Time to bring everything to rest [s].
         efficiency: Gear efficiency [-], for units without a table.
+        rest: Where the joint is held still, shape (n,); None: `at_rest` of these samples
+            (a robot's pooled tasks give each task's own).
 
     Returns:
         Per rotor inertia, in the order given, one reflection per unit.
@@ -146,7 +152,7 @@ def reflect_motors(
     crash_at = np.zeros(inertia.shape, dtype=int)
     rows = np.arange(len(units))
     kept: list[np.ndarray | None] = [None] * len(inertias)  # a one-chunk cycle's torques
-    resting = at_rest(qd, qdd)
+    resting = at_rest(qd, qdd) if rest is None else np.asarray(rest, dtype=bool)
     for start in range(0, n, CHUNK):
         part = slice(start, start + CHUNK)
         geared = _geared(units, ratio, tau[part], qd[part], efficiency, resting[part])
@@ -184,7 +190,7 @@ def reflect_motors(
                                  float(rms_speed[row]))
             torque = kept[k]
             behind.append(Reflection(unit, demand, event,
-                                     (tau, qd, qdd, efficiency, rotor_inertia),
+                                     (tau, qd, qdd, efficiency, rotor_inertia, resting),
                                      None if torque is None else torque[row]))
         out.append(behind)
     return out
@@ -210,11 +216,11 @@ def _geared(units: Sequence[Unit], ratio: np.ndarray, tau: np.ndarray, qd: np.nd
 
 
 def _motor_torques(units: Sequence[Unit], tau: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                   efficiency: float, rotor_inertia: float) -> np.ndarray:
+                   efficiency: float, rotor_inertia: float, rest: np.ndarray) -> np.ndarray:
     """Motor torque of every unit at every sample given [N m], shape (units, n)."""
     ratio = np.array([unit.ratio for unit in units], dtype=float)
     inertia = np.array([unit.input_inertia for unit in units]) + rotor_inertia
-    return (_geared(units, ratio, tau, qd, efficiency, at_rest(qd, qdd))
+    return (_geared(units, ratio, tau, qd, efficiency, rest)
             + np.multiply.outer(inertia * ratio, qdd))
 
 
