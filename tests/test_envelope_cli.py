@@ -215,7 +215,8 @@ ENVELOPE_EFFECTS = [
     ("--motor-inertia", ["1e-5"]), ("--motor-mass", ["1.0"]),
     ("--motor-catalog", [REPO / "motors" / "example_motors.toml"]),
     ("--no-mass-coupling", []), ("--prefer", ["margin"]), ("--life-hours", ["1e5"]),
-    ("--life-basis", ["L10"]),
+    ("--life-basis", ["L10"]), ("--margin", ["0.5"]), ("--max-inertia-ratio", ["3"]),
+    ("--inertia-target", ["2"]),
 ]
 """Each option of ``hdselect envelope`` that changes its answer, with a value that must."""
 ENVELOPE_OUTPUTS = ("--json", "--report", "--workers", "--scheduler")

@@ -56,7 +56,10 @@ SIZING = [
     ("--prefer", ["margin"]), ("--life-hours", ["1e5"]), ("--life-basis", ["L10"]),
     ("--payload-com", ["0", "0", "0.1"]), ("--payload-frame", ["link2"]),
     ("--mounting", ["wall"]), ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),
-    ("--max-samples", ["100"]),
+    ("--max-samples", ["100"]), ("--margin", ["0.3"]),
+    ("--max-inertia-ratio", ["3"], ["--motor-catalog", "motors/example_motors.toml"]),
+    ("--inertia-target", ["50"], ["--motor-catalog", "motors/example_motors.toml",
+                                  "--prefer", "inertia"]),
 ]
 """Options every sizing command takes, with a value that must change its answer."""
 
@@ -80,10 +83,12 @@ EFFECTS = {
 """Per command, each option and its value."""
 
 OTHER = {
-    "catalog": ["--catalog", "--units", "--json"], "duty": ["--catalog", "--json"],
+    "catalog": ["--catalog", "--units", "--json"],
+    "duty": ["--catalog", "--json", "--margin"],  # test_margins: the duty example by hand
     "joints": ["--json"], "init": ["--out"],
     "study": ["--out", "--workers", "--scheduler", "--no-grouping", "--retry-failed", "--plot"],
-    "plan": ["--out"], "size": ["--json"], "compare": ["--json"], "fastest": ["--json"],
+    "plan": ["--out"], "size": ["--json", "--bom"], "compare": ["--json", "--bom"],
+    "fastest": ["--json"],
     "max-payload": ["--json", "--prefer"],
     "envelope": [*(row[0] for row in ENVELOPE_EFFECTS), *ENVELOPE_OUTPUTS],
 }

@@ -15,6 +15,7 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import (
     CHECKS,
     MOTOR_CHECKS,
+    PAIR_CHECKS,
     Candidate,
     Check,
     CycleLoad,
@@ -224,7 +225,8 @@ def test_checks_that_do_not_apply() -> None:
         assert check.ok, name
         assert check.utilization == 0.0, name
     assert candidate.life_hours is None
-    assert list(candidate.checks) == [name for name in CHECKS if name not in MOTOR_CHECKS]
+    assert list(candidate.checks) == [name for name in CHECKS
+                                      if name not in MOTOR_CHECKS and name not in PAIR_CHECKS]
 
 
 def test_momentary_check_and_events() -> None:

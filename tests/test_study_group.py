@@ -62,6 +62,8 @@ def benchtop():
     (0.75, 1.1, {"prefer": "motor-rms", "life_basis": "L10"}),
     (1.6, 0.95, {"prefer": "margin", "stop_time": 0.2}),
     (3.0, 0.6, {}),  # shoulder joints fit nothing: their slow-downs
+    (1.0, 1.0, {"margin": 0.2}),
+    (2.5, 0.7, {"margin": 0.1, "prefer": "inertia"}),  # no motors: inertia orders as size
 ])
 def test_grouped_cases_equal_their_separate_runs(benchtop, mass, time_scale, given):
     robot, motion, basis = benchtop
@@ -199,6 +201,8 @@ def separate_pairs(robot, motion, mass, time_scale, units, options, motors):
     (0.5, 1.0, {}),  # prefer None: the lightest pair, as the core resolves it
     (1.5, 0.8, {"prefer": "size", "stop_time": 0.1}),
     (0.8, 1.2, {"prefer": "motor-rms", "efficiency": 0.8}),
+    (0.5, 1.0, {"margin": 0.2, "max_inertia_ratio": 10.0}),
+    (1.0, 0.9, {"prefer": "inertia", "inertia_target": 5.0, "max_inertia_ratio": 30.0}),
 ])
 def test_grouped_pairs_equal_their_separate_runs(benchtop_pairs, mass, time_scale, given):
     robot, motion, basis, motors = benchtop_pairs

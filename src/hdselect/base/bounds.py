@@ -157,6 +157,10 @@ EVENTS = Bound("a count", "", 1.0, 1e12)
 """A cap on momentary events [-]."""
 PERCENT = Bound("a percentage", "%", 0.0, 1e4)
 """A load in % of the rated torque."""
+MARGIN = Bound("a margin", "", 0.0, 0.9)
+"""A design margin [-]: the share of every limit kept in reserve, 0 to 90 %."""
+INERTIA_RATIO = Bound("a ratio", "", 0.0, 1e6, low_open=True)
+"""A load-to-rotor inertia ratio [-], largest allowed or aimed at."""
 
 # --- motors ------------------------------------------------------------------------------------
 MOTOR_TORQUE = TORQUE

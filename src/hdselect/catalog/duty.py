@@ -149,13 +149,16 @@ def load_duty(path: str | Path) -> DutyCycle:
     return DutyCycle(path, tuple(phases), momentary, static, life, basis)
 
 
-def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size") -> DutyResult:
+def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size",
+              margin: float = 0.0) -> DutyResult:
     """Check every unit against a duty cycle and select the smallest that fits.
 
     Args:
         cycle: The profile.
         units: The catalog.
         prefer: Selection order, a key of `hdselect.catalog.select.PREFERENCES`.
+        margin: Design margin [-], in [0, 0.9]: every rule must hold at (1 - margin) of
+            its limit.
 
     Returns:
         Every candidate and the selection.
@@ -168,6 +171,7 @@ def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size"
         raise InputError("expected a non-empty sequence of catalog units", field="units")
     for unit in units:
         bounds.expect_type(unit, Unit, "units", "catalog units (hdselect.load_catalog)")
+    margin = bounds.MARGIN.check(margin, field="margin")
     phases = cycle.phases
     load = cycle_load(
         torque=np.array([p.torque for p in phases]),
@@ -177,6 +181,7 @@ def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size"
         static_torque=cycle.static_torque,
     )
     candidates = tuple(check_unit(load, unit, momentary=cycle.momentary,
-                                  life_hours=cycle.life_hours, life_basis=cycle.life_basis)
+                                  life_hours=cycle.life_hours, life_basis=cycle.life_basis,
+                                  margin=margin)
                        for unit in units)
     return DutyResult(cycle, load, candidates, select(candidates, prefer))

@@ -13,7 +13,7 @@ a file go through the same checks.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -42,7 +42,7 @@ _BOUNDS = {"rated_torque": bounds.MOTOR_TORQUE, "peak_torque": bounds.MOTOR_TORQ
            "torque_constant": bounds.TORQUE_CONSTANT, "resistance": bounds.RESISTANCE}
 """The physical range of each number of a motor (`hdselect.bounds`)."""
 MOTOR_KEYS = ("id", *(key for key, _ in _KEYS.values()), *(key for key, _ in _INERTIA_KEYS),
-              "curve")
+              "curve", "max_inertia_ratio")
 """Keys of one motor's table, in a motor file or inline in a motion file."""
 _CURVE_KEYS = ("speed_rpm", "peak_torque_nm")
 _CURVE_TOLERANCE = 1e-9
@@ -68,6 +68,9 @@ class Motor:
             speeds strictly increasing from 0 to at least `max_speed`, interpolated
             linearly; None for a flat `peak_torque` up to `max_speed`.
         source: The file it came from, or None.
+        max_inertia_ratio: Largest load-to-rotor inertia ratio a pair with this motor may
+            have [-] (the file's ``max_inertia_ratio``, for every motor of it, or the
+            motor's own), or None for no such limit; ``--max-inertia-ratio`` overrides it.
 
     Raises:
         InputError: A value is missing, not a finite number, out of its range in
@@ -86,10 +89,14 @@ class Motor:
     resistance: float | None = None
     curve: tuple[tuple[float, float], ...] | None = None
     source: Path | None = None
+    max_inertia_ratio: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.id, str) or not self.id.strip():
             raise InputError(f"expected a non-empty name, got {self.id!r}", field="id")
+        if self.max_inertia_ratio is not None:
+            _set(self, "max_inertia_ratio", bounds.INERTIA_RATIO.check(
+                self.max_inertia_ratio, field="max_inertia_ratio"))
         for name, bound in _BOUNDS.items():
             if name not in _OPTIONAL or getattr(self, name) is not None:
                 _set(self, name, bound.check(getattr(self, name), field=name))
@@ -158,6 +165,9 @@ class Motor:
 def load_motors(path: str | Path) -> tuple[Motor, ...]:
     """Read a motor file: ``[[motor]]`` entries, each a motor's table (see `MOTOR_KEYS`).
 
+    A top-level ``max_inertia_ratio`` is the largest load-to-rotor inertia ratio of every
+    motor of the file that gives none of its own (`Motor.max_inertia_ratio`).
+
     Args:
         path: The motor file (TOML).
 
@@ -171,10 +181,13 @@ def load_motors(path: str | Path) -> tuple[Motor, ...]:
     """
     path = bounds.file_argument(path, "path")
     document = read_toml(path)
-    check_keys(document, ["source", "motor"], path, "")
+    check_keys(document, ["source", "motor", "max_inertia_ratio"], path, "")
     if "source" in document and not isinstance(document["source"], str):
         raise InputError("expected a text describing where the values come from", path=path,
                          field="source")
+    largest = (as_number(document["max_inertia_ratio"], path, "max_inertia_ratio",
+                         bound=bounds.INERTIA_RATIO)
+               if "max_inertia_ratio" in document else None)
     entries = document.get("motor")
     if not isinstance(entries, list) or not entries:
         raise InputError("no [[motor]] entries", path=path, field="motor")
@@ -184,6 +197,8 @@ def load_motors(path: str | Path) -> tuple[Motor, ...]:
         if "id" not in table:
             raise InputError("required key is missing", path=path, field=f"motor[{i}].id")
         motor = motor_from_table(table, path, f"motor[{table['id']}]")
+        if largest is not None and motor.max_inertia_ratio is None:
+            motor = replace(motor, max_inertia_ratio=largest)
         if any(other.id == motor.id for other in motors):
             raise InputError(f"motor id '{motor.id}' appears more than once", path=path,
                              field=f"motor[{motor.id}].id")
@@ -229,6 +244,10 @@ def motor_from_table(table: Mapping[str, Any], path: Path, where: str, *,
     values["rotor_inertia"] = as_number(  # checked as given: kg cm^2 may underflow to 0
         table[key], path, f"{where}.{key}", bound=bounds.ROTOR_INERTIA, scale=factor,
         unit="kg cm^2" if factor != 1.0 else None) * factor
+    if "max_inertia_ratio" in table:
+        values["max_inertia_ratio"] = as_number(table["max_inertia_ratio"], path,
+                                                f"{where}.max_inertia_ratio",
+                                                bound=bounds.INERTIA_RATIO)
     if "curve" in table:
         values["curve"] = _curve(table_of(table["curve"], path, f"{where}.curve"), path,
                                  f"{where}.curve")

@@ -9,11 +9,23 @@ series rules (`hdselect.catalog.units.SeriesRules`); no series' numbers live her
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from hdselect.base.errors import InputError
+from hdselect.catalog.checks import (  # noqa: F401  (re-exported: their public home was here)
+    CHECK_LABELS,
+    CHECK_NAMES,
+    CHECKS,
+    DEFAULT_MARGIN,
+    MOTOR_CHECKS,
+    PAIR_CHECKS,
+    Check,
+    derated,
+    holds,
+    limit_check,
+)
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import L50_PER_L10, LIFE_BASES, Flag, SeriesRules, Unit
 
@@ -27,23 +39,6 @@ ALLOWABLE_TORQUE_EXPONENT = 0.33
 
 MOMENTARY_EVENTS_FACTOR = 1.0e4
 """Harmonic Drive's momentary-overload rule: allowed events = 1e4 / (2 (n/60) t)."""
-
-
-MOTOR_CHECKS = ("motor_peak", "motor_rms", "motor_speed")
-"""The checks of the motor behind a gearhead, when one is given (`check_motor`)."""
-
-
-CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life",
-          *MOTOR_CHECKS)
-"""Every check by name, in the order of results and reports. ``life`` is present only
-when a life is required, the motor checks only when a motor is given; the others
-always, with value None where they do not apply."""
-
-
-CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
-                "momentary": "mom.", "static": "static", "life": "life",
-                "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed"}
-"""Short names of the checks, for table headers (``m.``: the motor's)."""
 
 
 REST_FRACTION = 1e-3
@@ -132,28 +127,6 @@ class MotorDemand:
 
 
 @dataclass(frozen=True)
-class Check:
-    """One rule applied to one gearhead.
-
-    Attributes:
-        value: The demand ([N m], input speed [rpm] or life [h]); None if the rule
-            does not apply to this cycle or this unit.
-        limit: What the gearhead allows (for ``life``: what the user requires); infinite
-            where the unit has no such limit.
-        ok: The rule holds.
-        utilization: Demand over allowance [-] (life: required over expected); 0 if
-            the rule does not apply, above 1 when it fails.
-        detail: Extra figures for reports, e.g. ``{"kind": "crash"}``.
-    """
-
-    value: float | None
-    limit: float
-    ok: bool
-    utilization: float
-    detail: dict[str, object] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
 class Candidate:
     """One gearhead against one joint's cycle.
 
@@ -165,6 +138,9 @@ class Candidate:
         motor: What the motor behind it must deliver, when computed (hdselect size).
         motor_unit: The motor paired with the gearhead, when motors are given; its checks
             (`MOTOR_CHECKS`) are then among `checks`.
+        inertia_ratio: For a pair, the load-to-rotor inertia ratio (J_load / N^2 + J_in) /
+            J_m [-] where the load inertia is known; None otherwise.
+        required_margin: The design margin every rule was judged with [-].
     """
 
     unit: Unit
@@ -173,6 +149,8 @@ class Candidate:
     flags: tuple[Flag, ...]
     motor: MotorDemand | None = None
     motor_unit: Motor | None = None
+    inertia_ratio: float | None = None
+    required_margin: float = DEFAULT_MARGIN
 
     @property
     def feasible(self) -> bool:
@@ -187,7 +165,8 @@ class Candidate:
     @property
     def gearhead_binding(self) -> str:
         """Name of the gearhead's rule with the highest utilization."""
-        return max((name for name in self.checks if name not in MOTOR_CHECKS),
+        return max((name for name in self.checks
+                    if name not in MOTOR_CHECKS and name not in PAIR_CHECKS),
                    key=lambda name: self.checks[name].utilization)
 
     @property
@@ -333,6 +312,7 @@ def check_unit(
     life_hours: float | None = None,
     life_basis: str = "L50",
     motor: MotorDemand | None = None,
+    margin: float = DEFAULT_MARGIN,
 ) -> Candidate:
     """Apply every rule of the unit's series to one gearhead.
 
@@ -344,6 +324,8 @@ def check_unit(
         life_basis: ``"L10"`` or ``"L50"``: the basis of `life_hours`, and of the
             ``life`` check's value.
         motor: The motor-side demand, carried into the result as is.
+        margin: Design margin [-], in [0, 1): every rule must hold at (1 - margin) of
+            its limit (`holds`); utilization stays demand / limit.
 
     Returns:
         The candidate with every check, life and the flags it depends on.
@@ -359,21 +341,23 @@ def check_unit(
     allowed, capped = allowable_mean_torque(unit, mean_input_rpm)
     average_limit = unit.max_average_input_speed
     checks = {
-        "peak": limit_check(load.peak_torque, unit.repeated_torque),
-        "mean": limit_check(load.mean_torque, allowed, mean_input_speed_rpm=mean_input_rpm,
-                       capped_by_repeated=capped),
-        "speed": limit_check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed),
+        "peak": limit_check(load.peak_torque, unit.repeated_torque, margin=margin),
+        "mean": limit_check(load.mean_torque, allowed, margin=margin,
+                            mean_input_speed_rpm=mean_input_rpm, capped_by_repeated=capped),
+        "speed": limit_check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed,
+                             margin=margin),
         "average_speed": limit_check(None if average_limit is None else mean_input_rpm,
-                                math.inf if average_limit is None else average_limit),
-        "momentary": _momentary(momentary, unit),
-        "static": limit_check(load.static_torque, unit.static_torque),
+                                     math.inf if average_limit is None else average_limit,
+                                     margin=margin),
+        "momentary": _momentary(momentary, unit, margin),
+        "static": limit_check(load.static_torque, unit.static_torque, margin=margin),
     }
     life = (l50_life_hours(unit, load.mean_torque, mean_input_rpm)
             if load.mean_torque is not None else None)
     if life_hours is not None:
         expected = life if life is None or life_basis == "L50" else life / L50_PER_L10
         utilization = 0.0 if expected is None else life_hours / expected
-        checks["life"] = Check(expected, life_hours, utilization <= 1.0, utilization,
+        checks["life"] = Check(expected, life_hours, holds(utilization, margin), utilization,
                                {"basis": life_basis})
     used = {"peak": "repeated_torque", "momentary": "momentary_torque", "static": "static_torque",
             "mean": ("average_torque" if rules.mean_torque_limit == "tabulated"
@@ -385,12 +369,12 @@ def check_unit(
     if motor is not None:
         fields.append("input_inertia")
     flags = unit.flags_for(*fields) + ((rules.flag,) if rules.flag is not None else ())
-    return Candidate(unit, checks, life, flags, motor)
+    return Candidate(unit, checks, life, flags, motor, required_margin=margin)
 
 
-def _momentary(event: Momentary | None, unit: Unit) -> Check:
+def _momentary(event: Momentary | None, unit: Unit, margin: float) -> Check:
     if event is None:
-        return limit_check(None, unit.momentary_torque)
+        return limit_check(None, unit.momentary_torque, margin=margin)
     detail: dict[str, object] = {"kind": event.kind}
     if event.speed is not None and event.duration is not None:
         event_rpm = abs(event.speed) * RPM_PER_RAD_S * unit.ratio
@@ -398,13 +382,7 @@ def _momentary(event: Momentary | None, unit: Unit) -> Check:
             event_rpm, event.duration, cap=unit.rules.max_momentary_events)
     if event.time is not None:
         detail["time_s"] = event.time
-    return limit_check(abs(event.torque), unit.momentary_torque, **detail)
-
-
-def limit_check(value: float | None, limit: float, **detail: object) -> Check:
-    """One check: a value against its limit [same unit], utilization = value / limit."""
-    utilization = 0.0 if value is None else value / limit
-    return Check(value, limit, utilization <= 1.0, utilization, dict(detail))
+    return limit_check(abs(event.torque), unit.momentary_torque, margin=margin, **detail)
 
 
 def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:

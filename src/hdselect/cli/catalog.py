@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from hdselect.base.errors import InputError
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written
 
 
@@ -34,7 +35,12 @@ def run_duty(args: argparse.Namespace) -> int:
     cycle = load_duty(args.profile)
     with Outputs([args.profile, *args.catalog]) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
-        result = size_duty(cycle, units)
+        try:
+            result = size_duty(cycle, units, margin=0.0 if args.margin is None else args.margin)
+        except InputError as err:
+            if err.field != "margin":
+                raise
+            raise InputError(err.reason, field="--margin") from err
         if json_file is not None:
             write_json(json_file, duty_json(result))
         table = rendered(duty_table(result)) if args.json != "-" else ""

@@ -87,9 +87,12 @@ def run_envelope(args: argparse.Namespace) -> int:
     from hdselect.report.envelope_tables import envelope_table, limits_table, states_text
     from hdselect.report.export import write_json
 
-    if args.motor_catalog:
-        raise InputError("envelope does not choose motors yet; size a motion with "
-                         "`hdselect size --motor-catalog`", field="--motor-catalog")
+    for flag, value in (("--motor-catalog", args.motor_catalog),
+                        ("--max-inertia-ratio", args.max_inertia_ratio),
+                        ("--inertia-target", args.inertia_target)):
+        if value is not None:
+            raise InputError("envelope does not choose motors yet; size a motion with "
+                             "`hdselect size --motor-catalog`", field=flag)
     robot, spec = _robot_and_spec(args)
     options = sizing_options_of(args, None)
     try:
@@ -151,6 +154,10 @@ _HELP = {
     "life_basis": "basis of the required life: L50, average life, or L10, 90 %% survive it "
                   "(default: the envelope file's, else the duty's, else L50)",
     "motor_catalog": "not taken by envelope yet (refused): size a motion to choose motors",
+    "max_inertia_ratio": "not taken by envelope yet (refused): it judges motors",
+    "inertia_target": "not taken by envelope yet (refused): it orders motors",
+    "margin": "design margin: every rule must hold at (1 - M) of its limit, e.g. 0.2 for 80 "
+              "%% (default: the envelope file's [requirements] margin, else the duty's, else 0)",
 }
 """The help of the flags shared with ``size`` where the envelope reads them otherwise."""
 
@@ -158,7 +165,7 @@ _HELP = {
 _GIVEN = {"stop_time": "stop_time", "efficiency": "efficiency", "rotor_inertia": "motor_inertia",
           "motor_mass": "motor_mass", "prefer": "prefer", "life_hours": "life_hours",
           "life_basis": "life_basis", "max_samples": "max_samples",
-          "mass_coupling": "no_mass_coupling"}
+          "mass_coupling": "no_mass_coupling", "margin": "margin"}
 """Each option of `hdselect.sizing.options.Options` and the flag that gives it."""
 
 

@@ -98,12 +98,30 @@ def sizing_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--life-basis", choices=LIFE_BASES,
                         help="basis of the required life: L50, average life, or L10, 90 %% "
                              "survive it (default: the motion file's, else L50)")
+    margin_argument(parser)
+    parser.add_argument("--max-inertia-ratio", type=float, metavar="R",
+                        help="a gearhead and motor pair whose load-to-rotor inertia ratio is "
+                             "above R is not feasible (default: the motor file's "
+                             "max_inertia_ratio, else none)")
+    parser.add_argument("--inertia-target", type=float, metavar="R",
+                        help="the load-to-rotor inertia ratio --prefer inertia aims at "
+                             f"(default {defaults.inertia_target:g})")
+
+
+def margin_argument(parser: argparse.ArgumentParser) -> None:
+    """--margin: the design margin every rule must keep."""
+    parser.add_argument("--margin", type=float, metavar="M",
+                        help="design margin: every rule must hold at (1 - M) of its limit, "
+                             "e.g. 0.2 for 80 %% (default: the motion file's [requirements] "
+                             "margin, else 0)")
 
 
 _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
                  "rotor_inertia": "--motor-inertia", "motor_mass": "--motor-mass",
                  "prefer": "--prefer", "life_hours": "--life-hours",
-                 "life_basis": "--life-basis", "max_samples": "--max-samples"}
+                 "life_basis": "--life-basis", "max_samples": "--max-samples",
+                 "margin": "--margin", "max_inertia_ratio": "--max-inertia-ratio",
+                 "inertia_target": "--inertia-target"}
 """The command-line option of each field of `hdselect.sizing.options.Options`."""
 
 
@@ -235,7 +253,8 @@ def sizing_options_of(args: argparse.Namespace, motion):
             rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
             mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
             life_hours=args.life_hours, life_basis=args.life_basis,
-            max_samples=args.max_samples)
+            max_samples=args.max_samples, margin=args.margin,
+            max_inertia_ratio=args.max_inertia_ratio, inertia_target=args.inertia_target)
     except InputError as err:
         raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
 

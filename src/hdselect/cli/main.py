@@ -20,6 +20,7 @@ from hdselect.cli.envelope import envelope_arguments, run_envelope
 from hdselect.cli.inputs import (
     catalog_argument,
     json_argument,
+    margin_argument,
     robot_motion_arguments,
     sizing_arguments,
 )
@@ -138,6 +139,7 @@ def _parser() -> argparse.ArgumentParser:
         "duty", parents=[verbose], help="size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     catalog_argument(duty)
+    margin_argument(duty)
     json_argument(duty)
     duty.set_defaults(run=run_duty)
 
@@ -157,6 +159,9 @@ def _parser() -> argparse.ArgumentParser:
     size.add_argument("--report", metavar="DIR",
                       help="write an HTML report with figures into DIR ('-': the page alone, "
                            "to stdout)")
+    size.add_argument("--bom", metavar="CSV",
+                      help="write the parts list: per joint the gearhead and motor, ratio, "
+                           "masses, binding rule and margin, then the totals ('-': to stdout)")
     size.set_defaults(run=run_size)
 
     compare = commands.add_parser(
@@ -169,6 +174,9 @@ def _parser() -> argparse.ArgumentParser:
     compare.add_argument("--report", metavar="DIR",
                          help="write an HTML report of the joints shown into DIR ('-': the "
                               "page alone, to stdout)")
+    compare.add_argument("--bom", metavar="CSV",
+                         help="write the parts list of the selection, every joint (as size "
+                              "--bom; '-': to stdout)")
     compare.set_defaults(run=run_compare)
 
     fastest = commands.add_parser(

@@ -75,14 +75,29 @@ def write_report_and_json(args: argparse.Namespace, result, json_file: Path | No
 
 def to_stdout(args: argparse.Namespace) -> bool:
     """An output goes to standard output (``-``): then no table is printed there."""
-    return "-" in (getattr(args, name, None) for name in ("json", "report", "out", "plot"))
+    return "-" in (getattr(args, name, None) for name in ("json", "report", "out", "plot",
+                                                          "bom"))
+
+
+def reserve_parts(outputs, args: argparse.Namespace) -> Path | None:
+    """The staged place of the parts list (``--bom``), reserved before the work; or None."""
+    return outputs.file(args.bom, "--bom") if getattr(args, "bom", None) else None
+
+
+def write_parts(target: Path | None, result) -> None:
+    """The parts list into its staged place, if one was reserved."""
+    if target is not None:
+        from hdselect.report.parts import parts_csv
+
+        target.write_text(parts_csv(result), encoding="utf-8")
 
 
 def report_and_json(args: argparse.Namespace) -> list[tuple[str | None, str | None]]:
     """The report's page and the JSON file, as `say_written` names them."""
     report = args.report if args.report in (None, "-") else str(Path(args.report) / "index.html")
     return [(report, "the report, figures embedded (also as PNG files beside it)"
-             if args.report != "-" else None), (args.json, None)]
+             if args.report != "-" else None), (args.json, None),
+            (getattr(args, "bom", None), "the parts list")]
 
 
 def say_written(written: Sequence[tuple[str | None, str | None]],

@@ -13,9 +13,11 @@ from hdselect.cli.output import (
     EXIT_OK,
     rendered,
     report_and_json,
+    reserve_parts,
     reserved_outputs,
     say_written,
     to_stdout,
+    write_parts,
     write_report_and_json,
 )
 
@@ -26,8 +28,10 @@ def run_size(args: argparse.Namespace) -> int:
 
     robot, motion, units, options, motors = sizing_case(args)
     with reserved_outputs(args, robot, motion) as (outputs, json_file, report):
+        bom = reserve_parts(outputs, args)
         result = planned_and_sized(robot, motion, units, options, motors)
         write_report_and_json(args, result, json_file, report)
+        write_parts(bom, result)
         table = "" if to_stdout(args) else rendered(size_table(result), "",
                                                       loads_table(result))
         outputs.commit()
@@ -49,10 +53,12 @@ def run_compare(args: argparse.Namespace) -> int:
             raise InputError(f"unknown joint '{name}'; sized joints are: "
                              f"{', '.join(robot.sized_joints)}", field="--joint")
     with reserved_outputs(args, robot, motion) as (outputs, json_file, report):
+        bom = reserve_parts(outputs, args)
         result = planned_and_sized(robot, motion, units, options, motors)
         shown = replace(result, joints=tuple(joint for joint in result.joints
                                              if not args.joint or joint.name in args.joint))
         write_report_and_json(args, shown, json_file, report)
+        write_parts(bom, result)
         tables: list[Any] = []
         for joint in shown.joints:
             tables += [""] if tables else []

@@ -62,8 +62,11 @@ def run_study(args: argparse.Namespace) -> int:
             joints = list(dict.fromkeys(row["joint"] for row in rows if row.get("joint")))
             first = study.varied[0] if study.varied else "case"
             second = study.varied[1] if len(study.varied) > 1 else None
+            options: dict[str, Any] = next((r["result"]["options"] for r in done.records.values()
+                            if r.get("ok") and r.get("result")), {})
             write_study_png(plot, study.title, [r for r in rows if r["compute"] == "size"],
-                            first, second, joints)
+                            first, second, joints, required_life=options.get("life_hours"),
+                            life_basis=options.get("life_basis") or "L50")
         text = "" if args.plot == "-" else rendered(*items)
         outputs.commit()
     sys.stdout.write(text)

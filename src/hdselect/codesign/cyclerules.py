@@ -147,11 +147,13 @@ def _check_scaled(cycle_: ScalableCycle, held: np.ndarray, unit: Unit, s: float,
                                            else options.rotor_inertia))
     if motor is None:
         return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
-                          life_hours=options.life_hours, life_basis=options.life_basis)
+                          life_hours=options.life_hours, life_basis=options.life_basis,
+                          margin=options.margin)
     torque = reflection.motor_torque
     demand = weighted_demand(reflection.motor, torque, at.qd, unit.ratio, dt)
     candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
-                           life_hours=options.life_hours, life_basis=options.life_basis)
+                           life_hours=options.life_hours, life_basis=options.life_basis,
+                           margin=options.margin)
     return with_motor(candidate, motor, torque, np.abs(at.qd) * RPM_PER_RAD_S * unit.ratio)
 
 
@@ -193,7 +195,8 @@ def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
         motor = motors.get(name)
         feasible = _intersect(feasible, list(exact_scales(
             cycle_, units[name], rotor_inertia=(motor.rotor_inertia if motor is not None
-                                                else options.rotor_inertia))))
+                                                else options.rotor_inertia),
+            margin=options.margin)))
         if not feasible:
             failing = _failing({name: cycle_}, held, units, options, S_MAX, motors)
             raise hopeless(motion, name, failing[1] if failing else "peak", units[name])
@@ -304,7 +307,7 @@ def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
         check = check_units(model.robot, trajectory, units, options, motors=motors)
         candidates = [c for joint in check.joints for c in joint.candidates]
         excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks
-                      if rule != "static"), default=0.0)
+                      if rule != "static"), default=0.0) / (1.0 - options.margin)
         if check.feasible:
             passing = passing or (trajectory, held, check, scale)
             if excess <= 1.0 - WRITTEN_MARGIN:

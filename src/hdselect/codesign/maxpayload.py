@@ -269,11 +269,12 @@ def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndar
     moving = ~rest
     speed = np.abs(qd)
     gain = (unit.input_inertia + options.rotor_inertia) * unit.ratio**2 / options.stop_time
+    usable = 1.0 - options.margin  # every limit less the design margin (`derated`)
     ends: dict[str, Interval | None] = {
-        "peak": _within(tau0[moving], tau1[moving], unit.repeated_torque),
-        "static": _within(tau0[rest], tau1[rest], unit.static_torque),
-        "momentary": _meet(_within(stop0, stop1, unit.momentary_torque),
-                           _within(tau0, tau1, unit.momentary_torque - gain * speed)),
+        "peak": _within(tau0[moving], tau1[moving], unit.repeated_torque * usable),
+        "static": _within(tau0[rest], tau1[rest], unit.static_torque * usable),
+        "momentary": _meet(_within(stop0, stop1, unit.momentary_torque * usable),
+                           _within(tau0, tau1, unit.momentary_torque * usable - gain * speed)),
     }
     dt = trajectory.dt
     weight = speed * dt * moving
@@ -286,14 +287,15 @@ def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndar
         * unit.ratio
     everything: Interval = (-math.inf, math.inf)
     ends["speed"] = everything if speed.max(initial=0.0) * RPM_PER_RAD_S * unit.ratio \
-        <= unit.max_input_speed else None
+        <= unit.max_input_speed * usable else None
     average = unit.max_average_input_speed
-    ends["average_speed"] = everything if average is None or n_av <= average else None
+    ends["average_speed"] = everything if average is None or n_av <= average * usable else None
     if travel > 0.0:
         allowed, _ = allowable_mean_torque(unit, n_av)
-        ends["mean"] = _mean_at_most(tau0, tau1, weight, allowed)
-        if options.life_hours is not None:
-            required = options.life_hours * (L50_PER_L10 if options.life_basis == "L10" else 1.0)
+        ends["mean"] = _mean_at_most(tau0, tau1, weight, allowed * usable)
+        if options.life_hours is not None:  # required / expected <= usable
+            required = (options.life_hours / usable
+                        * (L50_PER_L10 if options.life_basis == "L10" else 1.0))
             most = (unit.rated_torque * (rules.rated_l50_hours * rules.rated_input_speed
                                          / (n_av * required)) ** (1.0 / 3.0)
                     if n_av > 0.0 else math.inf)

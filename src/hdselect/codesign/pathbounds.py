@@ -36,7 +36,7 @@ import numpy as np
 
 from hdselect.base.errors import PlanningError
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S
+from hdselect.catalog.rules import RPM_PER_RAD_S, derated
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.toppra import PathPiece, Profile, kinematic_constraints, solve_piece
@@ -126,17 +126,20 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
         unit = units.get(name)
         motor = (motors or {}).get(name)
         peak, factors, reflected = math.inf, (0.0, 0.0), 0.0
-        if unit is not None:
-            speeds.append((unit.max_input_speed / unit.ratio / RPM_PER_RAD_S, "unit"))
-            torque = min(torque, unit.repeated_torque * (derating or {}).get(name, 1.0))
-            static = min(static, unit.static_torque)
-            momentary = unit.momentary_torque
+        if unit is not None:  # the limits less the design margin (`derated`)
+            speeds.append((derated(unit.max_input_speed, options.margin) / unit.ratio
+                           / RPM_PER_RAD_S, "unit"))
+            torque = min(torque, derated(unit.repeated_torque, options.margin)
+                         * (derating or {}).get(name, 1.0))
+            static = min(static, derated(unit.static_torque, options.margin))
+            momentary = derated(unit.momentary_torque, options.margin)
             rotor = motor.rotor_inertia if motor is not None else options.rotor_inertia
             gain = (unit.input_inertia + rotor) * unit.ratio**2 / options.stop_time
             if motor is not None:
-                speeds.append((motor.max_speed / unit.ratio / RPM_PER_RAD_S, "motor"))
+                speeds.append((derated(motor.max_speed, options.margin) / unit.ratio
+                               / RPM_PER_RAD_S, "motor"))
                 low, high = efficiency_range(unit, options.efficiency)
-                peak = motor.peak_torque
+                peak = derated(motor.peak_torque, options.margin)
                 factors = (1.0 / (unit.ratio * low), high / unit.ratio)
                 reflected = (unit.input_inertia + rotor) * unit.ratio
         limit, source = min(speeds)

@@ -357,7 +357,7 @@ def _options(file: EnvelopeFile | None, motion: Motion | None,
     values = dict(given)
     values.setdefault("max_samples", DEFAULT_MAX_SAMPLES)
     if file is not None:
-        for name in ("stop_time", "life_hours", "life_basis"):
+        for name in ("stop_time", "life_hours", "life_basis", "margin"):
             if values.get(name) is None and getattr(file, name) is not None:
                 values[name] = getattr(file, name)
     return options_for(motion, **values)

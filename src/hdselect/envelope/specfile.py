@@ -39,7 +39,7 @@ MAX_DUTY_MOVES = 10_000
 
 _TOP_KEYS = ("robot", "angle_unit", "mounting", "payload", "limits", "safety", "requirements",
              "sizing", "duty")
-_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis"),
+_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin"),
              "sizing": ("joints", "exclude"), "duty": ("motion", "moves", "seed")}
 
 
@@ -58,6 +58,7 @@ class EnvelopeFile:
         stop_time: ``[safety] stop_time`` [s], or None.
         life_hours: ``[requirements] life_hours`` [h], or None.
         life_basis: ``[requirements] life_basis``, or None.
+        margin: ``[requirements] margin``, the design margin [-], or None.
         joints: ``[sizing] joints``, or None.
         exclude: ``[sizing] exclude``.
         duty: ``[duty] motion``, resolved against the file's folder, or None.
@@ -74,6 +75,7 @@ class EnvelopeFile:
     stop_time: float | None = None
     life_hours: float | None = None
     life_basis: str | None = None
+    margin: float | None = None
     joints: tuple[str, ...] | None = None
     exclude: tuple[str, ...] = ()
     duty: Path | None = None
@@ -130,6 +132,8 @@ def load_envelope_file(path: str | Path, robot: Robot) -> EnvelopeFile:
                  if "stop_time" in safety else None)
     life_hours = (number(needs, "life_hours", path, "requirements", bound=bounds.LIFE)
                   if "life_hours" in needs else None)
+    margin = (number(needs, "margin", path, "requirements", bound=bounds.MARGIN)
+              if "margin" in needs else None)
     basis = needs.get("life_basis")
     if basis is not None and basis not in ("L50", "L10"):
         raise InputError(f"expected L50 or L10, got {basis!r}", path=path,
@@ -139,7 +143,7 @@ def load_envelope_file(path: str | Path, robot: Robot) -> EnvelopeFile:
         path=path, robot_file=_robot_file(doc, path), angle_unit=doc["angle_unit"],
         limits=limits, mounting=_mounting(doc["mounting"], path) if "mounting" in doc else None,
         payload=_payload(doc["payload"], path) if "payload" in doc else None,
-        stop_time=stop_time, life_hours=life_hours, life_basis=basis,
+        stop_time=stop_time, life_hours=life_hours, life_basis=basis, margin=margin,
         joints=names.get("joints"), exclude=names.get("exclude", ()),
         duty=_duty_file(duty, path), moves=_whole(duty, "moves", path, 1, MAX_DUTY_MOVES),
         seed=_whole(duty, "seed", path, 0, 2**63 - 1))

@@ -76,7 +76,8 @@ _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity"
            "samples": ()}
 
 
-_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis")}
+_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin")}
+_BOUNDS = {"stop_time": bounds.STOP_TIME, "life_hours": bounds.LIFE, "margin": bounds.MARGIN}
 
 
 _SIZING_KEYS = ("joints", "exclude")
@@ -113,6 +114,7 @@ class Motion:
         stop_time: Time to stop every joint in an emergency stop [s], or None.
         life_hours: Required gearhead life [h], or None.
         life_basis: The basis of `life_hours`, ``"L10"`` or ``"L50"``, or None if not given.
+        margin: Design margin of every rule [-] (``[requirements] margin``), or None.
         samples: The logged trajectory for the samples planner, else None.
         robot_file: The file's ``robot``, relative to the motion file resolved, or None.
         payload: The file's ``[payload]``, or None.
@@ -153,6 +155,7 @@ class Motion:
     warnings: tuple[str, ...] = ()
     motors: Mapping[str, tuple[Motor, ...]] | None = None
     motor_joints: tuple[str, ...] = ()
+    margin: float | None = None
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
@@ -272,7 +275,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         warnings=tuple(warnings), motors=motors,
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
-    )
+        margin=requirements.get("margin"))
 
 
 def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path,
@@ -297,8 +300,7 @@ def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
             if key in table:
                 values[key] = _choice(table, key, LIFE_BASES, path, where=section)
         elif key in table:
-            values[key] = number(table, key, path, section,
-                                 bound=bounds.STOP_TIME if key == "stop_time" else bounds.LIFE)
+            values[key] = number(table, key, path, section, bound=_BOUNDS[key])
     return values
 
 

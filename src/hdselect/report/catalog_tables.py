@@ -18,7 +18,7 @@ from hdselect.catalog.units import (
 from hdselect.report.size_tables import candidates_table, load_text
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import assumed_notes, life_text
-from hdselect.sizing.records import HOLD_NOTE, mean_speed_note
+from hdselect.sizing.records import HOLD_NOTE, margin_text, mean_speed_note
 
 
 def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
@@ -90,6 +90,9 @@ def duty_table(result: DutyResult) -> FittedTable:
     notes = [f"▶ selected. utilization = demand / limit, ✗ over the limit; mom. = momentary "
              f"(T4); {'avg speed = mean input speed; ' if average else ''}L10 = L50 / 5; "
              f"{mean_speed_note(units)}."]
+    margin = max((c.required_margin for c in result.candidates), default=0.0)
+    if margin > 0.0:
+        notes.append(f"Design margin {margin_text(margin)}.")
     if result.hold_only:
         notes.append(HOLD_NOTE + ".")
     if cycle.life_hours is not None and cycle.life_basis != "L50":

@@ -8,49 +8,47 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison
-from hdselect.report.figures import DEG_PER_RAD, save
+from hdselect.report.figures import save
 
 
 def write_ratios_png(path: str | Path, comparison: RatioComparison) -> None:
     """The shortest cycle against the unit on each joint compared, the others' units fixed.
 
-    One panel per joint: each unit's cycle time, the unit `size` selects marked, the
-    units that cannot drive the path at any speed drawn as a cross on the top edge.
+    One panel per joint: each unit that can drive the path as a point at its cycle time
+    (categories, so no line joins them), the unit `size` selects marked; the units that
+    cannot drive the path at any speed are not on the time axis but listed beside the
+    panel.
     """
     joints = comparison.joints
     cols = min(3, len(joints))
     rows = -(-len(joints) // cols)
-    fig = Figure(figsize=(4.4 * cols + 0.6, 3.3 * rows + 0.9))
+    fig = Figure(figsize=(5.6 * cols + 0.4, 3.4 * rows + 1.0))
     axes = fig.subplots(rows, cols, squeeze=False)
     times = [row.cycle_time for joint in joints for row in joint.rows
              if row.cycle_time is not None]
     low, high = (min(times), max(times)) if times else (0.0, 1.0)
     pad = max(0.05 * (high - low), 0.005 * high)
-    top = high + 3.0 * pad
     for ax, joint in zip(axes.flat, joints, strict=False):
-        labels = [row.unit.id for row in joint.rows]
-        x = np.arange(len(labels))
-        fits = [(k, row.cycle_time) for k, row in enumerate(joint.rows)
-                if row.cycle_time is not None]
+        fits = [row for row in joint.rows if row.cycle_time is not None]
+        cannot = [row.unit.id for row in joint.rows if row.cycle_time is None]
+        x = np.arange(len(fits))
         if fits:
-            ax.plot([k for k, _ in fits], [t for _, t in fits], "o-", color="tab:blue", lw=1,
-                    ms=5, label="shortest cycle")
-        for k, row in enumerate(joint.rows):
-            if row.cycle_time is None:
-                ax.plot([k], [top - pad], "x", color="tab:red", ms=9, mew=2,
-                        label="cannot drive the path" if k == next(
-                            i for i, r in enumerate(joint.rows) if r.cycle_time is None)
-                        else None)
-            if row.unit.id == joint.selected and row.cycle_time is not None:
+            ax.plot(x, [row.cycle_time for row in fits], "o", color="tab:blue", ms=6,
+                    label="shortest cycle with this unit")
+        for k, row in enumerate(fits):
+            if row.unit.id == joint.selected:
                 ax.plot([k], [row.cycle_time], "*", color="tab:orange", ms=15, zorder=3,
-                        label="selected by size")
+                        label="the unit size selects")
         ax.axhline(comparison.base.cycle_time, color="0.5", ls=":", lw=1,
-                   label=f"all units as given ({comparison.base.cycle_time:.3f} s)")
-        ax.set_xticks(x, labels, rotation=45, ha="right", fontsize=8)
-        ax.set_ylim(low - 2.0 * pad, top)
+                   label=f"every joint's unit as given ({comparison.base.cycle_time:.3f} s)")
+        ax.set_xticks(x, [row.unit.id for row in fits], rotation=45, ha="right", fontsize=8)
+        ax.set_xlim(-0.6, max(len(fits), 1) - 0.4)
+        ax.set_ylim(low - 2.0 * pad, high + 2.0 * pad)
         ax.set_ylabel("cycle time [s]")
         ax.set_title(f"unit on {joint.joint}", fontsize=10)
-        ax.grid(alpha=0.3)
+        ax.grid(alpha=0.3, axis="y")
+        ax.text(1.03, 1.0, "cannot drive\nthe path:\n" + ("\n".join(cannot) if cannot else "none"),
+                transform=ax.transAxes, va="top", ha="left", fontsize=8, color="tab:red")
     for ax in list(axes.flat)[len(joints):]:
         ax.axis("off")
     handles, names = {}, []
@@ -63,7 +61,7 @@ def write_ratios_png(path: str | Path, comparison: RatioComparison) -> None:
                fontsize=8, frameon=False)
     fig.suptitle(f"{comparison.robot.path.name} on the path of {comparison.motion.path.name}: "
                  "shortest cycle by unit, the other joints' units fixed", fontsize=11)
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
+    fig.tight_layout(rect=(0, 0.06, 0.97, 1), w_pad=5.0)
     save(fig, Path(path))
 
 
@@ -83,14 +81,13 @@ def write_fastest_png(path: str | Path, result: FastestResult) -> None:
         j = robot.joint_index(joint.name)
         (candidate,) = joint.candidates
         unit, lim = candidate.unit, result.limits[joint.name]
-        scale = DEG_PER_RAD if robot.revolute[j] else 1.0
-        speed_ax, torque_ax = axes[row]
-        speed_ax.plot(trajectory.t, trajectory.qd[:, j] * scale, color="tab:blue", lw=1)
+        speed_ax, torque_ax = axes[row]  # rad/s (m/s), as the fastest table speaks
+        speed_ax.plot(trajectory.t, trajectory.qd[:, j], color="tab:blue", lw=1)
         for sign in (1.0, -1.0):
-            speed_ax.axhline(sign * lim.velocity * scale, color="k", ls="--", lw=0.8,
+            speed_ax.axhline(sign * lim.velocity, color="k", ls="--", lw=0.8,
                              label=f"speed limit ({sources[lim.velocity_source]})"
                              if sign > 0 else None)
-        speed_ax.set_ylabel(f"{joint.name}\nspeed [{'deg/s' if robot.revolute[j] else 'm/s'}]")
+        speed_ax.set_ylabel(f"{joint.name}\nspeed [{'rad/s' if robot.revolute[j] else 'm/s'}]")
         torque_ax.plot(trajectory.t, joint.stop_torque, color="tab:orange", lw=0.7, alpha=0.6,
                        label="emergency stop from each instant")
         torque_ax.plot(trajectory.t, joint.torque, color="tab:red", lw=1, label="output torque")

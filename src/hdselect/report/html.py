@@ -12,16 +12,24 @@ motor's torque-speed plane.
 from __future__ import annotations
 
 import base64
-import html
-from collections.abc import Mapping, Sequence
+import re
+from collections.abc import Mapping
 
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.units import Flag
 from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
+from hdselect.report.html_summary import parts_section, summary
+from hdselect.report.html_tables import STYLE, anchor, esc, number, slug, table
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
-from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
+from hdselect.report.terminal import (
+    binding_words,
+    life_text,
+    ratio_text,
+    utilization_text,
+    verdict,
+)
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.records import MOTOR_MODEL_NOTE, assumptions, base_text
 from hdselect.sizing.result import JointSizing, SizingResult
@@ -30,8 +38,7 @@ _UNITS = {"peak": "N m", "mean": "N m", "speed": "rpm", "average_speed": "rpm",
           "momentary": "N m", "static": "N m", "life": "h", "motor_peak": "N m",
           "motor_rms": "N m", "motor_speed": "rpm"}
 
-
-esc = html.escape
+__all__ = ["number", "page", "slug"]
 
 
 def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
@@ -49,10 +56,8 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
         The page, self-contained.
     """
     count = len(result.trajectory.t)
-    verdict_text = ("Every joint has a unit." if result.feasible
-                    else "<strong>Some joints have no unit.</strong>")
-    sections = [_selection(result), _warnings(result), _notes(result), _heat_maps(result),
-                _loads(result),
+    sections = [_selection(result), parts_section(result), _warnings(result), _notes(result),
+                _heat_maps(result), _loads(result),
                 *(_joint_section(result, joint, figures.get(joint.name),
                                  (motor_figures or {}).get(joint.name))
                   for joint in result.joints),
@@ -61,82 +66,37 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
 <html lang="en"><head><meta charset="utf-8">
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <title>hdselect: {esc(result.title)}</title>
-<style>{_STYLE}</style></head><body>
+<style>{STYLE}</style></head><body>
 <h1>{"Gearhead and motor" if result.motors else "Gearhead"} selection: {esc(result.title)}</h1>
 <p>Cycle {result.cycle_time:.3f} s, {count:,} sample{"s" if count != 1 else ""} every
-{result.trajectory.dt * 1e3:g} ms. {verdict_text} Made by hdselect {esc(origin.version)} on
-{esc(origin.created)}; <a href="#provenance">how to re-run it</a>.</p>
-<p>{esc(base_text(result.robot))}</p>
-{"".join(sections)}
+{result.trajectory.dt * 1e3:g} ms. Made by hdselect {esc(origin.version)} on
+{esc(origin.created)}; <a href="#provenance">how to re-run it</a>.
+{esc(base_text(result.robot))}.</p>
+{summary(result, origin)}
+{"".join(_folded(section) for section in sections if section)}
 </body></html>
 """
 
 
-_STYLE = """
-body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;max-width:1200px;
-margin:1.5em auto;padding:0 1em;color:#1a1a1a;line-height:1.4}
-h1{font-size:1.5em}h2{font-size:1.25em;margin-top:1.6em;border-bottom:1px solid #ccc}
-h3{font-size:1.05em;margin:1em 0 .3em}
-.scroll{overflow-x:auto}
-table{border-collapse:collapse;margin:.4em 0;font-size:.9em}
-td,th{border:1px solid #bbb;padding:2px 6px;text-align:right;white-space:nowrap;
-vertical-align:top}
-th{background:#eee;white-space:normal;vertical-align:bottom}td.t,th.t{text-align:left}td.wrap{white-space:normal;min-width:9em}
-td.u small{display:block;font-size:.75em;opacity:.9}
-td.fail{font-weight:bold;outline:2px solid #000;outline-offset:-2px;
-background-image:repeating-linear-gradient(45deg,rgba(0,0,0,.2) 0 2px,transparent 2px 7px)}
-tr.chosen td:first-child{font-weight:bold}
-.maps{display:flex;flex-wrap:wrap;gap:1em 2em}.maps>div{min-width:0;max-width:100%}
-.maps table{font-size:.8em}
-.bar{display:flex;flex-wrap:wrap;align-items:center;gap:.6em;font-size:.85em;margin:.5em 0}
-.ramp{position:relative;width:320px;height:16px;border:1px solid #555;background:
-linear-gradient(to right,#f7fbff 0%,#9ecae1 25%,#2166ac 50%,#fdb863 50%,#e66101 75%,#7f3b08 100%)}
-.ramp .hatch{position:absolute;left:50%;top:0;right:0;bottom:0;background-image:
-repeating-linear-gradient(45deg,rgba(0,0,0,.2) 0 2px,transparent 2px 7px)}
-.ticks{display:flex;justify-content:space-between;width:320px;font-size:.8em}
-img{max-width:100%;height:auto}figure{margin:.6em 0}figcaption{font-size:.85em;color:#444}
-code,pre{font-family:ui-monospace,Menlo,Consolas,monospace;font-size:.85em}
-pre{background:#f4f4f4;padding:.5em;white-space:pre-wrap;word-break:break-all}
-:target{background:#ffe9a8}
-*{-webkit-print-color-adjust:exact;print-color-adjust:exact}
-@page{margin:12mm}
-@media print{body{max-width:none;margin:0;padding:0;font-size:9pt}.scroll{overflow:visible}
-table{font-size:7pt}td.u small{font-size:6pt}
-section.joint,#provenance{break-before:page}figure,table{break-inside:avoid}a{color:inherit}}
-"""
+def _folded(section: str) -> str:
+    """A ``<section ...><h2>title</h2>...`` as a foldable, open ``<details>``.
 
-
-def _table(header: Sequence[str], rows: Sequence[Sequence[str]], *, left: int = 1,
-           classes: Sequence[str] = (), text: Sequence[int] = ()) -> str:
-    """A table of already-escaped cells; the first `left` columns, and `text`, align left.
-
-    A cell given as a whole ``<td ...>`` element keeps its own attributes.
+    Its heading becomes the summary a reader clicks to fold it.
     """
-    head = "".join(f'<th{" class=t" if i < left or i in text else ""}>{_unbroken(h)}</th>'
-                   for i, h in enumerate(header))
-    body = "".join(
-        f'<tr{f" class={classes[k]}" if k < len(classes) and classes[k] else ""}>'
-        + "".join(c if c.startswith("<td") else f'<td{" class=t" if i < left else ""}>{c}</td>'
-                  for i, c in enumerate(row)) + "</tr>" for k, row in enumerate(rows))
-    return f'<div class="scroll"><table><tr>{head}</tr>{body}</table></div>'
-
-
-def _unbroken(header: str) -> str:
-    """A header that may wrap between words, but not inside a unit like ``[N m]``."""
-    for unit in ("[N m]", "L50 h", "L10 h"):
-        header = header.replace(unit, unit.replace(" ", "&nbsp;"))
-    return header
-
-
-def _anchor(unit_id: str) -> str:
-    return "note-" + "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in unit_id)
+    found = re.match(r"(<section([^>]*)>)<h2>(.*?)</h2>", section)
+    if found is None:
+        return section
+    kind = re.search(r"class=(\w+)|id=(\w+)", found.group(2))
+    of = "" if kind is None else f" data-of={kind.group(1) or kind.group(2)}"
+    return (f"<details open{of}><summary><h2>{found.group(3)}</h2></summary>{found.group(1)}"
+            f"{section[found.end():]}</details>")
 
 
 def _unit_cell(candidate: Candidate) -> str:
     """The unit's id, with a * linked to its notes when a stand-in or correction is used."""
     if not candidate.flags:
         return esc(candidate.unit.id)
-    return (f'{esc(candidate.unit.id)}<a href="#{_anchor(candidate.unit.id)}" '
+    return (f'{esc(candidate.unit.id)}<a href="#{anchor(candidate.unit.id)}" '
             f'title="depends on a catalog stand-in or correction">*</a>')
 
 
@@ -168,10 +128,8 @@ def _selection(result: SizingResult) -> str:
             binding = c.gearhead_binding if motors else c.binding
             cells = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>', _unit_cell(c),
                      *([_motor_cell(c)] if motors else []),
-                     esc(f"{binding} {utilization_text(c.checks[binding].utilization, True)}"),
-                     *([("-" if side is None else esc(
-                         f"{side.removeprefix('motor_')} "
-                         f"{utilization_text(c.checks[side].utilization, True)}")),
+                     esc(binding_words(c, binding)),
+                     *([("-" if side is None else esc(binding_words(c, side))),
                         ratio_text(joint.inertia_ratio(c))] if motors else []),
                      esc(life_text(c.life_hours)), esc(life_text(c.l10_hours)),
                      f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
@@ -196,8 +154,14 @@ def _selection(result: SizingResult) -> str:
               "correction: follow it to the note.</p>" if motors else
               "<p>Binding rule: the check closest to its limit (demand / limit). * the result "
               "depends on a catalog stand-in or correction: follow it to the note.</p>")
-    return (f"<section id=selection><h2>Selection</h2>"
-            f"{_table(header, rows, left=5 if motors else 3, text=[len(header) - 1])}{slow}"
+    # two tables, as the terminal splits them: why each unit, then what it lives and demands
+    figures = ("L50 life", "L10 life", "motor peak [N m]", "motor rms [N m]", "motor max [rpm]")
+    first = [k for k, h in enumerate(header) if h not in figures]
+    second = [0, *(k for k, h in enumerate(header) if h in figures)]
+    why = table([header[k] for k in first], [[row[k] for k in first] for row in rows],
+                left=3 if motors else 2, text=[len(first) - 1, *([3, 4] if motors else [2])])
+    demands = table([header[k] for k in second], [[row[k] for k in second] for row in rows])
+    return (f"<section id=selection><h2>Selection</h2>{why}{demands}{slow}"
             f"{legend}</section>")
 
 
@@ -207,7 +171,7 @@ def _notes(result: SizingResult) -> str:
         for c in joint.candidates:
             for flag in c.flags:
                 flags.setdefault(c.unit.id, {})[flag.code] = flag
-    items = "".join(f'<li id="{_anchor(unit)}"><b>{esc(unit)}</b>: '
+    items = "".join(f'<li id="{anchor(unit)}"><b>{esc(unit)}</b>: '
                     + "; ".join(esc(f.note) for f in found.values()) + "</li>"
                     for unit, found in flags.items())
     case = "".join(f"<li>{esc(note)}</li>" for note in case_notes(result.robot,
@@ -245,7 +209,7 @@ def _loads(result: SizingResult) -> str:
             "<p>Peak torque (force, for a prismatic joint) with the gearheads"
             f"{' and motors' if result.motors else ''} carried, top "
             "speed and travel of every joint of the robot, beside the robot file's limits. ✗ "
-            f"above the limit.</p>{_table(header, rows, left=3, text=[7])}"
+            f"above the limit.</p>{table(header, rows, left=3, text=[7])}"
             f"{f'<ul>{notes}</ul>' if notes else ''}</section>")
 
 
@@ -299,13 +263,6 @@ def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
             f"color:{ink(colour)}' title='{esc(figures)}'>{esc(text)}{small}</td>")
 
 
-def number(value: float) -> str:
-    """A figure for a table: three significant digits, whole numbers from 1000 up."""
-    if abs(value) >= 1000.0:
-        return f"{value:,.0f}"
-    return "0" if abs(value) < 1e-9 else f"{value:.3g}"
-
-
 def _where(joint: JointSizing, candidate: Candidate) -> str:
     motor = candidate.motor_unit
     return (f"data-joint='{esc(joint.name)}' data-unit='{esc(candidate.unit.id)}'"
@@ -328,11 +285,14 @@ def _heat_maps(result: SizingResult) -> str:
                 for c in joint.candidates]
         header = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>',
                   *(esc(CHECK_LABELS[r]) for r in rules)]
-        maps.append(f"<div>{_table(header, rows)}</div>")
-    return (f"<section id=heatmap><h2>Utilization of every candidate</h2>{_colour_bar()}"
-            f"<div class=maps>{''.join(maps)}</div><p>▶ selected. Utilization = demand / limit "
-            "of each check (life: required over expected). mom. = momentary (T4), the worse of "
-            "an emergency stop and a crash."
+        maps.append(f"<div>{table(header, rows)}</div>")
+    pairs = (" class=pairs", "<p class=printnote>Printed without the maps: each joint's "
+             "table below has every pair's checks, coloured the same way.</p>") \
+        if result.motors else ("", "")
+    return (f"<section id=heatmap{pairs[0]}><h2>Utilization of every candidate</h2>"
+            f"{_colour_bar()}{pairs[1]}<div class=maps>{''.join(maps)}</div><p>▶ selected. "
+            "Utilization = demand / limit of each check (life: required over expected). "
+            "mom. = momentary (T4), the worse of an emergency stop and a crash."
             + (" Each row is a gearhead and motor pair: the gearhead's checks behind that motor "
                "(its rotor inertia in the motor torque and the crash), then m. = the motor's: "
                "peak under its torque-speed curve, RMS against its rated torque, speed."
@@ -343,25 +303,28 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
                    motor_png: bytes | None = None) -> str:
     rules = _rules(result)
     pairs = joint.name in result.motors
-    rows, classes = [], []
+    rows, figures, classes = [], [], []
     for c in joint.candidates:
         assert c.motor is not None
-        rows.append([_unit_cell(c), *([_motor_cell(c)] if pairs else []),
+        who = [_unit_cell(c), *([_motor_cell(c)] if pairs else [])]
+        rows.append([*who,
                      *(_heat_cell(c.checks.get(r), True, r, _where(joint, c)) for r in rules),
-                     *([ratio_text(joint.inertia_ratio(c))] if pairs else []),
-                     esc(life_text(c.life_hours, "")), esc(life_text(c.l10_hours, "")),
-                     f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
-                     f"{c.motor.max_speed:,.0f}", f"<td class=t>{esc(verdict(c))}</td>"])
+                     f"<td class=t>{esc(verdict(c))}</td>"])
+        figures.append([*who, *([ratio_text(joint.inertia_ratio(c))] if pairs else []),
+                        esc(life_text(c.life_hours, "")), esc(life_text(c.l10_hours, "")),
+                        f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
+                        f"{c.motor.max_speed:,.0f}"])
         classes.append("chosen" if c is joint.selected else "")
-    header = ["unit", *(["motor"] if pairs else []), *(esc(CHECK_LABELS[r]) for r in rules),
-              *(["load/rotor"] if pairs else []), "L50 h", "L10 h",
-              "motor peak [N m]", "motor rms [N m]", "motor max [rpm]", "result"]
+    who_header = ["unit", *(["motor"] if pairs else [])]
+    header = [*who_header, *(esc(CHECK_LABELS[r]) for r in rules), "result"]
+    figure_header = [*who_header, *(["load/rotor inertia"] if pairs else []), "L50 h", "L10 h",
+                     "motor peak [N m]", "motor rms [N m]", "motor max [rpm]"]
     load = joint.load
     mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
     chosen = joint.selected
     inertia = ("" if joint.load_inertia is None else
                f", load inertia M_jj up to {number(joint.load_inertia)} kg m^2")
-    summary = (f"peak {load.peak_torque:.3g} N m while moving, mean torque {mean}, mean output "
+    text = (f"peak {load.peak_torque:.3g} N m while moving, mean torque {mean}, mean output "
                f"speed {load.mean_speed * RPM_PER_RAD_S:.3g} rpm, largest gravity torque "
                f"{number(joint.max_gravity_torque)} N m{inertia}, carries "
                f"{joint.carried_mass:.2f} kg of gearheads{' and motors' if result.motors else ''}"
@@ -381,13 +344,25 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
                    "cycle as (input speed, motor torque) under its peak torque over speed, its "
                    "rated torque (the limit of the RMS torque) and its maximum speed; the RMS "
                    "point and the worst sample against the peak marked.</figcaption></figure>")
-    table = _table(header, rows, classes=classes, text=[len(header) - 1],
-                   left=2 if pairs else 1)
+    shown = joint.selected or joint.strongest  # in print, the pairs that could be chosen
+    kept = [c.feasible or c is shown or not pairs for c in joint.candidates]
+    checks = table(header, rows, text=[len(header) - 1], left=2 if pairs else 1, classes=[
+        " ".join(filter(None, (k, "" if keep else "out")))
+        for k, keep in zip(classes, kept, strict=True)])
+    demands = table(figure_header, figures, left=2 if pairs else 1, classes=[
+        " ".join(filter(None, (k, "" if keep else "no")))
+        for k, keep in zip(classes, kept, strict=True)])
     return (f"<section class=joint id='joint-{slug(joint.name)}'><h2>Joint "
-            f"{esc(joint.name)}</h2><p>{esc(summary)}</p>{table}"
-            "<p>Each check: utilization, then demand / limit. ✗ over the limit."
-            + (" m. = the motor's checks; load/rotor = (M_jj / N² + J_in) / J_m." if pairs
-               else "") + f"</p>{figure}</section>")
+            f"{esc(joint.name)}</h2><p>{esc(text)}</p>{checks}"
+            "<p>Each check: utilization, then demand / limit. ✗ over the limit (or above "
+            "what the design margin leaves)."
+            + (" m. = the motor's checks; inertia = the load-to-rotor inertia ratio against "
+               "the largest allowed. On paper, demand / limit is printed for the pairs that "
+               "could be chosen." if pairs else "")
+            + f"</p>{demands}<p>Life and what the motor must deliver behind each "
+            + ("pair (printed: the feasible pairs); load/rotor inertia = (M_jj / N² + J_in) / "
+               "J_m." if pairs else "unit.")
+            + f"</p>{figure}</section>")
 
 
 def _img(png: bytes) -> str:
@@ -412,14 +387,14 @@ def _provenance(origin: Provenance) -> str:
         run = (f"<p>Re-run it in <code>{esc(origin.cwd)}</code> with the files below "
                f"(same hashes):</p><pre id=command>{esc(shlex.join(origin.command))}</pre>")
     software = ", ".join(f"{name} {version}" for name, version in origin.software)
-    files = _table(["role", "file", "bytes", "SHA-256"], [
+    files = table(["role", "file", "bytes", "SHA-256"], [
         [esc(f.role), f"<code>{esc(f.path)}</code>", "-" if f.size is None else f"{f.size:,}",
          f"<code>{esc(f.sha256)}</code>"] for f in origin.files], left=2)
-    settings = _table(["what", "value"], [[esc(k), f"<td class='t wrap'>{esc(v)}</td>"]
+    settings = table(["what", "value"], [[esc(k), f"<td class='t wrap'>{esc(v)}</td>"]
                                           for k, v in origin.settings], left=2)
-    limits = (f"<h3>Limits of the motion</h3>{_table(*_escaped(origin.limits))}"
+    limits = (f"<h3>Limits of the motion</h3>{table(*_escaped(origin.limits))}"
               if origin.limits[0] else "")
-    waypoints = (f"<h3>Waypoints</h3>{_table(*_escaped(origin.waypoints))}"
+    waypoints = (f"<h3>Waypoints</h3>{table(*_escaped(origin.waypoints))}"
                  if origin.waypoints[0] else "")
     return (f"<section id=provenance><h2>Provenance</h2>{run}"
             f"<p>hdselect {esc(origin.version)}, made {esc(origin.created)}; {esc(software)}.</p>"
@@ -430,8 +405,3 @@ def _provenance(origin: Provenance) -> str:
 def _escaped(table: tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]):
     header, rows = table
     return [esc(h) for h in header], [[esc(c) for c in row] for row in rows]
-
-
-def slug(name: str) -> str:
-    """A joint name as a fragment of an id or a file name."""
-    return "".join(ch if ch.isalnum() or ch in "-_" else "_" for ch in name)

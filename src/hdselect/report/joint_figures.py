@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 
 from hdselect.catalog.rules import RPM_PER_RAD_S, at_rest
 from hdselect.report.figures import ALLOWED, MEAN, MOVING, REST, STOP, envelope, extremes
-from hdselect.report.terminal import ratio_text, utilization_text
+from hdselect.report.terminal import binding_words, ratio_text, utilization_text
 from hdselect.sizing.result import JointSizing, SizingResult
 
 _SHOW_BINDING = 0.25
@@ -114,8 +114,8 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", bbox_to_anchor=(1.09, 1.0), fontsize=8, frameon=False)
     state = "selected" if joint.selected else "no unit fits; the strongest shown"
-    fig.suptitle(f"{joint.name}: {unit.id} ({state}), binding {chosen.binding} "
-                 f"{utilization_text(binding.utilization, binding.ok)}", fontsize=12)
+    fig.suptitle(f"{joint.name}: {unit.id} ({state}); closest to its limit: "
+                 f"{binding_words(chosen)}", fontsize=12)
     return fig
 
 
@@ -194,11 +194,11 @@ def motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     state = "selected" if joint.selected else "no pair fits; the strongest shown"
     side = chosen.motor_binding or "motor_peak"
-    check = chosen.checks[side]
     ratio = joint.inertia_ratio(chosen)
-    fig.suptitle(f"{joint.name}: motor {motor.id} behind {unit.id} ({state}), binding "
-                 f"{side.removeprefix('motor_')} {utilization_text(check.utilization, check.ok)}"
-                 + ("" if ratio is None else f", load/rotor {ratio_text(ratio)}"), fontsize=12)
+    fig.suptitle(f"{joint.name}: motor {motor.id} behind {unit.id} ({state}); "
+                 f"{binding_words(chosen, side)}"
+                 + ("" if ratio is None else f"; load-to-rotor inertia {ratio_text(ratio)}"),
+                 fontsize=12)
     return fig
 
 

@@ -6,77 +6,143 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
+import matplotlib.patches
 import matplotlib.ticker
 import numpy as np
 from matplotlib.figure import Figure
 
 from hdselect.report.figures import save
 
+LIFE_CAP = 1e6
+"""Lives drawn at most this long [h]; longer ones sit on the cap as "> 1e6 h", as the
+terminal writes them."""
+
 
 def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: str,
-                    second: str | None, joints: Sequence[str]) -> None:
-    """The unit selected and its L50 life per joint against a study's first varied parameter.
+                    second: str | None, joints: Sequence[str], *,
+                    required_life: float | None = None, life_basis: str = "L50") -> None:
+    """Per joint, a map of the unit selected and its life, against the varied parameters.
 
-    One row of panels per joint: the selected unit (no unit fits: drawn at "none") and
-    its L50 life, against `first`, one line per value of `second`.
+    Left, the unit selected at every case: a grid of the first varied parameter (across)
+    by the second (up; one row when only one is varied), each cell coloured by its unit
+    on one discrete colour per unit, named in the legend; a cell where no unit fits is
+    grey, hatched and marked ✗, a failed case is left white. Right, the selected unit's
+    life on the required basis against the first parameter, one series per value of the
+    second (points; a line joins only neighbours with the same unit), lives above
+    `LIFE_CAP` drawn on the cap as "> 1e6 h", the required life as a red line.
 
     Args:
         path: PNG file to write.
         title: Figure title.
         rows: The study's rows (`hdselect.study`), typed values; failed cases are skipped.
-        first: The parameter along x.
-        second: The parameter of the lines, or None for one line.
+        first: The parameter across.
+        second: The parameter up the map and of the life series, or None.
         joints: Joints to draw, one row of panels each.
+        required_life: The life required [h] on `life_basis`, drawn; None draws none.
+        life_basis: ``"L50"`` or ``"L10"``: the life drawn.
     """
+    from matplotlib.patches import Patch
+
     done = [row for row in rows if row["status"] == "ok"]
-    xs = list(dict.fromkeys(_plain(row.get(first)) for row in done))
+    xs = list(dict.fromkeys(_plain(row.get(first)) for row in rows))
+    ys: list[object] = (list(dict.fromkeys(_plain(row.get(second)) for row in rows))
+                        if second else [None])
     numeric = all(isinstance(x, int | float) for x in xs)
-    position = {x: (float(x) if isinstance(x, int | float) else float(k))  # type: ignore[misc]
-                for k, x in enumerate(xs)}
-    lines = list(dict.fromkeys(_plain(row.get(second)) for row in done)) if second else [None]
     units = sorted({row["unit"] for row in done if row["unit"]}, key=_natural)
-    level = {unit: k for k, unit in enumerate(["none", *units])}
-    colors = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.9, max(len(lines), 1)))
-    fig = Figure(figsize=(11, 1.7 * len(joints) + 1.2))
-    axes = fig.subplots(len(joints), 2, sharex=True, squeeze=False)
+    palette = matplotlib.colormaps["tab10" if len(units) <= 10 else "tab20"]
+    colour = {unit: palette(k % palette.N) for k, unit in enumerate(units)}
+    series = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.9, max(len(ys), 1)))
+    key = "life_l10_h" if life_basis == "L10" else "life_l50_h"
+    height = max(2.0, 0.22 * len(ys) + 1.2)
+    tall = height * len(joints) + 1.6
+    fig = Figure(figsize=(12, tall))
+    axes = fig.subplots(len(joints), 2, squeeze=False,
+                        gridspec_kw={"width_ratios": (1.0, 1.15)})
     for r, joint in enumerate(joints):
-        unit_ax, life_ax = axes[r]
-        for color, value in zip(colors, lines, strict=True):
-            mine = [row for row in done if row["joint"] == joint
-                    and (second is None or _plain(row.get(second)) == value)]
-            x = [position[_plain(row.get(first))] for row in mine]
-            label = None if second is None or r else f"{second} {value}"
-            style = "o-" if len(set(x)) == len(x) else "o"  # a third parameter: points only
-            unit_ax.plot(x, [level[row["unit"] or "none"] for row in mine], style, ms=3,
-                         lw=1, color=color, label=label)
-            life = [row["life_l50_h"] if row["unit"] else np.nan for row in mine]
-            life_ax.plot(x, [np.nan if v is None else v for v in life], style, ms=3, lw=1,
-                         color=color)
-        unit_ax.set_yticks(range(len(level)), list(level))
-        unit_ax.set_ylim(-0.5, len(level) - 0.5)
-        unit_ax.set_ylabel(joint)
-        if any(row["unit"] and row["life_l50_h"] for row in done if row["joint"] == joint):
-            life_ax.set_yscale("log")
-            life_ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        map_ax, life_ax = axes[r]
+        mine = [row for row in rows if row["joint"] == joint]
+        for row in mine:
+            i, k = xs.index(_plain(row.get(first))), ys.index(_plain(row.get(second)))
+            if row["status"] != "ok":
+                continue  # a failed case: left white
+            unit = row["unit"]
+            face = colour[unit] if unit else "0.85"
+            map_ax.add_patch(matplotlib.patches.Rectangle(
+                (i - 0.5, k - 0.5), 1.0, 1.0, facecolor=face, edgecolor="white", lw=0.8,
+                hatch=None if unit else "///"))
+            if not unit:
+                map_ax.text(i, k, "✗", ha="center", va="center", fontsize=8, color="0.2")
+        map_ax.set_xlim(-0.5, len(xs) - 0.5)
+        map_ax.set_ylim(-0.5, len(ys) - 0.5)
+        map_ax.set_xticks(range(len(xs)), [_tick(x) for x in xs], fontsize=7,
+                          rotation=45 if len(xs) > 8 else 0)
+        if second is None:
+            map_ax.set_yticks([])
         else:
-            life_ax.set_yticks([])
-            life_ax.text(0.5, 0.5, "unlimited (no load while moving)", ha="center",
-                         va="center", transform=life_ax.transAxes, color="0.4")
-        life_ax.set_ylabel("L50 life [h]")
-        for ax in (unit_ax, life_ax):
-            ax.grid(alpha=0.3)
-    axes[0, 0].set_title("unit selected")
-    axes[0, 1].set_title("its L50 life (unlimited: not drawn)")
+            map_ax.set_yticks(range(len(ys)), [_tick(y) for y in ys], fontsize=7)
+            map_ax.set_ylabel(f"{joint}\n{_AXIS_LABELS.get(second, second)}", fontsize=8)
+        if second is None:
+            map_ax.set_ylabel(joint, fontsize=9)
+        for k, (value, tone) in enumerate(zip(ys, series, strict=True)):
+            points = [row for row in mine if row["status"] == "ok" and row["unit"]
+                      and _plain(row.get(second)) == value]
+            points.sort(key=lambda row: xs.index(_plain(row.get(first))))
+            x = [_position(xs, row.get(first), numeric) for row in points]
+            life = [row[key] for row in points]
+            drawn = [LIFE_CAP if v is None or v > LIFE_CAP else v for v in life]
+            capped = [v is None or v > LIFE_CAP for v in life]
+            label = None if second is None or r else f"{_tick(value)}"
+            life_ax.scatter([a for a, c in zip(x, capped, strict=True) if not c],
+                            [b for b, c in zip(drawn, capped, strict=True) if not c],
+                            s=12, color=tone, label=label, zorder=3)
+            life_ax.scatter([a for a, c in zip(x, capped, strict=True) if c],
+                            [LIFE_CAP] * sum(capped), s=18, marker="^", color=tone, zorder=3)
+            for a, b in zip(range(len(points)), range(1, len(points)), strict=False):
+                if points[a]["unit"] == points[b]["unit"] and not (capped[a] or capped[b]):
+                    life_ax.plot([x[a], x[b]], [drawn[a], drawn[b]], color=tone, lw=0.8)
+            del k
+        life_ax.set_yscale("log")
+        life_ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        life_ax.axhline(LIFE_CAP, color="0.5", ls=":", lw=0.8)
+        life_ax.text(1.01, LIFE_CAP, "> 1e6 h", transform=life_ax.get_yaxis_transform(),
+                     va="center", fontsize=7, color="0.4")
+        if required_life is not None:
+            life_ax.axhline(required_life, color="tab:red", lw=1.2)
+            life_ax.text(1.01, required_life, f"required\n{required_life:,.0f} h",
+                         transform=life_ax.get_yaxis_transform(), va="center", fontsize=7,
+                         color="tab:red")
+        life_ax.set_ylabel(f"{life_basis} life [h]", fontsize=8)
+        life_ax.grid(alpha=0.3)
+        if numeric:
+            values = [float(x) for x in xs]  # type: ignore[arg-type]
+            spread = 0.05 * ((max(values) - min(values)) or 1.0)
+            life_ax.set_xlim(min(values) - spread, max(values) + spread)
+        else:
+            life_ax.set_xticks(range(len(xs)), [_tick(x) for x in xs], fontsize=7)
+    axes[0, 0].set_title("unit selected at each case", fontsize=10)
+    axes[0, 1].set_title(f"its {life_basis} life (▲: longer than 1e6 h)", fontsize=10)
     for ax in axes[-1]:
-        ax.set_xlabel(_AXIS_LABELS.get(first, first))
-        if not numeric:
-            ax.set_xticks(range(len(xs)), [str(x) for x in xs])
-    fig.suptitle(title)
+        ax.set_xlabel(_AXIS_LABELS.get(first, first), fontsize=8)
+    handles = [Patch(facecolor=colour[u], label=u) for u in units]
+    handles.append(Patch(facecolor="0.85", hatch="///", label="✗ no unit fits"))
+    fig.suptitle(title, y=1.0 - 0.08 / tall, va="top")
+    fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 1.05 / tall))  # title and legends: 1.05 in
+    fig.legend(handles=handles, loc="upper left", bbox_to_anchor=(0.02, 1.0 - 0.4 / tall),
+               ncols=min(len(handles), 5), fontsize="small", frameon=False, title="unit")
     if second is not None:
-        fig.tight_layout(rect=(0.0, 0.0, 1.0, 0.93))
-        fig.legend(loc="upper center", ncols=min(len(lines), 6), bbox_to_anchor=(0.5, 0.97),
-                   fontsize="small", frameon=False)
+        fig.legend(*axes[0, 1].get_legend_handles_labels(), loc="upper right",
+                   bbox_to_anchor=(0.98, 1.0 - 0.4 / tall), ncols=min(len(ys), 5),
+                   fontsize="x-small", frameon=False, title=_AXIS_LABELS.get(second, second))
     save(fig, Path(path))
+
+
+def _tick(value: object) -> str:
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def _position(xs: list, value: object, numeric: bool) -> float:
+    value = _plain(value)
+    return float(value) if numeric else float(xs.index(value))  # type: ignore[arg-type]
 
 
 _AXIS_LABELS = {"payload": "payload [kg]", "time_scale": "time scale s: the cycle run s times "

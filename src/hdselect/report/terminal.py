@@ -52,11 +52,38 @@ def life_text(hours: float | None, suffix: str = " h") -> str:
 
 
 def verdict(candidate: Candidate) -> str:
-    """``ok``, or the worst failing rule and how far it exceeds its limit."""
+    """``ok``, or the worst failing rule and how far it exceeds its limit.
+
+    A rule within its limit but above what the design margin leaves reads e.g.
+    ``peak 85% > 80%``.
+    """
     if candidate.feasible:
         return "ok"
     worst = candidate.binding
-    return f"{CHECK_LABELS.get(worst, worst)} +{excess(candidate.checks[worst].utilization)}"
+    utilization = candidate.checks[worst].utilization
+    name = CHECK_LABELS.get(worst, worst)
+    if utilization <= 1.0:
+        return f"{name} {percent(utilization)} > {percent(1.0 - candidate.required_margin)}"
+    return f"{name} +{excess(utilization)}"
+
+
+def binding_words(candidate: Candidate, name: str | None = None) -> str:
+    """A rule and its utilization in words, e.g. ``motor RMS torque, 84 % of rated``.
+
+    Args:
+        candidate: The candidate.
+        name: The check (default: the candidate's binding rule).
+    """
+    from hdselect.catalog.rules import CHECK_NAMES
+
+    name = candidate.binding if name is None else name
+    check = candidate.checks[name]
+    share = utilization_text(check.utilization, check.ok).replace("%", " %")
+    if name == "life":
+        return f"life, {share} of the expected life required"
+    of = {"motor_rms": "rated", "motor_peak": "peak at that speed", "motor_speed": "maximum",
+          "inertia_ratio": "largest allowed"}.get(name, "its limit")
+    return f"{CHECK_NAMES.get(name, name)}, {share} of {of}"
 
 
 def excess(utilization: float) -> str:

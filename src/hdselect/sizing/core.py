@@ -247,10 +247,12 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
     found: dict[str, JointSizing] = {}
     for name in reversed(robot.sized_joints):  # a parent's index is below its children's
         tau, stop = model.torques(name, masses)
+        # the load inertia before the selection (the inertia-ratio rule): M_jj depends only
+        # on the bodies beyond the joint, whose units are chosen
+        inertia = model.load_inertia(name, masses) if name in motors else None
         joint = size_joint(name, JointCycle(model.samples, robot.joint_index(name), tau, stop),
-                           units[name], options, motors=motors.get(name, ()), detail=detail)
-        if name in motors:
-            joint = replace(joint, load_inertia=model.load_inertia(name, masses))
+                           units[name], options, motors=motors.get(name, ()), detail=detail,
+                           load_inertia=inertia)
         found[name] = joint
         if options.mass_coupling:
             chosen = joint.selected or joint.strongest

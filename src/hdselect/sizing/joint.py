@@ -72,7 +72,8 @@ class JointCycle:
 
 
 def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: Options, *,
-               motors: Sequence[Motor] = (), detail: bool = True) -> JointSizing:
+               motors: Sequence[Motor] = (), detail: bool = True,
+               load_inertia: float | None = None) -> JointSizing:
     """Check every unit (every pair, with `motors`) against one joint; select one.
 
     Args:
@@ -83,6 +84,8 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
         motors: The joint's candidate motors: then every (gearhead, motor) pair is checked.
         detail: Keep every candidate checked; False keeps only the selected one (or the
             strongest, when none fits), judged exactly as with detail.
+        load_inertia: With motors, the joint's load inertia M_jj [kg m^2]: each pair's
+            inertia ratio, and the ``inertia_ratio`` rule where a largest ratio is given.
 
     Returns:
         The joint's candidates and selection; its carried mass and gravity figures are
@@ -90,10 +93,12 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
     """
     load = cycle.load()
     if motors:
-        return _size_pairs(name, cycle, load, units, motors, options)
+        return _size_pairs(name, cycle, load, units, motors, options, load_inertia)
     if detail:
         candidates = [_candidate(load, r, cycle, options) for r in _reflect(units, cycle, options)]
-        return JointSizing(name, load, tuple(candidates), select(candidates, _prefer(options)),
+        return JointSizing(name, load, tuple(candidates),
+                           select(candidates, _prefer(options),
+                                  inertia_target=options.inertia_target),
                            0.0, False, 0.0, readonly(cycle.torque), readonly(cycle.stop))
     return _selected_only(name, cycle, load, units, options)
 
@@ -118,11 +123,12 @@ def _candidate(load: CycleLoad, reflection: Reflection, cycle: JointCycle,
                                  reflection.unit.ratio, cycle.samples.weight)
     return check_unit(load, reflection.unit, momentary=reflection.momentary,
                       life_hours=options.life_hours, life_basis=options.life_basis,
-                      motor=demand)
+                      motor=demand, margin=options.margin)
 
 
 def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit, ...],
-                motors: Sequence[Motor], options: Options) -> JointSizing:
+                motors: Sequence[Motor], options: Options,
+                load_inertia: float | None = None) -> JointSizing:
     """Every (gearhead, motor) pair: each motor's rotor inertia in the motor torque and crash."""
     behind = reflect_motors(units, [m.rotor_inertia for m in motors], cycle.samples.t,
                             cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
@@ -134,12 +140,13 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit
         for m, motor in enumerate(motors):
             r = behind[m][u]
             pair = with_motor(_candidate(load, r, cycle, options), motor, r.motor_torque,
-                              speed * unit.ratio)
+                              speed * unit.ratio, load_inertia=load_inertia,
+                              max_inertia_ratio=options.max_inertia_ratio)
             pairs.append(pair)
             torque[id(pair)] = r.motor_torque
-    selected = select(pairs, _prefer(options))
+    selected = select(pairs, _prefer(options), inertia_target=options.inertia_target)
     joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0,
-                        readonly(cycle.torque), readonly(cycle.stop))
+                        readonly(cycle.torque), readonly(cycle.stop), load_inertia=load_inertia)
     return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
 
 
@@ -160,11 +167,12 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[U
     i_crash = crash.argmax(axis=1)
     worst_crash = crash[np.arange(len(units)), i_crash]
     momentary = np.maximum(stopping[i_stop], worst_crash)
-    passes = ((load.peak_torque / limits.repeated <= 1.0)
-              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= 1.0)
-              & (momentary / limits.momentary <= 1.0))
+    most = 1.0 - options.margin  # `holds`, on every unit at once
+    passes = ((load.peak_torque / limits.repeated <= most)
+              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= most)
+              & (momentary / limits.momentary <= most))
     if load.static_torque is not None:
-        passes &= load.static_torque / limits.static <= 1.0
+        passes &= load.static_torque / limits.static <= most
     survivors = [k for k in range(len(units)) if passes[k]]
     motor_order = prefer.startswith("motor")
     if motor_order:
@@ -177,11 +185,12 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[U
             checked += [check_unit(load, units[k],
                                    momentary=_event(k, i_stop, i_crash, stopping, crash, speed,
                                                     cycle.samples.t, options),
-                                   life_hours=options.life_hours, life_basis=options.life_basis)
+                                   life_hours=options.life_hours, life_basis=options.life_basis,
+                                   margin=options.margin)
                         for k in survivors if units[k].size == size or prefer != "size"]
             if prefer != "size" or any(c.feasible for c in checked):
                 break
-    selected = select(checked, prefer)
+    selected = select(checked, prefer, inertia_target=options.inertia_target)
     if selected is None or not motor_order:  # the figures of the selected, else the strongest
         unit = units[limits.strongest] if selected is None else selected.unit
         (reflection,) = _reflect([unit], cycle, options)

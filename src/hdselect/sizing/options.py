@@ -7,7 +7,8 @@ from typing import Any
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
-from hdselect.catalog.select import PREFERENCES
+from hdselect.catalog.rules import DEFAULT_MARGIN
+from hdselect.catalog.select import DEFAULT_INERTIA_TARGET, PREFERENCES
 from hdselect.motion.motionfile import LIFE_BASES, Motion
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY
 
@@ -40,6 +41,13 @@ class Options:
         max_samples: Most samples a trajectory may have
             (`hdselect.base.bounds.DEFAULT_MAX_SAMPLES`);
             a motion needing more is refused before anything is allocated.
+        margin: Design margin [-], in [0, 0.9]: every rule must hold at (1 - margin) of
+            its limit (`hdselect.catalog.rules.holds`); 0 by default. Utilization stays
+            demand / limit.
+        max_inertia_ratio: Largest load-to-rotor inertia ratio of a (gearhead, motor)
+            pair [-], positive, or None: then each motor's own (its file's
+            ``max_inertia_ratio``), else no limit.
+        inertia_target: The load-to-rotor inertia ratio ``prefer = "inertia"`` aims at [-].
 
     Raises:
         InputError: A value is out of range or of the wrong type; the field is its name.
@@ -55,6 +63,9 @@ class Options:
     life_basis: str = "L50"
     threads: int | None = None
     max_samples: int = bounds.DEFAULT_MAX_SAMPLES
+    margin: float = DEFAULT_MARGIN
+    max_inertia_ratio: float | None = None
+    inertia_target: float = DEFAULT_INERTIA_TARGET
 
     def __post_init__(self) -> None:
         for name, bound in (("stop_time", bounds.STOP_TIME), ("efficiency", bounds.EFFICIENCY),
@@ -79,6 +90,12 @@ class Options:
             raise InputError(f"must be a whole number in [1, {MAX_THREADS}], got "
                              f"{self.threads!r}", field="threads")
         _set(self, "max_samples", bounds.check_max_samples(self.max_samples))
+        _set(self, "margin", bounds.MARGIN.check(self.margin, field="margin"))
+        if self.max_inertia_ratio is not None:
+            _set(self, "max_inertia_ratio", bounds.INERTIA_RATIO.check(
+                self.max_inertia_ratio, field="max_inertia_ratio"))
+        _set(self, "inertia_target", bounds.INERTIA_RATIO.check(self.inertia_target,
+                                                                 field="inertia_target"))
 
 
 def options_for(motion: Motion | None, **given: Any) -> Options:
@@ -104,7 +121,7 @@ def options_for(motion: Motion | None, **given: Any) -> Options:
                              field=name)
     values = {name: value for name, value in given.items() if value is not None}
     if motion is not None:
-        for name in ("stop_time", "life_hours", "life_basis"):
+        for name in ("stop_time", "life_hours", "life_basis", "margin"):
             if name not in values and getattr(motion, name) is not None:
                 values[name] = getattr(motion, name)
     return Options(**values)

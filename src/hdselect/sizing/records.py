@@ -68,6 +68,7 @@ def candidate_json(candidate: Candidate) -> dict[str, Any]:
         "flags": sorted({flag.code for flag in candidate.flags}),
         "notes": [flag.note for flag in candidate.flags],
         "binding": candidate.binding,
+        "margin_required": candidate.required_margin,
         "rules": rules_json(unit.rules),
         "checks": {name: check_json(check) for name, check in candidate.checks.items()},
     }
@@ -93,7 +94,8 @@ def motor_json(motor: Motor) -> dict[str, Any]:
             "mass_kg": motor.mass, "torque_constant_nm_per_a": motor.torque_constant,
             "resistance_ohm": motor.resistance,
             "curve": None if motor.curve is None else [list(p) for p in motor.curve],
-            "source": None if motor.source is None else str(motor.source)}
+            "source": None if motor.source is None else str(motor.source),
+            "max_inertia_ratio": motor.max_inertia_ratio}
 
 
 def rules_json(rules: SeriesRules) -> dict[str, Any]:
@@ -129,13 +131,45 @@ def assumptions(result: SizingResult) -> dict[str, str]:
                            "nearer the base" if result.motors else
                            "on: each chosen unit's mass is carried by the joints nearer the base")
                           if options.mass_coupling else "off"),
-        "selection": options.prefer or (DEFAULT_PREFER_WITH_MOTORS if result.motors
-                                         else DEFAULT_PREFER),
+        "selection": (options.prefer or (DEFAULT_PREFER_WITH_MOTORS if result.motors
+                                         else DEFAULT_PREFER)) + (
+            f" (target load-to-rotor inertia ratio {options.inertia_target:g})"
+            if options.prefer == "inertia" else ""),
+        # stated where it changes the judgement: the HTML summary and the JSON always state them
+        **({"design margin": margin_text(options.margin)} if options.margin > 0.0 else {}),
+        **({"largest inertia ratio": inertia_limit_text(result)}
+           if result.motors and _inertia_limited(result) else {}),
         "required life": ("none" if options.life_hours is None
                           else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
         "joint losses": JOINT_LOSSES_NOTE,
     }
+
+
+def margin_text(margin: float) -> str:
+    """The design margin in words, e.g. ``20 %: every rule holds at up to 80 % of its limit``."""
+    if margin == 0.0:
+        return "none: every rule may reach 100 % of its limit"
+    return (f"{margin * 100:g} %: every rule must hold at up to {(1 - margin) * 100:g} % of its "
+            "limit (utilization is still demand / limit)")
+
+
+def _inertia_limited(result: SizingResult) -> bool:
+    """A largest load-to-rotor inertia ratio applies to some pair."""
+    return result.options.max_inertia_ratio is not None or any(
+        m.max_inertia_ratio is not None for ms in result.motors.values() for m in ms)
+
+
+def inertia_limit_text(result: SizingResult) -> str:
+    """The largest load-to-rotor inertia ratio a pair may have, in words."""
+    if result.options.max_inertia_ratio is not None:
+        return f"{result.options.max_inertia_ratio:g} (a pair above it is not feasible)"
+    given = sorted({m.max_inertia_ratio for ms in result.motors.values() for m in ms
+                    if m.max_inertia_ratio is not None})
+    if not given:
+        return "none: the ratio is reported, not checked"
+    return (", ".join(f"{r:g}" for r in given) + " (from the motor file; a pair above it is "
+            "not feasible)")
 
 
 JOINT_LOSSES_NOTE = ("the robot file's armature, joint damping, friction and springs are the "
@@ -229,6 +263,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "rotor_inertia_kg_m2": options.rotor_inertia, "motor_mass_kg": options.motor_mass,
             "mass_coupling": options.mass_coupling, "prefer": options.prefer,
             "life_hours": options.life_hours, "life_basis": options.life_basis,
+            "margin": options.margin, "max_inertia_ratio": options.max_inertia_ratio,
+            "inertia_target": options.inertia_target,
             "mean_speed_rule": mean_speed_note(result.units),
             "joint_losses": JOINT_LOSSES_NOTE,
             "motors": ({name: [m.id for m in ms] for name, ms in result.motors.items()}

@@ -34,22 +34,26 @@ def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
                 samples.rest[:, j], torque=joint.torque, stop_torque=joint.stop_torque,
                 gravity=gravity, coast=coast, stop_time=options.stop_time)
             slowdown, scales = fitting_time_scales(cycle, units[joint.name], options,
-                                                   motors=tuple(motors.get(joint.name, ())))
+                                                   motors=tuple(motors.get(joint.name, ())),
+                                                   load_inertia=joint.load_inertia)
             joint = replace(joint, slowdown=slowdown, scales=scales)
         out.append(joint)
     return out
 
 
 def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Options, *,
-                        motors: Sequence[Motor] = ()) -> tuple[Slowdown, JointScales]:
+                        motors: Sequence[Motor] = (), load_inertia: float | None = None,
+                        ) -> tuple[Slowdown, JointScales]:
     """For a joint no unit fits: every unit's feasible time scales and the smallest slow-down.
 
     Args:
         cycle: The joint's cycle split by how its torques scale.
         units: The catalog.
-        options: The assumptions (efficiency, rotor inertia, life requirement).
+        options: The assumptions (efficiency, rotor inertia, life requirement, margin,
+            largest inertia ratio).
         motors: The joint's candidate motors: then the scales are per (gearhead, motor)
             pair, each with its motor's rotor inertia and rules.
+        load_inertia: The joint's load inertia [kg m^2], for the pairs' inertia ratio.
 
     Returns:
         The slow-down, its factor rounded to 0.001 (see `_rounded`), and the scales.
@@ -57,8 +61,11 @@ def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Op
     scales = joint_scales(cycle, units, efficiency=options.efficiency,
                           rotor_inertia=options.rotor_inertia,
                           check_options={"life_hours": options.life_hours,
-                                         "life_basis": options.life_basis},
-                          motors=tuple(motors))
+                                         "life_basis": options.life_basis,
+                                         "margin": options.margin},
+                          motors=tuple(motors),
+                          pair_options={"load_inertia": load_inertia,
+                                        "max_inertia_ratio": options.max_inertia_ratio})
     return _rounded(scales.slowdown(), scales, cycle.duration), scales
 
 

@@ -27,7 +27,7 @@ import numpy as np
 from hdselect.base.arrays import frozen
 from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load
+from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load, derated
 from hdselect.catalog.units import Unit
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 
@@ -212,7 +212,8 @@ class JointScales:
 def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
              efficiency: float = DEFAULT_EFFICIENCY, rotor_inertia: float = 0.0,
              check_options: Mapping[str, Any] | None = None,
-             motor: Motor | None = None) -> Candidate:
+             motor: Motor | None = None,
+             pair_options: Mapping[str, Any] | None = None) -> Candidate:
     """Every rule of one unit on the cycle run s times slower [-], as the sizing checks.
 
     The keywords are those of `feasible_scales`. Returns the candidate with its motor
@@ -232,11 +233,11 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
     if motor is None:
         return candidate
     return with_motor(candidate, motor, reflection.motor_torque,
-                      np.abs(at.qd) * unit.ratio * RPM_PER_RAD_S)
+                      np.abs(at.qd) * unit.ratio * RPM_PER_RAD_S, **(pair_options or {}))
 
 
-def exact_scales(cycle: ScalableCycle, unit: Unit, *,
-                 rotor_inertia: float = 0.0, motor: Motor | None = None) -> tuple[Interval, ...]:
+def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0,
+                 motor: Motor | None = None, margin: float = 0.0) -> tuple[Interval, ...]:
     """The scales at which every rule on single samples holds, solved exactly.
 
     Peak (moving samples) and static (at rest): |tau(s)| <= the limit; emergency
@@ -244,7 +245,8 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
     limit, K = (J_in + J_m) N^2 / t_stop [N m s]; input speed: max |qd| N / s <= the
     unit's maximum [rpm] (and the motor's, with a `motor`, whose rotor inertia is then
     J_m). Per sample each is a quadratic inequality in y = 1/s. The motor's
-    torque-speed rule is not among them: `feasible_scales` checks it on its grid.
+    torque-speed rule is not among them: `feasible_scales` checks it on its grid. With a
+    design `margin` every limit is (1 - margin) of its value (`derated`).
 
     Returns:
         Sorted disjoint closed intervals of s in (0, inf) [-]; lo may be 0, hi inf.
@@ -253,7 +255,9 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
         rotor_inertia = motor.rotor_inertia
     k = (unit.input_inertia + rotor_inertia) * unit.ratio**2 / cycle.stop_time
     speed = float(np.abs(cycle.qd).max(initial=0.0)) * unit.ratio * RPM_PER_RAD_S
-    top = unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed)
+    top, repeated, static, momentary = (derated(limit, margin) for limit in (
+        unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed),
+        unit.repeated_torque, unit.static_torque, unit.momentary_torque))
     # input speed: speed y <= the unit's maximum (and the motor's)
     found = _intersect(*_solve(np.zeros(1), np.array([speed]), np.array([-top])))
     for start in range(0, len(cycle.t), _CHUNK):  # pieces of bounded memory, intersected
@@ -266,11 +270,11 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
         moving, none = ~rest, np.zeros_like(g)
         crash = k * np.abs(cycle.qd[part])
         rows = [  # (c2, c1, c0) of c2 y^2 + c1 y + c0 <= 0
-            *_within(a[moving], none[moving], g[moving], unit.repeated_torque),
-            *_within(a[rest], none[rest], g[rest], unit.static_torque),
-            *_within(v, e, g, unit.momentary_torque),
-            (a, crash, g - unit.momentary_torque),  # tau + K |qd| y <= limit
-            (-a, crash, -g - unit.momentary_torque),  # -tau + K |qd| y <= limit
+            *_within(a[moving], none[moving], g[moving], repeated),
+            *_within(a[rest], none[rest], g[rest], static),
+            *_within(v, e, g, momentary),
+            (a, crash, g - momentary),  # tau + K |qd| y <= limit
+            (-a, crash, -g - momentary),  # -tau + K |qd| y <= limit
         ]
         c2, c1, c0 = (np.concatenate(column) for column in zip(*rows, strict=True))
         found = _overlap(found, _intersect(*_solve(c2, c1, c0)))
@@ -281,7 +285,8 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *,
 def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEFAULT_EFFICIENCY,
                     rotor_inertia: float = 0.0,
                     check_options: Mapping[str, Any] | None = None,
-                    motor: Motor | None = None) -> tuple[Interval, ...]:
+                    motor: Motor | None = None,
+                    pair_options: Mapping[str, Any] | None = None) -> tuple[Interval, ...]:
     """Every time scale s at which one unit passes every rule of `check_unit`.
 
     Inside each interval of `exact_scales`, clipped to [S_MIN, S_MAX], `check_at` is
@@ -297,6 +302,7 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
         check_options: Keywords for `hdselect.catalog.rules.check_unit`, e.g. ``life_hours``.
         motor: A motor paired with the unit: its rotor inertia replaces `rotor_inertia`,
             and its rules (`hdselect.catalog.rules.check_motor`) must hold too.
+        pair_options: Keywords for `hdselect.catalog.motor_rules.with_motor`.
 
     Returns:
         Sorted disjoint closed intervals (lo, hi) of s [-], lo >= S_MIN, hi may be
@@ -305,10 +311,13 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
 
     def passes(s: float) -> bool:
         return check_at(cycle, unit, s, efficiency=efficiency, rotor_inertia=rotor_inertia,
-                        check_options=check_options, motor=motor).feasible
+                        check_options=check_options, motor=motor,
+                        pair_options=pair_options).feasible
 
     found: list[Interval] = []
-    for lo, hi in exact_scales(cycle, unit, rotor_inertia=rotor_inertia, motor=motor):
+    margin = float((check_options or {}).get("margin", 0.0))
+    for lo, hi in exact_scales(cycle, unit, rotor_inertia=rotor_inertia, motor=motor,
+                               margin=margin):
         first, last = max(lo, S_MIN), min(hi, S_MAX)
         if first <= last:
             found.extend(_passing(passes, first, last, hi))
@@ -318,7 +327,8 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
 def joint_scales(cycle: ScalableCycle, units: Sequence[Unit], *,
                  efficiency: float = DEFAULT_EFFICIENCY, rotor_inertia: float = 0.0,
                  check_options: Mapping[str, Any] | None = None,
-                 motors: Sequence[Motor] = ()) -> JointScales:
+                 motors: Sequence[Motor] = (),
+                 pair_options: Mapping[str, Any] | None = None) -> JointScales:
     """`feasible_scales` of every unit for one joint (same arguments, one unit each).
 
     With `motors`, of every (unit, motor) pair, keyed ``"unit + motor"``, unit by unit.
@@ -326,7 +336,8 @@ def joint_scales(cycle: ScalableCycle, units: Sequence[Unit], *,
     if motors:
         return JointScales(cycle.duration, {
             f"{unit.id} + {motor.id}": feasible_scales(
-                cycle, unit, efficiency=efficiency, check_options=check_options, motor=motor)
+                cycle, unit, efficiency=efficiency, check_options=check_options, motor=motor,
+                pair_options=pair_options)
             for unit in units for motor in motors})
     return JointScales(cycle.duration, {
         unit.id: feasible_scales(cycle, unit, efficiency=efficiency,

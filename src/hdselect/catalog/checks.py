@@ -1,0 +1,106 @@
+"""One rule's verdict: a demand against its limit, judged with the design margin.
+
+Every check of every rule (the gearhead's, the motor's, the pair's) is a `Check`, and
+`holds` is the one place a utilization is judged: a design margin m means every rule
+must hold at (1 - m) of its limit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+MOTOR_CHECKS = ("motor_peak", "motor_rms", "motor_speed")
+"""The checks of the motor behind a gearhead, when one is given (`check_motor`)."""
+
+
+PAIR_CHECKS = ("inertia_ratio",)
+"""The checks of a gearhead and motor pair as a whole: the load-to-rotor inertia ratio
+against the largest allowed, present only when a largest ratio is given. The design margin
+does not apply to it: the largest ratio is itself a design choice, not a rating."""
+
+
+CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life",
+          *MOTOR_CHECKS, *PAIR_CHECKS)
+"""Every check by name, in the order of results and reports. ``life`` is present only
+when a life is required, the motor checks only when a motor is given, ``inertia_ratio``
+only when a largest inertia ratio is given too; the others always, with value None where
+they do not apply."""
+
+
+CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
+                "momentary": "mom.", "static": "static", "life": "life",
+                "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed",
+                "inertia_ratio": "inertia"}
+"""Short names of the checks, for table headers (``m.``: the motor's)."""
+
+
+CHECK_NAMES = {"peak": "repeated peak torque", "mean": "mean torque", "speed": "input speed",
+               "average_speed": "average input speed", "momentary": "momentary torque",
+               "static": "static torque", "life": "life", "motor_peak": "motor peak torque",
+               "motor_rms": "motor RMS torque", "motor_speed": "motor speed",
+               "inertia_ratio": "load-to-rotor inertia ratio"}
+"""The checks in words, for figure titles and summaries read by people."""
+
+
+DEFAULT_MARGIN = 0.0
+"""Design margin by default [-]: every rule holds at up to 100 % of its limit."""
+
+
+def holds(utilization: float, margin: float = DEFAULT_MARGIN) -> bool:
+    """Whether a rule holds with a design margin: utilization <= 1 - margin.
+
+    The one place a check decides pass or fail: every rule of `check_unit`, the motor's
+    rules and every front end built on them (size, compare, fastest, duty, studies,
+    max-payload) judge through it. Utilization stays demand / limit.
+
+    Args:
+        utilization: Demand over limit [-] (life: required over expected).
+        margin: Share of every limit kept in reserve [-], in [0, 1).
+
+    Returns:
+        True when the rule holds with the margin.
+    """
+    return utilization <= 1.0 - margin
+
+
+def derated(limit: float, margin: float = DEFAULT_MARGIN) -> float:
+    """The usable part of a limit with a design margin, (1 - margin) x limit [same unit].
+
+    What the closed-form solvers (time scales, path bounds, payload intervals) use as the
+    limit, so that they agree with `holds`.
+    """
+    return limit * (1.0 - margin)
+
+
+
+@dataclass(frozen=True)
+class Check:
+    """One rule applied to one gearhead.
+
+    Attributes:
+        value: The demand ([N m], input speed [rpm] or life [h]); None if the rule
+            does not apply to this cycle or this unit.
+        limit: What the gearhead allows (for ``life``: what the user requires); infinite
+            where the unit has no such limit.
+        ok: The rule holds.
+        utilization: Demand over allowance [-] (life: required over expected); 0 if
+            the rule does not apply, above 1 when it fails.
+        detail: Extra figures for reports, e.g. ``{"kind": "crash"}``.
+    """
+
+    value: float | None
+    limit: float
+    ok: bool
+    utilization: float
+    detail: dict[str, object] = field(default_factory=dict)
+
+
+
+def limit_check(value: float | None, limit: float, *, margin: float = DEFAULT_MARGIN,
+                **detail: object) -> Check:
+    """One check: a value against its limit [same unit], utilization = value / limit.
+
+    It holds when the utilization is at most 1 - `margin` (`holds`).
+    """
+    utilization = 0.0 if value is None else value / limit
+    return Check(value, limit, holds(utilization, margin), utilization, dict(detail))

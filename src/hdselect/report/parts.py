@@ -1,0 +1,94 @@
+"""The parts list of a sizing: per joint the gearhead and motor chosen, their masses, why.
+
+One row per sized joint, then a total; the same rows feed the CSV (``--bom``) and the
+report's section. Formatting only: every number is the result's.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from dataclasses import dataclass
+
+from hdselect.catalog.checks import CHECK_NAMES
+from hdselect.sizing.result import JointSizing, SizingResult
+
+PARTS_COLUMNS = ("joint", "gearhead", "ratio", "gearhead_mass_kg", "motor", "motor_mass_kg",
+                 "mass_kg", "binding", "binding_rule", "utilization", "margin_left",
+                 "margin_required", "life_l50_h", "life_l10_h", "inertia_ratio", "status")
+"""The CSV's columns, in order (docs/review.md describes each):
+
+joint: the sized joint; ``total`` on the last row. gearhead: the unit chosen (empty
+where none fits). ratio: its ratio [-]. gearhead_mass_kg: its mass [kg]. motor: the
+motor chosen with it (empty without motor data). motor_mass_kg: that motor's mass, or
+the assumed motor mass (``--motor-mass``) [kg]. mass_kg: the two together [kg].
+binding: the rule closest to its limit, by name (a key of the JSON's ``checks``);
+binding_rule: the same in words. utilization: its demand / limit [-]. margin_left:
+1 - utilization [-]. margin_required: the design margin every rule was held to [-].
+life_l50_h, life_l10_h: the gearhead's life [h], empty when unlimited. inertia_ratio:
+load-to-rotor inertia ratio of the pair [-], empty without a motor. status:
+``selected``, or ``no unit fits`` (then the row is empty but for the joint). On the
+``total`` row the masses are sums over the joints with a unit."""
+
+
+@dataclass(frozen=True)
+class Part:
+    """One row of the parts list; numbers None where they do not apply (see `PARTS_COLUMNS`)."""
+
+    joint: str
+    gearhead: str | None
+    ratio: float | None
+    gearhead_mass_kg: float | None
+    motor: str | None
+    motor_mass_kg: float | None
+    mass_kg: float | None
+    binding: str | None
+    binding_rule: str | None
+    utilization: float | None
+    margin_left: float | None
+    margin_required: float | None
+    life_l50_h: float | None
+    life_l10_h: float | None
+    inertia_ratio: float | None
+    status: str
+
+
+def parts(result: SizingResult) -> list[Part]:
+    """The parts list: one row per sized joint, then the ``total`` row."""
+    rows = [_part(result, joint) for joint in result.joints]
+    chosen = [row for row in rows if row.gearhead is not None]
+    gearheads = sum(row.gearhead_mass_kg or 0.0 for row in chosen)
+    motors = sum(row.motor_mass_kg or 0.0 for row in chosen)
+    missing = len(rows) - len(chosen)
+    rows.append(Part("total", None, None, gearheads, None, motors, gearheads + motors, None,
+                     None, None, None, result.options.margin, None, None, None,
+                     f"{missing} joint{'s' if missing != 1 else ''} without a unit"
+                     if missing else "every joint has a unit"))
+    return rows
+
+
+def _part(result: SizingResult, joint: JointSizing) -> Part:
+    chosen = joint.selected
+    if chosen is None:
+        return Part(joint.name, *(None,) * 10, result.options.margin, None, None, None,
+                    "no unit fits")
+    motor = chosen.motor_unit
+    motor_mass = motor.mass if motor is not None else result.options.motor_mass
+    check = chosen.checks[chosen.binding]
+    return Part(joint.name, chosen.unit.id, float(chosen.unit.ratio), chosen.unit.mass,
+                None if motor is None else motor.id, motor_mass, chosen.unit.mass + motor_mass,
+                chosen.binding, CHECK_NAMES.get(chosen.binding, chosen.binding),
+                check.utilization, 1.0 - check.utilization, chosen.required_margin,
+                chosen.life_hours, chosen.l10_hours, joint.inertia_ratio(chosen), "selected")
+
+
+def parts_csv(result: SizingResult) -> str:
+    """The parts list as CSV text (`PARTS_COLUMNS`; numbers to 6 significant digits, empty: n/a)."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(PARTS_COLUMNS)
+    for part in parts(result):
+        writer.writerow(["" if value is None else (f"{value:.6g}" if isinstance(value, float)
+                                                     else value)
+                         for value in (getattr(part, name) for name in PARTS_COLUMNS)])
+    return buffer.getvalue()
