@@ -39,6 +39,10 @@ FAST_PICK = ROOT / "trajectories" / "benchtop6_fast_pick.toml"
 """The shipped 6-axis co-design motion (its limits at the arm's own)."""
 SPEC = ROOT / "trajectories" / "envelopes" / "benchtop6_dispensing.toml"
 """The shipped 6-axis envelope file (its duty: the contour motion)."""
+POSES = ROOT / "trajectories" / "benchtop6_pick_place_poses.toml"
+"""The shipped tool-pose motion (8 poses, 4 straight lines)."""
+IK_TARGETS = 200
+"""Random reachable poses of the IK row (50 in --quick mode)."""
 
 QUICK_SAMPLES = 1_500
 """Samples per trajectory in --quick mode (the full mode uses the ~10,000 of the cycle); at
@@ -242,6 +246,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
 
     samples = f"{n:,} samples of {MOTION.name}" + (f" (every {step}th)" if step > 1 else "")
     codesign = _codesign_rows(quick, units, rnea_loop_for=_rnea_loop)
+    tool_poses = _tool_pose_rows(quick)
     cli = [sys.executable, "-m", "hdselect.cli"]
     return [
         Benchmark(
@@ -311,6 +316,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
             notes=f"{pairs} (gearhead, motor) pairs per joint ({len(motor_catalog)} example "
                   f"motors) vs {len(units)} units alone, Options(); target: at most the "
                   "motor count", repeats=9),
+        *tool_poses,
         _envelope_row(robot, motion_for_size, units),
     ]
 
@@ -410,6 +416,78 @@ def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:
             lambda: fastest(fast_robot, fast_motion), 5.0, unit="s", absolute=True, repeats=3,
             notes=f"--compare-ratios on {FAST_PICK.name}, {comparisons} unit-joint "
                   "configurations sharing one path model, vs one fastest() call"),
+    ]
+
+
+def _tool_pose_rows(quick: bool) -> list[Benchmark]:
+    """Inverse kinematics of one pose, and a tool-pose motion solved (fixtures built here)."""
+    import pinocchio as pin
+
+    from hdselect import load_robot
+    from hdselect.motion.ik import solve_pose
+    from hdselect.motion.kinematics import FrameKinematics
+    from hdselect.motion.motionfile import load_motion
+    from hdselect.motion.planning import plan, plan_motion
+    from hdselect.motion.poses import Tolerance, pose_error
+    from hdselect.motion.solve import solve_motion
+
+    kin = FrameKinematics(load_robot(ROBOT), "tool0")
+    rng = np.random.default_rng(0)
+    lower, upper = np.maximum(kin.lower, -np.pi), np.minimum(kin.upper, np.pi)
+    truths = rng.uniform(lower, upper, (50 if quick else IK_TARGETS, kin.dof))
+    targets = [kin.placement(q) for q in truths]
+    seeds = [kin.clip(q + rng.normal(0.0, 0.1, kin.dof)) for q in truths]
+    tolerance = Tolerance()
+
+    def solved() -> list:
+        return [solve_pose(kin, t, s) for t, s in zip(targets, seeds, strict=True)]
+
+    def textbook() -> list:
+        """Pinocchio's clik example: damped least squares, fixed damping, no limits."""
+        out = []
+        for target, q in zip(targets, seeds, strict=True):
+            q = q.copy()
+            for _ in range(1000):
+                current = kin.placement(q)
+                error = pin.log6(current.actInv(target)).vector
+                if tolerance.scaled(0.1).holds(*pose_error(current, target)):
+                    break
+                jacobian = -pin.Jlog6(target.actInv(current)) @ kin.jacobian(q)
+                q = q - jacobian.T @ np.linalg.solve(jacobian @ jacobian.T + 1e-12 * np.eye(6),
+                                                     error)
+            out.append(q)
+        return out
+
+    def worst_error() -> float:
+        """Largest pose error of a solution over its tolerance (>1: failed) [-]."""
+        return max(max(r.position_error / tolerance.position,
+                       r.orientation_error / tolerance.orientation, 0.0 if r.converged else 2.0)
+                   for r in solved())
+
+    robot = load_robot(ROBOT)
+    motion = load_motion(POSES, robot)
+    robot = robot.with_payload(motion.payload)
+    solved_motion = solve_motion(robot, motion)
+
+    def line_deviation() -> float:
+        """The planned tool's largest distance from a line over the tolerance [-]."""
+        lines = plan_motion(robot, solved_motion).lines
+        return max(float(d.position.max()) for d in lines) / tolerance.position
+
+    return [
+        Benchmark(
+            "IK: one pose", solved, textbook, 2.0, unit="ms", per=len(targets),
+            per_label="pose", repeats=5,
+            notes=f"solve_pose on {len(targets)} random reachable benchtop6 poses from seeds "
+                  "0.1 rad away (limits, active set) vs Pinocchio's clik example (fixed "
+                  "damping, no limits) on the same poses and seeds",
+            check=Check("largest error / tolerance", worst_error, 1.0)),
+        Benchmark(
+            "tool poses: solve vs plan", lambda: solve_motion(robot, motion),
+            lambda: plan(robot, solved_motion), 1.5, repeats=5,
+            notes=f"solve_motion of {POSES.name} (8 poses, 4 lines fitted to TOPPRA's spline) "
+                  "vs planning the solved motion",
+            check=Check("planned line deviation / tolerance", line_deviation, 1.0)),
     ]
 
 

@@ -289,6 +289,58 @@ def test_fuzz_motion_files(text):
                   stdout_json=True)
 
 
+TOOL_POSE_EXAMPLES = 25 if os.environ.get("HDSELECT_FUZZ", "ci") == "ci" else 300
+"""Tool-pose motion files: each solves poses and plans lines, so fewer in the ci profile."""
+POSES = [((0.26, 0.0, 0.30), (180, 0, -90)), ((0.28, -0.20, 0.16), (180, 0, -135)),
+         ((0.28, -0.20, 0.08), (180, 0, -135)), ((0.20, 0.28, 0.16), (180, 0, -45))]
+"""Poses of benchtop6_pick_place_poses.toml that the generated ones stay near [m, deg]."""
+
+
+@st.composite
+def tool_pose_motions(draw) -> tuple[str, bool]:
+    unit = draw(st.sampled_from(["deg", "deg", "rad"]))
+    k = 1.0 if unit == "deg" else math.pi / 180
+    entries: list[tuple[str, object]] = [
+        ("robot", "../robots/benchtop6.urdf"), ("planner", "toppra"), ("angle_unit", unit),
+        ("dt", 0.001),
+        draw(st.sampled_from([("mounting", "floor"), ("mounting", "wall"),
+                              ("mounting", [0, 0, -9.81]),
+                              ("base", {"xyz": [0.0, 0.0, draw(st.floats(-0.1, 0.1))],
+                                        "rpy": [0.0, 0.0, draw(st.floats(-30, 30)) * k]})])),
+        ("[limits]", None), ("velocity", 120 * k), ("acceleration", 600 * k),
+        ("[tool]", None), ("frame", draw(st.sampled_from(["tool0", "tool0", "wrist_3_link"]))),
+        ("position_tolerance", draw(st.sampled_from([1e-4, 1e-4, 1e-3, 1e-6]))),
+    ]
+    lines = False
+    for i in range(draw(st.integers(2, 4))):
+        xyz, rpy = draw(st.sampled_from(POSES))
+        xyz = [x + draw(st.floats(-0.05, 0.05)) for x in xyz]
+        entries += [("[[waypoint]]", None),
+                    ("pose", {"xyz": xyz, "rpy": [a * k for a in rpy]})]
+        if i and draw(st.booleans()):
+            entries.append(("line", True))
+            lines = True
+        elif draw(st.integers(0, 3)) == 0:
+            entries.append(("near", {"elbow": draw(st.floats(-150, 150)) * k}))
+        if i and draw(st.integers(0, 4)) == 0:
+            entries.append(("reconfigure", True))
+        if draw(st.booleans()):
+            entries.append(("dwell", draw(st.floats(0.0, 0.5))))
+    return toml_text(draw(shuffled_entries(entries))), lines
+
+
+@settings(max_examples=TOOL_POSE_EXAMPLES)
+@given(tool_pose_motions())
+def test_fuzz_tool_pose_motion_files(case):
+    text, lines = case
+    with workdir() as work:
+        Path("tr/fuzz.toml").write_text(text)
+        check_run(work, ["plan", "tr/fuzz.toml", "--out", "out.csv", "--waypoints", "solved.csv",
+                         *(["--line-errors", "lines.csv"] if lines else []),
+                         "--max-samples", MAX_SAMPLES],
+                  csv_files=("out.csv", "solved.csv", "lines.csv"))
+
+
 # --- logs ---------------------------------------------------------------------------------------
 
 @st.composite

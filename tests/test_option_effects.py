@@ -78,14 +78,16 @@ EFFECTS = {
              ("--payload-frame", ["link2"]), ("--mounting", ["wall"]),
              ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),  # refused without --plot
              ("--joints", ["shoulder"], ["--plot", "p.png"]),  # the joints plotted
-             ("--max-samples", ["100"]), ("--plot", ["p.png"])],
+             ("--max-samples", ["100"]), ("--plot", ["p.png"]),
+             ("--waypoints", ["w.csv"]),  # the joint path as solved (here the file's)
+             ("--line-errors", ["l.csv"])],  # refused: the motion has no straight line
 }
 """Per command, each option and its value."""
 
 OTHER = {
     "catalog": ["--catalog", "--units", "--json"],
     "duty": ["--catalog", "--json", "--margin"],  # test_margins: the duty example by hand
-    "joints": ["--json"], "init": ["--out"],
+    "joints": ["--json"], "init": ["--out", "--tool-poses"],
     "study": ["--out", "--workers", "--scheduler", "--no-grouping", "--retry-failed", "--plot"],
     "plan": ["--out"], "size": ["--json", "--bom"], "compare": ["--json", "--bom"],
     "fastest": ["--json"],
@@ -94,6 +96,7 @@ OTHER = {
 }
 """Options covered elsewhere (test_cli, test_study, test_outputs, test_bad_input): outputs,
 executors and listings, which change where a result goes or how it runs, not the result.
+init's --tool-poses writes another starter: test_toolposes solves, plans and sizes it.
 max-payload's --prefer orders the units that pass at the largest payload, where the joint
 that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used.
 envelope's options take a robot file, not a motion file: test_envelope_cli runs its own
@@ -118,7 +121,8 @@ def outcome(capsys, command: str, extra: list[str], tag: str) -> tuple[int, str,
     argv = [command, "tr/move.toml"]
     argv += ["--out", str(out_dir / "t.csv")] if command == "plan" else [
         "--json", str(out_dir / "r.json")]
-    extra = [str(out_dir / x) if x in ("rep", "f.csv", "f.png", "p.png") else x for x in extra]
+    extra = [str(out_dir / x) if x in ("rep", "f.csv", "f.png", "p.png", "w.csv", "l.csv") else x
+             for x in extra]
     status = main([*argv, *extra])
     out, err = capsys.readouterr()
     written = []

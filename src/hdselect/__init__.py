@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 __version__ = "0.1.0"
 
 _HOME = {
+    "BasePose": "robot",
     "EnvelopeResult": "envelope",
     "FastestResult": "codesign",
     "HdselectError": "base",
@@ -40,9 +41,11 @@ _HOME = {
     "load_robot": "robot",
     "max_payload": "codesign",
     "plan": "motion",
+    "plan_motion": "motion",
     "size": "sizing",
     "size_duty": "catalog",
     "size_trajectory": "sizing",
+    "solve_motion": "motion",
     "starter_motion": "motion",
     "study": "study",
     "summarize": "sizing",
@@ -50,6 +53,7 @@ _HOME = {
 """The module each public name lives in."""
 
 __all__ = [
+    "BasePose",
     "EnvelopeResult",
     "FastestResult",
     "HdselectError",
@@ -80,9 +84,11 @@ __all__ = [
     "load_robot",
     "max_payload",
     "plan",
+    "plan_motion",
     "size",
     "size_duty",
     "size_trajectory",
+    "solve_motion",
     "starter_motion",
     "study",
     "summarize",
@@ -100,8 +106,17 @@ if TYPE_CHECKING:
         max_payload,
     )
     from hdselect.envelope import EnvelopeResult, envelope
-    from hdselect.motion import Motion, Trajectory, load_case, load_motion, plan, starter_motion
-    from hdselect.robot import Payload, Robot, describe_joints, load_robot
+    from hdselect.motion import (
+        Motion,
+        Trajectory,
+        load_case,
+        load_motion,
+        plan,
+        plan_motion,
+        solve_motion,
+        starter_motion,
+    )
+    from hdselect.robot import BasePose, Payload, Robot, describe_joints, load_robot
     from hdselect.sizing import (
         Options,
         SizingResult,

@@ -125,6 +125,13 @@ MOTION_LIMITS = {
     "torque": Bound("a torque limit", "N m", 1e-6, 1e9),
 }
 """The limits of a motion file's ``[limits]`` table, in SI per joint."""
+ANGLE = Bound("an angle", "rad", -1e3, 1e3)
+"""A roll, pitch or yaw angle of a tool pose or a base pose [rad]."""
+POSE_POSITION_TOLERANCE = Bound("a position tolerance", "m", 1e-9, 1e-2)
+"""How far a solved tool position may be from the one asked for [m]: 1 nm to 10 mm."""
+POSE_ORIENTATION_TOLERANCE = Bound("an orientation tolerance", "rad", 1e-9, 0.1)
+"""How far a solved tool orientation may be turned from the one asked for [rad]: up to
+about 5.7 deg."""
 TIME = Bound("a time", "s", 0.0, 1e12, low_open=True)
 """A sample period [s]; its samples are bounded by the sample limit, not here."""
 PHASE_TIME = Bound("a time", "s", 1e-6, 1e9)

@@ -125,7 +125,7 @@ _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
 """The command-line option of each field of `hdselect.sizing.options.Options`."""
 
 
-SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile")
+SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile", "hdselect.motion.solve")
 """Loggers whose warnings a sizing result carries (`SizingResult.warnings`)."""
 
 
@@ -150,6 +150,7 @@ def robot_and_motion(args: argparse.Namespace):
     """
     from hdselect.motion.case import robot_for_motion
     from hdselect.motion.motionfile import load_motion, robot_file_named
+    from hdselect.motion.solve import solve_motion
     from hdselect.robot.model import load_robot
     from hdselect.robot.payload import Payload
 
@@ -197,7 +198,7 @@ def robot_and_motion(args: argparse.Namespace):
         if str(err.field).startswith("mounting") and args.mounting is not None:
             raise InputError(err.reason, field="--mounting") from err
         raise
-    return robot, motion
+    return robot, solve_motion(robot, motion)
 
 
 def max_samples_of(args: argparse.Namespace) -> int:

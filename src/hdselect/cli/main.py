@@ -149,6 +149,12 @@ def _parser() -> argparse.ArgumentParser:
     plan.add_argument("--out", metavar="FILE", required=True,
                       help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
     plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
+    plan.add_argument("--waypoints", metavar="FILE",
+                      help="CSV of the joint path as solved: every waypoint and line sample "
+                           "(tool poses solved for the mounting), with the tool's pose error")
+    plan.add_argument("--line-errors", metavar="FILE",
+                      help="CSV of every planned sample on a straight line: the tool's distance "
+                           "and angle from the line")
     plan.set_defaults(run=run_plan)
 
     size = commands.add_parser(
@@ -231,6 +237,9 @@ def _parser() -> argparse.ArgumentParser:
     init.add_argument("--out", metavar="FILE",
                       help="the motion file to write (default or '-': print it); an existing "
                            "file is never overwritten")
+    init.add_argument("--tool-poses", action="store_true",
+                      help="write the waypoints as tool poses in the world (solved for the "
+                           "mounting by inverse kinematics), not as joint positions")
     init.set_defaults(run=run_init)
 
     study = commands.add_parser("study", parents=[verbose],

@@ -47,7 +47,7 @@ def run_init(args: argparse.Namespace) -> int:
         target = os.path.abspath(robot.path)
         shared = os.path.commonpath([target, where])
         return starter_motion(robot, str(target) if shared == os.sep
-                              else os.path.relpath(target, where))
+                              else os.path.relpath(target, where), tool_poses=args.tool_poses)
 
     if out is None:
         sys.stdout.write(text())

@@ -40,6 +40,7 @@ from hdselect.codesign.fastpath import PathModel
 from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limits
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
+from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors, units_argument
 from hdselect.sizing.core import motion_motors, size_trajectory
@@ -213,6 +214,7 @@ def fastest(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None
     expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
     expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
     expect_type(options, (Options, type(None)), "options", "an Options or None")
+    motion = solve_motion(robot, motion)
     options = options if options is not None else options_for(motion)
     catalog = units_argument(catalog) if catalog is not None else load_catalog()
     chosen, _, paired = resolve_case(robot, motion, units, catalog, options, selection=False,
@@ -247,6 +249,7 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
     expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
     expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
     expect_type(options, (Options, type(None)), "options", "an Options or None")
+    motion = solve_motion(robot, motion)
     options = options if options is not None else options_for(motion)
     catalog = units_argument(catalog) if catalog is not None else load_catalog()
     chosen, selected, paired = resolve_case(robot, motion, units, catalog, options,

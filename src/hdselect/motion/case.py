@@ -8,7 +8,9 @@ from pathlib import Path
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
+from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 
 
@@ -17,7 +19,7 @@ def robot_for_motion(
     motion: Motion,
     *,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
+    mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
 ) -> Robot:
@@ -80,7 +82,7 @@ def load_case(
     robot: Robot | str | Path | None = None,
     *,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
+    mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
 ) -> tuple[Robot, Motion]:
@@ -95,10 +97,11 @@ def load_case(
         exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
 
     Returns:
-        The robot as the motion runs it (see `robot_for_motion`) and the motion.
+        The robot as the motion runs it (see `robot_for_motion`) and the motion, its
+        tool poses solved for that robot's mounting (`hdselect.motion.solve.solve_motion`).
 
     Raises:
-        InputError: A file or option is invalid.
+        InputError: A file or option is invalid, or a tool pose cannot be solved.
     """
     motion_path = bounds.file_argument(motion, "motion")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
@@ -106,5 +109,6 @@ def load_case(
     if not isinstance(robot, Robot):
         robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
     loaded = load_motion(motion, robot)
-    return robot_for_motion(robot, loaded, payload=payload, mounting=mounting,
-                            joints=joints, exclude=exclude), loaded
+    robot = robot_for_motion(robot, loaded, payload=payload, mounting=mounting, joints=joints,
+                             exclude=exclude)
+    return robot, solve_motion(robot, loaded)

@@ -40,11 +40,14 @@ from hdselect.motion.limits import (
     vector,
     velocity_limit,
 )
+from hdselect.motion.lines import LinePath
 from hdselect.motion.logderivatives import UNCERTAIN, acceleration_uncertainty
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
+from hdselect.motion.toolposes import ToolPoses, ToolSolution, read_base
+from hdselect.motion.waypoints import read_waypoints
 from hdselect.robot.model import Robot, load_robot
-from hdselect.robot.mounting import MOUNTINGS
+from hdselect.robot.mounting import MOUNTINGS, BasePose
 from hdselect.robot.payload import Payload
 
 logger = logging.getLogger(__name__)
@@ -58,15 +61,8 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
 
 
-LIMIT_ROUNDING = 5e-6
-"""How far a waypoint may lie beyond a robot file's position limit and still be taken as on
-it, relative to max(1, |limit|) [-]. A limit written to 6 significant digits differs from
-the angle its author meant by less (pi/2 written 1.5707963 or 1.5708: 2.7e-8 and 3.7e-6 rad;
-pi written 3.14159: 2.7e-6 rad), so a waypoint at 90 deg against 1.5707963 rad is that
-limit. The waypoint is moved onto the limit, by at most this much."""
-
 _TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "limits", "safety",
-             "requirements", "waypoint", "samples", "sizing", "motor")
+             "requirements", "waypoint", "samples", "sizing", "motor", "tool", "base")
 
 
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
@@ -97,7 +93,9 @@ class Motion:
 
     A Motion is planned against a Robot with the same joints (`hdselect.plan`); it
     does not hold one. What the file says about the robot (its file, payload and
-    mounting) is kept here as given, and applied by `robot_for_motion`.
+    mounting) is kept here as given, and applied by `robot_for_motion`. Waypoints
+    written as tool poses are solved for a robot by `hdselect.motion.solve.solve_motion`
+    (which `load_case`, `plan` and `size` call): until then their rows are NaN.
 
     Attributes:
         path: The motion file.
@@ -105,7 +103,7 @@ class Motion:
         planner: ``"ruckig"``, ``"toppra"`` or ``"samples"``.
         dt: Sample period of the planned trajectory [s].
         waypoints: Joint positions to pass through [rad or m], shape (k, dof); (0, dof)
-            for the samples planner.
+            for the samples planner; NaN rows for tool poses not solved yet.
         dwells: Time held at rest after reaching each waypoint [s], shape (k,).
         velocity_limit: Joint speed limit [rad/s or m/s], shape (dof,), or None.
         acceleration_limit: Joint acceleration limit [rad/s^2 or m/s^2], (dof,), or None.
@@ -118,7 +116,8 @@ class Motion:
         samples: The logged trajectory for the samples planner, else None.
         robot_file: The file's ``robot``, relative to the motion file resolved, or None.
         payload: The file's ``[payload]``, or None.
-        mounting: The file's ``mounting``, or None when it gives none.
+        mounting: The file's ``mounting`` (a name or a gravity vector) or its ``base``
+            pose, or None when it gives neither.
         angle_unit: The file's ``angle_unit`` (``"deg"`` or ``"rad"``), for messages.
         sized_joints: The file's ``[sizing] joints``, or None when it gives none.
         excluded_joints: The file's ``[sizing] exclude``: joints that move but get no gearhead.
@@ -129,6 +128,11 @@ class Motion:
         motors: The file's ``[motor]``: candidate motors per rotary joint (one for a
             fixed motor), or None when it gives none.
         motor_joints: The joints the file gives a ``[motor.JOINT]`` block of their own.
+        tool: The file's tool poses and ``[tool]`` table, or None when every waypoint
+            gives joint positions.
+        lines: The straight lines, solved into joint samples that the path passes through
+            (empty until solved, and for a motion without lines).
+        solution: How the tool poses were solved, or None until they are.
     """
 
     path: Path
@@ -147,7 +151,7 @@ class Motion:
     samples: SampleLog | None = None
     robot_file: Path | None = None
     payload: Payload | None = None
-    mounting: str | tuple[float, float, float] | None = None
+    mounting: str | tuple[float, float, float] | BasePose | None = None
     angle_unit: str = "deg"
     sized_joints: tuple[str, ...] | None = None
     excluded_joints: tuple[str, ...] = ()
@@ -156,6 +160,9 @@ class Motion:
     motors: Mapping[str, tuple[Motor, ...]] | None = None
     motor_joints: tuple[str, ...] = ()
     margin: float | None = None
+    tool: ToolPoses | None = None
+    lines: tuple[LinePath, ...] = ()
+    solution: ToolSolution | None = None
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
@@ -209,7 +216,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     unit = ANGLE_UNITS[angle_unit]
     dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
-    file_mounting = _mounting(doc["mounting"], path) if "mounting" in doc else None
+    file_mounting = _mounting(doc, path, unit, angle_unit)
     robot_file = _robot_file(doc, path, must_exist=robot is None)  # a robot given overrides it
     if not isinstance(robot, Robot):
         file = robot if robot is not None else robot_file
@@ -257,7 +264,12 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
                              field="samples")
-        waypoints, dwells = _waypoints(doc.get("waypoint"), path, robot, scale, units, lists)
+        waypoints, dwells, tool = read_waypoints(doc, path, robot, scale, units, lists,
+                                                 (unit, angle_unit))
+        for k in tool.lines if tool is not None and planner != "toppra" else ():
+            raise InputError(f"a straight line needs planner \"toppra\" (\"{planner}\" moves "
+                             "from rest to rest between waypoints)", path=path,
+                             field=f"waypoint[{k}].line")
     warnings += lists.warnings()
     for warning in warnings:
         logger.warning("%s: %s", path, warning)
@@ -275,7 +287,9 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         warnings=tuple(warnings), motors=motors,
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
-        margin=requirements.get("margin"))
+        margin=requirements.get("margin"),
+        tool=tool if planner != "samples" else None,
+    )
 
 
 def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path,
@@ -356,11 +370,22 @@ def _payload(value: Any, path: Path) -> Payload:
         raise InputError(err.reason, path=path, field=err.field) from err
 
 
-def _mounting(value: Any, path: Path) -> str | tuple[float, float, float]:
+def _mounting(doc: dict[str, Any], path: Path, unit: float,
+              angle_unit: str) -> str | tuple[float, float, float] | BasePose | None:
+    """The file's ``mounting`` or ``base``, or None when it gives neither."""
+    if "base" in doc:
+        if "mounting" in doc:
+            raise InputError("give either mounting or base (which sets the mounting), not both",
+                             path=path, field="base")
+        return read_base(doc["base"], path, unit, angle_unit)
+    if "mounting" not in doc:
+        return None
+    value = doc["mounting"]
     if isinstance(value, str):
         if value not in MOUNTINGS:
             raise InputError(f"unknown mounting {value!r}; choose one of: {', '.join(MOUNTINGS)}"
-                             " or a gravity vector [gx, gy, gz] in m/s^2", path=path,
+                             " or a gravity vector [gx, gy, gz] in m/s^2 (or give base = "
+                             "{xyz, rpy})", path=path,
                              field="mounting")
         return value
     x, y, z = vector(value, 3, path, "mounting")
@@ -387,40 +412,6 @@ def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[st
         except InputError as err:
             raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
     return names
-
-
-def _waypoints(value: Any, path: Path, robot: Robot, scale: np.ndarray, units: list[str],
-               lists: JointLists):
-    if not isinstance(value, list) or len(value) < 2:
-        raise InputError("give at least two [[waypoint]] tables", path=path, field="waypoint")
-    points, dwells = [], []
-    for i, item in enumerate(value):
-        where = f"waypoint[{i}]"
-        table = table_of(item, path, where)
-        check_keys(table, ("q", "dwell"), path, where)
-        if "q" not in table:
-            raise InputError("required key is missing", path=path, field=f"{where}.q")
-        if not isinstance(table["q"], list | dict):
-            raise InputError("expected a list or a table keyed by joint name", path=path,
-                             field=f"{where}.q")
-        given = per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
-                           scale=scale, units=units, lists=lists)
-        q = given * scale
-        lower, upper = robot.lower, robot.upper
-        slack_low = LIMIT_ROUNDING * np.maximum(1.0, np.abs(lower))
-        slack_high = LIMIT_ROUNDING * np.maximum(1.0, np.abs(upper))
-        for j in np.flatnonzero((q < lower - slack_low) | (q > upper + slack_high)):
-            name = robot.joint_names[j]
-            listed = isinstance(table["q"], list)
-            key = f"[{j}]" if listed else f".{name}"
-            raise InputError(
-                f"{given[j]:g} {units[j]} is outside the limits of joint '{name}' "
-                f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
-                + (f" ({lists.order})" if listed else ""),
-                path=path, field=f"{where}.q{key}")
-        points.append(np.clip(q, lower, upper))  # on the limit its file rounded
-        dwells.append(number(table, "dwell", path, where, default=0.0, bound=bounds.DWELL))
-    return np.array(points), np.array(dwells)
 
 
 def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:

@@ -4,6 +4,11 @@ The file plans and sizes as written: the robot file's velocity limits, an
 acceleration and jerk derived from them (a robot file gives neither), and a
 cycle from a start pose to a second pose and back, every joint well inside its
 limits. Everything the user should look at is a commented key.
+
+With tool poses, the waypoints are the tool's poses in the world at two joint
+configurations away from singularities (`regular_pair`): the first carries a ``near``
+hint of its joints, so the file solves back to them, and the second lies a small move
+away on the same branch.
 """
 
 from __future__ import annotations
@@ -16,6 +21,10 @@ import textwrap
 import numpy as np
 
 from hdselect.base.bounds import expect_type
+from hdselect.motion.branches import check_branch
+from hdselect.motion.ik import solve_pose
+from hdselect.motion.kinematics import FrameKinematics
+from hdselect.motion.poses import pose_error, pose_from_xyz_rpy, xyz_rpy
 from hdselect.robot.joints import describe_joints
 from hdselect.robot.model import Robot
 
@@ -35,13 +44,15 @@ INSIDE = 0.1
 """The start pose keeps this fraction of a joint's range from each limit [-]."""
 
 
-def starter_motion(robot: Robot, robot_file: str) -> str:
+def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -> str:
     """The text of a starter motion file (TOML) for a robot.
 
     Args:
         robot: The loaded robot.
         robot_file: The robot file as the motion file's ``robot`` key gives it
             (relative to the motion file).
+        tool_poses: Write the waypoints as poses of the robot's payload frame in the
+            world (the robot on the floor), not as joint positions.
 
     Returns:
         The motion file, commented.
@@ -51,10 +62,15 @@ def starter_motion(robot: Robot, robot_file: str) -> str:
     """
     expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_robot)")
     expect_type(robot_file, (str,), "robot_file", "the robot file's name, a string")
+    expect_type(tool_poses, (bool,), "tool_poses", "True or False")
     infos = [i for i in describe_joints(robot) if i.index is not None]
     units = ["deg" if i.kind != "prismatic" else "m" for i in infos]
     scale = [DEG_PER_RAD if u == "deg" else 1.0 for u in units]
     start, second = _poses(infos, units, scale)
+    if tool_poses:
+        pair = regular_pair(robot, np.array(start) / scale, np.array(second) / scale)
+        start, second = ([_inside(v * k, i.lower * k, i.upper * k, 4)
+                          for v, k, i in zip(q, scale, infos, strict=True)] for q in pair)
     speeds, guessed = [], []
     for info, unit, k in zip(infos, units, scale, strict=True):
         if math.isfinite(info.velocity_limit):
@@ -113,6 +129,10 @@ def starter_motion(robot: Robot, robot_file: str) -> str:
         "life_hours = 20000      # required gearhead life [h]",
         'life_basis = "L50"      # "L50" (average life) or "L10" (90 % survive it)',
         "",
+    ]
+    if tool_poses:
+        return "\n".join(lines + _tool_waypoints(robot, infos, scale, start, second)) + "\n"
+    lines += [
         "# The cycle: a start pose inside every joint's limits, a second pose and back, resting",
         "# 0.5 s at each. Positions in deg (m for prismatic joints), keyed by joint name.",
     ]
@@ -120,6 +140,88 @@ def starter_motion(robot: Robot, robot_file: str) -> str:
         lines += ["", "[[waypoint]]", "dwell = 0.5", "[waypoint.q]"]
         lines += [f"{_key(i.name)} = {_number(v)}" for i, v in zip(infos, pose, strict=True)]
     return "\n".join(lines) + "\n"
+
+
+def _tool_waypoints(robot: Robot, infos, scale, start, second) -> list[str]:
+    """The ``[tool]`` table and the cycle as tool poses of the payload frame [m, deg]."""
+    kin = FrameKinematics(robot, robot.payload_frame)
+    poses = [_rounded(kin.placement(np.array(q) / scale)) for q in (start, second)]
+    near = ", ".join(f"{_key(i.name)} = {_number(v)}" for i, v in zip(infos, start, strict=True))
+    lines = [
+        "",
+        "[tool]",
+        f"frame = {json.dumps(robot.payload_frame)}   # the frame the poses place (the default: "
+        "the payload's frame)",
+        "# position_tolerance = 0.0001   # m: how close a solved pose must come (0.1 mm)",
+        "# orientation_tolerance = 0.01  # deg (0.01 deg)",
+        "",
+        "# The cycle as tool poses in the world (z up; the robot on the floor at the origin,",
+        "# `--mounting wall` or `ceiling` solves the same poses again), resting 0.5 s at each.",
+        "# xyz in m, rpy (roll, pitch, yaw about fixed x, y, z) in deg. The first pose starts",
+        "# the solver at `near`, which picks the arm's branch (elbow up or down, ...); each",
+        "# next pose starts from the one before.",
+    ]
+    for k, (xyz, rpy) in enumerate((poses[0], poses[1], poses[0])):
+        lines += ["", "[[waypoint]]", "dwell = 0.5",
+                  f"pose = {{xyz = [{', '.join(_number(v) for v in xyz)}], "
+                  f"rpy = [{', '.join(_number(v) for v in rpy)}]}}"]
+        if k == 0:
+            lines.append(f"near = {{{near}}}")
+        if k == 1:
+            lines.append('# line = true          # reach it along a straight line (needs planner '
+                         '= "toppra")')
+    return lines
+
+
+def _rounded(pose) -> tuple[list[float], list[float]]:
+    """A pose's xyz [m] to 10 um and rpy [deg] to 1e-4 deg, as the starter writes them."""
+    xyz, rpy = xyz_rpy(pose)
+    return [round(float(v), 5) + 0.0 for v in xyz], [round(float(v) * DEG_PER_RAD, 4) + 0.0
+                                                      for v in rpy]
+
+
+CANDIDATES = 64
+"""Joint configurations tried for a starter's tool poses [-]."""
+
+
+def regular_pair(robot: Robot, start: np.ndarray, second: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Two joint configurations [rad or m] whose tool poses solve back to them, on one branch.
+
+    Candidates are the starter's own pair, then pairs drawn (seeded) around it, ever
+    further, inside the middle 80 % of every range, with the same moves; the first whose
+    rounded poses solve, from a `near` hint of the first, to within the default
+    tolerance, without a change of branch and away from singularities, wins; else the
+    most regular candidate.
+    """
+    kin = FrameKinematics(robot, robot.payload_frame)
+    rng = np.random.default_rng(0)
+    lower = np.where(np.isfinite(kin.lower), kin.lower, -np.pi)
+    upper = np.where(np.isfinite(kin.upper), kin.upper, np.pi)
+    margin = INSIDE * (upper - lower)
+    move = second - start
+    best, best_sigma = (start, second), -1.0
+    for k in range(CANDIDATES):
+        first = start if k == 0 else np.clip(start + rng.normal(0.0, 0.2 * (1 + k / 4), kin.dof),
+                                             lower + margin, upper - margin)
+        pair = (first, np.clip(first + move, lower, upper))
+        sigma = min(kin.sigma_min(q) for q in pair)
+        if sigma > best_sigma:
+            best, best_sigma = pair, sigma
+        if sigma > 0.02 and _solves_back(kin, *pair):
+            return pair
+    return best
+
+
+def _solves_back(kin: FrameKinematics, first: np.ndarray, second: np.ndarray) -> bool:
+    """The rounded poses of `first` and `second` solve from `first`, keeping the branch."""
+    targets = [pose_from_xyz_rpy(xyz, [math.radians(a) for a in rpy])
+               for xyz, rpy in (_rounded(kin.placement(q)) for q in (first, second))]
+    one = solve_pose(kin, targets[0], first)
+    two = solve_pose(kin, targets[1], one.q)
+    return (one.converged and two.converged
+            and not check_branch(kin, one.q, two.q).flipped
+            and pose_error(kin.placement(two.q), targets[1])[0] < 1e-4)
 
 
 def _poses(infos, units, scale) -> tuple[list[float], list[float]]:

@@ -10,10 +10,12 @@ from rich.markup import escape
 
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
+from hdselect.motion.planning.toolpath import LineDeviation
 from hdselect.report.tables import Column, FittedTable, Paragraphs
 from hdselect.report.terminal import DEG_PER_RAD
 from hdselect.robot.joints import JointInfo
 from hdselect.robot.model import Robot
+from hdselect.robot.mounting import mounting_name
 from hdselect.sizing.records import HOLD_NOTE
 
 
@@ -64,13 +66,14 @@ def joints_table(robot: Robot, infos: Iterable[JointInfo]) -> FittedTable:
                        tuple(rows), notes=tuple(notes))
 
 
-def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory) -> Paragraphs:
+def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory,
+              lines: Iterable[LineDeviation] = ()) -> Paragraphs:
     """What ``hdselect plan`` planned, and what a reader must know about it."""
     count = len(trajectory.t)
     return Paragraphs((f"{robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
                        f"{trajectory.duration:.3f} s, {count:,} sample{'s' if count != 1 else ''}"
                        + refined_note(motion.dt, trajectory.dt),
-                       *case_notes(robot, trajectory)))
+                       *tool_pose_notes(motion, lines), *case_notes(robot, trajectory)))
 
 
 def refined_note(asked: float, sampled: float) -> str:
@@ -126,4 +129,38 @@ def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
         notes.append(f"still: {', '.join(still)} {'does' if len(still) == 1 else 'do'} not move "
                      "in this motion, so only holding (static) and an emergency stop are checked "
                      "there; mean torque, speed and life do not apply.")
+    return notes
+
+
+def tool_pose_notes(motion: Motion | None, lines: Iterable[LineDeviation] = ()) -> list[str]:
+    """How a motion's tool poses were solved, and how closely its straight lines were planned.
+
+    Args:
+        motion: The motion as solved (None, or without tool poses: nothing to say).
+        lines: Each line's deviation at the planned samples, when known.
+
+    Returns:
+        One sentence for the poses, one for the lines when there are lines.
+    """
+    if motion is None or motion.tool is None or motion.solution is None:
+        return []
+    solution, tolerance = motion.solution, motion.tool.tolerance
+    count = len(motion.tool.poses)
+    notes = [f"tool poses: {count} waypoint{'s' if count != 1 else ''} solved for "
+             f"'{solution.frame}' on {mounting_name(solution.base)}, within "
+             f"{np.nanmax(solution.position_error) * 1e3:.2g} mm and "
+             f"{np.nanmax(solution.orientation_error) * DEG_PER_RAD:.2g} deg of the poses "
+             f"(tolerance {tolerance.position * 1e3:g} mm, "
+             f"{tolerance.orientation * DEG_PER_RAD:.3g} deg)."]
+    if motion.lines:
+        samples = sum(len(line.interior) for line in motion.lines)
+        text = (f"straight lines: {len(motion.lines)}, through {samples} joint samples solved "
+                "along them")
+        lines = list(lines)
+        if lines:
+            distance = max(float(d.position.max(initial=0.0)) for d in lines)
+            angle = max(float(d.orientation.max(initial=0.0)) for d in lines)
+            text += (f"; the planned tool strays at most {distance * 1e3:.2g} mm and "
+                     f"{angle * DEG_PER_RAD:.2g} deg from them")
+        notes.append(text + ".")
     return notes

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -13,7 +13,9 @@ from hdselect.base.outputs import write_file
 from hdselect.catalog.duty import DutyResult
 from hdselect.catalog.rules import RPM_PER_RAD_S
 from hdselect.catalog.units import Unit
+from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
+from hdselect.motion.planning.toolpath import LineDeviation
 from hdselect.robot.joints import JointInfo
 from hdselect.robot.model import Robot
 from hdselect.sizing.records import candidate_json, finite_or_none, mean_speed_note
@@ -129,5 +131,62 @@ def write_trajectory_csv(target: str | Path, trajectory: Trajectory, tau: Any,
         for start in range(0, len(trajectory.t), _CSV_ROWS):  # bounded memory, any length
             np.savetxt(stream, rows(slice(start, start + _CSV_ROWS)), fmt="%.10g",
                        delimiter=",")
+
+    write_output(target, write)
+
+
+def write_line_errors_csv(target: str | Path, trajectory: Trajectory,
+                          lines: Sequence[LineDeviation]) -> None:
+    """One row per planned sample on a straight line: how far the tool strays from it.
+
+    Columns: ``t`` [s], ``line`` (the waypoint the line ends at; it starts at the one
+    before), ``distance`` [m] (the tool origin's distance from the line's segment),
+    ``angle`` [rad] (the tool orientation's angle from the nearest orientation of the
+    line's slerp) and ``fraction`` (the fraction of the line the sample is nearest).
+    """
+    rows = np.concatenate([np.column_stack([trajectory.t[found.index],
+                                            np.full(len(found.index), found.last),
+                                            found.position, found.orientation, found.fraction])
+                           for found in lines]) if lines else np.zeros((0, 5))
+
+    def write(stream: Any) -> None:
+        stream.write("t,line,distance,angle,fraction\n")
+        np.savetxt(stream, rows, fmt="%.10g", delimiter=",")
+
+    write_output(target, write)
+
+
+def write_waypoints_csv(target: str | Path, motion: Motion) -> None:
+    """The solved motion's joint path: every waypoint, and every joint sample of a line.
+
+    One row per point, in the order the path passes them: ``waypoint`` (a line sample:
+    the waypoint its line ends at), ``fraction`` (of the way from the waypoint before:
+    a line sample's fraction of its line, 1 at a waypoint), ``q_`` of every joint [rad
+    or m], ``position_error`` [m] and ``orientation_error`` [rad]: the tool's distance
+    from the pose asked for (a line sample: the line's pose at its fraction); 0 for a
+    joint waypoint, which is where its joint positions put it.
+    """
+    solution = motion.solution
+    nothing = np.zeros(len(motion.waypoints))
+    position = (np.nan_to_num(solution.position_error) if solution is not None
+                and len(solution.position_error) == len(nothing) else nothing)
+    orientation = (np.nan_to_num(solution.orientation_error) if solution is not None
+                   and len(solution.orientation_error) == len(nothing) else nothing)
+    lines = {line.last: line for line in motion.lines}
+    rows = []
+    for i, q in enumerate(motion.waypoints):
+        if i in lines:
+            line = lines[i]
+            for f, sample, p, o in zip(line.fractions[1:-1], line.interior,
+                                       line.position_error[1:-1],
+                                       line.orientation_error[1:-1], strict=True):
+                rows.append([i, f, *sample, p, o])
+        rows.append([i, 1.0, *q, position[i], orientation[i]])
+    header = ["waypoint", "fraction", *(f"q_{name}" for name in motion.joint_names),
+              "position_error", "orientation_error"]
+
+    def write(stream: Any) -> None:
+        stream.write(",".join(header) + "\n")
+        np.savetxt(stream, np.array(rows), fmt="%.10g", delimiter=",")
 
     write_output(target, write)

@@ -17,7 +17,7 @@ from hdselect.catalog.rules import (
     MotorDemand,
 )
 from hdselect.catalog.units import Unit
-from hdselect.report.case_tables import case_notes
+from hdselect.report.case_tables import case_notes, tool_pose_notes
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import (
     life_text,
@@ -286,7 +286,7 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
-    notes += case_notes(result.robot, result.trajectory)
+    notes += tool_pose_notes(result.motion) + case_notes(result.robot, result.trajectory)
     for joint in result.joints:
         if joint.selected is None:
             strongest = joint.strongest

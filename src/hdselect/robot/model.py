@@ -21,7 +21,7 @@ from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import is_input_file, readable
 from hdselect.robot.checks import model_limit
-from hdselect.robot.mounting import gravity_of
+from hdselect.robot.mounting import NAMED_BASES, BasePose, Mounting, base_pose_of, gravity_of
 from hdselect.robot.payload import Payload, payload_frame, tip_frame
 from hdselect.robot.reading import Mimic, read_robot_file
 
@@ -65,6 +65,8 @@ class Robot:
         notes: What loading set aside or found suspicious in the file, one line each.
         uncoupled_followers: Mimic followers Pinocchio could not couple to their leaders:
             degrees of freedom here, not sized unless named.
+        base_pose: Where the base sits in the world (z up), which `gravity` follows from;
+            None when the mounting was given as a gravity vector alone.
     """
 
     path: Path
@@ -84,6 +86,7 @@ class Robot:
     file_order: tuple[str, ...] | None = None
     notes: tuple[str, ...] = ()
     uncoupled_followers: tuple[str, ...] = ()
+    base_pose: BasePose | None = NAMED_BASES["floor"]
     _q_index: tuple[tuple[int, int], ...] = field(default=(), repr=False)
     _bare: pin.Model | None = field(default=None, repr=False)
 
@@ -134,17 +137,19 @@ class Robot:
         bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
         return self._rebuilt(payload=payload)
 
-    def with_mounting(self, mounting: str | Sequence[float]) -> Robot:
+    def with_mounting(self, mounting: Mounting) -> Robot:
         """The same robot mounted otherwise.
 
         Args:
-            mounting: ``"floor"``, ``"wall"``, ``"ceiling"`` or a gravity vector in the
-                base frame [m/s^2].
+            mounting: ``"floor"``, ``"wall"``, ``"ceiling"``, a `BasePose` in the world, or
+                a gravity vector in the base frame [m/s^2] (which places no base in the
+                world: tool poses then cannot be solved).
 
         Raises:
             InputError: The mounting is not one of these.
         """
-        return self._rebuilt(gravity=frozen(gravity_of(mounting)))
+        return self._rebuilt(gravity=frozen(gravity_of(mounting)),
+                             base_pose=base_pose_of(mounting))
 
     def with_gearheads(self, masses: Mapping[str, float]) -> Robot:
         """The same robot carrying a point mass at the origin of each named joint.
@@ -261,7 +266,7 @@ def load_robot(
     path: str | Path,
     *,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] = "floor",
+    mounting: Mounting = "floor",
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] = (),
 ) -> Robot:
@@ -270,8 +275,8 @@ def load_robot(
     Args:
         path: The robot file (``.urdf``; ``.xml`` or ``.mjcf`` for MJCF).
         payload: A payload to attach, if any (same as `Robot.with_payload`).
-        mounting: ``"floor"``, ``"wall"``, ``"ceiling"`` or a gravity vector in the
-            base frame [m/s^2] (same as `Robot.with_mounting`).
+        mounting: ``"floor"``, ``"wall"``, ``"ceiling"``, a `BasePose` or a gravity vector
+            in the base frame [m/s^2] (same as `Robot.with_mounting`).
         joints: Joints to size; default every revolute and continuous joint that
             is not a mimic follower.
         exclude: Joints not to size (they still move and load the others).
@@ -309,6 +314,7 @@ def load_robot(
         velocity_limit=frozen(model_limit(model, "upperVelocityLimit", "velocityLimit")),
         effort_limit=frozen(model_limit(model, "upperEffortLimit", "effortLimit")),
         gravity=frozen(gravity_of(mounting)),
+        base_pose=base_pose_of(mounting),
         root_link=file.root_link,
         mimic=file.mimic,
         file_order=file.file_order,

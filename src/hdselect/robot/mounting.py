@@ -1,10 +1,30 @@
-"""How a robot is mounted: the direction of gravity in its base frame."""
+"""How a robot is mounted: where its base sits in the world, and gravity in its base frame.
+
+The world is where the work is: z points up, gravity is (0, 0, -g). A mounting places the
+robot's base in that world (`BasePose`, the base-to-world transform), and gravity in the
+base frame follows from it: g_base = R^T (0, 0, -g), R the base's rotation in the world.
+That one definition serves both the dynamics (gravity) and the inverse kinematics of tool
+poses written in the world (`hdselect.motion.toolposes`).
+
+Named mountings:
+
+- ``floor``: the base frame is the world frame; gravity along base -z.
+- ``wall``: base origin at the world origin, base x axis pointing up (world +z), base z
+  axis along world +x (out of the wall), so base y is world -y; gravity along base -x.
+- ``ceiling``: turned upside down about the world x axis, base z pointing down; gravity
+  along base +z.
+
+A gravity vector alone (three numbers in the base frame) sets the dynamics but does not
+place the base in the world: tool poses need a named mounting or a base pose.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
@@ -12,22 +32,99 @@ from hdselect.base.errors import InputError
 STANDARD_GRAVITY = 9.80665
 """Standard gravity [m/s^2]."""
 
+WORLD_GRAVITY = (0.0, 0.0, -STANDARD_GRAVITY)
+"""Gravity in the world frame, z up [m/s^2]."""
 
-MOUNTINGS = {
-    "floor": (0.0, 0.0, -STANDARD_GRAVITY),
-    "ceiling": (0.0, 0.0, STANDARD_GRAVITY),
-    "wall": (-STANDARD_GRAVITY, 0.0, 0.0),
+
+@dataclass(frozen=True)
+class BasePose:
+    """Where the robot's base sits in the world: the base-to-world transform.
+
+    A point p given in the base frame is ``rotation @ p + xyz`` in the world.
+
+    Attributes:
+        xyz: Position of the base origin in the world [m].
+        rotation: The base axes in world coordinates, as the columns of a rotation
+            matrix (rows of the tuple are the matrix rows) [-].
+    """
+
+    xyz: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rotation: tuple[tuple[float, float, float], ...] = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0),
+                                                         (0.0, 0.0, 1.0))
+
+    def __post_init__(self) -> None:
+        matrix = np.asarray(self.rotation, dtype=float)
+        position = np.asarray(self.xyz, dtype=float)
+        if matrix.shape != (3, 3) or position.shape != (3,) or not (
+                np.all(np.isfinite(matrix)) and np.all(np.isfinite(position))):
+            raise InputError("a base pose is three finite numbers [m] and a 3 x 3 rotation",
+                             field="base")
+        if not np.allclose(matrix @ matrix.T, np.eye(3), atol=1e-9) or \
+                np.linalg.det(matrix) < 0.0:
+            raise InputError("the base rotation must be a rotation matrix (orthonormal, "
+                             "determinant +1)", field="base")
+        object.__setattr__(self, "xyz", tuple(float(v) for v in position))
+        object.__setattr__(self, "rotation", tuple(tuple(float(v) for v in row)
+                                                   for row in matrix))
+
+    @classmethod
+    def from_xyz_rpy(cls, xyz: Sequence[float], rpy: Sequence[float]) -> BasePose:
+        """A base pose from a position [m] and roll, pitch, yaw [rad] about fixed axes.
+
+        The angles follow URDF's ``<origin rpy>``: R = Rz(yaw) Ry(pitch) Rx(roll).
+        """
+        return cls(tuple(xyz), tuple(map(tuple, rpy_matrix(rpy))))  # type: ignore[arg-type]
+
+    @property
+    def matrix(self) -> np.ndarray:
+        """The rotation as an array, shape (3, 3) [-]."""
+        return np.array(self.rotation)
+
+    @property
+    def position(self) -> np.ndarray:
+        """The base origin in the world as an array, shape (3,) [m]."""
+        return np.array(self.xyz)
+
+    @property
+    def gravity(self) -> np.ndarray:
+        """Gravity in the base frame, R^T (0, 0, -g) [m/s^2], shape (3,)."""
+        return self.matrix.T @ np.array(WORLD_GRAVITY)
+
+
+def rpy_matrix(rpy: Sequence[float]) -> np.ndarray:
+    """R = Rz(yaw) Ry(pitch) Rx(roll) for roll, pitch, yaw [rad] (URDF's fixed axes X, Y, Z)."""
+    roll, pitch, yaw = (float(a) for a in rpy)
+    return np.array(pin.rpy.rpyToMatrix(roll, pitch, yaw))
+
+
+NAMED_BASES = {
+    "floor": BasePose(),
+    "ceiling": BasePose(rotation=((1.0, 0.0, 0.0), (0.0, -1.0, 0.0), (0.0, 0.0, -1.0))),
+    "wall": BasePose(rotation=((0.0, 0.0, 1.0), (0.0, -1.0, 0.0), (1.0, 0.0, 0.0))),
 }
-"""Gravity in the base frame [m/s^2] for each named mounting. On a wall the base z
-axis is horizontal and gravity points along the base's -x axis."""
+"""The base pose of each named mounting (columns of the rotation: base x, y, z in the world)."""
 
 
-def gravity_of(mounting: str | Sequence[float]) -> np.ndarray:
-    """Gravity in the base frame [m/s^2] for a named mounting or a gravity vector.
+MOUNTINGS = {name: tuple(float(g) + 0.0 for g in base.gravity)
+             for name, base in NAMED_BASES.items()}
+"""Gravity in the base frame [m/s^2] for each named mounting, from its base pose: on the
+floor (0, 0, -g), on the ceiling (0, 0, g), on a wall (-g, 0, 0)."""
+
+
+Mounting = str | Sequence[float] | BasePose
+"""A mounting: a name of `NAMED_BASES`, a gravity vector in the base frame [m/s^2], or a
+`BasePose`."""
+
+
+def gravity_of(mounting: Mounting) -> np.ndarray:
+    """Gravity in the base frame [m/s^2] for a named mounting, a gravity vector or a base pose.
 
     Raises:
-        InputError: The mounting is neither a known name nor three finite numbers.
+        InputError: The mounting is neither a known name, three finite numbers nor a
+            base pose.
     """
+    if isinstance(mounting, BasePose):
+        return mounting.gravity + 0.0
     if isinstance(mounting, str):
         if mounting not in MOUNTINGS:
             raise InputError(f"unknown mounting '{mounting}'; choose one of: "
@@ -47,3 +144,29 @@ def gravity_of(mounting: str | Sequence[float]) -> np.ndarray:
     for i, value in enumerate(gravity):
         bounds.GRAVITY.check(float(value), field=f"mounting[{i}]")
     return gravity
+
+
+def base_pose_of(mounting: Mounting) -> BasePose | None:
+    """The base pose of a mounting: a name's, the pose itself, or None for a gravity vector.
+
+    Raises:
+        InputError: An unknown name.
+    """
+    if isinstance(mounting, BasePose):
+        return mounting
+    if isinstance(mounting, str):
+        gravity_of(mounting)  # the message for an unknown name
+        return NAMED_BASES[mounting]
+    return None
+
+
+def mounting_name(base: BasePose | None) -> str:
+    """The mounting in words: ``the wall mounting``, or the base pose's numbers."""
+    if base is None:
+        return "a mounting given as a gravity vector"
+    for name, named in NAMED_BASES.items():
+        if named == base:
+            return f"the {name} mounting"
+    rpy = np.degrees(pin.rpy.matrixToRpy(base.matrix))
+    return (f"the base at ({', '.join(f'{v:.4g}' for v in base.xyz)}) m, rpy "
+            f"({', '.join(f'{v:.4g}' for v in rpy)}) deg")

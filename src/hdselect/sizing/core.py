@@ -26,7 +26,9 @@ from hdselect.catalog.units import Unit
 from hdselect.motion.case import load_case, robot_for_motion
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import check_trajectory, checked_motors, units_argument
 from hdselect.sizing.joint import JointCycle, size_joint
@@ -49,7 +51,7 @@ def size(
     catalog: Sequence[str | Path] = (),
     units: Sequence[Unit] | None = None,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
+    mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
     motors: Motors | None = None,
@@ -99,6 +101,7 @@ def size(
             robot = load_robot(file)
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
                                  joints=joints, exclude=exclude)
+        motion = solve_motion(robot, motion)
     else:
         robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
                                   joints=joints, exclude=exclude)

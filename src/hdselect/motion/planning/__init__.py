@@ -8,12 +8,15 @@ Three planners, chosen by the motion file, one module each:
   through the waypoints, split where the arm dwells.
 - ``samples`` (`hdselect.motion.planning.samples`): a logged trajectory.
 
+Tool poses are solved for the robot's mounting first (`hdselect.motion.solve`), and a
+straight line is checked at every planned sample (`hdselect.motion.planning.toolpath`).
 Every planned trajectory is checked against the robot's position limits.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -23,8 +26,10 @@ from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.motion.motionfile import PLANNERS as PLANNER_NAMES
 from hdselect.motion.planning.ruckig import plan_ruckig
 from hdselect.motion.planning.samples import plan_samples
+from hdselect.motion.planning.toolpath import LineDeviation, plan_lines
 from hdselect.motion.planning.toppra import plan_toppra
 from hdselect.motion.planning.trajectory import Trajectory
+from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
 
 PLANNERS: dict[str, Callable[..., Trajectory]] = {
@@ -36,7 +41,24 @@ PLANNERS: dict[str, Callable[..., Trajectory]] = {
 the motion and a keyword ``max_samples``."""
 assert tuple(PLANNERS) == PLANNER_NAMES
 
-__all__ = ["PLANNERS", "Trajectory", "check_within_limits", "plan"]
+__all__ = ["PLANNERS", "Planned", "Trajectory", "check_within_limits", "plan", "plan_motion"]
+
+
+@dataclass(frozen=True, eq=False)
+class Planned:
+    """A motion planned: the motion as solved for the robot, and its trajectory.
+
+    Attributes:
+        motion: The motion with its tool poses solved for the robot's mounting and its
+            lines refined as planned (the motion itself when it has no tool poses).
+        trajectory: The trajectory, sampled every ``motion.dt``.
+        lines: For each straight line, the tool's deviation from it at every planned
+            sample.
+    """
+
+    motion: Motion
+    trajectory: Trajectory
+    lines: tuple[LineDeviation, ...] = ()
 
 
 def plan(robot: Robot, motion: Motion, *, max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
@@ -52,23 +74,41 @@ def plan(robot: Robot, motion: Motion, *, max_samples: int = DEFAULT_MAX_SAMPLES
         max_samples: Most samples the trajectory may have.
 
     Returns:
-        The trajectory, sampled every ``motion.dt`` [s].
+        The trajectory, sampled every ``motion.dt`` [s]. Tool poses are solved for the
+        robot's mounting on the way (`plan_motion` returns them too).
 
     Raises:
         InputError: The arguments are not a Robot and a Motion, the motion was read
-            for other joints, or the grid is too coarse or too large (field ``dt``).
-        PlanningError: The planner failed, the limits cannot be met, or the
-            trajectory leaves a joint's position limits.
+            for other joints, a tool pose cannot be solved, or the grid is too coarse or
+            too large (field ``dt``).
+        PlanningError: The planner failed, the limits cannot be met, the trajectory
+            leaves a joint's position limits, or strays from a straight line.
+    """
+    return plan_motion(robot, motion, max_samples=max_samples).trajectory
+
+
+def plan_motion(robot: Robot, motion: Motion, *,
+                max_samples: int = DEFAULT_MAX_SAMPLES) -> Planned:
+    """Solve the motion's tool poses for the robot, plan it, and check its straight lines.
+
+    Arguments, and what it raises, as `plan`.
+
+    Returns:
+        The solved motion, the trajectory and each line's deviation at the planned samples.
     """
     if not isinstance(robot, Robot):
         raise InputError(f"expected a Robot, got {type(robot).__name__}", field="robot")
     if not isinstance(motion, Motion):
         raise InputError(f"expected a Motion, got {type(motion).__name__}", field="motion")
     max_samples = check_max_samples(max_samples)
-    motion.check_joints(robot)
-    trajectory = PLANNERS[motion.planner](robot, motion, max_samples=max_samples)
-    check_within_limits(robot, motion, trajectory)
-    return trajectory
+    motion = solve_motion(robot, motion)
+
+    def planned(solved: Motion) -> Trajectory:
+        trajectory = PLANNERS[solved.planner](robot, solved, max_samples=max_samples)
+        check_within_limits(robot, solved, trajectory)
+        return trajectory
+
+    return Planned(*plan_lines(robot, motion, planned))
 
 
 def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,

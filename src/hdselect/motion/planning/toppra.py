@@ -39,6 +39,7 @@ from hdselect.base.arrays import frozen
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.base.errors import PlanningError
 from hdselect.motion.motionfile import Motion
+from hdselect.motion.paths import SplinePath, piece_bounds, piece_geometry
 from hdselect.motion.planning.trajectory import Move, Trajectory, assemble
 from hdselect.robot.model import Robot
 
@@ -51,6 +52,9 @@ TOPPRA_TORQUE_TOLERANCE = 1e-3
 
 _GRID_PER_SEGMENT = 200
 """TOPPRA gridpoints per waypoint of a piece (cosine-spaced, dense near the rest ends)."""
+
+GRID_PER_LINE_SAMPLE = 8
+"""TOPPRA gridpoints per joint sample of a straight line (its samples are close together)."""
 
 _DENSE_CHECK = 10
 """Check points per TOPPRA gridpoint when measuring its overshoot."""
@@ -66,8 +70,8 @@ class PathPiece:
     Attributes:
         first: Index of the waypoint it starts from.
         last: Index of the waypoint it ends at (the next one with a dwell, or the last).
-        path: The path over s in [0, 1] (`_Path`, toppra's path interface), or None when
-            the piece has zero length.
+        path: The path over s in [0, 1] (`hdselect.motion.paths.SplinePath`, toppra's path
+            interface), or None when the piece has zero length.
         gridpoints: TOPPRA's gridpoints s, shape (m,).
         q: p(s) at the gridpoints [rad or m], shape (m, dof).
         dq: p'(s) at the gridpoints [rad or m per unit of s], shape (m, dof).
@@ -155,6 +159,19 @@ class Profile:
         s = self.piece.gridpoints[index] + step * self.sd[index] + 0.5 * step**2 * u
         return s, self.sd[index] + step * u, u
 
+    def time_at(self, positions: np.ndarray) -> np.ndarray:
+        """The time [s] from the start at which the piece reaches path positions s [-]."""
+        s = np.asarray(positions, dtype=float)
+        index = np.clip(np.searchsorted(self.piece.gridpoints, s, side="right") - 1, 0,
+                        len(self.sdd) - 1)
+        ahead = s - self.piece.gridpoints[index]
+        speed, u = self.sd[index], self.sdd[index]
+        # s_i + speed tau + u tau^2 / 2 = s, in the form that stays exact as u -> 0
+        root = np.sqrt(np.maximum(speed**2 + 2.0 * u * ahead, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tau = np.where(speed + root > 0.0, 2.0 * ahead / (speed + root), 0.0)
+        return self.t[index] + tau
+
     def sample(self, times: np.ndarray,
                scale: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Positions, velocities and accelerations along the piece run `scale` times slower.
@@ -204,16 +221,18 @@ def path_pieces(robot: Robot, motion: Motion, grid_per_waypoint: int = _GRID_PER
     """The motion's path split where it dwells: a clamped cubic spline per piece.
 
     Repeated consecutive waypoints are dropped; a piece whose waypoints all coincide
-    has no path (zero length). A joint whose spline would leave the robot's position
-    limits follows a shape-preserving cubic instead (`_Path`). The knots are at the
-    cumulative chord length (the TOPPRA planner's path) or, given `speeds`, at the
+    has no path (zero length). A straight line's joint samples are points of the path
+    too. A joint whose spline would leave the robot's position limits follows a
+    shape-preserving cubic instead (`hdselect.motion.paths.SplinePath`). The knots are at
+    the cumulative chord length (the TOPPRA planner's path) or, given `speeds`, at the
     cumulative time each segment takes at those speeds, max_j |dq_j| / speed_j, which
     weighs joints in different units (rad, m) alike. Each piece gets
-    ``grid_per_waypoint`` cosine-spaced gridpoints per waypoint.
+    ``grid_per_waypoint`` cosine-spaced gridpoints per waypoint, and `GRID_PER_LINE_SAMPLE`
+    per line sample.
 
     Args:
         robot: The robot (position limits).
-        motion: The motion (waypoints and dwells).
+        motion: The motion (waypoints, solved, and dwells).
         grid_per_waypoint: Gridpoints per waypoint of a piece.
         speeds: Joint speeds that set the knots [rad/s or m/s], shape (dof,); None for
             chord length.
@@ -221,93 +240,28 @@ def path_pieces(robot: Robot, motion: Motion, grid_per_waypoint: int = _GRID_PER
     Returns:
         The pieces, in order.
     """
-    splits = [0, *np.flatnonzero(motion.dwells[1:-1] > 0.0) + 1, len(motion.waypoints) - 1]
     pieces: list[PathPiece] = []
-    for first, last in zip(splits[:-1], splits[1:], strict=True):
-        points = motion.waypoints[first:last + 1]
-        keep = np.r_[True, np.any(np.diff(points, axis=0) != 0.0, axis=1)]
-        points = points[keep]
-        indices = tuple(int(i) for i in first + np.flatnonzero(keep))
-        if len(points) < 2:
+    for first, last in piece_bounds(motion):
+        geometry = piece_geometry(motion, first, last, speeds)
+        if len(geometry.knots) < 2:
             nothing = frozen(np.zeros((0, len(motion.joint_names))))
             pieces.append(PathPiece(first, last, None, frozen(np.zeros(0)), nothing, nothing,
-                                    nothing, indices))
+                                    nothing, geometry.waypoints))
             continue
-        steps = np.diff(points, axis=0)
-        lengths = (np.linalg.norm(steps, axis=1) if speeds is None
-                   else np.max(np.abs(steps) / speeds, axis=1))
-        chord = np.r_[0.0, np.cumsum(lengths)]
-        grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, grid_per_waypoint * len(points) + 1))
+        count = (grid_per_waypoint * len(geometry.waypoints)
+                 + GRID_PER_LINE_SAMPLE * geometry.line_samples)
+        grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, count + 1))
         with _quiet():
             try:
-                path = _Path(chord / chord[-1], points, robot.lower, robot.upper)
+                path = SplinePath(geometry.knots, geometry.points, robot.lower, robot.upper)
             except (ValueError, ArithmeticError) as err:
                 raise PlanningError(f"{motion.path}: toppra: no spline through waypoint[{first}]"
                                     f" to waypoint[{last}]: {err}") from err
             q, dq, ddq = path(grid), path(grid, 1), path(grid, 2)
         pieces.append(PathPiece(first, last, path, frozen(grid), frozen(q), frozen(dq),
-                                frozen(ddq), indices, frozen(chord / chord[-1])))
+                                frozen(ddq), geometry.waypoints,
+                                frozen(geometry.waypoint_knots)))
     return pieces
-
-
-class _Path:
-    """A geometric path through waypoints, as TOPPRA evaluates it: q(s) and its derivatives.
-
-    Each joint follows the clamped cubic spline through its waypoints unless that
-    spline leaves the joint's position limits; then it follows a monotone piecewise
-    cubic (PCHIP's slopes inside, zero slope at both ends), which stays between
-    neighbouring waypoints.
-
-    Args:
-        ss: Path parameter at each waypoint, increasing from 0 to 1 [-].
-        points: Waypoints [rad or m], shape (k, dof).
-        lower: Lower position limits [rad or m], shape (dof,).
-        upper: Upper position limits [rad or m], shape (dof,).
-    """
-
-    def __init__(self, ss: np.ndarray, points: np.ndarray, lower: np.ndarray,
-                 upper: np.ndarray):
-        from scipy.interpolate import CubicHermiteSpline, CubicSpline, PchipInterpolator
-
-        spline = CubicSpline(ss, points, bc_type="clamped")
-        dense = spline(np.linspace(ss[0], ss[-1], _GRID_PER_SEGMENT * len(ss) + 1))
-        leaves = np.any((dense < lower - 1e-12) | (dense > upper + 1e-12), axis=0)
-        self.shape_preserving = tuple(int(j) for j in np.flatnonzero(leaves))
-        if self.shape_preserving:
-            slopes = PchipInterpolator(ss, points, axis=0).derivative()(ss)
-            slopes[[0, -1]] = 0.0
-            monotone = CubicHermiteSpline(ss, points, slopes, axis=0)
-            spline.c[:, :, leaves] = monotone.c[:, :, leaves]
-        self._splines = (spline, spline.derivative(), spline.derivative(2))
-        self._ss, self._points = ss, points
-
-    def __call__(self, path_positions, order: int = 0):
-        """Positions (order 0) or their first or second derivative along the path."""
-        return self._splines[order](path_positions)
-
-    def eval(self, ss):  # noqa: D102  (TOPPRA's path interface)
-        return self(ss, 0)
-
-    def evald(self, ss):  # noqa: D102
-        return self(ss, 1)
-
-    def evaldd(self, ss):  # noqa: D102
-        return self(ss, 2)
-
-    @property
-    def dof(self) -> int:
-        """Degrees of freedom."""
-        return int(self._points.shape[1])
-
-    @property
-    def path_interval(self) -> np.ndarray:
-        """First and last path parameter."""
-        return np.array([self._ss[0], self._ss[-1]])
-
-    @property
-    def waypoints(self):
-        """Path parameters and positions of the waypoints."""
-        return self._ss, self._points
 
 
 def kinematic_constraints(velocity: np.ndarray, acceleration: np.ndarray) -> list[Any]:
@@ -407,6 +361,11 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
             raise PlanningError(f"{motion.path}: toppra: the path from waypoint[{first}] to "
                                 f"waypoint[{last}] cannot be timed with these limits "
                                 f"({type(err).__name__}: {err})") from err
+        assert piece.knots is not None  # every piece with a path has its knots
+        reached = found.time_at(piece.knots) * scale
+        passes = tuple(float(reached[max(k for k, w in enumerate(piece.waypoints) if w <= i)])
+                       for i in range(first, last + 1))
         moves.append(Move(first, last, duration, partial(found.sample, scale=scale),
-                          found.peak_accelerations(scale), found.time_step * scale))
+                          found.peak_accelerations(scale), found.time_step * scale,
+                          passes=passes))
     return moves

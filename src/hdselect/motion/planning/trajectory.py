@@ -39,6 +39,8 @@ class Move:
             (`PEAK_RESOLUTION`).
         resolution: The longest sample period that resolves the move's shape [s] (TOPPRA:
             the median time between its gridpoints, where its acceleration steps), or None.
+        passes: Time from its start at which it reaches each waypoint from `first` to
+            `last` [s]; empty when only the ends are known (at 0 and `duration`).
     """
 
     first: int
@@ -47,6 +49,7 @@ class Move:
     sample: Sampler | None
     peak_acceleration: np.ndarray | None = None
     resolution: float | None = None
+    passes: tuple[float, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,6 +64,9 @@ class Trajectory:
         q: Joint positions [rad or m], shape (n, dof).
         qd: Joint velocities [rad/s or m/s], shape (n, dof).
         qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof).
+        waypoint_times: When the arm reaches each waypoint of the motion it was planned
+            from, before that waypoint's dwell [s], shape (k,); NaN where a planner does
+            not say (an interior waypoint of a co-design piece); None for a log.
     """
 
     joint_names: tuple[str, ...]
@@ -70,18 +76,21 @@ class Trajectory:
     q: np.ndarray
     qd: np.ndarray
     qdd: np.ndarray
+    waypoint_times: np.ndarray | None = None
 
 
 def trajectory(motion: Motion, duration: float, t: np.ndarray, q: np.ndarray, qd: np.ndarray,
-               qdd: np.ndarray, *, dt: float | None = None) -> Trajectory:
+               qdd: np.ndarray, *, dt: float | None = None,
+               waypoint_times: np.ndarray | None = None) -> Trajectory:
     """A read-only Trajectory of the motion's joints from sampled arrays (taken over).
 
-    Its period is `dt` [s], by default the motion's.
+    Its period is `dt` [s], by default the motion's; `waypoint_times` [s] as
+    `Trajectory.waypoint_times`.
     """
-    for array in (t, q, qd, qdd):
+    for array in (t, q, qd, qdd, *([] if waypoint_times is None else [waypoint_times])):
         array.setflags(write=False)
     return Trajectory(motion.joint_names, motion.dt if dt is None else dt, float(duration), t,
-                      q, qd, qdd)
+                      q, qd, qdd, waypoint_times)
 
 
 def assemble(motion: Motion, moves: Sequence[Move], *,
@@ -156,11 +165,16 @@ def _sampled(motion: Motion, moves: Sequence[Move], dt: float,
     """
     waypoints, dwells = motion.waypoints, motion.dwells
     starts, ends, rest = [], [], [waypoints[0]]
+    reached = np.full(len(waypoints), np.nan)
+    reached[0] = 0.0
     clock = float(dwells[0])
     for move in moves:
         starts.append(clock)
         ends.append(clock + move.duration)
         rest.append(waypoints[move.last])
+        if len(move.passes) == move.last - move.first + 1:
+            reached[move.first + 1:move.last + 1] = clock + np.asarray(move.passes[1:])
+        reached[move.last] = clock + move.duration
         clock += move.duration + float(dwells[move.last])
     if clock == 0.0:
         raise InputError("the cycle takes no time: every waypoint is the same and none has a "
@@ -182,4 +196,4 @@ def _sampled(motion: Motion, moves: Sequence[Move], dt: float,
                 with np.errstate(divide="ignore", invalid="ignore"):
                     short = np.where(scale > 0.0, (move.peak_acceleration - found) / scale, 0.0)
                 miss[i] = float(np.max(short, initial=0.0))
-    return trajectory(motion, clock, t, q, qd, qdd, dt=dt), miss
+    return trajectory(motion, clock, t, q, qd, qdd, dt=dt, waypoint_times=reached), miss

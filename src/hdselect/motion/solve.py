@@ -1,0 +1,345 @@
+"""A motion's tool poses solved for one robot and mounting: an ordinary joint motion.
+
+Each pose is carried from the world into the robot's base frame through its mounting
+(`Robot.base_pose`) and solved by inverse kinematics (`hdselect.motion.ik`), seeded from
+the waypoint before (the first from the middle of the joint ranges), with the
+waypoint's ``near`` hint applied; up to `RESTARTS` random restarts follow when that seed
+fails; when the solution is on another branch than the waypoint before, other seeds
+look for one on the same branch (unless the waypoint's ``near`` chose the branch). A line
+(``line = true``) is walked from the waypoint before
+(`hdselect.motion.lines`), and its samples refined until the planner's spline follows
+it (`hdselect.motion.linefit`).
+
+Every move into or out of a solved pose is checked for a change of branch
+(`hdselect.motion.branches`). A change is an error unless the waypoint says
+``reconfigure = true``: a reconfiguration swings joints through large angles that the
+task, as written, does not need, so sizing it silently would size another task. The
+message names the waypoints and how to keep the branch (a ``near`` hint).
+
+Joint waypoints keep their joint positions whatever the mounting: on any mounting but
+the floor they move with the robot, and a note says so.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import replace
+
+import numpy as np
+import pinocchio as pin
+
+from hdselect.base.arrays import frozen
+from hdselect.base.bounds import expect_type
+from hdselect.base.errors import InputError
+from hdselect.motion.branches import SINGULARITY_NAMES, check_branch
+from hdselect.motion.ik import PoseSolution, solve_pose
+from hdselect.motion.kinematics import FrameKinematics, LimitContact
+from hdselect.motion.linefit import fit_lines
+from hdselect.motion.lines import LinePath, LineStop, solve_line
+from hdselect.motion.motionfile import ANGLE_UNITS, Motion
+from hdselect.motion.poses import base_in_world, in_base, interpolate_pose
+from hdselect.motion.toolposes import ToolPoses, ToolSolution
+from hdselect.robot.model import Robot
+from hdselect.robot.mounting import NAMED_BASES, BasePose, mounting_name
+
+logger = logging.getLogger(__name__)
+
+RESTARTS = 8
+"""Random restarts of a pose whose seeded solve fails [-]."""
+BRANCH_SEEDS = 24
+"""Further seeds tried when a pose's solution is on another branch than the waypoint
+before: around that waypoint's joints, then anywhere within the limits [-]."""
+
+
+def solve_motion(robot: Robot, motion: Motion) -> Motion:
+    """The motion as joint waypoints for this robot as it is mounted.
+
+    A motion without tool poses comes back as it is (with a note when the robot is not
+    on the floor); one already solved for the same robot file, joint limits, frame and
+    mounting comes back as it is.
+
+    Args:
+        robot: The robot as the motion runs it (payload and mounting applied).
+        motion: The motion read for its joints.
+
+    Returns:
+        The motion with every waypoint in joint positions [rad or m], its lines' joint
+        samples (`Motion.lines`) and how the poses were solved (`Motion.solution`).
+
+    Raises:
+        InputError: A pose is out of reach, a line cannot be followed, the arm changes
+            branch where the file does not allow it, the frame is unknown, or the robot's
+            mounting is a gravity vector that places no base in the world; the message
+            names the waypoint. An argument of the wrong type.
+    """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_robot)")
+    expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_motion)")
+    motion.check_joints(robot)
+    base = robot.base_pose
+    tool = motion.tool
+    if tool is None:
+        return _joint_motion(robot, motion)
+    if base is None:
+        raise InputError("the tool poses are in the world, and the mounting given as a "
+                         "gravity vector does not place the base in it: use floor, wall or "
+                         "ceiling, or give base = {xyz, rpy}", path=motion.path, field="mounting")
+    frame = tool.frame or robot.payload_frame
+    key = (str(robot.path), robot.lower.tobytes(), robot.upper.tobytes(), frame, base)
+    if motion.solution is not None and motion.solution.key == key:
+        return motion
+    try:
+        kin = FrameKinematics(robot, frame)
+    except InputError as err:
+        field = "tool.frame" if tool.frame else "payload.frame"
+        raise InputError(err.reason + ("" if tool.frame else " (the payload's frame, which "
+                                       "the poses place when [tool] gives no frame)"),
+                         path=motion.path, field=field) from err
+    solver = _first_branch(kin, motion, tool, base)
+    waypoints, lines = solver.waypoints, solver.lines
+    notes = [*solver.notes, *_moved_with_robot(motion, base)]
+    for note in notes:
+        logger.warning("%s: %s", motion.path, note)
+    solution = ToolSolution(frame, base, frozen(solver.position_error),
+                            frozen(solver.orientation_error), tuple(notes), key)
+    solved = replace(motion, waypoints=frozen(waypoints), lines=tuple(lines), solution=solution,
+                     warnings=_file_warnings(motion) + tuple(notes))
+    return fit_lines(kin, solved, tool.tolerance) if lines else solved
+
+
+def _joint_motion(robot: Robot, motion: Motion) -> Motion:
+    """A motion of joint waypoints: as it is, with the note of a mounting off the floor once."""
+    base = robot.base_pose
+    notes = _moved_with_robot(motion, base) if len(motion.waypoints) else []
+    if motion.solution is not None and motion.solution.base == base:
+        return motion
+    if not notes:
+        return replace(motion, warnings=_file_warnings(motion), solution=None)
+    for note in notes:
+        logger.warning("%s: %s", motion.path, note)
+    nothing = frozen(np.full(len(motion.waypoints), np.nan))
+    assert base is not None  # no note for a gravity vector
+    return replace(motion, warnings=_file_warnings(motion) + tuple(notes), solution=ToolSolution(
+        "", base, nothing, nothing, tuple(notes), ()))
+
+
+def _file_warnings(motion: Motion) -> tuple[str, ...]:
+    """The motion's warnings without the notes of an earlier solving (for another mounting)."""
+    earlier = motion.solution.notes if motion.solution is not None else ()
+    return tuple(w for w in motion.warnings if w not in earlier)
+
+
+def _moved_with_robot(motion: Motion, base: BasePose | None) -> list[str]:
+    """The note for joint waypoints on a robot that is not on the floor."""
+    tool = motion.tool
+    joints = [i for i in range(len(motion.waypoints)) if tool is None or tool.at(i) is None]
+    if not joints or base is None or base == NAMED_BASES["floor"]:
+        return []
+    which = ("the joint waypoints" if tool is None else
+             f"waypoint{'s' if len(joints) > 1 else ''} {', '.join(map(str, joints))} "
+             "(joint positions)")
+    keep = "keeps its" if tool is not None and len(joints) == 1 else "keep their"
+    return [f"{which} {keep} joint angles on {mounting_name(base)}: the "
+            "task moved with the robot; write them as tool poses (pose = {xyz, rpy}) to keep "
+            "the task where it is in the world"]
+
+
+def _first_branch(kin: FrameKinematics, motion: Motion, tool: ToolPoses,
+                  base: BasePose) -> _Solver:
+    """The motion solved from the first branch of its first pose that carries it through.
+
+    The first waypoint's branch decides every other's. When it is a pose without a
+    ``near`` hint, its solution from the middle of the joint ranges comes first, then its
+    other solutions (`FIRST_SEEDS` random starts, the nearest to the middle first); the
+    first from which every waypoint and line solves without a change of branch wins.
+
+    Raises:
+        InputError: No branch carries the motion through: the first branch's error.
+    """
+    first = tool.at(0)
+    starts: list[np.ndarray | None] = [None]
+    if first is not None and not first.near:
+        starts += _other_solutions(kin, in_base(base, first.pose), tool)
+    failure = None
+    for start in starts:
+        solver = _Solver(kin, motion, tool, base)
+        try:
+            solver.run(start)
+            return solver
+        except InputError as err:
+            failure = failure or err
+    assert failure is not None
+    raise failure
+
+
+FIRST_SEEDS = 16
+"""Random starts that look for other branches of the first pose [-]."""
+
+
+def _other_solutions(kin: FrameKinematics, target: pin.SE3,
+                     tolerance_of: ToolPoses) -> list[np.ndarray]:
+    """Distinct solutions of a pose from random starts, the nearest to the ranges' middle first."""
+    rng = np.random.default_rng(0)
+    found: list[np.ndarray] = []
+    lower, upper = np.maximum(kin.lower, -np.pi), np.minimum(kin.upper, np.pi)
+    for _ in range(FIRST_SEEDS):
+        solution = solve_pose(kin, target, rng.uniform(lower, upper),
+                              tolerance=tolerance_of.tolerance)
+        if solution.converged and all(np.abs(solution.q - q).max() > 0.1 for q in found):
+            found.append(np.array(solution.q))
+    return sorted(found, key=lambda q: float(np.abs(q - kin.middle).max()))
+
+
+class _Solver:
+    """The waypoints of one motion solved in order, each from the one before."""
+
+    def __init__(self, kin: FrameKinematics, motion: Motion, tool: ToolPoses,
+                 base: BasePose) -> None:
+        self.kin, self.motion, self.tool, self.base = kin, motion, tool, base
+        count = len(motion.waypoints)
+        self.position_error = np.full(count, np.nan)
+        self.orientation_error = np.full(count, np.nan)
+        self.notes: list[str] = []
+        self.angle = ANGLE_UNITS[motion.angle_unit]
+        self.waypoints = np.array(motion.waypoints)
+        self.lines: list[LinePath] = []
+
+    def run(self, first: np.ndarray | None = None) -> None:
+        """Every waypoint in joint positions, and the lines' samples, in order.
+
+        Args:
+            first: Joint positions that solve the first pose (its branch), or None to
+                solve it from the middle of the ranges.
+        """
+        kin, tool = self.kin, self.tool
+        waypoints, lines = self.waypoints, self.lines
+        for i in range(len(waypoints)):
+            written = tool.at(i)
+            before = waypoints[i - 1] if i else None
+            if written is None:
+                if before is not None and tool.at(i - 1) is not None:
+                    self._check_branch(i, before, waypoints[i], "joints")
+                continue
+            target = in_base(self.base, written.pose)
+            if written.line:
+                assert before is not None  # refused for the first waypoint
+                previous = tool.at(i - 1)
+                start = (in_base(self.base, previous.pose) if previous is not None
+                         else kin.placement(before))
+                found = solve_line(kin, i, start, target, before, tool.tolerance)
+                if isinstance(found, LineStop):
+                    raise InputError(self._line_message(i, start, target, found),
+                                     path=self.motion.path, field=f"waypoint[{i}].line")
+                lines.append(found)
+                waypoints[i] = found.q[-1]
+                self.position_error[i] = found.position_error[-1]
+                self.orientation_error[i] = found.orientation_error[-1]
+                continue
+            seed = kin.hinted(before if before is not None else
+                              first if first is not None else kin.seed(), written.near)
+            solution = solve_pose(kin, target, seed, tolerance=tool.tolerance,
+                                  restarts=RESTARTS, rng_seed=i)
+            if not solution.converged:
+                raise InputError(self._unreachable(solution), path=self.motion.path,
+                                 field=f"waypoint[{i}].pose")
+            if before is not None and not written.near and \
+                    check_branch(kin, before, solution.q).flipped:
+                solution = self._on_branch(i, target, before, solution)
+            waypoints[i] = solution.q
+            self.position_error[i] = solution.position_error
+            self.orientation_error[i] = solution.orientation_error
+            if before is not None:
+                self._check_branch(i, before, waypoints[i],
+                                   "near" if written.near else "searched")
+
+    def _on_branch(self, i: int, target: pin.SE3, before: np.ndarray,
+                   found: PoseSolution) -> PoseSolution:
+        """A solution on the branch of `before`, if other seeds find one; else `found`.
+
+        Of the solutions that keep the branch, the one with the smallest joint move wins.
+        """
+        kin, rng = self.kin, np.random.default_rng(1000 + i)
+        best, smallest = found, np.inf
+        for k in range(BRANCH_SEEDS):
+            spread = (0.2, 0.5, 1.0)[k % 3]
+            seed = (before + rng.normal(0.0, spread, kin.dof) if k < BRANCH_SEEDS // 2
+                    else rng.uniform(np.maximum(kin.lower, -np.pi), np.minimum(kin.upper, np.pi)))
+            other = solve_pose(kin, target, seed, tolerance=self.tool.tolerance)
+            if not other.converged:
+                continue
+            check = check_branch(kin, before, other.q)
+            if not check.flipped and check.joint_move < smallest:
+                best, smallest = other, check.joint_move
+        return best
+
+    def _check_branch(self, i: int, before: np.ndarray, after: np.ndarray, how: str) -> None:
+        """Refuse a change of branch into waypoint `i`, unless it says ``reconfigure``.
+
+        `how` says how waypoint `i` got its joints: ``"joints"`` (given), ``"near"`` (solved
+        from its hint) or ``"searched"`` (solved, no same-branch solution found).
+        """
+        check = check_branch(self.kin, before, after)
+        if not check.flipped:
+            return
+        names = self.kin.robot.joint_names
+        moved = np.argsort(-np.abs(after - before))[:3]
+        moves = ", ".join(f"{names[j]} {self._joint(j, after[j] - before[j], signed=True)}"
+                          for j in moved if abs(after[j] - before[j]) > 1e-6)
+        what = (f"the arm changes branch between waypoint[{i - 1}] and waypoint[{i}]: "
+                f"{'; '.join(check.reasons)} ({moves})")
+        if i in self.tool.reconfigure:
+            self.notes.append(f"{what}; allowed by waypoint[{i}].reconfigure")
+            return
+        if how == "joints":
+            hint = ", ".join(f"{names[j]} = {self._number(j, after[j])}" for j in moved)
+            advice = (f"waypoint[{i - 1}]'s pose was solved on another branch than waypoint"
+                      f"[{i}]'s joints: give waypoint[{i - 1}] a hint such as near = {{{hint}}}")
+        elif how == "near":
+            advice = f"waypoint[{i}]'s near chose the other branch: change it"
+        else:
+            advice = (f"no solution on waypoint[{i - 1}]'s branch was found from "
+                      f"{BRANCH_SEEDS + 1} starts: move the pose, or give waypoint[{i}] a near "
+                      "hint of the joints it should have")
+        raise InputError(f"{what}; {advice}, or allow the change with reconfigure = true",
+                         path=self.motion.path, field=f"waypoint[{i}]")
+
+    def _unreachable(self, solution: PoseSolution) -> str:
+        """Why a pose does not solve: the error left and the joint limits in the way."""
+        text = (f"the tool frame '{self.kin.frame}' cannot reach this pose on "
+                f"{mounting_name(self.base)}: the closest it comes is "
+                f"{solution.position_error * 1e3:.3g} mm and "
+                f"{self._angle(solution.orientation_error)} from it")
+        if solution.blocking:
+            return text + f"; in the way: {self._limits(solution.blocking)}"
+        return text + ("; no joint limit is in the way: the pose is out of the arm's reach, "
+                       "or needs an orientation the arm cannot take there")
+
+    def _line_message(self, i: int, start: pin.SE3, end: pin.SE3, stop: LineStop) -> str:
+        """Where along the line from waypoint i - 1 to i it stops, and why."""
+        world = base_in_world(self.base) * interpolate_pose(start, end, stop.fraction)
+        x, y, z = world.translation
+        where = (f"the straight line from waypoint[{i - 1}] stops {100 * stop.fraction:.1f} % "
+                 f"of the way, with the tool at ({x:.4f}, {y:.4f}, {z:.4f}) m in the world")
+        if stop.reason == "joint limit":
+            return f"{where}: {self._limits(stop.limits)} is in the way"
+        if stop.reason == "singularity":
+            return (f"{where}: it runs into {SINGULARITY_NAMES[stop.singularity]}, where the "
+                    "joint speed blows up; move the line away from it, or drop line = true")
+        return f"{where}: the line leaves the arm's reach"
+
+    def _limits(self, limits: tuple[LimitContact, ...]) -> str:
+        return ", ".join(f"the {c.side} limit of {c.joint} "
+                         f"({self._joint(self.kin.robot.joint_index(c.joint), c.value)})"
+                         for c in limits)
+
+    def _joint(self, j: int, value: float, signed: bool = False) -> str:
+        """A joint position or move in the file's units."""
+        unit = self.motion.angle_unit if self.kin.robot.revolute[j] else "m"
+        return f"{self._number(j, value):{'+' if signed else ''}g} {unit}"
+
+    def _number(self, j: int, value: float) -> float:
+        scale = self.angle if self.kin.robot.revolute[j] else 1.0
+        return float(f"{value / scale:.4g}")
+
+    def _angle(self, value: float) -> str:
+        return f"{value / self.angle:.3g} {self.motion.angle_unit}"
+
