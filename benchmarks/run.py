@@ -209,6 +209,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
     n = len(traj.t)
     units = load_catalog()
     coupled, uncoupled = Options(), Options(mass_coupling=False)
+    unloaded = Options(bearing_loads=False)
     motion_for_size = motion if step == 1 else replace(motion, dt=motion.dt * step)
     payloads = [Payload(0.1 * (k + 1), (0.0, 0.0, 0.03), frame="tool0") for k in range(10)]
 
@@ -240,6 +241,12 @@ def benchmarks(quick: bool) -> list[Benchmark]:
         reference = rnea_loop()
         return max(float(np.max(np.abs(joint.torque - reference[:, robot.joint_index(joint.name)])))
                    for joint in joints)
+
+    def wrench_torque_error() -> float:
+        """The bearing pass's axis row against the sizing's own torques [N m]."""
+        joints = size_trajectory(robot, traj, units, coupled).joints
+        return max(float(np.max(np.abs(joint.wrench.full()[5] - joint.torque)))
+                   for joint in joints if joint.wrench is not None)
 
     study_speed, study_workers = _studies(quick)
     from hdselect.study import run_study
@@ -317,6 +324,14 @@ def benchmarks(quick: bool) -> list[Benchmark]:
                   f"motors) vs {len(units)} units alone, Options(); target: at most the "
                   "motor count", repeats=9),
         *tool_poses,
+        Benchmark(
+            "bearing loads in a sizing",
+            lambda: size_trajectory(robot, traj, units, coupled),
+            lambda: size_trajectory(robot, traj, units, unloaded), 1.3,
+            notes="Options() (every sized joint's force and moment along the cycle, its output "
+                  "bearing's loads) vs Options(bearing_loads=False), the sizing without them",
+            repeats=21,
+            check=Check("max |wrench axis row - torque| [N m]", wrench_torque_error, 1e-9)),
         _envelope_row(robot, motion_for_size, units),
     ]
 

@@ -1,7 +1,7 @@
 """The examples of README.md and docs/*.md, read from the pages and run as a user would.
 
 A page's fenced blocks are taken in order, each page in a scratch folder of its own
-where ``robots/``, ``trajectories/`` and ``motors/`` are the repository's and
+where ``robots/``, ``trajectories/``, ``motors/`` and ``catalogs/`` are the repository's and
 ``out/`` exists (the pages write their files there):
 
 - ``console``: each ``$ hdselect ...`` line is run at 80 columns, piped; the lines
@@ -30,7 +30,7 @@ ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 """Every page whose examples are run."""
 
-SHIPPED = ("robots", "trajectories", "motors")
+SHIPPED = ("robots", "trajectories", "motors", "catalogs")
 """The repository's folders a page's relative paths name."""
 
 ELLIPSIS = "..."

@@ -130,40 +130,93 @@ def test_planar_shoulder_gravity_is_worst_at_full_extension(planar):
     assert np.allclose(result.joints[0].gravity.q, 0.0, atol=1e-4)
 
 
-def test_planar_shoulder_peak_equals_the_closed_form_maximised_independently(planar):
-    """The shoulder's peak from its closed form, maximised by a grid and then by Nelder-Mead.
+SHOULDER_RANGE = (np.array([-1.5707963, -2.6179939]), np.array([2.0943951, 2.6179939]))
+"""planar2.urdf's joint ranges [rad]: (lower, upper) of (q1, q2)."""
 
-    tau1 = M11 qdd1 + M12 qdd2 + c1 + g1 with (m_e the elbow unit at x = l1 on link 1)
+
+def shoulder_terms(q1, q2, me):
+    """The shoulder's row of the planar arm's dynamics, the elbow unit m_e at x = l1 on link 1:
+
         M11 = I1 + I2 + m1 lc1^2 + m2 (l1^2 + lc2^2 + 2 l1 lc2 cos q2) + m_e l1^2,
-        M12 = K + H cos q2,  c1 = -H sin q2 (2 qd1 qd2 + qd2^2),
+        M12 = K + H cos q2,  c1 = -h (2 qd1 qd2 + qd2^2) with h = H sin q2,
         g1 = (m1 lc1 + (m2 + m_e) l1) g cos q1 + m2 lc2 g cos(q1 + q2).
-    The worst vertex gives M11 a + |M12| a; over the speed box 2 qd1 qd2 + qd2^2 spans
-    [-v^2, 3 v^2] (bilinear in qd1, then quadratic in qd2), so the worst |g1 + c1| is the
-    larger of |g1 + H sin q2 v^2| and |g1 - 3 H sin q2 v^2|. What is left is a function
-    of (q1, q2) over the joint ranges.
+
+    Returns M11, M12 [kg m^2], h [kg m^2] and g1 [N m].
+    """
+    m11 = I1 + I2 + M1 * LC1**2 + M2 * (L1**2 + LC2**2 + 2 * L1 * LC2 * np.cos(q2)) \
+        + me * L1**2
+    m12 = K + H * np.cos(q2)
+    g1 = (M1 * LC1 + (M2 + me) * L1) * G * np.cos(q1) + M2 * LC2 * G * np.cos(q1 + q2)
+    return m11, m12, H * np.sin(q2), g1
+
+
+def maximised(worst):
+    """The largest value of worst(q1, q2) over the joint ranges: a 1201 x 1201 grid, then
+    Nelder-Mead from its best point (never below the grid's best)."""
+    lo, hi = SHOULDER_RANGE
+    q1, q2 = np.meshgrid(np.linspace(lo[0], hi[0], 1201), np.linspace(lo[1], hi[1], 1201))
+    values = worst(q1, q2)
+    k = np.unravel_index(np.argmax(values), values.shape)
+    best = minimize(lambda x: -worst(*np.clip(x, lo, hi)), [q1[k], q2[k]],
+                    method="Nelder-Mead", options={"xatol": 1e-10, "fatol": 1e-14})
+    assert -best.fun >= values.max()
+    return -best.fun
+
+
+def test_planar_shoulder_peak_equals_the_closed_form_maximised_independently(planar):
+    """The shoulder's peak from its closed form (`shoulder_terms`), maximised by `maximised`.
+
+    tau1 = M11 qdd1 + M12 qdd2 + c1 + g1. The worst vertex gives M11 a + |M12| a; over
+    the speed box 2 qd1 qd2 + qd2^2 spans [-v^2, 3 v^2] (bilinear in qd1, then
+    quadratic in qd2), so the worst |g1 + c1| is the larger of |g1 + h v^2| and
+    |g1 - 3 h v^2|. What is left is a function of (q1, q2) over the joint ranges.
     """
     result, v, a, _ = planar
     me = result.masses["elbow"]
-    lo = np.array([-1.5707963, -2.6179939])
-    hi = np.array([2.0943951, 2.6179939])
 
     def peak(q1, q2):
-        m11 = I1 + I2 + M1 * LC1**2 + M2 * (L1**2 + LC2**2 + 2 * L1 * LC2 * np.cos(q2)) \
-            + me * L1**2
-        m12 = K + H * np.cos(q2)
-        g1 = (M1 * LC1 + (M2 + me) * L1) * G * np.cos(q1) + M2 * LC2 * G * np.cos(q1 + q2)
-        h = H * np.sin(q2)
+        m11, m12, h, g1 = shoulder_terms(q1, q2, me)
         bias = np.maximum(np.abs(g1 + h * v * v), np.abs(g1 - 3 * h * v * v))
         return bias + m11 * a + np.abs(m12) * a
 
-    q1, q2 = np.meshgrid(np.linspace(lo[0], hi[0], 1201), np.linspace(lo[1], hi[1], 1201))
-    values = peak(q1, q2)
-    k = np.unravel_index(np.argmax(values), values.shape)
-    best = minimize(lambda x: -peak(*np.clip(x, lo, hi)), [q1[k], q2[k]],
-                    method="Nelder-Mead", options={"xatol": 1e-10, "fatol": 1e-14})
-    oracle = -best.fun
-    assert oracle >= values.max()
-    assert abs(result.joints[0].worst["peak"].torque) == pytest.approx(oracle, rel=1e-8)
+    assert abs(result.joints[0].worst["peak"].torque) == pytest.approx(maximised(peak),
+                                                                       rel=1e-8)
+
+
+def test_planar_shoulder_static_and_stop_equal_their_closed_forms_maximised(planar):
+    """The shoulder held, and the shoulder's emergency stop, from `shoulder_terms`.
+
+    Static (qd1 = qdd1 = 0, the elbow anywhere within the spec): tau1 = M12 qdd2 - h qd2^2
+    + g1, affine in qdd2 and in qd2^2 in [0, v^2]: max(|g1|, |g1 - h v^2|) + |M12| a.
+
+    Stop from (q, qd), decelerating at -qd / T:
+        tau1 = g1 - h (2 qd1 qd2 + qd2^2) - (M11 qd1 + M12 qd2) / T,
+    affine in qd1 (so |tau1| is largest at qd1 = +-v) and a parabola in qd2, whose
+    largest |value| on [-v, v] is at an end or at its vertex
+    qd2 = -(2 h qd1 + M12 / T) / (2 h), clipped to the box.
+    """
+    result, v, a, stop_time = planar
+    me = result.masses["elbow"]
+
+    def static(q1, q2):
+        _, m12, h, g1 = shoulder_terms(q1, q2, me)
+        return np.maximum(np.abs(g1), np.abs(g1 - h * v * v)) + np.abs(m12) * a
+
+    def stop(q1, q2):
+        m11, m12, h, g1 = shoulder_terms(q1, q2, me)
+        best = np.zeros_like(np.asarray(q1, dtype=float))
+        for qd1 in (-v, v):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                vertex = np.clip(-(2 * h * qd1 + m12 / stop_time) / (2 * h), -v, v)
+            vertex = np.where(np.isfinite(vertex), vertex, v)
+            for qd2 in (-v, v, vertex):
+                tau = g1 - h * (2 * qd1 * qd2 + qd2**2) - (m11 * qd1 + m12 * qd2) / stop_time
+                best = np.maximum(best, np.abs(tau))
+        return best
+
+    shoulder = result.joints[0]
+    assert abs(shoulder.worst["static"].torque) == pytest.approx(maximised(static), rel=1e-8)
+    assert abs(shoulder.worst["stop"].torque) == pytest.approx(maximised(stop), rel=1e-8)
 
 
 def test_the_worst_states_do_not_leak_into_the_averages(planar):
@@ -264,6 +317,65 @@ def test_no_state_of_a_dense_random_sample_beats_the_worst(arm):
             bias = pin.rnea(model, data, q[i], qd[i], np.zeros(6))
             exact = np.maximum(exact, np.abs(bias) + np.abs(inertia) @ box.acceleration)
     assert np.all(exact <= peak * tolerance), exact / peak
+
+
+def test_the_bearings_largest_loads_count_the_worst_states_and_its_means_the_duty_alone(arm):
+    """A worst state is a sample of no duration: its whole force and moment count in the
+    output bearing's largest loads, never in its means.
+
+    Oracles: the duty alone checked with the envelope's units (`check_units` on the duty's
+    trajectory: no worst state in it) gives the means and the duty's largest loads; and
+    per-sample `pinocchio.rnea` on the model built here gives, at every reported worst
+    state, the wrench through each joint in its own frame (``data.f``): axial force
+    f . z, radial force |f - (f . z) z|, tilting moment |m - (m . z) z| about the joint
+    origin (z the joint axis).
+    """
+    units = {joint.name: joint.selected.unit for joint in arm.joints}
+    alone = check_units(arm.robot, arm.duty.tasks[0].trajectory, units, arm.sizing.options)
+    model = oracle_model(ROBOTS / "benchtop6.urdf", PAYLOAD, arm.masses)
+    data = model.createData()
+    states = [state for joint in arm.joints for state in (*joint.worst.values(), joint.gravity)]
+    assert all(state.source == "search" for state in states)  # so they are the searched rows
+    wrenches = []
+    for state in states:
+        pin.rnea(model, data, state.q, state.qd, state.qdd)  # a stop state coasts (qdd = 0)
+        wrenches.append([(data.f[k].linear.copy(), data.f[k].angular.copy(),
+                          np.asarray(data.joints[k].S)[3:].ravel())
+                         for k in range(1, model.njoints)])
+    beyond = 0
+    for j, (joint, duty) in enumerate(zip(arm.joints, alone.joints, strict=True)):
+        load, own = joint.sizing.bearing, duty.bearing
+        axial = max(abs(f @ z) for f, _, z in (w[j] for w in wrenches))
+        radial = max(np.linalg.norm(f - (f @ z) * z) for f, _, z in (w[j] for w in wrenches))
+        moment = max(np.linalg.norm(m - (m @ z) * z) for _, m, z in (w[j] for w in wrenches))
+        assert load.max_axial == pytest.approx(max(own.max_axial, axial), rel=1e-9)
+        assert load.max_radial == pytest.approx(max(own.max_radial, radial), rel=1e-9)
+        assert load.max_moment == pytest.approx(max(own.max_moment, moment), rel=1e-9)
+        for mean in ("mean_axial", "mean_radial", "mean_moment"):
+            assert getattr(load, mean) == pytest.approx(getattr(own, mean), rel=1e-9)
+        beyond += moment > own.max_moment
+    assert beyond >= 3  # the states do load the bearings beyond what the duty does
+
+
+def test_a_rated_bearing_is_judged_at_the_worst_states_too():
+    """With the example catalog that rates bearings, the contour duty alone lets the
+    shoulder pan take the XB-07-100 (tilting moment below its 6 N m); at the worst
+    states of the spec the arm tilts that bearing past 6 N m, so the envelope rejects it
+    by its bearing moment, and the value it rejects it by is a worst state's, not the
+    duty's."""
+    rated = REPO / "catalogs" / "example_rated_bearing.toml"
+    result = envelope(MOTIONS / "envelopes" / "benchtop6_dispensing.toml", catalog=[rated])
+    pan, duty = result.joints[0], result.duty_sizing.joints[0]
+    assert duty.selected.unit.id == "XB-07-100"
+    assert duty.selected.checks["bearing_moment"].value < 6.0
+    small = next(c for c in pan.sizing.candidates if c.unit.id == "XB-07-100")
+    assert not small.feasible and small.binding == "bearing_moment"
+    assert small.checks["bearing_moment"].value > 6.0
+    assert pan.selected is not None and pan.selected.unit.size > small.unit.size
+    assert pan.sizing.bearing.mean_moment == pytest.approx(
+        check_units(result.robot, result.duty.tasks[0].trajectory,
+                    {j.name: j.selected.unit for j in result.joints},
+                    result.sizing.options).joints[0].bearing.mean_moment, rel=1e-9)
 
 
 @pytest.mark.parametrize("name", ["benchtop6_pick_place.toml", "benchtop6_fast_pick.toml",

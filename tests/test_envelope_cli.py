@@ -6,6 +6,7 @@ none, 2 bad input (one line, no output file written).
 
 from __future__ import annotations
 
+import html
 import json
 import math
 
@@ -16,6 +17,9 @@ import hdselect
 from hdselect.base.errors import InputError
 from hdselect.cli.main import main
 from hdselect.envelope import SearchSettings, envelope
+from hdselect.envelope.records import envelope_json
+from hdselect.envelope.torques import BEARING_NOTE
+from hdselect.report.envelope_tables import note_lines
 from test_dynamics import REPO
 
 PLANAR2 = REPO / "robots" / "planar2.urdf"
@@ -60,11 +64,40 @@ def test_envelope_prints_every_joint_and_writes_json_that_matches_the_api(capsys
     assert document["duty_sizing"]["joints"][0]["name"] == "shoulder"
 
 
+def test_every_output_says_what_the_bearing_loads_are_over(capsys, tmp_path):
+    """The search bounds torques, not the bearing's force and moment: the terminal, the
+    JSON and the page say so, and the JSON gives each joint's loads as the API has them."""
+    out_file = tmp_path / "envelope.json"
+    status, out, _ = run(capsys, "envelope", PLANAR2, "--velocity", "180", "--acceleration",
+                         "900", "--json", out_file, "--report", tmp_path / "report", *QUICK)
+    assert status == 0
+    assert BEARING_NOTE in " ".join(out.split())  # the note, wrapped at 80 columns
+    document = json.loads(out_file.read_text())
+    assert document["bearing_note"] == BEARING_NOTE
+    result = envelope(PLANAR2, velocity=180 * DEG, acceleration=900 * DEG, moves=4,
+                      settings=SearchSettings(starts=256))
+    for entry, joint in zip(document["joints"], result.joints, strict=True):
+        bearing = entry["bearing"]
+        assert bearing["max_moment_nm"] == joint.sizing.bearing.max_moment
+        assert bearing["mean_radial_n"] == joint.sizing.bearing.mean_radial
+        assert bearing["largest_over"] == "the duty and the worst states"
+        assert bearing["means_over"] == "the duty"
+        assert bearing["rated"] is False
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert html.escape(BEARING_NOTE) in page
+    off = envelope(PLANAR2, velocity=180 * DEG, acceleration=900 * DEG, moves=4,
+                   settings=SearchSettings(starts=256), bearing_loads=False)
+    assert all(joint.sizing.bearing is None for joint in off.joints)
+    assert envelope_json(off)["bearing_note"] is None  # no loads, nothing to say of them
+    assert not any(BEARING_NOTE in line for line in note_lines(off))
+
+
 def test_an_envelope_file_gives_limits_the_flags_and_the_robot_file_complete(capsys, tmp_path):
     spec = tmp_path / "spec.toml"
     spec.write_text(f'robot = "{PLANAR2}"\nangle_unit = "deg"\n'
                     "[limits]\nvelocity = {elbow = 120}\nacceleration = [600, 700]\n"
-                    "[safety]\nstop_time = 0.2\n[duty]\nmoves = 3\nseed = 5\n")
+                    "[safety]\nstop_time = 0.2\n[sizing]\nbearing_offset_m = {elbow = 0.02}\n"
+                    "[duty]\nmoves = 3\nseed = 5\n")
     status, out, _ = run(capsys, "envelope", spec, "--acceleration", "shoulder=500",
                          "--json", "-", "--starts", "256")
     assert status == 0
@@ -80,6 +113,7 @@ def test_an_envelope_file_gives_limits_the_flags_and_the_robot_file_complete(cap
     assert document["assumptions"]["stop_time_s"] == 0.2
     assert document["duty"]["moves"] == 3 and document["duty"]["seed"] == 5
     assert document["spec_file"] == str(spec)
+    assert [j["bearing"]["offset_m"] for j in document["joints"]] == [0.0, 0.02]
 
 
 def test_a_motion_file_as_the_duty_is_sized_alone_beside_the_envelope(capsys):

@@ -87,7 +87,7 @@ def test_the_page_is_self_contained_and_links_its_notes(report):
     assert '<meta name="viewport"' in page
     assert "<script" not in page and "@import" not in page and "url(" not in page
     images = re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)
-    assert len(images) == len(result.joints)
+    assert len(images) == 2 * len(result.joints)  # the profiles and the bearing, per joint
     for data in images:
         assert base64.b64decode(data)[:8] == b"\x89PNG\r\n\x1a\n"
     for anchor in set(re.findall(r'href="#(note-[^"]+)"', page)):
@@ -191,7 +191,7 @@ def test_a_browser_shows_and_prints_the_report(report, browser, tmp_path):
     browser.load(url)
     sizes = browser.evaluate("Promise.all([...document.images].map(async (i) => {"
                              "await i.decode(); return [i.naturalWidth, i.naturalHeight]; }))")
-    assert len(sizes) == len(result.joints) and all(w > 500 and h > 300 for w, h in sizes)
+    assert len(sizes) == 2 * len(result.joints) and all(w > 500 and h > 300 for w, h in sizes)
     cells = browser.evaluate(
         "[...document.querySelectorAll('td.u:not(.na)')].map((td) => [td.closest('section').id"
         " === 'heatmap', td.dataset.joint, td.dataset.unit, td.dataset.check, "
@@ -314,7 +314,7 @@ def test_pair_report_embeds_each_motor_figure_and_hashes_the_motor_file(pair_rep
     out, result = pair_report
     page = (out / "index.html").read_text()
     images = re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)
-    assert len(images) == 2 * len(result.joints)  # the profiles and the motor, per joint
+    assert len(images) == 3 * len(result.joints)  # the profiles, the motor, the bearing
     for joint in result.joints:
         shown = joint.selected or joint.strongest
         motor_png = (out / f"motor_{joint.name}.png").read_bytes()
@@ -330,7 +330,7 @@ def test_a_browser_shows_the_pair_report(pair_report, browser, tmp_path):
     browser.load((out / "index.html").resolve().as_uri())
     sizes = browser.evaluate("Promise.all([...document.images].map(async (i) => {"
                              "await i.decode(); return [i.naturalWidth, i.naturalHeight]; }))")
-    assert len(sizes) == 2 * len(result.joints) and all(w > 500 and h > 300 for w, h in sizes)
+    assert len(sizes) == 3 * len(result.joints) and all(w > 500 and h > 300 for w, h in sizes)
     marks = browser.evaluate(
         "[...document.querySelectorAll('td.u:not(.na)')].map((td) => ["
         "td.classList.contains('fail'), td.textContent.includes('✗'), "

@@ -12,6 +12,7 @@ import pytest
 
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
+from hdselect.catalog.checks import BEARING_CHECKS
 from hdselect.catalog.rules import (
     CHECKS,
     MOTOR_CHECKS,
@@ -226,7 +227,7 @@ def test_checks_that_do_not_apply() -> None:
         assert check.utilization == 0.0, name
     assert candidate.life_hours is None
     assert list(candidate.checks) == [name for name in CHECKS
-                                      if name not in MOTOR_CHECKS and name not in PAIR_CHECKS]
+                                      if name not in MOTOR_CHECKS + BEARING_CHECKS + PAIR_CHECKS]
 
 
 def test_momentary_check_and_events() -> None:

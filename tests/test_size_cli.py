@@ -430,7 +430,8 @@ def test_compare_report_has_the_joints_shown(capsys, tmp_path):
     status, out, err = run(capsys, "compare", PLANAR2_MOTION, "--joint", "shoulder", "--report",
                            tmp_path / "r", "--json", tmp_path / "r.json")
     assert status == 0, err
-    assert files_in(tmp_path / "r") == {"index.html", "joint_shoulder.png"}
+    assert files_in(tmp_path / "r") == {"index.html", "joint_shoulder.png",
+                                        "bearing_shoulder.png"}
     page = (tmp_path / "r" / "index.html").read_text()
     assert "id='joint-shoulder'" in page and "id='joint-elbow'" not in page
     text = " ".join(out.split())

@@ -405,8 +405,11 @@ def test_html_report_has_a_motor_figure_per_joint(tmp_path, capsys):
     assert status == 0
     assert (report / "motor_table.png").stat().st_size > 10_000
     page = (report / "index.html").read_text()
-    images = re.findall(r"src='data:image/png;base64,([A-Za-z0-9+/=]+)'", page)
-    assert len(images) == 2  # the joint's profiles and its motor's torque-speed plane, embedded
-    assert base64.b64decode(images[1]) == (report / "motor_table.png").read_bytes()
+    images = {alt.split()[0]: data for data, alt in re.findall(
+        r"src='data:image/png;base64,([A-Za-z0-9+/=]+)' alt='([^']+)'", page)}
+    # the joint's profiles, its motor's torque-speed plane, its output bearing's loads
+    assert sorted(images) == ["output", "speed", "torque-speed"]
+    assert base64.b64decode(images["torque-speed"]) == (report / "motor_table.png").read_bytes()
+    assert base64.b64decode(images["output"]) == (report / "bearing_table.png").read_bytes()
     assert "torque-speed plane of the motor T1" in page and "load/rotor inertia" in page
     assert "no thermal model" in page

@@ -24,12 +24,12 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import check_unit, cycle_load
 from hdselect.catalog.units import Unit
 from hdselect.robot.model import load_robot
+from hdselect.sizing.intervals import intersect
 from hdselect.sizing.reflect import reflect
 from hdselect.sizing.timescale import (
     JointScales,
     ScalableCycle,
     Slowdown,
-    _intersect,
     check_at,
     exact_scales,
     feasible_scales,
@@ -256,12 +256,12 @@ def test_intersection_of_closed_pieces():
     # rows: [0, 2] u [4, 7] | [1, 3] u [5, inf] | [2, 6]: meet at y = 2 and on [5, 6]
     lo = np.array([[0.0, 1.0, 2.0], [4.0, 5.0, inf]])
     hi = np.array([[2.0, 3.0, 6.0], [7.0, inf, -inf]])
-    assert _intersect(lo, hi) == [(2.0, 2.0), (5.0, 6.0)]
-    assert _intersect(lo[:, :2], hi[:, :2]) == [(1.0, 2.0), (5.0, 7.0)]
+    assert intersect(lo, hi) == [(2.0, 2.0), (5.0, 6.0)]
+    assert intersect(lo[:, :2], hi[:, :2]) == [(1.0, 2.0), (5.0, 7.0)]
     everywhere = (np.array([[0.0], [inf]]), np.array([[inf], [-inf]]))
-    assert _intersect(*everywhere) == [(0.0, inf)]
+    assert intersect(*everywhere) == [(0.0, inf)]
     nowhere = np.array([[inf], [inf]]), np.array([[-inf], [-inf]])
-    assert _intersect(np.hstack([lo, nowhere[0]]), np.hstack([hi, nowhere[1]])) == []
+    assert intersect(np.hstack([lo, nowhere[0]]), np.hstack([hi, nowhere[1]])) == []
 
 
 # --- brute force over seeded random cycles -----------------------------------------------------

@@ -164,6 +164,18 @@ EVENTS = Bound("a count", "", 1.0, 1e12)
 """A cap on momentary events [-]."""
 PERCENT = Bound("a percentage", "%", 0.0, 1e4)
 """A load in % of the rated torque."""
+BEARING_LOAD = Bound("a load", "N", 0.0, 1e9, low_open=True)
+"""An output bearing's load rating or allowable force [N]."""
+PITCH_DIAMETER = Bound("a diameter", "m", 0.0, 100.0, low_open=True)
+"""An output bearing's pitch circle diameter [m]."""
+BEARING_OFFSET = Bound("a distance", "m", 0.0, 100.0)
+"""A catalog's distance from the output flange to the bearing centre [m]."""
+LOAD_FACTOR = Bound("a load factor", "", 1.0, 10.0)
+"""Harmonic Drive's load factor f_w of a bearing life [-]."""
+SAFETY_FACTOR = Bound("a safety factor", "", 0.1, 100.0)
+"""A required static safety factor [-]."""
+AXIAL_OFFSET = Bound("a position along the axis", "m", -100.0, 100.0)
+"""Where a joint's output flange sits along its axis from the joint origin [m]."""
 MARGIN = Bound("a margin", "", 0.0, 0.9)
 """A design margin [-]: the share of every limit kept in reserve, 0 to 90 %."""
 INERTIA_RATIO = Bound("a ratio", "", 0.0, 1e6, low_open=True)

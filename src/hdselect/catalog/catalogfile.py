@@ -16,11 +16,13 @@ from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.catalog.units import (
+    BEARING_RULE_KEYS,
     KG_M2_PER_KG_CM2,
     KG_M2_PER_LB_IN2,
     KG_PER_LB,
     NM_PER_LB_IN,
     RULE_KEYS,
+    BearingRating,
     EfficiencyTable,
     Flag,
     SeriesRules,
@@ -46,12 +48,22 @@ _REQUIRED = ("rated_torque", "repeated_torque", "mass")
 
 
 _UNIT_KEYS = ["id", "size", "ratio", "max_input_speed_rpm", "max_average_input_speed_rpm",
-              "efficiency"] + [
+              "efficiency", "bearing"] + [
     key for pair in _QUANTITIES.values() for key, _ in pair
 ]
 
 
 _EFFICIENCY_KEYS = ["input_speed_rpm", "torque_percent", "value"]
+
+
+# [unit.bearing] key -> (BearingRating field, range)
+_BEARING_KEYS = {"pitch_diameter_m": ("pitch_diameter", bounds.PITCH_DIAMETER),
+                 "dynamic_rating_n": ("dynamic_rating", bounds.BEARING_LOAD),
+                 "static_rating_n": ("static_rating", bounds.BEARING_LOAD),
+                 "max_moment_nm": ("max_moment", bounds.TORQUE),
+                 "max_radial_n": ("max_radial", bounds.BEARING_LOAD),
+                 "max_axial_n": ("max_axial", bounds.BEARING_LOAD),
+                 "offset_m": ("offset", bounds.BEARING_OFFSET)}
 
 
 # quantity -> its physical range in SI
@@ -139,7 +151,7 @@ def _read_file(path: Path, assumed: SeriesRules | None) -> Iterable[Unit]:
 
 
 def _read_rules(table: dict[str, Any], path: Path) -> SeriesRules:
-    check_keys(table, list(RULE_KEYS), path, "rules")
+    check_keys(table, [*RULE_KEYS, *BEARING_RULE_KEYS], path, "rules")
     values: dict[str, Any] = {}
     for key, choices in RULE_KEYS.items():
         field = f"rules.{key}"
@@ -152,11 +164,13 @@ def _read_rules(table: dict[str, Any], path: Path) -> SeriesRules:
         else:
             raise InputError(f"expected one of {', '.join(map(repr, choices))}, got "
                              f"{table[key]!r}", path=path, field=field)
+    bearing: dict[str, Any] = {key: as_number(table[key], path, f"rules.{key}", bound=bound)
+                               for key, bound in BEARING_RULE_KEYS.items() if key in table}
     return SeriesRules(
         rated_input_speed=values["rated_input_speed_rpm"],
         rated_life_hours=values["rated_life_hours"], life_basis=values["life_basis"],
         mean_torque_limit=values["mean_torque_limit"], mean_speed=values["mean_speed"],
-        max_momentary_events=values["max_momentary_events"], source=path)
+        max_momentary_events=values["max_momentary_events"], source=path, **bearing)
 
 
 def _read_unit(entry: dict[str, Any], series: str, rules: SeriesRules, path: Path,
@@ -213,7 +227,32 @@ def _read_unit(entry: dict[str, Any], series: str, rules: SeriesRules, path: Pat
     values["efficiency"] = (_efficiency(table_of(entry["efficiency"], path, f"{where}.efficiency"),
                                         path, f"{where}.efficiency")
                             if "efficiency" in entry else None)
+    values["bearing"] = (_bearing(table_of(entry["bearing"], path, f"{where}.bearing"), path,
+                                  f"{where}.bearing") if "bearing" in entry else None)
     return values
+
+
+def _bearing(table: dict[str, Any], path: Path, where: str) -> BearingRating:
+    """A unit's ``[unit.bearing]``: its output bearing's ratings, each optional.
+
+    Raises:
+        InputError: An unknown key, a number out of range, no rating at all, or a load
+            rating without the pitch diameter its equivalent load needs.
+    """
+    check_keys(table, list(_BEARING_KEYS), path, where)
+    values = {name: as_number(table[key], path, f"{where}.{key}", bound=bound)
+              for key, (name, bound) in _BEARING_KEYS.items() if key in table}
+    if not set(values) - {"pitch_diameter", "offset"}:
+        raise InputError("gives no rating: give at least one of "
+                         + ", ".join(key for key in _BEARING_KEYS
+                                     if key not in ("pitch_diameter_m", "offset_m")),
+                         path=path, field=where)
+    for rating in ("dynamic_rating", "static_rating"):
+        if rating in values and "pitch_diameter" not in values:
+            raise InputError(f"{rating}_n needs pitch_diameter_m (the equivalent load counts "
+                             "the tilting moment as 2 M / d_p)", path=path,
+                             field=f"{where}.pitch_diameter_m")
+    return BearingRating(**values)
 
 
 def _agree(quantity: str, given: list[tuple[str, Any, float]], flags: list[Flag]) -> float:
@@ -301,7 +340,7 @@ def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Pa
         mass=values["mass"], efficiency=values["efficiency"], rules=values["rules"],
         average_torque=values["average_torque"],
         max_average_input_speed=values["max_average_input_speed"], flags=tuple(flags),
-        source=path,
+        source=path, bearing=values["bearing"],
     )
 
 

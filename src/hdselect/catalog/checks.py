@@ -1,8 +1,8 @@
 """One rule's verdict: a demand against its limit, judged with the design margin.
 
-Every check of every rule (the gearhead's, the motor's, the pair's) is a `Check`, and
-`holds` is the one place a utilization is judged: a design margin m means every rule
-must hold at (1 - m) of its limit.
+Every check of every rule (the gearhead's, its output bearing's, the motor's, the pair's)
+is a `Check`, and `holds` is the one place a utilization is judged: a design margin m
+means every rule must hold at (1 - m) of its limit.
 """
 
 from __future__ import annotations
@@ -13,6 +13,13 @@ MOTOR_CHECKS = ("motor_peak", "motor_rms", "motor_speed")
 """The checks of the motor behind a gearhead, when one is given (`check_motor`)."""
 
 
+BEARING_CHECKS = ("bearing_moment", "bearing_radial", "bearing_axial", "bearing_life",
+                  "bearing_static")
+"""The checks of a rated output bearing (`hdselect.catalog.bearing_rules`), each present
+where the catalog gives its rating and the bearing's loads are known (the life also needs a
+required life)."""
+
+
 PAIR_CHECKS = ("inertia_ratio",)
 """The checks of a gearhead and motor pair as a whole: the load-to-rotor inertia ratio
 against the largest allowed, present only when a largest ratio is given. The design margin
@@ -20,23 +27,31 @@ does not apply to it: the largest ratio is itself a design choice, not a rating.
 
 
 CHECKS = ("peak", "mean", "speed", "average_speed", "momentary", "static", "life",
-          *MOTOR_CHECKS, *PAIR_CHECKS)
-"""Every check by name, in the order of results and reports. ``life`` is present only
-when a life is required, the motor checks only when a motor is given, ``inertia_ratio``
-only when a largest inertia ratio is given too; the others always, with value None where
-they do not apply."""
+          *BEARING_CHECKS, *MOTOR_CHECKS, *PAIR_CHECKS)
+"""Every check by name, in the order of results and reports: the gearhead's, its output
+bearing's, its motor's, the pair's. ``life`` is present only when a life is required, the
+output bearing's only where the catalog rates it (and its loads are known), the motor
+checks only when a motor is given, ``inertia_ratio`` only when a largest inertia ratio is
+given too; the others always, with value None where they do not apply."""
 
 
 CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
                 "momentary": "mom.", "static": "static", "life": "life",
+                "bearing_moment": "b.moment", "bearing_radial": "b.radial",
+                "bearing_axial": "b.axial", "bearing_life": "b.life",
+                "bearing_static": "b.static",
                 "motor_peak": "m.peak", "motor_rms": "m.rms", "motor_speed": "m.speed",
                 "inertia_ratio": "inertia"}
-"""Short names of the checks, for table headers (``m.``: the motor's)."""
+"""Short names of the checks, for table headers (``b.``: the output bearing's, ``m.``: the
+motor's)."""
 
 
 CHECK_NAMES = {"peak": "repeated peak torque", "mean": "mean torque", "speed": "input speed",
                "average_speed": "average input speed", "momentary": "momentary torque",
-               "static": "static torque", "life": "life", "motor_peak": "motor peak torque",
+               "static": "static torque", "life": "life",
+               "bearing_moment": "bearing tilting moment", "bearing_radial": "bearing radial load",
+               "bearing_axial": "bearing axial load", "bearing_life": "bearing life",
+               "bearing_static": "bearing static safety", "motor_peak": "motor peak torque",
                "motor_rms": "motor RMS torque", "motor_speed": "motor speed",
                "inertia_ratio": "load-to-rotor inertia ratio"}
 """The checks in words, for figure titles and summaries read by people."""
@@ -54,7 +69,7 @@ def holds(utilization: float, margin: float = DEFAULT_MARGIN) -> bool:
     max-payload) judge through it. Utilization stays demand / limit.
 
     Args:
-        utilization: Demand over limit [-] (life: required over expected).
+        utilization: Demand over limit [-] (a life or a safety: required over reached).
         margin: Share of every limit kept in reserve [-], in [0, 1).
 
     Returns:
@@ -78,13 +93,14 @@ class Check:
     """One rule applied to one gearhead.
 
     Attributes:
-        value: The demand ([N m], input speed [rpm] or life [h]); None if the rule
-            does not apply to this cycle or this unit.
-        limit: What the gearhead allows (for ``life``: what the user requires); infinite
-            where the unit has no such limit.
-        ok: The rule holds.
-        utilization: Demand over allowance [-] (life: required over expected); 0 if
-            the rule does not apply, above 1 when it fails.
+        value: The demand ([N m], [N], input speed [rpm]), or for a life the life
+            expected [h] and for a static safety the safety reached [-]; None if the
+            rule does not apply to this cycle or this unit.
+        limit: What the gearhead allows (for a life or a safety: what is required);
+            infinite where the unit has no such limit.
+        ok: The rule holds with the design margin (`holds`).
+        utilization: Demand over allowance [-] (a life or a safety: required over
+            reached); 0 if the rule does not apply, above 1 when it fails.
         detail: Extra figures for reports, e.g. ``{"kind": "crash"}``.
     """
 

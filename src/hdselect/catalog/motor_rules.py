@@ -99,7 +99,7 @@ def with_motor(candidate: Candidate, motor: Motor, torque: np.ndarray,
     if largest is not None and load_inertia is not None:
         checks["inertia_ratio"] = inertia_check(ratio, largest)
     return Candidate(candidate.unit, checks, candidate.life_hours, candidate.flags,
-                     candidate.motor, motor, ratio, margin)
+                     candidate.motor, motor, ratio, margin, candidate.bearing)
 
 
 def inertia_check(ratio: float | None, largest: float) -> Check:

@@ -14,7 +14,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from hdselect.base.errors import InputError
+from hdselect.catalog.bearing_rules import (
+    BearingFigures,
+    BearingLoad,
+    bearing_checks,
+    bearing_figures,
+)
 from hdselect.catalog.checks import (  # noqa: F401  (re-exported: their public home was here)
+    BEARING_CHECKS,
     CHECK_LABELS,
     CHECK_NAMES,
     CHECKS,
@@ -141,6 +148,8 @@ class Candidate:
         inertia_ratio: For a pair, the load-to-rotor inertia ratio (J_load / N^2 + J_in) /
             J_m [-] where the load inertia is known; None otherwise.
         required_margin: The design margin every rule was judged with [-].
+        bearing: The output bearing's figures where the catalog rates it and its loads
+            are known (its checks, `BEARING_CHECKS`, are then among `checks`); else None.
     """
 
     unit: Unit
@@ -151,6 +160,7 @@ class Candidate:
     motor_unit: Motor | None = None
     inertia_ratio: float | None = None
     required_margin: float = DEFAULT_MARGIN
+    bearing: BearingFigures | None = None
 
     @property
     def feasible(self) -> bool:
@@ -312,6 +322,7 @@ def check_unit(
     life_hours: float | None = None,
     life_basis: str = "L50",
     motor: MotorDemand | None = None,
+    bearing: BearingLoad | None = None,
     margin: float = DEFAULT_MARGIN,
 ) -> Candidate:
     """Apply every rule of the unit's series to one gearhead.
@@ -324,8 +335,10 @@ def check_unit(
         life_basis: ``"L10"`` or ``"L50"``: the basis of `life_hours`, and of the
             ``life`` check's value.
         motor: The motor-side demand, carried into the result as is.
+        bearing: The loads on the unit's output bearing, about its centre: checked where
+            the unit's catalog rates the bearing (`hdselect.catalog.bearing_rules`).
         margin: Design margin [-], in [0, 1): every rule must hold at (1 - margin) of
-            its limit (`holds`); utilization stays demand / limit.
+            its limit (`holds`), the output bearing's too; utilization stays demand / limit.
 
     Returns:
         The candidate with every check, life and the flags it depends on.
@@ -359,6 +372,11 @@ def check_unit(
         utilization = 0.0 if expected is None else life_hours / expected
         checks["life"] = Check(expected, life_hours, holds(utilization, margin), utilization,
                                {"basis": life_basis})
+    figures = None
+    if unit.bearing is not None and bearing is not None:
+        figures = bearing_figures(bearing, unit.bearing, rules, load.mean_speed_under(rules))
+        checks.update(bearing_checks(figures, unit.bearing, rules, life_hours=life_hours,
+                                     margin=margin))
     used = {"peak": "repeated_torque", "momentary": "momentary_torque", "static": "static_torque",
             "mean": ("average_torque" if rules.mean_torque_limit == "tabulated"
                      else "rated_torque")}
@@ -369,7 +387,7 @@ def check_unit(
     if motor is not None:
         fields.append("input_inertia")
     flags = unit.flags_for(*fields) + ((rules.flag,) if rules.flag is not None else ())
-    return Candidate(unit, checks, life, flags, motor, required_margin=margin)
+    return Candidate(unit, checks, life, flags, motor, required_margin=margin, bearing=figures)
 
 
 def _momentary(event: Momentary | None, unit: Unit, margin: float) -> Check:

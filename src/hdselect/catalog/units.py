@@ -58,6 +58,21 @@ RULE_KEYS: dict[str, tuple[str, ...] | bounds.Bound] = {
 }
 
 
+DEFAULT_BEARING_LOAD_FACTOR = 1.2
+"""Harmonic Drive's load factor f_w for smooth operation without shock (1 to 1.2) [-]."""
+
+
+DEFAULT_BEARING_STATIC_SAFETY = 1.5
+"""Static safety C0 / P0 the output bearing must reach by default [-]."""
+
+
+# optional [rules] keys of the output bearing -> the range of the number
+BEARING_RULE_KEYS: dict[str, bounds.Bound] = {
+    "bearing_load_factor": bounds.LOAD_FACTOR,
+    "bearing_static_safety": bounds.SAFETY_FACTOR,
+}
+
+
 @dataclass(frozen=True)
 class Flag:
     """A catalog value that is a stand-in or a correction, with the reason.
@@ -101,6 +116,8 @@ class SeriesRules:
         max_momentary_events: Cap on the allowed count of momentary events [-].
         source: The file whose ``[rules]`` table states them.
         flag: Set when the unit's own file states no rules and these are assumed.
+        bearing_load_factor: Load factor f_w of the output bearing's life [-].
+        bearing_static_safety: Least static safety C0 / P0 of the output bearing [-].
     """
 
     rated_input_speed: float
@@ -111,12 +128,41 @@ class SeriesRules:
     max_momentary_events: float
     source: Path
     flag: Flag | None = None
+    bearing_load_factor: float = DEFAULT_BEARING_LOAD_FACTOR
+    bearing_static_safety: float = DEFAULT_BEARING_STATIC_SAFETY
 
     @property
     def rated_l50_hours(self) -> float:
         """The rated life on the L50 basis, L50 = 5 x L10 [h]."""
         factor = L50_PER_L10 if self.life_basis == "L10" else 1.0
         return self.rated_life_hours * factor
+
+
+@dataclass(frozen=True)
+class BearingRating:
+    """What a catalog rates a unit's output bearing (a cross-roller bearing) for.
+
+    Each figure is None where the catalog does not give it; the checks that need it
+    are then not made.
+
+    Attributes:
+        pitch_diameter: Pitch circle diameter of the rollers d_p [m].
+        dynamic_rating: Basic dynamic load rating C [N].
+        static_rating: Basic static load rating C0 [N].
+        max_moment: Allowable tilting moment [N m].
+        max_radial: Allowable radial load [N].
+        max_axial: Allowable axial load [N].
+        offset: Distance from the output flange to the bearing centre along the axis,
+            the catalog's R [m].
+    """
+
+    pitch_diameter: float | None = None
+    dynamic_rating: float | None = None
+    static_rating: float | None = None
+    max_moment: float | None = None
+    max_radial: float | None = None
+    max_axial: float | None = None
+    offset: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -173,6 +219,8 @@ class Unit:
         max_average_input_speed: Limit for the mean input speed [rpm], if any.
         flags: Stand-ins and corrections among the values above.
         source: The catalog file it came from.
+        bearing: What the catalog rates its output bearing for; None when it rates it
+            for nothing (the bearing's loads are then reported, not checked).
     """
 
     id: str
@@ -192,6 +240,7 @@ class Unit:
     max_average_input_speed: float | None
     flags: tuple[Flag, ...]
     source: Path
+    bearing: BearingRating | None = None
 
     def flags_for(self, *fields: str) -> tuple[Flag, ...]:
         """The flags on the given quantities."""

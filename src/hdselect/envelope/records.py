@@ -3,6 +3,8 @@
 Every number is SI: positions rad (m for a prismatic joint), speeds rad/s,
 accelerations rad/s^2, torques N m (N), so a state can be fed back into inverse
 dynamics as it is. The duty's own sizing is the `hdselect size --json` document.
+An output bearing's largest loads are over the duty and the worst states, its means
+over the duty (``bearing_note``).
 """
 
 from __future__ import annotations
@@ -11,8 +13,12 @@ from typing import Any
 
 import numpy as np
 
+from hdselect.catalog.bearing_rules import NOT_RATED
 from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
+from hdselect.envelope.torques import BEARING_NOTE
 from hdselect.sizing.records import (
+    bearing_load_json,
+    candidate_bearing_json,
     candidate_json,
     finite_or_none,
     joint_load_json,
@@ -55,6 +61,8 @@ def envelope_json(result: EnvelopeResult) -> dict[str, Any]:
         "payload": payload_json(result.robot),
         "root_link": result.robot.root_link,
         "masses_kg": dict(result.masses),
+        "bearing_note": (BEARING_NOTE if any(joint.sizing.bearing is not None
+                                                  for joint in result.joints) else None),
         "joints": [_joint_json(joint, result) for joint in result.joints],
         "joint_loads": [joint_load_json(load) for load in sized.loads],
         "warnings": list(sized.warnings),
@@ -66,7 +74,8 @@ def _joint_json(joint: JointEnvelope, result: EnvelopeResult) -> dict[str, Any]:
     chosen = joint.selected
     j = result.robot.joint_index(joint.name)
     sizing = joint.sizing
-    return {
+    candidates = [candidate_json(c) for c in sizing.candidates]
+    document: dict[str, Any] = {
         "name": joint.name,
         "selected": chosen.unit.id if chosen else None,
         "binding": chosen.binding if chosen else None,
@@ -83,8 +92,19 @@ def _joint_json(joint: JointEnvelope, result: EnvelopeResult) -> dict[str, Any]:
                         for kind, worst in joint.convergence.by_demand.items()}},
         "duty_selected": joint.duty.unit.id if joint.duty else None,
         "duty_binding": joint.duty.binding if joint.duty else None,
-        "candidates": [candidate_json(c) for c in sizing.candidates],
+        "candidates": candidates,
+        "bearing": None,
     }
+    if sizing.bearing is not None:  # with the envelope's units' masses
+        rating = (chosen or sizing.strongest).unit.bearing
+        document["bearing"] = {**bearing_load_json(sizing.bearing),
+                               "largest_over": "the duty and the worst states",
+                               "means_over": "the duty",
+                               "rated": rating is not None,
+                               "note": None if rating is not None else NOT_RATED}
+        for candidate, entry in zip(sizing.candidates, candidates, strict=True):
+            entry["bearing"] = candidate_bearing_json(candidate)
+    return document
 
 
 def _state_json(state: WorstState) -> dict[str, Any]:

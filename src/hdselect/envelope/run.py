@@ -114,8 +114,11 @@ def envelope(
             running Dask scheduler; None for none.
         **options: Fields of `hdselect.sizing.options.Options` (``stop_time``,
             ``efficiency``, ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
-            ``life_hours``, ``life_basis``, ``threads``, ``max_samples``); what is not given
-            comes from the envelope file, the duty's motion file, else the defaults.
+            ``life_hours``, ``life_basis``, ``margin``, ``bearing_offset``,
+            ``bearing_loads``, ``threads``, ``max_samples``); what is not given comes from
+            the envelope file, the duty's motion file, else the defaults. The output
+            bearings' largest loads are over the duty and the worst states, their means
+            over the duty (`hdselect.envelope.torques.BEARING_NOTE`).
 
     Returns:
         The envelope.
@@ -207,7 +210,8 @@ def _envelope(robot: Robot, spec: Spec, duty: Duty, duty_sizing: SizingResult,
             rows[j] = state_rows(carrying, box, {(j, k): new[(j, k)] for k in KINDS},
                                  stop_time, threads=threads)
         model = EnvelopeTorques(duty.tasks, _stacked([rows[j] for j in sorted(rows)]),
-                                stop_time, threads=threads, guess=masses)
+                                stop_time, threads=threads, guess=masses,
+                                wrenches=options.bearing_loads)
         sized, chosen = select_units(model, per_joint, options, {}, slowdowns=False)
         masses = chosen if options.mass_coupling else {}
     sizing = SizingResult(robot, duty.tasks[0].trajectory, tuple(sized), options, units,
@@ -235,7 +239,9 @@ def _guessed_masses(robot: Robot, spec: Spec, duty: Duty, masses: dict[str, floa
     rows = state_rows(carrying, spec.box, quick, options.stop_time, threads=options.threads)
     coarse = [replace(task, trajectory=_decimated(task.trajectory)) for task in duty.tasks]
     model = EnvelopeTorques(coarse, rows, options.stop_time, threads=options.threads,
-                            guess=masses)
+                            guess=masses, wrenches=any(unit.bearing is not None
+                                                       for units in per_joint.values()
+                                                       for unit in units))
     _, chosen = select_units(model, per_joint, options, {}, detail=False, slowdowns=False)
     return chosen, count
 
@@ -360,4 +366,6 @@ def _options(file: EnvelopeFile | None, motion: Motion | None,
         for name in ("stop_time", "life_hours", "life_basis", "margin"):
             if values.get(name) is None and getattr(file, name) is not None:
                 values[name] = getattr(file, name)
+        if values.get("bearing_offset") is None and file.bearing_offset:
+            values["bearing_offset"] = dict(file.bearing_offset)
     return options_for(motion, **values)

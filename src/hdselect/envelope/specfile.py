@@ -14,7 +14,7 @@ Everything is validated here, once, and converted to SI.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +24,7 @@ from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, number, read_toml, table_of
+from hdselect.motion.sizing_table import bearing_offsets
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.robot.payload import Payload
@@ -40,7 +41,8 @@ MAX_DUTY_MOVES = 10_000
 _TOP_KEYS = ("robot", "angle_unit", "mounting", "payload", "limits", "safety", "requirements",
              "sizing", "duty")
 _SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin"),
-             "sizing": ("joints", "exclude"), "duty": ("motion", "moves", "seed")}
+             "sizing": ("joints", "exclude", "bearing_offset_m"),
+             "duty": ("motion", "moves", "seed")}
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,6 +63,8 @@ class EnvelopeFile:
         margin: ``[requirements] margin``, the design margin [-], or None.
         joints: ``[sizing] joints``, or None.
         exclude: ``[sizing] exclude``.
+        bearing_offset: ``[sizing] bearing_offset_m``: each named joint's output flange
+            along its axis from the joint origin [m], as a motion file's.
         duty: ``[duty] motion``, resolved against the file's folder, or None.
         moves: ``[duty] moves``, or None.
         seed: ``[duty] seed``, or None.
@@ -78,6 +82,7 @@ class EnvelopeFile:
     margin: float | None = None
     joints: tuple[str, ...] | None = None
     exclude: tuple[str, ...] = ()
+    bearing_offset: dict[str, float] = field(default_factory=dict)
     duty: Path | None = None
     moves: int | None = None
     seed: int | None = None
@@ -138,13 +143,15 @@ def load_envelope_file(path: str | Path, robot: Robot) -> EnvelopeFile:
     if basis is not None and basis not in ("L50", "L10"):
         raise InputError(f"expected L50 or L10, got {basis!r}", path=path,
                          field="requirements.life_basis")
-    names = {key: _names(sizing[key], path, f"sizing.{key}") for key in sizing}
+    names = {key: _names(sizing[key], path, f"sizing.{key}") for key in ("joints", "exclude")
+             if key in sizing}
     return EnvelopeFile(
         path=path, robot_file=_robot_file(doc, path), angle_unit=doc["angle_unit"],
         limits=limits, mounting=_mounting(doc["mounting"], path) if "mounting" in doc else None,
         payload=_payload(doc["payload"], path) if "payload" in doc else None,
         stop_time=stop_time, life_hours=life_hours, life_basis=basis, margin=margin,
         joints=names.get("joints"), exclude=names.get("exclude", ()),
+        bearing_offset=bearing_offsets(doc, path, robot),
         duty=_duty_file(duty, path), moves=_whole(duty, "moves", path, 1, MAX_DUTY_MOVES),
         seed=_whole(duty, "seed", path, 0, 2**63 - 1))
 

@@ -8,6 +8,12 @@ peak, static, input speed, emergency stop, crash) see the worst states and the d
 and the averaged rules (mean torque, mean speed, life, motor RMS) see the duty alone:
 every rule is the core's own, implemented once.
 
+The output bearing's loads follow the same rule (`BEARING_NOTE`): a worst state's
+whole force and moment count in the bearing's largest loads and its static safety,
+never in its means and life. The search looks for the worst torques, not for the
+bearing's worst loads, so these largest loads bound what the duty and those states
+carry, not every motion within the spec.
+
 A worst state belongs to no task: its task index is -1 and its time NaN.
 """
 
@@ -22,9 +28,17 @@ from hdselect.envelope.states import StateRows
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import cycle_torques, gravity_torques, joint_inertias
 from hdselect.robot.model import Robot
+from hdselect.robot.wrenches import axis_wrenches
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
 from hdselect.sizing.tasks import Samples, Task, pooled
 from hdselect.sizing.torques import DirectTorques
+
+BEARING_NOTE = ("output bearing: its largest loads are over the duty and the worst "
+                "torque states, its means and life over the duty; the search bounds the "
+                "torque, not the bearing's force and moment, so a motion within the spec "
+                "may load the bearing more")
+"""What every output of an envelope says of the output bearing's loads."""
 
 
 class EnvelopeTorques:
@@ -38,7 +52,8 @@ class EnvelopeTorques:
     """
 
     def __init__(self, tasks: Sequence[Task], rows: StateRows, stop_time: float, *,
-                 threads: int | None = None, guess: Mapping[str, float] | None = None) -> None:
+                 threads: int | None = None, guess: Mapping[str, float] | None = None,
+                 wrenches: bool = True) -> None:
         """Prepare the model; the duty's torques are computed when first asked for.
 
         Args:
@@ -48,9 +63,12 @@ class EnvelopeTorques:
             threads: Threads for the batched passes.
             guess: Masses [kg] expected per joint (the duty's passes use them where the
                 core has not chosen yet).
+            wrenches: Also compute the sized joints' wrenches along the duty (the output
+                bearings' loads).
         """
         duty = pooled(tasks)
-        self.duty = DirectTorques(duty.tasks, duty, stop_time, threads=threads, guess=guess)
+        self.duty = DirectTorques(duty.tasks, duty, stop_time, threads=threads, guess=guess,
+                                  wrenches=wrenches)
         self.robot: Robot = self.duty.robot
         self.rows = rows
         self.stop_time = stop_time
@@ -66,6 +84,35 @@ class EnvelopeTorques:
                               self.stop_time, threads=self.threads, columns=[j])
         return (np.concatenate([tau, extra.tau[:, 0]]),
                 np.concatenate([stop, extra.stop[:, 0]]))
+
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> SampledWrench | None:
+        """The force and moment through a sized joint along the samples [N, N m].
+
+        The duty's rows, then one per worst state (`BEARING_NOTE`); None when the
+        model computes no wrenches.
+        """
+        duty = self.duty.wrench(joint, masses)
+        if duty is None:
+            return None
+        states = axis_wrenches(self._carrying(masses), self.rows.q, self.rows.qd,
+                               self.rows.qdd, [joint], threads=self.threads)[0]
+        distinct = duty.rows.shape[1]
+        rows = np.concatenate([duty.rows, states[:len(duty.rows)]], axis=1)
+        own = np.arange(distinct) if duty.index is None else duty.index
+        index = np.concatenate([own, distinct + np.arange(len(self.rows))])
+        rows.setflags(write=False)
+        index.setflags(write=False)
+        return SampledWrench(rows, index)
+
+    def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The wrench holding each pose of the samples still [N, N m], (6, n)."""
+        held = self.duty.gravity_wrench(joint, masses)
+        if held is None:
+            return None
+        still = np.zeros_like(self.rows.q)
+        states = axis_wrenches(self._carrying(masses), self.rows.q, still, still, [joint],
+                               threads=self.threads)[0]
+        return np.concatenate([held, states], axis=1)
 
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:

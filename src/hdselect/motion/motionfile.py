@@ -20,7 +20,7 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +44,7 @@ from hdselect.motion.lines import LinePath
 from hdselect.motion.logderivatives import UNCERTAIN, acceleration_uncertainty
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
+from hdselect.motion.sizing_table import bearing_offsets, sizing_joints
 from hdselect.motion.toolposes import ToolPoses, ToolSolution, read_base
 from hdselect.motion.waypoints import read_waypoints
 from hdselect.robot.model import Robot, load_robot
@@ -74,9 +75,6 @@ _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity"
 
 _SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin")}
 _BOUNDS = {"stop_time": bounds.STOP_TIME, "life_hours": bounds.LIFE, "margin": bounds.MARGIN}
-
-
-_SIZING_KEYS = ("joints", "exclude")
 
 
 LIFE_BASES = ("L50", "L10")
@@ -133,6 +131,8 @@ class Motion:
         lines: The straight lines, solved into joint samples that the path passes through
             (empty until solved, and for a motion without lines).
         solution: How the tool poses were solved, or None until they are.
+        bearing_offset: The file's ``[sizing] bearing_offset_m``: where a joint's output
+            flange sits along its axis from the joint origin [m], by joint name.
     """
 
     path: Path
@@ -163,6 +163,7 @@ class Motion:
     tool: ToolPoses | None = None
     lines: tuple[LinePath, ...] = ()
     solution: ToolSolution | None = None
+    bearing_offset: Mapping[str, float] = field(default_factory=dict)
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
@@ -249,7 +250,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                                                lists, planner)
         lim["velocity"] = frozen(velocity)
         warnings += beyond_robot(velocity, robot, scale, units, from_robot)
-    sizing = _sizing(doc, path, robot)
+    sizing = sizing_joints(doc, path, robot)
     stop_time = _section(doc, "safety", path).get("stop_time")
     requirements = _section(doc, "requirements", path)
     samples = None
@@ -289,6 +290,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                            if isinstance(block, dict) and key != "curve"),
         margin=requirements.get("margin"),
         tool=tool if planner != "samples" else None,
+        bearing_offset=bearing_offsets(doc, path, robot),
     )
 
 
@@ -394,24 +396,6 @@ def _mounting(doc: dict[str, Any], path: Path, unit: float,
     return (x, y, z)
 
 
-def _sizing(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[str, ...]]:
-    """The ``[sizing]`` table: joints to size and to leave out, checked against the robot."""
-    table = table_of(doc.get("sizing", {}), path, "sizing")
-    check_keys(table, _SIZING_KEYS, path, "sizing")
-    names = {}
-    for key in _SIZING_KEYS:
-        if key in table:
-            value = table[key]
-            if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-                raise InputError(f"expected a list of joint names, got {value!r}", path=path,
-                                 field=f"sizing.{key}")
-            names[key] = tuple(value)
-    if names:
-        try:
-            robot.with_sized_joints(names.get("joints"), names.get("exclude", ()))
-        except InputError as err:
-            raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
-    return names
 
 
 def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:

@@ -7,6 +7,7 @@ from rich.markup import escape
 
 from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
 from hdselect.envelope.search import ABSOLUTE
+from hdselect.envelope.torques import BEARING_NOTE
 from hdselect.report.tables import Column, FittedTable, Paragraphs
 from hdselect.report.terminal import DEG_PER_RAD, life_text, percent, utilization_text, verdict
 from hdselect.sizing.records import assumptions, base_text
@@ -114,6 +115,8 @@ def note_lines(result: EnvelopeResult) -> list[str]:
                           if result.settled else "DID NOT SETTLE")
              + ". --json gives every state and count.",
              "duty alone: what `hdselect size` of the duty selects (the worst states left out)."]
+    if any(joint.sizing.bearing is not None for joint in result.joints):
+        notes.append(f"{BEARING_NOTE}. --json gives each joint's bearing loads.")
     notes += [f"{joint.name}: not converged: {joint.convergence.note}"
               for joint in result.joints if not joint.convergence.converged]
     for joint in result.joints:

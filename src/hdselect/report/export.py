@@ -18,7 +18,12 @@ from hdselect.motion.planning import Trajectory
 from hdselect.motion.planning.toolpath import LineDeviation
 from hdselect.robot.joints import JointInfo
 from hdselect.robot.model import Robot
-from hdselect.sizing.records import candidate_json, finite_or_none, mean_speed_note
+from hdselect.sizing.records import (
+    bearing_rating_json,
+    candidate_json,
+    finite_or_none,
+    mean_speed_note,
+)
 
 _CSV_ROWS = 1 << 14
 """Rows of a trajectory CSV formatted at a time."""
@@ -85,7 +90,7 @@ def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
         "max_input_speed_rpm": u.max_input_speed, "input_inertia_kg_m2": u.input_inertia,
         "mass_kg": u.mass, "efficiency_table": u.efficiency is not None,
         "flags": [{"field": f.field, "kind": f.kind, "note": f.note} for f in u.flags],
-        "source": str(u.source),
+        "source": str(u.source), "bearing": bearing_rating_json(u),
     } for u in units]}
 
 

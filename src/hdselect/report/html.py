@@ -17,6 +17,7 @@ from collections.abc import Mapping
 
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.units import Flag
+from hdselect.report.bearing_html import BEARING_UNITS, bearing_section
 from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.html_summary import parts_section, summary
@@ -36,13 +37,14 @@ from hdselect.sizing.result import JointSizing, SizingResult
 
 _UNITS = {"peak": "N m", "mean": "N m", "speed": "rpm", "average_speed": "rpm",
           "momentary": "N m", "static": "N m", "life": "h", "motor_peak": "N m",
-          "motor_rms": "N m", "motor_speed": "rpm"}
+          "motor_rms": "N m", "motor_speed": "rpm", **BEARING_UNITS}
 
 __all__ = ["number", "page", "slug"]
 
 
 def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
-         motor_figures: Mapping[str, bytes] | None = None) -> str:
+         motor_figures: Mapping[str, bytes] | None = None,
+         bearing_figures: Mapping[str, bytes] | None = None) -> str:
     """The report page.
 
     Args:
@@ -51,6 +53,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
         origin: Where the result came from.
         motor_figures: PNG content of each joint's motor torque-speed figure, by joint
             name, for the joints with motors.
+        bearing_figures: PNG content of each joint's output-bearing figure, by joint name.
 
     Returns:
         The page, self-contained.
@@ -58,6 +61,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
     count = len(result.trajectory.t)
     sections = [_selection(result), parts_section(result), _warnings(result), _notes(result),
                 _heat_maps(result), _loads(result),
+                bearing_section(result, bearing_figures or {}),
                 *(_joint_section(result, joint, figures.get(joint.name),
                                  (motor_figures or {}).get(joint.name))
                   for joint in result.joints),
@@ -251,8 +255,9 @@ def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
     colour = utilization_colour(check.utilization)
     state = "ok" if check.ok else "fail"
     text = utilization_text(check.utilization, check.ok) + ("" if check.ok else " ✗")
-    if name == "life":
-        figures = f"needs {check.limit:,.0f} of {life_text(check.value)}"
+    if name in ("life", "bearing_life", "bearing_static"):
+        figures = (f"needs {check.limit:,.3g} of {check.value:.3g}" if name == "bearing_static"
+                   else f"needs {check.limit:,.0f} of {life_text(check.value)}")
     else:
         figures = f"{number(check.value)} / {number(check.limit)} {_UNITS.get(name, '')}"
     kind = check.detail.get("kind")
@@ -293,6 +298,8 @@ def _heat_maps(result: SizingResult) -> str:
             f"{_colour_bar()}{pairs[1]}<div class=maps>{''.join(maps)}</div><p>▶ selected. "
             "Utilization = demand / limit of each check (life: required over expected). "
             "mom. = momentary (T4), the worse of an emergency stop and a crash."
+            + (" b. = the output bearing's checks (its life and static safety: required over "
+               "reached)." if any(r.startswith("bearing_") for r in rules) else "")
             + (" Each row is a gearhead and motor pair: the gearhead's checks behind that motor "
                "(its rotor inertia in the motor torque and the crash), then m. = the motor's: "
                "peak under its torque-speed curve, RMS against its rated torque, speed."
@@ -389,7 +396,7 @@ def _provenance(origin: Provenance) -> str:
     software = ", ".join(f"{name} {version}" for name, version in origin.software)
     files = table(["role", "file", "bytes", "SHA-256"], [
         [esc(f.role), f"<code>{esc(f.path)}</code>", "-" if f.size is None else f"{f.size:,}",
-         f"<code>{esc(f.sha256)}</code>"] for f in origin.files], left=2)
+         f"<code>{esc(f.sha256)}</code>"] for f in origin.files], left=1, text=[1])  # paths wrap
     settings = table(["what", "value"], [[esc(k), f"<td class='t wrap'>{esc(v)}</td>"]
                                           for k, v in origin.settings], left=2)
     limits = (f"<h3>Limits of the motion</h3>{table(*_escaped(origin.limits))}"

@@ -2,8 +2,9 @@
 
 What a design review reads first: the robot, the motion (each task's cycle, payload
 and share of the time), the mounting, the selection per joint (unit, motor, the rule
-closest to its limit and the margin left, life), the masses added, the warnings that
-change a decision and the assumptions in one short list.
+closest to its limit, an output bearing's among them, and the margin left, life), the
+masses added, the warnings that change a decision (an output bearing the source does
+not rate among them) and the assumptions in one short list.
 """
 
 from __future__ import annotations
@@ -121,6 +122,11 @@ def _warnings(result: SizingResult) -> str:
     if stand_ins:
         items.append(f"{esc(', '.join(stand_ins))}: chosen on catalog stand-ins for values "
                      'the catalog does not rate (<a href="#notes">notes</a>).')
+    unrated = sorted({c.unit.id for joint in result.joints for c in [joint.selected]
+                      if c is not None and joint.bearing is not None and c.unit.bearing is None})
+    if unrated:
+        items.append(f"{esc(', '.join(unrated))}: output bearing not rated by the source: its "
+                     'loads are reported (<a href="#bearing">output bearings</a>), not checked.')
     thin = [joint for joint in result.joints if joint.selected is not None
             and 1.0 - joint.selected.checks[joint.selected.binding].utilization < 0.1]
     if thin:

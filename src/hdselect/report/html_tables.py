@@ -61,6 +61,8 @@ details>summary{list-style:none;margin-left:0}details{border:none}
 details[data-of=joint],details[data-of=provenance]{break-before:page}
 summary,h2,h3{break-after:avoid}figure,tr{break-inside:avoid}
 figure img{max-height:95mm;width:auto}
+.bearingfigs figure{display:inline-block;width:49%;vertical-align:top;margin:0}
+.bearingfigs img{max-width:100%}
 section.pairs .maps,tr.no,tr.out td.u small{display:none}.printnote{display:block}
 a{color:inherit}}
 @media (max-width:640px){body{padding:0 .5em}

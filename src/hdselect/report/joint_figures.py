@@ -43,7 +43,7 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     fig = Figure(figsize=(11, 6.6), layout="constrained")
     speed_ax, torque_ax = fig.subplots(2, 1, sharex=True)
     for ax in (speed_ax, torque_ax):
-        for start, end in _runs(rest, t, traj.dt):
+        for start, end in rest_spans(rest, t, traj.dt):
             ax.axvspan(start, end, color="0.88", lw=0, zorder=0)
     output_rpm = np.abs(traj.qd[:, j]) * RPM_PER_RAD_S
     speed_ax.plot(*envelope(t, output_rpm), color=MOVING, lw=1.2, label="|output speed|")
@@ -202,7 +202,7 @@ def motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
     return fig
 
 
-def _runs(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, float]]:
+def rest_spans(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, float]]:
     """The time spans [s] where `mask` holds, each sample standing for one period."""
     edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
     return [(float(t[a]) - dt / 2, float(t[b - 1]) + dt / 2)

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from hdselect.base.errors import InputError
 from hdselect.base.outputs import Outputs
+from hdselect.report.bearing_figures import bearing_figure
 from hdselect.report.figures import png_bytes
 from hdselect.report.joint_figures import joint_figure, motor_figure
 from hdselect.sizing.result import SizingResult
@@ -18,7 +19,8 @@ def write_report(directory: str | Path, result: SizingResult, *,
 
     ``index.html`` embeds every figure, so it can be mailed or printed on its own;
     the figures are also written beside it as ``joint_<name>.png`` (and, for a joint
-    with motors, its motor's torque-speed plane as ``motor_<name>.png``). Every file is
+    with motors, its motor's torque-speed plane as ``motor_<name>.png``; where the
+    bearing loads were computed, their figure as ``bearing_<name>.png``). Every file is
     written aside first and the whole report moved into place at the end
     (`hdselect.outputs`): a failure leaves no part of it, and puts back any file it
     would have replaced.
@@ -47,9 +49,10 @@ def report_files(directory: Path, result: SizingResult, *,
     """
     from hdselect.report.html import slug
 
-    page, figures, motor_figures = _report(result, command)
+    page, figures, motor_figures, bearing_figures = _report(result, command)
     try:
-        for prefix, pngs in (("joint", figures), ("motor", motor_figures)):
+        for prefix, pngs in (("joint", figures), ("motor", motor_figures),
+                             ("bearing", bearing_figures)):
             for name, png in pngs.items():
                 (directory / f"{prefix}_{slug(name)}.png").write_bytes(png)
         (directory / "index.html").write_text(page, encoding="utf-8")
@@ -64,8 +67,8 @@ def report_page(result: SizingResult, *, command: Sequence[str] | None = None) -
 
 
 def _report(result: SizingResult, command: Sequence[str] | None
-            ) -> tuple[str, dict[str, bytes], dict[str, bytes]]:
-    """The page, each joint's figure and each motor figure (PNG content by joint name)."""
+            ) -> tuple[str, dict[str, bytes], dict[str, bytes], dict[str, bytes]]:
+    """The page and each joint's torque, motor and bearing figures (PNG by joint name)."""
     from hdselect.report.html import page
     from hdselect.report.provenance import provenance
 
@@ -73,4 +76,7 @@ def _report(result: SizingResult, command: Sequence[str] | None
     figures = {joint.name: png_bytes(joint_figure(result, joint)) for joint in result.joints}
     motor_figures = {joint.name: png_bytes(motor_figure(result, joint))
                      for joint in result.joints if joint.motor_torque is not None}
-    return page(result, figures, origin, motor_figures), figures, motor_figures
+    bearing_figures = {joint.name: png_bytes(fig) for joint in result.joints
+                       if (fig := bearing_figure(result, joint)) is not None}
+    return (page(result, figures, origin, motor_figures, bearing_figures), figures,
+            motor_figures, bearing_figures)

@@ -17,6 +17,7 @@ from hdselect.catalog.rules import (
     MotorDemand,
 )
 from hdselect.catalog.units import Unit
+from hdselect.report.bearing_tables import BEARING_COLUMNS, bearing_cells, bearing_notes, load_line
 from hdselect.report.case_tables import case_notes, tool_pose_notes
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import (
@@ -48,12 +49,14 @@ def candidates_table(title: str, candidates: Iterable[Candidate], selected: Cand
                Column("L50 h", group="life hours"),
                *(Column(header, group=extra_group) for header in extra),
                Column("result", "left")]
-    failing = {name for name in names for c in candidates if not c.checks[name].ok}
+    failing = {name for name in names for c in candidates
+               if name in c.checks and not c.checks[name].ok}
     rows, styles = [], []
     for c in candidates:
         chosen = c is selected
         cells = [("▶" if chosen else " ") + escape(c.unit.id)]
-        cells += [utilization_cell(c.checks[name], pad=name in failing) for name in names]
+        cells += [utilization_cell(c.checks[name], pad=name in failing) if name in c.checks
+                  else "-" + " " * (name in failing) for name in names]
         cells += [life_text(c.life_hours, ""), *(cell(c) for cell in extra.values()),
                   verdict(c)]
         rows.append(tuple(cells))
@@ -83,17 +86,18 @@ def size_table(result: SizingResult) -> FittedTable:
     columns = (Column("joint", "left"), Column("unit", "left"), Column("binding", "left"),
                Column("L50 life"), Column("motor\npeak N m", group="motor"),
                Column("motor\nrms N m", group="motor"), Column("motor\nmax rpm", group="motor"),
-               Column("notes", "left", group="notes"))
+               *BEARING_COLUMNS, Column("notes", "left", group="notes"))
     rows = []
     for joint in result.joints:
         chosen = joint.selected
         notes = ["gravity"] if joint.gravity_loaded else []
         if joint.load.max_speed == 0.0:
             notes.append("still")
+        bearing = bearing_cells(joint, chosen or joint.strongest)
         if chosen is None:
             strongest = joint.strongest
             rows.append((escape(joint.name), "[red]none[/red]",
-                         f"[red]{verdict(strongest)}[/red]", "-", "-", "-", "-",
+                         f"[red]{verdict(strongest)}[/red]", "-", "-", "-", "-", *bearing,
                          ", ".join(notes)))
             continue
         motor = _motor(chosen)
@@ -104,9 +108,18 @@ def size_table(result: SizingResult) -> FittedTable:
             f"{chosen.binding} {utilization_text(check.utilization, True)}",
             life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
-            ", ".join(notes)))
-    shown = len(columns) if any(row[-1] for row in rows) else -1  # no empty notes column
-    return FittedTable(_size_title(result), columns[:shown], tuple(row[:shown] for row in rows),
+            *bearing, ", ".join(notes)))
+    return _fitted(result, columns, rows)
+
+
+def _fitted(result: SizingResult, columns: tuple[Column, ...],
+            rows: list[tuple[str, ...]]) -> FittedTable:
+    """The size table: no empty notes column, no bearing columns where no loads were computed."""
+    keep = [i for i, column in enumerate(columns)
+            if not (column.group == "notes" and not any(row[i] for row in rows))
+            and not (column.group == "bearing" and all(j.bearing is None for j in result.joints))]
+    return FittedTable(_size_title(result), tuple(columns[i] for i in keep),
+                       tuple(tuple(row[i] for i in keep) for row in rows),
                        notes=tuple(_size_notes(result)))
 
 
@@ -130,16 +143,17 @@ def _pairs_table(result: SizingResult) -> FittedTable:
                Column("load/\nrotor", group="inertia"), Column("L50 life", group="life"),
                Column("motor\npeak N m", group="motor"),
                Column("motor\nrms N m", group="motor"), Column("motor\nmax rpm", group="motor"),
-               Column("notes", "left", group="notes"))
+               *BEARING_COLUMNS, Column("notes", "left", group="notes"))
     rows = []
     for joint in result.joints:
         chosen = joint.selected
         notes = _joint_notes(joint)
+        bearing = bearing_cells(joint, chosen or joint.strongest)
         if chosen is None:
             strongest = joint.strongest
             rows.append((escape(joint.name), "[red]none[/red]", "[red]none[/red]",
                          f"[red]{verdict(strongest)}[/red]", "-", "-", "-", "-", "-", "-",
-                         ", ".join(notes)))
+                         *bearing, ", ".join(notes)))
             continue
         motor = _motor(chosen)
         side = chosen.motor_binding
@@ -150,10 +164,8 @@ def _pairs_table(result: SizingResult) -> FittedTable:
             "-" if side is None else _binding_text(chosen, side).removeprefix("motor_"),
             ratio_text(joint.inertia_ratio(chosen)), life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
-            ", ".join(notes)))
-    shown = len(columns) if any(row[-1] for row in rows) else -1  # no empty notes column
-    return FittedTable(_size_title(result), columns[:shown], tuple(row[:shown] for row in rows),
-                       notes=tuple(_size_notes(result)))
+            *bearing, ", ".join(notes)))
+    return _fitted(result, columns, rows)
 
 
 def _binding_text(candidate: Candidate, name: str) -> str:
@@ -172,12 +184,17 @@ def compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:
         return _pairs_compare_table(result, joint)
     return candidates_table(
         f"Joint {joint.name}: {load_text(joint.load, result.units)}, carries "
-        f"{joint.carried_mass:.2f} kg of gearheads", joint.candidates, joint.selected,
+        f"{joint.carried_mass:.2f} kg of gearheads{_bearing_title(joint)}", joint.candidates,
+        joint.selected,
         extra={"motor\npeak N m": lambda c: f"{_motor(c).peak_torque:.3g}",
                "motor\nrms N m": lambda c: f"{_motor(c).rms_torque:.3g}",
                "motor\nmax rpm": lambda c: f"{_motor(c).max_speed:,.0f}"},
         notes=["▶ selected. utilization = demand / limit, ✗ over the limit; mom. = momentary "
-               "(T4): the worse of an emergency stop and a crash."])
+               "(T4): the worse of an emergency stop and a crash."
+               + (" b. = the output bearing's checks (b.life: its L10 life, b.static: "
+                  "the static safety C0 / P0; utilization = required / reached), - where the "
+                  "unit's catalog does not rate the bearing."
+                  if any(c.bearing is not None for c in joint.candidates) else "")])
 
 
 def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:
@@ -215,8 +232,13 @@ def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> FittedTabl
              "rated torque, speed; load/rotor = (M_jj / N² + J_in) / J_m, M_jj the joint's "
              "largest over the cycle. --json gives every rule of every pair.",)
     return FittedTable(f"Joint {joint.name}: {load_text(joint.load, result.units)}, carries "
-                       f"{joint.carried_mass:.2f} kg of gearheads and motors", columns,
-                       tuple(rows), tuple(styles), notes)
+                       f"{joint.carried_mass:.2f} kg of gearheads and motors"
+                       f"{_bearing_title(joint)}", columns, tuple(rows), tuple(styles), notes)
+
+
+def _bearing_title(joint: JointSizing) -> str:
+    """The joint's output-bearing loads for a compare table's heading, or nothing."""
+    return "" if joint.bearing is None else f"; {load_line(joint.bearing)}"
 
 
 def _motor(candidate: Candidate) -> MotorDemand:
@@ -287,6 +309,7 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
     notes += tool_pose_notes(result.motion) + case_notes(result.robot, result.trajectory)
+    notes += bearing_notes(result)
     for joint in result.joints:
         if joint.selected is None:
             strongest = joint.strongest

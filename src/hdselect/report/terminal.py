@@ -81,6 +81,10 @@ def binding_words(candidate: Candidate, name: str | None = None) -> str:
     share = utilization_text(check.utilization, check.ok).replace("%", " %")
     if name == "life":
         return f"life, {share} of the expected life required"
+    if name == "bearing_life":
+        return f"bearing life, {share} of the expected L10 life required"
+    if name == "bearing_static":
+        return f"bearing static safety, {share} of the safety reached required"
     of = {"motor_rms": "rated", "motor_peak": "peak at that speed", "motor_speed": "maximum",
           "inertia_ratio": "largest allowed"}.get(name, "its limit")
     return f"{CHECK_NAMES.get(name, name)}, {share} of {of}"

@@ -132,13 +132,10 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         Joint torques [N m or N], shape (n, dof).
     """
     n = q.shape[0]
-    if n > _SAMPLES_PER_THREAD:  # a dwell repeats one state: compute it once
-        repeat = (np.all(q[1:] == q[:-1], axis=1) & np.all(qd[1:] == qd[:-1], axis=1)
-                  & np.all(qdd[1:] == qdd[:-1], axis=1))
-        if np.count_nonzero(repeat) * _REPEATS_WORTH > n:
-            keep = np.r_[True, ~repeat]
-            tau = inverse_dynamics(robot, q[keep], qd[keep], qdd[keep], threads=threads)
-            return tau[np.cumsum(keep) - 1]
+    distinct = distinct_states(q, qd, qdd)
+    if distinct is not None:  # a dwell repeats one state: compute it once
+        keep, back = distinct
+        return inverse_dynamics(robot, q[keep], qd[keep], qdd[keep], threads=threads)[back]
     if threads is None:
         threads = min(os.cpu_count() or 1, max(1, min(n, CHUNK) // _SAMPLES_PER_THREAD))
     pool = pin.ModelPool(robot.model, threads)  # 0.05 ms: cheaper than keeping models alive
@@ -153,6 +150,31 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         pin.rneaInParallel(threads, pool, config, velocity, acceleration, tau)
         out[rows] = tau.T
     return out
+
+
+def distinct_states(q: np.ndarray, qd: np.ndarray,
+                    qdd: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """Where enough samples repeat the one before (dwells), the states to compute once.
+
+    Args:
+        q: Joint positions [rad or m], shape (n, dof).
+        qd: Joint velocities [rad/s or m/s], shape (n, dof).
+        qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof).
+
+    Returns:
+        None when it does not pay (few samples, or at most 1 in `_REPEATS_WORTH`
+        repeating); else a mask of the samples to compute and, for every sample, the
+        index of its state among them.
+    """
+    n = q.shape[0]
+    if n <= _SAMPLES_PER_THREAD:
+        return None
+    repeat = (np.all(q[1:] == q[:-1], axis=1) & np.all(qd[1:] == qd[:-1], axis=1)
+              & np.all(qdd[1:] == qdd[:-1], axis=1))
+    if np.count_nonzero(repeat) * _REPEATS_WORTH <= n:
+        return None
+    keep = np.r_[True, ~repeat]
+    return keep, np.cumsum(keep) - 1
 
 
 def rnea_function(robot: Robot) -> Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]:

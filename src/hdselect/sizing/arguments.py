@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -94,3 +94,22 @@ def check_trajectory(trajectory: Trajectory) -> None:
                              field=f"trajectory.{name}")
         if not np.all(np.isfinite(array)):
             raise InputError("holds a number that is not finite", field=f"trajectory.{name}")
+
+
+def check_bearing_options(robot: Robot, units: Iterable[Unit], options: Options) -> None:
+    """The options' bearing offsets name sized joints, and the loads are on where needed.
+
+    Raises:
+        InputError: An offset names a joint that is not sized, or ``bearing_loads`` is
+            off while a candidate unit's catalog rates its bearing.
+    """
+    for name in options.bearing_offset:
+        if name not in robot.sized_joints:
+            raise InputError(f"'{name}' is not a sized joint; sized joints are: "
+                             f"{', '.join(robot.sized_joints)}",
+                             field=f"bearing_offset.{name}")
+    if not options.bearing_loads:
+        rated = sorted({unit.id for unit in units if unit.bearing is not None})
+        if rated:
+            raise InputError(f"the bearing loads are off, but {', '.join(rated)} rate their "
+                             "output bearing: its checks need the loads", field="bearing_loads")

@@ -30,7 +30,12 @@ from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
-from hdselect.sizing.arguments import check_trajectory, checked_motors, units_argument
+from hdselect.sizing.arguments import (
+    check_bearing_options,
+    check_trajectory,
+    checked_motors,
+    units_argument,
+)
 from hdselect.sizing.joint import JointCycle, size_joint
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import JointSizing, Motors, SizingResult
@@ -208,18 +213,20 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
     if options.prefer is None:
         options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
                           else DEFAULT_PREFER)
+    check_bearing_options(robot, units, options)
     per_joint = {name: units for name in robot.sized_joints}
     guess: dict[str, float] = {}
     if options.mass_coupling:
         coarse = [replace(task, trajectory=_decimated(task.trajectory)) for task in tasks]
         coarse_samples = pooled(coarse)
         coarse_model = DirectTorques(coarse_samples.tasks, coarse_samples, options.stop_time,
-                                     threads=options.threads)
+                                     threads=options.threads,
+                                     wrenches=any(unit.bearing is not None for unit in units))
         _, guess = select_units(coarse_model, per_joint, options, motors, detail=False,
                                 slowdowns=False)
     samples = pooled(tasks)
     model = DirectTorques(samples.tasks, samples, options.stop_time, threads=options.threads,
-                          guess=guess)
+                          guess=guess, wrenches=options.bearing_loads)
     joints, masses = select_units(model, per_joint, options, motors)
     first = samples.tasks[0]
     return SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
@@ -253,9 +260,10 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
         # the load inertia before the selection (the inertia-ratio rule): M_jj depends only
         # on the bodies beyond the joint, whose units are chosen
         inertia = model.load_inertia(name, masses) if name in motors else None
-        joint = size_joint(name, JointCycle(model.samples, robot.joint_index(name), tau, stop),
-                           units[name], options, motors=motors.get(name, ()), detail=detail,
-                           load_inertia=inertia)
+        cycle = JointCycle(model.samples, robot.joint_index(name), tau, stop,
+                           model.wrench(name, masses), options.bearing_offset.get(name, 0.0))
+        joint = size_joint(name, cycle, units[name], options, motors=motors.get(name, ()),
+                           detail=detail, load_inertia=inertia)
         found[name] = joint
         if options.mass_coupling:
             chosen = joint.selected or joint.strongest
@@ -319,6 +327,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
     if missing:
         raise InputError(f"no unit given for {', '.join(missing)}", field="units")
     options = options if options is not None else Options()
+    check_bearing_options(robot, units.values(), options)
     fixed = checked_motors(robot, motors, options) if motors else {}
     for name, given in fixed.items():
         if len(given) != 1:
@@ -332,7 +341,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
     task = Task(robot, trajectory)
     samples = pooled((task,))
     model = DirectTorques((task,), samples, options.stop_time, threads=options.threads,
-                          guess=masses)
+                          guess=masses, wrenches=options.bearing_loads)
     joints, masses = select_units(model, {name: (units[name],) for name in robot.sized_joints},
                                   resolved, fixed, slowdowns=False)
     distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))

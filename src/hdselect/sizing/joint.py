@@ -17,6 +17,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from hdselect.base.arrays import frozen, readonly
+from hdselect.catalog.bearing_rules import BearingLoad
 from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import (
@@ -29,6 +30,7 @@ from hdselect.catalog.rules import (
 )
 from hdselect.catalog.select import select
 from hdselect.catalog.units import Unit
+from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
 from hdselect.sizing.result import JointSizing
@@ -44,12 +46,17 @@ class JointCycle:
         column: The joint's column in the samples' arrays.
         torque: Output torque along the samples [N m], shape (n,).
         stop: Output torque at the start of an emergency stop from each sample [N m], (n,).
+        wrench: The whole force and moment through the joint along the samples, in its
+            axis frame about the joint origin; None when not computed.
+        offset: Where the output flange sits along the axis from the joint origin [m].
     """
 
     samples: Samples
     column: int
     torque: np.ndarray
     stop: np.ndarray
+    wrench: SampledWrench | None = None
+    offset: float = 0.0
 
     @property
     def qd(self) -> np.ndarray:
@@ -69,6 +76,21 @@ class JointCycle:
     def load(self) -> CycleLoad:
         """The cycle on the output side, by the catalog page's formulas."""
         return cycle_load(self.torque, self.qd, self.samples.dt, self.rest)
+
+    def bearing(self, spread: float = 0.0) -> BearingLoad | None:
+        """The output bearing's loads about the flange, or `spread` from it either way.
+
+        Args:
+            spread: A unit's distance from its output flange to its bearing centre [m]
+                (the side is not known: the larger moment of both sides per sample).
+
+        Returns:
+            The loads over the cycle; None without the wrench.
+        """
+        if self.wrench is None:
+            return None
+        return cycle_bearing(self.wrench, self.offset, spread, self.qd, self.samples.dt,
+                             self.samples.rest[:, self.column])
 
 
 def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: Options, *,
@@ -92,15 +114,34 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
         for the core to fill in.
     """
     load = cycle.load()
+    bearings = _Bearings(cycle)
     if motors:
-        return _size_pairs(name, cycle, load, units, motors, options, load_inertia)
-    if detail:
-        candidates = [_candidate(load, r, cycle, options) for r in _reflect(units, cycle, options)]
-        return JointSizing(name, load, tuple(candidates),
-                           select(candidates, _prefer(options),
-                                  inertia_target=options.inertia_target),
-                           0.0, False, 0.0, readonly(cycle.torque), readonly(cycle.stop))
-    return _selected_only(name, cycle, load, units, options)
+        joint = _size_pairs(name, cycle, load, bearings, units, motors, options, load_inertia)
+    elif detail:
+        candidates = [_candidate(load, r, cycle, bearings, options)
+                      for r in _reflect(units, cycle, options)]
+        joint = JointSizing(name, load, tuple(candidates),
+                            select(candidates, _prefer(options),
+                                   inertia_target=options.inertia_target),
+                            0.0, False, 0.0, readonly(cycle.torque), readonly(cycle.stop))
+    else:
+        joint = _selected_only(name, cycle, load, bearings, units, options)
+    return replace(joint, bearing=bearings.of(None), wrench=cycle.wrench)
+
+
+class _Bearings:
+    """A joint's output-bearing loads about each centre asked for, computed once each."""
+
+    def __init__(self, cycle: JointCycle) -> None:
+        self.cycle = cycle
+        self._found: dict[float, BearingLoad | None] = {}
+
+    def of(self, unit: Unit | None) -> BearingLoad | None:
+        """About the unit's bearing centre where it rates its bearing, else the flange."""
+        spread = unit.bearing.offset if unit is not None and unit.bearing is not None else 0.0
+        if spread not in self._found:
+            self._found[spread] = self.cycle.bearing(spread)
+        return self._found[spread]
 
 
 def _prefer(options: Options) -> str:
@@ -115,19 +156,25 @@ def _reflect(units: Sequence[Unit], cycle: JointCycle, options: Options) -> list
 
 
 def _candidate(load: CycleLoad, reflection: Reflection, cycle: JointCycle,
-               options: Options) -> Candidate:
+               bearings: _Bearings, options: Options) -> Candidate:
     """`check_unit` with the motor demand (its RMS weighted where samples differ in length)."""
     demand = reflection.motor
     if cycle.samples.weight is not None:
         demand = weighted_demand(demand, reflection.motor_torque, cycle.qd,
                                  reflection.unit.ratio, cycle.samples.weight)
-    return check_unit(load, reflection.unit, momentary=reflection.momentary,
+    unit = reflection.unit
+    return check_unit(load, unit, momentary=reflection.momentary,
                       life_hours=options.life_hours, life_basis=options.life_basis,
-                      motor=demand, margin=options.margin)
+                      motor=demand, bearing=_rated(bearings, unit), margin=options.margin)
 
 
-def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit, ...],
-                motors: Sequence[Motor], options: Options,
+def _rated(bearings: _Bearings, unit: Unit) -> BearingLoad | None:
+    """The loads `check_unit` checks: only a unit that rates its bearing needs them."""
+    return None if unit.bearing is None else bearings.of(unit)
+
+
+def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,
+                units: tuple[Unit, ...], motors: Sequence[Motor], options: Options,
                 load_inertia: float | None = None) -> JointSizing:
     """Every (gearhead, motor) pair: each motor's rotor inertia in the motor torque and crash."""
     behind = reflect_motors(units, [m.rotor_inertia for m in motors], cycle.samples.t,
@@ -139,8 +186,8 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit
     for u, unit in enumerate(units):
         for m, motor in enumerate(motors):
             r = behind[m][u]
-            pair = with_motor(_candidate(load, r, cycle, options), motor, r.motor_torque,
-                              speed * unit.ratio, load_inertia=load_inertia,
+            pair = with_motor(_candidate(load, r, cycle, bearings, options), motor,
+                              r.motor_torque, speed * unit.ratio, load_inertia=load_inertia,
                               max_inertia_ratio=options.max_inertia_ratio)
             pairs.append(pair)
             torque[id(pair)] = r.motor_torque
@@ -150,8 +197,8 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit
     return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
 
 
-def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[Unit, ...],
-                   options: Options) -> JointSizing:
+def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,
+                   units: tuple[Unit, ...], options: Options) -> JointSizing:
     """The selection, judging the whole-cycle rules only where they can change it.
 
     A unit failing a rule on single figures is infeasible whatever its whole-cycle
@@ -176,7 +223,7 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[U
     survivors = [k for k in range(len(units)) if passes[k]]
     motor_order = prefer.startswith("motor")
     if motor_order:
-        checked = [_candidate(load, r, cycle, options)
+        checked = [_candidate(load, r, cycle, bearings, options)
                    for r in _reflect([units[k] for k in survivors], cycle, options)]
     else:
         checked = []
@@ -186,7 +233,7 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[U
                                    momentary=_event(k, i_stop, i_crash, stopping, crash, speed,
                                                     cycle.samples.t, options),
                                    life_hours=options.life_hours, life_basis=options.life_basis,
-                                   margin=options.margin)
+                                   bearing=_rated(bearings, units[k]), margin=options.margin)
                         for k in survivors if units[k].size == size or prefer != "size"]
             if prefer != "size" or any(c.feasible for c in checked):
                 break
@@ -194,7 +241,7 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, units: tuple[U
     if selected is None or not motor_order:  # the figures of the selected, else the strongest
         unit = units[limits.strongest] if selected is None else selected.unit
         (reflection,) = _reflect([unit], cycle, options)
-        chosen = _candidate(load, reflection, cycle, options)
+        chosen = _candidate(load, reflection, cycle, bearings, options)
         selected = None if selected is None else chosen
     else:
         chosen = selected

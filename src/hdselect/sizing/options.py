@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 from hdselect.base import bounds
@@ -48,6 +49,13 @@ class Options:
             pair [-], positive, or None: then each motor's own (its file's
             ``max_inertia_ratio``), else no limit.
         inertia_target: The load-to-rotor inertia ratio ``prefer = "inertia"`` aims at [-].
+        bearing_offset: Where each named joint's output flange sits along its axis from
+            the joint origin [m], signed along the robot file's axis (the motion file's
+            ``[sizing] bearing_offset_m``): its output bearing's loads are taken about
+            that point, or a unit's catalog offset from it. Joints not named: 0.
+        bearing_loads: Compute the loads on every sized joint's output bearing (one more
+            batched pass); False leaves them out, and is refused where a candidate unit's
+            catalog rates its bearing (its checks need them).
 
     Raises:
         InputError: A value is out of range or of the wrong type; the field is its name.
@@ -66,15 +74,18 @@ class Options:
     margin: float = DEFAULT_MARGIN
     max_inertia_ratio: float | None = None
     inertia_target: float = DEFAULT_INERTIA_TARGET
+    bearing_offset: Mapping[str, float] = field(default_factory=dict)
+    bearing_loads: bool = True
 
     def __post_init__(self) -> None:
         for name, bound in (("stop_time", bounds.STOP_TIME), ("efficiency", bounds.EFFICIENCY),
                             ("rotor_inertia", bounds.ROTOR_INERTIA),
                             ("motor_mass", bounds.ADDED_MASS)):
             _set(self, name, bound.check(getattr(self, name), field=name))
-        if not isinstance(self.mass_coupling, bool):
-            raise InputError(f"expected true or false, got {self.mass_coupling!r}",
-                             field="mass_coupling")
+        for name in ("mass_coupling", "bearing_loads"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(f"expected true or false, got {getattr(self, name)!r}",
+                                 field=name)
         if self.prefer is not None and (not isinstance(self.prefer, str)
                                         or self.prefer not in PREFERENCES):
             raise InputError(f"unknown order {self.prefer!r}; choose one of: "
@@ -96,6 +107,13 @@ class Options:
                 self.max_inertia_ratio, field="max_inertia_ratio"))
         _set(self, "inertia_target", bounds.INERTIA_RATIO.check(self.inertia_target,
                                                                  field="inertia_target"))
+        if not isinstance(self.bearing_offset, Mapping) or not all(
+                isinstance(name, str) for name in self.bearing_offset):
+            raise InputError("expected a mapping of joint names to offsets [m], got "
+                             f"{self.bearing_offset!r}", field="bearing_offset")
+        _set(self, "bearing_offset", {
+            name: bounds.AXIAL_OFFSET.check(value, field=f"bearing_offset.{name}")
+            for name, value in self.bearing_offset.items()})
 
 
 def options_for(motion: Motion | None, **given: Any) -> Options:
@@ -124,6 +142,8 @@ def options_for(motion: Motion | None, **given: Any) -> Options:
         for name in ("stop_time", "life_hours", "life_basis", "margin"):
             if name not in values and getattr(motion, name) is not None:
                 values[name] = getattr(motion, name)
+        if "bearing_offset" not in values and motion.bearing_offset:
+            values["bearing_offset"] = dict(motion.bearing_offset)
     return Options(**values)
 
 

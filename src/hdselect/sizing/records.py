@@ -10,6 +10,7 @@ import math
 from collections.abc import Iterable
 from typing import Any
 
+from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
@@ -104,7 +105,44 @@ def rules_json(rules: SeriesRules) -> dict[str, Any]:
             "rated_life_hours": rules.rated_life_hours, "life_basis": rules.life_basis,
             "mean_torque_limit": rules.mean_torque_limit, "mean_speed": rules.mean_speed,
             "max_momentary_events": rules.max_momentary_events,
-            "assumed": rules.flag is not None}
+            "assumed": rules.flag is not None,
+            "bearing_load_factor": rules.bearing_load_factor,
+            "bearing_static_safety": rules.bearing_static_safety}
+
+
+def bearing_load_json(load: BearingLoad) -> dict[str, Any]:
+    """An output bearing's loads over the cycle as JSON, in SI (N, N m, m)."""
+    return {"offset_m": load.offset, "spread_m": load.spread,
+            "max_moment_nm": load.max_moment, "max_radial_n": load.max_radial,
+            "max_axial_n": load.max_axial, "mean_moment_nm": load.mean_moment,
+            "mean_radial_n": load.mean_radial, "mean_axial_n": load.mean_axial}
+
+
+def bearing_rating_json(unit: Unit) -> dict[str, Any]:
+    """What a unit's catalog rates its output bearing for, in SI; ``rated`` false if nothing."""
+    rating = unit.bearing
+    if rating is None:
+        return {"rated": False, "note": NOT_RATED}
+    return {"rated": True, "pitch_diameter_m": rating.pitch_diameter,
+            "dynamic_rating_n": rating.dynamic_rating, "static_rating_n": rating.static_rating,
+            "max_moment_nm": rating.max_moment, "max_radial_n": rating.max_radial,
+            "max_axial_n": rating.max_axial, "offset_m": rating.offset}
+
+
+def candidate_bearing_json(candidate: Candidate) -> dict[str, Any]:
+    """What one unit's catalog rates its output bearing for, and its figures on this cycle."""
+    document = bearing_rating_json(candidate.unit)
+    figures = candidate.bearing
+    if figures is not None:
+        document.update({
+            "loads": bearing_load_json(figures.load),
+            "mean_output_speed_rpm": figures.mean_speed,
+            "equivalent_load_n": figures.equivalent_load,
+            "load_factors": None if figures.factors is None else list(figures.factors),
+            "life_l10_hours": finite_or_none(figures.life_hours),
+            "static_load_n": figures.static_load,
+            "static_safety": finite_or_none(figures.static_safety)})
+    return document
 
 
 def assumptions(result: SizingResult) -> dict[str, str]:
@@ -144,6 +182,18 @@ def assumptions(result: SizingResult) -> dict[str, str]:
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
         "joint losses": JOINT_LOSSES_NOTE,
     }
+
+
+BEARING_RULE_NOTE = (
+    "output bearing: the force and moment through each joint from the inverse dynamics "
+    "(carried units and payload included): tilting moment M, radial force F_r and axial "
+    "force F_a about the output flange (the joint origin unless [sizing] bearing_offset_m "
+    "moves it; a unit's catalog offset_m from there, to the worse side per sample); largest "
+    "over the cycle, and 10/3-power means over the moving part weighted by |n| t; where a "
+    "catalog rates the bearing: M, F_r, F_a against its limits, the L10 life "
+    "10^6 / (60 N_av) (C / (f_w P_c))^(10/3) with P_c = X (F_r,av + 2 M_av / d_p) + Y F_a,av "
+    "and N_av the output mean speed as the series averages the gear's, and the static safety "
+    "C0 / (F_r,max + 2 M_max / d_p + 0.44 F_a,max); emergency stops are not counted")
 
 
 def margin_text(margin: float) -> str:
@@ -239,6 +289,13 @@ def size_json(result: SizingResult) -> dict[str, Any]:
                 for unit, intervals in joint.scales.fits.items()},
             "candidates": [candidate_json(c) for c in joint.candidates],
         }
+        if joint.bearing is not None:
+            rating = (joint.selected or joint.strongest).unit.bearing
+            document["bearing"] = {**bearing_load_json(joint.bearing),
+                                   "rated": rating is not None,
+                                   "note": None if rating is not None else NOT_RATED}
+            for candidate, entry in zip(joint.candidates, document["candidates"], strict=True):
+                entry["bearing"] = candidate_bearing_json(candidate)
         if joint.name in result.motors:
             chosen = joint.selected
             document.update({
@@ -269,7 +326,9 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "joint_losses": JOINT_LOSSES_NOTE,
             "motors": ({name: [m.id for m in ms] for name, ms in result.motors.items()}
                        if result.motors else None),
-            "motor_rules": MOTOR_MODEL_NOTE if result.motors else None},
+            "motor_rules": MOTOR_MODEL_NOTE if result.motors else None,
+            "bearing_offset_m": dict(options.bearing_offset),
+            "bearing_loads": options.bearing_loads, "bearing_rule": BEARING_RULE_NOTE},
         "motors": [motor_json(m) for m in _distinct(result.motors)],
         "joints": joints,
         "root_link": result.robot.root_link,

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from hdselect.catalog.bearing_rules import BearingLoad
 from hdselect.catalog.motor_rules import inertia_ratio
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import Candidate, CycleLoad
@@ -14,6 +15,7 @@ from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.options import Options
 from hdselect.sizing.tasks import Task
@@ -48,6 +50,13 @@ class JointSizing:
             (`INERTIA_POSES` of them), carried masses and payload included [kg m^2].
         motor_torque: Where motors are given, the motor torque of the selected pair (else
             of the strongest) per sample [N m], shape (n,).
+        bearing: The loads on the joint's output bearing over the cycle, about its output
+            flange (the joint origin, or the options' ``bearing_offset``); None where
+            not computed. A unit that rates its bearing is checked about its own centre
+            (`hdselect.catalog.rules.Candidate.bearing`).
+        wrench: The force and moment through the joint along the samples, in its axis
+            frame about the joint origin (`SampledWrench.full` gives them per sample,
+            rows as `hdselect.robot.wrenches.axis_wrenches`); None where not computed.
     """
 
     name: str
@@ -63,6 +72,8 @@ class JointSizing:
     scales: JointScales | None = None
     load_inertia: float | None = None
     motor_torque: np.ndarray | None = None
+    bearing: BearingLoad | None = None
+    wrench: SampledWrench | None = None
 
     @property
     def strongest(self) -> Candidate:

@@ -6,8 +6,11 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
+import numpy as np
+
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
+from hdselect.sizing.bearing import ScalableWrench
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import JointSizing, Motors
 from hdselect.sizing.timescale import JointScales, ScalableCycle, Slowdown, joint_scales
@@ -21,7 +24,8 @@ def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
 
     The model splits the joint's torques (with the chosen units' `masses` [kg]) into
     the parts that scale differently with time: gravity, and gravity plus the
-    velocity terms.
+    velocity terms; where a unit rates its bearing, the joint's wrench too (at rest,
+    and along the motion).
     """
     samples = model.samples
     out = []
@@ -33,6 +37,12 @@ def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
                 samples.t, samples.dt, samples.duration, samples.qd[:, j], samples.qdd[:, j],
                 samples.rest[:, j], torque=joint.torque, stop_torque=joint.stop_torque,
                 gravity=gravity, coast=coast, stop_time=options.stop_time)
+            if joint.wrench is not None and any(u.bearing is not None for u in units[joint.name]):
+                still = model.gravity_wrench(joint.name, masses)
+                if still is not None:
+                    cycle = replace(cycle, wrench=ScalableWrench(
+                        np.asarray(still[:5]), joint.wrench.full(),
+                        options.bearing_offset.get(joint.name, 0.0)))
             slowdown, scales = fitting_time_scales(cycle, units[joint.name], options,
                                                    motors=tuple(motors.get(joint.name, ())),
                                                    load_inertia=joint.load_inertia)

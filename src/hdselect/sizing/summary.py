@@ -42,6 +42,18 @@ class JointSummary:
         motor_binding: The motor's check with the highest utilization for `candidate`.
         inertia_ratio: Load inertia at the motor shaft over the rotor inertia for
             `candidate` [-] (`hdselect.sizing.core.JointSizing.inertia_ratio`).
+        bearing_max_moment: Largest tilting moment on the output bearing, about the
+            output flange [N m]; None where the loads were not computed.
+        bearing_max_radial: Largest radial force on it [N].
+        bearing_max_axial: Largest axial force on it [N].
+        bearing_mean_moment: Its 10/3-power mean tilting moment over the moving part,
+            weighted by |n| t [N m]; None where the joint never moves.
+        bearing_mean_radial: The same mean of the radial force [N].
+        bearing_mean_axial: The same mean of the axial force [N].
+        bearing_rated: `candidate`'s catalog rates its output bearing (its checks are
+            then among `utilization`); None where the loads were not computed.
+        bearing_life_l10_hours: `candidate`'s output bearing L10 life [h]; None when not
+            rated, unlimited or not computed.
     """
 
     name: str
@@ -63,6 +75,14 @@ class JointSummary:
     motor_candidate: str | None = None
     motor_binding: str | None = None
     inertia_ratio: float | None = None
+    bearing_max_moment: float | None = None
+    bearing_max_radial: float | None = None
+    bearing_max_axial: float | None = None
+    bearing_mean_moment: float | None = None
+    bearing_mean_radial: float | None = None
+    bearing_mean_axial: float | None = None
+    bearing_rated: bool | None = None
+    bearing_life_l10_hours: float | None = None
 
 
 @dataclass(frozen=True)
@@ -136,6 +156,13 @@ def _joint(joint: JointSizing) -> JointSummary:
     chosen = joint.selected or joint.strongest
     motor = chosen.motor
     slowdown = joint.slowdown
+    load = joint.bearing
+    bearing: dict[str, Any] = {} if load is None else {
+        "bearing_max_moment": load.max_moment, "bearing_max_radial": load.max_radial,
+        "bearing_max_axial": load.max_axial, "bearing_mean_moment": load.mean_moment,
+        "bearing_mean_radial": load.mean_radial, "bearing_mean_axial": load.mean_axial,
+        "bearing_rated": chosen.unit.bearing is not None,
+        "bearing_life_l10_hours": None if chosen.bearing is None else chosen.bearing.life_hours}
     return JointSummary(
         name=joint.name,
         unit=None if joint.selected is None else joint.selected.unit.id,
@@ -157,6 +184,7 @@ def _joint(joint: JointSizing) -> JointSummary:
         motor_candidate=None if chosen.motor_unit is None else chosen.motor_unit.id,
         motor_binding=chosen.motor_binding,
         inertia_ratio=joint.inertia_ratio(chosen),
+        **bearing,
     )
 
 

@@ -29,6 +29,8 @@ from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load, derated
 from hdselect.catalog.units import Unit
+from hdselect.sizing.bearing import ScalableWrench
+from hdselect.sizing.intervals import Interval, intersect, overlap, solve_quadratics, within
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 
 S_MIN = 1e-3
@@ -44,8 +46,6 @@ GRID_PER_DECADE = 12
 """Scales per decade at which the whole-cycle rules are first checked; a passing or
 failing stretch shorter than one step (a factor 10^(1/12) = 1.21) can be missed."""
 
-Interval = tuple[float, float]
-"""A closed interval of time scales (lo, hi) [-]; hi may be math.inf."""
 _CHUNK = 1 << 15
 """Samples whose quadratic inequalities are solved at a time by `exact_scales`."""
 
@@ -89,6 +89,7 @@ class ScalableCycle:
         stop_inertial: e = RNEA(q, qd, -qd / stop_time) - RNEA(q, qd, 0) [N m], an
             emergency stop's inertial part; scales as 1/s.
         stop_time: Emergency-stop and crash time t_stop [s]; the same at every s.
+        wrench: The joint's wrench split likewise, for a unit that rates its bearing.
     """
 
     t: np.ndarray
@@ -102,6 +103,7 @@ class ScalableCycle:
     inertial: np.ndarray
     stop_inertial: np.ndarray
     stop_time: float
+    wrench: ScalableWrench | None = None
 
     def __post_init__(self) -> None:
         n = np.shape(self.t)
@@ -228,8 +230,10 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
     demand = reflection.motor
     if at.dt.size and np.ptp(at.dt) > 0.0:  # samples of unequal length: RMS weighted by it
         demand = weighted_demand(demand, reflection.motor_torque, at.qd, unit.ratio, at.dt)
+    bearing = (None if cycle.wrench is None or unit.bearing is None else
+               cycle.wrench.load(s, at.qd, at.dt, at.at_rest, unit.bearing.offset))
     candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
-                           **(check_options or {}))
+                           bearing=bearing, **(check_options or {}))
     if motor is None:
         return candidate
     return with_motor(candidate, motor, reflection.motor_torque,
@@ -259,7 +263,7 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0
         unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed),
         unit.repeated_torque, unit.static_torque, unit.momentary_torque))
     # input speed: speed y <= the unit's maximum (and the motor's)
-    found = _intersect(*_solve(np.zeros(1), np.array([speed]), np.array([-top])))
+    found = intersect(*solve_quadratics(np.zeros(1), np.array([speed]), np.array([-top])))
     for start in range(0, len(cycle.t), _CHUNK):  # pieces of bounded memory, intersected
         if not found:
             break
@@ -270,14 +274,14 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0
         moving, none = ~rest, np.zeros_like(g)
         crash = k * np.abs(cycle.qd[part])
         rows = [  # (c2, c1, c0) of c2 y^2 + c1 y + c0 <= 0
-            *_within(a[moving], none[moving], g[moving], repeated),
-            *_within(a[rest], none[rest], g[rest], static),
-            *_within(v, e, g, momentary),
+            *within(a[moving], none[moving], g[moving], repeated),
+            *within(a[rest], none[rest], g[rest], static),
+            *within(v, e, g, momentary),
             (a, crash, g - momentary),  # tau + K |qd| y <= limit
             (-a, crash, -g - momentary),  # -tau + K |qd| y <= limit
         ]
         c2, c1, c0 = (np.concatenate(column) for column in zip(*rows, strict=True))
-        found = _overlap(found, _intersect(*_solve(c2, c1, c0)))
+        found = overlap(found, intersect(*solve_quadratics(c2, c1, c0)))
     return tuple((1.0 / y_hi, 1.0 / y_lo if y_lo > 0.0 else math.inf)
                  for y_lo, y_hi in reversed(found) if y_hi > 0.0)
 
@@ -351,70 +355,6 @@ def find_slowdown(cycle: ScalableCycle, units: Sequence[Unit], *,
     """`joint_scales(...).slowdown()`: the smallest slow-down over all units (`Slowdown`)."""
     return joint_scales(cycle, units, efficiency=efficiency, rotor_inertia=rotor_inertia,
                         check_options=check_options).slowdown()
-
-
-def _within(c2: np.ndarray, c1: np.ndarray, c0: np.ndarray,
-            limit: float) -> tuple[tuple[np.ndarray, ...], ...]:
-    """|c2 y^2 + c1 y + c0| <= limit as two rows of `... <= 0`."""
-    return (c2, c1, c0 - limit), (-c2, -c1, -c0 - limit)
-
-
-def _solve(c2: np.ndarray, c1: np.ndarray, c0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Where c2 y^2 + c1 y + c0 <= 0 for y >= 0: lo, hi of shape (2, rows).
-
-    At most two disjoint closed pieces per row; a piece with lo > hi is empty.
-    """
-    flat, up = c2 == 0.0, c2 > 0.0
-    with np.errstate(divide="ignore", invalid="ignore"):  # an infinite limit: every y
-        disc = c1 * c1 - 4.0 * c2 * c0
-        line = -c0 / c1
-        q = -0.5 * (c1 + np.copysign(np.sqrt(np.maximum(disc, 0.0)), c1))
-        r1, r2 = q / c2, np.where(q != 0.0, c0 / q, 0.0)  # stable roots
-    small, big = np.minimum(r1, r2), np.maximum(r1, r2)
-    free = np.isneginf(c0)  # no limit
-    cap = ~free & ~flat & ~up & (disc > 0.0) & (small < big)  # outside the roots
-    every = free | (flat & (c1 == 0.0) & (c0 <= 0.0)) | (~flat & ~up & ~cap)
-    below = flat & (c1 > 0.0)  # y <= -c0 / c1
-    above = flat & (c1 < 0.0)  # y >= -c0 / c1
-    cup = up & (disc >= 0.0)  # between the roots
-    lo = np.stack([np.select([every | below, above, cup, cap], [0.0, line, small, 0.0], np.inf),
-                   np.where(cap, big, np.inf)])
-    hi = np.stack([np.select([every | above, below, cup, cap], [np.inf, line, big, small],
-                             -np.inf), np.where(cap, np.inf, -np.inf)])
-    return np.maximum(lo, 0.0), hi
-
-
-def _intersect(lo: np.ndarray, hi: np.ndarray) -> list[Interval]:
-    """Where every row covers y, by counting the pieces over the sorted ends."""
-    keep = ~((lo[0] <= 0.0) & (hi[0] == np.inf))  # rows that hold everywhere drop out
-    lo, hi = lo[:, keep], hi[:, keep]
-    rows = lo.shape[1]
-    piece = lo <= hi
-    if not piece.any(axis=0).all():
-        return []  # a row holds nowhere
-    if rows == 0:
-        return [(0.0, math.inf)]
-    where = np.concatenate([lo[piece], hi[piece]])
-    step = np.repeat([1, -1], piece.sum())
-    order = np.lexsort((-step, where))  # on a tie starts come first: closed ends meet
-    where = where[order]
-    full = np.flatnonzero(np.cumsum(step[order]) == rows)  # the next end closes each
-    return [(float(where[k]), float(where[k + 1])) for k in full]
-
-
-def _overlap(a: list[Interval], b: list[Interval]) -> list[Interval]:
-    """The intersection of two sorted lists of disjoint closed intervals."""
-    out: list[Interval] = []
-    i = j = 0
-    while i < len(a) and j < len(b):
-        lo, hi = max(a[i][0], b[j][0]), min(a[i][1], b[j][1])
-        if lo <= hi:
-            out.append((lo, hi))
-        if a[i][1] < b[j][1]:
-            i += 1
-        else:
-            j += 1
-    return out
 
 
 def _passing(passes: Callable[[float], bool], first: float, last: float,

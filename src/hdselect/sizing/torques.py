@@ -19,8 +19,15 @@ from typing import Protocol
 import numpy as np
 
 from hdselect.motion.planning import Trajectory
-from hdselect.robot.dynamics import cycle_torques, gravity_torques, joint_inertias
+from hdselect.robot.dynamics import (
+    cycle_torques,
+    distinct_states,
+    gravity_torques,
+    joint_inertias,
+)
 from hdselect.robot.model import Robot
+from hdselect.robot.wrenches import axis_wrenches, distinct_axis_wrenches
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
 from hdselect.sizing.tasks import Samples, Task
 
@@ -46,6 +53,17 @@ class TorqueModel(Protocol):
         `masses` [kg] gives at least every unit further out than `joint`.
         """
 
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> SampledWrench | None:
+        """The force and moment through a sized joint along the samples, or None.
+
+        In the joint's axis frame about its origin (rows as
+        `hdselect.robot.wrenches.axis_wrenches`) [N, N m]; None where the model computes
+        no wrenches.
+        """
+
+    def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The wrench holding each pose of the samples still, as `wrench` gives it, or None."""
+
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
         """A joint's gravity part RNEA(q, 0, 0) and coasting part RNEA(q, qd, 0) [N m]."""
@@ -66,11 +84,14 @@ class DirectTorques:
     The pass of the last masses is kept: a joint whose units further out are those of
     the kept pass reads its column from it. With a good `guess` of the masses (the
     core's coarse first selection), every joint reads the same pass: two batched
-    passes of inverse dynamics per task, the motion's and the emergency stop's.
+    passes of inverse dynamics per task, the motion's and the emergency stop's, and
+    with `wrenches` a third giving every sized joint's whole force and moment along
+    the motion (`hdselect.robot.wrenches.axis_wrenches`): its output bearing's loads.
     """
 
     def __init__(self, tasks: Sequence[Task], samples: Samples, stop_time: float, *,
-                 threads: int | None = None, guess: Mapping[str, float] | None = None) -> None:
+                 threads: int | None = None, guess: Mapping[str, float] | None = None,
+                 wrenches: bool = True) -> None:
         """Prepare the model; nothing is computed until asked.
 
         Args:
@@ -79,6 +100,7 @@ class DirectTorques:
             stop_time: The emergency-stop time [s].
             threads: Threads for the batched passes; None chooses from the sample count.
             guess: Masses [kg] expected per joint, used where the core has not chosen yet.
+            wrenches: Also compute the sized joints' wrenches along the motion.
         """
         self.tasks = tuple(tasks)
         self.robot = self.tasks[0].robot
@@ -92,9 +114,15 @@ class DirectTorques:
                        for name in self.robot.sized_joints}
         self._carriers = tuple(k for k in self.robot.sized_joints
                                if model.parents[model.getJointId(k)] > 0)
+        self.wrenches = wrenches
         self._masses: dict[str, float] | None = None
         self._tau: np.ndarray | None = None
         self._stop: np.ndarray | None = None
+        self._wrench: np.ndarray | None = None
+        self._index: np.ndarray | None = None
+        self._distinct = [distinct_states(task.trajectory.q, task.trajectory.qd,
+                                          task.trajectory.qdd) if wrenches else None
+                          for task in self.tasks]  # the same states at every pass
 
     def torques(self, joint: str, masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
         """A joint's torque and emergency-stop torque along the samples [N m], each (n,)."""
@@ -104,6 +132,27 @@ class DirectTorques:
         assert self._tau is not None and self._stop is not None
         j = self.robot.joint_index(joint)
         return np.array(self._tau[:, j]), np.array(self._stop[:, j])
+
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> SampledWrench | None:
+        """The force and moment through a sized joint along the samples [N, N m]."""
+        if not self.wrenches:
+            return None
+        if self._masses is None or any(self._masses.get(k, 0.0) != masses.get(k, 0.0)
+                                       for k in self._below[joint]):
+            self._pass(masses)
+        assert self._wrench is not None
+        return SampledWrench(self._wrench[self.robot.sized_joints.index(joint)], self._index)
+
+    def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The wrench holding each pose still [N, N m], (6, n): one pass per task."""
+        if not self.wrenches:
+            return None
+        parts = []
+        for task in self.tasks:
+            still = np.zeros_like(task.trajectory.qd)
+            parts.append(axis_wrenches(self._carrying(task, masses), task.trajectory.q, still,
+                                       still, [joint], threads=self.threads)[0])
+        return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)
 
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
@@ -148,21 +197,47 @@ class DirectTorques:
         """Both batched passes of every task with `masses`, the guess where none is given."""
         merged = {**self.guess, **masses}
         ordered = {name: merged[name] for name in self.robot.sized_joints if name in merged}
-        self._masses = self._tau = self._stop = None  # let the last pass go first
-        parts = [cycle_torques(self._carrying(task, ordered), task.trajectory.q,
-                               task.trajectory.qd, task.trajectory.qdd, self.stop_time,
-                               threads=self.threads) for task in self.tasks]
+        self._masses = self._tau = self._stop = self._wrench = self._index = None  # go first
+        robots = [self._carrying(task, ordered) for task in self.tasks]
+        parts = [cycle_torques(robot, task.trajectory.q, task.trajectory.qd,
+                               task.trajectory.qdd, self.stop_time, threads=self.threads)
+                 for robot, task in zip(robots, self.tasks, strict=True)]
+        wrenches = [distinct_axis_wrenches(robot, task.trajectory.q, task.trajectory.qd,
+                                           task.trajectory.qdd, self.robot.sized_joints,
+                                           threads=self.threads, distinct=distinct)
+                    for robot, task, distinct in zip(robots, self.tasks, self._distinct,
+                                                     strict=True)
+                    if self.wrenches]
         if len(parts) == 1:
             self._tau, self._stop = parts[0].tau, parts[0].stop
         else:
             self._tau = np.concatenate([p.tau for p in parts])
             self._stop = np.concatenate([p.stop for p in parts])
+        if wrenches:
+            self._wrench, self._index = _pooled(wrenches)
+            self._wrench.setflags(write=False)
         self._masses = ordered
 
     def _carrying(self, task: Task, masses: Mapping[str, float]) -> Robot:
         """The task's robot with the units' masses, in the robot's joint order."""
         ordered = {name: masses[name] for name in self.robot.sized_joints if name in masses}
         return task.robot.with_gearheads(ordered) if ordered else task.robot
+
+
+def _pooled(parts: list[tuple[np.ndarray, np.ndarray | None]]
+            ) -> tuple[np.ndarray, np.ndarray | None]:
+    """Every task's distinct wrenches in one array, and each pooled sample's row among them."""
+    if len(parts) == 1:
+        return parts[0]
+    rows = np.concatenate([wrench for wrench, _ in parts], axis=2)
+    if all(index is None for _, index in parts):
+        return rows, None
+    index, start = [], 0
+    for wrench, own in parts:
+        count = wrench.shape[2]
+        index.append(start + (np.arange(count) if own is None else own))
+        start += count
+    return rows, np.concatenate(index)
 
 
 def _moves(model: object, joint_id: int, other_id: int) -> bool:

@@ -102,9 +102,14 @@ class Computation:
 SIZE_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50_h",
                 "life_l10_h", "motor_peak_nm", "motor_rms_nm", "motor_max_rpm",
                 "cycle_time_s", "carried_mass_kg", "slowdown", "flags", "motor",
-                "motor_binding", "inertia_ratio")
-"""Per-joint columns of a ``size`` row (the last three: where motors are given, the motor
-of the selected pair, else of the strongest; its binding rule; load over rotor inertia)."""
+                "motor_binding", "inertia_ratio", "bearing_max_moment_nm",
+                "bearing_max_radial_n", "bearing_max_axial_n", "bearing_mean_moment_nm",
+                "bearing_mean_radial_n", "bearing_mean_axial_n", "bearing",
+                "bearing_life_l10_h")
+"""Per-joint columns of a ``size`` row (after ``flags``: where motors are given, the motor
+of the selected pair, else of the strongest; its binding rule; load over rotor inertia;
+then the output bearing's loads about the flange, largest and 10/3-power means, whether
+the unit's catalog rates the bearing (``rated`` / ``not rated``) and its L10 life)."""
 
 
 def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
@@ -118,7 +123,21 @@ def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
         "carried_mass_kg": joint["carried_mass"], "slowdown": joint["slowdown"],
         "flags": " ".join(joint["flags"]), "motor": joint["motor_candidate"],
         "motor_binding": joint["motor_binding"], "inertia_ratio": joint["inertia_ratio"],
+        **_bearing_fields(joint),
     } for joint in result["joints"]]
+
+
+def _bearing_fields(joint: dict[str, Any]) -> dict[str, Any]:
+    """A joint's output-bearing columns; empty for a record made before they existed."""
+    rated = joint.get("bearing_rated")
+    return {"bearing_max_moment_nm": joint.get("bearing_max_moment"),
+            "bearing_max_radial_n": joint.get("bearing_max_radial"),
+            "bearing_max_axial_n": joint.get("bearing_max_axial"),
+            "bearing_mean_moment_nm": joint.get("bearing_mean_moment"),
+            "bearing_mean_radial_n": joint.get("bearing_mean_radial"),
+            "bearing_mean_axial_n": joint.get("bearing_mean_axial"),
+            "bearing": None if rated is None else ("rated" if rated else "not rated"),
+            "bearing_life_l10_h": joint.get("bearing_life_l10_hours")}
 
 
 class _Inputs:

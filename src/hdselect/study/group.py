@@ -21,6 +21,12 @@ Runs of identical samples (dwells) are kept once, weighted by their length.
 Where a case gives motors, a joint's load inertia M_jj, linear in the same
 parameters, comes from one more set of passes per parameter at the core's poses
 (`build_basis(..., inertias=True)`).
+
+The whole force and moment through each sized joint (its output bearing's loads) is
+linear in the same parameters and scales the same way: w = sum_p theta_p (W_p + B_p
+y^2), W the gravity wrench and B the rest along the motion, two more batched passes
+per parameter (`hdselect.robot.wrenches.axis_wrenches`). So a grouped case reports
+and checks the bearing loads as the core does.
 """
 
 from __future__ import annotations
@@ -41,7 +47,9 @@ from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import inverse_dynamics, joint_inertias
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.arguments import checked_motors
+from hdselect.robot.wrenches import axis_wrenches
+from hdselect.sizing.arguments import check_bearing_options, checked_motors
+from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.core import select_units
 from hdselect.sizing.loads import JointLoad, joint_loads
 from hdselect.sizing.options import Options
@@ -79,6 +87,11 @@ class Basis:
         poses: The kept row of each pose at which gravity loading is judged.
         inertia: M_jj per sized joint and parameter at the same poses [kg m^2], shape
             (sized joints, P, poses), as `gravity`; None unless asked for (motors).
+        wrench_gravity: W, each sized joint's wrench at rest in its axis frame, rows 0-4
+            of `axis_wrenches` [N, N m], shape (sized joints, P, 5 n): a parameter's row
+            is its (5, n) wrench flattened, so a case's is one product with theta.
+        wrench_dynamic: B, the rest of its wrench along the motion at s = 1 [N, N m],
+            same shape.
     """
 
     robot: Robot
@@ -99,6 +112,8 @@ class Basis:
     carried: np.ndarray
     poses: np.ndarray
     inertia: np.ndarray | None = None
+    wrench_gravity: np.ndarray | None = None
+    wrench_dynamic: np.ndarray | None = None
 
 
 def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
@@ -113,7 +128,8 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
             (what cases with motors need for their inertia ratio).
 
     Returns:
-        The basis, 4 (2 + carriers) passes over the kept samples.
+        The basis: 4 (2 + carriers) passes of the torques over the kept samples, and 2
+        (2 + carriers) of the wrenches.
     """
     reference = robot.with_payload(None if payload is None
                                    else replace(payload, mass=REFERENCE_MASS))
@@ -147,10 +163,16 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
                       for variant in variants])  # (P, poses, sized)
         m[1:] -= m[0]
         inertia = frozen(np.ascontiguousarray(m.transpose(2, 0, 1)))
+    wrench = np.stack([_wrench_parts(variant, trajectory, rows) for variant in variants])
+    wrench[1:] -= wrench[0]  # (P, 2, sized, 5, n)
+    wrench_gravity, wrench_dynamic = (
+        frozen(wrench[:, k].transpose(1, 0, 2, 3).reshape(len(robot.sized_joints),
+                                                           len(variants), -1))
+        for k in range(2))
     return Basis(reference, motion, trajectory, payload, rows, weight, frozen(trajectory.t[rows]),
                  frozen(trajectory.qd[rows]), frozen(trajectory.qdd[rows]), carriers,
                  frozen(gravity), frozen(dynamic), frozen(coasting), frozen(stopping), used,
-                 frozen(carried), _read_only(poses), inertia)
+                 frozen(carried), _read_only(poses), inertia, wrench_gravity, wrench_dynamic)
 
 
 def plan_depends_on_payload(motion: Motion) -> bool:
@@ -166,6 +188,16 @@ def _parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
                            np.vstack([still, still, qdd, -qd]), threads=1)
     gravity, coast, full, stop = tau.reshape(4, len(rows), -1)
     return np.stack([gravity, full - gravity, coast - gravity, stop - coast])
+
+
+def _wrench_parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
+    """W and B of one robot's sized joints on the kept rows, shape (2, sized, 5, n)."""
+    q, qd, qdd = traj.q[rows], traj.qd[rows], traj.qdd[rows]
+    still = np.zeros_like(qd)
+    wrench = axis_wrenches(robot, np.vstack([q, q]), np.vstack([still, qd]),
+                           np.vstack([still, qdd]), robot.sized_joints, threads=1)[:, :5]
+    gravity, full = wrench[:, :, :len(rows)], wrench[:, :, len(rows):]
+    return np.stack([gravity, full - gravity])
 
 
 def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequence[Unit],
@@ -194,7 +226,9 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
                           else DEFAULT_PREFER)
     if motors and basis.inertia is None:
         raise ValueError("a case with motors needs a basis built with inertias=True")
-    model = BasisTorques(basis, mass, time_scale, options.stop_time)
+    check_bearing_options(basis.robot, units, options)
+    model = BasisTorques(basis, mass, time_scale, options.stop_time,
+                         wrenches=options.bearing_loads)
     joints, masses = select_units(model, {name: units for name in basis.robot.sized_joints},
                                   options, motors, detail=False)
     # only the cycle time and the sample count of the trajectory go into the summary
@@ -215,7 +249,7 @@ class BasisTorques:
     """
 
     def __init__(self, basis: Basis, mass: float | None, time_scale: float,
-                 stop_time: float) -> None:
+                 stop_time: float, *, wrenches: bool = True) -> None:
         """One case of the basis: its samples are the basis's kept rows.
 
         Args:
@@ -223,8 +257,10 @@ class BasisTorques:
             mass: Payload mass [kg] (None exactly when the basis has no payload).
             time_scale: The path run s times slower [-].
             stop_time: The emergency-stop time [s].
+            wrenches: Give the sized joints' wrenches (the bearing loads).
         """
         self.basis = basis
+        self.wrenches = wrenches
         self.stop_time = stop_time
         self.robot = basis.robot
         self.y = 1.0 / time_scale
@@ -256,6 +292,25 @@ class BasisTorques:
         stop = coast + (weights @ self.basis.stopping[j, used]) * (
             self.y / self.stop_time)
         return tau, stop
+
+    def wrench(self, joint: str, masses: Mapping[str, float]) -> SampledWrench | None:
+        """The force and moment through a sized joint along the kept rows [N, N m], (5, n)."""
+        basis = self.basis
+        if not self.wrenches or basis.wrench_gravity is None or basis.wrench_dynamic is None:
+            return None
+        s = self.robot.sized_joints.index(joint)
+        theta = self._with(masses)  # a parameter that does not load the joint adds 0
+        wrench = theta @ basis.wrench_gravity[s]
+        wrench += (theta * self.y**2) @ basis.wrench_dynamic[s]
+        return SampledWrench(wrench.reshape(5, -1))
+
+    def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
+        """The wrench holding each kept row's pose still [N, N m], (5, n)."""
+        basis = self.basis
+        if not self.wrenches or basis.wrench_gravity is None:
+            return None
+        s = self.robot.sized_joints.index(joint)
+        return (self._with(masses) @ basis.wrench_gravity[s]).reshape(5, -1)
 
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:

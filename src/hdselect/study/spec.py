@@ -30,8 +30,10 @@ from hdselect.sizing.options import Options
 from hdselect.study.case import Case
 from hdselect.study.compute import COMPUTATIONS
 
-OPTION_KEYS = tuple(f.name for f in fields(Options) if f.name != "threads")
-"""Sizing options a study may set or vary (`hdselect.Options` fields; workers use one thread)."""
+OPTION_KEYS = tuple(f.name for f in fields(Options)
+                    if f.name not in ("threads", "bearing_offset"))
+"""Sizing options a study may set or vary (`hdselect.Options` fields; workers use one thread;
+the bearing offsets come from each case's motion file)."""
 
 
 CASE_KEYS = ("motion", "robot", "payload", "time_scale", "mounting", "catalog", "ratio",
