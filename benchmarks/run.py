@@ -39,6 +39,8 @@ FAST_PICK = ROOT / "trajectories" / "benchtop6_fast_pick.toml"
 """The shipped 6-axis co-design motion (its limits at the arm's own)."""
 SPEC = ROOT / "trajectories" / "envelopes" / "benchtop6_dispensing.toml"
 """The shipped 6-axis envelope file (its duty: the contour motion)."""
+INSPECT = ROOT / "trajectories" / "benchtop6_inspect.toml"
+"""The shipped 6-axis inspection sweep (the mix's second task)."""
 POSES = ROOT / "trajectories" / "benchtop6_pick_place_poses.toml"
 """The shipped tool-pose motion (8 poses, 4 straight lines)."""
 IK_TARGETS = 200
@@ -332,8 +334,47 @@ def benchmarks(quick: bool) -> list[Benchmark]:
                   "bearing's loads) vs Options(bearing_loads=False), the sizing without them",
             repeats=21,
             check=Check("max |wrench axis row - torque| [N m]", wrench_torque_error, 1e-9)),
+        _mix_row(quick, units, coupled),
         _envelope_row(robot, motion_for_size, units),
     ]
+
+
+def _mix_row(quick: bool, units, options) -> Benchmark:
+    """A two-task mix (pick 70 %, inspect 30 %) against the two tasks sized apart."""
+    from hdselect import load_case, plan, size_trajectory
+    from hdselect.sizing.core import size_tasks
+    from hdselect.sizing.tasks import Task
+
+    tasks = []
+    for path, share in ((MOTION, 0.7), (INSPECT, 0.3)):
+        robot, motion = load_case(path, ROBOT)
+        full = plan(robot, motion)
+        step = _every(len(full.t), quick)
+        traj = full if step == 1 else replace(
+            full, dt=full.dt * step, t=full.t[::step], q=full.q[::step], qd=full.qd[::step],
+            qdd=full.qdd[::step])
+        tasks.append(Task(robot, traj, share, motion, path.stem))
+    count = sum(len(task.trajectory.t) for task in tasks)
+
+    def apart() -> None:
+        for task in tasks:
+            size_trajectory(task.robot, task.trajectory, units, options)
+
+    def alone_error() -> float:
+        """A mix of shares (1, 0) against the first task sized alone: must be 0."""
+        mixed = size_tasks((replace(tasks[0], share=1.0), replace(tasks[1], share=0.0)),
+                           units, options)
+        single = size_trajectory(tasks[0].robot, tasks[0].trajectory, units, options)
+        return max(abs(a.selected.checks[r].utilization - b.selected.checks[r].utilization)
+                   for a, b in zip(mixed.joints, single.joints, strict=True)
+                   for r in a.selected.checks)
+
+    return Benchmark(
+        "two-task mix", lambda: size_tasks(tasks, units, options), apart, 1.1,
+        repeats=9,
+        notes=f"size_tasks of pick (70 %) and inspect (30 %), {count:,} samples, each joint's "
+              "unit also checked per task, vs size_trajectory of each task apart, summed",
+        check=Check("shares (1, 0) vs alone: max |utilization difference|", alone_error, 0.0))
 
 
 def _envelope_row(robot, motion, units) -> Benchmark:

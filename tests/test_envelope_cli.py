@@ -24,6 +24,7 @@ from test_dynamics import REPO
 
 PLANAR2 = REPO / "robots" / "planar2.urdf"
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
+MIX = REPO / "trajectories" / "mixes" / "benchtop6_pick_inspect.toml"
 DEG = math.pi / 180.0
 QUICK = ("--starts", "256", "--moves", "4")
 
@@ -167,6 +168,8 @@ def test_no_unit_for_every_motion_exits_1_with_the_table(capsys):
     (["--acceleration", "900", "--velocity", "90", "--duty", PLANAR2_MOTION],
      ["planar2_pick_place.toml", "limits.velocity", "above the spec's velocity limit"]),
     (["--acceleration", "900", "--workers", "0"], ["--workers"]),
+    (["--acceleration", "900", "--duty", MIX], ["--duty", "is a mix file",
+                                                "does not take a mix as its duty yet"]),
 ])
 def test_bad_input_is_one_line_and_exit_2_with_no_output(capsys, tmp_path, argv, fragments):
     out_file = tmp_path / "out.json"
@@ -186,10 +189,12 @@ def test_bad_input_is_one_line_and_exit_2_with_no_output(capsys, tmp_path, argv,
      '[duty]\nmoves = 0\n', ["duty.moves"]),
     ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
      '[duty]\nmotion = "nowhere.toml"\n', ["duty.motion", "not found"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
+     '[duty]\nmotion = "{mix}"\n', ["duty.motion", "does not take a mix as its duty yet"]),
 ])
 def test_a_bad_envelope_file_names_the_file_and_the_field(capsys, tmp_path, text, fragments):
     spec = tmp_path / "spec.toml"
-    spec.write_text(text.format(robot=PLANAR2))
+    spec.write_text(text.format(robot=PLANAR2, mix=MIX))
     status, _, err = run(capsys, "envelope", spec)
     assert status == 2
     one_line_error(err, "spec.toml", *fragments)

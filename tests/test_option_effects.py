@@ -3,7 +3,8 @@ wrong type with an `InputError` naming the parameter.
 
 Each option is run against the same command without it: what it writes must differ (or the
 command refuses it in one line). `test_every_option_is_in_the_table` keeps the table whole:
-a new option without a row here fails.
+a new option without a row here fails. The commands that take a mix file (several motions
+sized as one duty) run the same table on one too: a mix honours every option a motion does.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import pytest
 import hdselect
 from hdselect import InputError
 from hdselect.cli.main import _parser, main
+from hdselect.sizing.tasks import Task
 from test_dynamics import REPO
 from test_envelope_cli import ENVELOPE_EFFECTS, ENVELOPE_OUTPUTS
 
@@ -73,7 +75,8 @@ EFFECTS = {
                 ("--compare-ratios", []), ("--joint", ["elbow"]), ("--out", ["f.csv"]),
                 ("--plot", ["f.png"])],
     "max-payload": [*[row for row in SIZING if row[0] != "--prefer"],
-                    ("--units", ["shoulder=PSA-14-100", "--units", "elbow=PSA-14-100"])],
+                    ("--units", ["shoulder=PSA-14-100", "--units", "elbow=PSA-14-100"]),
+                    ("--task", ["pick"])],  # a mix's: refused for a motion file
     "plan": [("--payload", ["0.9"]), ("--payload-com", ["0", "0", "0.1"]),
              ("--payload-frame", ["link2"]), ("--mounting", ["wall"]),
              ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),  # refused without --plot
@@ -83,6 +86,31 @@ EFFECTS = {
              ("--line-errors", ["l.csv"])],  # refused: the motion has no straight line
 }
 """Per command, each option and its value."""
+
+DAY = """\
+[[task]]
+name = "pick"
+motion = "move.toml"
+share = 0.7
+[[task]]
+name = "heavy"
+motion = "move.toml"
+share = 0.3
+payload = {mass = 0.8, com = [0.03, 0.0, 0.0], frame = "tool"}
+"""
+"""A mix of the move twice, the second with twice the payload: one duty of two tasks."""
+
+MIX_EFFECTS = {command: EFFECTS[command] for command in ("size", "compare", "fastest",
+                                                        "max-payload")}
+"""The commands that take a mix, each with every option of its motion table: on a mix the
+payload options are refused (each task gives its own) and max-payload's --task chooses the
+tasks whose payload scales."""
+
+MIX_NOT_YET = {"fastest": ("--motor-catalog", "--compare-ratios"),
+               "max-payload": ("--motor-catalog", "--units")}
+"""What co-design on a mix refuses for now, in one line naming the option: it chooses no
+motors (so --max-inertia-ratio and --inertia-target, which act on pairs, cannot act
+either), fastest compares no ratios, max-payload takes no units fixed beforehand."""
 
 OTHER = {
     "catalog": ["--catalog", "--units", "--json"],
@@ -109,16 +137,18 @@ def work(tmp_path, monkeypatch):
     (tmp_path / "motors").symlink_to(REPO / "motors")
     (tmp_path / "tr").mkdir()
     (tmp_path / "tr" / "move.toml").write_text(ONE_MOVE)
+    (tmp_path / "tr" / "day.toml").write_text(DAY)
     (tmp_path / "acme.toml").write_text(ACME)
     monkeypatch.chdir(tmp_path)
     return tmp_path
 
 
-def outcome(capsys, command: str, extra: list[str], tag: str) -> tuple[int, str, bytes]:
+def outcome(capsys, command: str, extra: list[str], tag: str,
+            motion: str = "tr/move.toml") -> tuple[int, str, bytes]:
     """Exit status, standard error, and every byte the command wrote (files, JSON, stdout)."""
     out_dir = Path(tag)
     out_dir.mkdir()
-    argv = [command, "tr/move.toml"]
+    argv = [command, motion]
     argv += ["--out", str(out_dir / "t.csv")] if command == "plan" else [
         "--json", str(out_dir / "r.json")]
     extra = [str(out_dir / x) if x in ("rep", "f.csv", "f.png", "p.png", "w.csv", "l.csv") else x
@@ -157,6 +187,30 @@ def test_an_option_changes_the_answer_or_is_refused(work, capsys, command, optio
         return
     assert status in (0, 1), err
     assert written != base[2], f"{command} {option} took no effect"
+
+
+@pytest.mark.parametrize(("command", "option", "values", "base_args"), [
+    (command, row[0], row[1], row[2] if len(row) > 2 else [])
+    for command, rows in MIX_EFFECTS.items() for row in rows])
+def test_an_option_changes_the_answer_of_a_mix_or_is_refused(work, capsys, command, option,
+                                                             values, base_args):
+    refused = [arg for arg in [*base_args, option] if arg in MIX_NOT_YET.get(command, ())]
+    if refused:
+        status, err, _ = outcome(capsys, command, [*base_args, option, *values], "with",
+                                 "tr/day.toml")
+        assert status == 2 and len(err.strip().splitlines()) == 1 and refused[0] in err, err
+        return
+    base = outcome(capsys, command, base_args, "base", "tr/day.toml")
+    assert base[0] in (0, 1), base[1]
+    status, err, written = outcome(capsys, command, [*base_args, option, *values], "with",
+                                   "tr/day.toml")
+    if status == 2:
+        assert len(err.strip().splitlines()) == 1 and option in err, err
+        assert not option.startswith("--payload") or "each task's `payload`" in err, err
+        return
+    assert not option.startswith("--payload"), f"{command} {option} taken for a mix"
+    assert status in (0, 1), err
+    assert written != base[2], f"{command} {option} took no effect on a mix"
 
 
 def test_max_payload_selects_in_the_order_preferred(work):
@@ -202,7 +256,7 @@ def test_a_public_function_names_the_parameter_of_a_wrong_type(case, name):
     robot, motion, trajectory, units = case
     valid = {"robot": robot, "motion": motion, "trajectory": trajectory, "units": units,
              "path": REPO / "robots" / "planar2.urdf", "robot_file": "planar2.urdf",
-             "result": None}
+             "result": None, "tasks": (Task(robot, trajectory),)}
     if name == "check_units":
         valid["units"] = {j: units[-1] for j in robot.sized_joints}
     if name in ("load_catalog",):

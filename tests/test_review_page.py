@@ -1,8 +1,8 @@
 """The report as a design review reads it: the summary page first, every table on its page.
 
 The shipped example report (docs/example-report: `hdselect size
-trajectories/benchtop6_pick_place.toml --report docs/example-report`) and a report with
-motors are rendered
+trajectories/benchtop6_pick_place.toml --report docs/example-report`), a report with
+motors and a report of a robot's working day (a mix of two tasks, with motors) are rendered
 in Chromium at 1280 px, at a phone's width, and laid out for print on A4 and Letter
 (12 mm margins: 186 mm and 191.9 mm of width, 273 mm and 255.4 mm of height); no
 element may reach beyond the page, no table may hide a column behind a scroll bar,
@@ -25,6 +25,7 @@ from test_dynamics import REPO
 EXAMPLE = REPO / "docs" / "example-report"
 MOTORS = REPO / "motors" / "example_motors.toml"
 BENCHTOP = REPO / "trajectories" / "benchtop6_pick_place.toml"
+PICK_INSPECT = REPO / "trajectories" / "mixes" / "benchtop6_pick_inspect.toml"
 PX_PER_MM = 96 / 25.4
 PAPERS = {"A4": (210.0, 297.0), "Letter": (215.9, 279.4)}
 MARGIN_MM = 12.0
@@ -68,6 +69,15 @@ def motor_report(tmp_path_factory):
     return out / "index.html"
 
 
+@pytest.fixture(scope="module")
+def mix_report(tmp_path_factory):
+    """The benchtop arm's day (pick 70 %, inspect 30 %), example motors, 10:1, margin 0.1."""
+    out = tmp_path_factory.mktemp("mix") / "report"
+    assert main(["size", str(PICK_INSPECT), "--motor-catalog", str(MOTORS),
+                 "--max-inertia-ratio", "10", "--margin", "0.1", "--report", str(out)]) == 0
+    return out / "index.html"
+
+
 def laid_out(browser, page, media: str, width: int, *, mobile: bool = False):
     browser.send("Emulation.setDeviceMetricsOverride", session=True, width=width, height=900,
                  deviceScaleFactor=1, mobile=mobile)
@@ -80,10 +90,11 @@ def reset(browser):
     browser.send("Emulation.setEmulatedMedia", session=True, media="")
 
 
-@pytest.mark.parametrize("which", ["example", "motors"])
+@pytest.mark.parametrize("which", ["example", "motors", "mix"])
 def test_every_table_fits_at_1280_px_on_a_phone_and_on_a4_and_letter(browser, motor_report,
-                                                                     which, tmp_path):
-    page = EXAMPLE / "index.html" if which == "example" else motor_report
+                                                                     mix_report, which,
+                                                                     tmp_path):
+    page = {"example": EXAMPLE / "index.html", "motors": motor_report, "mix": mix_report}[which]
     widths = [("screen", 1280, False), ("screen", 390, True),
               *(("print", round((w - 2 * MARGIN_MM) * PX_PER_MM), False)
                 for w, _ in PAPERS.values())]
@@ -101,13 +112,16 @@ def test_every_table_fits_at_1280_px_on_a_phone_and_on_a4_and_letter(browser, mo
 
 
 @pytest.mark.parametrize("paper", list(PAPERS))
-def test_the_summary_is_one_printed_page_and_folded_sections_still_print(browser, paper):
+@pytest.mark.parametrize("which", ["example", "mix"])
+def test_the_summary_is_one_printed_page_and_folded_sections_still_print(browser, mix_report,
+                                                                         paper, which):
     """Laid out for print, the summary is at most one page tall (the page's height less its
-    margins) and is followed by a page break; a section the reader folded prints in full."""
+    margins) and is followed by a page break; a section the reader folded prints in full.
+    A mix's summary lists its tasks too, and still fits."""
     width, height = PAPERS[paper]
     try:
-        laid_out(browser, EXAMPLE / "index.html", "print",
-                 round((width - 2 * MARGIN_MM) * PX_PER_MM))
+        laid_out(browser, EXAMPLE / "index.html" if which == "example" else mix_report,
+                 "print", round((width - 2 * MARGIN_MM) * PX_PER_MM))
         top, bottom, brk = browser.evaluate(
             "(() => { const s = document.querySelector('#summary').getBoundingClientRect();"
             " const h = document.querySelector('h1').getBoundingClientRect();"

@@ -580,6 +580,8 @@ EXPECTED_GRAVITY = {
                           "wrist_1": True},
     "benchtop6_fast_pick": {"shoulder_pan": False, "shoulder_lift": True, "elbow": True,
                             "wrist_1": True},
+    "benchtop6_inspect": {"shoulder_pan": False, "shoulder_lift": True, "elbow": True,
+                          "wrist_1": True, "wrist_2": True, "wrist_3": True},  # camera off-axis
     "benchtop6_pick_place_poses": {"shoulder_pan": False, "shoulder_lift": True, "elbow": True,
                                    "wrist_1": True},
 }

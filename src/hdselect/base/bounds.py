@@ -270,3 +270,35 @@ def files_argument(value: object, field: str) -> list[Path]:
     if isinstance(value, str | Path | bytes) or not isinstance(value, Iterable):
         raise InputError(f"expected a list of files, got {value!r}", field=field)
     return [file_argument(item, field) for item in value]
+
+
+SHARE_TOLERANCE = 1e-9
+"""How far the shares of a robot's tasks may sum from 1 [-]."""
+
+
+def check_shares(shares: list[float] | tuple[float, ...], *, field: str = "share",
+                 idle: float = 0.0) -> None:
+    """Shares of operating time are non-negative, finite, not all zero, and sum to 1.
+
+    Args:
+        shares: Each task's fraction of the time [-].
+        field: The field named in messages.
+        idle: The fraction of the time no task runs [-], in [0, 1).
+
+    Raises:
+        InputError: They do not (the message gives the sum).
+    """
+    if not (isinstance(idle, float | int) and math.isfinite(idle) and 0.0 <= idle < 1.0):
+        raise InputError(f"must be a fraction of time in [0, 1), got {idle!r}", field="idle")
+    for i, share in enumerate(shares):
+        if not (isinstance(share, float | int) and not isinstance(share, bool)
+                and math.isfinite(share) and share >= 0.0):
+            raise InputError(f"must be a fraction of time >= 0, got {share!r}",
+                             field=f"{field}[{i}]")
+    total = math.fsum([*shares, idle])
+    if abs(total - 1.0) > SHARE_TOLERANCE:
+        what = "the shares" if idle == 0.0 else f"the shares and the idle time {idle:.12g}"
+        raise InputError(f"{what} sum to {total:.12g}; they must sum to 1 (within "
+                         f"{SHARE_TOLERANCE:g})", field=field)
+    if not any(share > 0.0 for share in shares):
+        raise InputError("every share is 0: some task must run", field=field)

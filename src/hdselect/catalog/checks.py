@@ -35,6 +35,16 @@ checks only when a motor is given, ``inertia_ratio`` only when a largest inertia
 given too; the others always, with value None where they do not apply."""
 
 
+PER_SAMPLE_CHECKS = ("peak", "speed", "momentary", "static", "motor_peak", "motor_speed",
+                     "inertia_ratio", "bearing_moment", "bearing_radial", "bearing_axial")
+"""The checks of single samples (or single poses): over several tasks, the worst task's.
+The inertia ratio is one of them: its load inertia is the largest M_jj over every task's
+poses; the bearing's largest moment and forces are too. The others pool every task's
+samples: mean torque, average speed, life, motor RMS, the bearing's life and its static
+safety (whose load adds the largest radial force, moment and axial force over the duty,
+which may come from different tasks)."""
+
+
 CHECK_LABELS = {"peak": "peak", "mean": "mean", "speed": "speed", "average_speed": "avg speed",
                 "momentary": "mom.", "static": "static", "life": "life",
                 "bearing_moment": "b.moment", "bearing_radial": "b.radial",

@@ -28,6 +28,7 @@ from hdselect.catalog.checks import (  # noqa: F401  (re-exported: their public 
     DEFAULT_MARGIN,
     MOTOR_CHECKS,
     PAIR_CHECKS,
+    PER_SAMPLE_CHECKS,
     Check,
     derated,
     holds,
@@ -52,7 +53,8 @@ REST_FRACTION = 1e-3
 """A joint is at rest (input held) where both its speed and its acceleration are below
 this fraction of their largest values in the cycle [-]."""
 _CHUNK = 1 << 16
-"""Samples summed at a time by `cycle_load`."""
+"""Samples summed at a time by `cycle_load` (with `numpy.einsum`: a BLAS dot of one long
+vector may hand it to threads that, on a loaded machine, cost milliseconds per call)."""
 
 
 @dataclass(frozen=True)
@@ -208,6 +210,7 @@ def cycle_load(
     at_rest: np.ndarray,
     *,
     static_torque: float | None = None,
+    idle: float = 0.0,
 ) -> CycleLoad:
     """Summarise one joint's cycle with the catalog page's formulas.
 
@@ -219,6 +222,9 @@ def cycle_load(
             towards the static check, not towards the peak, mean torque or the
             moving-part mean speed.
         static_torque: An extra torque held at rest [N m], if any.
+        idle: Time at rest that no sample stands for [s], in the samples' time: the
+            idle part of a robot's hour. A pause, it counts in the cycle time (the
+            whole-cycle mean speed) and in nothing else.
 
     Returns:
         The summary. `CycleLoad.mean_speed` averages over the moving part; a series
@@ -237,7 +243,7 @@ def cycle_load(
         weight = np.abs(speed[part]) * step * moving
         moving_time += float(step[moving].sum())
         travel += float(weight.sum())
-        cubes += float(np.dot(weight, tau**3))
+        cubes += float(np.einsum("i,i->", weight, tau**3))  # no threaded BLAS dot: see below
         cycle_time += float(step.sum())
         peak = max(peak, float(tau[moving].max(initial=0.0)))
         max_speed = max(max_speed, float(np.abs(speed[part]).max(initial=0.0)))
@@ -249,7 +255,7 @@ def cycle_load(
         mean_speed=travel / moving_time if moving_time > 0.0 else 0.0,
         max_speed=max_speed,
         moving_time=moving_time,
-        cycle_time=cycle_time,
+        cycle_time=cycle_time + idle,
         static_torque=max(held) if held else None,
     )
 

@@ -22,7 +22,11 @@ def run_fastest(args: argparse.Namespace) -> int:
 
     if args.joint and not args.compare_ratios:
         raise InputError("only with --compare-ratios", field="--joint")
+    from hdselect.motion.mixfile import Mix
+
     robot, motion, units, options, motors = sizing_case(args)
+    if isinstance(motion, Mix):
+        return _mix_fastest(args, robot, motion, units, options, motors)
     given = _unit_pairs(args.units)
     with Outputs(_inputs(args, robot, motion)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
@@ -76,11 +80,16 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.records import max_payload_json
+    from hdselect.motion.mixfile import Mix
     from hdselect.report.codesign_tables import max_payload_text
     from hdselect.report.export import write_json
     from hdselect.report.size_tables import size_table
 
     robot, motion, units, options, motors = sizing_case(args)
+    if isinstance(motion, Mix):
+        return _mix_max_payload(args, robot, motion, units, options, motors)
+    if args.task:
+        raise InputError("only for a mix file: its tasks whose payload scales", field="--task")
     given = _unit_pairs(args.units)
     with Outputs(_inputs(args, robot, motion)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
@@ -142,3 +151,68 @@ def _unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
             raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
         out[joint.strip()] = unit.strip()
     return out
+
+
+def _mix_max_payload(args: argparse.Namespace, robot, mix, units, options, motors) -> int:
+    """``hdselect max-payload`` on a mix: one factor on the payloads of its tasks."""
+    from hdselect.base.outputs import Outputs
+    from hdselect.codesign.mixpayload import mix_max_payload
+    from hdselect.codesign.records import mix_payload_json
+    from hdselect.report.codesign_tables import mix_payload_text
+    from hdselect.report.export import write_json
+    from hdselect.report.mix_tables import mix_tables
+    from hdselect.report.size_tables import size_table
+
+    _refuse_for_mix(args, motors, ("--units", args.units))
+    with Outputs(_inputs(args, robot, mix)) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
+        result = mix_max_payload(robot, mix, options, catalog=units, tasks=args.task)
+        if json_file is not None:
+            write_json(json_file, mix_payload_json(result))
+        items: list[Any] = [mix_payload_text(result, robot)]
+        if result.selection is not None:
+            items += ["", size_table(result.selection), *mix_tables(result.selection)]
+        text = "" if to_stdout(args) else rendered(*items)
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written([(args.json, None)], args)
+    return EXIT_OK if result.factor is not None else EXIT_NO_FIT
+
+
+def _mix_fastest(args: argparse.Namespace, robot, mix, units, options, motors) -> int:
+    """``hdselect fastest`` on a mix: the shortest cycle of each task with the duty's units."""
+    from hdselect.base.outputs import Outputs
+    from hdselect.codesign.mixfastest import mix_fastest
+    from hdselect.codesign.records import mix_fastest_json
+    from hdselect.report.codesign_tables import mix_fastest_table
+    from hdselect.report.export import write_json
+    from hdselect.report.mix_tables import mix_tables
+    from hdselect.report.size_tables import size_table
+
+    _refuse_for_mix(args, motors, ("--compare-ratios", args.compare_ratios),
+                    ("--out", args.out), ("--plot", args.plot))
+    with Outputs(_inputs(args, robot, mix)) as outputs:
+        json_file = outputs.file(args.json, "--json") if args.json is not None else None
+        try:
+            result = mix_fastest(robot, mix, _unit_pairs(args.units), options, catalog=units)
+        except InputError as err:
+            raise _flagged(err, args) from err
+        if json_file is not None:
+            write_json(json_file, mix_fastest_json(result))
+        text = "" if to_stdout(args) else rendered(
+            mix_fastest_table(result), "", size_table(result.check), *mix_tables(result.check))
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written([(args.json, None)], args)
+    return EXIT_OK if result.feasible else EXIT_NO_FIT
+
+
+def _refuse_for_mix(args: argparse.Namespace, motors, *flags: tuple[str, object]) -> None:
+    """Options a mix does not take yet: one line naming the option."""
+    for flag, value in flags:
+        if value:
+            raise InputError("not for a mix yet: give one of its motion files", field=flag)
+    if motors:
+        raise InputError(f"{args.command_line[1]} on a mix does not choose motors yet; the "
+                         "motors given would be left out", field="--motor-catalog"
+                         if args.motor_catalog else "motor")

@@ -149,11 +149,14 @@ def robot_and_motion(args: argparse.Namespace):
     none. A payload without a frame goes on the robot's default payload frame.
     """
     from hdselect.motion.case import robot_for_motion
+    from hdselect.motion.mixfile import is_mix_file
     from hdselect.motion.motionfile import load_motion, robot_file_named
     from hdselect.motion.solve import solve_motion
     from hdselect.robot.model import load_robot
     from hdselect.robot.payload import Payload
 
+    if is_mix_file(args.motion):
+        return _robot_and_mix(args)
     robot = load_robot(args.robot if args.robot is not None else robot_file_named(args.motion))
     motion = load_motion(args.motion, robot)
     base = motion.payload
@@ -201,6 +204,34 @@ def robot_and_motion(args: argparse.Namespace):
     return robot, solve_motion(robot, motion)
 
 
+def _robot_and_mix(args: argparse.Namespace):
+    """The robot with the mix's sized joints, and the mix with ``--mounting`` on every task."""
+    from hdselect.motion.case import robot_for_mix
+    from hdselect.motion.mixfile import load_mix, mix_robot_file
+    from hdselect.robot.model import load_robot
+
+    for flag in ("payload", "payload_com", "payload_frame"):
+        if getattr(args, flag, None) is not None:
+            raise InputError("a mix's tasks carry their own payloads: give each task's "
+                             "`payload` in the mix file", field="--" + flag.replace("_", "-"))
+    robot = load_robot(args.robot if args.robot is not None else mix_robot_file(args.motion))
+    mix = load_mix(args.motion, robot)
+    if args.mounting is not None:
+        try:
+            robot.with_mounting(args.mounting)
+        except InputError as err:
+            raise InputError(err.reason, field="--mounting") from err
+        mix = mix.with_mounting(args.mounting)
+    joints, exclude = _names(args.joints), _names(args.exclude)
+    try:
+        return robot_for_mix(robot, mix, joints=joints, exclude=exclude), mix
+    except InputError as err:
+        given = {"joints": joints, "exclude": exclude}
+        if err.field in given and given[str(err.field)] is not None:
+            raise InputError(err.reason, field=f"--{err.field}") from err
+        raise
+
+
 def max_samples_of(args: argparse.Namespace) -> int:
     """The --max-samples flag, checked."""
     from hdselect.base.bounds import check_max_samples
@@ -212,12 +243,16 @@ def sizing_case(args: argparse.Namespace):
     """The robot, the motion, the catalog, the validated options and the motors."""
     from hdselect.catalog.catalogfile import load_catalog
     from hdselect.catalog.motors import load_motors
+    from hdselect.motion.mixfile import Mix
     from hdselect.sizing.core import motion_motors
+    from hdselect.sizing.duty import mix_motors
 
     robot, motion = robot_and_motion(args)
     if args.motor_catalog:
         catalog = load_motors(args.motor_catalog)
         motors = {name: catalog for name in robot.sized_joints}
+    elif isinstance(motion, Mix):
+        motors = mix_motors(robot, motion)
     else:
         motors = motion_motors(robot, motion)
     if motors:
@@ -229,39 +264,65 @@ def sizing_case(args: argparse.Namespace):
                 raise InputError(f"the motors come from {given}, with their own rotor inertia "
                                  "and mass; drop this option", field=flag)
     options = sizing_options_of(args, motion)
-    return robot, motion, load_catalog(args.catalog), options, motors
+    extra = list(motion.catalog) if isinstance(motion, Mix) else []
+    return robot, motion, load_catalog([*extra, *args.catalog]), options, motors
 
 
 def planned_and_sized(robot, motion, units, options, motors):
     """Plan and size through the public core, as `hdselect.size` does."""
     from dataclasses import replace
 
+    from hdselect.motion.mixfile import Mix
     from hdselect.motion.planning import plan
-    from hdselect.sizing.core import size_trajectory
+    from hdselect.sizing.core import size_tasks, size_trajectory
+    from hdselect.sizing.duty import mix_tasks
 
+    if isinstance(motion, Mix):
+        tasks, idle = mix_tasks(robot, motion, joints=robot.sized_joints, exclude=(),
+                                max_samples=options.max_samples)
+        return replace(size_tasks(tasks, units, options, motors=motors, idle=idle), mix=motion)
     trajectory = plan(robot, motion, max_samples=options.max_samples)
     return replace(size_trajectory(robot, trajectory, units, options, motors=motors),
                    motion=motion)
 
 
 def sizing_options_of(args: argparse.Namespace, motion):
-    """The validated options of the sizing flags, the motion file's where a flag is absent."""
+    """The validated options of the sizing flags, the motion file's where a flag is absent.
+
+    For a mix: the mix file's, else what its motions agree on (`hdselect.sizing.duty`).
+    """
+    from hdselect.motion.mixfile import Mix
+    from hdselect.sizing.duty import mix_options
     from hdselect.sizing.options import options_for
 
+    given = {"stop_time": args.stop_time, "efficiency": args.efficiency,
+             "rotor_inertia": args.motor_inertia, "motor_mass": args.motor_mass,
+             "mass_coupling": not args.no_mass_coupling, "prefer": args.prefer,
+             "life_hours": args.life_hours, "life_basis": args.life_basis,
+             "max_samples": args.max_samples, "margin": args.margin,
+             "max_inertia_ratio": args.max_inertia_ratio, "inertia_target": args.inertia_target}
+    if isinstance(motion, Mix) and not args.no_mass_coupling:
+        given["mass_coupling"] = None  # the mix file's, else on
     try:
-        return options_for(
-            motion, stop_time=args.stop_time, efficiency=args.efficiency,
-            rotor_inertia=args.motor_inertia, motor_mass=args.motor_mass,
-            mass_coupling=not args.no_mass_coupling, prefer=args.prefer,
-            life_hours=args.life_hours, life_basis=args.life_basis,
-            max_samples=args.max_samples, margin=args.margin,
-            max_inertia_ratio=args.max_inertia_ratio, inertia_target=args.inertia_target)
+        return (mix_options(motion, **given) if isinstance(motion, Mix)
+                else options_for(motion, **given))
     except InputError as err:
+        if err.path is not None:
+            raise
         raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
 
 
 def input_files(robot, motion) -> list[Path]:
-    """The files a robot and a motion were read from (logs and motor files included)."""
+    """The files a robot and a motion (or mix) were read from (logs and motor files included)."""
+    from hdselect.motion.mixfile import Mix
+
+    if isinstance(motion, Mix):
+        files = [motion.path, *motion.catalog]
+        for item in dict.fromkeys(motion.motions):
+            files += [f for f in input_files(robot, item) if f not in files]
+        mine = {m.source for ms in (motion.given.get("motors") or {}).values() for m in ms
+                if m.source}
+        return files + sorted(f for f in mine if f not in files)
     files = [motion.path, robot.path]
     motors = {m.source for ms in (motion.motors or {}).values() for m in ms if m.source}
     return files + ([motion.samples.path] if motion.samples is not None else []) + sorted(motors)

@@ -211,6 +211,9 @@ def _parser() -> argparse.ArgumentParser:
         "max-payload", parents=[verbose],
         help="the largest payload with a feasible unit on every joint")
     robot_motion_arguments(payload, mass=False)
+    payload.add_argument("--task", action="append", metavar="NAME",
+                         help="with a mix file: scale this task's payload (repeatable; default: "
+                              "every task that carries one)")
     sizing_arguments(payload)
     payload.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
                          help="a fixed unit for a joint, as `hdselect catalog` names it "

@@ -13,6 +13,7 @@ from hdselect.cli.output import EXIT_OK, rendered, say_written, to_stdout
 def run_plan(args: argparse.Namespace) -> int:
     """``hdselect plan``: the trajectory and the torques along it, as CSV (and a plot)."""
     from hdselect.base.outputs import Outputs
+    from hdselect.motion.mixfile import Mix
     from hdselect.motion.planning import plan_motion
     from hdselect.report.case_tables import plan_text
     from hdselect.report.export import (
@@ -27,6 +28,10 @@ def run_plan(args: argparse.Namespace) -> int:
             raise InputError("only with --plot (it chooses the joints plotted; the CSV has "
                              "every joint)", field=flag)
     robot, motion = robot_and_motion(args)
+    if isinstance(motion, Mix):
+        raise InputError("plan takes one motion file; this is a mix: plan each of its "
+                         f"motions ({', '.join(m.path.name for m in motion.motions)})",
+                         path=motion.path, field="task")
     max_samples = max_samples_of(args)
     if args.line_errors and not motion.lines:
         raise InputError("the motion has no straight line (line = true) to measure",

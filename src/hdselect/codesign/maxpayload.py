@@ -265,7 +265,27 @@ def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndar
                 tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
                 options: Options) -> UnitBound:
     """Every rule of `hdselect.catalog.rules.check_unit` as an interval of payload mass [kg]."""
-    rest = at_rest(qd, qdd)
+    return unit_bound(unit, trajectory.dt, at_rest(qd, qdd), qd, tau0, tau1, stop0, stop1,
+                      options)
+
+
+def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray,
+               tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
+               options: Options, idle: float = 0.0) -> UnitBound:
+    """Every rule of `check_unit` as an interval of x, with tau = tau0 + x tau1 [N m].
+
+    Args:
+        unit: The unit.
+        dt: What each sample stands for [s] (pooled samples: `hdselect.sizing.tasks`).
+        rest: Where the joint is held still, (n,).
+        qd: The joint's speed [rad/s], (n,).
+        tau0: Torque at x = 0 [N m], (n,).
+        tau1: Its change per unit of x [N m], (n,).
+        stop0: Emergency-stop torque at x = 0 [N m], (n,).
+        stop1: Its change per unit of x [N m], (n,).
+        options: The assumptions.
+        idle: Time at rest no sample stands for [s] (a pause in a whole-cycle mean speed).
+    """
     moving = ~rest
     speed = np.abs(qd)
     gain = (unit.input_inertia + options.rotor_inertia) * unit.ratio**2 / options.stop_time
@@ -276,13 +296,14 @@ def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndar
         "momentary": _meet(_within(stop0, stop1, unit.momentary_torque * usable),
                            _within(tau0, tau1, unit.momentary_torque * usable - gain * speed)),
     }
-    dt = trajectory.dt
-    weight = speed * dt * moving
-    moving_time = float(dt * moving.sum())
+    step = np.broadcast_to(np.asarray(dt, dtype=float), speed.shape)
+    weight = speed * step * moving
+    moving_time = float(step[moving].sum())
     travel = float(weight.sum())
     mean_speed = travel / moving_time if moving_time > 0.0 else 0.0
     rules = unit.rules
-    cycle_speed = travel / (dt * len(qd)) if len(qd) else 0.0
+    whole = float(step.sum()) + idle
+    cycle_speed = travel / whole if whole > 0.0 else 0.0
     n_av = (mean_speed if rules.mean_speed == "moving" else cycle_speed) * RPM_PER_RAD_S \
         * unit.ratio
     everything: Interval = (-math.inf, math.inf)

@@ -14,6 +14,8 @@ import numpy as np
 
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
+from hdselect.codesign.mixfastest import MixFastestResult
+from hdselect.codesign.mixpayload import MixPayloadResult
 from hdselect.motion.motionfile import Motion
 from hdselect.sizing.records import (
     candidate_json,
@@ -117,4 +119,49 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion) -> dict[str, Any]
             "joint": result.joint, "unit": result.unit.id if result.unit else None,
             "rule": result.rule},
         "selection": selection,
+    }
+
+
+def mix_payload_json(result: MixPayloadResult) -> dict[str, Any]:
+    """The largest payloads of a mix as JSON.
+
+    ``factor`` multiplies each task's payload named in ``scaled`` (mass and inertia);
+    ``payloads_kg`` gives their masses there. ``factor`` is null when no factor fits and
+    ``unlimited`` true when no rule depends on it.
+    """
+    finite = result.factor is not None and math.isfinite(result.factor)
+    selection = result.selection
+    return {
+        "robot": None if selection is None else str(selection.robot.path),
+        "mix": None if selection is None or selection.mix is None else str(selection.mix.path),
+        "factor": finite_or_none(result.factor),
+        "unlimited": result.factor is not None and not finite,
+        "scaled": list(result.scaled),
+        "payloads_kg": result.masses() if finite else None,
+        "given_kg": {name: payload.mass for name, payload in result.payloads.items()},
+        "ranges": [[lo, finite_or_none(hi)] for lo, hi in result.ranges],
+        "binding": None if result.joint is None else {
+            "joint": result.joint, "unit": result.unit.id if result.unit else None,
+            "rule": result.rule},
+        "selection": None if selection is None else size_json(selection),
+    }
+
+
+def mix_fastest_json(result: MixFastestResult) -> dict[str, Any]:
+    """The shortest cycle of each task of a mix as JSON, with the duty's check (``check``)."""
+    return {
+        "robot": str(result.check.robot.path),
+        "mix": str(result.mix.path),
+        "units": {name: unit.id for name, unit in result.units.items()},
+        "tasks": [{"name": item.task.label, "share": item.task.share,
+                   "planned_cycle_s": item.planned, "optimum_s": item.optimum,
+                   "cycle_time_s": item.cycle_time,
+                   "cycles_per_hour": item.task.share * 3600.0 / item.cycle_time}
+                  for item in result.tasks],
+        "idle_share": result.idle,
+        "slowdown": result.slowdown,
+        "lengthened_by": None if result.reason is None else {
+            "joint": result.reason[0], "rule": result.reason[1]},
+        "feasible": result.feasible,
+        "check": size_json(result.check),
     }

@@ -47,6 +47,7 @@ from hdselect.envelope.states import StateRows, state_rows
 from hdselect.envelope.torques import EnvelopeTorques
 from hdselect.envelope.workers import Spread, default_workers
 from hdselect.motion.case import robot_for_motion
+from hdselect.motion.mixfile import is_mix_file
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import gravity_torques
@@ -331,6 +332,12 @@ def _duty_motion(duty: Motion | str | Path | None, file: EnvelopeFile | None,
     given = duty if duty is not None else (file.duty if file is not None else None)
     if given is None:
         return None
+    if not isinstance(given, Motion) and is_mix_file(given):
+        where = ({"field": "duty"} if duty is not None or file is None
+                 else {"path": file.path, "field": "duty.motion"})
+        raise InputError(f"{given} is a mix file; the envelope does not take a mix as its duty "
+                         "yet: give one of its motion files (or size the mix with `hdselect "
+                         "size`)", **where)
     motion = given if isinstance(given, Motion) else load_motion(given, robot)
     motion.check_joints(robot)
     motion.refuse_motors("envelope")

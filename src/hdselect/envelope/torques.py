@@ -140,6 +140,10 @@ class EnvelopeTorques:
                                     threads=self.threads).max())
         return max(self.duty.load_inertia(joint, masses), here)
 
+    def task_inertias(self, joint: str, masses: Mapping[str, float]) -> tuple[float, ...]:
+        """The joint's largest M_jj over each duty task's poses [kg m^2] (a state is in none)."""
+        return self.duty.task_inertias(joint, masses)
+
     def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
         """Every joint of the robot against its file's limits, over the duty and the states."""
         robot = self._carrying(masses)
@@ -178,4 +182,4 @@ def appended(samples: Samples, rows: StateRows) -> Samples:
                    frozen(np.concatenate([weight, np.zeros(m)])),
                    frozen(np.concatenate([samples.qd, rows.qd])),
                    frozen(np.concatenate([samples.qdd, rows.qdd])),
-                   rest, task, samples.tasks, samples.duration)
+                   rest, task, samples.tasks, samples.duration, samples.idle)

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
+from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
@@ -85,11 +86,15 @@ def load_case(
     mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
-) -> tuple[Robot, Motion]:
+) -> tuple[Robot, Motion | Mix]:
     """Load a motion file and the robot that runs it, payload and mounting applied.
 
+    A mix file (``[[task]]`` tables, `hdselect.motion.mixfile`) gives the robot with the
+    duty's sized joints and the `Mix`: each task's payload and mounting apply when its
+    motion is planned (`hdselect.size` does).
+
     Args:
-        motion: The motion file.
+        motion: The motion file, or a mix file.
         robot: The robot or its file; None loads the motion file's ``robot``.
         payload: Payload overriding the motion file's.
         mounting: Mounting overriding the motion file's.
@@ -101,14 +106,49 @@ def load_case(
         tool poses solved for that robot's mounting (`hdselect.motion.solve.solve_motion`).
 
     Raises:
-        InputError: A file or option is invalid, or a tool pose cannot be solved.
+        InputError: A file or option is invalid (a payload given for a mix), or a tool
+            pose cannot be solved.
     """
     motion_path = bounds.file_argument(motion, "motion")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
                        "a Robot, a robot file or None")
+    if is_mix_file(motion_path):
+        if payload is not None:
+            raise InputError("a mix's tasks carry their own payloads: give each task's "
+                             "`payload` in the mix file", field="payload")
+        mix = load_mix(motion_path, robot)
+        loaded_robot = robot if isinstance(robot, Robot) else load_robot(mix.robot_file)
+        return robot_for_mix(loaded_robot, mix, joints=joints, exclude=exclude), mix
     if not isinstance(robot, Robot):
         robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
     loaded = load_motion(motion, robot)
     robot = robot_for_motion(robot, loaded, payload=payload, mounting=mounting, joints=joints,
                              exclude=exclude)
     return robot, solve_motion(robot, loaded)
+
+
+def robot_for_mix(robot: Robot, mix: Mix, *, joints: Sequence[str] | None = None,
+                  exclude: Sequence[str] | None = None) -> Robot:
+    """The robot with a mix's sized joints: given, else the files' (no payload, no mounting).
+
+    Each task's payload and mounting apply when its motion is planned (its tool poses
+    solved for its own mounting).
+
+    Raises:
+        InputError: The joints differ from the mix's, the files disagree on the sized
+            joints, or they are invalid.
+    """
+    bounds.expect_type(robot, Robot, "robot", "a Robot")
+    bounds.expect_type(mix, Mix, "motion", "a Mix")
+    mix.check_joints(robot)
+    chosen = joints if joints is not None else mix.duty_value("joints")
+    left_out = exclude if exclude is not None else mix.duty_value("exclude")
+    if chosen is None and not left_out:
+        return robot
+    try:
+        return robot.with_sized_joints(None if chosen is None else list(chosen),
+                                       tuple(left_out or ()))
+    except InputError as err:
+        if (joints if err.field == "joints" else exclude) is not None:
+            raise
+        raise InputError(err.reason, path=mix.path, field=f"sizing.{err.field}") from err

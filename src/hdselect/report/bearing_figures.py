@@ -6,9 +6,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from hdselect.catalog.bearing_rules import NOT_RATED
-from hdselect.catalog.rules import at_rest
 from hdselect.report.figures import ALLOWED, MEAN, MOVING, envelope
-from hdselect.report.joint_figures import rest_spans
+from hdselect.report.joint_figures import rest_spans, timeline
 from hdselect.sizing.result import JointSizing, SizingResult
 
 
@@ -31,12 +30,10 @@ def bearing_figure(result: SizingResult, joint: JointSizing) -> Figure | None:
     if load is None or joint.wrench is None:
         return None
     traj = result.trajectory
-    t = traj.t
-    j = result.robot.joint_index(joint.name)
+    t, _, rest, spans = timeline(result, result.robot.joint_index(joint.name))
     axial, radial, moment = (values[:len(t)] for values in joint.wrench.loads(load.offset))
     shown = joint.selected or joint.strongest
     rating = shown.unit.bearing
-    rest = at_rest(traj.qd[:, j], traj.qdd[:, j])
     fig = Figure(figsize=(11, 6.8), layout="constrained")
     axes = fig.subplots(3, 1, sharex=True)
     panels = ((moment, "tilting moment M [N m]", load.max_moment, load.mean_moment,
@@ -48,6 +45,8 @@ def bearing_figure(result: SizingResult, joint: JointSizing) -> Figure | None:
     for ax, (values, label, largest, mean, limit, unit) in zip(axes, panels, strict=True):
         for start, end in rest_spans(rest, t, traj.dt):
             ax.axvspan(start, end, color="0.88", lw=0, zorder=0)
+        for start, _, _ in spans[1:]:
+            ax.axvline(start, color="0.3", lw=0.8, ls="--")
         ax.plot(*envelope(t, values), color=MOVING, lw=1.1, label=label.split(" [")[0])
         at = int(np.argmax(values))
         ax.plot([t[at]], [values[at]], "o", color=MOVING, ms=7, mfc="none", mew=1.8,
@@ -67,6 +66,9 @@ def bearing_figure(result: SizingResult, joint: JointSizing) -> Figure | None:
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    for start, end, label in spans:
+        axes[0].text((start + end) / 2, 1.01, label, ha="center", va="bottom", fontsize=9,
+                     transform=axes[0].get_xaxis_transform())
     axes[-1].set_xlabel("time [s]")
     axes[-1].set_xlim(t[0], max(t[-1], t[0] + traj.dt))
     where = "joint origin" if load.offset == 0.0 else f"{load.offset:g} m along the axis"

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 from rich.markup import escape
@@ -84,7 +84,7 @@ def refined_note(asked: float, sampled: float) -> str:
             "resolve every move)")
 
 
-def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
+def case_notes(robot: Robot, trajectory: Trajectory | Sequence[Trajectory]) -> list[str]:
     """What a reader must know about the case before trusting a result.
 
     The joints not sized, mimic followers, a payload frame chosen by default,
@@ -92,7 +92,8 @@ def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
 
     Args:
         robot: The robot as planned and sized.
-        trajectory: Its trajectory.
+        trajectory: Its trajectory, or every task's (a duty of several tasks: a joint is
+            still only when it moves in none).
 
     Returns:
         One sentence per fact; empty when there is nothing to say.
@@ -121,13 +122,15 @@ def case_notes(robot: Robot, trajectory: Trajectory) -> list[str]:
     if payload is not None and payload.frame is None:
         notes.append(f"payload: {payload.mass:g} kg on {robot.payload_frame}, the tip of the "
                      "longest chain of sized joints, since no frame was given.")
+    tasks = [trajectory] if isinstance(trajectory, Trajectory) else list(trajectory)
     still = [name for name in robot.sized_joints
-             if not np.any(trajectory.qd[:, robot.joint_index(name)])]
+             if not any(np.any(traj.qd[:, robot.joint_index(name)]) for traj in tasks)]
     if still and len(still) == len(robot.sized_joints):
         notes.append(HOLD_NOTE + ".")
     elif still:
+        where = "this motion" if len(tasks) == 1 else "any task"
         notes.append(f"still: {', '.join(still)} {'does' if len(still) == 1 else 'do'} not move "
-                     "in this motion, so only holding (static) and an emergency stop are checked "
+                     f"in {where}, so only holding (static) and an emergency stop are checked "
                      "there; mean torque, speed and life do not apply.")
     return notes
 

@@ -13,6 +13,8 @@ from rich.markup import escape
 from hdselect.catalog.rules import CHECK_LABELS
 from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
+from hdselect.codesign.mixfastest import MixFastestResult
+from hdselect.codesign.mixpayload import MixPayloadResult
 from hdselect.motion.motionfile import Motion
 from hdselect.report.case_tables import case_notes
 from hdselect.report.tables import Column, FittedTable, Paragraphs
@@ -208,3 +210,53 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> 
         lines.append(f"Every joint has a unit only from {spans}.")
     lines.append(f"The selection at {result.mass:.4g} kg:")
     return Paragraphs(tuple(lines))
+
+
+def mix_payload_text(result: MixPayloadResult, robot: Robot) -> Paragraphs:
+    """The largest payloads of a mix, which tasks they are, and where the duty binds."""
+    name = result.selection.mix.path.name if (result.selection is not None and
+                                              result.selection.mix is not None) else "the mix"
+    given = ", ".join(f"{task} {payload.mass:g} kg" for task, payload in result.payloads.items())
+    head = (f"{robot.path.name} running {name}: the payloads of {', '.join(result.scaled)} "
+            f"(as given: {given}) scaled by one factor, mass and inertia alike")
+    if result.factor is None:
+        return Paragraphs((f"{head}: no factor, not even 0, leaves every joint a feasible "
+                           "unit.",))
+    if not math.isfinite(result.factor):
+        return Paragraphs((f"{head}: no rule depends on them: no limit.",))
+    masses = ", ".join(f"{task} {mass:.4g} kg" for task, mass in result.masses().items())
+    lines = [f"{head}: the largest factor is {result.factor:.4g}: {masses}.",
+             f"{result.joint} runs out of units there: "
+             f"{result.unit.id if result.unit else '-'} reaches its {result.rule} limit "
+             "over the duty (rules of single samples: the worst task; mean torque and life: "
+             "every task pooled at its share). Torque is affine in the factor on fixed "
+             "trajectories, so each rule's limit is solved exactly."]
+    if len(result.ranges) > 1 or result.ranges[0][0] > 0.0:
+        spans = ", ".join(f"{lo:.4g} to {hi:.4g}" for lo, hi in result.ranges)
+        lines.append(f"Every joint has a unit only for factors from {spans}.")
+    lines.append(f"The selection at a factor of {result.factor:.4g}:")
+    return Paragraphs(tuple(lines))
+
+
+def mix_fastest_table(result: MixFastestResult) -> FittedTable:
+    """Each task of a mix: its planned cycle, its optimum and its shortest over the duty."""
+    columns = (Column("task", "left"), Column("share"), Column("planned s"),
+               Column("optimum s"), Column("fastest s"), Column("cycles/h"))
+    rows = tuple((escape(item.task.label), percent(item.task.share), f"{item.planned:.3f}",
+                  f"{item.optimum:.3f}", f"{item.cycle_time:.3f}",
+                  f"{item.task.share * 3600.0 / item.cycle_time:,.1f}")
+                 for item in result.tasks)
+    units = ", ".join(f"{name} {unit.id}" for name, unit in result.units.items())
+    if result.reason is None:
+        why = ("every task at its optimum: the rules over the duty pass there (the limits on "
+               "single samples, TOPPRA's, bound each task)")
+    else:
+        why = (f"every task's moves {result.slowdown:.4f}x slower than its optimum, dwells "
+               f"kept: {result.reason[0]}'s {result.reason[1]} rule over the duty (pooled at "
+               "the shares) fails faster")
+    notes = (f"units: {units}", why,
+             "optimum: TOPPRA under the motion's and the units' limits on single samples; "
+             "the shares of the time are held, so a faster cycle runs more often")
+    name = result.mix.path.name
+    return FittedTable(f"{name}: the shortest cycle of each task with these units",
+                       columns, rows, notes=notes)

@@ -22,6 +22,7 @@ from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.html_summary import parts_section, summary
 from hdselect.report.html_tables import STYLE, anchor, esc, number, slug, table
+from hdselect.report.mix_html import duty_line, mix_section, task_of
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
 from hdselect.report.terminal import (
@@ -59,8 +60,8 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
         The page, self-contained.
     """
     count = len(result.trajectory.t)
-    sections = [_selection(result), parts_section(result), _warnings(result), _notes(result),
-                _heat_maps(result), _loads(result),
+    sections = [_selection(result), mix_section(result), parts_section(result),
+                _warnings(result), _notes(result), _heat_maps(result), _loads(result),
                 bearing_section(result, bearing_figures or {}),
                 *(_joint_section(result, joint, figures.get(joint.name),
                                  (motor_figures or {}).get(joint.name))
@@ -72,10 +73,13 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
 <title>hdselect: {esc(result.title)}</title>
 <style>{STYLE}</style></head><body>
 <h1>{"Gearhead and motor" if result.motors else "Gearhead"} selection: {esc(result.title)}</h1>
-<p>Cycle {result.cycle_time:.3f} s, {count:,} sample{"s" if count != 1 else ""} every
-{result.trajectory.dt * 1e3:g} ms. Made by hdselect {esc(origin.version)} on
+<p>{esc(duty_line(result)) if len(result.tasks) > 1 else f"Cycle {result.cycle_time:.3f} s, "
+     f"{count:,} sample{'s' if count != 1 else ''} every {result.trajectory.dt * 1e3:g} ms"}.
+Made by hdselect {esc(origin.version)} on
 {esc(origin.created)}; <a href="#provenance">how to re-run it</a>.
-{esc(base_text(result.robot))}.</p>
+{esc(base_text(result.robot) if len(result.tasks) < 2 else
+     f"base: '{result.robot.root_link}' held fixed; each task's payload and mounting under "
+     "Tasks")}.</p>
 {summary(result, origin)}
 {"".join(_folded(section) for section in sections if section)}
 </body></html>
@@ -132,8 +136,9 @@ def _selection(result: SizingResult) -> str:
             binding = c.gearhead_binding if motors else c.binding
             cells = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>', _unit_cell(c),
                      *([_motor_cell(c)] if motors else []),
-                     esc(binding_words(c, binding)),
-                     *([("-" if side is None else esc(binding_words(c, side))),
+                     esc(binding_words(c, binding) + task_of(result, joint, binding)),
+                     *([("-" if side is None else esc(binding_words(c, side)
+                                                      + task_of(result, joint, side))),
                         ratio_text(joint.inertia_ratio(c))] if motors else []),
                      esc(life_text(c.life_hours)), esc(life_text(c.l10_hours)),
                      f"{c.motor.peak_torque:.3g}", f"{c.motor.rms_torque:.3g}",
@@ -148,7 +153,8 @@ def _selection(result: SizingResult) -> str:
     slow = "".join(
         f"<p><b>{esc(joint.name)}</b>: no {what} fits; the strongest, "
         f"{esc(joint.strongest.label)}, fails {esc(verdict(joint.strongest))}. "
-        f"{esc(time_scale_text(joint))}.</p>" for joint in result.joints if joint.selected is None)
+        f"{esc(time_scale_text(joint, result))}.</p>" for joint in result.joints
+        if joint.selected is None)
     legend = ("<p>Gearhead binding: the gearhead's check closest to its limit (demand / limit); "
               "motor binding: the motor's (peak under its torque-speed curve, RMS against its "
               "rated torque, speed). load/rotor inertia = (M_jj / N&sup2; + J_in) / J_m, M_jj "
@@ -178,8 +184,8 @@ def _notes(result: SizingResult) -> str:
     items = "".join(f'<li id="{anchor(unit)}"><b>{esc(unit)}</b>: '
                     + "; ".join(esc(f.note) for f in found.values()) + "</li>"
                     for unit, found in flags.items())
-    case = "".join(f"<li>{esc(note)}</li>" for note in case_notes(result.robot,
-                                                                  result.trajectory))
+    case = "".join(f"<li>{esc(note)}</li>" for note in case_notes(
+        result.robot, [task.trajectory for task in result.counted] or result.trajectory))
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     verb = "carry" if len(loaded) > 1 else "carries"
     gravity = (f"<p><b>Backdriving.</b> {esc(', '.join(loaded))} {verb} gravity. Harmonic Drive "

@@ -13,6 +13,8 @@ from hdselect.catalog.checks import CHECK_NAMES
 from hdselect.catalog.rules import Candidate
 from hdselect.motion.motionfile import Motion
 from hdselect.report.html_tables import esc, slug, table
+from hdselect.report.mix_html import task_of
+from hdselect.report.mix_tables import mounting_text
 from hdselect.report.parts import parts
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
@@ -26,9 +28,12 @@ def summary(result: SizingResult, origin: Provenance) -> str:
     """The review summary: one page, the selection and what it rests on."""
     settings = dict(origin.settings)
     robot = result.robot
+    mountings = {mounting_text(task.robot) for task in result.tasks}
+    mounting = (settings.get("mounting", "-") if len(result.tasks) < 2 else
+                mountings.pop() if len(mountings) == 1 else "each task's own (under Motion)")
     facts = [("robot", f"{robot.path.name}: {len(robot.sized_joints)} joints sized of "
                        f"{robot.dof}; base '{robot.root_link}' held fixed"),
-             ("mounting", settings.get("mounting", "-"))]
+             ("mounting", mounting)]
     fact_rows = "".join(f"<tr><th class=t>{esc(k)}</th><td class=t>{esc(v)}</td></tr>"
                         for k, v in facts)
     verdict_text = ("Every joint has a unit." if result.feasible else
@@ -43,13 +48,25 @@ def summary(result: SizingResult, origin: Provenance) -> str:
 
 
 def _tasks(result: SizingResult) -> str:
-    """Each task of the duty: its motion, cycle, payload and share of the operating time."""
+    """Each task of the duty: its motion, cycle, payload and share of the operating time.
+
+    A mix whose tasks are mounted differently gets each task's mounting too, and a mix
+    in cycles per hour its idle time.
+    """
     alone = result.motion if len(result.tasks) == 1 else None  # the motion size planned
     rows = [_task_row(task.name, task.motion or alone, task.trajectory.duration, task.robot,
                       task.share) for task in result.tasks]
     if not rows:  # a result not made from tasks: its own trajectory, the whole time
         rows.append(_task_row("", result.motion, result.cycle_time, result.robot, 1.0))
-    return table(["task", "cycle", "payload", "share of the time"], rows, left=1, text=[2])
+    header = ["task", "cycle", "payload", "share of the time"]
+    if len({mounting_text(task.robot) for task in result.tasks}) > 1:
+        header.append("mounting")
+        for row, task in zip(rows, result.tasks, strict=True):
+            row.append(esc(mounting_text(task.robot)))
+    if result.idle > 0.0:
+        rows.append(["idle (no task runs)", "-", "-", f"{result.idle * 100:.3g} %",
+                     *(["-"] if len(header) > 4 else [])])
+    return table(header, rows, left=1, text=[2, 4])
 
 
 def _task_row(label: str, motion: Motion | None, cycle: float, robot: Robot,
@@ -76,11 +93,12 @@ def _selection(result: SizingResult) -> str:
                          "-", "-", *(["-"] if motors else [])])
             continue
         binding = c.gearhead_binding if motors else c.binding
-        words = binding_words(c, binding)
+        words = binding_words(c, binding) + task_of(result, joint, binding)
         if motors and c.motor_binding is not None:
-            words += "; motor: " + binding_words(c, c.motor_binding)
+            words += ("; motor: " + binding_words(c, c.motor_binding)
+                      + task_of(result, joint, c.motor_binding))
         if c.binding not in (binding, c.motor_binding):  # the pair's inertia ratio
-            words += "; " + binding_words(c, c.binding)
+            words += "; " + binding_words(c, c.binding) + task_of(result, joint, c.binding)
         rows.append([name, esc(c.unit.id), *([esc(_motor(c))] if motors else []), esc(words),
                      f"{(1.0 - c.checks[c.binding].utilization) * 100:.0f} %",
                      esc(life_text(c.l10_hours if life == "L10" else c.life_hours)).replace(

@@ -18,7 +18,7 @@ esc = html.escape
 STYLE = """
 body{font-family:system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;max-width:1200px;
 margin:1.5em auto;padding:0 1em;color:#1a1a1a;line-height:1.4}
-h1{font-size:1.5em;margin:.3em 0}h2{font-size:1.25em;margin:1.2em 0 .4em;
+h1{font-size:1.5em;margin:.3em 0;overflow-wrap:break-word}h2{font-size:1.25em;margin:1.2em 0 .4em;
 border-bottom:1px solid #ccc}h3{font-size:1.05em;margin:1em 0 .3em}
 details>summary{cursor:pointer;list-style-position:outside;margin-left:1.1em}
 details>summary>h2{display:inline-block;margin:.9em 0 .3em;border:none}

@@ -38,14 +38,18 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     j = result.robot.joint_index(joint.name)
     chosen = joint.selected or joint.strongest
     unit = chosen.unit
-    t = traj.t
-    rest = at_rest(traj.qd[:, j], traj.qdd[:, j])
+    t, qd, rest, spans = timeline(result, j)
     fig = Figure(figsize=(11, 6.6), layout="constrained")
     speed_ax, torque_ax = fig.subplots(2, 1, sharex=True)
     for ax in (speed_ax, torque_ax):
         for start, end in rest_spans(rest, t, traj.dt):
             ax.axvspan(start, end, color="0.88", lw=0, zorder=0)
-    output_rpm = np.abs(traj.qd[:, j]) * RPM_PER_RAD_S
+        for start, _, _ in spans[1:]:
+            ax.axvline(start, color="0.3", lw=0.8, ls="--")
+    for start, end, label in spans:
+        speed_ax.text((start + end) / 2, 1.01, label, ha="center", va="bottom", fontsize=9,
+                      transform=speed_ax.get_xaxis_transform())
+    output_rpm = np.abs(qd) * RPM_PER_RAD_S
     speed_ax.plot(*envelope(t, output_rpm), color=MOVING, lw=1.2, label="|output speed|")
     top = float(output_rpm.max()) * 1.15
     if top == 0.0:
@@ -85,6 +89,9 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
         torque_ax.plot([t[peak_at]], [torque[peak_at]], "o", color=MOVING, ms=7, mfc="none",
                        mew=1.8, label=f"peak {torque[peak_at]:.3g} N m at {t[peak_at]:.2f} s")
     when = event.detail.get("time_s")
+    task = joint.setting_task("momentary")
+    if isinstance(when, float) and task is not None:
+        when += spans[task][0]  # a time within that task's cycle
     if isinstance(when, float) and event.value is not None:
         tops.append(event.value)
         torque_ax.plot([when], [event.value], "v", color=STOP, ms=9, mec="k",
@@ -108,7 +115,8 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     top = _limit_lines(torque_ax, lines, max(max(tops), 1e-9) * 1.15, keep if near else None)
     torque_ax.set_ylim(0.0, top)
     torque_ax.set_ylabel("output torque [N m]")
-    torque_ax.set_xlabel("time [s]")
+    torque_ax.set_xlabel("time [s]" if not spans else
+                         "time [s]: one cycle of each task in turn (dashed: where the next begins)")
     torque_ax.set_xlim(t[0], max(t[-1], t[0] + traj.dt))
     for ax in (speed_ax, torque_ax):
         ax.grid(alpha=0.3)
@@ -157,7 +165,7 @@ def motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
     chosen = joint.selected or joint.strongest
     motor, unit, demand = chosen.motor_unit, chosen.unit, chosen.motor
     assert motor is not None and demand is not None and joint.motor_torque is not None
-    speed = np.abs(traj.qd[:, j]) * unit.ratio * RPM_PER_RAD_S
+    speed = np.abs(timeline(result, j)[1]) * unit.ratio * RPM_PER_RAD_S
     torque = np.abs(joint.motor_torque)
     fig = Figure(figsize=(11, 5.2), layout="constrained")
     ax = fig.subplots()
@@ -200,6 +208,35 @@ def motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
                  + ("" if ratio is None else f"; load-to-rotor inertia {ratio_text(ratio)}"),
                  fontsize=12)
     return fig
+
+
+def timeline(result: SizingResult, j: int
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple[float, float, str]]]:
+    """A joint's samples as the result's torques follow them: each counted task in turn.
+
+    Args:
+        result: The sizing result.
+        j: The joint's column.
+
+    Returns:
+        Time [s] (each task's cycle after the previous one's), the joint's speed
+        [rad/s], where it is at rest, and each task's span (start [s], end [s], name);
+        no spans for one task.
+    """
+    counted = result.counted
+    if len(counted) < 2:
+        traj = result.trajectory
+        return traj.t, traj.qd[:, j], at_rest(traj.qd[:, j], traj.qdd[:, j]), []
+    times, speeds, rests, spans = [], [], [], []
+    start = 0.0
+    for task in counted:
+        traj = task.trajectory
+        times.append(traj.t + start)
+        speeds.append(traj.qd[:, j])
+        rests.append(at_rest(traj.qd[:, j], traj.qdd[:, j]))
+        spans.append((start, start + traj.duration, task.label))
+        start += len(traj.t) * traj.dt
+    return np.concatenate(times), np.concatenate(speeds), np.concatenate(rests), spans
 
 
 def rest_spans(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, float]]:

@@ -22,6 +22,7 @@ import numpy as np
 from hdselect.base.inputfiles import readable
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.sizing.result import SizingResult
+from hdselect.sizing.tasks import Task
 
 DEG_PER_RAD = 180.0 / math.pi
 _SOFTWARE = ("pin", "ruckig", "toppra", "numpy", "scipy", "matplotlib")
@@ -93,10 +94,14 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
     when = created or datetime.datetime.now(datetime.UTC)
     robot, motion = result.robot, result.motion
     files = [("robot", robot.path)]
-    if motion is not None:
-        files.append(("motion", motion.path))
-        if motion.samples is not None:
-            files.append(("samples", motion.samples.path))
+    if result.mix is not None:
+        files.append(("mix", result.mix.path))
+    motions = ([task.motion for task in result.tasks if task.motion is not None]
+               if len(result.tasks) > 1 else [motion] if motion is not None else [])
+    for each in dict.fromkeys(motions):
+        files.append(("motion", each.path))
+        if each.samples is not None:
+            files.append(("samples", each.samples.path))
     builtin = Path(__file__).parent / "data"
     files += [("catalog (built in)" if Path(source).parent == builtin else "catalog", source)
               for source in dict.fromkeys(u.source for u in result.units)]
@@ -168,10 +173,30 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
                      if same else "; ".join(f"{name}: {ids}" for name, ids in lists.items())))
     else:
         rows.append(("motors", "none given"))
+    if len(result.tasks) > 1:  # a duty: each task's own case
+        rows = [row for row in rows if row[0] not in ("mounting", "payload", "planner",
+                                                        "requirements in the motion file",
+                                                        "trajectory")]
+        rows += [(f"task {task.label}", _task_text(task)) for task in result.tasks]
+        if result.idle > 0.0:
+            rows.append(("idle", f"{result.idle:.6g} of the time"))
     options = result.options
     rows.append(("options", ", ".join(
         f"{f.name} = {_option_text(f.name, getattr(options, f.name))}" for f in fields(options))))
     return rows
+
+
+def _task_text(task: Task) -> str:
+    """One task of a duty: its motion, share, planner, cycle, payload and gravity."""
+    traj, robot = task.trajectory, task.robot
+    payload = robot.payload
+    carried = ("no payload" if payload is None else
+               f"payload {payload.mass:g} kg on {robot.payload_frame} at "
+               f"[{', '.join(f'{c:g}' for c in payload.com)}] m")
+    planner = "" if task.motion is None else f"{task.motion.path.name} ({task.motion.planner}), "
+    return (f"{planner}share {task.share:.6g}, cycle {traj.duration:.6g} s, {len(traj.t):,} "
+            f"samples every {traj.dt:g} s, {carried}, gravity "
+            f"[{', '.join(f'{g:g}' for g in robot.gravity)}] m/s^2")
 
 
 def _option_text(name: str, value: object) -> str:
@@ -193,7 +218,7 @@ def _scales(result: SizingResult) -> list[tuple[float, str]]:
 
 def _limits(result: SizingResult) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
     motion = result.motion
-    if motion is None:
+    if motion is None or len(result.tasks) > 1:  # a duty's motions: their files, hashed
         return (), ()
     given = [(name, values) for name, values in (
         ("velocity", motion.velocity_limit), ("acceleration", motion.acceleration_limit),
@@ -223,7 +248,7 @@ def _unit(quantity: str, unit: str) -> str:
 
 def _waypoints(result: SizingResult) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
     motion = result.motion
-    if motion is None or not len(motion.waypoints):
+    if motion is None or not len(motion.waypoints) or len(result.tasks) > 1:
         return (), ()
     scales = _scales(result)
     header = ("#", *(f"{name} [{unit}]" for name, (_, unit) in zip(motion.joint_names, scales,

@@ -105,7 +105,8 @@ def size_table(result: SizingResult) -> FittedTable:
         mark = "*" if chosen.flags else ""
         rows.append((
             escape(joint.name), escape(chosen.unit.id) + mark,
-            f"{chosen.binding} {utilization_text(check.utilization, True)}",
+            f"{chosen.binding} {utilization_text(check.utilization, True)}"
+            + _task_of(result, joint, chosen.binding),
             life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             *bearing, ", ".join(notes)))
@@ -160,12 +161,20 @@ def _pairs_table(result: SizingResult) -> FittedTable:
         rows.append((
             escape(joint.name), escape(chosen.unit.id) + ("*" if chosen.flags else ""),
             "-" if chosen.motor_unit is None else escape(chosen.motor_unit.id),
-            _binding_text(chosen, chosen.gearhead_binding),
-            "-" if side is None else _binding_text(chosen, side).removeprefix("motor_"),
+            _binding_text(chosen, chosen.gearhead_binding)
+            + _task_of(result, joint, chosen.gearhead_binding),
+            "-" if side is None else _binding_text(chosen, side).removeprefix("motor_")
+            + _task_of(result, joint, side),
             ratio_text(joint.inertia_ratio(chosen)), life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             *bearing, ", ".join(notes)))
     return _fitted(result, columns, rows)
+
+
+def _task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
+    """The task that sets a rule, in brackets, for a duty of several tasks; else nothing."""
+    who = result.set_by(joint, rule)
+    return "" if who is None else f" ({escape(who)})"
 
 
 def _binding_text(candidate: Candidate, name: str) -> str:
@@ -246,8 +255,12 @@ def _motor(candidate: Candidate) -> MotorDemand:
     return candidate.motor
 
 
-def time_scale_text(joint: JointSizing) -> str:
-    """For a joint no unit fits: the uniform time scale that would fit, and each unit's range."""
+def time_scale_text(joint: JointSizing, result: SizingResult | None = None) -> str:
+    """For a joint no unit fits: the uniform time scale that would fit, and each unit's range.
+
+    For a duty of several tasks (`result` given), every task runs s times slower at the
+    same shares of the time: each task's cycle is stated.
+    """
     slowdown, scales = joint.slowdown, joint.scales
     if slowdown is None or slowdown.factor is None or scales is None:
         what = "pair" if any(c.motor_unit is not None for c in joint.candidates) else "unit"
@@ -257,11 +270,21 @@ def time_scale_text(joint: JointSizing) -> str:
     speed = (f"{factor:.3f}x slower" if factor >= 1.0 else f"{1.0 / factor:.3f}x faster")
     ranges = [f"{unit} for s in " + " or ".join(f"[{lo:.3g}, {hi:.3g}]" for lo, hi in intervals)
               for unit, intervals in scales.fits.items() if intervals]
-    return (f"Run {speed} (cycle {slowdown.cycle_time:.3f} s) and {slowdown.unit} fits; "
+    cycle = f"cycle {slowdown.cycle_time:.3f} s"
+    if result is not None and len(result.counted) > 1:
+        speed = "every task " + speed
+        cycle = "cycles " + ", ".join(f"{task.label} {factor * task.trajectory.duration:.3f} s"
+                                      for task in result.counted)
+    return (f"Run {speed} ({cycle}) and {slowdown.unit} fits; "
             f"run s times slower, it fits: {'; '.join(ranges)}")
 
 
 def _size_title(result: SizingResult) -> str:
+    if len(result.tasks) > 1:
+        cycles = ", ".join(f"{task.label} {task.trajectory.duration:.3f} s"
+                           for task in result.tasks)
+        return (f"{result.title}, one duty: cycles {cycles}\nbase: '{result.robot.root_link}' "
+                "held fixed; each task's share, payload and mounting below")
     count = len(result.trajectory.t)
     return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
             f"{count:,} sample{'s' if count != 1 else ''}\n{base_text(result.robot)}")
@@ -308,7 +331,11 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
-    notes += tool_pose_notes(result.motion) + case_notes(result.robot, result.trajectory)
+    poses = ([f"{task.label}: {note}" for task in result.counted
+              for note in tool_pose_notes(task.motion)] if len(result.counted) > 1
+             else tool_pose_notes(result.motion))
+    notes += poses + case_notes(result.robot, [task.trajectory for task in result.counted]
+                                if result.counted else result.trajectory)
     notes += bearing_notes(result)
     for joint in result.joints:
         if joint.selected is None:
@@ -317,7 +344,7 @@ def _size_notes(result: SizingResult) -> list[str]:
             what = "pair" if strongest.motor_unit is not None else "unit"
             line = (f"{joint.name}: no {what} fits; the strongest, {strongest.label}, fails "
                     f"{strongest.binding} at {percent(check.utilization)} of its limit. ")
-            notes.append(line + time_scale_text(joint) + ".")
+            notes.append(line + time_scale_text(joint, result) + ".")
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
                for c in [joint.selected] if c is not None for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]

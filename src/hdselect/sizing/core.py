@@ -23,7 +23,8 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import Unit
-from hdselect.motion.case import load_case, robot_for_motion
+from hdselect.motion.case import load_case, robot_for_mix, robot_for_motion
+from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.motion.solve import solve_motion
@@ -36,7 +37,8 @@ from hdselect.sizing.arguments import (
     checked_motors,
     units_argument,
 )
-from hdselect.sizing.joint import JointCycle, size_joint
+from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
+from hdselect.sizing.joint import JointCycle, size_joint, task_checks
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.slowdown import with_slowdowns
@@ -51,7 +53,7 @@ GUESS_SAMPLES = 200
 
 def size(
     robot: Robot | str | Path | None,
-    motion: Motion | str | Path,
+    motion: Motion | Mix | str | Path,
     *,
     catalog: Sequence[str | Path] = (),
     units: Sequence[Unit] | None = None,
@@ -66,11 +68,14 @@ def size(
 
     Args:
         robot: Robot file or loaded robot; None takes the motion file's ``robot``.
-        motion: Motion file or loaded motion.
-        catalog: Extra catalog files (the built-in PSA-G catalog is always loaded).
+        motion: Motion file or loaded motion; or a mix file (``[[task]]`` tables) or a
+            loaded `Mix`: every task planned with its own payload and mounting and
+            sized as one duty (`size_tasks`).
+        catalog: Extra catalog files (the built-in PSA-G catalog is always loaded; a mix
+            file's ``[sizing] catalog`` too).
         units: The catalog already loaded (instead of `catalog`).
-        payload: Payload, overriding the motion file's.
-        mounting: Mounting, overriding the motion file's.
+        payload: Payload, overriding the motion file's (not for a mix: its tasks give theirs).
+        mounting: Mounting, overriding the motion file's (a mix's: every task's).
         joints: Joints to size (default: the motion file's ``[sizing] joints``, else every
             revolute joint that is not a mimic follower).
         exclude: Joints not to size; they still move and load the others (default: the
@@ -95,8 +100,13 @@ def size(
     if units is not None:
         units = units_argument(units)
     expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
-    expect_type(motion, (Motion, str, Path), "motion", "a Motion or a motion file")
+    expect_type(motion, (Motion, Mix, str, Path), "motion",
+                "a Motion, a Mix, a motion file or a mix file")
     expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
+    if isinstance(motion, Mix) or (not isinstance(motion, Motion) and is_mix_file(motion)):
+        return _size_mix(robot, motion, catalog=catalog, units=units, payload=payload,
+                         mounting=mounting, joints=joints, exclude=exclude, motors=motors,
+                         options=options)
     if isinstance(motion, Motion):
         if not isinstance(robot, Robot):
             file = robot if robot is not None else motion.robot_file
@@ -108,14 +118,41 @@ def size(
                                  joints=joints, exclude=exclude)
         motion = solve_motion(robot, motion)
     else:
-        robot, motion = load_case(motion, robot, payload=payload, mounting=mounting,
+        robot, loaded = load_case(motion, robot, payload=payload, mounting=mounting,
                                   joints=joints, exclude=exclude)
+        assert isinstance(loaded, Motion)  # a mix file went to _size_mix
+        motion = loaded
     resolved = options_for(motion, **options)
     units = tuple(units) if units is not None else load_catalog(catalog)
     if motors is None:
         motors = motion_motors(robot, motion)
     trajectory = plan(robot, motion, max_samples=resolved.max_samples)
     return size_tasks((Task(robot, trajectory, motion=motion),), units, resolved, motors=motors)
+
+
+def _size_mix(robot: Robot | str | Path | None, mix: Mix | str | Path, *,
+              catalog: Sequence[Path], units: Sequence[Unit] | None, payload: Payload | None,
+              mounting: Mounting | None, joints: Sequence[str] | None,
+              exclude: Sequence[str] | None, motors: Motors | None,
+              options: Mapping[str, object]) -> SizingResult:
+    """`size` of a mix: every task planned with its own payload and mounting, one duty."""
+    if payload is not None:
+        raise InputError("a mix's tasks carry their own payloads: give each task's `payload` "
+                         "in the mix file", field="payload")
+    if not isinstance(mix, Mix):
+        mix = load_mix(mix, robot)
+    elif not isinstance(robot, Robot):
+        robot = None if robot is None else load_robot(robot)
+    if not isinstance(robot, Robot):
+        robot = load_robot(mix.robot_file)
+    robot = robot_for_mix(robot, mix, joints=joints, exclude=exclude)
+    resolved = mix_options(mix, **options)
+    units = tuple(units) if units is not None else load_catalog([*mix.catalog, *catalog])
+    if motors is None:
+        motors = mix_motors(robot, mix)
+    tasks, idle = mix_tasks(robot, mix, mounting=mounting, joints=robot.sized_joints,
+                            exclude=(), max_samples=resolved.max_samples)
+    return replace(size_tasks(tasks, units, resolved, motors=motors, idle=idle), mix=mix)
 
 
 def motion_motors(robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
@@ -172,7 +209,7 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
 
 
 def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | None = None,
-               *, motors: Motors | None = None) -> SizingResult:
+               *, motors: Motors | None = None, idle: float = 0.0) -> SizingResult:
     """Choose a gearhead (or a pair) for every sized joint for everything a robot does.
 
     Per joint and unit, the rules of one sample (repeated peak, static, speed,
@@ -189,17 +226,21 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
         units: The catalog.
         options: The assumptions (default `Options()`).
         motors: Candidate motors per sized joint.
+        idle: The fraction of the time no task runs [-]: the shares and it sum to 1. A
+            pause, it counts only where a series' rules take the mean speed over the
+            whole cycle, pauses included.
 
     Returns:
         The result for every sized joint; its robot, trajectory and motion are the first
-        counted task's, its `tasks` every task given.
+        counted task's, its `tasks` every task given. With several tasks counted, each
+        joint's `per_task` holds its unit checked against each task alone.
 
     Raises:
         InputError: An argument is of the wrong type or inconsistent (see
             `size_trajectory`), the tasks are not of one robot, or the shares are not
             fractions summing to 1.
     """
-    tasks = _tasks_argument(tasks)
+    tasks = _tasks_argument(tasks, idle)
     units = units_argument(units)
     if not units:
         raise InputError("no gearhead to choose from", field="units")
@@ -218,25 +259,25 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
     guess: dict[str, float] = {}
     if options.mass_coupling:
         coarse = [replace(task, trajectory=_decimated(task.trajectory)) for task in tasks]
-        coarse_samples = pooled(coarse)
+        coarse_samples = pooled(coarse, idle)
         coarse_model = DirectTorques(coarse_samples.tasks, coarse_samples, options.stop_time,
                                      threads=options.threads,
                                      wrenches=any(unit.bearing is not None for unit in units))
         _, guess = select_units(coarse_model, per_joint, options, motors, detail=False,
-                                slowdowns=False)
-    samples = pooled(tasks)
+                                slowdowns=False, per_task=False)
+    samples = pooled(tasks, idle)
     model = DirectTorques(samples.tasks, samples, options.stop_time, threads=options.threads,
                           guess=guess, wrenches=options.bearing_loads)
     joints, masses = select_units(model, per_joint, options, motors)
     first = samples.tasks[0]
     return SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
                         first.motion, motors=motors, loads=model.loads(masses),
-                        tasks=tuple(tasks))
+                        tasks=tuple(tasks), idle=float(idle))
 
 
 def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], options: Options,
-                 motors: Motors, *, detail: bool = True,
-                 slowdowns: bool = True) -> tuple[list[JointSizing], dict[str, float]]:
+                 motors: Motors, *, detail: bool = True, slowdowns: bool = True,
+                 per_task: bool = True) -> tuple[list[JointSizing], dict[str, float]]:
     """The one selection: every sized joint from the tip to the base, masses carried.
 
     Args:
@@ -246,6 +287,8 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
         motors: Candidate motors per sized joint (checked).
         detail: Keep every candidate checked (reports); False keeps the selected one.
         slowdowns: For a joint no unit fits, find the time scales at which each would.
+        per_task: Where several tasks count, check each joint's unit against each task
+            alone (`JointSizing.per_task`).
 
     Returns:
         The sized joints in the robot's order, with their carried masses, gravity figures
@@ -264,6 +307,10 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
                            model.wrench(name, masses), options.bearing_offset.get(name, 0.0))
         joint = size_joint(name, cycle, units[name], options, motors=motors.get(name, ()),
                            detail=detail, load_inertia=inertia)
+        if per_task and len(model.samples.tasks) > 1:
+            inertias = model.task_inertias(name, masses) if name in motors else None
+            joint = replace(joint, per_task=task_checks(cycle, joint.selected or joint.strongest,
+                                                        options, inertias))
         found[name] = joint
         if options.mass_coupling:
             chosen = joint.selected or joint.strongest
@@ -349,7 +396,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
                         distinct, motors=fixed, loads=model.loads(masses))
 
 
-def _tasks_argument(tasks: object) -> tuple[Task, ...]:
+def _tasks_argument(tasks: object, idle: float = 0.0) -> tuple[Task, ...]:
     """The tasks checked: one robot file and sized joints, trajectories of its joints.
 
     Raises:
@@ -374,7 +421,7 @@ def _tasks_argument(tasks: object) -> tuple[Task, ...]:
                              f"; the robot has {', '.join(task.robot.joint_names)}",
                              field="trajectory" if len(tasks) == 1 else f"{field}.trajectory")
         check_trajectory(task.trajectory)
-    check_shares([task.share for task in tasks], field="tasks.share")
+    check_shares([task.share for task in tasks], field="tasks.share", idle=idle)
     return tuple(tasks)
 
 

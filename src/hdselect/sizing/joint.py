@@ -34,7 +34,7 @@ from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import Reflection, reflect, reflect_motors, weighted_demand
 from hdselect.sizing.result import JointSizing
-from hdselect.sizing.tasks import Samples
+from hdselect.sizing.tasks import Samples, alone, task_rows
 
 
 @dataclass(frozen=True, eq=False)
@@ -75,7 +75,8 @@ class JointCycle:
 
     def load(self) -> CycleLoad:
         """The cycle on the output side, by the catalog page's formulas."""
-        return cycle_load(self.torque, self.qd, self.samples.dt, self.rest)
+        return cycle_load(self.torque, self.qd, self.samples.dt, self.rest,
+                          idle=self.samples.idle)
 
     def bearing(self, spread: float = 0.0) -> BearingLoad | None:
         """The output bearing's loads about the flange, or `spread` from it either way.
@@ -142,6 +143,49 @@ class _Bearings:
         if spread not in self._found:
             self._found[spread] = self.cycle.bearing(spread)
         return self._found[spread]
+
+
+def task_checks(cycle: JointCycle, chosen: Candidate, options: Options,
+                load_inertias: Sequence[float] | None = None) -> tuple[Candidate, ...]:
+    """The chosen unit (or pair) against each counted task's samples alone: the same rules.
+
+    Args:
+        cycle: The joint's pooled samples and torques.
+        chosen: The selected candidate (or the strongest, where none fits).
+        options: The assumptions (the design margin and the largest inertia ratio too).
+        load_inertias: With a motor, the joint's load inertia M_jj in each counted task
+            [kg m^2]: each task's own inertia ratio (the duty's is the largest).
+
+    Returns:
+        One candidate per counted task, in the samples' task order; empty for one task.
+    """
+    samples = cycle.samples
+    if len(samples.tasks) < 2:
+        return ()
+    out = []
+    for k in range(len(samples.tasks)):
+        rows = task_rows(samples, k)
+        wrench = (None if cycle.wrench is None
+                  else SampledWrench(np.ascontiguousarray(cycle.wrench.full()[:, rows])))
+        part = JointCycle(alone(samples, k), cycle.column, cycle.torque[rows], cycle.stop[rows],
+                          wrench, cycle.offset)
+        load = part.load()
+        bearings = _Bearings(part)
+        motor = chosen.motor_unit
+        if motor is None:
+            (reflection,) = _reflect([chosen.unit], part, options)
+            out.append(_candidate(load, reflection, part, bearings, options))
+            continue
+        ((reflection,),) = reflect_motors([chosen.unit], [motor.rotor_inertia], part.samples.t,
+                                          part.torque, part.qd, part.qdd, part.stop,
+                                          stop_time=options.stop_time,
+                                          efficiency=options.efficiency, rest=part.rest)
+        out.append(with_motor(_candidate(load, reflection, part, bearings, options), motor,
+                              reflection.motor_torque,
+                              np.abs(part.qd) * RPM_PER_RAD_S * chosen.unit.ratio,
+                              load_inertia=None if load_inertias is None else load_inertias[k],
+                              max_inertia_ratio=options.max_inertia_ratio))
+    return tuple(out)
 
 
 def _prefer(options: Options) -> str:

@@ -15,9 +15,11 @@ from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import SeriesRules, Unit
+from hdselect.motion.mixfile import SECONDS_PER_HOUR
 from hdselect.robot.model import Robot
 from hdselect.sizing.loads import JointLoad
-from hdselect.sizing.result import SizingResult
+from hdselect.sizing.result import JointSizing, SizingResult
+from hdselect.sizing.tasks import cycle_of
 
 MOTOR_MODEL_NOTE = ("peak: every sample's motor torque under the motor's torque-speed curve (its "
                     "flat peak torque without one); rms: the RMS torque of one cycle repeated "
@@ -263,8 +265,39 @@ def joint_load_json(load: JointLoad) -> dict[str, Any]:
             "above_velocity_limit": load.above_velocity}
 
 
+def tasks_json(result: SizingResult) -> list[dict[str, Any]]:
+    """Every task of a duty as JSON: its motion, share, cycle, payload and mounting."""
+    out = []
+    for task in result.tasks:
+        traj = task.trajectory
+        out.append({"name": task.label,
+                    "motion": None if task.motion is None else str(task.motion.path),
+                    "share": task.share, "counted": task.share > 0.0,
+                    "cycle_time_s": traj.duration, "samples": len(traj.t),
+                    "cycles_per_hour": task.share * SECONDS_PER_HOUR / cycle_of(traj),
+                    "payload": payload_json(task.robot),
+                    "gravity_m_s2": [float(g) for g in task.robot.gravity]})
+    return out
+
+
+def _mix_joint_json(result: SizingResult, joint: JointSizing) -> dict[str, Any]:
+    """A joint's rules by the task that sets each, and its unit against each task alone."""
+    chosen = joint.selected or joint.strongest
+    return {"set_by": {rule: result.set_by(joint, rule) if check.value is not None else None
+                       for rule, check in chosen.checks.items()},
+            "per_task": [{"task": task.label, **candidate_json(candidate)}
+                         for task, candidate in zip(result.counted, joint.per_task,
+                                                    strict=True)]}
+
+
 def size_json(result: SizingResult) -> dict[str, Any]:
-    """A sizing result as JSON; each candidate has the ``duty`` shape plus ``motor``."""
+    """A sizing result as JSON; each candidate has the ``duty`` shape plus ``motor``.
+
+    A duty of several tasks (a mix) adds ``mix``, ``tasks`` and ``idle_share`` at the
+    top, and per joint ``set_by`` (rule -> the task setting it, or ``"pooled"``) and
+    ``per_task`` (the joint's unit checked against each counted task alone); a slow-down
+    (every task s times slower, at the same shares) gives ``task_cycle_times_s``.
+    """
     options = result.options
     joints = []
     for joint in result.joints:
@@ -307,7 +340,18 @@ def size_json(result: SizingResult) -> dict[str, Any]:
                 "inertia_ratio": None if chosen is None else joint.inertia_ratio(chosen)})
             for candidate, entry in zip(joint.candidates, document["candidates"], strict=True):
                 entry["motor"]["inertia_ratio"] = joint.inertia_ratio(candidate)
+        if joint.per_task:
+            document.update(_mix_joint_json(result, joint))
+        if slowdown is not None and slowdown.factor is not None and len(result.counted) > 1:
+            # every task s times slower, at the same shares of the time
+            document["slowdown"]["task_cycle_times_s"] = {
+                task.label: slowdown.factor * task.trajectory.duration
+                for task in result.counted}
         joints.append(document)
+    mix: dict[str, Any] = {}
+    if len(result.tasks) > 1 or result.mix is not None:
+        mix = {"mix": None if result.mix is None else str(result.mix.path),
+               "tasks": tasks_json(result), "idle_share": result.idle}
     return {
         "robot": str(result.robot.path),
         "motion": None if result.motion is None else str(result.motion.path),
@@ -335,6 +379,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
         "payload": payload_json(result.robot),
         "warnings": list(result.warnings),
         "joint_loads": [joint_load_json(load) for load in result.loads],
+        **mix,
     }
 
 

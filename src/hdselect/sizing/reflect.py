@@ -171,7 +171,7 @@ def reflect_motors(
                 kept[k] = motor
     rms = np.sqrt(squares / n)
     max_speed = float(np.abs(qd).max()) * RPM_PER_RAD_S * ratio
-    rms_speed = float(np.sqrt(np.dot(qd, qd) / n)) * RPM_PER_RAD_S * ratio
+    rms_speed = float(np.sqrt(np.einsum("i,i->", qd, qd) / n)) * RPM_PER_RAD_S * ratio
     stop = np.abs(stop_tau)
     i_stop = int(stop.argmax())
     out = []
@@ -243,6 +243,8 @@ def weighted_demand(demand: MotorDemand, motor_torque: np.ndarray, qd: np.ndarra
         The demand with `rms_torque` [N m] and `rms_speed` [rpm] weighted.
     """
     total = float(weight.sum())
-    rms = float(np.sqrt(np.dot(weight * motor_torque, motor_torque) / total))
-    rms_speed = float(np.sqrt(np.dot(weight * qd, qd) / total)) * RPM_PER_RAD_S * ratio
+    # einsum, not np.dot: a threaded BLAS dot of one long vector can cost milliseconds
+    rms = float(np.sqrt(np.einsum("i,i,i->", weight, motor_torque, motor_torque) / total))
+    rms_speed = float(np.sqrt(np.einsum("i,i,i->", weight, qd, qd) / total)) \
+        * RPM_PER_RAD_S * ratio
     return replace(demand, rms_torque=rms, rms_speed=rms_speed)

@@ -10,8 +10,9 @@ import numpy as np
 from hdselect.catalog.bearing_rules import BearingLoad
 from hdselect.catalog.motor_rules import inertia_ratio
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import Candidate, CycleLoad
+from hdselect.catalog.rules import PER_SAMPLE_CHECKS, Candidate, CycleLoad
 from hdselect.catalog.units import Unit
+from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
@@ -50,6 +51,9 @@ class JointSizing:
             (`INERTIA_POSES` of them), carried masses and payload included [kg m^2].
         motor_torque: Where motors are given, the motor torque of the selected pair (else
             of the strongest) per sample [N m], shape (n,).
+        per_task: Where several tasks count, the selected candidate (else the strongest)
+            checked against each counted task's samples alone, in the order of the
+            result's counted tasks; empty for one task.
         bearing: The loads on the joint's output bearing over the cycle, about its output
             flange (the joint origin, or the options' ``bearing_offset``); None where
             not computed. A unit that rates its bearing is checked about its own centre
@@ -72,8 +76,22 @@ class JointSizing:
     scales: JointScales | None = None
     load_inertia: float | None = None
     motor_torque: np.ndarray | None = None
+    per_task: tuple[Candidate, ...] = ()
     bearing: BearingLoad | None = None
     wrench: SampledWrench | None = None
+
+    def setting_task(self, rule: str) -> int | None:
+        """The counted task that sets a rule of single samples: its index, else None.
+
+        None for a rule that pools every task (mean torque, average speed, life, motor
+        RMS), for one task, or where no task gives the rule a value. On a tie, the first.
+        """
+        if not self.per_task or rule not in PER_SAMPLE_CHECKS:
+            return None
+        values = [c.checks[rule].utilization if rule in c.checks else 0.0
+                  for c in self.per_task]
+        best = max(values)
+        return values.index(best) if best > 0.0 else None
 
     @property
     def strongest(self) -> Candidate:
@@ -115,6 +133,8 @@ class SizingResult:
         tasks: Every task the robot was sized for, as given (shares included); empty
             where the result was not made from tasks (`robot` and `trajectory` are then
             the only task).
+        idle: The fraction of the time no task runs [-] (a mix in cycles per hour).
+        mix: The mix file the tasks came from, when `size` read one.
     """
 
     robot: Robot
@@ -126,6 +146,26 @@ class SizingResult:
     motors: Mapping[str, tuple[Motor, ...]] = field(default_factory=dict)
     loads: tuple[JointLoad, ...] = ()
     tasks: tuple[Task, ...] = ()
+    idle: float = 0.0
+    mix: Mix | None = None
+
+    @property
+    def counted(self) -> tuple[Task, ...]:
+        """The tasks that count (share above 0), in order: what `JointSizing.per_task` follows."""
+        return tuple(task for task in self.tasks if task.share > 0.0)
+
+    def set_by(self, joint: JointSizing, rule: str) -> str | None:
+        """Which task sets a rule of a joint's unit: its name, ``"pooled"``, or None for one task.
+
+        A rule of single samples is set by the task whose samples reach the worst value;
+        the mean torque, average speed, life and motor RMS pool every task.
+        """
+        if not joint.per_task:
+            return None
+        k = joint.setting_task(rule)
+        if k is not None:
+            return self.counted[k].label
+        return "pooled" if rule not in PER_SAMPLE_CHECKS else None
 
     @property
     def warnings(self) -> tuple[str, ...]:
@@ -134,7 +174,8 @@ class SizingResult:
         Each line starts with where it comes from: ``robot file:``, ``motion file:`` or
         ``cycle:``.
         """
-        asked = self.motion.warnings if self.motion is not None else ()
+        asked = (self.mix.warnings if self.mix is not None
+                 else self.motion.warnings if self.motion is not None else ())
         lines = [f"robot file: {note}" for note in self.robot.notes]
         lines += [f"motion file: {warning}" for warning in asked]
         for load in self.loads:
@@ -167,6 +208,9 @@ class SizingResult:
     @property
     def title(self) -> str:
         """What was sized, for headings: the robot file, the motion file and its planner."""
+        if self.mix is not None:
+            count = len(self.tasks)
+            return f"{self.robot.path.name} running {self.mix.path.name} ({count} tasks)"
         if self.motion is None:
             return f"{self.robot.path.name} on a given trajectory"
         return f"{self.robot.path.name} running {self.motion.path.name} ({self.motion.planner})"

@@ -36,7 +36,7 @@ def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
             cycle = ScalableCycle.split(
                 samples.t, samples.dt, samples.duration, samples.qd[:, j], samples.qdd[:, j],
                 samples.rest[:, j], torque=joint.torque, stop_torque=joint.stop_torque,
-                gravity=gravity, coast=coast, stop_time=options.stop_time)
+                gravity=gravity, coast=coast, stop_time=options.stop_time, idle=samples.idle)
             if joint.wrench is not None and any(u.bearing is not None for u in units[joint.name]):
                 still = model.gravity_wrench(joint.name, masses)
                 if still is not None:

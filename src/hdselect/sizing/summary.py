@@ -54,6 +54,8 @@ class JointSummary:
             then among `utilization`); None where the loads were not computed.
         bearing_life_l10_hours: `candidate`'s output bearing L10 life [h]; None when not
             rated, unlimited or not computed.
+        binding_task: For a duty of several tasks, the task that sets the binding rule
+            (``"pooled"`` for a rule over every task); None for one task.
     """
 
     name: str
@@ -83,6 +85,7 @@ class JointSummary:
     bearing_mean_axial: float | None = None
     bearing_rated: bool | None = None
     bearing_life_l10_hours: float | None = None
+    binding_task: str | None = None
 
 
 @dataclass(frozen=True)
@@ -101,6 +104,9 @@ class Summary:
         payload_mass: The payload's mass [kg]; 0 without one.
         payload_frame: The frame the payload is (or would be) attached to.
         warnings: The result's warning lines (robot file, motion file, cycle).
+        tasks: For a duty of several tasks (a mix), each task: ``name``, ``motion``,
+            ``share`` [-], ``cycle_time`` [s] and ``payload_mass`` [kg]; empty for one.
+        idle_share: The fraction of the time no task runs [-].
     """
 
     robot: str
@@ -114,6 +120,8 @@ class Summary:
     payload_mass: float = 0.0
     payload_frame: str = ""
     warnings: tuple[str, ...] = ()
+    tasks: tuple[dict[str, Any], ...] = ()
+    idle_share: float = 0.0
 
     def to_dict(self) -> dict[str, Any]:
         """Plain lists, dicts, strings and numbers, ready for strict JSON.
@@ -144,15 +152,22 @@ def summarize(result: SizingResult) -> Summary:
         samples=len(result.trajectory.t),
         feasible=result.feasible,
         options=asdict(result.options),
-        joints=tuple(_joint(joint) for joint in result.joints),
+        joints=tuple(_joint(joint, result) for joint in result.joints),
         root_link=result.robot.root_link,
         payload_mass=0.0 if result.robot.payload is None else result.robot.payload.mass,
         payload_frame=result.robot.payload_frame,
         warnings=result.warnings,
+        tasks=tuple({"name": task.label,
+                     "motion": None if task.motion is None else str(task.motion.path),
+                     "share": task.share, "cycle_time": task.trajectory.duration,
+                     "payload_mass": 0.0 if task.robot.payload is None
+                     else task.robot.payload.mass}
+                    for task in result.tasks) if len(result.tasks) > 1 else (),
+        idle_share=result.idle,
     )
 
 
-def _joint(joint: JointSizing) -> JointSummary:
+def _joint(joint: JointSizing, result: SizingResult) -> JointSummary:
     chosen = joint.selected or joint.strongest
     motor = chosen.motor
     slowdown = joint.slowdown
@@ -184,6 +199,7 @@ def _joint(joint: JointSizing) -> JointSummary:
         motor_candidate=None if chosen.motor_unit is None else chosen.motor_unit.id,
         motor_binding=chosen.motor_binding,
         inertia_ratio=joint.inertia_ratio(chosen),
+        binding_task=result.set_by(joint, chosen.binding),
         **bearing,
     )
 

@@ -7,25 +7,29 @@ take the worst over every sample of every task; the averaged rules (mean torque,
 mean speed, life, motor RMS) pool the samples, each standing for its own duration
 times how often its task's cycle runs (share / cycle time). So a task with share 0
 counts in no rule, and one task alone is judged exactly as its trajectory is.
+
+The shares may leave part of the time idle (a mix given in cycles per hour): idle
+time is a pause that no sample stands for. It counts only where a series' rules
+divide the mean speed by the whole cycle, pauses included (`Samples.idle`); every
+other rule is over the time the robot works.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from hdselect.base.arrays import frozen
-from hdselect.base.errors import InputError
 from hdselect.catalog.rules import at_rest
+from hdselect.motion.mixfile import SHARE_TOLERANCE, check_shares
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 
-SHARE_TOLERANCE = 1e-9
-"""How far the shares of a robot's tasks may sum from 1 [-]."""
+__all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "check_shares", "cycle_of", "merged",
+           "pooled", "task_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,6 +77,8 @@ class Samples:
         task: Index (into `tasks`) of each sample's task, shape (n,).
         tasks: The tasks counted (share above 0), in the order given.
         duration: The first task's cycle time [s] (the one a slow-down is stated for).
+        idle: Time the robot stands idle, in the samples' time [s]: the idle share of
+            the time over the first task's rate; 0 when the shares fill the time.
     """
 
     t: np.ndarray
@@ -84,63 +90,106 @@ class Samples:
     task: np.ndarray
     tasks: tuple[Task, ...]
     duration: float
+    idle: float = 0.0
 
     def __len__(self) -> int:
         return len(self.t)
 
 
-def check_shares(shares: Sequence[float], *, field: str = "share") -> None:
-    """Shares of operating time are non-negative, finite, not all zero, and sum to 1.
-
-    Raises:
-        InputError: They do not (the message gives the sum).
-    """
-    for i, share in enumerate(shares):
-        if not (isinstance(share, float | int) and math.isfinite(share) and share >= 0.0):
-            raise InputError(f"must be a fraction of time >= 0, got {share!r}",
-                             field=f"{field}[{i}]")
-    total = math.fsum(shares)
-    if abs(total - 1.0) > SHARE_TOLERANCE:
-        raise InputError(f"the shares sum to {total!r}; they must sum to 1", field=field)
-
-
-def pooled(tasks: Sequence[Task]) -> Samples:
+def pooled(tasks: Sequence[Task], idle: float = 0.0) -> Samples:
     """The samples of every task with a share above 0, weighted by how often each runs.
 
     Args:
         tasks: The robot's tasks; every trajectory has the same joints.
+        idle: The fraction of the time no task runs [-] (the shares and it sum to 1).
 
     Returns:
         The pooled samples. One task (or one with a share above 0) gives its own
         trajectory's samples, with its scalar dt and no weights.
     """
     counted = tuple(task for task in tasks if task.share > 0.0)
-    first = counted[0]
-    rests = [_rest(task.trajectory) for task in counted]
-    if len(counted) == 1:
-        traj = first.trajectory
+    own = []
+    for task in counted:
+        traj = task.trajectory
         index = np.zeros(len(traj.t), dtype=np.intp)
         index.setflags(write=False)
-        return Samples(traj.t, traj.dt, None, traj.qd, traj.qdd, rests[0], index, counted,
-                       traj.duration)
-    reference = first.share / _cycle(first.trajectory)
-    rates = [task.share / _cycle(task.trajectory) / reference for task in counted]
-    dt = np.concatenate([np.full(len(task.trajectory.t), task.trajectory.dt * rate)
-                         for task, rate in zip(counted, rates, strict=True)])
+        own.append(Samples(traj.t, traj.dt, None, traj.qd, traj.qdd, _rest(traj), index,
+                           (task,), traj.duration))
+    return merged(own, idle)
+
+
+def merged(parts: Sequence[Samples], idle: float = 0.0) -> Samples:
+    """Several tasks' own samples pooled, each task weighted by how often its cycle runs.
+
+    Task k (the only task of ``parts[k]``, with its share) runs share_k / cycle_k cycles
+    per unit time, cycle_k the time its whole trajectory's samples stand for
+    (`cycle_of`); its samples' durations are scaled by that rate over the first task's.
+
+    Args:
+        parts: Each counted task's samples (`Samples` of one task, its share above 0).
+        idle: The fraction of the time no task runs [-].
+
+    Returns:
+        The pooled samples; one part as it is (with its idle time).
+    """
+    first = parts[0].tasks[0]
+    reference = first.share / cycle_of(first.trajectory)
+    pause = idle / reference if idle > 0.0 else 0.0
+    if len(parts) == 1:
+        return replace(parts[0], idle=pause) if pause else parts[0]
+    rates = [part.tasks[0].share / cycle_of(part.tasks[0].trajectory) / reference
+             for part in parts]
+    dt = np.concatenate([np.broadcast_to(part.dt, len(part)) * rate
+                         for part, rate in zip(parts, rates, strict=True)])
     return Samples(
-        frozen(np.concatenate([task.trajectory.t for task in counted])), frozen(dt),
+        frozen(np.concatenate([part.t for part in parts])), frozen(dt),
         frozen(dt / first.trajectory.dt),
-        frozen(np.concatenate([task.trajectory.qd for task in counted])),
-        frozen(np.concatenate([task.trajectory.qdd for task in counted])),
-        frozen(np.concatenate(rests)),
-        frozen(np.concatenate([np.full(len(task.trajectory.t), k, dtype=np.intp)
-                               for k, task in enumerate(counted)])),
-        counted, first.trajectory.duration)
+        frozen(np.concatenate([part.qd for part in parts])),
+        frozen(np.concatenate([part.qdd for part in parts])),
+        _locked(np.concatenate([part.rest for part in parts])),
+        _locked(np.concatenate([np.full(len(part), k, dtype=np.intp)
+                                for k, part in enumerate(parts)])),
+        tuple(part.tasks[0] for part in parts), first.trajectory.duration, pause)
 
 
-def _cycle(traj: Trajectory) -> float:
-    """The time a trajectory's samples stand for, one cycle [s]: n dt."""
+def alone(samples: Samples, k: int) -> Samples:
+    """The samples of counted task k alone, as if the robot did nothing else.
+
+    Its samples keep their lengths relative to each other (so every rule reads them
+    as it reads the task's own trajectory); no idle time. The arrays are views.
+
+    Args:
+        samples: Pooled samples.
+        k: Index into ``samples.tasks``.
+    """
+    if len(samples.tasks) == 1:
+        return replace(samples, idle=0.0) if samples.idle else samples
+    rows = task_rows(samples, k)
+    task = samples.tasks[k]
+    dt = samples.dt[rows] if isinstance(samples.dt, np.ndarray) else samples.dt
+    weight = None if samples.weight is None else samples.weight[rows]
+    if weight is not None and np.all(weight == weight[0]):
+        weight, dt = None, task.trajectory.dt  # one trajectory's equal samples
+    return Samples(samples.t[rows], dt, weight, samples.qd[rows], samples.qdd[rows],
+                   samples.rest[rows], np.zeros(rows.stop - rows.start, dtype=np.intp),
+                   (task,), task.trajectory.duration)
+
+
+def task_rows(samples: Samples, k: int) -> slice:
+    """Where counted task k's samples lie in the pooled samples (they are in task order)."""
+    start, stop = np.searchsorted(samples.task, (k, k + 1))
+    return slice(int(start), int(stop))
+
+
+def cycle_of(traj: Trajectory) -> float:
+    """The time one cycle's samples stand for [s]: n dt (the cycle time and one period)."""
     return len(traj.t) * traj.dt
+
+
+def _locked(array: np.ndarray) -> np.ndarray:
+    """`array` made read-only, its dtype kept (bool, index)."""
+    array.setflags(write=False)
+    return array
 
 
 def _rest(traj: Trajectory) -> np.ndarray:

@@ -54,8 +54,8 @@ _CHUNK = 1 << 15
 class ScaledCycle:
     """One joint's cycle run s times slower [-]: what `rules` and `reflect` take.
 
-    Attributes t [s], dt [s], duration [s], qd [rad/s], qdd [rad/s^2] and at_rest are
-    those of `ScalableCycle` at scale s; torque and stop_torque [N m] are the output
+    Attributes t [s], dt [s], duration [s], qd [rad/s], qdd [rad/s^2], at_rest and idle [s]
+    are those of `ScalableCycle` at scale s; torque and stop_torque [N m] are the output
     torque along the motion and of an emergency stop from each sample, shape (n,).
     """
 
@@ -68,6 +68,7 @@ class ScaledCycle:
     at_rest: np.ndarray
     torque: np.ndarray
     stop_torque: np.ndarray
+    idle: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,6 +90,8 @@ class ScalableCycle:
         stop_inertial: e = RNEA(q, qd, -qd / stop_time) - RNEA(q, qd, 0) [N m], an
             emergency stop's inertial part; scales as 1/s.
         stop_time: Emergency-stop and crash time t_stop [s]; the same at every s.
+        idle: Time at rest that no sample stands for [s] (`hdselect.sizing.tasks.Samples`);
+            scales as s, as every task's cycle does, so the shares of the time stay.
         wrench: The joint's wrench split likewise, for a unit that rates its bearing.
     """
 
@@ -103,6 +106,7 @@ class ScalableCycle:
     inertial: np.ndarray
     stop_inertial: np.ndarray
     stop_time: float
+    idle: float = 0.0
     wrench: ScalableWrench | None = None
 
     def __post_init__(self) -> None:
@@ -120,14 +124,14 @@ class ScalableCycle:
     def split(cls, t: np.ndarray, dt: np.ndarray | float, duration: float, qd: np.ndarray,
               qdd: np.ndarray, at_rest: np.ndarray, *, torque: np.ndarray,
               stop_torque: np.ndarray, gravity: np.ndarray, coast: np.ndarray,
-              stop_time: float) -> ScalableCycle:
+              stop_time: float, idle: float = 0.0) -> ScalableCycle:
         """The cycle from the joint's torques at s = 1 [N m].
 
         `torque` is RNEA(q, qd, qdd), `stop_torque` RNEA(q, qd, -qd / stop_time),
         `gravity` RNEA(q, 0, 0), `coast` RNEA(q, qd, 0); the rest are attributes.
         """
         return cls(t, np.asarray(dt, dtype=float), duration, qd, qdd, at_rest, gravity,
-                   coast - gravity, torque - coast, stop_torque - coast, stop_time)
+                   coast - gravity, torque - coast, stop_torque - coast, stop_time, idle)
 
     def at(self, s: float) -> ScaledCycle:
         """The cycle run s times slower (s < 1: faster): exact for a fixed path.
@@ -143,7 +147,8 @@ class ScalableCycle:
         for array in arrays:
             array.setflags(write=False)
         t, dt, qd, qdd, torque, stop = arrays
-        return ScaledCycle(s, t, dt, self.duration * s, qd, qdd, self.at_rest, torque, stop)
+        return ScaledCycle(s, t, dt, self.duration * s, qd, qdd, self.at_rest, torque, stop,
+                           self.idle * s)
 
 
 def _shared(value: np.ndarray | float, shape: tuple[int, ...]) -> np.ndarray:
@@ -213,8 +218,7 @@ class JointScales:
 
 def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
              efficiency: float = DEFAULT_EFFICIENCY, rotor_inertia: float = 0.0,
-             check_options: Mapping[str, Any] | None = None,
-             motor: Motor | None = None,
+             check_options: Mapping[str, Any] | None = None, motor: Motor | None = None,
              pair_options: Mapping[str, Any] | None = None) -> Candidate:
     """Every rule of one unit on the cycle run s times slower [-], as the sizing checks.
 
@@ -222,11 +226,11 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
     demand; with a `motor`, the pair, its rotor inertia used and its rules checked.
     """
     at = cycle.at(s)
-    load = cycle_load(at.torque, at.qd, at.dt, at.at_rest)
+    load = cycle_load(at.torque, at.qd, at.dt, at.at_rest, idle=at.idle)
     (reflection,) = reflect([unit], at.t, at.torque, at.qd, at.qdd, at.stop_torque,
                             stop_time=cycle.stop_time, efficiency=efficiency,
                             rotor_inertia=rotor_inertia if motor is None
-                            else motor.rotor_inertia)
+                            else motor.rotor_inertia, rest=at.at_rest)
     demand = reflection.motor
     if at.dt.size and np.ptp(at.dt) > 0.0:  # samples of unequal length: RMS weighted by it
         demand = weighted_demand(demand, reflection.motor_torque, at.qd, unit.ratio, at.dt)
@@ -287,10 +291,9 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0
 
 
 def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEFAULT_EFFICIENCY,
-                    rotor_inertia: float = 0.0,
-                    check_options: Mapping[str, Any] | None = None,
-                    motor: Motor | None = None,
-                    pair_options: Mapping[str, Any] | None = None) -> tuple[Interval, ...]:
+                    rotor_inertia: float = 0.0, check_options: Mapping[str, Any] | None = None,
+                    motor: Motor | None = None, pair_options: Mapping[str, Any] | None = None,
+                    ) -> tuple[Interval, ...]:
     """Every time scale s at which one unit passes every rule of `check_unit`.
 
     Inside each interval of `exact_scales`, clipped to [S_MIN, S_MAX], `check_at` is
@@ -319,9 +322,8 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
                         pair_options=pair_options).feasible
 
     found: list[Interval] = []
-    margin = float((check_options or {}).get("margin", 0.0))
     for lo, hi in exact_scales(cycle, unit, rotor_inertia=rotor_inertia, motor=motor,
-                               margin=margin):
+                               margin=float((check_options or {}).get("margin", 0.0))):
         first, last = max(lo, S_MIN), min(hi, S_MAX)
         if first <= last:
             found.extend(_passing(passes, first, last, hi))
@@ -330,8 +332,7 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
 
 def joint_scales(cycle: ScalableCycle, units: Sequence[Unit], *,
                  efficiency: float = DEFAULT_EFFICIENCY, rotor_inertia: float = 0.0,
-                 check_options: Mapping[str, Any] | None = None,
-                 motors: Sequence[Motor] = (),
+                 check_options: Mapping[str, Any] | None = None, motors: Sequence[Motor] = (),
                  pair_options: Mapping[str, Any] | None = None) -> JointScales:
     """`feasible_scales` of every unit for one joint (same arguments, one unit each).
 

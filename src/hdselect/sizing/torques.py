@@ -74,6 +74,9 @@ class TorqueModel(Protocol):
     def load_inertia(self, joint: str, masses: Mapping[str, float]) -> float:
         """The joint's largest M_jj over the gravity poses [kg m^2]."""
 
+    def task_inertias(self, joint: str, masses: Mapping[str, float]) -> tuple[float, ...]:
+        """The joint's largest M_jj over each task's gravity poses [kg m^2], in task order."""
+
     def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
         """Every joint of the robot against its file's limits, with these masses."""
 
@@ -175,10 +178,14 @@ class DirectTorques:
 
     def load_inertia(self, joint: str, masses: Mapping[str, float]) -> float:
         """The joint's largest M_jj over the gravity poses [kg m^2]."""
-        return max(float(joint_inertias(self._carrying(task, masses),
-                                        task.trajectory.q[_poses(task.trajectory)], [joint],
-                                        threads=self.threads).max())
-                   for task in self.tasks)
+        return max(self.task_inertias(joint, masses))
+
+    def task_inertias(self, joint: str, masses: Mapping[str, float]) -> tuple[float, ...]:
+        """The joint's largest M_jj over each task's gravity poses [kg m^2], in task order."""
+        return tuple(float(joint_inertias(self._carrying(task, masses),
+                                          task.trajectory.q[_poses(task.trajectory)], [joint],
+                                          threads=self.threads).max())
+                     for task in self.tasks)
 
     def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
         """Every joint of the robot against its file's limits, with these masses."""

@@ -1,4 +1,4 @@
-"""One case of a study, resolved: what it computes, on which files, with which values."""
+"""One case of a study, resolved, and its outcome as a worker reports it."""
 
 from __future__ import annotations
 
@@ -34,6 +34,10 @@ class Case:
         files: The files the case reads, resolved (robot, motion, log, catalogs, motor files).
         motor_catalog: A motor file every sized joint chooses its motor from (replacing the
             motion file's ``[motor]``, as ``--motor-catalog`` does), or None.
+        shares: For a mix file, each task's share of the time [-] in the file's task order,
+            replacing the file's; None keeps them.
+        payloads: For a mix file, (task name, payload mass [kg]) pairs: each mass in its
+            task's payload shape; None keeps the file's payloads.
     """
 
     index: int
@@ -51,6 +55,8 @@ class Case:
     key: str
     files: tuple[Path, ...]
     motor_catalog: Path | None = None
+    shares: tuple[float, ...] | None = None
+    payloads: tuple[tuple[str, float], ...] | None = None
 
     def payload_for(self, file_payload: Payload | None) -> Payload | None:
         """The case's payload, given the motion file's.
@@ -67,3 +73,30 @@ class Case:
         if file_payload is not None:
             return replace(file_payload, mass=self.payload)
         return Payload(self.payload)
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """One case's result, as a worker reports it.
+
+    Attributes:
+        index: The case's index in the study.
+        key: The case's key.
+        ok: It ran to the end (whether or not a unit fits: see the result).
+        error: Why it failed, one line, when it did.
+        result: The computation's result as plain data (``size``: `Summary.to_dict`).
+        method: ``grouped`` (from a group's basis) or ``direct`` (sized on its own).
+        note: Why a case of a group was sized on its own, if it was.
+        seconds: Time the case took in its worker [s] (a grouped case: its share of the basis).
+        host: The worker's host name and process id.
+    """
+
+    index: int
+    key: str
+    ok: bool
+    error: str | None
+    result: dict[str, Any] | None
+    method: str
+    note: str | None
+    seconds: float
+    host: str

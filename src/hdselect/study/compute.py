@@ -37,46 +37,27 @@ from hdselect.codesign.fastest_cycle import fastest, resolve_units
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
 from hdselect.motion.case import robot_for_motion
+from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
-from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.planning import plan
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import motion_motors, size_trajectory
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.summary import Summary, summarize
-from hdselect.study.case import Case
+from hdselect.study.case import Case, Outcome
 from hdselect.study.group import build_basis, plan_depends_on_payload, size_case
+from hdselect.study.mixgroup import (
+    is_mix_case,
+    mix_case_motors,
+    mix_group,
+    scaled,
+    size_mix_direct,
+)
 
 MIN_GROUP = 4
 """Cases of one robot and path from which a group is evaluated from a shared basis: below
 it, sizing each case on its own costs less than the basis's passes."""
-
-
-@dataclass(frozen=True)
-class Outcome:
-    """One case's result, as a worker reports it.
-
-    Attributes:
-        index: The case's index in the study.
-        key: The case's key.
-        ok: It ran to the end (whether or not a unit fits: see the result).
-        error: Why it failed, one line, when it did.
-        result: The computation's result as plain data (``size``: `Summary.to_dict`).
-        method: ``grouped`` (from a group's basis) or ``direct`` (sized on its own).
-        note: Why a case of a group was sized on its own, if it was.
-        seconds: Time the case took in its worker [s] (a grouped case: its share of the basis).
-        host: The worker's host name and process id.
-    """
-
-    index: int
-    key: str
-    ok: bool
-    error: str | None
-    result: dict[str, Any] | None
-    method: str
-    note: str | None
-    seconds: float
-    host: str
 
 
 @dataclass(frozen=True)
@@ -105,11 +86,12 @@ SIZE_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50
                 "motor_binding", "inertia_ratio", "bearing_max_moment_nm",
                 "bearing_max_radial_n", "bearing_max_axial_n", "bearing_mean_moment_nm",
                 "bearing_mean_radial_n", "bearing_mean_axial_n", "bearing",
-                "bearing_life_l10_h")
+                "bearing_life_l10_h", "binding_task")
 """Per-joint columns of a ``size`` row (after ``flags``: where motors are given, the motor
 of the selected pair, else of the strongest; its binding rule; load over rotor inertia;
 then the output bearing's loads about the flange, largest and 10/3-power means, whether
-the unit's catalog rates the bearing (``rated`` / ``not rated``) and its L10 life)."""
+the unit's catalog rates the bearing (``rated`` / ``not rated``) and its L10 life; last,
+``binding_task``: for a mix, the task that sets the binding rule)."""
 
 
 def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
@@ -123,6 +105,7 @@ def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
         "carried_mass_kg": joint["carried_mass"], "slowdown": joint["slowdown"],
         "flags": " ".join(joint["flags"]), "motor": joint["motor_candidate"],
         "motor_binding": joint["motor_binding"], "inertia_ratio": joint["inertia_ratio"],
+        "binding_task": joint.get("binding_task"),
         **_bearing_fields(joint),
     } for joint in result["joints"]]
 
@@ -176,6 +159,12 @@ class _Inputs:
         return self.units[key]
 
 
+    def mix_motors(self, case: Case, robot: Robot, mix: Mix) -> dict[str, tuple[Motor, ...]]:
+        """A mix case's candidate motors: its ``motor_catalog``'s, else the mix's."""
+        if case.motor_catalog is None:
+            return mix_case_motors(case, robot, mix, None)
+        return self.motors(case, robot, mix.motions[0])
+
     def motors(self, case: Case, robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
         """The case's candidate motors per sized joint of `robot` (empty without motors).
 
@@ -193,16 +182,6 @@ def case_options(case: Case, motion: Motion) -> Options:
     return options_for(motion, **case.options, threads=1)
 
 
-def scaled(trajectory: Trajectory, time_scale: float) -> Trajectory:
-    """The same path run s times slower [-]: times times s, speeds / s, accelerations / s^2."""
-    if time_scale == 1.0:
-        return trajectory
-    y = 1.0 / time_scale
-    return replace(trajectory, dt=trajectory.dt * time_scale,
-                   duration=trajectory.duration * time_scale, t=trajectory.t * time_scale,
-                   qd=trajectory.qd * y, qdd=trajectory.qdd * y**2)
-
-
 def size_direct(case: Case, inputs: _Inputs | None = None) -> Summary:
     """One case on its own: `hdselect.size`'s load, plan and size, the path time-scaled.
 
@@ -210,6 +189,8 @@ def size_direct(case: Case, inputs: _Inputs | None = None) -> Summary:
         HdselectError: An input is bad or the motion cannot be planned.
     """
     inputs = inputs or _Inputs()
+    if is_mix_case(case):
+        return size_mix_direct(case, inputs.catalog(case), inputs.mix_motors, inputs.robots)
     robot, motion, payload = inputs.case(case)
     units = inputs.catalog(case)
     options = case_options(case, motion)
@@ -225,7 +206,10 @@ def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
     """``size`` for the cases of one group: from a shared basis where it may, else each alone."""
     inputs = _Inputs()
     host = f"{socket.gethostname()}:{os.getpid()}"
-    if grouped and len(cases) >= MIN_GROUP:
+    if grouped and len(cases) >= MIN_GROUP and is_mix_case(cases[0]):  # a group: one mix
+        pending = yield from mix_group(cases, inputs.catalog, inputs.mix_motors, inputs.robots,
+                                       host)
+    elif grouped and len(cases) >= MIN_GROUP:
         pending = yield from _grouped(list(cases), inputs, host)
     else:
         note = (f"a group of {len(cases)} case{'s' if len(cases) > 1 else ''} (under "
@@ -374,6 +358,10 @@ def _each(cases: Sequence[Case],
     for case in cases:
         start = time.perf_counter()
         try:
+            if is_mix_case(case):  # their JSON is a duty's, not these rows'
+                raise InputError(f"{case.compute} of a mix file is not a study computation "
+                                 f"yet; run `hdselect {case.compute}` on it, or compute size",
+                                 field="compute")
             result = compute(case, inputs)
         except HdselectError as err:
             yield _failed(case, err, "direct", start, host)

@@ -331,6 +331,10 @@ class BasisTorques:
         i = self.robot.sized_joints.index(joint)
         return float((self._with(masses) @ self.basis.inertia[i]).max())
 
+    def task_inertias(self, joint: str, masses: Mapping[str, float]) -> tuple[float, ...]:
+        """The joint's largest M_jj of its one task [kg m^2]."""
+        return (self.load_inertia(joint, masses),)
+
     def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
         """Every joint on the kept rows (a run of identical states has one torque)."""
         basis = self.basis

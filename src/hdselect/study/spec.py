@@ -27,6 +27,7 @@ from hdselect.catalog.catalogfile import BUILTIN
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options
+from hdselect.sizing.tasks import check_shares
 from hdselect.study.case import Case
 from hdselect.study.compute import COMPUTATIONS
 
@@ -36,8 +37,8 @@ OPTION_KEYS = tuple(f.name for f in fields(Options)
 the bearing offsets come from each case's motion file)."""
 
 
-CASE_KEYS = ("motion", "robot", "payload", "time_scale", "mounting", "catalog", "ratio",
-             "motor_catalog", *OPTION_KEYS)
+CASE_KEYS = ("motion", "robot", "payload", "shares", "payloads", "time_scale", "mounting",
+             "catalog", "ratio", "motor_catalog", *OPTION_KEYS)
 """Every key of ``[base]``, ``[grid]`` and ``[[case]]``, in the order of the CSV columns."""
 
 
@@ -168,6 +169,20 @@ def _value(key: str, value: Any, path: Path, field: str) -> Any:
             return {"mass": payload.mass, "com": list(payload.com),
                     "inertia": [list(row) for row in payload.inertia], "frame": payload.frame}
         return _payload({"mass": value}, path, field, mass_only=True).mass
+    if key == "shares":  # a mix file's tasks, in its order; they must sum to 1
+        if not isinstance(value, list) or not value:
+            raise InputError("expected a list of shares, one per task of the mix file",
+                             path=path, field=field)
+        shares = [as_number(v, path, f"{field}[{i}]", minimum=0.0) for i, v in enumerate(value)]
+        try:
+            check_shares(shares, field=field)
+        except InputError as err:
+            raise InputError(err.reason, path=path, field=err.field) from err
+        return shares
+    if key == "payloads":  # a mix file's tasks by name: payload mass [kg]
+        table = table_of(value, path, field)
+        return {name: _payload({"mass": mass}, path, f"{field}.{name}", mass_only=True).mass
+                for name, mass in table.items()}
     if key == "time_scale":
         return as_number(value, path, field, bound=bounds.TIME_SCALE)
     if key == "mounting":
@@ -229,6 +244,7 @@ def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
         "version": __version__, "compute": compute, "payload": payload, "payload_shape": shape,
         "time_scale": values.get("time_scale", 1.0), "mounting": values.get("mounting"),
         "ratio": values.get("ratio"), "options": options,
+        "shares": values.get("shares"), "payloads": values.get("payloads"),
         "motion": _digest(motion), "robot": None if robot is None else _digest(robot),
         "catalog": [_digest(f) for f in catalog], "builtin": _builtin_digest(),
         "inputs": [_digest(f) for f in files],
@@ -237,9 +253,13 @@ def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
         resolved["motor_catalog"] = _digest(motor_catalog)
     key = hashlib.sha256(_canonical(resolved).encode()).hexdigest()[:20]
     shown = {k: (payload if k == "payload" else values[k]) for k in CASE_KEYS if k in values}
+    shares = values.get("shares")
+    payloads = values.get("payloads")
     return Case(index, compute, shown, motion, robot, payload, shape,
                 float(values.get("time_scale", 1.0)), values.get("mounting"), catalog,
-                values.get("ratio"), options, key, files, motor_catalog)
+                values.get("ratio"), options, key, files, motor_catalog,
+                None if shares is None else tuple(shares),
+                None if payloads is None else tuple(payloads.items()))
 
 
 def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tuple[Path, ...]:
@@ -257,6 +277,11 @@ def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tupl
         files.append(robot)
     elif isinstance(doc.get("robot"), str):
         files.append(motion.parent / doc["robot"])
+    tasks = doc.get("task")
+    if isinstance(tasks, list):  # a mix file: its motions' files too
+        for task in tasks:
+            if isinstance(task, dict) and isinstance(task.get("motion"), str):
+                files += _inputs(motion.parent / task["motion"], robot, ())
     samples = doc.get("samples")
     if isinstance(samples, dict) and isinstance(samples.get("file"), str):
         files.append(motion.parent / samples["file"])

@@ -56,9 +56,14 @@ def rows(study: Study, case: Case, record: dict[str, Any]) -> list[dict[str, Any
 
 
 def cell(value: Any) -> str:
-    """A CSV cell: 10 significant digits for numbers, empty for none, JSON for lists."""
+    """A CSV cell: 10 significant digits for numbers, empty for none, JSON for lists.
+
+    A table (a mix's ``payloads``) is ``name=value`` pairs joined by ``;``.
+    """
     if value is None:
         return ""
+    if isinstance(value, dict):
+        return ";".join(f"{key}={cell(item)}" for key, item in value.items())
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, float):

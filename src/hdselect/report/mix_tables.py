@@ -1,0 +1,171 @@
+"""Terminal tables of a duty of several tasks (a mix): the tasks, and what each task sets.
+
+The selection table (`hdselect.report.size_tables.size_table`) gives the units for
+the whole duty; these say which task sets each rule of each joint's unit (a rule of
+single samples: the worst task; mean torque, average speed, life and motor RMS: every
+task pooled), and how the unit fares against each task alone.
+"""
+
+from __future__ import annotations
+
+from rich.markup import escape
+
+from hdselect.catalog.rules import CHECK_LABELS, CHECKS, Candidate
+from hdselect.report.tables import Column, FittedTable
+from hdselect.report.terminal import life_text, percent, utilization_text
+from hdselect.robot.model import Robot
+from hdselect.robot.mounting import mounting_name
+from hdselect.sizing.result import SizingResult
+from hdselect.sizing.tasks import cycle_of
+
+POOLED_NOTE = ("pooled: mean torque, average speed, life and motor RMS pool every task's "
+               "samples, each weighted by how often its cycle runs (share / cycle time); "
+               "peak, speed, momentary (an emergency stop from every instant of every task, "
+               "and the crash), static and the inertia ratio (the largest load inertia of "
+               "any task) are the worst task's")
+"""How the rules combine the tasks, for notes."""
+
+
+def payload_text(robot: Robot) -> str:
+    """A task's payload in a few words: mass, centre of mass and frame."""
+    payload = robot.payload
+    if payload is None:
+        return "none"
+    com = ", ".join(f"{c:g}" for c in payload.com)
+    return f"{payload.mass:g} kg at ({com}) m on {robot.payload_frame}"
+
+
+def mounting_text(robot: Robot) -> str:
+    """A task's mounting: its name, else its base pose, else its gravity vector [m/s^2]."""
+    if robot.base_pose is not None:
+        return mounting_name(robot.base_pose).removeprefix("the ").removesuffix(" mounting")
+    return "g = (" + ", ".join(f"{g:.3g}" for g in robot.gravity) + ") m/s^2"
+
+
+def tasks_table(result: SizingResult) -> FittedTable:
+    """One row per task: its motion, share, cycle, cycles per hour, payload and mounting.
+
+    On a narrow terminal the payload and mounting move below.
+    """
+    columns = (Column("task", "left"), Column("motion", "left"), Column("share"),
+               Column("cycle s"), Column("cycles/h"), Column("payload", "left", group="robot"),
+               Column("mounting", "left", group="robot"))
+    rows = []
+    for task in result.tasks:
+        traj = task.trajectory
+        rate = task.share * 3600.0 / cycle_of(traj)
+        rows.append((escape(task.label),
+                     "-" if task.motion is None else escape(task.motion.path.name),
+                     percent(task.share), f"{traj.duration:.3f}", f"{rate:,.1f}",
+                     escape(payload_text(task.robot)), mounting_text(task.robot)))
+    notes = []
+    if result.idle > 0.0:
+        notes.append(f"idle {percent(result.idle)} of the time: a pause, counted only where a "
+                     "series' rules take the mean speed over the whole cycle, pauses included "
+                     "(never in the motor's RMS, which is over the time the robot works)")
+    unused = [task.label for task in result.tasks if task.share == 0.0]
+    if unused:
+        notes.append(f"share 0: {', '.join(unused)} {'counts' if len(unused) == 1 else 'count'} "
+                     "in no rule")
+    notes.append("cycles/h: share x 3600 s / the time a cycle's samples stand for (the cycle "
+                 "and one sample period)")
+    title = (f"{result.mix.path.name}: {len(result.tasks)} tasks of one robot, sized as one duty"
+             if result.mix is not None else f"{len(result.tasks)} tasks, sized as one duty")
+    return FittedTable(title, columns, tuple(rows), notes=tuple(notes))
+
+
+def rules_table(result: SizingResult) -> FittedTable:
+    """Per joint, each rule of its unit: utilization and the task that sets it (or pooled).
+
+    A rule has a column when some joint's unit gives it a value.
+    """
+    chosen = {joint.name: joint.selected or joint.strongest for joint in result.joints}
+    names = [name for name in CHECKS
+             if any(name in c.checks and c.checks[name].value is not None
+                    for c in chosen.values())]
+    columns = (Column("joint", "left"), Column("unit", "left"),
+               *(Column(CHECK_LABELS[name], "left", group=name) for name in names))
+    rows = []
+    for joint in result.joints:
+        candidate = chosen[joint.name]
+        cells = [escape(joint.name), escape(candidate.label)]
+        for name in names:
+            check = candidate.checks.get(name)
+            if check is None or check.value is None:
+                cells.append("-")
+                continue
+            who = result.set_by(joint, name) or ""
+            text = f"{utilization_text(check.utilization, check.ok)} {escape(who)}"
+            cells.append(text if check.ok else f"[red]{text}✗[/red]")
+        rows.append(tuple(cells))
+    return FittedTable("Which task sets each rule (the unit's utilization, and the task that "
+                       "reaches it)", columns, tuple(rows), notes=(POOLED_NOTE,))
+
+
+def per_task_table(result: SizingResult) -> FittedTable:
+    """Per joint, its unit against the pooled duty and against each task alone.
+
+    Each cell: the binding rule with its utilization, and the L50 life the unit would
+    have if the robot did only that task. On a narrow terminal each task's columns
+    move below together.
+    """
+    labels = [task.label for task in result.counted]
+    columns = [Column("joint", "left"), Column("unit", "left"),
+               Column("duty\nbinding", "left"), Column("duty\nL50 h")]
+    for label in labels:
+        columns += [Column(f"{escape(label)}\nbinding", "left", group=label),
+                    Column(f"{escape(label)}\nL50 h", group=label)]
+    rows = []
+    for joint in result.joints:
+        candidate = joint.selected or joint.strongest
+        cells = [escape(joint.name), escape(candidate.label), *_binding_cells(candidate)]
+        for alone in joint.per_task:
+            cells += _binding_cells(alone)
+        rows.append(tuple(cells))
+    return FittedTable("Each joint's unit against the duty and against each task alone "
+                       "(as if the robot did nothing else)", tuple(columns), tuple(rows),
+                       notes=spread_notes(result))
+
+
+def _binding_cells(candidate: Candidate) -> list[str]:
+    rule = candidate.binding
+    check = candidate.checks[rule]
+    text = f"{CHECK_LABELS.get(rule, rule)} {utilization_text(check.utilization, check.ok)}"
+    return [text if check.ok else f"[red]{text}✗[/red]", life_text(candidate.life_hours, "")]
+
+
+def spread_notes(result: SizingResult) -> tuple[str, ...]:
+    """Where the duty's life differs from the spreadsheet shortcuts, joint by joint.
+
+    The share-weighted mean of the lives alone, and the shortest of them, beside the
+    duty's L50 life, for each joint whose lives are all finite (and the duty's under
+    1e7 h).
+    """
+    notes = []
+    shares = [task.share for task in result.counted]
+    for joint in result.joints:
+        duty = (joint.selected or joint.strongest).life_hours
+        lives = [c.life_hours for c in joint.per_task]
+        if duty is None or any(life is None for life in lives) or duty > 1e7:
+            continue
+        weighted = sum(s * life for s, life in zip(shares, lives, strict=True)  # type: ignore
+                       if life is not None)
+        low = min(life for life in lives if life is not None)
+        notes.append(f"{joint.name}: duty L50 {duty:,.0f} h; the share-weighted mean of the "
+                     f"lives alone ({weighted:,.0f} h) is {weighted / duty - 1.0:+.0%}, the "
+                     f"shortest ({low:,.0f} h) {low / duty - 1.0:+.0%}")
+    if notes:
+        notes.insert(0, "the duty's life pools the tasks' mean torque and speed; "
+                        "combining the lives alone is not the same:")
+    return tuple(notes)
+
+
+def mix_tables(result: SizingResult) -> list[object]:
+    """The tables of a mix after the selection: tasks, rules by task, each task alone."""
+    if not any(joint.per_task for joint in result.joints) and len(result.tasks) < 2:
+        return []
+    items: list[object] = ["", tasks_table(result)]
+    if any(joint.per_task for joint in result.joints):
+        items += ["", rules_table(result), "", per_task_table(result)]
+    return items
+
