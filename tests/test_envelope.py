@@ -19,7 +19,6 @@ from scipy.optimize import minimize
 from hdselect.envelope import SearchSettings, envelope
 from hdselect.envelope.search import agree
 from hdselect.motion.case import load_case
-from hdselect.motion.planning import plan
 from hdselect.robot.mounting import STANDARD_GRAVITY
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import check_units, size
@@ -378,12 +377,12 @@ def test_a_rated_bearing_is_judged_at_the_worst_states_too():
                     result.sizing.options).joints[0].bearing.mean_moment, rel=1e-9)
 
 
-@pytest.mark.parametrize("name", ["benchtop6_pick_place.toml", "benchtop6_fast_pick.toml",
-                                  "benchtop6_contour.toml"])
+@pytest.mark.parametrize("name", sorted(path.name for path in MOTIONS.glob("benchtop6_*.toml")))
 def test_every_unit_picked_holds_for_each_shipped_motion_within_the_same_limits(name):
-    """With a motion's own limits, payload and stop time (and the default duty for the
-    averages), each unit the envelope picks holds for that motion (`check_units` passes
-    on its trajectory) and is no smaller than the one `size` picks for it."""
+    """For every shipped motion of the 6-axis arm (each benchtop6_*.toml, tool poses
+    solved): with the motion's own limits, payload and stop time (and the default duty for
+    the averages), each unit the envelope picks holds for that motion (`check_units`
+    passes on its planned trajectory) and is no smaller than the one `size` picks."""
     robot, motion = load_case(MOTIONS / name)
     result = envelope(robot, velocity=motion.velocity_limit,
                       acceleration=motion.acceleration_limit, stop_time=motion.stop_time,
@@ -393,7 +392,7 @@ def test_every_unit_picked_holds_for_each_shipped_motion_within_the_same_limits(
     assert picked, "the envelope picks no unit at these limits"
     units = {joint.name: picked.get(joint.name, joint.sizing.strongest.unit)
              for joint in result.joints}
-    checked = check_units(robot, plan(robot, motion), units, sized.options)
+    checked = check_units(robot, sized.trajectory, units, sized.options)
     for joint, alone in zip(checked.joints, sized.joints, strict=True):
         if joint.name in picked:
             assert joint.selected is not None, (name, joint.name, joint.candidates[0].binding)
