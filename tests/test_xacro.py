@@ -227,3 +227,20 @@ def test_a_mix_on_a_xacro_robot_takes_xacro_arguments(tmp_path):
     assert written[0]["joints"] != written[1]["joints"]
     peaks = [[joint["peak_torque_nm"] for joint in doc["joints"]] for doc in written]
     assert peaks[1][0] < peaks[0][0]  # a lighter gripper: less torque at the shoulder
+
+
+def test_the_envelope_takes_xacro_arguments(tmp_path):
+    """envelope reads a robot file too: --xacro-arg expands it (a lighter gripper, less
+    worst-case torque at the shoulder); an argument for a plain URDF is refused by flag."""
+    path = xacro_robot(tmp_path)
+    peaks = []
+    for tag, extra in (("default", []), ("given", ["--xacro-arg", "gripper_mass:=0.2"])):
+        out = tmp_path / f"{tag}.json"
+        status, _, err = run(["envelope", str(path), "--acceleration", "200", *extra,
+                              "--json", str(out)])
+        assert status in (0, 1), err
+        peaks.append(json.loads(out.read_text())["joints"][0])
+    assert peaks[0] != peaks[1]
+    status, _, err = run(["envelope", str(REPO / "robots" / "planar2.urdf"), "--acceleration",
+                          "200", "--xacro-arg", "gripper_mass:=0.2"])
+    assert status == 2 and "--xacro-arg" in err and len(err.strip().splitlines()) == 1, err

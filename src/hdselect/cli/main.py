@@ -16,6 +16,7 @@ from hdselect.base.errors import HdselectError
 from hdselect.base.session import HeldLog, Terminated, handle_sigterm, tolerate_encoding
 from hdselect.cli.catalog import run_catalog, run_duty
 from hdselect.cli.codesign import run_fastest, run_max_payload
+from hdselect.cli.envelope import envelope_arguments, run_envelope
 from hdselect.cli.inputs import (
     catalog_argument,
     json_argument,
@@ -221,6 +222,12 @@ def _parser() -> argparse.ArgumentParser:
                               "`size` selects at each payload)")
     json_argument(payload)
     payload.set_defaults(run=run_max_payload)
+
+    spec = commands.add_parser(
+        "envelope", parents=[verbose],
+        help="a gearhead for every joint that holds for any motion within a spec")
+    envelope_arguments(spec)
+    spec.set_defaults(run=run_envelope)
 
     joints = commands.add_parser("joints", parents=[verbose],
                                   help="list a robot's joints in the order lists use")
