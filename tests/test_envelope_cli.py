@@ -298,7 +298,9 @@ def test_the_effects_table_covers_every_option_of_envelope():
     from test_option_effects import OTHER, _options
 
     options = _options(_parser())["envelope"]
-    assert options == {row[0] for row in ENVELOPE_EFFECTS} | set(ENVELOPE_OUTPUTS)
+    # --xacro-arg needs a .xacro robot: test_xacro.test_the_envelope_takes_xacro_arguments
+    assert options == {row[0] for row in ENVELOPE_EFFECTS} | set(ENVELOPE_OUTPUTS) | {
+        "--xacro-arg"}
     assert set(OTHER["envelope"]) == options
 
 
