@@ -37,6 +37,8 @@ CONTOUR = ROOT / "trajectories" / "benchtop6_contour.toml"
 """The shipped 6-axis TOPPRA motion."""
 FAST_PICK = ROOT / "trajectories" / "benchtop6_fast_pick.toml"
 """The shipped 6-axis co-design motion (its limits at the arm's own)."""
+SPEC = ROOT / "trajectories" / "envelopes" / "benchtop6_dispensing.toml"
+"""The shipped 6-axis envelope file (its duty: the contour motion)."""
 INSPECT = ROOT / "trajectories" / "benchtop6_inspect.toml"
 """The shipped 6-axis inspection sweep (the mix's second task)."""
 POSES = ROOT / "trajectories" / "benchtop6_pick_place_poses.toml"
@@ -339,6 +341,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
             repeats=21,
             check=Check("max |wrench axis row - torque| [N m]", wrench_torque_error, 1e-9)),
         _mix_row(quick, units, coupled),
+        _envelope_row(robot, motion_for_size, units),
         *long_cycles,
     ]
 
@@ -379,6 +382,28 @@ def _mix_row(quick: bool, units, options) -> Benchmark:
         notes=f"size_tasks of pick (70 %) and inspect (30 %), {count:,} samples, each joint's "
               "unit also checked per task, vs size_trajectory of each task apart, summed",
         check=Check("shares (1, 0) vs alone: max |utilization difference|", alone_error, 0.0))
+
+
+def _envelope_row(robot, motion, units) -> Benchmark:
+    """The whole envelope of the shipped 6-axis spec, against size() of its pick-and-place."""
+    from hdselect import envelope, size
+
+    found: list = []
+
+    def run() -> None:
+        found[:] = [envelope(SPEC, units=units)]
+
+    def shortfall() -> float:
+        result = found[0] if found else envelope(SPEC, units=units)
+        return float(result.states < 100_000 or not result.converged)
+
+    return Benchmark(
+        "envelope (6-axis)", run, lambda: size(robot, motion, units=units), 10.0, unit="s",
+        absolute=True, repeats=3,
+        notes=f"hdselect.envelope of {SPEC.name}: 6 joints x {len(units)} units, every "
+              "joint's worst states over the limit box (>= 1e5 states), the contour duty "
+              f"planned and sized alone, vs size() of {MOTION.name}; target: under 10 s",
+        check=Check("fewer than 1e5 states, or not converged", shortfall, 0.0))
 
 
 def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:

@@ -135,7 +135,8 @@ def test_a_fifo_input_is_read_once(work, which):
     else:
         logged = Path("tr/pan_tilt_logged.toml").read_text().replace('"../robots/',
                                                                      f'"{REPO}/robots/')
-        log = next(line.split('"')[1] for line in logged.splitlines() if "file" in line)
+        log = next(line.split('"')[1] for line in logged.splitlines()
+                   if line.startswith("file"))
         writer = fifo_of(work / "log.csv", (Path("tr") / log).read_text())
         Path("m.toml").write_text(logged.replace(log, "log.csv"))
         argv = ["size", "m.toml", "--json", "r.json"]

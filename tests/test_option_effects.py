@@ -21,6 +21,7 @@ from hdselect import InputError
 from hdselect.cli.main import _parser, main
 from hdselect.sizing.tasks import Task
 from test_dynamics import REPO
+from test_envelope_cli import ENVELOPE_EFFECTS, ENVELOPE_OUTPUTS
 
 ONE_MOVE = """\
 robot = "../robots/planar2.urdf"
@@ -114,17 +115,21 @@ either), fastest compares no ratios, max-payload takes no units fixed beforehand
 OTHER = {
     "catalog": ["--catalog", "--units", "--json"],
     "duty": ["--catalog", "--json", "--margin"],  # test_margins: the duty example by hand
-    "joints": ["--json"], "init": ["--out", "--tool-poses"],
+    "joints": ["--json", "--xacro-arg"], "init": ["--out", "--tool-poses", "--xacro-arg"],
     "study": ["--out", "--workers", "--scheduler", "--no-grouping", "--retry-failed", "--plot"],
-    "plan": ["--out"], "size": ["--json", "--bom"], "compare": ["--json", "--bom"],
-    "fastest": ["--json"],
-    "max-payload": ["--json", "--prefer"],
+    "plan": ["--out", "--xacro-arg"], "size": ["--json", "--bom", "--xacro-arg"],
+    "compare": ["--json", "--bom", "--xacro-arg"], "fastest": ["--json", "--xacro-arg"],
+    "max-payload": ["--json", "--prefer", "--xacro-arg"],
+    "envelope": [*(row[0] for row in ENVELOPE_EFFECTS), *ENVELOPE_OUTPUTS, "--xacro-arg"],
 }
 """Options covered elsewhere (test_cli, test_study, test_outputs, test_bad_input): outputs,
 executors and listings, which change where a result goes or how it runs, not the result.
 init's --tool-poses writes another starter: test_toolposes solves, plans and sizes it.
 max-payload's --prefer orders the units that pass at the largest payload, where the joint
-that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used."""
+that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used.
+--xacro-arg needs a .xacro robot: `test_xacro.test_every_command_takes_xacro_arguments`.
+envelope's options take a robot file, not a motion file: test_envelope_cli runs its own
+table of effects (`ENVELOPE_EFFECTS`)."""
 
 
 @pytest.fixture

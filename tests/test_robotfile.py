@@ -118,7 +118,8 @@ def test_mjcf_parser_reason_is_the_message_not_the_source_location(tmp_path):
                     '<geom type="sphere" size="0.1"/></body></worldbody></mujoco>')
     with pytest.raises(InputError) as info:
         load_robot(path)
-    assert info.value.reason == "not a valid MJCF robot: Unknown joint type"
+    assert info.value.reason == ("not a valid MJCF robot (MuJoCo's compiler): invalid keyword: "
+                                 "'weird' (element 'joint', line 1)")
 
 
 # --- armature, damping, friction, springs: the motor's and the joint's own ------------------
@@ -152,9 +153,12 @@ def test_mjcf_armature_damping_friction_and_springs_never_reach_the_gear_torque(
     raw.gravity.linear = np.array([0.0, 0.0, -STANDARD_GRAVITY])
     with_armature = [pin.rnea(raw, raw.createData(), q[k], qd[k], qdd[k])[0] for k in range(3)]
     np.testing.assert_allclose(np.array(with_armature) - tau, 0.05 * qdd[:, 0], atol=1e-12)
-    (note,) = robot.notes
-    assert "armature on 1 joint (up to 0.05 kg m^2)" in note and "damping" in note
-    assert "friction" in note and "left out of the gear torque" in note
+    armature, damping, friction, springs = robot.notes
+    assert armature == ("armature on 1 joint (up to 0.05 kg m^2 or kg): the motor's reflected "
+                        "inertia, not load on the gear output; left out")
+    assert damping.startswith("damping on 1 joint (up to 2 N m s/rad or N s/m)")
+    assert friction.startswith("frictionloss on 1 joint (up to 0.3 N m or N)")
+    assert springs.startswith("springs (stiffness) on 1 joint (up to 5 N m/rad or N/m)")
 
 
 def test_the_assumption_is_printed_in_every_size_report(capsys, tmp_path):
@@ -189,7 +193,8 @@ def test_followers_follow_their_leader_and_get_no_gearhead(tmp_path):
     robot = load_robot(gripper(tmp_path))
     assert robot.joint_names == ("arm_joint", "finger_joint")
     assert robot.sized_joints == ("arm_joint", "finger_joint")
-    assert robot.mimic["right_outer"] == hdselect.robot.model.Mimic("finger_joint", -1.0, 0.1)
+    assert robot.mimic["right_outer"] == hdselect.robot.model.Mimic("finger_joint", -1.0, 0.1,
+                                                                     -2.0, 2.0)
     assert robot.joint_type("left_inner") == "mimic"
     # virtual work: the leader carries its own torque plus each follower's, times its multiplier
     free = pin.buildModelFromUrdf(str(robot.path))  # followers as independent joints
@@ -211,15 +216,14 @@ def test_followers_follow_their_leader_and_get_no_gearhead(tmp_path):
                                           - each[ids["right_outer"]], rel=1e-12, abs=1e-12)
 
 
-def test_a_follower_cannot_be_sized_or_given_a_value(tmp_path):
+def test_a_follower_cannot_be_sized_or_given_a_limit(tmp_path):
     robot = load_robot(gripper(tmp_path))
     with pytest.raises(InputError, match="'left_inner' follows 'finger_joint' \\(mimic\\)"):
         robot.with_sized_joints(["arm_joint", "left_inner"])
     motion = tmp_path / "m.toml"
     motion.write_text('robot = "gripper.urdf"\nplanner = "ruckig"\nangle_unit = "deg"\n'
-                      "[limits]\nacceleration = 100\njerk = 1000\n[[waypoint]]\n"
-                      "q = {arm_joint = 0, finger_joint = 0, left_inner = 0}\n"
-                      "[[waypoint]]\nq = [10, 10]\n")
+                      "[limits]\nacceleration = 100\njerk = 1000\nvelocity = {left_inner = 1}\n"
+                      "[[waypoint]]\nq = [0, 0]\n[[waypoint]]\nq = [10, 10]\n")
     with pytest.raises(InputError, match="follows 'finger_joint' \\(mimic\\); give its leader"):
         hdselect.load_motion(motion)
 

@@ -337,11 +337,16 @@ def test_a_joint_the_wrench_pass_does_not_handle_is_refused_by_name():
 
 
 def test_an_axis_pinocchio_reads_as_zero_is_refused_by_field(tmp_path):
-    """An axis written 1e308 long overflows Pinocchio's normalisation: no motion at all."""
+    """An axis written 1e308 long overflows Pinocchio's normalisation: no motion at all.
+
+    Loading the file refuses it (Pinocchio's axis compared with the file's); the wrench
+    pass refuses it too in a model built by Pinocchio alone, without that comparison.
+    """
     path = tmp_path / "long.urdf"
     path.write_text(MIXED.replace('<axis xyz="1 2 3"/>', '<axis xyz="0 0 1e308"/>'))
-    robot = load_robot(path)
-    q, qd, qdd = random_states(robot, 3, seed=8)
+    with pytest.raises(InputError, match="Pinocchio's axis is 0 0 0") as caught:
+        load_robot(path)
+    assert caught.value.field == "joint[tilt].axis" and caught.value.path == path
     with pytest.raises(InputError, match="Pinocchio reads its axis as zero") as caught:
-        axis_wrenches(robot, q, qd, qdd, ["spin"])
+        joint_motions(pin.buildModelFromUrdf(str(path)), path)
     assert caught.value.field == "joint[tilt].axis" and caught.value.path == path

@@ -8,10 +8,11 @@ import importlib
 import logging
 from typing import TYPE_CHECKING, Any
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 _HOME = {
     "BasePose": "robot",
+    "EnvelopeResult": "envelope",
     "FastestResult": "codesign",
     "HdselectError": "base",
     "InputError": "base",
@@ -31,6 +32,7 @@ _HOME = {
     "check_units": "sizing",
     "compare_ratios": "codesign",
     "describe_joints": "robot",
+    "envelope": "envelope",
     "fastest": "codesign",
     "load_catalog": "catalog",
     "load_case": "motion",
@@ -55,6 +57,7 @@ _HOME = {
 
 __all__ = [
     "BasePose",
+    "EnvelopeResult",
     "FastestResult",
     "HdselectError",
     "InputError",
@@ -75,6 +78,7 @@ __all__ = [
     "check_units",
     "compare_ratios",
     "describe_joints",
+    "envelope",
     "fastest",
     "load_catalog",
     "load_case",
@@ -107,6 +111,7 @@ if TYPE_CHECKING:
         fastest,
         max_payload,
     )
+    from hdselect.envelope import EnvelopeResult, envelope
     from hdselect.motion import (
         Mix,
         Motion,
@@ -138,7 +143,7 @@ def __getattr__(name: str) -> Any:
     if name not in _HOME:
         raise AttributeError(f"module 'hdselect' has no attribute {name!r}")
     package = importlib.import_module(f"hdselect.{_HOME[name]}")
-    value = package if name == "study" else getattr(package, name)
+    value = package if name in ("envelope", "study") else getattr(package, name)
     globals()[name] = value
     return value
 

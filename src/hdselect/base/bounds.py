@@ -110,6 +110,8 @@ ROTOR_INERTIA = Bound("an inertia", "kg m^2", 0.0, 1e3, smallest=1e-12)
 ratio divides by it)."""
 GRAVITY = Bound("an acceleration", "m/s^2", -1e3, 1e3)
 """A component of the gravity vector [m/s^2]: within 100 g."""
+MIMIC_MULTIPLIER = Bound("a multiplier", "", -1e3, 1e3)
+"""A mimic follower's motion per unit of its leader's [-]: within a factor of 1000."""
 
 # --- motion ------------------------------------------------------------------------------------
 POSITION = Bound("a position", "rad", -1e6, 1e6)

@@ -25,6 +25,13 @@ def json_argument(parser: argparse.ArgumentParser) -> None:
                         help="also write JSON to FILE ('-': to stdout, instead of the table)")
 
 
+def xacro_argument(parser: argparse.ArgumentParser) -> None:
+    """--xacro-arg NAME:=VALUE (repeatable): a .xacro robot's arguments."""
+    parser.add_argument("--xacro-arg", metavar="NAME:=VALUE", action="append",
+                        dest="xacro_arg", help="an argument of a .xacro robot file "
+                        "(repeatable; overrides the motion file's xacro_args)")
+
+
 def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True,
                            sizes: bool = True) -> None:
     """ROBOT, MOTION and the flags that change the case: payload, mounting, joints, samples.
@@ -35,8 +42,10 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
         sizes: The command sizes joints (plan only draws them).
     """
     parser.add_argument("robot", nargs="?", metavar="ROBOT",
-                        help="robot file, URDF or MJCF (default: the motion file's `robot`)")
+                        help="robot file, URDF, xacro or MJCF (default: the motion file's "
+                             "`robot`)")
     parser.add_argument("motion", metavar="MOTION", help="motion file (TOML)")
+    xacro_argument(parser)
     if mass:
         parser.add_argument("--payload", type=float, metavar="KG",
                             help="payload mass [kg]; the motion file's payload keeps its centre "
@@ -140,6 +149,24 @@ def _names(given: list[str] | None) -> list[str] | None:
     return [name.strip() for text in given for name in text.split(",") if name.strip()]
 
 
+def robot_of(args: argparse.Namespace, named: Path | None = None):
+    """The robot ROBOT names (else `named`, else the motion file's), with ``--xacro-arg``."""
+    from hdselect.motion.robot_named import load_motion_robot
+    from hdselect.robot.model import load_robot
+    from hdselect.robot.xacrofile import xacro_arguments
+
+    given = xacro_arguments(args.xacro_arg, "--xacro-arg") if args.xacro_arg else None
+    try:
+        file = args.robot if args.robot is not None else named
+        if file is not None:
+            return load_robot(file, xacro_args=given)
+        return load_motion_robot(args.motion, given)
+    except InputError as err:
+        if err.field == "xacro_args" and given:  # given for a file that takes none
+            raise InputError(err.reason, path=err.path, field="--xacro-arg") from err
+        raise
+
+
 def robot_and_motion(args: argparse.Namespace):
     """The robot and the motion, with the command line's payload, mounting and joints applied.
 
@@ -150,14 +177,13 @@ def robot_and_motion(args: argparse.Namespace):
     """
     from hdselect.motion.case import robot_for_motion
     from hdselect.motion.mixfile import is_mix_file
-    from hdselect.motion.motionfile import load_motion, robot_file_named
+    from hdselect.motion.motionfile import load_motion
     from hdselect.motion.solve import solve_motion
-    from hdselect.robot.model import load_robot
     from hdselect.robot.payload import Payload
 
     if is_mix_file(args.motion):
         return _robot_and_mix(args)
-    robot = load_robot(args.robot if args.robot is not None else robot_file_named(args.motion))
+    robot = robot_of(args)
     motion = load_motion(args.motion, robot)
     base = motion.payload
     given = [flag for flag, value in (("--payload", args.payload),
@@ -208,13 +234,12 @@ def _robot_and_mix(args: argparse.Namespace):
     """The robot with the mix's sized joints, and the mix with ``--mounting`` on every task."""
     from hdselect.motion.case import robot_for_mix
     from hdselect.motion.mixfile import load_mix, mix_robot_file
-    from hdselect.robot.model import load_robot
 
     for flag in ("payload", "payload_com", "payload_frame"):
         if getattr(args, flag, None) is not None:
             raise InputError("a mix's tasks carry their own payloads: give each task's "
                              "`payload` in the mix file", field="--" + flag.replace("_", "-"))
-    robot = load_robot(args.robot if args.robot is not None else mix_robot_file(args.motion))
+    robot = robot_of(args, mix_robot_file(args.motion))
     mix = load_mix(args.motion, robot)
     if args.mounting is not None:
         try:

@@ -16,12 +16,14 @@ from hdselect.base.errors import HdselectError
 from hdselect.base.session import HeldLog, Terminated, handle_sigterm, tolerate_encoding
 from hdselect.cli.catalog import run_catalog, run_duty
 from hdselect.cli.codesign import run_fastest, run_max_payload
+from hdselect.cli.envelope import envelope_arguments, run_envelope
 from hdselect.cli.inputs import (
     catalog_argument,
     json_argument,
     margin_argument,
     robot_motion_arguments,
     sizing_arguments,
+    xacro_argument,
 )
 from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED
 from hdselect.cli.plan import run_plan
@@ -221,15 +223,23 @@ def _parser() -> argparse.ArgumentParser:
     json_argument(payload)
     payload.set_defaults(run=run_max_payload)
 
+    spec = commands.add_parser(
+        "envelope", parents=[verbose],
+        help="a gearhead for every joint that holds for any motion within a spec")
+    envelope_arguments(spec)
+    spec.set_defaults(run=run_envelope)
+
     joints = commands.add_parser("joints", parents=[verbose],
                                   help="list a robot's joints in the order lists use")
-    joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF, xacro or MJCF")
+    xacro_argument(joints)
     json_argument(joints)
     joints.set_defaults(run=run_joints)
 
     init = commands.add_parser("init", parents=[verbose],
                                 help="write a starter motion file for a robot")
-    init.add_argument("robot", metavar="ROBOT", help="robot file, URDF or MJCF")
+    init.add_argument("robot", metavar="ROBOT", help="robot file, URDF, xacro or MJCF")
+    xacro_argument(init)
     init.add_argument("--out", metavar="FILE",
                       help="the motion file to write (default or '-': print it); an existing "
                            "file is never overwritten")

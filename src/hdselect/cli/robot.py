@@ -7,6 +7,7 @@ import os
 import sys
 from pathlib import Path
 
+from hdselect.cli.inputs import robot_of
 from hdselect.cli.output import EXIT_OK, rendered, say_written
 
 
@@ -16,9 +17,8 @@ def run_joints(args: argparse.Namespace) -> int:
     from hdselect.report.case_tables import joints_table
     from hdselect.report.export import joints_json, write_json
     from hdselect.robot.joints import describe_joints
-    from hdselect.robot.model import load_robot
 
-    robot = load_robot(args.robot)
+    robot = robot_of(args)
     with Outputs([robot.path]) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         infos = describe_joints(robot)
@@ -37,9 +37,8 @@ def run_init(args: argparse.Namespace) -> int:
     from hdselect.base.outputs import Outputs
     from hdselect.motion.starter import starter_motion
     from hdselect.report.tables import Paragraphs
-    from hdselect.robot.model import load_robot
 
-    robot = load_robot(args.robot)
+    robot = robot_of(args)
     out = None if args.out in (None, "-") else Path(args.out)
 
     def text() -> str:

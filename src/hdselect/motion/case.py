@@ -8,7 +8,8 @@ from pathlib import Path
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
-from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
+from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.robot_named import load_motion_robot
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
@@ -95,7 +96,8 @@ def load_case(
 
     Args:
         motion: The motion file, or a mix file.
-        robot: The robot or its file; None loads the motion file's ``robot``.
+        robot: The robot or its file; None loads the motion file's ``robot`` (a ``.xacro``
+            with the motion file's ``xacro_args``).
         payload: Payload overriding the motion file's.
         mounting: Mounting overriding the motion file's.
         joints: Joints to size, overriding the file's ``[sizing] joints``.
@@ -119,8 +121,10 @@ def load_case(
         mix = load_mix(motion_path, robot)
         loaded_robot = robot if isinstance(robot, Robot) else load_robot(mix.robot_file)
         return robot_for_mix(loaded_robot, mix, joints=joints, exclude=exclude), mix
-    if not isinstance(robot, Robot):
-        robot = load_robot(robot if robot is not None else robot_file_named(motion_path))
+    if robot is None:
+        robot = load_motion_robot(motion_path)
+    elif not isinstance(robot, Robot):
+        robot = load_robot(robot)
     loaded = load_motion(motion, robot)
     robot = robot_for_motion(robot, loaded, payload=payload, mounting=mounting, joints=joints,
                              exclude=exclude)

@@ -4,11 +4,13 @@
 solving, straight lines and branch checks evaluate thousands of configurations without
 re-allocating. Configurations are joint positions in the robot's joint order [rad or m]
 (`Robot.joint_names`); continuous joints are angles, turned into Pinocchio's (cos, sin)
-by `Robot.configuration`.
+by `Robot.configuration`. A mimic follower's own limits narrow its leader's
+(`hdselect.motion.followers.leader_range`), so a solved pose keeps every follower in range.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -16,6 +18,7 @@ import numpy as np
 import pinocchio as pin
 
 from hdselect.base.errors import InputError
+from hdselect.motion.followers import leader_range
 from hdselect.robot.model import Robot
 
 AT_BOUND = 1e-9
@@ -30,11 +33,14 @@ class LimitContact:
         joint: The joint's name.
         side: ``"lower"`` or ``"upper"``.
         value: The limit [rad or m].
+        follower: The mimic follower whose own limit sets this one of its leader's, or
+            ``""`` when it is the joint's own.
     """
 
     joint: str
     side: str
     value: float
+    follower: str = ""
 
 
 class FrameKinematics:
@@ -62,8 +68,11 @@ class FrameKinematics:
         if model.frames[self.frame_id].parentJoint == 0:
             raise InputError(f"frame '{frame}' is fixed to the base: no joint moves it",
                              path=robot.path, field="tool.frame")
-        self.lower = np.asarray(robot.lower, dtype=float)
-        self.upper = np.asarray(robot.upper, dtype=float)
+        ranges = [leader_range(robot, name, lower, upper) for name, lower, upper
+                  in zip(robot.joint_names, robot.lower, robot.upper, strict=True)]
+        self.lower = np.array([lower for lower, _ in ranges], dtype=float)
+        self.upper = np.array([upper for _, upper in ranges], dtype=float)
+        """Each joint's limits [rad or m], narrowed to keep its mimic followers within theirs."""
         span = self.upper - self.lower
         self.full_turn = np.asarray(robot.revolute) & np.isfinite(span) & (span >= 2 * np.pi)
         """Revolute joints with a range of a full turn or more: an angle pressed against one
@@ -125,10 +134,22 @@ class FrameKinematics:
         found = []
         for j, name in enumerate(self.robot.joint_names):
             if q[j] <= self.lower[j] + AT_BOUND:
-                found.append((j, LimitContact(name, "lower", float(self.lower[j]))))
+                found.append((j, LimitContact(name, "lower", float(self.lower[j]),
+                                              self._follower_at(name, self.lower[j]))))
             elif q[j] >= self.upper[j] - AT_BOUND:
-                found.append((j, LimitContact(name, "upper", float(self.upper[j]))))
+                found.append((j, LimitContact(name, "upper", float(self.upper[j]),
+                                              self._follower_at(name, self.upper[j]))))
         return found
+
+    def _follower_at(self, name: str, value: float) -> str:
+        """The follower of joint `name` that reaches one of its own limits at `value` [rad or m]."""
+        for follower, mimic in self.robot.mimic.items():
+            position = mimic.multiplier * value + mimic.offset
+            if mimic.leader == name and any(
+                    math.isclose(position, limit, rel_tol=1e-12, abs_tol=1e-12)
+                    for limit in (mimic.lower, mimic.upper)):
+                return follower
+        return ""
 
     def seed(self, near: Mapping[str, float] | None = None) -> np.ndarray:
         """A start for the solver, clipped into the limits [rad or m].

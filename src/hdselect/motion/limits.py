@@ -17,6 +17,13 @@ from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number
 from hdselect.robot.model import Robot
 
+LIMIT_ROUNDING = 5e-6
+"""How far a waypoint may lie beyond a robot file's position limit and still be taken as on
+it, relative to max(1, |limit|) [-]. A limit written to 6 significant digits differs from
+the angle its author meant by less (pi/2 written 1.5707963 or 1.5708: 2.7e-8 and 3.7e-6 rad;
+pi written 3.14159: 2.7e-6 rad), so a waypoint at 90 deg against 1.5707963 rad is that
+limit. The waypoint is moved onto the limit, by at most this much."""
+
 
 def vector(value: Any, size: int, path: Path, field: str) -> list[float]:
     """A list of `size` numbers from a motion file, each checked finite."""

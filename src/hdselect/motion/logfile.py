@@ -23,6 +23,7 @@ from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import readable
+from hdselect.motion.followers import check_logged_followers
 from hdselect.robot.model import Robot
 
 TIMESTAMP = bounds.Bound("a time", "s", -1e12, 1e12)
@@ -54,8 +55,12 @@ class SampleLog:
     qdd: np.ndarray | None
 
 
-def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str]) -> SampleLog:
+def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str],
+             angle: tuple[float, str] | None = None) -> SampleLog:
     """Read and check a log for a robot's joints.
+
+    Columns of mimic followers (``q_<follower>``, a ``joint_states`` export has them)
+    are read to check that they agree with their leaders.
 
     Args:
         log: The CSV file.
@@ -63,6 +68,7 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str]) -
             position must respect.
         scale: SI per file unit of each joint's position (pi/180 for degrees).
         units: The file unit of each joint's position, for messages (``deg``, ``rad``, ``m``).
+        angle: SI per unit of the file's angles and its label (default: rad).
 
     Returns:
         The log in SI units.
@@ -70,11 +76,13 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str]) -
     Raises:
         InputError: The file cannot be read, a column is missing, unknown or given twice,
             a cell is not a finite number in range, a position is outside its joint's
-            limits, or time does not increase (or two samples are implausibly close). The
+            limits (a follower's included), a follower's column disagrees with its leader,
+            or time does not increase (or two samples are implausibly close). The
             message names the row and column.
     """
     header, header_line = _header(log)
     seen: set[str] = set()
+    follower_columns = []
     for name in header:
         if name in seen:
             raise InputError(f"column '{name}' appears twice in the header; give each column "
@@ -82,7 +90,10 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str]) -
         seen.add(name)
         for prefix in ("qdd_", "qd_", "q_"):
             if name.startswith(prefix):
-                robot.joint_index(name[len(prefix):], source=log, field=name)
+                if name[len(prefix):] in robot.mimic:  # a joint_states export lists followers
+                    follower_columns.append(name)
+                else:
+                    robot.joint_index(name[len(prefix):], source=log, field=name)
                 break
     kinds = ["q"] + [kind for kind in ("qd", "qdd")
                      if any(f"{kind}_{n}" in seen for n in robot.joint_names)]
@@ -91,7 +102,7 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str]) -
         if name not in seen:
             raise InputError(f"column '{name}' is missing; columns are: {', '.join(header)}",
                              path=log, field=name)
-    columns = [header.index(name) for name in wanted]
+    columns = [header.index(name) for name in wanted + follower_columns]
     data = _numbers(log, header, header_line, columns)
     if data.shape[0] < 2:
         raise InputError("need a header row and at least two samples", path=log)
@@ -108,6 +119,10 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str]) -
         if kind == "q":
             _check_limits(log, header_line, robot, block, scale, units)
         arrays[kind] = frozen(block)
+    if robot.mimic:
+        check_logged_followers(robot, dict(zip(follower_columns, data[:, len(wanted):].T,
+                                               strict=True)), arrays, angle or (1.0, "rad"),
+                               log, lambda row: _where(log, header_line, row))
     steps = np.diff(t)
     back = np.flatnonzero(steps <= 0.0)
     if back.size:

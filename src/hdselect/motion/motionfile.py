@@ -30,7 +30,7 @@ from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import is_input_file
-from hdselect.base.tomlfile import check_keys, join, number, read_toml, table_of
+from hdselect.base.tomlfile import check_keys, join, number, table_of
 from hdselect.catalog.motors import Motor
 from hdselect.motion.limits import (
     JointLists,
@@ -44,6 +44,13 @@ from hdselect.motion.lines import LinePath
 from hdselect.motion.logderivatives import UNCERTAIN, acceleration_uncertainty
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
+from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: public here too)
+    load_named,
+    named_file,
+    read_motion_toml,
+    robot_file_named,
+    xacro_args_of,
+)
 from hdselect.motion.sizing_table import bearing_offsets, sizing_joints
 from hdselect.motion.toolposes import ToolPoses, ToolSolution, read_base
 from hdselect.motion.waypoints import read_waypoints
@@ -62,8 +69,9 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
 
 
-_TOP_KEYS = ("robot", "planner", "angle_unit", "dt", "mounting", "payload", "limits", "safety",
-             "requirements", "waypoint", "samples", "sizing", "motor", "tool", "base")
+_TOP_KEYS = ("robot", "xacro_args", "planner", "angle_unit", "dt", "mounting", "payload",
+             "limits", "safety", "requirements", "waypoint", "samples", "sizing", "motor", "tool",
+             "base")
 
 
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
@@ -131,6 +139,7 @@ class Motion:
         lines: The straight lines, solved into joint samples that the path passes through
             (empty until solved, and for a motion without lines).
         solution: How the tool poses were solved, or None until they are.
+        xacro_args: The file's ``xacro_args`` for the ``.xacro`` robot it names.
         bearing_offset: The file's ``[sizing] bearing_offset_m``: where a joint's output
             flange sits along its axis from the joint origin [m], by joint name.
     """
@@ -163,6 +172,7 @@ class Motion:
     tool: ToolPoses | None = None
     lines: tuple[LinePath, ...] = ()
     solution: ToolSolution | None = None
+    xacro_args: Mapping[str, str] = field(default_factory=dict)
     bearing_offset: Mapping[str, float] = field(default_factory=dict)
 
     def refuse_motors(self, command: str) -> None:
@@ -210,7 +220,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     path = bounds.file_argument(path, "path")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
                        "a Robot, a robot file or None")
-    doc = _read_motion_toml(path)
+    doc = read_motion_toml(path)
     check_keys(doc, _TOP_KEYS, path, "")
     planner = _choice(doc, "planner", PLANNERS, path)
     angle_unit = _choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)
@@ -218,13 +228,15 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
     file_payload = _payload(doc["payload"], path) if "payload" in doc else None
     file_mounting = _mounting(doc, path, unit, angle_unit)
-    robot_file = _robot_file(doc, path, must_exist=robot is None)  # a robot given overrides it
-    if not isinstance(robot, Robot):
-        file = robot if robot is not None else robot_file
-        if file is None:
+    robot_file = named_file(doc, path, must_exist=robot is None)  # a robot given overrides it
+    xacro_args = xacro_args_of(doc, path)
+    if robot is None:
+        if robot_file is None:
             raise InputError("no robot given: set the key or pass a robot file",
                              path=path, field="robot")
-        robot = load_robot(file)
+        robot = load_named(robot_file, xacro_args, path)
+    elif not isinstance(robot, Robot):
+        robot = load_robot(robot)
     scale = np.where(robot.revolute, unit, 1.0)
     units = [("deg" if unit != 1.0 else "rad") if r else "m" for r in robot.revolute]
     limits = table_of(doc.get("limits", {}), path, "limits")
@@ -259,7 +271,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
             raise InputError("planner 'samples' takes its motion from [samples] file; remove "
                              "the waypoints", path=path, field="waypoint")
         waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
-        samples = _samples(doc, path, robot, scale, units)
+        samples = _samples(doc, path, robot, scale, units, (unit, angle_unit))
         warnings += derived_warnings(samples, robot)
     else:
         if "samples" in doc:
@@ -290,6 +302,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                            if isinstance(block, dict) and key != "curve"),
         margin=requirements.get("margin"),
         tool=tool if planner != "samples" else None,
+        xacro_args=xacro_args,
         bearing_offset=bearing_offsets(doc, path, robot),
     )
 
@@ -318,46 +331,6 @@ def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
         elif key in table:
             values[key] = number(table, key, path, section, bound=_BOUNDS[key])
     return values
-
-
-def _robot_file(doc: dict[str, Any], path: Path, *, must_exist: bool = True) -> Path | None:
-    """The file's ``robot``, resolved against the motion file's folder, if given.
-
-    Args:
-        doc: The motion file's document.
-        path: The motion file.
-        must_exist: Refuse a file that does not exist (not when a robot given instead
-            overrides it).
-    """
-    if "robot" not in doc:
-        return None
-    if not isinstance(doc["robot"], str):
-        raise InputError("expected a file name", path=path, field="robot")
-    robot = path.parent / doc["robot"]
-    if must_exist and not is_input_file(robot):
-        raise InputError(f"robot file not found: {robot}", path=path, field="robot")
-    return robot
-
-
-def robot_file_named(path: str | Path) -> Path:
-    """The robot file a motion file names, for loading the robot before the motion.
-
-    Raises:
-        InputError: The motion file is unreadable or names no robot file that exists.
-    """
-    path = bounds.file_argument(path, "motion")
-    doc = _read_motion_toml(path)
-    robot = _robot_file(doc, path)
-    if robot is None:
-        raise InputError("no robot given: set the key or pass a robot file",
-                         path=path, field="robot")
-    return robot
-
-
-def _read_motion_toml(path: Path) -> dict[str, Any]:
-    """A motion file's TOML; a robot file given in its place is told so."""
-    return read_toml(path, kind="a motion file", hint=(
-        f"; give a motion file (hdselect init {path} --out motion.toml writes one)"))
 
 
 def _payload(value: Any, path: Path) -> Payload:
@@ -413,7 +386,7 @@ def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:
 
 
 def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
-             units: list[str]) -> SampleLog:
+             units: list[str], angle: tuple[float, str]) -> SampleLog:
     table = table_of(doc.get("samples", {}), path, "samples")
     check_keys(table, ("file",), path, "samples")
     if not isinstance(table.get("file"), str):
@@ -422,4 +395,4 @@ def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
     log = path.parent / table["file"]
     if not is_input_file(log):
         raise InputError(f"log file not found: {log}", path=path, field="samples.file")
-    return read_log(log, robot, scale, units)
+    return read_log(log, robot, scale, units, angle)

@@ -84,7 +84,8 @@ def solve_motion(robot: Robot, motion: Motion) -> Motion:
                          "gravity vector does not place the base in it: use floor, wall or "
                          "ceiling, or give base = {xyz, rpy}", path=motion.path, field="mounting")
     frame = tool.frame or robot.payload_frame
-    key = (str(robot.path), robot.lower.tobytes(), robot.upper.tobytes(), frame, base)
+    key = (str(robot.path), tuple(sorted(robot.xacro_args.items())), robot.lower.tobytes(),
+           robot.upper.tobytes(), frame, base)  # a .xacro's arguments may move its links
     if motion.solution is not None and motion.solution.key == key:
         return motion
     try:
@@ -328,8 +329,9 @@ class _Solver:
 
     def _limits(self, limits: tuple[LimitContact, ...]) -> str:
         return ", ".join(f"the {c.side} limit of {c.joint} "
-                         f"({self._joint(self.kin.robot.joint_index(c.joint), c.value)})"
-                         for c in limits)
+                         f"({self._joint(self.kin.robot.joint_index(c.joint), c.value)}"
+                         + (f", where mimic follower '{c.follower}' reaches its own limit)"
+                            if c.follower else ")") for c in limits)
 
     def _joint(self, j: int, value: float, signed: bool = False) -> str:
         """A joint position or move in the file's units."""

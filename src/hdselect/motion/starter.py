@@ -22,6 +22,7 @@ import numpy as np
 
 from hdselect.base.bounds import expect_type
 from hdselect.motion.branches import check_branch
+from hdselect.motion.followers import leader_range
 from hdselect.motion.ik import solve_pose
 from hdselect.motion.kinematics import FrameKinematics
 from hdselect.motion.poses import pose_error, pose_from_xyz_rpy, xyz_rpy
@@ -66,7 +67,8 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
     infos = [i for i in describe_joints(robot) if i.index is not None]
     units = ["deg" if i.kind != "prismatic" else "m" for i in infos]
     scale = [DEG_PER_RAD if u == "deg" else 1.0 for u in units]
-    start, second = _poses(infos, units, scale)
+    ranges = [leader_range(robot, i.name, i.lower, i.upper) for i in infos]
+    start, second = _poses(ranges, units, scale)
     if tool_poses:
         pair = regular_pair(robot, np.array(start) / scale, np.array(second) / scale)
         start, second = ([_inside(v * k, i.lower * k, i.upper * k, 4)
@@ -79,6 +81,7 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
             speeds.append(GUESSED_SPEED[unit])
             guessed.append(info.name)
     grippers = [i.name for i in infos if i.sized and i.gripper_like]
+    arguments = ", ".join(f"{_key(k)} = {json.dumps(v)}" for k, v in robot.xacro_args.items())
     lines = [
         f"# Starter motion for {robot.path.name}, written by `hdselect init`: it plans and sizes"
         " as it is.",
@@ -89,6 +92,7 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
         "# `hdselect joints ROBOT` prints every joint with its limits.",
         "",
         f"robot = {json.dumps(robot_file)}   # relative to this file (or absolute)",
+        *([f"xacro_args = {{{arguments}}}   # the .xacro robot's arguments"] if arguments else []),
         'planner = "ruckig"      # "ruckig": jerk-limited moves waypoint to waypoint; "toppra": '
         "time-optimal path",
         'angle_unit = "deg"      # revolute angles in degrees; prismatic joints in m',
@@ -224,14 +228,15 @@ def _solves_back(kin: FrameKinematics, first: np.ndarray, second: np.ndarray) ->
             and pose_error(kin.placement(two.q), targets[1])[0] < 1e-4)
 
 
-def _poses(infos, units, scale) -> tuple[list[float], list[float]]:
-    """A start pose near zero but inside every limit, and a second pose a move away [file units].
+def _poses(ranges, units, scale) -> tuple[list[float], list[float]]:
+    """A start pose near zero but inside every range, and a second pose a move away [file units].
 
-    Values are rounded towards the inside of the range (0.1 deg, 0.1 mm).
+    Each range [rad or m] is the joint's own, narrowed to keep its mimic followers within
+    theirs. Values are rounded towards the inside of the range (0.1 deg, 0.1 mm).
     """
     start, second = [], []
-    for info, unit, k in zip(infos, units, scale, strict=True):
-        lo, hi = info.lower * k, info.upper * k
+    for (lower, upper), unit, k in zip(ranges, units, scale, strict=True):
+        lo, hi = lower * k, upper * k
         step = MOVE[unit]
         if math.isfinite(lo) and math.isfinite(hi):
             margin = INSIDE * (hi - lo)

@@ -117,8 +117,8 @@ class ToolSolution:
             pose [rad], shape (k,); NaN for joint waypoints.
         notes: What the solving noticed, one line each: branch changes allowed by
             ``reconfigure``, joint waypoints that moved with the robot.
-        key: What the solution depends on: the robot file, its joint limits, the frame
-            and the base pose.
+        key: What the solution depends on: the robot file and its xacro arguments, its
+            joint limits, the frame and the base pose.
     """
 
     frame: str

@@ -15,7 +15,8 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import check_keys, number, table_of
-from hdselect.motion.limits import JointLists, per_joint
+from hdselect.motion.followers import check_waypoint_followers
+from hdselect.motion.limits import LIMIT_ROUNDING, JointLists, per_joint
 from hdselect.motion.toolposes import (
     POSE_KEYS,
     PoseWaypoint,
@@ -26,12 +27,6 @@ from hdselect.motion.toolposes import (
 )
 from hdselect.robot.model import Robot
 
-LIMIT_ROUNDING = 5e-6
-"""How far a waypoint may lie beyond a robot file's position limit and still be taken as on
-it, relative to max(1, |limit|) [-]. A limit written to 6 significant digits differs from
-the angle its author meant by less (pi/2 written 1.5707963 or 1.5708: 2.7e-8 and 3.7e-6 rad;
-pi written 3.14159: 2.7e-6 rad), so a waypoint at 90 deg against 1.5707963 rad is that
-limit. The waypoint is moved onto the limit, by at most this much."""
 
 def read_waypoints(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
                units: list[str], lists: JointLists, angle: tuple[float, str]
@@ -52,8 +47,9 @@ def read_waypoints(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndar
         tool pose; the dwells [s], shape (k,); the tool poses, or None.
 
     Raises:
-        InputError: A waypoint is malformed, outside the joint limits, or gives both or
-            neither of q and pose.
+        InputError: A waypoint is malformed, outside the joint limits (a mimic follower's
+            included; a follower's value listed must agree with its leader's), or gives
+            both or neither of q and pose.
     """
     value = doc.get("waypoint")
     if not isinstance(value, list) or len(value) < 2:
@@ -79,7 +75,11 @@ def read_waypoints(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndar
         if not isinstance(table["q"], list | dict):
             raise InputError("expected a list or a table keyed by joint name", path=path,
                              field=f"{where}.q")
-        given = per_joint(table["q"], robot, path, f"{where}.q", bound=bounds.POSITION,
+        positions, followers = table["q"], {}
+        if isinstance(positions, dict):  # a follower's value listed, as joint_states gives it
+            followers = {k: v for k, v in positions.items() if k in robot.mimic}
+            positions = {k: v for k, v in positions.items() if k not in robot.mimic}
+        given = per_joint(positions, robot, path, f"{where}.q", bound=bounds.POSITION,
                            scale=scale, units=units, lists=lists)
         q = given * scale
         lower, upper = robot.lower, robot.upper
@@ -94,6 +94,8 @@ def read_waypoints(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndar
                 f"[{robot.lower[j] / scale[j]:g}, {robot.upper[j] / scale[j]:g}] {units[j]}"
                 + (f" ({lists.order})" if listed else ""),
                 path=path, field=f"{where}.q{key}")
-        points.append(np.clip(q, lower, upper))  # on the limit its file rounded
+        q = np.clip(q, lower, upper)  # on the limit its file rounded
+        check_waypoint_followers(robot, q, followers, angle, path, f"{where}.q")
+        points.append(q)
     tool = read_tool(doc.get("tool"), path, *angle, poses, reconfigure)
     return np.array(points), np.array(dwells), tool

@@ -31,18 +31,20 @@ def joints_table(robot: Robot, infos: Iterable[JointInfo]) -> FittedTable:
                Column("effort\nN m, N", group="limits"), Column("moves\nkg", group="moves"))
     rows, notes = [], []
     for info in infos:
-        linear = info.kind == "prismatic"
-        if info.leader is not None:
-            offset = f" {info.offset:+g}" if info.offset else ""
-            notes.append(f"{info.name} follows {info.leader} (x {info.multiplier:g}{offset}): no "
-                         "gearhead of its own; its leader carries its load")
-            rows.append((escape(info.name), "-", "mimic", "no", "-", "-", "-", "-",
-                         f"{info.moved_mass:.3g}"))
-            continue
+        linear = info.kind == "prismatic" or (info.kind == "mimic"
+                                              and not robot.mimic[info.name].revolute)
         limited = math.isfinite(info.lower) and math.isfinite(info.upper)
         span = f"{info.lower:.3g} .. {info.upper:.3g}" if limited else "none"
         degrees = (f"{info.lower * DEG_PER_RAD:.3g} .. {info.upper * DEG_PER_RAD:.3g}"
                    if limited and not linear else "-")
+        if info.leader is not None:
+            offset = f" {info.offset:+g}" if info.offset else ""
+            notes.append(f"{info.name} follows {info.leader} (x {info.multiplier:g}{offset}): no "
+                         "gearhead of its own; its leader carries its load; its range holds "
+                         "along the motion")
+            rows.append((escape(info.name), "-", "mimic", "no", span, degrees, "-", "-",
+                         f"{info.moved_mass:.3g}"))
+            continue
         speed = info.velocity_limit * (1.0 if linear else DEG_PER_RAD)
         rows.append((
             escape(info.name), str(info.index), info.kind, "yes" if info.sized else "no", span,

@@ -76,8 +76,9 @@ def describe_joints(robot: Robot) -> tuple[JointInfo, ...]:
         mass = robot.moved_mass(name)
         if name in robot.mimic:
             mimic = robot.mimic[name]
-            infos.append(JointInfo(name, None, "mimic", -math.inf, math.inf, math.inf, math.inf,
-                                   mass, False, mimic.leader, mimic.multiplier, mimic.offset))
+            infos.append(JointInfo(name, None, "mimic", mimic.lower, mimic.upper, math.inf,
+                                   math.inf, mass, False, mimic.leader, mimic.multiplier,
+                                   mimic.offset))
             continue
         j = robot.joint_index(name)
         velocity, effort = float(robot.velocity_limit[j]), float(robot.effort_limit[j])

@@ -1,4 +1,4 @@
-"""Load a fixed-base arm (URDF or MJCF) into a Pinocchio model with payload and mounting.
+"""Load a fixed-base arm (URDF, xacro or MJCF) into a Pinocchio model with payload and mounting.
 
 Only kinematics and inertias are read; mesh files are never opened, so a robot
 file whose meshes are absent still loads.
@@ -24,6 +24,7 @@ from hdselect.robot.checks import model_limit
 from hdselect.robot.mounting import NAMED_BASES, BasePose, Mounting, base_pose_of, gravity_of
 from hdselect.robot.payload import Payload, payload_frame, tip_frame
 from hdselect.robot.reading import Mimic, read_robot_file
+from hdselect.robot.xacrofile import xacro_arguments
 
 logger = logging.getLogger(__name__)
 
@@ -65,6 +66,7 @@ class Robot:
         notes: What loading set aside or found suspicious in the file, one line each.
         uncoupled_followers: Mimic followers Pinocchio could not couple to their leaders:
             degrees of freedom here, not sized unless named.
+        xacro_args: The xacro arguments the file was expanded with (a ``.xacro`` file).
         base_pose: Where the base sits in the world (z up), which `gravity` follows from;
             None when the mounting was given as a gravity vector alone.
     """
@@ -86,6 +88,7 @@ class Robot:
     file_order: tuple[str, ...] | None = None
     notes: tuple[str, ...] = ()
     uncoupled_followers: tuple[str, ...] = ()
+    xacro_args: Mapping[str, str] = field(default_factory=dict)
     base_pose: BasePose | None = NAMED_BASES["floor"]
     _q_index: tuple[tuple[int, int], ...] = field(default=(), repr=False)
     _bare: pin.Model | None = field(default=None, repr=False)
@@ -270,33 +273,40 @@ def load_robot(
     mounting: Mounting = "floor",
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] = (),
+    xacro_args: Mapping[str, str | float] | None = None,
 ) -> Robot:
-    """Load a fixed-base robot from a URDF or MJCF file.
+    """Load a fixed-base robot from a URDF, xacro or MJCF file.
 
     Args:
-        path: The robot file (``.urdf``; ``.xml`` or ``.mjcf`` for MJCF).
+        path: The robot file: URDF, ``.xacro`` (expanded with the xacro package) or
+            MJCF (compiled by MuJoCo); told apart by the suffix ``.xacro`` and the
+            document's root element (``<robot>``, ``<mujoco>``).
         payload: A payload to attach, if any (same as `Robot.with_payload`).
         mounting: ``"floor"``, ``"wall"``, ``"ceiling"``, a `BasePose` or a gravity vector
             in the base frame [m/s^2] (same as `Robot.with_mounting`).
         joints: Joints to size; default every revolute and continuous joint that
             is not a mimic follower.
         exclude: Joints not to size (they still move and load the others).
+        xacro_args: Values of a ``.xacro`` file's ``xacro:arg`` arguments, by name (as
+            ``--xacro-arg name:=value`` gives them).
 
     Returns:
         The loaded robot.
 
     Raises:
-        InputError: The file is missing or Pinocchio rejects it (the parser's reason
-            in the message), a body's inertia is not physical, a joint type is not
-            supported, or an option names an unknown frame or joint.
+        InputError: The file is missing or SDF; xacro, Pinocchio or MuJoCo rejects it
+            (their reason in the message); a number of the file is not read as its
+            format defines it; a body's inertia is not physical; a joint type is not
+            supported; or an option names an unknown frame or joint.
     """
     path = bounds.file_argument(path, "path")
     bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
+    arguments = xacro_arguments(xacro_args)
     if not is_input_file(path):
         raise InputError("file not found", path=path)
     copy = readable(path)  # a FIFO read once
     try:
-        file = read_robot_file(copy)
+        file = read_robot_file(copy, arguments)
     except InputError as err:
         if copy == path or err.path != copy:
             raise
@@ -321,6 +331,7 @@ def load_robot(
         file_order=file.file_order,
         notes=file.notes,
         uncoupled_followers=file.uncoupled_followers,
+        xacro_args=arguments,
         _q_index=q_index,
     )
     robot = replace(robot, sized_joints=_sized(robot, joints, exclude))

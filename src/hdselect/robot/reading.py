@@ -1,37 +1,38 @@
-"""Read a robot file (URDF or MJCF) into a bare Pinocchio model, and say what was assumed.
+"""Read a robot file (URDF, xacro or MJCF) into a bare Pinocchio model, and say what was assumed.
 
-Pinocchio decides what a valid robot file is; this module only makes its
-answer usable. The parser's own messages (urdfdom prints them on the C++
-standard error, MJCF errors carry them after ``message:``) are folded into one
-line. Mimic joints are built as such: a follower has no degree of freedom and
-moves with its leader. Only the bodies Pinocchio builds are checked
-(`hdselect.robotcheck`), after it has merged every link on a fixed joint into
-its moving body; an empty body (frame links such as ``tool0``) is skipped.
-Armature, joint damping, friction and springs model the motor's and the joint's
-own inertia and losses, not load on the gear output: they are set to zero and
-reported. A second, lenient pass
-over the XML (namespaces not resolved, so extensions such as ``drake:`` never
-break it) only reads the order in which the file writes its joints.
+Each format is read as it defines itself. A URDF is built by Pinocchio
+(`hdselect.robot.pinurdf`) and checked against the file's own numbers
+(`hdselect.robot.urdfxml`, `hdselect.robot.urdfcheck`); a ``.xacro`` file (or one
+holding xacro elements) is first expanded by the xacro package
+(`hdselect.robot.xacrofile`); an MJCF file is compiled by MuJoCo and the model built
+from MuJoCo's bodies and joints (`hdselect.robot.mjcf`). An SDF file is refused.
+Mimic followers (a URDF's ``<mimic>``, an MJCF joint equality) have no degree of
+freedom and move with their leader. Bodies are checked (`hdselect.robot.checks`)
+as Pinocchio built them, after it merged every link on a fixed joint into its
+moving body. Armature, joint damping, friction and springs model the motor's and
+the joint's own inertia and losses, not load on the gear output: they are set to
+zero and reported.
 """
 
 from __future__ import annotations
 
 import logging
-import os
-import re
-import sys
-import tempfile
+import math
 import xml.parsers.expat
-from collections.abc import Iterator, Mapping
-from contextlib import contextmanager
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
+from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.robot.checks import check_bodies, check_geometry
+from hdselect.robot.pinurdf import build_urdf
+from hdselect.robot.urdfcheck import check_model, open_limits, unlimited
+from hdselect.robot.urdfxml import Element, UrdfTree, parse_elements, read_urdf_tree
+from hdselect.robot.xacrofile import expand_xacro
 
 logger = logging.getLogger(__name__)
 
@@ -40,6 +41,8 @@ LEG_MASS = 0.05
 LEG_DROP = 0.15
 """... and reaches this far below the root's centre of mass in the zero pose [m]."""
 
+FORMATS = ("URDF", "xacro", "MJCF")
+"""The robot file formats hdselect reads."""
 _MJCF_SUFFIXES = (".xml", ".mjcf")
 _LOSSES = (("armature", "armature", "kg m^2"), ("damping", "damping", "N m s/rad"),
            ("friction", "friction", "N m"), ("rotorInertia", "rotor inertia", "kg m^2"))
@@ -53,11 +56,21 @@ class Mimic:
         leader: The leading joint's name.
         multiplier: Follower motion per unit of leader motion [-].
         offset: Follower position when the leader is at zero [rad or m].
+        lower: The follower's own lower position limit [rad or m] (-inf: none).
+        upper: The follower's own upper position limit [rad or m] (+inf: none).
+        revolute: The follower turns (False: it slides; its positions are in m).
     """
 
     leader: str
     multiplier: float
     offset: float
+    lower: float = -math.inf
+    upper: float = math.inf
+    revolute: bool = True
+
+    def follow(self, leader: np.ndarray) -> np.ndarray:
+        """The follower's positions for the leader's [rad or m]."""
+        return self.multiplier * leader + self.offset
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,10 +83,13 @@ class RobotFile:
         mimic: Each follower joint's leader, by follower name.
         file_order: The movable, non-follower joints in the order the file writes them,
             or None when the file could not be scanned for it.
-        notes: What was set aside or looks wrong, one line each.
+        notes: What was set aside or looks wrong, one line each (`set_aside` first).
         uncoupled_followers: Mimic followers Pinocchio could not couple to their leaders
             (it needs a leader before its followers in its tree order): independent joints
             of the model here, and noted so.
+        format: ``"URDF"``, ``"xacro"`` or ``"MJCF"``.
+        set_aside: The notes on the motor's and the joints' own inertia and losses (and
+            MuJoCo's actuators, tendons, contacts) left out: expected, not warnings.
     """
 
     model: pin.Model
@@ -82,163 +98,200 @@ class RobotFile:
     file_order: tuple[str, ...] | None
     notes: tuple[str, ...]
     uncoupled_followers: tuple[str, ...] = ()
+    format: str = "URDF"
+    set_aside: tuple[str, ...] = field(default=(), repr=False)
 
 
-def read_robot_file(path: Path) -> RobotFile:
-    """Build the model of a robot file and check its bodies.
+def read_robot_file(path: Path, xacro_args: Mapping[str, str] | None = None) -> RobotFile:
+    """Build the model of a robot file and check it.
 
     Args:
-        path: An existing URDF (``.urdf`` or any other suffix) or MJCF (``.xml``, ``.mjcf``).
+        path: An existing URDF, ``.xacro`` or MJCF file (told apart by the suffix
+            ``.xacro`` and by the document's root element; a file holding xacro
+            elements is expanded too).
+        xacro_args: Values of a xacro file's ``xacro:arg`` arguments, by name.
 
     Returns:
         The model and what was assumed.
 
     Raises:
-        InputError: Pinocchio rejects the file (the parser's reason folded into the
-            message), or a body's inertia is not physical.
+        InputError: The file is SDF; xacro, Pinocchio or MuJoCo rejects it (their reason
+            in the message); a number of the file is not read as the format defines it;
+            a body's inertia is not physical.
     """
-    mjcf = path.suffix.lower() in _MJCF_SUFFIXES
-    notes: list[str] = []
+    data = path.read_bytes()
+    root = parse_elements(data)
+    kind = _format(path, root)
+    if xacro_args and kind != "xacro":
+        raise InputError(f"xacro arguments given ({', '.join(xacro_args)}) for a {kind} file; "
+                         "only a .xacro file takes them", path=path, field="xacro_args")
+    if kind == "MJCF":
+        file = _read_mjcf(path)
+    else:
+        text = None
+        notes: list[str] = []
+        if kind == "xacro":
+            text, notes = expand_xacro(path, xacro_args or {})
+            root = parse_elements(text.encode())
+        file = _read_urdf(path, text, root, notes, kind)
+    for note in file.notes:
+        if note in file.set_aside:
+            logger.info("%s: %s", path, note)
+        else:
+            logger.warning("%s: %s", path, note)
+    return file
+
+
+def _format(path: Path, root: Element | None) -> str:
+    """The file's format, from its suffix and its root element; SDF refused."""
+    if path.suffix.lower() == ".xacro":
+        return "xacro"
+    tag = root.tag if root is not None else ""
+    if tag == "sdf":
+        raise InputError("an SDF file (root element <sdf>): SDF is not supported; hdselect reads "
+                         "URDF, xacro and MJCF (convert it to URDF or MJCF)", path=path)
+    if tag in ("mujoco", "mujocoinclude"):
+        return "MJCF"
+    if tag == "robot":
+        return "xacro" if _has_xacro(root) else "URDF"
+    return "MJCF" if path.suffix.lower() in _MJCF_SUFFIXES else "URDF"
+
+
+def _has_xacro(element: Element | None) -> bool:
+    """The document holds xacro elements (``<xacro:include>``, ``<xacro:property>``, ...)."""
+    if element is None:
+        return False
+    return element.tag.startswith("xacro:") or any(_has_xacro(c) for c in element.children)
+
+
+def _read_urdf(path: Path, text: str | None, root: Element | None, notes: list[str],
+               kind: str) -> RobotFile:
+    """A URDF (or expanded xacro) built by Pinocchio and checked against its XML."""
+    if root is None or root.tag != "robot":
+        build_urdf(path, text, mimic=False)  # Pinocchio's own reason, if it has one
+        raise InputError("malformed XML: hdselect cannot read the numbers Pinocchio read "
+                         f"({_expat_reason(text.encode() if text else path.read_bytes())})",
+                         path=path)
+    tree = read_urdf_tree(root, path)
     uncoupled: tuple[str, ...] = ()
+    said: list[str] = []
     try:
-        model = _build(path, mjcf, mimic=not mjcf)
+        model = build_urdf(path, text, mimic=True, said=said)
     except InputError as err:
-        if mjcf or "mimic" not in err.reason:
+        if "mimic" not in err.reason:
             raise
-        model = _build(path, mjcf, mimic=False)
-        uncoupled = tuple(name for name in _mimic_followers(path) if model.existJointName(name))
+        model = build_urdf(path, text, mimic=False, said=said)
+        uncoupled = tuple(name for name, joint in tree.joints.items()
+                          if joint.mimic is not None and model.existJointName(name))
         notes.append(f"Pinocchio cannot couple the mimic joints ({err.reason.split(': ', 1)[-1]}"
                      f"): {', '.join(uncoupled)} move as independent joints here, carry their "
                      "own load and are not sized unless named")
-    losses = _set_aside_losses(model)
-    notes += check_bodies(model, path)
-    check_geometry(model, path)
-    mimic = _mimic_joints(model)
-    root = _root_link(model)
-    notes += _free_body_note(model, root)
-    order = None if mjcf else _file_joint_order(path, model, mimic)
-    for note in notes:
-        logger.warning("%s: %s", path, note)
-    for note in losses:
-        logger.info("%s: %s", path, note)
-    notes = losses + notes
-    return RobotFile(model, root, mimic, order, tuple(notes), uncoupled)
-
-
-@contextmanager
-def _stderr_captured() -> Iterator[list[str]]:
-    """Collect what C++ code writes on standard error (file descriptor 2) meanwhile.
-
-    Where descriptor 2 cannot be redirected (closed, say) the lines go where they
-    always went.
-    """
-    lines: list[str] = []
     try:
-        sys.stderr.flush()
-        saved = os.dup(2)
-    except (OSError, ValueError):
-        yield lines
-        return
-    with tempfile.TemporaryFile() as capture:
-        os.dup2(capture.fileno(), 2)
-        try:
-            yield lines
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            capture.seek(0)
-            lines.extend(capture.read().decode("utf-8", "replace").splitlines())
+        check_model(model, tree, path)
+    except InputError as err:
+        if not said:
+            raise
+        raise InputError(f"{err.reason}; urdfdom said: {said[0]}", path=path,
+                         field=err.field) from err
+    mimic = _urdf_mimic(model, tree, path)
+    notes += open_limits(model, tree)
+    order = _file_joint_order(tree, model, mimic)
+    return _finish(path, model, mimic, order, notes, [], uncoupled, kind)
 
 
-def _build(path: Path, mjcf: bool, *, mimic: bool) -> pin.Model:
-    kind = "MJCF" if mjcf else "URDF"
-    with _stderr_captured() as printed:
-        try:
-            if mjcf:
-                model = pin.buildModelFromMJCF(str(path))
-            else:
-                model = pin.buildModelFromUrdf(str(path), mimic=mimic)
-            error = None
-        except (RuntimeError, ValueError) as err:
-            error = err
-    if error is not None:
-        reason = _parser_reason(str(error), printed, path)
-        raise InputError(f"not a valid {kind} robot: {reason}", path=path) from error
-    for line in _messages(printed, path):
-        logger.info("%s: parser: %s", path, line)
+def _urdf_mimic(model: pin.Model, tree: UrdfTree, path: Path) -> dict[str, Mimic]:
+    """Each follower Pinocchio coupled, its own limits from the file (none: unlimited)."""
+    mimic = {}
+    for follower, leader in zip(model.mimicking_joints, model.mimicked_joints, strict=True):
+        name = model.names[follower]
+        joint = model.joints[follower].extract()
+        written = tree.joints[name]
+        given = written.mimic
+        if given is None or given.leader != model.names[leader] or abs(
+                float(joint.scaling) - given.multiplier) > 1e-12 * max(1, abs(given.multiplier)) \
+                or abs(float(joint.offset) - given.offset) > 1e-12 * max(1, abs(given.offset)):
+            raise InputError(f"Pinocchio couples it to '{model.names[leader]}' x "
+                             f"{float(joint.scaling):g} + {float(joint.offset):g}, otherwise than "
+                             "the file's <mimic>", path=path, field=f"joint[{name}].mimic")
+        lower, upper = -math.inf, math.inf
+        if not unlimited(written) and written.limit is not None:
+            lower, upper = written.limit.lower, written.limit.upper
+        mimic[name] = Mimic(model.names[leader], given.multiplier, given.offset, lower, upper,
+                            written.kind != "prismatic")
+    return mimic
+
+
+def _read_mjcf(path: Path) -> RobotFile:
+    """An MJCF file compiled by MuJoCo; its joint couplings made mimic where Pinocchio can."""
+    from hdselect.robot.mjcf import model_from_mjcf  # MuJoCo is imported for MJCF only
+
+    read = model_from_mjcf(path)
+    model = read.model
+    notes = list(read.notes)
+    mimic: dict[str, Mimic] = {}
+    uncoupled = []
+    for follower, coupling in read.couplings.items():
+        follower_id, leader_id = model.getJointId(follower), model.getJointId(coupling.leader)
+        if leader_id > follower_id or model.joints[follower_id].nq != 1:
+            uncoupled.append(follower)
+            continue
+        field = f"equality[{coupling.equality}]"
+        bounds.MIMIC_MULTIPLIER.check(coupling.multiplier, path=path, field=f"{field}.polycoef")
+        bounds.POSITION.check(coupling.offset, path=path, field=f"{field}.polycoef")
+        iq = model.joints[follower_id].idx_q
+        lower, upper = float(model.lowerPositionLimit[iq]), float(model.upperPositionLimit[iq])
+        slides = model.joints[follower_id].shortname().startswith(("JointModelP",))
+        mimic[follower] = Mimic(coupling.leader, coupling.multiplier, coupling.offset,
+                                lower, upper, not slides)
+    for follower in sorted(mimic, key=model.getJointId, reverse=True):
+        model = _made_mimic(model, follower, mimic[follower])
+    if mimic:
+        notes.append("joint equalities made mimic followers (no gearhead of their own; the "
+                     "leader carries their load): " + ", ".join(
+                         f"{name} = {m.multiplier:g} x {m.leader} + {m.offset:g}"
+                         for name, m in mimic.items()))
+    if uncoupled:
+        notes.append(f"joint equalities Pinocchio cannot couple (the leader comes after its "
+                     f"follower in the tree): {', '.join(uncoupled)} move as independent joints "
+                     "here, carry their own load and are not sized unless named")
+    return _finish(path, model, mimic, None, notes, list(read.set_aside), tuple(uncoupled),
+                   "MJCF", root=read.root_body)
+
+
+def _made_mimic(model: pin.Model, follower: str, mimic: Mimic) -> pin.Model:
+    """The model with `follower` turned into a mimic joint of its leader."""
+    follower_id = model.getJointId(follower)
+    iq = model.joints[follower_id].idx_q
+    configurations = {entry.key(): np.delete(np.array(entry.data()), iq)
+                      for entry in model.referenceConfigurations}
+    model = pin.transformJointIntoMimic(model, model.getJointId(mimic.leader), follower_id,
+                                        mimic.multiplier, mimic.offset)
+    for name, q in configurations.items():
+        model.referenceConfigurations[name] = q
     return model
 
 
-def _parser_reason(error: str, printed: list[str], path: Path) -> str:
-    """One line from a parser's exception text and what it printed on standard error.
-
-    Pinocchio's own text is generic ("does not contain a valid URDF model") or starts
-    with C++ source locations; the reason is what urdfdom printed, or what follows
-    ``message:`` in an MJCF error.
-
-    Args:
-        error: The exception's text.
-        printed: Lines the parser wrote on standard error.
-        path: The robot file (its line numbers are looked up for named joints and links).
-
-    Returns:
-        The reason, one line.
-    """
-    reasons = _messages(printed, path)
-    if "message:" in error:
-        reasons.append(" ".join(error.split("message:", 1)[1].split()))
-    elif not reasons or "valid URDF model" not in error:
-        lines = [line.strip() for line in error.strip().splitlines() if line.strip()]
-        generic = [line for line in lines if not line.startswith(("From file:", "in function:",
-                                                                  "at line:"))]
-        reasons.append(" ".join(generic or lines[:1] or ["rejected by the parser"]))
-    unique = list(dict.fromkeys(r.rstrip(".") for r in reasons if r))
-    return "; ".join(unique)
+def _finish(path: Path, model: pin.Model, mimic: dict[str, Mimic],
+            order: tuple[str, ...] | None, notes: list[str], set_aside: list[str],
+            uncoupled: tuple[str, ...], kind: str, root: str | None = None) -> RobotFile:
+    """The checks every format shares, and the record."""
+    losses = _set_aside_losses(model)
+    notes += check_bodies(model, path)
+    check_geometry(model, path)
+    root = root or _root_link(model)
+    notes += _free_body_note(model, root)
+    aside = tuple(losses + set_aside)
+    return RobotFile(model, root, mimic, order, aside + tuple(notes),
+                     uncoupled, kind, aside)
 
 
-_TINYXML = re.compile(r"Error=XML_ERROR_(\w+) ErrorID=\d+ \(0x[0-9a-f]+\) Line number=(\d+)"
-                      r"(?::\s*(.*))?")
-_NAMED = re.compile(r"(Joint|joint|Link|link) \[([^\]]+)\]")
-
-
-def _messages(printed: list[str], path: Path) -> list[str]:
-    """The parser's ``Error:`` and ``Warning:`` lines, without their C++ source locations."""
-    messages = []
-    for line in printed:
-        text = line.strip()
-        if not text or re.match(r"at line \d+ in \S+\.(cpp|hpp|h)$", text):
-            continue
-        text = re.sub(r"^(Error|Warning|Info|Debug):\s*", "", text)
-        xml_error = _TINYXML.search(text)
-        if xml_error:
-            kind, line_no, detail = xml_error.groups()
-            text = (f"malformed XML at line {line_no} ({kind.lower().replace('_', ' ')}"
-                    f"{': ' + detail.strip() if detail else ''})")
-        else:
-            named = _NAMED.search(text)
-            line_no = _element_line(path, named.group(1).lower(), named.group(2)) if named \
-                else None
-            if line_no is not None:
-                text = f"{text} (line {line_no})"
-        messages.append(text)
-    return messages
-
-
-def _element_line(path: Path, tag: str, name: str) -> int | None:
-    """The line of the first ``<tag name="name">`` of a file, if a lenient scan finds it."""
-    found: list[int] = []
+def _expat_reason(data: bytes) -> str:
     parser = xml.parsers.expat.ParserCreate()
-
-    def start(element: str, attributes: dict[str, str]) -> None:
-        if not found and element == tag and attributes.get("name") == name:
-            found.append(parser.CurrentLineNumber)
-
-    parser.StartElementHandler = start
     try:
-        parser.Parse(path.read_bytes(), True)
-    except (xml.parsers.expat.ExpatError, OSError):
-        pass
-    return found[0] if found else None
+        parser.Parse(data.lstrip(), True)
+    except xml.parsers.expat.ExpatError as err:
+        return f"line {err.lineno}: {xml.parsers.expat.ErrorString(err.code)}"
+    return "no <robot> root element"
 
 
 def _set_aside_losses(model: pin.Model) -> list[str]:
@@ -256,15 +309,6 @@ def _set_aside_losses(model: pin.Model) -> list[str]:
     return [f"the file's {', '.join(given)}: the motor's and the joints' own inertia and "
             "losses, not load on the gear output; left out of the gear torque (give a motor's "
             "rotor inertia with the motor)"]
-
-
-def _mimic_joints(model: pin.Model) -> dict[str, Mimic]:
-    mimic = {}
-    for follower, leader in zip(model.mimicking_joints, model.mimicked_joints, strict=True):
-        joint = model.joints[follower].extract()
-        mimic[model.names[follower]] = Mimic(model.names[leader], float(joint.scaling),
-                                             float(joint.offset))
-    return mimic
 
 
 def _root_link(model: pin.Model) -> str:
@@ -303,47 +347,10 @@ def _free_body_note(model: pin.Model, root: str) -> list[str]:
             "model"]
 
 
-def _mimic_followers(path: Path) -> list[str]:
-    """Names of the joints a URDF gives a ``<mimic>`` element, by a lenient scan."""
-    followers: list[str] = []
-    joint: list[str] = []
-    parser = xml.parsers.expat.ParserCreate()
-
-    def start(element: str, attributes: dict[str, str]) -> None:
-        if element == "joint" and "name" in attributes:
-            joint[:] = [attributes["name"]]
-        elif element == "mimic" and joint:
-            followers.append(joint[0])
-
-    parser.StartElementHandler = start
-    try:
-        parser.Parse(path.read_bytes(), True)
-    except (xml.parsers.expat.ExpatError, OSError):
-        return followers
-    return followers
-
-
-def _file_joint_order(path: Path, model: pin.Model, mimic: Mapping[str, Mimic]
+def _file_joint_order(tree: UrdfTree, model: pin.Model, mimic: Mapping[str, Mimic]
                       ) -> tuple[str, ...] | None:
     """The model's degrees of freedom in the order the URDF writes its ``<joint>`` elements."""
-    names: list[str] = []
-    depth = [0]
-    parser = xml.parsers.expat.ParserCreate()
-
-    def start(element: str, attributes: dict[str, str]) -> None:
-        depth[0] += 1
-        if depth[0] == 2 and element == "joint" and "name" in attributes:
-            names.append(attributes["name"])
-
-    def end(element: str) -> None:
-        depth[0] -= 1
-
-    parser.StartElementHandler, parser.EndElementHandler = start, end
-    try:
-        parser.Parse(path.read_bytes(), True)
-    except (xml.parsers.expat.ExpatError, OSError):
-        return None
     dofs = {model.names[j] for j in range(1, model.njoints)
             if model.joints[j].nv > 0 and model.names[j] not in mimic}
-    order = tuple(n for n in dict.fromkeys(names) if n in dofs)
+    order = tuple(n for n in tree.joints if n in dofs)
     return order if len(order) == len(dofs) else None

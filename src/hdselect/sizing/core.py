@@ -113,7 +113,7 @@ def size(
             if file is None:
                 raise InputError("no robot given, and the motion file names none",
                                  path=motion.path, field="robot")
-            robot = load_robot(file)
+            robot = load_robot(file, xacro_args=motion.xacro_args if robot is None else None)
         robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
                                  joints=joints, exclude=exclude)
         motion = solve_motion(robot, motion)

@@ -17,6 +17,7 @@ from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import SeriesRules, Unit
 from hdselect.motion.mixfile import SECONDS_PER_HOUR
 from hdselect.robot.model import Robot
+from hdselect.robot.mounting import NAMED_BASES, mounting_name
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
@@ -229,14 +230,19 @@ JOINT_LOSSES_NOTE = ("the robot file's armature, joint damping, friction and spr
 
 
 def base_text(robot: Robot) -> str:
-    """The fixed link and the payload in a line, for headers."""
+    """The fixed link, its mounting where not the floor, and the payload in a line."""
+    mounting = ""
+    if robot.base_pose != NAMED_BASES["floor"]:
+        gravity = ", ".join(f"{g:.4g}" for g in robot.gravity)
+        mounting = (f" on {mounting_name(robot.base_pose)} (gravity ({gravity}) m/s^2 in "
+                    "its frame)")
     payload = robot.payload
     if payload is None:
         carried = f"none (a payload would go on '{robot.payload_frame}')"
     else:
         com = ", ".join(f"{c:g}" for c in payload.com)
         carried = f"{payload.mass:g} kg on '{robot.payload_frame}', centre of mass ({com}) m"
-    return f"base: '{robot.root_link}' held fixed; payload: {carried}"
+    return f"base: '{robot.root_link}' held fixed{mounting}; payload: {carried}"
 
 
 def payload_json(robot: Robot) -> dict[str, Any]:

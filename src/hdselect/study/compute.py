@@ -38,8 +38,9 @@ from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
 from hdselect.motion.case import robot_for_motion
 from hdselect.motion.mixfile import Mix
-from hdselect.motion.motionfile import Motion, load_motion, robot_file_named
+from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning import plan
+from hdselect.motion.robot_named import robot_source
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import motion_motors, size_trajectory
@@ -127,24 +128,29 @@ class _Inputs:
     """Robots, motions and catalogs read once per worker task, keyed by file."""
 
     def __init__(self) -> None:
-        self.robots: dict[Path, Robot] = {}
-        self.motions: dict[tuple[Path, Path], Motion] = {}
+        self.robots: dict[tuple[Path, tuple[tuple[str, str], ...]], Robot] = {}
+        self.mix_robots: dict[Path, Robot] = {}  # a mix file's robot, by its file
+        self.motions: dict[tuple[Path, tuple[Path, tuple[tuple[str, str], ...]]], Motion] = {}
         self.units: dict[tuple[tuple[Path, ...], int | None], tuple[Unit, ...]] = {}
         self.motor_files: dict[Path, tuple[Motor, ...]] = {}
-        self.robot_files: dict[Path, Path] = {}
+        self.robot_files: dict[Path, tuple[Path, dict[str, str]]] = {}
 
     def case(self, case: Case) -> tuple[Robot, Motion, Payload | None]:
         """The bare robot, the motion and the case's payload."""
-        robot_file = case.robot
-        if robot_file is None:  # the motion file read once for the robot it names
-            robot_file = self.robot_files.get(case.motion) or robot_file_named(case.motion)
-            self.robot_files[case.motion] = robot_file
-        if robot_file not in self.robots:
-            self.robots[robot_file] = load_robot(robot_file)
-        robot = self.robots[robot_file]
-        if (case.motion, robot_file) not in self.motions:
-            self.motions[case.motion, robot_file] = load_motion(case.motion, robot)
-        motion = self.motions[case.motion, robot_file]
+        arguments: dict[str, str] = {}
+        if case.robot is not None:
+            robot_file = case.robot
+        else:  # the motion file read once for the robot it names
+            if case.motion not in self.robot_files:
+                self.robot_files[case.motion] = robot_source(case.motion)
+            robot_file, arguments = self.robot_files[case.motion]
+        key = (robot_file, tuple(sorted(arguments.items())))
+        if key not in self.robots:
+            self.robots[key] = load_robot(robot_file, xacro_args=arguments)
+        robot = self.robots[key]
+        if (case.motion, key) not in self.motions:
+            self.motions[case.motion, key] = load_motion(case.motion, robot)
+        motion = self.motions[case.motion, key]
         return robot, motion, case.payload_for(motion.payload)
 
     def catalog(self, case: Case) -> tuple[Unit, ...]:
@@ -193,7 +199,7 @@ def size_direct(case: Case, inputs: _Inputs | None = None) -> Summary:
     """
     inputs = inputs or _Inputs()
     if is_mix_case(case):
-        return size_mix_direct(case, inputs.catalog(case), inputs.mix_motors, inputs.robots)
+        return size_mix_direct(case, inputs.catalog(case), inputs.mix_motors, inputs.mix_robots)
     robot, motion, payload = inputs.case(case)
     units = inputs.catalog(case)
     options = case_options(case, motion)
@@ -210,7 +216,7 @@ def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
     inputs = _Inputs()
     host = f"{socket.gethostname()}:{os.getpid()}"
     if grouped and len(cases) >= MIN_GROUP and is_mix_case(cases[0]):  # a group: one mix
-        pending = yield from mix_group(cases, inputs.catalog, inputs.mix_motors, inputs.robots,
+        pending = yield from mix_group(cases, inputs.catalog, inputs.mix_motors, inputs.mix_robots,
                                        host)
     elif grouped and len(cases) >= MIN_GROUP:
         pending = yield from _grouped(list(cases), inputs, host)

@@ -10,7 +10,8 @@ Three planners, chosen by the motion file, one module each:
 
 Tool poses are solved for the robot's mounting first (`hdselect.motion.solve`), and a
 straight line is checked at every planned sample (`hdselect.motion.planning.toolpath`).
-Every planned trajectory is checked against the robot's position limits.
+Every planned trajectory is checked against the robot's position limits, mimic
+followers' included.
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ import numpy as np
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES, check_max_samples
 from hdselect.base.errors import InputError, PlanningError
+from hdselect.motion.followers import outside as follower_outside
+from hdselect.motion.followers import outside_reason
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.motion.motionfile import PLANNERS as PLANNER_NAMES
 from hdselect.motion.planning.ruckig import plan_ruckig
@@ -115,6 +118,8 @@ def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,
                         what: str | None = None) -> None:
     """Refuse a trajectory that is not finite or leaves a joint's position limits (by > 1e-9).
 
+    Mimic followers too: their positions follow from their leaders'.
+
     Args:
         robot: The robot (its position limits).
         motion: The motion it was planned from (its file, units and waypoints).
@@ -134,6 +139,13 @@ def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,
     if outside.any():
         raise PlanningError(_outside_message(robot, motion, trajectory, outside,
                                              what or motion.planner))
+    follower = follower_outside(robot, q)
+    if follower is not None:
+        name, k, position = follower
+        reason = outside_reason(robot, name, position, ANGLE_UNITS[motion.angle_unit],
+                                          motion.angle_unit)
+        raise PlanningError(f"{motion.path}: the {what or motion.planner} trajectory: {reason} "
+                            f"(t = {trajectory.t[k]:.4g} s)")
 
 
 def _outside_message(robot: Robot, motion: Motion, trajectory: Trajectory,

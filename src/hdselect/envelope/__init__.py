@@ -1,0 +1,31 @@
+"""Size a robot before its task is known: the worst case over every motion within a spec.
+
+`envelope` searches each joint's worst states over the limit box (joint ranges,
+|qd| <= v, |qdd| <= a) and hands them, beside a duty's samples, to the one selection
+of `hdselect.sizing.core`. The package is callable: ``hdselect.envelope(robot, ...)``
+is `envelope`, and ``hdselect.envelope.SearchSettings`` still works.
+"""
+
+from __future__ import annotations
+
+import sys
+import types
+from typing import Any
+
+from hdselect.envelope.records import envelope_json
+from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
+from hdselect.envelope.run import envelope
+from hdselect.envelope.search import SearchSettings
+
+__all__ = ["EnvelopeResult", "JointEnvelope", "SearchSettings", "WorstState", "envelope",
+           "envelope_json"]
+
+
+class _CallableModule(types.ModuleType):
+    """This package, callable as the function `envelope` it exports."""
+
+    def __call__(self, *args: Any, **kwargs: Any) -> EnvelopeResult:
+        return envelope(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

@@ -1,0 +1,378 @@
+"""Size a robot for any motion within its spec: `envelope`, the one entry point.
+
+The worst states depend on the masses carried (the units chosen further out), and
+the units on the worst states. So: the duty alone is sized first (what `size` of it
+selects); with its units' masses a quick, coarse search and selection guess the
+envelope's units (`GUESS`); every joint's worst states are searched with the guessed
+masses, and the core selects from the duty's samples and those states
+(`hdselect.envelope.torques`); a joint whose carried units changed is searched again
+with the new masses, until the units chosen are the ones searched with
+(`MAX_ROUNDS`), which makes every reported worst state a worst state of the robot as
+finally equipped.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from hdselect.base.bounds import DEFAULT_MAX_SAMPLES, expect_type, files_argument
+from hdselect.base.errors import InputError
+from hdselect.catalog.catalogfile import load_catalog
+from hdselect.catalog.select import DEFAULT_PREFER
+from hdselect.catalog.units import Unit
+from hdselect.envelope.box import Limits
+from hdselect.envelope.demands import KINDS
+from hdselect.envelope.duty import Duty, check_within, default_duty, motion_duty
+from hdselect.envelope.result import (
+    Convergence,
+    EnvelopeResult,
+    JointEnvelope,
+    WorstState,
+)
+from hdselect.envelope.search import Evaluate, SearchSettings, Worst, agree, search
+from hdselect.envelope.spec import Spec, resolve_spec
+from hdselect.envelope.specfile import (
+    DUTY_MOVES,
+    MAX_DUTY_MOVES,
+    EnvelopeFile,
+    envelope_robot_file,
+    load_envelope_file,
+)
+from hdselect.envelope.states import StateRows, state_rows
+from hdselect.envelope.torques import EnvelopeTorques
+from hdselect.envelope.workers import Spread, default_workers
+from hdselect.motion.case import robot_for_motion
+from hdselect.motion.mixfile import is_mix_file
+from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.dynamics import gravity_torques
+from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.payload import Payload
+from hdselect.sizing.arguments import units_argument
+from hdselect.sizing.core import select_units, size_tasks
+from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.result import JointSizing, SizingResult
+
+MAX_ROUNDS = 5
+"""Most searches with new carried masses before the result says they did not settle."""
+GUESS = SearchSettings(starts=256, refine=2, rounds=0, iterations=30)
+"""The quick search whose selection gives the full search its first carried masses."""
+GUESS_SAMPLES = 2000
+"""Duty samples the quick selection is judged on."""
+
+
+def envelope(
+    robot: Robot | str | Path | None = None,
+    spec: str | Path | None = None,
+    *,
+    velocity: Limits = None,
+    acceleration: Limits = None,
+    jerk: Limits = None,
+    payload: Payload | None = None,
+    mounting: str | Sequence[float] | None = None,
+    joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
+    duty: Motion | str | Path | None = None,
+    moves: int | None = None,
+    seed: int | None = None,
+    catalog: Sequence[str | Path] = (),
+    units: Sequence[Unit] | None = None,
+    settings: SearchSettings | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    **options: object,
+) -> EnvelopeResult:
+    """The unit per joint that holds for any motion within a spec, and the worst states.
+
+    Args:
+        robot: Robot file or loaded robot; None takes the envelope file's ``robot``. An
+            envelope file (``.toml``) here, with no `spec`, is the spec.
+        spec: An envelope file (TOML): limits, payload, mounting, duty, options.
+        velocity: Speed limits [rad/s or m/s]: one number, one per joint, or a mapping of
+            joint names (the rest from the file, else the robot file).
+        acceleration: Acceleration limits [rad/s^2 or m/s^2], as `velocity` (no default).
+        jerk: Jerk limits of the default duty's moves [rad/s^3 or m/s^3], as `velocity`.
+        payload: Payload, overriding the file's (and the duty's).
+        mounting: Mounting, overriding the file's (and the duty's).
+        joints: Joints to size (default: the file's, the duty's, else every rotary joint).
+        exclude: Joints not to size; they still move and load the others.
+        duty: A motion file (or Motion) for the averaged rules; None: the file's, else the
+            default duty of random moves.
+        moves: Moves of the default duty (default: the file's, else `DUTY_MOVES`).
+        seed: Seed of the default duty's poses (default: the file's, else 0).
+        catalog: Extra catalog files (the built-in PSA-G catalog is always loaded).
+        units: The catalog already loaded (instead of `catalog`).
+        settings: How hard the search looks (default `SearchSettings()`).
+        workers: Compute the search's quasi-random states in this many worker processes
+            (with `scheduler`, Dask workers; default there: the cores here); None computes
+            them in this process, on every core.
+        scheduler: ``"local"`` for a Dask LocalCluster here, ``"tcp://HOST:PORT"`` for a
+            running Dask scheduler; None for none.
+        **options: Fields of `hdselect.sizing.options.Options` (``stop_time``,
+            ``efficiency``, ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
+            ``life_hours``, ``life_basis``, ``margin``, ``bearing_offset``,
+            ``bearing_loads``, ``threads``, ``max_samples``); what is not given comes from
+            the envelope file, the duty's motion file, else the defaults. The output
+            bearings' largest loads are over the duty and the worst states, their means
+            over the duty (`hdselect.envelope.torques.BEARING_NOTE`).
+
+    Returns:
+        The envelope.
+
+    Raises:
+        InputError: A file or argument is invalid, no acceleration limit is given, or
+            the duty leaves the spec.
+        PlanningError: The duty cannot be planned.
+    """
+    started = time.perf_counter()
+    expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
+    expect_type(spec, (str, Path, type(None)), "spec", "an envelope file or None")
+    expect_type(duty, (Motion, str, Path, type(None)), "duty", "a Motion, a motion file or None")
+    expect_type(settings, (SearchSettings, type(None)), "settings", "a SearchSettings or None")
+    for name, value, low, high in (("moves", moves, 1, MAX_DUTY_MOVES),
+                                   ("seed", seed, 0, 2**63 - 1)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, int)
+                                  or not low <= value <= high):
+            raise InputError(f"must be a whole number in [{low}, {high}], got {value!r}",
+                             field=name)
+    catalog = files_argument(catalog, "catalog")
+    if units is not None and catalog:
+        raise InputError("give either catalog files or loaded units, not both", field="units")
+    if spec is None and isinstance(robot, str | Path) and Path(robot).suffix.lower() == ".toml":
+        robot, spec = None, robot  # an envelope file alone: it names its robot
+    if robot is None and spec is None:
+        raise InputError("give a robot file, or an envelope file that names one", field="robot")
+    base = robot if isinstance(robot, Robot) else load_robot(
+        robot if robot is not None else envelope_robot_file(str(spec)))
+    file = load_envelope_file(spec, base) if spec is not None else None
+    motion = _duty_motion(duty, file, base)
+    robot = _robot_state(base, motion, file, payload, mounting, joints, exclude)
+    limits = resolve_spec(robot, velocity=velocity, acceleration=acceleration, jerk=jerk,
+                          file=file)
+    resolved = _options(file, motion, options)
+    catalog_units = units_argument(units) if units is not None else load_catalog(catalog)
+    if motion is not None:
+        chosen_duty = motion_duty(robot, motion, max_samples=resolved.max_samples)
+    else:
+        chosen_duty = default_duty(
+            robot, limits, _first(moves, file.moves if file else None, DUTY_MOVES),
+            _first(seed, file.seed if file else None, 0), max_samples=resolved.max_samples)
+    check_within(chosen_duty, limits)
+    duty_sizing = size_tasks(chosen_duty.tasks, catalog_units, resolved)
+    settings = settings or SearchSettings()
+    if workers is None and scheduler is None:
+        return _envelope(robot, limits, chosen_duty, duty_sizing, catalog_units, resolved,
+                         settings, None, started)
+    with Spread(workers if workers is not None else default_workers(), scheduler) as spread:
+        result = _envelope(robot, limits, chosen_duty, duty_sizing, catalog_units, resolved,
+                           settings, spread, started)
+        return replace(result, executor=spread.where)
+
+
+def _envelope(robot: Robot, spec: Spec, duty: Duty, duty_sizing: SizingResult,
+              units: tuple[Unit, ...], options: Options, settings: SearchSettings,
+              evaluate: Evaluate | None, started: float) -> EnvelopeResult:
+    """The rounds of search and selection until the carried masses settle; the result."""
+    options = options if options.prefer is not None else replace(options, prefer=DEFAULT_PREFER)
+    box, stop_time, threads = spec.box, options.stop_time, options.threads
+    masses = _masses(duty_sizing.joints, options) if options.mass_coupling else {}
+    carriers = {j: tuple(k for k in robot.sized_joints
+                         if robot.carried_mass(name, {k: 1.0}) > 0.0)
+                for j, name in enumerate(robot.joint_names)}
+    found: dict[tuple[int, str], Worst] = {}
+    searched: dict[int, tuple[float, ...]] = {}
+    rows: dict[int, StateRows] = {}
+    states = rounds = 0
+    settled = False
+    per_joint = {name: units for name in robot.sized_joints}
+    if options.mass_coupling:
+        masses, states = _guessed_masses(robot, spec, duty, masses, per_joint, options,
+                                         settings, evaluate)
+    while True:
+        key = {j: tuple(masses.get(k, 0.0) for k in carriers[j]) for j in carriers}
+        stale = [j for j in carriers if searched.get(j) != key[j]]
+        if not stale:
+            settled = True
+            break
+        if rounds == MAX_ROUNDS:
+            break
+        carrying = robot.with_gearheads(masses) if masses else robot
+        new, count = search(carrying, box, stop_time, stale, settings, threads=threads,
+                            evaluate=evaluate)
+        states, rounds = states + count, rounds + 1
+        found.update(new)
+        for j in stale:
+            searched[j] = key[j]
+            rows[j] = state_rows(carrying, box, {(j, k): new[(j, k)] for k in KINDS},
+                                 stop_time, threads=threads)
+        model = EnvelopeTorques(duty.tasks, _stacked([rows[j] for j in sorted(rows)]),
+                                stop_time, threads=threads, guess=masses,
+                                wrenches=options.bearing_loads)
+        sized, chosen = select_units(model, per_joint, options, {}, slowdowns=False)
+        masses = chosen if options.mass_coupling else {}
+    sizing = SizingResult(robot, duty.tasks[0].trajectory, tuple(sized), options, units,
+                          duty.motion, loads=model.loads(masses), tasks=duty.tasks)
+    joints = tuple(_joint(model, joint, found, options, settings,
+                          duty_sizing.joints[i].selected, masses)
+                   for i, joint in enumerate(sized))
+    return EnvelopeResult(robot, spec, duty, joints, sizing, duty_sizing, masses, settings,
+                          states, rounds, settled, time.perf_counter() - started)
+
+
+def _guessed_masses(robot: Robot, spec: Spec, duty: Duty, masses: dict[str, float],
+                    per_joint: Mapping[str, tuple[Unit, ...]], options: Options,
+                    settings: SearchSettings, evaluate: Evaluate | None
+                    ) -> tuple[dict[str, float], int]:
+    """The masses of a quick selection: a coarse search (`GUESS`) on a decimated duty.
+
+    Starting the full search from them, it usually runs once: the duty alone tends to
+    choose weaker (lighter) units than the envelope.
+    """
+    carrying = robot.with_gearheads(masses) if masses else robot
+    quick, count = search(carrying, spec.box, options.stop_time, range(robot.dof),
+                          replace(GUESS, seed=settings.seed), threads=options.threads,
+                          evaluate=evaluate)
+    rows = state_rows(carrying, spec.box, quick, options.stop_time, threads=options.threads)
+    coarse = [replace(task, trajectory=_decimated(task.trajectory)) for task in duty.tasks]
+    model = EnvelopeTorques(coarse, rows, options.stop_time, threads=options.threads,
+                            guess=masses, wrenches=any(unit.bearing is not None
+                                                       for units in per_joint.values()
+                                                       for unit in units))
+    _, chosen = select_units(model, per_joint, options, {}, detail=False, slowdowns=False)
+    return chosen, count
+
+
+def _decimated(trajectory: Trajectory) -> Trajectory:
+    """Every k-th sample (about `GUESS_SAMPLES`), each standing for k periods."""
+    step = max(1, len(trajectory.t) // GUESS_SAMPLES)
+    return replace(trajectory, dt=trajectory.dt * step, t=trajectory.t[::step],
+                   q=trajectory.q[::step], qd=trajectory.qd[::step],
+                   qdd=trajectory.qdd[::step])
+
+
+def _joint(model: EnvelopeTorques, joint: JointSizing, found: Mapping[tuple[int, str], Worst],
+           options: Options, settings: SearchSettings, duty_choice, masses) -> JointEnvelope:
+    """One joint's worst states, gravity pose and convergence, from the final selection."""
+    samples, robot = model.samples, model.robot
+    j = robot.joint_index(joint.name)
+    rest = samples.rest[:, j]
+    tau, stop = np.asarray(joint.torque), np.asarray(joint.stop_torque)
+    duty_count = len(samples) - len(model.rows)
+    worst: dict[str, WorstState] = {}
+    notes: list[str] = []
+    for figure, values, mask, kind in (("peak", tau, ~rest, "peak"), ("static", tau, rest, "held"),
+                                       ("stop", stop, np.ones_like(rest), "stop")):
+        where = np.flatnonzero(mask)
+        i = int(where[np.argmax(np.abs(values[where]))])
+        own = duty_count + model.rows.row(j, kind)
+        if abs(values[own]) >= abs(values[i]) * (1.0 - 1e-12):  # ties: the search's own
+            i = own
+        source = ("search" if i >= duty_count
+                  else f"duty t = {samples.t[i]:.4g} s")
+        worst[figure] = WorstState(figure, model.q[i], samples.qd[i], samples.qdd[i],
+                                   float(values[i]), source)
+        if i != own and not agree(abs(values[own]), abs(values[i]), settings.tolerance):
+            notes.append(f"{figure}: a state of {_origin(model, i, duty_count)} carries "
+                         f"{abs(values[i]):.4g} N m, above the search's worst "
+                         f"{abs(values[own]):.4g} N m")
+    posed = model.rows.row(j, "gravity")
+    carrying = robot.with_gearheads(masses) if masses else robot
+    held = gravity_torques(carrying, model.rows.q[posed][None], threads=options.threads)[0, j]
+    gravity = WorstState("gravity", model.rows.q[posed], np.zeros(robot.dof),
+                         np.zeros(robot.dof), float(held), "search")
+    demands = {kind: found[(j, kind)] for kind in KINDS}
+    unsettled = [kind for kind, w in demands.items() if not w.converged]
+    if unsettled:
+        notes.insert(0, f"{', '.join(unsettled)}: the worst values from the last starts "
+                        f"differ by more than {settings.tolerance:.1%}")
+    return JointEnvelope(joint.name, joint, worst, gravity,
+                         Convergence(demands, not notes, "; ".join(notes)), duty_choice)
+
+
+def _origin(model: EnvelopeTorques, i: int, duty_count: int) -> str:
+    """Where sample i comes from, in words."""
+    if i < duty_count:
+        return f"the duty (t = {model.samples.t[i]:.4g} s)"
+    r = i - duty_count
+    return (f"the search for {model.robot.joint_names[model.rows.joint[r]]}'s "
+            f"{model.rows.kind[r]}")
+
+
+def _stacked(parts: Sequence[StateRows]) -> StateRows:
+    """The rows of several joints, one after the other."""
+    return StateRows(np.concatenate([p.q for p in parts]), np.concatenate([p.qd for p in parts]),
+                     np.concatenate([p.qdd for p in parts]),
+                     np.concatenate([p.joint for p in parts]),
+                     tuple(k for p in parts for k in p.kind))
+
+
+def _masses(joints: Sequence[JointSizing], options: Options) -> dict[str, float]:
+    """The mass each joint's unit (or its strongest candidate) adds [kg], as the core counts it."""
+    out = {}
+    for joint in joints:
+        chosen = joint.selected or joint.strongest
+        out[joint.name] = chosen.unit.mass + (chosen.motor_unit.mass if chosen.motor_unit
+                                              is not None else options.motor_mass)
+    return out
+
+
+def _first(*values):
+    """The first value that is not None."""
+    return next(value for value in values if value is not None)
+
+
+def _duty_motion(duty: Motion | str | Path | None, file: EnvelopeFile | None,
+                 robot: Robot) -> Motion | None:
+    """The duty's motion: the argument's, else the envelope file's; None for the default."""
+    given = duty if duty is not None else (file.duty if file is not None else None)
+    if given is None:
+        return None
+    if not isinstance(given, Motion) and is_mix_file(given):
+        where = ({"field": "duty"} if duty is not None or file is None
+                 else {"path": file.path, "field": "duty.motion"})
+        raise InputError(f"{given} is a mix file; the envelope does not take a mix as its duty "
+                         "yet: give one of its motion files (or size the mix with `hdselect "
+                         "size`)", **where)
+    motion = given if isinstance(given, Motion) else load_motion(given, robot)
+    motion.check_joints(robot)
+    motion.refuse_motors("envelope")
+    return motion
+
+
+def _robot_state(base: Robot, motion: Motion | None, file: EnvelopeFile | None,
+                 payload: Payload | None, mounting: str | Sequence[float] | None,
+                 joints: Sequence[str] | None, exclude: Sequence[str] | None) -> Robot:
+    """The robot as the envelope sizes it: argument, else envelope file, else the duty's."""
+    expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
+    if file is not None:
+        payload = payload if payload is not None else file.payload
+        mounting = mounting if mounting is not None else file.mounting
+        joints = joints if joints is not None else file.joints
+        exclude = exclude if exclude is not None else (file.exclude or None)
+    if motion is not None:
+        return robot_for_motion(base, motion, payload=payload, mounting=mounting, joints=joints,
+                                exclude=exclude)
+    robot = base.with_payload(payload) if payload is not None else base
+    robot = robot.with_mounting(mounting) if mounting is not None else robot
+    if joints is not None or exclude:
+        robot = robot.with_sized_joints(joints, exclude or ())
+    return robot
+
+
+def _options(file: EnvelopeFile | None, motion: Motion | None,
+             given: Mapping[str, object]) -> Options:
+    """The options: given, else the envelope file's, else the duty's motion file's."""
+    values = dict(given)
+    values.setdefault("max_samples", DEFAULT_MAX_SAMPLES)
+    if file is not None:
+        for name in ("stop_time", "life_hours", "life_basis", "margin"):
+            if values.get(name) is None and getattr(file, name) is not None:
+                values[name] = getattr(file, name)
+        if values.get("bearing_offset") is None and file.bearing_offset:
+            values["bearing_offset"] = dict(file.bearing_offset)
+    return options_for(motion, **values)

@@ -1,0 +1,105 @@
+"""The robot a motion file names: its file (relative to the motion file) and xacro arguments.
+
+A motion file's ``robot`` names the robot file, relative to the motion file; its
+``xacro_args`` table gives that file's ``xacro:arg`` values when it is a ``.xacro``
+(arguments given on the command line, ``--xacro-arg``, override them by name). They
+apply to the robot the file names only: a robot given otherwise takes the
+arguments given with it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from hdselect.base import bounds
+from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import is_input_file
+from hdselect.base.tomlfile import read_toml, table_of
+from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.xacrofile import xacro_arguments
+
+
+def read_motion_toml(path: Path) -> dict[str, Any]:
+    """A motion file's TOML; a robot file given in its place is told so."""
+    return read_toml(path, kind="a motion file", hint=(
+        f"; give a motion file (hdselect init {path} --out motion.toml writes one)"))
+
+
+def named_file(doc: dict[str, Any], path: Path, *, must_exist: bool = True) -> Path | None:
+    """The file's ``robot``, resolved against the motion file's folder, if given.
+
+    Args:
+        doc: The motion file's document.
+        path: The motion file.
+        must_exist: Refuse a file that does not exist (not when a robot given instead
+            overrides it).
+    """
+    if "robot" not in doc:
+        return None
+    if not isinstance(doc["robot"], str):
+        raise InputError("expected a file name", path=path, field="robot")
+    robot = path.parent / doc["robot"]
+    if must_exist and not is_input_file(robot):
+        raise InputError(f"robot file not found: {robot}", path=path, field="robot")
+    return robot
+
+
+def xacro_args_of(doc: dict[str, Any], path: Path) -> dict[str, str]:
+    """The file's ``xacro_args`` table: arguments for the ``.xacro`` robot it names."""
+    if "xacro_args" not in doc:
+        return {}
+    table = table_of(doc["xacro_args"], path, "xacro_args")
+    try:
+        return xacro_arguments(table, "xacro_args")
+    except InputError as err:
+        raise InputError(err.reason, path=path, field=err.field) from err
+
+
+def robot_source(path: str | Path) -> tuple[Path, dict[str, str]]:
+    """The robot file a motion file names, and the xacro arguments it gives that file.
+
+    Raises:
+        InputError: The motion file is unreadable or names no robot file that exists.
+    """
+    path = bounds.file_argument(path, "motion")
+    doc = read_motion_toml(path)
+    robot = named_file(doc, path)
+    if robot is None:
+        raise InputError("no robot given: set the key or pass a robot file",
+                         path=path, field="robot")
+    return robot, xacro_args_of(doc, path)
+
+
+def robot_file_named(path: str | Path) -> Path:
+    """The robot file a motion file names, for loading the robot before the motion.
+
+    Raises:
+        InputError: The motion file is unreadable or names no robot file that exists.
+    """
+    return robot_source(path)[0]
+
+
+def load_motion_robot(path: str | Path, xacro_args: Mapping[str, str] | None = None) -> Robot:
+    """The robot a motion file names, expanded with its ``xacro_args`` (a ``.xacro`` robot).
+
+    Args:
+        path: The motion file.
+        xacro_args: Arguments overriding the file's, by name (``--xacro-arg``).
+
+    Raises:
+        InputError: The motion file or the robot file is missing or invalid.
+    """
+    robot, arguments = robot_source(path)
+    return load_named(robot, {**arguments, **(xacro_args or {})}, Path(path))
+
+
+def load_named(robot: Path, xacro_args: dict[str, str], path: Path) -> Robot:
+    """The motion file's robot; arguments for a file that takes none name the motion file."""
+    try:
+        return load_robot(robot, xacro_args=xacro_args)
+    except InputError as err:
+        if err.field == "xacro_args" and err.path == robot:
+            raise InputError(err.reason, path=path, field="xacro_args") from err
+        raise
