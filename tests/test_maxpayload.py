@@ -129,3 +129,30 @@ def test_bad_input(tmp_path, capsys):
     with pytest.raises(InputError, match=r"limits\.torque: the TOPPRA torque limits make the "
                                          "trajectory depend on the payload"):
         max_payload(robot, motion, options_for(motion))
+
+
+def test_the_sizing_without_slow_downs_is_the_same_sizing():
+    """max-payload's rounds and bisection ask the sizing for its verdict only.
+
+    Without slow-downs (`size_tasks(..., slowdowns=False)`) a sizing where no unit fits
+    some joints has the same units, figures and verdict, and no slow-down; with them it
+    is `size_trajectory`'s, which gives a slow-down to every joint no unit fits.
+    """
+    from hdselect.catalog.catalogfile import load_catalog
+    from hdselect.sizing.core import size_tasks, size_trajectory
+    from hdselect.sizing.summary import summarize
+    from hdselect.sizing.tasks import Task
+
+    robot, motion = load_case(MOTIONS / "benchtop6_pick_place.toml", payload=Payload(8.0))
+    trajectory = plan(robot, motion)
+    units = load_catalog()
+    full = size_trajectory(robot, trajectory, units)
+    bare = size_tasks((Task(robot, trajectory),), units, slowdowns=False)
+    stuck = [joint for joint in full.joints if joint.selected is None]
+    assert stuck and all(joint.slowdown is not None for joint in stuck)
+    assert any(joint.slowdown.factor is not None for joint in stuck)
+    assert all(joint.slowdown is None and joint.scales is None for joint in bare.joints)
+    with_them = summarize(full).to_dict()
+    for joint in with_them["joints"]:
+        joint["slowdown"] = None
+    assert summarize(bare).to_dict() == with_them

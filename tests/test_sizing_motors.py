@@ -30,6 +30,7 @@ from hdselect.catalog.motors import Motor, load_motors
 from hdselect.catalog.select import PREFERENCES
 from hdselect.cli.main import main
 from hdselect.robot.model import load_robot
+from hdselect.robot.payload import Payload
 from hdselect.sizing.records import size_json
 from test_coupling import urdf_with_masses
 from test_dynamics import J_TABLE, REPO, pin_config, rnea_loop, thinned
@@ -413,3 +414,69 @@ def test_html_report_has_a_motor_figure_per_joint(tmp_path, capsys):
     assert base64.b64decode(images["output"]) == (report / "bearing_table.png").read_bytes()
     assert "torque-speed plane of the motor T1" in page and "load/rotor inertia" in page
     assert "no thermal model" in page
+
+
+@pytest.mark.parametrize(("prefer", "margin", "mass"), [
+    ("mass", 0.0, None), ("size", 0.3, None), ("motor-rms", 0.1, 2.0), ("mass", 0.2, 8.0)])
+def test_the_selection_without_detail_is_the_one_among_every_pair(prefer, margin, mass):
+    """A second method: the choice among every (gearhead, motor) pair.
+
+    Without detail (the coarse guess, a study's case) only the pairs whose gearhead
+    passes the rules no motor changes are checked; the selection, its figures, and where
+    no pair fits the strongest, are those found among every pair, rated bearings and the
+    design margin included (the heavier payloads leave joints without a pair).
+    """
+    from hdselect.sizing.core import select_units
+    from hdselect.sizing.tasks import Task, pooled
+    from hdselect.sizing.torques import DirectTorques
+
+    robot, motion = load_case(BENCHTOP, payload=None if mass is None else Payload(mass))
+    units = load_catalog([REPO / "catalogs" / "example_rated_bearing.toml"])
+    assert any(u.bearing is not None for u in units)
+    motors = {name: load_motors(EXAMPLE) for name in robot.sized_joints}
+    options = Options(prefer=prefer, margin=margin)
+    samples = pooled((Task(robot, plan(robot, motion)),))
+    model = DirectTorques(samples.tasks, samples, options.stop_time)
+    per_joint = {name: units for name in robot.sized_joints}
+    every, _ = select_units(model, per_joint, options, motors, slowdowns=False)
+    chosen, _ = select_units(model, per_joint, options, motors, detail=False, slowdowns=False)
+    none_fits = 0
+    for full, pruned in zip(every, chosen, strict=True):
+        want = full.selected or full.strongest
+        got = pruned.selected or pruned.strongest
+        none_fits += full.selected is None
+        assert (pruned.selected is None) == (full.selected is None), full.name
+        assert (got.unit.id, got.motor_unit.id) == (want.unit.id, want.motor_unit.id)
+        assert got.checks == want.checks
+        assert np.array_equal(pruned.motor_torque, full.motor_torque)
+        assert pruned.bearing == full.bearing
+    assert (none_fits > 0) == (mass is not None)  # both branches: a pair found, none found
+
+
+def test_the_motor_peak_judged_once_per_dwell_is_the_one_of_every_sample():
+    """A second method: `check_motor` on every sample against once per run of identical
+    samples (`Reflection.distinct_motor_torque`), on the benchtop motion's dwells, for
+    every unit and motor (a motor with a speed curve among them)."""
+    from hdselect.catalog.motor_rules import check_motor
+    from hdselect.robot.dynamics import inverse_dynamics
+    from hdselect.sizing.reflect import reflect_motors
+
+    robot, motion = load_case(BENCHTOP)
+    trajectory = plan(robot, motion)
+    torques = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+    units = load_catalog()
+    motors = load_motors(EXAMPLE)
+    j = robot.joint_index("shoulder_lift")
+    qd, qdd = trajectory.qd[:, j], trajectory.qdd[:, j]
+    behind = reflect_motors(units, [m.rotor_inertia for m in motors], trajectory.t,
+                            torques[:, j], qd, qdd, torques[:, j], stop_time=0.1,
+                            efficiency=ETA)
+    speed = np.abs(qd) * RPM
+    assert any(m.curve is not None for m in motors)
+    for m, motor in enumerate(motors):
+        for r in behind[m]:
+            torque, starts = r.distinct_motor_torque()
+            assert starts is not None and len(starts) < len(qd) / 2  # dwells merged
+            every = check_motor(motor, r.motor_torque, speed * r.unit.ratio, r.motor)
+            once = check_motor(motor, torque, (speed * r.unit.ratio)[starts], r.motor)
+            assert once == every

@@ -204,17 +204,28 @@ def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
     def fails(s: float) -> tuple[str, str] | None:
         return _failing(cycles, held, units, options, s, motors)
 
+    last = [next(iter(cycles))]  # the joint that failed last: most likely to fail again
+
+    def passes(s: float) -> bool:
+        """Whether every joint passes at s: the last joint to fail is checked first."""
+        for name in (last[0], *(name for name in cycles if name != last[0])):
+            if not _check_scaled(cycles[name], held, units[name], s, options,
+                                 motors.get(name)).feasible:
+                last[0] = name
+                return False
+        return True
+
     for lo, hi in feasible:
         below: float | None = None
         s = lo
         while True:
-            if fails(s) is None:
+            if passes(s):
                 if below is None:
                     return s, (fails(s / (1.0 + 1e-3)) if s > 1.0 else None)
                 low, high = below, s
                 while high > low * (1.0 + SCALE_RTOL):
                     middle = math.sqrt(low * high)
-                    low, high = (middle, high) if fails(middle) else (low, middle)
+                    low, high = (low, middle) if passes(middle) else (middle, high)
                 return high, fails(low)
             below = s
             if s >= hi:

@@ -10,8 +10,8 @@ function of m:
   crash) at every sample: an interval of m per sample, intersected;
 - mean torque and life: T_av(m) = (sum w |tau_0 + m tau_1|^3 / sum w)^(1/3), w = |qd| dt
   over the moving samples, is convex in m, so T_av(m) <= T_allow (the allowance, and
-  the torque that gives the required life, do not depend on m) is an interval whose
-  ends are bisected to machine precision;
+  the torque that gives the required life, do not depend on m) is an interval, found
+  from the sorted roots of the samples' torques (`hdselect.codesign.cubicmean`);
 - input speed and average input speed do not depend on m.
 
 The units chosen (and so the gearhead masses the joints nearer the base carry)
@@ -32,6 +32,7 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, allowable_mean_torque, at_rest
 from hdselect.catalog.units import L50_PER_L10, Unit
+from hdselect.codesign.cubicmean import CubicMean
 from hdselect.codesign.payloadsizing import PayloadSizing, fixed_units
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
@@ -169,8 +170,8 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
             inside = max(mass * (1.0 - 1e-9), ranges[-1][0])
             if fixed or candidates:  # their rules are the sizing's: bisect on it
                 mass, selection, failing = sizing.largest(ranges[-1][0], inside)
-            else:
-                selection = sizing.at(inside)
+            else:  # a round's sizing gives the masses: slow-downs only for the answer
+                selection = sizing.at(inside, slowdowns=False)
         result = (mass, ranges, bounds, selection, failing)
         if selection is None or not options.mass_coupling:
             break
@@ -181,6 +182,8 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
         masses = chosen
     assert result is not None
     mass, ranges, bounds, selection, failing = result
+    if selection is not None and failing is None and not selection.feasible:
+        selection = sizing.at(inside)  # a joint no unit fits: its slow-downs, as size gives
     joint = unit = rule = None
     if failing is not None:  # a motor's rule or a fixed unit binds
         stuck = next(j for j in failing.joints if j.selected is None)
@@ -244,8 +247,9 @@ def joint_bounds(carrying: Robot, payload: Payload, trajectory: Trajectory,
         tau0, stop0 = empty.tau[:, j], empty.stop[:, j]
         tau1 = _per_kg(loaded.tau[:, j], tau0)
         stop1 = _per_kg(loaded.stop[:, j], stop0)
+        cubic = joint_mean(trajectory.dt, at_rest(qd[:, j], qdd[:, j]), qd[:, j], tau0, tau1)
         out[name] = tuple(_unit_bound(unit, trajectory, qd[:, j], qdd[:, j], tau0, tau1, stop0,
-                                      stop1, options) for unit in units)
+                                      stop1, options, cubic) for unit in units)
     return out
 
 
@@ -263,15 +267,38 @@ def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:
 
 def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndarray,
                 tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
-                options: Options) -> UnitBound:
-    """Every rule of `hdselect.catalog.rules.check_unit` as an interval of payload mass [kg]."""
+                options: Options, cubic: CubicMean | None = None) -> UnitBound:
+    """Every rule of `hdselect.catalog.rules.check_unit` as an interval of payload mass [kg].
+
+    `cubic`: the joint's cubic mean torque (`joint_mean`), shared by its units; None
+    builds it.
+    """
     return unit_bound(unit, trajectory.dt, at_rest(qd, qdd), qd, tau0, tau1, stop0, stop1,
-                      options)
+                      options, cubic=cubic)
+
+
+def joint_mean(dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray, tau0: np.ndarray,
+               tau1: np.ndarray) -> CubicMean:
+    """A joint's cubic mean torque as a function of x, tau = tau0 + x tau1 [N m].
+
+    The catalog's weights, |qd| dt over the moving samples, do not depend on the unit:
+    one `CubicMean` (one sort of the samples' roots) serves every unit of the joint.
+
+    Args:
+        dt: What each sample stands for [s], a number or (n,).
+        rest: Where the joint is held still, (n,).
+        qd: The joint's speed [rad/s], (n,).
+        tau0: Torque at x = 0 [N m], (n,).
+        tau1: Its change per unit of x [N m], (n,).
+    """
+    step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
+    return CubicMean(tau0, tau1, np.abs(qd) * step * ~rest)
 
 
 def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray,
                tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
-               options: Options, idle: float = 0.0) -> UnitBound:
+               options: Options, idle: float = 0.0, *,
+               cubic: CubicMean | None = None) -> UnitBound:
     """Every rule of `check_unit` as an interval of x, with tau = tau0 + x tau1 [N m].
 
     Args:
@@ -285,6 +312,8 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
         stop1: Its change per unit of x [N m], (n,).
         options: The assumptions.
         idle: Time at rest no sample stands for [s] (a pause in a whole-cycle mean speed).
+        cubic: The joint's mean torque (`joint_mean` of the same samples), shared by its
+            units; None builds it.
     """
     moving = ~rest
     speed = np.abs(qd)
@@ -313,14 +342,15 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
     ends["average_speed"] = everything if average is None or n_av <= average * usable else None
     if travel > 0.0:
         allowed, _ = allowable_mean_torque(unit, n_av)
-        ends["mean"] = _mean_at_most(tau0, tau1, weight, allowed * usable)
+        mean = joint_mean(dt, rest, qd, tau0, tau1) if cubic is None else cubic
+        ends["mean"] = mean.at_most(allowed * usable)
         if options.life_hours is not None:  # required / expected <= usable
             required = (options.life_hours / usable
                         * (L50_PER_L10 if options.life_basis == "L10" else 1.0))
             most = (unit.rated_torque * (rules.rated_l50_hours * rules.rated_input_speed
                                          / (n_av * required)) ** (1.0 / 3.0)
                     if n_av > 0.0 else math.inf)
-            ends["life"] = _mean_at_most(tau0, tau1, weight, most)
+            ends["life"] = mean.at_most(most)
     masses: Interval | None = (0.0, math.inf)
     for span in ends.values():
         masses = _meet(masses, span)
@@ -350,58 +380,6 @@ def _meet(a: Interval | None, b: Interval | None) -> Interval | None:
         return None
     lo, hi = max(a[0], b[0]), min(a[1], b[1])
     return (lo, hi) if lo <= hi else None
-
-
-def _mean_at_most(c0: np.ndarray, c1: np.ndarray, weight: np.ndarray,
-                  most: float) -> Interval | None:
-    """Where (sum w |c0 + m c1|^3 / sum w)^(1/3) <= most: an interval of m (convex), or None."""
-    total = float(weight.sum())
-    keep = weight > 0.0
-    c0, c1, w = c0[keep], c1[keep], weight[keep] / total
-
-    def excess(m: float) -> float:
-        return float(np.dot(w, np.abs(c0 + m * c1) ** 3)) - most**3
-
-    def slope(m: float) -> float:
-        value = c0 + m * c1
-        return float(np.dot(w, 3.0 * c1 * value * np.abs(value)))
-
-    if not np.any(c1 != 0.0):
-        return (-math.inf, math.inf) if excess(0.0) <= 0.0 else None
-    # the minimiser of the convex excess: where its slope changes sign
-    lo, hi = -1.0, 1.0
-    while slope(lo) > 0.0:
-        lo *= 2.0
-    while slope(hi) < 0.0:
-        hi *= 2.0
-    centre = _bisect(slope, lo, hi)
-    if excess(centre) > 0.0:
-        return None
-    step = max(1.0, abs(centre))
-    right = centre + step
-    while excess(right) <= 0.0:
-        right = centre + 2.0 * (right - centre)
-    left = centre - step
-    while excess(left) <= 0.0:
-        left = centre - 2.0 * (centre - left)
-    return (_bisect(excess, left, centre, rising=False), _bisect(excess, centre, right))
-
-
-def _bisect(function, lo: float, hi: float, *, rising: bool = True) -> float:
-    """The point in [lo, hi] where `function` changes sign, to machine precision.
-
-    With `rising`, function(lo) <= 0 < function(hi); otherwise the mirror image. The
-    end returned is the one on the `<= 0` side.
-    """
-    for _ in range(200):
-        middle = 0.5 * (lo + hi)
-        if middle in (lo, hi):
-            break
-        if (function(middle) <= 0.0) == rising:
-            lo = middle
-        else:
-            hi = middle
-    return lo if rising else hi
 
 
 def _feasible(bounds: Mapping[str, tuple[UnitBound, ...]]) -> list[Interval]:

@@ -30,6 +30,7 @@ from hdselect.codesign.maxpayload import (
     _binding,
     _feasible,
     _per_kg,
+    joint_mean,
     unit_bound,
 )
 from hdselect.motion.mixfile import Mix
@@ -208,7 +209,9 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
         tau1 = np.concatenate([_per_kg(full.tau[:, j], none.tau[:, j]) for none, full in parts])
         stop1 = np.concatenate([_per_kg(full.stop[:, j], none.stop[:, j])
                                 for none, full in parts])
-        out[name] = tuple(unit_bound(unit, samples.dt, samples.rest[:, j], samples.qd[:, j],
-                                     tau0, tau1, stop0, stop1, options, samples.idle)
+        rest, qd = samples.rest[:, j], samples.qd[:, j]
+        cubic = joint_mean(samples.dt, rest, qd, tau0, tau1)
+        out[name] = tuple(unit_bound(unit, samples.dt, rest, qd, tau0, tau1, stop0, stop1,
+                                     options, samples.idle, cubic=cubic)
                           for unit in units)
     return out

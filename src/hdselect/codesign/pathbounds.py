@@ -407,7 +407,7 @@ def _first_infeasible(piece: PathPiece, constraints: list[Any]) -> float:
     """
     import toppra.algorithm as algorithm
 
-    from hdselect.motion.planning.toppra import _quiet
+    from hdselect.motion.planning.path import quiet as _quiet
 
     with _quiet():
         instance = algorithm.TOPPRA(constraints, piece.path, gridpoints=piece.gridpoints)

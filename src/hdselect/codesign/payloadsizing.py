@@ -21,9 +21,10 @@ from hdselect.catalog.units import Unit
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.core import check_units, size_trajectory
+from hdselect.sizing.core import check_units, size_tasks
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import SizingResult
+from hdselect.sizing.tasks import Task
 
 MASS_RTOL = 1e-6
 """Relative width to which the largest mass is bisected where motors or fixed units bind [-]."""
@@ -63,14 +64,20 @@ class PayloadSizing:
                                  f"has {len(self.motors[several[0]])} to choose from)",
                                  field="motors")
 
-    def at(self, mass: float) -> SizingResult:
-        """The sizing (or the check of the fixed units) with `mass` [kg] of payload."""
+    def at(self, mass: float, *, slowdowns: bool = True) -> SizingResult:
+        """The sizing (or the check of the fixed units) with `mass` [kg] of payload.
+
+        Args:
+            mass: The payload's mass [kg].
+            slowdowns: Find, for a joint no unit fits, the time scales at which each
+                would (`hdselect.sizing.slowdown`); False asks for the verdict only.
+        """
         robot = self.bare.with_payload(scaled(self.payload, mass)) if mass > 0 else self.bare
         if self.units:
             return check_units(robot, self.trajectory, self.units, self.options,
                                motors={name: found[0] for name, found in self.motors.items()})
-        return size_trajectory(robot, self.trajectory, self.catalog, self.options,
-                               motors=self.motors)
+        return size_tasks((Task(robot, self.trajectory),), self.catalog, self.options,
+                          motors=self.motors, slowdowns=slowdowns)
 
     def largest(self, low: float, high: float) -> tuple[float | None, SizingResult | None,
                                                          SizingResult | None]:
@@ -80,16 +87,16 @@ class PayloadSizing:
             The mass (None when not even `low` passes), the sizing there, and the sizing
             just above it that fails (None when `high` passes).
         """
-        top = self.at(high)
+        top = self.at(high, slowdowns=False)  # a sizing that fails only names its rule
         if top.feasible:
             return high, top, None
-        bottom = self.at(low)
+        bottom = self.at(low, slowdowns=False)
         if not bottom.feasible:
             return None, None, bottom
         failing = top
         while high - low > MASS_RTOL * max(high, 1e-9):
             middle = 0.5 * (low + high)
-            found = self.at(middle)
+            found = self.at(middle, slowdowns=False)
             if found.feasible:
                 low, bottom = middle, found
             else:

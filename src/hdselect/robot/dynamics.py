@@ -16,6 +16,8 @@ _SAMPLES_PER_THREAD = 2048
 CHUNK = 1 << 16
 """Samples per batched call: bounds the temporaries of a long trajectory (a few MB) while
 keeping the per-call overhead negligible."""
+_CORES = os.cpu_count() or 1
+"""Cores of this machine (asking the system costs ~0.1 ms a call)."""
 _REPEATS_WORTH = 8
 """Repeated states are computed once when more than 1 in this many samples repeat the one
 before (dwells): the same inputs give the same torques, bit for bit."""
@@ -137,7 +139,7 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         keep, back = distinct
         return inverse_dynamics(robot, q[keep], qd[keep], qdd[keep], threads=threads)[back]
     if threads is None:
-        threads = min(os.cpu_count() or 1, max(1, min(n, CHUNK) // _SAMPLES_PER_THREAD))
+        threads = min(_CORES, max(1, min(n, CHUNK) // _SAMPLES_PER_THREAD))
     pool = pin.ModelPool(robot.model, threads)  # 0.05 ms: cheaper than keeping models alive
     out = np.empty((n, robot.model.nv))
     for start in range(0, n, CHUNK):

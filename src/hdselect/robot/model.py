@@ -251,7 +251,8 @@ class Robot:
         bare = self._bare_model
         model = pin.Model(bare)
         if robot.payload is not None:
-            frame = payload_frame(model, robot.payload, robot.path, robot.default_payload_frame)
+            default = robot.default_payload_frame if robot.payload.frame is None else ""
+            frame = payload_frame(model, robot.payload, robot.path, default)
             model.appendBodyToJoint(frame.parentJoint, pin.Inertia(
                 robot.payload.mass, np.array(robot.payload.com), np.array(robot.payload.inertia)),
                 frame.placement)

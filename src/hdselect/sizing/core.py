@@ -209,7 +209,8 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
 
 
 def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | None = None,
-               *, motors: Motors | None = None, idle: float = 0.0) -> SizingResult:
+               *, motors: Motors | None = None, idle: float = 0.0,
+               slowdowns: bool = True) -> SizingResult:
     """Choose a gearhead (or a pair) for every sized joint for everything a robot does.
 
     Per joint and unit, the rules of one sample (repeated peak, static, speed,
@@ -229,6 +230,8 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
         idle: The fraction of the time no task runs [-]: the shares and it sum to 1. A
             pause, it counts only where a series' rules take the mean speed over the
             whole cycle, pauses included.
+        slowdowns: For a joint no unit fits, find the time scales at which each would;
+            False leaves them out (the verdict and the figures are the same).
 
     Returns:
         The result for every sized joint; its robot, trajectory and motion are the first
@@ -245,6 +248,7 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
     if not units:
         raise InputError("no gearhead to choose from", field="units")
     expect_type(options, (Options, type(None)), "options", "an Options or None")
+    expect_type(slowdowns, (bool,), "slowdowns", "True or False")
     robot = tasks[0].robot
     if not robot.sized_joints:
         raise InputError("the robot has no rotary joint to size (prismatic joints take no "
@@ -268,7 +272,7 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
     samples = pooled(tasks, idle)
     model = DirectTorques(samples.tasks, samples, options.stop_time, threads=options.threads,
                           guess=guess, wrenches=options.bearing_loads)
-    joints, masses = select_units(model, per_joint, options, motors)
+    joints, masses = select_units(model, per_joint, options, motors, slowdowns=slowdowns)
     first = samples.tasks[0]
     return SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
                         first.motion, motors=motors, loads=model.loads(masses),

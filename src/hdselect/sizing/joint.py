@@ -116,7 +116,10 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
     """
     load = cycle.load()
     bearings = _Bearings(cycle)
-    if motors:
+    if motors and not detail:
+        joint = _selected_pair(name, cycle, load, bearings, units, motors, options,
+                               load_inertia)
+    elif motors:
         joint = _size_pairs(name, cycle, load, bearings, units, motors, options, load_inertia)
     elif detail:
         candidates = [_candidate(load, r, cycle, bearings, options)
@@ -226,19 +229,48 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearin
                             stop_time=options.stop_time, efficiency=options.efficiency,
                             rest=cycle.rest)
     speed = np.abs(cycle.qd) * RPM_PER_RAD_S
-    pairs, torque = [], {}
+    pairs, reflections = [], {}
     for u, unit in enumerate(units):
+        input_speed = speed * unit.ratio
         for m, motor in enumerate(motors):
             r = behind[m][u]
-            pair = with_motor(_candidate(load, r, cycle, bearings, options), motor,
-                              r.motor_torque, speed * unit.ratio, load_inertia=load_inertia,
+            torque, starts = r.distinct_motor_torque()  # the motor's peak: once per dwell
+            pair = with_motor(_candidate(load, r, cycle, bearings, options), motor, torque,
+                              input_speed if starts is None else input_speed[starts],
+                              load_inertia=load_inertia,
                               max_inertia_ratio=options.max_inertia_ratio)
             pairs.append(pair)
-            torque[id(pair)] = r.motor_torque
+            reflections[id(pair)] = r
     selected = select(pairs, _prefer(options), inertia_target=options.inertia_target)
     joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0,
                         readonly(cycle.torque), readonly(cycle.stop), load_inertia=load_inertia)
-    return replace(joint, motor_torque=frozen(torque[id(selected or joint.strongest)]))
+    chosen = reflections[id(selected or joint.strongest)]
+    return replace(joint, motor_torque=frozen(chosen.motor_torque))
+
+
+def _selected_pair(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,
+                   units: tuple[Unit, ...], motors: Sequence[Motor], options: Options,
+                   load_inertia: float | None) -> JointSizing:
+    """The selected pair, from the pairs whose gearhead passes the rules no motor changes.
+
+    Those are its rules on single figures but the momentary one (peak, input speed,
+    static); where no such pair fits, every pair is checked. A pair whose gearhead
+    fails one of them is infeasible with any motor, so the selection is the one among
+    every pair; the strongest (where none fits) is found among every pair, as with
+    detail.
+    """
+    limits = _Limits.of(units, options)
+    most = 1.0 - options.margin  # `holds`, on every unit at once
+    passes = ((load.peak_torque / limits.repeated <= most)
+              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= most))
+    if load.static_torque is not None:
+        passes &= load.static_torque / limits.static <= most
+    survivors = tuple(unit for unit, ok in zip(units, passes, strict=True) if ok)
+    if survivors and len(survivors) < len(units):
+        found = _size_pairs(name, cycle, load, bearings, survivors, motors, options, load_inertia)
+        if found.selected is not None:
+            return found
+    return _size_pairs(name, cycle, load, bearings, units, motors, options, load_inertia)
 
 
 def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,

@@ -51,18 +51,32 @@ class Reflection:
     _cycle: tuple[np.ndarray, np.ndarray, np.ndarray, float, float, np.ndarray] = field(
         repr=False)
     _torque: np.ndarray | None = field(default=None, repr=False)
+    _expand: np.ndarray | None = field(default=None, repr=False)
+    _starts: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def motor_torque(self) -> np.ndarray:
         """Motor torque per sample [N m], shape (n,).
 
-        Kept from the reflection for a cycle of one `CHUNK`; for a longer one computed
-        when asked for (the same floats), so a long cycle's reflections stay small.
+        Kept from the reflection for a cycle of one `CHUNK` (once per run of identical
+        samples); for a longer one computed when asked for (the same floats), so a long
+        cycle's reflections stay small.
         """
         if self._torque is not None:
-            return self._torque
+            return self._torque if self._expand is None else self._torque[self._expand]
         tau, qd, qdd, efficiency, rotor_inertia, rest = self._cycle
         return _motor_torques([self.unit], tau, qd, qdd, efficiency, rotor_inertia, rest)[0]
+
+    def distinct_motor_torque(self) -> tuple[np.ndarray, np.ndarray | None]:
+        """Motor torque once per run of identical samples [N m], and each run's first sample.
+
+        A run's samples are identical, so a rule of single samples (the motor's peak at
+        its speed) judged on these is judged on every sample, first worst sample first.
+        Where the reflection keeps no runs: every sample, and None.
+        """
+        if self._torque is not None and self._starts is not None:
+            return self._torque, self._starts
+        return self.motor_torque, None
 
 
 def reflect(
@@ -153,22 +167,26 @@ def reflect_motors(
     rows = np.arange(len(units))
     kept: list[np.ndarray | None] = [None] * len(inertias)  # a one-chunk cycle's torques
     resting = at_rest(qd, qdd) if rest is None else np.asarray(rest, dtype=bool)
-    for start in range(0, n, CHUNK):
-        part = slice(start, start + CHUNK)
+    starts, counts = _runs(tau, qd, qdd, resting)
+    m = len(starts)
+    for first in range(0, m, CHUNK):
+        part = starts[first:first + CHUNK]
+        count = counts[first:first + CHUNK] if counts is not None else None
         geared = _geared(units, ratio, tau[part], qd[part], efficiency, resting[part])
-        speed, held = np.abs(qd[part]), np.abs(tau[part])
+        speed, held, accel = np.abs(qd[part]), np.abs(tau[part]), qdd[part]
         for k in range(len(inertias)):
-            motor = geared + np.multiply.outer(inertia[k] * ratio, qdd[part])
+            motor = geared + np.multiply.outer(inertia[k] * ratio, accel)
             peak[k] = np.maximum(peak[k], np.maximum(motor.max(axis=1), -motor.min(axis=1)))
-            squares[k] += np.einsum("ij,ij->i", motor, motor)
+            squares[k] += np.einsum("ij,ij->i", motor, motor if count is None else motor * count)
             crash = np.multiply.outer(crash_gain[k], speed)
             crash += held
             i = crash.argmax(axis=1)
             better = crash[rows, i] > crash_best[k]  # strictly: the first worst instant wins
             crash_best[k] = np.where(better, crash[rows, i], crash_best[k])
-            crash_at[k] = np.where(better, i + start, crash_at[k])
-            if n <= CHUNK:
+            crash_at[k] = np.where(better, part[i], crash_at[k])
+            if m <= CHUNK:
                 kept[k] = motor
+    expand = None if counts is None else np.repeat(np.arange(m), counts)
     rms = np.sqrt(squares / n)
     max_speed = float(np.abs(qd).max()) * RPM_PER_RAD_S * ratio
     rms_speed = float(np.sqrt(np.einsum("i,i->", qd, qd) / n)) * RPM_PER_RAD_S * ratio
@@ -191,9 +209,33 @@ def reflect_motors(
             torque = kept[k]
             behind.append(Reflection(unit, demand, event,
                                      (tau, qd, qdd, efficiency, rotor_inertia, resting),
-                                     None if torque is None else torque[row]))
+                                     None if torque is None else torque[row], expand,
+                                     None if counts is None else starts))
         out.append(behind)
     return out
+
+
+def _runs(tau: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+          rest: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+    """The first sample of each run of identical samples (a dwell), and each run's length.
+
+    Identical samples give identical reflections, so each run is reflected once and its
+    squares counted as many times as it repeats. Where few samples repeat, every sample
+    is its own run (lengths None).
+    """
+    n = len(tau)
+    if n < 2:
+        return np.arange(n), None
+    repeat = ((tau[1:] == tau[:-1]) & (qd[1:] == qd[:-1]) & (qdd[1:] == qdd[:-1])
+              & (rest[1:] == rest[:-1]))
+    if np.count_nonzero(repeat) * _REPEATS_WORTH <= n:
+        return np.arange(n), None
+    starts = np.flatnonzero(np.r_[True, ~repeat])
+    return starts, np.diff(np.append(starts, n))
+
+
+_REPEATS_WORTH = 8
+"""Runs of identical samples are reflected once when more than 1 in this many repeat."""
 
 
 def _geared(units: Sequence[Unit], ratio: np.ndarray, tau: np.ndarray, qd: np.ndarray,

@@ -7,7 +7,7 @@ The full `SizingResult` keeps every sample's torque for reports and figures
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields, is_dataclass
 from typing import Any
 
 from hdselect.base.bounds import expect_type
@@ -129,7 +129,7 @@ class Summary:
         A number that is not finite (the infinite life of a joint that carries no load)
         is None, as in the command line's JSON.
         """
-        return _finite(asdict(self))
+        return _finite(self)
 
 
 def summarize(result: SizingResult) -> Summary:
@@ -205,11 +205,19 @@ def _joint(joint: JointSizing, result: SizingResult) -> JointSummary:
 
 
 def _finite(value: Any) -> Any:
-    """`value` with every float that is not finite replaced by None, containers walked."""
+    """`value` as plain data, every float that is not finite replaced by None.
+
+    As ``dataclasses.asdict`` walks it (dataclasses become dicts), tuples become lists;
+    containers are walked once and the leaves are not copied.
+    """
     if isinstance(value, float):
         return value if math.isfinite(value) else None
+    if value is None or isinstance(value, str | bool | int):
+        return value
     if isinstance(value, dict):
         return {key: _finite(item) for key, item in value.items()}
     if isinstance(value, list | tuple):
         return [_finite(item) for item in value]
+    if is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _finite(getattr(value, f.name)) for f in fields(value)}
     return value

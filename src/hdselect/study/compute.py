@@ -133,11 +133,17 @@ class _Inputs:
         self.motions: dict[tuple[Path, tuple[Path, tuple[tuple[str, str], ...]]], Motion] = {}
         self.units: dict[tuple[tuple[Path, ...], int | None], tuple[Unit, ...]] = {}
         self.motor_files: dict[Path, tuple[Motor, ...]] = {}
+        self.robot_files: dict[Path, tuple[Path, dict[str, str]]] = {}
 
     def case(self, case: Case) -> tuple[Robot, Motion, Payload | None]:
         """The bare robot, the motion and the case's payload."""
-        robot_file, arguments = (case.robot, {}) if case.robot is not None else \
-            robot_source(case.motion)
+        arguments: dict[str, str] = {}
+        if case.robot is not None:
+            robot_file = case.robot
+        else:  # the motion file read once for the robot it names
+            if case.motion not in self.robot_files:
+                self.robot_files[case.motion] = robot_source(case.motion)
+            robot_file, arguments = self.robot_files[case.motion]
         key = (robot_file, tuple(sorted(arguments.items())))
         if key not in self.robots:
             self.robots[key] = load_robot(robot_file, xacro_args=arguments)
@@ -161,7 +167,6 @@ class _Inputs:
                 units = chosen
             self.units[key] = units
         return self.units[key]
-
 
     def mix_motors(self, case: Case, robot: Robot, mix: Mix) -> dict[str, tuple[Motor, ...]]:
         """A mix case's candidate motors: its ``motor_catalog``'s, else the mix's."""

@@ -15,6 +15,8 @@ This module imports toppra: import it only where TOPPRA runs.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from toppra.constraint import DiscretizationType, LinearConstraint
 from toppra.constraint.linear_constraint import canlinear_colloc_to_interpolate
@@ -46,6 +48,31 @@ def path_torque_coefficients(robot: Robot, q: np.ndarray, dq: np.ndarray, ddq: n
     a = inverse_dynamics(robot, q, zero, dq, threads=threads) - c
     b = inverse_dynamics(robot, q, dq, ddq, threads=threads) - c
     return a, b, c
+
+
+def torque_excess(robot: Robot, profile: Any, limit: np.ndarray) -> np.ndarray:
+    """Per step of a TOPPRA profile, how far the torque at its middle goes past `limit` [-].
+
+    TOPPRA bounds the torque at the gridpoints; between them the path's coefficients
+    change. At the middle s_m of each step, x = s'^2 is the mean of its ends' and s''
+    the step's own, so tau = a(s_m) s'' + b(s_m) x + c(s_m) (three batched passes).
+
+    Args:
+        robot: The robot the limits apply to.
+        profile: A `hdselect.motion.planning.toppra.Profile`.
+        limit: Joint torque limits, |tau| <= limit [N m], shape (dof,).
+
+    Returns:
+        max_j |tau_j| / limit_j - 1 at each step's middle, shape (m - 1,).
+    """
+    piece = profile.piece
+    grid = piece.gridpoints
+    middle = 0.5 * (grid[:-1] + grid[1:])
+    path = piece.path
+    a, b, c = path_torque_coefficients(robot, path(middle), path(middle, 1), path(middle, 2))
+    x = 0.5 * (profile.sd[:-1] ** 2 + profile.sd[1:] ** 2)
+    tau = a * profile.sdd[:, None] + b * x[:, None] + c
+    return np.max(np.abs(tau) / limit, axis=1) - 1.0
 
 
 class SecondOrderBounds(LinearConstraint):

@@ -1,21 +1,31 @@
 """TOPPRA: a time-optimal traversal of a spline path through the waypoints.
 
 The path is a clamped cubic spline through the waypoints (chord-length
-parametrised), with 200 cosine-spaced TOPPRA gridpoints per waypoint of a piece
-(`path_pieces`). A waypoint with a dwell splits the path into pieces that each
+parametrised); a waypoint with a dwell splits the path into pieces that each
 start and end at rest. A cubic spline overshoots its waypoints: where that would
 take a joint past its position limit (a waypoint on or near the limit, such as a
 home pose on a stop), that joint alone follows a shape-preserving cubic instead
 (PCHIP slopes, zero at the ends), which never leaves the range of its neighbouring
 waypoints. TOPPRA's answer is the path speed s' at every gridpoint,
 with constant path acceleration between them (`Profile`, which samples it with
-numpy exactly as toppra's ``ParametrizeConstAccel`` does). That parametrisation
-overshoots the limits between gridpoints (measured up to 2.5e-3 relative); each
-piece is therefore slowed down uniformly by its overshoot (plus 1e-4,
-`overshoot_scale`), which keeps the sampled velocity and acceleration within
-``TOPPRA_TOLERANCE`` of the limits (measured: never above them on 30 random 6-DOF
-paths) for a cycle at most that much longer than TOPPRA's. Torque limits hold
-within ``TOPPRA_TORQUE_TOLERANCE`` (measured up to 6e-5 relative).
+numpy exactly as toppra's ``ParametrizeConstAccel`` does).
+
+TOPPRA's cost grows with its gridpoints (three small LPs on each, in Python), so a
+piece is solved on a coarse grid, 50 cosine-spaced gridpoints per waypoint
+(`SOLVE_GRID`, at least `MIN_SOLVE_GRIDPOINTS`), and its trajectory verified between
+them: the speed and
+acceleration at `_DENSE_CHECK` times in every step, the torque at the middle of
+every step. Steps that exceed a limit by more than `REFINE_TOLERANCE` are halved
+and the piece solved again (`solve_refined`), so gridpoints are added only where
+the path needs them. What overshoot remains is removed by slowing the piece down
+uniformly (plus 1e-4, `overshoot_scale`), which keeps the sampled velocity and
+acceleration within ``TOPPRA_TOLERANCE`` of the limits for a cycle at most that
+much longer than TOPPRA's. Cycle times are within 0.1 % of those on 200 gridpoints
+per waypoint (tests/test_plan.py). A piece with a shape-preserving joint, or with a
+straight line's joint samples, is solved on those 200 per waypoint (and 8 per line
+sample): its p'' steps at the knots, so halving the step that holds a knot never
+removes its excess, and a line's samples are close together. Torque limits hold within
+``TOPPRA_TORQUE_TOLERANCE``.
 
 Co-design (`hdselect.codesign`) solves the same pieces, built by the same
 `path_pieces` (so under the same rule at the position limits), under more
@@ -24,11 +34,8 @@ constraints with `solve_piece`.
 
 from __future__ import annotations
 
-import logging
 import math
-import warnings
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import partial
 from typing import Any
@@ -39,9 +46,20 @@ from hdselect.base.arrays import frozen
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.base.errors import PlanningError
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.paths import SplinePath, piece_bounds, piece_geometry
+from hdselect.motion.planning.path import (
+    GRID_PER_LINE_SAMPLE,
+    GRID_PER_WAYPOINT,
+    PathPiece,
+    path_pieces,
+    quiet,
+    with_gridpoints,
+)
 from hdselect.motion.planning.trajectory import Move, Trajectory, assemble
 from hdselect.robot.model import Robot
+
+__all__ = ["GRID_PER_LINE_SAMPLE", "PathPiece", "Profile", "kinematic_constraints",
+           "overshoot_scale", "path_pieces", "plan_toppra", "solve_piece", "solve_refined",
+           "step_excess", "with_gridpoints"]
 
 TOPPRA_TOLERANCE = 1e-6
 """Relative amount by which a TOPPRA trajectory may exceed its velocity and
@@ -50,54 +68,28 @@ acceleration limits [-]."""
 TOPPRA_TORQUE_TOLERANCE = 1e-3
 """Relative amount by which a TOPPRA trajectory may exceed its torque limits [-]."""
 
-_GRID_PER_SEGMENT = 200
-"""TOPPRA gridpoints per waypoint of a piece (cosine-spaced, dense near the rest ends)."""
+SOLVE_GRID = 50
+"""TOPPRA gridpoints per waypoint of a piece the planner solves first (cosine-spaced,
+dense near the rest ends), before refining the steps that need it."""
 
-GRID_PER_LINE_SAMPLE = 8
-"""TOPPRA gridpoints per joint sample of a straight line (its samples are close together)."""
+MIN_SOLVE_GRIDPOINTS = 400
+"""Fewest gridpoints a piece is first solved on (a short piece's cycle converges slower)."""
+
+REFINE_TOLERANCE = 2e-4
+"""Relative excess over a limit between gridpoints above which a step is halved [-]."""
+
+REFINE_ROUNDS = 3
+"""Most TOPPRA solves of a piece while its grid is refined."""
+
+_SPLIT_MARGIN = 1.25
+"""Parts a step is split into, over the square root of its excess over the tolerance [-]."""
+
 
 _DENSE_CHECK = 10
 """Check points per TOPPRA gridpoint when measuring its overshoot."""
 
 _MARGIN = 1e-4
 """Extra time scaling of a TOPPRA piece for peaks between the check points [-]."""
-
-
-@dataclass(frozen=True, eq=False)
-class PathPiece:
-    """One piece of the path, from rest to rest, between two waypoints.
-
-    Attributes:
-        first: Index of the waypoint it starts from.
-        last: Index of the waypoint it ends at (the next one with a dwell, or the last).
-        path: The path over s in [0, 1] (`hdselect.motion.paths.SplinePath`, toppra's path
-            interface), or None when the piece has zero length.
-        gridpoints: TOPPRA's gridpoints s, shape (m,).
-        q: p(s) at the gridpoints [rad or m], shape (m, dof).
-        dq: p'(s) at the gridpoints [rad or m per unit of s], shape (m, dof).
-        ddq: p''(s) at the gridpoints, shape (m, dof).
-        waypoints: Index of every waypoint the path passes through, in order (repeats
-            dropped).
-        knots: Path position s of each of those waypoints, shape (len(waypoints),).
-    """
-
-    first: int
-    last: int
-    path: Any
-    gridpoints: np.ndarray
-    q: np.ndarray
-    dq: np.ndarray
-    ddq: np.ndarray
-    waypoints: tuple[int, ...] = ()
-    knots: np.ndarray | None = None
-
-    def segment(self, s: float) -> tuple[int, int]:
-        """The waypoints (indices) between which path position s [-] lies."""
-        if self.knots is None or len(self.waypoints) < 2:
-            return self.first, self.last
-        k = int(np.clip(np.searchsorted(self.knots, s, side="right") - 1, 0,
-                        len(self.waypoints) - 2))
-        return self.waypoints[k], self.waypoints[k + 1]
 
 
 @dataclass(frozen=True, eq=False)
@@ -183,7 +175,7 @@ class Profile:
         Returns:
             q [rad or m], qd [per s], qdd [per s^2], each of shape (n, dof).
         """
-        with _quiet():
+        with quiet():
             s, sd, u = self.path_state(np.asarray(times, dtype=float) / scale)
             path = self.piece.path
             q, dq, ddq = path(s), path(s, 1), path(s, 2)
@@ -202,71 +194,9 @@ def plan_toppra(robot: Robot, motion: Motion, *,
     return assemble(motion, _toppra_pieces(robot, motion), max_samples=max_samples)
 
 
-@contextmanager
-def _quiet() -> Iterator[None]:
-    """Silence TOPPRA's log records and numerical warnings."""
-    log = logging.getLogger("toppra")
-    level = log.level
-    log.setLevel(logging.CRITICAL)
-    try:
-        with warnings.catch_warnings(), np.errstate(all="ignore"):
-            warnings.simplefilter("ignore")
-            yield
-    finally:
-        log.setLevel(level)
-
-
-def path_pieces(robot: Robot, motion: Motion, grid_per_waypoint: int = _GRID_PER_SEGMENT, *,
-                speeds: np.ndarray | None = None) -> list[PathPiece]:
-    """The motion's path split where it dwells: a clamped cubic spline per piece.
-
-    Repeated consecutive waypoints are dropped; a piece whose waypoints all coincide
-    has no path (zero length). A straight line's joint samples are points of the path
-    too. A joint whose spline would leave the robot's position limits follows a
-    shape-preserving cubic instead (`hdselect.motion.paths.SplinePath`). The knots are at
-    the cumulative chord length (the TOPPRA planner's path) or, given `speeds`, at the
-    cumulative time each segment takes at those speeds, max_j |dq_j| / speed_j, which
-    weighs joints in different units (rad, m) alike. Each piece gets
-    ``grid_per_waypoint`` cosine-spaced gridpoints per waypoint, and `GRID_PER_LINE_SAMPLE`
-    per line sample.
-
-    Args:
-        robot: The robot (position limits).
-        motion: The motion (waypoints, solved, and dwells).
-        grid_per_waypoint: Gridpoints per waypoint of a piece.
-        speeds: Joint speeds that set the knots [rad/s or m/s], shape (dof,); None for
-            chord length.
-
-    Returns:
-        The pieces, in order.
-    """
-    pieces: list[PathPiece] = []
-    for first, last in piece_bounds(motion):
-        geometry = piece_geometry(motion, first, last, speeds)
-        if len(geometry.knots) < 2:
-            nothing = frozen(np.zeros((0, len(motion.joint_names))))
-            pieces.append(PathPiece(first, last, None, frozen(np.zeros(0)), nothing, nothing,
-                                    nothing, geometry.waypoints))
-            continue
-        count = (grid_per_waypoint * len(geometry.waypoints)
-                 + GRID_PER_LINE_SAMPLE * geometry.line_samples)
-        grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, count + 1))
-        with _quiet():
-            try:
-                path = SplinePath(geometry.knots, geometry.points, robot.lower, robot.upper)
-            except (ValueError, ArithmeticError) as err:
-                raise PlanningError(f"{motion.path}: toppra: no spline through waypoint[{first}]"
-                                    f" to waypoint[{last}]: {err}") from err
-            q, dq, ddq = path(grid), path(grid, 1), path(grid, 2)
-        pieces.append(PathPiece(first, last, path, frozen(grid), frozen(q), frozen(dq),
-                                frozen(ddq), geometry.waypoints,
-                                frozen(geometry.waypoint_knots)))
-    return pieces
-
-
 def kinematic_constraints(velocity: np.ndarray, acceleration: np.ndarray) -> list[Any]:
     """TOPPRA's joint velocity [rad/s or m/s] and acceleration [per s^2] constraints."""
-    with _quiet():
+    with quiet():
         import toppra.constraint as constraint
     return [
         constraint.JointVelocityConstraint(np.column_stack([-velocity, velocity])),
@@ -287,7 +217,7 @@ def solve_piece(piece: PathPiece, constraints: Sequence[Any], *, where: str) -> 
     Raises:
         PlanningError: TOPPRA itself fails (not mere infeasibility).
     """
-    with _quiet():
+    with quiet():
         import toppra.algorithm as algorithm
         try:
             instance = algorithm.TOPPRA(list(constraints), piece.path,
@@ -322,27 +252,104 @@ def overshoot_scale(profile: Profile, velocity: np.ndarray, acceleration: np.nda
     return max(1.0, float(speed), math.sqrt(accel)) * (1.0 + _MARGIN)
 
 
+def step_excess(profile: Profile, velocity: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
+    """Per step between gridpoints, how far the profile goes past its kinematic limits [-].
+
+    Each step is checked at `_DENSE_CHECK` evenly spaced times (its start included).
+
+    Returns:
+        max(|qd| / v, sqrt(|qdd| / a)) - 1 over the step's check times, shape (m - 1,);
+        negative where the step stays within the limits.
+    """
+    steps = np.diff(profile.t)
+    times = profile.t[:-1, None] + steps[:, None] * (np.arange(_DENSE_CHECK) / _DENSE_CHECK)
+    _, qd, qdd = profile.sample(times.ravel())
+    ratio = np.maximum(np.max(np.abs(qd) / velocity, axis=1),
+                       np.sqrt(np.max(np.abs(qdd) / acceleration, axis=1)))
+    return ratio.reshape(len(steps), _DENSE_CHECK).max(axis=1) - 1.0
+
+
+def solve_refined(piece: PathPiece, constraints: Callable[[PathPiece], Sequence[Any]],
+                  excess: Callable[[Profile], np.ndarray], *,
+                  where: str) -> tuple[PathPiece, Profile | None]:
+    """TOPPRA's profile of a piece, its grid refined where the profile breaks a limit.
+
+    The piece is solved on its gridpoints; every step whose `excess` is above
+    `REFINE_TOLERANCE` is split (into more parts the more it exceeds) and the piece
+    solved again, at most `REFINE_ROUNDS` times.
+
+    Args:
+        piece: A piece with a path, on its first gridpoints.
+        constraints: The toppra constraints of a piece on its gridpoints.
+        excess: Per step of a profile, its relative excess over the limits [-], (m - 1,).
+        where: The file, for the error message.
+
+    Returns:
+        The piece on its last gridpoints, and its profile (None if infeasible).
+    """
+    for round_ in range(REFINE_ROUNDS):
+        found = solve_piece(piece, constraints(piece), where=where)
+        if found is None or round_ == REFINE_ROUNDS - 1:
+            return piece, found
+        over = excess(found)
+        steps = np.flatnonzero(over > REFINE_TOLERANCE)
+        if not len(steps):
+            return piece, found
+        # the excess between gridpoints falls as the square of the step: split each
+        # step into as many parts as bring it within the tolerance
+        parts = np.ceil(np.sqrt(over[steps] / REFINE_TOLERANCE) * _SPLIT_MARGIN).astype(int)
+        grid = piece.gridpoints
+        inserted = np.concatenate([grid[k] + (grid[k + 1] - grid[k]) * np.arange(1, n) / n
+                                   for k, n in zip(steps, parts, strict=True)])
+        piece = with_gridpoints(piece, np.sort(np.concatenate([grid, inserted])))
+    raise AssertionError("unreachable")
+
+
 def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
     """Time-optimal pieces of the spline path, split at waypoints with a dwell."""
-    from hdselect.motion.planning.constraints import SecondOrderBounds, path_torque_coefficients
+    from hdselect.motion.planning.constraints import (
+        SecondOrderBounds,
+        path_torque_coefficients,
+        torque_excess,
+    )
 
     velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
     assert velocity is not None and acceleration is not None  # load_motion requires them
     kinematic = kinematic_constraints(velocity, acceleration)
+    torque = motion.torque_limit
+    where = str(motion.path)
+
+    def constraints(piece: PathPiece) -> list[Any]:
+        if torque is None:
+            return kinematic
+        a, b, c = path_torque_coefficients(robot, piece.q, piece.dq, piece.ddq)
+        return [*kinematic, SecondOrderBounds.two_sided(piece.gridpoints, a, b, c, -torque,
+                                                        torque)]
+
+    def excess(profile: Profile) -> np.ndarray:
+        over = step_excess(profile, velocity, acceleration)
+        if torque is not None:
+            over = np.maximum(over, torque_excess(robot, profile, torque))
+        return over
+
     moves: list[Move] = []
-    for piece in path_pieces(robot, motion):
-        first, last = piece.first, piece.last
-        if piece.path is None:
+    for dense in path_pieces(robot, motion):
+        first, last = dense.first, dense.last
+        if dense.path is None:
             moves.append(Move(first, last, 0.0, None))
             continue
-        dynamic = []
-        if motion.torque_limit is not None:
-            a, b, c = path_torque_coefficients(robot, piece.q, piece.dq, piece.ddq)
-            dynamic.append(SecondOrderBounds.two_sided(piece.gridpoints, a, b, c,
-                                                       -motion.torque_limit, motion.torque_limit))
-        found = solve_piece(piece, kinematic + dynamic, where=str(motion.path))
-        if found is None and dynamic:
-            if solve_piece(piece, kinematic, where=str(motion.path)) is not None:
+        steps = len(dense.gridpoints) - 1  # GRID_PER_WAYPOINT per waypoint, and line samples
+        knots, _ = dense.path.waypoints
+        if dense.path.shape_preserving or len(knots) > len(dense.waypoints):
+            # p'' steps at a shape-preserving joint's knots, and a straight line's samples
+            # are close together: both keep the dense grid, refining cannot match it
+            piece, found = dense, solve_piece(dense, constraints(dense), where=where)
+        else:
+            coarse = max(MIN_SOLVE_GRIDPOINTS, steps * SOLVE_GRID // GRID_PER_WAYPOINT)
+            piece, found = solve_refined(with_gridpoints(dense, _cosine(min(coarse, steps))),
+                                         constraints, excess, where=where)
+        if found is None and torque is not None:
+            if solve_piece(piece, kinematic, where=where) is not None:
                 raise PlanningError(
                     f"{motion.path}: toppra: the torque limits (limits.torque) make the path "
                     f"from waypoint[{first}] to waypoint[{last}] infeasible; it is feasible "
@@ -365,7 +372,15 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
         reached = found.time_at(piece.knots) * scale
         passes = tuple(float(reached[max(k for k, w in enumerate(piece.waypoints) if w <= i)])
                        for i in range(first, last + 1))
+        # sampled at least as finely as the median step of the dense grid (200 gridpoints
+        # per waypoint), on which the 1 % promise of the sampled demands was measured
+        finer = min(1.0, len(piece.gridpoints) / len(dense.gridpoints))
         moves.append(Move(first, last, duration, partial(found.sample, scale=scale),
-                          found.peak_accelerations(scale), found.time_step * scale,
+                          found.peak_accelerations(scale), found.time_step * scale * finer,
                           passes=passes))
     return moves
+
+
+def _cosine(steps: int) -> np.ndarray:
+    """`steps` + 1 cosine-spaced path positions from 0 to 1 [-] (as `path_pieces` spaces them)."""
+    return 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, steps + 1))
