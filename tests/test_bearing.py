@@ -289,3 +289,49 @@ def test_the_report_has_a_bearing_section_with_a_figure_per_joint(rated, tmp_pat
         assert f"alt='output bearing loads of {joint.name}" in section
     assert "data-check='bearing_moment'" in page
 
+
+
+BEARING_BOUND = """series = "XB"
+source = "test: a strong gear on a weak bearing"
+[rules]
+rated_input_speed_rpm = 1750
+rated_life_hours = 35000
+life_basis = "L50"
+mean_torque_limit = "speed-adjusted"
+mean_speed = "moving"
+max_momentary_events = 10000
+[[unit]]
+size = 20
+ratio = 100
+rated_torque_nm = 30
+repeated_torque_nm = 60
+momentary_torque_nm = 100
+static_torque_nm = 100
+max_input_speed_rpm = 7000
+input_inertia_kg_cm2 = 0.1
+mass_kg = 0.5
+[unit.bearing]
+pitch_diameter_m = 0.05
+max_moment_nm = 15.0
+"""
+
+
+def test_max_payload_stops_where_a_rated_bearing_does(tmp_path):
+    """A unit whose gear carries 60 N m but whose bearing only 15 N m of tilting moment:
+    the largest payload is where the first bearing runs out (not where the torques do, 9.9
+    kg), and the sizing there holds while 0.2 % more fails on that bearing."""
+    from hdselect.codesign import max_payload
+
+    (tmp_path / "xb.toml").write_text(BEARING_BOUND)
+    units = [u for u in load_catalog([tmp_path / "xb.toml"]) if u.series == "XB"]
+    robot, motion = load_case(PICK)
+    found = max_payload(robot, motion, catalog=units)
+    assert found.rule == "bearing_moment" and 0.5 < found.mass < 5.0
+    assert found.selection.feasible
+    mass = found.mass * 1.002  # the payload's inertia is per kg: the same body, denser
+    heavier = replace(found.payload, mass=mass,
+                      inertia=tuple(tuple(v * mass for v in row) for row in found.payload.inertia))
+    above = size_trajectory(robot.with_payload(heavier), found.trajectory, units)
+    assert not above.feasible
+    failing = [joint for joint in above.joints if joint.selected is None]
+    assert failing and all(joint.strongest.binding.startswith("bearing_") for joint in failing)

@@ -156,6 +156,9 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
     if trajectory is None:
         trajectory = plan(robot, motion, max_samples=options.max_samples)
     sizing = PayloadSizing(bare, payload, trajectory, catalog, options, fixed, candidates)
+    # a rated output bearing's rules are not affine in m (a moment and forces combined):
+    # like a motor's, the sizing judges them, and the mass is bisected on its verdict
+    bearings = options.bearing_loads and any(unit.bearing is not None for unit in catalog)
     masses: dict[str, float] = {}
     result = None
     for _ in range(_ROUNDS):
@@ -168,7 +171,7 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
         selection = failing = None
         if mass is not None and math.isfinite(mass):
             inside = max(mass * (1.0 - 1e-9), ranges[-1][0])
-            if fixed or candidates:  # their rules are the sizing's: bisect on it
+            if fixed or candidates or bearings:  # their rules are the sizing's: bisect on it
                 mass, selection, failing = sizing.largest(ranges[-1][0], inside)
             else:  # a round's sizing gives the masses: slow-downs only for the answer
                 selection = sizing.at(inside, slowdowns=False)
