@@ -317,3 +317,46 @@ def test_the_function_names_a_parameter_of_a_wrong_type(parameter):
         with pytest.raises(InputError) as raised:
             envelope(**{**valid, parameter: wrong})
         assert str(raised.value.field).split(".")[0].split("[")[0] == parameter, raised.value
+
+
+def test_an_envelope_file_places_its_base_as_a_motion_file_does(capsys, tmp_path):
+    """``base = {xyz, rpy}`` with the wall's pose gives the answer ``mounting = "wall"``
+    gives (gravity the same in the base frame); both at once are refused by field."""
+    from pinocchio import rpy
+
+    from hdselect.robot.mounting import NAMED_BASES
+
+    turn = [float(v) for v in np.degrees(rpy.matrixToRpy(NAMED_BASES["wall"].matrix))]
+    head = f'robot = "{PLANAR2}"\nangle_unit = "deg"\n'
+    rest = "\n[limits]\nvelocity = 180\nacceleration = 900\n"
+    answers = []
+    for name, placing in (("named", 'mounting = "wall"\n'),
+                          ("pose", f"base = {{xyz = [0, 0, 0.2], rpy = {turn}}}\n")):
+        spec = tmp_path / f"{name}.toml"
+        spec.write_text(head + placing + rest)
+        status, out, err = run(capsys, "envelope", spec, *QUICK, "--json", "-")
+        assert status in (0, 1), err
+        answers.append(_answer(json.loads(out)))
+    # the same worst torques and units; the states that reach them may differ within the
+    # search's tolerance (the pose's rpy round trip moves gravity by 1e-16), and with
+    # them the bearing's loads at those states
+    assert _close(answers[0]["joints"], answers[1]["joints"], skip=("q", "qd", "qdd",
+                                                                   "bearing"))
+    both = tmp_path / "both.toml"
+    both.write_text(head + 'mounting = "wall"\nbase = {xyz = [0, 0, 0], rpy = [0, 0, 0]}\n'
+                    + rest)
+    status, _, err = run(capsys, "envelope", both, *QUICK)
+    assert status == 2
+    one_line_error(err, "both.toml", "base")
+
+
+def _close(a, b, skip=()) -> bool:
+    """The same JSON but for the keys skipped, numbers within 1e-9 relative."""
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_close(a[k], b[k], skip) for k in a
+                                            if k not in skip)
+    if isinstance(a, list):
+        return len(a) == len(b) and all(_close(x, y, skip) for x, y in zip(a, b, strict=True))
+    if isinstance(a, float) and isinstance(b, float):
+        return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-9)
+    return a == b

@@ -42,7 +42,7 @@ from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
-from hdselect.sizing.arguments import checked_motors, units_argument
+from hdselect.sizing.arguments import checked_motors, fixed_units, units_argument
 from hdselect.sizing.core import motion_motors, size_trajectory
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors, SizingResult
@@ -325,24 +325,10 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
     if motion.planner == "samples":
         raise InputError("a logged trajectory ('samples') has no path to run faster; give "
                          "a motion with waypoints", path=motion.path, field="planner")
-    if given is not None and (isinstance(given, str) or not isinstance(given, Mapping)):
-        raise InputError(f"expected a mapping of joint names to units or unit ids, got "
-                         f"{type(given).__name__}", field="units")
+    chosen = fixed_units(given, catalog, robot)
+    by_id = {unit.id: unit for unit in catalog}
     candidates = checked_motors(robot, motion_motors(robot, motion) if motors is None
                                 else motors, options)
-    by_id = {unit.id: unit for unit in catalog}
-    chosen: dict[str, Unit] = {}
-    for name, unit in (given or {}).items():
-        if name not in robot.sized_joints:
-            raise InputError(f"unknown joint '{name}'; sized joints are: "
-                             f"{', '.join(robot.sized_joints)}", field="units")
-        if isinstance(unit, str):
-            if unit not in by_id:
-                raise InputError(f"unknown unit '{unit}' for joint '{name}'; units are: "
-                                 f"{', '.join(by_id)}", field="units")
-            unit = by_id[unit]
-        expect_type(unit, (Unit,), "units", "catalog units or unit ids")
-        chosen[name] = unit
     single = all(len(found) == 1 for found in candidates.values())
     if not selection and single and all(name in chosen for name in robot.sized_joints):
         return chosen, {}, {name: found[0] for name, found in candidates.items()}

@@ -33,13 +33,13 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, allowable_mean_torque, at_rest
 from hdselect.catalog.units import L50_PER_L10, Unit
 from hdselect.codesign.cubicmean import CubicMean
-from hdselect.codesign.payloadsizing import PayloadSizing, fixed_units
+from hdselect.codesign.payloadsizing import PayloadSizing
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.arguments import checked_motors, units_argument
+from hdselect.sizing.arguments import checked_motors, fixed_units, units_argument
 from hdselect.sizing.core import motion_motors
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors, SizingResult

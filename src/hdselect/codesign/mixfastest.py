@@ -44,6 +44,7 @@ from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.toppra import Profile
 from hdselect.robot.model import Robot
+from hdselect.sizing.arguments import fixed_units
 from hdselect.sizing.core import select_units, size_tasks
 from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
 from hdselect.sizing.options import Options
@@ -192,18 +193,8 @@ def _units(robot: Robot, tasks: Sequence[Task], idle: float,
            given: Mapping[str, Unit | str] | None, catalog: Sequence[Unit],
            options: Options) -> dict[str, Unit]:
     """The unit of every sized joint: those given, the duty's selection for the others."""
+    chosen = fixed_units(given, catalog, robot)
     by_id = {unit.id: unit for unit in catalog}
-    chosen: dict[str, Unit] = {}
-    for name, unit in (given or {}).items():
-        if name not in robot.sized_joints:
-            raise InputError(f"unknown joint '{name}'; sized joints are: "
-                             f"{', '.join(robot.sized_joints)}", field="units")
-        if isinstance(unit, str):
-            if unit not in by_id:
-                raise InputError(f"unknown unit '{unit}' for joint '{name}'; units are: "
-                                 f"{', '.join(by_id)}", field="units")
-            unit = by_id[unit]
-        chosen[name] = unit
     if all(name in chosen for name in robot.sized_joints):
         return {name: chosen[name] for name in robot.sized_joints}
     sizing = size_tasks(tasks, catalog, options, idle=idle)

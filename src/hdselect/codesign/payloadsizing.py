@@ -12,7 +12,7 @@ only tightens the crash rule).
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 from hdselect.base.errors import InputError
@@ -109,33 +109,3 @@ def scaled(payload: Payload, mass: float) -> Payload:
     return replace(payload, mass=mass,
                    inertia=tuple(tuple(v * mass / payload.mass for v in row)
                                  for row in payload.inertia))
-
-
-def fixed_units(given: Mapping[str, Unit | str] | None, catalog: Sequence[Unit],
-                robot: Robot) -> dict[str, Unit]:
-    """The units given per joint (ids resolved in the catalog).
-
-    Raises:
-        InputError: Not a mapping, a name is not a sized joint, or an id is unknown.
-    """
-    if given is None:
-        return {}
-    if isinstance(given, str) or not isinstance(given, Mapping):
-        raise InputError(f"expected a mapping of joint names to units or unit ids, got "
-                         f"{type(given).__name__}", field="units")
-    by_id = {unit.id: unit for unit in catalog}
-    out: dict[str, Unit] = {}
-    for name, unit in given.items():
-        if name not in robot.sized_joints:
-            raise InputError(f"unknown joint '{name}'; sized joints are: "
-                             f"{', '.join(robot.sized_joints)}", field="units")
-        if isinstance(unit, str):
-            if unit not in by_id:
-                raise InputError(f"unknown unit '{unit}' for joint '{name}'; units are: "
-                                 f"{', '.join(by_id)}", field="units")
-            unit = by_id[unit]
-        if not isinstance(unit, Unit):
-            raise InputError(f"expected a catalog unit or unit id for joint '{name}', got "
-                             f"{type(unit).__name__}", field="units")
-        out[name] = unit
-    return out

@@ -52,6 +52,7 @@ from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import gravity_torques
 from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import units_argument
 from hdselect.sizing.core import select_units, size_tasks
@@ -74,7 +75,7 @@ def envelope(
     acceleration: Limits = None,
     jerk: Limits = None,
     payload: Payload | None = None,
-    mounting: str | Sequence[float] | None = None,
+    mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
     duty: Motion | str | Path | None = None,
@@ -345,7 +346,7 @@ def _duty_motion(duty: Motion | str | Path | None, file: EnvelopeFile | None,
 
 
 def _robot_state(base: Robot, motion: Motion | None, file: EnvelopeFile | None,
-                 payload: Payload | None, mounting: str | Sequence[float] | None,
+                 payload: Payload | None, mounting: Mounting | None,
                  joints: Sequence[str] | None, exclude: Sequence[str] | None) -> Robot:
     """The robot as the envelope sizes it: argument, else envelope file, else the duty's."""
     expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")

@@ -24,9 +24,10 @@ from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, number, read_toml, table_of
+from hdselect.motion.motionfile import mounting_of, payload_table
 from hdselect.motion.sizing_table import bearing_offsets
 from hdselect.robot.model import Robot
-from hdselect.robot.mounting import MOUNTINGS
+from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -38,8 +39,8 @@ DUTY_MOVES = 20
 MAX_DUTY_MOVES = 10_000
 """Most moves a default duty may have."""
 
-_TOP_KEYS = ("robot", "angle_unit", "mounting", "payload", "limits", "safety", "requirements",
-             "sizing", "duty")
+_TOP_KEYS = ("robot", "angle_unit", "mounting", "base", "payload", "limits", "safety",
+             "requirements", "sizing", "duty")
 _SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin"),
              "sizing": ("joints", "exclude", "bearing_offset_m"),
              "duty": ("motion", "moves", "seed")}
@@ -74,7 +75,7 @@ class EnvelopeFile:
     robot_file: Path | None
     angle_unit: str
     limits: dict[str, np.ndarray]
-    mounting: str | tuple[float, float, float] | None = None
+    mounting: Mounting | None = None
     payload: Payload | None = None
     stop_time: float | None = None
     life_hours: float | None = None
@@ -147,8 +148,9 @@ def load_envelope_file(path: str | Path, robot: Robot) -> EnvelopeFile:
              if key in sizing}
     return EnvelopeFile(
         path=path, robot_file=_robot_file(doc, path), angle_unit=doc["angle_unit"],
-        limits=limits, mounting=_mounting(doc["mounting"], path) if "mounting" in doc else None,
-        payload=_payload(doc["payload"], path) if "payload" in doc else None,
+        limits=limits,
+        mounting=mounting_of(doc, path, ANGLE_UNITS[doc["angle_unit"]], doc["angle_unit"]),
+        payload=payload_table(doc["payload"], path) if "payload" in doc else None,
         stop_time=stop_time, life_hours=life_hours, life_basis=basis, margin=margin,
         joints=names.get("joints"), exclude=names.get("exclude", ()),
         bearing_offset=bearing_offsets(doc, path, robot),
@@ -227,30 +229,3 @@ def _names(value: Any, path: Path, field: str) -> tuple[str, ...]:
         raise InputError(f"expected a list of joint names, got {value!r}", path=path,
                          field=field)
     return tuple(value)
-
-
-def _payload(value: Any, path: Path) -> Payload:
-    table = table_of(value, path, "payload")
-    check_keys(table, ("mass", "com", "inertia", "frame"), path, "payload")
-    if "mass" not in table:
-        raise InputError("required key is missing", path=path, field="payload.mass")
-    try:
-        return Payload(table["mass"], table.get("com", (0.0, 0.0, 0.0)),
-                       table.get("inertia", ((0.0,) * 3,) * 3), table.get("frame"))
-    except InputError as err:
-        raise InputError(err.reason, path=path, field=err.field) from err
-
-
-def _mounting(value: Any, path: Path) -> str | tuple[float, float, float]:
-    if isinstance(value, str):
-        if value not in MOUNTINGS:
-            raise InputError(f"unknown mounting {value!r}; choose one of: {', '.join(MOUNTINGS)}"
-                             " or a gravity vector [gx, gy, gz] in m/s^2", path=path,
-                             field="mounting")
-        return value
-    if not isinstance(value, list) or len(value) != 3:
-        raise InputError(f"expected a mounting name or 3 numbers, got {value!r}", path=path,
-                         field="mounting")
-    x, y, z = (as_number(g, path, f"mounting[{i}]", bound=bounds.GRAVITY)
-               for i, g in enumerate(value))
-    return (x, y, z)

@@ -40,9 +40,9 @@ from hdselect.motion.motionfile import (
     ANGLE_UNITS,
     LIFE_BASES,
     Motion,
-    _mounting,
-    _payload,
     load_motion,
+    mounting_of,
+    payload_table,
     robot_file_named,
 )
 from hdselect.motion.motor_tables import motion_file_motors
@@ -329,14 +329,14 @@ def _task(table: dict[str, Any], path: Path, i: int, robot: Robot,
     else:
         cycles = as_number(table["cycles_per_hour"], path, f"{where}.cycles_per_hour",
                            minimum=0.0)
-    payload = _payload(table["payload"], path) if "payload" in table else None
+    payload = payload_table(table["payload"], path) if "payload" in table else None
     if payload is not None and payload.frame is not None:
         try:
             robot.with_payload(payload)
         except InputError as err:
             raise InputError(err.reason, path=path, field=f"{where}.{err.field}") from err
     try:
-        mounting = _mounting(table, path, ANGLE_UNITS[angle_unit], angle_unit)
+        mounting = mounting_of(table, path, ANGLE_UNITS[angle_unit], angle_unit)
     except InputError as err:
         raise InputError(err.reason, path=path, field=f"{where}.{err.field}") from err
     return MixTask(motion, name.strip(), share, cycles, payload, mounting)

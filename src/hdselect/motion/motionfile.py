@@ -226,8 +226,8 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
     angle_unit = _choice(doc, "angle_unit", tuple(ANGLE_UNITS), path)
     unit = ANGLE_UNITS[angle_unit]
     dt = number(doc, "dt", path, "", default=0.001, bound=bounds.TIME)
-    file_payload = _payload(doc["payload"], path) if "payload" in doc else None
-    file_mounting = _mounting(doc, path, unit, angle_unit)
+    file_payload = payload_table(doc["payload"], path) if "payload" in doc else None
+    file_mounting = mounting_of(doc, path, unit, angle_unit)
     robot_file = named_file(doc, path, must_exist=robot is None)  # a robot given overrides it
     xacro_args = xacro_args_of(doc, path)
     if robot is None:
@@ -333,7 +333,8 @@ def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
     return values
 
 
-def _payload(value: Any, path: Path) -> Payload:
+def payload_table(value: Any, path: Path) -> Payload:
+    """A file's ``[payload]`` table (mass, com, inertia, frame), refused by field."""
     table = table_of(value, path, "payload")
     check_keys(table, ("mass", "com", "inertia", "frame"), path, "payload")
     if "mass" not in table:
@@ -345,9 +346,16 @@ def _payload(value: Any, path: Path) -> Payload:
         raise InputError(err.reason, path=path, field=err.field) from err
 
 
-def _mounting(doc: dict[str, Any], path: Path, unit: float,
-              angle_unit: str) -> str | tuple[float, float, float] | BasePose | None:
-    """The file's ``mounting`` or ``base``, or None when it gives neither."""
+def mounting_of(doc: dict[str, Any], path: Path, unit: float,
+                angle_unit: str) -> str | tuple[float, float, float] | BasePose | None:
+    """The file's ``mounting`` or ``base``, or None when it gives neither.
+
+    Args:
+        doc: The file's table holding them.
+        path: The file, for messages.
+        unit: Radians per angle unit of the file [rad] (the base's rpy).
+        angle_unit: The file's angle unit's name, for messages.
+    """
     if "base" in doc:
         if "mounting" in doc:
             raise InputError("give either mounting or base (which sets the mounting), not both",
