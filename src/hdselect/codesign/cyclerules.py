@@ -17,7 +17,7 @@ peak the scaled model missed.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -215,6 +215,30 @@ def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
                 return False
         return True
 
+    found = first_passing(feasible, passes, fails)
+    if found is not None:
+        return found
+    name, rule = fails(S_MAX) or (next(iter(cycles)), "mean")
+    raise hopeless(motion, name, rule, units[name])
+
+
+def first_passing(feasible: Sequence[tuple[float, float]], passes: Callable[[float], bool],
+                  fails: Callable[[float], tuple[str, str] | None]
+                  ) -> tuple[float, tuple[str, str] | None] | None:
+    """The smallest slow-down s [-] within `feasible` at which `passes` holds, and why not below.
+
+    s steps up through each interval by `SCALE_STEP` (20 % beyond s = 2); the first step
+    that passes is bisected (geometrically) down to `SCALE_RTOL`.
+
+    Args:
+        feasible: Intervals of s where the rules of single samples pass, ascending.
+        passes: Whether every rule passes at s.
+        fails: The (joint, rule) that fails at s, or None.
+
+    Returns:
+        s and the (joint, rule) failing just below it (None at s = 1); None when no s
+        within `feasible` passes.
+    """
     for lo, hi in feasible:
         below: float | None = None
         s = lo
@@ -231,8 +255,7 @@ def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
             if s >= hi:
                 break
             s = min(hi, s * (SCALE_STEP if s < 2.0 else 1.2))
-    name, rule = fails(S_MAX) or (next(iter(cycles)), "mean")
-    raise hopeless(motion, name, rule, units[name])
+    return None
 
 
 def hopeless(motion: Motion, joint: str, rule: str, unit: Unit) -> PathInfeasible:

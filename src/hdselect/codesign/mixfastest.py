@@ -32,11 +32,10 @@ from hdselect.catalog.rules import Candidate, check_unit, cycle_load
 from hdselect.catalog.select import DEFAULT_PREFER
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cyclerules import (
-    SCALE_RTOL,
-    SCALE_STEP,
     WRITTEN_MARGIN,
     _intersect,
     _scalable,
+    first_passing,
 )
 from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, solve
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
@@ -261,8 +260,8 @@ def _smallest_scale(paths: Sequence[_Path], units: Mapping[str, Unit], options: 
     """The smallest common s >= 1 [-] at which every rule over the duty passes, and why.
 
     As `hdselect.codesign.cyclerules.smallest_scale` for one motion: the rules of single
-    samples exactly (every task's intervals intersected), the pooled rules on steps of
-    `SCALE_STEP` (20 % beyond s = 2), the first pass bisected to `SCALE_RTOL`.
+    samples exactly (every task's intervals intersected), the pooled rules by the same
+    stepped and bisected search (`hdselect.codesign.cyclerules.first_passing`).
     """
     feasible: list[tuple[float, float]] = [(1.0, S_MAX)]
     for name, unit in units.items():
@@ -283,22 +282,9 @@ def _smallest_scale(paths: Sequence[_Path], units: Mapping[str, Unit], options: 
                     worst = (candidate.checks[rule].utilization, name, rule)
         return None if worst is None else (worst[1], worst[2])
 
-    for lo, hi in feasible:
-        below: float | None = None
-        s = lo
-        while True:
-            if fails(s) is None:
-                if below is None:
-                    return s, (fails(s / (1.0 + 1e-3)) if s > 1.0 else None)
-                low, high = below, s
-                while high > low * (1.0 + SCALE_RTOL):
-                    middle = math.sqrt(low * high)
-                    low, high = (middle, high) if fails(middle) else (low, middle)
-                return high, fails(low)
-            below = s
-            if s >= hi:
-                break
-            s = min(hi, s * (SCALE_STEP if s < 2.0 else 1.2))
+    found = first_passing(feasible, lambda s: fails(s) is None, fails)
+    if found is not None:
+        return found
     name, rule = fails(S_MAX) or (next(iter(units)), "mean")
     raise _hopeless(mix, name, rule, units[name])
 
