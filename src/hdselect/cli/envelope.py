@@ -188,26 +188,15 @@ def _flagged(err: InputError) -> InputError:
 
 def _robot_and_spec(args: argparse.Namespace):
     """The robot file loaded and the envelope file, from ROBOT [SPEC]."""
+    from hdselect.cli.inputs import robot_file_loaded
     from hdselect.envelope.specfile import envelope_robot_file
-    from hdselect.robot.model import load_robot
-    from hdselect.robot.xacrofile import xacro_arguments
-
-    given = xacro_arguments(args.xacro_arg, "--xacro-arg") if args.xacro_arg else None
-
-    def load(file: Path):
-        try:
-            return load_robot(file, xacro_args=given)
-        except InputError as err:
-            if err.field == "xacro_args" and given:  # given for a file that takes none
-                raise InputError(err.reason, path=err.path, field="--xacro-arg") from err
-            raise
 
     target = Path(args.target)
     if args.spec is not None:
-        return load(target), Path(args.spec)
+        return robot_file_loaded(args, target), Path(args.spec)
     if target.suffix.lower() in _SPEC_SUFFIXES:
-        return load(envelope_robot_file(target)), target
-    return load(target), None
+        return robot_file_loaded(args, envelope_robot_file(target)), target
+    return robot_file_loaded(args, target), None
 
 
 def _limits(args: argparse.Namespace, kind: str, robot) -> dict[str, float] | None:

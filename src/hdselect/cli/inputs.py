@@ -151,13 +151,22 @@ def _names(given: list[str] | None) -> list[str] | None:
 
 def robot_of(args: argparse.Namespace, named: Path | None = None):
     """The robot ROBOT names (else `named`, else the motion file's), with ``--xacro-arg``."""
+    return robot_file_loaded(args, args.robot if args.robot is not None else named)
+
+
+def robot_file_loaded(args: argparse.Namespace, file: str | Path | None):
+    """The robot `file` (None: the one ``args.motion`` names), expanded with ``--xacro-arg``.
+
+    Raises:
+        InputError: As the robot's reading does; arguments given for a file that takes
+            none are refused naming ``--xacro-arg``.
+    """
     from hdselect.motion.robot_named import load_motion_robot
     from hdselect.robot.model import load_robot
     from hdselect.robot.xacrofile import xacro_arguments
 
     given = xacro_arguments(args.xacro_arg, "--xacro-arg") if args.xacro_arg else None
     try:
-        file = args.robot if args.robot is not None else named
         if file is not None:
             return load_robot(file, xacro_args=given)
         return load_motion_robot(args.motion, given)
