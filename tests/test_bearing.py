@@ -163,16 +163,18 @@ q = [-180]
 [[waypoint]]
 q = [180]
 """
-SPIN_CATALOG = """series = "SPIN"
-source = "made up for a test"
-[rules]
+SPIN_RULES = """[rules]
 rated_input_speed_rpm = 1750
 rated_life_hours = 35000
 life_basis = "L50"
 mean_torque_limit = "speed-adjusted"
 mean_speed = "moving"
 max_momentary_events = 10000
-[[unit]]
+"""
+"""The rules of the made-up series below (PSA-G's, by the catalog page)."""
+SPIN_CATALOG = """series = "SPIN"
+source = "made up for a test"
+""" + SPIN_RULES + """[[unit]]
 size = 20
 ratio = 10
 rated_torque_nm = 500
@@ -293,14 +295,7 @@ def test_the_report_has_a_bearing_section_with_a_figure_per_joint(rated, tmp_pat
 
 BEARING_BOUND = """series = "XB"
 source = "test: a strong gear on a weak bearing"
-[rules]
-rated_input_speed_rpm = 1750
-rated_life_hours = 35000
-life_basis = "L50"
-mean_torque_limit = "speed-adjusted"
-mean_speed = "moving"
-max_momentary_events = 10000
-[[unit]]
+""" + SPIN_RULES + """[[unit]]
 size = 20
 ratio = 100
 rated_torque_nm = 30
