@@ -7,10 +7,16 @@ unit (or ``pooled``); and the unit against each task alone beside the duty.
 
 from __future__ import annotations
 
-from hdselect.catalog.checks import CHECK_LABELS, CHECKS
+from hdselect.catalog.checks import CHECK_LABELS
 from hdselect.catalog.rules import Candidate
 from hdselect.report.html_tables import esc, table
-from hdselect.report.mix_tables import POOLED_NOTE, mounting_text, payload_text, spread_notes
+from hdselect.report.mix_tables import (
+    POOLED_NOTE,
+    mounting_text,
+    payload_text,
+    rule_setters,
+    spread_notes,
+)
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
@@ -53,20 +59,16 @@ def duty_line(result: SizingResult) -> str:
 
 
 def _rules(result: SizingResult) -> str:
-    chosen = {joint.name: joint.selected or joint.strongest for joint in result.joints}
-    names = [name for name in CHECKS
-             if any(name in c.checks and c.checks[name].value is not None
-                    for c in chosen.values())]
+    names, setters = rule_setters(result)
     rows = []
-    for joint in result.joints:
-        candidate = chosen[joint.name]
-        cells = [esc(joint.name), esc(candidate.label)]
-        for name in names:
-            check = candidate.checks.get(name)
-            if check is None or check.value is None:
+    for joint, label, found in setters:
+        cells = [esc(joint), esc(label)]
+        for setting in found:
+            if setting is None:
                 cells.append("-")
                 continue
-            text = f"{utilization_text(check.utilization, check.ok)} {result.set_by(joint, name)}"
+            check, who = setting
+            text = f"{utilization_text(check.utilization, check.ok)} {who}"
             cells.append(esc(text) if check.ok else f"<td class=fail>{esc(text)} ✗</td>")
         rows.append(cells)
     return ("<h3>Which task sets each rule</h3>"

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from rich.markup import escape
 
-from hdselect.catalog.rules import CHECK_LABELS, CHECKS, Candidate
+from hdselect.catalog.rules import CHECK_LABELS, CHECKS, Candidate, Check
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.robot.model import Robot
@@ -74,27 +74,51 @@ def tasks_table(result: SizingResult) -> FittedTable:
     return FittedTable(title, columns, tuple(rows), notes=tuple(notes))
 
 
-def rules_table(result: SizingResult) -> FittedTable:
-    """Per joint, each rule of its unit: utilization and the task that sets it (or pooled).
+RuleSetting = tuple[Check, str] | None
+"""A rule of a joint's unit: its check and the task that sets it ("" where none does, or
+"pooled"); None where the unit gives the rule no value."""
 
-    A rule has a column when some joint's unit gives it a value.
+
+def rule_setters(result: SizingResult
+                 ) -> tuple[list[str], list[tuple[str, str, list[RuleSetting]]]]:
+    """Which task sets each rule of each joint's unit: what both mix tables show.
+
+    Returns:
+        The rules some joint's unit gives a value, and per joint its name, its unit's
+        label and, in the rules' order, each rule's setting.
     """
     chosen = {joint.name: joint.selected or joint.strongest for joint in result.joints}
     names = [name for name in CHECKS
              if any(name in c.checks and c.checks[name].value is not None
                     for c in chosen.values())]
+    setters = []
+    for joint in result.joints:
+        candidate = chosen[joint.name]
+        found: list[RuleSetting] = []
+        for name in names:
+            check = candidate.checks.get(name)
+            found.append(None if check is None or check.value is None
+                         else (check, result.set_by(joint, name) or ""))
+        setters.append((joint.name, candidate.label, found))
+    return names, setters
+
+
+def rules_table(result: SizingResult) -> FittedTable:
+    """Per joint, each rule of its unit: utilization and the task that sets it (or pooled).
+
+    A rule has a column when some joint's unit gives it a value.
+    """
+    names, setters = rule_setters(result)
     columns = (Column("joint", "left"), Column("unit", "left"),
                *(Column(CHECK_LABELS[name], "left", group=name) for name in names))
     rows = []
-    for joint in result.joints:
-        candidate = chosen[joint.name]
-        cells = [escape(joint.name), escape(candidate.label)]
-        for name in names:
-            check = candidate.checks.get(name)
-            if check is None or check.value is None:
+    for joint, label, found in setters:
+        cells = [escape(joint), escape(label)]
+        for setting in found:
+            if setting is None:
                 cells.append("-")
                 continue
-            who = result.set_by(joint, name) or ""
+            check, who = setting
             text = f"{utilization_text(check.utilization, check.ok)} {escape(who)}"
             cells.append(text if check.ok else f"[red]{text}✗[/red]")
         rows.append(tuple(cells))
