@@ -520,6 +520,48 @@ def test_the_duty_life_is_the_tasks_lives_combined_by_miners_rule(pick_inspect):
         assert min(lives) <= duty * (1 + 1e-12)
 
 
+def test_the_share_weighted_mean_of_the_lives_weighs_the_operating_time():
+    """A day of cycles per hour: shares 0.2 and 0.1 of the hour, the rest idle. Lives
+    alone of 1,000 h and 4,000 h, duty 1,500 h: weighted over the operating time the
+    mean is (0.2 x 1000 + 0.1 x 4000) / 0.3 = 2,000 h (+33 %), the shortest -33 %;
+    weighing by the shares of the hour would give 600 h, below the shortest life."""
+    from types import SimpleNamespace
+
+    from hdselect.report.mix_tables import spread_notes
+
+    def unit(life):
+        return SimpleNamespace(life_hours=life)
+
+    joint = SimpleNamespace(name="elbow", selected=unit(1500.0), strongest=unit(1500.0),
+                            per_task=(unit(1000.0), unit(4000.0)))
+    result = SimpleNamespace(counted=(SimpleNamespace(share=0.2), SimpleNamespace(share=0.1)),
+                             joints=(joint,))
+    assert spread_notes(result)[1] == ("elbow: duty L50 1,500 h; the share-weighted mean of "
+                                       "the lives alone (2,000 h) is +33%, the shortest "
+                                       "(1,000 h) -33%")
+
+
+def test_a_day_in_cycles_per_hour_prints_a_mean_between_the_lives(tmp_path, capsys):
+    """The index table at 900 and 1200 cycles an hour (53 % idle): the note's mean, in the
+    terminal and the HTML report, is the lives alone weighted by the operating time."""
+    from hdselect.report.report_files import write_report
+
+    mix = write_index_mix(tmp_path, cycles_per_hour=[900.0, 1200.0])
+    result = size(None, mix)
+    assert result.idle > 0.5
+    (joint,) = result.joints
+    lives = [c.life_hours for c in joint.per_task]
+    shares = [task.share for task in result.counted]
+    mean = sum(s * life for s, life in zip(shares, lives, strict=True)) / sum(shares)
+    assert min(lives) < mean < max(lives)
+    assert main(["size", str(mix)]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert f"the share-weighted mean of the lives alone ({mean:,.0f} h)" in out
+    write_report(tmp_path / "report", result)
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert f"the share-weighted mean of the lives alone ({mean:,.0f} h)" in page
+
+
 def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
     """Heavy parts, 1.67x faster: a joint no unit fits, and its slow-down s. Every task's
     trajectory run s times slower (the shares kept) must let that unit fit."""
