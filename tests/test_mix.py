@@ -306,8 +306,6 @@ def test_the_report_names_the_task_that_sets_each_rule(pick_inspect):
     ('[[task]]\nmotion = "nowhere.toml"\nshare = 1\n', "task[0].motion", "not found"),
     ('[[task]]\nmotion = "{pick}"\nshare = 0.5\n[[task]]\nmotion = "{pick}"\nshare = 0.5\n',
      "task[1].name", "give each task its own `name`"),
-    ('[requirements]\nlife_hours = 30000\n[[task]]\nmotion = "{pick}"\nshare = 1\n',
-     "requirements.life_hours", "gives requirements.life_hours 20000"),
     ('[[task]]\nmotion = "{pick}"\nshare = 1\npayload = {{mass = 0.3, frame = "nowhere"}}\n',
      "task[0].payload.frame", "nowhere"),
     ("title = 1\n[[task]]\nmotion = \"{pick}\"\nshare = 1\n", "title", "unknown key"),
@@ -318,6 +316,23 @@ def test_bad_mix_files_name_the_file_and_the_field(tmp_path, body, field, messag
     with pytest.raises(InputError, match=message) as info:
         size(None, path)
     assert info.value.path == path and info.value.field == field
+
+
+def test_a_mix_of_another_robot_names_the_mix_the_task_and_both_robots(tmp_path, capsys):
+    """The mix runs the two-link arm; its task's motion is the benchtop arm's: the error is
+    the mix file's, not the motion file's waypoint that names a joint planar2 lacks."""
+    planar = REPO / "robots" / "planar2.urdf"
+    path = _mix(tmp_path, ("pick", PICK, 1.0))
+    path.write_text(f'robot = "{planar}"\n' + path.read_text())
+    with pytest.raises(InputError) as info:
+        size(None, path)
+    assert info.value.path == path and info.value.field == "task[0].motion"
+    reason = info.value.reason
+    assert "task 'pick' runs benchtop6_pick_place.toml" in reason
+    assert "benchtop6.urdf" in reason and f"the mix runs {planar}" in reason
+    assert main(["size", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"hdselect: error: {path}: task[0].motion: ")
 
 
 def test_motions_that_disagree_on_the_duty_are_named_both(tmp_path):
@@ -331,6 +346,32 @@ def test_motions_that_disagree_on_the_duty_are_named_both(tmp_path):
     assert "9000" in info.value.reason and "20000" in info.value.reason
     # the command line settles it
     assert size(None, path, life_hours=15000.0).options.life_hours == 15000.0
+
+
+def test_the_mix_files_stop_time_settles_the_duty_over_its_motions(tmp_path):
+    """[safety] stop_time = 0.05 s in the mix, 0.15 s in both motions: the mix file's holds
+    (as the same mix given --stop-time 0.05), with a note naming both motions. The stop
+    time is the robot's safety system's, one for the duty, which the mix file describes."""
+    path = _mix(tmp_path, ("pick", PICK, 0.7), ("inspect", INSPECT, 0.3))
+    path.write_text("[safety]\nstop_time = 0.05\n" + path.read_text())
+    (tmp_path / "plain").mkdir()
+    plain = _mix(tmp_path / "plain", ("pick", PICK, 0.7), ("inspect", INSPECT, 0.3))
+    result = size(None, path)
+    assert result.options.stop_time == 0.05
+    assert ("motion file: mix.toml gives safety.stop_time 0.05 for the whole duty, over "
+            "benchtop6_pick_place.toml's 0.15, benchtop6_inspect.toml's 0.15") in result.warnings
+    given = size(None, plain, stop_time=0.05)
+    assert _plain(result) == _plain(given)
+    assert _plain(result) != _plain(size(None, plain))  # 0.15 s: the stop time took effect
+    path.write_text(path.read_text().replace("0.05", "0.15"))
+    assert not any("stop_time" in warning for warning in size(None, path).warnings)
+    # every duty-wide value alike: the required life
+    path.write_text("[requirements]\nlife_hours = 30000\n" + path.read_text())
+    result = size(None, path)
+    assert result.options.life_hours == 30000.0
+    assert ("motion file: mix.toml gives requirements.life_hours 30000 for the whole duty, "
+            "over benchtop6_pick_place.toml's 20000, benchtop6_inspect.toml's 20000"
+            ) in result.warnings
 
 
 def test_the_command_line_takes_a_mix(tmp_path, capsys):

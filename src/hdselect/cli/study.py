@@ -68,7 +68,8 @@ def run_study(args: argparse.Namespace) -> int:
                             if r.get("ok") and r.get("result")), {})
             write_study_png(plot, study.title, [r for r in rows if r["compute"] == "size"],
                             first, second, joints, required_life=options.get("life_hours"),
-                            life_basis=options.get("life_basis") or "L50")
+                            life_basis=options.get("life_basis") or "L50",
+                            others=study.varied[2:])
         text = "" if args.plot == "-" else rendered(*items)
         outputs.commit()
     sys.stdout.write(text)
