@@ -258,8 +258,9 @@ ENVELOPE_EFFECTS = [
     ("--inertia-target", ["2"]),
 ]
 """Each option of ``hdselect envelope`` that changes its answer, with a value that must."""
-ENVELOPE_OUTPUTS = ("--json", "--report", "--workers", "--scheduler")
-"""Options that change where the answer goes or how it is computed (tested above)."""
+ENVELOPE_OUTPUTS = ("--json", "--report", "--workers", "--scheduler", "--timeout")
+"""Options that change where the answer goes or how it is computed (tested above; --timeout
+in test_scheduler)."""
 ACME = ('series = "ACME"\n[[unit]]\nsize = 20\nratio = 30\nrated_torque_nm = 40\n'
         "repeated_torque_nm = 50\nmax_input_speed_rpm = 4000\ninput_inertia_kg_cm2 = 0.2\n"
         "mass_kg = 1.5\n")
@@ -307,12 +308,12 @@ def test_the_effects_table_covers_every_option_of_envelope():
 @pytest.mark.parametrize("parameter", ["robot", "spec", "velocity", "acceleration", "jerk",
                                        "payload", "mounting", "joints", "exclude", "duty",
                                        "moves", "seed", "catalog", "units", "settings",
-                                       "workers", "scheduler"])
+                                       "workers", "scheduler", "timeout"])
 def test_the_function_names_a_parameter_of_a_wrong_type(parameter):
     """Each parameter in turn of no type it takes, the others valid: an InputError naming it."""
     valid = {"robot": PLANAR2, "acceleration": 5.0, "moves": 2,
              "settings": SearchSettings(starts=64)}
-    numbers = ("velocity", "acceleration", "jerk", "moves", "seed", "workers")
+    numbers = ("velocity", "acceleration", "jerk", "moves", "seed", "workers", "timeout")
     for wrong in ("x" if parameter in numbers else 42, object()):
         with pytest.raises(InputError) as raised:
             envelope(**{**valid, parameter: wrong})

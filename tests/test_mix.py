@@ -306,8 +306,6 @@ def test_the_report_names_the_task_that_sets_each_rule(pick_inspect):
     ('[[task]]\nmotion = "nowhere.toml"\nshare = 1\n', "task[0].motion", "not found"),
     ('[[task]]\nmotion = "{pick}"\nshare = 0.5\n[[task]]\nmotion = "{pick}"\nshare = 0.5\n',
      "task[1].name", "give each task its own `name`"),
-    ('[requirements]\nlife_hours = 30000\n[[task]]\nmotion = "{pick}"\nshare = 1\n',
-     "requirements.life_hours", "gives requirements.life_hours 20000"),
     ('[[task]]\nmotion = "{pick}"\nshare = 1\npayload = {{mass = 0.3, frame = "nowhere"}}\n',
      "task[0].payload.frame", "nowhere"),
     ("title = 1\n[[task]]\nmotion = \"{pick}\"\nshare = 1\n", "title", "unknown key"),
@@ -318,6 +316,23 @@ def test_bad_mix_files_name_the_file_and_the_field(tmp_path, body, field, messag
     with pytest.raises(InputError, match=message) as info:
         size(None, path)
     assert info.value.path == path and info.value.field == field
+
+
+def test_a_mix_of_another_robot_names_the_mix_the_task_and_both_robots(tmp_path, capsys):
+    """The mix runs the two-link arm; its task's motion is the benchtop arm's: the error is
+    the mix file's, not the motion file's waypoint that names a joint planar2 lacks."""
+    planar = REPO / "robots" / "planar2.urdf"
+    path = _mix(tmp_path, ("pick", PICK, 1.0))
+    path.write_text(f'robot = "{planar}"\n' + path.read_text())
+    with pytest.raises(InputError) as info:
+        size(None, path)
+    assert info.value.path == path and info.value.field == "task[0].motion"
+    reason = info.value.reason
+    assert "task 'pick' runs benchtop6_pick_place.toml" in reason
+    assert "benchtop6.urdf" in reason and f"the mix runs {planar}" in reason
+    assert main(["size", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"hdselect: error: {path}: task[0].motion: ")
 
 
 def test_motions_that_disagree_on_the_duty_are_named_both(tmp_path):
@@ -331,6 +346,32 @@ def test_motions_that_disagree_on_the_duty_are_named_both(tmp_path):
     assert "9000" in info.value.reason and "20000" in info.value.reason
     # the command line settles it
     assert size(None, path, life_hours=15000.0).options.life_hours == 15000.0
+
+
+def test_the_mix_files_stop_time_settles_the_duty_over_its_motions(tmp_path):
+    """[safety] stop_time = 0.05 s in the mix, 0.15 s in both motions: the mix file's holds
+    (as the same mix given --stop-time 0.05), with a note naming both motions. The stop
+    time is the robot's safety system's, one for the duty, which the mix file describes."""
+    path = _mix(tmp_path, ("pick", PICK, 0.7), ("inspect", INSPECT, 0.3))
+    path.write_text("[safety]\nstop_time = 0.05\n" + path.read_text())
+    (tmp_path / "plain").mkdir()
+    plain = _mix(tmp_path / "plain", ("pick", PICK, 0.7), ("inspect", INSPECT, 0.3))
+    result = size(None, path)
+    assert result.options.stop_time == 0.05
+    assert ("motion file: mix.toml gives safety.stop_time 0.05 for the whole duty, over "
+            "benchtop6_pick_place.toml's 0.15, benchtop6_inspect.toml's 0.15") in result.warnings
+    given = size(None, plain, stop_time=0.05)
+    assert _plain(result) == _plain(given)
+    assert _plain(result) != _plain(size(None, plain))  # 0.15 s: the stop time took effect
+    path.write_text(path.read_text().replace("0.05", "0.15"))
+    assert not any("stop_time" in warning for warning in size(None, path).warnings)
+    # every duty-wide value alike: the required life
+    path.write_text("[requirements]\nlife_hours = 30000\n" + path.read_text())
+    result = size(None, path)
+    assert result.options.life_hours == 30000.0
+    assert ("motion file: mix.toml gives requirements.life_hours 30000 for the whole duty, "
+            "over benchtop6_pick_place.toml's 20000, benchtop6_inspect.toml's 20000"
+            ) in result.warnings
 
 
 def test_the_command_line_takes_a_mix(tmp_path, capsys):
@@ -518,6 +559,48 @@ def test_the_duty_life_is_the_tasks_lives_combined_by_miners_rule(pick_inspect):
         assert sum(s * life for s, life in zip(shares, lives, strict=True)) > duty * (1 - 1e-12) \
             or math.isclose(min(lives), max(lives), rel_tol=1e-9)
         assert min(lives) <= duty * (1 + 1e-12)
+
+
+def test_the_share_weighted_mean_of_the_lives_weighs_the_operating_time():
+    """A day of cycles per hour: shares 0.2 and 0.1 of the hour, the rest idle. Lives
+    alone of 1,000 h and 4,000 h, duty 1,500 h: weighted over the operating time the
+    mean is (0.2 x 1000 + 0.1 x 4000) / 0.3 = 2,000 h (+33 %), the shortest -33 %;
+    weighing by the shares of the hour would give 600 h, below the shortest life."""
+    from types import SimpleNamespace
+
+    from hdselect.report.mix_tables import spread_notes
+
+    def unit(life):
+        return SimpleNamespace(life_hours=life)
+
+    joint = SimpleNamespace(name="elbow", selected=unit(1500.0), strongest=unit(1500.0),
+                            per_task=(unit(1000.0), unit(4000.0)))
+    result = SimpleNamespace(counted=(SimpleNamespace(share=0.2), SimpleNamespace(share=0.1)),
+                             joints=(joint,))
+    assert spread_notes(result)[1] == ("elbow: duty L50 1,500 h; the share-weighted mean of "
+                                       "the lives alone (2,000 h) is +33%, the shortest "
+                                       "(1,000 h) -33%")
+
+
+def test_a_day_in_cycles_per_hour_prints_a_mean_between_the_lives(tmp_path, capsys):
+    """The index table at 900 and 1200 cycles an hour (53 % idle): the note's mean, in the
+    terminal and the HTML report, is the lives alone weighted by the operating time."""
+    from hdselect.report.report_files import write_report
+
+    mix = write_index_mix(tmp_path, cycles_per_hour=[900.0, 1200.0])
+    result = size(None, mix)
+    assert result.idle > 0.5
+    (joint,) = result.joints
+    lives = [c.life_hours for c in joint.per_task]
+    shares = [task.share for task in result.counted]
+    mean = sum(s * life for s, life in zip(shares, lives, strict=True)) / sum(shares)
+    assert min(lives) < mean < max(lives)
+    assert main(["size", str(mix)]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert f"the share-weighted mean of the lives alone ({mean:,.0f} h)" in out
+    write_report(tmp_path / "report", result)
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert f"the share-weighted mean of the lives alone ({mean:,.0f} h)" in page
 
 
 def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():

@@ -116,7 +116,8 @@ OTHER = {
     "catalog": ["--catalog", "--units", "--json"],
     "duty": ["--catalog", "--json", "--margin"],  # test_margins: the duty example by hand
     "joints": ["--json", "--xacro-arg"], "init": ["--out", "--tool-poses", "--xacro-arg"],
-    "study": ["--out", "--workers", "--scheduler", "--no-grouping", "--retry-failed", "--plot"],
+    "study": ["--out", "--workers", "--scheduler", "--timeout", "--no-grouping", "--retry-failed",
+              "--plot"],
     "plan": ["--out", "--xacro-arg"], "size": ["--json", "--bom", "--xacro-arg"],
     "compare": ["--json", "--bom", "--xacro-arg"], "fastest": ["--json", "--xacro-arg"],
     "max-payload": ["--json", "--prefer", "--xacro-arg"],

@@ -16,9 +16,9 @@ import pytest
 
 import hdselect
 from hdselect.base.errors import InputError
+from hdselect.base.scheduler import local_cluster as _local_cluster
 from hdselect.cli.main import main
 from hdselect.study import COMPUTATIONS, Computation, compute, load_study, run_study
-from hdselect.study.cluster import _local_cluster
 from hdselect.study.compute import SIZE, Outcome, run_size
 from hdselect.study.store import journal_path
 from test_dynamics import REPO

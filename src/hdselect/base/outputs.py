@@ -64,6 +64,8 @@ def writable_target(target: str | Path, option: str | None = None) -> tuple[Path
     if mode is not None:
         if stat.S_ISDIR(mode):
             raise InputError("is a directory; give a file name", path=path, field=option)
+        if stat.S_ISCHR(mode):
+            _write_nothing(path, option)
         if stat.S_ISCHR(mode) or stat.S_ISFIFO(mode):
             # a pipe's /proc link (pipe:[N]) is no path: open it by the name given
             return (real if real.exists() else path.absolute()), "direct"
@@ -73,6 +75,25 @@ def writable_target(target: str | Path, option: str | None = None) -> tuple[Path
     elif not real.parent.is_dir():
         raise InputError(f"the directory {real.parent} does not exist", path=path, field=option)
     return real, "file"
+
+
+def _write_nothing(path: Path, option: str | None) -> None:
+    """Write zero bytes into a character device, before any work.
+
+    A device that refuses every write (``/dev/full``) refuses this too; a terminal or
+    ``/dev/null`` takes it.
+
+    Raises:
+        InputError: The device cannot be opened or written.
+    """
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK | os.O_NOCTTY)
+        try:
+            os.write(fd, b"")
+        finally:
+            os.close(fd)
+    except OSError as err:
+        raise InputError(f"cannot write here ({err.strerror})", path=path, field=option) from err
 
 
 def write_file(target: str | Path, write: Callable[[Any], None], *,

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from hdselect.base.errors import InputError
-from hdselect.cli.inputs import json_argument, sizing_options_of
+from hdselect.cli.inputs import json_argument, sizing_options_of, timeout_of
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
 
 _ANGLE = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -17,7 +17,7 @@ _SPEC_SUFFIXES = (".toml",)
 
 def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``hdselect envelope``."""
-    from hdselect.cli.inputs import sizing_arguments, xacro_argument
+    from hdselect.cli.inputs import sizing_arguments, timeout_argument, xacro_argument
 
     parser.add_argument("target", metavar="ROBOT",
                         help="robot file (URDF, xacro, MJCF), or an envelope file (TOML) that "
@@ -58,7 +58,7 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
                         help="seed of the default duty's random poses (default: 0)")
     parser.add_argument("--starts", type=int, metavar="N",
                         help="quasi-random starts of the search's first round, a power of 2 "
-                             "(default 4096; later rounds take 4N, 16N)")
+                             "from 64 to 65536 (default 4096; later rounds take 4N, 16N)")
     parser.add_argument("--max-samples", type=int, metavar="N", default=None,
                         help="refuse a duty of more samples than this")
     sizing_arguments(parser)
@@ -76,6 +76,7 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="'local': a Dask LocalCluster here; tcp://HOST:PORT: a running "
                              "Dask scheduler (needs pip install 'hdselect[dask]')")
+    timeout_argument(parser)
 
 
 def run_envelope(args: argparse.Namespace) -> int:
@@ -116,7 +117,7 @@ def run_envelope(args: argparse.Namespace) -> int:
                 mounting=args.mounting, joints=_names(args.joints),
                 exclude=_names(args.exclude), duty=args.duty, moves=args.moves,
                 seed=args.seed, units=load_catalog(args.catalog), settings=settings,
-                workers=args.workers, scheduler=args.scheduler,
+                workers=args.workers, scheduler=args.scheduler, timeout=timeout_of(args),
                 **{name: getattr(options, name) for name in _GIVEN if _flag(args, name)})
         except InputError as err:
             raise _flagged(err) from err
@@ -180,7 +181,7 @@ def _flagged(err: InputError) -> InputError:
     """An error of a Python argument renamed to the flag that gave it."""
     field = str(err.field or "")
     for kind in ("velocity", "acceleration", "jerk", "payload", "mounting", "joints", "exclude",
-                 "duty", "starts", "workers", "scheduler"):
+                 "duty", "starts", "workers", "scheduler", "timeout"):
         if err.path is None and (field == kind or field.startswith(f"{kind}.")):
             return InputError(err.reason, field=f"--{kind}")
     return err

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.base.errors import InputError
+from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
 
 
 def catalog_argument(parser: argparse.ArgumentParser) -> None:
@@ -23,6 +24,24 @@ def json_argument(parser: argparse.ArgumentParser) -> None:
     """--json FILE."""
     parser.add_argument("--json", metavar="FILE",
                         help="also write JSON to FILE ('-': to stdout, instead of the table)")
+
+
+def timeout_argument(parser: argparse.ArgumentParser) -> None:
+    """``--timeout SECONDS``: how long connecting to a ``--scheduler`` may take."""
+    parser.add_argument("--timeout", type=float, metavar="SECONDS",
+                        help="how long connecting to the --scheduler may take, in seconds "
+                             f"(default {DEFAULT_TIMEOUT:g}); a peer that is not a Dask "
+                             "scheduler is refused")
+
+
+def timeout_of(args: argparse.Namespace) -> float:
+    """The ``--timeout`` given, else the default [s]; refused without ``--scheduler``."""
+    if args.timeout is None:
+        return DEFAULT_TIMEOUT
+    if args.scheduler is None:
+        raise InputError("bounds connecting to a Dask scheduler: give --scheduler too",
+                         field="--timeout")
+    return timeout_seconds(args.timeout, "--timeout")
 
 
 def xacro_argument(parser: argparse.ArgumentParser) -> None:

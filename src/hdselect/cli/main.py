@@ -23,6 +23,7 @@ from hdselect.cli.inputs import (
     margin_argument,
     robot_motion_arguments,
     sizing_arguments,
+    timeout_argument,
     xacro_argument,
 )
 from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED
@@ -261,6 +262,7 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--scheduler", metavar="ADDRESS",
                        help="'local': a Dask LocalCluster on this machine; tcp://HOST:PORT: a "
                             "running Dask scheduler (needs pip install 'hdselect[dask]')")
+    timeout_argument(study)
     study.add_argument("--no-grouping", action="store_true",
                        help="size every case on its own, not from its group's shared basis")
     study.add_argument("--retry-failed", action="store_true",

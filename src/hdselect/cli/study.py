@@ -20,12 +20,14 @@ def run_study(args: argparse.Namespace) -> int:
     import time
 
     from hdselect.base.outputs import Outputs
+    from hdselect.cli.inputs import timeout_of
     from hdselect.report.study_tables import study_tables, study_value_table
     from hdselect.report.tables import Paragraphs
     from hdselect.study.run import run_study as run
     from hdselect.study.spec import load_study
     from hdselect.study.store import Store, journal_path, pivots, table, value_pivot
 
+    timeout = timeout_of(args)
     study = load_study(args.study)
     store = Store(args.out, study)  # checks both paths before any case runs
     with Outputs([args.study, *store.paths]) as outputs:
@@ -35,8 +37,8 @@ def run_study(args: argparse.Namespace) -> int:
                           f"{store.journal_path.name}; run the same command to resume")
         with _progress(study.title) as progress:
             done = run(study, store, workers=args.workers, scheduler=args.scheduler,
-                       grouping=not args.no_grouping, retry_failed=args.retry_failed,
-                       progress=progress)
+                       timeout=timeout, grouping=not args.no_grouping,
+                       retry_failed=args.retry_failed, progress=progress)
         methods = ", ".join(f"{count} {name}" for name, count in sorted(done.methods.items()))
         items: list[Any] = [Paragraphs((
             f"{study.title}: {len(study.cases)} cases: {done.ran} run now"
@@ -66,7 +68,8 @@ def run_study(args: argparse.Namespace) -> int:
                             if r.get("ok") and r.get("result")), {})
             write_study_png(plot, study.title, [r for r in rows if r["compute"] == "size"],
                             first, second, joints, required_life=options.get("life_hours"),
-                            life_basis=options.get("life_basis") or "L50")
+                            life_basis=options.get("life_basis") or "L50",
+                            others=study.varied[2:])
         text = "" if args.plot == "-" else rendered(*items)
         outputs.commit()
     sys.stdout.write(text)

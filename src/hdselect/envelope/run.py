@@ -22,6 +22,7 @@ import numpy as np
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES, expect_type, files_argument
 from hdselect.base.errors import InputError
+from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.select import DEFAULT_PREFER
 from hdselect.catalog.units import Unit
@@ -86,6 +87,7 @@ def envelope(
     settings: SearchSettings | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
+    timeout: float = DEFAULT_TIMEOUT,
     **options: object,
 ) -> EnvelopeResult:
     """The unit per joint that holds for any motion within a spec, and the worst states.
@@ -113,7 +115,9 @@ def envelope(
             (with `scheduler`, Dask workers; default there: the cores here); None computes
             them in this process, on every core.
         scheduler: ``"local"`` for a Dask LocalCluster here, ``"tcp://HOST:PORT"`` for a
-            running Dask scheduler; None for none.
+            running Dask scheduler (checked before any work, and asked for Dask's greeting
+            before it is used); None for none.
+        timeout: The time limit of connecting to the scheduler [s], at most a day.
         **options: Fields of `hdselect.sizing.options.Options` (``stop_time``,
             ``efficiency``, ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
             ``life_hours``, ``life_basis``, ``margin``, ``bearing_offset``,
@@ -131,6 +135,9 @@ def envelope(
         PlanningError: The duty cannot be planned.
     """
     started = time.perf_counter()
+    timeout = timeout_seconds(timeout, "timeout")
+    spread = (None if workers is None and scheduler is None else
+              Spread(workers if workers is not None else default_workers(), scheduler, timeout))
     expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
     expect_type(spec, (str, Path, type(None)), "spec", "an envelope file or None")
     expect_type(duty, (Motion, str, Path, type(None)), "duty", "a Motion, a motion file or None")
@@ -166,10 +173,10 @@ def envelope(
     check_within(chosen_duty, limits)
     duty_sizing = size_tasks(chosen_duty.tasks, catalog_units, resolved)
     settings = settings or SearchSettings()
-    if workers is None and scheduler is None:
+    if spread is None:
         return _envelope(robot, limits, chosen_duty, duty_sizing, catalog_units, resolved,
                          settings, None, started)
-    with Spread(workers if workers is not None else default_workers(), scheduler) as spread:
+    with spread:
         result = _envelope(robot, limits, chosen_duty, duty_sizing, catalog_units, resolved,
                            settings, spread, started)
         return replace(result, executor=spread.where)

@@ -10,7 +10,6 @@ or a cluster, not on a laptop.
 
 from __future__ import annotations
 
-import logging
 import multiprocessing
 import os
 from collections.abc import Sequence
@@ -22,12 +21,17 @@ from typing import Any
 import numpy as np
 
 from hdselect.base.errors import InputError
+from hdselect.base.scheduler import (
+    DEFAULT_TIMEOUT,
+    open_client,
+    scheduler_address,
+    timeout_seconds,
+    where,
+)
 from hdselect.envelope.box import LimitBox
 from hdselect.envelope.demands import all_demands
 from hdselect.robot.model import Robot
 
-DASK_HINT = "pip install 'hdselect[dask]'"
-"""How to install the optional Dask executor."""
 CHUNKS_PER_WORKER = 2
 """Chunks each worker gets per batch of states: enough to even out their speeds."""
 
@@ -57,23 +61,23 @@ class Spread:
         workers: Worker processes (with ``scheduler="local"``: Dask workers), at least 1.
         scheduler: None for worker processes here; ``"local"`` for a Dask LocalCluster on
             this machine; ``"tcp://HOST:PORT"`` for a running Dask scheduler.
+        timeout: The time limit of connecting to the scheduler [s].
 
     Raises:
         InputError: The worker count is not a whole number from 1, the scheduler is not
-            ``local`` or an address, Dask is not installed, or the scheduler is unreachable
-            (raised on entering).
+            ``local`` or an address, the time limit not in (0, 1 day], Dask is not
+            installed, or no Dask scheduler answers in time (raised on entering).
     """
 
-    def __init__(self, workers: int, scheduler: str | None = None) -> None:
+    def __init__(self, workers: int, scheduler: str | None = None,
+                 timeout: float = DEFAULT_TIMEOUT) -> None:
         if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 4096:
             raise InputError(f"must be a whole number from 1 to 4096, got {workers!r}",
                              field="workers")
-        if scheduler is not None and (not isinstance(scheduler, str) or (
-                scheduler != "local" and not scheduler.startswith(("tcp://", "tls://")))):
-            raise InputError(f"expected 'local' or a scheduler address tcp://HOST:PORT, got "
-                             f"{scheduler!r}", field="scheduler")
+        self.scheduler = None if scheduler is None else scheduler_address(scheduler,
+                                                                          "scheduler")
+        self.timeout = timeout_seconds(timeout, "timeout")
         self.workers = workers
-        self.scheduler = scheduler
         self._pool: Executor | None = None
         self._client: Any = None
         self._cluster: Any = None
@@ -81,34 +85,17 @@ class Spread:
     @property
     def where(self) -> str:
         """Where the states are computed, in words."""
-        plural = "s" if self.workers > 1 else ""
         if self.scheduler is None:
             return f"{self.workers} worker process{'es' if self.workers > 1 else ''}"
-        if self.scheduler == "local":
-            return f"a Dask LocalCluster of {self.workers} worker{plural}"
-        return f"the Dask scheduler at {self.scheduler}"
+        return where(self.scheduler, self.workers)
 
     def __enter__(self) -> Spread:
         if self.scheduler is None:
             self._pool = ProcessPoolExecutor(self.workers,
                                              mp_context=multiprocessing.get_context("spawn"))
             return self
-        try:
-            from distributed import Client, LocalCluster
-        except ImportError as err:
-            raise InputError(f"needs Dask's distributed scheduler: {DASK_HINT}",
-                             field="scheduler") from err
-        if self.scheduler == "local":
-            self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1,
-                                         processes=True, host="127.0.0.1",
-                                         dashboard_address=None, silence_logs=logging.ERROR)
-        try:
-            self._client = Client(self._cluster if self._cluster is not None
-                                  else self.scheduler, timeout="15s")
-        except (OSError, TimeoutError) as err:
-            self._close()
-            raise InputError(f"cannot reach the Dask scheduler ({err})",
-                             field="scheduler") from err
+        self._client, self._cluster = open_client(self.scheduler, self.workers, self.timeout,
+                                                  "scheduler")
         return self
 
     def __exit__(self, kind: type[BaseException] | None, error: BaseException | None,

@@ -18,10 +18,10 @@ motion file's; a motion of tool poses is solved for its task's own mounting when
 planned (`hdselect.sizing.duty`). What belongs to the whole duty (the sized joints, the
 stop time, the required life, the design margin, the motors, the selection order,
 efficiency, mass coupling, catalogs) comes from the command line, else the mix file's
-``[sizing]``, ``[requirements]``, ``[safety]`` and ``[motor]`` tables, else the motion
-files, which must then agree: a motion whose value differs from the mix file's, or from
-another motion's, is an error naming both files (`Mix.duty_value`). Files are relative
-to the mix file.
+``[sizing]``, ``[requirements]``, ``[safety]`` and ``[motor]`` tables (which settle it
+over the motions', with a note naming them), else the motion files, which must then
+agree: two motions that differ are an error naming both files (`Mix.duty_value`).
+Files are relative to the mix file.
 """
 
 from __future__ import annotations
@@ -35,33 +35,28 @@ from hdselect.base import bounds
 from hdselect.base.bounds import SHARE_TOLERANCE, check_shares  # noqa: F401  (re-exported)
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
-from hdselect.catalog.select import PREFERENCES
+from hdselect.motion.mixduty import (
+    MOTION_FIELD,
+    SECTION_OF,
+    comparable,
+    duty_tables,
+    motion_value,
+    shown,
+)
 from hdselect.motion.motionfile import (
     ANGLE_UNITS,
-    LIFE_BASES,
     Motion,
     load_motion,
     mounting_of,
     payload_table,
     robot_file_named,
 )
-from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 
 _TOP_KEYS = ("robot", "angle_unit", "task", "sizing", "requirements", "safety", "motor")
 _TASK_KEYS = ("motion", "name", "share", "cycles_per_hour", "payload", "mounting", "base")
-_SIZING_KEYS = ("joints", "exclude", "catalog", "prefer", "efficiency", "mass_coupling",
-                "rotor_inertia", "motor_mass")
-_SECTION_OF = {"stop_time": "safety", "life_hours": "requirements",
-               "life_basis": "requirements", "margin": "requirements", "joints": "sizing",
-               "exclude": "sizing", "motors": "motor"}
-"""Where each duty-wide value a motion file may also give lives in the mix file."""
-_MOTION_FIELD = {"stop_time": "safety.stop_time", "life_hours": "requirements.life_hours",
-                 "life_basis": "requirements.life_basis", "margin": "requirements.margin",
-                 "joints": "sizing.joints",
-                 "exclude": "sizing.exclude", "motors": "motor"}
 SECONDS_PER_HOUR = 3600.0
 """Seconds in the hour that ``cycles_per_hour`` counts in [s]."""
 
@@ -123,10 +118,23 @@ class Mix:
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        """The motion files' warnings, each led by its file's name, once per file."""
+        """The motion files' warnings, led by the file's name, once per file; `overrides`."""
         seen = dict.fromkeys(self.motions)
         return tuple(f"{motion.path.name}: {warning}" for motion in seen
-                     for warning in motion.warnings)
+                     for warning in motion.warnings) + self.overrides
+
+    @property
+    def overrides(self) -> tuple[str, ...]:
+        """Each duty-wide value of the mix file over motion files' others (naming them)."""
+        notes = []
+        for name, mine in self.given.items():
+            others = [f"{m.path.name}'s {shown(v)}" for m in dict.fromkeys(self.motions)
+                      if name in MOTION_FIELD and (v := motion_value(m, name)) is not None
+                      and comparable(v) != comparable(mine)]
+            if others:
+                notes.append(f"{self.path.name} gives {MOTION_FIELD[name]} {shown(mine)} "
+                             f"for the whole duty, over {', '.join(others)}")
+        return tuple(notes)
 
     @property
     def shares_given(self) -> bool:
@@ -151,6 +159,10 @@ class Mix:
     def duty_value(self, name: str) -> Any:
         """A duty-wide value: the mix file's, else the one every motion that gives it agrees on.
 
+        The mix file's settles the duty's, whatever its motions give (`overrides` notes
+        where they differ): the duty is the mix file's, and its robot has one safety
+        system.
+
         Args:
             name: ``stop_time``, ``life_hours``, ``life_basis``, ``margin``, ``joints``,
                 ``exclude`` or ``motors``.
@@ -159,32 +171,23 @@ class Mix:
             The value, or None when neither the mix file nor any motion gives it.
 
         Raises:
-            InputError: A motion's value conflicts with the mix file's or another
-                motion's (the message names both files).
+            InputError: Two motions' values conflict and the mix file gives none (the
+                message names both files).
         """
-        values = [(motion, _motion_value(motion, name)) for motion in dict.fromkeys(self.motions)]
-        values = [(motion, value) for motion, value in values if value is not None]
-        where = _MOTION_FIELD[name]
         if name in self.given:
-            mine = self.given[name]
-            for motion, value in values:
-                if _comparable(value) != _comparable(mine):
-                    raise InputError(
-                        f"{motion.path} gives {where} {_shown(value)}, {self.path.name} gives "
-                        f"{_shown(mine)}; the whole duty has one: make them agree, or remove "
-                        "it from the motion file", path=self.path,
-                        field=f"{_SECTION_OF[name]}" + ("" if name == "motors" else f".{name}"))
-            return mine
+            return self.given[name]  # over the motions' (`overrides` names them)
+        values = [(motion, motion_value(motion, name)) for motion in dict.fromkeys(self.motions)]
+        values = [(motion, value) for motion, value in values if value is not None]
         if not values:
             return None
         first_motion, first = values[0]
         for motion, value in values[1:]:
-            if _comparable(value) != _comparable(first):
+            if comparable(value) != comparable(first):
                 raise InputError(
-                    f"{first_motion.path} gives {where} {_shown(first)}, {motion.path} gives "
-                    f"{_shown(value)}; the whole duty has one: give it in the mix file "
-                    f"([{_SECTION_OF[name]}]) or on the command line", path=self.path,
-                    field="task")
+                    f"{first_motion.path} gives {MOTION_FIELD[name]} {shown(first)}, "
+                    f"{motion.path} gives {shown(value)}; the whole duty has one: give it in "
+                    f"the mix file ([{SECTION_OF[name]}]) or on the command line",
+                    path=self.path, field="task")
         return first
 
 
@@ -203,6 +206,15 @@ def is_mix_file(path: str | Path) -> bool:
         if err.field == "motion" and err.path is None:
             raise
         return False
+
+
+def task_names(path: Path) -> tuple[str, ...] | None:
+    """A mix file's task names (``name``, else the motion's stem); None: no mix, or broken."""
+    try:
+        tables = _task_tables(read_toml(path), path)
+    except InputError:
+        return None
+    return tuple(str(t.get("name", Path(str(t.get("motion", ""))).stem)) for t in tables)
 
 
 def mix_robot_file(path: str | Path) -> Path:
@@ -279,7 +291,7 @@ def load_mix(path: str | Path, robot: Robot | str | Path | None = None) -> Mix:
             check_shares([task.share for task in tasks if task.share is not None])
         except InputError as err:
             raise InputError(err.reason, path=path, field="task.share") from err
-    given, catalog = _duty_tables(doc, path, robot)
+    given, catalog = duty_tables(doc, path, robot)
     return Mix(path, robot.path, robot.joint_names, tuple(tasks), given, catalog)
 
 
@@ -305,6 +317,27 @@ def _motion_path(table: dict[str, Any], path: Path, i: int) -> Path:
     return motion
 
 
+def _other_robot(err: InputError, name: object, motion: Path, path: Path, i: int,
+                 robot: Robot) -> None:
+    """Blame a task's motion that does not load on the mix's robot on its other robot.
+
+    Names the mix file, the task and both robots; returns where the motion names the
+    mix's robot file, or none.
+
+    Raises:
+        InputError: The motion names another robot file than the one the mix runs.
+    """
+    try:
+        named = robot_file_named(motion)
+    except InputError:
+        return
+    if named.resolve() != Path(robot.path).resolve():
+        raise InputError(f"task {name!r} runs {motion.name}, written for {named}, but the mix "
+                         f"runs {robot.path}: the motion does not fit it ({err}); give the "
+                         "task a motion of this robot", path=path,
+                         field=f"task[{i}].motion") from err
+
+
 def _task(table: dict[str, Any], path: Path, i: int, robot: Robot,
           motions: dict[Path, Motion], angle_unit: str) -> MixTask:
     where = f"task[{i}]"
@@ -312,7 +345,11 @@ def _task(table: dict[str, Any], path: Path, i: int, robot: Robot,
     file = _motion_path(table, path, i)
     key = file.resolve()
     if key not in motions:
-        motions[key] = load_motion(file, robot)
+        try:
+            motions[key] = load_motion(file, robot)
+        except InputError as err:
+            _other_robot(err, table.get("name", file.stem), file, path, i, robot)
+            raise
     motion = motions[key]
     name = table.get("name", file.stem)
     if not isinstance(name, str) or not name.strip():
@@ -340,93 +377,3 @@ def _task(table: dict[str, Any], path: Path, i: int, robot: Robot,
     except InputError as err:
         raise InputError(err.reason, path=path, field=f"{where}.{err.field}") from err
     return MixTask(motion, name.strip(), share, cycles, payload, mounting)
-
-
-def _duty_tables(doc: dict[str, Any], path: Path,
-                 robot: Robot) -> tuple[dict[str, Any], tuple[Path, ...]]:
-    """The duty-wide values of ``[sizing]``, ``[requirements]``, ``[safety]`` and ``[motor]``."""
-    given: dict[str, Any] = {}
-    safety = table_of(doc.get("safety", {}), path, "safety")
-    check_keys(safety, ("stop_time",), path, "safety")
-    if "stop_time" in safety:
-        given["stop_time"] = as_number(safety["stop_time"], path, "safety.stop_time",
-                                       bound=bounds.STOP_TIME)
-    needs = table_of(doc.get("requirements", {}), path, "requirements")
-    check_keys(needs, ("life_hours", "life_basis", "margin"), path, "requirements")
-    for key, bound in (("life_hours", bounds.LIFE), ("margin", bounds.MARGIN)):
-        if key in needs:
-            given[key] = as_number(needs[key], path, f"requirements.{key}", bound=bound)
-    if "life_basis" in needs:
-        if needs["life_basis"] not in LIFE_BASES:
-            raise InputError(f"unknown value {needs['life_basis']!r}; choose one of: "
-                             f"{', '.join(LIFE_BASES)}", path=path,
-                             field="requirements.life_basis")
-        given["life_basis"] = needs["life_basis"]
-    sizing = table_of(doc.get("sizing", {}), path, "sizing")
-    check_keys(sizing, _SIZING_KEYS, path, "sizing")
-    for key in ("joints", "exclude"):
-        if key in sizing:
-            value = sizing[key]
-            if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-                raise InputError(f"expected a list of joint names, got {value!r}", path=path,
-                                 field=f"sizing.{key}")
-            given[key] = tuple(value)
-    if "joints" in given or "exclude" in given:
-        try:
-            robot.with_sized_joints(given.get("joints"), given.get("exclude", ()))
-        except InputError as err:
-            raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
-    if "prefer" in sizing:
-        if sizing["prefer"] not in PREFERENCES:
-            raise InputError(f"unknown order {sizing['prefer']!r}; choose one of: "
-                             f"{', '.join(PREFERENCES)}", path=path, field="sizing.prefer")
-        given["prefer"] = sizing["prefer"]
-    if "mass_coupling" in sizing:
-        if not isinstance(sizing["mass_coupling"], bool):
-            raise InputError(f"expected true or false, got {sizing['mass_coupling']!r}",
-                             path=path, field="sizing.mass_coupling")
-        given["mass_coupling"] = sizing["mass_coupling"]
-    for key, bound in (("efficiency", bounds.EFFICIENCY), ("rotor_inertia", bounds.ROTOR_INERTIA),
-                       ("motor_mass", bounds.ADDED_MASS)):
-        if key in sizing:
-            given[key] = as_number(sizing[key], path, f"sizing.{key}", bound=bound)
-    catalog: list[Path] = []
-    if "catalog" in sizing:
-        files = sizing["catalog"] if isinstance(sizing["catalog"], list) else [sizing["catalog"]]
-        for i, file in enumerate(files):
-            if not isinstance(file, str) or not (path.parent / file).is_file():
-                raise InputError(f"catalog file not found: {file!r}", path=path,
-                                 field=f"sizing.catalog[{i}]")
-            catalog.append(path.parent / file)
-    if "motor" in doc:
-        given["motors"] = motion_file_motors(doc["motor"], path, robot)
-        given["motor_joints"] = tuple(key for key, block in doc["motor"].items()
-                                      if isinstance(block, dict) and key != "curve")
-    return given, tuple(catalog)
-
-
-def _motion_value(motion: Motion, name: str) -> Any:
-    if name == "joints":
-        return motion.sized_joints
-    if name == "exclude":
-        return motion.excluded_joints or None
-    return getattr(motion, name)
-
-
-def _comparable(value: Any) -> Any:
-    """A duty-wide value in a form two files' values compare in (motors by id and file)."""
-    if isinstance(value, Mapping):
-        return {joint: tuple((m.id, str(m.source)) for m in motors)
-                for joint, motors in value.items()}
-    if isinstance(value, list | tuple):
-        return tuple(value)
-    return value
-
-
-def _shown(value: Any) -> str:
-    if isinstance(value, Mapping):
-        return "motors " + "; ".join(f"{joint}: {', '.join(m.id for m in motors)}"
-                                     for joint, motors in value.items())
-    if isinstance(value, list | tuple):
-        return "[" + ", ".join(map(str, value)) + "]"
-    return f"{value:g}" if isinstance(value, float) else str(value)

@@ -163,10 +163,13 @@ def spread_notes(result: SizingResult) -> tuple[str, ...]:
 
     The share-weighted mean of the lives alone, and the shortest of them, beside the
     duty's L50 life, for each joint whose lives are all finite (and the duty's under
-    1e7 h).
+    1e7 h). The weights are the tasks' shares of the operating time (summing to 1, the
+    idle time of a day in cycles per hour left out), so the mean lies between the
+    shortest and the longest life alone.
     """
     notes = []
-    shares = [task.share for task in result.counted]
+    operating = sum(task.share for task in result.counted)
+    shares = [task.share / operating for task in result.counted]
     for joint in result.joints:
         duty = (joint.selected or joint.strongest).life_hours
         lives = [c.life_hours for c in joint.per_task]

@@ -20,8 +20,13 @@ terminal writes them."""
 
 def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: str,
                     second: str | None, joints: Sequence[str], *,
-                    required_life: float | None = None, life_basis: str = "L50") -> None:
+                    required_life: float | None = None, life_basis: str = "L50",
+                    others: Sequence[str] = ()) -> None:
     """Per joint, a map of the unit selected and its life, against the varied parameters.
+
+    A study that varies more than two parameters gets one row of panels per joint and
+    combination of the `others`' values, each row labelled with them: no cell stands
+    for several cases.
 
     Left, the unit selected at every case: a grid of the first varied parameter (across)
     by the second (up; one row when only one is varied), each cell coloured by its unit
@@ -40,6 +45,7 @@ def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: s
         joints: Joints to draw, one row of panels each.
         required_life: The life required [h] on `life_basis`, drawn; None draws none.
         life_basis: ``"L50"`` or ``"L10"``: the life drawn.
+        others: The further varied parameters, each value drawn in panels of its own.
     """
     from matplotlib.patches import Patch
 
@@ -53,14 +59,18 @@ def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: s
     colour = {unit: palette(k % palette.N) for k, unit in enumerate(units)}
     series = matplotlib.colormaps["viridis"](np.linspace(0.0, 0.9, max(len(ys), 1)))
     key = "life_l10_h" if life_basis == "L10" else "life_l50_h"
+    groups = list(dict.fromkeys(_group(row, others) for row in rows)) or [()]
+    panels = [(joint, group) for joint in joints for group in groups]
     height = max(2.0, 0.22 * len(ys) + 1.2)
-    tall = height * len(joints) + 1.6
+    tall = height * len(panels) + 1.6
     fig = Figure(figsize=(12, tall))
-    axes = fig.subplots(len(joints), 2, squeeze=False,
+    axes = fig.subplots(len(panels), 2, squeeze=False,
                         gridspec_kw={"width_ratios": (1.0, 1.15)})
-    for r, joint in enumerate(joints):
+    for r, (joint, group) in enumerate(panels):
         map_ax, life_ax = axes[r]
-        mine = [row for row in rows if row["joint"] == joint]
+        mine = [row for row in rows if row["joint"] == joint and _group(row, others) == group]
+        name = "\n".join([joint, *(f"{_SHORT_LABELS.get(other, other)} = {_tick(value)}"
+                                    for other, value in zip(others, group, strict=True))])
         for row in mine:
             i, k = xs.index(_plain(row.get(first))), ys.index(_plain(row.get(second)))
             if row["status"] != "ok":
@@ -80,9 +90,9 @@ def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: s
             map_ax.set_yticks([])
         else:
             map_ax.set_yticks(range(len(ys)), [_tick(y) for y in ys], fontsize=7)
-            map_ax.set_ylabel(f"{joint}\n{_AXIS_LABELS.get(second, second)}", fontsize=8)
+            map_ax.set_ylabel(f"{name}\n{_AXIS_LABELS.get(second, second)}", fontsize=8)
         if second is None:
-            map_ax.set_ylabel(joint, fontsize=9)
+            map_ax.set_ylabel(name, fontsize=9)
         for k, (value, tone) in enumerate(zip(ys, series, strict=True)):
             points = [row for row in mine if row["status"] == "ok" and row["unit"]
                       and _plain(row.get(second)) == value]
@@ -136,6 +146,11 @@ def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: s
     save(fig, Path(path))
 
 
+def _group(row: dict, others: Sequence[str]) -> tuple[object, ...]:
+    """A row's values of the further varied parameters."""
+    return tuple(_plain(row.get(other)) for other in others)
+
+
 def _tick(value: object) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
@@ -148,6 +163,10 @@ def _position(xs: list, value: object, numeric: bool) -> float:
 _AXIS_LABELS = {"payload": "payload [kg]", "time_scale": "time scale s: the cycle run s times "
                 "slower [-]", "stop_time": "stop time [s]", "motor_mass": "motor mass [kg]",
                 "rotor_inertia": "rotor inertia [kg m^2]", "life_hours": "required life [h]"}
+
+
+_SHORT_LABELS = {**_AXIS_LABELS, "time_scale": "time scale [-]"}
+"""Names of the further varied parameters beside a row of panels."""
 
 
 def _plain(value: object) -> object:

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from hdselect.base.errors import InputError
+from hdselect.base.scheduler import DEFAULT_TIMEOUT
 from hdselect.study.case import Case
 from hdselect.study.compute import COMPUTATIONS, Computation, Outcome
 from hdselect.study.run import StudyRun, run_study
@@ -26,8 +27,8 @@ __all__ = ["COMPUTATIONS", "Case", "Computation", "Outcome", "Study", "StudyRun"
 
 
 def study(path: str | Path, out: str | Path | None = None, *, workers: int | None = None,
-          scheduler: str | None = None, grouping: bool = True, retry_failed: bool = False,
-          frame: bool = False,
+          scheduler: str | None = None, timeout: float = DEFAULT_TIMEOUT,
+          grouping: bool = True, retry_failed: bool = False, frame: bool = False,
           progress: Callable[[int, int, dict[str, Any]], None] | None = None) -> Any:
     """Run a study file and return its rows: one per case and joint.
 
@@ -38,6 +39,7 @@ def study(path: str | Path, out: str | Path | None = None, *, workers: int | Non
         workers: Worker processes (default: the cores here; 0: in this process).
         scheduler: ``"local"`` for a Dask LocalCluster, ``"tcp://HOST:PORT"`` for a Dask
             scheduler; None for local worker processes.
+        timeout: The time limit of connecting to the scheduler [s], at most a day.
         grouping: Evaluate cases of one robot and path from a shared basis.
         retry_failed: Run again the cases recorded as failed.
         frame: Return a pandas DataFrame instead of a list of dicts (needs pandas).
@@ -56,8 +58,8 @@ def study(path: str | Path, out: str | Path | None = None, *, workers: int | Non
             raise InputError("frame=True needs pandas: pip install pandas",
                              field="frame") from err
     loaded = load_study(path)
-    run = run_study(loaded, out, workers=workers, scheduler=scheduler, grouping=grouping,
-                    retry_failed=retry_failed, progress=progress)
+    run = run_study(loaded, out, workers=workers, scheduler=scheduler, timeout=timeout,
+                    grouping=grouping, retry_failed=retry_failed, progress=progress)
     rows = table(loaded, run.records)
     return pandas.DataFrame(rows) if frame else rows
 

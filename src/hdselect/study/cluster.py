@@ -2,54 +2,39 @@
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from typing import Any
 
 from hdselect.base.errors import InputError
+from hdselect.base.scheduler import DASK_HINT, DEFAULT_TIMEOUT, open_client, where
 from hdselect.study.compute import Outcome
 from hdselect.study.tasks import Task, evaluate_all, shipped
 
-DASK_HINT = "pip install 'hdselect[dask]'"
-"""How to install the optional Dask executor."""
-
-
-def _local_cluster(workers: int) -> Any:
-    """A Dask LocalCluster on this machine: worker processes of one thread, on 127.0.0.1 only."""
-    from distributed import LocalCluster
-
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                        host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR)
-
 
 def run_dask(tasks: Sequence[Task], scheduler: str, workers: int,
-              keep: Callable[[Outcome], None]) -> str:
-    """Run tasks on a Dask cluster (``local`` or ``tcp://HOST:PORT``); return its description."""
+             keep: Callable[[Outcome], None], timeout: float = DEFAULT_TIMEOUT) -> str:
+    """Run tasks on a Dask cluster (``local`` or ``tcp://HOST:PORT``); return its description.
+
+    Args:
+        tasks: The tasks.
+        scheduler: ``local`` or a scheduler's address, checked
+            (`hdselect.base.scheduler.scheduler_address`).
+        workers: The LocalCluster's workers.
+        keep: Called with each case's outcome as it arrives.
+        timeout: The time limit of connecting to the scheduler [s], checked.
+
+    Raises:
+        InputError: No Dask, or no Dask scheduler answering there in time.
+    """
     try:
         import dask
-        from distributed import Client, as_completed
+        from distributed import as_completed
     except ImportError as err:
         raise InputError(f"needs Dask's distributed scheduler: {DASK_HINT}",
                          field="--scheduler") from err
-    cluster = None
     with dask.config.set({"distributed.scheduler.allowed-failures": 1,
                           "distributed.worker.daemon": False}):
-        if scheduler == "local":
-            cluster = _local_cluster(workers)
-            where = f"a Dask LocalCluster of {workers} worker{'s' if workers > 1 else ''}"
-        elif scheduler.startswith(("tcp://", "tls://")):
-            where = f"the Dask scheduler at {scheduler}"
-        else:
-            raise InputError(f"expected 'local' or a scheduler address tcp://HOST:PORT, got "
-                             f"{scheduler!r}", field="--scheduler")
-        try:
-            client = Client(cluster if cluster is not None else scheduler, timeout="15s")
-        except (OSError, TimeoutError) as err:
-            if cluster is not None:
-                cluster.close()
-            raise InputError(f"cannot reach the Dask scheduler ({err})",
-                             field="--scheduler") from err
+        client, cluster = open_client(scheduler, workers, timeout, "--scheduler")
         try:
             futures = {client.submit(evaluate_all, shipped(task), pure=False): task
                        for task in tasks}
@@ -78,4 +63,4 @@ def run_dask(tasks: Sequence[Task], scheduler: str, workers: int,
             client.close()
             if cluster is not None:
                 cluster.close()
-    return where
+    return where(scheduler, workers)

@@ -13,7 +13,7 @@ its payload's dynamics (TOPPRA under torque limits) is sized direct.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Generator, Mapping, Sequence
+from collections.abc import Callable, Generator, Iterable, Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -154,11 +154,9 @@ def case_payloads(case: Case, mix: Mix) -> dict[int, Payload]:
         InputError: A task name is not the mix's.
     """
     names = [task.name for task in mix.tasks]
+    check_task_keys(None, case.payloads, names, mix.path.name)
     out: dict[int, Payload] = {}
     for name, mass in case.payloads or ():
-        if name not in names:
-            raise InputError(f"no task {name!r} in {mix.path.name}; its tasks are: "
-                             f"{', '.join(names)}", field="payloads")
         k = names.index(name)
         shape = _shape(mix, k)
         out[k] = Payload(mass) if shape is None else replace(shape, mass=mass)
@@ -179,11 +177,33 @@ def case_shares(case: Case, mix: Mix) -> list[float] | None:
     """
     if case.shares is None:
         return None
-    if len(case.shares) != len(mix.tasks):
-        raise InputError(f"{len(case.shares)} shares for the {len(mix.tasks)} tasks of "
-                         f"{mix.path.name} ({', '.join(t.name for t in mix.tasks)})",
-                         field="shares")
+    check_task_keys(case.shares, None, [t.name for t in mix.tasks], mix.path.name)
     return list(case.shares)
+
+
+def check_task_keys(shares: Sequence[float] | None,
+                    payloads: Iterable[tuple[str, float]] | Mapping[str, float] | None,
+                    names: Sequence[str], file: str) -> None:
+    """Refuse a case's ``shares`` and ``payloads`` that do not fit a mix's tasks.
+
+    Args:
+        shares: One share per task, or None.
+        payloads: Payload masses by task name [kg], or None.
+        names: The mix's task names, in order.
+        file: The mix file's name, for the message.
+
+    Raises:
+        InputError: Not one share per task (field ``shares``), or a payload names no task
+            (field ``payloads``).
+    """
+    if shares is not None and len(shares) != len(names):
+        raise InputError(f"{len(shares)} share{'s' if len(shares) != 1 else ''} for the "
+                         f"{len(names)} tasks of {file} ({', '.join(names)})", field="shares")
+    for name in (payloads.keys() if isinstance(payloads, Mapping) else
+                 (name for name, _ in payloads or ())):
+        if name not in names:
+            raise InputError(f"no task {name!r} in {file}; its tasks are: {', '.join(names)}",
+                             field="payloads")
 
 
 MotorsOf = Callable[[Case, Robot, Mix], Motors]

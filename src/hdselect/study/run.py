@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from hdselect.base.errors import InputError
+from hdselect.base.scheduler import DEFAULT_TIMEOUT, scheduler_address, timeout_seconds
 from hdselect.study.case import Case
 from hdselect.study.cluster import run_dask
 from hdselect.study.compute import COMPUTATIONS, MIN_GROUP, Outcome
@@ -65,7 +66,8 @@ def default_workers() -> int:
 
 def run_study(study: Study, out: str | Path | Store | None = None, *,
               workers: int | None = None,
-              scheduler: str | None = None, grouping: bool = True, retry_failed: bool = False,
+              scheduler: str | None = None, timeout: float = DEFAULT_TIMEOUT,
+              grouping: bool = True, retry_failed: bool = False,
               progress: Callable[[int, int, dict[str, Any]], None] | None = None) -> StudyRun:
     """Run every case of a study not yet done, keeping each result as it arrives.
 
@@ -77,7 +79,8 @@ def run_study(study: Study, out: str | Path | Store | None = None, *,
             process, without isolation. With ``scheduler="local"``: Dask workers.
         scheduler: None for local worker processes; ``"local"`` for a Dask ``LocalCluster``
             on this machine (localhost only); ``"tcp://HOST:PORT"`` for a running Dask
-            scheduler.
+            scheduler (checked before any case runs, and asked for Dask's greeting first).
+        timeout: The time limit of connecting to the scheduler [s], at most a day.
         grouping: Evaluate the cases of one robot and path from a shared basis.
         retry_failed: Run again the cases recorded as failed.
         progress: Called with (done, to do, record) after each case.
@@ -93,6 +96,9 @@ def run_study(study: Study, out: str | Path | Store | None = None, *,
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 0:
         raise InputError(f"expected a whole number of workers, 0 or more; got {workers!r}",
                          field="--workers")
+    if scheduler is not None:
+        scheduler = scheduler_address(scheduler, "--scheduler")
+    timeout = timeout_seconds(timeout, "--timeout")
     store = out if isinstance(out, Store) or out is None else Store(out, study)
     records: dict[str, dict[str, Any]] = dict(store.records) if store is not None else {}
     todo = [case for case in study.cases
@@ -119,7 +125,7 @@ def run_study(study: Study, out: str | Path | Store | None = None, *,
     complete = False
     try:
         if scheduler is not None:
-            run.executor = run_dask(tasks, scheduler, workers or 1, keep)
+            run.executor = run_dask(tasks, scheduler, workers or 1, keep, timeout)
         elif workers == 0:
             run.executor = "this process"
             for task in tasks:

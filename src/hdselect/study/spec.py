@@ -24,12 +24,14 @@ from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.catalog.catalogfile import BUILTIN
+from hdselect.motion.mixfile import task_names
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options
 from hdselect.sizing.tasks import check_shares
 from hdselect.study.case import Case
 from hdselect.study.compute import COMPUTATIONS
+from hdselect.study.mixgroup import check_task_keys
 
 OPTION_KEYS = tuple(f.name for f in fields(Options)
                     if f.name not in ("threads", "bearing_offset"))
@@ -112,10 +114,15 @@ def load_study(path: str | Path, computations: Sequence[str] | None = None) -> S
         raise InputError(f"makes {count:,} cases, more than {bounds.MAX_STUDY_CASES:,}; split "
                          "the study", path=path, field="grid" if grid else "case")
     rows = []
+    mixes: dict[Path, tuple[str, ...] | None] = {}
     for i, item in enumerate(listed):
         given = _values(table_of(item, path, f"case[{i}]"), path, f"case[{i}]")
+        where = {**{key: f"base.{key}" for key in base},
+                 **{key: f"case[{i}].{key}" for key in given},
+                 **{key: f"grid.{key}" for key in grid}}
         for combination in itertools.product(*grid.values()):
             rows.append({**base, **given, **dict(zip(grid, combination, strict=True))})
+            _check_tasks(rows[-1], where, path, mixes)
     order = [*base, *(k for item in listed for k in item), *grid]
     keys = tuple(k for k in CASE_KEYS if k in order)
     varied = tuple(dict.fromkeys(k for k in order if len({_canonical(r.get(k))
@@ -128,6 +135,53 @@ def load_study(path: str | Path, computations: Sequence[str] | None = None) -> S
         for name in compute:
             cases.append(_case(len(cases), name, values, path))
     return Study(path, title, compute, tuple(cases), keys, varied)
+
+
+def _check_tasks(values: dict[str, Any], where: dict[str, str], path: Path,
+                 mixes: dict[Path, tuple[str, ...] | None]) -> None:
+    """Refuse a case's ``shares``, ``payloads`` and ``payload`` that its motion file cannot take.
+
+    ``shares`` and ``payloads`` are a mix file's, one share per task and payloads by task
+    name; ``payload`` is a single motion's. A motion file that cannot be read is left to
+    its case, which fails and says why.
+
+    Args:
+        values: The case's values.
+        where: Where the study file gives each key (``grid.shares``, ``case[1].payloads``).
+        path: The study file.
+        mixes: Each motion file's task names (None: a single motion), filled as read.
+
+    Raises:
+        InputError: A key the case's motion file cannot take, naming it.
+    """
+    if "motion" not in values or not {"shares", "payloads", "payload"} & set(values):
+        return
+    motion = path.parent / values["motion"]
+    if motion not in mixes:
+        try:
+            doc = read_toml(motion)
+        except InputError:
+            return
+        names = task_names(motion) if "task" in doc else None
+        if "task" in doc and names is None:
+            return  # a broken mix file: its case says what is wrong
+        mixes[motion] = names
+    names = mixes[motion]
+    if names is None:
+        for key in ("shares", "payloads"):
+            if key in values:
+                raise InputError(f"gives the tasks of a mix file, and {values['motion']} is a "
+                                 "single motion; vary `payload` or `time_scale` instead",
+                                 path=path, field=where[key])
+        return
+    if "payload" in values:
+        raise InputError(f"{values['motion']} is a mix file, whose tasks carry their own "
+                         "payloads: vary `payloads` (task name -> mass [kg]) instead",
+                         path=path, field=where["payload"])
+    try:
+        check_task_keys(values.get("shares"), values.get("payloads"), names, motion.name)
+    except InputError as err:
+        raise InputError(err.reason, path=path, field=where[str(err.field)]) from err
 
 
 def _compute(value: Any, known: Sequence[str], path: Path) -> tuple[str, ...]:

@@ -12,9 +12,11 @@ record carries what differs between runs (time taken, host, when).
 from __future__ import annotations
 
 import csv
+import errno
 import io
 import json
 import math
+import os
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass
@@ -103,6 +105,8 @@ class Store:
                 raise InputError("is an input file; choose another output path", path=path,
                                  field="--out")
         _check_ours(self.csv_path, out)
+        for path in (self.csv_path, self.journal_path):
+            _check_appendable(path)
         self.records: dict[str, dict[str, Any]] = {}
         if self.journal_path.exists():
             for record in _read_journal(self.journal_path):
@@ -206,6 +210,25 @@ def _check_ours(csv_path: Path, given: str | Path) -> None:
         raise InputError(f"exists and was not written by a study (its first line is not "
                          f"'{','.join(STATUS_COLUMNS)},...'); choose another file, or remove "
                          "it", path=given, field="--out")
+
+
+def _check_appendable(path: Path) -> None:
+    """Refuse, before any case runs, a study file that cannot be appended to or created.
+
+    An existing file is opened for appending and closed (nothing written); a new one
+    needs a directory it can be created in.
+
+    Raises:
+        InputError: It is read-only, or its directory is.
+    """
+    try:
+        if path.exists():
+            path.open("a", encoding="utf-8").close()
+        elif not os.access(path.parent, os.W_OK | os.X_OK):
+            raise PermissionError(errno.EACCES, os.strerror(errno.EACCES))
+    except OSError as err:
+        raise InputError(f"cannot write here ({err.strerror}); a study appends its cases to "
+                         "it", path=path, field="--out") from err
 
 
 def _regular(out: str | Path) -> Path:
