@@ -42,8 +42,7 @@ def run_init(args: argparse.Namespace) -> int:
     out = None if args.out in (None, "-") else Path(args.out)
 
     def text() -> str:
-        """The starter; its robot path relative to --out's folder, absolute when printed
-        (where the printed text is saved is not known)."""
+        """The starter: its robot relative to --out's folder, absolute when printed."""
         target = os.path.abspath(robot.path)
         if out is None:
             return starter_motion(robot, target, tool_poses=args.tool_poses)
