@@ -175,7 +175,8 @@ def _tool_waypoints(robot: Robot, infos, scale, start, second) -> list[str]:
     joints = [np.array(q) / scale for q in (start, second)]
     poses = [_rounded(kin.placement(q)) for q in joints]
     targets = [pose_from_xyz_rpy(xyz, [math.radians(a) for a in rpy]) for xyz, rpy in poses]
-    follows = isinstance(solve_line(kin, 1, *targets, joints[0], Tolerance()), LinePath)
+    follows = isinstance(solve_line(kin, 1, targets[0], targets[1], joints[0], Tolerance()),
+                         LinePath)
     near = ", ".join(f"{_key(i.name)} = {_number(v)}" for i, v in zip(infos, start, strict=True))
     lines = [
         "",
