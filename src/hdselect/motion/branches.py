@@ -31,6 +31,7 @@ fraction of a degree (`PATH_STEP`, refined near every singularity).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -78,7 +79,9 @@ def _evaluate(kin: FrameKinematics, q: np.ndarray) -> tuple[np.ndarray, dict[str
     model, data = kin.model, kin.data
     jacobian = kin.jacobian(q, aligned=True)
     values: dict[str, float] = {}
-    joints = [j for j in range(1, model.njoints) if model.joints[j].nv == 1]
+    if jacobian.shape[1] not in (2, 6):
+        return jacobian, values
+    joints = [j for j, nv in enumerate(model.nvs) if j and nv == 1]
     if jacobian.shape[1] == 6 and len(joints) == 6:
         origin = [data.oMi[j].translation for j in joints]
         values["det"] = float(np.linalg.det(jacobian))
@@ -94,8 +97,10 @@ def _evaluate(kin: FrameKinematics, q: np.ndarray) -> tuple[np.ndarray, dict[str
 
 def _sine(axis: np.ndarray, upper: np.ndarray, fore: np.ndarray) -> float:
     """The sine of the elbow angle, axis . (upper x fore) / (|upper| |fore|) [-]."""
-    scale = float(np.linalg.norm(upper) * np.linalg.norm(fore)) or 1.0
-    return float(axis @ np.cross(upper, fore)) / scale
+    (u0, u1, u2), (f0, f1, f2) = upper.tolist(), fore.tolist()  # no np.cross: it is slow
+    cross = (u1 * f2 - u2 * f1, u2 * f0 - u0 * f2, u0 * f1 - u1 * f0)
+    scale = math.hypot(u0, u1, u2) * math.hypot(f0, f1, f2) or 1.0
+    return sum(a * c for a, c in zip(axis.tolist(), cross, strict=True)) / scale
 
 
 def singularity_kind(kin: FrameKinematics, q: np.ndarray, sigma: float) -> str:

@@ -16,10 +16,8 @@ Every move into or out of a solved pose is checked for a change of branch
 task, as written, does not need, so sizing it silently would size another task. The
 message names the waypoints and how to keep the branch (a ``near`` hint).
 
-A cycle whose last waypoint puts the tool where the first does, with joints turned by
-whole turns from the first's (a wrist at +180 deg and -180 deg), needs a turn back to
-repeat that it does not contain: the last waypoint takes the first's joints, with a note,
-so that the cycle contains the turn back (`_Solver._close_cycle`), or it is an error.
+A cycle back at its first pose with joints whole turns away (a wrist at +180 deg, then
+-180 deg) is closed with the first's joints, or refused (`_Solver._close_cycle`).
 
 Joint waypoints keep their joint positions whatever the mounting: on any mounting but
 the floor they move with the robot, and a note says so.
@@ -259,12 +257,11 @@ class _Solver:
         self._close_cycle()
 
     def _close_cycle(self) -> None:
-        """Close a cycle whose end is its start with joints turned by whole turns.
+        """Close a cycle that ends at its first pose with joints whole turns away.
 
-        Repeating such a cycle needs a turn back that it does not contain. When the last
-        waypoint is a pose (not a line) that the first waypoint's joints put the tool on,
-        it takes those joints (a note says so), if the move into it keeps the branch or
-        the waypoint allows ``reconfigure``: the cycle then contains the turn back.
+        Repeating it needs a turn back that it does not contain. A last waypoint written
+        as a pose (not a line) takes the first's joints, with a note, if the move into it
+        keeps the branch or the waypoint allows ``reconfigure``.
 
         Raises:
             InputError: The cycle cannot be closed so; field ``waypoint[n]``, the last.
