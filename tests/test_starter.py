@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import math
+import re
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,6 +13,7 @@ import pytest
 import hdselect
 from hdselect.cli.main import main
 from hdselect.motion.starter import ACCELERATION_TIME, JERK_TIME, starter_motion
+from test_dynamics import REPO
 from test_robot import JOINTS, robot_path
 from test_robotfile import LIMIT, gripper, revolute, urdf
 
@@ -49,8 +52,8 @@ def test_init_prints_to_stdout_and_never_overwrites(tmp_path, capsys, monkeypatc
     monkeypatch.chdir(tmp_path)
     assert main(["init", str(robot_path("planar2"))]) == 0
     text = capsys.readouterr().out
-    written = tmp_path / tomllib.loads(text)["robot"]  # relative to the motion file's folder
-    assert written.resolve() == robot_path("planar2").resolve()
+    written = Path(tomllib.loads(text)["robot"])  # absolute: where it is saved is not known
+    assert written.is_absolute() and written.resolve() == robot_path("planar2").resolve()
     mine = tmp_path / "mine.toml"
     mine.write_text("# my edits\n")
     assert main(["init", str(robot_path("planar2")), "--out", str(mine)]) == 2
@@ -88,3 +91,69 @@ def test_joint_names_that_are_not_bare_keys_are_quoted(tmp_path):
     robot = hdselect.load_robot(urdf(tmp_path, body))
     doc = tomllib.loads(starter_motion(robot, "robot.urdf"))
     assert list(doc["limits"]["velocity"]) == ["link_3.0 joint"]
+
+
+@pytest.mark.parametrize("tool_poses", [False, True])
+def test_a_printed_starter_saved_in_another_folder_plans(tool_poses, tmp_path, capsys,
+                                                         monkeypatch):
+    """`hdselect init robots/scara.urdf > out/x.toml` from the repository's root: the robot
+    path the starter prints must hold from wherever the text is saved."""
+    monkeypatch.chdir(REPO)
+    assert main(["init", "robots/scara.urdf", *(["--tool-poses"] * tool_poses)]) == 0
+    saved = tmp_path / "out" / "x.toml"
+    saved.parent.mkdir()
+    saved.write_text(capsys.readouterr().out)
+    monkeypatch.chdir(tmp_path)
+    assert main(["plan", "out/x.toml", "--out", "-"]) == 0
+    assert capsys.readouterr().err == ""
+
+
+def uncommented(text: str, keys: str) -> str:
+    """`text` with its commented lines that start with one of `keys` (a regex) uncommented."""
+    return re.sub(rf"^# ((?:{keys})(?=[ =]))", r"\1", text, flags=re.MULTILINE)
+
+
+SUGGESTIONS = {
+    "payload": lambda text: uncommented(text, r"\[payload\]|mass|com|frame"),
+    "tolerances": lambda text: uncommented(text, "position_tolerance|orientation_tolerance"),
+    "line": lambda text: uncommented(text, "line"),
+    "ruckig": lambda text: re.sub(  # the commented [limits.jerk] table, uncommented
+        r"^# (\[limits\.jerk\].*?)\n\n", lambda m: m[1].replace("\n# ", "\n") + "\n\n",
+        text.replace('planner = "toppra"', 'planner = "ruckig"'), flags=re.MULTILINE | re.DOTALL),
+    "toppra": lambda text: re.sub(r"^\[limits\.jerk\][^[]*", "", text.replace(
+        'planner = "ruckig"', 'planner = "toppra"'), flags=re.MULTILINE),
+}
+"""Each suggestion a starter's comments make, carried out as its comment says."""
+
+
+@pytest.mark.parametrize(("name", "tool_poses", "suggestion"), [
+    ("benchtop6", True, "payload"), ("benchtop6", True, "tolerances"),
+    ("benchtop6", True, "line"), ("benchtop6", True, "ruckig"), ("scara", True, "line"),
+    ("planar2", True, "line"),
+    ("benchtop6", False, "payload"), ("benchtop6", False, "toppra"),
+    ("gripper", False, "exclude")])
+def test_every_suggestion_a_starter_comments_plans(name, tool_poses, suggestion, tmp_path):
+    robot = (hdselect.load_robot(gripper(tmp_path)) if name == "gripper"
+             else hdselect.load_robot(robot_path(name)))
+    text = starter_motion(robot, str(robot.path), tool_poses=tool_poses)
+    if suggestion == "line" and name == "planar2":  # no 6-D line between its two poses
+        assert "\n# line = true" not in text
+        return
+    if suggestion == "exclude":
+        changed = uncommented(text, "exclude")
+    else:
+        changed = SUGGESTIONS[suggestion](text)
+    assert changed != text
+    doc = tomllib.loads(changed)
+    if suggestion == "line":
+        assert doc["waypoint"][1]["line"] is True
+    if suggestion in ("ruckig", "toppra"):
+        assert doc["planner"] == suggestion and ("jerk" in doc["limits"]) == (
+            suggestion == "ruckig")
+    path = tmp_path / "motion.toml"
+    path.write_text(changed)
+    loaded, motion = hdselect.load_case(path)
+    trajectory = hdselect.plan(loaded, motion)
+    assert trajectory.duration > 1.0
+    if suggestion == "exclude":
+        assert "finger_joint" not in loaded.sized_joints

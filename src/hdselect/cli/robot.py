@@ -42,10 +42,13 @@ def run_init(args: argparse.Namespace) -> int:
     out = None if args.out in (None, "-") else Path(args.out)
 
     def text() -> str:
-        where = os.path.abspath(out.parent if out is not None else Path.cwd())
+        """The starter: its robot relative to --out's folder, absolute when printed."""
         target = os.path.abspath(robot.path)
+        if out is None:
+            return starter_motion(robot, target, tool_poses=args.tool_poses)
+        where = os.path.abspath(out.parent)
         shared = os.path.commonpath([target, where])
-        return starter_motion(robot, str(target) if shared == os.sep
+        return starter_motion(robot, target if shared == os.sep
                               else os.path.relpath(target, where), tool_poses=args.tool_poses)
 
     if out is None:

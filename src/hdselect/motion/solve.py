@@ -16,6 +16,9 @@ Every move into or out of a solved pose is checked for a change of branch
 task, as written, does not need, so sizing it silently would size another task. The
 message names the waypoints and how to keep the branch (a ``near`` hint).
 
+A cycle back at its first pose with joints whole turns away (a wrist at +180 deg, then
+-180 deg) is closed with the first's joints, or refused (`_Solver._close_cycle`).
+
 Joint waypoints keep their joint positions whatever the mounting: on any mounting but
 the floor they move with the robot, and a note says so.
 """
@@ -31,13 +34,13 @@ import pinocchio as pin
 from hdselect.base.arrays import frozen
 from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
-from hdselect.motion.branches import SINGULARITY_NAMES, check_branch
+from hdselect.motion.branches import SINGULARITY_NAMES, check_branch, whole_turns
 from hdselect.motion.ik import PoseSolution, solve_pose
 from hdselect.motion.kinematics import FrameKinematics, LimitContact
 from hdselect.motion.linefit import fit_lines
 from hdselect.motion.lines import LinePath, LineStop, solve_line
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
-from hdselect.motion.poses import base_in_world, in_base, interpolate_pose
+from hdselect.motion.poses import base_in_world, in_base, interpolate_pose, pose_error
 from hdselect.motion.toolposes import ToolPoses, ToolSolution
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import NAMED_BASES, BasePose, mounting_name
@@ -251,6 +254,56 @@ class _Solver:
             if before is not None:
                 self._check_branch(i, before, waypoints[i],
                                    "near" if written.near else "searched")
+        self._close_cycle()
+
+    def _close_cycle(self) -> None:
+        """Close a cycle that ends at its first pose with joints whole turns away.
+
+        Repeating it needs a turn back that it does not contain. A last waypoint written
+        as a pose (not a line) takes the first's joints, with a note, if the move into it
+        keeps the branch or the waypoint allows ``reconfigure``.
+
+        Raises:
+            InputError: The cycle cannot be closed so; field ``waypoint[n]``, the last.
+        """
+        kin, tool, waypoints = self.kin, self.tool, self.waypoints
+        n = len(waypoints) - 1
+        turns = whole_turns(kin, waypoints[0], waypoints[n])
+        last = tool.at(n)
+        target = (in_base(self.base, last.pose) if last is not None
+                  else kin.placement(waypoints[n]))
+        errors = pose_error(kin.placement(waypoints[0]), target)
+        if (tool.at(0) is None and last is None) or not turns.any() \
+                or not tool.tolerance.holds(*errors):
+            return
+        names = kin.robot.joint_names
+        turned = ", ".join(f"{names[j]} {self._joint(j, 2 * np.pi * turns[j], signed=True)}"
+                           for j in range(kin.dof) if turns[j])
+        what = (f"the tool is back at waypoint[0]'s pose with {turned} from waypoint[0]'s "
+                "joints: the cycle does not close in joint space, and repeating it needs a "
+                "turn back that it does not contain")
+        if last is None:
+            advice = f"give waypoint[0] a near hint of waypoint[{n}]'s joints"
+        elif last.line:
+            advice = (f"add a waypoint after waypoint[{n}] at waypoint[0]'s pose with "
+                      "reconfigure = true: the cycle then contains the turn back")
+        else:
+            check = check_branch(kin, waypoints[n - 1], waypoints[0])
+            if not check.flipped or n in tool.reconfigure:
+                moves = ", ".join(f"{names[j]} {self._joint(j, move, signed=True)}" for j, move
+                                  in enumerate(waypoints[0] - waypoints[n - 1]) if turns[j])
+                waypoints[n] = waypoints[0]
+                self.position_error[n], self.orientation_error[n] = errors
+                self.notes.append(
+                    f"waypoint[{n}]: {what}; it takes waypoint[0]'s joints instead, so the "
+                    f"move from waypoint[{n - 1}] turns {moves}" + (
+                        f" ({'; '.join(check.reasons)}); allowed by waypoint[{n}].reconfigure"
+                        if check.flipped else ""))
+                return
+            advice = (f"returning to waypoint[0]'s joints from waypoint[{n - 1}] changes "
+                      f"branch ({'; '.join(check.reasons)}): allow it with reconfigure = true "
+                      f"on waypoint[{n}], and the cycle contains the turn back")
+        raise InputError(f"{what}; {advice}", path=self.motion.path, field=f"waypoint[{n}]")
 
     def _on_branch(self, i: int, target: pin.SE3, before: np.ndarray,
                    found: PoseSolution) -> PoseSolution:

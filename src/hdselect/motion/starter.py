@@ -8,7 +8,11 @@ limits. Everything the user should look at is a commented key.
 With tool poses, the waypoints are the tool's poses in the world at two joint
 configurations away from singularities (`regular_pair`): the first carries a ``near``
 hint of its joints, so the file solves back to them, and the second lies a small move
-away on the same branch.
+away on the same branch. A commented ``line = true`` is offered where the arm can follow
+the straight line between them, and the planner is TOPPRA, which lines need.
+
+Every change a comment suggests plans too: uncommenting a key, or switching the planner
+the way its comment says (``tests/test_starter.py`` carries each one out).
 """
 
 from __future__ import annotations
@@ -25,7 +29,8 @@ from hdselect.motion.branches import check_branch
 from hdselect.motion.followers import leader_range
 from hdselect.motion.ik import solve_pose
 from hdselect.motion.kinematics import FrameKinematics
-from hdselect.motion.poses import pose_error, pose_from_xyz_rpy, xyz_rpy
+from hdselect.motion.lines import LinePath, solve_line
+from hdselect.motion.poses import Tolerance, pose_error, pose_from_xyz_rpy, xyz_rpy
 from hdselect.robot.joints import describe_joints
 from hdselect.robot.model import Robot
 
@@ -93,11 +98,12 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
         "",
         f"robot = {json.dumps(robot_file)}   # relative to this file (or absolute)",
         *([f"xacro_args = {{{arguments}}}   # the .xacro robot's arguments"] if arguments else []),
-        'planner = "ruckig"      # "ruckig": jerk-limited moves waypoint to waypoint; "toppra": '
-        "time-optimal path",
+        *_planner_lines(tool_poses),
         'angle_unit = "deg"      # revolute angles in degrees; prismatic joints in m',
         "dt = 0.001              # sample period [s]",
-        'mounting = "floor"      # "floor", "wall", "ceiling" or [gx, gy, gz] in m/s^2',
+        'mounting = "floor"      # "floor", "wall", "ceiling" or '
+        + ("base = {xyz = [m], rpy = [deg]} instead" if tool_poses
+           else "[gx, gy, gz] in m/s^2"),
         "",
         "# [payload]             # what the tool carries: uncomment and set",
         "# mass = 1.0            # kg",
@@ -118,12 +124,13 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
     for key, unit_suffix, factor in (("velocity", "/s", 1.0),
                                      ("acceleration", "/s^2", 1.0 / ACCELERATION_TIME),
                                      ("jerk", "/s^3", 1.0 / (ACCELERATION_TIME * JERK_TIME))):
-        lines += ["", f"[limits.{key}]   # deg{unit_suffix} (m{unit_suffix} for prismatic "
-                  "joints)"]
+        off = "# " if key == "jerk" and tool_poses else ""  # TOPPRA refuses a jerk limit
+        lines += ["", f"{off}[limits.{key}]   # deg{unit_suffix} (m{unit_suffix} for prismatic "
+                  "joints)" + ('; for planner = "ruckig"' if off else "")]
         for info, speed in zip(infos, speeds, strict=True):
             note = "   # not in the robot file: a guess" if key == "velocity" and \
                 info.name in guessed else ""
-            lines.append(f"{_key(info.name)} = {_number(speed * factor)}{note}")
+            lines.append(f"{off}{_key(info.name)} = {_number(speed * factor)}{note}")
     lines += [
         "",
         "[safety]",
@@ -146,10 +153,30 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
     return "\n".join(lines) + "\n"
 
 
+def _planner_lines(tool_poses: bool) -> list[str]:
+    """The ``planner`` key and how to switch to the other planner, a change that plans too.
+
+    A joint starter moves with Ruckig (its jerk limits written); a tool-pose starter with
+    TOPPRA, which straight lines need and which takes no jerk limit.
+    """
+    if tool_poses:
+        return ['planner = "toppra"      # time-optimal along the path; straight lines '
+                "(line = true) need it.",
+                '#   "ruckig": jerk-limited moves waypoint to waypoint, with [limits.jerk] '
+                "below uncommented"]
+    return ['planner = "ruckig"      # jerk-limited moves waypoint to waypoint.',
+            '#   "toppra": time-optimal along the path, without [limits.jerk] (delete that '
+            "table)"]
+
+
 def _tool_waypoints(robot: Robot, infos, scale, start, second) -> list[str]:
     """The ``[tool]`` table and the cycle as tool poses of the payload frame [m, deg]."""
     kin = FrameKinematics(robot, robot.payload_frame)
-    poses = [_rounded(kin.placement(np.array(q) / scale)) for q in (start, second)]
+    joints = [np.array(q) / scale for q in (start, second)]
+    poses = [_rounded(kin.placement(q)) for q in joints]
+    targets = [pose_from_xyz_rpy(xyz, [math.radians(a) for a in rpy]) for xyz, rpy in poses]
+    follows = isinstance(solve_line(kin, 1, targets[0], targets[1], joints[0], Tolerance()),
+                         LinePath)
     near = ", ".join(f"{_key(i.name)} = {_number(v)}" for i, v in zip(infos, start, strict=True))
     lines = [
         "",
@@ -171,9 +198,8 @@ def _tool_waypoints(robot: Robot, infos, scale, start, second) -> list[str]:
                   f"rpy = [{', '.join(_number(v) for v in rpy)}]}}"]
         if k == 0:
             lines.append(f"near = {{{near}}}")
-        if k == 1:
-            lines.append('# line = true          # reach it along a straight line (needs planner '
-                         '= "toppra")')
+        if k == 1 and follows:  # a line of 6-D poses is beyond most arms of < 6 joints
+            lines.append("# line = true          # reach it along a straight line")
     return lines
 
 

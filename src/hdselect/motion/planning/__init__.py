@@ -8,8 +8,10 @@ Three planners, chosen by the motion file, one module each:
   through the waypoints, split where the arm dwells.
 - ``samples`` (`hdselect.motion.planning.samples`): a logged trajectory.
 
-Tool poses are solved for the robot's mounting first (`hdselect.motion.solve`), and a
-straight line is checked at every planned sample (`hdselect.motion.planning.toolpath`).
+Tool poses are solved for the robot's mounting first (`hdselect.motion.solve`), a
+straight line is checked at every planned sample (`hdselect.motion.planning.toolpath`),
+and so is every move into or out of a pose for a singularity on the way
+(`hdselect.motion.planning.crossings`).
 Every planned trajectory is checked against the robot's position limits, mimic
 followers' included.
 """
@@ -27,6 +29,7 @@ from hdselect.motion.followers import outside as follower_outside
 from hdselect.motion.followers import outside_reason
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.motion.motionfile import PLANNERS as PLANNER_NAMES
+from hdselect.motion.planning.crossings import check_crossings
 from hdselect.motion.planning.ruckig import plan_ruckig
 from hdselect.motion.planning.samples import plan_samples
 from hdselect.motion.planning.toolpath import LineDeviation, plan_lines
@@ -82,8 +85,9 @@ def plan(robot: Robot, motion: Motion, *, max_samples: int = DEFAULT_MAX_SAMPLES
 
     Raises:
         InputError: The arguments are not a Robot and a Motion, the motion was read
-            for other joints, a tool pose cannot be solved, or the grid is too coarse or
-            too large (field ``dt``).
+            for other joints, a tool pose cannot be solved, a planned move into or out of
+            a pose passes a singularity where the file does not allow it (field
+            ``waypoint[i]``), or the grid is too coarse or too large (field ``dt``).
         PlanningError: The planner failed, the limits cannot be met, the trajectory
             leaves a joint's position limits, or strays from a straight line.
     """
@@ -111,7 +115,8 @@ def plan_motion(robot: Robot, motion: Motion, *,
         check_within_limits(robot, solved, trajectory)
         return trajectory
 
-    return Planned(*plan_lines(robot, motion, planned))
+    solved, trajectory, lines = plan_lines(robot, motion, planned)
+    return Planned(check_crossings(robot, solved, trajectory), trajectory, lines)
 
 
 def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,
