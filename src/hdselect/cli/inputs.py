@@ -158,22 +158,16 @@ def robot_file_loaded(args: argparse.Namespace, file: str | Path | None):
     """The robot `file` (None: the one ``args.motion`` names), expanded with ``--xacro-arg``.
 
     Raises:
-        InputError: As the robot's reading does; arguments given for a file that takes
-            none are refused naming ``--xacro-arg``.
+        InputError: As the robot's reading does; an argument refused is named where it
+            came from (``--xacro-arg`` or the motion file's ``xacro_args``).
     """
-    from hdselect.motion.robot_named import load_motion_robot
-    from hdselect.robot.model import load_robot
+    from hdselect.motion.robot_named import load_expanded, load_motion_robot
     from hdselect.robot.xacrofile import xacro_arguments
 
-    given = xacro_arguments(args.xacro_arg, "--xacro-arg") if args.xacro_arg else None
-    try:
-        if file is not None:
-            return load_robot(file, xacro_args=given)
-        return load_motion_robot(args.motion, given)
-    except InputError as err:
-        if err.field == "xacro_args" and given:  # given for a file that takes none
-            raise InputError(err.reason, path=err.path, field="--xacro-arg") from err
-        raise
+    given = xacro_arguments(args.xacro_arg, "--xacro-arg") if args.xacro_arg else {}
+    if file is not None:
+        return load_expanded(Path(file), ((None, "--xacro-arg", given),))
+    return load_motion_robot(args.motion, given, given_as="--xacro-arg")
 
 
 def robot_and_motion(args: argparse.Namespace):

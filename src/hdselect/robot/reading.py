@@ -32,7 +32,7 @@ from hdselect.robot.checks import check_bodies, check_geometry
 from hdselect.robot.pinurdf import build_urdf
 from hdselect.robot.urdfcheck import check_model, open_limits, unlimited
 from hdselect.robot.urdfxml import Element, UrdfTree, parse_elements, read_urdf_tree
-from hdselect.robot.xacrofile import expand_xacro
+from hdselect.robot.xacrofile import blamed_argument, expand_xacro
 
 logger = logging.getLogger(__name__)
 
@@ -133,7 +133,12 @@ def read_robot_file(path: Path, xacro_args: Mapping[str, str] | None = None) -> 
         if kind == "xacro":
             text, notes = expand_xacro(path, xacro_args or {})
             root = parse_elements(text.encode())
-        file = _read_urdf(path, text, root, notes, kind)
+        try:
+            file = _read_urdf(path, text, root, notes, kind)
+        except InputError as err:
+            if kind != "xacro" or not xacro_args or err.path != path:
+                raise
+            raise blamed_argument(err, path, xacro_args) from err
     for note in file.notes:
         if note in file.set_aside:
             logger.info("%s: %s", path, note)
