@@ -11,7 +11,7 @@ from typing import Any
 
 from hdselect.base.bounds import Bound
 from hdselect.base.errors import InputError
-from hdselect.base.inputfiles import readable
+from hdselect.base.inputfiles import read_input
 
 
 def read_toml(path: str | Path, *, kind: str = "a TOML file", hint: str = "") -> dict[str, Any]:
@@ -27,14 +27,13 @@ def read_toml(path: str | Path, *, kind: str = "a TOML file", hint: str = "") ->
         The parsed document.
 
     Raises:
-        InputError: The file is missing, unreadable or not valid TOML.
+        InputError: The file is missing, unreadable, too large (`read_input`) or not valid
+            TOML.
     """
     path = Path(path)
     try:
-        text = readable(path).read_text(encoding="utf-8")
-    except FileNotFoundError as err:
-        raise InputError("file not found", path=path) from err
-    except (OSError, UnicodeDecodeError) as err:
+        text = read_input(path).decode("utf-8")
+    except UnicodeDecodeError as err:
         raise InputError(f"cannot read file ({err})", path=path) from err
     try:
         return tomllib.loads(text)

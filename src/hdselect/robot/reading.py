@@ -28,6 +28,7 @@ import pinocchio as pin
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import read_input
 from hdselect.robot.checks import check_bodies, check_geometry
 from hdselect.robot.pinurdf import build_urdf
 from hdselect.robot.urdfcheck import check_model, open_limits, unlimited
@@ -119,7 +120,7 @@ def read_robot_file(path: Path, xacro_args: Mapping[str, str] | None = None) -> 
             in the message); a number of the file is not read as the format defines it;
             a body's inertia is not physical.
     """
-    data = path.read_bytes()
+    data = read_input(path)
     root = parse_elements(data)
     kind = _format(path, root)
     if xacro_args and kind != "xacro":
@@ -175,7 +176,7 @@ def _read_urdf(path: Path, text: str | None, root: Element | None, notes: list[s
     if root is None or root.tag != "robot":
         build_urdf(path, text, mimic=False)  # Pinocchio's own reason, if it has one
         raise InputError("malformed XML: hdselect cannot read the numbers Pinocchio read "
-                         f"({_expat_reason(text.encode() if text else path.read_bytes())})",
+                         f"({_expat_reason(text.encode() if text else read_input(path))})",
                          path=path)
     tree = read_urdf_tree(root, path)
     uncoupled: tuple[str, ...] = ()
