@@ -29,6 +29,7 @@ import pinocchio as pin
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import read_input
+from hdselect.base.tomlfile import toml_kind
 from hdselect.robot.checks import check_bodies, check_geometry
 from hdselect.robot.pinurdf import build_urdf
 from hdselect.robot.urdfcheck import check_model, open_limits, unlimited
@@ -116,12 +117,15 @@ def read_robot_file(path: Path, xacro_args: Mapping[str, str] | None = None) -> 
         The model and what was assumed.
 
     Raises:
-        InputError: The file is SDF; xacro, Pinocchio or MuJoCo rejects it (their reason
-            in the message); a number of the file is not read as the format defines it;
-            a body's inertia is not physical.
+        InputError: The file is SDF or TOML (a motion file given in its place); xacro,
+            Pinocchio or MuJoCo rejects it (their reason in the message); a number of the
+            file is not read as the format defines it; a body's inertia is not physical.
     """
     data = read_input(path)
     root = parse_elements(data)
+    toml = toml_kind(data) if root is None else None
+    if toml is not None:
+        raise InputError(f"is {toml} (TOML), not a robot file (URDF, xacro or MJCF)", path=path)
     kind = _format(path, root)
     if xacro_args and kind != "xacro":
         raise InputError(f"xacro arguments given ({', '.join(xacro_args)}) for a {kind} file; "
