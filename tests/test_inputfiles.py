@@ -64,6 +64,28 @@ def test_an_endless_device_is_refused_and_leaves_no_temporary_folder(tmp_path, a
     assert list(scratch.iterdir()) == []
 
 
+def test_a_stream_copied_then_refused_leaves_no_temporary_folder(tmp_path):
+    """A named pipe is copied whole; the command's refusal of its content removes the copy."""
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    fifo = tmp_path / "motion.toml"
+    os.mkfifo(fifo)
+    text = MOTION.read_text().replace("../robots/", f"{REPO}/robots/") + "\nnosuch = 1\n"
+
+    def serve() -> None:
+        with open(fifo, "w") as stream:
+            stream.write(text)
+
+    writer = threading.Thread(target=serve, daemon=True)
+    writer.start()
+    done = subprocess.run([sys.executable, "-m", "hdselect.cli", "size", str(fifo)],
+                          capture_output=True, text=True, timeout=120, check=False,
+                          env={**os.environ, "TMPDIR": str(scratch)})
+    writer.join(timeout=5)
+    assert done.returncode == 2 and "nosuch: unknown key 'nosuch'" in done.stderr, done.stderr
+    assert list(scratch.iterdir()) == []
+
+
 def test_a_refused_stream_copy_removes_its_folder(tmp_path, monkeypatch):
     monkeypatch.setattr(inputfiles.tempfile, "tempdir", str(tmp_path / "tmp"))
     (tmp_path / "tmp").mkdir()

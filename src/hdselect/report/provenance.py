@@ -131,7 +131,7 @@ def _hashed(role: str, path: Path) -> InputFile:
     try:
         content = read_input(Path(path), MAX_LOG_BYTES)
     except InputError as err:
-        return InputFile(role, str(path), f"cannot be read now ({err.reason})", None)
+        return InputFile(role, str(path), f"cannot be read now: {err.reason}", None)
     return InputFile(role, str(path), hashlib.sha256(content).hexdigest(), len(content))
 
 
