@@ -200,7 +200,8 @@ def _without_missing_meshes(path: Path, refused: InputError) -> tuple[mujoco.MjM
                 from_geoms == mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_TRUE
                 or (from_geoms == mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_AUTO
                     and not body.explicitinertial)):
-            raise InputError(f"body '{body.name}' takes its mass and inertia from mesh "
+            label = f"body '{body.name}'" if body.name else "an unnamed body"
+            raise InputError(f"{label} takes its mass and inertia from mesh "
                              f"'{geom.meshname}', whose file {missing[geom.meshname]} is not "
                              "found: put the mesh files where the file names them, or "
                              "give the body an <inertial>", path=path)
