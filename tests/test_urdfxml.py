@@ -139,6 +139,25 @@ def test_a_joint_axis_without_direction_is_refused_naming_the_joint(tmp_path, ax
     assert "joint[elbow].axis" in line
 
 
+@pytest.mark.parametrize(("old", "new", "field"), [
+    ('velocity="4.0"', 'velocity="-4.0"', "joint[shoulder].limit.velocity"),
+    ('effort="8.0"', 'effort="-8"', "joint[elbow].limit.effort"),
+])
+def test_a_negative_velocity_or_effort_limit_is_refused_naming_the_joint(tmp_path, old, new,
+                                                                        field):
+    """urdfdom's own words name neither the joint nor the attribute."""
+    path = variant(tmp_path, old, new)
+    with pytest.raises(InputError) as info:
+        hdselect.load_robot(path)
+    assert info.value.field == field
+    value = new.split('"')[1].removesuffix(".0")
+    key = field.rsplit(".", 1)[1]
+    assert info.value.reason == (f"is {value}; a limit's {key} is a magnitude, 0 or more "
+                                 "(urdfdom refuses a negative one)")
+    line = refused(["joints", str(path)])
+    assert line == f"hdselect: error: {path}: {field}: {info.value.reason}"
+
+
 def test_a_link_with_two_parent_joints_is_refused_naming_the_link_and_both_joints(tmp_path):
     path = variant(tmp_path, "</robot>", '<joint name="extra" type="fixed"><parent '
                    'link="base_link"/><child link="link2"/></joint>\n</robot>')

@@ -244,3 +244,84 @@ def test_the_envelope_takes_xacro_arguments(tmp_path):
     status, _, err = run(["envelope", str(REPO / "robots" / "planar2.urdf"), "--acceleration",
                           "200", "--xacro-arg", "gripper_mass:=0.2"])
     assert status == 2 and "--xacro-arg" in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_an_argument_the_file_does_not_declare_is_refused_naming_its_arguments(tmp_path):
+    """xacro itself drops a misspelt argument: the 2 kg default gripper would be sized."""
+    path = xacro_robot(tmp_path)
+    with pytest.raises(InputError) as info:
+        hdselect.load_robot(path, xacro_args={"gripper_mas": "1.0"})
+    assert info.value.path == path and info.value.field == "xacro_args.gripper_mas"
+    assert info.value.reason == ("planar2_gripper.urdf.xacro has no xacro argument "
+                                 "'gripper_mas'; its arguments are: gripper_mass")
+    for command in (["joints", str(path)], ["envelope", str(path), "--acceleration", "200"]):
+        status, out, err = run([*command, "--xacro-arg", "gripper_mas:=1.0"])
+        assert status == 2 and out == "", err
+        assert err == ("hdselect: error: --xacro-arg: planar2_gripper.urdf.xacro has no xacro "
+                       "argument 'gripper_mas'; its arguments are: gripper_mass\n")
+
+
+def test_an_undeclared_argument_of_a_motion_file_names_the_motion_file(tmp_path):
+    path = xacro_robot(tmp_path)
+    motion = tmp_path / "motion.toml"
+    motion.write_text(MOTION.replace('robot = "../robots/planar2.urdf"',
+                                     f'robot = "{path.name}"\nxacro_args = {{nosuch = "1"}}'))
+    expected = (f"{motion}: xacro_args.nosuch: planar2_gripper.urdf.xacro has no xacro "
+                "argument 'nosuch'; its arguments are: gripper_mass")
+    with pytest.raises(InputError) as info:
+        hdselect.load_case(motion)
+    assert str(info.value) == expected
+    status, out, err = run(["size", str(motion)])
+    assert status == 2 and out == "" and err == f"hdselect: error: {expected}\n"
+    status, _, err = run(["size", str(motion), "--xacro-arg", "nosuch:=2"])  # overridden
+    assert status == 2 and err.startswith("hdselect: error: --xacro-arg: planar2_gripper"), err
+
+
+def test_an_argument_read_by_arg_without_a_declaration_is_the_files_own(tmp_path):
+    """``$(arg name)`` with no ``<xacro:arg>`` takes the value given (as ROS launch does)."""
+    path = xacro_robot(tmp_path)
+    path.write_text(path.read_text().replace(
+        '  <xacro:arg name="gripper_mass" default="2.0"/>\n', ""))
+    robot = hdselect.load_robot(path, xacro_args={"gripper_mass": "1.0"})
+    same_dynamics(robot, hdselect.load_robot(by_hand(tmp_path, 1.0)))
+
+
+@pytest.mark.parametrize("value", ["", "  "])
+def test_an_empty_argument_value_is_refused(tmp_path, value):
+    status, out, err = run(["joints", str(xacro_robot(tmp_path)), "--xacro-arg",
+                            f"gripper_mass:={value}"])
+    assert status == 2 and out == ""
+    assert err == "hdselect: error: --xacro-arg: no value given for gripper_mass\n"
+    with pytest.raises(InputError, match="no value given for gripper_mass") as info:
+        hdselect.load_robot(xacro_robot(tmp_path), xacro_args={"gripper_mass": value})
+    assert info.value.field == "xacro_args.gripper_mass"
+
+
+@pytest.mark.parametrize(("value", "shown"), [("nan", "'nan' is not a number"),
+                                              ("1e400", "'inf' is not a number"),
+                                              ("-1", "got -1")])
+def test_a_bad_number_from_an_argument_is_blamed_on_the_argument_and_its_source(
+        tmp_path, value, shown):
+    path = xacro_robot(tmp_path)
+    motion = tmp_path / "motion.toml"
+    motion.write_text(MOTION.replace(
+        'robot = "../robots/planar2.urdf"',
+        f'robot = "{path.name}"\nxacro_args = {{gripper_mass = "{value}"}}'))
+    said = (f"gripper_mass:={value} makes link[gripper].inertial.mass of the expanded "
+            "planar2_gripper.urdf.xacro fail: ")
+    status, out, err = run(["size", str(motion)])
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith(f"hdselect: error: {motion}: xacro_args.gripper_mass: {said}")
+    assert shown in err
+    status, out, err = run(["joints", str(path), "--xacro-arg", f"gripper_mass:={value}"])
+    assert status == 2 and err.startswith(f"hdselect: error: --xacro-arg: {said}"), err
+
+
+def test_a_bad_number_no_single_argument_gives_lists_the_arguments(tmp_path):
+    path = xacro_robot(tmp_path)
+    path.write_text(path.read_text().replace('value="${m1}"', 'value="nan"'))
+    with pytest.raises(InputError) as info:
+        hdselect.load_robot(path, xacro_args={"gripper_mass": "1.0"})
+    assert info.value.field == "link[link1].inertial.mass"
+    assert info.value.reason.endswith("(in the file expanded with the xacro arguments "
+                                      "gripper_mass:=1.0)")

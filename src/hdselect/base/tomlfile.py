@@ -11,7 +11,7 @@ from typing import Any
 
 from hdselect.base.bounds import Bound
 from hdselect.base.errors import InputError
-from hdselect.base.inputfiles import readable
+from hdselect.base.inputfiles import read_input
 
 
 def read_toml(path: str | Path, *, kind: str = "a TOML file", hint: str = "") -> dict[str, Any]:
@@ -27,14 +27,13 @@ def read_toml(path: str | Path, *, kind: str = "a TOML file", hint: str = "") ->
         The parsed document.
 
     Raises:
-        InputError: The file is missing, unreadable or not valid TOML.
+        InputError: The file is missing, unreadable, too large (`read_input`) or not valid
+            TOML.
     """
     path = Path(path)
     try:
-        text = readable(path).read_text(encoding="utf-8")
-    except FileNotFoundError as err:
-        raise InputError("file not found", path=path) from err
-    except (OSError, UnicodeDecodeError) as err:
+        text = read_input(path).decode("utf-8")
+    except UnicodeDecodeError as err:
         raise InputError(f"cannot read file ({err})", path=path) from err
     try:
         return tomllib.loads(text)
@@ -42,6 +41,42 @@ def read_toml(path: str | Path, *, kind: str = "a TOML file", hint: str = "") ->
         if text.lstrip("\ufeff \t\r\n").startswith("<"):
             raise InputError(f"this is a robot file (XML), not {kind}{hint}", path=path) from err
         raise InputError(f"not valid TOML: {err}", path=path) from err
+
+
+_KINDS = (
+    ("a mix file", ("task",)),
+    ("a motion file", ("waypoint", "samples", "planner", "dt", "tool", "xacro_args")),
+    ("a study file", ("case", "grid", "compute")),
+    ("a duty profile", ("phase", "momentary", "static")),
+    ("a catalog file", ("series", "unit")),
+    ("an envelope file", ("robot", "limits", "duty")),
+)
+"""Each kind of hdselect TOML file and top-level keys that mark it, in the order asked."""
+
+
+def toml_kind(data: bytes) -> str | None:
+    """What hdselect file a document is, when it is TOML: ``"a motion file"``, ...
+
+    A file read where another kind is wanted (a motion file given as the robot) is
+    told by what it is rather than by the parser's complaint.
+
+    Args:
+        data: The file's content.
+
+    Returns:
+        The kind with its article (``"a TOML file"`` when no kind's keys are there), or
+        None when the content is not TOML or empty.
+    """
+    try:
+        doc = tomllib.loads(data.decode("utf-8"))
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return None
+    if not doc:
+        return None  # empty: nothing tells what it is
+    if isinstance(doc.get("motor"), list):
+        return "a motor file"
+    return next((kind for kind, keys in _KINDS if any(key in doc for key in keys)),
+                "a TOML file")
 
 
 def check_keys(table: Mapping[str, Any], allowed: Iterable[str], path: Path, where: str) -> None:

@@ -13,6 +13,7 @@ from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_
 
 _ANGLE = {"deg": math.pi / 180.0, "rad": 1.0}
 _SPEC_SUFFIXES = (".toml",)
+_AS_DUTY = "give it as --duty FILE: the cycle the mean torque and life are judged on"
 
 
 def envelope_arguments(parser: argparse.ArgumentParser) -> None:
@@ -189,13 +190,16 @@ def _flagged(err: InputError) -> InputError:
 
 def _robot_and_spec(args: argparse.Namespace):
     """The robot file loaded and the envelope file, from ROBOT [SPEC]."""
-    from hdselect.cli.inputs import robot_file_loaded
+    from hdselect.cli.inputs import ROBOT_FILE, file_wanted, robot_file_loaded
     from hdselect.envelope.specfile import envelope_robot_file
 
     target = Path(args.target)
+    spec_kinds, duty = ("an envelope file", "a TOML file"), {"a motion file": _AS_DUTY}
     if args.spec is not None:
+        file_wanted(args, args.spec, "an envelope file (TOML)", spec_kinds, duty)
         return robot_file_loaded(args, target), Path(args.spec)
     if target.suffix.lower() in _SPEC_SUFFIXES:
+        file_wanted(args, target, f"{ROBOT_FILE} or an envelope file (TOML)", spec_kinds, duty)
         return robot_file_loaded(args, envelope_robot_file(target)), target
     return robot_file_loaded(args, target), None
 

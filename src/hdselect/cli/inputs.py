@@ -7,6 +7,8 @@ the motors, each flag named in the message when it is bad.
 from __future__ import annotations
 
 import argparse
+import os
+from collections.abc import Mapping
 from pathlib import Path
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
@@ -168,6 +170,55 @@ def _names(given: list[str] | None) -> list[str] | None:
     return [name.strip() for text in given for name in text.split(",") if name.strip()]
 
 
+ROBOT_FILE = "a robot file (URDF, xacro or MJCF)"
+"""What a command's ROBOT is, for messages."""
+_READ_BY = {"a motion file": "hdselect size FILE sizes it", "a mix file": "hdselect size FILE "
+            "sizes it", "an envelope file": "hdselect envelope FILE reads it",
+            "a study file": "hdselect study FILE runs it", "a duty profile": "hdselect duty "
+            "FILE reads it", "a catalog file": "give it as --catalog FILE",
+            "a motor file": "give it as --motor-catalog FILE"}
+"""Where each kind of hdselect TOML file goes, said when it is given in the wrong place."""
+
+
+def file_wanted(args: argparse.Namespace, file: str | Path, wants: str,
+                accepted: tuple[str, ...] = (), read_by: Mapping[str, str] | None = None
+                ) -> None:
+    """Refuse a TOML file of another kind where the command wants `wants`, saying what it is.
+
+    Args:
+        args: The command's arguments (``args.command`` names it).
+        file: The file given.
+        wants: What the command wants there, e.g. `ROBOT_FILE`.
+        accepted: The kinds of TOML file taken there (`hdselect.base.tomlfile.toml_kind`).
+        read_by: Where a kind of file goes instead, where this command says it otherwise
+            (FILE stands for the file).
+
+    Raises:
+        InputError: `file` is a TOML file of another kind: one line naming the file, its
+            kind, what the command wants and where the file goes.
+    """
+    from hdselect.base.inputfiles import read_input
+    from hdselect.base.tomlfile import read_toml, toml_kind
+
+    kind = toml_kind(read_input(Path(file)))
+    if kind is None or kind in accepted:
+        return
+    said = f"{file} is {kind}" + ("" if kind == "a TOML file" else " (TOML)")
+    hints = []
+    motion = getattr(args, "motion", None)
+    robot = read_toml(file).get("robot")
+    goes = {**_READ_BY, **(read_by or {})}
+    if file == getattr(args, "robot", None) and motion is not None and \
+            toml_kind(read_input(Path(motion))) is None:
+        hints.append("the order is ROBOT, then MOTION")
+    elif wants == ROBOT_FILE and isinstance(robot, str):
+        hints.append(f"the robot it names is {os.path.normpath(Path(file).parent / robot)}")
+    elif kind in goes:
+        hints.append(goes[kind].replace("FILE", str(file)))
+    raise InputError(f"{said}; {args.command} wants {wants} here"
+                     + (f" ({'; '.join(hints)})" if hints else ""))
+
+
 def robot_of(args: argparse.Namespace, named: Path | None = None):
     """The robot ROBOT names (else `named`, else the motion file's), with ``--xacro-arg``."""
     return robot_file_loaded(args, args.robot if args.robot is not None else named)
@@ -177,22 +228,17 @@ def robot_file_loaded(args: argparse.Namespace, file: str | Path | None):
     """The robot `file` (None: the one ``args.motion`` names), expanded with ``--xacro-arg``.
 
     Raises:
-        InputError: As the robot's reading does; arguments given for a file that takes
-            none are refused naming ``--xacro-arg``.
+        InputError: As the robot's reading does; an argument refused is named where it
+            came from (``--xacro-arg`` or the motion file's ``xacro_args``).
     """
-    from hdselect.motion.robot_named import load_motion_robot
-    from hdselect.robot.model import load_robot
+    from hdselect.motion.robot_named import load_expanded, load_motion_robot
     from hdselect.robot.xacrofile import xacro_arguments
 
-    given = xacro_arguments(args.xacro_arg, "--xacro-arg") if args.xacro_arg else None
-    try:
-        if file is not None:
-            return load_robot(file, xacro_args=given)
-        return load_motion_robot(args.motion, given)
-    except InputError as err:
-        if err.field == "xacro_args" and given:  # given for a file that takes none
-            raise InputError(err.reason, path=err.path, field="--xacro-arg") from err
-        raise
+    given = xacro_arguments(args.xacro_arg, "--xacro-arg") if args.xacro_arg else {}
+    if file is not None:
+        file_wanted(args, file, ROBOT_FILE)
+        return load_expanded(Path(file), ((None, "--xacro-arg", given),))
+    return load_motion_robot(args.motion, given, given_as="--xacro-arg")
 
 
 def robot_and_motion(args: argparse.Namespace):
@@ -209,6 +255,8 @@ def robot_and_motion(args: argparse.Namespace):
     from hdselect.motion.solve import solve_motion
     from hdselect.robot.payload import Payload
 
+    file_wanted(args, args.motion, "a motion file or a mix file (TOML)",
+                ("a motion file", "a mix file", "a TOML file"))
     if is_mix_file(args.motion):
         return _robot_and_mix(args)
     robot = robot_of(args)

@@ -127,7 +127,7 @@ def _parser() -> argparse.ArgumentParser:
     verbose.add_argument("-v", "--verbose", action="store_true", default=argparse.SUPPRESS,
                          help="print progress notes")
     commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND",
-                                     parser_class=_Parser)
+                                     dest="command", parser_class=_Parser)
 
     catalog = commands.add_parser("catalog", parents=[verbose],
                                   help="list the gearhead catalog")

@@ -22,7 +22,7 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
-from hdselect.base.inputfiles import readable
+from hdselect.base.inputfiles import MAX_LOG_BYTES, readable
 from hdselect.motion.followers import check_logged_followers
 from hdselect.robot.model import Robot
 
@@ -144,7 +144,7 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str],
 def _header(log: Path) -> tuple[list[str], int]:
     """The header's cells and its line number (1-based)."""
     try:
-        with readable(log).open(newline="", encoding="utf-8-sig") as stream:
+        with readable(log, MAX_LOG_BYTES).open(newline="", encoding="utf-8-sig") as stream:
             for line_number, line in enumerate(stream, start=1):
                 if line.strip():
                     return [cell.strip() for cell in next(csv.reader([line]))], line_number
@@ -157,7 +157,7 @@ def _numbers(log: Path, header: list[str], header_line: int, columns: list[int])
     """The wanted columns of every data row as floats, shape (rows, len(columns))."""
     every = sorted(columns) == list(range(len(header)))
     try:
-        with readable(log).open(newline="", encoding="utf-8-sig") as stream:
+        with readable(log, MAX_LOG_BYTES).open(newline="", encoding="utf-8-sig") as stream:
             for _ in range(header_line):
                 stream.readline()
             data = np.loadtxt(stream, delimiter=",", comments=None, ndmin=2, dtype=float,
@@ -178,7 +178,7 @@ def _numbers(log: Path, header: list[str], header_line: int, columns: list[int])
 
 def _rows(log: Path, header_line: int) -> Iterator[tuple[int, int, list[str]]]:
     """(data row, line, cells) of every non-blank row after the header, 1-based."""
-    with readable(log).open(newline="", encoding="utf-8-sig") as stream:
+    with readable(log, MAX_LOG_BYTES).open(newline="", encoding="utf-8-sig") as stream:
         lines = itertools.islice(stream, header_line, None)
         numbered = ((header_line + 1 + i, line) for i, line in enumerate(lines))
         row = 0

@@ -9,7 +9,7 @@ arguments given with it.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -81,25 +81,54 @@ def robot_file_named(path: str | Path) -> Path:
     return robot_source(path)[0]
 
 
-def load_motion_robot(path: str | Path, xacro_args: Mapping[str, str] | None = None) -> Robot:
+def load_motion_robot(path: str | Path, xacro_args: Mapping[str, str] | None = None, *,
+                      given_as: str = "xacro_args") -> Robot:
     """The robot a motion file names, expanded with its ``xacro_args`` (a ``.xacro`` robot).
 
     Args:
         path: The motion file.
         xacro_args: Arguments overriding the file's, by name (``--xacro-arg``).
+        given_as: What `xacro_args` are called in messages (``--xacro-arg``).
 
     Raises:
         InputError: The motion file or the robot file is missing or invalid.
     """
     robot, arguments = robot_source(path)
-    return load_named(robot, {**arguments, **(xacro_args or {})}, Path(path))
+    return load_named(robot, arguments, Path(path), xacro_args, given_as)
 
 
-def load_named(robot: Path, xacro_args: dict[str, str], path: Path) -> Robot:
-    """The motion file's robot; arguments for a file that takes none name the motion file."""
+def load_named(robot: Path, xacro_args: Mapping[str, str], path: Path,
+               given: Mapping[str, str] | None = None, given_as: str = "xacro_args") -> Robot:
+    """The motion file's robot, its ``xacro_args`` overridden by `given` (called `given_as`)."""
+    return load_expanded(robot, ((path, "xacro_args", xacro_args), (None, given_as, given or {})))
+
+
+def load_expanded(robot: Path, sources: Sequence[tuple[Path | None, str, Mapping[str, str]]]
+                  ) -> Robot:
+    """A robot file expanded with xacro arguments from several sources, later ones overriding.
+
+    An error about an argument (the file takes none, has no such argument, or its value
+    makes a number of the expanded file unreadable) names the source the argument came
+    from: its file (None: the command line) and field.
+
+    Args:
+        robot: The robot file.
+        sources: (file, field, arguments by name) of each source, in order of precedence.
+
+    Raises:
+        InputError: As `hdselect.robot.model.load_robot` does.
+    """
+    merged = {name: value for _, _, given in sources for name, value in given.items()}
     try:
-        return load_robot(robot, xacro_args=xacro_args)
+        return load_robot(robot, xacro_args=merged)
     except InputError as err:
-        if err.field == "xacro_args" and err.path == robot:
-            raise InputError(err.reason, path=path, field="xacro_args") from err
-        raise
+        field = str(err.field)
+        if err.path != robot or not (field == "xacro_args" or field.startswith("xacro_args.")):
+            raise
+        name = field.partition(".")[2]
+        path, label = next(((p, f) for p, f, given in reversed(sources)
+                            if (name in given if name else given)), (robot, "xacro_args"))
+        if path is None and not name:  # arguments for a file that takes none: name the file
+            path = robot
+        raise InputError(err.reason, path=path, field=f"{label}.{name}"
+                         if name and not label.startswith("-") else label) from err

@@ -19,7 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hdselect.base.inputfiles import readable
+from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import MAX_LOG_BYTES, read_input
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.sizing.result import SizingResult
 from hdselect.sizing.tasks import Task
@@ -128,9 +129,9 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
 
 def _hashed(role: str, path: Path) -> InputFile:
     try:
-        content = readable(Path(path)).read_bytes()
-    except OSError as err:
-        return InputFile(role, str(path), f"cannot be read now ({err.strerror})", None)
+        content = read_input(Path(path), MAX_LOG_BYTES)
+    except InputError as err:
+        return InputFile(role, str(path), f"cannot be read now: {err.reason}", None)
     return InputFile(role, str(path), hashlib.sha256(content).hexdigest(), len(content))
 
 

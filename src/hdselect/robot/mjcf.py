@@ -108,8 +108,8 @@ def model_from_mjcf(path: str | PathLike[str]) -> MjcfRead:
             joint, or a kept tree holds a ball joint.
     """
     path = Path(path)
-    mj, warnings = _compile(path)
-    notes = [f"MuJoCo's compiler warns: {w}" for w in warnings]
+    mj, warnings, notes = _compile(path)
+    notes += [f"MuJoCo's compiler warns: {w}" for w in warnings]
     kept, tree_notes = _kept_trees(mj, path)
     notes += tree_notes
     held = _check_joints(mj, kept, path)
@@ -147,24 +147,82 @@ def model_from_mjcf(path: str | PathLike[str]) -> MjcfRead:
                     dof_index)
 
 
-def _compile(path: Path) -> tuple[mujoco.MjModel, list[str]]:
-    """MuJoCo's compiled model of `path`, and the warnings its compiler gave.
+def _compile(path: Path) -> tuple[mujoco.MjModel, list[str], list[str]]:
+    """MuJoCo's compiled model of `path`, the warnings its compiler gave, and notes.
 
-    MuJoCo's warning hook is process-wide: it is set for the compile and restored
-    after, one compile at a time.
+    A file whose mesh files are missing is compiled without the geoms using them when
+    no body's mass comes from those meshes (`_without_missing_meshes`). MuJoCo's
+    warning hook is process-wide: it is set for the compile and restored after, one
+    compile at a time.
     """
     warnings: list[str] = []
+    notes: list[str] = []
     with _LOCK:
         previous = mujoco.get_mju_user_warning()
         mujoco.set_mju_user_warning(lambda text: warnings.append(" ".join(str(text).split())))
         try:
             mj = mujoco.MjModel.from_xml_path(str(path))
         except ValueError as err:
-            raise InputError(f"not a valid MJCF robot (MuJoCo's compiler): {_one_line(str(err))}",
-                             path=path) from err
+            mj, notes = _without_missing_meshes(path, _refused(path, err))
         finally:
             mujoco.set_mju_user_warning(previous)
-    return mj, warnings
+    return mj, warnings, notes
+
+
+def _without_missing_meshes(path: Path, refused: InputError) -> tuple[mujoco.MjModel, list[str]]:
+    """The file compiled without its mesh geoms whose files are missing, and the note saying so.
+
+    A mesh geom adds its mass to its body where MuJoCo takes the body's inertia from
+    its geoms (``<compiler inertiafromgeom="true">``, or ``"auto"`` and the body has
+    no ``<inertial>``) and the geom's group is in ``inertiagrouprange``; elsewhere it
+    is drawing and contact only, which the dynamics do not use.
+
+    Raises:
+        InputError: `refused` when no mesh file is missing (or the file does not parse);
+            else, when a body's mass comes from a missing mesh, naming the body and mesh.
+    """
+    try:
+        spec = mujoco.MjSpec.from_file(str(path))
+    except ValueError:
+        raise refused from None
+    folder = Path(spec.meshdir)
+    missing = {mesh.name: folder / mesh.file for mesh in spec.meshes
+               if mesh.file and not (path.parent / folder / mesh.file).is_file()}
+    if not missing:
+        raise refused
+    geoms = [g for g in spec.geoms if g.type == mujoco.mjtGeom.mjGEOM_MESH
+             and g.meshname in missing]
+    low, high = spec.compiler.inertiagrouprange
+    from_geoms = spec.compiler.inertiafromgeom
+    for geom in geoms:
+        body = geom.parent
+        if body.name != "world" and low <= geom.group <= high and (
+                from_geoms == mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_TRUE
+                or (from_geoms == mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_AUTO
+                    and not body.explicitinertial)):
+            label = f"body '{body.name}'" if body.name else "an unnamed body"
+            raise InputError(f"{label} takes its mass and inertia from mesh "
+                             f"'{geom.meshname}', whose file {missing[geom.meshname]} is not "
+                             "found: put the mesh files where the file names them, or "
+                             "give the body an <inertial>", path=path)
+    for geom in geoms:
+        spec.delete(geom)
+    for mesh in [m for m in spec.meshes if m.name in missing]:
+        spec.delete(mesh)
+    try:
+        mj = spec.compile()
+    except ValueError as err:  # another reason, now that the meshes are not read
+        raise _refused(path, err) from err
+    files = listed(sorted({str(file) for file in missing.values()}))
+    return mj, [f"mesh files not found ({files}): the {len(geoms)} geoms drawing them are left "
+                "out; no body takes its mass from them (each gives its <inertial>), so the "
+                "dynamics do not need them"]
+
+
+def _refused(path: Path, err: ValueError) -> InputError:
+    """MuJoCo's compiler's refusal of the file, one line."""
+    return InputError(f"not a valid MJCF robot (MuJoCo's compiler): {_one_line(str(err))}",
+                      path=path)
 
 
 def _one_line(message: str) -> str:
@@ -241,7 +299,7 @@ def _kept_trees(mj: mujoco.MjModel, path: Path) -> tuple[list[int], list[str]]:
 
 
 def _check_joints(mj: mujoco.MjModel, kept: list[int], path: Path) -> list[int]:
-    """Refuse ball joints; the root bodies whose free joint is held fixed.
+    """Refuse ball joints and ranges upside down; the root bodies whose free joint is held fixed.
 
     MuJoCo's compiler allows a free joint only as the one joint of a body on the world.
     """
@@ -254,6 +312,11 @@ def _check_joints(mj: mujoco.MjModel, kept: list[int], path: Path) -> list[int]:
                                  "hdselect sizes hinge and slide joints only", path=path)
             if int(mj.jnt_type[j]) == FREE:
                 held.append(b)
+            lower, upper = mj.jnt_range[j]
+            if int(mj.jnt_type[j]) in (HINGE, SLIDE) and lower > upper:  # auto: unlimited
+                raise InputError(f"its range's lower end is above its upper end ({lower:g} > "
+                                 f"{upper:g}): MuJoCo would leave it unlimited", path=path,
+                                 field=f"joint[{joint_label(mj, j)}].range")
     return held
 
 

@@ -19,7 +19,7 @@ import pinocchio as pin
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
-from hdselect.base.inputfiles import is_input_file, readable
+from hdselect.base.inputfiles import readable
 from hdselect.robot.checks import model_limit
 from hdselect.robot.mounting import NAMED_BASES, BasePose, Mounting, base_pose_of, gravity_of
 from hdselect.robot.payload import Payload, payload_frame, tip_frame
@@ -302,9 +302,7 @@ def load_robot(
     path = bounds.file_argument(path, "path")
     bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
     arguments = xacro_arguments(xacro_args)
-    if not is_input_file(path):
-        raise InputError("file not found", path=path)
-    copy = readable(path)  # a FIFO read once
+    copy = readable(path)  # checked; a FIFO read once
     try:
         file = read_robot_file(copy, arguments)
     except InputError as err:

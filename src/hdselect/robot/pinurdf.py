@@ -21,6 +21,7 @@ from pathlib import Path
 import pinocchio as pin
 
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import read_input
 
 logger = logging.getLogger(__name__)
 
@@ -52,7 +53,7 @@ def build_urdf(path: Path, text: str | None, *, mimic: bool,
             error = err
     if error is None and not printed:
         return model
-    source = path.read_bytes() if text is None else text.encode()
+    source = read_input(path) if text is None else text.encode()
     if error is not None:
         reason = _parser_reason(str(error), printed, source)
         raise InputError(f"not a valid URDF robot: {reason}", path=path) from error

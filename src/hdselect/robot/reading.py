@@ -28,11 +28,13 @@ import pinocchio as pin
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import read_input
+from hdselect.base.tomlfile import toml_kind
 from hdselect.robot.checks import check_bodies, check_geometry
 from hdselect.robot.pinurdf import build_urdf
 from hdselect.robot.urdfcheck import check_model, open_limits, unlimited
 from hdselect.robot.urdfxml import Element, UrdfTree, parse_elements, read_urdf_tree
-from hdselect.robot.xacrofile import expand_xacro
+from hdselect.robot.xacrofile import blamed_argument, expand_xacro
 
 logger = logging.getLogger(__name__)
 
@@ -115,12 +117,15 @@ def read_robot_file(path: Path, xacro_args: Mapping[str, str] | None = None) -> 
         The model and what was assumed.
 
     Raises:
-        InputError: The file is SDF; xacro, Pinocchio or MuJoCo rejects it (their reason
-            in the message); a number of the file is not read as the format defines it;
-            a body's inertia is not physical.
+        InputError: The file is SDF or TOML (a motion file given in its place); xacro,
+            Pinocchio or MuJoCo rejects it (their reason in the message); a number of the
+            file is not read as the format defines it; a body's inertia is not physical.
     """
-    data = path.read_bytes()
+    data = read_input(path)
     root = parse_elements(data)
+    toml = toml_kind(data) if root is None else None
+    if toml is not None:
+        raise InputError(f"is {toml} (TOML), not a robot file (URDF, xacro or MJCF)", path=path)
     kind = _format(path, root)
     if xacro_args and kind != "xacro":
         raise InputError(f"xacro arguments given ({', '.join(xacro_args)}) for a {kind} file; "
@@ -133,7 +138,12 @@ def read_robot_file(path: Path, xacro_args: Mapping[str, str] | None = None) -> 
         if kind == "xacro":
             text, notes = expand_xacro(path, xacro_args or {})
             root = parse_elements(text.encode())
-        file = _read_urdf(path, text, root, notes, kind)
+        try:
+            file = _read_urdf(path, text, root, notes, kind)
+        except InputError as err:
+            if kind != "xacro" or not xacro_args or err.path != path:
+                raise
+            raise blamed_argument(err, path, xacro_args) from err
     for note in file.notes:
         if note in file.set_aside:
             logger.info("%s: %s", path, note)
@@ -170,7 +180,7 @@ def _read_urdf(path: Path, text: str | None, root: Element | None, notes: list[s
     if root is None or root.tag != "robot":
         build_urdf(path, text, mimic=False)  # Pinocchio's own reason, if it has one
         raise InputError("malformed XML: hdselect cannot read the numbers Pinocchio read "
-                         f"({_expat_reason(text.encode() if text else path.read_bytes())})",
+                         f"({_expat_reason(text.encode() if text else read_input(path))})",
                          path=path)
     tree = read_urdf_tree(root, path)
     uncoupled: tuple[str, ...] = ()

@@ -260,13 +260,18 @@ def direction(axis: np.ndarray) -> np.ndarray | None:
 
 
 def _limit(element: Element, path: Path, where: str, failed: str, positions: bool) -> Limit:
-    """A ``<limit>``; lower and upper (0 when not given) in range where `positions` count."""
+    """A ``<limit>``: lower and upper (0 if not given) in range where `positions`, the rest >= 0."""
     values = {}
     for key in ("lower", "upper", "effort", "velocity"):
         text = element.attributes.get(key, "0")
         values[key] = _scalar(text, path, f"{where}.{key}", failed)
     for key in ("lower", "upper") if positions else ():
         bounds.POSITION.check(values[key], path=path, field=f"{where}.{key}")
+    for key in ("effort", "velocity"):
+        if values[key] < 0.0:
+            raise InputError(f"is {values[key]:g}; a limit's {key} is a magnitude, 0 or more "
+                             f"(urdfdom refuses a negative one)", path=path,
+                             field=f"{where}.{key}")
     return Limit(**values)
 
 

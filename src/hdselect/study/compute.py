@@ -40,8 +40,8 @@ from hdselect.motion.case import robot_for_motion
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning import plan
-from hdselect.motion.robot_named import robot_source
-from hdselect.robot.model import Robot, load_robot
+from hdselect.motion.robot_named import load_named, robot_source
+from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import motion_motors, size_trajectory
 from hdselect.sizing.options import Options, options_for
@@ -146,7 +146,7 @@ class _Inputs:
             robot_file, arguments = self.robot_files[case.motion]
         key = (robot_file, tuple(sorted(arguments.items())))
         if key not in self.robots:
-            self.robots[key] = load_robot(robot_file, xacro_args=arguments)
+            self.robots[key] = load_named(robot_file, arguments, case.motion)
         robot = self.robots[key]
         if (case.motion, key) not in self.motions:
             self.motions[case.motion, key] = load_motion(case.motion, robot)

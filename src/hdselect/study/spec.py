@@ -22,6 +22,7 @@ from typing import Any
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import MAX_LOG_BYTES, read_input
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.catalog.catalogfile import BUILTIN
 from hdselect.motion.mixfile import task_names
@@ -324,8 +325,8 @@ def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tupl
     """
     files = [motion]
     try:
-        doc = tomllib.loads(motion.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        doc = tomllib.loads(read_input(motion).decode("utf-8"))
+    except (InputError, UnicodeDecodeError, tomllib.TOMLDecodeError):
         doc = {}
     if robot is not None:
         files.append(robot)
@@ -350,9 +351,9 @@ def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tupl
 def _digest(path: Path) -> str:
     """SHA-256 of a file's bytes, or a marker when it cannot be read."""
     try:
-        return hashlib.sha256(path.read_bytes()).hexdigest()
-    except OSError as err:
-        return f"unreadable: {type(err).__name__}"
+        return hashlib.sha256(read_input(path, MAX_LOG_BYTES)).hexdigest()
+    except InputError as err:
+        return f"unreadable: {err.reason}"
 
 
 def _builtin_digest() -> str:

@@ -12,6 +12,8 @@ from collections.abc import Iterator
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+from hdselect.base.errors import InputError
+from hdselect.base.inputfiles import MAX_LOG_BYTES, read_input
 from hdselect.study.case import Case
 from hdselect.study.compute import Computation, Outcome
 
@@ -101,7 +103,7 @@ def shipped(task: Task) -> Task:
     for case in task.cases:
         for path in case.files:
             try:
-                files[str(path.resolve())] = path.read_bytes()
-            except OSError:
+                files[str(path.resolve())] = read_input(path, MAX_LOG_BYTES)
+            except InputError:
                 pass  # the case fails in the worker, naming the file
     return replace(task, files=files)
