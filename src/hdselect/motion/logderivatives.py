@@ -88,8 +88,9 @@ def derivatives(t: np.ndarray, q: np.ndarray, at: np.ndarray,
         split = _moving_stretches(q[:, j], t)
         noise = noise_level(q[:, j], split[0], t)
         split = _steps_at_rest(split, q[:, j], noise)
+        done: dict[tuple[int, int, bool, bool], tuple[np.ndarray, ...]] = {}
         for _ in range(REST_ROUNDS):
-            qd[:, j], qdd[:, j], spread[:, j] = _joint(t, q[:, j], at, split, noise)
+            qd[:, j], qdd[:, j], spread[:, j] = _joint(t, q[:, j], at, split, noise, done)
             peak = max((float(np.abs(qdd[slice(*_grid(at, t, first, last)), j]).max(initial=0.0))
                         for first, last in split[0] if last - first >= 6), default=0.0)
             if noise == 0.0 or peak == 0.0:
@@ -115,17 +116,22 @@ Split = tuple[list[tuple[int, int]], np.ndarray, list[tuple[int, int]]]
 """A joint's moving stretches, which samples rest, and the rests: (first, last) indices."""
 
 
-def _joint(t: np.ndarray, q: np.ndarray, at: np.ndarray, split: Split,
-           noise: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One joint's qd, qdd and qdd's uncertainty at `at` [per s, per s^2, per s^2]."""
+def _joint(t: np.ndarray, q: np.ndarray, at: np.ndarray, split: Split, noise: float,
+           done: dict[tuple[int, int, bool, bool], tuple[np.ndarray, ...]],
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One joint's qd, qdd and qdd's uncertainty at `at` [per s, per s^2, per s^2].
+
+    `done` keeps each stretch's result for the next round of rests: most stay the same.
+    """
     stretches, rest, runs = split
     qd, qdd, spread = np.zeros(len(at)), np.zeros(len(at)), _rest_spread(t, at, runs, noise)
     for first, last in stretches:
         lo, hi = _grid(at, t, first, last)
         if hi > lo:
-            part = slice(lo, hi)
-            qd[part], qdd[part], error = _stretch(t, q, at[part], first, last,
-                                                  (bool(rest[first]), bool(rest[last])), noise)
+            part, key = slice(lo, hi), (first, last, bool(rest[first]), bool(rest[last]))
+            if key not in done:
+                done[key] = _stretch(t, q, at[part], first, last, key[2:], noise)
+            qd[part], qdd[part], error = done[key]
             spread[part] = np.maximum(spread[part], error)
     return qd, qdd, spread
 
@@ -140,26 +146,27 @@ def _stretch(t: np.ndarray, q: np.ndarray, at: np.ndarray, first: int, last: int
     sample, plus the most the noise moves it (`NOISE_GAIN` over its sample spacing
     squared); its whole acceleration where every 2k-th sample leaves fewer than 4.
     """
-    def spline(step: int, order: int) -> np.ndarray:
+    def spline(step: int) -> list[np.ndarray]:
         kept = _kept(first, last, step)
-        return spline_values(t[kept], q[kept], at, order, clamped=clamped)
+        return spline_derivatives(t[kept], q[kept], at, (1, 2), clamped=clamped)
 
-    best, step, fine = None, 1, spline(1, 2)
+    best, step, fine = None, 1, spline(1)
     while True:
         kept = _kept(first, last, step)
         moved = NOISE_FACTOR * noise * NOISE_GAIN / float(np.diff(t[kept]).min()) ** 2
         checked = len(_kept(first, last, 2 * step)) >= 4
-        coarse = spline(2 * step, 2) if checked else fine
-        error = _envelope(np.abs(fine - coarse if checked else fine), at, t[kept]) + moved
-        bound = peak_uncertainty(fine, error)
+        coarse = spline(2 * step) if checked else fine
+        error = _envelope(np.abs(fine[1] - coarse[1] if checked else fine[1]), at,
+                          t[kept]) + moved
+        bound = peak_uncertainty(fine[1], error)
         if best is not None and bound >= best[0]:
             break  # past the smallest: the motion's own error grows from here
-        best = (bound, step, fine, error)
+        best = (bound, fine, error)
         if not checked or 2 * step > MAX_STEP:
             break
         step, fine = 2 * step, coarse
-    _, chosen, acceleration, error = best
-    return spline(chosen, 1), acceleration, error
+    _, (velocity, acceleration), error = best
+    return velocity, acceleration, error
 
 
 def peak_uncertainty(values: np.ndarray, spread: np.ndarray) -> float:
@@ -237,8 +244,8 @@ def _kept(first: int, last: int, step: int) -> np.ndarray:
 
     No interval is shorter than `step` samples: a short one would amplify noise the more.
     """
-    count = max(1, (last - first) // step)
-    return np.unique(np.round(np.linspace(first, last, count + 1)).astype(int))
+    count = max(1, (last - first) // step)  # at most one interval per sample: no repeats
+    return np.round(np.linspace(first, last, count + 1)).astype(int)
 
 
 def _envelope(values: np.ndarray, at: np.ndarray, knots: np.ndarray) -> np.ndarray:
@@ -339,9 +346,17 @@ def spline_values(t: np.ndarray, values: np.ndarray, at: np.ndarray, order: int,
     below 1e-36 of the values and the result equals the spline through the whole log
     to rounding, in memory bounded by the chunk.
     """
+    (out,) = spline_derivatives(t, values, at, (order,), clamped=clamped)
+    return out
+
+
+def spline_derivatives(t: np.ndarray, values: np.ndarray, at: np.ndarray,
+                       orders: tuple[int, ...], *,
+                       clamped: tuple[bool, bool] = (False, False)) -> list[np.ndarray]:
+    """`spline_values` of several orders from the same splines, one array per order."""
     from scipy.interpolate import CubicSpline
 
-    out = np.empty((len(at),) + values.shape[1:])
+    out = [np.empty((len(at),) + values.shape[1:]) for _ in orders]
     for start in range(0, len(at), CHUNK):
         part = slice(start, start + CHUNK)
         first, last = np.searchsorted(t, [at[part][0], at[part][-1]])
@@ -351,6 +366,7 @@ def spline_values(t: np.ndarray, values: np.ndarray, at: np.ndarray, order: int,
         if hi - lo < 4 and "not-a-knot" in ends and ends != ("not-a-knot", "not-a-knot"):
             ends = tuple("natural" if end == "not-a-knot" else end for end in ends)
         with np.errstate(all="ignore"):  # `plan` refuses a result that is not finite
-            out[part] = CubicSpline(t[lo:hi], values[lo:hi], axis=0, bc_type=ends)(at[part],
-                                                                                  order)
+            spline = CubicSpline(t[lo:hi], values[lo:hi], axis=0, bc_type=ends)
+            for array, order in zip(out, orders, strict=True):
+                array[part] = spline(at[part], order)
     return out
