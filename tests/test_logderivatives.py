@@ -143,3 +143,54 @@ def test_the_torque_bound_is_the_inertia_matrix_times_the_acceleration_bound():
         np.testing.assert_allclose(found[k], np.abs(inertia) @ spread[k], rtol=1e-9,
                                    atol=1e-12)
     assert np.all(found[2] == 0.0)
+
+
+def test_the_terminal_json_and_report_state_an_uncertain_peak(tmp_path, capsys):
+    """A quintic logged at 4 kHz through a 17-bit encoder: pan's peak is uncertain by more
+    than 1 %, and the terminal, the JSON and the HTML report say so; a planned motion's
+    JSON has no uncertainty (null)."""
+    import json
+
+    from hdselect.cli.main import main
+
+    log_of(tmp_path, "quintics", 4000, QUANTA["17-bit encoder"])
+    status = main(["size", str(tmp_path / "log.toml"), "--json", str(tmp_path / "out.json"),
+                   "--report", str(tmp_path / "report")])
+    out = " ".join(capsys.readouterr().out.split())
+    assert status == 0
+    assert "cycle: joint 'pan' peaks at" in out and "gives positions only" in out
+    doc = json.loads((tmp_path / "out.json").read_text())
+    (line,) = [w for w in doc["warnings"] if "positions only" in w]
+    loads = {load["name"]: load for load in doc["joint_loads"]}
+    pan = loads["pan"]
+    assert pan["peak_torque_uncertainty_nm"] > 0.01 * pan["peak_torque_nm"]
+    assert f"+- {pan['peak_torque_uncertainty_nm']:.2g} N m" in line
+    html = " ".join((tmp_path / "report" / "index.html").read_text().split())
+    assert "cycle: joint &#x27;pan&#x27; peaks at" in html or "cycle: joint 'pan' peaks at" in html
+    main(["size", str(REPO / "trajectories" / "pan_tilt_scan.toml"), "--json",
+          str(tmp_path / "planned.json")])
+    planned = json.loads((tmp_path / "planned.json").read_text())
+    assert all(load["peak_torque_uncertainty_nm"] is None for load in planned["joint_loads"])
+    assert not [w for w in planned["warnings"] if "positions only" in w]
+
+
+@pytest.mark.parametrize(("t", "pan"), [
+    ([0.0, 0.01], [0.0, 0.1]),  # two samples: a straight line, acceleration unknown
+    ([0.0, 0.01, 0.02, 0.03, 0.04, 0.05, 0.06], np.arange(7) * 0.01),  # a ramp, no rest
+    (np.arange(100) * 0.01, np.r_[np.zeros(50), np.ones(50)]),  # a jump between rests
+])
+def test_a_log_too_short_to_check_is_uncertain_by_its_whole_acceleration(tmp_path, t, pan):
+    """Hostile logs: no claim of 1 % where the log cannot check its accelerations, the
+    warning given (a peak of 0 too), every number finite."""
+    t, pan = np.asarray(t, dtype=float), np.asarray(pan, dtype=float)
+    np.savetxt(tmp_path / "log.csv", np.column_stack([t, pan, np.zeros(len(t))]), delimiter=",",
+               header="t,q_pan,q_tilt", comments="", fmt="%.17g")
+    (tmp_path / "log.toml").write_text(
+        f'robot = "{REPO}/robots/pan_tilt.urdf"\nplanner = "samples"\nangle_unit = "rad"\n'
+        'dt = 0.001\n[samples]\nfile = "log.csv"\n')
+    result = hdselect.size(*hdselect.load_case(tmp_path / "log.toml"))
+    (load,) = [load for load in result.loads if load.name == "pan"]
+    assert math.isfinite(load.peak_uncertainty)
+    assert load.peak_uncertainty > 0.0 and load.uncertain
+    assert [w for w in result.warnings if w.startswith("cycle: joint 'pan'")
+            and "positions only" in w]

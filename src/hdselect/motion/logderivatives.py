@@ -144,20 +144,24 @@ def _stretch(t: np.ndarray, q: np.ndarray, at: np.ndarray, first: int, last: int
     k is the one of 1, 2, 4, ... `MAX_STEP` that states the smallest uncertainty of the
     stretch's peak |acceleration|: the difference from the spline through every 2k-th
     sample, plus the most the noise moves it (`NOISE_GAIN` over its sample spacing
-    squared); its whole acceleration where every 2k-th sample leaves fewer than 4.
+    squared); where every 2k-th sample leaves fewer than 4, its whole acceleration and
+    at least 4 |change| / duration^2, the least that moves it from rest to rest.
     """
     def spline(step: int) -> list[np.ndarray]:
         kept = _kept(first, last, step)
         return spline_derivatives(t[kept], q[kept], at, (1, 2), clamped=clamped)
 
     best, step, fine = None, 1, spline(1)
+    unchecked = 4.0 * abs(q[last] - q[first]) / (t[last] - t[first]) ** 2
     while True:
         kept = _kept(first, last, step)
         moved = NOISE_FACTOR * noise * NOISE_GAIN / float(np.diff(t[kept]).min()) ** 2
         checked = len(_kept(first, last, 2 * step)) >= 4
         coarse = spline(2 * step) if checked else fine
-        error = _envelope(np.abs(fine[1] - coarse[1] if checked else fine[1]), at,
-                          t[kept]) + moved
+        if checked:
+            error = _envelope(np.abs(fine[1] - coarse[1]), at, t[kept]) + moved
+        else:  # its whole acceleration, at least what moving rest to rest would take
+            error = np.maximum(np.abs(fine[1]), unchecked) + moved
         bound = peak_uncertainty(fine[1], error)
         if best is not None and bound >= best[0]:
             break  # past the smallest: the motion's own error grows from here

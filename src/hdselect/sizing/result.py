@@ -184,10 +184,11 @@ class SizingResult:
                 lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} "
                              f"{'N' if load.linear else 'N m'}, above the robot file's effort "
                              f"limit {load.effort_limit:.3g}")
-            if load.uncertain and load.peak and load.peak_uncertainty is not None:
-                unit, share = "N" if load.linear else "N m", load.peak_uncertainty / load.peak
+            if load.uncertain and load.peak is not None and load.peak_uncertainty is not None:
+                unit = "N" if load.linear else "N m"
+                share = f" ({load.peak_uncertainty / load.peak:.1%})" if load.peak > 0 else ""
                 lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} {unit} +- "
-                             f"{load.peak_uncertainty:.2g} {unit} ({share:.1%}): the log gives "
+                             f"{load.peak_uncertainty:.2g} {unit}{share}: the log gives "
                              "positions only, and its sampling does not fix this peak to 1 %; "
                              "log the qd_ and qdd_ columns too (or sample faster)")
             if load.above_velocity and not any(f"'{load.name}'" in w for w in asked):
