@@ -125,8 +125,8 @@ def test_a_log_of_positions_only_states_each_peaks_uncertainty(tmp_path, name, h
     names exactly the joints whose uncertainty exceeds 1 %."""
     motion_file, _ = write_log(tmp_path, name, hz)
     result = hdselect.size(*hdselect.load_case(motion_file))
-    reference = {load.name: load.peak
-                 for load in hdselect.size(None, with_dt(tmp_path, name, FINE)).loads}
+    planned = hdselect.size(None, with_dt(tmp_path, name, FINE))
+    reference = {load.name: load.peak for load in planned.loads}
     warned = {w.split("'")[1] for w in result.warnings if "positions only" in w}
     for load in result.loads:
         error = abs(load.peak - reference[load.name])
@@ -134,6 +134,11 @@ def test_a_log_of_positions_only_states_each_peaks_uncertainty(tmp_path, name, h
         assert (load.name in warned) == (load.peak_uncertainty > 0.01 * load.peak), load.name
         if load.name not in warned:
             assert error <= 0.01 * reference[load.name], load.name
+    expected = demands(planned)  # and the motor peaks of the joints not warned of, to 1 %
+    found = demands(result, {j: d["unit"] for j, d in expected.items()})
+    for joint in set(expected) - warned:
+        assert found[joint]["motor peak"] == pytest.approx(expected[joint]["motor peak"],
+                                                           rel=0.01), joint
     assert warned  # TOPPRA's steps and Ruckig's 200 Hz do not fix every peak to 1 %
     (line,) = [w for w in result.warnings if w.startswith(f"cycle: joint '{min(warned)}'")]
     assert "+-" in line and "qd_ and qdd_ columns" in line
