@@ -41,25 +41,6 @@ MEDIAN_NORMAL = 0.6745
 """Median of |N(0, 1)|: the deviation of normal noise from a median of absolute values [-]."""
 
 
-def from_positions(t: np.ndarray, q: np.ndarray, at: np.ndarray,
-                   inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Velocities and accelerations of a log of positions only, at the grid times `at`.
-
-    `derivatives` without the uncertainty.
-
-    Args:
-        t: The log's times from its start [s], shape (m,).
-        q: The logged positions [rad or m], shape (m, dof).
-        at: Grid times [s], shape (n,), clipped to the log's end.
-        inside: Grid times within the log, shape (n,); beyond it, at rest.
-
-    Returns:
-        qd and qdd [per s, per s^2], each shape (n, dof).
-    """
-    qd, qdd, _ = derivatives(t, q, at, inside)
-    return qd, qdd
-
-
 def derivatives(t: np.ndarray, q: np.ndarray, at: np.ndarray,
                 inside: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Velocities, accelerations and how far the accelerations may be off, at `at`.
