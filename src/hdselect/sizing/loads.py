@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from hdselect.catalog.rules import at_rest
 from hdselect.motion.logderivatives import peak_uncertainty
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
@@ -42,9 +43,9 @@ class JointLoad:
         velocity_limit: The robot file's velocity limit [rad/s or m/s]; inf when it gives none.
         leader: For a follower, the joint it follows.
         linear: A prismatic joint, or a follower of one: forces [N], lengths [m].
-        peak_uncertainty: How far `peak` may be off where the accelerations were derived
-            from a log's positions (`peak_uncertainty`) [N m or N]; None where they are
-            exact (planned) or logged.
+        peak_uncertainty: How far `peak`, and the peak while moving that the catalog's
+            rules judge, may be off where the accelerations were derived from a log's
+            positions [N m or N]; None where they are exact (planned) or logged.
     """
 
     name: str
@@ -136,9 +137,29 @@ def joint_loads(robot: Robot, trajectory: Trajectory, tau: np.ndarray,
             (float(trajectory.q[:, j].min()), float(trajectory.q[:, j].max())),
             float(effort) if effort > 0.0 else math.inf,
             float(velocity) if velocity > 0.0 else math.inf, linear=kind == "prismatic",
-            peak_uncertainty=None if tau_spread is None else peak_uncertainty(
-                tau[:, j], tau_spread[:, j])))
+            peak_uncertainty=None if tau_spread is None else _uncertainty(
+                tau[:, j], tau_spread[:, j], trajectory.qd[:, j], trajectory.qdd[:, j])))
     return tuple(loads)
+
+
+def _uncertainty(tau: np.ndarray, spread: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> float:
+    """How far a joint's peak |torque| may be off, over the cycle and while it moves [N m].
+
+    The larger of the two: the peak over the cycle is `JointLoad.peak`, the peak while
+    moving (`hdselect.catalog.rules.at_rest` excluded) the one the catalog's rules judge.
+    A move starts or ends between two samples: its first and last samples may be off by
+    as much as they differ from the rest beside them (a move that starts from a holding
+    torque has it at its start, whichever sample the log has there).
+    """
+    moving = ~at_rest(qd, qdd)
+    size = np.abs(tau)
+    edge = spread.copy()
+    for side in (1, -1):  # a moving sample beside a resting one
+        beside = np.roll(moving, side) != moving
+        beside[0 if side == 1 else -1] = False
+        held = np.roll(size, side)
+        edge = np.where(moving & beside, np.maximum(edge, held - size), edge)
+    return max(peak_uncertainty(tau, spread), peak_uncertainty(tau[moving], edge[moving]))
 
 
 def merged_loads(per_task: Sequence[tuple[JointLoad, ...]]) -> tuple[JointLoad, ...]:
