@@ -194,3 +194,15 @@ def test_a_log_too_short_to_check_is_uncertain_by_its_whole_acceleration(tmp_pat
     assert load.peak_uncertainty > 0.0 and load.uncertain
     assert [w for w in result.warnings if w.startswith("cycle: joint 'pan'")
             and "positions only" in w]
+
+
+def test_plan_says_when_a_logs_accelerations_are_not_known_to_one_percent(tmp_path, capsys):
+    from hdselect.cli.main import main
+
+    log_of(tmp_path, "quintics", 4000, QUANTA["17-bit encoder"])
+    assert main(["plan", str(tmp_path / "log.toml"), "--out", str(tmp_path / "q.csv")]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "positions only" in out and "for 'pan'" in out
+    log_of(tmp_path, "sinusoids", 1000, None)  # clean at 1 kHz: nothing to say
+    assert main(["plan", str(tmp_path / "log.toml"), "--out", str(tmp_path / "q.csv")]) == 0
+    assert "positions only" not in capsys.readouterr().out
