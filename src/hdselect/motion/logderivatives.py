@@ -1,16 +1,17 @@
 """Velocities and accelerations of a log that gives positions only, and how sure they are.
 
-A joint rests where its logged position repeats (`REST_RUN` equal values in a row):
-velocity and acceleration are exactly 0 there. Where it moves, between two rests, the
-cubic spline through the samples with zero velocity at both ends (it starts and ends at
-rest; its acceleration is free there, as a planner's may step at a start) gives them.
+A joint rests where its logged position repeats (`REST_RUN` equal values in a row, and
+in a quantised log for long enough: `REST_SHARE`): velocity and acceleration are 0
+there. Where it moves, between two rests, the cubic spline with zero velocity at both
+ends (it starts and ends at rest; its acceleration is free there, as a planner's may
+step at a start) gives them.
 A spline through the whole log instead rings into the rests (a speed at rest that is
 not zero, which flips the efficiency rule) and overshoots where an acceleration steps.
 
 Positions do not fix accelerations that step (TOPPRA's) or bend between samples, and
 an encoder's quantisation (or any noise) is amplified as 1 / period^2. Each joint's
-spline therefore passes through every k-th sample of each moving stretch, k = 1, 2,
-4, ..., whichever k states the smallest uncertainty (`derivatives`): the difference
+spline passes through every k-th sample of each moving stretch, k = 1, 2, 4, ...,
+whichever k states the smallest uncertainty there (`derivatives`): the difference
 from the spline through every 2k-th sample (three times the error where the motion is
 smooth, the error itself at a kink or a step), plus the most the log's noise can move
 the spline (`NOISE_GAIN`, the noise measured from the log's sixth differences). The
@@ -49,9 +50,9 @@ def derivatives(t: np.ndarray, q: np.ndarray, at: np.ndarray,
     positions in a row: velocity and acceleration exactly 0 there) and stretches where
     it moves. A moving stretch between two rests is the cubic spline through every k-th
     of its samples (its first and last always) with zero velocity at both ends; a
-    stretch at the log's start or end is not-a-knot on that side. Per joint, k is the
-    one of 1, 2, 4, ... `MAX_STEP` that states the smallest uncertainty of the joint's
-    peak |acceleration| (module docstring). A stretch too short to check (fewer than 4
+    stretch at the log's start or end is not-a-knot on that side. Per stretch, k is the
+    one of 1, 2, 4, ... `MAX_STEP` that states the smallest uncertainty of its peak
+    |acceleration| (module docstring). A stretch too short to check (fewer than 4
     samples through every 2k-th) is uncertain by its whole acceleration; a rest of
     duration D by the 8 x quantisation step / D^2 an acceleration could hide in it.
 
