@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import numpy as np
 import pytest
 
 import hdselect
@@ -282,3 +283,23 @@ def test_grouped_pairs_refuse_what_the_core_refuses(benchtop_pairs):
     _, _, basis, motors = benchtop_pairs
     with pytest.raises(InputError, match="rotor inertia and motor mass"):
         size_case(basis, 1.0, 1.0, load_catalog(), Options(rotor_inertia=1e-6), motors)
+
+
+def test_a_log_of_positions_only_states_the_same_uncertainty_grouped(tmp_path):
+    """The peak torque uncertainty of a positions-only log (issue 27) is the case's own,
+    grouped or direct: its payload, its units' masses, its time scale."""
+    robot, motion = load_case(BENCHTOP)
+    trajectory = plan(robot, motion)
+    step = 5  # 200 Hz, written to 4 decimals of a degree
+    header = ",".join(["t", *(f"q_{n}" for n in robot.joint_names)])
+    np.savetxt(tmp_path / "log.csv", np.column_stack([
+        trajectory.t[::step], np.round(np.degrees(trajectory.q[::step]), 4)]),
+        delimiter=",", header=header, comments="", fmt="%.17g")
+    text = BENCHTOP.read_text().replace('"../robots/', f'"{REPO}/robots/')
+    head = text[:text.index("[limits]")] + text[text.index("[safety]"):text.index("[[waypoint]]")]
+    logged = tmp_path / "logged.toml"
+    logged.write_text(head.replace('planner = "ruckig"', 'planner = "samples"')
+                      .replace("dt = 0.001", "dt = 0.005") + '[samples]\nfile = "log.csv"\n')
+    _, grouped = grouped_and_direct(logged, payloads=(0.5, 2.0), scales=(0.8, 1.0))
+    assert all([w for w in o.result["warnings"] if "positions only" in w]
+               for o in grouped.values())

@@ -258,9 +258,11 @@ def _guessed_masses(robot: Robot, spec: Spec, duty: Duty, masses: dict[str, floa
 def _decimated(trajectory: Trajectory) -> Trajectory:
     """Every k-th sample (about `GUESS_SAMPLES`), each standing for k periods."""
     step = max(1, len(trajectory.t) // GUESS_SAMPLES)
+    spread = trajectory.qdd_uncertainty
     return replace(trajectory, dt=trajectory.dt * step, t=trajectory.t[::step],
                    q=trajectory.q[::step], qd=trajectory.qd[::step],
-                   qdd=trajectory.qdd[::step])
+                   qdd=trajectory.qdd[::step],
+                   qdd_uncertainty=None if spread is None else spread[::step])
 
 
 def _joint(model: EnvelopeTorques, joint: JointSizing, found: Mapping[tuple[int, str], Worst],

@@ -41,7 +41,6 @@ from hdselect.motion.limits import (
     velocity_limit,
 )
 from hdselect.motion.lines import LinePath
-from hdselect.motion.logderivatives import UNCERTAIN, acceleration_uncertainty
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: public here too)
@@ -272,7 +271,6 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                              "the waypoints", path=path, field="waypoint")
         waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
         samples = _samples(doc, path, robot, scale, units, (unit, angle_unit))
-        warnings += derived_warnings(samples, robot)
     else:
         if "samples" in doc:
             raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
@@ -375,22 +373,6 @@ def mounting_of(doc: dict[str, Any], path: Path, unit: float,
     for i, g in enumerate((x, y, z)):
         bounds.GRAVITY.check(g, path=path, field=f"mounting[{i}]")
     return (x, y, z)
-
-
-
-
-def derived_warnings(log: SampleLog, robot: Robot) -> list[str]:
-    """A warning when a log of positions only does not fix its accelerations to 1 %."""
-    if log.qd is not None or len(log.t) < 8:
-        return []
-    uncertain = acceleration_uncertainty(log.t - log.t[0], log.q)
-    j = int(np.argmax(uncertain))
-    if uncertain[j] <= UNCERTAIN:
-        return []
-    return [f"{log.path.name} gives positions only, and the accelerations derived from them are"
-            f" uncertain by about {uncertain[j]:.0%} of the peak of joint "
-            f"'{robot.joint_names[j]}' (estimated from every other sample): torques may be off "
-            "as much; log the qd_ and qdd_ columns too (or sample faster)"]
 
 
 def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,

@@ -8,6 +8,7 @@ from collections.abc import Iterable, Sequence
 import numpy as np
 from rich.markup import escape
 
+from hdselect.motion.logderivatives import peak_uncertainty
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.motion.planning.toolpath import LineDeviation
@@ -75,7 +76,23 @@ def plan_text(robot: Robot, motion: Motion, trajectory: Trajectory,
     return Paragraphs((f"{robot.path.name} running {motion.path.name} ({motion.planner}): cycle "
                        f"{trajectory.duration:.3f} s, {count:,} sample{'s' if count != 1 else ''}"
                        + refined_note(motion.dt, trajectory.dt),
-                       *tool_pose_notes(motion, lines), *case_notes(robot, trajectory)))
+                       *tool_pose_notes(motion, lines), *case_notes(robot, trajectory),
+                       *derived_notes(trajectory)))
+
+
+def derived_notes(trajectory: Trajectory) -> list[str]:
+    """Where accelerations derived from a log's positions are not known to 1 %, a note."""
+    if trajectory.qdd_uncertainty is None:
+        return []
+    shares = [(name, peak_uncertainty(trajectory.qdd[:, j], trajectory.qdd_uncertainty[:, j])
+               / peak) for j, name in enumerate(trajectory.joint_names)
+              if (peak := float(np.abs(trajectory.qdd[:, j]).max(initial=0.0))) > 0.0]
+    uncertain = [f"{share:.1%} for '{name}'" for name, share in shares if share > 0.01]
+    if not uncertain:
+        return []
+    return ["the log gives positions only, and the peak accelerations derived from them are "
+            f"uncertain by up to {', '.join(uncertain)} (hdselect size states what that does to "
+            "each peak torque); log the qd_ and qdd_ columns too (or sample faster)"]
 
 
 def refined_note(asked: float, sampled: float) -> str:

@@ -116,6 +116,39 @@ def joint_inertias(robot: Robot, q: np.ndarray, joints: Sequence[str], *,
     return out
 
 
+def torque_spread(robot: Robot, q: np.ndarray, qdd_spread: np.ndarray, *,
+                  threads: int | None = None) -> np.ndarray:
+    """How far joint torques may be off when each acceleration may be off by `qdd_spread`.
+
+    Torque is linear in acceleration: an error e in qdd moves tau by M(q) e, so each joint's
+    torque is off by at most sum_k |M_jk(q)| |e_k|. Column k of M(q) is RNEA(q, 0, e_k) -
+    RNEA(q, 0, 0), one batched pass per joint whose spread is not 0, over the samples
+    where some spread is not 0.
+
+    Args:
+        robot: The robot (payload and gearhead masses included).
+        q: Joint positions [rad or m], shape (n, dof).
+        qdd_spread: How far each acceleration may be off [rad/s^2 or m/s^2], shape (n, dof).
+        threads: Threads for the batched passes; None chooses from the sample count.
+
+    Returns:
+        The bound on each joint's torque error [N m or N], shape (n, dof).
+    """
+    out = np.zeros((q.shape[0], robot.dof))
+    rows = np.flatnonzero(np.any(qdd_spread > 0.0, axis=1))
+    if not rows.size:
+        return out
+    q, spread = q[rows], qdd_spread[rows]
+    still = np.zeros((len(rows), robot.dof))
+    gravity = inverse_dynamics(robot, q, still, still, threads=threads)
+    for k in np.flatnonzero(np.any(spread > 0.0, axis=0)):
+        unit = still.copy()
+        unit[:, k] = 1.0
+        column = inverse_dynamics(robot, q, still, unit, threads=threads) - gravity
+        out[rows] += np.abs(column) * spread[:, k:k + 1]
+    return out
+
+
 def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, *,
                      threads: int | None = None) -> np.ndarray:
     """Batched recursive Newton-Euler: one Pinocchio call per `CHUNK` samples.

@@ -432,5 +432,7 @@ def _tasks_argument(tasks: object, idle: float = 0.0) -> tuple[Task, ...]:
 def _decimated(traj: Trajectory) -> Trajectory:
     """Every k-th sample of a trajectory (about `GUESS_SAMPLES`), each standing for k periods."""
     step = max(1, len(traj.t) // GUESS_SAMPLES)
+    spread = traj.qdd_uncertainty
     return replace(traj, dt=traj.dt * step, t=traj.t[::step], q=traj.q[::step],
-                   qd=traj.qd[::step], qdd=traj.qdd[::step])
+                   qd=traj.qd[::step], qdd=traj.qdd[::step],
+                   qdd_uncertainty=None if spread is None else spread[::step])

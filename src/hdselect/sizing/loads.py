@@ -14,8 +14,14 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from hdselect.catalog.rules import at_rest
+from hdselect.motion.logderivatives import peak_uncertainty
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
+
+PEAK_PROMISE = 0.01
+"""How close a peak torque from a log of positions only is promised to be [-]: further than
+this, the sizing states its uncertainty."""
 
 
 @dataclass(frozen=True)
@@ -37,6 +43,9 @@ class JointLoad:
         velocity_limit: The robot file's velocity limit [rad/s or m/s]; inf when it gives none.
         leader: For a follower, the joint it follows.
         linear: A prismatic joint, or a follower of one: forces [N], lengths [m].
+        peak_uncertainty: How far `peak`, and the peak while moving that the catalog's
+            rules judge, may be off where the accelerations were derived from a log's
+            positions [N m or N]; None where they are exact (planned) or logged.
     """
 
     name: str
@@ -50,11 +59,18 @@ class JointLoad:
     velocity_limit: float
     leader: str | None = None
     linear: bool = False
+    peak_uncertainty: float | None = None
 
     @property
     def above_effort(self) -> bool:
         """The peak exceeds the robot file's effort limit."""
         return self.peak is not None and self.peak > self.effort_limit * (1.0 + 1e-9)
+
+    @property
+    def uncertain(self) -> bool:
+        """The peak is known to no better than `PEAK_PROMISE` (accelerations from positions)."""
+        return (self.peak is not None and self.peak_uncertainty is not None
+                and self.peak_uncertainty > PEAK_PROMISE * self.peak)
 
     @property
     def above_velocity(self) -> bool:
@@ -75,13 +91,16 @@ class JointLoad:
         return "N m", angle, (180.0 / math.pi if angle == "deg" else 1.0)
 
 
-def joint_loads(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> tuple[JointLoad, ...]:
+def joint_loads(robot: Robot, trajectory: Trajectory, tau: np.ndarray,
+                tau_spread: np.ndarray | None = None) -> tuple[JointLoad, ...]:
     """Every joint's peak torque, speed and travel beside its file's limits.
 
     Args:
         robot: The robot.
         trajectory: The trajectory, with the robot's joints.
         tau: Joint torques along it [N m or N], shape (n, dof).
+        tau_spread: How far each of those torques may be off [N m or N], shape (n, dof)
+            (`hdselect.robot.dynamics.torque_spread`); None where they are exact.
 
     Returns:
         One per joint of the model (followers included), in the model's order.
@@ -117,8 +136,30 @@ def joint_loads(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> tuple[
             float(np.abs(trajectory.qd[:, j]).max()),
             (float(trajectory.q[:, j].min()), float(trajectory.q[:, j].max())),
             float(effort) if effort > 0.0 else math.inf,
-            float(velocity) if velocity > 0.0 else math.inf, linear=kind == "prismatic"))
+            float(velocity) if velocity > 0.0 else math.inf, linear=kind == "prismatic",
+            peak_uncertainty=None if tau_spread is None else _uncertainty(
+                tau[:, j], tau_spread[:, j], trajectory.qd[:, j], trajectory.qdd[:, j])))
     return tuple(loads)
+
+
+def _uncertainty(tau: np.ndarray, spread: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> float:
+    """How far a joint's peak |torque| may be off, over the cycle and while it moves [N m].
+
+    The larger of the two: the peak over the cycle is `JointLoad.peak`, the peak while
+    moving (`hdselect.catalog.rules.at_rest` excluded) the one the catalog's rules judge.
+    A move starts or ends between two samples: its first and last samples may be off by
+    as much as they differ from the rest beside them (a move that starts from a holding
+    torque has it at its start, whichever sample the log has there).
+    """
+    moving = ~at_rest(qd, qdd)
+    size = np.abs(tau)
+    edge = spread.copy()
+    for side in (1, -1):  # a moving sample beside a resting one
+        beside = np.roll(moving, side) != moving
+        beside[0 if side == 1 else -1] = False
+        held = np.roll(size, side)
+        edge = np.where(moving & beside, np.maximum(edge, held - size), edge)
+    return max(peak_uncertainty(tau, spread), peak_uncertainty(tau[moving], edge[moving]))
 
 
 def merged_loads(per_task: Sequence[tuple[JointLoad, ...]]) -> tuple[JointLoad, ...]:
@@ -137,7 +178,18 @@ def merged_loads(per_task: Sequence[tuple[JointLoad, ...]]) -> tuple[JointLoad, 
         peaks = [load.peak for load in loads if load.peak is not None]
         merged.append(replace(
             loads[0], peak=max(peaks) if peaks else None,
+            peak_uncertainty=_merged_uncertainty(loads),
             max_speed=max(load.max_speed for load in loads),
             travel=(min(load.travel[0] for load in loads),
                     max(load.travel[1] for load in loads))))
     return tuple(merged)
+
+
+def _merged_uncertainty(loads: Sequence[JointLoad]) -> float | None:
+    """The uncertainty of the largest of several tasks' peaks [N m]; None if all are exact."""
+    known = [load for load in loads if load.peak is not None]
+    if not known or all(load.peak_uncertainty is None for load in known):
+        return None
+    top = max(known, key=lambda load: load.peak or 0.0)
+    above = max((load.peak or 0.0) + (load.peak_uncertainty or 0.0) for load in known)
+    return max(above - (top.peak or 0.0), top.peak_uncertainty or 0.0)

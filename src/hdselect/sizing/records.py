@@ -263,6 +263,7 @@ def joint_load_json(load: JointLoad) -> dict[str, Any]:
     return {"name": load.name, "type": load.kind, "sized": load.sized, "note": load.note,
             "leader": load.leader,
             f"peak_{'force' if linear else 'torque'}_{force}": load.peak,
+            f"peak_{'force' if linear else 'torque'}_uncertainty_{force}": load.peak_uncertainty,
             f"effort_limit_{force}": finite_or_none(load.effort_limit),
             f"max_speed_{per_s}": load.max_speed,
             f"velocity_limit_{per_s}": finite_or_none(load.velocity_limit),

@@ -169,10 +169,11 @@ class SizingResult:
 
     @property
     def warnings(self) -> tuple[str, ...]:
-        """What the robot file and the motion file raised, and limits the cycle exceeds.
+        """What the robot file and the motion file raised, and what the cycle shows.
 
-        Each line starts with where it comes from: ``robot file:``, ``motion file:`` or
-        ``cycle:``.
+        The cycle's lines: limits it exceeds, and peaks a log of positions only does not
+        fix to 1 % (with their uncertainty). Each line starts with where it comes from:
+        ``robot file:``, ``motion file:`` or ``cycle:``.
         """
         asked = (self.mix.warnings if self.mix is not None
                  else self.motion.warnings if self.motion is not None else ())
@@ -183,6 +184,13 @@ class SizingResult:
                 lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} "
                              f"{'N' if load.linear else 'N m'}, above the robot file's effort "
                              f"limit {load.effort_limit:.3g}")
+            if load.uncertain and load.peak is not None and load.peak_uncertainty is not None:
+                unit = "N" if load.linear else "N m"
+                share = f" ({load.peak_uncertainty / load.peak:.1%})" if load.peak > 0 else ""
+                lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} {unit} +- "
+                             f"{load.peak_uncertainty:.2g} {unit}{share}: the log gives "
+                             "positions only, and its sampling does not fix this peak to 1 %; "
+                             "log the qd_ and qdd_ columns too (or sample faster)")
             if load.above_velocity and not any(f"'{load.name}'" in w for w in asked):
                 per_s = "m/s" if load.linear else "rad/s"
                 lines.append(f"cycle: joint '{load.name}' moves at up to {load.max_speed:.3g} "

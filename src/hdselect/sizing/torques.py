@@ -24,6 +24,7 @@ from hdselect.robot.dynamics import (
     distinct_states,
     gravity_torques,
     joint_inertias,
+    torque_spread,
 )
 from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches, distinct_axis_wrenches
@@ -192,11 +193,14 @@ class DirectTorques:
         if self._masses is None or any(self._masses.get(k, 0.0) != masses.get(k, 0.0)
                                        for k in self._carriers):
             self._pass(masses)
-        assert self._tau is not None
+        assert self._tau is not None and self._masses is not None
         per_task, start = [], 0
         for task in self.tasks:
-            n = len(task.trajectory.t)
-            per_task.append(joint_loads(task.robot, task.trajectory, self._tau[start:start + n]))
+            traj, n = task.trajectory, len(task.trajectory.t)
+            spread = None if traj.qdd_uncertainty is None else torque_spread(
+                self._carrying(task, self._masses), traj.q, traj.qdd_uncertainty,
+                threads=self.threads)
+            per_task.append(joint_loads(task.robot, traj, self._tau[start:start + n], spread))
             start += n
         return merged_loads(per_task)
 

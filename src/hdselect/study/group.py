@@ -44,7 +44,7 @@ from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
-from hdselect.robot.dynamics import inverse_dynamics, joint_inertias
+from hdselect.robot.dynamics import inverse_dynamics, joint_inertias, torque_spread
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import axis_wrenches
@@ -342,7 +342,17 @@ class BasisTorques:
                         basis.gravity + basis.dynamic * self.y**2)
         kept = replace(basis.trajectory, t=self.samples.t, q=basis.trajectory.q[basis.rows],
                        qd=self.samples.qd, qdd=self.samples.qdd)
-        return joint_loads(basis.robot, kept, tau)
+        spread = basis.trajectory.qdd_uncertainty
+        if spread is None:
+            return joint_loads(basis.robot, kept, tau)
+        robot = basis.robot  # the case's own: its payload mass, its units' masses
+        if basis.payload is not None:
+            robot = robot.with_payload(replace(basis.payload,
+                                               mass=REFERENCE_MASS + float(self._theta[1])))
+        carried = {name: masses[name] for name in robot.sized_joints if name in masses}
+        robot = robot.with_gearheads(carried) if carried else robot
+        return joint_loads(basis.robot, kept, tau, torque_spread(
+            robot, kept.q, spread[basis.rows] * self.y**2))
 
     def _with(self, masses: Mapping[str, float]) -> np.ndarray:
         """The parameters' weights, the carried units' masses [kg] among them."""

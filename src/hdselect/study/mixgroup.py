@@ -49,7 +49,9 @@ def scaled(trajectory: Trajectory, time_scale: float) -> Trajectory:
     y = 1.0 / time_scale
     return replace(trajectory, dt=trajectory.dt * time_scale,
                    duration=trajectory.duration * time_scale, t=trajectory.t * time_scale,
-                   qd=trajectory.qd * y, qdd=trajectory.qdd * y**2)
+                   qd=trajectory.qd * y, qdd=trajectory.qdd * y**2,
+                   qdd_uncertainty=None if trajectory.qdd_uncertainty is None
+                   else trajectory.qdd_uncertainty * y**2)
 
 
 class MixTorques:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
-from hdselect.motion.logderivatives import from_positions, spline_values
+from hdselect.motion.logderivatives import derivatives, spline_values
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.grid import check_log_period, check_size
 from hdselect.motion.planning.trajectory import Trajectory, trajectory
@@ -20,11 +20,12 @@ def plan_samples(robot: Robot, motion: Motion, *,
     relative) at the motion's dt, its samples are used as they are; otherwise
     positions (and logged velocities, accelerations) are resampled onto the grid
     with a not-a-knot cubic spline (``scipy.interpolate.CubicSpline``). Velocities
-    and accelerations that were not logged come from the positions (`from_positions`:
+    and accelerations that were not logged come from the positions (`derivatives`:
     exactly 0 where a joint rests, a spline with zero end velocities through each
     stretch where it moves); accelerations from the spline through logged velocities
     when those exist. Differentiation amplifies measurement noise: filter the log
-    first.
+    first. Accelerations derived from positions carry their uncertainty
+    (`derivatives`) as the trajectory's ``qdd_uncertainty``.
 
     Raises:
         InputError: dt is coarser than the log's sample period, or the grid would
@@ -53,9 +54,10 @@ def plan_samples(robot: Robot, motion: Motion, *,
         return result
 
     q = resample(log.q)
+    spread = None
     if log.qd is None:
-        qd, qdd = from_positions(t, log.q, at, inside)
+        qd, qdd, spread = derivatives(t, log.q, at, inside)
     else:
         qd = resample(log.qd)
         qdd = resample(log.qdd) if log.qdd is not None else resample(log.qd, 1)
-    return trajectory(motion, duration, grid, q, qd, qdd)
+    return trajectory(motion, duration, grid, q, qd, qdd, qdd_uncertainty=spread)

@@ -67,6 +67,10 @@ class Trajectory:
         waypoint_times: When the arm reaches each waypoint of the motion it was planned
             from, before that waypoint's dwell [s], shape (k,); NaN where a planner does
             not say (an interior waypoint of a co-design piece); None for a log.
+        qdd_uncertainty: How far each sample's acceleration may be off where it was derived
+            from a log's positions (`hdselect.motion.logderivatives.derivatives`)
+            [rad/s^2 or m/s^2], shape (n, dof); None where the accelerations are exact
+            (planned) or logged.
     """
 
     joint_names: tuple[str, ...]
@@ -77,20 +81,23 @@ class Trajectory:
     qd: np.ndarray
     qdd: np.ndarray
     waypoint_times: np.ndarray | None = None
+    qdd_uncertainty: np.ndarray | None = None
 
 
 def trajectory(motion: Motion, duration: float, t: np.ndarray, q: np.ndarray, qd: np.ndarray,
                qdd: np.ndarray, *, dt: float | None = None,
-               waypoint_times: np.ndarray | None = None) -> Trajectory:
+               waypoint_times: np.ndarray | None = None,
+               qdd_uncertainty: np.ndarray | None = None) -> Trajectory:
     """A read-only Trajectory of the motion's joints from sampled arrays (taken over).
 
-    Its period is `dt` [s], by default the motion's; `waypoint_times` [s] as
-    `Trajectory.waypoint_times`.
+    Its period is `dt` [s], by default the motion's; `waypoint_times` [s] and
+    `qdd_uncertainty` [per s^2] as `Trajectory`'s.
     """
-    for array in (t, q, qd, qdd, *([] if waypoint_times is None else [waypoint_times])):
+    for array in (t, q, qd, qdd, *(a for a in (waypoint_times, qdd_uncertainty)
+                                   if a is not None)):
         array.setflags(write=False)
     return Trajectory(motion.joint_names, motion.dt if dt is None else dt, float(duration), t,
-                      q, qd, qdd, waypoint_times)
+                      q, qd, qdd, waypoint_times, qdd_uncertainty)
 
 
 def assemble(motion: Motion, moves: Sequence[Move], *,
