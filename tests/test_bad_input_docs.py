@@ -51,9 +51,6 @@ def test_console_example_prints_what_the_page_shows(workdir, capsys, command, sh
         assert out == "" and len(err.strip().splitlines()) == 1
 
 
-@pytest.mark.xfail(strict=True, reason="issue 27 replaced the motion file's acceleration "
-                   "warning by each joint's peak torque uncertainty ('cycle: joint 'pan' peaks "
-                   "at ... +- ...'); docs/bad-input.md is updated by the lead")
 def test_the_warning_shown_is_the_one_a_toppra_log_gets(tmp_path):
     """The text block under "Logs of positions only" is what a positions-only TOPPRA log says."""
     import numpy as np
