@@ -11,11 +11,13 @@ Three planners, chosen by the motion file, one module each:
 Tool poses are solved for the robot's mounting first (`hdselect.motion.solve`), and a
 straight line is checked at every planned sample (`hdselect.motion.planning.toolpath`).
 Every planned trajectory is checked against the robot's position limits, mimic
-followers' included.
+followers' included. What the planner noticed (`Trajectory.notes`: a piece slowed down
+beyond its tolerance) is logged as a warning of this package's logger.
 """
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -34,6 +36,8 @@ from hdselect.motion.planning.toppra import plan_toppra
 from hdselect.motion.planning.trajectory import Trajectory
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
+
+logger = logging.getLogger(__name__)
 
 PLANNERS: dict[str, Callable[..., Trajectory]] = {
     "ruckig": plan_ruckig,
@@ -111,7 +115,10 @@ def plan_motion(robot: Robot, motion: Motion, *,
         check_within_limits(robot, solved, trajectory)
         return trajectory
 
-    return Planned(*plan_lines(robot, motion, planned))
+    done = Planned(*plan_lines(robot, motion, planned))
+    for note in done.trajectory.notes:
+        logger.warning("%s: %s", motion.path, note)
+    return done
 
 
 def check_within_limits(robot: Robot, motion: Motion, trajectory: Trajectory, *,

@@ -67,6 +67,8 @@ class Trajectory:
         waypoint_times: When the arm reaches each waypoint of the motion it was planned
             from, before that waypoint's dwell [s], shape (k,); NaN where a planner does
             not say (an interior waypoint of a co-design piece); None for a log.
+        notes: What the planner noticed, one line each: a piece it slowed down by more
+            than its tolerance, with the joint and the factor.
     """
 
     joint_names: tuple[str, ...]
@@ -77,24 +79,26 @@ class Trajectory:
     qd: np.ndarray
     qdd: np.ndarray
     waypoint_times: np.ndarray | None = None
+    notes: tuple[str, ...] = ()
 
 
 def trajectory(motion: Motion, duration: float, t: np.ndarray, q: np.ndarray, qd: np.ndarray,
                qdd: np.ndarray, *, dt: float | None = None,
-               waypoint_times: np.ndarray | None = None) -> Trajectory:
+               waypoint_times: np.ndarray | None = None,
+               notes: tuple[str, ...] = ()) -> Trajectory:
     """A read-only Trajectory of the motion's joints from sampled arrays (taken over).
 
-    Its period is `dt` [s], by default the motion's; `waypoint_times` [s] as
-    `Trajectory.waypoint_times`.
+    Its period is `dt` [s], by default the motion's; `waypoint_times` [s] and `notes` as
+    `Trajectory.waypoint_times` and `Trajectory.notes`.
     """
     for array in (t, q, qd, qdd, *([] if waypoint_times is None else [waypoint_times])):
         array.setflags(write=False)
     return Trajectory(motion.joint_names, motion.dt if dt is None else dt, float(duration), t,
-                      q, qd, qdd, waypoint_times)
+                      q, qd, qdd, waypoint_times, notes)
 
 
 def assemble(motion: Motion, moves: Sequence[Move], *,
-             max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
+             max_samples: int = DEFAULT_MAX_SAMPLES, notes: tuple[str, ...] = ()) -> Trajectory:
     """Sample rest-to-rest moves and the waypoints' dwells on a grid that resolves them.
 
     The grid is the motion's dt divided by the smallest whole number k that resolves
@@ -106,6 +110,7 @@ def assemble(motion: Motion, moves: Sequence[Move], *,
         motion: The motion (waypoints, dwells, dt).
         moves: One move per consecutive pair of the waypoints it joins, in order.
         max_samples: Most samples the grid may have.
+        notes: The planner's notes (`Trajectory.notes`).
 
     Returns:
         The whole cycle: the first dwell, then each move followed by its last
@@ -135,7 +140,7 @@ def assemble(motion: Motion, moves: Sequence[Move], *,
                 factor, reason = need, f"{name} (its time steps of {move.resolution:.3g} s)"
     for _ in range(_MAX_ROUNDS):
         try:
-            trajectory, miss = _sampled(motion, moves, motion.dt / factor, max_samples)
+            trajectory, miss = _sampled(motion, moves, motion.dt / factor, max_samples, notes)
         except InputError as err:
             if factor == 1:
                 raise
@@ -156,8 +161,8 @@ _MAX_ROUNDS = 4
 """Refinements tried before the grid is taken as it is (each multiplies samples >= 2x)."""
 
 
-def _sampled(motion: Motion, moves: Sequence[Move], dt: float,
-             max_samples: int) -> tuple[Trajectory, np.ndarray]:
+def _sampled(motion: Motion, moves: Sequence[Move], dt: float, max_samples: int,
+             notes: tuple[str, ...] = ()) -> tuple[Trajectory, np.ndarray]:
     """The cycle sampled every `dt` [s], and how much each move's samples miss of its peaks.
 
     A move's miss is the most any joint's sampled peak |acceleration| falls short of its
@@ -196,4 +201,5 @@ def _sampled(motion: Motion, moves: Sequence[Move], dt: float,
                 with np.errstate(divide="ignore", invalid="ignore"):
                     short = np.where(scale > 0.0, (move.peak_acceleration - found) / scale, 0.0)
                 miss[i] = float(np.max(short, initial=0.0))
-    return trajectory(motion, clock, t, q, qd, qdd, dt=dt, waypoint_times=reached), miss
+    return trajectory(motion, clock, t, q, qd, qdd, dt=dt, waypoint_times=reached,
+                      notes=notes), miss
