@@ -1,7 +1,9 @@
 """The motion's path run as fast as the joints' limits allow: TOPPRA under gearhead limits.
 
 The path is the TOPPRA planner's (`hdselect.motion.planning.toppra.path_pieces`): a
-clamped cubic spline through the waypoints, split where the motion dwells. For a
+clamped cubic spline through the waypoints, split where the motion dwells, on gridpoints
+that resolve it (`_resolved`: every knot, refined where the motion's own limits break
+between gridpoints). For a
 motion planned otherwise (Ruckig), the knots sit at the time each segment takes at
 the motion's velocity limits, so that joints in rad and in m weigh alike. Each piece
 is first solved under its speed and acceleration limits alone: where that profile
@@ -39,6 +41,7 @@ from hdselect.codesign.pathbounds import (
     stop_bound,
 )
 from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning.path import bends_sharply, dense_grid, first_grid
 from hdselect.motion.planning.toppra import (
     PathPiece,
     Profile,
@@ -46,6 +49,9 @@ from hdselect.motion.planning.toppra import (
     overshoot_scale,
     path_pieces,
     solve_piece,
+    solve_refined,
+    step_excess,
+    with_gridpoints,
 )
 from hdselect.motion.planning.trajectory import Move, Trajectory, assemble
 from hdselect.robot.dynamics import inverse_dynamics
@@ -114,7 +120,8 @@ class PathModel:
         if motion.planner != "toppra":
             assert motion.velocity_limit is not None  # waypoint planners require it
             speeds = motion.velocity_limit
-        pieces = tuple(path_pieces(robot, motion, grid_per_waypoint, speeds=speeds))
+        pieces = tuple(_resolved(piece, motion) for piece in
+                       path_pieces(robot, motion, grid_per_waypoint, speeds=speeds))
         base = _coefficients(robot, pieces, threads)
         per_kg = {}
         for name in joints:
@@ -136,6 +143,30 @@ class PathModel:
             for total, x in zip(out, part, strict=True):
                 total += mass * x
         return out[0], out[1], out[2], out[3]
+
+
+def _resolved(piece: PathPiece, motion: Motion) -> PathPiece:
+    """The piece on gridpoints that resolve its path, once for every choice of units.
+
+    Every knot is a gridpoint, and the grid is refined where the motion's own speed
+    and acceleration limits break between gridpoints (as the planner refines,
+    `hdselect.motion.planning.toppra.solve_refined`): the path's shape, not the units,
+    sets where TOPPRA's profile overshoots (a line's close samples, a shape-preserving
+    joint's knots). Such a piece starts from the planner's dense grid, so that `fastest`
+    times it as `plan` does.
+    """
+    if piece.path is None:
+        return piece
+    if bends_sharply(piece):
+        piece = with_gridpoints(piece, dense_grid(piece))
+    velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
+    assert velocity is not None and acceleration is not None  # waypoint planners require it
+    constraints = kinematic_constraints(velocity, acceleration)
+    first = first_grid(piece, full=True)
+    refined, found = solve_refined(first, lambda _: constraints,
+                                   partial(step_excess, velocity=velocity,
+                                           acceleration=acceleration), where=str(motion.path))
+    return first if found is None else refined
 
 
 def _coefficients(robot: Robot, pieces: Sequence[PathPiece],

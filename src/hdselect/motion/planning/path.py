@@ -147,6 +147,28 @@ def with_gridpoints(piece: PathPiece, gridpoints: np.ndarray) -> PathPiece:
                    ddq=frozen(ddq))
 
 
+def bends_sharply(piece: PathPiece) -> bool:
+    """Whether TOPPRA needs the dense grid to time a piece's path.
+
+    It does where the path has a shape-preserving joint (p'' steps at its knots) or a
+    straight line's joint samples (close together).
+    """
+    knots, _ = piece.path.waypoints
+    return bool(piece.path.shape_preserving) or len(knots) > len(piece.waypoints)
+
+
+def dense_grid(piece: PathPiece) -> np.ndarray:
+    """The planner's dense grid of a piece [-], as `path_pieces` lays it.
+
+    `GRID_PER_WAYPOINT` cosine-spaced gridpoints per waypoint and `GRID_PER_LINE_SAMPLE`
+    per line sample.
+    """
+    knots, _ = piece.path.waypoints
+    waypoints = len(piece.waypoints)
+    return cosine_grid(GRID_PER_WAYPOINT * waypoints
+                       + GRID_PER_LINE_SAMPLE * (len(knots) - waypoints))
+
+
 def first_grid(dense: PathPiece, *, full: bool = False) -> PathPiece:
     """The piece on the gridpoints TOPPRA solves it on first: coarse, and at every knot.
 

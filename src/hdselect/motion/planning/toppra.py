@@ -23,9 +23,9 @@ gridpoints are added only where the path needs them. What overshoot remains is r
 slowing the piece down uniformly (plus 1e-4, `overshoot_scale`), which keeps the sampled
 velocity and acceleration within ``TOPPRA_TOLERANCE`` of the limits; a slow-down of more
 than `SLOWDOWN_NOTED` is reported (`Trajectory.notes`, and a warning of the
-``hdselect.motion.planning`` logger) with the piece, the joint and the factor. Cycle times are within 0.1 % of those on
-the dense grid (tests/test_plan.py, tests/test_toolposes.py). Torque limits hold within
-``TOPPRA_TORQUE_TOLERANCE``.
+``hdselect.motion.planning`` logger) with the piece, the joint and the factor. Cycle
+times are within 0.1 % of those on the dense grid (tests/test_plan.py,
+tests/test_toolposes.py). Torque limits hold within ``TOPPRA_TORQUE_TOLERANCE``.
 
 Co-design (`hdselect.codesign`) solves the same pieces, built by the same
 `path_pieces` (so under the same rule at the position limits), under more
@@ -49,6 +49,7 @@ from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.path import (
     GRID_PER_LINE_SAMPLE,
     PathPiece,
+    bends_sharply,
     first_grid,
     path_pieces,
     quiet,
@@ -256,8 +257,11 @@ def overshoot_scale(profile: Profile, velocity: np.ndarray, acceleration: np.nda
 
 def overshoot(profile: Profile, velocity: np.ndarray,
               acceleration: np.ndarray) -> tuple[float, int, str]:
-    """`overshoot_scale`, with the joint (index) and the limit ("velocity", "acceleration")
-    that set it."""
+    """`overshoot_scale`, with the joint (index) and the limit that set it.
+
+    Returns:
+        The scale [-], the joint's index and ``"velocity"`` or ``"acceleration"``.
+    """
     dense = np.linspace(0.0, profile.duration, _DENSE_CHECK * len(profile.sd) + 1)
     _, qd, qdd = profile.sample(dense)
     speed = np.max(np.abs(qd) / velocity, axis=0)
@@ -334,8 +338,7 @@ def refined_profile(dense: PathPiece, constraints: Callable[[PathPiece], Sequenc
 
     Arguments and returns as `solve_refined`, `dense` on the dense grid of `path_pieces`.
     """
-    knots, _ = dense.path.waypoints
-    full = bool(dense.path.shape_preserving) or len(knots) > len(dense.waypoints)
+    full = bends_sharply(dense)
     piece, found = solve_refined(first_grid(dense, full=full), constraints, excess,
                                  where=where)
     if found is None:
