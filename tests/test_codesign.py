@@ -218,6 +218,28 @@ def test_fastest_is_no_longer_than_the_plan_that_passes_with_its_units(mounting)
     assert result.cycle_time == pytest.approx(sized.cycle_time, rel=1e-3)
 
 
+def test_fastest_reports_a_slow_down_beyond_the_tolerance(monkeypatch, tmp_path):
+    """Forced: the path model on its cosine grid alone (no knots, no refinement), as
+    before issue 27, slows every piece of the pick-and-place down by more than 0.1 %:
+    each is named, with its joint and factor, in the result's warnings and the JSON."""
+    import hdselect.codesign.fastpath as fastpath
+
+    monkeypatch.setattr(fastpath, "_resolved", lambda piece, motion: piece)
+    robot, motion = load_case(REPO / "trajectories" / "benchtop6_pick_place_poses.toml")
+    result = fastest(robot, motion)
+    noted = [w for w in result.warnings if w.startswith("cycle: toppra slowed the path")]
+    assert [w.split(" down ")[0].split("path ")[1] for w in noted] == [
+        "from waypoint[0] to waypoint[2]", "from waypoint[2] to waypoint[5]",
+        "from waypoint[5] to waypoint[7]"]
+    for line in noted:
+        factor = float(line.split(" down ")[1].split(" times")[0])
+        assert 1.001 < factor < 1.1 and "joint '" in line
+    assert main(["fastest", str(REPO / "trajectories" / "benchtop6_pick_place_poses.toml"),
+                 "--json", str(tmp_path / "fastest.json")]) == 0
+    document = json.loads((tmp_path / "fastest.json").read_text())
+    assert [w for w in document["warnings"] if w.startswith("cycle: toppra")] == noted
+
+
 @pytest.mark.parametrize("planner", ["toppra", "ruckig"])
 def test_slack_units_give_the_kinematic_toppra_run(tmp_path, planner):
     write_robot(tmp_path, 3)

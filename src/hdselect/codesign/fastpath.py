@@ -43,11 +43,14 @@ from hdselect.codesign.pathbounds import (
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.path import bends_sharply, dense_grid, first_grid
 from hdselect.motion.planning.toppra import (
+    SLOWDOWN_NOTED,
     PathPiece,
     Profile,
     kinematic_constraints,
+    overshoot,
     overshoot_scale,
     path_pieces,
+    slowdown_note,
     solve_piece,
     solve_refined,
     step_excess,
@@ -242,11 +245,13 @@ def _solve_piece(model: PathModel, index: int, limits: Sequence[JointLimits],
 
 
 def cycle(motion: Motion, profiles: Sequence[Profile | None], scales: Sequence[float], *,
-          max_samples: int = DEFAULT_MAX_SAMPLES) -> tuple[Trajectory, np.ndarray]:
+          max_samples: int = DEFAULT_MAX_SAMPLES,
+          notes: tuple[str, ...] = ()) -> tuple[Trajectory, np.ndarray]:
     """The whole cycle: each piece run at its time scale [-], with the motion's dwells.
 
     The grid is checked as `hdselect.motion.planning.plan` checks it: it must resolve every
-    piece and dwell and have at most `max_samples` samples.
+    piece and dwell and have at most `max_samples` samples. `notes` become the
+    trajectory's (`Trajectory.notes`).
 
     Returns:
         The trajectory, sampled every ``motion.dt``, and a mask of its samples that
@@ -256,7 +261,7 @@ def cycle(motion: Motion, profiles: Sequence[Profile | None], scales: Sequence[f
                   partial(p.sample, scale=scale), p.peak_accelerations(scale),
                   p.time_step * scale)
              for p, scale in zip(profiles, scales, strict=True) if p is not None]
-    trajectory = assemble(motion, moves, max_samples=max_samples)
+    trajectory = assemble(motion, moves, max_samples=max_samples, notes=notes)
     held = np.ones(len(trajectory.t), dtype=bool)
     clock = motion.dwells[0]
     for move in moves:
@@ -275,3 +280,22 @@ def kinematic_scales(profiles: Sequence[Profile | None],
     velocity = np.array([lim.velocity for lim in limits])
     acceleration = np.array([lim.acceleration for lim in limits])
     return [1.0 if p is None else overshoot_scale(p, velocity, acceleration) for p in profiles]
+
+
+def slowdown_notes(names: Sequence[str], profiles: Sequence[Profile | None],
+                   limits: Sequence[JointLimits]) -> tuple[str, ...]:
+    """The planner's line for every piece slowed down beyond its tolerance.
+
+    That is by more than `hdselect.motion.planning.toppra.SLOWDOWN_NOTED` in
+    `kinematic_scales`; each line names the joint (from `names`) and the factor.
+    """
+    velocity = np.array([lim.velocity for lim in limits])
+    acceleration = np.array([lim.acceleration for lim in limits])
+    notes = []
+    for profile in profiles:
+        if profile is not None:
+            scale, joint, limit = overshoot(profile, velocity, acceleration)
+            if scale > 1.0 + SLOWDOWN_NOTED:
+                notes.append(slowdown_note(profile.piece.first, profile.piece.last,
+                                           names[joint], limit, scale))
+    return tuple(notes)
