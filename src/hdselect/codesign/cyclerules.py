@@ -105,7 +105,7 @@ def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
                       if rule in WHOLE_CYCLE_RULES)}
     return Trial(dict(derating), profiles, kinematic, moving, trajectory.duration - moving,
                  scale, reason, tuple(sorted(failing)),
-                 slowdown_notes(model.robot.joint_names, profiles, limits))
+                 slowdown_notes(motion.joint_names, profiles, limits))
 
 
 def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,

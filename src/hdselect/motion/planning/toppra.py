@@ -405,7 +405,7 @@ def _toppra_pieces(robot: Robot, motion: Motion, notes: list[str]) -> list[Move]
                                 f"waypoint[{last}] cannot be timed with these limits "
                                 f"({type(err).__name__}: {err})") from err
         if scale > 1.0 + SLOWDOWN_NOTED:
-            notes.append(slowdown_note(first, last, robot.joint_names[joint], limit, scale))
+            notes.append(slowdown_note(first, last, motion.joint_names[joint], limit, scale))
         assert piece.knots is not None  # every piece with a path has its knots
         reached = found.time_at(piece.knots) * scale
         passes = tuple(float(reached[max(k for k, w in enumerate(piece.waypoints) if w <= i)])
