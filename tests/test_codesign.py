@@ -30,7 +30,7 @@ from hdselect.base.errors import InputError, PlanningError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.cli.main import main
 from hdselect.codesign.fastest_cycle import compare_ratios, fastest
-from hdselect.codesign.fastpath import GRID_PER_WAYPOINT
+from hdselect.codesign.fastpath import GRID_PER_WAYPOINT, PathModel
 from hdselect.codesign.pathbounds import PathInfeasible
 from hdselect.motion.case import load_case
 from hdselect.motion.planning import plan
@@ -201,6 +201,45 @@ SLACK = dataclasses.replace(
     static_torque=1e6, rated_torque=1e6, max_input_speed=1e12, input_inertia=0.0, flags=())
 
 
+@pytest.mark.parametrize("mounting", ["floor", "wall"])
+def test_fastest_is_no_longer_than_the_plan_that_passes_with_its_units(mounting):
+    """Issue 27: the pick-and-place of tool poses, planned, passes every rule with the
+    units `size` selects; `fastest` ran the same path with the same units 0.8 % slower
+    (4.566 s for 4.530 s on the floor), each piece slowed down uniformly for TOPPRA's
+    overshoot between the gridpoints of a grid without the lines' samples."""
+    robot, motion = load_case(REPO / "trajectories" / "benchtop6_pick_place_poses.toml",
+                              mounting=mounting)
+    sized = size(robot, motion, mounting=mounting)
+    assert sized.feasible
+    units = {joint.name: joint.selected.unit for joint in sized.joints}
+    result = fastest(robot, motion, units, sized.options)
+    assert result.feasible and result.slowdown == 1.0
+    assert result.cycle_time <= sized.cycle_time * (1.0 + 1e-9)
+    assert result.cycle_time == pytest.approx(sized.cycle_time, rel=1e-3)
+
+
+def test_fastest_reports_a_slow_down_beyond_the_tolerance(monkeypatch, tmp_path):
+    """Forced: the path model on its cosine grid alone (no knots, no refinement), as
+    before issue 27, slows every piece of the pick-and-place down by more than 0.1 %:
+    each is named, with its joint and factor, in the result's warnings and the JSON."""
+    import hdselect.codesign.fastpath as fastpath
+
+    monkeypatch.setattr(fastpath, "_resolved", lambda piece, motion: piece)
+    robot, motion = load_case(REPO / "trajectories" / "benchtop6_pick_place_poses.toml")
+    result = fastest(robot, motion)
+    noted = [w for w in result.warnings if w.startswith("cycle: toppra slowed the path")]
+    assert [w.split(" down ")[0].split("path ")[1] for w in noted] == [
+        "from waypoint[0] to waypoint[2]", "from waypoint[2] to waypoint[5]",
+        "from waypoint[5] to waypoint[7]"]
+    for line in noted:
+        factor = float(line.split(" down ")[1].split(" times")[0])
+        assert 1.001 < factor < 1.1 and "joint '" in line
+    assert main(["fastest", str(REPO / "trajectories" / "benchtop6_pick_place_poses.toml"),
+                 "--json", str(tmp_path / "fastest.json")]) == 0
+    document = json.loads((tmp_path / "fastest.json").read_text())
+    assert [w for w in document["warnings"] if w.startswith("cycle: toppra")] == noted
+
+
 @pytest.mark.parametrize("planner", ["toppra", "ruckig"])
 def test_slack_units_give_the_kinematic_toppra_run(tmp_path, planner):
     write_robot(tmp_path, 3)
@@ -213,9 +252,8 @@ def test_slack_units_give_the_kinematic_toppra_run(tmp_path, planner):
     robot, motion = load_case(write_motion(tmp_path, "\n".join(lines) + "\n"))
     options = Options(mass_coupling=False)
     result = fastest(robot, motion, dict.fromkeys(robot.joint_names, SLACK), options)
-    speeds = motion.velocity_limit if planner == "ruckig" else None
     expected = float(np.sum(motion.dwells))
-    for piece in path_pieces(robot, motion, GRID_PER_WAYPOINT, speeds=speeds):
+    for piece in PathModel.build(robot, motion, robot.sized_joints).pieces:  # its own grid
         constraints = kinematic_constraints(motion.velocity_limit, motion.acceleration_limit)
         profile = solve_piece(piece, constraints, where="test")
         expected += profile.duration * overshoot_scale(profile, motion.velocity_limit,

@@ -155,7 +155,8 @@ _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
 """The command-line option of each field of `hdselect.sizing.options.Options`."""
 
 
-SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile", "hdselect.motion.solve")
+SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile", "hdselect.motion.solve",
+                 "hdselect.motion.planning")
 """Loggers whose warnings a sizing result carries (`SizingResult.warnings`)."""
 
 

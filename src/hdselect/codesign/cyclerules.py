@@ -26,7 +26,13 @@ from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, at_rest, check_unit, cycle_load
 from hdselect.catalog.units import Unit
-from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, solve
+from hdselect.codesign.fastpath import (
+    PathModel,
+    cycle,
+    kinematic_scales,
+    slowdown_notes,
+    solve,
+)
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
@@ -67,6 +73,7 @@ class Trial:
     scale: float
     reason: tuple[str, str] | None
     whole_cycle_failing: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
 
     @property
     def cycle_time(self) -> float:
@@ -97,7 +104,8 @@ def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
                                                              ).checks.items()
                       if rule in WHOLE_CYCLE_RULES)}
     return Trial(dict(derating), profiles, kinematic, moving, trajectory.duration - moving,
-                 scale, reason, tuple(sorted(failing)))
+                 scale, reason, tuple(sorted(failing)),
+                 slowdown_notes(motion.joint_names, profiles, limits))
 
 
 def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
@@ -337,7 +345,7 @@ def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
     for _ in range(_VERIFY_ROUNDS):
         trajectory, held = cycle(model.motion, trial.profiles,
                                  [r * scale for r in trial.kinematic],
-                                 max_samples=options.max_samples)
+                                 max_samples=options.max_samples, notes=trial.notes)
         check = check_units(model.robot, trajectory, units, options, motors=motors)
         candidates = [c for joint in check.joints for c in joint.candidates]
         excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks

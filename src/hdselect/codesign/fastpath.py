@@ -1,7 +1,9 @@
 """The motion's path run as fast as the joints' limits allow: TOPPRA under gearhead limits.
 
 The path is the TOPPRA planner's (`hdselect.motion.planning.toppra.path_pieces`): a
-clamped cubic spline through the waypoints, split where the motion dwells. For a
+clamped cubic spline through the waypoints, split where the motion dwells, on gridpoints
+that resolve it (`_resolved`: every knot, refined where the motion's own limits break
+between gridpoints). For a
 motion planned otherwise (Ruckig), the knots sit at the time each segment takes at
 the motion's velocity limits, so that joints in rad and in m weigh alike. Each piece
 is first solved under its speed and acceleration limits alone: where that profile
@@ -39,13 +41,20 @@ from hdselect.codesign.pathbounds import (
     stop_bound,
 )
 from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning.path import bends_sharply, dense_grid, first_grid
 from hdselect.motion.planning.toppra import (
+    SLOWDOWN_NOTED,
     PathPiece,
     Profile,
     kinematic_constraints,
+    overshoot,
     overshoot_scale,
     path_pieces,
+    slowdown_note,
     solve_piece,
+    solve_refined,
+    step_excess,
+    with_gridpoints,
 )
 from hdselect.motion.planning.trajectory import Move, Trajectory, assemble
 from hdselect.robot.dynamics import inverse_dynamics
@@ -114,7 +123,8 @@ class PathModel:
         if motion.planner != "toppra":
             assert motion.velocity_limit is not None  # waypoint planners require it
             speeds = motion.velocity_limit
-        pieces = tuple(path_pieces(robot, motion, grid_per_waypoint, speeds=speeds))
+        pieces = tuple(_resolved(piece, motion) for piece in
+                       path_pieces(robot, motion, grid_per_waypoint, speeds=speeds))
         base = _coefficients(robot, pieces, threads)
         per_kg = {}
         for name in joints:
@@ -136,6 +146,30 @@ class PathModel:
             for total, x in zip(out, part, strict=True):
                 total += mass * x
         return out[0], out[1], out[2], out[3]
+
+
+def _resolved(piece: PathPiece, motion: Motion) -> PathPiece:
+    """The piece on gridpoints that resolve its path, once for every choice of units.
+
+    Every knot is a gridpoint, and the grid is refined where the motion's own speed
+    and acceleration limits break between gridpoints (as the planner refines,
+    `hdselect.motion.planning.toppra.solve_refined`): the path's shape, not the units,
+    sets where TOPPRA's profile overshoots (a line's close samples, a shape-preserving
+    joint's knots). Such a piece starts from the planner's dense grid, so that `fastest`
+    times it as `plan` does.
+    """
+    if piece.path is None:
+        return piece
+    if bends_sharply(piece):
+        piece = with_gridpoints(piece, dense_grid(piece))
+    velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
+    assert velocity is not None and acceleration is not None  # waypoint planners require it
+    constraints = kinematic_constraints(velocity, acceleration)
+    first = first_grid(piece, full=True)
+    refined, found = solve_refined(first, lambda _: constraints,
+                                   partial(step_excess, velocity=velocity,
+                                           acceleration=acceleration), where=str(motion.path))
+    return first if found is None else refined
 
 
 def _coefficients(robot: Robot, pieces: Sequence[PathPiece],
@@ -211,11 +245,13 @@ def _solve_piece(model: PathModel, index: int, limits: Sequence[JointLimits],
 
 
 def cycle(motion: Motion, profiles: Sequence[Profile | None], scales: Sequence[float], *,
-          max_samples: int = DEFAULT_MAX_SAMPLES) -> tuple[Trajectory, np.ndarray]:
+          max_samples: int = DEFAULT_MAX_SAMPLES,
+          notes: tuple[str, ...] = ()) -> tuple[Trajectory, np.ndarray]:
     """The whole cycle: each piece run at its time scale [-], with the motion's dwells.
 
     The grid is checked as `hdselect.motion.planning.plan` checks it: it must resolve every
-    piece and dwell and have at most `max_samples` samples.
+    piece and dwell and have at most `max_samples` samples. `notes` become the
+    trajectory's (`Trajectory.notes`).
 
     Returns:
         The trajectory, sampled every ``motion.dt``, and a mask of its samples that
@@ -225,7 +261,7 @@ def cycle(motion: Motion, profiles: Sequence[Profile | None], scales: Sequence[f
                   partial(p.sample, scale=scale), p.peak_accelerations(scale),
                   p.time_step * scale)
              for p, scale in zip(profiles, scales, strict=True) if p is not None]
-    trajectory = assemble(motion, moves, max_samples=max_samples)
+    trajectory = assemble(motion, moves, max_samples=max_samples, notes=notes)
     held = np.ones(len(trajectory.t), dtype=bool)
     clock = motion.dwells[0]
     for move in moves:
@@ -244,3 +280,22 @@ def kinematic_scales(profiles: Sequence[Profile | None],
     velocity = np.array([lim.velocity for lim in limits])
     acceleration = np.array([lim.acceleration for lim in limits])
     return [1.0 if p is None else overshoot_scale(p, velocity, acceleration) for p in profiles]
+
+
+def slowdown_notes(names: Sequence[str], profiles: Sequence[Profile | None],
+                   limits: Sequence[JointLimits]) -> tuple[str, ...]:
+    """The planner's line for every piece slowed down beyond its tolerance.
+
+    That is by more than `hdselect.motion.planning.toppra.SLOWDOWN_NOTED` in
+    `kinematic_scales`; each line names the joint (from `names`) and the factor.
+    """
+    velocity = np.array([lim.velocity for lim in limits])
+    acceleration = np.array([lim.acceleration for lim in limits])
+    notes = []
+    for profile in profiles:
+        if profile is not None:
+            scale, joint, limit = overshoot(profile, velocity, acceleration)
+            if scale > 1.0 + SLOWDOWN_NOTED:
+                notes.append(slowdown_note(profile.piece.first, profile.piece.last,
+                                           names[joint], limit, scale))
+    return tuple(notes)

@@ -179,6 +179,9 @@ class SizingResult:
                  else self.motion.warnings if self.motion is not None else ())
         lines = [f"robot file: {note}" for note in self.robot.notes]
         lines += [f"motion file: {warning}" for warning in asked]
+        planned = [task.trajectory for task in self.tasks] or [self.trajectory]
+        lines += list(dict.fromkeys(f"cycle: {note}" for trajectory in planned
+                                    for note in trajectory.notes))
         for load in self.loads:
             if load.above_effort:
                 lines.append(f"cycle: joint '{load.name}' peaks at {load.peak:.3g} "

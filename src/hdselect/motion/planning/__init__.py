@@ -13,11 +13,13 @@ straight line is checked at every planned sample (`hdselect.motion.planning.tool
 and so is every move into or out of a pose for a singularity on the way
 (`hdselect.motion.planning.crossings`).
 Every planned trajectory is checked against the robot's position limits, mimic
-followers' included.
+followers' included. What the planner noticed (`Trajectory.notes`: a piece slowed down
+beyond its tolerance) is logged as a warning of this package's logger.
 """
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -37,6 +39,8 @@ from hdselect.motion.planning.toppra import plan_toppra
 from hdselect.motion.planning.trajectory import Trajectory
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
+
+logger = logging.getLogger(__name__)
 
 PLANNERS: dict[str, Callable[..., Trajectory]] = {
     "ruckig": plan_ruckig,
@@ -116,6 +120,8 @@ def plan_motion(robot: Robot, motion: Motion, *,
         return trajectory
 
     solved, trajectory, lines = plan_lines(robot, motion, planned)
+    for note in trajectory.notes:
+        logger.warning("%s: %s", motion.path, note)
     return Planned(check_crossings(robot, solved, trajectory), trajectory, lines)
 
 

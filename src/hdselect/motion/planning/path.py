@@ -31,6 +31,13 @@ ends) [-]."""
 GRID_PER_LINE_SAMPLE = 8
 """TOPPRA gridpoints per joint sample of a straight line (its samples are close together)."""
 
+SOLVE_GRID = 50
+"""TOPPRA gridpoints per waypoint of a piece the planner solves first (cosine-spaced,
+dense near the rest ends), before refining the steps that need it."""
+
+MIN_SOLVE_GRIDPOINTS = 400
+"""Fewest gridpoints a piece is first solved on (a short piece's cycle converges slower)."""
+
 
 @dataclass(frozen=True, eq=False)
 class PathPiece:
@@ -117,7 +124,7 @@ def path_pieces(robot: Robot, motion: Motion, grid_per_waypoint: int = GRID_PER_
             continue
         count = (grid_per_waypoint * len(geometry.waypoints)
                  + GRID_PER_LINE_SAMPLE * geometry.line_samples)
-        grid = 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, count + 1))
+        grid = cosine_grid(count)
         with quiet():
             try:
                 path = SplinePath(geometry.knots, geometry.points, robot.lower, robot.upper)
@@ -138,3 +145,51 @@ def with_gridpoints(piece: PathPiece, gridpoints: np.ndarray) -> PathPiece:
         q, dq, ddq = path(gridpoints), path(gridpoints, 1), path(gridpoints, 2)
     return replace(piece, gridpoints=frozen(gridpoints), q=frozen(q), dq=frozen(dq),
                    ddq=frozen(ddq))
+
+
+def bends_sharply(piece: PathPiece) -> bool:
+    """Whether TOPPRA needs the dense grid to time a piece's path.
+
+    It does where the path has a shape-preserving joint (p'' steps at its knots) or a
+    straight line's joint samples (close together).
+    """
+    knots, _ = piece.path.waypoints
+    return bool(piece.path.shape_preserving) or len(knots) > len(piece.waypoints)
+
+
+def dense_grid(piece: PathPiece) -> np.ndarray:
+    """The planner's dense grid of a piece [-], as `path_pieces` lays it.
+
+    `GRID_PER_WAYPOINT` cosine-spaced gridpoints per waypoint and `GRID_PER_LINE_SAMPLE`
+    per line sample.
+    """
+    knots, _ = piece.path.waypoints
+    waypoints = len(piece.waypoints)
+    return cosine_grid(GRID_PER_WAYPOINT * waypoints
+                       + GRID_PER_LINE_SAMPLE * (len(knots) - waypoints))
+
+
+def first_grid(dense: PathPiece, *, full: bool = False) -> PathPiece:
+    """The piece on the gridpoints TOPPRA solves it on first: coarse, and at every knot.
+
+    The coarse grid has `SOLVE_GRID` cosine-spaced gridpoints per waypoint (a quarter of
+    the dense grid's, line samples included; at least `MIN_SOLVE_GRIDPOINTS`). Every knot
+    of the spline (waypoints and line samples) is a gridpoint too: p'' is linear between
+    knots (and steps at a shape-preserving joint's knots), so a limit broken between
+    gridpoints is broken by a margin that splitting the step removes. Without them, the
+    sharp turn where a free move meets a line's close samples falls between gridpoints.
+
+    Args:
+        dense: A piece with a path, on the dense grid of `path_pieces`.
+        full: Keep the dense grid's gridpoints (and add the knots) rather than a quarter.
+    """
+    steps = len(dense.gridpoints) - 1
+    coarse = max(MIN_SOLVE_GRIDPOINTS, steps * SOLVE_GRID // GRID_PER_WAYPOINT)
+    knots, _ = dense.path.waypoints
+    grid = cosine_grid(steps if full else min(coarse, steps))
+    return with_gridpoints(dense, np.union1d(grid, knots))
+
+
+def cosine_grid(steps: int) -> np.ndarray:
+    """`steps` + 1 cosine-spaced path positions from 0 to 1 [-] (as `path_pieces` spaces them)."""
+    return 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, steps + 1))

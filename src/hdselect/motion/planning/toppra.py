@@ -12,20 +12,20 @@ numpy exactly as toppra's ``ParametrizeConstAccel`` does).
 
 TOPPRA's cost grows with its gridpoints (three small LPs on each, in Python), so a
 piece is solved on a coarse grid, 50 cosine-spaced gridpoints per waypoint
-(`SOLVE_GRID`, at least `MIN_SOLVE_GRIDPOINTS`), and its trajectory verified between
-them: the speed and
-acceleration at `_DENSE_CHECK` times in every step, the torque at the middle of
-every step. Steps that exceed a limit by more than `REFINE_TOLERANCE` are halved
-and the piece solved again (`solve_refined`), so gridpoints are added only where
-the path needs them. What overshoot remains is removed by slowing the piece down
-uniformly (plus 1e-4, `overshoot_scale`), which keeps the sampled velocity and
-acceleration within ``TOPPRA_TOLERANCE`` of the limits for a cycle at most that
-much longer than TOPPRA's. Cycle times are within 0.1 % of those on 200 gridpoints
-per waypoint (tests/test_plan.py). A piece with a shape-preserving joint, or with a
-straight line's joint samples, is solved on those 200 per waypoint (and 8 per line
-sample): its p'' steps at the knots, so halving the step that holds a knot never
-removes its excess, and a line's samples are close together. Torque limits hold within
-``TOPPRA_TORQUE_TOLERANCE``.
+(`hdselect.motion.planning.path.first_grid`), or on the dense one (200 per waypoint and 8
+per line sample) where a shape-preserving joint or a straight line's close samples bend
+the path, with every knot of the spline a gridpoint: p'' is linear between knots, and the
+sharp turn where a free move meets a line would otherwise fall between gridpoints. Its
+trajectory is verified between them: the speed and acceleration at `_DENSE_CHECK` times
+in every step, the torque at the middle of every step. Steps that exceed a limit by more
+than `REFINE_TOLERANCE` are split and the piece solved again (`solve_refined`), so
+gridpoints are added only where the path needs them. What overshoot remains is removed by
+slowing the piece down uniformly (plus 1e-4, `overshoot_scale`), which keeps the sampled
+velocity and acceleration within ``TOPPRA_TOLERANCE`` of the limits; a slow-down of more
+than `SLOWDOWN_NOTED` is reported (`Trajectory.notes`, and a warning of the
+``hdselect.motion.planning`` logger) with the piece, the joint and the factor. Cycle
+times are within 0.1 % of those on the dense grid (tests/test_plan.py,
+tests/test_toolposes.py). Torque limits hold within ``TOPPRA_TORQUE_TOLERANCE``.
 
 Co-design (`hdselect.codesign`) solves the same pieces, built by the same
 `path_pieces` (so under the same rule at the position limits), under more
@@ -48,8 +48,9 @@ from hdselect.base.errors import PlanningError
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.path import (
     GRID_PER_LINE_SAMPLE,
-    GRID_PER_WAYPOINT,
     PathPiece,
+    bends_sharply,
+    first_grid,
     path_pieces,
     quiet,
     with_gridpoints,
@@ -68,13 +69,6 @@ acceleration limits [-]."""
 TOPPRA_TORQUE_TOLERANCE = 1e-3
 """Relative amount by which a TOPPRA trajectory may exceed its torque limits [-]."""
 
-SOLVE_GRID = 50
-"""TOPPRA gridpoints per waypoint of a piece the planner solves first (cosine-spaced,
-dense near the rest ends), before refining the steps that need it."""
-
-MIN_SOLVE_GRIDPOINTS = 400
-"""Fewest gridpoints a piece is first solved on (a short piece's cycle converges slower)."""
-
 REFINE_TOLERANCE = 2e-4
 """Relative excess over a limit between gridpoints above which a step is halved [-]."""
 
@@ -84,6 +78,10 @@ REFINE_ROUNDS = 3
 _SPLIT_MARGIN = 1.25
 """Parts a step is split into, over the square root of its excess over the tolerance [-]."""
 
+
+SLOWDOWN_NOTED = 1e-3
+"""Uniform slow-down of a piece [-] beyond which the planner says so: the cycle is then
+no longer within 0.1 % of TOPPRA's on the dense grid (docs/rules.md)."""
 
 _DENSE_CHECK = 10
 """Check points per TOPPRA gridpoint when measuring its overshoot."""
@@ -191,7 +189,16 @@ def plan_toppra(robot: Robot, motion: Motion, *,
         PlanningError: The limits make a piece of the path infeasible (the message
             names the constraint set at fault) or TOPPRA fails.
     """
-    return assemble(motion, _toppra_pieces(robot, motion), max_samples=max_samples)
+    notes: list[str] = []
+    moves = _toppra_pieces(robot, motion, notes)
+    return assemble(motion, moves, max_samples=max_samples, notes=tuple(notes))
+
+
+def slowdown_note(first: int, last: int, joint: str, limit: str, scale: float) -> str:
+    """The line that says a piece was slowed down uniformly by `scale` [-], and why."""
+    return (f"toppra slowed the path from waypoint[{first}] to waypoint[{last}] down "
+            f"{scale:.4g} times: joint '{joint}' broke its {limit} limit between gridpoints "
+            "after refining the grid; the cycle is longer than the time-optimal one")
 
 
 def kinematic_constraints(velocity: np.ndarray, acceleration: np.ndarray) -> list[Any]:
@@ -245,11 +252,24 @@ def overshoot_scale(profile: Profile, velocity: np.ndarray, acceleration: np.nda
         velocity: Joint speed limits [rad/s or m/s], shape (dof,).
         acceleration: Joint acceleration limits [per s^2], shape (dof,).
     """
+    return overshoot(profile, velocity, acceleration)[0]
+
+
+def overshoot(profile: Profile, velocity: np.ndarray,
+              acceleration: np.ndarray) -> tuple[float, int, str]:
+    """`overshoot_scale`, with the joint (index) and the limit that set it.
+
+    Returns:
+        The scale [-], the joint's index and ``"velocity"`` or ``"acceleration"``.
+    """
     dense = np.linspace(0.0, profile.duration, _DENSE_CHECK * len(profile.sd) + 1)
     _, qd, qdd = profile.sample(dense)
-    speed = np.max(np.abs(qd) / velocity)
-    accel = np.max(np.abs(qdd) / acceleration)
-    return max(1.0, float(speed), math.sqrt(accel)) * (1.0 + _MARGIN)
+    speed = np.max(np.abs(qd) / velocity, axis=0)
+    accel = np.sqrt(np.max(np.abs(qdd) / acceleration, axis=0))
+    fast, hard = int(np.argmax(speed)), int(np.argmax(accel))
+    joint, limit, ratio = ((fast, "velocity", speed[fast]) if speed[fast] >= accel[hard]
+                           else (hard, "acceleration", accel[hard]))
+    return max(1.0, float(ratio)) * (1.0 + _MARGIN), joint, limit
 
 
 def step_excess(profile: Profile, velocity: np.ndarray, acceleration: np.ndarray) -> np.ndarray:
@@ -305,8 +325,33 @@ def solve_refined(piece: PathPiece, constraints: Callable[[PathPiece], Sequence[
     raise AssertionError("unreachable")
 
 
-def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
-    """Time-optimal pieces of the spline path, split at waypoints with a dwell."""
+def refined_profile(dense: PathPiece, constraints: Callable[[PathPiece], Sequence[Any]],
+                    excess: Callable[[Profile], np.ndarray], *,
+                    where: str) -> tuple[PathPiece, Profile | None]:
+    """`solve_refined` from the piece's `first_grid`, or from the other grid if that fails.
+
+    A piece with a shape-preserving joint or a straight line's samples starts from the
+    dense grid (their knots are close together, and p'' steps at a shape-preserving
+    joint's knots), any other from the coarse grid. toppra's seidel LPs can fail on one
+    grid near the rest ends, where p' -> 0 (toppra issues #14 and #17): a piece is
+    infeasible only if the other grid fails too.
+
+    Arguments and returns as `solve_refined`, `dense` on the dense grid of `path_pieces`.
+    """
+    full = bends_sharply(dense)
+    piece, found = solve_refined(first_grid(dense, full=full), constraints, excess,
+                                 where=where)
+    if found is None:
+        piece, found = solve_refined(first_grid(dense, full=not full), constraints, excess,
+                                     where=where)
+    return piece, found
+
+
+def _toppra_pieces(robot: Robot, motion: Motion, notes: list[str]) -> list[Move]:
+    """Time-optimal pieces of the spline path, split at waypoints with a dwell.
+
+    A piece slowed down by more than `SLOWDOWN_NOTED` gets a line in `notes`.
+    """
     from hdselect.motion.planning.constraints import (
         SecondOrderBounds,
         path_torque_coefficients,
@@ -338,16 +383,7 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
         if dense.path is None:
             moves.append(Move(first, last, 0.0, None))
             continue
-        steps = len(dense.gridpoints) - 1  # GRID_PER_WAYPOINT per waypoint, and line samples
-        knots, _ = dense.path.waypoints
-        if dense.path.shape_preserving or len(knots) > len(dense.waypoints):
-            # p'' steps at a shape-preserving joint's knots, and a straight line's samples
-            # are close together: both keep the dense grid, refining cannot match it
-            piece, found = dense, solve_piece(dense, constraints(dense), where=where)
-        else:
-            coarse = max(MIN_SOLVE_GRIDPOINTS, steps * SOLVE_GRID // GRID_PER_WAYPOINT)
-            piece, found = solve_refined(with_gridpoints(dense, _cosine(min(coarse, steps))),
-                                         constraints, excess, where=where)
+        piece, found = refined_profile(dense, constraints, excess, where=where)
         if found is None and torque is not None:
             if solve_piece(piece, kinematic, where=where) is not None:
                 raise PlanningError(
@@ -360,7 +396,7 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
                 f"limits.acceleration) make the path from waypoint[{first}] to "
                 f"waypoint[{last}] infeasible")
         try:
-            scale = overshoot_scale(found, velocity, acceleration)
+            scale, joint, limit = overshoot(found, velocity, acceleration)
             duration = found.duration * scale
             if not (math.isfinite(duration) and duration > 0.0 and np.all(np.isfinite(found.sd))):
                 raise ArithmeticError(f"duration {duration!r} s")
@@ -368,6 +404,8 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
             raise PlanningError(f"{motion.path}: toppra: the path from waypoint[{first}] to "
                                 f"waypoint[{last}] cannot be timed with these limits "
                                 f"({type(err).__name__}: {err})") from err
+        if scale > 1.0 + SLOWDOWN_NOTED:
+            notes.append(slowdown_note(first, last, motion.joint_names[joint], limit, scale))
         assert piece.knots is not None  # every piece with a path has its knots
         reached = found.time_at(piece.knots) * scale
         passes = tuple(float(reached[max(k for k, w in enumerate(piece.waypoints) if w <= i)])
@@ -381,6 +419,3 @@ def _toppra_pieces(robot: Robot, motion: Motion) -> list[Move]:
     return moves
 
 
-def _cosine(steps: int) -> np.ndarray:
-    """`steps` + 1 cosine-spaced path positions from 0 to 1 [-] (as `path_pieces` spaces them)."""
-    return 0.5 - 0.5 * np.cos(np.linspace(0.0, np.pi, steps + 1))

@@ -71,6 +71,8 @@ class Trajectory:
             from a log's positions (`hdselect.motion.logderivatives.derivatives`)
             [rad/s^2 or m/s^2], shape (n, dof); None where the accelerations are exact
             (planned) or logged.
+        notes: What the planner noticed, one line each: a piece it slowed down by more
+            than its tolerance, with the joint and the factor.
     """
 
     joint_names: tuple[str, ...]
@@ -82,26 +84,28 @@ class Trajectory:
     qdd: np.ndarray
     waypoint_times: np.ndarray | None = None
     qdd_uncertainty: np.ndarray | None = None
+    notes: tuple[str, ...] = ()
 
 
 def trajectory(motion: Motion, duration: float, t: np.ndarray, q: np.ndarray, qd: np.ndarray,
                qdd: np.ndarray, *, dt: float | None = None,
                waypoint_times: np.ndarray | None = None,
-               qdd_uncertainty: np.ndarray | None = None) -> Trajectory:
+               qdd_uncertainty: np.ndarray | None = None,
+               notes: tuple[str, ...] = ()) -> Trajectory:
     """A read-only Trajectory of the motion's joints from sampled arrays (taken over).
 
-    Its period is `dt` [s], by default the motion's; `waypoint_times` [s] and
-    `qdd_uncertainty` [per s^2] as `Trajectory`'s.
+    Its period is `dt` [s], by default the motion's; `waypoint_times` [s],
+    `qdd_uncertainty` [per s^2] and `notes` as `Trajectory`'s.
     """
     for array in (t, q, qd, qdd, *(a for a in (waypoint_times, qdd_uncertainty)
                                    if a is not None)):
         array.setflags(write=False)
     return Trajectory(motion.joint_names, motion.dt if dt is None else dt, float(duration), t,
-                      q, qd, qdd, waypoint_times, qdd_uncertainty)
+                      q, qd, qdd, waypoint_times, qdd_uncertainty, notes)
 
 
 def assemble(motion: Motion, moves: Sequence[Move], *,
-             max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
+             max_samples: int = DEFAULT_MAX_SAMPLES, notes: tuple[str, ...] = ()) -> Trajectory:
     """Sample rest-to-rest moves and the waypoints' dwells on a grid that resolves them.
 
     The grid is the motion's dt divided by the smallest whole number k that resolves
@@ -113,6 +117,7 @@ def assemble(motion: Motion, moves: Sequence[Move], *,
         motion: The motion (waypoints, dwells, dt).
         moves: One move per consecutive pair of the waypoints it joins, in order.
         max_samples: Most samples the grid may have.
+        notes: The planner's notes (`Trajectory.notes`).
 
     Returns:
         The whole cycle: the first dwell, then each move followed by its last
@@ -142,7 +147,7 @@ def assemble(motion: Motion, moves: Sequence[Move], *,
                 factor, reason = need, f"{name} (its time steps of {move.resolution:.3g} s)"
     for _ in range(_MAX_ROUNDS):
         try:
-            trajectory, miss = _sampled(motion, moves, motion.dt / factor, max_samples)
+            trajectory, miss = _sampled(motion, moves, motion.dt / factor, max_samples, notes)
         except InputError as err:
             if factor == 1:
                 raise
@@ -163,8 +168,8 @@ _MAX_ROUNDS = 4
 """Refinements tried before the grid is taken as it is (each multiplies samples >= 2x)."""
 
 
-def _sampled(motion: Motion, moves: Sequence[Move], dt: float,
-             max_samples: int) -> tuple[Trajectory, np.ndarray]:
+def _sampled(motion: Motion, moves: Sequence[Move], dt: float, max_samples: int,
+             notes: tuple[str, ...] = ()) -> tuple[Trajectory, np.ndarray]:
     """The cycle sampled every `dt` [s], and how much each move's samples miss of its peaks.
 
     A move's miss is the most any joint's sampled peak |acceleration| falls short of its
@@ -203,4 +208,5 @@ def _sampled(motion: Motion, moves: Sequence[Move], dt: float,
                 with np.errstate(divide="ignore", invalid="ignore"):
                     short = np.where(scale > 0.0, (move.peak_acceleration - found) / scale, 0.0)
                 miss[i] = float(np.max(short, initial=0.0))
-    return trajectory(motion, clock, t, q, qd, qdd, dt=dt, waypoint_times=reached), miss
+    return trajectory(motion, clock, t, q, qd, qdd, dt=dt, waypoint_times=reached,
+                      notes=notes), miss
