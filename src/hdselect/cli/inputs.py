@@ -7,14 +7,15 @@ the motors, each flag named in the message when it is bad.
 from __future__ import annotations
 
 import argparse
+from collections.abc import Sequence
 from pathlib import Path
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.base.errors import InputError
 
 
-def catalog_argument(parser: argparse.ArgumentParser) -> None:
-    """--catalog: extra catalog files."""
+def catalog_argument(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
+    """--catalog: extra catalog files (on a parser, or on one of its groups)."""
     parser.add_argument("--catalog", metavar="FILE", action="append", default=[],
                         help="add the units of a catalog file (TOML; repeatable)")
 
@@ -266,6 +267,28 @@ def _robot_and_mix(args: argparse.Namespace):
         raise
 
 
+def unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
+    """``JOINT=UNIT`` pairs as a dict; each joint once."""
+    out: dict[str, str] = {}
+    for pair in pairs:
+        joint, sep, unit = pair.partition("=")
+        if not sep or not joint.strip() or not unit.strip():
+            raise InputError(f"expected JOINT=UNIT, got {pair!r}", field="--units")
+        if joint.strip() in out:
+            raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
+        out[joint.strip()] = unit.strip()
+    return out
+
+
+def flagged(err: InputError, args: argparse.Namespace) -> InputError:
+    """An error of the library with the command line's option as its field."""
+    field = str(err.field)
+    flag = {"units": "--units", "joint": "--joint", "joints": "--joint"}.get(field)
+    if field.startswith("motors") and args.motor_catalog:
+        flag = "--motor-catalog"
+    return InputError(err.reason, path=err.path, field=flag or err.field)
+
+
 def max_samples_of(args: argparse.Namespace) -> int:
     """The --max-samples flag, checked."""
     from hdselect.base.bounds import check_max_samples
@@ -276,12 +299,26 @@ def max_samples_of(args: argparse.Namespace) -> int:
 def sizing_case(args: argparse.Namespace):
     """The robot, the motion, the catalog, the validated options and the motors."""
     from hdselect.catalog.catalogfile import load_catalog
+    from hdselect.motion.mixfile import Mix
+
+    robot, motion = robot_and_motion(args)
+    motors = motors_of(args, robot, motion)
+    options = sizing_options_of(args, motion)
+    extra = list(motion.catalog) if isinstance(motion, Mix) else []
+    return robot, motion, load_catalog([*extra, *args.catalog]), options, motors
+
+
+def motors_of(args: argparse.Namespace, robot, motion) -> dict:
+    """The candidate motors per sized joint: ``--motor-catalog``'s, else the motion file's.
+
+    Raises:
+        InputError: ``--motor-inertia`` or ``--motor-mass`` is given beside the motors.
+    """
     from hdselect.catalog.motors import load_motors
     from hdselect.motion.mixfile import Mix
     from hdselect.sizing.core import motion_motors
     from hdselect.sizing.duty import mix_motors
 
-    robot, motion = robot_and_motion(args)
     if args.motor_catalog:
         catalog = load_motors(args.motor_catalog)
         motors = {name: catalog for name in robot.sized_joints}
@@ -290,16 +327,13 @@ def sizing_case(args: argparse.Namespace):
     else:
         motors = motion_motors(robot, motion)
     if motors:
-        for value, flag in ((args.motor_inertia, "--motor-inertia"),
-                            (args.motor_mass, "--motor-mass")):
-            if value is not None:
+        for flag in ("--motor-inertia", "--motor-mass"):
+            if getattr(args, flag[2:].replace("-", "_"), None) is not None:
                 given = ("--motor-catalog" if args.motor_catalog
                          else f"[motor] of {motion.path.name}")
                 raise InputError(f"the motors come from {given}, with their own rotor inertia "
                                  "and mass; drop this option", field=flag)
-    options = sizing_options_of(args, motion)
-    extra = list(motion.catalog) if isinstance(motion, Mix) else []
-    return robot, motion, load_catalog([*extra, *args.catalog]), options, motors
+    return motors
 
 
 def planned_and_sized(robot, motion, units, options, motors):
@@ -323,18 +357,17 @@ def planned_and_sized(robot, motion, units, options, motors):
 def sizing_options_of(args: argparse.Namespace, motion):
     """The validated options of the sizing flags, the motion file's where a flag is absent.
 
+    A command takes the flags it offers (``plan``: the few its torques depend on).
+
     For a mix: the mix file's, else what its motions agree on (`hdselect.sizing.duty`).
     """
     from hdselect.motion.mixfile import Mix
     from hdselect.sizing.duty import mix_options
     from hdselect.sizing.options import options_for
 
-    given = {"stop_time": args.stop_time, "efficiency": args.efficiency,
-             "rotor_inertia": args.motor_inertia, "motor_mass": args.motor_mass,
-             "mass_coupling": not args.no_mass_coupling, "prefer": args.prefer,
-             "life_hours": args.life_hours, "life_basis": args.life_basis,
-             "max_samples": args.max_samples, "margin": args.margin,
-             "max_inertia_ratio": args.max_inertia_ratio, "inertia_target": args.inertia_target}
+    given = {name: getattr(args, flag[2:].replace("-", "_"))
+             for name, flag in _OPTION_FLAGS.items() if hasattr(args, flag[2:].replace("-", "_"))}
+    given["mass_coupling"] = not args.no_mass_coupling
     if isinstance(motion, Mix) and not args.no_mass_coupling:
         given["mass_coupling"] = None  # the mix file's, else on
     try:

@@ -26,7 +26,7 @@ from hdselect.cli.inputs import (
     xacro_argument,
 )
 from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED
-from hdselect.cli.plan import run_plan
+from hdselect.cli.plan import plan_arguments, run_plan
 from hdselect.cli.robot import run_init, run_joints
 from hdselect.cli.size import run_compare, run_size
 from hdselect.cli.study import run_study
@@ -146,16 +146,7 @@ def _parser() -> argparse.ArgumentParser:
 
     plan = commands.add_parser(
         "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
-    robot_motion_arguments(plan, sizes=False)
-    plan.add_argument("--out", metavar="FILE", required=True,
-                      help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
-    plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
-    plan.add_argument("--waypoints", metavar="FILE",
-                      help="CSV of the joint path as solved: every waypoint and line sample "
-                           "(tool poses solved for the mounting), with the tool's pose error")
-    plan.add_argument("--line-errors", metavar="FILE",
-                      help="CSV of every planned sample on a straight line: the tool's distance "
-                           "and angle from the line")
+    plan_arguments(plan)
     plan.set_defaults(run=run_plan)
 
     size = commands.add_parser(
