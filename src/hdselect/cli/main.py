@@ -1,4 +1,9 @@
-"""Command line: a thin layer over the public API; it formats, it does not compute."""
+"""Command line: a thin layer over the public API; it formats, it does not compute.
+
+`main` makes SIGTERM unwind like Ctrl-C before it imports anything heavy (every command's
+module, and through them numpy and Pinocchio, load after), so that a signal at any moment
+of a run ends it with one line and status 130 or 143, and no output written.
+"""
 
 from __future__ import annotations
 
@@ -7,29 +12,17 @@ import logging
 import os
 import signal
 import sys
-import traceback
-import warnings
 from collections.abc import Sequence
 
 from hdselect import __version__
-from hdselect.base.errors import HdselectError
-from hdselect.base.session import HeldLog, Terminated, handle_sigterm, tolerate_encoding
-from hdselect.cli.catalog import run_catalog, run_duty
-from hdselect.cli.codesign import run_fastest, run_max_payload
-from hdselect.cli.envelope import envelope_arguments, run_envelope
-from hdselect.cli.inputs import (
-    catalog_argument,
-    json_argument,
-    margin_argument,
-    robot_motion_arguments,
-    sizing_arguments,
-    xacro_argument,
+from hdselect.base.session import (
+    EXIT_INTERRUPTED,
+    EXIT_TERMINATED,
+    HeldLog,
+    Terminated,
+    handle_sigterm,
+    tolerate_encoding,
 )
-from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED
-from hdselect.cli.plan import plan_arguments, run_plan
-from hdselect.cli.robot import run_init, run_joints
-from hdselect.cli.size import run_compare, run_size
-from hdselect.cli.study import run_study
 
 logger = logging.getLogger("hdselect")
 
@@ -37,19 +30,45 @@ logger = logging.getLogger("hdselect")
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``hdselect`` command.
 
+    Args:
+        argv: The arguments after ``hdselect``; None: the program's own (``sys.argv``),
+            and then a signal after the command has ended still exits 130 or 143.
+
     Returns:
         Exit status: 0 success, 1 no gearhead fits, 2 bad input (one line on standard
         error, no output), 3 some case of a study failed, 70 a bug in hdselect (one
         line; ``-v`` shows the traceback), 130 interrupted (Ctrl-C), 143 terminated
         (SIGTERM).
     """
-    previous = handle_sigterm()
-    held = HeldLog(logger)
+    previous = handle_sigterm()  # first: the imports below take a while
     kept = _Kept()
+    try:
+        return _run(sys.argv[1:] if argv is None else argv, kept)
+    except (KeyboardInterrupt, Terminated) as stop:
+        if argv is None:
+            _exit_on_signal()  # a second signal while this is said: no traceback
+        interrupted = isinstance(stop, KeyboardInterrupt)
+        _say(f"{'interrupted' if interrupted else 'terminated'}; {kept.text()}")
+        return EXIT_INTERRUPTED if interrupted else EXIT_TERMINATED
+    finally:
+        if argv is None:  # the program: until it exits, a signal ends it quietly
+            _exit_on_signal()
+        elif previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _run(argv: Sequence[str], kept: _Kept) -> int:
+    """Parse, run the command and turn its errors into one line; the exit status."""
+    import warnings
+
+    from hdselect.base.errors import HdselectError
+    from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_OK
+
+    held = HeldLog(logger)
     try:
         tolerate_encoding()
         parser = _parser()
-        argv = list(sys.argv[1:] if argv is None else argv)
+        argv = list(argv)
         args = parser.parse_args(argv)
         args.command_line = ["hdselect", *argv]
         args.kept, args.held = kept, held
@@ -68,18 +87,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     except MemoryError:
         _say("error: out of memory; use a larger dt, a shorter cycle or a lower --max-samples")
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        _say(f"interrupted; {kept.text()}")
-        return EXIT_INTERRUPTED
-    except Terminated:
-        _say(f"terminated; {kept.text()}")
-        return EXIT_TERMINATED
     except BrokenPipeError:
         # The reader went away (e.g. `| head`): not an error of ours.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
     except Exception as err:  # a bug: say so in one line, with the way to the traceback
         if held.verbose:
+            import traceback
+
             traceback.print_exc()
         _say(f"internal error (a bug in hdselect, not in your input): {type(err).__name__}: "
              f"{_one_line(str(err))}; no output was written; run again with -v for the "
@@ -87,8 +102,27 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_BUG
     finally:
         held.stop()
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+
+
+def _exit_on_signal() -> None:
+    """After the command: SIGINT and SIGTERM end the process at once, 130 or 143, silently.
+
+    The command's outputs are complete by then; what is left is the interpreter's exit.
+    """
+    def leave(signum: int, frame: object) -> None:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED)
+
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        try:
+            if signal.getsignal(signum) is not signal.SIG_IGN:
+                signal.signal(signum, leave)
+        except ValueError:  # not the main thread: the signals are not ours to handle
+            return
 
 
 class _Kept:
@@ -117,6 +151,22 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser() -> argparse.ArgumentParser:
+    from hdselect.cli.catalog import run_catalog, run_duty
+    from hdselect.cli.codesign import run_fastest, run_max_payload
+    from hdselect.cli.envelope import envelope_arguments, run_envelope
+    from hdselect.cli.inputs import (
+        catalog_argument,
+        json_argument,
+        margin_argument,
+        robot_motion_arguments,
+        sizing_arguments,
+        xacro_argument,
+    )
+    from hdselect.cli.plan import plan_arguments, run_plan
+    from hdselect.cli.robot import run_init, run_joints
+    from hdselect.cli.size import run_compare, run_size
+    from hdselect.cli.study import run_study
+
     parser = _Parser(
         prog="hdselect",
         description="Size Harmonic Drive PSA-G gearheads for robot joints.")

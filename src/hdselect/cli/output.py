@@ -17,10 +17,8 @@ from hdselect.cli.inputs import input_files
 EXIT_OK, EXIT_NO_FIT, EXIT_BAD_INPUT, EXIT_CASES_FAILED, EXIT_BUG = 0, 1, 2, 3, 70
 """Exit statuses: success (every joint has a unit); some joint has none; bad input; some
 case of a study failed (its row says why); a bug in hdselect (70, EX_SOFTWARE of
-sysexits.h). Interrupted runs exit 130 (Ctrl-C) or 143 (SIGTERM)."""
-
-
-EXIT_INTERRUPTED, EXIT_TERMINATED = 130, 143
+sysexits.h). Interrupted runs exit 130 (Ctrl-C) or 143 (SIGTERM): `EXIT_INTERRUPTED`,
+`EXIT_TERMINATED` of `hdselect.base.session`."""
 
 
 class reserved_outputs:
