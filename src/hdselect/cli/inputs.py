@@ -26,21 +26,30 @@ def json_argument(parser: argparse.ArgumentParser) -> None:
                         help="also write JSON to FILE ('-': to stdout, instead of the table)")
 
 
-def xacro_argument(parser: argparse.ArgumentParser) -> None:
-    """--xacro-arg NAME:=VALUE (repeatable): a .xacro robot's arguments."""
+def xacro_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> None:
+    """--xacro-arg NAME:=VALUE (repeatable): a .xacro robot's arguments.
+
+    Args:
+        parser: The command's parser.
+        motion: The command reads a motion file (whose ``xacro_args`` the flag overrides).
+    """
     parser.add_argument("--xacro-arg", metavar="NAME:=VALUE", action="append",
                         dest="xacro_arg", help="an argument of a .xacro robot file "
-                        "(repeatable; overrides the motion file's xacro_args)")
+                        "(repeatable" + ("; overrides the motion file's xacro_args)" if motion
+                                         else ")"))
 
 
 def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True,
-                           sizes: bool = True) -> None:
+                           sizes: bool = True) -> argparse._ArgumentGroup:
     """ROBOT, MOTION and the flags that change the case: payload, mounting, joints, samples.
 
     Args:
         parser: The command's parser.
         mass: Offer --payload (max-payload finds the mass instead).
         sizes: The command sizes joints (plan only draws them).
+
+    Returns:
+        The group of --joints and --exclude, for a command's --joint (the joints shown).
     """
     parser.add_argument("robot", nargs="?", metavar="ROBOT",
                         help="robot file, URDF, xacro or MJCF (default: the motion file's "
@@ -61,17 +70,20 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
     doing = "size" if sizes else "plot"
-    parser.add_argument("--joints", metavar="A,B", action="append",
+    joints = parser.add_argument_group(f"joints {doing}d" if sizes else "joints plotted")
+    joints.add_argument("--joints", metavar="A,B", action="append",
                         help=f"{doing} only these joints (comma-separated; overrides the motion "
                              "file's [sizing] joints)" + ("" if sizes else "; the CSV has every "
-                                                          "joint"))
-    parser.add_argument("--exclude", metavar="A,B", action="append",
+                                                          "joint, or with --units every "
+                                                          "sized joint"))
+    joints.add_argument("--exclude", metavar="A,B", action="append",
                         help=f"do not {doing} these joints; they still move and load the others "
                              "(overrides the motion file's [sizing] exclude)")
     parser.add_argument("--max-samples", type=int, metavar="N",
                         default=DEFAULT_MAX_SAMPLES,
                         help="refuse a trajectory of more samples than this, before allocating "
                              f"it (default {DEFAULT_MAX_SAMPLES:,}: an 8-hour log at 1 kHz)")
+    return joints
 
 
 def sizing_arguments(parser: argparse.ArgumentParser) -> None:
@@ -118,12 +130,19 @@ def sizing_arguments(parser: argparse.ArgumentParser) -> None:
                              f"(default {defaults.inertia_target:g})")
 
 
-def margin_argument(parser: argparse.ArgumentParser) -> None:
-    """--margin: the design margin every rule must keep."""
+def margin_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> None:
+    """--margin: the design margin every rule must keep.
+
+    Args:
+        parser: The command's parser.
+        motion: The command reads a motion file (whose ``[requirements] margin`` is the
+            default); a duty profile has none.
+    """
     parser.add_argument("--margin", type=float, metavar="M",
                         help="design margin: every rule must hold at (1 - M) of its limit, "
-                             "e.g. 0.2 for 80 %% (default: the motion file's [requirements] "
-                             "margin, else 0)")
+                             "e.g. 0.2 for 80 %% (default: " + (
+                                 "the motion file's [requirements] margin, else 0)" if motion
+                                 else "0)"))
 
 
 _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",

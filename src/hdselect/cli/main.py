@@ -143,6 +143,13 @@ def _one_line(text: str) -> str:
     return " ".join(text.split())
 
 
+def _command(commands, verbose: argparse.ArgumentParser, name: str,
+             summary: str) -> argparse.ArgumentParser:
+    """A command's parser; its one-line summary heads both ``hdselect --help`` and its own."""
+    return commands.add_parser(name, parents=[verbose], help=summary,
+                               description=f"{summary[:1].upper()}{summary[1:]}.")
+
+
 class _Parser(argparse.ArgumentParser):
     """Command-line errors as one line, like every other error, with exit status 2."""
 
@@ -178,29 +185,27 @@ def _parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND",
                                      parser_class=_Parser)
 
-    catalog = commands.add_parser("catalog", parents=[verbose],
-                                  help="list the gearhead catalog")
+    catalog = _command(commands, verbose, "catalog", "list the gearhead catalog")
     catalog_argument(catalog)
     catalog.add_argument("--units", choices=("si", "imperial"), default="si",
                          help="unit system of the table (default: si)")
     catalog.add_argument("--json", action="store_true", help="print JSON instead of a table")
     catalog.set_defaults(run=run_catalog)
 
-    duty = commands.add_parser(
-        "duty", parents=[verbose], help="size from a torque-speed profile (catalog method)")
+    duty = _command(commands, verbose, "duty",
+                    "size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     catalog_argument(duty)
-    margin_argument(duty)
+    margin_argument(duty, motion=False)
     json_argument(duty)
     duty.set_defaults(run=run_duty)
 
-    plan = commands.add_parser(
-        "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
+    plan = _command(commands, verbose, "plan", "plan a motion and write its torques (CSV)")
     plan_arguments(plan)
     plan.set_defaults(run=run_plan)
 
-    size = commands.add_parser(
-        "size", parents=[verbose], help="choose a gearhead for every joint of a robot")
+    size = _command(commands, verbose, "size",
+                    "choose a gearhead for every joint of a robot")
     robot_motion_arguments(size)
     sizing_arguments(size)
     json_argument(size)
@@ -212,12 +217,14 @@ def _parser() -> argparse.ArgumentParser:
                            "masses, binding rule and margin, then the totals ('-': to stdout)")
     size.set_defaults(run=run_size)
 
-    compare = commands.add_parser(
-        "compare", parents=[verbose], help="every unit against every joint, side by side")
-    robot_motion_arguments(compare)
+    compare = _command(commands, verbose, "compare",
+                       "every unit against every joint, side by side")
+    shown = robot_motion_arguments(compare)
+    shown.title = "joints sized (--joints, --exclude) and shown (--joint)"
     sizing_arguments(compare)
-    compare.add_argument("--joint", action="append", metavar="NAME",
-                         help="show only this joint (repeatable)")
+    shown.add_argument("--joint", action="append", metavar="JOINT",
+                       help="show only this joint's table, JSON and report (repeatable); "
+                            "the joints --joints names are all sized")
     json_argument(compare)
     compare.add_argument("--report", metavar="DIR",
                          help="write an HTML report of the joints shown into DIR ('-': the "
@@ -227,10 +234,10 @@ def _parser() -> argparse.ArgumentParser:
                               "--bom; '-': to stdout)")
     compare.set_defaults(run=run_compare)
 
-    fastest = commands.add_parser(
-        "fastest", parents=[verbose],
-        help="the shortest cycle of the motion's path that the gearheads allow")
-    robot_motion_arguments(fastest)
+    fastest = _command(commands, verbose, "fastest",
+                       "the shortest cycle of the motion's path that the gearheads allow")
+    compared = robot_motion_arguments(fastest)
+    compared.title = "joints sized (--joints, --exclude) and compared (--joint)"
     sizing_arguments(fastest)
     fastest.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
                          help="the unit of a joint, as `hdselect catalog` names it (repeatable; "
@@ -238,8 +245,9 @@ def _parser() -> argparse.ArgumentParser:
     fastest.add_argument("--compare-ratios", action="store_true",
                          help="the shortest cycle with every catalog unit on each joint, the "
                               "others fixed")
-    fastest.add_argument("--joint", action="append", metavar="NAME",
-                         help="with --compare-ratios: compare this joint only (repeatable)")
+    compared.add_argument("--joint", action="append", metavar="JOINT",
+                          help="with --compare-ratios: compare units on this joint only "
+                               "(repeatable); the joints --joints names are all sized")
     fastest.add_argument("--out", metavar="FILE",
                          help="CSV of the fastest trajectory: t, then q_, qd_, qdd_, tau_ per "
                               "sized joint (SI)")
@@ -249,9 +257,8 @@ def _parser() -> argparse.ArgumentParser:
     json_argument(fastest)
     fastest.set_defaults(run=run_fastest)
 
-    payload = commands.add_parser(
-        "max-payload", parents=[verbose],
-        help="the largest payload with a feasible unit on every joint")
+    payload = _command(commands, verbose, "max-payload",
+                       "the largest payload with a feasible unit on every joint")
     robot_motion_arguments(payload, mass=False)
     payload.add_argument("--task", action="append", metavar="NAME",
                          help="with a mix file: scale this task's payload (repeatable; default: "
@@ -264,23 +271,21 @@ def _parser() -> argparse.ArgumentParser:
     json_argument(payload)
     payload.set_defaults(run=run_max_payload)
 
-    spec = commands.add_parser(
-        "envelope", parents=[verbose],
-        help="a gearhead for every joint that holds for any motion within a spec")
+    spec = _command(commands, verbose, "envelope",
+                    "a gearhead for every joint that holds for any motion within a spec")
     envelope_arguments(spec)
     spec.set_defaults(run=run_envelope)
 
-    joints = commands.add_parser("joints", parents=[verbose],
-                                  help="list a robot's joints in the order lists use")
+    joints = _command(commands, verbose, "joints",
+                      "list a robot's joints in the order lists use")
     joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF, xacro or MJCF")
-    xacro_argument(joints)
+    xacro_argument(joints, motion=False)
     json_argument(joints)
     joints.set_defaults(run=run_joints)
 
-    init = commands.add_parser("init", parents=[verbose],
-                                help="write a starter motion file for a robot")
+    init = _command(commands, verbose, "init", "write a starter motion file for a robot")
     init.add_argument("robot", metavar="ROBOT", help="robot file, URDF, xacro or MJCF")
-    xacro_argument(init)
+    xacro_argument(init, motion=False)
     init.add_argument("--out", metavar="FILE",
                       help="the motion file to write (default or '-': print it); an existing "
                            "file is never overwritten")
@@ -289,8 +294,7 @@ def _parser() -> argparse.ArgumentParser:
                            "mounting by inverse kinematics), not as joint positions")
     init.set_defaults(run=run_init)
 
-    study = commands.add_parser("study", parents=[verbose],
-                                help="run every case of a design study (TOML)")
+    study = _command(commands, verbose, "study", "run every case of a design study (TOML)")
     study.add_argument("study", metavar="STUDY", help="study file (TOML)")
     study.add_argument("--out", metavar="CSV", required=True,
                        help="rows, one per case and joint, appended as cases complete; a JSON "
