@@ -400,8 +400,9 @@ def _provenance(origin: Provenance) -> str:
         run = ("<p>Made through the Python API: there is no command line. The case below is "
                "everything it was given.</p>")
     else:
-        run = (f"<p>Re-run it in <code>{esc(origin.cwd)}</code> with the files below "
-               f"(same hashes):</p><pre id=command>{esc(shlex.join(origin.command))}</pre>")
+        run = ("<p>Re-run it in the directory it ran in (the files' paths below are "
+               "relative to it), with the files below (same hashes):</p>"
+               f"<pre id=command>{esc(shlex.join(origin.command))}</pre>")
     software = ", ".join(f"{name} {version}" for name, version in origin.software)
     files = table(["role", "file", "bytes", "SHA-256"], [
         [esc(f.role), f"<code>{esc(f.path)}</code>", "-" if f.size is None else f"{f.size:,}",
