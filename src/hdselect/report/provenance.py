@@ -38,7 +38,8 @@ class InputFile:
     """One file a result was computed from.
 
     Attributes:
-        role: What it is: ``robot``, ``motion``, ``samples``, ``catalog`` or ``motors``.
+        role: What it is: ``robot``, ``mix``, ``motion``, ``samples``, ``catalog``,
+            ``catalog (built in)`` or ``motors``.
         path: The path relative to the working directory (the built-in catalog's:
             ``hdselect/...``, relative to the installed package's folder).
         sha256: Hex SHA-256 of its content, or an explanation if it cannot be read now.
