@@ -97,6 +97,7 @@ def run_plan(args: argparse.Namespace) -> int:
     if args.waypoints and not len(motion.waypoints):
         raise InputError("a logged trajectory (planner \"samples\") has no waypoints",
                          field="--waypoints")
+    units = _units_case(args, robot, motion) if carrying else None  # checked before the work
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")
         figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
@@ -105,7 +106,8 @@ def run_plan(args: argparse.Namespace) -> int:
             else None
         planned = plan_motion(robot, motion, max_samples=max_samples)
         motion, trajectory = planned.motion, planned.trajectory
-        check = _checked_units(args, robot, motion, trajectory) if carrying else None
+        check = None if units is None else _checked_units(args, units, robot, motion,
+                                                          trajectory)
         if check is None:
             tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
             write_trajectory_csv(out, trajectory, tau, robot.joint_names)
@@ -137,22 +139,27 @@ def run_plan(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _checked_units(args: argparse.Namespace, robot, motion, trajectory):
+def _units_case(args: argparse.Namespace, robot, motion):
+    """The units given (``--units``), the catalog, the options and the motors, checked."""
+    from hdselect.catalog.catalogfile import load_catalog
+
+    return (unit_pairs(args.units or []), load_catalog(args.catalog),
+            sizing_options_of(args, motion), motors_of(args, robot, motion))
+
+
+def _checked_units(args: argparse.Namespace, units, robot, motion, trajectory):
     """The units of ``--units`` and their motors checked along `trajectory`.
 
     The sized joints not given get the sizing's selection; the check's torques carry the
     units' and motors' masses as `size`'s do.
     """
-    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.codesign.fastest_cycle import resolve_case
     from hdselect.sizing.core import check_units
 
-    motors = motors_of(args, robot, motion)
-    options = sizing_options_of(args, motion)
+    given, catalog, options, motors = units
     try:
-        chosen, _, paired = resolve_case(robot, motion, unit_pairs(args.units or []),
-                                         load_catalog(args.catalog), options, selection=False,
-                                         trajectory=trajectory, motors=motors)
+        chosen, _, paired = resolve_case(robot, motion, given, catalog, options,
+                                         selection=False, trajectory=trajectory, motors=motors)
     except InputError as err:
         raise flagged(err, args) from err
     return check_units(robot, trajectory, chosen, options, motors=paired)
