@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import subprocess
@@ -322,3 +323,43 @@ def test_duty_error_in_a_real_process(tmp_path: Path) -> None:
     assert completed.returncode == 2
     assert completed.stdout == ""
     assert_one_error_line(completed.stderr, str(profile), "phase[0].time", "finite")
+
+
+# --- the help texts (issue 27) -----------------------------------------------------------------
+
+def help_text(capsys: pytest.CaptureFixture[str], *argv: str) -> str:
+    with pytest.raises(SystemExit):
+        main([*argv, "--help"])
+    return capsys.readouterr().out
+
+
+def test_every_command_says_in_one_line_what_it_does(capsys: pytest.CaptureFixture[str]) -> None:
+    from hdselect.cli.main import _parser
+
+    commands = next(a for a in _parser()._actions
+                    if isinstance(a, argparse._SubParsersAction))
+    listing = " ".join(help_text(capsys).split())
+    for name, parser in commands.choices.items():
+        summary = next(a.help for a in commands._choices_actions if a.dest == name)
+        assert summary and f"{name} {summary}" in listing, name
+        assert parser.description == f"{summary[:1].upper()}{summary[1:]}.", name
+        assert parser.description in " ".join(help_text(capsys, name).split()), name
+
+
+def test_help_promises_only_what_the_input_takes(capsys: pytest.CaptureFixture[str]) -> None:
+    duty = " ".join(help_text(capsys, "duty").split())
+    assert "[requirements]" not in duty and "(default: 0)" in duty  # a profile has no margin
+    for command in ("joints", "init"):  # a robot file alone: no motion file, no xacro_args
+        text = help_text(capsys, command)
+        assert "--xacro-arg" in text and "xacro_args" not in text
+    assert "overrides the motion file's xacro_args" in " ".join(help_text(capsys, "size").split())
+
+
+@pytest.mark.parametrize(("command", "joint"), [("compare", "shown"), ("fastest", "compared")])
+def test_joints_sized_and_the_joint_shown_are_told_apart(capsys: pytest.CaptureFixture[str],
+                                                         command: str, joint: str) -> None:
+    text = help_text(capsys, command)
+    group = text[text.index(f"joints sized (--joints, --exclude) and {joint} (--joint):"):]
+    group = " ".join(group.split("\n\n")[0].split())
+    assert "--joints A,B size only these joints" in group and "--joint JOINT" in group
+    assert "the joints --joints names are all sized" in group

@@ -567,3 +567,49 @@ def test_motor_data_of_the_motion_file_is_taken_not_left_out(tmp_path):
     assert set(fastest(robot, loaded).motors) == set(robot.sized_joints)
     selection = max_payload(robot, loaded).selection
     assert selection is not None and set(selection.motors) == set(robot.sized_joints)
+
+
+MOVE = """\
+robot = "{robot}"
+planner = "ruckig"
+angle_unit = "{angle}"
+dt = 0.002
+[limits]
+velocity = {v}
+acceleration = {a}
+jerk = {j}
+[[waypoint]]
+q = {{shoulder = {q0}, elbow = {q1}}}
+dwell = 0.2
+[[waypoint]]
+q = {{shoulder = {q2}, elbow = {q3}}}
+dwell = 0.2
+"""
+"""planar2's one move and back, its angles in `angle`."""
+
+
+@pytest.mark.parametrize("angle", ["deg", "rad"])
+def test_fastest_shows_speed_limits_in_the_motion_files_angle_unit(capsys, tmp_path, angle):
+    """Issue 27: the table speaks the file's unit; its numbers are the JSON's (rad/s) in it."""
+    per_deg = 1.0 if angle == "deg" else math.pi / 180
+    motion = tmp_path / "move.toml"
+    motion.write_text(MOVE.format(robot=REPO / "robots" / "planar2.urdf", angle=angle,
+                                  v=100 * per_deg, a=900 * per_deg, j=9000 * per_deg,
+                                  q0=40 * per_deg, q1=-80 * per_deg, q2=-30 * per_deg,
+                                  q3=20 * per_deg))
+    assert main(["fastest", str(motion), "--json", str(tmp_path / "f.json")]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"speed limit [{angle}/s, the motion file's angle unit]" in text
+    document = json.loads((tmp_path / "f.json").read_text())
+    for joint in document["joints"]:
+        shown = joint["velocity_limit"] * (180 / math.pi if angle == "deg" else 1.0)
+        assert f"{shown:.3g} {joint['velocity_limit_source']}" in text, joint
+    assert "100 motion" in text if angle == "deg" else "1.75 motion" in text  # the file's own
+
+
+def test_compare_says_nothing_is_selected_when_no_unit_passes(capsys, tmp_path):
+    assert main(["compare", str(FAST_PICK), "--joint", "elbow", "--efficiency", "0.5",
+                 "--life-hours", "1e9"]) == 1
+    text = " ".join(capsys.readouterr().out.split())
+    assert "Nothing is selected: no unit passes every rule." in text
+    assert "▶ selected" not in text and "▶" not in text

@@ -686,9 +686,7 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
     for option in draw(st.lists(st.sampled_from(list(OPTIONS)), max_size=4, unique=True)):
         if command == "plan" and option not in ("--payload", "--payload-com", "--payload-frame",
                                                 "--mounting", "--max-samples", "--joints",
-                                                "--exclude"):
-            continue
-        if command == "plan" and option == "--motor-catalog":
+                                                "--exclude", "--motor-catalog", "--motor-mass"):
             continue
         if option == "--payload-frame":
             values = [draw(st.sampled_from(["tool", "link1", "base_link", "nowhere", ""]))]
@@ -707,6 +705,10 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
         else:
             values = [draw(option_value) for _ in range(OPTIONS[option])]
         argv += [option, *values]
+    if command == "plan" and draw(st.booleans()):  # the units' masses in the torques
+        argv += [*draw(st.sampled_from([[], ["--no-mass-coupling"]])), "--units",
+                 draw(st.sampled_from(["shoulder=PSA-14-100", "table=PSA-14-50", "pan=PSA-08-80",
+                                       "shoulder=", "elbow=PSA-99", "=PSA-14-100", "nope"]))]
     if command in ("size", "compare") and draw(st.booleans()):
         path = draw(output_path)
         argv += ["--json", path]

@@ -83,7 +83,12 @@ EFFECTS = {
              ("--joints", ["shoulder"], ["--plot", "p.png"]),  # the joints plotted
              ("--max-samples", ["100"]), ("--plot", ["p.png"]),
              ("--waypoints", ["w.csv"]),  # the joint path as solved (here the file's)
-             ("--line-errors", ["l.csv"])],  # refused: the motion has no straight line
+             ("--line-errors", ["l.csv"]),  # refused: the motion has no straight line
+             ("--units", ["shoulder=PSA-14-100"]),  # the units' masses in tau_
+             ("--motor-catalog", ["motors/example_motors.toml"]),  # and the motors'
+             ("--catalog", ["acme.toml"]),  # refused without --units; test_size_cli: its id
+             ("--motor-mass", ["1.0"], ["--units", "shoulder=PSA-14-100"]),
+             ("--no-mass-coupling", [], ["--units", "shoulder=PSA-14-100"])],
 }
 """Per command, each option and its value."""
 

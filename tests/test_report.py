@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import math
+import os
 import re
 from pathlib import Path
 
@@ -291,3 +292,41 @@ def test_pair_compare_table_keeps_every_pair_and_verdict_whole(overloaded_pairs,
         failing = sum(not c.checks[name].ok for c in joint.candidates
                       for name in (c.gearhead_binding, *MOTOR_CHECKS))
         assert text.count("✗") == failing + 1  # every failing rule marked, and the legend
+
+
+def test_a_report_names_no_absolute_path_of_the_machine(tmp_path, monkeypatch, capsys):
+    """Issue 27: the shipped example named the checkout it was made in. Made in one
+    directory from relative paths, the report names its files relative to it, the built-in
+    catalog relative to the package."""
+    import sys
+
+    work = tmp_path / "project"
+    work.mkdir()
+    for name in ("robots", "trajectories"):
+        (work / name).symlink_to(REPO / name)
+    monkeypatch.chdir(work)
+    assert main(["size", "trajectories/planar2_pick_place.toml", "--report", "out"]) == 0
+    capsys.readouterr()
+    page = re.sub(r"data:image/png;base64,[A-Za-z0-9+/=]+", "",  # figures: no paths
+                  (work / "out" / "index.html").read_text(encoding="utf-8"))
+    machine = {str(p) for p in (tmp_path, tmp_path.resolve(), REPO, REPO.parent, Path.home(),
+                                Path(sys.prefix), Path(hdselect.__file__).resolve().parent)}
+    assert [place for place in machine if place in page] == []
+    assert "<code>trajectories/planar2_pick_place.toml</code>" in page
+    assert "<code>trajectories/../robots/planar2.urdf</code>" in page
+    assert ">catalog (built in)<" in page
+    assert "<code>hdselect/catalog/data/psa_g.toml</code>" in page
+    assert "Re-run it in the directory it ran in (the files' paths below are relative" in page
+    assert "project" not in page  # nor the directory's name
+
+
+def test_a_file_given_by_an_absolute_path_is_named_relative_to_the_directory(tmp_path):
+    from hdselect.report.provenance import provenance
+
+    result = hdselect.size(None, REPO / "trajectories" / "planar2_pick_place.toml")
+    origin = provenance(result, ["hdselect", "size"], cwd=tmp_path)
+    motion = next(f for f in origin.files if f.role == "motion")
+    assert motion.path == os.path.relpath(REPO / "trajectories" / "planar2_pick_place.toml",
+                                          tmp_path)
+    assert not any(Path(f.path).is_absolute() for f in origin.files)
+    assert origin.cwd == tmp_path.name

@@ -20,9 +20,10 @@ BENCHTOP = ROOT / "trajectories" / "benchtop6_pick_place.toml"
 
 
 def workdir(tmp_path: Path) -> Path:
-    """A directory where the document's relative paths resolve and outputs land."""
+    """A directory where the document's relative paths resolve and outputs land (``out/``)."""
     for name in ("robots", "trajectories", "motors"):
         (tmp_path / name).symlink_to(ROOT / name)
+    (tmp_path / "out").mkdir()
     return tmp_path
 
 
@@ -51,7 +52,11 @@ def test_the_report_command_writes_the_summary_with_the_margin(tmp_path, monkeyp
     (block,) = re.findall(r"```sh\n(.*?)```", DOC, flags=re.S)
     args = shlex.split(block.strip())
     assert main(args[1:]) == 0
-    page = (tmp_path / "review" / "index.html").read_text(encoding="utf-8")
+    # issue 27: into out/, never into the repository's root
+    assert [arg for arg in args if "review" in arg] == ["out/review"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["motors", "out", "robots",
+                                                          "trajectories"]
+    page = (tmp_path / "out" / "review" / "index.html").read_text(encoding="utf-8")
     summary = page[page.index("<section id=summary"):page.index("</section>")]
     assert "20 %: every rule must hold at up to 80 % of its limit" in summary
     assert "Warnings that change a decision" in summary and "Parts list" in page

@@ -16,9 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from hdselect.catalog.motors import load_motors
 from hdselect.cli.main import main
 from hdselect.motion.case import load_case
-from test_dynamics import J_TABLE, L2, REPO, composite_link2, two_link
+from test_dynamics import J_TABLE, L1, L2, REPO, G, composite_link2, two_link
 from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
@@ -256,6 +257,95 @@ def test_plan_csv_lists_every_joint_the_prismatic_one_in_newtons(capsys, tmp_pat
                                rtol=1e-6)
 
 
+MOTOR_FILE = REPO / "motors" / "example_motors.toml"
+
+
+@pytest.mark.parametrize("motors", [(), ("--motor-catalog", MOTOR_FILE)])
+def test_plan_with_units_writes_the_torques_size_computes(capsys, tmp_path, motors):
+    """Issue 27: plan --units carries the units' (and motors') masses, as size does."""
+    from hdselect import size
+
+    result = size(None, BENCHTOP6, motors=None if not motors else {
+        name: load_motors(MOTOR_FILE) for name in load_case(BENCHTOP6)[0].sized_joints})
+    chosen = {j.name: j.selected.unit.id for j in result.joints}
+    pairs = [f"{name}={unit}" for name, unit in chosen.items()]
+    status, out, err = run(capsys, "plan", BENCHTOP6, "--out", tmp_path / "u.csv",
+                           *[a for pair in pairs for a in ("--units", pair)], *motors)
+    assert status == 0, err
+    assert "as size computes it" in out and f"shoulder_lift {chosen['shoulder_lift']}" in out
+    header, data = read_csv(tmp_path / "u.csv")
+    np.testing.assert_allclose(data[:, 0], result.trajectory.t, rtol=0, atol=1e-9)
+    for joint in result.joints:
+        np.testing.assert_allclose(data[:, header.index(f"tau_{joint.name}")], joint.torque,
+                                   rtol=1e-9, atol=1e-9)
+    # without units: the robot alone, a smaller holding torque at the shoulder
+    status, out, _ = run(capsys, "plan", BENCHTOP6, "--out", tmp_path / "bare.csv")
+    assert status == 0 and "without gearhead or motor masses" in out
+    bare_header, bare = read_csv(tmp_path / "bare.csv")
+    lift = result.joints[[j.name for j in result.joints].index("shoulder_lift")]
+    bare_lift = np.abs(bare[:, bare_header.index("tau_shoulder_lift")]).max()
+    assert bare_lift < np.abs(lift.torque).max() - 1.0
+    if motors:  # --motor-catalog alone: the units and motors size selects
+        status, _, err = run(capsys, "plan", BENCHTOP6, "--out", tmp_path / "m.csv", *motors)
+        assert status == 0, err
+        header, data = read_csv(tmp_path / "m.csv")
+        for joint in result.joints:
+            np.testing.assert_allclose(data[:, header.index(f"tau_{joint.name}")],
+                                       joint.torque, rtol=1e-9, atol=1e-9)
+
+
+def test_plan_with_units_but_no_mass_coupling_is_the_robot_alone(capsys, tmp_path):
+    run(capsys, "plan", PLANAR2_MOTION, "--out", tmp_path / "bare.csv")
+    status, out, err = run(capsys, "plan", PLANAR2_MOTION, "--out", tmp_path / "off.csv",
+                           "--units", "shoulder=PSA-14-100", "--no-mass-coupling")
+    assert status == 0, err
+    assert "--no-mass-coupling" in out
+    np.testing.assert_array_equal(read_csv(tmp_path / "off.csv")[1],
+                                  read_csv(tmp_path / "bare.csv")[1])
+
+
+def test_plan_units_of_a_catalog_file_carry_their_mass(capsys, tmp_path):
+    """A heavier elbow unit from --catalog: the shoulder carries m g r more (the elbow's
+    unit sits on the elbow's axis, so its weight acts at the shoulder's link length)."""
+    catalog = tmp_path / "heavy.toml"
+    catalog.write_text('series = "HVY"\n[[unit]]\nsize = 20\nratio = 100\n'
+                       "rated_torque_nm = 40\nrepeated_torque_nm = 50\n"
+                       "max_input_speed_rpm = 4000\ninput_inertia_kg_cm2 = 0.2\n"
+                       "mass_kg = 2.5\n")
+    tau, q = {}, None
+    for unit, extra in (("PSA-08-100", ()), ("HVY-20-100", ("--catalog", catalog))):
+        out_file = tmp_path / f"{unit}.csv"
+        status, _, err = run(capsys, "plan", PLANAR2_MOTION, "--out", out_file, "--units",
+                             "shoulder=PSA-14-100", "--units", f"elbow={unit}", *extra)
+        assert status == 0, err
+        header, data = read_csv(out_file)
+        tau[unit] = data[:, header.index("tau_shoulder")]
+        rest = np.all(data[:, [header.index(f"{k}_{j}") for k in ("qd", "qdd")
+                               for j in ("shoulder", "elbow")]] == 0, axis=1)
+        q = data[:, header.index("q_shoulder")]
+    status, _, err = run(capsys, "plan", PLANAR2_MOTION, "--out", tmp_path / "x.csv",
+                         "--units", "elbow=HVY-20-100")
+    assert status == 2 and "unknown unit 'HVY-20-100'" in err
+    # at rest, by hand: 2.2 kg more (2.5 kg against the catalog's 0.3 kg) at L1 from the axis
+    np.testing.assert_allclose((tau["HVY-20-100"] - tau["PSA-08-100"])[rest],
+                               (2.5 - 0.3) * G * L1 * np.cos(q[rest]), rtol=1e-8, atol=1e-8)
+    assert rest.sum() > 100
+
+
+@pytest.mark.parametrize(("argv", "says"), [
+    (("--motor-mass", "1"), ("--motor-mass", "only with --units")),
+    (("--no-mass-coupling",), ("--no-mass-coupling", "only with --units")),
+    (("--units", "shoulder=PSA-99"), ("--units", "unknown unit 'PSA-99'")),
+    (("--units", "wrist=PSA-14-100"), ("--units", "wrist")),
+    (("--units", "shoulder"), ("--units", "JOINT=UNIT")),
+])
+def test_plan_refuses_bad_units_in_one_line(capsys, tmp_path, argv, says):
+    status, _, err = run(capsys, "plan", PLANAR2_MOTION, "--out", tmp_path / "x.csv", *argv)
+    assert status == 2
+    assert_one_line_error(err, *says)
+    assert files_in(tmp_path) == set()
+
+
 def test_failing_plan_leaves_no_csv(capsys, tmp_path):
     motion = slow_planar2_motion(tmp_path / "outside.toml", (0, 0), (150, 0))
     out_file = tmp_path / "never.csv"
@@ -411,7 +501,7 @@ def test_plan_says_what_it_planned_and_wrote(capsys, tmp_path):
     text = " ".join(out.split())
     assert "not sized: lift (prismatic" in text
     assert (f"wrote {out_file}: t, then q_, qd_, qdd_, tau_ of shoulder, elbow, lift, wrist "
-            "(SI)") in text
+            "(SI); tau_ without gearhead or motor masses (--units adds them)") in text
     assert f"wrote {plot}" in text
 
 

@@ -13,6 +13,9 @@ import logging
 import signal
 import sys
 
+EXIT_INTERRUPTED, EXIT_TERMINATED = 130, 143
+"""Exit statuses of a run ended by Ctrl-C (SIGINT) and by SIGTERM: 128 + the signal."""
+
 
 class Terminated(BaseException):
     """SIGTERM arrived: unwinds like Ctrl-C, so every temporary is removed on the way out."""

@@ -4,12 +4,19 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
 from typing import Any
 
 from hdselect.base.errors import InputError
-from hdselect.cli.inputs import input_files, sizing_case
-from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
+from hdselect.cli.inputs import flagged, input_files, sizing_case, unit_pairs
+from hdselect.cli.output import (
+    EXIT_NO_FIT,
+    EXIT_OK,
+    gear_torques,
+    rendered,
+    say_written,
+    to_stdout,
+    torques_note,
+)
 
 
 def run_fastest(args: argparse.Namespace) -> int:
@@ -27,7 +34,7 @@ def run_fastest(args: argparse.Namespace) -> int:
     robot, motion, units, options, motors = sizing_case(args)
     if isinstance(motion, Mix):
         return _mix_fastest(args, robot, motion, units, options, motors)
-    given = _unit_pairs(args.units)
+    given = unit_pairs(args.units)
     with Outputs(_inputs(args, robot, motion)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         csv_file = outputs.file(args.out, "--out") if args.out is not None else None
@@ -40,7 +47,7 @@ def run_fastest(args: argparse.Namespace) -> int:
             else:
                 result = fastest(robot, motion, given, options, catalog=units, motors=motors)
         except InputError as err:
-            raise _flagged(err, args) from err
+            raise flagged(err, args) from err
         if figure is not None:
             from hdselect.report.codesign_figures import write_fastest_png, write_ratios_png
 
@@ -49,7 +56,7 @@ def run_fastest(args: argparse.Namespace) -> int:
             else:
                 write_fastest_png(figure, result)
         if csv_file is not None:
-            write_trajectory_csv(csv_file, result.trajectory, _gear_torques(result),
+            write_trajectory_csv(csv_file, result.trajectory, gear_torques(result.check),
                                  result.robot.sized_joints)
         if json_file is not None:
             write_json(json_file, ratios_json(comparison) if args.compare_ratios
@@ -66,7 +73,7 @@ def run_fastest(args: argparse.Namespace) -> int:
     sys.stdout.write(text)
     say_written([
         (args.out, f"t, then q_, qd_, qdd_, tau_ of {', '.join(result.robot.sized_joints)} "
-                   "(SI) along the fastest cycle"),
+                   f"(SI) along the fastest cycle; {torques_note(result.check)}"),
         (args.plot, "the shortest cycle against the unit on each joint compared"
          if args.compare_ratios else "speed and torque of each sized joint against its limits"),
         (args.json, None)], args)
@@ -90,7 +97,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
         return _mix_max_payload(args, robot, motion, units, options, motors)
     if args.task:
         raise InputError("only for a mix file: its tasks whose payload scales", field="--task")
-    given = _unit_pairs(args.units)
+    given = unit_pairs(args.units)
     with Outputs(_inputs(args, robot, motion)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         try:
@@ -101,7 +108,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
             flag = {"payload.frame": "--payload-frame", "payload.com": "--payload-com"}.get(
                 str(err.field))
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
-                raise _flagged(err, args) from err
+                raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
         if json_file is not None:
             write_json(json_file, max_payload_json(result, motion))
@@ -119,38 +126,6 @@ def _inputs(args: argparse.Namespace, robot, motion) -> list:
     """Every file the command reads: no output may replace one."""
     return [*input_files(robot, motion), *args.catalog,
             *([args.motor_catalog] if args.motor_catalog else [])]
-
-
-def _flagged(err: InputError, args: argparse.Namespace) -> InputError:
-    """An error of the library with the command line's option as its field."""
-    field = str(err.field)
-    flag = {"units": "--units", "joint": "--joint", "joints": "--joint"}.get(field)
-    if field.startswith("motors") and args.motor_catalog:
-        flag = "--motor-catalog"
-    return InputError(err.reason, path=err.path, field=flag or err.field)
-
-
-def _gear_torques(result):
-    """The output torque of every joint (n, dof), as the gears carry it; 0 where unsized."""
-    import numpy as np
-
-    tau = np.zeros_like(result.trajectory.q)
-    for joint in result.check.joints:
-        tau[:, result.robot.joint_index(joint.name)] = joint.torque
-    return tau
-
-
-def _unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
-    """``JOINT=UNIT`` pairs as a dict; each joint once."""
-    out: dict[str, str] = {}
-    for pair in pairs:
-        joint, sep, unit = pair.partition("=")
-        if not sep or not joint.strip() or not unit.strip():
-            raise InputError(f"expected JOINT=UNIT, got {pair!r}", field="--units")
-        if joint.strip() in out:
-            raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
-        out[joint.strip()] = unit.strip()
-    return out
 
 
 def _mix_max_payload(args: argparse.Namespace, robot, mix, units, options, motors) -> int:
@@ -194,9 +169,9 @@ def _mix_fastest(args: argparse.Namespace, robot, mix, units, options, motors) -
     with Outputs(_inputs(args, robot, mix)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         try:
-            result = mix_fastest(robot, mix, _unit_pairs(args.units), options, catalog=units)
+            result = mix_fastest(robot, mix, unit_pairs(args.units), options, catalog=units)
         except InputError as err:
-            raise _flagged(err, args) from err
+            raise flagged(err, args) from err
         if json_file is not None:
             write_json(json_file, mix_fastest_json(result))
         text = "" if to_stdout(args) else rendered(

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
@@ -16,8 +16,8 @@ from hdselect.base.errors import InputError
 from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
 
 
-def catalog_argument(parser: argparse.ArgumentParser) -> None:
-    """--catalog: extra catalog files."""
+def catalog_argument(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
+    """--catalog: extra catalog files (on a parser, or on one of its groups)."""
     parser.add_argument("--catalog", metavar="FILE", action="append", default=[],
                         help="add the units of a catalog file (TOML; repeatable)")
 
@@ -46,21 +46,30 @@ def timeout_of(args: argparse.Namespace) -> float:
     return timeout_seconds(args.timeout, "--timeout")
 
 
-def xacro_argument(parser: argparse.ArgumentParser) -> None:
-    """--xacro-arg NAME:=VALUE (repeatable): a .xacro robot's arguments."""
+def xacro_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> None:
+    """--xacro-arg NAME:=VALUE (repeatable): a .xacro robot's arguments.
+
+    Args:
+        parser: The command's parser.
+        motion: The command reads a motion file (whose ``xacro_args`` the flag overrides).
+    """
     parser.add_argument("--xacro-arg", metavar="NAME:=VALUE", action="append",
                         dest="xacro_arg", help="an argument of a .xacro robot file "
-                        "(repeatable; overrides the motion file's xacro_args)")
+                        "(repeatable" + ("; overrides the motion file's xacro_args)" if motion
+                                         else ")"))
 
 
 def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True,
-                           sizes: bool = True) -> None:
+                           sizes: bool = True) -> argparse._ArgumentGroup:
     """ROBOT, MOTION and the flags that change the case: payload, mounting, joints, samples.
 
     Args:
         parser: The command's parser.
         mass: Offer --payload (max-payload finds the mass instead).
         sizes: The command sizes joints (plan only draws them).
+
+    Returns:
+        The group of --joints and --exclude, for a command's --joint (the joints shown).
     """
     parser.add_argument("robot", nargs="?", metavar="ROBOT",
                         help="robot file, URDF, xacro or MJCF (default: the motion file's "
@@ -81,17 +90,20 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
     doing = "size" if sizes else "plot"
-    parser.add_argument("--joints", metavar="A,B", action="append",
+    joints = parser.add_argument_group(f"joints {doing}d" if sizes else "joints plotted")
+    joints.add_argument("--joints", metavar="A,B", action="append",
                         help=f"{doing} only these joints (comma-separated; overrides the motion "
                              "file's [sizing] joints)" + ("" if sizes else "; the CSV has every "
-                                                          "joint"))
-    parser.add_argument("--exclude", metavar="A,B", action="append",
+                                                          "joint, or with --units every "
+                                                          "sized joint"))
+    joints.add_argument("--exclude", metavar="A,B", action="append",
                         help=f"do not {doing} these joints; they still move and load the others "
                              "(overrides the motion file's [sizing] exclude)")
     parser.add_argument("--max-samples", type=int, metavar="N",
                         default=DEFAULT_MAX_SAMPLES,
                         help="refuse a trajectory of more samples than this, before allocating "
                              f"it (default {DEFAULT_MAX_SAMPLES:,}: an 8-hour log at 1 kHz)")
+    return joints
 
 
 def sizing_arguments(parser: argparse.ArgumentParser) -> None:
@@ -138,12 +150,19 @@ def sizing_arguments(parser: argparse.ArgumentParser) -> None:
                              f"(default {defaults.inertia_target:g})")
 
 
-def margin_argument(parser: argparse.ArgumentParser) -> None:
-    """--margin: the design margin every rule must keep."""
+def margin_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> None:
+    """--margin: the design margin every rule must keep.
+
+    Args:
+        parser: The command's parser.
+        motion: The command reads a motion file (whose ``[requirements] margin`` is the
+            default); a duty profile has none.
+    """
     parser.add_argument("--margin", type=float, metavar="M",
                         help="design margin: every rule must hold at (1 - M) of its limit, "
-                             "e.g. 0.2 for 80 %% (default: the motion file's [requirements] "
-                             "margin, else 0)")
+                             "e.g. 0.2 for 80 %% (default: " + (
+                                 "the motion file's [requirements] margin, else 0)" if motion
+                                 else "0)"))
 
 
 _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
@@ -334,6 +353,28 @@ def _robot_and_mix(args: argparse.Namespace):
         raise
 
 
+def unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
+    """``JOINT=UNIT`` pairs as a dict; each joint once."""
+    out: dict[str, str] = {}
+    for pair in pairs:
+        joint, sep, unit = pair.partition("=")
+        if not sep or not joint.strip() or not unit.strip():
+            raise InputError(f"expected JOINT=UNIT, got {pair!r}", field="--units")
+        if joint.strip() in out:
+            raise InputError(f"joint '{joint.strip()}' given twice", field="--units")
+        out[joint.strip()] = unit.strip()
+    return out
+
+
+def flagged(err: InputError, args: argparse.Namespace) -> InputError:
+    """An error of the library with the command line's option as its field."""
+    field = str(err.field)
+    flag = {"units": "--units", "joint": "--joint", "joints": "--joint"}.get(field)
+    if field.startswith("motors") and args.motor_catalog:
+        flag = "--motor-catalog"
+    return InputError(err.reason, path=err.path, field=flag or err.field)
+
+
 def max_samples_of(args: argparse.Namespace) -> int:
     """The --max-samples flag, checked."""
     from hdselect.base.bounds import check_max_samples
@@ -344,12 +385,26 @@ def max_samples_of(args: argparse.Namespace) -> int:
 def sizing_case(args: argparse.Namespace):
     """The robot, the motion, the catalog, the validated options and the motors."""
     from hdselect.catalog.catalogfile import load_catalog
+    from hdselect.motion.mixfile import Mix
+
+    robot, motion = robot_and_motion(args)
+    motors = motors_of(args, robot, motion)
+    options = sizing_options_of(args, motion)
+    extra = list(motion.catalog) if isinstance(motion, Mix) else []
+    return robot, motion, load_catalog([*extra, *args.catalog]), options, motors
+
+
+def motors_of(args: argparse.Namespace, robot, motion) -> dict:
+    """The candidate motors per sized joint: ``--motor-catalog``'s, else the motion file's.
+
+    Raises:
+        InputError: ``--motor-inertia`` or ``--motor-mass`` is given beside the motors.
+    """
     from hdselect.catalog.motors import load_motors
     from hdselect.motion.mixfile import Mix
     from hdselect.sizing.core import motion_motors
     from hdselect.sizing.duty import mix_motors
 
-    robot, motion = robot_and_motion(args)
     if args.motor_catalog:
         catalog = load_motors(args.motor_catalog)
         motors = {name: catalog for name in robot.sized_joints}
@@ -358,16 +413,13 @@ def sizing_case(args: argparse.Namespace):
     else:
         motors = motion_motors(robot, motion)
     if motors:
-        for value, flag in ((args.motor_inertia, "--motor-inertia"),
-                            (args.motor_mass, "--motor-mass")):
-            if value is not None:
+        for flag in ("--motor-inertia", "--motor-mass"):
+            if getattr(args, flag[2:].replace("-", "_"), None) is not None:
                 given = ("--motor-catalog" if args.motor_catalog
                          else f"[motor] of {motion.path.name}")
                 raise InputError(f"the motors come from {given}, with their own rotor inertia "
                                  "and mass; drop this option", field=flag)
-    options = sizing_options_of(args, motion)
-    extra = list(motion.catalog) if isinstance(motion, Mix) else []
-    return robot, motion, load_catalog([*extra, *args.catalog]), options, motors
+    return motors
 
 
 def planned_and_sized(robot, motion, units, options, motors):
@@ -391,18 +443,17 @@ def planned_and_sized(robot, motion, units, options, motors):
 def sizing_options_of(args: argparse.Namespace, motion):
     """The validated options of the sizing flags, the motion file's where a flag is absent.
 
+    A command takes the flags it offers (``plan``: the few its torques depend on).
+
     For a mix: the mix file's, else what its motions agree on (`hdselect.sizing.duty`).
     """
     from hdselect.motion.mixfile import Mix
     from hdselect.sizing.duty import mix_options
     from hdselect.sizing.options import options_for
 
-    given = {"stop_time": args.stop_time, "efficiency": args.efficiency,
-             "rotor_inertia": args.motor_inertia, "motor_mass": args.motor_mass,
-             "mass_coupling": not args.no_mass_coupling, "prefer": args.prefer,
-             "life_hours": args.life_hours, "life_basis": args.life_basis,
-             "max_samples": args.max_samples, "margin": args.margin,
-             "max_inertia_ratio": args.max_inertia_ratio, "inertia_target": args.inertia_target}
+    given = {name: getattr(args, flag[2:].replace("-", "_"))
+             for name, flag in _OPTION_FLAGS.items() if hasattr(args, flag[2:].replace("-", "_"))}
+    given["mass_coupling"] = not args.no_mass_coupling
     if isinstance(motion, Mix) and not args.no_mass_coupling:
         given["mass_coupling"] = None  # the mix file's, else on
     try:

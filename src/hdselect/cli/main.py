@@ -1,4 +1,9 @@
-"""Command line: a thin layer over the public API; it formats, it does not compute."""
+"""Command line: a thin layer over the public API; it formats, it does not compute.
+
+`main` makes SIGTERM unwind like Ctrl-C before it imports anything heavy (every command's
+module, and through them numpy and Pinocchio, load after), so that a signal at any moment
+of a run ends it with one line and status 130 or 143, and no output written.
+"""
 
 from __future__ import annotations
 
@@ -7,30 +12,17 @@ import logging
 import os
 import signal
 import sys
-import traceback
-import warnings
 from collections.abc import Sequence
 
 from hdselect import __version__
-from hdselect.base.errors import HdselectError
-from hdselect.base.session import HeldLog, Terminated, handle_sigterm, tolerate_encoding
-from hdselect.cli.catalog import run_catalog, run_duty
-from hdselect.cli.codesign import run_fastest, run_max_payload
-from hdselect.cli.envelope import envelope_arguments, run_envelope
-from hdselect.cli.inputs import (
-    catalog_argument,
-    json_argument,
-    margin_argument,
-    robot_motion_arguments,
-    sizing_arguments,
-    timeout_argument,
-    xacro_argument,
+from hdselect.base.session import (
+    EXIT_INTERRUPTED,
+    EXIT_TERMINATED,
+    HeldLog,
+    Terminated,
+    handle_sigterm,
+    tolerate_encoding,
 )
-from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED
-from hdselect.cli.plan import run_plan
-from hdselect.cli.robot import run_init, run_joints
-from hdselect.cli.size import run_compare, run_size
-from hdselect.cli.study import run_study
 
 logger = logging.getLogger("hdselect")
 
@@ -38,19 +30,45 @@ logger = logging.getLogger("hdselect")
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``hdselect`` command.
 
+    Args:
+        argv: The arguments after ``hdselect``; None: the program's own (``sys.argv``),
+            and then a signal after the command has ended still exits 130 or 143.
+
     Returns:
         Exit status: 0 success, 1 no gearhead fits, 2 bad input (one line on standard
         error, no output), 3 some case of a study failed, 70 a bug in hdselect (one
         line; ``-v`` shows the traceback), 130 interrupted (Ctrl-C), 143 terminated
         (SIGTERM).
     """
-    previous = handle_sigterm()
-    held = HeldLog(logger)
+    previous = handle_sigterm()  # first: the imports below take a while
     kept = _Kept()
+    try:
+        return _run(sys.argv[1:] if argv is None else argv, kept)
+    except (KeyboardInterrupt, Terminated) as stop:
+        if argv is None:
+            _exit_on_signal()  # a second signal while this is said: no traceback
+        interrupted = isinstance(stop, KeyboardInterrupt)
+        _say(f"{'interrupted' if interrupted else 'terminated'}; {kept.text()}")
+        return EXIT_INTERRUPTED if interrupted else EXIT_TERMINATED
+    finally:
+        if argv is None:  # the program: until it exits, a signal ends it quietly
+            _exit_on_signal()
+        elif previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _run(argv: Sequence[str], kept: _Kept) -> int:
+    """Parse, run the command and turn its errors into one line; the exit status."""
+    import warnings
+
+    from hdselect.base.errors import HdselectError
+    from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_OK
+
+    held = HeldLog(logger)
     try:
         tolerate_encoding()
         parser = _parser()
-        argv = list(sys.argv[1:] if argv is None else argv)
+        argv = list(argv)
         args = parser.parse_args(argv)
         args.command_line = ["hdselect", *argv]
         args.kept, args.held = kept, held
@@ -69,18 +87,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     except MemoryError:
         _say("error: out of memory; use a larger dt, a shorter cycle or a lower --max-samples")
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        _say(f"interrupted; {kept.text()}")
-        return EXIT_INTERRUPTED
-    except Terminated:
-        _say(f"terminated; {kept.text()}")
-        return EXIT_TERMINATED
     except BrokenPipeError:
         # The reader went away (e.g. `| head`): not an error of ours.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
     except Exception as err:  # a bug: say so in one line, with the way to the traceback
         if held.verbose:
+            import traceback
+
             traceback.print_exc()
         _say(f"internal error (a bug in hdselect, not in your input): {type(err).__name__}: "
              f"{_one_line(str(err))}; no output was written; run again with -v for the "
@@ -88,8 +102,27 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_BUG
     finally:
         held.stop()
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+
+
+def _exit_on_signal() -> None:
+    """After the command: SIGINT and SIGTERM end the process at once, 130 or 143, silently.
+
+    The command's outputs are complete by then; what is left is the interpreter's exit.
+    """
+    def leave(signum: int, frame: object) -> None:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED)
+
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        try:
+            if signal.getsignal(signum) is not signal.SIG_IGN:
+                signal.signal(signum, leave)
+        except ValueError:  # not the main thread: the signals are not ours to handle
+            return
 
 
 class _Kept:
@@ -110,6 +143,13 @@ def _one_line(text: str) -> str:
     return " ".join(text.split())
 
 
+def _command(commands, verbose: argparse.ArgumentParser, name: str,
+             summary: str) -> argparse.ArgumentParser:
+    """A command's parser; its one-line summary heads both ``hdselect --help`` and its own."""
+    return commands.add_parser(name, parents=[verbose], help=summary,
+                               description=f"{summary[:1].upper()}{summary[1:]}.")
+
+
 class _Parser(argparse.ArgumentParser):
     """Command-line errors as one line, like every other error, with exit status 2."""
 
@@ -118,6 +158,23 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser() -> argparse.ArgumentParser:
+    from hdselect.cli.catalog import run_catalog, run_duty
+    from hdselect.cli.codesign import run_fastest, run_max_payload
+    from hdselect.cli.envelope import envelope_arguments, run_envelope
+    from hdselect.cli.inputs import (
+        catalog_argument,
+        json_argument,
+        margin_argument,
+        robot_motion_arguments,
+        sizing_arguments,
+        timeout_argument,
+        xacro_argument,
+    )
+    from hdselect.cli.plan import plan_arguments, run_plan
+    from hdselect.cli.robot import run_init, run_joints
+    from hdselect.cli.size import run_compare, run_size
+    from hdselect.cli.study import run_study
+
     parser = _Parser(
         prog="hdselect",
         description="Size Harmonic Drive PSA-G gearheads for robot joints.")
@@ -129,38 +186,27 @@ def _parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(title="commands", required=True, metavar="COMMAND",
                                      dest="command", parser_class=_Parser)
 
-    catalog = commands.add_parser("catalog", parents=[verbose],
-                                  help="list the gearhead catalog")
+    catalog = _command(commands, verbose, "catalog", "list the gearhead catalog")
     catalog_argument(catalog)
     catalog.add_argument("--units", choices=("si", "imperial"), default="si",
                          help="unit system of the table (default: si)")
     catalog.add_argument("--json", action="store_true", help="print JSON instead of a table")
     catalog.set_defaults(run=run_catalog)
 
-    duty = commands.add_parser(
-        "duty", parents=[verbose], help="size from a torque-speed profile (catalog method)")
+    duty = _command(commands, verbose, "duty",
+                    "size from a torque-speed profile (catalog method)")
     duty.add_argument("profile", help="duty-cycle profile (TOML)")
     catalog_argument(duty)
-    margin_argument(duty)
+    margin_argument(duty, motion=False)
     json_argument(duty)
     duty.set_defaults(run=run_duty)
 
-    plan = commands.add_parser(
-        "plan", parents=[verbose], help="plan a motion and write its torques (CSV)")
-    robot_motion_arguments(plan, sizes=False)
-    plan.add_argument("--out", metavar="FILE", required=True,
-                      help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI)")
-    plan.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
-    plan.add_argument("--waypoints", metavar="FILE",
-                      help="CSV of the joint path as solved: every waypoint and line sample "
-                           "(tool poses solved for the mounting), with the tool's pose error")
-    plan.add_argument("--line-errors", metavar="FILE",
-                      help="CSV of every planned sample on a straight line: the tool's distance "
-                           "and angle from the line")
+    plan = _command(commands, verbose, "plan", "plan a motion and write its torques (CSV)")
+    plan_arguments(plan)
     plan.set_defaults(run=run_plan)
 
-    size = commands.add_parser(
-        "size", parents=[verbose], help="choose a gearhead for every joint of a robot")
+    size = _command(commands, verbose, "size",
+                    "choose a gearhead for every joint of a robot")
     robot_motion_arguments(size)
     sizing_arguments(size)
     json_argument(size)
@@ -172,12 +218,14 @@ def _parser() -> argparse.ArgumentParser:
                            "masses, binding rule and margin, then the totals ('-': to stdout)")
     size.set_defaults(run=run_size)
 
-    compare = commands.add_parser(
-        "compare", parents=[verbose], help="every unit against every joint, side by side")
-    robot_motion_arguments(compare)
+    compare = _command(commands, verbose, "compare",
+                       "every unit against every joint, side by side")
+    shown = robot_motion_arguments(compare)
+    shown.title = "joints sized (--joints, --exclude) and shown (--joint)"
     sizing_arguments(compare)
-    compare.add_argument("--joint", action="append", metavar="NAME",
-                         help="show only this joint (repeatable)")
+    shown.add_argument("--joint", action="append", metavar="JOINT",
+                       help="show only this joint's table, JSON and report (repeatable); "
+                            "the joints --joints names are all sized")
     json_argument(compare)
     compare.add_argument("--report", metavar="DIR",
                          help="write an HTML report of the joints shown into DIR ('-': the "
@@ -187,10 +235,10 @@ def _parser() -> argparse.ArgumentParser:
                               "--bom; '-': to stdout)")
     compare.set_defaults(run=run_compare)
 
-    fastest = commands.add_parser(
-        "fastest", parents=[verbose],
-        help="the shortest cycle of the motion's path that the gearheads allow")
-    robot_motion_arguments(fastest)
+    fastest = _command(commands, verbose, "fastest",
+                       "the shortest cycle of the motion's path that the gearheads allow")
+    compared = robot_motion_arguments(fastest)
+    compared.title = "joints sized (--joints, --exclude) and compared (--joint)"
     sizing_arguments(fastest)
     fastest.add_argument("--units", action="append", metavar="JOINT=UNIT", default=[],
                          help="the unit of a joint, as `hdselect catalog` names it (repeatable; "
@@ -198,8 +246,9 @@ def _parser() -> argparse.ArgumentParser:
     fastest.add_argument("--compare-ratios", action="store_true",
                          help="the shortest cycle with every catalog unit on each joint, the "
                               "others fixed")
-    fastest.add_argument("--joint", action="append", metavar="NAME",
-                         help="with --compare-ratios: compare this joint only (repeatable)")
+    compared.add_argument("--joint", action="append", metavar="JOINT",
+                          help="with --compare-ratios: compare units on this joint only "
+                               "(repeatable); the joints --joints names are all sized")
     fastest.add_argument("--out", metavar="FILE",
                          help="CSV of the fastest trajectory: t, then q_, qd_, qdd_, tau_ per "
                               "sized joint (SI)")
@@ -209,9 +258,8 @@ def _parser() -> argparse.ArgumentParser:
     json_argument(fastest)
     fastest.set_defaults(run=run_fastest)
 
-    payload = commands.add_parser(
-        "max-payload", parents=[verbose],
-        help="the largest payload with a feasible unit on every joint")
+    payload = _command(commands, verbose, "max-payload",
+                       "the largest payload with a feasible unit on every joint")
     robot_motion_arguments(payload, mass=False)
     payload.add_argument("--task", action="append", metavar="NAME",
                          help="with a mix file: scale this task's payload (repeatable; default: "
@@ -224,23 +272,21 @@ def _parser() -> argparse.ArgumentParser:
     json_argument(payload)
     payload.set_defaults(run=run_max_payload)
 
-    spec = commands.add_parser(
-        "envelope", parents=[verbose],
-        help="a gearhead for every joint that holds for any motion within a spec")
+    spec = _command(commands, verbose, "envelope",
+                    "a gearhead for every joint that holds for any motion within a spec")
     envelope_arguments(spec)
     spec.set_defaults(run=run_envelope)
 
-    joints = commands.add_parser("joints", parents=[verbose],
-                                  help="list a robot's joints in the order lists use")
+    joints = _command(commands, verbose, "joints",
+                      "list a robot's joints in the order lists use")
     joints.add_argument("robot", metavar="ROBOT", help="robot file, URDF, xacro or MJCF")
-    xacro_argument(joints)
+    xacro_argument(joints, motion=False)
     json_argument(joints)
     joints.set_defaults(run=run_joints)
 
-    init = commands.add_parser("init", parents=[verbose],
-                                help="write a starter motion file for a robot")
+    init = _command(commands, verbose, "init", "write a starter motion file for a robot")
     init.add_argument("robot", metavar="ROBOT", help="robot file, URDF, xacro or MJCF")
-    xacro_argument(init)
+    xacro_argument(init, motion=False)
     init.add_argument("--out", metavar="FILE",
                       help="the motion file to write (default or '-': print it); an existing "
                            "file is never overwritten")
@@ -249,8 +295,7 @@ def _parser() -> argparse.ArgumentParser:
                            "mounting by inverse kinematics), not as joint positions")
     init.set_defaults(run=run_init)
 
-    study = commands.add_parser("study", parents=[verbose],
-                                help="run every case of a design study (TOML)")
+    study = _command(commands, verbose, "study", "run every case of a design study (TOML)")
     study.add_argument("study", metavar="STUDY", help="study file (TOML)")
     study.add_argument("--out", metavar="CSV", required=True,
                        help="rows, one per case and joint, appended as cases complete; a JSON "

@@ -17,10 +17,8 @@ from hdselect.cli.inputs import input_files
 EXIT_OK, EXIT_NO_FIT, EXIT_BAD_INPUT, EXIT_CASES_FAILED, EXIT_BUG = 0, 1, 2, 3, 70
 """Exit statuses: success (every joint has a unit); some joint has none; bad input; some
 case of a study failed (its row says why); a bug in hdselect (70, EX_SOFTWARE of
-sysexits.h). Interrupted runs exit 130 (Ctrl-C) or 143 (SIGTERM)."""
-
-
-EXIT_INTERRUPTED, EXIT_TERMINATED = 130, 143
+sysexits.h). Interrupted runs exit 130 (Ctrl-C) or 143 (SIGTERM): `EXIT_INTERRUPTED`,
+`EXIT_TERMINATED` of `hdselect.base.session`."""
 
 
 class reserved_outputs:
@@ -133,3 +131,36 @@ def rendered(*items: Any) -> str:
         out.print(item)
     out.file.flush()
     return buffer.getvalue()
+
+
+
+def gear_torques(check):
+    """The output torque of every joint (n, dof) as the gears carry it; 0 where unsized.
+
+    Args:
+        check: A sizing result (`hdselect.check_units`): with mass coupling, its torques
+            carry the units' and motors' masses [N m].
+    """
+    import numpy as np
+
+    tau = np.zeros_like(check.trajectory.q)
+    for joint in check.joints:
+        tau[:, check.robot.joint_index(joint.name)] = joint.torque
+    return tau
+
+
+def torques_note(check) -> str:
+    """What the ``tau_`` columns of a trajectory CSV carry, for the line naming the file.
+
+    Args:
+        check: The units checked along the trajectory (`hdselect.check_units`), or None:
+            the robot's own inverse dynamics.
+    """
+    if check is None:
+        return "tau_ without gearhead or motor masses (--units adds them)"
+    if not check.options.mass_coupling:
+        return "tau_ without gearhead or motor masses (--no-mass-coupling)"
+    carried = ", ".join(
+        f"{joint.name} {c.unit.id}" + (f" + {c.motor_unit.id}" if c.motor_unit else "")
+        for joint, c in ((joint, joint.candidates[0]) for joint in check.joints))
+    return f"tau_ carrying the masses of the units ({carried}), as size computes it"

@@ -6,8 +6,61 @@ import argparse
 import sys
 
 from hdselect.base.errors import InputError
-from hdselect.cli.inputs import input_files, max_samples_of, robot_and_motion
-from hdselect.cli.output import EXIT_OK, rendered, say_written, to_stdout
+from hdselect.cli.inputs import (
+    catalog_argument,
+    flagged,
+    input_files,
+    max_samples_of,
+    motors_of,
+    robot_and_motion,
+    robot_motion_arguments,
+    sizing_options_of,
+    unit_pairs,
+)
+from hdselect.cli.output import (
+    EXIT_OK,
+    gear_torques,
+    rendered,
+    say_written,
+    to_stdout,
+    torques_note,
+)
+
+_UNIT_FLAGS = ("--catalog", "--motor-mass", "--no-mass-coupling")
+"""Flags that only change the units' torques: refused without --units or --motor-catalog."""
+
+
+def plan_arguments(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``hdselect plan``."""
+    robot_motion_arguments(parser, sizes=False)
+    parser.add_argument("--out", metavar="FILE", required=True,
+                        help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI); tau_ is the "
+                             "robot's own dynamics, without gearhead or motor masses, unless "
+                             "--units or --motor-catalog is given")
+    parser.add_argument("--plot", metavar="PNG", help="speed and torque profiles per joint")
+    parser.add_argument("--waypoints", metavar="FILE",
+                        help="CSV of the joint path as solved: every waypoint and line sample "
+                             "(tool poses solved for the mounting), with the tool's pose error")
+    parser.add_argument("--line-errors", metavar="FILE",
+                        help="CSV of every planned sample on a straight line: the tool's "
+                             "distance and angle from the line")
+    units = parser.add_argument_group(
+        "gearhead and motor masses",
+        "With --units or --motor-catalog, tau_ is the output torque of every sized joint "
+        "carrying the units' and motors' masses, as `size` computes it (unsized joints are "
+        "left out of the CSV).")
+    units.add_argument("--units", action="append", metavar="JOINT=UNIT",
+                       help="the unit of a joint, as `hdselect catalog` names it (repeatable; "
+                            "the other sized joints get the unit `size` selects)")
+    catalog_argument(units)
+    units.add_argument("--motor-catalog", metavar="FILE",
+                       help="motor file (TOML): each sized joint's motor from it, as `size` "
+                            "pairs it with the unit (replaces the motion file's [motor])")
+    units.add_argument("--motor-mass", type=float, metavar="KG",
+                       help="motor mass carried with each gearhead [kg] where no motor data "
+                            "is given (default 0)")
+    units.add_argument("--no-mass-coupling", action="store_true",
+                       help="do not carry the units' masses on the joints nearer the base")
 
 
 def run_plan(args: argparse.Namespace) -> int:
@@ -27,6 +80,11 @@ def run_plan(args: argparse.Namespace) -> int:
         if given is not None and args.plot is None:
             raise InputError("only with --plot (it chooses the joints plotted; the CSV has "
                              "every joint)", field=flag)
+    carrying = bool(args.units or args.motor_catalog)
+    for flag in _UNIT_FLAGS:
+        if getattr(args, flag[2:].replace("-", "_")) not in (None, False, []) and not carrying:
+            raise InputError("only with --units or --motor-catalog (it changes the units' "
+                             "torques)", field=flag)
     robot, motion = robot_and_motion(args)
     if isinstance(motion, Mix):
         raise InputError("plan takes one motion file; this is a mix: plan each of its "
@@ -39,6 +97,7 @@ def run_plan(args: argparse.Namespace) -> int:
     if args.waypoints and not len(motion.waypoints):
         raise InputError("a logged trajectory (planner \"samples\") has no waypoints",
                          field="--waypoints")
+    units = _units_case(args, robot, motion) if carrying else None  # checked before the work
     with Outputs(input_files(robot, motion)) as outputs:
         out = outputs.file(args.out, "--out")
         figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
@@ -47,8 +106,14 @@ def run_plan(args: argparse.Namespace) -> int:
             else None
         planned = plan_motion(robot, motion, max_samples=max_samples)
         motion, trajectory = planned.motion, planned.trajectory
-        tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
-        write_trajectory_csv(out, trajectory, tau, robot.joint_names)
+        check = None if units is None else _checked_units(args, units, robot, motion,
+                                                          trajectory)
+        if check is None:
+            tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+            write_trajectory_csv(out, trajectory, tau, robot.joint_names)
+        else:
+            tau = gear_torques(check)
+            write_trajectory_csv(out, trajectory, tau, robot.sized_joints)
         if solved is not None:
             write_waypoints_csv(solved, motion)
         if deviations is not None:
@@ -62,8 +127,9 @@ def run_plan(args: argparse.Namespace) -> int:
                                                              planned.lines))
         outputs.commit()
     sys.stdout.write(text)
-    say_written([(args.out, f"t, then q_, qd_, qdd_, tau_ of {', '.join(robot.joint_names)} "
-                             "(SI)"),
+    columns = robot.joint_names if check is None else robot.sized_joints
+    say_written([(args.out, f"t, then q_, qd_, qdd_, tau_ of {', '.join(columns)} (SI); "
+                            + torques_note(check)),
                   (args.waypoints, "the joint path as solved: waypoints and line samples, "
                                    "with the tool's pose error at each (SI)"),
                   (args.line_errors, f"the tool's distance and angle from its straight line "
@@ -71,3 +137,29 @@ def run_plan(args: argparse.Namespace) -> int:
                                      " planned samples on a line (SI)"),
                   (args.plot, "speed and torque of each joint over the cycle")], args)
     return EXIT_OK
+
+
+def _units_case(args: argparse.Namespace, robot, motion):
+    """The units given (``--units``), the catalog, the options and the motors, checked."""
+    from hdselect.catalog.catalogfile import load_catalog
+
+    return (unit_pairs(args.units or []), load_catalog(args.catalog),
+            sizing_options_of(args, motion), motors_of(args, robot, motion))
+
+
+def _checked_units(args: argparse.Namespace, units, robot, motion, trajectory):
+    """The units of ``--units`` and their motors checked along `trajectory`.
+
+    The sized joints not given get the sizing's selection; the check's torques carry the
+    units' and motors' masses as `size`'s do.
+    """
+    from hdselect.codesign.fastest_cycle import resolve_case
+    from hdselect.sizing.core import check_units
+
+    given, catalog, options, motors = units
+    try:
+        chosen, _, paired = resolve_case(robot, motion, given, catalog, options,
+                                         selection=False, trajectory=trajectory, motors=motors)
+    except InputError as err:
+        raise flagged(err, args) from err
+    return check_units(robot, trajectory, chosen, options, motors=paired)

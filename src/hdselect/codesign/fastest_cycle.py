@@ -214,6 +214,7 @@ def fastest(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None
     expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
     expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
     expect_type(options, (Options, type(None)), "options", "an Options or None")
+    _refuse_log(motion)
     motion = solve_motion(robot, motion)
     options = options if options is not None else options_for(motion)
     catalog = units_argument(catalog) if catalog is not None else load_catalog()
@@ -249,6 +250,7 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
     expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
     expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
     expect_type(options, (Options, type(None)), "options", "an Options or None")
+    _refuse_log(motion)
     motion = solve_motion(robot, motion)
     options = options if options is not None else options_for(motion)
     catalog = units_argument(catalog) if catalog is not None else load_catalog()
@@ -287,7 +289,11 @@ def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] 
     """The unit of every sized joint: those given, the sizing's selection for the others.
 
     As `resolve_case`, with the motion file's motors; without the motors chosen.
+
+    Raises:
+        InputError: As `resolve_case`; the motion is a log (it has no path to run faster).
     """
+    _refuse_log(motion)
     chosen, selected, _ = resolve_case(robot, motion, given, catalog, options,
                                        selection=selection, trajectory=trajectory)
     return chosen, selected
@@ -319,12 +325,9 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
         closest to passing).
 
     Raises:
-        InputError: The motion is a log, a name is not a sized joint, or an id is unknown.
+        InputError: A name is not a sized joint, or an id is unknown.
         PlanningError: No unit can run a joint not given, at any speed.
     """
-    if motion.planner == "samples":
-        raise InputError("a logged trajectory ('samples') has no path to run faster; give "
-                         "a motion with waypoints", path=motion.path, field="planner")
     chosen = fixed_units(given, catalog, robot)
     by_id = {unit.id: unit for unit in catalog}
     candidates = checked_motors(robot, motion_motors(robot, motion) if motors is None
@@ -352,6 +355,13 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
             paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
                                                candidates[joint.name], sizing.options)
     return chosen, selected, paired
+
+
+def _refuse_log(motion: Motion) -> None:
+    """A logged trajectory has no path to run faster: refused, naming its planner."""
+    if motion.planner == "samples":
+        raise InputError("a logged trajectory ('samples') has no path to run faster; give "
+                         "a motion with waypoints", path=motion.path, field="planner")
 
 
 def _paired_motor(pairs: Sequence[Candidate], unit: Unit, motors: Sequence[Motor],

@@ -17,7 +17,7 @@ from hdselect.catalog.units import (
 )
 from hdselect.report.size_tables import candidates_table, load_text
 from hdselect.report.tables import Column, FittedTable
-from hdselect.report.terminal import assumed_notes, life_text
+from hdselect.report.terminal import assumed_notes, life_text, selected_note
 from hdselect.sizing.records import HOLD_NOTE, margin_text, mean_speed_note
 
 
@@ -87,7 +87,8 @@ def duty_table(result: DutyResult) -> FittedTable:
     cycle = result.cycle
     units = [c.unit for c in result.candidates]
     average = any(c.checks["average_speed"].value is not None for c in result.candidates)
-    notes = [f"▶ selected. utilization = demand / limit, ✗ over the limit; mom. = momentary "
+    notes = [f"{selected_note(result.selected)} utilization = demand / limit, ✗ over the "
+             "limit; mom. = momentary "
              f"(T4); {'avg speed = mean input speed; ' if average else ''}L10 = L50 / 5; "
              f"{mean_speed_note(units)}."]
     margin = max((c.required_margin for c in result.candidates), default=0.0)

@@ -8,6 +8,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison
+from hdselect.motion.motionfile import ANGLE_UNITS
 from hdselect.report.figures import save
 
 
@@ -68,11 +69,11 @@ def write_ratios_png(path: str | Path, comparison: RatioComparison) -> None:
 def write_fastest_png(path: str | Path, result: FastestResult) -> None:
     """Speed and output torque of every sized joint along the fastest cycle, limits drawn.
 
-    Speed against its limit (motion file, robot file or unit, whichever is lowest), torque
-    against the unit's repeated-peak and momentary limits, the emergency-stop torque
-    from each instant behind it.
+    Speed (in the motion file's angle unit) against its limit (motion file, robot file or
+    unit, whichever is lowest), torque against the unit's repeated-peak and momentary
+    limits, the emergency-stop torque from each instant behind it.
     """
-    trajectory, robot = result.trajectory, result.robot
+    trajectory, robot, angle = result.trajectory, result.robot, result.motion.angle_unit
     joints = result.check.joints
     fig = Figure(figsize=(11, 1.9 * len(joints) + 0.9))
     axes = fig.subplots(len(joints), 2, sharex=True, squeeze=False)
@@ -81,13 +82,14 @@ def write_fastest_png(path: str | Path, result: FastestResult) -> None:
         j = robot.joint_index(joint.name)
         (candidate,) = joint.candidates
         unit, lim = candidate.unit, result.limits[joint.name]
-        speed_ax, torque_ax = axes[row]  # rad/s (m/s), as the fastest table speaks
-        speed_ax.plot(trajectory.t, trajectory.qd[:, j], color="tab:blue", lw=1)
+        speed_ax, torque_ax = axes[row]  # the file's angle unit, as the fastest table speaks
+        scale = 1.0 / ANGLE_UNITS[angle] if robot.revolute[j] else 1.0
+        speed_ax.plot(trajectory.t, trajectory.qd[:, j] * scale, color="tab:blue", lw=1)
         for sign in (1.0, -1.0):
-            speed_ax.axhline(sign * lim.velocity, color="k", ls="--", lw=0.8,
+            speed_ax.axhline(sign * lim.velocity * scale, color="k", ls="--", lw=0.8,
                              label=f"speed limit ({sources[lim.velocity_source]})"
                              if sign > 0 else None)
-        speed_ax.set_ylabel(f"{joint.name}\nspeed [{'rad/s' if robot.revolute[j] else 'm/s'}]")
+        speed_ax.set_ylabel(f"{joint.name}\nspeed [{angle if robot.revolute[j] else 'm'}/s]")
         torque_ax.plot(trajectory.t, joint.stop_torque, color="tab:orange", lw=0.7, alpha=0.6,
                        label="emergency stop from each instant")
         torque_ax.plot(trajectory.t, joint.torque, color="tab:red", lw=1, label="output torque")

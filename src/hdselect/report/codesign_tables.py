@@ -15,7 +15,7 @@ from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioCom
 from hdselect.codesign.maxpayload import MaxPayloadResult
 from hdselect.codesign.mixfastest import MixFastestResult
 from hdselect.codesign.mixpayload import MixPayloadResult
-from hdselect.motion.motionfile import Motion
+from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.report.case_tables import case_notes
 from hdselect.report.tables import Column, FittedTable, Paragraphs
 from hdselect.report.terminal import life_text, percent, utilization_text
@@ -39,10 +39,13 @@ _SHORT_LIMITS = {"velocity (motion file)": "speed", "velocity (robot file)": "sp
 def fastest_table(result: FastestResult) -> FittedTable:
     """One row per sized joint: its unit, the limits it ran under, what bound it, its rules.
 
+    Speeds are in the motion file's angle unit per second (the sized joints are rotary).
+
     On a narrow terminal the limits, then what binds longest, then the life move below;
     the joint, its unit and its highest rule stay.
     """
     robot, motion = result.robot, result.motion
+    per_rad = 1.0 / ANGLE_UNITS[motion.angle_unit]  # speeds in the file's angle unit
     pieces = 1 + int(np.count_nonzero(motion.dwells[1:-1] > 0.0))
     title = (f"{motion.path.name} on {robot.path.name}: fastest cycle {result.cycle_time:.3f} s "
              f"({len(motion.waypoints)} waypoints, {pieces} piece{'s' if pieces > 1 else ''})"
@@ -66,7 +69,7 @@ def fastest_table(result: FastestResult) -> FittedTable:
             else f"[red]{utilization_text(check.utilization, False)}✗[/red]")
         rows.append((
             escape(joint.name), escape(candidate.unit.id) + ("*" if candidate.flags else ""),
-            rule, f"{lim.velocity:.3g} {_SOURCES[lim.velocity_source]}",
+            rule, f"{lim.velocity * per_rad:.3g} {_SOURCES[lim.velocity_source]}",
             f"{lim.torque:.3g}" + (f" ({derated:.0%})" if derated else ""),
             "-" if bound is None else f"{_SHORT_LIMITS[bound[0]]} {percent(bound[1])}",
             life_text(candidate.life_hours, "")))
@@ -103,7 +106,8 @@ def _fastest_notes(result: FastestResult) -> list[str]:
                                   "piecewise-constant path acceleration."
                                   if motion.jerk_limit is not None else ""))
     notes.append("rule: the rule with the highest utilization on the result (* catalog "
-                 "stand-in). speed limit [rad/s, m/s for a prismatic joint]: the lowest of the "
+                 f"stand-in). speed limit [{motion.angle_unit}/s, the motion file's angle "
+                 "unit]: the lowest of the "
                  "motion file's, the robot file's and the unit's (maximum input speed / ratio). "
                  "torque limit [N m]: the unit's repeated peak (derated: the fraction kept). "
                  "binds longest: the joint's limit that is the closest to its bound of all for "

@@ -166,7 +166,7 @@ def _search(result: EnvelopeResult) -> str:
 
 def _origin(origin: Provenance) -> str:
     run = ("<p>Made through the Python API.</p>" if origin.command is None else
-           f"<p>Re-run it in <code>{esc(origin.cwd)}</code>:</p>"
+           "<p>Re-run it in the directory it ran in:</p>"
            f"<pre>{esc(shlex.join(origin.command))}</pre>")
     software = ", ".join(f"{name} {version}" for name, version in origin.software)
     return f"<h2 id=provenance>Provenance</h2>{run}<p>{esc(software)}</p>"

@@ -29,6 +29,7 @@ from hdselect.report.terminal import (
     binding_words,
     life_text,
     ratio_text,
+    selected_note,
     utilization_text,
     verdict,
 )
@@ -297,11 +298,13 @@ def _heat_maps(result: SizingResult) -> str:
         header = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>',
                   *(esc(CHECK_LABELS[r]) for r in rules)]
         maps.append(f"<div>{table(header, rows)}</div>")
+    chosen = selected_note(next((j.selected for j in result.joints if j.selected), None),
+                           "pair" if result.motors else "unit")
     pairs = (" class=pairs", "<p class=printnote>Printed without the maps: each joint's "
              "table below has every pair's checks, coloured the same way.</p>") \
         if result.motors else ("", "")
     return (f"<section id=heatmap{pairs[0]}><h2>Utilization of every candidate</h2>"
-            f"{_colour_bar()}{pairs[1]}<div class=maps>{''.join(maps)}</div><p>▶ selected. "
+            f"{_colour_bar()}{pairs[1]}<div class=maps>{''.join(maps)}</div><p>{chosen} "
             "Utilization = demand / limit of each check (life: required over expected). "
             "mom. = momentary (T4), the worse of an emergency stop and a crash."
             + (" b. = the output bearing's checks (its life and static safety: required over "
@@ -397,8 +400,9 @@ def _provenance(origin: Provenance) -> str:
         run = ("<p>Made through the Python API: there is no command line. The case below is "
                "everything it was given.</p>")
     else:
-        run = (f"<p>Re-run it in <code>{esc(origin.cwd)}</code> with the files below "
-               f"(same hashes):</p><pre id=command>{esc(shlex.join(origin.command))}</pre>")
+        run = ("<p>Re-run it in the directory it ran in (the files' paths below are "
+               "relative to it), with the files below (same hashes):</p>"
+               f"<pre id=command>{esc(shlex.join(origin.command))}</pre>")
     software = ", ".join(f"{name} {version}" for name, version in origin.software)
     files = table(["role", "file", "bytes", "SHA-256"], [
         [esc(f.role), f"<code>{esc(f.path)}</code>", "-" if f.size is None else f"{f.size:,}",

@@ -2,7 +2,9 @@
 
 A report carries this so that a reader can check it and re-run it: the same
 command, in the same directory, on files with the same hashes, gives the same
-numbers.
+numbers. It names no absolute path of the machine it was made on: the input files
+are named relative to the working directory (the built-in catalog relative to the
+installed package), the working directory by its name alone.
 """
 
 from __future__ import annotations
@@ -28,6 +30,8 @@ from hdselect.sizing.tasks import Task
 DEG_PER_RAD = 180.0 / math.pi
 _SOFTWARE = ("pin", "ruckig", "toppra", "numpy", "scipy", "matplotlib")
 """The distributions whose versions can change a result, by their PyPI names."""
+_PACKAGE = Path(__file__).resolve().parents[1]
+"""The installed ``hdselect`` package's folder."""
 
 
 @dataclass(frozen=True)
@@ -35,8 +39,10 @@ class InputFile:
     """One file a result was computed from.
 
     Attributes:
-        role: What it is: ``robot``, ``motion``, ``samples``, ``catalog`` or ``motors``.
-        path: The path as the result holds it (relative to `Provenance.cwd` if relative).
+        role: What it is: ``robot``, ``mix``, ``motion``, ``samples``, ``catalog``,
+            ``catalog (built in)`` or ``motors``.
+        path: The path relative to the working directory (the built-in catalog's:
+            ``hdselect/...``, relative to the installed package's folder).
         sha256: Hex SHA-256 of its content, or an explanation if it cannot be read now.
         size: Its size [bytes], or None if it cannot be read.
     """
@@ -56,7 +62,8 @@ class Provenance:
         created: When it was made, ISO 8601 in UTC, to the second.
         command: The command line as given (program name first), or None when the
             result came from the Python API.
-        cwd: The working directory the command ran in.
+        cwd: The name of the working directory the command ran in (its last
+            component: the files' paths are relative to it).
         software: Python and each library that can change a number, with its version.
         files: Every input file, hashed.
         settings: The case as resolved, as (what, value) text pairs.
@@ -84,7 +91,8 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
         result: The result.
         command: The command line that produced it, program name first; None for the
             Python API.
-        cwd: The working directory (default: the current one).
+        cwd: The working directory the files' paths are made relative to (default: the
+            current one).
         created: The time to record (default: now).
 
     Returns:
@@ -103,8 +111,10 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
         files.append(("motion", each.path))
         if each.samples is not None:
             files.append(("samples", each.samples.path))
-    builtin = Path(__file__).parent / "data"
-    files += [("catalog (built in)" if Path(source).parent == builtin else "catalog", source)
+    here = Path(cwd if cwd is not None else os.getcwd())
+    builtin = _PACKAGE / "catalog" / "data"
+    files += [("catalog (built in)" if Path(source).resolve().parent == builtin else "catalog",
+               source)
               for source in dict.fromkeys(u.source for u in result.units)]
     files += [("motors", source) for source in dict.fromkeys(
         m.source for ms in result.motors.values() for m in ms if m.source is not None)]
@@ -118,21 +128,38 @@ def provenance(result: SizingResult, command: Sequence[str] | None = None, *,
         version=__version__,
         created=when.astimezone(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
         command=None if command is None else tuple(command),
-        cwd=str(cwd if cwd is not None else os.getcwd()),
+        cwd=here.absolute().name or str(here.absolute().anchor),
         software=tuple(software),
-        files=tuple(_hashed(role, path) for role, path in files),
+        files=tuple(_hashed(role, path, here) for role, path in files),
         settings=tuple(_settings(result)),
         limits=_limits(result),
         waypoints=_waypoints(result),
     )
 
 
-def _hashed(role: str, path: Path) -> InputFile:
+def _hashed(role: str, path: Path, here: Path) -> InputFile:
+    shown = _relative(Path(path), here)
     try:
         content = read_input(Path(path), MAX_LOG_BYTES)
     except InputError as err:
-        return InputFile(role, str(path), f"cannot be read now: {err.reason}", None)
-    return InputFile(role, str(path), hashlib.sha256(content).hexdigest(), len(content))
+        return InputFile(role, shown, f"cannot be read now: {err.reason}", None)
+    return InputFile(role, shown, hashlib.sha256(content).hexdigest(), len(content))
+
+
+def _relative(path: Path, here: Path) -> str:
+    """`path` as a report names it, never absolute.
+
+    Relative to `here`; a file of hdselect's own relative to the installed package's
+    folder (``hdselect/...``).
+    """
+    if not path.is_absolute():
+        return str(path)
+    if path.resolve().is_relative_to(_PACKAGE):
+        return str(Path(_PACKAGE.name) / path.resolve().relative_to(_PACKAGE))
+    try:
+        return os.path.relpath(path, here.absolute())
+    except ValueError:  # another drive (Windows): the name alone
+        return path.name
 
 
 def _settings(result: SizingResult) -> list[tuple[str, str]]:

@@ -24,6 +24,7 @@ from hdselect.report.terminal import (
     life_text,
     percent,
     ratio_text,
+    selected_note,
     utilization_cell,
     utilization_text,
     verdict,
@@ -198,7 +199,8 @@ def compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:
         extra={"motor\npeak N m": lambda c: f"{_motor(c).peak_torque:.3g}",
                "motor\nrms N m": lambda c: f"{_motor(c).rms_torque:.3g}",
                "motor\nmax rpm": lambda c: f"{_motor(c).max_speed:,.0f}"},
-        notes=["▶ selected. utilization = demand / limit, ✗ over the limit; mom. = momentary "
+        notes=[f"{selected_note(joint.selected)} utilization = demand / limit, ✗ over the "
+               "limit; mom. = momentary "
                "(T4): the worse of an emergency stop and a crash."
                + (" b. = the output bearing's checks (b.life: its L10 life, b.static: "
                   "the static safety C0 / P0; utilization = required / reached), - where the "
@@ -235,7 +237,8 @@ def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> FittedTabl
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             verdict(c)))
         styles.append("bold" if chosen else None)
-    notes = ("▶ selected. gearhead: its rule with the highest utilization behind this motor "
+    notes = (f"{selected_note(joint.selected, 'pair')} gearhead: its rule with the highest "
+             "utilization behind this motor "
              "(the crash case carries the motor's rotor inertia), ✗ over the limit; m. = the "
              "motor's rules: peak under its torque-speed curve, RMS over the cycle against its "
              "rated torque, speed; load/rotor = (M_jj / N² + J_in) / J_m, M_jj the joint's "

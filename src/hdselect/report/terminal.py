@@ -51,6 +51,12 @@ def life_text(hours: float | None, suffix: str = " h") -> str:
     return f"{hours:,.0f}{suffix}" if hours < 1e6 else f"> 1e6{suffix}"
 
 
+def selected_note(selected: object, what: str = "unit") -> str:
+    """The legend of the ▶ mark, or that nothing is selected (no `what` passes every rule)."""
+    return "▶ selected." if selected is not None else (
+        f"Nothing is selected: no {what} passes every rule.")
+
+
 def verdict(candidate: Candidate) -> str:
     """``ok``, or the worst failing rule and how far it exceeds its limit.
 
