@@ -8,7 +8,8 @@ import sys
 from pathlib import Path
 
 from hdselect.base.errors import InputError
-from hdselect.cli.inputs import json_argument, sizing_options_of, timeout_of
+from hdselect.cli.arguments import json_argument, timeout_of
+from hdselect.cli.inputs import sizing_options_of
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
 
 _ANGLE = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -18,7 +19,7 @@ _AS_DUTY = "give it as --duty FILE: the cycle the mean torque and life are judge
 
 def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``hdselect envelope``."""
-    from hdselect.cli.inputs import sizing_arguments, timeout_argument, xacro_argument
+    from hdselect.cli.arguments import sizing_arguments, timeout_argument, xacro_argument
 
     parser.add_argument("target", metavar="ROBOT",
                         help="robot file (URDF, xacro, MJCF), or an envelope file (TOML) that "

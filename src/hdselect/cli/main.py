@@ -158,10 +158,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def _parser() -> argparse.ArgumentParser:
-    from hdselect.cli.catalog import run_catalog, run_duty
-    from hdselect.cli.codesign import run_fastest, run_max_payload
-    from hdselect.cli.envelope import envelope_arguments, run_envelope
-    from hdselect.cli.inputs import (
+    from hdselect.cli.arguments import (
         catalog_argument,
         json_argument,
         margin_argument,
@@ -170,6 +167,9 @@ def _parser() -> argparse.ArgumentParser:
         timeout_argument,
         xacro_argument,
     )
+    from hdselect.cli.catalog import run_catalog, run_duty
+    from hdselect.cli.codesign import run_fastest, run_max_payload
+    from hdselect.cli.envelope import envelope_arguments, run_envelope
     from hdselect.cli.plan import plan_arguments, run_plan
     from hdselect.cli.robot import run_init, run_joints
     from hdselect.cli.size import run_compare, run_size

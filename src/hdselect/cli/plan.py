@@ -6,14 +6,13 @@ import argparse
 import sys
 
 from hdselect.base.errors import InputError
+from hdselect.cli.arguments import catalog_argument, robot_motion_arguments
 from hdselect.cli.inputs import (
-    catalog_argument,
     flagged,
     input_files,
     max_samples_of,
     motors_of,
     robot_and_motion,
-    robot_motion_arguments,
     sizing_options_of,
     unit_pairs,
 )
