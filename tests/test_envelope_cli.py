@@ -380,3 +380,11 @@ def _close(a, b, skip=()) -> bool:
     if isinstance(a, float) and isinstance(b, float):
         return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-9)
     return a == b
+
+
+@pytest.mark.parametrize(("name", "value"), [("moves", 2), ("seed", 1), ("jerk", 100.0)])
+def test_the_default_duty_arguments_are_refused_beside_a_motion_duty(name, value):
+    """Python's `envelope` refuses them as the command line does: they would act on nothing."""
+    with pytest.raises(InputError) as raised:
+        envelope(PLANAR2, acceleration=15.0, duty=PLANAR2_MOTION, **{name: value})
+    assert raised.value.field == name and "default duty" in raised.value.reason
