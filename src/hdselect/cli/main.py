@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 from hdselect import __version__
 from hdselect.base.errors import HdselectError
+from hdselect.base.outputs import check_output_path
 from hdselect.base.session import HeldLog, Terminated, handle_sigterm, tolerate_encoding
 from hdselect.cli.catalog import run_catalog, run_duty
 from hdselect.cli.codesign import run_fastest, run_max_payload
@@ -109,6 +110,11 @@ def _one_line(text: str) -> str:
     return " ".join(text.split())
 
 
+_OUTPUTS = ("json", "report", "bom", "out", "plot", "waypoints", "line_errors")
+"""Options naming an output: an empty one is refused in the words of every output's check
+(`hdselect.base.outputs.check_output_path`)."""
+
+
 class _Parser(argparse.ArgumentParser):
     """Command-line errors as one line, like every other error, with exit status 2."""
 
@@ -129,6 +135,8 @@ class _Parser(argparse.ArgumentParser):
                    for item in (value if isinstance(value, list) else [value])):
                 name = max(action.option_strings, key=len, default=action.metavar
                            or action.dest)
+                if action.dest in _OUTPUTS:  # an output's own words
+                    check_output_path("", name, directory=action.dest == "report")
                 self.error(f"argument {name}: expected a value, got an empty string")
         return parsed, extra
 
