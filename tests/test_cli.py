@@ -141,7 +141,7 @@ def test_catalog_with_a_bad_user_file(tmp_path: Path, capsys: pytest.CaptureFixt
     status, out, err = run(capsys, "catalog", "--catalog", path)
     assert status == 2
     assert out == ""
-    assert_one_error_line(err, str(path), "unit[ACME-20-30].mass_kg", "positive")
+    assert_one_error_line(err, str(path), "unit[ACME-20-30].mass_kg", "a mass between 0.001 and")
 
 
 # ----------------------------------------------------------------------------- duty

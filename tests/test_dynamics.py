@@ -67,6 +67,12 @@ def rnea_loop(model: pin.Model, q, qd, qdd) -> np.ndarray:
                      for k in range(len(q))])
 
 
+def noise_zeroed(tau: np.ndarray, floor: np.ndarray | float) -> np.ndarray:
+    """The oracle's torques with those below the noise floor [N m] as zero, as the sizing
+    counts them (`hdselect.robot.dynamics.torque_floor`, checked by hand in test_life_cap)."""
+    return np.where(np.abs(tau) < floor, 0.0, tau)
+
+
 def random_states(robot, n: int, seed: int, *, speed: float = 2.0, accel: float = 10.0):
     """Random (q, qd, qdd) within the joint limits (continuous joints: -pi..pi)."""
     rng = np.random.default_rng(seed)

@@ -170,6 +170,13 @@ def test_no_unit_for_every_motion_exits_1_with_the_table(capsys):
     (["--acceleration", "900", "--workers", "0"], ["--workers"]),
     (["--acceleration", "900", "--duty", MIX], ["--duty", "is a mix file",
                                                 "does not take a mix as its duty yet"]),
+    # the default duty's options beside a motion duty: refused, naming both options
+    *[(["--acceleration", "1000", "--duty", PLANAR2_MOTION, flag, value],
+       [flag, "default duty of random moves only", "--duty"])
+      for flag, value in (("--moves", "3"), ("--seed", "1"), ("--jerk", "9000"))],
+    (["--acceleration", "900", "--payload", "1", "--payload-frame", "tool8"],
+     ["--payload-frame", "unknown frame 'tool8'", "planar2.urdf"]),
+    (["--acceleration", "900", "--joints", "knee"], ["--joints", "unknown joint 'knee'"]),
 ])
 def test_bad_input_is_one_line_and_exit_2_with_no_output(capsys, tmp_path, argv, fragments):
     out_file = tmp_path / "out.json"
@@ -191,11 +198,24 @@ def test_bad_input_is_one_line_and_exit_2_with_no_output(capsys, tmp_path, argv,
      '[duty]\nmotion = "nowhere.toml"\n', ["duty.motion", "not found"]),
     ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
      '[duty]\nmotion = "{mix}"\n', ["duty.motion", "does not take a mix as its duty yet"]),
+    # what the robot lacks, blamed on the envelope file's key, not on the robot file
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nvelocity = 90\n',
+     ["limits.acceleration", "no acceleration limit for shoulder, elbow"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[payload]\nmass = 0.3\nframe = "tool9"\n'
+     '[limits]\nacceleration = 900\n',
+     ["payload.frame", "unknown frame 'tool9'", "links are: ", "(robot file planar2.urdf)"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
+     '[sizing]\njoints = ["j9"]\n', ["sizing.joints", "unknown joint 'j9'", "planar2.urdf"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
+     '[sizing]\nexclude = ["shoulder", "elbow"]\n', ["sizing.exclude", "no joint left"]),
+    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
+     '[duty]\nmotion = "{motion}"\n', ["--moves", "spec.toml's [duty] motion"]),
 ])
 def test_a_bad_envelope_file_names_the_file_and_the_field(capsys, tmp_path, text, fragments):
     spec = tmp_path / "spec.toml"
-    spec.write_text(text.format(robot=PLANAR2, mix=MIX))
-    status, _, err = run(capsys, "envelope", spec)
+    spec.write_text(text.format(robot=PLANAR2, mix=MIX, motion=PLANAR2_MOTION))
+    status, _, err = run(capsys, "envelope", spec,
+                         *(["--moves", "3"] if "motion = " in text else []))
     assert status == 2
     one_line_error(err, "spec.toml", *fragments)
 
@@ -361,3 +381,11 @@ def _close(a, b, skip=()) -> bool:
     if isinstance(a, float) and isinstance(b, float):
         return math.isclose(a, b, rel_tol=1e-9, abs_tol=1e-9)
     return a == b
+
+
+@pytest.mark.parametrize(("name", "value"), [("moves", 2), ("seed", 1), ("jerk", 100.0)])
+def test_the_default_duty_arguments_are_refused_beside_a_motion_duty(name, value):
+    """Python's `envelope` refuses them as the command line does: they would act on nothing."""
+    with pytest.raises(InputError) as raised:
+        envelope(PLANAR2, acceleration=15.0, duty=PLANAR2_MOTION, **{name: value})
+    assert raised.value.field == name and "default duty" in raised.value.reason

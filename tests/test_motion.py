@@ -298,7 +298,8 @@ def test_planner_specific_keys(arm):
     err = _error(arm, SAMPLES + GOOD[GOOD.index("[[waypoint]]"):])
     assert err.field == "waypoint"
     err = _error(arm, GOOD + '[samples]\nfile = "x.csv"\n')
-    assert err.field == "samples"
+    assert err.field == "samples"  # the planner that takes it, and the one given
+    assert "only for planner 'samples' (a logged trajectory), not 'ruckig'" in str(err)
     toppra = GOOD.replace('"ruckig"', '"toppra"')
     err = _error(arm, toppra)
     assert err.field == "limits.jerk" and "planner 'toppra' takes: velocity" in str(err)

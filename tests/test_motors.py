@@ -126,7 +126,7 @@ BAD_FILES = [
     (GOOD.replace("rated_speed_rpm = 4000", "rated_speed_rpm = 7000"),
      "motor[M1].rated_speed_rpm", "above the maximum speed"),
     (GOOD.replace("mass_kg = 0.3", "mass_kg = 0.3\nresistance_ohm = 0"),
-     "motor[M1].resistance_ohm", "positive"),
+     "motor[M1].resistance_ohm", "a resistance between 1e-06"),
     (GOOD.replace("mass_kg = 0.3", "mass_kg = 0.3\ncolour = 'red'"), "motor[M1].colour",
      "unknown key"),
     # curves that are not a function of speed, or do not cover the speed range

@@ -220,6 +220,41 @@ def test_an_option_changes_the_answer_of_a_mix_or_is_refused(work, capsys, comma
     assert written != base[2], f"{command} {option} took no effect on a mix"
 
 
+ALONE_IN_VAIN = [
+    (["--max-inertia-ratio", "3"], ["--max-inertia-ratio", "--motor-catalog"]),
+    (["--inertia-target", "3"], ["--inertia-target", "--prefer inertia"]),
+    (["--inertia-target", "3", "--prefer", "margin"], ["--inertia-target", "--prefer inertia"]),
+    (["--inertia-target", "3", "--prefer", "inertia"], ["--inertia-target", "--motor-catalog"]),
+    (["--prefer", "inertia"], ["--prefer", "--motor-catalog"]),
+    (["--prefer", "motor-rms"], ["--prefer", "--motor-catalog"]),
+    (["--inertia-target", "3", "--motor-catalog", "motors/example_motors.toml"],
+     ["--inertia-target", "--prefer inertia"]),
+]
+"""Options that act on gearhead and motor pairs, given where they cannot act (no motors, or
+no ``--prefer inertia`` for its target): each once accepted without effect, now refused in
+one line naming the option and the one it needs."""
+
+
+@pytest.mark.parametrize("command", ["size", "compare", "fastest", "max-payload"])
+@pytest.mark.parametrize(("extra", "named"), ALONE_IN_VAIN, ids=lambda x: " ".join(x)[:40])
+def test_an_option_that_cannot_act_is_refused_naming_what_it_needs(work, capsys, command,
+                                                                   extra, named):
+    status, err, written = outcome(capsys, command, extra, "with")
+    assert status == 2 and len(err.strip().splitlines()) == 1, err
+    assert all(flag in err for flag in named) and not written, err
+
+
+def test_the_envelope_help_lists_no_option_it_refuses(capsys):
+    with pytest.raises(SystemExit):
+        main(["envelope", "--help"])
+    shown = capsys.readouterr().out
+    for flag in ("--motor-catalog", "--max-inertia-ratio", "--inertia-target"):
+        assert flag not in shown
+        assert main(["envelope", str(REPO / "robots" / "planar2.urdf"), flag, "3"]) == 2
+    assert "refused beside --duty" in " ".join(shown.split())  # --moves, --seed, --jerk
+    assert "--prefer {size,margin,mass}" in shown  # the orders of pairs need motors
+
+
 def test_max_payload_selects_in_the_order_preferred(work):
     robot, motion = hdselect.load_case("tr/move.toml")
     options = hdselect.Options(prefer="margin")

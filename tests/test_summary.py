@@ -8,6 +8,7 @@ import pickle
 import pytest
 
 from hdselect import size
+from hdselect.catalog.checks import LIFE_CAP
 from hdselect.sizing.summary import summarize
 from test_dynamics import MOTIONS, REPO
 
@@ -31,8 +32,12 @@ def test_summary_carries_the_answer_of_the_full_result(path):
         assert short.candidate == chosen.unit.id
         assert short.binding == chosen.binding
         assert short.utilization == {n: c.utilization for n, c in chosen.checks.items()}
-        assert short.life_l50_hours == chosen.life_hours
-        assert short.life_l10_hours == chosen.l10_hours
+        # lives as every output reports them: at most the cap, flagged when capped
+        capped = chosen.life_hours is not None and chosen.life_hours >= LIFE_CAP
+        assert short.life_capped == capped
+        assert short.life_l50_hours == (LIFE_CAP if capped else chosen.life_hours)
+        assert short.life_l10_hours == (None if chosen.l10_hours is None
+                                        else min(chosen.l10_hours, LIFE_CAP))
         assert short.motor_rms_torque == chosen.motor.rms_torque
         assert short.motor_peak_torque == chosen.motor.peak_torque
         assert short.motor_max_speed == chosen.motor.max_speed

@@ -156,20 +156,30 @@ RATIO = Bound("a ratio", "", 1.0, 1e5)
 """A reduction ratio [-]."""
 FRAME_SIZE = Bound("a size", "", 1.0, 1e4)
 """A gearhead frame size [-]."""
-GEAR_INERTIA = Bound("an inertia", "kg m^2", 0.0, 1e3, low_open=True)
-"""A gearhead's input inertia [kg m^2]."""
+GEAR_INERTIA = Bound("an inertia", "kg m^2", 1e-12, 1e3)
+"""A gearhead's input inertia [kg m^2]: from 1e-12 (1e-8 kg cm^2, far below the smallest
+gearhead's, about 3e-8 kg m^2) to 1000."""
+GEAR_MASS = Bound("a mass", "kg", 1e-3, 1e5)
+"""A gearhead's mass [kg]: from 1 g (the smallest gearheads weigh tens of grams) to 100 t."""
 EFFICIENCY = Bound("an efficiency", "", 0.01, 1.0)
 """A gear efficiency [-]: 1 % to 100 %."""
 LIFE = Bound("a life", "h", 0.0, 1e12, low_open=True)
-"""A rated or required life [h]."""
+"""A required life [h]."""
+RATED_LIFE = Bound("a life", "h", 1.0, 1e12)
+"""A series' rated life [h]: from 1 h (catalogs rate thousands of hours); every life is
+computed from it, so no life and no life utilization underflows or overflows."""
 EVENTS = Bound("a count", "", 1.0, 1e12)
 """A cap on momentary events [-]."""
 PERCENT = Bound("a percentage", "%", 0.0, 1e4)
 """A load in % of the rated torque."""
-BEARING_LOAD = Bound("a load", "N", 0.0, 1e9, low_open=True)
-"""An output bearing's load rating or allowable force [N]."""
-PITCH_DIAMETER = Bound("a diameter", "m", 0.0, 100.0, low_open=True)
-"""An output bearing's pitch circle diameter [m]."""
+BEARING_LOAD = Bound("a load", "N", 1.0, 1e9)
+"""An output bearing's load rating or allowable force [N]: from 1 N (the smallest
+gearheads' bearings are rated for hundreds of newtons) to 1 GN. The ratings divide the
+loads (the static safety C0 / P0, the life's (C / P)^(10/3)): with these bounds, and the
+loads every valid robot and motion give, each stays a finite, non-zero number."""
+PITCH_DIAMETER = Bound("a diameter", "m", 1e-3, 10.0)
+"""An output bearing's pitch circle diameter d_p [m]: 1 mm to 10 m (gearhead bearings
+span about 20 mm to 1 m). It divides the tilting moment in the equivalent loads."""
 BEARING_OFFSET = Bound("a distance", "m", 0.0, 100.0)
 """A catalog's distance from the output flange to the bearing centre [m]."""
 LOAD_FACTOR = Bound("a load factor", "", 1.0, 10.0)
@@ -180,8 +190,9 @@ AXIAL_OFFSET = Bound("a position along the axis", "m", -100.0, 100.0)
 """Where a joint's output flange sits along its axis from the joint origin [m]."""
 MARGIN = Bound("a margin", "", 0.0, 0.9)
 """A design margin [-]: the share of every limit kept in reserve, 0 to 90 %."""
-INERTIA_RATIO = Bound("a ratio", "", 0.0, 1e6, low_open=True)
-"""A load-to-rotor inertia ratio [-], largest allowed or aimed at."""
+INERTIA_RATIO = Bound("a ratio", "", 1e-3, 1e6)
+"""A load-to-rotor inertia ratio [-], largest allowed or aimed at: 0.001 to 1e6 (designs
+aim at 1 to 10); the ratio found is divided by it."""
 
 # --- motors ------------------------------------------------------------------------------------
 MOTOR_TORQUE = TORQUE
@@ -195,8 +206,9 @@ CURVE_TORQUE = Bound("a torque", "N m", 0.0, 1e7)
 TORQUE_CONSTANT = Bound("a torque constant", "N m/A", 1e-6, 1e4)
 """A motor's torque constant k_t [N m/A]: from 1e-6 (below any motor; the current T / k_t
 and the copper loss R I^2 stay finite for every valid torque and resistance)."""
-RESISTANCE = Bound("a resistance", "ohm", 0.0, 1e6, low_open=True)
-"""A motor's winding resistance [ohm]."""
+RESISTANCE = Bound("a resistance", "ohm", 1e-6, 1e6)
+"""A motor's winding resistance [ohm]: 1 micro-ohm to 1 M ohm (windings span about
+0.01 to 100 ohm)."""
 
 # --- studies -----------------------------------------------------------------------------------
 TIME_SCALE = Bound("a time scale", "", 1e-3, 1e3)

@@ -70,7 +70,7 @@ _BEARING_KEYS = {"pitch_diameter_m": ("pitch_diameter", bounds.PITCH_DIAMETER),
 _RANGES = {"rated_torque": bounds.TORQUE, "repeated_torque": bounds.TORQUE,
            "momentary_torque": bounds.TORQUE, "static_torque": bounds.TORQUE,
            "average_torque": bounds.TORQUE, "input_inertia": bounds.GEAR_INERTIA,
-           "mass": bounds.MASS}
+           "mass": bounds.GEAR_MASS}
 
 
 _EFFICIENCY_AXES = {"input_speed_rpm": bounds.Bound("a speed", "rpm", 0.0, 1e6),

@@ -35,6 +35,26 @@ checks only when a motor is given, ``inertia_ratio`` only when a largest inertia
 given too; the others always, with value None where they do not apply."""
 
 
+LIFE_CAP = 1e6
+"""The longest life reported as a number [h], 114 years of running: beyond it the cube
+and 10/3-power laws extrapolate to figures no design can use (a torque near zero gives
+1e37 h). A longer life is reported as the cap and flagged: ``> 1e6 h`` in every table and
+the parts list, the cap with ``*_capped: true`` in JSON. The checks judge the life
+computed, so a requirement is met or not whatever the cap."""
+LIFE_CHECKS = ("life", "bearing_life")
+"""The checks whose value is a life [h], reported within `LIFE_CAP`."""
+
+
+def reported_life(hours: float | None) -> float | None:
+    """A life as reported [h]: at most `LIFE_CAP`; None (unlimited) stays None."""
+    return None if hours is None else min(hours, LIFE_CAP)
+
+
+def life_capped(hours: float | None) -> bool:
+    """Whether a life [h] is reported as the cap (`LIFE_CAP`) rather than as itself."""
+    return hours is not None and hours >= LIFE_CAP
+
+
 PER_SAMPLE_CHECKS = ("peak", "speed", "momentary", "static", "motor_peak", "motor_speed",
                      "inertia_ratio", "bearing_moment", "bearing_radial", "bearing_axial")
 """The checks of single samples (or single poses): over several tasks, the worst task's.

@@ -52,7 +52,7 @@ MEAN_SPEED_RULES = ("whole-cycle", "moving")
 
 # [rules] key -> the choices it takes, or the range of the number it is
 RULE_KEYS: dict[str, tuple[str, ...] | bounds.Bound] = {
-    "rated_input_speed_rpm": bounds.INPUT_SPEED, "rated_life_hours": bounds.LIFE,
+    "rated_input_speed_rpm": bounds.INPUT_SPEED, "rated_life_hours": bounds.RATED_LIFE,
     "life_basis": LIFE_BASES, "mean_torque_limit": MEAN_TORQUE_LIMITS,
     "mean_speed": MEAN_SPEED_RULES, "max_momentary_events": bounds.EVENTS,
 }

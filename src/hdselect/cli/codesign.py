@@ -105,8 +105,9 @@ def run_max_payload(args: argparse.Namespace) -> int:
                                  frame=args.payload_frame, com=args.payload_com,
                                  units=given or None, motors=motors)
         except InputError as err:
-            flag = {"payload.frame": "--payload-frame", "payload.com": "--payload-com"}.get(
-                str(err.field))
+            flag = {"payload.frame": "--payload-frame", "frame": "--payload-frame",
+                    "payload.com": "--payload-com", "com": "--payload-com"}.get(
+                str(err.field).split("[")[0])
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from hdselect.base.errors import InputError
 from hdselect.cli.arguments import json_argument, timeout_of
-from hdselect.cli.inputs import sizing_options_of
+from hdselect.cli.inputs import MOTOR_ORDERS, joint_names, sizing_options_of
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
 
 _ANGLE = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -19,6 +19,7 @@ _AS_DUTY = "give it as --duty FILE: the cycle the mean torque and life are judge
 
 def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``hdselect envelope``."""
+    from hdselect.catalog.select import DEFAULT_PREFER, PREFERENCES
     from hdselect.cli.arguments import sizing_arguments, timeout_argument, xacro_argument
 
     parser.add_argument("target", metavar="ROBOT",
@@ -29,8 +30,9 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     for kind, unit, default in (
             ("velocity", "/s", "default: the envelope file's, else the robot file's"),
             ("acceleration", "/s^2", "default: the envelope file's; no other"),
-            ("jerk", "/s^3", "of the default duty's moves only; default: the envelope "
-                             "file's, else acceleration / 0.05 s")):
+            ("jerk", "/s^3", "of the default duty's moves only (refused beside --duty or "
+                             "a [duty] motion); "
+                             "default: the envelope file's, else acceleration / 0.05 s")):
         parser.add_argument(
             f"--{kind}", action="append", metavar="V|JOINT=V",
             help=f"{kind} limit [deg{unit}, or rad with --angle-unit rad; m{unit} for a "
@@ -55,9 +57,11 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
                         help="motion file whose cycle the mean torque and life are judged on "
                              "(default: the file's [duty], else random moves at the limits)")
     parser.add_argument("--moves", type=int, metavar="N",
-                        help="moves of the default duty (default: 20)")
+                        help="moves of the default duty (default: 20); refused beside --duty "
+                             "or a [duty] motion")
     parser.add_argument("--seed", type=int, metavar="N",
-                        help="seed of the default duty's random poses (default: 0)")
+                        help="seed of the default duty's random poses (default: 0); refused "
+                             "beside --duty or a [duty] motion")
     parser.add_argument("--starts", type=int, metavar="N",
                         help="quasi-random starts of the search's first round, a power of 2 "
                              "from 64 to 65536 (default 4096; later rounds take 4N, 16N)")
@@ -67,6 +71,10 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     for action in parser._actions:  # the shared flags, as the envelope reads them
         if action.dest in _HELP:
             action.help = _HELP[action.dest]
+        if action.dest == "prefer":  # no motors: the orders of gearheads alone
+            action.choices = tuple(k for k in PREFERENCES if k not in MOTOR_ORDERS)
+            action.help = "; ".join(f"{k}: {PREFERENCES[k][0]}" for k in action.choices) + (
+                f" (default: {DEFAULT_PREFER})")
     json_argument(parser)
     parser.add_argument("--report", metavar="DIR",
                         help="write an HTML page of the envelope into DIR, the duty's own "
@@ -116,8 +124,8 @@ def run_envelope(args: argparse.Namespace) -> int:
                 robot, spec, velocity=_limits(args, "velocity", robot),
                 acceleration=_limits(args, "acceleration", robot),
                 jerk=_limits(args, "jerk", robot), payload=_payload(args, robot, spec),
-                mounting=args.mounting, joints=_names(args.joints),
-                exclude=_names(args.exclude), duty=args.duty, moves=args.moves,
+                mounting=args.mounting, joints=joint_names(args.joints, "--joints"),
+                exclude=joint_names(args.exclude, "--exclude"), duty=args.duty, moves=args.moves,
                 seed=args.seed, units=load_catalog(args.catalog), settings=settings,
                 workers=args.workers, scheduler=args.scheduler, timeout=timeout_of(args),
                 **{name: getattr(options, name) for name in _GIVEN if _flag(args, name)})
@@ -157,13 +165,14 @@ _HELP = {
                   "duty's)",
     "life_basis": "basis of the required life: L50, average life, or L10, 90 %% survive it "
                   "(default: the envelope file's, else the duty's, else L50)",
-    "motor_catalog": "not taken by envelope yet (refused): size a motion to choose motors",
-    "max_inertia_ratio": "not taken by envelope yet (refused): it judges motors",
-    "inertia_target": "not taken by envelope yet (refused): it orders motors",
+    # not taken by envelope yet, which chooses no motors: refused, so not listed
+    "motor_catalog": argparse.SUPPRESS, "max_inertia_ratio": argparse.SUPPRESS,
+    "inertia_target": argparse.SUPPRESS,
     "margin": "design margin: every rule must hold at (1 - M) of its limit, e.g. 0.2 for 80 "
               "%% (default: the envelope file's [requirements] margin, else the duty's, else 0)",
 }
-"""The help of the flags shared with ``size`` where the envelope reads them otherwise."""
+"""The help of the flags shared with ``size`` where the envelope reads them otherwise (or
+refuses them: their help is suppressed)."""
 
 
 _GIVEN = {"stop_time": "stop_time", "efficiency": "efficiency", "rotor_inertia": "motor_inertia",
@@ -182,8 +191,10 @@ def _flag(args: argparse.Namespace, name: str) -> bool:
 def _flagged(err: InputError) -> InputError:
     """An error of a Python argument renamed to the flag that gave it."""
     field = str(err.field or "")
+    if err.path is None and field.startswith(("payload.com", "payload.frame")):
+        return InputError(err.reason, field="--" + field.split("[")[0].replace(".", "-"))
     for kind in ("velocity", "acceleration", "jerk", "payload", "mounting", "joints", "exclude",
-                 "duty", "starts", "workers", "scheduler", "timeout"):
+                 "duty", "moves", "seed", "starts", "workers", "scheduler", "timeout"):
         if err.path is None and (field == kind or field.startswith(f"{kind}.")):
             return InputError(err.reason, field=f"--{kind}")
     return err
@@ -217,9 +228,10 @@ def _limits(args: argparse.Namespace, kind: str, robot) -> dict[str, float] | No
     power = {"velocity": "/s", "acceleration": "/s^2", "jerk": "/s^3"}[kind]
     out: dict[str, float] = {}
     named: dict[str, float] = {}
-    for item in (part.strip() for text in given for part in text.split(",")):
-        if not item:
-            continue
+    for text in given:
+        if not text.replace(",", "").strip():
+            raise InputError(f"expected a number or JOINT=NUMBER, got {text!r}", field=flag)
+    for item in (part.strip() for text in given for part in text.split(",") if part.strip()):
         name, sep, number = item.rpartition("=")
         try:
             value = float(number)
@@ -277,8 +289,3 @@ def _payload(args: argparse.Namespace, robot, spec: Path | None):
                                                  if str(err.field).startswith(k)),
                                                 err.field)) from err
 
-
-def _names(given: list[str] | None) -> list[str] | None:
-    if given is None:
-        return None
-    return [name.strip() for text in given for name in text.split(",") if name.strip()]

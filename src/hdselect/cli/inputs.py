@@ -31,10 +31,18 @@ _PAYLOAD_FLAGS = {"payload.mass": "--payload", "payload.com": "--payload-com",
                   "payload.frame": "--payload-frame"}
 
 
-def _names(given: list[str] | None) -> list[str] | None:
-    """Joint names from repeatable, comma-separated options."""
+def joint_names(given: list[str] | None, flag: str) -> list[str] | None:
+    """Joint names from a repeatable, comma-separated option (None: not given).
+
+    Raises:
+        InputError: An occurrence of the option names no joint (only commas): it is
+            refused, never read as not given.
+    """
     if given is None:
         return None
+    for text in given:
+        if not text.replace(",", "").strip():
+            raise InputError(f"expected joint names, got {text!r}", field=flag)
     return [name.strip() for text in given for name in text.split(",") if name.strip()]
 
 
@@ -156,7 +164,8 @@ def robot_and_motion(args: argparse.Namespace):
             field = str(err.field)
             flag = next((f for k, f in _PAYLOAD_FLAGS.items() if field.startswith(k)), field)
             raise InputError(err.reason, field=flag) from err
-    joints, exclude = _names(args.joints), _names(args.exclude)
+    joints = joint_names(args.joints, "--joints")
+    exclude = joint_names(args.exclude, "--exclude")
     try:
         robot = robot_for_motion(robot, motion, payload=payload, mounting=args.mounting,
                                  joints=joints, exclude=exclude)
@@ -191,7 +200,8 @@ def _robot_and_mix(args: argparse.Namespace):
         except InputError as err:
             raise InputError(err.reason, field="--mounting") from err
         mix = mix.with_mounting(args.mounting)
-    joints, exclude = _names(args.joints), _names(args.exclude)
+    joints = joint_names(args.joints, "--joints")
+    exclude = joint_names(args.exclude, "--exclude")
     try:
         return robot_for_mix(robot, mix, joints=joints, exclude=exclude), mix
     except InputError as err:
@@ -260,6 +270,7 @@ def motors_of(args: argparse.Namespace, robot, motion) -> dict:
         motors = mix_motors(robot, motion)
     else:
         motors = motion_motors(robot, motion)
+    refuse_pair_flags(args, bool(motors))
     if motors:
         for flag in ("--motor-inertia", "--motor-mass"):
             if getattr(args, flag[2:].replace("-", "_"), None) is not None:
@@ -268,6 +279,34 @@ def motors_of(args: argparse.Namespace, robot, motion) -> dict:
                 raise InputError(f"the motors come from {given}, with their own rotor inertia "
                                  "and mass; drop this option", field=flag)
     return motors
+
+
+MOTOR_ORDERS = ("motor-rms", "motor-peak", "inertia")
+"""The selection orders (``--prefer``) that rank gearhead and motor pairs by the motor."""
+
+
+def refuse_pair_flags(args: argparse.Namespace, motors: bool) -> None:
+    """Refuse the flags that would act on nothing: each acts on gearhead and motor pairs.
+
+    ``--inertia-target`` acts only with ``--prefer inertia``; that order, the motor
+    orders and ``--max-inertia-ratio`` only where motors are given.
+
+    Raises:
+        InputError: One is given where it cannot act; the message names both flags.
+    """
+    if args.inertia_target is not None and args.prefer != "inertia":
+        raise InputError("the ratio --prefer inertia aims at: without --prefer inertia it acts "
+                         "on nothing; give both, or neither", field="--inertia-target")
+    if motors:
+        return
+    for flag, given in (("--max-inertia-ratio", args.max_inertia_ratio is not None),
+                        ("--inertia-target", args.inertia_target is not None),
+                        ("--prefer", args.prefer in MOTOR_ORDERS)):
+        if given:
+            what = f"'{args.prefer}' orders" if flag == "--prefer" else "judges"
+            raise InputError(f"{what} gearhead and motor pairs, and no motor is given: give "
+                             "--motor-catalog (or a [motor] table in the motion file)",
+                             field=flag)
 
 
 def planned_and_sized(robot, motion, units, options, motors):

@@ -150,11 +150,37 @@ def _command(commands, verbose: argparse.ArgumentParser, name: str,
                                description=f"{summary[:1].upper()}{summary[1:]}.")
 
 
+_OUTPUTS = ("json", "report", "bom", "out", "plot", "waypoints", "line_errors")
+"""Options naming an output: an empty one is refused in the words of every output's check
+(`hdselect.base.outputs.check_output_path`)."""
+
+
 class _Parser(argparse.ArgumentParser):
     """Command-line errors as one line, like every other error, with exit status 2."""
 
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+    def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
+        """Parse, then refuse an empty value of any option or argument.
+
+        An empty value never means "not given" (``--velocity ''`` fell back to a default).
+        """
+        parsed, extra = super().parse_known_args(args, namespace)
+        for action in self._actions:
+            if action.nargs == 0 or isinstance(action, argparse._SubParsersAction):
+                continue
+            value = getattr(parsed, action.dest, None)
+            if any(isinstance(item, str) and not item.strip()
+                   for item in (value if isinstance(value, list) else [value])):
+                name = max(action.option_strings, key=len, default=action.metavar
+                           or action.dest)
+                if action.dest in _OUTPUTS:  # an output's own words
+                    from hdselect.base.outputs import check_output_path
+
+                    check_output_path("", name, directory=action.dest == "report")
+                self.error(f"argument {name}: expected a value, got an empty string")
+        return parsed, extra
 
 
 def _parser() -> argparse.ArgumentParser:

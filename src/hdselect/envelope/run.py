@@ -99,7 +99,8 @@ def envelope(
         velocity: Speed limits [rad/s or m/s]: one number, one per joint, or a mapping of
             joint names (the rest from the file, else the robot file).
         acceleration: Acceleration limits [rad/s^2 or m/s^2], as `velocity` (no default).
-        jerk: Jerk limits of the default duty's moves [rad/s^3 or m/s^3], as `velocity`.
+        jerk: Jerk limits of the default duty's moves [rad/s^3 or m/s^3], as `velocity`;
+            like `moves` and `seed`, refused where the duty is a motion file.
         payload: Payload, overriding the file's (and the duty's).
         mounting: Mounting, overriding the file's (and the duty's).
         joints: Joints to size (default: the file's, the duty's, else every rotary joint).
@@ -130,8 +131,9 @@ def envelope(
         The envelope.
 
     Raises:
-        InputError: A file or argument is invalid, no acceleration limit is given, or
-            the duty leaves the spec.
+        InputError: A file or argument is invalid, no acceleration limit is given, an
+            argument of the default duty is given beside a motion duty, or the duty leaves
+            the spec.
         PlanningError: The duty cannot be planned.
     """
     started = time.perf_counter()
@@ -159,6 +161,8 @@ def envelope(
         robot if robot is not None else envelope_robot_file(str(spec)))
     file = load_envelope_file(spec, base) if spec is not None else None
     motion = _duty_motion(duty, file, base)
+    if motion is not None:
+        _refuse_default_duty(duty, file, moves=moves, seed=seed, jerk=jerk)
     robot = _robot_state(base, motion, file, payload, mounting, joints, exclude)
     limits = resolve_spec(robot, velocity=velocity, acceleration=acceleration, jerk=jerk,
                           file=file)
@@ -354,24 +358,61 @@ def _duty_motion(duty: Motion | str | Path | None, file: EnvelopeFile | None,
     return motion
 
 
+def _refuse_default_duty(duty: Motion | str | Path | None, file: EnvelopeFile | None,
+                         **given: object) -> None:
+    """Refuse what only the default duty of random moves takes, beside a motion duty.
+
+    Raises:
+        InputError: `moves`, `seed` or `jerk` is given (the field names it) while the
+            duty is a motion file (`duty`, or the envelope file's ``[duty] motion``).
+    """
+    for name, value in given.items():
+        if value is not None:
+            source = ("a motion file (duty, --duty)" if duty is not None or file is None
+                      else f"{file.path.name}'s [duty] motion")
+            raise InputError(f"acts on the default duty of random moves only, and the duty is "
+                             f"{source}: drop one of them", field=name)
+
+
 def _robot_state(base: Robot, motion: Motion | None, file: EnvelopeFile | None,
                  payload: Payload | None, mounting: Mounting | None,
                  joints: Sequence[str] | None, exclude: Sequence[str] | None) -> Robot:
-    """The robot as the envelope sizes it: argument, else envelope file, else the duty's."""
+    """The robot as the envelope sizes it: argument, else envelope file, else the duty's.
+
+    Raises:
+        InputError: As `robot_for_motion`; a payload frame or a joint that the envelope
+            file names and the robot lacks is blamed on the file's key.
+    """
     expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
+    from_file: dict[str, str] = {}  # what the envelope file gives -> its key there
     if file is not None:
-        payload = payload if payload is not None else file.payload
+        if payload is None and file.payload is not None:
+            payload, from_file["payload"] = file.payload, "payload"
         mounting = mounting if mounting is not None else file.mounting
+        for name, given, filed in (("joints", joints, file.joints),
+                                   ("exclude", exclude, file.exclude or None)):
+            if given is None and filed is not None:
+                from_file[name] = f"sizing.{name}"
         joints = joints if joints is not None else file.joints
         exclude = exclude if exclude is not None else (file.exclude or None)
-    if motion is not None:
-        return robot_for_motion(base, motion, payload=payload, mounting=mounting, joints=joints,
-                                exclude=exclude)
-    robot = base.with_payload(payload) if payload is not None else base
-    robot = robot.with_mounting(mounting) if mounting is not None else robot
-    if joints is not None or exclude:
-        robot = robot.with_sized_joints(joints, exclude or ())
-    return robot
+    try:
+        if motion is not None:
+            return robot_for_motion(base, motion, payload=payload, mounting=mounting,
+                                    joints=joints, exclude=exclude)
+        robot = base.with_payload(payload) if payload is not None else base
+        robot = robot.with_mounting(mounting) if mounting is not None else robot
+        if joints is not None or exclude:
+            robot = robot.with_sized_joints(joints, exclude or ())
+        return robot
+    except InputError as err:  # the robot lacks what an argument or the file names
+        field = str(err.field)
+        owner = next((k for k in ("payload", "joints", "exclude")
+                      if field == k or field.startswith(f"{k}.")), None)
+        if owner is None or err.path != base.path:
+            raise
+        where = ({"path": file.path, "field": from_file[owner] + field[len(owner):]}
+                 if file is not None and owner in from_file else {"field": field})
+        raise InputError(f"{err.reason} (robot file {base.path.name})", **where) from err
 
 
 def _options(file: EnvelopeFile | None, motion: Motion | None,

@@ -87,6 +87,10 @@ def resolve_spec(robot: Robot, *, velocity: Limits = None, acceleration: Limits 
         if missing:
             hint = ("; the robot file gives none there" if kind == "velocity" else
                     "; an envelope needs every joint's acceleration limit")
+            if file is not None:  # the file was read and gives none: it is the one to fix
+                raise InputError(f"no {kind} limit for {', '.join(missing)}: give [limits] "
+                                 f"{kind} here, or --{kind}{hint}", path=file.path,
+                                 field=f"limits.{kind}")
             raise InputError(f"no {kind} limit for {', '.join(missing)}: give --{kind} or "
                              f"[limits] {kind} in an envelope file{hint}", field=kind)
     lacking = np.isnan(values["jerk"])

@@ -273,8 +273,9 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         samples = _samples(doc, path, robot, scale, units, (unit, angle_unit))
     else:
         if "samples" in doc:
-            raise InputError(f"only for planner '{planner}', not '{planner}'", path=path,
-                             field="samples")
+            raise InputError(f"only for planner 'samples' (a logged trajectory), not "
+                             f"'{planner}': remove [samples], or set planner = \"samples\"",
+                             path=path, field="samples")
         waypoints, dwells, tool = read_waypoints(doc, path, robot, scale, units, lists,
                                                  (unit, angle_unit))
         for k in tool.lines if tool is not None and planner != "toppra" else ():

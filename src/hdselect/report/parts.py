@@ -10,7 +10,8 @@ import csv
 import io
 from dataclasses import dataclass
 
-from hdselect.catalog.checks import CHECK_NAMES
+from hdselect.catalog.checks import CHECK_NAMES, life_capped
+from hdselect.report.terminal import life_text
 from hdselect.sizing.result import JointSizing, SizingResult
 
 PARTS_COLUMNS = ("joint", "gearhead", "ratio", "gearhead_mass_kg", "motor", "motor_mass_kg",
@@ -25,7 +26,9 @@ the assumed motor mass (``--motor-mass``) [kg]. mass_kg: the two together [kg].
 binding: the rule closest to its limit, by name (a key of the JSON's ``checks``);
 binding_rule: the same in words. utilization: its demand / limit [-]. margin_left:
 1 - utilization [-]. margin_required: the design margin every rule was held to [-].
-life_l50_h, life_l10_h: the gearhead's life [h], empty when unlimited. inertia_ratio:
+life_l50_h, life_l10_h: the gearhead's life [h], as the terminal writes it: ``unlimited``
+(no load while moving), ``> 1e6`` at the cap (`hdselect.catalog.checks.LIFE_CAP`) and
+beyond, else the hours. inertia_ratio:
 load-to-rotor inertia ratio of the pair [-], empty without a motor. status:
 ``selected``, or ``no unit fits`` (then the row is empty but for the joint). On the
 ``total`` row the masses are sums over the joints with a unit."""
@@ -88,7 +91,19 @@ def parts_csv(result: SizingResult) -> str:
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(PARTS_COLUMNS)
     for part in parts(result):
-        writer.writerow(["" if value is None else (f"{value:.6g}" if isinstance(value, float)
-                                                     else value)
-                         for value in (getattr(part, name) for name in PARTS_COLUMNS)])
+        writer.writerow([_life(part, value) if name in _LIVES else
+                         "" if value is None else (f"{value:.6g}" if isinstance(value, float)
+                                                   else value)
+                         for name, value in ((name, getattr(part, name))
+                                             for name in PARTS_COLUMNS)])
     return buffer.getvalue()
+
+
+_LIVES = ("life_l50_h", "life_l10_h")
+
+
+def _life(part: Part, hours: float | None) -> str:
+    """A life cell as the terminal writes it; empty on a row without a unit."""
+    if part.gearhead is None:
+        return ""
+    return life_text(hours, "") if hours is None or life_capped(hours) else f"{hours:.6g}"

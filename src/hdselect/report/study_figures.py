@@ -11,11 +11,8 @@ import matplotlib.ticker
 import numpy as np
 from matplotlib.figure import Figure
 
+from hdselect.catalog.checks import LIFE_CAP
 from hdselect.report.figures import save
-
-LIFE_CAP = 1e6
-"""Lives drawn at most this long [h]; longer ones sit on the cap as "> 1e6 h", as the
-terminal writes them."""
 
 
 def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: str,
@@ -99,8 +96,8 @@ def write_study_png(path: str | Path, title: str, rows: Sequence[dict], first: s
             points.sort(key=lambda row: xs.index(_plain(row.get(first))))
             x = [_position(xs, row.get(first), numeric) for row in points]
             life = [row[key] for row in points]
-            drawn = [LIFE_CAP if v is None or v > LIFE_CAP else v for v in life]
-            capped = [v is None or v > LIFE_CAP for v in life]
+            drawn = [LIFE_CAP if v is None or v >= LIFE_CAP else v for v in life]
+            capped = [v is None or v >= LIFE_CAP for v in life]
             label = None if second is None or r else f"{_tick(value)}"
             life_ax.scatter([a for a, c in zip(x, capped, strict=True) if not c],
                             [b for b, c in zip(drawn, capped, strict=True) if not c],

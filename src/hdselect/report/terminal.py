@@ -11,6 +11,7 @@ from collections.abc import Iterable
 
 from rich.console import Console
 
+from hdselect.catalog.checks import LIFE_CAP, life_capped
 from hdselect.catalog.rules import CHECK_LABELS, Candidate, Check
 from hdselect.report.tables import console_for
 
@@ -44,11 +45,15 @@ def utilization_text(utilization: float, ok: bool) -> str:
     return f"{tenths / 10:.1f}%"
 
 
+CAPPED_LIFE = f"> {LIFE_CAP:.0e}".replace("e+0", "e")
+"""How a life at `hdselect.catalog.checks.LIFE_CAP` or beyond reads: ``> 1e6``."""
+
+
 def life_text(hours: float | None, suffix: str = " h") -> str:
-    """An L50 life for a table; beyond a million hours the digits stop mattering."""
+    """A life for a table: ``unlimited``, the hours, or ``> 1e6`` at `LIFE_CAP` and beyond."""
     if hours is None:
         return "unlimited"
-    return f"{hours:,.0f}{suffix}" if hours < 1e6 else f"> 1e6{suffix}"
+    return f"{CAPPED_LIFE}{suffix}" if life_capped(hours) else f"{hours:,.0f}{suffix}"
 
 
 def selected_note(selected: object, what: str = "unit") -> str:

@@ -10,6 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from hdselect.robot.model import Robot
+from hdselect.robot.mounting import STANDARD_GRAVITY
 
 _SAMPLES_PER_THREAD = 2048
 """Below this many samples per thread, starting a thread costs more than it saves."""
@@ -18,6 +19,12 @@ CHUNK = 1 << 16
 keeping the per-call overhead negligible."""
 _CORES = os.cpu_count() or 1
 """Cores of this machine (asking the system costs ~0.1 ms a call)."""
+NOISE_FLOOR = 1e-9
+"""Torques below this fraction of the robot's torque scale (`torque_floor`) are the noise
+of the recursion's floating point (about 1e-16 of the terms it sums; this leaves seven
+orders of margin) and count as exactly zero where a joint is sized
+(`hdselect.sizing.core.select_units`): a joint nothing loads carries no torque, not 2e-10
+N m whose cube-law life is 1e37 h."""
 _REPEATS_WORTH = 8
 """Repeated states are computed once when more than 1 in this many samples repeat the one
 before (dwells): the same inputs give the same torques, bit for bit."""
@@ -185,6 +192,22 @@ def inverse_dynamics(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         pin.rneaInParallel(threads, pool, config, velocity, acceleration, tau)
         out[rows] = tau.T
     return out
+
+
+def torque_floor(robot: Robot) -> np.ndarray:
+    """Per joint, the torque [N m] (force [N], prismatic) below which it counts as zero.
+
+    `NOISE_FLOOR` times the robot's scale: its whole mass under standard gravity, at
+    the length of every joint offset and centre of mass of the model laid end to end
+    for a rotary joint (no pose has a longer lever), at no length for a prismatic one.
+    The same for every pose, speed and task of the robot.
+    """
+    model = robot.model
+    mass = sum(inertia.mass for inertia in model.inertias)
+    length = (sum(float(np.linalg.norm(p.translation)) for p in model.jointPlacements)
+              + sum(float(np.linalg.norm(inertia.lever)) for inertia in model.inertias))
+    force = NOISE_FLOOR * STANDARD_GRAVITY * mass
+    return np.where(robot.revolute, force * length, force)
 
 
 def distinct_states(q: np.ndarray, qd: np.ndarray,

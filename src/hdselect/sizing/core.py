@@ -17,6 +17,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from hdselect.base.bounds import expect_type, files_argument
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
@@ -28,6 +30,7 @@ from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.motion.solve import solve_motion
+from hdselect.robot.dynamics import torque_floor
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
@@ -302,8 +305,10 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
     robot = model.robot
     masses: dict[str, float] = {}
     found: dict[str, JointSizing] = {}
+    floor = torque_floor(robot)
     for name in reversed(robot.sized_joints):  # a parent's index is below its children's
-        tau, stop = model.torques(name, masses)
+        tau, stop = (np.where(np.abs(x) < floor[robot.joint_index(name)], 0.0, x)
+                     for x in model.torques(name, masses))  # noise counts as zero
         # the load inertia before the selection (the inertia-ratio rule): M_jj depends only
         # on the bodies beyond the joint, whose units are chosen
         inertia = model.load_inertia(name, masses) if name in motors else None

@@ -11,6 +11,7 @@ from collections.abc import Iterable
 from typing import Any
 
 from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
+from hdselect.catalog.checks import LIFE_CHECKS, life_capped, reported_life
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
@@ -50,11 +51,18 @@ def mean_speed_note(units: Iterable[Unit]) -> str:
     return WHOLE_CYCLE_NOTE
 
 
-def check_json(check: Check) -> dict[str, Any]:
-    """One check as JSON: value, limit, ok, utilization and any detail."""
-    document: dict[str, Any] = {"value": finite_or_none(check.value),
+def check_json(check: Check, *, life: bool = False) -> dict[str, Any]:
+    """One check as JSON: value, limit, ok, utilization and any detail.
+
+    A life's check (`life`) reports its value within `hdselect.catalog.checks.LIFE_CAP`, with
+    ``capped``.
+    """
+    value = reported_life(check.value) if life else check.value
+    document: dict[str, Any] = {"value": finite_or_none(value),
                                 "limit": finite_or_none(check.limit),
                                 "ok": check.ok, "utilization": finite_or_none(check.utilization)}
+    if life:
+        document["capped"] = life_capped(check.value)
     document.update({key: finite_or_none(value) for key, value in check.detail.items()})
     return document
 
@@ -67,14 +75,17 @@ def candidate_json(candidate: Candidate) -> dict[str, Any]:
         "size": unit.size,
         "ratio": unit.ratio,
         "feasible": candidate.feasible,
-        "life_hours": finite_or_none(candidate.life_hours),
-        "l10_hours": finite_or_none(candidate.l10_hours),
+        "life_hours": finite_or_none(reported_life(candidate.life_hours)),
+        "l10_hours": finite_or_none(reported_life(candidate.l10_hours)),
+        "life_capped": life_capped(candidate.life_hours),
+        "l10_capped": life_capped(candidate.l10_hours),
         "flags": sorted({flag.code for flag in candidate.flags}),
         "notes": [flag.note for flag in candidate.flags],
         "binding": candidate.binding,
         "margin_required": candidate.required_margin,
         "rules": rules_json(unit.rules),
-        "checks": {name: check_json(check) for name, check in candidate.checks.items()},
+        "checks": {name: check_json(check, life=name in LIFE_CHECKS)
+                   for name, check in candidate.checks.items()},
     }
     motor = candidate.motor
     if motor is not None:
@@ -142,7 +153,8 @@ def candidate_bearing_json(candidate: Candidate) -> dict[str, Any]:
             "mean_output_speed_rpm": figures.mean_speed,
             "equivalent_load_n": figures.equivalent_load,
             "load_factors": None if figures.factors is None else list(figures.factors),
-            "life_l10_hours": finite_or_none(figures.life_hours),
+            "life_l10_hours": finite_or_none(reported_life(figures.life_hours)),
+            "life_capped": life_capped(figures.life_hours),
             "static_load_n": figures.static_load,
             "static_safety": finite_or_none(figures.static_safety)})
     return document

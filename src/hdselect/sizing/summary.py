@@ -11,6 +11,7 @@ from dataclasses import asdict, dataclass, fields, is_dataclass
 from typing import Any
 
 from hdselect.base.bounds import expect_type
+from hdselect.catalog.checks import life_capped, reported_life
 from hdselect.sizing.result import JointSizing, SizingResult
 
 
@@ -26,8 +27,9 @@ class JointSummary:
         binding: The check with the highest utilization for `candidate`.
         utilization: Demand over limit of every check for `candidate` [-] (life:
             required over expected).
-        life_l50_hours: L50 life of `candidate` [h]; None when unlimited.
-        life_l10_hours: L10 life of `candidate` [h]; None when unlimited.
+        life_l50_hours: L50 life of `candidate` [h], at most
+            `hdselect.catalog.checks.LIFE_CAP`; None when unlimited.
+        life_l10_hours: L10 life of `candidate` [h], the same way.
         motor_peak_torque: Peak motor torque behind `candidate` [N m].
         motor_rms_torque: RMS motor torque over the cycle [N m].
         motor_max_speed: Largest input speed [rpm].
@@ -53,9 +55,10 @@ class JointSummary:
         bearing_rated: `candidate`'s catalog rates its output bearing (its checks are
             then among `utilization`); None where the loads were not computed.
         bearing_life_l10_hours: `candidate`'s output bearing L10 life [h]; None when not
-            rated, unlimited or not computed.
+            rated, unlimited or not computed; at most the cap too.
         binding_task: For a duty of several tasks, the task that sets the binding rule
             (``"pooled"`` for a rule over every task); None for one task.
+        life_capped: `life_l50_hours` is the cap, not the life (which is longer).
     """
 
     name: str
@@ -86,6 +89,7 @@ class JointSummary:
     bearing_rated: bool | None = None
     bearing_life_l10_hours: float | None = None
     binding_task: str | None = None
+    life_capped: bool = False
 
 
 @dataclass(frozen=True)
@@ -177,7 +181,8 @@ def _joint(joint: JointSizing, result: SizingResult) -> JointSummary:
         "bearing_max_axial": load.max_axial, "bearing_mean_moment": load.mean_moment,
         "bearing_mean_radial": load.mean_radial, "bearing_mean_axial": load.mean_axial,
         "bearing_rated": chosen.unit.bearing is not None,
-        "bearing_life_l10_hours": None if chosen.bearing is None else chosen.bearing.life_hours}
+        "bearing_life_l10_hours": None if chosen.bearing is None
+        else reported_life(chosen.bearing.life_hours)}
     return JointSummary(
         name=joint.name,
         unit=None if joint.selected is None else joint.selected.unit.id,
@@ -185,8 +190,9 @@ def _joint(joint: JointSizing, result: SizingResult) -> JointSummary:
         feasible=joint.selected is not None,
         binding=chosen.binding,
         utilization={name: float(check.utilization) for name, check in chosen.checks.items()},
-        life_l50_hours=chosen.life_hours,
-        life_l10_hours=chosen.l10_hours,
+        life_l50_hours=reported_life(chosen.life_hours),
+        life_l10_hours=reported_life(chosen.l10_hours),
+        life_capped=life_capped(chosen.life_hours),
         motor_peak_torque=0.0 if motor is None else motor.peak_torque,
         motor_rms_torque=0.0 if motor is None else motor.rms_torque,
         motor_max_speed=0.0 if motor is None else motor.max_speed,
