@@ -294,16 +294,19 @@ def refuse_pair_flags(args: argparse.Namespace, motors: bool) -> None:
     Raises:
         InputError: One is given where it cannot act; the message names both flags.
     """
-    if args.inertia_target is not None and args.prefer != "inertia":
+    target = getattr(args, "inertia_target", None)  # plan takes neither flag
+    prefer = getattr(args, "prefer", None)
+    max_ratio = getattr(args, "max_inertia_ratio", None)
+    if target is not None and prefer != "inertia":
         raise InputError("the ratio --prefer inertia aims at: without --prefer inertia it acts "
                          "on nothing; give both, or neither", field="--inertia-target")
     if motors:
         return
-    for flag, given in (("--max-inertia-ratio", args.max_inertia_ratio is not None),
-                        ("--inertia-target", args.inertia_target is not None),
-                        ("--prefer", args.prefer in MOTOR_ORDERS)):
+    for flag, given in (("--max-inertia-ratio", max_ratio is not None),
+                        ("--inertia-target", target is not None),
+                        ("--prefer", prefer in MOTOR_ORDERS)):
         if given:
-            what = f"'{args.prefer}' orders" if flag == "--prefer" else "judges"
+            what = f"'{prefer}' orders" if flag == "--prefer" else "judges"
             raise InputError(f"{what} gearhead and motor pairs, and no motor is given: give "
                              "--motor-catalog (or a [motor] table in the motion file)",
                              field=flag)
