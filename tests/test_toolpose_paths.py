@@ -9,6 +9,7 @@ cycle closes when its last planned sample equals its first.
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -16,6 +17,7 @@ import pytest
 
 import hdselect
 from hdselect.base.errors import InputError
+from hdselect.cli.main import main
 from hdselect.motion.branches import SINGULAR, check_branch, path_crossing, whole_turns
 from hdselect.motion.kinematics import FrameKinematics
 from hdselect.motion.planning import PLANNERS, plan_motion
@@ -69,6 +71,20 @@ def test_reconfigure_allows_a_crossing_on_the_planned_path_with_a_note(tmp_path)
     assert max(planned.trajectory.q[:, 1]) > 0 > planned.trajectory.q[0, 1]
     assert any("passes an elbow singularity" in w and "allowed by waypoint[1].reconfigure" in w
                for w in planned.motion.warnings)
+
+
+def test_an_allowed_crossing_is_among_the_sizings_warnings(tmp_path, capsys):
+    """The note reaches `size`'s result (its table, JSON and report), and the terminal once."""
+    path = planar2_swinging_past(tmp_path, reconfigure=True)
+    result = hdselect.size(None, path)
+    assert any("passes an elbow singularity" in w and "allowed by waypoint[1].reconfigure" in w
+               for w in result.warnings)
+    capsys.readouterr()
+    assert main(["size", str(path), "--json", str(tmp_path / "r.json")]) in (0, 1)
+    err = capsys.readouterr().err
+    document = json.loads((tmp_path / "r.json").read_text())
+    assert any("passes an elbow singularity" in w for w in document["warnings"])
+    assert err.count("passes an elbow singularity") <= 1
 
 
 @pytest.mark.parametrize(("elbow", "crossing"), [(0.0, True), (-1e-3, True), (0.05, False)])

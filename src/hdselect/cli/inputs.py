@@ -23,7 +23,7 @@ _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
 
 
 SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile", "hdselect.motion.solve",
-                 "hdselect.motion.planning")
+                 "hdselect.motion.planning", "hdselect.motion.planning.crossings")
 """Loggers whose warnings a sizing result carries (`SizingResult.warnings`)."""
 
 
@@ -317,7 +317,7 @@ def planned_and_sized(robot, motion, units, options, motors):
     from dataclasses import replace
 
     from hdselect.motion.mixfile import Mix
-    from hdselect.motion.planning import plan
+    from hdselect.motion.planning import plan_motion
     from hdselect.sizing.core import size_tasks, size_trajectory
     from hdselect.sizing.duty import mix_tasks
 
@@ -325,9 +325,9 @@ def planned_and_sized(robot, motion, units, options, motors):
         tasks, idle = mix_tasks(robot, motion, joints=robot.sized_joints, exclude=(),
                                 max_samples=options.max_samples)
         return replace(size_tasks(tasks, units, options, motors=motors, idle=idle), mix=motion)
-    trajectory = plan(robot, motion, max_samples=options.max_samples)
-    return replace(size_trajectory(robot, trajectory, units, options, motors=motors),
-                   motion=motion)
+    planned = plan_motion(robot, motion, max_samples=options.max_samples)
+    return replace(size_trajectory(robot, planned.trajectory, units, options, motors=motors),
+                   motion=planned.motion)
 
 
 def sizing_options_of(args: argparse.Namespace, motion):

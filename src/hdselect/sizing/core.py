@@ -28,7 +28,7 @@ from hdselect.catalog.units import Unit
 from hdselect.motion.case import load_case, robot_for_mix, robot_for_motion
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.planning import Trajectory, plan_motion
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.dynamics import torque_floor
 from hdselect.robot.model import Robot, load_robot
@@ -129,8 +129,9 @@ def size(
     units = tuple(units) if units is not None else load_catalog(catalog)
     if motors is None:
         motors = motion_motors(robot, motion)
-    trajectory = plan(robot, motion, max_samples=resolved.max_samples)
-    return size_tasks((Task(robot, trajectory, motion=motion),), units, resolved, motors=motors)
+    planned = plan_motion(robot, motion, max_samples=resolved.max_samples)
+    return size_tasks((Task(robot, planned.trajectory, motion=planned.motion),), units, resolved,
+                      motors=motors)
 
 
 def _size_mix(robot: Robot | str | Path | None, mix: Mix | str | Path, *,
