@@ -338,7 +338,7 @@ def test_ctrl_c_anywhere_is_one_line_and_leaves_nothing(work, capsys, monkeypatc
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(hdselect.motion.planning, "plan", interrupted)
+    monkeypatch.setattr(hdselect.motion.planning, "plan_motion", interrupted)
     status, out, err = run(capsys, "size", f"tr/{PLANAR2}", "--json", "out.json",
                            "--report", "report")
     assert status == 130 and out == ""

@@ -213,13 +213,13 @@ def test_a_refusal_after_a_python_warning_is_still_one_line(work, capsys, monkey
 
     from hdselect.base.errors import InputError
 
-    command_line = importlib.import_module("hdselect.cli.main")
+    command = importlib.import_module("hdselect.cli.size")  # main looks it up per run
 
     def warn_then_refuse(args):
         warnings.warn("overflow encountered in multiply", RuntimeWarning, stacklevel=1)
         raise InputError("refused", field="x")
 
-    monkeypatch.setattr(command_line, "run_size", warn_then_refuse)
+    monkeypatch.setattr(command, "run_size", warn_then_refuse)
     with warnings.catch_warnings():
         warnings.simplefilter("default")
         refused(capsys, "size", f"tr/{PLANAR2}", says=("error: x: refused",))
