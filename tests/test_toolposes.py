@@ -30,7 +30,8 @@ from hdselect.motion.poses import Tolerance, pose_error
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.dynamics import inverse_dynamics
 from hdselect.robot.model import load_robot
-from hdselect.robot.mounting import STANDARD_GRAVITY, BasePose
+from hdselect.robot.mounting import STANDARD_GRAVITY, BasePose, shown_numbers
+from hdselect.sizing.records import base_text
 from test_dynamics import REPO
 from test_example_robots import ARMS as EXAMPLE_ARMS
 from test_example_robots import example_robots
@@ -77,6 +78,18 @@ def test_a_named_mounting_is_one_placement_for_gravity_and_poses(name):
     np.testing.assert_array_equal(robot.base_pose.matrix, BASES[name].rotation)
     np.testing.assert_allclose(robot.gravity, by_hand, atol=1e-15)
     np.testing.assert_allclose(robot.model.gravity.linear, by_hand, atol=1e-15)
+
+
+def test_a_base_hung_upside_down_reads_as_written():
+    """A rotation's rounding (cos 180 deg = -1, sin 180 deg = 1.2e-16) is not shown as
+    gravity of -1.2e-15 m/s^2 or a pitch of -0 deg."""
+    hung = BasePose.from_xyz_rpy([0.0, 0.0, 0.44], [math.pi, 0.0, 0.0])
+    robot = load_robot(robot_path("benchtop6")).with_mounting(hung)
+    assert abs(robot.gravity[1]) > 0.0  # the rounding is there
+    line = base_text(robot)
+    assert "rpy (180, 0, 0) deg" in line and "gravity (0, 0, 9.807) m/s^2" in line, line
+    assert shown_numbers([-0.0, 1e-300, -2.5]) == "0, 0, -2.5"
+    assert shown_numbers([1e-13, 1.0]) == "0, 1" and shown_numbers([1e-3, 1.0]) == "0.001, 1"
 
 
 def test_a_base_pose_sets_gravity_and_a_gravity_vector_no_pose():

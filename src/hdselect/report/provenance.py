@@ -23,7 +23,7 @@ import numpy as np
 
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import MAX_LOG_BYTES, read_input
-from hdselect.robot.mounting import MOUNTINGS
+from hdselect.robot.mounting import MOUNTINGS, shown_numbers
 from hdselect.sizing.result import SizingResult
 from hdselect.sizing.tasks import Task
 
@@ -172,7 +172,7 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
     named = [name for name, vector in MOUNTINGS.items() if np.allclose(vector, gravity)]
     rows = [("joints", kinds),
             ("mounting", f"{named[0] + ': ' if named else ''}gravity "
-                         f"[{', '.join(f'{g:g}' for g in gravity)}] m/s^2 in the base frame")]
+                         f"[{shown_numbers(gravity)}] m/s^2 in the base frame")]
     payload = robot.payload
     if payload is None:
         rows.append(("payload", "none"))

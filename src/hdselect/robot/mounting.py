@@ -168,5 +168,16 @@ def mounting_name(base: BasePose | None) -> str:
         if named == base:
             return f"the {name} mounting"
     rpy = np.degrees(pin.rpy.matrixToRpy(base.matrix))
-    return (f"the base at ({', '.join(f'{v:.4g}' for v in base.xyz)}) m, rpy "
-            f"({', '.join(f'{v:.4g}' for v in rpy)}) deg")
+    return (f"the base at ({shown_numbers(base.xyz)}) m, rpy ({shown_numbers(rpy, 180.0)}) deg")
+
+
+def shown_numbers(values: Sequence[float], scale: float | None = None) -> str:
+    """Numbers as a person reads them, 4 significant digits, comma-separated.
+
+    A value within 1e-12 of `scale` (default: the largest magnitude among them) of zero
+    is the rounding of a rotation (gravity on a ceiling, cos 180 deg) and reads 0, and
+    -0 reads 0.
+    """
+    values = [float(v) for v in values]
+    size = max((abs(v) for v in values), default=0.0) if scale is None else scale
+    return ", ".join(f"{0.0 if abs(v) <= 1e-12 * size else v:.4g}" for v in values)

@@ -18,7 +18,7 @@ from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import SeriesRules, Unit
 from hdselect.motion.mixfile import SECONDS_PER_HOUR
 from hdselect.robot.model import Robot
-from hdselect.robot.mounting import NAMED_BASES, mounting_name
+from hdselect.robot.mounting import NAMED_BASES, mounting_name, shown_numbers
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
@@ -245,7 +245,7 @@ def base_text(robot: Robot) -> str:
     """The fixed link, its mounting where not the floor, and the payload in a line."""
     mounting = ""
     if robot.base_pose != NAMED_BASES["floor"]:
-        gravity = ", ".join(f"{g:.4g}" for g in robot.gravity)
+        gravity = shown_numbers(robot.gravity)
         mounting = (f" on {mounting_name(robot.base_pose)} (gravity ({gravity}) m/s^2 in "
                     "its frame)")
     payload = robot.payload
