@@ -463,6 +463,19 @@ def test_a_log_has_no_path(capsys):
                    "path to run faster; give a motion with waypoints\n")
 
 
+def test_a_joint_no_unit_can_run_is_named_with_what_to_do(capsys):
+    """No catalog unit holds the shoulder: the refusal says how to go on (--units would not)."""
+    motion = REPO / "trajectories" / "benchtop6_pick_place.toml"
+    assert main(["fastest", str(motion), "--payload", "30"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"hdselect: error: {motion}: no unit of the catalog can run joint "
+                   "'shoulder_lift' on this motion at any speed (hdselect size says how close "
+                   "each comes); leave it out with --exclude shoulder_lift, or give a catalog "
+                   "with a stronger unit (--catalog)\n")
+    assert main(["fastest", str(motion), "--payload", "30", "--exclude",
+                 "shoulder_lift,elbow"]) == 0
+
+
 def test_unit_that_cannot_hold_gravity(capsys, tmp_path):
     out = tmp_path / "never.csv"
     assert main(["fastest", str(FAST_PICK), "--units", "shoulder_lift=PSA-08-80",

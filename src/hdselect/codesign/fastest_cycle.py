@@ -348,8 +348,11 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
             selected[joint.name] = pick
         if joint.name not in chosen:
             if pick is None:
-                raise PlanningError(f"{motion.path}: no unit can run joint '{joint.name}' on "
-                                    "this motion at any speed; give one with --units")
+                raise PlanningError(
+                    f"{motion.path}: no unit of the catalog can run joint '{joint.name}' on "
+                    "this motion at any speed (hdselect size says how close each comes); "
+                    f"leave it out with --exclude {joint.name}, or give a catalog with a "
+                    "stronger unit (--catalog)")
             chosen[joint.name] = by_id[pick]
         if joint.name in candidates:
             paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
