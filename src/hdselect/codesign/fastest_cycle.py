@@ -348,16 +348,19 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
             selected[joint.name] = pick
         if joint.name not in chosen:
             if pick is None:
-                raise PlanningError(
-                    f"{motion.path}: no unit of the catalog can run joint '{joint.name}' on "
-                    "this motion at any speed (hdselect size says how close each comes); "
-                    f"leave it out with --exclude {joint.name}, or give a catalog with a "
-                    "stronger unit (--catalog)")
+                raise PlanningError(f"{motion.path}: {no_unit_at_any_speed(joint.name)}")
             chosen[joint.name] = by_id[pick]
         if joint.name in candidates:
             paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
                                                candidates[joint.name], sizing.options)
     return chosen, selected, paired
+
+
+def no_unit_at_any_speed(joint: str, over: str = "this motion") -> str:
+    """The refusal for a joint no catalog unit can run, slowed or not, with what helps."""
+    return (f"no unit of the catalog can run joint '{joint}' on {over} at any speed "
+            f"(hdselect size says how close each comes); leave it out with --exclude {joint}, "
+            "or give a catalog with a stronger unit (--catalog)")
 
 
 def _refuse_log(motion: Motion) -> None:
