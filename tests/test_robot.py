@@ -198,6 +198,19 @@ def test_payload_defaults_to_the_last_link_and_honours_its_com():
     assert extra[0] == pytest.approx(mass * STANDARD_GRAVITY * (L1 + L2 + com[0]))
 
 
+def test_choosing_the_joints_to_size_does_not_move_the_payload():
+    """A payload without a frame stays at the tip when only the shoulder is sized;
+    excluding the elbow (as a gripper's joint is) moves it, as documented."""
+    payload = Payload(mass=0.5)
+    for robot in (planar2(payload=payload, joints=["shoulder"]),
+                  planar2(payload=payload).with_sized_joints(["shoulder"])):
+        assert robot.sized_joints == ("shoulder",)
+        assert robot.payload_frame == "tool"
+        extra = gravity_torque(robot, [[0.0, 0.0]]) - gravity_torque(planar2(), [[0.0, 0.0]])
+        assert extra[0] == pytest.approx(0.5 * STANDARD_GRAVITY * (L1 + L2), rel=1e-12)
+    assert planar2(payload=payload, exclude=["elbow"]).payload_frame == "link1"
+
+
 def test_payload_sign_follows_gravity():
     payload = Payload(mass=0.7, frame="tool")
     floor = gravity_torque(planar2(payload=payload), [[0.0, 0.0]])

@@ -109,7 +109,7 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
         "# mass = 1.0            # kg",
         "# com = [0.0, 0.0, 0.05]   # m, in the frame below",
         f"# frame = {json.dumps(robot.default_payload_frame)}   # the default: the tip of the "
-        "longest chain of sized joints",
+        "longest chain of joints not excluded",
         "",
         "[sizing]                # every revolute joint gets a gearhead unless excluded here",
         (f"# exclude = {json.dumps(grippers)}   # named like a gripper's: exclude to size the "

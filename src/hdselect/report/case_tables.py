@@ -140,7 +140,7 @@ def case_notes(robot: Robot, trajectory: Trajectory | Sequence[Trajectory]) -> l
     payload = robot.payload
     if payload is not None and payload.frame is None:
         notes.append(f"payload: {payload.mass:g} kg on {robot.payload_frame}, the tip of the "
-                     "longest chain of sized joints, since no frame was given.")
+                     "longest chain of joints not excluded, since no frame was given.")
     tasks = [trajectory] if isinstance(trajectory, Trajectory) else list(trajectory)
     still = [name for name in robot.sized_joints
              if not any(np.any(traj.qd[:, robot.joint_index(name)]) for traj in tasks)]
