@@ -191,11 +191,10 @@ class Robot:
             InputError: A name is unknown, names a prismatic or a mimic follower joint,
                 or no joint is left to size.
         """
-        changes = {"sized_joints": _sized(self, joints, exclude),
-                   "payload_chain": _sized(self, None, exclude)}
+        sized, chain = _sized(self, joints, exclude), _sized(self, None, exclude)
         if self.payload is not None and self.payload.frame is None:
-            return self._rebuilt(**changes)
-        return replace(self, **changes)
+            return self._rebuilt(sized_joints=sized, payload_chain=chain)
+        return replace(self, sized_joints=sized, payload_chain=chain)
 
     def joint_type(self, name: str) -> str:
         """``"revolute"``, ``"continuous"``, ``"prismatic"`` or ``"mimic"`` (a follower)."""
