@@ -37,7 +37,7 @@ def run(capsys, *argv):
 def assert_one_line_error(err: str, *fragments: str):
     lines = err.strip().splitlines()
     assert len(lines) == 1, err
-    assert lines[0].startswith("hdselect: error: ")
+    assert re.match(r"hdselect( [a-z-]+)?: error: ", lines[0]), err  # argparse: its command
     assert "Traceback" not in err
     for fragment in fragments:
         assert fragment in lines[0], (fragment, lines[0])
@@ -411,6 +411,24 @@ def test_report_onto_an_existing_file(capsys, tmp_path):
     assert status == 2
     assert_one_line_error(err, "report.html")
     assert target.read_text() == "keep me" and files_in(tmp_path) == {"report.html"}
+
+
+@pytest.mark.parametrize(("command", "given", "message"), [
+    ("size", "--joint", "--joint elbow; did you mean --joints? (see hdselect size --help)"),
+    ("compare", "--payloda", "--payloda elbow; did you mean --payload? (see hdselect compare "
+                             "--help)"),
+    ("plan", "--xyz", "--xyz elbow (see hdselect plan --help)"),
+])
+def test_an_unknown_or_shortened_option_is_refused_by_its_command(capsys, command, given,
+                                                                 message):
+    """Never read as an abbreviation (size --joint J sized J alone, as --joints J)."""
+    with pytest.raises(SystemExit) as exit:
+        main([command, str(PLANAR2_MOTION), given, "elbow",
+              *(["--out", "x.csv"] if command == "plan" else [])])
+    assert exit.value.code == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err == f"hdselect {command}: error: unrecognized arguments: {message}\n"
 
 
 @pytest.mark.parametrize("command", ["size", "compare", "plan"])

@@ -146,7 +146,7 @@ def _one_line(text: str) -> str:
 def _command(commands, verbose: argparse.ArgumentParser, name: str,
              summary: str) -> argparse.ArgumentParser:
     """A command's parser; its one-line summary heads both ``hdselect --help`` and its own."""
-    return commands.add_parser(name, parents=[verbose], help=summary,
+    return commands.add_parser(name, parents=[verbose], help=summary, allow_abbrev=False,
                                description=f"{summary[:1].upper()}{summary[1:]}.")
 
 
@@ -160,6 +160,23 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+    def parse_args(self, args=None, namespace=None):  # type: ignore[override]
+        """Parse; an unknown option is refused by its command, with the option nearest it.
+
+        Options are never abbreviated: ``size --joint J`` is not ``--joints J``.
+        """
+        parsed, extra = self.parse_known_args(args, namespace)
+        if extra:
+            import difflib
+
+            command = self._subparsers._group_actions[0].choices.get(  # type: ignore[union-attr]
+                getattr(parsed, "command", None), self) if self._subparsers else self
+            known = [name for action in command._actions for name in action.option_strings]
+            nearest = difflib.get_close_matches(extra[0].split("=")[0], known, n=1)
+            command.error(f"unrecognized arguments: {' '.join(extra)}"
+                          + (f"; did you mean {nearest[0]}?" if nearest else ""))
+        return parsed
 
     def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
         """Parse, then refuse an empty value of any option or argument.
@@ -202,7 +219,7 @@ def _parser() -> argparse.ArgumentParser:
     from hdselect.cli.study import run_study
 
     parser = _Parser(
-        prog="hdselect",
+        prog="hdselect", allow_abbrev=False,
         description="Size Harmonic Drive PSA-G gearheads for robot joints.")
     parser.add_argument("--version", action="version", version=f"hdselect {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="print progress notes")
