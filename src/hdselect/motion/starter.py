@@ -245,8 +245,10 @@ def regular_pair(robot: Robot, start: np.ndarray, second: np.ndarray
 
 
 def _solves_back(kin: FrameKinematics, first: np.ndarray, second: np.ndarray) -> bool:
-    """The rounded poses of `first` and `second` solve from `first`, keeping the branch,
-    and the move between them (straight in joint space: both rest) passes no singularity."""
+    """The rounded poses of `first` and `second` solve from `first` on one branch.
+
+    The move between them (straight in joint space: both rest) passes no singularity.
+    """
     targets = [pose_from_xyz_rpy(xyz, [math.radians(a) for a in rpy])
                for xyz, rpy in (_rounded(kin.placement(q)) for q in (first, second))]
     one = solve_pose(kin, targets[0], first)
