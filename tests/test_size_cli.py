@@ -497,6 +497,8 @@ def test_joints_and_exclude_options_choose_the_sized_joints(capsys, tmp_path):
     status, out, err = run(capsys, "size", BENCHTOP6, "--joints", "elbow", "--joints",
                            "wrist_2", "--json", report)
     assert [j["name"] for j in json.loads(report.read_text())["joints"]] == ["elbow", "wrist_2"]
+    assert "wrist_1: not sized: not among the joints asked for" in out  # not "excluded"
+    assert "The dynamics include them." in " ".join(out.split())
 
 
 @pytest.mark.parametrize(("args", "text"), [
