@@ -325,6 +325,16 @@ def test_duty_error_in_a_real_process(tmp_path: Path) -> None:
     assert_one_error_line(completed.stderr, str(profile), "phase[0].time", "finite")
 
 
+@pytest.mark.parametrize("module", ["hdselect", "hdselect.cli"])
+def test_python_dash_m_runs_the_command_line(module: str) -> None:
+    """``python -m hdselect`` said "'hdselect' is a package and cannot be directly executed"."""
+    completed = subprocess.run([sys.executable, "-m", module, "joints", "robots/planar2.urdf"],
+                               capture_output=True, text=True, timeout=60, check=False,
+                               cwd=Path(__file__).resolve().parents[1])
+    assert completed.returncode == 0, completed.stderr
+    assert completed.stdout.startswith("planar2.urdf: 2 joints")
+
+
 # --- the help texts (issue 27) -----------------------------------------------------------------
 
 def help_text(capsys: pytest.CaptureFixture[str], *argv: str) -> str:
