@@ -455,6 +455,14 @@ def test_unknown_joint_or_unit(capsys):
         assert err.count("\n") == 1
 
 
+@pytest.mark.parametrize("command", ["compare", "fastest"])
+def test_a_known_joint_not_sized_is_not_called_unknown(capsys, command):
+    assert main([command, str(FAST_PICK), "--joints", "elbow", "--joint", "wrist_1",
+                 *(["--compare-ratios"] if command == "fastest" else [])]) == 2
+    assert capsys.readouterr().err.startswith(
+        "hdselect: error: --joint: 'wrist_1' is not a sized joint; sized joints are: elbow\n")
+
+
 def test_a_log_has_no_path(capsys):
     log = REPO / "trajectories" / "pan_tilt_logged.toml"
     assert main(["fastest", str(log)]) == 2

@@ -42,7 +42,7 @@ from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
-from hdselect.sizing.arguments import checked_motors, fixed_units, units_argument
+from hdselect.sizing.arguments import checked_motors, fixed_units, not_sized, units_argument
 from hdselect.sizing.core import motion_motors, size_trajectory
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors, SizingResult
@@ -262,8 +262,7 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
         raise InputError(f"expected a list of joint names, got {joints!r}", field="joints")
     for name in joints or ():
         if name not in names:
-            raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",
-                             field="joint")
+            raise not_sized(robot, name, "joint")
     model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
     base = _fastest(model, chosen, options, paired)
     out = []
