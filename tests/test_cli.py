@@ -356,6 +356,14 @@ def test_every_command_says_in_one_line_what_it_does(capsys: pytest.CaptureFixtu
         assert parser.description in " ".join(help_text(capsys, name).split()), name
 
 
+def test_the_top_help_says_how_to_begin(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert ("A first run on your own robot: hdselect joints ROBOT (its joints as read), hdselect "
+            "init ROBOT --out motion.toml (a starter motion), hdselect size motion.toml.") in text
+
+
 def test_help_promises_only_what_the_input_takes(capsys: pytest.CaptureFixture[str]) -> None:
     duty = " ".join(help_text(capsys, "duty").split())
     assert "[requirements]" not in duty and "(default: 0)" in duty  # a profile has no margin

@@ -220,7 +220,10 @@ def _parser() -> argparse.ArgumentParser:
 
     parser = _Parser(
         prog="hdselect", allow_abbrev=False,
-        description="Size Harmonic Drive PSA-G gearheads for robot joints.")
+        description="Size Harmonic Drive PSA-G gearheads for robot joints.",
+        epilog="A first run on your own robot: hdselect joints ROBOT (its joints as read), "
+               "hdselect init ROBOT --out motion.toml (a starter motion), hdselect size "
+               "motion.toml. hdselect COMMAND --help says what a command takes.")
     parser.add_argument("--version", action="version", version=f"hdselect {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="print progress notes")
     verbose = _Parser(add_help=False)  # -v after the command too
