@@ -414,7 +414,8 @@ def test_report_onto_an_existing_file(capsys, tmp_path):
 
 
 @pytest.mark.parametrize(("command", "given", "message"), [
-    ("size", "--joint", "--joint elbow; did you mean --joints? (see hdselect size --help)"),
+    ("size", "--joint", "--joint elbow; size takes no --joint; did you mean --joints? (see "
+                        "hdselect size --help)"),
     ("compare", "--payloda", "--payloda elbow; did you mean --payload? (see hdselect compare "
                              "--help)"),
     ("plan", "--xyz", "--xyz elbow (see hdselect plan --help)"),
@@ -590,3 +591,15 @@ def test_fastest_states_the_selection_order_that_chose_its_units(capsys, monkeyp
     status, out, _ = run(capsys, "fastest", REPO / "trajectories" / "benchtop6_fast_pick.toml")
     assert status == 0
     assert "selection: size;" in out and "None" not in out
+
+
+def test_the_mass_carried_for_a_joint_without_a_unit_is_stated(capsys):
+    """No unit fits shoulder_lift under 30 kg: the joints below carry the strongest unit's
+    mass there, which the assumptions now say (they spoke of chosen units only)."""
+    status, out, err = run(capsys, "size", BENCHTOP6, "--payload", "30")
+    assert status == 1, err
+    text = " ".join(out.split())
+    assert ("mass coupling: on: each chosen unit's mass is carried by the joints nearer the "
+            "base; where none fits, the strongest unit's;") in text
+    status, out, err = run(capsys, "size", BENCHTOP6)
+    assert status == 0 and "where none fits" not in " ".join(out.split())

@@ -173,9 +173,16 @@ class _Parser(argparse.ArgumentParser):
             command = self._subparsers._group_actions[0].choices.get(  # type: ignore[union-attr]
                 getattr(parsed, "command", None), self) if self._subparsers else self
             known = [name for action in command._actions for name in action.option_strings]
-            nearest = difflib.get_close_matches(extra[0].split("=")[0], known, n=1)
-            command.error(f"unrecognized arguments: {' '.join(extra)}"
-                          + (f"; did you mean {nearest[0]}?" if nearest else ""))
+            given = extra[0].split("=")[0]
+            elsewhere = given.startswith("--") and any(  # another command's option
+                given in action.option_strings for other in
+                self._subparsers._group_actions[0].choices.values()  # type: ignore[union-attr]
+                for action in other._actions) if self._subparsers else False
+            nearest = difflib.get_close_matches(given, known, n=1, cutoff=0.9 if elsewhere
+                                                else 0.6)
+            hint = ((f"; {command.prog.split()[-1]} takes no {given}" if elsewhere else "")
+                    + (f"; did you mean {nearest[0]}?" if nearest else ""))
+            command.error(f"unrecognized arguments: {' '.join(extra)}{hint}")
         return parsed
 
     def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
