@@ -325,6 +325,16 @@ def test_duty_error_in_a_real_process(tmp_path: Path) -> None:
     assert_one_error_line(completed.stderr, str(profile), "phase[0].time", "finite")
 
 
+@pytest.mark.parametrize("module", ["hdselect", "hdselect.cli"])
+def test_python_dash_m_runs_the_command_line(module: str) -> None:
+    """``python -m hdselect`` said "'hdselect' is a package and cannot be directly executed"."""
+    completed = subprocess.run([sys.executable, "-m", module, "joints", "robots/planar2.urdf"],
+                               capture_output=True, text=True, timeout=60, check=False,
+                               cwd=Path(__file__).resolve().parents[1])
+    assert completed.returncode == 0, completed.stderr
+    assert completed.stdout.startswith("planar2.urdf: 2 joints")
+
+
 # --- the help texts (issue 27) -----------------------------------------------------------------
 
 def help_text(capsys: pytest.CaptureFixture[str], *argv: str) -> str:
@@ -344,6 +354,14 @@ def test_every_command_says_in_one_line_what_it_does(capsys: pytest.CaptureFixtu
         assert summary and f"{name} {summary}" in listing, name
         assert parser.description == f"{summary[:1].upper()}{summary[1:]}.", name
         assert parser.description in " ".join(help_text(capsys, name).split()), name
+
+
+def test_the_top_help_says_how_to_begin(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert ("A first run on your own robot: hdselect joints ROBOT (its joints as read), hdselect "
+            "init ROBOT --out motion.toml (a starter motion), hdselect size motion.toml.") in text
 
 
 def test_help_promises_only_what_the_input_takes(capsys: pytest.CaptureFixture[str]) -> None:

@@ -455,12 +455,33 @@ def test_unknown_joint_or_unit(capsys):
         assert err.count("\n") == 1
 
 
+@pytest.mark.parametrize("command", ["compare", "fastest"])
+def test_a_known_joint_not_sized_is_not_called_unknown(capsys, command):
+    assert main([command, str(FAST_PICK), "--joints", "elbow", "--joint", "wrist_1",
+                 *(["--compare-ratios"] if command == "fastest" else [])]) == 2
+    assert capsys.readouterr().err.startswith(
+        "hdselect: error: --joint: 'wrist_1' is not a sized joint; sized joints are: elbow\n")
+
+
 def test_a_log_has_no_path(capsys):
     log = REPO / "trajectories" / "pan_tilt_logged.toml"
     assert main(["fastest", str(log)]) == 2
     err = capsys.readouterr().err
     assert err == (f"hdselect: error: {log}: planner: a logged trajectory ('samples') has no "
                    "path to run faster; give a motion with waypoints\n")
+
+
+def test_a_joint_no_unit_can_run_is_named_with_what_to_do(capsys):
+    """No catalog unit holds the shoulder: the refusal says how to go on (--units would not)."""
+    motion = REPO / "trajectories" / "benchtop6_pick_place.toml"
+    assert main(["fastest", str(motion), "--payload", "30"]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"hdselect: error: {motion}: no unit of the catalog can run joint "
+                   "'shoulder_lift' on this motion at any speed (hdselect size says how close "
+                   "each comes); leave it out with --exclude shoulder_lift, or give a catalog "
+                   "with a stronger unit (--catalog)\n")
+    assert main(["fastest", str(motion), "--payload", "30", "--exclude",
+                 "shoulder_lift,elbow"]) == 0
 
 
 def test_unit_that_cannot_hold_gravity(capsys, tmp_path):

@@ -108,10 +108,12 @@ def test_a_body_whose_mass_comes_from_a_missing_mesh_is_refused_naming_it(
     body = "link2" if not compiler else "link1"
     with pytest.raises(InputError) as info:
         hdselect.load_robot(path)
+    fix = (" give the body an <inertial>" if not compiler else  # it has one: the compiler
+           ", to use the bodies' own <inertial>, drop the compiler's inertiafromgeom=\"true\" "
+           "(it takes every body's inertia from its geoms)")
     assert str(info.value) == (
         f"{path}: body '{body}' takes its mass and inertia from mesh 'bar', whose file "
-        "assets/bar.obj is not found: put the mesh files where the file names them, or give "
-        "the body an <inertial>")
+        f"assets/bar.obj is not found: put the mesh files where the file names them, or{fix}")
     model_from_mjcf(arm(tmp_path, meshes=True, link2=link2, compiler=compiler))  # with them
 
 

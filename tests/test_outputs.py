@@ -19,7 +19,7 @@ def names(directory: Path) -> list[str]:
 
 @pytest.mark.parametrize(("make", "target", "says"), [
     (lambda d: (d / "dir").mkdir(), "dir", "is a directory"),
-    (lambda d: None, "missing/out.json", "does not exist"),
+    (lambda d: None, "missing/out.json", "does not exist; create it first"),
     (lambda d: (d / "in.toml").write_text("x"), "in.toml", "is an input file"),
 ])
 def test_an_output_that_cannot_be_is_refused_when_reserved(tmp_path, make, target, says):

@@ -236,8 +236,8 @@ q = [10, 20]
     assert main(["size", str(still)]) == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "hold only: nothing moves in this cycle, so only holding the pose (static)" in text
-    assert ("payload: 0.4 kg on tool, the tip of the longest chain of sized joints, since no "
-            "frame was given") in text
+    assert ("payload: 0.4 kg on tool, the tip of the longest chain of joints not excluded, "
+            "since no frame was given") in text
 
 
 # --- gearhead and motor pairs ------------------------------------------------------------

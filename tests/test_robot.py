@@ -198,6 +198,48 @@ def test_payload_defaults_to_the_last_link_and_honours_its_com():
     assert extra[0] == pytest.approx(mass * STANDARD_GRAVITY * (L1 + L2 + com[0]))
 
 
+def test_choosing_the_joints_to_size_does_not_move_the_payload():
+    """A payload without a frame stays at the tip when only the shoulder is sized;
+    excluding the elbow (as a gripper's joint is) moves it, as documented."""
+    payload = Payload(mass=0.5)
+    for robot in (planar2(payload=payload, joints=["shoulder"]),
+                  planar2(payload=payload).with_sized_joints(["shoulder"])):
+        assert robot.sized_joints == ("shoulder",)
+        assert robot.payload_frame == "tool"
+        extra = gravity_torque(robot, [[0.0, 0.0]]) - gravity_torque(planar2(), [[0.0, 0.0]])
+        assert extra[0] == pytest.approx(0.5 * STANDARD_GRAVITY * (L1 + L2), rel=1e-12)
+    assert planar2(payload=payload, exclude=["elbow"]).payload_frame == "link1"
+
+
+def test_a_link_and_a_fixed_joint_of_one_name_place_the_payload_on_the_link(tmp_path):
+    """Pinocchio's two frames 'tool' were an internal error (ValueError, exit 70)."""
+    inertial = ('<inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" '
+                'ixz="0" iyz="0"/></inertial>')
+    path = tmp_path / "arm.urdf"
+    path.write_text(
+        f'<robot name="a"><link name="base_link"/><link name="tool">{inertial}</link>'
+        f'<link name="flange">{inertial}</link>'
+        '<joint name="j1" type="revolute"><parent link="base_link"/><child link="tool"/>'
+        '<origin xyz="0.5 0 0"/><axis xyz="0 -1 0"/>'
+        '<limit lower="-1" upper="1" effort="10" velocity="1"/></joint>'
+        '<joint name="tool" type="fixed"><parent link="tool"/><child link="flange"/>'
+        '<origin xyz="0.2 0 0"/></joint></robot>')
+    bare = gravity_torque(load_robot(path), [[0.0]])
+    for payload in (Payload(mass=2.0, frame="tool"), Payload(mass=2.0)):
+        robot = load_robot(path, payload=payload)
+        assert robot.payload_frame == "tool"
+        extra = gravity_torque(robot, [[0.0]]) - bare
+        assert extra[0] == pytest.approx(0.0, abs=1e-12)  # on the axis: the link's origin
+    at_flange = load_robot(path, payload=Payload(mass=2.0, frame="flange"))
+    assert (gravity_torque(at_flange, [[0.0]]) - bare)[0] == pytest.approx(
+        2.0 * STANDARD_GRAVITY * 0.2, rel=1e-12)  # where the joint's frame 'tool' sits
+    from hdselect.motion.kinematics import FrameKinematics
+
+    robot = load_robot(path)
+    assert FrameKinematics(robot, "tool").frame_id == robot.model.getFrameId(
+        "tool", pin.FrameType.BODY)
+
+
 def test_payload_sign_follows_gravity():
     payload = Payload(mass=0.7, frame="tool")
     floor = gravity_torque(planar2(payload=payload), [[0.0, 0.0]])

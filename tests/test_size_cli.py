@@ -37,7 +37,7 @@ def run(capsys, *argv):
 def assert_one_line_error(err: str, *fragments: str):
     lines = err.strip().splitlines()
     assert len(lines) == 1, err
-    assert lines[0].startswith("hdselect: error: ")
+    assert re.match(r"hdselect( [a-z-]+)?: error: ", lines[0]), err  # argparse: its command
     assert "Traceback" not in err
     for fragment in fragments:
         assert fragment in lines[0], (fragment, lines[0])
@@ -413,6 +413,25 @@ def test_report_onto_an_existing_file(capsys, tmp_path):
     assert target.read_text() == "keep me" and files_in(tmp_path) == {"report.html"}
 
 
+@pytest.mark.parametrize(("command", "given", "message"), [
+    ("size", "--joint", "--joint elbow; size takes no --joint; did you mean --joints? (see "
+                        "hdselect size --help)"),
+    ("compare", "--payloda", "--payloda elbow; did you mean --payload? (see hdselect compare "
+                             "--help)"),
+    ("plan", "--xyz", "--xyz elbow (see hdselect plan --help)"),
+])
+def test_an_unknown_or_shortened_option_is_refused_by_its_command(capsys, command, given,
+                                                                 message):
+    """Never read as an abbreviation (size --joint J sized J alone, as --joints J)."""
+    with pytest.raises(SystemExit) as exit:
+        main([command, str(PLANAR2_MOTION), given, "elbow",
+              *(["--out", "x.csv"] if command == "plan" else [])])
+    assert exit.value.code == 2
+    out, err = capsys.readouterr()
+    assert out == ""
+    assert err == f"hdselect {command}: error: unrecognized arguments: {message}\n"
+
+
 @pytest.mark.parametrize("command", ["size", "compare", "plan"])
 def test_bad_files_are_one_line_errors(capsys, tmp_path, command):
     broken = tmp_path / "broken.toml"
@@ -479,6 +498,8 @@ def test_joints_and_exclude_options_choose_the_sized_joints(capsys, tmp_path):
     status, out, err = run(capsys, "size", BENCHTOP6, "--joints", "elbow", "--joints",
                            "wrist_2", "--json", report)
     assert [j["name"] for j in json.loads(report.read_text())["joints"]] == ["elbow", "wrist_2"]
+    assert "wrist_1: not sized: not among the joints asked for" in out  # not "excluded"
+    assert "The dynamics include them." in " ".join(out.split())
 
 
 @pytest.mark.parametrize(("args", "text"), [
@@ -570,3 +591,15 @@ def test_fastest_states_the_selection_order_that_chose_its_units(capsys, monkeyp
     status, out, _ = run(capsys, "fastest", REPO / "trajectories" / "benchtop6_fast_pick.toml")
     assert status == 0
     assert "selection: size;" in out and "None" not in out
+
+
+def test_the_mass_carried_for_a_joint_without_a_unit_is_stated(capsys):
+    """No unit fits shoulder_lift under 30 kg: the joints below carry the strongest unit's
+    mass there, which the assumptions now say (they spoke of chosen units only)."""
+    status, out, err = run(capsys, "size", BENCHTOP6, "--payload", "30")
+    assert status == 1, err
+    text = " ".join(out.split())
+    assert ("mass coupling: on: each chosen unit's mass is carried by the joints nearer the "
+            "base; where none fits, the strongest unit's;") in text
+    status, out, err = run(capsys, "size", BENCHTOP6)
+    assert status == 0 and "where none fits" not in " ".join(out.split())

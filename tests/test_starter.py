@@ -157,3 +157,29 @@ def test_every_suggestion_a_starter_comments_plans(name, tool_poses, suggestion,
     assert trajectory.duration > 1.0
     if suggestion == "exclude":
         assert "finger_joint" not in loaded.sized_joints
+
+
+def test_a_redundant_arms_tool_pose_starter_plans_and_ends_where_it_starts(tmp_path):
+    """pybullet's Panda (7 joints): the return pose solved elsewhere in the null space and
+    the move passed a near-singularity the planner refuses; now it plans as written."""
+    data = pytest.importorskip("pybullet_data")
+    urdf = Path(data.getDataPath()) / "franka_panda" / "panda.urdf"
+    path = tmp_path / "panda.toml"
+    path.write_text(starter_motion(hdselect.load_robot(urdf), str(urdf), tool_poses=True))
+    robot, motion = hdselect.load_case(path)
+    trajectory = hdselect.plan(robot, motion)
+    np.testing.assert_allclose(trajectory.q[-1], trajectory.q[0], atol=1e-9)
+    assert trajectory.duration > 1.0
+
+
+def test_the_tool_pose_starter_does_not_promise_another_mounting(tmp_path):
+    """Its comment said `--mounting ceiling` solves the same poses again: on benchtop6 (and
+    9 of 12 arms tried) they are out of reach there; it now says so."""
+    robot = hdselect.load_robot(robot_path("benchtop6"))
+    text = starter_motion(robot, str(robot.path), tool_poses=True)
+    assert "solves the same poses again" not in text
+    assert "often out of reach: write poses for it there" in text
+    path = tmp_path / "motion.toml"
+    path.write_text(text)
+    with pytest.raises(hdselect.InputError, match="cannot reach this pose on the ceiling"):
+        hdselect.load_case(path, mounting="ceiling")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -208,3 +209,26 @@ def test_whole_turns_counts_bounded_revolute_joints_only():
     assert whole_turns(kin, q, turned).tolist() == [0, 0, 0, 0, 0, -1]
     assert not whole_turns(kin, q, turned + [0.01, 0, 0, 0, 0, 0]).any()  # another pose
     assert not whole_turns(kin, q, q).any()
+
+
+def test_a_crossing_between_two_rests_is_not_blamed_on_the_spline(tmp_path):
+    """pybullet's Panda between two dwells: the planned path is the straight joint move,
+    so 'dwell at both' (they do) and 'the spline swings past' were the wrong advice."""
+    data = pytest.importorskip("pybullet_data")
+    urdf = Path(data.getDataPath()) / "franka_panda" / "panda.urdf"
+    near = ", ".join(f"panda_joint{k} = {v}"
+                     for k, v in enumerate((0, 0, 0, -18, 0, 17.4, 0), start=1))
+    lines = [f'robot = "{urdf}"', 'planner = "toppra"', 'angle_unit = "deg"', "[limits]",
+             "velocity = 100", "acceleration = 200", "[tool]", 'frame = "panda_link7"']
+    for xyz, rpy, hint in (([0.2107, 0, 1.03878], [180, 0.6, 0], f"near = {{{near}}}"),
+                           ([0.41068, 0.49513, 0.72289], [-146.097, 35.2991, 56.8946], "")):
+        lines += ["[[waypoint]]", "dwell = 0.5", f"pose = {{xyz = {xyz}, rpy = {rpy}}}", hint]
+    path = tmp_path / "panda.toml"
+    path.write_text("\n".join(lines) + "\n")
+    robot, motion = hdselect.load_case(path)
+    with pytest.raises(InputError) as caught:
+        hdselect.plan(robot, motion)
+    message = str(caught.value)
+    assert caught.value.field == "waypoint[1]" and "passes a singularity" in message
+    assert message.endswith("move the poses, or add a waypoint between them that keeps the "
+                            "arm away from it, or allow it with reconfigure = true")

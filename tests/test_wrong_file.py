@@ -98,6 +98,28 @@ def test_python_load_robot_says_what_a_toml_file_is():
                                  "MJCF)")
 
 
+def test_another_robot_given_for_a_motion_says_whose_motion_it_is():
+    """The unknown joint is the motion file's robot's: the message says both robots."""
+    message = refused("size", "robots/scara.urdf", MOTION)
+    assert message.startswith(f"{MOTION}: ") and "unknown joint 'shoulder'" not in message
+    assert message.endswith(f"(the motion file is written for {ROBOT}, not for the ROBOT "
+                            "given, robots/scara.urdf)")
+    assert refused("size", ROBOT, "trajectories/scara_wafer_transfer.toml").endswith(
+        f"not for the ROBOT given, {ROBOT})")
+
+
+@pytest.mark.parametrize(("name", "text"), [
+    ("base.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 1\n"), ("finger.stl", b"solid s\nendsolid s\n"),
+    ("duck.dae", b"<?xml version='1.0'?><COLLADA/>"), ("part.STL", b"\x00" * 84)])
+def test_a_mesh_given_for_the_robot_is_named_as_one(name, text, tmp_path):
+    """Not 'not a valid URDF robot: malformed XML at line 1'."""
+    mesh = tmp_path / name
+    mesh.write_bytes(text)
+    assert refused("joints", str(mesh)) == (
+        f"{mesh}: a mesh file ({mesh.suffix}), not a robot file: hdselect reads URDF, xacro "
+        "and MJCF; give the robot file that names the meshes")
+
+
 @pytest.mark.parametrize(("text", "kind"), [
     (b"", None), (b"<robot/>", None), (b"\xff", None), (b"x = 1\n", "a TOML file"),
     (b"[[motor]]\nid = 'm'\n", "a motor file"), (b"[motor]\ncatalog = 'm.toml'\n", "a TOML file"),

@@ -73,7 +73,8 @@ def writable_target(target: str | Path, option: str | None = None) -> tuple[Path
             raise InputError("is a special file (a block device or a socket); not written",
                              path=path, field=option)
     elif not real.parent.is_dir():
-        raise InputError(f"the directory {real.parent} does not exist", path=path, field=option)
+        raise InputError(f"the directory {real.parent} does not exist; create it first",
+                         path=path, field=option)
     return real, "file"
 
 

@@ -82,7 +82,7 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
                                 "file's payload; without one, puts a point mass there)"))
     parser.add_argument("--payload-frame", metavar="LINK",
                         help="link carrying the payload (default: the motion file's, else the "
-                             "tip of the longest chain of sized joints)")
+                             "tip of the longest chain of joints not excluded)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
     doing = "size" if sizes else "plot"

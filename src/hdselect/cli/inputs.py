@@ -117,6 +117,20 @@ def robot_file_loaded(args: argparse.Namespace, file: str | Path | None):
     return load_motion_robot(args.motion, given, given_as="--xacro-arg")
 
 
+def _other_robot(args: argparse.Namespace, err: InputError) -> InputError:
+    """`err` (about a joint), saying so where the motion file names another robot than ROBOT."""
+    from hdselect.base.tomlfile import read_toml
+
+    named = read_toml(args.motion).get("robot") if args.robot is not None else None
+    if not isinstance(named, str) or "joint" not in err.reason:
+        return err
+    named = os.path.normpath(Path(args.motion).parent / named)
+    if Path(named).resolve() == Path(args.robot).resolve():
+        return err
+    return InputError(f"{err.reason} (the motion file is written for {named}, not for the "
+                      f"ROBOT given, {args.robot})", path=err.path, field=err.field)
+
+
 def robot_and_motion(args: argparse.Namespace):
     """The robot and the motion, with the command line's payload, mounting and joints applied.
 
@@ -136,7 +150,10 @@ def robot_and_motion(args: argparse.Namespace):
     if is_mix_file(args.motion):
         return _robot_and_mix(args)
     robot = robot_of(args)
-    motion = load_motion(args.motion, robot)
+    try:
+        motion = load_motion(args.motion, robot)
+    except InputError as err:
+        raise _other_robot(args, err) from err
     base = motion.payload
     given = [flag for flag, value in (("--payload", args.payload),
                                       ("--payload-com", args.payload_com),

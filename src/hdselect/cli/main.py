@@ -146,7 +146,7 @@ def _one_line(text: str) -> str:
 def _command(commands, verbose: argparse.ArgumentParser, name: str,
              summary: str) -> argparse.ArgumentParser:
     """A command's parser; its one-line summary heads both ``hdselect --help`` and its own."""
-    return commands.add_parser(name, parents=[verbose], help=summary,
+    return commands.add_parser(name, parents=[verbose], help=summary, allow_abbrev=False,
                                description=f"{summary[:1].upper()}{summary[1:]}.")
 
 
@@ -160,6 +160,30 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+    def parse_args(self, args=None, namespace=None):  # type: ignore[override]
+        """Parse; an unknown option is refused by its command, with the option nearest it.
+
+        Options are never abbreviated: ``size --joint J`` is not ``--joints J``.
+        """
+        parsed, extra = self.parse_known_args(args, namespace)
+        if extra:
+            import difflib
+
+            command = self._subparsers._group_actions[0].choices.get(  # type: ignore[union-attr]
+                getattr(parsed, "command", None), self) if self._subparsers else self
+            known = [name for action in command._actions for name in action.option_strings]
+            given = extra[0].split("=")[0]
+            elsewhere = given.startswith("--") and any(  # another command's option
+                given in action.option_strings for other in
+                self._subparsers._group_actions[0].choices.values()  # type: ignore[union-attr]
+                for action in other._actions) if self._subparsers else False
+            nearest = difflib.get_close_matches(given, known, n=1, cutoff=0.9 if elsewhere
+                                                else 0.6)
+            hint = ((f"; {command.prog.split()[-1]} takes no {given}" if elsewhere else "")
+                    + (f"; did you mean {nearest[0]}?" if nearest else ""))
+            command.error(f"unrecognized arguments: {' '.join(extra)}{hint}")
+        return parsed
 
     def parse_known_args(self, args=None, namespace=None):  # type: ignore[override]
         """Parse, then refuse an empty value of any option or argument.
@@ -202,8 +226,11 @@ def _parser() -> argparse.ArgumentParser:
     from hdselect.cli.study import run_study
 
     parser = _Parser(
-        prog="hdselect",
-        description="Size Harmonic Drive PSA-G gearheads for robot joints.")
+        prog="hdselect", allow_abbrev=False,
+        description="Size Harmonic Drive PSA-G gearheads for robot joints.",
+        epilog="A first run on your own robot: hdselect joints ROBOT (its joints as read), "
+               "hdselect init ROBOT --out motion.toml (a starter motion), hdselect size "
+               "motion.toml. hdselect COMMAND --help says what a command takes.")
     parser.add_argument("--version", action="version", version=f"hdselect {__version__}")
     parser.add_argument("-v", "--verbose", action="store_true", help="print progress notes")
     verbose = _Parser(add_help=False)  # -v after the command too

@@ -6,7 +6,6 @@ import argparse
 import sys
 from typing import Any
 
-from hdselect.base.errors import InputError
 from hdselect.cli.inputs import SHOWN_LOGGERS, planned_and_sized, sizing_case
 from hdselect.cli.output import (
     EXIT_NO_FIT,
@@ -47,12 +46,12 @@ def run_compare(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from hdselect.report.size_tables import compare_table
+    from hdselect.sizing.arguments import not_sized
 
     robot, motion, units, options, motors = sizing_case(args)
     for name in args.joint or []:
         if name not in robot.sized_joints:
-            raise InputError(f"unknown joint '{name}'; sized joints are: "
-                             f"{', '.join(robot.sized_joints)}", field="--joint")
+            raise not_sized(robot, name, "--joint")
     with reserved_outputs(args, robot, motion) as (outputs, json_file, report):
         bom = reserve_parts(outputs, args)
         result = planned_and_sized(robot, motion, units, options, motors)

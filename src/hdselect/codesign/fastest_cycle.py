@@ -42,7 +42,7 @@ from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
-from hdselect.sizing.arguments import checked_motors, fixed_units, units_argument
+from hdselect.sizing.arguments import checked_motors, fixed_units, not_sized, units_argument
 from hdselect.sizing.core import motion_motors, size_trajectory
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors, SizingResult
@@ -262,8 +262,7 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
         raise InputError(f"expected a list of joint names, got {joints!r}", field="joints")
     for name in joints or ():
         if name not in names:
-            raise InputError(f"unknown joint '{name}'; sized joints are: {', '.join(names)}",
-                             field="joint")
+            raise not_sized(robot, name, "joint")
     model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
     base = _fastest(model, chosen, options, paired)
     out = []
@@ -348,13 +347,19 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
             selected[joint.name] = pick
         if joint.name not in chosen:
             if pick is None:
-                raise PlanningError(f"{motion.path}: no unit can run joint '{joint.name}' on "
-                                    "this motion at any speed; give one with --units")
+                raise PlanningError(f"{motion.path}: {no_unit_at_any_speed(joint.name)}")
             chosen[joint.name] = by_id[pick]
         if joint.name in candidates:
             paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
                                                candidates[joint.name], sizing.options)
     return chosen, selected, paired
+
+
+def no_unit_at_any_speed(joint: str, over: str = "this motion") -> str:
+    """The refusal for a joint no catalog unit can run, slowed or not, with what helps."""
+    return (f"no unit of the catalog can run joint '{joint}' on {over} at any speed "
+            f"(hdselect size says how close each comes); leave it out with --exclude {joint}, "
+            "or give a catalog with a stronger unit (--catalog)")
 
 
 def _refuse_log(motion: Motion) -> None:

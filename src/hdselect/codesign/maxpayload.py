@@ -89,7 +89,7 @@ class MaxPayloadResult:
         trajectory: The trajectory the payload rides.
         bounds: Per joint, each unit's interval of masses.
         frame: The link the payload is attached to (the robot's default payload frame,
-            the tip of the longest chain of sized joints, when `payload` names none).
+            the tip of the longest chain of joints not excluded, when `payload` names none).
     """
 
     mass: float | None
@@ -118,7 +118,7 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
         options: The assumptions (default: `options_for(motion)`).
         catalog: The units (default: the built-in catalog).
         frame: Frame the payload is attached to (default: the payload's, else the tip of
-            the longest chain of sized joints, `Robot.default_payload_frame`).
+            the longest chain of joints not excluded, `Robot.default_payload_frame`).
         com: Its centre of mass in that frame [m] (default: the payload's, else the
             frame's origin).
         trajectory: The trajectory the payload rides (default: the motion as planned;

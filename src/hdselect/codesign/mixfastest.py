@@ -37,6 +37,7 @@ from hdselect.codesign.cyclerules import (
     _scalable,
     first_passing,
 )
+from hdselect.codesign.fastest_cycle import no_unit_at_any_speed
 from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, solve
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
 from hdselect.motion.mixfile import Mix
@@ -202,9 +203,8 @@ def _units(robot: Robot, tasks: Sequence[Task], idle: float,
             joint.slowdown.unit if joint.slowdown is not None else None)
         if joint.name not in chosen:
             if pick is None:
-                raise PathInfeasible(f"no unit can run joint '{joint.name}' over this mix at "
-                                     "any speed; give one with --units", joint=joint.name,
-                                     limit="peak", gravity=True)
+                raise PathInfeasible(no_unit_at_any_speed(joint.name, "this mix"),
+                                     joint=joint.name, limit="peak", gravity=True)
             chosen[joint.name] = by_id[pick]
     return {name: chosen[name] for name in robot.sized_joints}
 

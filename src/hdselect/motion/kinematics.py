@@ -20,6 +20,7 @@ import pinocchio as pin
 from hdselect.base.errors import InputError
 from hdselect.motion.followers import leader_range
 from hdselect.robot.model import Robot
+from hdselect.robot.payload import frame_id
 
 AT_BOUND = 1e-9
 """A joint within this of a limit is at that limit [rad or m]."""
@@ -64,7 +65,7 @@ class FrameKinematics:
         self.model = model
         self.data = model.createData()
         self.frame = frame
-        self.frame_id = model.getFrameId(frame)
+        self.frame_id = frame_id(model, frame)
         if model.frames[self.frame_id].parentJoint == 0:
             raise InputError(f"frame '{frame}' is fixed to the base: no joint moves it",
                              path=robot.path, field="tool.frame")

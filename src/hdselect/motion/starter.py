@@ -25,7 +25,7 @@ import textwrap
 import numpy as np
 
 from hdselect.base.bounds import expect_type
-from hdselect.motion.branches import check_branch
+from hdselect.motion.branches import check_branch, path_crossing
 from hdselect.motion.followers import leader_range
 from hdselect.motion.ik import solve_pose
 from hdselect.motion.kinematics import FrameKinematics
@@ -109,7 +109,7 @@ def starter_motion(robot: Robot, robot_file: str, *, tool_poses: bool = False) -
         "# mass = 1.0            # kg",
         "# com = [0.0, 0.0, 0.05]   # m, in the frame below",
         f"# frame = {json.dumps(robot.default_payload_frame)}   # the default: the tip of the "
-        "longest chain of sized joints",
+        "longest chain of joints not excluded",
         "",
         "[sizing]                # every revolute joint gets a gearhead unless excluded here",
         (f"# exclude = {json.dumps(grippers)}   # named like a gripper's: exclude to size the "
@@ -186,17 +186,19 @@ def _tool_waypoints(robot: Robot, infos, scale, start, second) -> list[str]:
         "# position_tolerance = 0.0001   # m: how close a solved pose must come (0.1 mm)",
         "# orientation_tolerance = 0.01  # deg (0.01 deg)",
         "",
-        "# The cycle as tool poses in the world (z up; the robot on the floor at the origin,",
-        "# `--mounting wall` or `ceiling` solves the same poses again), resting 0.5 s at each.",
+        "# The cycle as tool poses in the world (z up; the robot on the floor at the origin),",
+        "# resting 0.5 s at each. `--mounting wall` or `ceiling` solves these same poses for",
+        "# the arm hung there, where they are often out of reach: write poses for it there.",
         "# xyz in m, rpy (roll, pitch, yaw about fixed x, y, z) in deg. The first pose starts",
         "# the solver at `near`, which picks the arm's branch (elbow up or down, ...); each",
-        "# next pose starts from the one before.",
+        "# next pose starts from the one before. The last repeats the first `near`, so the",
+        "# cycle ends where it starts (an arm of more than 6 joints could end elsewhere).",
     ]
     for k, (xyz, rpy) in enumerate((poses[0], poses[1], poses[0])):
         lines += ["", "[[waypoint]]", "dwell = 0.5",
                   f"pose = {{xyz = [{', '.join(_number(v) for v in xyz)}], "
                   f"rpy = [{', '.join(_number(v) for v in rpy)}]}}"]
-        if k == 0:
+        if k != 1:  # the return too: a redundant arm solves the same pose elsewhere
             lines.append(f"near = {{{near}}}")
         if k == 1 and follows:  # a line of 6-D poses is beyond most arms of < 6 joints
             lines.append("# line = true          # reach it along a straight line")
@@ -244,14 +246,18 @@ def regular_pair(robot: Robot, start: np.ndarray, second: np.ndarray
 
 
 def _solves_back(kin: FrameKinematics, first: np.ndarray, second: np.ndarray) -> bool:
-    """The rounded poses of `first` and `second` solve from `first`, keeping the branch."""
+    """The rounded poses of `first` and `second` solve from `first` on one branch.
+
+    The move between them (straight in joint space: both rest) passes no singularity.
+    """
     targets = [pose_from_xyz_rpy(xyz, [math.radians(a) for a in rpy])
                for xyz, rpy in (_rounded(kin.placement(q)) for q in (first, second))]
     one = solve_pose(kin, targets[0], first)
     two = solve_pose(kin, targets[1], one.q)
     return (one.converged and two.converged
             and not check_branch(kin, one.q, two.q).flipped
-            and pose_error(kin.placement(two.q), targets[1])[0] < 1e-4)
+            and pose_error(kin.placement(two.q), targets[1])[0] < 1e-4
+            and path_crossing(kin, np.vstack([one.q, two.q])) is None)
 
 
 def _poses(ranges, units, scale) -> tuple[list[float], list[float]]:

@@ -56,7 +56,8 @@ def joints_table(robot: Robot, infos: Iterable[JointInfo]) -> FittedTable:
             notes.append(f"{info.name}: not sized: " + (
                 "the catalog is rotary" if linear else
                 "a mimic follower Pinocchio could not couple" if info.name in
-                robot.uncoupled_followers else "excluded"))
+                robot.uncoupled_followers else "not among the joints asked for" if
+                info.name in robot.payload_chain else "excluded"))
     notes.append(f"base: '{robot.root_link}' held fixed; a payload goes on "
                  f"'{robot.default_payload_frame}' unless its frame is given; moves: the mass a "
                  "joint moves, links further out included")
@@ -128,10 +129,10 @@ def case_notes(robot: Robot, trajectory: Trajectory | Sequence[Trajectory]) -> l
                 if revolute and name not in robot.uncoupled_followers]
     if prismatic:
         notes.append(f"not sized: {', '.join(prismatic)} (prismatic; these gearheads are "
-                     "rotary). The dynamics include it.")
+                     f"rotary). The dynamics include {_it(prismatic)}.")
     if left_out:
         notes.append(f"not sized: {', '.join(left_out)} (not among the joints asked for, or "
-                     "excluded). The dynamics include it.")
+                     f"excluded). The dynamics include {_it(left_out)}.")
     if uncoupled:
         notes.append(f"not sized: {', '.join(uncoupled)} (mimic followers Pinocchio could not "
                      "couple to their leaders: each moves on its own here).")
@@ -140,7 +141,7 @@ def case_notes(robot: Robot, trajectory: Trajectory | Sequence[Trajectory]) -> l
     payload = robot.payload
     if payload is not None and payload.frame is None:
         notes.append(f"payload: {payload.mass:g} kg on {robot.payload_frame}, the tip of the "
-                     "longest chain of sized joints, since no frame was given.")
+                     "longest chain of joints not excluded, since no frame was given.")
     tasks = [trajectory] if isinstance(trajectory, Trajectory) else list(trajectory)
     still = [name for name in robot.sized_joints
              if not any(np.any(traj.qd[:, robot.joint_index(name)]) for traj in tasks)]
@@ -186,3 +187,7 @@ def tool_pose_notes(motion: Motion | None, lines: Iterable[LineDeviation] = ()) 
                      f"{angle * DEG_PER_RAD:.2g} deg from them")
         notes.append(text + ".")
     return notes
+
+
+def _it(names: list[str]) -> str:
+    return "them" if len(names) > 1 else "it"

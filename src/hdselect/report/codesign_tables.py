@@ -192,7 +192,7 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> 
     payload = result.payload
     where = (f"on '{result.frame}'"
              + ("" if payload.frame is not None else
-                " (the tip of the longest chain of sized joints: no frame was given)")
+                " (the tip of the longest chain of joints not excluded: no frame was given)")
              + f", centre of mass ({', '.join(f'{c:g}' for c in payload.com)}) m")
     inertia = np.asarray(payload.inertia)
     if inertia.any():

@@ -177,7 +177,7 @@ def _settings(result: SizingResult) -> list[tuple[str, str]]:
     if payload is None:
         rows.append(("payload", "none"))
     else:
-        default = " (by default: the tip of the longest chain of sized joints)"
+        default = " (by default: the tip of the longest chain of joints not excluded)"
         frame = f"{robot.payload_frame}{'' if payload.frame else default}"
         inertia = "; ".join(", ".join(f"{v:g}" for v in row) for row in payload.inertia)
         rows.append(("payload", f"{payload.mass:g} kg on {frame}, centre of mass "

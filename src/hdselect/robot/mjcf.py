@@ -201,10 +201,13 @@ def _without_missing_meshes(path: Path, refused: InputError) -> tuple[mujoco.MjM
                 or (from_geoms == mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_AUTO
                     and not body.explicitinertial)):
             label = f"body '{body.name}'" if body.name else "an unnamed body"
+            fix = ("or give the body an <inertial>" if not body.explicitinertial else
+                   "or, to use the bodies' own <inertial>, drop the compiler's "
+                   "inertiafromgeom=\"true\" (it takes every body's inertia from its geoms)")
             raise InputError(f"{label} takes its mass and inertia from mesh "
                              f"'{geom.meshname}', whose file {missing[geom.meshname]} is not "
-                             "found: put the mesh files where the file names them, or "
-                             "give the body an <inertial>", path=path)
+                             f"found: put the mesh files where the file names them, {fix}",
+                             path=path)
     for geom in geoms:
         spec.delete(geom)
     for mesh in [m for m in spec.meshes if m.name in missing]:

@@ -51,6 +51,9 @@ class Robot:
         joint_names: Name of every degree of freedom, in the model's velocity order.
         revolute: True for revolute and continuous joints, per degree of freedom.
         sized_joints: Names of the joints that get a gearhead.
+        payload_chain: The joints whose longest chain ends where a payload without a frame
+            goes: every rotary joint not excluded, whichever of them are sized (empty: the
+            sized joints).
         lower: Lower position limit per degree of freedom [rad or m] (-inf if none).
         upper: Upper position limit per degree of freedom [rad or m] (+inf if none).
         velocity_limit: URDF velocity limit per degree of freedom [rad/s or m/s].
@@ -90,6 +93,7 @@ class Robot:
     uncoupled_followers: tuple[str, ...] = ()
     xacro_args: Mapping[str, str] = field(default_factory=dict)
     base_pose: BasePose | None = NAMED_BASES["floor"]
+    payload_chain: tuple[str, ...] = ()
     _q_index: tuple[tuple[int, int], ...] = field(default=(), repr=False)
     _bare: pin.Model | None = field(default=None, repr=False)
 
@@ -176,7 +180,8 @@ class Robot:
         """The same robot with another choice of joints to size.
 
         Joints left out still move and load the others; they get no gearhead. A
-        payload without a frame follows the new `default_payload_frame`.
+        payload without a frame follows `default_payload_frame`, which `exclude`
+        moves and `joints` does not.
 
         Args:
             joints: The joints to size; None: every revolute and continuous joint.
@@ -186,10 +191,10 @@ class Robot:
             InputError: A name is unknown, names a prismatic or a mimic follower joint,
                 or no joint is left to size.
         """
-        sized = _sized(self, joints, exclude)
+        sized, chain = _sized(self, joints, exclude), _sized(self, None, exclude)
         if self.payload is not None and self.payload.frame is None:
-            return self._rebuilt(sized_joints=sized)
-        return replace(self, sized_joints=sized)
+            return self._rebuilt(sized_joints=sized, payload_chain=chain)
+        return replace(self, sized_joints=sized, payload_chain=chain)
 
     def joint_type(self, name: str) -> str:
         """``"revolute"``, ``"continuous"``, ``"prismatic"`` or ``"mimic"`` (a follower)."""
@@ -207,14 +212,16 @@ class Robot:
 
     @property
     def default_payload_frame(self) -> str:
-        """Where a payload without a frame goes: the tip of the longest chain of sized joints.
+        """Where a payload without a frame goes: the tip of the longest chain of rotary joints.
 
-        The chain's length counts sized joints from the base; of equally long chains
+        The chain is of the joints not excluded from sizing (`payload_chain`): choosing
+        which of them to size does not move the payload or the tool. Its length counts
+        those joints from the base; of equally long chains
         the first in the model's order wins. Its tip is a tool frame its last joint
         moves rigidly (a link named like ``tool0``, ``*_tcp``, ``ee_link``,
         ``end_effector``, ``flange``), else that joint's own link.
         """
-        return tip_frame(self._bare_model, self.sized_joints)
+        return tip_frame(self._bare_model, self.payload_chain or self.sized_joints)
 
     @property
     def payload_frame(self) -> str:
@@ -332,7 +339,8 @@ def load_robot(
         xacro_args=arguments,
         _q_index=q_index,
     )
-    robot = replace(robot, sized_joints=_sized(robot, joints, exclude))
+    robot = replace(robot, sized_joints=_sized(robot, joints, exclude),
+                    payload_chain=_sized(robot, None, exclude))
     skipped = [n for n, r in zip(names, revolute, strict=True) if not r]
     if skipped:
         logger.info("prismatic joints are reported but not sized: %s", ", ".join(skipped))

@@ -73,6 +73,17 @@ def _finite_array(value: object, shape: tuple[int, ...], field: str,
     return array
 
 
+def frame_id(model: pin.Model, name: str) -> int:
+    """The id of the frame `name` (it exists): the link, where a fixed joint shares its name.
+
+    URDF names joints and links apart; Pinocchio makes a frame of each, so a fixed joint
+    named like a link is a second frame of that name (placed at its child link).
+    """
+    if model.existFrame(name, pin.FrameType.BODY):
+        return model.getFrameId(name, pin.FrameType.BODY)
+    return model.getFrameId(name)
+
+
 def payload_frame(model: pin.Model, payload: Payload, path: Path, default: str) -> pin.Frame:
     """The frame a payload is attached to: its own, or `default`."""
     frame_name = payload.frame or default
@@ -80,7 +91,7 @@ def payload_frame(model: pin.Model, payload: Payload, path: Path, default: str) 
         bodies = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
         raise InputError(f"unknown frame '{frame_name}' for the payload; links are: "
                          f"{', '.join(bodies)}", path=path, field="payload.frame")
-    frame = model.frames[model.getFrameId(frame_name)]
+    frame = model.frames[frame_id(model, frame_name)]
     if frame.parentJoint == 0:
         raise InputError(f"frame '{frame_name}' does not move; a payload there loads no joint",
                          path=path, field="payload.frame")

@@ -46,6 +46,8 @@ LEG_DROP = 0.15
 FORMATS = ("URDF", "xacro", "MJCF")
 """The robot file formats hdselect reads."""
 _MJCF_SUFFIXES = (".xml", ".mjcf")
+_MESH_SUFFIXES = (".obj", ".stl", ".dae", ".ply", ".glb", ".gltf", ".msh", ".mtl")
+"""Mesh files a robot file names: given in its place, they are refused as what they are."""
 _LOSSES = (("armature", "armature", "kg m^2"), ("damping", "damping", "N m s/rad"),
            ("friction", "friction", "N m"), ("rotorInertia", "rotor inertia", "kg m^2"))
 
@@ -153,10 +155,13 @@ def read_robot_file(path: Path, xacro_args: Mapping[str, str] | None = None) -> 
 
 
 def _format(path: Path, root: Element | None) -> str:
-    """The file's format, from its suffix and its root element; SDF refused."""
+    """The file's format, from its suffix and its root element; SDF and meshes refused."""
     if path.suffix.lower() == ".xacro":
         return "xacro"
     tag = root.tag if root is not None else ""
+    if path.suffix.lower() in _MESH_SUFFIXES and tag not in ("robot", "mujoco"):
+        raise InputError(f"a mesh file ({path.suffix}), not a robot file: hdselect reads URDF, "
+                         "xacro and MJCF; give the robot file that names the meshes", path=path)
     if tag == "sdf":
         raise InputError("an SDF file (root element <sdf>): SDF is not supported; hdselect reads "
                          "URDF, xacro and MJCF (convert it to URDF or MJCF)", path=path)

@@ -18,6 +18,13 @@ from hdselect.sizing.options import Options
 from hdselect.sizing.result import Motors
 
 
+def not_sized(robot: Robot, name: str, field: str) -> InputError:
+    """The refusal of a joint named where a sized joint is wanted: unknown, or not sized."""
+    what = (f"'{name}' is not a sized joint" if name in robot.joint_names
+            else f"unknown joint '{name}'")
+    return InputError(f"{what}; sized joints are: {', '.join(robot.sized_joints)}", field=field)
+
+
 def checked_motors(robot: Robot, motors: Motors | Mapping[str, Motor] | None,
                    options: Options) -> dict[str, tuple[Motor, ...]]:
     """The candidate motors per sized joint, checked; empty when none are given.
@@ -131,8 +138,7 @@ def fixed_units(given: Mapping[str, Unit | str] | None, catalog: Sequence[Unit],
     out: dict[str, Unit] = {}
     for name, unit in given.items():
         if name not in robot.sized_joints:
-            raise InputError(f"unknown joint '{name}'; sized joints are: "
-                             f"{', '.join(robot.sized_joints)}", field="units")
+            raise not_sized(robot, name, "units")
         if isinstance(unit, str):
             if unit not in by_id:
                 raise InputError(f"unknown unit '{unit}' for joint '{name}'; units are: "

@@ -128,8 +128,9 @@ def joint_loads(robot: Robot, trajectory: Trajectory, tau: np.ndarray,
             note = "not sized: the catalog is rotary"
         elif name in robot.uncoupled_followers:
             note = "not sized: a mimic follower, moved on its own here"
-        else:
-            note = "not sized: excluded"
+        else:  # --joints leaves it out, or exclude does (which the payload's tip follows)
+            note = ("not sized: not among the joints asked for" if name in robot.payload_chain
+                    else "not sized: excluded")
         effort, velocity = robot.effort_limit[j], robot.velocity_limit[j]
         loads.append(JointLoad(
             name, kind, sized, note, float(np.abs(tau[:, j]).max()),

@@ -183,6 +183,8 @@ def assumptions(result: SizingResult) -> dict[str, str]:
         "mass coupling": (("on: each chosen gearhead's and motor's mass is carried by the joints "
                            "nearer the base" if result.motors else
                            "on: each chosen unit's mass is carried by the joints nearer the base")
+                          + ("; where none fits, the strongest unit's" if any(
+                              j.selected is None for j in result.joints) else "")
                           if options.mass_coupling else "off"),
         "selection": (options.prefer or (DEFAULT_PREFER_WITH_MOTORS if result.motors
                                          else DEFAULT_PREFER)) + (
