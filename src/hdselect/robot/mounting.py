@@ -20,7 +20,7 @@ place the base in the world: tool poses need a named mounting or a base pose.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -171,13 +171,13 @@ def mounting_name(base: BasePose | None) -> str:
     return (f"the base at ({shown_numbers(base.xyz)}) m, rpy ({shown_numbers(rpy, 180.0)}) deg")
 
 
-def shown_numbers(values: Sequence[float], scale: float | None = None) -> str:
+def shown_numbers(values: Iterable[float], scale: float | None = None) -> str:
     """Numbers as a person reads them, 4 significant digits, comma-separated.
 
     A value within 1e-12 of `scale` (default: the largest magnitude among them) of zero
     is the rounding of a rotation (gravity on a ceiling, cos 180 deg) and reads 0, and
     -0 reads 0.
     """
-    values = [float(v) for v in values]
-    size = max((abs(v) for v in values), default=0.0) if scale is None else scale
-    return ", ".join(f"{0.0 if abs(v) <= 1e-12 * size else v:.4g}" for v in values)
+    numbers = [float(v) for v in values]
+    size = max((abs(v) for v in numbers), default=0.0) if scale is None else scale
+    return ", ".join(f"{0.0 if abs(v) <= 1e-12 * size else v:.4g}" for v in numbers)
