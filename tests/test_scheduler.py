@@ -28,8 +28,10 @@ LIMIT = 60.0
 
 
 @contextmanager
-def peer(answer: bytes | None) -> Iterator[str]:
+def peer(answer: bytes | None, hang_up: bool = False) -> Iterator[str]:
     """A server on 127.0.0.1 that accepts and sends `answer` (None: nothing), then holds on.
+
+    With `hang_up` it closes each connection once the answer is sent.
 
     Yields its address ``tcp://127.0.0.1:PORT``; stops when the block ends.
     """
@@ -47,6 +49,8 @@ def peer(answer: bytes | None) -> Iterator[str]:
             held.append(connection)
             if answer is not None:
                 connection.sendall(answer)
+            if hang_up:
+                connection.close()
 
     thread = threading.Thread(target=serve, daemon=True)
     thread.start()
@@ -129,6 +133,15 @@ def test_a_peer_that_hangs_up_or_sends_no_greeting_is_refused(answer):
     with peer(answer) as address, pytest.raises(InputError) as info:
         probe(address, 0.5, "--scheduler")
     assert info.value.field == "--scheduler"
+
+
+@pytest.mark.parametrize("answer", [b"", b"\x10\x00"])
+def test_a_peer_that_closes_before_eight_bytes_is_refused_not_a_crash(answer):
+    # found by the hostile battery: struct.error (exit 70) on a peer that hangs up
+    with peer(answer, hang_up=True) as address, pytest.raises(InputError) as info:
+        probe(address, 0.5, "--scheduler")
+    assert info.value.field == "--scheduler"
+    assert "is not a Dask scheduler" in str(info.value)
 
 
 def test_nothing_listening_is_named(capsys, tmp_path, study_file):

@@ -101,7 +101,7 @@ def probe(address: str, timeout: float, field: str) -> None:
             if parts.scheme == "tls":
                 return
             head = _read(peer, 8, deadline)
-            (length,) = struct.unpack("<Q", head)
+            (length,) = struct.unpack("<Q", head) if len(head) == 8 else (0,)
             body = _read(peer, length, deadline) if 16 <= length <= GREETING_BYTES else b""
     except TimeoutError as err:
         raise InputError(f"the Dask scheduler at {address} did not answer within "
