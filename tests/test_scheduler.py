@@ -88,7 +88,8 @@ def _study(study_file, tmp_path, *options: str) -> tuple[str, ...]:
 @pytest.mark.parametrize("address", [
     "tcp://", "tcp://localhost:notaport", "tcp://localhost", "tcp://localhost:0",
     "tcp://localhost:65536", "udp://localhost:8786", "localhost:8786", "tcp://:8786",
-    "tcp://localhost:8786/path", "tcp://user@localhost:8786", "tcp://localhost:-1", " local"])
+    "tcp://localhost:8786/path", "tcp://user@localhost:8786", "tcp://localhost:-1", " local",
+    "tcp://" + "a" * 64 + ":8786"])  # a label of 64: idna UnicodeError, exit 70, before
 def test_a_bad_address_is_refused_in_one_line_before_any_work(capsys, tmp_path, study_file,
                                                               address):
     for argv in (_study(study_file, tmp_path, "--scheduler", address),
