@@ -62,6 +62,7 @@ def _run(argv: Sequence[str], kept: _Kept) -> int:
     import warnings
 
     from hdselect.base.errors import HdselectError
+    from hdselect.cli.inputs import toml_files_wanted
     from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_OK
 
     held = HeldLog(logger)
@@ -73,6 +74,7 @@ def _run(argv: Sequence[str], kept: _Kept) -> int:
         args.command_line = ["hdselect", *argv]
         args.kept, args.held = kept, held
         held.start(verbose=args.verbose)
+        toml_files_wanted(args)
         # Python's and numpy's warnings too are held: a refusal stays one line (the
         # filters in force still apply; only where they print changes)
         with warnings.catch_warnings(record=True) as caught:
