@@ -81,10 +81,6 @@ def _advice(kin: FrameKinematics, motion: Motion, i: int) -> str:
     assert motion.tool is not None
     if i in motion.tool.lines:
         return "move the line away from it, or drop line = true"
-    last = len(motion.waypoints) - 1
-    if all(k in (0, last) or motion.dwells[k] > 0.0 for k in (i - 1, i)):
-        # between two rests the planned path is the straight joint move itself
-        return "move the poses, or add a waypoint between them that keeps the arm away from it"
     straight = check_branch(kin, motion.waypoints[i - 1], motion.waypoints[i])
     if motion.planner == "toppra" and not straight.flipped:
         return ("the straight move between the two waypoints' joints stays clear of it: the "
