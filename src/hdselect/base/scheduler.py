@@ -55,7 +55,9 @@ def scheduler_address(value: object, field: str) -> str:
     try:
         parts = urlsplit(value)
         port = parts.port
-    except ValueError as err:
+        if parts.hostname:
+            parts.hostname.encode("idna")  # a label of more than 63 characters is refused
+    except ValueError as err:  # UnicodeError included
         raise wrong from err
     if (parts.scheme not in SCHEMES or not parts.hostname or port is None
             or not 1 <= port <= 65535 or parts.username is not None or parts.password
