@@ -49,7 +49,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             _exit_on_signal()  # a second signal while this is said: no traceback
         interrupted = isinstance(stop, KeyboardInterrupt)
         _say(f"{'interrupted' if interrupted else 'terminated'}; {kept.text()}")
-        return EXIT_INTERRUPTED if interrupted else EXIT_TERMINATED
+        status = EXIT_INTERRUPTED if interrupted else EXIT_TERMINATED
+        if argv is None:  # Python ends a process whose Ctrl-C an import saw by SIGINT (-2)
+            _leave(status)
+        return status
     finally:
         if argv is None:  # the program: until it exits, a signal ends it quietly
             _exit_on_signal()
@@ -94,6 +97,9 @@ def _run(argv: Sequence[str], kept: _Kept) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
     except Exception as err:  # a bug: say so in one line, with the way to the traceback
+        stop = _stop_within(err)
+        if stop is not None:  # a signal an import turned into its own error: not a bug
+            raise stop from err
         if held.verbose:
             import traceback
 
@@ -112,12 +118,7 @@ def _exit_on_signal() -> None:
     The command's outputs are complete by then; what is left is the interpreter's exit.
     """
     def leave(signum: int, frame: object) -> None:
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError):
-                pass
-        os._exit(EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED)
+        _leave(EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED)
 
     for signum in (signal.SIGINT, signal.SIGTERM):
         try:
@@ -125,6 +126,31 @@ def _exit_on_signal() -> None:
                 signal.signal(signum, leave)
         except ValueError:  # not the main thread: the signals are not ours to handle
             return
+
+
+def _leave(status: int) -> None:
+    """End the process now with `status`, its exit handlers run and its streams flushed."""
+    import atexit
+
+    atexit._run_exitfuncs()  # the copies of streams read (hdselect.base.inputfiles) go
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(status)
+
+
+def _stop_within(err: BaseException) -> BaseException | None:
+    """The Ctrl-C or SIGTERM an exception was raised from, if any (numpy's ImportError)."""
+    seen: set[int] = set()
+    cause: BaseException | None = err
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt | Terminated):
+            return cause
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return None
 
 
 class _Kept:
