@@ -164,7 +164,9 @@ class _Kept:
 
 
 def _say(message: str) -> None:
-    print(f"hdselect: {message}", file=sys.stderr)
+    # a name of undecodable bytes from the command line is shown escaped, on any stream
+    text = f"hdselect: {message}".encode("utf-8", "backslashreplace").decode("utf-8")
+    print(text, file=sys.stderr)
 
 
 def _one_line(text: str) -> str:
