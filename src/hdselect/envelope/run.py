@@ -353,17 +353,20 @@ def _duty_motion(duty: Motion | str | Path | None, file: EnvelopeFile | None,
         raise InputError(f"{given} is a mix file; the envelope does not take a mix as its duty "
                          "yet: give one of its motion files (or size the mix with `hdselect "
                          "size`)", **where)
-    try:
-        motion = given if isinstance(given, Motion) else load_motion(given, robot)
-    except InputError as err:
-        named = other_robot(Path(given), robot) if not isinstance(given, Motion) else None
-        if named is None:
-            raise
-        where = ({"field": "duty"} if duty is not None or file is None
-                 else {"path": file.path, "field": "duty.motion"})
-        raise InputError(f"{Path(given).name} is written for {named}, but the envelope runs "
-                         f"{robot.path}: the motion does not fit it ({err}); give a duty "
-                         "motion of this robot", **where) from err
+    if isinstance(given, Motion):
+        motion = given
+    else:
+        try:
+            motion = load_motion(given, robot)
+        except InputError as err:
+            named = other_robot(Path(given), robot)
+            if named is None:
+                raise
+            where = ({"field": "duty"} if duty is not None or file is None
+                     else {"path": file.path, "field": "duty.motion"})
+            raise InputError(f"{Path(given).name} is written for {named}, but the envelope "
+                             f"runs {robot.path}: the motion does not fit it ({err}); give a "
+                             "duty motion of this robot", **where) from err
     motion.check_joints(robot)
     motion.refuse_motors("envelope")
     return motion

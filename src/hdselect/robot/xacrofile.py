@@ -80,7 +80,7 @@ def xacro_arguments(value: object, field: str = "xacro_args") -> dict[str, str]:
     else:
         raise InputError(f"expected a mapping of name to value, got {type(value).__name__}",
                          field=field)
-    arguments = {}
+    arguments: dict[str, str] = {}
     for name, text in pairs:
         if not isinstance(name, str) or not name:
             raise InputError(f"expected an argument name, got {name!r}", field=field)
