@@ -110,10 +110,13 @@ def toml_files_wanted(args: argparse.Namespace) -> None:
     Raises:
         InputError: As `file_wanted`, naming the option.
     """
+    from hdselect.base.inputfiles import is_input_file
+
     for attribute, flag, kind in _TOML_OPTIONS:
         given = getattr(args, attribute, None)
         for file in given if isinstance(given, list) else [given] if given else []:
-            file_wanted(args, file, f"{kind} (TOML)", (kind, "a TOML file"), field=flag)
+            if is_input_file(Path(file)):  # a missing file is the command's to refuse
+                file_wanted(args, file, f"{kind} (TOML)", (kind, "a TOML file"), field=flag)
 
 
 def robot_of(args: argparse.Namespace, named: Path | None = None):
