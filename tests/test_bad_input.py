@@ -192,6 +192,14 @@ def test_a_payload_mass_out_of_range_is_refused(work, capsys, value):
     refused(capsys, "size", f"tr/{PLANAR2}", f"--payload={value}", says=("--payload",))
 
 
+@pytest.mark.parametrize("command", ["size", "max-payload"])
+def test_a_payload_frame_of_undecodable_bytes_is_an_unknown_frame(work, capsys, command):
+    # found by the hostile battery: UnicodeEncodeError in Pinocchio (exit 70); the shell
+    # passes bytes that are not UTF-8 as surrogates (os.fsdecode)
+    refused(capsys, command, f"tr/{PLANAR2}", "--payload-frame", os.fsdecode(b"\xff"),
+            says=("--payload-frame: unknown frame", "links are: base_link, link1"))
+
+
 def test_nan_in_a_payload_com_is_refused(work, capsys):
     refused(capsys, "size", f"tr/{PLANAR2}", "--payload-com", "nan", "0", "0",
             says=("--payload-com: ", "finite"))

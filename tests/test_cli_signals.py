@@ -110,3 +110,38 @@ def test_a_signal_after_the_command_ends_the_program_quietly_with_its_status(sig
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           env={**os.environ, "PYTHONPATH": str(REPO / "src")}, timeout=60)
     assert (done.returncode, done.stdout, done.stderr) == (SAID[signum][0], "the table", "")
+
+
+def test_a_ctrl_c_python_saw_inside_an_import_still_exits_130_in_one_line(tmp_path):
+    """Run as ``python -m``, CPython ends a process by SIGINT (-2) once a Ctrl-C crossed code
+    it ran from a string, whatever the status (an import did, in the hostile battery: plan
+    at 0.1 to 0.3 s); the program exits 130."""
+    (tmp_path / "interrupted").mkdir()
+    (tmp_path / "interrupted" / "__main__.py").write_text(
+        "import ctypes, sys\nimport hdselect.cli\nm = sys.modules['hdselect.cli.main']\n"
+        "def run(argv, kept):\n"
+        "    ctypes.pythonapi.PyRun_SimpleString(b'raise KeyboardInterrupt')\n"
+        "    raise KeyboardInterrupt\n"
+        "m._run = run\nsys.exit(m.main())\n")
+    done = subprocess.run([sys.executable, "-m", "interrupted"], capture_output=True, text=True,
+                          cwd=tmp_path, env={**os.environ, "PYTHONPATH": str(REPO / "src")},
+                          timeout=60)
+    assert done.returncode == 130, done.stderr
+    assert done.stderr.strip().splitlines()[-1] == SAID[signal.SIGINT][1]
+
+
+def test_a_ctrl_c_an_import_turned_into_its_own_error_is_an_interruption(monkeypatch, capsys):
+    """numpy raises ImportError from a Ctrl-C during its import: 130, not a bug (70)."""
+    from hdselect.cli import catalog
+    from hdselect.cli.main import main
+
+    def interrupted_import(args):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as err:
+            raise ImportError("numpy._core.multiarray failed to import") from err
+
+    monkeypatch.setattr(catalog, "run_catalog", interrupted_import)
+    assert main(["catalog"]) == 130
+    captured = capsys.readouterr()
+    assert (captured.out, captured.err) == ("", SAID[signal.SIGINT][1] + "\n")

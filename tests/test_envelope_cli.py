@@ -177,6 +177,10 @@ def test_no_unit_for_every_motion_exits_1_with_the_table(capsys):
     (["--acceleration", "900", "--payload", "1", "--payload-frame", "tool8"],
      ["--payload-frame", "unknown frame 'tool8'", "planar2.urdf"]),
     (["--acceleration", "900", "--joints", "knee"], ["--joints", "unknown joint 'knee'"]),
+    # a duty of another robot: blamed on --duty and both robots, not on its first waypoint
+    (["--acceleration", "900", "--duty", REPO / "trajectories" / "benchtop6_pick_place.toml"],
+     ["--duty", "benchtop6_pick_place.toml is written for", "benchtop6.urdf",
+      "but the envelope runs", "planar2.urdf", "give a duty motion of this robot"]),
 ])
 def test_bad_input_is_one_line_and_exit_2_with_no_output(capsys, tmp_path, argv, fragments):
     out_file = tmp_path / "out.json"

@@ -163,3 +163,24 @@ def test_a_log_may_be_larger_than_other_files_within_its_own_limit(tmp_path):
     sparse(tmp_path / "log.csv", MAX_LOG_BYTES + 1)
     one_line(["size", motion], "larger than 16384 MiB")
     assert readable(sparse(tmp_path / "mid.csv", MAX_INPUT_BYTES + 1), MAX_LOG_BYTES)
+
+
+@pytest.mark.parametrize(("name", "says"), [
+    ("a\x00b.urdf", "robot file not found"),  # ValueError 'embedded null byte', exit 70, before
+    ("a" * 5000 + ".urdf", "robot file not found"),  # OSError 'File name too long', exit 70
+])
+def test_a_robot_name_no_file_can_have_is_not_found(tmp_path, name, says):
+    motion = tmp_path / "m.toml"
+    written = name.replace("\x00", "\\u0000")  # TOML's escape of the NUL
+    motion.write_text(MOTION.read_text().replace('robot = "../robots/planar2.urdf"',
+                                                 f'robot = "{written}"'))
+    one_line(["size", motion], f"{motion}: robot: {says}")
+    assert not inputfiles.is_input_file(Path(name))
+    with pytest.raises(InputError, match="NUL character" if "\x00" in name else "cannot read"):
+        readable(Path(name))
+
+
+def test_toml_nested_too_deeply_is_one_line(tmp_path):
+    motion = tmp_path / "m.toml"
+    motion.write_text("a = " + "[" * 5000 + "]" * 5000 + "\n")  # RecursionError, exit 70, before
+    one_line(["size", motion], f"{motion}: not valid TOML here: nested too deeply")

@@ -28,8 +28,10 @@ LIMIT = 60.0
 
 
 @contextmanager
-def peer(answer: bytes | None) -> Iterator[str]:
+def peer(answer: bytes | None, hang_up: bool = False) -> Iterator[str]:
     """A server on 127.0.0.1 that accepts and sends `answer` (None: nothing), then holds on.
+
+    With `hang_up` it closes each connection once the answer is sent.
 
     Yields its address ``tcp://127.0.0.1:PORT``; stops when the block ends.
     """
@@ -47,6 +49,8 @@ def peer(answer: bytes | None) -> Iterator[str]:
             held.append(connection)
             if answer is not None:
                 connection.sendall(answer)
+            if hang_up:
+                connection.close()
 
     thread = threading.Thread(target=serve, daemon=True)
     thread.start()
@@ -84,7 +88,8 @@ def _study(study_file, tmp_path, *options: str) -> tuple[str, ...]:
 @pytest.mark.parametrize("address", [
     "tcp://", "tcp://localhost:notaport", "tcp://localhost", "tcp://localhost:0",
     "tcp://localhost:65536", "udp://localhost:8786", "localhost:8786", "tcp://:8786",
-    "tcp://localhost:8786/path", "tcp://user@localhost:8786", "tcp://localhost:-1", " local"])
+    "tcp://localhost:8786/path", "tcp://user@localhost:8786", "tcp://localhost:-1", " local",
+    "tcp://" + "a" * 64 + ":8786"])  # a label of 64: idna UnicodeError, exit 70, before
 def test_a_bad_address_is_refused_in_one_line_before_any_work(capsys, tmp_path, study_file,
                                                               address):
     for argv in (_study(study_file, tmp_path, "--scheduler", address),
@@ -129,6 +134,15 @@ def test_a_peer_that_hangs_up_or_sends_no_greeting_is_refused(answer):
     with peer(answer) as address, pytest.raises(InputError) as info:
         probe(address, 0.5, "--scheduler")
     assert info.value.field == "--scheduler"
+
+
+@pytest.mark.parametrize("answer", [b"", b"\x10\x00"])
+def test_a_peer_that_closes_before_eight_bytes_is_refused_not_a_crash(answer):
+    # found by the hostile battery: struct.error (exit 70) on a peer that hangs up
+    with peer(answer, hang_up=True) as address, pytest.raises(InputError) as info:
+        probe(address, 0.5, "--scheduler")
+    assert info.value.field == "--scheduler"
+    assert "is not a Dask scheduler" in str(info.value)
 
 
 def test_nothing_listening_is_named(capsys, tmp_path, study_file):

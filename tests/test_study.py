@@ -129,6 +129,15 @@ def test_rows_are_identical_with_1_worker_2_workers_and_a_dask_local_cluster(tmp
     assert {record["method"] for record in journal(tmp_path / "alone.csv")} == {"direct"}
 
 
+def test_workers_beyond_the_tasks_start_no_more_processes_than_tasks(tmp_path):
+    # found by the hostile battery: --workers 99999999 said "on 99999999 worker processes"
+    study = load_study(small_study(workspace(tmp_path)))
+    done = run_study(study, tmp_path / "r.csv", workers=99_999_999)
+    assert done.ran == 12 and done.failed == 0
+    count = int(done.executor.split()[0])
+    assert 1 <= count <= 12 and done.executor.endswith(("worker process", "worker processes"))
+
+
 def test_the_local_dask_cluster_listens_on_localhost_only():
     cluster = _local_cluster(1)
     try:

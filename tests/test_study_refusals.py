@@ -121,3 +121,25 @@ def test_shares_that_fit_the_mix_are_taken(folder):
                                       "payloads = [{pick = 0.2}, {inspect = 0.1}]\n"))
     assert [case.shares for case in study.cases] == [(0.5, 0.5), (0.5, 0.5), (0.7, 0.3),
                                                      (0.7, 0.3)]
+
+
+@pytest.mark.parametrize(("text", "words"), [
+    ('[base]\nmotion = "a\\u0000.toml"\n[grid]\npayload = [0.2]\n',
+     ("base.motion", "expected a file name")),
+    ('[grid]\nmotion = ["x.toml"]\ncatalog = ["c\\u0000.toml"]\n',
+     ("grid.catalog", "expected a catalog file")),
+])
+def test_a_file_name_holding_a_nul_is_refused_before_any_case(capsys, folder, text, words):
+    # found by the hostile battery: ValueError 'embedded null byte' (exit 70) as the study's
+    # outputs were checked against its inputs
+    _refused(capsys, folder, "study", _study(folder, text), "--out", str(folder / "r.csv"),
+             "--workers", "0", words=words)
+
+
+def test_a_motion_naming_a_robot_with_a_nul_fails_its_case_alone(capsys, folder):
+    motion = folder / "trajectories" / "nul.toml"
+    motion.write_text((folder / SINGLE).read_text().replace(
+        'robot = "../robots/planar2.urdf"', 'robot = "a\\u0000b.urdf"'))
+    study = _study(folder, f'[grid]\nmotion = ["{motion}"]\npayload = [0.2]\n')
+    assert main(["study", study, "--out", str(folder / "r.csv"), "--workers", "0"]) == 3
+    assert "robot file not found" in (folder / "r.jsonl").read_text()

@@ -437,6 +437,8 @@ BAD = [
      "waypoint[0].line: the first waypoint has no waypoint before it"),
     ("line = true", "line = true\nreconfigure = 1", "waypoint[2].reconfigure: expected true or "
      "false"),
+    ("dwell = 0.2\n", "near = {{elbow = 9000}}\ndwell = 0.2\n",  # clipped unseen, before
+     "waypoint[0].near.elbow: 9000 deg is outside the limits of joint 'elbow' [-160, 160] deg"),
 ]
 
 

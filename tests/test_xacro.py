@@ -142,6 +142,8 @@ def test_a_motion_file_gives_its_xacro_robot_arguments_and_the_command_line_over
     (["--xacro-arg", "gripper_mass=1"], "--xacro-arg", "expected name:=value, got "
      "'gripper_mass=1'"),
     (["--xacro-arg", ":=1"], "--xacro-arg", "expected an argument name, got ''"),
+    (["--xacro-arg", "gripper_mass:=1", "--xacro-arg", "gripper_mass:=2"], "--xacro-arg",
+     "gripper_mass given twice (1 and 2); give it once"),  # the last won unseen, before
 ])
 def test_a_malformed_argument_is_one_line(tmp_path, argv, field, reason):
     status, out, err = run(["joints", str(xacro_robot(tmp_path)), *argv])

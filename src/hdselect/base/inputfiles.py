@@ -42,14 +42,17 @@ def is_stream(path: Path) -> bool:
     """`path` (symlinks followed) is a FIFO or a character device: readable once."""
     try:
         mode = os.stat(path).st_mode
-    except OSError:
+    except (OSError, ValueError):  # ValueError: a NUL character in the name
         return False
     return stat.S_ISFIFO(mode) or stat.S_ISCHR(mode)
 
 
 def is_input_file(path: Path) -> bool:
     """`path` can be read as a file: a regular file, or a stream read once (`readable`)."""
-    return str(path) in _COPIES or path.is_file() or is_stream(path)
+    try:
+        return str(path) in _COPIES or path.is_file() or is_stream(path)
+    except (OSError, ValueError):  # a name too long, or holding a NUL character
+        return False
 
 
 def readable(path: Path, limit: int = MAX_INPUT_BYTES) -> Path:
@@ -77,6 +80,8 @@ def readable(path: Path, limit: int = MAX_INPUT_BYTES) -> Path:
         raise InputError("file not found", path=path) from err
     except OSError as err:
         raise InputError(f"cannot read it ({err.strerror})", path=path) from err
+    except ValueError as err:
+        raise InputError("is no file name: it holds a NUL character", path=path) from err
     mode = status.st_mode
     if stat.S_ISDIR(mode):
         raise InputError("is a directory, not a file", path=path)

@@ -55,7 +55,9 @@ def scheduler_address(value: object, field: str) -> str:
     try:
         parts = urlsplit(value)
         port = parts.port
-    except ValueError as err:
+        if parts.hostname:
+            parts.hostname.encode("idna")  # a label of more than 63 characters is refused
+    except ValueError as err:  # UnicodeError included
         raise wrong from err
     if (parts.scheme not in SCHEMES or not parts.hostname or port is None
             or not 1 <= port <= 65535 or parts.username is not None or parts.password
@@ -101,7 +103,7 @@ def probe(address: str, timeout: float, field: str) -> None:
             if parts.scheme == "tls":
                 return
             head = _read(peer, 8, deadline)
-            (length,) = struct.unpack("<Q", head)
+            (length,) = struct.unpack("<Q", head) if len(head) == 8 else (0,)
             body = _read(peer, length, deadline) if 16 <= length <= GREETING_BYTES else b""
     except TimeoutError as err:
         raise InputError(f"the Dask scheduler at {address} did not answer within "

@@ -37,6 +37,8 @@ def read_toml(path: str | Path, *, kind: str = "a TOML file", hint: str = "") ->
         raise InputError(f"cannot read file ({err})", path=path) from err
     try:
         return tomllib.loads(text)
+    except RecursionError as err:
+        raise InputError("not valid TOML here: nested too deeply", path=path) from err
     except tomllib.TOMLDecodeError as err:
         if text.lstrip("\ufeff \t\r\n").startswith("<"):
             raise InputError(f"this is a robot file (XML), not {kind}{hint}", path=path) from err
@@ -69,7 +71,7 @@ def toml_kind(data: bytes) -> str | None:
     """
     try:
         doc = tomllib.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, tomllib.TOMLDecodeError):
+    except (UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
         return None
     if not doc:
         return None  # empty: nothing tells what it is

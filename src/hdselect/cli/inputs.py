@@ -57,8 +57,8 @@ _READ_BY = {"a motion file": "hdselect size FILE sizes it", "a mix file": "hdsel
 
 
 def file_wanted(args: argparse.Namespace, file: str | Path, wants: str,
-                accepted: tuple[str, ...] = (), read_by: Mapping[str, str] | None = None
-                ) -> None:
+                accepted: tuple[str, ...] = (), read_by: Mapping[str, str] | None = None,
+                field: str | None = None) -> None:
     """Refuse a TOML file of another kind where the command wants `wants`, saying what it is.
 
     Args:
@@ -68,6 +68,7 @@ def file_wanted(args: argparse.Namespace, file: str | Path, wants: str,
         accepted: The kinds of TOML file taken there (`hdselect.base.tomlfile.toml_kind`).
         read_by: Where a kind of file goes instead, where this command says it otherwise
             (FILE stands for the file).
+        field: The option that gave the file, when not a positional argument.
 
     Raises:
         InputError: `file` is a TOML file of another kind: one line naming the file, its
@@ -92,7 +93,30 @@ def file_wanted(args: argparse.Namespace, file: str | Path, wants: str,
     elif kind in goes:
         hints.append(goes[kind].replace("FILE", str(file)))
     raise InputError(f"{said}; {args.command} wants {wants} here"
-                     + (f" ({'; '.join(hints)})" if hints else ""))
+                     + (f" ({'; '.join(hints)})" if hints else ""), field=field)
+
+
+_TOML_OPTIONS = (("catalog", "--catalog", "a catalog file"),
+                 ("motor_catalog", "--motor-catalog", "a motor file"),
+                 ("study", None, "a study file"), ("profile", None, "a duty profile"))
+"""The TOML files options and arguments name: attribute, option (None: positional), kind."""
+
+
+def toml_files_wanted(args: argparse.Namespace) -> None:
+    """Refuse a catalog, motor, study or duty file that is another kind of hdselect file.
+
+    A file of no known kind is left to its reader, whose message names the key at fault.
+
+    Raises:
+        InputError: As `file_wanted`, naming the option.
+    """
+    from hdselect.base.inputfiles import is_input_file
+
+    for attribute, flag, kind in _TOML_OPTIONS:
+        given = getattr(args, attribute, None)
+        for file in given if isinstance(given, list) else [given] if given else []:
+            if is_input_file(Path(file)):  # a missing file is the command's to refuse
+                file_wanted(args, file, f"{kind} (TOML)", (kind, "a TOML file"), field=flag)
 
 
 def robot_of(args: argparse.Namespace, named: Path | None = None):

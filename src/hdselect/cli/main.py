@@ -49,7 +49,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             _exit_on_signal()  # a second signal while this is said: no traceback
         interrupted = isinstance(stop, KeyboardInterrupt)
         _say(f"{'interrupted' if interrupted else 'terminated'}; {kept.text()}")
-        return EXIT_INTERRUPTED if interrupted else EXIT_TERMINATED
+        status = EXIT_INTERRUPTED if interrupted else EXIT_TERMINATED
+        if argv is None:  # Python ends a process whose Ctrl-C an import saw by SIGINT (-2)
+            _leave(status)
+        return status
     finally:
         if argv is None:  # the program: until it exits, a signal ends it quietly
             _exit_on_signal()
@@ -62,6 +65,7 @@ def _run(argv: Sequence[str], kept: _Kept) -> int:
     import warnings
 
     from hdselect.base.errors import HdselectError
+    from hdselect.cli.inputs import toml_files_wanted
     from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_OK
 
     held = HeldLog(logger)
@@ -73,6 +77,7 @@ def _run(argv: Sequence[str], kept: _Kept) -> int:
         args.command_line = ["hdselect", *argv]
         args.kept, args.held = kept, held
         held.start(verbose=args.verbose)
+        toml_files_wanted(args)
         # Python's and numpy's warnings too are held: a refusal stays one line (the
         # filters in force still apply; only where they print changes)
         with warnings.catch_warnings(record=True) as caught:
@@ -92,6 +97,9 @@ def _run(argv: Sequence[str], kept: _Kept) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
     except Exception as err:  # a bug: say so in one line, with the way to the traceback
+        stop = _stop_within(err)
+        if stop is not None:  # a signal an import turned into its own error: not a bug
+            raise stop from err
         if held.verbose:
             import traceback
 
@@ -110,12 +118,7 @@ def _exit_on_signal() -> None:
     The command's outputs are complete by then; what is left is the interpreter's exit.
     """
     def leave(signum: int, frame: object) -> None:
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError):
-                pass
-        os._exit(EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED)
+        _leave(EXIT_INTERRUPTED if signum == signal.SIGINT else EXIT_TERMINATED)
 
     for signum in (signal.SIGINT, signal.SIGTERM):
         try:
@@ -123,6 +126,31 @@ def _exit_on_signal() -> None:
                 signal.signal(signum, leave)
         except ValueError:  # not the main thread: the signals are not ours to handle
             return
+
+
+def _leave(status: int) -> None:
+    """End the process now with `status`, its exit handlers run and its streams flushed."""
+    import atexit
+
+    atexit._run_exitfuncs()  # the copies of streams read (hdselect.base.inputfiles) go
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(status)
+
+
+def _stop_within(err: BaseException) -> BaseException | None:
+    """The Ctrl-C or SIGTERM an exception was raised from, if any (numpy's ImportError)."""
+    seen: set[int] = set()
+    cause: BaseException | None = err
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt | Terminated):
+            return cause
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return None
 
 
 class _Kept:
@@ -136,7 +164,9 @@ class _Kept:
 
 
 def _say(message: str) -> None:
-    print(f"hdselect: {message}", file=sys.stderr)
+    # a name of undecodable bytes from the command line is shown escaped, on any stream
+    text = f"hdselect: {message}".encode("utf-8", "backslashreplace").decode("utf-8")
+    print(text, file=sys.stderr)
 
 
 def _one_line(text: str) -> str:

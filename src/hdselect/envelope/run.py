@@ -51,6 +51,7 @@ from hdselect.motion.case import robot_for_motion
 from hdselect.motion.mixfile import is_mix_file
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning import Trajectory
+from hdselect.motion.robot_named import other_robot
 from hdselect.robot.dynamics import gravity_torques
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
@@ -352,7 +353,20 @@ def _duty_motion(duty: Motion | str | Path | None, file: EnvelopeFile | None,
         raise InputError(f"{given} is a mix file; the envelope does not take a mix as its duty "
                          "yet: give one of its motion files (or size the mix with `hdselect "
                          "size`)", **where)
-    motion = given if isinstance(given, Motion) else load_motion(given, robot)
+    if isinstance(given, Motion):
+        motion = given
+    else:
+        try:
+            motion = load_motion(given, robot)
+        except InputError as err:
+            named = other_robot(Path(given), robot)
+            if named is None:
+                raise
+            where = ({"field": "duty"} if duty is not None or file is None
+                     else {"path": file.path, "field": "duty.motion"})
+            raise InputError(f"{Path(given).name} is written for {named}, but the envelope "
+                             f"runs {robot.path}: the motion does not fit it ({err}); give a "
+                             "duty motion of this robot", **where) from err
     motion.check_joints(robot)
     motion.refuse_motors("envelope")
     return motion

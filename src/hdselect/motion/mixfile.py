@@ -51,6 +51,7 @@ from hdselect.motion.motionfile import (
     payload_table,
     robot_file_named,
 )
+from hdselect.motion.robot_named import other_robot
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
@@ -327,11 +328,8 @@ def _other_robot(err: InputError, name: object, motion: Path, path: Path, i: int
     Raises:
         InputError: The motion names another robot file than the one the mix runs.
     """
-    try:
-        named = robot_file_named(motion)
-    except InputError:
-        return
-    if named.resolve() != Path(robot.path).resolve():
+    named = other_robot(motion, robot)
+    if named is not None:
         raise InputError(f"task {name!r} runs {motion.name}, written for {named}, but the mix "
                          f"runs {robot.path}: the motion does not fit it ({err}); give the "
                          "task a motion of this robot", path=path,

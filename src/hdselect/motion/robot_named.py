@@ -81,6 +81,19 @@ def robot_file_named(path: str | Path) -> Path:
     return robot_source(path)[0]
 
 
+def other_robot(motion: Path, robot: Robot) -> Path | None:
+    """The robot file `motion` names when it is not `robot`'s, else None.
+
+    For a motion that does not load on `robot`: its failure is blamed on the other robot
+    it was written for; None (no robot named, or `robot`'s own) leaves it the motion's.
+    """
+    try:
+        named = robot_file_named(motion)
+    except InputError:
+        return None
+    return None if named.resolve() == Path(robot.path).resolve() else named
+
+
 def load_motion_robot(path: str | Path, xacro_args: Mapping[str, str] | None = None, *,
                       given_as: str = "xacro_args") -> Robot:
     """The robot a motion file names, expanded with its ``xacro_args`` (a ``.xacro`` robot).

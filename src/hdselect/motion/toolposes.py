@@ -35,7 +35,7 @@ import pinocchio as pin
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, table_of
-from hdselect.motion.limits import vector
+from hdselect.motion.limits import LIMIT_ROUNDING, vector
 from hdselect.motion.poses import Tolerance, pose_from_xyz_rpy
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import BasePose
@@ -160,8 +160,15 @@ def read_pose(table: Mapping[str, Any], index: int, path: Path, robot: Robot,
             j = robot.joint_index(name, source=path, field=f"{where}.near.{name}")
             scale = angle if robot.revolute[j] else 1.0
             unit = angle_unit if robot.revolute[j] else "m"
-            near[name] = as_number(value, path, f"{where}.near.{name}", bound=bounds.POSITION,
-                                   scale=scale, unit=unit) * scale
+            given = as_number(value, path, f"{where}.near.{name}", bound=bounds.POSITION,
+                              scale=scale, unit=unit)
+            low, high = robot.lower[j], robot.upper[j]
+            if not low - LIMIT_ROUNDING * max(1.0, abs(low)) <= given * scale <= (
+                    high + LIMIT_ROUNDING * max(1.0, abs(high))):  # the solver cannot start there
+                raise InputError(f"{given:g} {unit} is outside the limits of joint '{name}' "
+                                 f"[{low / scale:g}, {high / scale:g}] {unit}", path=path,
+                                 field=f"{where}.near.{name}")
+            near[name] = given * scale
     return PoseWaypoint(index, xyz, rpy, line, tuple(near.items()))
 
 

@@ -87,7 +87,11 @@ def frame_id(model: pin.Model, name: str) -> int:
 def payload_frame(model: pin.Model, payload: Payload, path: Path, default: str) -> pin.Frame:
     """The frame a payload is attached to: its own, or `default`."""
     frame_name = payload.frame or default
-    if not model.existFrame(frame_name):
+    try:
+        known = model.existFrame(frame_name)
+    except UnicodeEncodeError:  # bytes of no text in a command-line name: no frame's
+        known = False
+    if not known:
         bodies = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
         raise InputError(f"unknown frame '{frame_name}' for the payload; links are: "
                          f"{', '.join(bodies)}", path=path, field="payload.frame")

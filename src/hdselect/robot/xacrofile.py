@@ -63,8 +63,8 @@ def xacro_arguments(value: object, field: str = "xacro_args") -> dict[str, str]:
         The arguments by name.
 
     Raises:
-        InputError: A name or a value is empty, a value is not text or a number, or a string
-            lacks ``:=``.
+        InputError: A name or a value is empty, a value is not text or a number, a string
+            lacks ``:=``, or a name is given twice.
     """
     if value is None:
         return {}
@@ -80,10 +80,13 @@ def xacro_arguments(value: object, field: str = "xacro_args") -> dict[str, str]:
     else:
         raise InputError(f"expected a mapping of name to value, got {type(value).__name__}",
                          field=field)
-    arguments = {}
+    arguments: dict[str, str] = {}
     for name, text in pairs:
         if not isinstance(name, str) or not name:
             raise InputError(f"expected an argument name, got {name!r}", field=field)
+        if name in arguments:  # only a list can repeat a name; the last would win unseen
+            raise InputError(f"{name} given twice ({arguments[name]} and {text}); give it once",
+                             field=field)
         if isinstance(text, bool) or not isinstance(text, str | int | float):
             raise InputError(f"expected text or a number for {name}, got {text!r}",
                              field=f"{field}.{name}")

@@ -105,6 +105,7 @@ def run_study(study: Study, out: str | Path | Store | None = None, *,
             if store is None or not store.done(case, retry_failed)]
     run = StudyRun(study, records, skipped=len(study.cases) - len(todo))
     tasks = plan_tasks(study, todo, max(workers, 1), grouping)
+    used = max(1, min(workers, len(tasks)))  # no more processes than tasks to give them
     start = time.perf_counter()
 
     def keep(outcome: Outcome) -> None:
@@ -125,15 +126,15 @@ def run_study(study: Study, out: str | Path | Store | None = None, *,
     complete = False
     try:
         if scheduler is not None:
-            run.executor = run_dask(tasks, scheduler, workers or 1, keep, timeout)
+            run.executor = run_dask(tasks, scheduler, used, keep, timeout)
         elif workers == 0:
             run.executor = "this process"
             for task in tasks:
                 for outcome in evaluate(task):
                     keep(outcome)
         else:
-            run.executor = f"{workers} worker process{'es' if workers > 1 else ''}"
-            run_local(tasks, workers, keep)
+            run.executor = f"{used} worker process{'es' if used > 1 else ''}"
+            run_local(tasks, used, keep)
         complete = all(case.key in records for case in study.cases)
     finally:
         if store is not None:

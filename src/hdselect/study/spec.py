@@ -205,13 +205,14 @@ def _values(table: dict[str, Any], path: Path, where: str) -> dict[str, Any]:
 def _value(key: str, value: Any, path: Path, field: str) -> Any:
     """One parameter, validated; paths stay as written (strings), relative to the study."""
     if key in ("motion", "robot", "motor_catalog"):
-        if not isinstance(value, str) or not value:
+        if not isinstance(value, str) or not value or "\0" in value:
             raise InputError("expected a file name, relative to the study file", path=path,
                              field=field)
         return value
     if key == "catalog":
         files = [value] if isinstance(value, str) else value
-        if not isinstance(files, list) or not all(isinstance(f, str) and f for f in files):
+        if not isinstance(files, list) or not all(isinstance(f, str) and f and "\0" not in f
+                                                  for f in files):
             raise InputError("expected a catalog file or a list of them", path=path,
                              field=field)
         return tuple(files)
@@ -326,7 +327,7 @@ def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tupl
     files = [motion]
     try:
         doc = tomllib.loads(read_input(motion).decode("utf-8"))
-    except (InputError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+    except (InputError, UnicodeDecodeError, tomllib.TOMLDecodeError, RecursionError):
         doc = {}
     if robot is not None:
         files.append(robot)
@@ -345,7 +346,8 @@ def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tupl
         for block in (motors, *(v for v in motors.values() if isinstance(v, dict))):
             if isinstance(block.get("catalog"), str):
                 files.append(motion.parent / block["catalog"])
-    return tuple(dict.fromkeys([*files, *catalog]))
+    # a name holding a NUL is no file: left to the case, whose reader refuses it
+    return tuple(dict.fromkeys(f for f in [*files, *catalog] if "\0" not in str(f)))
 
 
 def _digest(path: Path) -> str:
