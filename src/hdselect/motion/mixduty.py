@@ -18,6 +18,7 @@ from hdselect.base.tomlfile import as_number, check_keys, table_of
 from hdselect.catalog.select import PREFERENCES
 from hdselect.motion.motionfile import LIFE_BASES, Motion
 from hdselect.motion.motor_tables import motion_file_motors
+from hdselect.motion.sizing_table import chosen_joints
 from hdselect.robot.model import Robot
 
 SIZING_KEYS = ("joints", "exclude", "catalog", "prefer", "efficiency", "mass_coupling",
@@ -55,18 +56,7 @@ def duty_tables(doc: dict[str, Any], path: Path,
         given["life_basis"] = needs["life_basis"]
     sizing = table_of(doc.get("sizing", {}), path, "sizing")
     check_keys(sizing, SIZING_KEYS, path, "sizing")
-    for key in ("joints", "exclude"):
-        if key in sizing:
-            value = sizing[key]
-            if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-                raise InputError(f"expected a list of joint names, got {value!r}", path=path,
-                                 field=f"sizing.{key}")
-            given[key] = tuple(value)
-    if "joints" in given or "exclude" in given:
-        try:
-            robot.with_sized_joints(given.get("joints"), given.get("exclude", ()))
-        except InputError as err:
-            raise InputError(err.reason, path=path, field=f"sizing.{err.field}") from err
+    given.update(chosen_joints(sizing, path, robot))
     if "prefer" in sizing:
         if sizing["prefer"] not in PREFERENCES:
             raise InputError(f"unknown order {sizing['prefer']!r}; choose one of: "

@@ -23,6 +23,18 @@ def sizing_joints(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tu
     """
     table = table_of(doc.get("sizing", {}), path, "sizing")
     check_keys(table, SIZING_KEYS, path, "sizing")
+    return chosen_joints(table, path, robot)
+
+
+def chosen_joints(table: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[str, ...]]:
+    """``joints`` and ``exclude`` of a checked ``[sizing]`` table, checked against the robot.
+
+    The table is a motion file's or a mix file's, its keys already checked.
+
+    Raises:
+        InputError: A list that is not of joint names, or a choice the robot refuses
+            (`Robot.with_sized_joints`).
+    """
     names: dict[str, tuple[str, ...]] = {}
     for key in ("joints", "exclude"):
         if key in table:
