@@ -8,8 +8,7 @@ from __future__ import annotations
 import argparse
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
-from hdselect.base.errors import InputError
-from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
+from hdselect.base.scheduler import DEFAULT_TIMEOUT
 
 
 def catalog_argument(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
@@ -24,22 +23,15 @@ def json_argument(parser: argparse.ArgumentParser) -> None:
                         help="also write JSON to FILE ('-': to stdout, instead of the table)")
 
 
-def timeout_argument(parser: argparse.ArgumentParser) -> None:
-    """``--timeout SECONDS``: how long connecting to a ``--scheduler`` may take."""
+def scheduler_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--scheduler ADDRESS`` and ``--timeout SECONDS``: a Dask cluster and its time limit."""
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="'local': a Dask LocalCluster on this machine; tcp://HOST:PORT: a "
+                             "running Dask scheduler (needs pip install 'hdselect[dask]')")
     parser.add_argument("--timeout", type=float, metavar="SECONDS",
                         help="how long connecting to the --scheduler may take, in seconds "
                              f"(default {DEFAULT_TIMEOUT:g}); a peer that is not a Dask "
                              "scheduler is refused")
-
-
-def timeout_of(args: argparse.Namespace) -> float:
-    """The ``--timeout`` given, else the default [s]; refused without ``--scheduler``."""
-    if args.timeout is None:
-        return DEFAULT_TIMEOUT
-    if args.scheduler is None:
-        raise InputError("bounds connecting to a Dask scheduler: give --scheduler too",
-                         field="--timeout")
-    return timeout_seconds(args.timeout, "--timeout")
 
 
 def xacro_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> None:
@@ -119,14 +111,7 @@ def sizing_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--motor-inertia", type=float, metavar="KG_M2",
                         help="motor rotor inertia [kg m^2] where no motor data is given "
                              "(default 0)")
-    parser.add_argument("--motor-mass", type=float, metavar="KG",
-                        help="motor mass carried with each gearhead [kg] where no motor data "
-                             "is given (default 0)")
-    parser.add_argument("--motor-catalog", metavar="FILE",
-                        help="motor file (TOML): every sized joint chooses its motor from it, "
-                             "with its gearhead (replaces the motion file's [motor])")
-    parser.add_argument("--no-mass-coupling", action="store_true",
-                        help="do not carry chosen units' masses on the joints nearer the base")
+    motor_arguments(parser)
     parser.add_argument("--prefer", choices=tuple(PREFERENCES),
                         help="; ".join(f"{k}: {v[0]}" for k, v in PREFERENCES.items())
                         + f" (default: {DEFAULT_PREFER_WITH_MOTORS} where motors are given, "
@@ -144,6 +129,21 @@ def sizing_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--inertia-target", type=float, metavar="R",
                         help="the load-to-rotor inertia ratio --prefer inertia aims at "
                              f"(default {defaults.inertia_target:g})")
+
+
+def motor_arguments(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
+    """--motor-mass, --motor-catalog, --no-mass-coupling: motors and the units' masses.
+
+    Declared on a parser, or on one of its groups.
+    """
+    parser.add_argument("--motor-mass", type=float, metavar="KG",
+                        help="motor mass carried with each gearhead [kg] where no motor data "
+                             "is given (default 0)")
+    parser.add_argument("--motor-catalog", metavar="FILE",
+                        help="motor file (TOML): every sized joint chooses its motor from it, "
+                             "with its gearhead (replaces the motion file's [motor])")
+    parser.add_argument("--no-mass-coupling", action="store_true",
+                        help="do not carry chosen units' masses on the joints nearer the base")
 
 
 def margin_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> None:

@@ -8,8 +8,8 @@ import sys
 from pathlib import Path
 
 from hdselect.base.errors import InputError
-from hdselect.cli.arguments import json_argument, timeout_of
-from hdselect.cli.inputs import MOTOR_ORDERS, joint_names, sizing_options_of
+from hdselect.cli.arguments import json_argument
+from hdselect.cli.inputs import MOTOR_ORDERS, joint_names, sizing_options_of, timeout_of
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
 
 _ANGLE = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -20,7 +20,7 @@ _AS_DUTY = "give it as --duty FILE: the cycle the mean torque and life are judge
 def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``hdselect envelope``."""
     from hdselect.catalog.select import DEFAULT_PREFER, PREFERENCES
-    from hdselect.cli.arguments import sizing_arguments, timeout_argument, xacro_argument
+    from hdselect.cli.arguments import scheduler_arguments, sizing_arguments, xacro_argument
 
     parser.add_argument("target", metavar="ROBOT",
                         help="robot file (URDF, xacro, MJCF), or an envelope file (TOML) that "
@@ -83,10 +83,7 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--workers", type=int, metavar="N",
                         help="compute the search's states in N worker processes (with "
                              "--scheduler, Dask workers); default: this process, every core")
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help="'local': a Dask LocalCluster here; tcp://HOST:PORT: a running "
-                             "Dask scheduler (needs pip install 'hdselect[dask]')")
-    timeout_argument(parser)
+    scheduler_arguments(parser)
 
 
 def run_envelope(args: argparse.Namespace) -> int:

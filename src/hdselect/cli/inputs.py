@@ -12,6 +12,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from hdselect.base.errors import InputError
+from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
 
 _OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
                  "rotor_inertia": "--motor-inertia", "motor_mass": "--motor-mass",
@@ -272,6 +273,16 @@ def flagged(err: InputError, args: argparse.Namespace) -> InputError:
     if field.startswith("motors") and args.motor_catalog:
         flag = "--motor-catalog"
     return InputError(err.reason, path=err.path, field=flag or err.field)
+
+
+def timeout_of(args: argparse.Namespace) -> float:
+    """The ``--timeout`` given, else the default [s]; refused without ``--scheduler``."""
+    if args.timeout is None:
+        return DEFAULT_TIMEOUT
+    if args.scheduler is None:
+        raise InputError("bounds connecting to a Dask scheduler: give --scheduler too",
+                         field="--timeout")
+    return timeout_seconds(args.timeout, "--timeout")
 
 
 def max_samples_of(args: argparse.Namespace) -> int:

@@ -243,8 +243,8 @@ def _parser() -> argparse.ArgumentParser:
         json_argument,
         margin_argument,
         robot_motion_arguments,
+        scheduler_arguments,
         sizing_arguments,
-        timeout_argument,
         xacro_argument,
     )
     from hdselect.cli.catalog import run_catalog, run_duty
@@ -387,10 +387,7 @@ def _parser() -> argparse.ArgumentParser:
     study.add_argument("--workers", type=int, metavar="N",
                        help="worker processes (default: the cores here; 0: in this process); "
                             "with --scheduler local, Dask workers")
-    study.add_argument("--scheduler", metavar="ADDRESS",
-                       help="'local': a Dask LocalCluster on this machine; tcp://HOST:PORT: a "
-                            "running Dask scheduler (needs pip install 'hdselect[dask]')")
-    timeout_argument(study)
+    scheduler_arguments(study)
     study.add_argument("--no-grouping", action="store_true",
                        help="size every case on its own, not from its group's shared basis")
     study.add_argument("--retry-failed", action="store_true",

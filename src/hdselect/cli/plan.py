@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from hdselect.base.errors import InputError
-from hdselect.cli.arguments import catalog_argument, robot_motion_arguments
+from hdselect.cli.arguments import catalog_argument, motor_arguments, robot_motion_arguments
 from hdselect.cli.inputs import (
     flagged,
     input_files,
@@ -52,14 +52,7 @@ def plan_arguments(parser: argparse.ArgumentParser) -> None:
                        help="the unit of a joint, as `hdselect catalog` names it (repeatable; "
                             "the other sized joints get the unit `size` selects)")
     catalog_argument(units)
-    units.add_argument("--motor-catalog", metavar="FILE",
-                       help="motor file (TOML): each sized joint's motor from it, as `size` "
-                            "pairs it with the unit (replaces the motion file's [motor])")
-    units.add_argument("--motor-mass", type=float, metavar="KG",
-                       help="motor mass carried with each gearhead [kg] where no motor data "
-                            "is given (default 0)")
-    units.add_argument("--no-mass-coupling", action="store_true",
-                       help="do not carry the units' masses on the joints nearer the base")
+    motor_arguments(units)
 
 
 def run_plan(args: argparse.Namespace) -> int:

@@ -20,7 +20,7 @@ def run_study(args: argparse.Namespace) -> int:
     import time
 
     from hdselect.base.outputs import Outputs
-    from hdselect.cli.arguments import timeout_of
+    from hdselect.cli.inputs import timeout_of
     from hdselect.report.study_tables import study_tables, study_value_table
     from hdselect.report.tables import Paragraphs
     from hdselect.study.run import run_study as run
