@@ -22,13 +22,12 @@ import pytest
 from hdselect.base.errors import InputError
 from hdselect.catalog.bearing_rules import (
     BearingLoad,
-    bearing_checks,
     bearing_figures,
     bearing_load,
 )
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.checks import BEARING_CHECKS
-from hdselect.catalog.rules import CHECK_LABELS, CHECKS, check_unit
+from hdselect.catalog.rules import CHECK_LABELS, CHECKS, bearing_checks, check_unit
 from hdselect.catalog.units import BearingRating
 from test_rules import PSA_RULES, make_load, make_unit
 

@@ -1,4 +1,4 @@
-"""The output bearing's loads over a cycle, and Harmonic Drive's checks of a rated bearing.
+"""The output bearing's loads over a cycle, and the figures Harmonic Drive's checks compare.
 
 A gearhead's output bearing (a cross-roller bearing) carries everything the joint
 transmits except the torque about its axis: the axial force F_a, the radial force
@@ -20,7 +20,8 @@ bearing (`hdselect.catalog.units.BearingRating`), Harmonic Drive's procedure che
 
 The maxima are over every sample of the cycle, held poses included; the averages
 over the moving part, as the mean torque's. No series' number lives here: f_w and
-the static safety come from the series' ``[rules]``.
+the static safety come from the series' ``[rules]``. The checks themselves are rules
+(`hdselect.catalog.rules.bearing`).
 """
 
 from __future__ import annotations
@@ -30,7 +31,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hdselect.catalog.checks import DEFAULT_MARGIN, Check, holds, limit_check
 from hdselect.catalog.units import BearingRating, SeriesRules
 
 LIFE_EXPONENT = 10.0 / 3.0
@@ -208,44 +208,3 @@ def l10_bearing_hours(dynamic_rating: float, equivalent_load: float, load_factor
     except OverflowError:
         return None
     return life if math.isfinite(life) else None
-
-
-def bearing_checks(figures: BearingFigures, rating: BearingRating, rules: SeriesRules, *,
-                   life_hours: float | None = None,
-                   margin: float = DEFAULT_MARGIN) -> dict[str, Check]:
-    """The checks of a rated bearing, each where its rating is given, in `BEARING_CHECKS` order.
-
-    Args:
-        figures: The bearing's figures over the cycle (`bearing_figures`).
-        rating: What the catalog rates it for.
-        rules: The series' rules (the required static safety).
-        life_hours: Required life [h]: adds ``bearing_life`` where C is rated. The
-            bearing's life is an L10 life; against a required L50 it is conservative.
-        margin: Design margin [-], in [0, 1): each check holds at (1 - margin) of its
-            limit (`hdselect.catalog.checks.holds`), a life and a safety as the gear's
-            life: required over reached.
-
-    Returns:
-        Check name -> check.
-    """
-    load = figures.load
-    checks: dict[str, Check] = {}
-    for name, value, limit in (("bearing_moment", load.max_moment, rating.max_moment),
-                               ("bearing_radial", load.max_radial, rating.max_radial),
-                               ("bearing_axial", load.max_axial, rating.max_axial)):
-        if limit is not None:
-            checks[name] = limit_check(value, limit, margin=margin)
-    if life_hours is not None and rating.dynamic_rating is not None:
-        expected = figures.life_hours
-        utilization = 0.0 if expected is None else life_hours / expected
-        checks["bearing_life"] = Check(
-            expected, life_hours, holds(utilization, margin), utilization,
-            {"basis": "L10", "equivalent_load_n": figures.equivalent_load,
-             "mean_output_speed_rpm": figures.mean_speed})
-    if rating.static_rating is not None:
-        safety, static = figures.static_safety, figures.static_load
-        utilization = 0.0 if safety is None else rules.bearing_static_safety / safety
-        checks["bearing_static"] = Check(safety, rules.bearing_static_safety,
-                                         holds(utilization, margin), utilization,
-                                         {"static_load_n": static})
-    return checks

@@ -1,9 +1,9 @@
-"""The catalog's rules: one joint's cycle against one gearhead's limits.
+"""What the rules read of one joint's cycle: its load, momentary event and motor demand.
 
-Both front ends use this module: `hdselect duty` builds the cycle from the
-catalog page's phases, `hdselect size` from the sampled dynamics. A phase is
-simply a sample whose duration is the phase time. Every rule reads the unit's
-series rules (`hdselect.catalog.units.SeriesRules`); no series' numbers live here.
+Both front ends build these: `hdselect duty` from the catalog page's phases, `hdselect
+size` from the sampled dynamics. A phase is simply a sample whose duration is the phase
+time. The catalog page's formulas that several rules share (the allowable mean torque,
+the L50 life, the momentary events allowed) are here too; no series' numbers live here.
 """
 
 from __future__ import annotations
@@ -13,29 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hdselect.base.errors import InputError
-from hdselect.catalog.bearing_rules import (
-    BearingFigures,
-    BearingLoad,
-    bearing_checks,
-    bearing_figures,
-)
-from hdselect.catalog.checks import (  # noqa: F401  (re-exported: their public home was here)
-    BEARING_CHECKS,
-    CHECK_LABELS,
-    CHECK_NAMES,
-    CHECKS,
-    DEFAULT_MARGIN,
-    MOTOR_CHECKS,
-    PAIR_CHECKS,
-    PER_SAMPLE_CHECKS,
-    Check,
-    derated,
-    holds,
-    limit_check,
-)
-from hdselect.catalog.motors import Motor
-from hdselect.catalog.units import L50_PER_L10, LIFE_BASES, Flag, SeriesRules, Unit
+from hdselect.catalog.units import SeriesRules, Unit
 
 RPM_PER_RAD_S = 60.0 / (2.0 * np.pi)
 """Revolutions per minute in one radian per second."""
@@ -133,74 +111,6 @@ class MotorDemand:
     max_speed: float
     efficiency: float | str
     rms_speed: float | None = None
-
-
-@dataclass(frozen=True)
-class Candidate:
-    """One gearhead against one joint's cycle.
-
-    Attributes:
-        unit: The gearhead.
-        checks: Each rule by name, in the order of `CHECKS`.
-        life_hours: L50 life [h]; None when unlimited (no load while moving).
-        flags: Catalog stand-ins, corrections and assumed rules this result depends on.
-        motor: What the motor behind it must deliver, when computed (hdselect size).
-        motor_unit: The motor paired with the gearhead, when motors are given; its checks
-            (`MOTOR_CHECKS`) are then among `checks`.
-        inertia_ratio: For a pair, the load-to-rotor inertia ratio (J_load / N^2 + J_in) /
-            J_m [-] where the load inertia is known; None otherwise.
-        required_margin: The design margin every rule was judged with [-].
-        bearing: The output bearing's figures where the catalog rates it and its loads
-            are known (its checks, `BEARING_CHECKS`, are then among `checks`); else None.
-    """
-
-    unit: Unit
-    checks: dict[str, Check]
-    life_hours: float | None
-    flags: tuple[Flag, ...]
-    motor: MotorDemand | None = None
-    motor_unit: Motor | None = None
-    inertia_ratio: float | None = None
-    required_margin: float = DEFAULT_MARGIN
-    bearing: BearingFigures | None = None
-
-    @property
-    def feasible(self) -> bool:
-        """Every rule holds."""
-        return all(check.ok for check in self.checks.values())
-
-    @property
-    def binding(self) -> str:
-        """Name of the rule with the highest utilization."""
-        return max(self.checks, key=lambda name: self.checks[name].utilization)
-
-    @property
-    def gearhead_binding(self) -> str:
-        """Name of the gearhead's rule with the highest utilization."""
-        return max((name for name in self.checks
-                    if name not in MOTOR_CHECKS and name not in PAIR_CHECKS),
-                   key=lambda name: self.checks[name].utilization)
-
-    @property
-    def motor_binding(self) -> str | None:
-        """Name of the motor's rule with the highest utilization; None without a motor."""
-        names = [name for name in self.checks if name in MOTOR_CHECKS]
-        return max(names, key=lambda name: self.checks[name].utilization) if names else None
-
-    @property
-    def label(self) -> str:
-        """The gearhead's id, and the motor's after a ``+`` when one is paired."""
-        return self.unit.id if self.motor_unit is None else f"{self.unit.id} + {self.motor_unit.id}"
-
-    @property
-    def l10_hours(self) -> float | None:
-        """L10 life, L50 / 5 [h]; None when unlimited."""
-        return None if self.life_hours is None else self.life_hours / L50_PER_L10
-
-    @property
-    def margin(self) -> float:
-        """Worst-case margin, 1 minus the highest utilization [-]."""
-        return 1.0 - self.checks[self.binding].utilization
 
 
 def cycle_load(
@@ -318,95 +228,6 @@ def allowed_momentary_events(input_speed_rpm: float, duration: float, *,
     if cap is not None:
         allowed = min(allowed, cap)
     return allowed if math.isfinite(allowed) else None
-
-
-def check_unit(
-    load: CycleLoad,
-    unit: Unit,
-    *,
-    momentary: Momentary | None = None,
-    life_hours: float | None = None,
-    life_basis: str = "L50",
-    motor: MotorDemand | None = None,
-    bearing: BearingLoad | None = None,
-    margin: float = DEFAULT_MARGIN,
-) -> Candidate:
-    """Apply every rule of the unit's series to one gearhead.
-
-    Args:
-        load: The joint's cycle on the output side.
-        unit: The gearhead.
-        momentary: The worst momentary (T4) event for this unit, if any.
-        life_hours: Required life [h] on `life_basis`; adds the ``life`` check.
-        life_basis: ``"L10"`` or ``"L50"``: the basis of `life_hours`, and of the
-            ``life`` check's value.
-        motor: The motor-side demand, carried into the result as is.
-        bearing: The loads on the unit's output bearing, about its centre: checked where
-            the unit's catalog rates the bearing (`hdselect.catalog.bearing_rules`).
-        margin: Design margin [-], in [0, 1): every rule must hold at (1 - margin) of
-            its limit (`holds`), the output bearing's too; utilization stays demand / limit.
-
-    Returns:
-        The candidate with every check, life and the flags it depends on.
-
-    Raises:
-        InputError: `life_basis` is not one of ``L10``, ``L50``.
-    """
-    if life_basis not in LIFE_BASES:
-        raise InputError(f"unknown life basis {life_basis!r}; choices are: "
-                         f"{', '.join(LIFE_BASES)}", field="life_basis")
-    rules = unit.rules
-    mean_input_rpm = load.mean_speed_under(rules) * RPM_PER_RAD_S * unit.ratio
-    allowed, capped = allowable_mean_torque(unit, mean_input_rpm)
-    average_limit = unit.max_average_input_speed
-    checks = {
-        "peak": limit_check(load.peak_torque, unit.repeated_torque, margin=margin),
-        "mean": limit_check(load.mean_torque, allowed, margin=margin,
-                            mean_input_speed_rpm=mean_input_rpm, capped_by_repeated=capped),
-        "speed": limit_check(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed,
-                             margin=margin),
-        "average_speed": limit_check(None if average_limit is None else mean_input_rpm,
-                                     math.inf if average_limit is None else average_limit,
-                                     margin=margin),
-        "momentary": _momentary(momentary, unit, margin),
-        "static": limit_check(load.static_torque, unit.static_torque, margin=margin),
-    }
-    life = (l50_life_hours(unit, load.mean_torque, mean_input_rpm)
-            if load.mean_torque is not None else None)
-    if life_hours is not None:
-        expected = life if life is None or life_basis == "L50" else life / L50_PER_L10
-        utilization = 0.0 if expected is None else life_hours / expected
-        checks["life"] = Check(expected, life_hours, holds(utilization, margin), utilization,
-                               {"basis": life_basis})
-    figures = None
-    if unit.bearing is not None and bearing is not None:
-        figures = bearing_figures(bearing, unit.bearing, rules, load.mean_speed_under(rules))
-        checks.update(bearing_checks(figures, unit.bearing, rules, life_hours=life_hours,
-                                     margin=margin))
-    used = {"peak": "repeated_torque", "momentary": "momentary_torque", "static": "static_torque",
-            "mean": ("average_torque" if rules.mean_torque_limit == "tabulated"
-                     else "rated_torque")}
-    fields = [used[name] for name, check in checks.items()
-              if name in used and check.value is not None]
-    if life is not None:
-        fields.append("rated_torque")
-    if motor is not None:
-        fields.append("input_inertia")
-    flags = unit.flags_for(*fields) + ((rules.flag,) if rules.flag is not None else ())
-    return Candidate(unit, checks, life, flags, motor, required_margin=margin, bearing=figures)
-
-
-def _momentary(event: Momentary | None, unit: Unit, margin: float) -> Check:
-    if event is None:
-        return limit_check(None, unit.momentary_torque, margin=margin)
-    detail: dict[str, object] = {"kind": event.kind}
-    if event.speed is not None and event.duration is not None:
-        event_rpm = abs(event.speed) * RPM_PER_RAD_S * unit.ratio
-        detail["allowed_events"] = allowed_momentary_events(
-            event_rpm, event.duration, cap=unit.rules.max_momentary_events)
-    if event.time is not None:
-        detail["time_s"] = event.time
-    return limit_check(abs(event.torque), unit.momentary_torque, margin=margin, **detail)
 
 
 def at_rest(qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:

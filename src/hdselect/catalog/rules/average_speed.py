@@ -1,0 +1,31 @@
+"""``average_speed``: the mean input speed within the unit's limit for it, where it has one."""
+
+from __future__ import annotations
+
+import math
+
+from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
+
+
+class AverageSpeed(Rule):
+    """N_av (as the series averages it) at most the maximum average input speed [rpm].
+
+    Value None (and utilization 0) where the unit gives no such limit.
+    """
+
+    name = "average_speed"
+    label = "avg speed"
+    words = "average input speed"
+    part = Part.GEARHEAD
+    scope = Scope.CYCLE
+
+    def check(self, case: RuleInput) -> Check | None:
+        """See `Rule.check`."""
+        if (gear := case.gear) is None:
+            return None
+        limit = gear[0].max_average_input_speed
+        return self.judge(None if limit is None else case.mean_input_rpm,
+                          math.inf if limit is None else limit, case.margin)
+
+
+AVERAGE_SPEED = AverageSpeed()

@@ -1,0 +1,48 @@
+"""``speed``: the largest input speed within the unit's maximum input speed."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
+from hdselect.catalog.rules.forms import Rows, ScaleTerms, UnitBatch
+from hdselect.catalog.rules.load import RPM_PER_RAD_S
+from hdselect.catalog.units import Unit
+
+
+class Speed(Rule):
+    """max |qd| N at most the unit's maximum input speed [rpm]."""
+
+    name = "speed"
+    label = "speed"
+    words = "input speed"
+    part = Part.GEARHEAD
+    scope = Scope.SAMPLE
+
+    def check(self, case: RuleInput) -> Check | None:
+        """See `Rule.check`."""
+        if (gear := case.gear) is None:
+            return None
+        unit, load = gear
+        return self.judge(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed,
+                          case.margin)
+
+    def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:
+        """The largest |qd| N y at most the maximum input speed [rpm]."""
+        return (speed_row(terms, unit, self.derate(unit.max_input_speed, margin)),)
+
+    def prefilter(self, batch: UnitBatch) -> np.ndarray:
+        """See `Rule.prefilter`."""
+        return (batch.load.max_speed * RPM_PER_RAD_S * batch.ratio
+                / np.array([unit.max_input_speed for unit in batch.units]))
+
+
+def speed_row(terms: ScaleTerms, unit: Unit, top: float) -> Rows:
+    """The largest |qd| N y at most `top` [rpm], as one row in y = 1/s (the input speed's rules)."""
+    speed = float(np.abs(terms.qd).max(initial=0.0)) * unit.ratio * RPM_PER_RAD_S
+    return np.zeros(1), np.array([speed]), np.array([-top])
+
+
+SPEED = Speed()
