@@ -1,17 +1,18 @@
 """The rules over the whole cycle on TOPPRA's run: the smallest slow-down, the derating, the check.
 
-TOPPRA (`hdselect.fastpath`) meets every rule that holds sample by sample. The rules
-over the whole cycle (mean torque, life, average input speed) are checked on its run
-with the sizing's own `check_unit`. Where one fails, `smallest_scale` finds the
-smallest uniform slow-down s of the moves (dwells keep their length) at which every
-rule of every joint passes, with the exact time scaling of `hdselect.timescale`: the
-rules on single samples exactly, the whole-cycle rules on 1 % steps, bisected to
-1e-6. `derated` instead holds the failing joints to a fraction of their
-repeated-peak limit (0.9, 0.8, ..., re-solved by TOPPRA, each with its own smallest
-slow-down) and refines the best by golden section: the moves keep their speed while
-the torque drops. `verified` samples the winner on the motion's grid and checks it
-with `hdselect.sizing.core.check_units`, slowing it by the excess where a sample lands on a
-peak the scaled model missed.
+TOPPRA (`hdselect.fastpath`) meets every rule on single samples that gives a path form
+(`hdselect.codesign.pathbounds.path_bounds`). The rules over the whole cycle (mean
+torque, life, average input speed), and any rule on single samples without a path form
+(`after_solve`), are checked on its run with the sizing's own `check_unit`. Where one
+fails, `smallest_scale` finds the smallest uniform slow-down s of the moves (dwells
+keep their length) at which every rule of every joint passes, with the exact time
+scaling of `hdselect.timescale`: the rules on single samples exactly, the whole-cycle
+rules on 1 % steps, bisected to 1e-6. `derated` instead holds the failing joints to a
+fraction of their repeated-peak limit (0.9, 0.8, ..., re-solved by TOPPRA, each with its
+own smallest slow-down) and refines the best by golden section: the moves keep their
+speed while the torque drops. `verified` samples the winner on the motion's grid and
+checks it with `hdselect.sizing.core.check_units`, slowing it by the excess where a
+sample lands on a peak the scaled model missed.
 """
 
 from __future__ import annotations
@@ -24,7 +25,16 @@ import numpy as np
 
 from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, at_rest, check_unit, cycle_load
+from hdselect.catalog.rules import (
+    RPM_PER_RAD_S,
+    RULES,
+    Candidate,
+    Part,
+    Scope,
+    at_rest,
+    check_unit,
+    cycle_load,
+)
 from hdselect.catalog.units import Unit
 from hdselect.codesign.fastpath import (
     PathModel,
@@ -33,7 +43,7 @@ from hdselect.codesign.fastpath import (
     slowdown_notes,
     solve,
 )
-from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
+from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limits
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.motion.planning.toppra import Profile
@@ -45,8 +55,6 @@ from hdselect.sizing.reflect import reflect, weighted_demand
 from hdselect.sizing.result import SizingResult
 from hdselect.sizing.timescale import S_MAX, ScalableCycle, exact_scales
 
-WHOLE_CYCLE_RULES = ("mean", "life", "average_speed")
-"""Rules on the whole cycle: a slow-down or a derating fixes them, TOPPRA cannot."""
 DERATINGS = (0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3)
 """Fractions of the repeated-peak limit tried, until the cycle stops getting shorter."""
 DERATING_RESOLUTION = 0.01
@@ -98,14 +106,28 @@ def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
                  if p is not None)
     cycles, held = _scalable(carrying, trajectory, held, units, options)
     scale, reason = smallest_scale(cycles, held, units, options, motion, motors)
+    after = {name: after_solve(lim) for name, lim in zip(model.robot.joint_names, limits,
+                                                          strict=True)}
     failing = {name for name, cycle_ in cycles.items()
                if any(not c.ok for rule, c in _check_scaled(cycle_, held, units[name], 1.0,
                                                              options, motors.get(name)
                                                              ).checks.items()
-                      if rule in WHOLE_CYCLE_RULES)}
+                      if rule in after[name])}
     return Trial(dict(derating), profiles, kinematic, moving, trajectory.duration - moving,
                  scale, reason, tuple(sorted(failing)),
                  slowdown_notes(motion.joint_names, profiles, limits))
+
+
+def after_solve(limits: JointLimits) -> frozenset[str]:
+    """The rules of a joint's unit that TOPPRA does not hold and a derating may fix.
+
+    The gearhead's rules on the whole cycle (mean torque, life, average input speed,
+    whatever else is registered), and every per-sample rule without a path form
+    (`JointLimits.unbounded`): each is checked forward on TOPPRA's run.
+    """
+    return frozenset(rule.name for rule in RULES
+                     if (rule.part is Part.GEARHEAD and rule.scope is Scope.CYCLE)
+                     or rule.name in limits.unbounded)
 
 
 def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,

@@ -30,9 +30,12 @@ import numpy as np
 from hdselect.base.bounds import LENGTH, expect_type
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, allowable_mean_torque, at_rest
-from hdselect.catalog.units import L50_PER_L10, Unit
+from hdselect.catalog.rules import Candidate, at_rest
+from hdselect.catalog.rules.forms import Interval
+from hdselect.catalog.rules.masses import meet
+from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
+from hdselect.codesign.payloadbounds import UnitBound, joint_mean, unit_bound
 from hdselect.codesign.payloadsizing import PayloadSizing
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
@@ -44,32 +47,9 @@ from hdselect.sizing.core import motion_motors
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors, SizingResult
 
-Interval = tuple[float, float]
-"""A closed interval of payload masses (lo, hi) [kg]; hi may be math.inf."""
 _ROUNDS = 12
 _ROUNDOFF = 1e-12
 """Per-kg torque below this fraction of a joint's torques is rounding, not load [-]."""
-
-
-@dataclass(frozen=True)
-class UnitBound:
-    """The payload masses at which one unit passes every rule on one joint.
-
-    Attributes:
-        unit: The unit.
-        masses: The interval of masses [kg], or None when no mass >= 0 passes.
-        ends: For each rule, the interval of masses it allows [kg] (None: none).
-    """
-
-    unit: Unit
-    masses: Interval | None
-    ends: Mapping[str, Interval | None]
-
-    def limiting(self, mass: float) -> str:
-        """The rule whose interval ends at (or closest above) `mass` [kg]."""
-        hi = {rule: span[1] if span is not None else -math.inf
-              for rule, span in self.ends.items()}
-        return min(hi, key=lambda rule: abs(hi[rule] - mass))
 
 
 @dataclass(frozen=True, eq=False)
@@ -271,118 +251,13 @@ def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:
 def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndarray,
                 tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
                 options: Options, cubic: CubicMean | None = None) -> UnitBound:
-    """Every rule of `hdselect.catalog.rules.check_unit` as an interval of payload mass [kg].
+    """Every registered rule as an interval of payload mass [kg] (`unit_bound`).
 
     `cubic`: the joint's cubic mean torque (`joint_mean`), shared by its units; None
     builds it.
     """
     return unit_bound(unit, trajectory.dt, at_rest(qd, qdd), qd, tau0, tau1, stop0, stop1,
-                      options, cubic=cubic)
-
-
-def joint_mean(dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray, tau0: np.ndarray,
-               tau1: np.ndarray) -> CubicMean:
-    """A joint's cubic mean torque as a function of x, tau = tau0 + x tau1 [N m].
-
-    The catalog's weights, |qd| dt over the moving samples, do not depend on the unit:
-    one `CubicMean` (one sort of the samples' roots) serves every unit of the joint.
-
-    Args:
-        dt: What each sample stands for [s], a number or (n,).
-        rest: Where the joint is held still, (n,).
-        qd: The joint's speed [rad/s], (n,).
-        tau0: Torque at x = 0 [N m], (n,).
-        tau1: Its change per unit of x [N m], (n,).
-    """
-    step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
-    return CubicMean(tau0, tau1, np.abs(qd) * step * ~rest)
-
-
-def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray,
-               tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
-               options: Options, idle: float = 0.0, *,
-               cubic: CubicMean | None = None) -> UnitBound:
-    """Every rule of `check_unit` as an interval of x, with tau = tau0 + x tau1 [N m].
-
-    Args:
-        unit: The unit.
-        dt: What each sample stands for [s] (pooled samples: `hdselect.sizing.tasks`).
-        rest: Where the joint is held still, (n,).
-        qd: The joint's speed [rad/s], (n,).
-        tau0: Torque at x = 0 [N m], (n,).
-        tau1: Its change per unit of x [N m], (n,).
-        stop0: Emergency-stop torque at x = 0 [N m], (n,).
-        stop1: Its change per unit of x [N m], (n,).
-        options: The assumptions.
-        idle: Time at rest no sample stands for [s] (a pause in a whole-cycle mean speed).
-        cubic: The joint's mean torque (`joint_mean` of the same samples), shared by its
-            units; None builds it.
-    """
-    moving = ~rest
-    speed = np.abs(qd)
-    gain = (unit.input_inertia + options.rotor_inertia) * unit.ratio**2 / options.stop_time
-    usable = 1.0 - options.margin  # every limit less the design margin (`derated`)
-    ends: dict[str, Interval | None] = {
-        "peak": _within(tau0[moving], tau1[moving], unit.repeated_torque * usable),
-        "static": _within(tau0[rest], tau1[rest], unit.static_torque * usable),
-        "momentary": _meet(_within(stop0, stop1, unit.momentary_torque * usable),
-                           _within(tau0, tau1, unit.momentary_torque * usable - gain * speed)),
-    }
-    step = np.broadcast_to(np.asarray(dt, dtype=float), speed.shape)
-    weight = speed * step * moving
-    moving_time = float(step[moving].sum())
-    travel = float(weight.sum())
-    mean_speed = travel / moving_time if moving_time > 0.0 else 0.0
-    rules = unit.rules
-    whole = float(step.sum()) + idle
-    cycle_speed = travel / whole if whole > 0.0 else 0.0
-    n_av = (mean_speed if rules.mean_speed == "moving" else cycle_speed) * RPM_PER_RAD_S \
-        * unit.ratio
-    everything: Interval = (-math.inf, math.inf)
-    ends["speed"] = everything if speed.max(initial=0.0) * RPM_PER_RAD_S * unit.ratio \
-        <= unit.max_input_speed * usable else None
-    average = unit.max_average_input_speed
-    ends["average_speed"] = everything if average is None or n_av <= average * usable else None
-    if travel > 0.0:
-        allowed, _ = allowable_mean_torque(unit, n_av)
-        mean = joint_mean(dt, rest, qd, tau0, tau1) if cubic is None else cubic
-        ends["mean"] = mean.at_most(allowed * usable)
-        if options.life_hours is not None:  # required / expected <= usable
-            required = (options.life_hours / usable
-                        * (L50_PER_L10 if options.life_basis == "L10" else 1.0))
-            most = (unit.rated_torque * (rules.rated_l50_hours * rules.rated_input_speed
-                                         / (n_av * required)) ** (1.0 / 3.0)
-                    if n_av > 0.0 else math.inf)
-            ends["life"] = mean.at_most(most)
-    masses: Interval | None = (0.0, math.inf)
-    for span in ends.values():
-        masses = _meet(masses, span)
-    return UnitBound(unit, masses, ends)
-
-
-def _within(c0: np.ndarray, c1: np.ndarray, limit: np.ndarray | float) -> Interval | None:
-    """Where |c0 + m c1| <= limit at every sample: an interval of m, or None."""
-    limit = np.broadcast_to(np.asarray(limit, dtype=float), np.shape(c0))
-    if np.shape(c0)[0] == 0:
-        return (-math.inf, math.inf)
-    if np.any(limit < 0.0):
-        return None
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a, b = (-limit - c0) / c1, (limit - c0) / c1
-    flat = c1 == 0.0
-    if np.any(flat & (np.abs(c0) > limit)):
-        return None
-    lo = np.where(flat, -np.inf, np.minimum(a, b))
-    hi = np.where(flat, np.inf, np.maximum(a, b))
-    low, high = float(lo.max()), float(hi.min())
-    return (low, high) if low <= high else None
-
-
-def _meet(a: Interval | None, b: Interval | None) -> Interval | None:
-    if a is None or b is None:
-        return None
-    lo, hi = max(a[0], b[0]), min(a[1], b[1])
-    return (lo, hi) if lo <= hi else None
+                      options, cubic=cubic, t=trajectory.t, qdd=qdd)
 
 
 def _feasible(bounds: Mapping[str, tuple[UnitBound, ...]]) -> list[Interval]:
@@ -390,7 +265,7 @@ def _feasible(bounds: Mapping[str, tuple[UnitBound, ...]]) -> list[Interval]:
     spans: list[Interval] = [(0.0, math.inf)]
     for per_unit in bounds.values():
         union = _union([b.masses for b in per_unit if b.masses is not None])
-        spans = [s for a in spans for b in union for s in [_meet(a, b)] if s is not None]
+        spans = [s for a in spans for b in union for s in [meet(a, b)] if s is not None]
     return sorted(spans)
 
 

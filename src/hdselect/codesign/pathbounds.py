@@ -1,17 +1,16 @@
 """A gearhead's limits as TOPPRA constraints along a piece of the path, and their diagnosis.
 
-Along q = p(s), with u = s'' and x = s'^2, each joint j is held to
+Along q = p(s), with u = s'' and x = s'^2, each joint j is held to the motion file's
+and the robot file's limits and to the bounds of every rule with a path form
+(`path_bounds`, `hdselect.catalog.rules.Rule.path_rows`), by kind:
 
-    velocity        |p'_j| s' <= v_j       motion file, robot file, unit (input speed / ratio)
+    speed           |p'_j| s' <= v_j                files; unit, motor (input speed / ratio)
     acceleration    |p'_j u + p''_j x| <= a_j        motion file
-    torque          |a_j u + b_j x + c_j| <= T_j     unit's repeated peak (its static limit in
-                                                     a piece where the joint does not move),
-                                                     the motion file's limits.torque
-    motor torque    |k (a_j u + b_j x + c_j) + J N (p'_j u + p''_j x)| <= P_j
-                        for k = 1 / (N eta) and k = eta / N (driving and driven back: both,
-                        as the direction is not known before the solve), J = J_in + J_m,
-                        P the motor's peak torque (its curve is checked on the result)
-    emergency stop  |c_j + v_j x - a_j s' / t_stop| <= M_j      unit's momentary limit
+    torque          |a_j u + b_j x + c_j| <= T_j     repeated peak (static: in a piece where
+                                                     the joint does not move); limits.torque
+    motor torque    |k (a_j u + b_j x + c_j) + J N (p'_j u + p''_j x)| <= P_j, for
+                    k = 1 / (N eta_low) and eta_high / N, J = J_in + J_m (its curve: after)
+    emergency stop  |c_j + v_j x - a_j s' / t_stop| <= M_j      momentary limit
     crash           |a_j u + b_j x + c_j| + K_j |p'_j| s' <= M_j,  K = (J_in + J_m) N^2 / t_stop
 
 with a, b, c the torque coefficients (`hdselect.motion.planning.constraints`) and
@@ -20,7 +19,8 @@ bound on s' at each gridpoint (the first root of two quadratics). The crash term
 is concave in x, which TOPPRA cannot take: it is replaced by its tangent at a
 guess x0, K |p'| (sqrt(x0) / 2 + x / (2 sqrt(x0))), which lies above it everywhere
 (so the answer stays feasible) and touches it at x0 (`crash_rows`; the rounds that
-move x0 are in `hdselect.fastpath`).
+move x0 are in `hdselect.fastpath`). A rule on single samples without a path form is
+checked on the planned cycle (`hdselect.codesign.cyclerules.after_solve`).
 
 Where no profile exists, `diagnose` names the joint, the limit and where.
 """
@@ -36,7 +36,9 @@ import numpy as np
 
 from hdselect.base.errors import PlanningError
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, derated
+from hdselect.catalog.rules import RULES, Scope
+from hdselect.catalog.rules.forms import PathBound, PathCase, PathKind
+from hdselect.catalog.rules.motor import efficiency_range  # noqa: F401  (its home was here)
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.toppra import PathPiece, Profile, kinematic_constraints, solve_piece
@@ -81,6 +83,8 @@ class JointLimits:
             eta_high / N [-] (`efficiency_range`).
         motor_inertia: (J_in + J_m) N [kg m^2]: the motor torque per rad/s^2 of output
             acceleration.
+        unbounded: The per-sample rules of its unit that give no path form (`path_bounds`):
+            checked forward on the planned cycle.
     """
 
     velocity: float
@@ -93,12 +97,13 @@ class JointLimits:
     motor_torque: float = math.inf
     motor_factors: tuple[float, float] = (0.0, 0.0)
     motor_inertia: float = 0.0
+    unbounded: tuple[str, ...] = ()
 
 
 def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], options: Options,
                  derating: Mapping[str, float] | None = None, *,
                  motors: Mapping[str, Motor] | None = None) -> list[JointLimits]:
-    """What bounds each joint of the robot along the path, in the robot's joint order.
+    """The files' limits and the rules' bounds (`path_bounds`) on each joint, in order.
 
     Args:
         robot: The robot (its robot file's velocity limits).
@@ -122,44 +127,65 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
         if from_file:
             speeds.append((urdf, "robot"))
         torque = math.inf if motion.torque_limit is None else float(motion.torque_limit[j])
-        static, momentary, gain = torque, math.inf, 0.0
         unit = units.get(name)
-        motor = (motors or {}).get(name)
-        peak, factors, reflected = math.inf, (0.0, 0.0), 0.0
-        if unit is not None:  # the limits less the design margin (`derated`)
-            speeds.append((derated(unit.max_input_speed, options.margin) / unit.ratio
-                           / RPM_PER_RAD_S, "unit"))
-            torque = min(torque, derated(unit.repeated_torque, options.margin)
-                         * (derating or {}).get(name, 1.0))
-            static = min(static, derated(unit.static_torque, options.margin))
-            momentary = derated(unit.momentary_torque, options.margin)
+        bounds: list[PathBound] = []
+        unbounded: tuple[str, ...] = ()
+        if unit is not None:  # the limits less the design margin (`Rule.derate`)
+            motor = (motors or {}).get(name)
             rotor = motor.rotor_inertia if motor is not None else options.rotor_inertia
-            gain = (unit.input_inertia + rotor) * unit.ratio**2 / options.stop_time
-            if motor is not None:
-                speeds.append((derated(motor.max_speed, options.margin) / unit.ratio
-                               / RPM_PER_RAD_S, "motor"))
-                low, high = efficiency_range(unit, options.efficiency)
-                peak = derated(motor.peak_torque, options.margin)
-                factors = (1.0 / (unit.ratio * low), high / unit.ratio)
-                reflected = (unit.input_inertia + rotor) * unit.ratio
-        limit, source = min(speeds)
-        out.append(JointLimits(limit, source, float(acceleration[j]), torque, static,
-                               momentary, gain, peak, factors, reflected))
+            bounds, unbounded = path_bounds(PathCase(unit, options.margin, options.stop_time,
+                                                     options.efficiency, rotor, motor))
+        out.append(bounded(speeds, float(acceleration[j]), torque, bounds, unbounded,
+                           (derating or {}).get(name, 1.0)))
     return out
 
 
-def efficiency_range(unit: Unit, default: float) -> tuple[float, float]:
-    """The unit's lowest and highest efficiency [-]: its table's, else `default` twice.
+def bounded(speeds: Sequence[tuple[float, str]], acceleration: float, torque: float,
+            bounds: Sequence[PathBound], unbounded: tuple[str, ...] = (),
+            derating: float = 1.0) -> JointLimits:
+    """One joint's limits: the files' and the rules' (`path_bounds`), met.
 
-    The motor torque bound takes the lowest while the motor drives and the highest while
-    the load drives back, the larger motor torque each way, for the whole path (the
-    table's speed and load are not known before the solve); the check of the result
-    uses the table itself.
+    `speeds`: the files' speed limits and their sources [rad/s or m/s], at least one;
+    `acceleration` [rad/s^2 or m/s^2] and `torque` [N m] the motion file's; the rules'
+    torque bound while moving is held to `derating` of itself [-].
     """
-    if unit.efficiency is None:
-        return default, default
-    values = np.asarray(unit.efficiency.value, dtype=float)
-    return float(values.min()), float(values.max())
+    speeds = list(speeds)
+    static, momentary, gain = torque, math.inf, 0.0
+    peak, factors, reflected = math.inf, (0.0, 0.0), 0.0
+    for bound in bounds:
+        if bound.kind is PathKind.SPEED:
+            speeds.append((bound.limit, bound.source))
+        elif bound.kind is PathKind.TORQUE:
+            torque = min(torque, bound.limit * derating)
+        elif bound.kind is PathKind.STATIC:
+            static = min(static, bound.limit)
+        elif bound.kind is PathKind.MOMENTARY:
+            momentary, gain = min(momentary, bound.limit), max(gain, bound.gain)
+        else:  # the motor's torque
+            peak, factors, reflected = min(peak, bound.limit), bound.factors, bound.inertia
+    limit, source = min(speeds)
+    return JointLimits(limit, source, acceleration, torque, static, momentary, gain, peak,
+                       factors, reflected, unbounded)
+
+
+def path_bounds(case: PathCase) -> tuple[list[PathBound], tuple[str, ...]]:
+    """Every registered rule's bounds along the path for one joint's unit (and motor).
+
+    Returns:
+        The bounds of the rules with a path form (`Rule.path_rows`), and the names of the
+        per-sample rules without one: those are checked forward on the planned cycle
+        (`hdselect.codesign.cyclerules`), as the rules on the whole cycle are.
+    """
+    bounds: list[PathBound] = []
+    unbounded = []
+    for rule in RULES:
+        found = rule.path_rows(case)
+        if found is None:
+            if rule.scope is Scope.SAMPLE:
+                unbounded.append(rule.name)
+        else:
+            bounds.extend(found)
+    return bounds, tuple(unbounded)
 
 
 Group = tuple[str, str | None, list[Any]]

@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
+from hdselect.catalog.rules.forms import Interval, PayloadCase
+from hdselect.catalog.rules.masses import EVERY_MASS
 
 
 class AverageSpeed(Rule):
@@ -26,6 +28,13 @@ class AverageSpeed(Rule):
         limit = gear[0].max_average_input_speed
         return self.judge(None if limit is None else case.mean_input_rpm,
                           math.inf if limit is None else limit, case.margin)
+
+
+    def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
+        """Every mass or none: N_av does not depend on it."""
+        limit = case.unit.max_average_input_speed
+        passes = limit is None or case.mean_input_rpm <= self.derate(limit, case.margin)
+        return EVERY_MASS if passes else ()
 
 
 AVERAGE_SPEED = AverageSpeed()

@@ -23,8 +23,8 @@ bisection, or simply not prefiltering), so no solver can ignore a rule:
   (`hdselect.sizing.joint`).
 - `Rule.payload_masses`: the payload masses x at which it holds, with the torques affine
   in x (`hdselect.codesign.maxpayload`).
-- `Rule.path_rows`: constraints along a TOPPRA path piece
-  (`hdselect.codesign.pathbounds`).
+- `Rule.path_rows`: its bounds on one joint along a TOPPRA path, `PathBound`s that
+  `hdselect.codesign.pathbounds` turns into TOPPRA's rows.
 """
 
 from __future__ import annotations
@@ -300,11 +300,12 @@ class Rule:
         return None
 
     def path_rows(self, case: PathCase) -> list[Any] | None:
-        """The rule along a TOPPRA path piece as TOPPRA constraints, never weaker than it.
+        """The rule's bounds on one joint along a TOPPRA path (`PathBound`s).
 
         Returns:
-            The constraints (`hdselect.motion.planning.constraints`); None: no such form
-            (`hdselect.codesign` then checks the rule forward on the planned cycle).
+            The bounds (an empty list: none for this case, e.g. a motor's rule without a
+            motor); None: no such form (`hdselect.codesign.cyclerules` then checks the rule
+            forward on the planned cycle).
         """
         return None
 

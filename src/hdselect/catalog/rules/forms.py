@@ -10,13 +10,14 @@ Each is the input of one optional form of `hdselect.catalog.rules.base.Rule`:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import Enum
 from functools import cached_property
 from typing import Any, Protocol
 
 import numpy as np
 
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules.load import CycleLoad
+from hdselect.catalog.rules.load import RPM_PER_RAD_S, CycleLoad
 from hdselect.catalog.units import Unit
 
 Interval = tuple[float, float]
@@ -101,7 +102,7 @@ class PayloadCase:
     """One unit on one joint whose torques are affine in the payload mass x [kg].
 
     tau = tau0 + x tau1 and stop = stop0 + x stop1 per sample [N m]
-    (`hdselect.codesign.maxpayload.unit_bound`).
+    (`hdselect.codesign.maxpayload.unit_bound`); the speeds do not depend on x.
 
     Attributes:
         unit: The gearhead.
@@ -116,7 +117,13 @@ class PayloadCase:
         idle: Time at rest no sample stands for [s].
         life_hours: Required life [h] on `life_basis`, if any.
         life_basis: ``"L10"`` or ``"L50"``.
-        mean: The joint's cubic mean torque of x, shared by its units; None if not built.
+        mean: The joint's cubic mean torque of x, shared by its units; None if not built
+            (the mean torque and life then give no form).
+        efficiency: Gear efficiency where the unit has no table [-], for the forward
+            check's motor demand; None: no demand is handed to the rules.
+        t: Sample times [s], (n,), for the forward check's momentary event; None: from dt.
+        qdd: The joint's acceleration [rad/s^2], (n,), for the forward check's motor
+            demand; None: no demand is handed to the rules.
     """
 
     unit: Unit
@@ -134,31 +141,90 @@ class PayloadCase:
     life_hours: float | None = None
     life_basis: str = "L50"
     mean: MeanOfMass | None = None
+    efficiency: float | None = None
+    t: np.ndarray | None = None
+    qdd: np.ndarray | None = None
+
+    @cached_property
+    def travel(self) -> float:
+        """The travel, the sum of |qd| dt over the moving samples [rad]."""
+        return float((np.abs(self.qd) * self.dt * ~self.rest).sum())
+
+    @cached_property
+    def max_input_rpm(self) -> float:
+        """The largest input speed [rpm]; the same at every mass."""
+        return float(np.abs(self.qd).max(initial=0.0)) * RPM_PER_RAD_S * self.unit.ratio
+
+    @cached_property
+    def mean_input_rpm(self) -> float:
+        """N_av as the unit's series averages it [rpm] (`CycleLoad.mean_speed_under`)."""
+        moving_time = float(self.dt[~self.rest].sum())
+        whole = float(self.dt.sum()) + self.idle
+        mean_speed = self.travel / moving_time if moving_time > 0.0 else 0.0
+        cycle_speed = self.travel / whole if whole > 0.0 else 0.0
+        return ((mean_speed if self.unit.rules.mean_speed == "moving" else cycle_speed)
+                * RPM_PER_RAD_S * self.unit.ratio)
 
 
 @dataclass(frozen=True, eq=False)
 class PathCase:
-    """One joint's limits along one TOPPRA path piece (`hdselect.codesign.pathbounds`).
+    """One joint's unit (and motor) as the TOPPRA path solver bounds it, along every piece.
+
+    (`hdselect.codesign.pathbounds.joint_limits`.)
 
     Attributes:
-        piece: The path piece (`hdselect.motion.planning.toppra.PathPiece`).
-        coefficients: (a, b, c, v) along the piece, each (m, dof): torque = a s'' + b s'^2
-            + c, v = RNEA(p, p', 0) - c.
-        joint: The joint's column.
         unit: The gearhead.
         margin: Design margin [-].
         stop_time: Emergency-stop and crash time [s].
-        rotor_inertia: Motor rotor inertia J_m [kg m^2].
+        efficiency: Gear efficiency where the unit has no table [-].
+        rotor_inertia: Motor rotor inertia J_m [kg m^2] (the paired motor's, with one).
         motor: The paired motor, if any.
-        still: The joint does not move in this piece.
     """
 
-    piece: Any
-    coefficients: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
-    joint: int
     unit: Unit
     margin: float
     stop_time: float
+    efficiency: float
     rotor_inertia: float = 0.0
     motor: Motor | None = None
-    still: bool = False
+
+
+class PathKind(Enum):
+    """What a `PathBound` bounds on one joint along the path."""
+
+    SPEED = "speed"
+    """|qd| <= limit [rad/s]."""
+    TORQUE = "torque"
+    """|tau| <= limit [N m] where the joint moves in a piece."""
+    STATIC = "static"
+    """|tau| <= limit [N m] in a piece where the joint does not move."""
+    MOMENTARY = "momentary"
+    """An emergency stop's |tau| <= limit [N m], and the crash's |tau| + gain |qd|."""
+    MOTOR_TORQUE = "motor torque"
+    """|k tau + inertia qdd| <= limit [N m] for each gear factor k."""
+
+
+@dataclass(frozen=True)
+class PathBound:
+    """One bound a rule puts on one joint along a TOPPRA path (`Rule.path_rows`).
+
+    `hdselect.codesign.pathbounds` turns each kind into TOPPRA's rows; a limit is already
+    derated by the design margin.
+
+    Attributes:
+        kind: What it bounds.
+        limit: The limit [rad/s or N m].
+        source: For a speed: whose it is (``"unit"``, ``"motor"``), as reports name it.
+        gain: For a momentary bound: the crash torque per rad/s, (J_in + J_m) N^2 / t_stop
+            [N m s].
+        factors: For the motor torque: the gear factors k, 1 / (N eta_low) and
+            eta_high / N [-].
+        inertia: For the motor torque: (J_in + J_m) N [kg m^2], motor torque per rad/s^2.
+    """
+
+    kind: PathKind
+    limit: float
+    source: str = ""
+    gain: float = 0.0
+    factors: tuple[float, float] = (0.0, 0.0)
+    inertia: float = 0.0

@@ -8,12 +8,23 @@ crash stops the output dead while the input still spins, adding the input inerti
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope, within
-from hdselect.catalog.rules.forms import Rows, ScaleTerms, UnitBatch
+from hdselect.catalog.rules.forms import (
+    Interval,
+    PathBound,
+    PathCase,
+    PathKind,
+    PayloadCase,
+    Rows,
+    ScaleTerms,
+    UnitBatch,
+)
 from hdselect.catalog.rules.load import RPM_PER_RAD_S, Momentary, allowed_momentary_events
+from hdselect.catalog.rules.masses import masses_within, meet, spans
 from hdselect.catalog.units import Unit
 
 
@@ -68,6 +79,22 @@ class MomentaryTorque(Rule):
         worst = worst_events(batch)
         return (np.maximum(worst.stop_torque, worst.crash_torque)
                 / np.array([unit.momentary_torque for unit in batch.units]))
+
+
+    def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
+        """Emergency stop |stop0 + x stop1| <= T_M; crash |tau0 + x tau1| + K |qd| <= T_M."""
+        unit = case.unit
+        limit = self.derate(unit.momentary_torque, case.margin)
+        gain = (unit.input_inertia + case.rotor_inertia) * unit.ratio**2 / case.stop_time
+        return spans(meet(masses_within(case.stop0, case.stop1, limit),
+                          masses_within(case.tau0, case.tau1, limit - gain * np.abs(case.qd))))
+
+    def path_rows(self, case: PathCase) -> list[Any]:
+        """The emergency stop's and the crash's |tau| (+ K |qd|) <= T_M."""
+        unit = case.unit
+        gain = (unit.input_inertia + case.rotor_inertia) * unit.ratio**2 / case.stop_time
+        return [PathBound(PathKind.MOMENTARY, self.derate(unit.momentary_torque, case.margin),
+                          gain=gain)]
 
 
 class WorstEvents:

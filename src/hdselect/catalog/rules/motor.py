@@ -15,11 +15,13 @@ copper loss R I_rms^2.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
-from hdselect.catalog.rules.forms import Rows, ScaleTerms
+from hdselect.catalog.rules.forms import PathBound, PathCase, PathKind, Rows, ScaleTerms
+from hdselect.catalog.rules.load import RPM_PER_RAD_S
 from hdselect.catalog.rules.speed import speed_row
 from hdselect.catalog.units import Unit
 
@@ -50,6 +52,22 @@ class MotorPeak(Rule):
             detail["current_a"] = case.demand.peak_torque / motor.torque_constant
         return self.verdict(float(magnitude[k]), float(allowed[k]), float(share[k]),
                             case.margin, detail)
+
+    def path_rows(self, case: PathCase) -> list[Any]:
+        """|k tau + (J_in + J_m) N qdd| <= the motor's flat peak torque, for both gear factors.
+
+        k = 1 / (N eta_low) while the motor drives and eta_high / N while the load drives
+        back (`efficiency_range`: the direction is not known before the solve). The curve
+        below the flat peak at speed is checked on the result (the forward check). None
+        bound without a motor.
+        """
+        unit, motor = case.unit, case.motor
+        if motor is None:
+            return []
+        low, high = efficiency_range(unit, case.efficiency)
+        return [PathBound(PathKind.MOTOR_TORQUE, self.derate(motor.peak_torque, case.margin),
+                          factors=(1.0 / (unit.ratio * low), high / unit.ratio),
+                          inertia=(unit.input_inertia + case.rotor_inertia) * unit.ratio)]
 
 
 class MotorRms(Rule):
@@ -96,6 +114,27 @@ class MotorSpeed(Rule):
             return ()
         return (speed_row(terms, unit, self.derate(terms.motor.max_speed, margin)),)
 
+    def path_rows(self, case: PathCase) -> list[Any]:
+        """|qd| <= the motor's maximum speed over the ratio [rad/s]; none without a motor."""
+        if case.motor is None:
+            return []
+        return [PathBound(PathKind.SPEED, self.derate(case.motor.max_speed, case.margin)
+                          / case.unit.ratio / RPM_PER_RAD_S, "motor")]
+
 
 MOTOR_RULES = (MotorPeak(), MotorRms(), MotorSpeed())
 """The motor's rules, in the order of `hdselect.catalog.rules.MOTOR_CHECKS`."""
+
+
+def efficiency_range(unit: Unit, default: float) -> tuple[float, float]:
+    """The unit's lowest and highest efficiency [-]: its table's, else `default` twice.
+
+    The motor torque bound takes the lowest while the motor drives and the highest while
+    the load drives back, the larger motor torque each way, for the whole path (the
+    table's speed and load are not known before the solve); the check of the result
+    uses the table itself.
+    """
+    if unit.efficiency is None:
+        return default, default
+    values = np.asarray(unit.efficiency.value, dtype=float)
+    return float(values.min()), float(values.max())

@@ -3,11 +3,22 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope, within
-from hdselect.catalog.rules.forms import Rows, ScaleTerms, UnitBatch
+from hdselect.catalog.rules.forms import (
+    Interval,
+    PathBound,
+    PathCase,
+    PathKind,
+    PayloadCase,
+    Rows,
+    ScaleTerms,
+    UnitBatch,
+)
+from hdselect.catalog.rules.masses import masses_within, spans
 from hdselect.catalog.units import Unit
 
 
@@ -41,6 +52,17 @@ class Peak(Rule):
     def prefilter(self, batch: UnitBatch) -> np.ndarray:
         """See `Rule.prefilter`."""
         return batch.load.peak_torque / np.array([unit.repeated_torque for unit in batch.units])
+
+
+    def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
+        """|tau0 + x tau1| <= T_R at every moving sample."""
+        moving = ~case.rest
+        return spans(masses_within(case.tau0[moving], case.tau1[moving],
+                                   self.derate(case.unit.repeated_torque, case.margin)))
+
+    def path_rows(self, case: PathCase) -> list[Any]:
+        """|tau| <= T_R where the joint moves."""
+        return [PathBound(PathKind.TORQUE, self.derate(case.unit.repeated_torque, case.margin))]
 
 
 PEAK = Peak()

@@ -3,12 +3,23 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
-from hdselect.catalog.rules.forms import Rows, ScaleTerms, UnitBatch
+from hdselect.catalog.rules.forms import (
+    Interval,
+    PathBound,
+    PathCase,
+    PathKind,
+    PayloadCase,
+    Rows,
+    ScaleTerms,
+    UnitBatch,
+)
 from hdselect.catalog.rules.load import RPM_PER_RAD_S
+from hdselect.catalog.rules.masses import EVERY_MASS
 from hdselect.catalog.units import Unit
 
 
@@ -37,6 +48,18 @@ class Speed(Rule):
         """See `Rule.prefilter`."""
         return (batch.load.max_speed * RPM_PER_RAD_S * batch.ratio
                 / np.array([unit.max_input_speed for unit in batch.units]))
+
+
+    def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
+        """Every mass or none: the speeds do not depend on it."""
+        passes = case.max_input_rpm <= self.derate(case.unit.max_input_speed, case.margin)
+        return EVERY_MASS if passes else ()
+
+    def path_rows(self, case: PathCase) -> list[Any]:
+        """|qd| <= the maximum input speed over the ratio [rad/s]."""
+        unit = case.unit
+        return [PathBound(PathKind.SPEED, self.derate(unit.max_input_speed, case.margin)
+                          / unit.ratio / RPM_PER_RAD_S, "unit")]
 
 
 def speed_row(terms: ScaleTerms, unit: Unit, top: float) -> Rows:

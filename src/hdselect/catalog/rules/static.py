@@ -3,11 +3,22 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope, within
-from hdselect.catalog.rules.forms import Rows, ScaleTerms, UnitBatch
+from hdselect.catalog.rules.forms import (
+    Interval,
+    PathBound,
+    PathCase,
+    PathKind,
+    PayloadCase,
+    Rows,
+    ScaleTerms,
+    UnitBatch,
+)
+from hdselect.catalog.rules.masses import masses_within, spans
 from hdselect.catalog.units import Unit
 
 
@@ -43,6 +54,16 @@ class Static(Rule):
         if batch.load.static_torque is None:
             return None  # never at rest: the check holds for every unit
         return batch.load.static_torque / np.array([unit.static_torque for unit in batch.units])
+
+
+    def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
+        """|tau0 + x tau1| <= the static torque at every sample at rest."""
+        return spans(masses_within(case.tau0[case.rest], case.tau1[case.rest],
+                                   self.derate(case.unit.static_torque, case.margin)))
+
+    def path_rows(self, case: PathCase) -> list[Any]:
+        """|tau| <= the static torque in a piece where the joint does not move."""
+        return [PathBound(PathKind.STATIC, self.derate(case.unit.static_torque, case.margin))]
 
 
 STATIC = Static()

@@ -1,0 +1,209 @@
+"""One unit's payload masses on one joint: every registered rule, by its form or forward.
+
+For a fixed trajectory the joint's torques are affine in the payload mass x,
+tau = tau0 + x tau1 (and the emergency stop's). A rule's payload form
+(`hdselect.catalog.rules.Rule.payload_masses`) gives the masses at which it holds
+exactly; a rule without one is checked forward (`check_unit` on the cycle carrying x,
+`forward_masses`) on a grid of masses inside what the other rules allow, each change of
+its verdict bisected, so that no rule of the registry is left out. A rule absent for the
+case (a motor's without a motor, a rated bearing's without the bearing's loads) bounds
+nothing here: `hdselect.codesign.payloadsizing` judges those with the sizing itself.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from hdselect.catalog.rules import RULES, Candidate, Rule, check_unit, cycle_load
+from hdselect.catalog.rules.forms import Interval, PayloadCase
+from hdselect.catalog.rules.masses import meet
+from hdselect.catalog.units import Unit
+from hdselect.codesign.cubicmean import CubicMean
+from hdselect.sizing.options import Options
+from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
+
+MASS_GRID = 25
+"""Masses at which a rule without a payload form is first checked forward [-]."""
+MASS_RTOL = 1e-9
+"""Relative width to which each change of its verdict is bisected [-]."""
+MASS_MAX = 1e4
+"""Heaviest payload searched where no other rule bounds the mass [kg]: a rule without a
+payload form that still passes there is taken to pass at any mass."""
+
+
+@dataclass(frozen=True)
+class UnitBound:
+    """The payload masses at which one unit passes every rule on one joint.
+
+    Attributes:
+        unit: The unit.
+        masses: The interval of masses [kg], or None when no mass >= 0 passes.
+        ends: For each rule, the interval of masses it allows [kg] (None: none).
+    """
+
+    unit: Unit
+    masses: Interval | None
+    ends: Mapping[str, Interval | None]
+
+    def limiting(self, mass: float) -> str:
+        """The rule whose interval ends at (or closest above) `mass` [kg]."""
+        hi = {rule: span[1] if span is not None else -math.inf
+              for rule, span in self.ends.items()}
+        return min(hi, key=lambda rule: abs(hi[rule] - mass))
+
+
+def joint_mean(dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray, tau0: np.ndarray,
+               tau1: np.ndarray) -> CubicMean:
+    """A joint's cubic mean torque as a function of x, tau = tau0 + x tau1 [N m].
+
+    The catalog's weights, |qd| dt over the moving samples, do not depend on the unit:
+    one `CubicMean` (one sort of the samples' roots) serves every unit of the joint.
+
+    Args:
+        dt: What each sample stands for [s], a number or (n,).
+        rest: Where the joint is held still, (n,).
+        qd: The joint's speed [rad/s], (n,).
+        tau0: Torque at x = 0 [N m], (n,).
+        tau1: Its change per unit of x [N m], (n,).
+    """
+    step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
+    return CubicMean(tau0, tau1, np.abs(qd) * step * ~rest)
+
+
+def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray,
+               tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
+               options: Options, idle: float = 0.0, *, cubic: CubicMean | None = None,
+               t: np.ndarray | None = None, qdd: np.ndarray | None = None) -> UnitBound:
+    """Every registered rule as an interval of x, with tau = tau0 + x tau1 [N m].
+
+    Each rule's payload form gives its masses; a rule without one is checked forward
+    (`forward_masses`). A unit's masses are the lowest interval where every rule holds
+    (a later one, beyond a gap, is not claimed: no shipped form gives one).
+
+    Args:
+        unit: The unit.
+        dt: What each sample stands for [s] (pooled samples: `hdselect.sizing.tasks`).
+        rest: Where the joint is held still, (n,).
+        qd: The joint's speed [rad/s], (n,).
+        tau0: Torque at x = 0 [N m], (n,).
+        tau1: Its change per unit of x [N m], (n,).
+        stop0: Emergency-stop torque at x = 0 [N m], (n,).
+        stop1: Its change per unit of x [N m], (n,).
+        options: The assumptions.
+        idle: Time at rest no sample stands for [s] (a pause in a whole-cycle mean speed).
+        cubic: The joint's mean torque (`joint_mean` of the same samples), shared by its
+            units; None builds it where the joint moves.
+        t: Sample times [s], (n,), for the forward checks' momentary event; None: from dt.
+        qdd: The joint's acceleration [rad/s^2], (n,): the forward checks then carry the
+            motor's demand.
+    """
+    step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
+    case = PayloadCase(unit, step, rest, qd, tau0, tau1, stop0, stop1, options.margin,
+                       options.stop_time, options.rotor_inertia, idle, options.life_hours,
+                       options.life_basis, cubic, options.efficiency, t, qdd)
+    if cubic is None and case.travel > 0.0:
+        case = replace(case, mean=joint_mean(step, rest, qd, tau0, tau1))
+    ends: dict[str, Interval | None] = {}
+    unformed = []
+    masses: Interval | None = (0.0, math.inf)
+    for rule in RULES:
+        found = rule.payload_masses(case)
+        if found is None:
+            unformed.append(rule)
+            continue
+        ends[rule.name] = found[0] if found else None
+        masses = meet(masses, ends[rule.name])
+    if unformed and masses is not None:
+        for name, span in forward_masses(case, unformed, masses).items():
+            ends[name] = span
+            masses = meet(masses, span)
+    return UnitBound(unit, masses, ends)
+
+
+def forward_check(case: PayloadCase, mass: float) -> Candidate:
+    """Every rule of `check_unit` on the cycle carrying `mass` [kg], as the sizing checks.
+
+    The momentary event is `reflect`'s; the motor's demand is handed to the rules only
+    with the joint's acceleration and an efficiency (`PayloadCase.qdd`, `.efficiency`).
+    """
+    tau = case.tau0 + mass * case.tau1
+    stop = case.stop0 + mass * case.stop1
+    load = cycle_load(tau, case.qd, case.dt, case.rest, idle=case.idle)
+    t = np.cumsum(case.dt) - case.dt if case.t is None else case.t
+    known = case.qdd is not None and case.efficiency is not None
+    efficiency = case.efficiency if case.efficiency is not None else DEFAULT_EFFICIENCY
+    (reflection,) = reflect([case.unit], t, tau, case.qd,
+                            case.qdd if case.qdd is not None else np.zeros_like(tau), stop,
+                            stop_time=case.stop_time, efficiency=efficiency,
+                            rotor_inertia=case.rotor_inertia, rest=case.rest)
+    demand = reflection.motor
+    if known and case.dt.size and np.ptp(case.dt) > 0.0:  # unequal samples: RMS weighted
+        demand = weighted_demand(demand, reflection.motor_torque, case.qd, case.unit.ratio,
+                                 case.dt)
+    return check_unit(load, case.unit, momentary=reflection.momentary,
+                      motor=demand if known else None, life_hours=case.life_hours,
+                      life_basis=case.life_basis, margin=case.margin)
+
+
+def forward_masses(case: PayloadCase, rules: Sequence[Rule],
+                   inside: Interval) -> dict[str, Interval | None]:
+    """The masses at which each rule without a payload form holds, by its forward check.
+
+    `forward_check` on `MASS_GRID` masses from `inside`'s lower end, spaced geometrically
+    in their distance from it up to its upper end (`MASS_MAX` where that is infinite);
+    the first passing stretch's ends are bisected to `MASS_RTOL`, each on the passing side.
+    A rule that passes at the grid's last mass is taken to pass up to `inside`'s end; a
+    later passing stretch, after one that fails, is not claimed (conservative).
+
+    Args:
+        case: The unit on the joint.
+        rules: The rules without a payload form.
+        inside: The masses the other rules allow [kg], lo >= 0.
+
+    Returns:
+        Per rule present for the case (its check not None), its interval or None.
+    """
+    lo, hi = inside
+    top = hi if math.isfinite(hi) else max(MASS_MAX, 2.0 * lo)
+    grid = [lo, *(lo + (top - lo) * np.geomspace(1e-6, 1.0, MASS_GRID - 1))] \
+        if top > lo else [lo]
+
+    def verdicts(mass: float) -> dict[str, bool]:
+        checks = forward_check(case, mass).checks
+        return {rule.name: checks[rule.name].ok for rule in rules if rule.name in checks}
+
+    table = [verdicts(float(grid[0]))]
+    if not table[0]:  # every such rule is absent for the case
+        return {}
+    table += [verdicts(float(mass)) for mass in grid[1:]]
+    out: dict[str, Interval | None] = {}
+    for name in table[0]:
+        def passes(mass: float, name: str = name) -> bool:
+            return verdicts(mass)[name]
+
+        ok = [row[name] for row in table]
+        if not any(ok):
+            out[name] = None
+            continue
+        i = ok.index(True)
+        start = lo if i == 0 else _bisect(passes, float(grid[i - 1]), float(grid[i]))[1]
+        j = next((k for k in range(i + 1, len(grid)) if not ok[k]), None)
+        end = hi if j is None else _bisect(passes, float(grid[j]), float(grid[j - 1]))[1]
+        out[name] = (start, end)
+    return out
+
+
+def _bisect(passes: Callable[[float], bool], failing: float,
+            passing: float) -> tuple[float, float]:
+    """Narrow a failing and a passing mass [kg] to `MASS_RTOL`: (failing, passing)."""
+    while abs(passing - failing) > MASS_RTOL * max(abs(passing), abs(failing), 1e-9):
+        middle = 0.5 * (failing + passing)
+        if passes(middle):
+            passing = middle
+        else:
+            failing = middle
+    return failing, passing
