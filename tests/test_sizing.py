@@ -449,13 +449,13 @@ def test_chunked_work_gives_the_answer_of_whole_arrays(tmp_path, monkeypatch):
     """Long cycles are processed in chunks of bounded memory (dynamics, reflection, the
     cycle's sums, the exact time scales). Chunks of a few dozen samples, boundaries
     falling everywhere, must give the answer of chunks larger than the cycle."""
-    import hdselect.catalog.rules
+    import hdselect.catalog.rules.load
     import hdselect.robot.dynamics
     import hdselect.sizing.reflect
     import hdselect.sizing.timescale
 
     path = overload_motion(tmp_path, **OVERLOADS["estop-bound"])
-    modules = (hdselect.robot.dynamics, hdselect.sizing.reflect, hdselect.catalog.rules,
+    modules = (hdselect.robot.dynamics, hdselect.sizing.reflect, hdselect.catalog.rules.load,
                hdselect.sizing.timescale)
     names = ("CHUNK", "CHUNK", "_CHUNK", "_CHUNK")
     for module, name in zip(modules, names, strict=True):

@@ -25,6 +25,7 @@ from hdselect.catalog.units import (
     BearingRating,
     EfficiencyTable,
     Flag,
+    MeanSpeed,
     SeriesRules,
     Unit,
     logger,
@@ -119,7 +120,7 @@ def _assumed(builtin: Unit) -> SeriesRules:
             f"assumed: rated torque at {rules.rated_input_speed:g} rpm input, rated life "
             f"{rules.rated_life_hours:g} h {rules.life_basis}, {rules.mean_torque_limit} "
             "mean-torque limit, mean speed over "
-            f"{'the whole cycle' if rules.mean_speed == 'whole-cycle' else 'the moving part'}")
+            f"{rules.mean_speed.over}")
     return replace(rules, flag=Flag("rules", "assumed", note))
 
 
@@ -169,7 +170,7 @@ def _read_rules(table: dict[str, Any], path: Path) -> SeriesRules:
     return SeriesRules(
         rated_input_speed=values["rated_input_speed_rpm"],
         rated_life_hours=values["rated_life_hours"], life_basis=values["life_basis"],
-        mean_torque_limit=values["mean_torque_limit"], mean_speed=values["mean_speed"],
+        mean_torque_limit=values["mean_torque_limit"], mean_speed=MeanSpeed(values["mean_speed"]),
         max_momentary_events=values["max_momentary_events"], source=path, **bearing)
 
 

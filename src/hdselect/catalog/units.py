@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from enum import StrEnum
 from pathlib import Path
 
 import numpy as np
@@ -47,7 +48,28 @@ LIFE_BASES = ("L10", "L50")
 MEAN_TORQUE_LIMITS = ("tabulated", "speed-adjusted")
 
 
-MEAN_SPEED_RULES = ("whole-cycle", "moving")
+class MeanSpeed(StrEnum):
+    """How a series averages the output speed N_av of its mean-torque and life rules.
+
+    Its value is the catalog's ``mean_speed`` spelling: ``"whole-cycle"`` (pauses count)
+    or ``"moving"`` (the moving part only).
+    """
+
+    WHOLE_CYCLE = "whole-cycle"
+    MOVING = "moving"
+
+    @property
+    def over(self) -> str:
+        """What it averages over, in words: ``"the whole cycle"`` or ``"the moving part"``."""
+        return "the moving part" if self is MeanSpeed.MOVING else "the whole cycle"
+
+    def of(self, moving: float, whole_cycle: float) -> float:
+        """N_av by this definition, of the mean over the moving part and over the whole cycle."""
+        return moving if self is MeanSpeed.MOVING else whole_cycle
+
+
+MEAN_SPEED_RULES = tuple(rule.value for rule in MeanSpeed)
+"""The catalog's spellings of `MeanSpeed`."""
 
 
 # [rules] key -> the choices it takes, or the range of the number it is
@@ -112,7 +134,7 @@ class SeriesRules:
         mean_torque_limit: ``"tabulated"`` (each unit's limit for average torque) or
             ``"speed-adjusted"`` ((rated speed / N_av)^0.33 x rated torque, capped at
             the repeated-peak limit).
-        mean_speed: ``"whole-cycle"`` (pauses count) or ``"moving"`` (moving part only).
+        mean_speed: How N_av is averaged (`MeanSpeed`; its spelling is taken too).
         max_momentary_events: Cap on the allowed count of momentary events [-].
         source: The file whose ``[rules]`` table states them.
         flag: Set when the unit's own file states no rules and these are assumed.
@@ -124,12 +146,15 @@ class SeriesRules:
     rated_life_hours: float
     life_basis: str
     mean_torque_limit: str
-    mean_speed: str
+    mean_speed: MeanSpeed
     max_momentary_events: float
     source: Path
     flag: Flag | None = None
     bearing_load_factor: float = DEFAULT_BEARING_LOAD_FACTOR
     bearing_static_safety: float = DEFAULT_BEARING_STATIC_SAFETY
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "mean_speed", MeanSpeed(self.mean_speed))
 
     @property
     def rated_l50_hours(self) -> float:

@@ -11,10 +11,6 @@ from hdselect.report.terminal import life_text
 from hdselect.sizing.records import BEARING_RULE_NOTE
 from hdselect.sizing.result import JointSizing, SizingResult
 
-BEARING_UNITS = {"bearing_moment": "N m", "bearing_radial": "N", "bearing_axial": "N",
-                 "bearing_life": "h", "bearing_static": ""}
-"""The unit of each bearing check's value and limit, for the heat maps."""
-
 
 def figure(value: float | None, unit: str = "") -> str:
     """A load for a table, three significant digits (``-`` for none)."""

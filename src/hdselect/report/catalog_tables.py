@@ -77,7 +77,7 @@ def _rules_text(rules: SeriesRules) -> str:
     """A series' rules in one line, e.g. for the catalog listing."""
     text = (f"rated at {rules.rated_input_speed:g} rpm input for {rules.rated_life_hours:,.0f} h "
             f"{rules.life_basis}; {rules.mean_torque_limit} mean-torque limit; mean speed over "
-            f"{'the whole cycle' if rules.mean_speed == 'whole-cycle' else 'the moving part'}; "
+            f"{rules.mean_speed.over}; "
             f"at most {rules.max_momentary_events:,.0f} momentary events ({rules.source.name})")
     return text if rules.flag is None else f"{text}; assumed: the catalog file states no [rules]"
 

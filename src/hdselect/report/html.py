@@ -15,9 +15,9 @@ import base64
 import re
 from collections.abc import Mapping
 
-from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidate, Check
+from hdselect.catalog.rules import CHECK_LABELS, CHECKS, RPM_PER_RAD_S, Candidate, Check, rule
 from hdselect.catalog.units import Flag
-from hdselect.report.bearing_html import BEARING_UNITS, bearing_section
+from hdselect.report.bearing_html import bearing_section
 from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.html_summary import parts_section, summary
@@ -36,10 +36,6 @@ from hdselect.report.terminal import (
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.records import MOTOR_MODEL_NOTE, assumptions, base_text
 from hdselect.sizing.result import JointSizing, SizingResult
-
-_UNITS = {"peak": "N m", "mean": "N m", "speed": "rpm", "average_speed": "rpm",
-          "momentary": "N m", "static": "N m", "life": "h", "motor_peak": "N m",
-          "motor_rms": "N m", "motor_speed": "rpm", **BEARING_UNITS}
 
 __all__ = ["number", "page", "slug"]
 
@@ -262,11 +258,12 @@ def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
     colour = utilization_colour(check.utilization)
     state = "ok" if check.ok else "fail"
     text = utilization_text(check.utilization, check.ok) + ("" if check.ok else " ✗")
-    if name in ("life", "bearing_life", "bearing_static"):
-        figures = (f"needs {check.limit:,.3g} of {check.value:.3g}" if name == "bearing_static"
-                   else f"needs {check.limit:,.0f} of {life_text(check.value)}")
+    found = rule(name)
+    if found.at_least:  # a life or a safety: required of reached
+        figures = (f"needs {check.limit:,.0f} of {life_text(check.value)}" if found.life
+                   else f"needs {check.limit:,.3g} of {check.value:.3g}")
     else:
-        figures = f"{number(check.value)} / {number(check.limit)} {_UNITS.get(name, '')}"
+        figures = f"{number(check.value)} / {number(check.limit)} {found.unit}"
     kind = check.detail.get("kind")
     if isinstance(kind, str) and name == "momentary":
         figures += f", {kind.replace('emergency ', '')}"

@@ -16,7 +16,7 @@ from hdselect.catalog.rules import (
     CycleLoad,
     MotorDemand,
 )
-from hdselect.catalog.units import Unit
+from hdselect.catalog.units import MeanSpeed, Unit
 from hdselect.report.bearing_tables import BEARING_COLUMNS, bearing_cells, bearing_notes, load_line
 from hdselect.report.case_tables import case_notes, tool_pose_notes
 from hdselect.report.tables import Column, FittedTable
@@ -70,7 +70,7 @@ def load_text(load: CycleLoad, units: Iterable[Unit]) -> str:
     mean = "n/a" if load.mean_torque is None else f"{load.mean_torque:.3g} N m"
     text = (f"peak {load.peak_torque:.3g} N m, mean torque {mean}, mean output speed "
             f"{load.mean_speed * RPM_PER_RAD_S:.3g} rpm")
-    if any(u.rules.mean_speed == "whole-cycle" for u in units):
+    if any(u.rules.mean_speed is MeanSpeed.WHOLE_CYCLE for u in units):
         text += f" moving, {load.cycle_mean_speed * RPM_PER_RAD_S:.3g} rpm over the whole cycle"
     return text
 

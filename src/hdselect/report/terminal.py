@@ -12,7 +12,7 @@ from collections.abc import Iterable
 from rich.console import Console
 
 from hdselect.catalog.checks import LIFE_CAP, life_capped
-from hdselect.catalog.rules import CHECK_LABELS, Candidate, Check
+from hdselect.catalog.rules import CHECK_LABELS, Candidate, Check, rule
 from hdselect.report.tables import console_for
 
 DEG_PER_RAD = 180.0 / math.pi
@@ -85,20 +85,11 @@ def binding_words(candidate: Candidate, name: str | None = None) -> str:
         candidate: The candidate.
         name: The check (default: the candidate's binding rule).
     """
-    from hdselect.catalog.rules import CHECK_NAMES
-
     name = candidate.binding if name is None else name
     check = candidate.checks[name]
     share = utilization_text(check.utilization, check.ok).replace("%", " %")
-    if name == "life":
-        return f"life, {share} of the expected life required"
-    if name == "bearing_life":
-        return f"bearing life, {share} of the expected L10 life required"
-    if name == "bearing_static":
-        return f"bearing static safety, {share} of the safety reached required"
-    of = {"motor_rms": "rated", "motor_peak": "peak at that speed", "motor_speed": "maximum",
-          "inertia_ratio": "largest allowed"}.get(name, "its limit")
-    return f"{CHECK_NAMES.get(name, name)}, {share} of {of}"
+    found = rule(name)
+    return f"{found.words}, {share} of {found.share_of}"
 
 
 def excess(utilization: float) -> str:

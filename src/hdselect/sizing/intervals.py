@@ -17,12 +17,6 @@ Interval = tuple[float, float]
 """A closed interval of time scales (lo, hi) [-]; hi may be math.inf."""
 
 
-def within(c2: np.ndarray, c1: np.ndarray, c0: np.ndarray,
-           limit: float) -> tuple[tuple[np.ndarray, ...], ...]:
-    """|c2 y^2 + c1 y + c0| <= limit [same unit as c0] as two rows of `... <= 0`."""
-    return (c2, c1, c0 - limit), (-c2, -c1, -c0 - limit)
-
-
 def solve_quadratics(c2: np.ndarray, c1: np.ndarray,
                      c0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Where c2 y^2 + c1 y + c0 <= 0 for y >= 0: lo, hi of shape (2, rows).

@@ -3,8 +3,8 @@
 The joint's torques come from the core, for the masses of the units already chosen
 further out. Every unit is reflected (`hdselect.sizing.reflect`), checked by its
 series' rules (`check_unit`) and the preferred feasible one selected. Where only
-the selection is wanted (a study's case), the rules on single figures (peak, input
-speed, momentary, static) are first applied to every unit at once, and the
+the selection is wanted (a study's case), the rules' prefilters (`Rule.prefilter`: peak,
+input speed, momentary, static) are first applied to every unit at once, and the
 whole-cycle rules judged only for the units that can still be chosen: the same
 choice, with the figures of the selected unit (or of the strongest, when none fits).
 """
@@ -22,12 +22,14 @@ from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import (
     RPM_PER_RAD_S,
+    RULES,
     Candidate,
     CycleLoad,
-    Momentary,
+    UnitBatch,
     check_unit,
     cycle_load,
 )
+from hdselect.catalog.rules.momentary import worst_events
 from hdselect.catalog.select import select
 from hdselect.catalog.units import Unit
 from hdselect.sizing.bearing import SampledWrench, cycle_bearing
@@ -253,18 +255,14 @@ def _selected_pair(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
                    load_inertia: float | None) -> JointSizing:
     """The selected pair, from the pairs whose gearhead passes the rules no motor changes.
 
-    Those are its rules on single figures but the momentary one (peak, input speed,
-    static); where no such pair fits, every pair is checked. A pair whose gearhead
+    Those are the rules whose prefilter needs no motor's rotor inertia (peak, input
+    speed, static); where no such pair fits, every pair is checked. A pair whose gearhead
     fails one of them is infeasible with any motor, so the selection is the one among
     every pair; the strongest (where none fits) is found among every pair, as with
     detail.
     """
-    limits = _Limits.of(units, options)
-    most = 1.0 - options.margin  # `holds`, on every unit at once
-    passes = ((load.peak_torque / limits.repeated <= most)
-              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= most))
-    if load.static_torque is not None:
-        passes &= load.static_torque / limits.static <= most
+    passes = _prefilter(UnitBatch(units, load, cycle.samples.t, cycle.torque, cycle.stop,
+                                  cycle.qd, options.stop_time, None), options)
     survivors = tuple(unit for unit, ok in zip(units, passes, strict=True) if ok)
     if survivors and len(survivors) < len(units):
         found = _size_pairs(name, cycle, load, bearings, survivors, motors, options, load_inertia)
@@ -282,20 +280,9 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
     a feasible unit; a motor order needs every survivor's motor demand.
     """
     prefer = _prefer(options)
-    limits = _Limits.of(units, options)
-    speed, stopping = np.abs(cycle.qd), np.abs(cycle.stop)
-    i_stop = int(stopping.argmax())
-    crash = np.multiply.outer(limits.crash_gain, speed)
-    crash += np.abs(cycle.torque)
-    i_crash = crash.argmax(axis=1)
-    worst_crash = crash[np.arange(len(units)), i_crash]
-    momentary = np.maximum(stopping[i_stop], worst_crash)
-    most = 1.0 - options.margin  # `holds`, on every unit at once
-    passes = ((load.peak_torque / limits.repeated <= most)
-              & (load.max_speed * RPM_PER_RAD_S * limits.ratio / limits.max_speed <= most)
-              & (momentary / limits.momentary <= most))
-    if load.static_torque is not None:
-        passes &= load.static_torque / limits.static <= most
+    batch = UnitBatch(units, load, cycle.samples.t, cycle.torque, cycle.stop, cycle.qd,
+                      options.stop_time, options.rotor_inertia)
+    passes = _prefilter(batch, options)
     survivors = [k for k in range(len(units)) if passes[k]]
     motor_order = prefer.startswith("motor")
     if motor_order:
@@ -306,8 +293,7 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
         sizes = sorted({units[k].size for k in survivors})
         for size in sizes if prefer == "size" else sizes[:1]:
             checked += [check_unit(load, units[k],
-                                   momentary=_event(k, i_stop, i_crash, stopping, crash, speed,
-                                                    cycle.samples.t, options),
+                                   momentary=worst_events(batch).event(k),
                                    life_hours=options.life_hours, life_basis=options.life_basis,
                                    bearing=_rated(bearings, units[k]), margin=options.margin)
                         for k in survivors if units[k].size == size or prefer != "size"]
@@ -315,7 +301,7 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
                 break
     selected = select(checked, prefer, inertia_target=options.inertia_target)
     if selected is None or not motor_order:  # the figures of the selected, else the strongest
-        unit = units[limits.strongest] if selected is None else selected.unit
+        unit = _strongest(units) if selected is None else selected.unit
         (reflection,) = _reflect([unit], cycle, options)
         chosen = _candidate(load, reflection, cycle, bearings, options)
         selected = None if selected is None else chosen
@@ -325,37 +311,21 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
                        cycle.stop)
 
 
-@dataclass(frozen=True)
-class _Limits:
-    """The units' figures the rules on single numbers read, as arrays in catalog order."""
+def _prefilter(batch: UnitBatch, options: Options) -> np.ndarray:
+    """Which units may pass, by every registered rule's prefilter (`Rule.prefilter`).
 
-    ratio: np.ndarray
-    crash_gain: np.ndarray
-    repeated: np.ndarray
-    momentary: np.ndarray
-    static: np.ndarray
-    max_speed: np.ndarray
-    strongest: int
-
-    @classmethod
-    def of(cls, units: tuple[Unit, ...], options: Options) -> _Limits:
-        ratio = np.array([unit.ratio for unit in units], dtype=float)
-        inertia = np.array([unit.input_inertia for unit in units]) + options.rotor_inertia
-        strongest = max(range(len(units)), key=lambda k: (
-            units[k].repeated_torque, units[k].momentary_torque, units[k].rated_torque))
-        return cls(ratio, inertia * ratio**2 / options.stop_time,
-                   np.array([unit.repeated_torque for unit in units]),
-                   np.array([unit.momentary_torque for unit in units]),
-                   np.array([unit.static_torque for unit in units]),
-                   np.array([unit.max_input_speed for unit in units]), strongest)
+    A unit a prefilter rejects fails that rule's forward check; a rule without the form
+    rejects none (the forward check decides).
+    """
+    passes = np.ones(len(batch.units), dtype=bool)
+    for rule in RULES:
+        utilization = rule.prefilter(batch)
+        if utilization is not None:
+            passes &= rule.passes(utilization, options.margin)
+    return passes
 
 
-def _event(k: int, i_stop: int, i_crash: np.ndarray, stopping: np.ndarray, crash: np.ndarray,
-           speed: np.ndarray, t: np.ndarray, options: Options) -> Momentary:
-    """Unit k's worst momentary event, as `reflect` reports it."""
-    i = int(i_crash[k])
-    if stopping[i_stop] >= crash[k, i]:
-        return Momentary(float(stopping[i_stop]), "emergency stop", float(speed[i_stop]),
-                         options.stop_time, float(t[i_stop]))
-    return Momentary(float(crash[k, i]), "crash", float(speed[i]), options.stop_time,
-                     float(t[i]))
+def _strongest(units: tuple[Unit, ...]) -> Unit:
+    """The unit of the largest repeated peak (then momentary, then rated) torque."""
+    return max(units, key=lambda unit: (unit.repeated_torque, unit.momentary_torque,
+                                        unit.rated_torque))

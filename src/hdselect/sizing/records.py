@@ -15,7 +15,7 @@ from hdselect.catalog.checks import LIFE_CHECKS, life_capped, reported_life
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
-from hdselect.catalog.units import SeriesRules, Unit
+from hdselect.catalog.units import MeanSpeed, SeriesRules, Unit
 from hdselect.motion.mixfile import SECONDS_PER_HOUR
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import NAMED_BASES, mounting_name, shown_numbers
@@ -46,7 +46,7 @@ HOLD_NOTE = ("hold only: nothing moves in this cycle, so only holding the pose (
 
 def mean_speed_note(units: Iterable[Unit]) -> str:
     """How the mean speed of these units is taken, for reports."""
-    if all(unit.rules.mean_speed == "moving" for unit in units):
+    if all(unit.rules.mean_speed is MeanSpeed.MOVING for unit in units):
         return MEAN_SPEED_NOTE
     return WHOLE_CYCLE_NOTE
 

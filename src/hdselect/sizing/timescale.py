@@ -7,11 +7,12 @@ inertial part and e the inertial part of an emergency stop (deceleration
 
     tau(s) = g + (v + i) / s^2        stop(s) = g + v / s^2 + e / s
 
-With y = 1/s each rule on single samples (peak, static, emergency stop, crash,
-input speed) is a quadratic inequality in y: `exact_scales` solves them all and
-intersects the solutions. The rules on the whole cycle (mean torque, life and
-whatever else a series adds) are then checked with `hdselect.catalog.rules.check_unit`
-itself on a grid inside what is left, and each change of verdict is bisected.
+With y = 1/s each rule on single samples that gives its time-scale form
+(`hdselect.catalog.rules.Rule.scale_rows`: peak, static, emergency stop, crash, input
+speed) is a quadratic inequality in y: `exact_scales` solves them all and intersects the
+solutions. Every rule (those on the whole cycle, mean torque and life, and any rule
+without the form) is then checked with `hdselect.catalog.rules.check_unit` itself on a
+grid inside what is left, and each change of verdict is bisected.
 Feasibility is not monotone in s: gravity and dynamic torque may oppose.
 """
 
@@ -27,10 +28,17 @@ import numpy as np
 from hdselect.base.arrays import frozen
 from hdselect.catalog.motor_rules import with_motor
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, check_unit, cycle_load, derated
+from hdselect.catalog.rules import (
+    RPM_PER_RAD_S,
+    RULES,
+    Candidate,
+    ScaleTerms,
+    check_unit,
+    cycle_load,
+)
 from hdselect.catalog.units import Unit
 from hdselect.sizing.bearing import ScalableWrench
-from hdselect.sizing.intervals import Interval, intersect, overlap, solve_quadratics, within
+from hdselect.sizing.intervals import Interval, intersect, overlap, solve_quadratics
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 
 S_MIN = 1e-3
@@ -246,46 +254,35 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
 
 def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0,
                  motor: Motor | None = None, margin: float = 0.0) -> tuple[Interval, ...]:
-    """The scales at which every rule on single samples holds, solved exactly.
+    """The scales at which every rule with a time-scale form holds, solved exactly.
 
-    Peak (moving samples) and static (at rest): |tau(s)| <= the limit; emergency
-    stop: |stop(s)| <= momentary limit; crash: |tau(s)| + K |qd| / s <= momentary
-    limit, K = (J_in + J_m) N^2 / t_stop [N m s]; input speed: max |qd| N / s <= the
-    unit's maximum [rpm] (and the motor's, with a `motor`, whose rotor inertia is then
-    J_m). Per sample each is a quadratic inequality in y = 1/s. The motor's
-    torque-speed rule is not among them: `feasible_scales` checks it on its grid. With a
-    design `margin` every limit is (1 - margin) of its value (`derated`).
+    Each registered rule gives its rows in y = 1/s (`Rule.scale_rows`), piece by piece
+    of the cycle: peak (moving samples) and static (at rest): |tau(s)| <= the limit;
+    emergency stop: |stop(s)| <= momentary limit; crash: |tau(s)| + K |qd| / s <=
+    momentary limit, K = (J_in + J_m) N^2 / t_stop [N m s]; input speed: max |qd| N / s
+    <= the unit's maximum [rpm] (and the motor's, with a `motor`, whose rotor inertia is
+    then J_m). The rows are solved and intersected. A rule without the form (the motor's
+    torque-speed rule, the whole-cycle rules) is left to `feasible_scales`' grid. With a
+    design `margin` every limit is derated (`Rule.derate`).
 
     Returns:
         Sorted disjoint closed intervals of s in (0, inf) [-]; lo may be 0, hi inf.
     """
     if motor is not None:
         rotor_inertia = motor.rotor_inertia
-    k = (unit.input_inertia + rotor_inertia) * unit.ratio**2 / cycle.stop_time
-    speed = float(np.abs(cycle.qd).max(initial=0.0)) * unit.ratio * RPM_PER_RAD_S
-    top, repeated, static, momentary = (derated(limit, margin) for limit in (
-        unit.max_input_speed if motor is None else min(unit.max_input_speed, motor.max_speed),
-        unit.repeated_torque, unit.static_torque, unit.momentary_torque))
-    # input speed: speed y <= the unit's maximum (and the motor's)
-    found = intersect(*solve_quadratics(np.zeros(1), np.array([speed]), np.array([-top])))
+    found: list[Interval] = [(0.0, math.inf)]
     for start in range(0, len(cycle.t), _CHUNK):  # pieces of bounded memory, intersected
         if not found:
             break
         part = slice(start, start + _CHUNK)
-        g, v, e = cycle.gravity[part], cycle.velocity[part], cycle.stop_inertial[part]
-        a = v + cycle.inertial[part]
-        rest = cycle.at_rest[part]
-        moving, none = ~rest, np.zeros_like(g)
-        crash = k * np.abs(cycle.qd[part])
-        rows = [  # (c2, c1, c0) of c2 y^2 + c1 y + c0 <= 0
-            *within(a[moving], none[moving], g[moving], repeated),
-            *within(a[rest], none[rest], g[rest], static),
-            *within(v, e, g, momentary),
-            (a, crash, g - momentary),  # tau + K |qd| y <= limit
-            (-a, crash, -g - momentary),  # -tau + K |qd| y <= limit
-        ]
-        c2, c1, c0 = (np.concatenate(column) for column in zip(*rows, strict=True))
-        found = overlap(found, intersect(*solve_quadratics(c2, c1, c0)))
+        terms = ScaleTerms(cycle.gravity[part], cycle.velocity[part], cycle.inertial[part],
+                           cycle.stop_inertial[part], cycle.qd[part], cycle.at_rest[part],
+                           cycle.stop_time, rotor_inertia, motor)
+        rows = [row for rule in RULES
+                if (form := rule.scale_rows(terms, unit, margin)) is not None for row in form]
+        if rows:
+            c2, c1, c0 = (np.concatenate(column) for column in zip(*rows, strict=True))
+            found = overlap(found, intersect(*solve_quadratics(c2, c1, c0)))
     return tuple((1.0 / y_hi, 1.0 / y_lo if y_lo > 0.0 else math.inf)
                  for y_lo, y_hi in reversed(found) if y_hi > 0.0)
 

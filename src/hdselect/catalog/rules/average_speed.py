@@ -20,6 +20,7 @@ class AverageSpeed(Rule):
     words = "average input speed"
     part = Part.GEARHEAD
     scope = Scope.CYCLE
+    unit = "rpm"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""

@@ -200,6 +200,8 @@ class Rule:
         at_least: The value must reach the limit (a life, a safety): utilization is
             limit / value, and 0 where the value is None (unlimited).
         life: Its value is a life [h], reported within `hdselect.catalog.checks.LIFE_CAP`.
+        unit: The unit of its value and limit in reports, e.g. ``"N m"``; ``""`` for none.
+        share_of: What its utilization is a share of, in words, e.g. ``"rated"``.
     """
 
     name: ClassVar[str]
@@ -210,6 +212,8 @@ class Rule:
     margin_applies: ClassVar[bool] = True
     at_least: ClassVar[bool] = False
     life: ClassVar[bool] = False
+    unit: ClassVar[str] = ""
+    share_of: ClassVar[str] = "its limit"
 
     def __repr__(self) -> str:
         return f"<rule {self.name}>"

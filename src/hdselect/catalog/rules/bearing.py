@@ -54,6 +54,7 @@ class BearingMoment(_Largest):
     name = "bearing_moment"
     label = "b.moment"
     words = "bearing tilting moment"
+    unit = "N m"
     figure = "max_moment"
 
 
@@ -63,6 +64,7 @@ class BearingRadial(_Largest):
     name = "bearing_radial"
     label = "b.radial"
     words = "bearing radial load"
+    unit = "N"
     figure = "max_radial"
 
 
@@ -72,6 +74,7 @@ class BearingAxial(_Largest):
     name = "bearing_axial"
     label = "b.axial"
     words = "bearing axial load"
+    unit = "N"
     figure = "max_axial"
 
 
@@ -87,6 +90,8 @@ class BearingLife(BearingRule):
     scope = Scope.CYCLE
     at_least = True
     life = True
+    unit = "h"
+    share_of = "the expected L10 life required"
 
     def judge_bearing(self, figures: BearingFigures, rating: BearingRating,
                       rules: SeriesRules, *, life_hours: float | None,
@@ -107,6 +112,7 @@ class BearingStatic(BearingRule):
     words = "bearing static safety"
     scope = Scope.CYCLE
     at_least = True
+    share_of = "the safety reached required"
 
     def judge_bearing(self, figures: BearingFigures, rating: BearingRating,
                       rules: SeriesRules, *, life_hours: float | None,

@@ -23,6 +23,7 @@ class InertiaRatio(Rule):
     part = Part.PAIR
     scope = Scope.SAMPLE
     margin_applies = False
+    share_of = "largest allowed"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""

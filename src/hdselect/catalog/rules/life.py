@@ -21,8 +21,10 @@ class Life(Rule):
     words = "life"
     part = Part.GEARHEAD
     scope = Scope.CYCLE
+    unit = "h"
     at_least = True
     life = True
+    share_of = "the expected life required"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""

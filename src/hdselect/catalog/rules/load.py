@@ -68,10 +68,10 @@ class CycleLoad:
     def mean_speed_under(self, rules: SeriesRules) -> float:
         """Mean output speed N_av as a series' rules define it [rad/s].
 
-        ``"moving"``: over the moving part (`mean_speed`); ``"whole-cycle"``: over the
-        whole cycle, dwells included (`cycle_mean_speed`).
+        `MeanSpeed.MOVING`: over the moving part (`mean_speed`); `MeanSpeed.WHOLE_CYCLE`:
+        over the whole cycle, dwells included (`cycle_mean_speed`).
         """
-        return self.mean_speed if rules.mean_speed == "moving" else self.cycle_mean_speed
+        return rules.mean_speed.of(self.mean_speed, self.cycle_mean_speed)
 
 
 @dataclass(frozen=True)

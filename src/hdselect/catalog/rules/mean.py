@@ -17,6 +17,7 @@ class Mean(Rule):
     words = "mean torque"
     part = Part.GEARHEAD
     scope = Scope.CYCLE
+    unit = "N m"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""

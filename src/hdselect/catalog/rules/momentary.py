@@ -40,6 +40,7 @@ class MomentaryTorque(Rule):
     words = "momentary torque"
     part = Part.GEARHEAD
     scope = Scope.SAMPLE
+    unit = "N m"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""

@@ -34,6 +34,8 @@ class MotorPeak(Rule):
     words = "motor peak torque"
     part = Part.MOTOR
     scope = Scope.SAMPLE
+    unit = "N m"
+    share_of = "peak at that speed"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""
@@ -78,6 +80,8 @@ class MotorRms(Rule):
     words = "motor RMS torque"
     part = Part.MOTOR
     scope = Scope.CYCLE
+    unit = "N m"
+    share_of = "rated"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""
@@ -101,6 +105,8 @@ class MotorSpeed(Rule):
     words = "motor speed"
     part = Part.MOTOR
     scope = Scope.SAMPLE
+    unit = "rpm"
+    share_of = "maximum"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""

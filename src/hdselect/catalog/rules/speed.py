@@ -31,6 +31,7 @@ class Speed(Rule):
     words = "input speed"
     part = Part.GEARHEAD
     scope = Scope.SAMPLE
+    unit = "rpm"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""

@@ -30,6 +30,7 @@ class Static(Rule):
     words = "static torque"
     part = Part.GEARHEAD
     scope = Scope.SAMPLE
+    unit = "N m"
 
     def check(self, case: RuleInput) -> Check | None:
         """See `Rule.check`."""
