@@ -283,3 +283,23 @@ def test_a_rule_without_forms_bounds_fastest(tmp_path, half_peak) -> None:
     check = joint.selected.checks["half_peak"]
     assert check.ok and check.utilization > 0.99
     assert result.reason is not None and result.reason[1] == "half_peak"
+
+
+def test_a_rated_bearing_bounds_each_units_payload_masses(tmp_path) -> None:
+    """The bearing's rules give no payload form: the forward fallback bounds each unit.
+
+    Oracle: max-payload's answer, the sizing itself bisected (`PayloadSizing.largest`):
+    the unit whose bearing binds there allows masses up to that mass, to its bisection's
+    accuracy, and its bearing's moment is the rule that ends there.
+    """
+    from test_bearing import BEARING_BOUND, PICK
+
+    (tmp_path / "xb.toml").write_text(BEARING_BOUND)
+    units = [u for u in load_catalog([tmp_path / "xb.toml"]) if u.series == "XB"]
+    robot, motion = load_case(PICK)
+    found = max_payload(robot, motion, catalog=units)
+    assert found.rule == "bearing_moment" and found.mass is not None
+    bound = next(b for b in found.bounds[found.joint] if b.unit.id == found.unit.id)
+    assert bound.ends["bearing_moment"] is not None
+    assert bound.masses is not None and bound.masses[1] == pytest.approx(found.mass, rel=1e-5)
+    assert bound.limiting(found.mass) == "bearing_moment"

@@ -34,7 +34,6 @@ from hdselect.catalog.rules import Candidate, at_rest
 from hdselect.catalog.rules.forms import Interval
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
-from hdselect.codesign.cubicmean import CubicMean
 from hdselect.codesign.payloadbounds import UnitBound, joint_mean, unit_bound
 from hdselect.codesign.payloadsizing import PayloadSizing
 from hdselect.motion.motionfile import Motion
@@ -42,6 +41,7 @@ from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
+from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.arguments import checked_motors, fixed_units, units_argument
 from hdselect.sizing.core import motion_motors
 from hdselect.sizing.options import Options, options_for
@@ -224,15 +224,25 @@ def joint_bounds(carrying: Robot, payload: Payload, trajectory: Trajectory,
     empty = cycle_torques(carrying, q, qd, qdd, options.stop_time, threads=options.threads)
     loaded = cycle_torques(carrying.with_payload(payload), q, qd, qdd, options.stop_time,
                            threads=options.threads)
+    names = list(carrying.sized_joints)
+    wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m too
+    if options.bearing_loads and any(unit.bearing is not None for unit in units):
+        wrenches = [axis_wrenches(robot, q, qd, qdd, names, threads=options.threads)
+                    for robot in (carrying, carrying.with_payload(payload))]
     out = {}
-    for name in carrying.sized_joints:
+    for k, name in enumerate(names):
         j = carrying.joint_index(name)
         tau0, stop0 = empty.tau[:, j], empty.stop[:, j]
         tau1 = _per_kg(loaded.tau[:, j], tau0)
         stop1 = _per_kg(loaded.stop[:, j], stop0)
         cubic = joint_mean(trajectory.dt, at_rest(qd[:, j], qdd[:, j]), qd[:, j], tau0, tau1)
-        out[name] = tuple(_unit_bound(unit, trajectory, qd[:, j], qdd[:, j], tau0, tau1, stop0,
-                                      stop1, options, cubic) for unit in units)
+        wrench = (None if wrenches is None else
+                  (wrenches[0][k], wrenches[1][k] - wrenches[0][k],
+                   options.bearing_offset.get(name, 0.0)))
+        out[name] = tuple(unit_bound(unit, trajectory.dt, at_rest(qd[:, j], qdd[:, j]), qd[:, j],
+                                     tau0, tau1, stop0, stop1, options, cubic=cubic,
+                                     t=trajectory.t, qdd=qdd[:, j], wrench=wrench)
+                          for unit in units)
     return out
 
 
@@ -246,18 +256,6 @@ def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:
     difference = loaded - empty
     scale = float(np.max(np.abs(loaded), initial=0.0) + np.max(np.abs(empty), initial=0.0))
     return np.where(np.abs(difference) <= _ROUNDOFF * scale, 0.0, difference)
-
-
-def _unit_bound(unit: Unit, trajectory: Trajectory, qd: np.ndarray, qdd: np.ndarray,
-                tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
-                options: Options, cubic: CubicMean | None = None) -> UnitBound:
-    """Every registered rule as an interval of payload mass [kg] (`unit_bound`).
-
-    `cubic`: the joint's cubic mean torque (`joint_mean`), shared by its units; None
-    builds it.
-    """
-    return unit_bound(unit, trajectory.dt, at_rest(qd, qdd), qd, tau0, tau1, stop0, stop1,
-                      options, cubic=cubic, t=trajectory.t, qdd=qdd)
 
 
 def _feasible(bounds: Mapping[str, tuple[UnitBound, ...]]) -> list[Interval]:

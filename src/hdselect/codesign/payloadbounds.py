@@ -6,7 +6,7 @@ tau = tau0 + x tau1 (and the emergency stop's). A rule's payload form
 exactly; a rule without one is checked forward (`check_unit` on the cycle carrying x,
 `forward_masses`) on a grid of masses inside what the other rules allow, each change of
 its verdict bisected, so that no rule of the registry is left out. A rule absent for the
-case (a motor's without a motor, a rated bearing's without the bearing's loads) bounds
+case (a motor's without a motor, a rated bearing's without the joint's wrench) bounds
 nothing here: `hdselect.codesign.payloadsizing` judges those with the sizing itself.
 """
 
@@ -23,6 +23,7 @@ from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
+from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 
@@ -77,7 +78,8 @@ def joint_mean(dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray, tau0: n
 def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray,
                tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
                options: Options, idle: float = 0.0, *, cubic: CubicMean | None = None,
-               t: np.ndarray | None = None, qdd: np.ndarray | None = None) -> UnitBound:
+               t: np.ndarray | None = None, qdd: np.ndarray | None = None,
+               wrench: tuple[np.ndarray, np.ndarray, float] | None = None) -> UnitBound:
     """Every registered rule as an interval of x, with tau = tau0 + x tau1 [N m].
 
     Each rule's payload form gives its masses; a rule without one is checked forward
@@ -100,11 +102,14 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
         t: Sample times [s], (n,), for the forward checks' momentary event; None: from dt.
         qdd: The joint's acceleration [rad/s^2], (n,): the forward checks then carry the
             motor's demand.
+        wrench: The joint's wrench at x = 0 and per kg [N, N m], each (6, n), and its
+            output flange's offset [m]: the forward checks then judge a rated bearing.
     """
     step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
     case = PayloadCase(unit, step, rest, qd, tau0, tau1, stop0, stop1, options.margin,
                        options.stop_time, options.rotor_inertia, idle, options.life_hours,
-                       options.life_basis, cubic, options.efficiency, t, qdd)
+                       options.life_basis, cubic, options.efficiency, t, qdd,
+                       *(wrench or (None, None, 0.0)))
     if cubic is None and case.travel > 0.0:
         case = replace(case, mean=joint_mean(step, rest, qd, tau0, tau1))
     ends: dict[str, Interval | None] = {}
@@ -128,7 +133,8 @@ def forward_check(case: PayloadCase, mass: float) -> Candidate:
     """Every rule of `check_unit` on the cycle carrying `mass` [kg], as the sizing checks.
 
     The momentary event is `reflect`'s; the motor's demand is handed to the rules only
-    with the joint's acceleration and an efficiency (`PayloadCase.qdd`, `.efficiency`).
+    with the joint's acceleration and an efficiency (`PayloadCase.qdd`, `.efficiency`),
+    the output bearing's loads only with the joint's wrench (`PayloadCase.wrench0`).
     """
     tau = case.tau0 + mass * case.tau1
     stop = case.stop0 + mass * case.stop1
@@ -136,6 +142,10 @@ def forward_check(case: PayloadCase, mass: float) -> Candidate:
     t = np.cumsum(case.dt) - case.dt if case.t is None else case.t
     known = case.qdd is not None and case.efficiency is not None
     efficiency = case.efficiency if case.efficiency is not None else DEFAULT_EFFICIENCY
+    bearing = None
+    if case.wrench0 is not None and case.wrench1 is not None and case.unit.bearing is not None:
+        bearing = cycle_bearing(SampledWrench(case.wrench0 + mass * case.wrench1), case.offset,
+                                case.unit.bearing.offset, case.qd, case.dt, case.rest)
     (reflection,) = reflect([case.unit], t, tau, case.qd,
                             case.qdd if case.qdd is not None else np.zeros_like(tau), stop,
                             stop_time=case.stop_time, efficiency=efficiency,
@@ -145,7 +155,8 @@ def forward_check(case: PayloadCase, mass: float) -> Candidate:
         demand = weighted_demand(demand, reflection.motor_torque, case.qd, case.unit.ratio,
                                  case.dt)
     return check_unit(load, case.unit, momentary=reflection.momentary,
-                      motor=demand if known else None, life_hours=case.life_hours,
+                      motor=demand if known else None, bearing=bearing,
+                      life_hours=case.life_hours,
                       life_basis=case.life_basis, margin=case.margin)
 
 

@@ -124,6 +124,11 @@ class PayloadCase:
         t: Sample times [s], (n,), for the forward check's momentary event; None: from dt.
         qdd: The joint's acceleration [rad/s^2], (n,), for the forward check's motor
             demand; None: no demand is handed to the rules.
+        wrench0: The joint's whole force and moment at x = 0 in its axis frame [N, N m],
+            (6, n) (`hdselect.robot.wrenches.axis_wrenches`), for the forward check of a
+            rated output bearing; None: its rules are absent.
+        wrench1: Its change per kg [N, N m], (6, n).
+        offset: The output flange along the axis from the joint origin [m].
     """
 
     unit: Unit
@@ -144,6 +149,9 @@ class PayloadCase:
     efficiency: float | None = None
     t: np.ndarray | None = None
     qdd: np.ndarray | None = None
+    wrench0: np.ndarray | None = None
+    wrench1: np.ndarray | None = None
+    offset: float = 0.0
 
     @cached_property
     def travel(self) -> float:
@@ -162,8 +170,8 @@ class PayloadCase:
         whole = float(self.dt.sum()) + self.idle
         mean_speed = self.travel / moving_time if moving_time > 0.0 else 0.0
         cycle_speed = self.travel / whole if whole > 0.0 else 0.0
-        return ((mean_speed if self.unit.rules.mean_speed == "moving" else cycle_speed)
-                * RPM_PER_RAD_S * self.unit.ratio)
+        return (self.unit.rules.mean_speed.of(mean_speed, cycle_speed) * RPM_PER_RAD_S
+                * self.unit.ratio)
 
 
 @dataclass(frozen=True, eq=False)
