@@ -13,12 +13,21 @@ nothing here: `hdselect.codesign.payloadsizing` judges those with the sizing its
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from hdselect.catalog.rules import RULES, Candidate, Rule, check_unit, cycle_load
+from hdselect.catalog.rules import (
+    RULES,
+    Candidate,
+    CycleLoad,
+    Momentary,
+    MotorDemand,
+    Rule,
+    check_unit,
+    cycle_load,
+)
 from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
@@ -183,14 +192,16 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule],
     grid = [lo, *(lo + (top - lo) * np.geomspace(1e-6, 1.0, MASS_GRID - 1))] \
         if top > lo else [lo]
 
+    judged = _present(case)
+    present = [rule for rule in rules if rule.name in judged]
+    if not present:
+        return {}
+
     def verdicts(mass: float) -> dict[str, bool]:
         checks = forward_check(case, mass).checks
-        return {rule.name: checks[rule.name].ok for rule in rules if rule.name in checks}
+        return {rule.name: checks[rule.name].ok for rule in present}
 
-    table = [verdicts(float(grid[0]))]
-    if not table[0]:  # every such rule is absent for the case
-        return {}
-    table += [verdicts(float(mass)) for mass in grid[1:]]
+    table = [verdicts(float(mass)) for mass in grid]
     out: dict[str, Interval | None] = {}
     for name in table[0]:
         def passes(mass: float, name: str = name) -> bool:
@@ -206,6 +217,26 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule],
         end = hi if j is None else _bisect(passes, float(grid[j]), float(grid[j - 1]))[1]
         out[name] = (start, end)
     return out
+
+
+def _present(case: PayloadCase) -> Collection[str]:
+    """The rules `forward_check` judges on this case, whatever the mass.
+
+    A rule is absent for a case by what the case gives (a required life, a motor's demand,
+    a rated bearing's loads), not by its numbers (`Rule.check`): the check of a stand-in
+    cycle with the case's inputs (no sample summed) names them, and a rated bearing's
+    loads are taken at no payload.
+    """
+    if case.wrench0 is not None and case.unit.bearing is not None:
+        return forward_check(case, 0.0).checks.keys()
+    moving = case.travel > 0.0
+    load = CycleLoad(0.0, 0.0 if moving else None, 0.0, 0.0, 0.0, 0.0,
+                     0.0 if bool(case.rest.any()) else None)
+    demand = (MotorDemand(0.0, 0.0, 0.0, case.efficiency)
+              if case.qdd is not None and case.efficiency is not None else None)
+    return check_unit(load, case.unit, momentary=Momentary(0.0, "emergency stop"),
+                      motor=demand, life_hours=case.life_hours, life_basis=case.life_basis,
+                      margin=case.margin).checks.keys()
 
 
 def _bisect(passes: Callable[[float], bool], failing: float,
