@@ -165,8 +165,8 @@ def forward_check(case: PayloadCase, mass: float) -> Candidate:
                                  case.dt)
     return check_unit(load, case.unit, momentary=reflection.momentary,
                       motor=demand if known else None, bearing=bearing,
-                      life_hours=case.life_hours,
-                      life_basis=case.life_basis, margin=case.margin)
+                      life_hours=case.life_hours, life_basis=case.life_basis,
+                      margin=case.margin)
 
 
 def forward_masses(case: PayloadCase, rules: Sequence[Rule],
@@ -191,7 +191,6 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule],
     top = hi if math.isfinite(hi) else max(MASS_MAX, 2.0 * lo)
     grid = [lo, *(lo + (top - lo) * np.geomspace(1e-6, 1.0, MASS_GRID - 1))] \
         if top > lo else [lo]
-
     judged = _present(case)
     present = [rule for rule in rules if rule.name in judged]
     if not present:

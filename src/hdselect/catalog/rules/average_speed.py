@@ -30,7 +30,6 @@ class AverageSpeed(Rule):
         return self.judge(None if limit is None else case.mean_input_rpm,
                           math.inf if limit is None else limit, case.margin)
 
-
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """Every mass or none: N_av does not depend on it."""
         limit = case.unit.max_average_input_speed

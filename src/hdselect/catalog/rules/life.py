@@ -34,7 +34,6 @@ class Life(Rule):
         expected = life if life is None or case.life_basis == "L50" else life / L50_PER_L10
         return self.judge(expected, case.life_hours, case.margin, basis=case.life_basis)
 
-
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...] | None:
         """T_av(x) at most the torque that gives the required life: the cubic mean's interval.
 

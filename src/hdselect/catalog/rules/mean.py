@@ -32,7 +32,6 @@ class Mean(Rule):
         return (("average_torque",) if unit.rules.mean_torque_limit == "tabulated"
                 else ("rated_torque",))
 
-
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...] | None:
         """T_av(x) <= the allowance (which does not depend on x): the cubic mean's interval.
 

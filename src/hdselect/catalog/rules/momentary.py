@@ -81,7 +81,6 @@ class MomentaryTorque(Rule):
         return (np.maximum(worst.stop_torque, worst.crash_torque)
                 / np.array([unit.momentary_torque for unit in batch.units]))
 
-
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """Emergency stop |stop0 + x stop1| <= T_M; crash |tau0 + x tau1| + K |qd| <= T_M."""
         unit = case.unit

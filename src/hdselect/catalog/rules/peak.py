@@ -54,7 +54,6 @@ class Peak(Rule):
         """See `Rule.prefilter`."""
         return batch.load.peak_torque / np.array([unit.repeated_torque for unit in batch.units])
 
-
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """|tau0 + x tau1| <= T_R at every moving sample."""
         moving = ~case.rest

@@ -50,7 +50,6 @@ class Speed(Rule):
         return (batch.load.max_speed * RPM_PER_RAD_S * batch.ratio
                 / np.array([unit.max_input_speed for unit in batch.units]))
 
-
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """Every mass or none: the speeds do not depend on it."""
         passes = case.max_input_rpm <= self.derate(case.unit.max_input_speed, case.margin)

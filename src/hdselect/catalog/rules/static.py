@@ -56,7 +56,6 @@ class Static(Rule):
             return None  # never at rest: the check holds for every unit
         return batch.load.static_torque / np.array([unit.static_torque for unit in batch.units])
 
-
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """|tau0 + x tau1| <= the static torque at every sample at rest."""
         return spans(masses_within(case.tau0[case.rest], case.tau1[case.rest],
