@@ -2,7 +2,8 @@
 
 Each rule is a `Rule` in a file of its own (`peak`, `mean`, `speed`, `average_speed`,
 `momentary`, `static`, `life`; the output bearing's five in `bearing`, the motor's three
-in `motor`; the pair's `inertia_ratio`), on the base of `base`: its names, what it
+in `motor`; the pair's `inertia_ratio`; `peak` and `static` share `torque`), on the
+base of `base`: its names, what it
 judges, its forward check, the margin applied once (`Rule.judge`) and the solvers' forms
 (their inputs in `forms`). `registry` orders them (`RULES`, `rule`) and derives the
 check tables from them; `check` applies them (`check_unit`, `check_motor`). What the
