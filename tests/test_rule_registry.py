@@ -314,3 +314,31 @@ def test_the_time_scale_solver_honours_a_rule_without_a_form(torsion):
     assert found[0] == pytest.approx(2.0, rel=4 * RTOL) and found[1] == math.inf
     assert not check_at(cycle, unit, 2.0 * (1 - 1e-3)).feasible
     assert check_at(cycle, unit, 2.0 * (1 + 1e-3)).feasible
+
+
+def test_old_check_helpers_warn_and_judge_as_the_rules():
+    from hdselect.catalog.checks import limit_check
+    from hdselect.catalog.motor_rules import inertia_check
+
+    with pytest.warns(DeprecationWarning, match="Rule.judge"):
+        assert limit_check(8.0, 10.0, margin=0.3) == rule("peak").judge(8.0, 10.0, 0.3)
+    with pytest.warns(DeprecationWarning, match="INERTIA_RATIO.of"):
+        missing = inertia_check(None, 3.0)
+    assert not missing.ok and missing.utilization == math.inf
+    with pytest.warns(DeprecationWarning):
+        assert inertia_check(3.0, 3.0).ok  # no margin: at the largest ratio it holds
+
+
+def test_mean_speed_definition_is_an_enum_spelled_as_in_the_catalog():
+    from hdselect.catalog.units import MEAN_SPEED_RULES, MeanSpeed
+
+    assert MEAN_SPEED_RULES == ("whole-cycle", "moving")
+    psa = UNITS[0].rules
+    assert psa.mean_speed is MeanSpeed.MOVING and psa.mean_speed == "moving"  # the built-in file
+    whole = dataclasses.replace(psa, mean_speed="whole-cycle")  # a spelling is taken too
+    assert whole.mean_speed is MeanSpeed.WHOLE_CYCLE and whole.mean_speed.over == "the whole cycle"
+    assert MeanSpeed.MOVING.of(2.0, 1.0) == 2.0 and MeanSpeed.WHOLE_CYCLE.of(2.0, 1.0) == 1.0
+    load = cycle_load(np.ones(4), np.r_[1.0, 1.0, 0.0, 0.0], 1.0, np.r_[False, False, True, True])
+    assert load.mean_speed_under(psa) == 1.0 and load.mean_speed_under(whole) == 0.5
+    with pytest.raises(ValueError):
+        dataclasses.replace(psa, mean_speed="dwell")

@@ -1,7 +1,8 @@
 """Gearheads and motors as data, the series' rules, and the choice among candidates.
 
-`load_catalog` reads units and their series' `[rules]` (`units`), `rules` checks one
-joint's cycle against one unit, `select` chooses among the checked candidates,
+`load_catalog` reads units and their series' `[rules]` (`units`), `rules` holds every rule
+as an object (one file each) and checks one joint's cycle against one unit by them,
+`select` chooses among the checked candidates,
 `motors` reads motor files, and `duty` is the catalog page's own phase-by-phase method.
 """
 

@@ -7,6 +7,8 @@ rules); they are importable from here too, as before.
 
 from __future__ import annotations
 
+import warnings
+
 from hdselect.catalog.rules import (  # noqa: F401  (their first public home was here)
     BEARING_CHECKS,
     CHECK_LABELS,
@@ -18,6 +20,7 @@ from hdselect.catalog.rules import (  # noqa: F401  (their first public home was
     PAIR_CHECKS,
     PER_SAMPLE_CHECKS,
     Check,
+    Rule,
     derated,
     holds,
 )
@@ -38,3 +41,15 @@ def reported_life(hours: float | None) -> float | None:
 def life_capped(hours: float | None) -> bool:
     """Whether a life [h] is reported as the cap (`LIFE_CAP`) rather than as itself."""
     return hours is not None and hours >= LIFE_CAP
+
+
+def limit_check(value: float | None, limit: float, *, margin: float = DEFAULT_MARGIN,
+                **detail: object) -> Check:
+    """Deprecated: a value against its limit, as a rule judges it (`Rule.judge`)."""
+    warnings.warn("hdselect.catalog.checks.limit_check is deprecated; use "
+                  "hdselect.catalog.rules.Rule.judge", DeprecationWarning, stacklevel=2)
+    return _MARGINED.judge(value, limit, margin, **detail)
+
+
+_MARGINED = Rule()
+"""Any rule the design margin applies to, for `limit_check`."""

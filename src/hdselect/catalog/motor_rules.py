@@ -5,17 +5,21 @@ The rules are in `hdselect.catalog.rules` (`motor`, `inertia_ratio`).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import (  # noqa: F401  (check_motor, inertia_ratio: public here)
     Candidate,
+    Check,
     Part,
     RuleInput,
     apply_rules,
     check_motor,
     inertia_ratio,
 )
+from hdselect.catalog.rules.inertia_ratio import INERTIA_RATIO
 
 
 def with_motor(candidate: Candidate, motor: Motor, torque: np.ndarray,
@@ -56,3 +60,11 @@ def with_motor(candidate: Candidate, motor: Motor, torque: np.ndarray,
     checks.update(apply_rules((Part.PAIR,), case))
     return Candidate(candidate.unit, checks, candidate.life_hours, candidate.flags,
                      candidate.motor, motor, ratio, margin, candidate.bearing)
+
+
+def inertia_check(ratio: float | None, largest: float) -> Check:
+    """Deprecated: the ``inertia_ratio`` rule's check, `InertiaRatio.of`."""
+    warnings.warn("hdselect.catalog.motor_rules.inertia_check is deprecated; use "
+                  "hdselect.catalog.rules.inertia_ratio.INERTIA_RATIO.of", DeprecationWarning,
+                  stacklevel=2)
+    return INERTIA_RATIO.of(ratio, largest)

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.figure import Figure
 
-from hdselect.catalog.rules import RPM_PER_RAD_S, at_rest
+from hdselect.catalog.rules import RPM_PER_RAD_S, Part, at_rest, rule
 from hdselect.report.figures import ALLOWED, MEAN, MOVING, REST, STOP, envelope, extremes
 from hdselect.report.terminal import binding_words, ratio_text, utilization_text
 from hdselect.sizing.result import JointSizing, SizingResult
@@ -110,8 +110,9 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
         kinds = {flag.kind for flag in unit.flags_for(field)}
         mark = " (stand-in)" if "fallback" in kinds else " (corrected)" if kinds else ""
         lines.append((value, color, style, f"{label} {value:.3g} N m{mark}"))
-    keep = {"peak": unit.repeated_torque, "momentary": unit.momentary_torque,
-            "static": unit.static_torque, "mean": chosen.checks["mean"].limit}.get(chosen.binding)
+    setting = rule(chosen.binding)  # its limit line is kept where it is an output torque's
+    keep = (chosen.checks[chosen.binding].limit
+            if setting.part is Part.GEARHEAD and setting.unit == "N m" else None)
     top = _limit_lines(torque_ax, lines, max(max(tops), 1e-9) * 1.15, keep if near else None)
     torque_ax.set_ylim(0.0, top)
     torque_ax.set_ylabel("output torque [N m]")

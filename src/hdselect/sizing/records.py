@@ -117,7 +117,7 @@ def rules_json(rules: SeriesRules) -> dict[str, Any]:
     """A series' rules as JSON; ``assumed`` when the unit's catalog file states none."""
     return {"rated_input_speed_rpm": rules.rated_input_speed,
             "rated_life_hours": rules.rated_life_hours, "life_basis": rules.life_basis,
-            "mean_torque_limit": rules.mean_torque_limit, "mean_speed": rules.mean_speed,
+            "mean_torque_limit": rules.mean_torque_limit, "mean_speed": rules.mean_speed.value,
             "max_momentary_events": rules.max_momentary_events,
             "assumed": rules.flag is not None,
             "bearing_load_factor": rules.bearing_load_factor,

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from hdselect.catalog.rules import RPM_PER_RAD_S, Momentary, MotorDemand, at_rest
+from hdselect.catalog.rules.momentary import crash_gain, crash_torques
 from hdselect.catalog.units import Unit
 
 DEFAULT_EFFICIENCY = 0.70
@@ -159,7 +160,7 @@ def reflect_motors(
     ratio = np.array([unit.ratio for unit in units], dtype=float)
     inertias = [float(j) for j in rotor_inertias]
     inertia = np.add.outer(inertias, [unit.input_inertia for unit in units])  # (motors, units)
-    crash_gain = inertia * ratio**2 / stop_time
+    gain = crash_gain(inertia, ratio, stop_time)
     peak = np.zeros(inertia.shape)
     squares = np.zeros(inertia.shape)
     crash_best = np.full(inertia.shape, -np.inf)
@@ -178,8 +179,7 @@ def reflect_motors(
             motor = geared + np.multiply.outer(inertia[k] * ratio, accel)
             peak[k] = np.maximum(peak[k], np.maximum(motor.max(axis=1), -motor.min(axis=1)))
             squares[k] += np.einsum("ij,ij->i", motor, motor if count is None else motor * count)
-            crash = np.multiply.outer(crash_gain[k], speed)
-            crash += held
+            crash = crash_torques(gain[k], speed, held)
             i = crash.argmax(axis=1)
             better = crash[rows, i] > crash_best[k]  # strictly: the first worst instant wins
             crash_best[k] = np.where(better, crash[rows, i], crash_best[k])

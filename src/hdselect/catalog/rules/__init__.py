@@ -2,11 +2,12 @@
 
 Each rule is a `Rule` in a file of its own (`peak`, `mean`, `speed`, `average_speed`,
 `momentary`, `static`, `life`; the output bearing's five in `bearing`, the motor's three
-in `motor`; the pair's `inertia_ratio`), on the base of `base`: its names, what it
-judges, its forward check, the margin applied once (`Rule.judge`) and the solvers' forms
-(their inputs in `forms`). `registry` orders them (`RULES`, `rule`) and derives the
-check tables from them; `check` applies them (`check_unit`, `check_motor`). What the
-rules read of a cycle is in `load`, a unit's verdicts in `candidate`.
+in `motor`; the pair's `inertia_ratio`; `peak` and `static` share `torque`), on the base
+of `base`: its names, what it judges, its forward check, the margin applied once
+(`Rule.judge`) and the solvers' forms (their inputs in `forms`). `registry` orders them
+(`RULES`, `rule`) and derives the check tables from them; `check` applies them
+(`check_unit`, `check_motor`). What the rules read of a cycle is in `load`, a unit's
+verdicts in `candidate`.
 """
 
 from hdselect.catalog.rules.base import (

@@ -33,7 +33,6 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import Enum
-from functools import cached_property
 from typing import Any, ClassVar
 
 import numpy as np
@@ -162,26 +161,24 @@ class RuleInput:
         """(unit, load) where both are known: what every gearhead rule reads; else None."""
         return None if self.unit is None or self.load is None else (self.unit, self.load)
 
-    @cached_property
-    def mean_input_rpm(self) -> float:
-        """N_av, the mean input speed as the unit's series defines it [rpm]; 0 without both."""
-        if self.unit is None or self.load is None:
-            return 0.0
-        return self.load.mean_speed_under(self.unit.rules) * RPM_PER_RAD_S * self.unit.ratio
+    mean_input_rpm: float = field(init=False)
+    """N_av, the mean input speed as the unit's series defines it [rpm]; 0 without both."""
+    allowed_mean: tuple[float, bool] = field(init=False)
+    """The allowable mean torque [N m] and whether the repeated peak capped it."""
+    l50_hours: float | None = field(init=False)
+    """The unit's L50 life on this cycle [h]; None when unlimited or not known."""
 
-    @cached_property
-    def allowed_mean(self) -> tuple[float, bool]:
-        """The allowable mean torque [N m] and whether the repeated peak capped it."""
-        if self.unit is None:
-            return math.inf, False
-        return allowable_mean_torque(self.unit, self.mean_input_rpm)
-
-    @cached_property
-    def l50_hours(self) -> float | None:
-        """The unit's L50 life on this cycle [h]; None when unlimited or not known."""
-        if self.unit is None or self.load is None or self.load.mean_torque is None:
-            return None
-        return l50_life_hours(self.unit, self.load.mean_torque, self.mean_input_rpm)
+    def __post_init__(self) -> None:
+        rpm, allowed, life = 0.0, (math.inf, False), None
+        if self.unit is not None and self.load is not None:
+            rpm = (self.load.mean_speed_under(self.unit.rules) * RPM_PER_RAD_S
+                   * self.unit.ratio)
+            allowed = allowable_mean_torque(self.unit, rpm)
+            if self.load.mean_torque is not None:
+                life = l50_life_hours(self.unit, self.load.mean_torque, rpm)
+        object.__setattr__(self, "mean_input_rpm", rpm)
+        object.__setattr__(self, "allowed_mean", allowed)
+        object.__setattr__(self, "l50_hours", life)
 
 
 class Rule:

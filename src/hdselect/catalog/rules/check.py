@@ -15,7 +15,7 @@ from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules.base import DEFAULT_MARGIN, Check, Part, RuleInput
 from hdselect.catalog.rules.candidate import Candidate
 from hdselect.catalog.rules.load import CycleLoad, Momentary, MotorDemand
-from hdselect.catalog.rules.registry import RULES, rule
+from hdselect.catalog.rules.registry import rule, rules_of
 from hdselect.catalog.units import LIFE_BASES, Unit
 
 
@@ -98,7 +98,8 @@ def apply_rules(parts: tuple[Part, ...], case: RuleInput) -> dict[str, Check]:
     A rule absent for the case (its check None) is left out.
     """
     checks = {}
-    for found in RULES:
-        if found.part in parts and (check := found.check(case)) is not None:
-            checks[found.name] = check
+    for part in parts:
+        for found in rules_of(part):
+            if (check := found.check(case)) is not None:
+                checks[found.name] = check
     return checks

@@ -34,10 +34,13 @@ class InertiaRatio(Rule):
                    else motor.max_inertia_ratio)
         if largest is None:
             return None
-        ratio = inertia_ratio(load_inertia, unit, motor)
+        return self.of(inertia_ratio(load_inertia, unit, motor), largest)
+
+    def of(self, ratio: float | None, largest: float) -> Check:
+        """The check of a pair's ratio [-] (None: no rotor inertia, a failure) at most `largest`."""
         if ratio is None:
             return Check(None, largest, False, math.inf, {"reason": "no rotor inertia"})
-        return self.judge(ratio, largest, case.margin)
+        return self.judge(ratio, largest, 0.0)  # the margin does not apply
 
 
 def inertia_ratio(load_inertia: float, unit: Unit, motor: Motor) -> float | None:

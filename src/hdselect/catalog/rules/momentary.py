@@ -112,12 +112,11 @@ class WorstEvents:
             raise ValueError("a crash needs the rotor inertia")
         self._batch = batch
         inertia = np.array([unit.input_inertia for unit in batch.units]) + batch.rotor_inertia
-        gain = inertia * batch.ratio**2 / batch.stop_time
         self.speed, stopping = np.abs(batch.qd), np.abs(batch.stop)
         self.stop_at = int(stopping.argmax())
         self.stop_torque = float(stopping[self.stop_at])
-        crash = np.multiply.outer(gain, self.speed)
-        crash += np.abs(batch.torque)
+        crash = crash_torques(crash_gain(inertia, batch.ratio, batch.stop_time), self.speed,
+                              np.abs(batch.torque))
         self.crash_at = crash.argmax(axis=1)
         self.crash_torque = crash[np.arange(len(batch.units)), self.crash_at]
 
@@ -130,6 +129,25 @@ class WorstEvents:
         i = int(self.crash_at[k])
         return Momentary(float(self.crash_torque[k]), "crash", float(self.speed[i]), stop_time,
                          float(t[i]))
+
+
+def crash_gain(inertia: np.ndarray, ratio: np.ndarray, stop_time: float) -> np.ndarray:
+    """K = (J_in + J_m) N^2 / t_stop of each unit [N m s], from its input-side inertia [kg m^2]."""
+    gain: np.ndarray = inertia * ratio**2 / stop_time
+    return gain
+
+
+def crash_torques(gain: np.ndarray, speed: np.ndarray, held: np.ndarray) -> np.ndarray:
+    """A crash's torque K |qd| + |T| of each unit at each sample [N m], (units, n).
+
+    Args:
+        gain: Each unit's K (`crash_gain`) [N m s], (units,).
+        speed: |qd| per sample [rad/s], (n,).
+        held: |T| per sample, the torque already carried [N m], (n,).
+    """
+    crash = np.multiply.outer(gain, speed)
+    crash += held
+    return crash
 
 
 def worst_events(batch: UnitBatch) -> WorstEvents:

@@ -26,52 +26,51 @@ from hdselect.catalog.rules.static import STATIC
 
 _REGISTRY: list[Rule] = [PEAK, MEAN, SPEED, AVERAGE_SPEED, MOMENTARY, STATIC, LIFE,
                          *BEARING_RULES, *MOTOR_RULES, INERTIA_RATIO]
-_VERSION = [0]
-"""Changes with every registration, so that the views recompute."""
+_VIEWS: list[_View] = []
+"""Every view of the registry, refreshed at each registration."""
 
 
 class _View(Sequence[Any]):
-    """A tuple-like view of the registry: recomputed when the registry changes."""
+    """A tuple-like view of the registry, refreshed whenever the registry changes."""
 
     def __init__(self, pick: Callable[[list[Rule]], tuple[Any, ...]]) -> None:
         self._pick = pick
-        self._seen = -1
-        self._items: tuple[Any, ...] = ()
+        self._items: tuple[Any, ...] = pick(_REGISTRY)
+        _VIEWS.append(self)
 
-    def _now(self) -> tuple[Any, ...]:
-        if self._seen != _VERSION[0]:
-            self._items, self._seen = self._pick(_REGISTRY), _VERSION[0]
-        return self._items
+    def refresh(self) -> None:
+        """Take the registry as it is now."""
+        self._items = self._pick(_REGISTRY)
 
     @overload
     def __getitem__(self, index: int) -> Any: ...
     @overload
     def __getitem__(self, index: slice) -> tuple[Any, ...]: ...
     def __getitem__(self, index: int | slice) -> Any:
-        return self._now()[index]
+        return self._items[index]
 
     def __len__(self) -> int:
-        return len(self._now())
+        return len(self._items)
 
     def __iter__(self) -> Iterator[Any]:
-        return iter(self._now())
+        return iter(self._items)
 
     def __contains__(self, item: object) -> bool:
-        return item in self._now()
+        return item in self._items
 
     def __eq__(self, other: object) -> bool:
-        return self._now() == (tuple(other) if isinstance(other, _View) else other)
+        return self._items == (tuple(other) if isinstance(other, _View) else other)
 
     __hash__ = None  # type: ignore[assignment]
 
     def __add__(self, other: Sequence[Any]) -> tuple[Any, ...]:
-        return self._now() + tuple(other)
+        return self._items + tuple(other)
 
     def __radd__(self, other: Sequence[Any]) -> tuple[Any, ...]:
-        return tuple(other) + self._now()
+        return tuple(other) + self._items
 
     def __repr__(self) -> str:
-        return repr(self._now())
+        return repr(self._items)
 
 
 class _Names(_View):
@@ -147,21 +146,27 @@ CHECK_NAMES: Mapping[str, str] = _Table("words")
 """The checks in words, for figure titles and summaries read by people."""
 
 
+_BY_NAME = _View(lambda rules: ({found.name: found for found in rules},))
+_BY_PART = _View(lambda rules: ({part: tuple(found for found in rules if found.part is part)
+                                 for part in Part},))
+
+
 def rule(name: str) -> Rule:
     """The registered rule of this name.
 
     Raises:
         KeyError: No rule of that name is registered.
     """
-    for found in _REGISTRY:
-        if found.name == name:
-            return found
-    raise KeyError(f"no rule {name!r}; the rules are: {', '.join(CHECKS)}")
+    found: Rule | None = _BY_NAME[0].get(name)
+    if found is None:
+        raise KeyError(f"no rule {name!r}; the rules are: {', '.join(CHECKS)}")
+    return found
 
 
 def rules_of(part: Part) -> tuple[Rule, ...]:
     """The registered rules that judge `part`, in registry order."""
-    return tuple(found for found in RULES if found.part is part)
+    found: tuple[Rule, ...] = _BY_PART[0][part]
+    return found
 
 
 def register(new: Rule, *, after: str | None = None) -> None:
@@ -175,7 +180,7 @@ def register(new: Rule, *, after: str | None = None) -> None:
     Raises:
         ValueError: A rule of that name is registered already.
     """
-    if any(found.name == new.name for found in _REGISTRY):
+    if new.name in _BY_NAME[0]:
         raise ValueError(f"a rule {new.name!r} is registered already")
     if after is not None:
         at = _REGISTRY.index(rule(after)) + 1
@@ -184,7 +189,7 @@ def register(new: Rule, *, after: str | None = None) -> None:
         at = sum(1 for found in _REGISTRY
                  if order.index(found.part) <= order.index(new.part))
     _REGISTRY.insert(at, new)
-    _VERSION[0] += 1
+    _refresh()
 
 
 def unregister(name: str) -> None:
@@ -194,7 +199,12 @@ def unregister(name: str) -> None:
         KeyError: No rule of that name is registered.
     """
     _REGISTRY.remove(rule(name))
-    _VERSION[0] += 1
+    _refresh()
+
+
+def _refresh() -> None:
+    for view in _VIEWS:
+        view.refresh()
 
 
 @contextmanager
