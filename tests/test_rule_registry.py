@@ -179,6 +179,9 @@ def test_payload_form_is_the_forward_check(name):
     verdicts = []
     for case in range(8):
         unit = random_unit(rng)
+        if case % 2:  # the built-in catalog limits no unit's average input speed
+            unit = dataclasses.replace(unit, max_average_input_speed=unit.max_input_speed
+                           * float(rng.uniform(0.05, 0.5)))
         n = 60
         x = random_samples(rng, unit, n)
         t, dt = np.arange(n) * 0.01, np.full(n, 0.01)
@@ -194,7 +197,7 @@ def test_payload_form_is_the_forward_check(name):
         assert masses is not None, f"{name} defines the form: it must give it"
         for mass in np.linspace(0.0, 40.0, 41):
             if any(abs(mass - end) <= 1e-9 * max(1.0, abs(end))
-                   for span in masses for end in span):
+                   for span in masses for end in span if math.isfinite(end)):
                 continue
             tau, stop = tau0 + mass * tau1, stop0 + mass * stop1
             (r,) = reflect([unit], t, tau, x["qd"], x["qdd"], stop, stop_time=STOP_TIME,
