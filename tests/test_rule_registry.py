@@ -181,7 +181,7 @@ def test_payload_form_is_the_forward_check(name):
         unit = random_unit(rng)
         if case % 2:  # the built-in catalog limits no unit's average input speed
             unit = dataclasses.replace(unit, max_average_input_speed=unit.max_input_speed
-                           * float(rng.uniform(0.05, 0.5)))
+                                       * float(rng.uniform(0.05, 0.5)))
         n = 60
         x = random_samples(rng, unit, n)
         t, dt = np.arange(n) * 0.01, np.full(n, 0.01)
