@@ -83,18 +83,16 @@ class MomentaryTorque(Rule):
 
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """Emergency stop |stop0 + x stop1| <= T_M; crash |tau0 + x tau1| + K |qd| <= T_M."""
-        unit = case.unit
-        limit = self.derate(unit.momentary_torque, case.margin)
-        gain = (unit.input_inertia + case.rotor_inertia) * unit.ratio**2 / case.stop_time
+        limit = self.derate(case.unit.momentary_torque, case.margin)
+        gain = _gain(case.unit, case.rotor_inertia, case.stop_time)
         return spans(meet(masses_within(case.stop0, case.stop1, limit),
                           masses_within(case.tau0, case.tau1, limit - gain * np.abs(case.qd))))
 
     def path_rows(self, case: PathCase) -> list[Any]:
         """The emergency stop's and the crash's |tau| (+ K |qd|) <= T_M."""
-        unit = case.unit
-        gain = (unit.input_inertia + case.rotor_inertia) * unit.ratio**2 / case.stop_time
-        return [PathBound(PathKind.MOMENTARY, self.derate(unit.momentary_torque, case.margin),
-                          gain=gain)]
+        return [PathBound(PathKind.MOMENTARY,
+                          self.derate(case.unit.momentary_torque, case.margin),
+                          gain=_gain(case.unit, case.rotor_inertia, case.stop_time))]
 
 
 class WorstEvents:
@@ -159,3 +157,9 @@ def worst_events(batch: UnitBatch) -> WorstEvents:
 
 
 MOMENTARY = MomentaryTorque()
+
+
+def _gain(unit: Unit, rotor_inertia: float, stop_time: float) -> float:
+    """One unit's crash gain K (`crash_gain`) behind a rotor of `rotor_inertia` [N m s]."""
+    return float(crash_gain(np.array(unit.input_inertia + rotor_inertia),
+                            np.array(float(unit.ratio)), stop_time))
