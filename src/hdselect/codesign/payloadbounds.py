@@ -24,6 +24,7 @@ from hdselect.catalog.rules import (
     CycleLoad,
     Momentary,
     MotorDemand,
+    Part,
     Rule,
     check_unit,
     cycle_load,
@@ -92,8 +93,10 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
     """Every registered rule as an interval of x, with tau = tau0 + x tau1 [N m].
 
     Each rule's payload form gives its masses; a rule without one is checked forward
-    (`forward_masses`). A unit's masses are the lowest interval where every rule holds
-    (a later one, beyond a gap, is not claimed: no shipped form gives one).
+    (`forward_masses`): the gearhead's, and its output bearing's where the joint's wrench
+    is given (`check_unit` judges no motor, and the bearing only on its loads). A unit's
+    masses are the lowest interval where every rule holds (a later one, beyond a gap, is
+    not claimed: no shipped form gives one).
 
     Args:
         unit: The unit.
@@ -121,13 +124,15 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
                        *(wrench or (None, None, 0.0)))
     if cubic is None and case.travel > 0.0:
         case = replace(case, mean=joint_mean(step, rest, qd, tau0, tau1))
+    judged = (Part.GEARHEAD, Part.BEARING) if case.wrench0 is not None else (Part.GEARHEAD,)
     ends: dict[str, Interval | None] = {}
     unformed = []
     masses: Interval | None = (0.0, math.inf)
     for rule in RULES:
         found = rule.payload_masses(case)
         if found is None:
-            unformed.append(rule)
+            if rule.part in judged:  # `check_unit` judges no other part
+                unformed.append(rule)
             continue
         ends[rule.name] = found[0] if found else None
         masses = meet(masses, ends[rule.name])
