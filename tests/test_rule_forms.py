@@ -260,7 +260,7 @@ def test_a_rule_without_forms_bounds_max_payload(half_peak) -> None:
     assert stuck.name == result.joint
     (at_limit,) = [c for c in stuck.candidates if c.unit.id == result.unit.id]
     assert not at_limit.checks["half_peak"].ok
-    assert all(c.checks["half_peak"].ok for joint in below.joints for c in [joint.selected])
+    assert all(joint.selected.checks["half_peak"].ok for joint in below.joints)
 
 
 def test_a_rule_without_forms_bounds_fastest(tmp_path, half_peak) -> None:
