@@ -50,9 +50,9 @@ from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import reflect
 from test_codesign import index_table, mean_speed_allowing_peak
 from test_dynamics import REPO
+from test_rule_registry import giving
 
 CATALOG = load_catalog()
-NAMES = [found.name for found in RULES]
 CASES = 40
 EXACT_PATH = ("peak", "static", "speed", "motor_speed")
 """Path forms that are the rule itself at the gridpoints; the others (the emergency stop's
@@ -98,7 +98,7 @@ def _holds(case: PayloadCase, name: str, mass: float) -> bool:
     return check is None or check.ok  # absent: it bounds nothing
 
 
-@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("name", giving("payload_masses"))
 def test_payload_form_agrees_with_the_forward_check(name: str) -> None:
     tested = rule(name)
     rng = np.random.default_rng(sum(map(ord, name)))
@@ -106,8 +106,7 @@ def test_payload_form_agrees_with_the_forward_check(name: str) -> None:
     for _ in range(CASES):
         case = _payload_case(rng)
         found = tested.payload_masses(case)
-        if found is None:
-            continue
+        assert found is not None, f"{name} defines the form: it must give it"
         ends = [end for span in found for end in span if math.isfinite(end)]
         probes = [*rng.uniform(0.0, 60.0, 12),
                   *(end * (1.0 + k * 1e-5) + k * 1e-9 for end in ends for k in (-1, 1))]
@@ -117,9 +116,6 @@ def test_payload_form_agrees_with_the_forward_check(name: str) -> None:
             inside = any(lo <= mass <= hi for lo, hi in found)
             assert _holds(case, name, mass) is inside, (name, case.unit.id, mass, found)
             seen.add(inside)
-    if not seen:
-        pytest.skip(f"{name} gives no payload form: max-payload checks it forward "
-                    "(test_a_rule_without_forms_bounds_max_payload)")
     assert seen == {True, False}, f"{name}: every probe {'passed' if True in seen else 'failed'}"
 
 
@@ -180,7 +176,7 @@ def _samples_pass(case: PathCase, name: str, piece, profile, coefficients, still
     return None if found is None else found.ok
 
 
-@pytest.mark.parametrize("name", NAMES)
+@pytest.mark.parametrize("name", giving("path_rows"))
 def test_path_form_is_never_weaker_than_the_forward_check(name: str) -> None:
     tested = rule(name)
     rng = np.random.default_rng(1000 + sum(map(ord, name)))
@@ -188,8 +184,7 @@ def test_path_form_is_never_weaker_than_the_forward_check(name: str) -> None:
     for _ in range(CASES):
         case, piece, profile, coefficients, still = _path_case(rng)
         bounds = tested.path_rows(case)
-        if bounds is None:
-            continue
+        assert bounds is not None, f"{name} defines the form: it must give it"
         forward = _samples_pass(case, name, piece, profile, coefficients, still)
         if not bounds:  # no bound for this case: the rule is absent for it
             assert forward is None, name
@@ -204,9 +199,6 @@ def test_path_form_is_never_weaker_than_the_forward_check(name: str) -> None:
         if name in EXACT_PATH:
             assert rows is forward, (name, case.unit.id)
         seen.add((rows, forward))
-    if not seen:
-        pytest.skip(f"{name} gives no path form: fastest checks it forward after the solve "
-                    "(test_a_rule_without_forms_bounds_fastest)")
     assert {rows for rows, _ in seen} == {True, False}, f"{name}: the rows never bind"
 
 
