@@ -295,3 +295,26 @@ def test_a_rated_bearing_bounds_each_units_payload_masses(tmp_path) -> None:
     assert bound.ends["bearing_moment"] is not None
     assert bound.masses is not None and bound.masses[1] == pytest.approx(found.mass, rel=1e-5)
     assert bound.limiting(found.mass) == "bearing_moment"
+
+
+class Never(Rule):
+    """A test rule without forms that no cycle passes: twice its limit, always."""
+
+    name = "never"
+    label = "never"
+    words = "never passes"
+    part = Part.GEARHEAD
+    scope = Scope.SAMPLE
+
+    def check(self, case: RuleInput) -> Check | None:
+        return None if case.gear is None else self.judge(2.0, 1.0, case.margin)
+
+
+def test_a_rule_without_forms_that_fails_at_every_mass_leaves_no_payload() -> None:
+    """Through the fallback, no unit has a mass at which it passes: no payload, not a guess."""
+    robot, motion = load_case(REPO / "trajectories" / "planar2_pick_place.toml")
+    with registered(Never()):
+        result = max_payload(robot, motion, catalog=CATALOG[:2])
+    assert result.mass is None and result.ranges == ()
+    assert all(bound.masses is None and bound.ends["never"] is None
+               for per_unit in result.bounds.values() for bound in per_unit)
