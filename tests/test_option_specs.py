@@ -177,7 +177,8 @@ def test_the_mix_file_gives_the_value_and_refuses_it_out_of_range(option, tmp_pa
     assert getattr(mix_options(read), option.name) == value
     with pytest.raises(InputError) as caught:
         load_mix(mix(tmp_path, with_key(option, bad(option))), robot)
-    assert caught.value.path == tmp_path / "mix.toml" and caught.value.field == option.key
+    assert caught.value.path == tmp_path / "mix.toml"
+    assert str(caught.value.field).startswith(str(option.key))
 
 
 @pytest.mark.parametrize("option", in_files("envelope"), ids=ids)
@@ -234,3 +235,41 @@ def test_a_key_is_refused_in_a_file_that_does_not_declare_it(option, kind, tmp_p
         read()
     assert caught.value.path == path and caught.value.field == option.key
     assert "unknown key" in caught.value.reason
+
+
+OFFSET = "\n[sizing]\nbearing_offset_m = { table = 0.05 }\n"
+"""A motion's output flange 50 mm along the index table's axis."""
+
+
+def test_a_mix_of_one_motion_keeps_its_bearing_offset(tmp_path):
+    """Shares (1, 0) reproduce the motion: its flange offset too (a mix once dropped it
+    and took the bearing's loads about the joint origin)."""
+    from hdselect import size
+
+    (tmp_path / "motion.toml").write_text(MOTION + OFFSET)
+    alone = size(None, tmp_path / "motion.toml")
+    (tmp_path / "mix.toml").write_text(f'robot = "{ROBOT}"\n\n[[task]]\nname = "index"\n'
+                                       'motion = "motion.toml"\nshare = 1.0\n')
+    mixed = size(None, tmp_path / "mix.toml")
+    assert alone.options.bearing_offset == mixed.options.bearing_offset == {JOINT: 0.05}
+    assert alone.joints[0].bearing is not None and alone.joints[0].bearing.offset == 0.05
+    assert mixed.joints[0].bearing == alone.joints[0].bearing
+
+
+def test_a_mix_settles_the_bearing_offset_for_the_whole_duty(tmp_path):
+    """Two motions giving different offsets are refused naming both files; the mix file's
+    [sizing] bearing_offset_m settles it over theirs."""
+    robot = load_robot(ROBOT)
+    (tmp_path / "near.toml").write_text(MOTION + OFFSET)
+    (tmp_path / "far.toml").write_text(MOTION + OFFSET.replace("0.05", "0.08"))
+    tasks = ('\n[[task]]\nname = "near"\nmotion = "near.toml"\nshare = 0.5\n'
+             '\n[[task]]\nname = "far"\nmotion = "far.toml"\nshare = 0.5\n')
+    path = tmp_path / "mix.toml"
+    path.write_text(f'robot = "{ROBOT}"\n{tasks}')
+    with pytest.raises(InputError, match="near.toml gives sizing.bearing_offset_m "
+                                         r"\{table = 0.05\}.*far.toml gives \{table = 0.08\}"):
+        mix_options(load_mix(path, robot))
+    path.write_text(f'robot = "{ROBOT}"\n{OFFSET.replace("0.05", "0.02")}{tasks}')
+    settled = load_mix(path, robot)
+    assert mix_options(settled).bearing_offset == {JOINT: 0.02}
+    assert any("bearing_offset_m" in note for note in settled.overrides)

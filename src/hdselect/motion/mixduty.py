@@ -17,7 +17,7 @@ from hdselect.base.tomlfile import check_keys, table_of
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.motion.option_specs import OPTIONS, file_keys, file_options
-from hdselect.motion.sizing_table import chosen_joints
+from hdselect.motion.sizing_table import bearing_offsets, chosen_joints
 from hdselect.robot.model import Robot
 
 SIZING_KEYS = ("joints", "exclude", "catalog", *file_keys("mix", "sizing"))
@@ -29,10 +29,6 @@ MOTION_FIELD = {**{option.name: str(option.key) for option in OPTIONS
 joints and the motors): the mix file gives it in the same place."""
 SECTION_OF = {name: field.split(".")[0] for name, field in MOTION_FIELD.items()}
 """Where each duty-wide value a motion file may also give lives in the mix file."""
-DUTY_OPTIONS = tuple(option.name for option in OPTIONS
-                     if "mix" in option.files and "motion" not in option.files)
-"""Options only a mix file gives, in its ``[sizing]``, for the whole duty (the others it
-gives settle its motion files' values: `MOTION_FIELD`)."""
 
 
 def duty_tables(doc: dict[str, Any], path: Path,
@@ -45,6 +41,9 @@ def duty_tables(doc: dict[str, Any], path: Path,
     check_keys(sizing, SIZING_KEYS, path, "sizing")
     given: dict[str, Any] = file_options(doc, path, "mix")
     given.update(chosen_joints(sizing, path, robot))
+    offsets = bearing_offsets(doc, path, robot)
+    if offsets:
+        given["bearing_offset"] = offsets
     catalog: list[Path] = []
     if "catalog" in sizing:
         files = sizing["catalog"] if isinstance(sizing["catalog"], list) else [sizing["catalog"]]
@@ -61,19 +60,25 @@ def duty_tables(doc: dict[str, Any], path: Path,
 
 
 def motion_value(motion: Motion, name: str) -> Any:
-    """A motion file's duty-wide value (a `MOTION_FIELD` name), None where it gives none."""
+    """A motion file's duty-wide value, None where it gives none.
+
+    None too for a name not in `MOTION_FIELD`: an option only a mix file gives.
+    """
+    if name not in MOTION_FIELD:
+        return None
     if name == "joints":
         return motion.sized_joints
     if name == "exclude":
         return motion.excluded_joints or None
-    return getattr(motion, name)
+    value = getattr(motion, name)
+    return None if isinstance(value, Mapping) and not value else value
 
 
 def comparable(value: Any) -> Any:
     """A duty-wide value in a form two files' values compare in (motors by id and file)."""
-    if isinstance(value, Mapping):
-        return {joint: tuple((m.id, str(m.source)) for m in motors)
-                for joint, motors in value.items()}
+    if isinstance(value, Mapping):  # motors by joint, or offsets by joint [m]
+        return {joint: tuple((m.id, str(m.source)) for m in item) if isinstance(item, tuple)
+                else item for joint, item in value.items()}
     if isinstance(value, list | tuple):
         return tuple(value)
     return value
@@ -81,6 +86,8 @@ def comparable(value: Any) -> Any:
 
 def shown(value: Any) -> str:
     """A duty-wide value as a message shows it."""
+    if isinstance(value, Mapping) and all(isinstance(item, float) for item in value.values()):
+        return "{" + ", ".join(f"{joint} = {item:g}" for joint, item in value.items()) + "}"
     if isinstance(value, Mapping):
         return "motors " + "; ".join(f"{joint}: {', '.join(m.id for m in motors)}"
                                      for joint, motors in value.items())

@@ -231,7 +231,7 @@ OPTIONS: tuple[Option, ...] = (
     Option("bearing_offset", "offsets", MappingProxyType({}),
            "where each named joint's output flange sits along its axis from the joint "
            "origin [m]", bound=bounds.AXIAL_OFFSET, key="sizing.bearing_offset_m",
-           files=("motion", "envelope"), study=False),
+           files=("motion", "mix", "envelope"), study=False),
     Option("bearing_loads", "switch", True,
            "compute the loads on every sized joint's output bearing"),
 )
