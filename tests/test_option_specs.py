@@ -23,7 +23,7 @@ from hdselect.cli.main import _parser
 from hdselect.envelope.specfile import load_envelope_file
 from hdselect.motion.mixfile import load_mix
 from hdselect.motion.motionfile import load_motion
-from hdselect.motion.option_specs import OPTIONS, Option
+from hdselect.motion.option_specs import OPTIONS, Option, given_by
 from hdselect.robot.model import load_robot
 from hdselect.sizing.duty import mix_options
 from hdselect.sizing.options import options_for
@@ -187,7 +187,7 @@ def test_the_envelope_file_gives_the_value_and_refuses_it_out_of_range(option, t
     path = tmp_path / "envelope.toml"
     head = f'robot = "{ROBOT}"\nangle_unit = "deg"\n'
     path.write_text(head + with_key(option, good(option)))
-    assert getattr(load_envelope_file(path, robot), option.name) == good(option)
+    assert given_by(load_envelope_file(path, robot), "envelope") == {option.name: good(option)}
     path.write_text(head + with_key(option, bad(option)))
     with pytest.raises(InputError) as caught:
         load_envelope_file(path, robot)
