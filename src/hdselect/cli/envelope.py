@@ -9,7 +9,13 @@ from pathlib import Path
 
 from hdselect.base.errors import InputError
 from hdselect.cli.arguments import json_argument
-from hdselect.cli.inputs import MOTOR_ORDERS, joint_names, sizing_options_of, timeout_of
+from hdselect.cli.inputs import (
+    MOTOR_ORDERS,
+    flag_options,
+    joint_names,
+    sizing_options_of,
+    timeout_of,
+)
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
 
 _ANGLE = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -125,7 +131,8 @@ def run_envelope(args: argparse.Namespace) -> int:
                 exclude=joint_names(args.exclude, "--exclude"), duty=args.duty, moves=args.moves,
                 seed=args.seed, units=load_catalog(args.catalog), settings=settings,
                 workers=args.workers, scheduler=args.scheduler, timeout=timeout_of(args),
-                **{name: getattr(options, name) for name in _GIVEN if _flag(args, name)})
+                **{name: getattr(options, name) for name, value in flag_options(args).items()
+                   if value is not None})
         except InputError as err:
             raise _flagged(err) from err
         if json_file is not None:
@@ -170,19 +177,6 @@ _HELP = {
 }
 """The help of the flags shared with ``size`` where the envelope reads them otherwise (or
 refuses them: their help is suppressed)."""
-
-
-_GIVEN = {"stop_time": "stop_time", "efficiency": "efficiency", "rotor_inertia": "motor_inertia",
-          "motor_mass": "motor_mass", "prefer": "prefer", "life_hours": "life_hours",
-          "life_basis": "life_basis", "max_samples": "max_samples",
-          "mass_coupling": "no_mass_coupling", "margin": "margin"}
-"""Each option of `hdselect.sizing.options.Options` and the flag that gives it."""
-
-
-def _flag(args: argparse.Namespace, name: str) -> bool:
-    """The option's flag was given (so it overrides the envelope file's value)."""
-    value = getattr(args, _GIVEN[name])
-    return bool(value) if name == "mass_coupling" else value is not None
 
 
 def _flagged(err: InputError) -> InputError:

@@ -341,7 +341,7 @@ def refuse_pair_flags(args: argparse.Namespace, motors: bool) -> None:
     Raises:
         InputError: One is given where it cannot act; the message names both flags.
     """
-    given = _flag_options(args)
+    given = flag_options(args)
     for name, value in given.items():
         requires = OPTION[name].requires
         if value is not None and requires is not None and given.get(requires[0]) != requires[1]:
@@ -389,7 +389,7 @@ def sizing_options_of(args: argparse.Namespace, motion):
     from hdselect.sizing.duty import mix_options
     from hdselect.sizing.options import options_for
 
-    given = _flag_options(args)
+    given = flag_options(args)
     try:
         return (mix_options(motion, **given) if isinstance(motion, Mix)
                 else options_for(motion, **given))
@@ -400,7 +400,7 @@ def sizing_options_of(args: argparse.Namespace, motion):
         raise InputError(err.reason, field=flag or err.field) from err
 
 
-def _flag_options(args: argparse.Namespace) -> dict[str, object]:
+def flag_options(args: argparse.Namespace) -> dict[str, object]:
     """The options whose flags the command offers, by name: None where a flag is not given.
 
     A switch's flag given is the value opposite the option's default.
