@@ -93,7 +93,12 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
     return joints
 
 
-def option_argument(parser: _Parser, name: str, *, source: str | None = "the motion file",
+def option_help(name: str, kind: str | None = "motion", then: tuple[str, ...] = ()) -> str:
+    """An option's flag's help as argparse takes it (`Option.flag_help`, % escaped)."""
+    return OPTION[name].flag_help(kind, then).replace("%", "%%")
+
+
+def option_argument(parser: _Parser, name: str, *, kind: str | None = "motion",
                     **overrides: object) -> None:
     """One option's flag as `hdselect.motion.option_specs.OPTIONS` declares it.
 
@@ -103,13 +108,14 @@ def option_argument(parser: _Parser, name: str, *, source: str | None = "the mot
     Args:
         parser: The command's parser, or one of its groups.
         name: The option.
-        source: The file whose key gives the option's default, where the command reads one.
+        kind: The kind of file whose key gives the option's default, where the command
+            reads one (`hdselect.motion.option_specs.FILE_KINDS`).
         **overrides: Arguments of ``add_argument`` the command gives otherwise.
     """
     option = OPTION[name]
     if option.flag is None:
         raise ValueError(f"option {name} has no flag")
-    kwargs: dict[str, object] = {"help": option.flag_help(source).replace("%", "%%")}
+    kwargs: dict[str, object] = {"help": option_help(name, kind)}
     if option.kind == "switch":
         kwargs["action"] = "store_true"
     else:
@@ -164,4 +170,4 @@ def margin_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> 
         motion: The command reads a motion file (whose ``[requirements] margin`` is the
             default); a duty profile has none.
     """
-    option_argument(parser, "margin", source="the motion file" if motion else None)
+    option_argument(parser, "margin", kind="motion" if motion else None)

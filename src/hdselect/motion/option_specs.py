@@ -152,22 +152,24 @@ class Option:
         return {name: bound.check(offset, path=path, field=f"{field}.{name}")
                 for name, offset in value.items()}
 
-    def flag_help(self, source: str | None = "the motion file") -> str:
+    def flag_help(self, kind: str | None = "motion", then: tuple[str, ...] = ()) -> str:
         """The flag's help: `help` and where its default comes from.
 
         Args:
-            source: The file whose `key` gives the default, where the command reads one
-                (None: a command that reads no such file).
+            kind: The kind of file (`FILE_KINDS`) whose `key` gives the default, where the
+                command reads one (None: a command that reads no such file).
+            then: What gives the default next, where that file does not (``"the duty"``).
         """
         if self.kind == "switch":
             return f"do not {self.help}" if self.default else self.help
         if self.default_help is not None:
             return f"{self.help} ({self.default_help})"
         shown = self.default if not isinstance(self.default, float) else f"{self.default:g}"
-        if source is not None and "motion" in self.files and self.key is not None:
+        if kind is not None and kind in self.files and self.key is not None:
             table, key = self.key.split(".")
-            return (f"{self.help} (default: {source}'s [{table}] {key}, else "
-                    f"{'none' if shown is None else shown})")
+            return (f"{self.help} (default: the {kind} file's [{table}] {key}, "
+                    + "".join(f"else {source}'s, " for source in then)
+                    + f"else {'none' if shown is None else shown})")
         return f"{self.help} (default: {shown})"
 
     def needs_motors(self, value: Any) -> bool:
