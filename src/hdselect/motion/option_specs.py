@@ -54,6 +54,7 @@ class Option:
         kind: One of `KINDS`.
         default: Its value where nothing gives one (None: not given, or chosen later).
         help: What it is, in the flag's words, with its unit.
+        label: Its short name and unit, for a figure's axis (a study's varied parameter).
         bound: The range of a number, or of each value of "offsets" (SI).
         most: The largest value of a "count".
         choices: The values of a "choice".
@@ -80,6 +81,7 @@ class Option:
     kind: str
     default: Any
     help: str
+    label: str = ""
     bound: bounds.Bound | None = None
     most: int = 0
     choices: tuple[str, ...] = ()
@@ -100,6 +102,8 @@ class Option:
             raise ValueError(f"option {self.name}: kind {self.kind!r}, files {self.files}")
         if (self.key is None) != (not self.files):
             raise ValueError(f"option {self.name}: a key needs the files that give it")
+        if not self.label:
+            raise ValueError(f"option {self.name}: no label")
         if self.kind in ("number", "offsets") and self.bound is None:
             raise ValueError(f"option {self.name}: a {self.kind} needs its bound")
 
@@ -181,61 +185,76 @@ class Option:
 OPTIONS: tuple[Option, ...] = (
     Option("stop_time", "number", DEFAULT_STOP_TIME, "emergency-stop and crash time [s]",
            bound=bounds.STOP_TIME, flag="--stop-time", metavar="S", group="sizing",
-           key="safety.stop_time", files=("motion", "mix", "envelope")),
+           key="safety.stop_time", files=("motion", "mix", "envelope"),
+           label="stop time [s]"),
     Option("efficiency", "number", DEFAULT_EFFICIENCY,
            "gear efficiency where a unit has no table", bound=bounds.EFFICIENCY,
-           flag="--efficiency", group="sizing", key="sizing.efficiency", files=("mix",)),
+           flag="--efficiency", group="sizing", key="sizing.efficiency", files=("mix",),
+           label="gear efficiency [-]"),
     Option("rotor_inertia", "number", 0.0,
            "motor rotor inertia [kg m^2] where no motor data is given",
            bound=bounds.ROTOR_INERTIA, flag="--motor-inertia", metavar="KG_M2", group="sizing",
-           key="sizing.rotor_inertia", files=("mix",)),
+           key="sizing.rotor_inertia", files=("mix",),
+           label="rotor inertia [kg m^2]"),
     Option("motor_mass", "number", 0.0,
            "motor mass carried with each gearhead [kg] where no motor data is given",
            bound=bounds.ADDED_MASS, flag="--motor-mass", metavar="KG", group="motors",
-           key="sizing.motor_mass", files=("mix",)),
+           key="sizing.motor_mass", files=("mix",),
+           label="motor mass [kg]"),
     Option("mass_coupling", "switch", True,
            "carry chosen units' masses on the joints nearer the base",
            flag="--no-mass-coupling", group="motors",
-           key="sizing.mass_coupling", files=("mix",)),
+           key="sizing.mass_coupling", files=("mix",),
+           label="mass coupling"),
     Option("prefer", "choice", None,
            "; ".join(f"{order}: {words}" for order, (words, _) in PREFERENCES.items()),
            choices=tuple(PREFERENCES), noun="order", optional=True, flag="--prefer",
            default_help=f"default: {DEFAULT_PREFER_WITH_MOTORS} where motors are given, "
                         f"else {DEFAULT_PREFER}", group="sizing", key="sizing.prefer",
-           files=("mix",), pairs=("motor-rms", "motor-peak", "inertia")),
+           files=("mix",), pairs=("motor-rms", "motor-peak", "inertia"),
+           label="selection order"),
     Option("life_hours", "number", None, "required life [h]", bound=bounds.LIFE,
            optional=True, flag="--life-hours", metavar="H", group="sizing",
-           key="requirements.life_hours", files=("motion", "mix", "envelope")),
+           key="requirements.life_hours", files=("motion", "mix", "envelope"),
+           label="required life [h]"),
     Option("life_basis", "choice", "L50",
            "basis of the required life: L50, average life, or L10, 90 % survive it",
            choices=LIFE_BASES, noun="basis", flag="--life-basis", group="sizing",
-           key="requirements.life_basis", files=("motion", "mix", "envelope")),
+           key="requirements.life_basis", files=("motion", "mix", "envelope"),
+           label="life basis"),
     Option("threads", "count", None, "threads for the batched dynamics (None: chosen from "
            "the sample count; a study's workers use 1)", most=MAX_THREADS, optional=True,
-           study=False),
+           study=False,
+           label="threads"),
     Option("max_samples", "samples", bounds.DEFAULT_MAX_SAMPLES,
            "refuse a trajectory of more samples than this, before allocating it",
            flag="--max-samples", metavar="N", group="case",
-           default_help=f"default {bounds.DEFAULT_MAX_SAMPLES:,}: an 8-hour log at 1 kHz"),
+           default_help=f"default {bounds.DEFAULT_MAX_SAMPLES:,}: an 8-hour log at 1 kHz",
+           label="sample limit"),
     Option("margin", "number", DEFAULT_MARGIN,
            "design margin: every rule must hold at (1 - M) of its limit, e.g. 0.2 for 80 %",
            bound=bounds.MARGIN, flag="--margin", metavar="M", group="sizing",
-           key="requirements.margin", files=("motion", "mix", "envelope")),
+           key="requirements.margin", files=("motion", "mix", "envelope"),
+           label="design margin [-]"),
     Option("max_inertia_ratio", "number", None,
            "a gearhead and motor pair whose load-to-rotor inertia ratio is above R is not "
            "feasible", bound=bounds.INERTIA_RATIO, optional=True, flag="--max-inertia-ratio",
            metavar="R", default_help="default: the motor file's max_inertia_ratio, else none",
-           group="sizing", pairs=True),
+           group="sizing", pairs=True,
+           label="largest inertia ratio [-]"),
     Option("inertia_target", "number", DEFAULT_INERTIA_TARGET,
            "the load-to-rotor inertia ratio --prefer inertia aims at",
            bound=bounds.INERTIA_RATIO, flag="--inertia-target", metavar="R", group="sizing",
-           pairs=True, requires=("prefer", "inertia")),
+           pairs=True, requires=("prefer", "inertia"),
+           label="inertia ratio aimed at [-]"),
     Option("bearing_offset", "offsets", MappingProxyType({}),
            "where each named joint's output flange sits along its axis from the joint "
            "origin [m]", bound=bounds.AXIAL_OFFSET, key="sizing.bearing_offset_m",
-           files=("motion", "mix", "envelope"), study=False),
+           files=("motion", "mix", "envelope"), study=False,
+           label="flange offset [m]"),
     Option("bearing_loads", "switch", True,
-           "compute the loads on every sized joint's output bearing"),
+           "compute the loads on every sized joint's output bearing",
+           label="bearing loads"),
 )
 """Every sizing option, in the order of `Options`' fields and of the flags in ``--help``."""
 
