@@ -98,8 +98,7 @@ def option_help(name: str, kind: str | None = "motion", then: tuple[str, ...] = 
     return OPTION[name].flag_help(kind, then).replace("%", "%%")
 
 
-def option_argument(parser: _Parser, name: str, *, kind: str | None = "motion",
-                    **overrides: object) -> None:
+def option_argument(parser: _Parser, name: str, *, kind: str | None = "motion") -> None:
     """One option's flag as `hdselect.motion.option_specs.OPTIONS` declares it.
 
     The flag's value is None where it is not given (a switch's: False), except for a
@@ -110,7 +109,6 @@ def option_argument(parser: _Parser, name: str, *, kind: str | None = "motion",
         name: The option.
         kind: The kind of file whose key gives the option's default, where the command
             reads one (`hdselect.motion.option_specs.FILE_KINDS`).
-        **overrides: Arguments of ``add_argument`` the command gives otherwise.
     """
     option = OPTION[name]
     if option.flag is None:
@@ -126,7 +124,7 @@ def option_argument(parser: _Parser, name: str, *, kind: str | None = "motion",
             kwargs["metavar"] = option.metavar
         if option.group == "case":
             kwargs["default"] = option.default
-    parser.add_argument(option.flag, **{**kwargs, **overrides})  # type: ignore[arg-type]
+    parser.add_argument(option.flag, **kwargs)  # type: ignore[arg-type]
 
 
 def option_arguments(parser: _Parser, group: str) -> None:
