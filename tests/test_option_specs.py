@@ -23,7 +23,7 @@ from hdselect.cli.main import _parser
 from hdselect.envelope.specfile import load_envelope_file
 from hdselect.motion.mixfile import load_mix
 from hdselect.motion.motionfile import load_motion
-from hdselect.motion.option_specs import OPTIONS, Option, given_by
+from hdselect.motion.option_specs import OPTION, OPTIONS, Option, given_by
 from hdselect.robot.model import load_robot
 from hdselect.sizing.duty import mix_options
 from hdselect.sizing.options import options_for
@@ -273,3 +273,28 @@ def test_a_mix_settles_the_bearing_offset_for_the_whole_duty(tmp_path):
     settled = load_mix(path, robot)
     assert mix_options(settled).bearing_offset == {JOINT: 0.02}
     assert any("bearing_offset_m" in note for note in settled.overrides)
+
+
+@pytest.mark.parametrize("option", [o for o in OPTIONS if o.pairs or o.requires], ids=ids)
+def test_a_flag_that_acts_on_pairs_is_refused_without_motors(option, tmp_path):
+    """Each value that acts on gearhead and motor pairs only is refused without motors,
+    and accepted with them; one that needs another option's value is refused without it."""
+    from hdselect.cli.inputs import refuse_pair_flags
+
+    motion = tmp_path / "motion.toml"
+    motion.write_text(MOTION)
+    assert option.flag is not None
+    values = [c for c in option.choices if option.needs_motors(c)] or [str(good(option))]
+    for value in values:
+        given = [option.flag, value]
+        if option.requires is not None:
+            with pytest.raises(InputError) as caught:
+                refuse_pair_flags(size_args(motion, *given), motors=True)
+            other = OPTION[option.requires[0]]
+            assert caught.value.field == option.flag and f"{other.flag} {option.requires[1]}" \
+                in caught.value.reason
+            given += [str(other.flag), option.requires[1]]
+        refuse_pair_flags(size_args(motion, *given), motors=True)
+        with pytest.raises(InputError) as caught:
+            refuse_pair_flags(size_args(motion, *given), motors=False)
+        assert caught.value.field == option.flag and "no motor is given" in caught.value.reason
