@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import argparse
 
-from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
 from hdselect.base.scheduler import DEFAULT_TIMEOUT
+from hdselect.motion.option_specs import OPTION, OPTIONS
+
+_Parser = argparse.ArgumentParser | argparse._ArgumentGroup
 
 
 def catalog_argument(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
@@ -87,63 +89,75 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
     joints.add_argument("--exclude", metavar="A,B", action="append",
                         help=f"do not {doing} these joints; they still move and load the others "
                              "(overrides the motion file's [sizing] exclude)")
-    parser.add_argument("--max-samples", type=int, metavar="N",
-                        default=DEFAULT_MAX_SAMPLES,
-                        help="refuse a trajectory of more samples than this, before allocating "
-                             f"it (default {DEFAULT_MAX_SAMPLES:,}: an 8-hour log at 1 kHz)")
+    option_arguments(parser, "case")
     return joints
 
 
+def option_help(name: str, kind: str | None = "motion", then: tuple[str, ...] = ()) -> str:
+    """An option's flag's help as argparse takes it (`Option.flag_help`, % escaped)."""
+    return OPTION[name].flag_help(kind, then).replace("%", "%%")
+
+
+def option_argument(parser: _Parser, name: str, *, kind: str | None = "motion") -> None:
+    """One option's flag as `hdselect.motion.option_specs.OPTIONS` declares it.
+
+    The flag's value is None where it is not given (a switch's: False), except for a
+    "case" flag, whose default is the option's.
+
+    Args:
+        parser: The command's parser, or one of its groups.
+        name: The option.
+        kind: The kind of file whose key gives the option's default, where the command
+            reads one (`hdselect.motion.option_specs.FILE_KINDS`).
+    """
+    option = OPTION[name]
+    if option.flag is None:
+        raise ValueError(f"option {name} has no flag")
+    kwargs: dict[str, object] = {"help": option_help(name, kind)}
+    if option.kind == "switch":
+        kwargs["action"] = "store_true"
+    else:
+        kwargs["type"] = {"number": float, "count": int, "samples": int}.get(option.kind, str)
+        if option.choices:
+            kwargs["choices"] = option.choices
+        if option.metavar is not None:
+            kwargs["metavar"] = option.metavar
+        if option.group == "case":
+            kwargs["default"] = option.default
+    parser.add_argument(option.flag, **kwargs)  # type: ignore[arg-type]
+
+
+def option_arguments(parser: _Parser, group: str) -> None:
+    """The flags of a group of options (`hdselect.motion.option_specs.Option.group`)."""
+    for option in OPTIONS:
+        if option.group == group:
+            option_argument(parser, option.name)
+
+
 def sizing_arguments(parser: argparse.ArgumentParser) -> None:
-    """The flags of the sizing assumptions (`hdselect.sizing.core.options.Options`)."""
-    from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, PREFERENCES
-    from hdselect.motion.motionfile import LIFE_BASES
-    from hdselect.sizing.options import Options
+    """The flags of the sizing assumptions (`hdselect.sizing.options.Options`).
 
-    defaults = Options()
+    The options of the groups "sizing" and "motors", ``--catalog`` and ``--motor-catalog``.
+    """
     catalog_argument(parser)
-    parser.add_argument("--stop-time", type=float, metavar="S",
-                        help="emergency-stop and crash time [s] (default: the motion file's "
-                             f"[safety] stop_time, else {defaults.stop_time:g})")
-    parser.add_argument("--efficiency", type=float,
-                        help=f"gear efficiency where a unit has no table (default "
-                             f"{defaults.efficiency:g})")
-    parser.add_argument("--motor-inertia", type=float, metavar="KG_M2",
-                        help="motor rotor inertia [kg m^2] where no motor data is given "
-                             "(default 0)")
-    motor_arguments(parser)
-    parser.add_argument("--prefer", choices=tuple(PREFERENCES),
-                        help="; ".join(f"{k}: {v[0]}" for k, v in PREFERENCES.items())
-                        + f" (default: {DEFAULT_PREFER_WITH_MOTORS} where motors are given, "
-                          f"else {DEFAULT_PREFER})")
-    parser.add_argument("--life-hours", type=float, metavar="H",
-                        help="required life [h] (default: the motion file's requirement)")
-    parser.add_argument("--life-basis", choices=LIFE_BASES,
-                        help="basis of the required life: L50, average life, or L10, 90 %% "
-                             "survive it (default: the motion file's, else L50)")
-    margin_argument(parser)
-    parser.add_argument("--max-inertia-ratio", type=float, metavar="R",
-                        help="a gearhead and motor pair whose load-to-rotor inertia ratio is "
-                             "above R is not feasible (default: the motor file's "
-                             "max_inertia_ratio, else none)")
-    parser.add_argument("--inertia-target", type=float, metavar="R",
-                        help="the load-to-rotor inertia ratio --prefer inertia aims at "
-                             f"(default {defaults.inertia_target:g})")
+    motors = False
+    for option in OPTIONS:
+        if option.group == "sizing":
+            option_argument(parser, option.name)
+        elif option.group == "motors" and not motors:
+            motor_arguments(parser)
+            motors = True
 
 
-def motor_arguments(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
-    """--motor-mass, --motor-catalog, --no-mass-coupling: motors and the units' masses.
+def motor_arguments(parser: _Parser) -> None:
+    """--motor-catalog, then the flags of the "motors" group: motors and the units' masses.
 
     Declared on a parser, or on one of its groups.
     """
-    parser.add_argument("--motor-mass", type=float, metavar="KG",
-                        help="motor mass carried with each gearhead [kg] where no motor data "
-                             "is given (default 0)")
     parser.add_argument("--motor-catalog", metavar="FILE",
                         help="motor file (TOML): every sized joint chooses its motor from it, "
                              "with its gearhead (replaces the motion file's [motor])")
-    parser.add_argument("--no-mass-coupling", action="store_true",
-                        help="do not carry chosen units' masses on the joints nearer the base")
+    option_arguments(parser, "motors")
 
 
 def margin_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> None:
@@ -154,8 +168,4 @@ def margin_argument(parser: argparse.ArgumentParser, *, motion: bool = True) -> 
         motion: The command reads a motion file (whose ``[requirements] margin`` is the
             default); a duty profile has none.
     """
-    parser.add_argument("--margin", type=float, metavar="M",
-                        help="design margin: every rule must hold at (1 - M) of its limit, "
-                             "e.g. 0.2 for 80 %% (default: " + (
-                                 "the motion file's [requirements] margin, else 0)" if motion
-                                 else "0)"))
+    option_argument(parser, "margin", kind="motion" if motion else None)

@@ -9,7 +9,13 @@ from pathlib import Path
 
 from hdselect.base.errors import InputError
 from hdselect.cli.arguments import json_argument
-from hdselect.cli.inputs import MOTOR_ORDERS, joint_names, sizing_options_of, timeout_of
+from hdselect.cli.inputs import (
+    MOTOR_ORDERS,
+    flag_options,
+    joint_names,
+    sizing_options_of,
+    timeout_of,
+)
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
 
 _ANGLE = {"deg": math.pi / 180.0, "rad": 1.0}
@@ -20,7 +26,13 @@ _AS_DUTY = "give it as --duty FILE: the cycle the mean torque and life are judge
 def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``hdselect envelope``."""
     from hdselect.catalog.select import DEFAULT_PREFER, PREFERENCES
-    from hdselect.cli.arguments import scheduler_arguments, sizing_arguments, xacro_argument
+    from hdselect.cli.arguments import (
+        option_help,
+        scheduler_arguments,
+        sizing_arguments,
+        xacro_argument,
+    )
+    from hdselect.motion.option_specs import OPTIONS
 
     parser.add_argument("target", metavar="ROBOT",
                         help="robot file (URDF, xacro, MJCF), or an envelope file (TOML) that "
@@ -69,8 +81,11 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
                         help="refuse a duty of more samples than this")
     sizing_arguments(parser)
     for action in parser._actions:  # the shared flags, as the envelope reads them
-        if action.dest in _HELP:
-            action.help = _HELP[action.dest]
+        option = next((o for o in OPTIONS if o.dest == action.dest), None)
+        if action.dest == "motor_catalog" or (option is not None and option.pairs is True):
+            action.help = argparse.SUPPRESS  # the envelope chooses no motors yet: refused
+        elif option is not None and "envelope" in option.files:
+            action.help = option_help(option.name, "envelope", then=("the duty",))
         if action.dest == "prefer":  # no motors: the orders of gearheads alone
             action.choices = tuple(k for k in PREFERENCES if k not in MOTOR_ORDERS)
             action.help = "; ".join(f"{k}: {PREFERENCES[k][0]}" for k in action.choices) + (
@@ -125,7 +140,8 @@ def run_envelope(args: argparse.Namespace) -> int:
                 exclude=joint_names(args.exclude, "--exclude"), duty=args.duty, moves=args.moves,
                 seed=args.seed, units=load_catalog(args.catalog), settings=settings,
                 workers=args.workers, scheduler=args.scheduler, timeout=timeout_of(args),
-                **{name: getattr(options, name) for name in _GIVEN if _flag(args, name)})
+                **{name: getattr(options, name) for name, value in flag_options(args).items()
+                   if value is not None})
         except InputError as err:
             raise _flagged(err) from err
         if json_file is not None:
@@ -153,36 +169,6 @@ def _write_report(args: argparse.Namespace, result, report: Path) -> None:
                                         duty_report=False), encoding="utf-8")
     else:
         write_envelope_report(report, result, command=args.command_line)
-
-
-_HELP = {
-    "stop_time": "emergency-stop and crash time [s] (default: the envelope file's [safety] "
-                 "stop_time, else the duty's, else 0.1)",
-    "life_hours": "required life [h] (default: the envelope file's requirement, else the "
-                  "duty's)",
-    "life_basis": "basis of the required life: L50, average life, or L10, 90 %% survive it "
-                  "(default: the envelope file's, else the duty's, else L50)",
-    # not taken by envelope yet, which chooses no motors: refused, so not listed
-    "motor_catalog": argparse.SUPPRESS, "max_inertia_ratio": argparse.SUPPRESS,
-    "inertia_target": argparse.SUPPRESS,
-    "margin": "design margin: every rule must hold at (1 - M) of its limit, e.g. 0.2 for 80 "
-              "%% (default: the envelope file's [requirements] margin, else the duty's, else 0)",
-}
-"""The help of the flags shared with ``size`` where the envelope reads them otherwise (or
-refuses them: their help is suppressed)."""
-
-
-_GIVEN = {"stop_time": "stop_time", "efficiency": "efficiency", "rotor_inertia": "motor_inertia",
-          "motor_mass": "motor_mass", "prefer": "prefer", "life_hours": "life_hours",
-          "life_basis": "life_basis", "max_samples": "max_samples",
-          "mass_coupling": "no_mass_coupling", "margin": "margin"}
-"""Each option of `hdselect.sizing.options.Options` and the flag that gives it."""
-
-
-def _flag(args: argparse.Namespace, name: str) -> bool:
-    """The option's flag was given (so it overrides the envelope file's value)."""
-    value = getattr(args, _GIVEN[name])
-    return bool(value) if name == "mass_coupling" else value is not None
 
 
 def _flagged(err: InputError) -> InputError:

@@ -13,15 +13,7 @@ from pathlib import Path
 
 from hdselect.base.errors import InputError
 from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
-
-_OPTION_FLAGS = {"stop_time": "--stop-time", "efficiency": "--efficiency",
-                 "rotor_inertia": "--motor-inertia", "motor_mass": "--motor-mass",
-                 "prefer": "--prefer", "life_hours": "--life-hours",
-                 "life_basis": "--life-basis", "max_samples": "--max-samples",
-                 "margin": "--margin", "max_inertia_ratio": "--max-inertia-ratio",
-                 "inertia_target": "--inertia-target"}
-"""The command-line option of each field of `hdselect.sizing.options.Options`."""
-
+from hdselect.motion.option_specs import OPTION, OPTIONS
 
 SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile", "hdselect.motion.solve",
                  "hdselect.motion.planning", "hdselect.motion.planning.crossings")
@@ -333,35 +325,38 @@ def motors_of(args: argparse.Namespace, robot, motion) -> dict:
     return motors
 
 
-MOTOR_ORDERS = ("motor-rms", "motor-peak", "inertia")
+MOTOR_ORDERS = tuple(order for order in OPTION["prefer"].choices
+                     if OPTION["prefer"].needs_motors(order))
 """The selection orders (``--prefer``) that rank gearhead and motor pairs by the motor."""
 
 
 def refuse_pair_flags(args: argparse.Namespace, motors: bool) -> None:
     """Refuse the flags that would act on nothing: each acts on gearhead and motor pairs.
 
-    ``--inertia-target`` acts only with ``--prefer inertia``; that order, the motor
-    orders and ``--max-inertia-ratio`` only where motors are given.
+    An option that acts only with another's value (``--inertia-target``: ``--prefer
+    inertia``) is refused without it; one that acts on pairs (`Option.pairs`: the motor
+    orders of ``--prefer``, ``--max-inertia-ratio``, ``--inertia-target``) only where
+    motors are given. A command takes the flags it offers (``plan``: neither).
 
     Raises:
         InputError: One is given where it cannot act; the message names both flags.
     """
-    target = getattr(args, "inertia_target", None)  # plan takes neither flag
-    prefer = getattr(args, "prefer", None)
-    max_ratio = getattr(args, "max_inertia_ratio", None)
-    if target is not None and prefer != "inertia":
-        raise InputError("the ratio --prefer inertia aims at: without --prefer inertia it acts "
-                         "on nothing; give both, or neither", field="--inertia-target")
+    given = flag_options(args)
+    for name, value in given.items():
+        requires = OPTION[name].requires
+        if value is not None and requires is not None and given.get(requires[0]) != requires[1]:
+            other = f"{OPTION[requires[0]].flag} {requires[1]}"
+            raise InputError(f"{OPTION[name].help}: without {other} it acts on nothing; give "
+                             "both, or neither", field=OPTION[name].flag)
     if motors:
         return
-    for flag, given in (("--max-inertia-ratio", max_ratio is not None),
-                        ("--inertia-target", target is not None),
-                        ("--prefer", prefer in MOTOR_ORDERS)):
-        if given:
-            what = f"'{prefer}' orders" if flag == "--prefer" else "judges"
+    for name, value in sorted(given.items(), key=lambda item: OPTION[item[0]].kind == "choice"):
+        option = OPTION[name]  # a flag that acts on pairs named before an order of them
+        if option.needs_motors(value):
+            what = f"'{value}' {option.noun}s" if option.kind == "choice" else "judges"
             raise InputError(f"{what} gearhead and motor pairs, and no motor is given: give "
                              "--motor-catalog (or a [motor] table in the motion file)",
-                             field=flag)
+                             field=option.flag)
 
 
 def planned_and_sized(robot, motion, units, options, motors):
@@ -385,7 +380,8 @@ def planned_and_sized(robot, motion, units, options, motors):
 def sizing_options_of(args: argparse.Namespace, motion):
     """The validated options of the sizing flags, the motion file's where a flag is absent.
 
-    A command takes the flags it offers (``plan``: the few its torques depend on).
+    A command takes the flags it offers (``plan``: the few its torques depend on); a
+    switch's flag gives the value opposite its default.
 
     For a mix: the mix file's, else what its motions agree on (`hdselect.sizing.duty`).
     """
@@ -393,18 +389,30 @@ def sizing_options_of(args: argparse.Namespace, motion):
     from hdselect.sizing.duty import mix_options
     from hdselect.sizing.options import options_for
 
-    given = {name: getattr(args, flag[2:].replace("-", "_"))
-             for name, flag in _OPTION_FLAGS.items() if hasattr(args, flag[2:].replace("-", "_"))}
-    given["mass_coupling"] = not args.no_mass_coupling
-    if isinstance(motion, Mix) and not args.no_mass_coupling:
-        given["mass_coupling"] = None  # the mix file's, else on
+    given = flag_options(args)
     try:
         return (mix_options(motion, **given) if isinstance(motion, Mix)
                 else options_for(motion, **given))
     except InputError as err:
         if err.path is not None:
             raise
-        raise InputError(err.reason, field=_OPTION_FLAGS.get(str(err.field), err.field)) from err
+        flag = OPTION[str(err.field)].flag if str(err.field) in OPTION else None
+        raise InputError(err.reason, field=flag or err.field) from err
+
+
+def flag_options(args: argparse.Namespace) -> dict[str, object]:
+    """The options whose flags the command offers, by name: None where a flag is not given.
+
+    A switch's flag given is the value opposite the option's default.
+    """
+    given: dict[str, object] = {}
+    for option in OPTIONS:
+        if option.dest is not None and hasattr(args, option.dest):
+            value = getattr(args, option.dest)
+            if option.kind == "switch":
+                value = (not option.default) if value else None
+            given[option.name] = value
+    return given
 
 
 def input_files(robot, motion) -> list[Path]:

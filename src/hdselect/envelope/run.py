@@ -50,6 +50,7 @@ from hdselect.envelope.workers import Spread, default_workers
 from hdselect.motion.case import robot_for_motion
 from hdselect.motion.mixfile import is_mix_file
 from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.option_specs import given_by
 from hdselect.motion.planning import Trajectory
 from hdselect.motion.robot_named import other_robot
 from hdselect.robot.dynamics import gravity_torques
@@ -434,10 +435,7 @@ def _options(file: EnvelopeFile | None, motion: Motion | None,
     """The options: given, else the envelope file's, else the duty's motion file's."""
     values = dict(given)
     values.setdefault("max_samples", DEFAULT_MAX_SAMPLES)
-    if file is not None:
-        for name in ("stop_time", "life_hours", "life_basis", "margin"):
-            if values.get(name) is None and getattr(file, name) is not None:
-                values[name] = getattr(file, name)
-        if values.get("bearing_offset") is None and file.bearing_offset:
-            values["bearing_offset"] = dict(file.bearing_offset)
+    for name, value in (given_by(file, "envelope") if file is not None else {}).items():
+        if values.get(name) is None:
+            values[name] = value
     return options_for(motion, **values)

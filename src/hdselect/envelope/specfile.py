@@ -23,8 +23,9 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
-from hdselect.base.tomlfile import as_number, check_keys, number, read_toml, table_of
+from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.motion.motionfile import mounting_of, payload_table
+from hdselect.motion.option_specs import file_keys, file_options
 from hdselect.motion.sizing_table import bearing_offsets
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
@@ -41,8 +42,9 @@ MAX_DUTY_MOVES = 10_000
 
 _TOP_KEYS = ("robot", "angle_unit", "mounting", "base", "payload", "limits", "safety",
              "requirements", "sizing", "duty")
-_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin"),
-             "sizing": ("joints", "exclude", "bearing_offset_m"),
+_SECTIONS = {"safety": file_keys("envelope", "safety"),
+             "requirements": file_keys("envelope", "requirements"),
+             "sizing": ("joints", "exclude", *file_keys("envelope", "sizing")),
              "duty": ("motion", "moves", "seed")}
 
 
@@ -133,17 +135,7 @@ def load_envelope_file(path: str | Path, robot: Robot) -> EnvelopeFile:
     sections = {name: table_of(doc.get(name, {}), path, name) for name in _SECTIONS}
     for name, keys in _SECTIONS.items():
         check_keys(sections[name], keys, path, name)
-    safety, needs, sizing, duty = (sections[name] for name in _SECTIONS)
-    stop_time = (number(safety, "stop_time", path, "safety", bound=bounds.STOP_TIME)
-                 if "stop_time" in safety else None)
-    life_hours = (number(needs, "life_hours", path, "requirements", bound=bounds.LIFE)
-                  if "life_hours" in needs else None)
-    margin = (number(needs, "margin", path, "requirements", bound=bounds.MARGIN)
-              if "margin" in needs else None)
-    basis = needs.get("life_basis")
-    if basis is not None and basis not in ("L50", "L10"):
-        raise InputError(f"expected L50 or L10, got {basis!r}", path=path,
-                         field="requirements.life_basis")
+    sizing, duty = sections["sizing"], sections["duty"]
     names = {key: _names(sizing[key], path, f"sizing.{key}") for key in ("joints", "exclude")
              if key in sizing}
     return EnvelopeFile(
@@ -151,9 +143,8 @@ def load_envelope_file(path: str | Path, robot: Robot) -> EnvelopeFile:
         limits=limits,
         mounting=mounting_of(doc, path, ANGLE_UNITS[doc["angle_unit"]], doc["angle_unit"]),
         payload=payload_table(doc["payload"], path) if "payload" in doc else None,
-        stop_time=stop_time, life_hours=life_hours, life_basis=basis, margin=margin,
         joints=names.get("joints"), exclude=names.get("exclude", ()),
-        bearing_offset=bearing_offsets(doc, path, robot),
+        bearing_offset=bearing_offsets(doc, path, robot), **file_options(doc, path, "envelope"),
         duty=_duty_file(duty, path), moves=_whole(duty, "moves", path, 1, MAX_DUTY_MOVES),
         seed=_whole(duty, "seed", path, 0, 2**63 - 1))
 

@@ -30,7 +30,7 @@ from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import is_input_file
-from hdselect.base.tomlfile import check_keys, join, number, table_of
+from hdselect.base.tomlfile import check_keys, number, table_of
 from hdselect.catalog.motors import Motor
 from hdselect.motion.limits import (
     JointLists,
@@ -43,6 +43,11 @@ from hdselect.motion.limits import (
 from hdselect.motion.lines import LinePath
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
+from hdselect.motion.option_specs import (  # noqa: F401 (LIFE_BASES: public here too)
+    LIFE_BASES,
+    file_keys,
+    file_options,
+)
 from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: public here too)
     load_named,
     named_file,
@@ -78,14 +83,6 @@ _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
 
 _NEEDED = {"ruckig": ("velocity", "acceleration", "jerk"), "toppra": ("velocity", "acceleration"),
            "samples": ()}
-
-
-_SECTIONS = {"safety": ("stop_time",), "requirements": ("life_hours", "life_basis", "margin")}
-_BOUNDS = {"stop_time": bounds.STOP_TIME, "life_hours": bounds.LIFE, "margin": bounds.MARGIN}
-
-
-LIFE_BASES = ("L50", "L10")
-"""Valid values of ``[requirements] life_basis``: L50 (average) or L10 (90 % survival) life."""
 
 
 _ALLOWED = {"ruckig": _NEEDED["ruckig"], "toppra": ("velocity", "acceleration", "torque"),
@@ -262,8 +259,10 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         lim["velocity"] = frozen(velocity)
         warnings += beyond_robot(velocity, robot, scale, units, from_robot)
     sizing = sizing_joints(doc, path, robot)
-    stop_time = _section(doc, "safety", path).get("stop_time")
-    requirements = _section(doc, "requirements", path)
+    for table in ("safety", "requirements"):
+        check_keys(table_of(doc.get(table, {}), path, table), file_keys("motion", table), path,
+                   table)
+    options = file_options(doc, path, "motion")
     samples = None
     if planner == "samples":
         if "waypoint" in doc:
@@ -291,45 +290,27 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         waypoints=frozen(waypoints), dwells=frozen(dwells),
         velocity_limit=lim.get("velocity"), acceleration_limit=lim.get("acceleration"),
         jerk_limit=lim.get("jerk"), torque_limit=lim.get("torque"),
-        stop_time=stop_time, life_hours=requirements.get("life_hours"),
-        life_basis=requirements.get("life_basis"), samples=samples,
+        samples=samples,
         robot_file=robot_file, payload=file_payload, mounting=file_mounting,
         angle_unit=angle_unit, sized_joints=sizing.get("joints"),
         excluded_joints=sizing.get("exclude", ()), velocity_from_robot=from_robot,
         warnings=tuple(warnings), motors=motors,
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
-        margin=requirements.get("margin"),
         tool=tool if planner != "samples" else None,
         xacro_args=xacro_args,
-        bearing_offset=bearing_offsets(doc, path, robot),
+        bearing_offset=bearing_offsets(doc, path, robot), **options,
     )
 
 
-def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path,
-            where: str = "") -> str:
-    field = join(where, key)
+def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path) -> str:
     if key not in doc:
         raise InputError(f"required key is missing; choose one of: {', '.join(choices)}",
-                         path=path, field=field)
+                         path=path, field=key)
     if doc[key] not in choices:
         raise InputError(f"unknown value {doc[key]!r}; choose one of: {', '.join(choices)}",
-                         path=path, field=field)
+                         path=path, field=key)
     return doc[key]
-
-
-def _section(doc: dict[str, Any], section: str, path: Path) -> dict[str, Any]:
-    """The numbers of ``[safety]`` or ``[requirements]``, validated."""
-    table = table_of(doc.get(section, {}), path, section)
-    check_keys(table, _SECTIONS[section], path, section)
-    values: dict[str, Any] = {}
-    for key in _SECTIONS[section]:
-        if key == "life_basis":
-            if key in table:
-                values[key] = _choice(table, key, LIFE_BASES, path, where=section)
-        elif key in table:
-            values[key] = number(table, key, path, section, bound=_BOUNDS[key])
-    return values
 
 
 def payload_table(value: Any, path: Path) -> Payload:

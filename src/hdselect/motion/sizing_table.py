@@ -5,13 +5,13 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from hdselect.base import bounds
 from hdselect.base.errors import InputError
-from hdselect.base.tomlfile import as_number, check_keys, table_of
+from hdselect.base.tomlfile import check_keys, table_of
+from hdselect.motion.option_specs import OPTION, file_keys
 from hdselect.robot.model import Robot
 
-SIZING_KEYS = ("joints", "exclude", "bearing_offset_m")
-"""The keys of ``[sizing]``."""
+SIZING_KEYS = ("joints", "exclude", *file_keys("motion", "sizing"))
+"""The keys of a motion file's ``[sizing]``."""
 
 
 def sizing_joints(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, tuple[str, ...]]:
@@ -57,13 +57,13 @@ def bearing_offsets(doc: dict[str, Any], path: Path, robot: Robot) -> dict[str, 
     Raises:
         InputError: A name is not a joint, or a prismatic one, or an offset is out of range.
     """
-    where = "sizing.bearing_offset_m"
-    table = table_of(table_of(doc.get("sizing", {}), path, "sizing").get("bearing_offset_m", {}),
-                     path, where)
+    option = OPTION["bearing_offset"]
+    where = str(option.key)
+    section, key = where.split(".")
+    table = table_of(table_of(doc.get(section, {}), path, section).get(key, {}), path, where)
     for name in table:
         j = robot.joint_index(name, source=path, field=f"{where}.{name}")
         if not robot.revolute[j]:
             raise InputError(f"joint '{name}' is prismatic; only rotary joints take a gearhead "
                              "and its bearing", path=path, field=f"{where}.{name}")
-    return {name: as_number(value, path, f"{where}.{name}", bound=bounds.AXIAL_OFFSET)
-            for name, value in table.items()}
+    return option.check(table, path=path, field=where)

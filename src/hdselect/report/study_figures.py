@@ -12,6 +12,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from hdselect.catalog.checks import LIFE_CAP
+from hdselect.motion.option_specs import OPTIONS
 from hdselect.report.figures import save
 
 
@@ -158,8 +159,7 @@ def _position(xs: list, value: object, numeric: bool) -> float:
 
 
 _AXIS_LABELS = {"payload": "payload [kg]", "time_scale": "time scale s: the cycle run s times "
-                "slower [-]", "stop_time": "stop time [s]", "motor_mass": "motor mass [kg]",
-                "rotor_inertia": "rotor inertia [kg m^2]", "life_hours": "required life [h]"}
+                "slower [-]", **{option.name: option.label for option in OPTIONS}}
 
 
 _SHORT_LABELS = {**_AXIS_LABELS, "time_scale": "time scale [-]"}

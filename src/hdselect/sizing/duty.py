@@ -22,16 +22,13 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
 from hdselect.motion.case import robot_for_motion
 from hdselect.motion.mixfile import SECONDS_PER_HOUR, SHARE_TOLERANCE, Mix
+from hdselect.motion.option_specs import OPTIONS
 from hdselect.motion.planning import plan_motion
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.tasks import Task, cycle_of
-
-DUTY_OPTIONS = ("prefer", "efficiency", "mass_coupling", "rotor_inertia", "motor_mass")
-"""Options a mix file's ``[sizing]`` may give (the stop time, the required life and the
-design margin come from its ``[safety]`` and ``[requirements]``, or the motions')."""
 
 
 def mix_options(mix: Mix, **given: Any) -> Options:
@@ -48,14 +45,11 @@ def mix_options(mix: Mix, **given: Any) -> Options:
         InputError: A value is out of range, or two files disagree on a duty-wide value.
     """
     values = {name: value for name, value in given.items() if value is not None}
-    for name in ("stop_time", "life_hours", "life_basis", "margin"):
-        if name not in values:
-            value = mix.duty_value(name)
+    for option in OPTIONS:  # what a mix file gives (`hdselect.motion.option_specs.Option.files`)
+        if "mix" in option.files and option.name not in values:
+            value = mix.duty_value(option.name)
             if value is not None:
-                values[name] = value
-    for name in DUTY_OPTIONS:
-        if name not in values and name in mix.given:
-            values[name] = mix.given[name]
+                values[option.name] = value
     return options_for(None, **values)
 
 

@@ -1,4 +1,7 @@
-"""The assumptions of a sizing run: validated once, whichever front end built them."""
+"""The assumptions of a sizing run: validated once, whichever front end built them.
+
+Each field, its default and its check are declared in `hdselect.motion.option_specs`.
+"""
 
 from __future__ import annotations
 
@@ -6,17 +9,19 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
 from typing import Any
 
-from hdselect.base import bounds
 from hdselect.base.errors import InputError
-from hdselect.catalog.rules import DEFAULT_MARGIN
-from hdselect.catalog.select import DEFAULT_INERTIA_TARGET, PREFERENCES
-from hdselect.motion.motionfile import LIFE_BASES, Motion
-from hdselect.sizing.reflect import DEFAULT_EFFICIENCY
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.option_specs import (  # noqa: F401 (DEFAULT_STOP_TIME, MAX_THREADS: public here)
+    DEFAULT_STOP_TIME,
+    MAX_THREADS,
+    OPTION,
+    OPTIONS,
+    given_by,
+)
 
-DEFAULT_STOP_TIME = 0.1
-"""Time in which an emergency stop or a crash brings the arm to rest [s]."""
-MAX_THREADS = 256
-"""Most threads the batched dynamics may be given (each holds a copy of the model)."""
+
+def _default(name: str) -> Any:
+    return OPTION[name].default
 
 
 @dataclass(frozen=True)
@@ -61,59 +66,25 @@ class Options:
         InputError: A value is out of range or of the wrong type; the field is its name.
     """
 
-    stop_time: float = DEFAULT_STOP_TIME
-    efficiency: float = DEFAULT_EFFICIENCY
-    rotor_inertia: float = 0.0
-    motor_mass: float = 0.0
-    mass_coupling: bool = True
-    prefer: str | None = None
-    life_hours: float | None = None
-    life_basis: str = "L50"
-    threads: int | None = None
-    max_samples: int = bounds.DEFAULT_MAX_SAMPLES
-    margin: float = DEFAULT_MARGIN
-    max_inertia_ratio: float | None = None
-    inertia_target: float = DEFAULT_INERTIA_TARGET
+    stop_time: float = _default("stop_time")
+    efficiency: float = _default("efficiency")
+    rotor_inertia: float = _default("rotor_inertia")
+    motor_mass: float = _default("motor_mass")
+    mass_coupling: bool = _default("mass_coupling")
+    prefer: str | None = _default("prefer")
+    life_hours: float | None = _default("life_hours")
+    life_basis: str = _default("life_basis")
+    threads: int | None = _default("threads")
+    max_samples: int = _default("max_samples")
+    margin: float = _default("margin")
+    max_inertia_ratio: float | None = _default("max_inertia_ratio")
+    inertia_target: float = _default("inertia_target")
     bearing_offset: Mapping[str, float] = field(default_factory=dict)
-    bearing_loads: bool = True
+    bearing_loads: bool = _default("bearing_loads")
 
     def __post_init__(self) -> None:
-        for name, bound in (("stop_time", bounds.STOP_TIME), ("efficiency", bounds.EFFICIENCY),
-                            ("rotor_inertia", bounds.ROTOR_INERTIA),
-                            ("motor_mass", bounds.ADDED_MASS)):
-            _set(self, name, bound.check(getattr(self, name), field=name))
-        for name in ("mass_coupling", "bearing_loads"):
-            if not isinstance(getattr(self, name), bool):
-                raise InputError(f"expected true or false, got {getattr(self, name)!r}",
-                                 field=name)
-        if self.prefer is not None and (not isinstance(self.prefer, str)
-                                        or self.prefer not in PREFERENCES):
-            raise InputError(f"unknown order {self.prefer!r}; choose one of: "
-                             f"{', '.join(PREFERENCES)}", field="prefer")
-        if self.life_hours is not None:
-            _set(self, "life_hours", bounds.LIFE.check(self.life_hours, field="life_hours"))
-        if not isinstance(self.life_basis, str) or self.life_basis not in LIFE_BASES:
-            raise InputError(f"unknown basis {self.life_basis!r}; choose one of: "
-                             f"{', '.join(LIFE_BASES)}", field="life_basis")
-        if self.threads is not None and (isinstance(self.threads, bool)
-                                         or not isinstance(self.threads, int)
-                                         or not 1 <= self.threads <= MAX_THREADS):
-            raise InputError(f"must be a whole number in [1, {MAX_THREADS}], got "
-                             f"{self.threads!r}", field="threads")
-        _set(self, "max_samples", bounds.check_max_samples(self.max_samples))
-        _set(self, "margin", bounds.MARGIN.check(self.margin, field="margin"))
-        if self.max_inertia_ratio is not None:
-            _set(self, "max_inertia_ratio", bounds.INERTIA_RATIO.check(
-                self.max_inertia_ratio, field="max_inertia_ratio"))
-        _set(self, "inertia_target", bounds.INERTIA_RATIO.check(self.inertia_target,
-                                                                 field="inertia_target"))
-        if not isinstance(self.bearing_offset, Mapping) or not all(
-                isinstance(name, str) for name in self.bearing_offset):
-            raise InputError("expected a mapping of joint names to offsets [m], got "
-                             f"{self.bearing_offset!r}", field="bearing_offset")
-        _set(self, "bearing_offset", {
-            name: bounds.AXIAL_OFFSET.check(value, field=f"bearing_offset.{name}")
-            for name, value in self.bearing_offset.items()})
+        for option in OPTIONS:
+            _set(self, option.name, option.check(getattr(self, option.name)))
 
 
 def options_for(motion: Motion | None, **given: Any) -> Options:
@@ -138,13 +109,7 @@ def options_for(motion: Motion | None, **given: Any) -> Options:
             raise InputError(f"unknown option {name!r}; options are: {', '.join(names)}",
                              field=name)
     values = {name: value for name, value in given.items() if value is not None}
-    if motion is not None:
-        for name in ("stop_time", "life_hours", "life_basis", "margin"):
-            if name not in values and getattr(motion, name) is not None:
-                values[name] = getattr(motion, name)
-        if "bearing_offset" not in values and motion.bearing_offset:
-            values["bearing_offset"] = dict(motion.bearing_offset)
-    return Options(**values)
+    return Options(**{**(given_by(motion, "motion") if motion is not None else {}), **values})
 
 
 def _set(options: Options, name: str, value: object) -> None:

@@ -25,12 +25,7 @@ import numpy as np
 from hdselect.catalog.rules import RPM_PER_RAD_S, Momentary, MotorDemand, at_rest
 from hdselect.catalog.rules.momentary import crash_gain, crash_torques
 from hdselect.catalog.units import Unit
-
-DEFAULT_EFFICIENCY = 0.70
-"""Gear efficiency used where a catalog gives no table [-]. The PSA-G page shows
-efficiency curves but no numbers; 70 % is a mid-range reading for small
-Harmonic Drive units near rated torque, and lower at light load."""
-
+from hdselect.motion.option_specs import DEFAULT_EFFICIENCY
 
 CHUNK = 1 << 15
 """Samples reflected at a time: the per-unit work of a long cycle stays a few MB."""

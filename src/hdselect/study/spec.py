@@ -15,7 +15,7 @@ import json
 import math
 import tomllib
 from collections.abc import Sequence
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -26,6 +26,7 @@ from hdselect.base.inputfiles import MAX_LOG_BYTES, read_input
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.catalog.catalogfile import BUILTIN
 from hdselect.motion.mixfile import task_names
+from hdselect.motion.option_specs import OPTIONS
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options
@@ -34,10 +35,9 @@ from hdselect.study.case import Case
 from hdselect.study.compute import COMPUTATIONS
 from hdselect.study.mixgroup import check_task_keys
 
-OPTION_KEYS = tuple(f.name for f in fields(Options)
-                    if f.name not in ("threads", "bearing_offset"))
-"""Sizing options a study may set or vary (`hdselect.Options` fields; workers use one thread;
-the bearing offsets come from each case's motion file)."""
+OPTION_KEYS = tuple(option.name for option in OPTIONS if option.study)
+"""Sizing options a study may set or vary (`hdselect.motion.option_specs.Option.study`;
+workers use one thread, the bearing offsets come from each case's motion file)."""
 
 
 CASE_KEYS = ("motion", "robot", "payload", "shares", "payloads", "time_scale", "mounting",
