@@ -33,7 +33,8 @@ from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import Task
 
-__all__ = ["Problem", "file_motors", "plan_tasks", "resolve", "source_files"]
+__all__ = ["Problem", "file_motors", "plan_tasks", "problem_of", "resolve", "source_files",
+           "source_options"]
 
 Catalog = Sequence[str | Path] | Sequence[Unit]
 """Catalog files (the built-in PSA-G page always loaded) or the units already loaded."""
@@ -132,15 +133,44 @@ def resolve(
     mounted, source = load_case(motion, robot, payload=payload, mounting=mounting,
                                 joints=joints, exclude=exclude)
     if options is None:
-        options = mix_options(source, **values) if isinstance(source, Mix) else options_for(
-            source, **values)
+        options = source_options(source, **values)
+    return problem_of(mounted, source, catalog=loaded if loaded is not None else files,
+                      motors=motors, options=options, plan=plan)
+
+
+def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = (),
+               motors: Motors | None = None, options: Options | None = None,
+               plan: bool = True) -> Problem:
+    """The problem of a robot already set up for its motion or mix (`hdselect.load_case`).
+
+    `resolve` after its files are read; a front end that reads them its own way (the
+    command line, naming its flags in messages) starts here.
+
+    Args:
+        robot: The robot as the motion runs it (a mix: with the duty's sized joints).
+        source: The motion (tool poses solved) or the mix.
+        catalog: As `resolve`'s.
+        motors: Candidate motors per joint name; None takes the files'.
+        options: The assumptions; None takes the files', else the defaults.
+        plan: Plan the tasks (see `resolve`).
+
+    Raises:
+        InputError: The catalog, the motors or the options are invalid.
+        PlanningError: A motion cannot be planned.
+    """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
+    expect_type(source, (Motion, Mix), "motion", "a Motion or a Mix (hdselect.load_case)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    loaded = _loaded_units(catalog)
+    files = [] if loaded is not None or catalog is None else files_argument(catalog, "catalog")
+    options = options if options is not None else source_options(source)
     if loaded is None:
         files = [*(source.catalog if isinstance(source, Mix) else ()), *files]
         loaded = load_catalog(files)
-    chosen = checked_motors(mounted, motors if motors is not None
-                            else file_motors(mounted, source), options)
-    problem = Problem(mounted, source, loaded, options, chosen,
-                      files=tuple(dict.fromkeys([*source_files(mounted, source), *files])))
+    chosen = checked_motors(robot, motors if motors is not None
+                            else file_motors(robot, source), options)
+    problem = Problem(robot, source, loaded, options, chosen,
+                      files=tuple(dict.fromkeys([*source_files(robot, source), *files])))
     return plan_tasks(problem) if plan else problem
 
 
@@ -160,6 +190,19 @@ def plan_tasks(problem: Problem) -> Problem:
     planned = plan_motion(robot, source, max_samples=limit)
     return replace(problem, tasks=(Task(robot, planned.trajectory, motion=planned.motion),),
                    idle=0.0)
+
+
+def source_options(source: Motion | Mix, **values: Any) -> Options:
+    """Options from keyword values (None: not given), else the files', else the defaults.
+
+    A motion file's ``[safety]``, ``[requirements]`` and bearing offsets; a mix file's
+    duty-wide values, else those its motions agree on (`hdselect.sizing.duty.mix_options`).
+
+    Raises:
+        InputError: An unknown name, a value out of range, or two motion files disagree.
+    """
+    return mix_options(source, **values) if isinstance(source, Mix) else options_for(
+        source, **values)
 
 
 def file_motors(robot: Robot, source: Motion | Mix) -> dict[str, tuple[Motor, ...]]:
