@@ -28,7 +28,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import OptionValues, checked_motors, options_argument
-from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
+from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks, sized_motors
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import Task
@@ -228,14 +228,7 @@ def file_motors(robot: Robot, source: Motion | Mix) -> dict[str, tuple[Motor, ..
     """
     if isinstance(source, Mix):
         return mix_motors(robot, source)
-    if source.motors is None:
-        return {}
-    for name in source.motor_joints:
-        if name not in robot.sized_joints:
-            raise InputError(f"joint '{name}' is not sized (excluded, or a mimic follower), so "
-                             "its motor cannot apply; remove the block or size the joint",
-                             path=source.path, field=f"motor.{name}")
-    return {name: source.motors[name] for name in robot.sized_joints if name in source.motors}
+    return sized_motors(robot, source.motors, source.motor_joints, source.path)
 
 
 def source_files(robot: Robot, source: Motion | Mix) -> list[Path]:
