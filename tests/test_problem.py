@@ -186,3 +186,28 @@ def test_option_keywords_are_the_fields_of_options():
     from hdselect.sizing.arguments import OptionValues
 
     assert list(OptionValues.__annotations__) == [f.name for f in fields(hdselect.Options)]
+
+
+def test_resolve_and_size_problem_name_a_wrong_argument():
+    with pytest.raises(InputError) as caught:
+        resolve(None, PLANAR, plan="yes")
+    assert caught.value.field == "plan"
+    with pytest.raises(InputError) as caught:
+        size_problem(resolve(None, PLANAR, plan=False), slowdowns="no")
+    assert caught.value.field == "slowdowns"
+    with pytest.raises(InputError) as caught:
+        size_problem((None, PLANAR))
+    assert caught.value.field == "problem"
+    unplannable = replace(resolve(None, PLANAR, plan=False), source=None)
+    with pytest.raises(InputError, match="no motion to plan") as caught:
+        size_problem(unplannable)
+    assert caught.value.field == "tasks"
+
+
+def test_the_files_read_are_listed_once_motor_files_too():
+    motors = hdselect.load_motors(REPO / "motors" / "example_motors.toml")
+    problem = resolve(None, PLANAR, catalog=[REPO / "catalogs" / "example_rated_bearing.toml"],
+                      motors={"shoulder": motors}, plan=False)
+    names = [path.name for path in problem.files]
+    assert names == ["planar2_pick_place.toml", "planar2.urdf", "example_rated_bearing.toml",
+                     "example_motors.toml"]

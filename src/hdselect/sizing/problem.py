@@ -169,8 +169,9 @@ def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = 
     units = given if isinstance(given, tuple) else load_catalog(files)
     chosen = checked_motors(robot, motors if motors is not None
                             else file_motors(robot, source), options)
-    problem = Problem(robot, source, units, options, chosen,
-                      files=tuple(dict.fromkeys([*source_files(robot, source), *files])))
+    motor_files = sorted({m.source for ms in chosen.values() for m in ms if m.source})
+    problem = Problem(robot, source, units, options, chosen, files=tuple(dict.fromkeys(
+        [*source_files(robot, source), *files, *motor_files])))
     return plan_tasks(problem) if plan else problem
 
 
