@@ -132,11 +132,13 @@ def run_plan(args: argparse.Namespace) -> int:
 
 
 def _units_case(args: argparse.Namespace, robot, motion):
-    """The units given (``--units``), the catalog, the options and the motors, checked."""
-    from hdselect.catalog.catalogfile import load_catalog
+    """The units given (``--units``) and the problem (catalog, options, motors), checked."""
+    from hdselect.sizing.problem import problem_of
 
-    return (unit_pairs(args.units or []), load_catalog(args.catalog),
-            sizing_options_of(args, motion), motors_of(args, robot, motion))
+    given = unit_pairs(args.units or [])
+    motors = motors_of(args, robot, motion)
+    return given, problem_of(robot, motion, catalog=args.catalog, motors=motors,
+                             options=sizing_options_of(args, motion), plan=False)
 
 
 def _checked_units(args: argparse.Namespace, units, robot, motion, trajectory):
@@ -148,10 +150,11 @@ def _checked_units(args: argparse.Namespace, units, robot, motion, trajectory):
     from hdselect.codesign.fastest_cycle import resolve_case
     from hdselect.sizing.core import check_units
 
-    given, catalog, options, motors = units
+    given, problem = units
     try:
-        chosen, _, paired = resolve_case(robot, motion, given, catalog, options,
-                                         selection=False, trajectory=trajectory, motors=motors)
+        chosen, _, paired = resolve_case(robot, motion, given, problem.units, problem.options,
+                                         selection=False, trajectory=trajectory,
+                                         motors=problem.motors)
     except InputError as err:
         raise flagged(err, args) from err
-    return check_units(robot, trajectory, chosen, options, motors=paired)
+    return check_units(robot, trajectory, chosen, problem.options, motors=paired)
