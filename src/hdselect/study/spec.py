@@ -31,8 +31,8 @@ from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options
 from hdselect.sizing.tasks import check_shares
 from hdselect.study.case import Case
+from hdselect.study.casetasks import check_task_keys
 from hdselect.study.compute import COMPUTATIONS
-from hdselect.study.mixgroup import check_task_keys
 
 OPTION_KEYS = tuple(f.name for f in fields(Options)
                     if f.name not in ("threads", "bearing_offset"))
