@@ -569,7 +569,7 @@ def test_the_share_weighted_mean_of_the_lives_weighs_the_operating_time():
     weighing by the shares of the hour would give 600 h, below the shortest life."""
     from types import SimpleNamespace
 
-    from hdselect.report.mix_tables import spread_notes
+    from hdselect.report.task_tables import spread_notes
 
     def unit(life):
         return SimpleNamespace(life_hours=life)
@@ -652,14 +652,14 @@ def test_the_html_report_of_a_mix_has_its_tasks(pick_inspect, tmp_path):
 def test_the_tables_of_a_mix_fit_a_narrow_terminal(pick_inspect, monkeypatch):
     import io
 
-    from hdselect.report.mix_tables import mix_tables
     from hdselect.report.size_tables import size_table
     from hdselect.report.tables import console_for
+    from hdselect.report.task_tables import task_tables
 
     buffer = io.StringIO()
     monkeypatch.setenv("COLUMNS", "60")
     out = console_for(buffer)
-    for item in [size_table(pick_inspect), *mix_tables(pick_inspect)]:
+    for item in [size_table(pick_inspect), *task_tables(pick_inspect)]:
         out.print(item)
     lines = buffer.getvalue().splitlines()
     assert max(len(line) for line in lines) <= 60
