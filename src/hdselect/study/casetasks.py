@@ -101,6 +101,7 @@ class Inputs:
         """Nothing read yet."""
         self.robots: dict[tuple[Path, tuple[tuple[str, str], ...]], Robot] = {}
         self.mix_robots: dict[Path, Robot] = {}  # a mix file's robot, by its file
+        self.mixes: dict[tuple[Path, Path], tuple[Robot, Mix]] = {}  # by mix and robot file
         self.motions: dict[tuple[Path, tuple[Path, tuple[tuple[str, str], ...]]], Motion] = {}
         self.units: dict[tuple[tuple[Path, ...], int | None], tuple[Unit, ...]] = {}
         self.motor_files: dict[Path, tuple[Motor, ...]] = {}
@@ -131,10 +132,27 @@ class Inputs:
             InputError: A file is bad, or the case's parameters do not fit it.
         """
         if is_mix_case(case):
-            return mix_duty(case, self.mix_robots)
+            return mix_duty(case, *self.mix(case))
         robot, motion, payload = self.case(case)
         return CaseDuty(robot, (CaseTask(motion, case.mounting, payload, 1.0),),
                         case_options(case, motion))
+
+    def mix(self, case: Case) -> tuple[Robot, Mix]:
+        """A mix case's robot (sized joints applied, no payload) and mix, read once.
+
+        Raises:
+            InputError: A file is bad, or the case gives a single ``payload`` for a mix.
+        """
+        if case.payload is not None:
+            raise InputError("a mix's tasks carry their own payloads: vary `payloads` (task "
+                             "name -> mass [kg]) instead of `payload`", field="payload")
+        file = case.robot if case.robot is not None else mix_robot_file(case.motion)
+        if (case.motion, file) not in self.mixes:
+            if file not in self.mix_robots:
+                self.mix_robots[file] = load_robot(file)
+            mix = load_mix(case.motion, self.mix_robots[file])
+            self.mixes[case.motion, file] = robot_for_mix(self.mix_robots[file], mix), mix
+        return self.mixes[case.motion, file]
 
     def catalog(self, case: Case) -> tuple[Unit, ...]:
         """The case's candidate units (its catalogs, only its ratio if it gives one)."""
@@ -189,32 +207,20 @@ def mix_case_options(case: Case, mix: Mix) -> Options:
     return mix_options(mix, **case.options, threads=1)
 
 
-def case_mix(case: Case, robots: dict[Path, Robot]) -> tuple[Robot, Mix]:
-    """The robot (sized joints applied, no payload) and the mix of a case, robots cached.
-
-    Raises:
-        InputError: A file is bad, or the case gives a single ``payload`` for a mix.
-    """
-    if case.payload is not None:
-        raise InputError("a mix's tasks carry their own payloads: vary `payloads` (task name "
-                         "-> mass [kg]) instead of `payload`", field="payload")
-    file = case.robot if case.robot is not None else mix_robot_file(case.motion)
-    if file not in robots:
-        robots[file] = load_robot(file)
-    mix = load_mix(case.motion, robots[file])
-    return robot_for_mix(robots[file], mix), mix
-
-
-def mix_duty(case: Case, robots: dict[Path, Robot]) -> CaseDuty:
+def mix_duty(case: Case, robot: Robot, mix: Mix) -> CaseDuty:
     """A mix case's tasks: the case's shares and payload masses over the mix file's.
 
     A mix in cycles per hour has its shares only once its tasks are planned: without
     the case's ``shares``, each task's is None.
 
+    Args:
+        case: The case.
+        robot: The mix's robot (sized joints applied, no payload).
+        mix: The case's mix file, read.
+
     Raises:
-        InputError: A file is bad, or the shares or payloads do not fit the mix.
+        InputError: The shares or payloads do not fit the mix.
     """
-    robot, mix = case_mix(case, robots)
     payloads = case_payloads(case, mix)
     given = case_shares(case, mix)
     if given is not None:

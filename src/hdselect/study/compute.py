@@ -41,7 +41,6 @@ from hdselect.sizing.summary import Summary, summarize
 from hdselect.study.case import Case, Outcome
 from hdselect.study.casetasks import (
     Inputs,
-    case_mix,
     case_options,
     case_payloads,
     case_shares,
@@ -127,7 +126,7 @@ def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
     """
     inputs = inputs or Inputs()
     if is_mix_case(case):  # every task planned, run s times slower, sized as one duty
-        robot, mix = case_mix(case, inputs.mix_robots)
+        robot, mix = inputs.mix(case)
         options = mix_case_options(case, mix)
         tasks, idle = mix_tasks(robot, mix, mounting=case.mounting, joints=robot.sized_joints,
                                 exclude=(), max_samples=options.max_samples,
