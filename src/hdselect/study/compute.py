@@ -34,10 +34,14 @@ from hdselect.codesign.fastest_cycle import fastest, resolve_units
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
 from hdselect.motion.case import robot_for_motion
+from hdselect.motion.mixfile import Mix
+from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import plan
-from hdselect.sizing.core import size_tasks, size_trajectory
+from hdselect.sizing.core import size_problem
 from hdselect.sizing.duty import mix_tasks
+from hdselect.sizing.problem import Problem
 from hdselect.sizing.summary import Summary, summarize
+from hdselect.sizing.tasks import Task
 from hdselect.study.case import Case, Outcome
 from hdselect.study.casetasks import (
     Inputs,
@@ -119,32 +123,35 @@ def _bearing_fields(joint: dict[str, Any]) -> dict[str, Any]:
 
 
 def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
-    """One case on its own: `hdselect.size`'s load, plan and size, the path time-scaled.
+    """One case on its own: its `Problem` planned as `hdselect.size` plans it, run s times slower.
+
+    A motion file is one task; a mix file's tasks take the case's shares and payloads.
+    Both are sized by the core's `size_problem`.
 
     Raises:
-        HdselectError: An input is bad or the motion cannot be planned.
+        HdselectError: An input is bad or a motion cannot be planned.
     """
     inputs = inputs or Inputs()
-    if is_mix_case(case):  # every task planned, run s times slower, sized as one duty
-        robot, mix = inputs.mix(case)
-        options = mix_case_options(case, mix)
-        tasks, idle = mix_tasks(robot, mix, mounting=case.mounting, joints=robot.sized_joints,
+    source: Motion | Mix
+    if is_mix_case(case):
+        robot, source = inputs.mix(case)
+        options = mix_case_options(case, source)
+        tasks, idle = mix_tasks(robot, source, mounting=case.mounting, joints=robot.sized_joints,
                                 exclude=(), max_samples=options.max_samples,
-                                shares=case_shares(case, mix), payloads=case_payloads(case, mix))
-        tasks = tuple(replace(task, trajectory=scaled(task.trajectory, case.time_scale))
-                      for task in tasks)
-        result = size_tasks(tasks, inputs.catalog(case), options,
-                            motors=inputs.mix_motors(case, robot, mix), idle=idle)
-        return summarize(replace(result, mix=mix))
-    robot, motion, payload = inputs.case(case)
-    units = inputs.catalog(case)
-    options = case_options(case, motion)
-    carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
-    motors = inputs.motors(case, carrying, motion)
-    trajectory = scaled(plan(carrying, motion, max_samples=options.max_samples),
-                        case.time_scale)
-    result = size_trajectory(carrying, trajectory, units, options, motors=motors)
-    return summarize(replace(result, motion=motion))
+                                shares=case_shares(case, source),
+                                payloads=case_payloads(case, source))
+        motors = inputs.mix_motors(case, robot, source)
+    else:
+        bare, source, payload = inputs.case(case)
+        options = case_options(case, source)
+        robot = robot_for_motion(bare, source, payload=payload, mounting=case.mounting)
+        motors = inputs.motors(case, robot, source)
+        tasks, idle = (Task(robot, plan(robot, source, max_samples=options.max_samples),
+                            motion=source),), 0.0
+    tasks = tuple(replace(task, trajectory=scaled(task.trajectory, case.time_scale))
+                  for task in tasks)
+    return summarize(size_problem(Problem(robot, source, inputs.catalog(case), options, motors,
+                                          tasks, idle)))
 
 
 def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
