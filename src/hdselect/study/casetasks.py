@@ -28,9 +28,9 @@ from hdselect.motion.robot_named import load_named, robot_source
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
-from hdselect.sizing.core import motion_motors
-from hdselect.sizing.duty import mix_motors, mix_options
+from hdselect.sizing.duty import mix_options
 from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.problem import file_motors
 from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import check_shares
 from hdselect.study.case import Case
@@ -170,28 +170,19 @@ class Inputs:
         return self.units[key]
 
     def duty_motors(self, case: Case, duty: CaseDuty, mounted: Robot) -> Motors:
-        """A case's candidate motors per sized joint of `mounted` (its first task's robot).
+        """A case's candidate motors per sized joint of `mounted` (its first task's robot)."""
+        return self.motors(case, mounted, duty.mix if duty.mix is not None
+                           else duty.tasks[0].motion)
 
-        Its ``motor_catalog``'s for every sized joint, else the mix file's or the motion
-        file's ``[motor]`` (empty without motors).
-        """
-        if duty.mix is not None and case.motor_catalog is None:
-            return mix_motors(duty.robot, duty.mix)
-        return self.motors(case, mounted, duty.tasks[0].motion)
-
-    def mix_motors(self, case: Case, robot: Robot, mix: Mix) -> dict[str, tuple[Motor, ...]]:
-        """A mix case's candidate motors: its ``motor_catalog``'s, else the mix's."""
-        if case.motor_catalog is None:
-            return mix_motors(robot, mix)
-        return self.motors(case, robot, mix.motions[0])
-
-    def motors(self, case: Case, robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
+    def motors(self, case: Case, robot: Robot,
+               source: Motion | Mix) -> dict[str, tuple[Motor, ...]]:
         """The case's candidate motors per sized joint of `robot` (empty without motors).
 
-        Its ``motor_catalog`` for every sized joint, else the motion file's ``[motor]``.
+        Its ``motor_catalog`` for every sized joint, else the motion or mix file's
+        ``[motor]`` (`hdselect.sizing.problem.file_motors`).
         """
         if case.motor_catalog is None:
-            return motion_motors(robot, motion)
+            return file_motors(robot, source)
         if case.motor_catalog not in self.motor_files:
             self.motor_files[case.motor_catalog] = load_motors(case.motor_catalog)
         return {name: self.motor_files[case.motor_catalog] for name in robot.sized_joints}

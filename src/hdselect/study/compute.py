@@ -140,18 +140,16 @@ def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
                                 exclude=(), max_samples=options.max_samples,
                                 shares=case_shares(case, source),
                                 payloads=case_payloads(case, source))
-        motors = inputs.mix_motors(case, robot, source)
     else:
         bare, source, payload = inputs.case(case)
         options = case_options(case, source)
         robot = robot_for_motion(bare, source, payload=payload, mounting=case.mounting)
-        motors = inputs.motors(case, robot, source)
         tasks, idle = (Task(robot, plan(robot, source, max_samples=options.max_samples),
                             motion=source),), 0.0
     tasks = tuple(replace(task, trajectory=scaled(task.trajectory, case.time_scale))
                   for task in tasks)
-    return summarize(size_problem(Problem(robot, source, inputs.catalog(case), options, motors,
-                                          tasks, idle)))
+    return summarize(size_problem(Problem(robot, source, inputs.catalog(case), options,
+                                          inputs.motors(case, robot, source), tasks, idle)))
 
 
 def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
