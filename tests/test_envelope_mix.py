@@ -46,6 +46,24 @@ def without_origin(document):
     return document
 
 
+AVERAGED = ("mean", "average_speed", "life")
+"""The rules judged on the duty alone (a worst state stands for no time)."""
+
+
+def assert_same_averages(envelope_joint, size_joint):
+    """Every unit's averaged rules: the envelope's values are `size`'s, to rounding."""
+    assert len(envelope_joint.candidates) == len(size_joint.candidates)
+    checked = 0
+    for mine, own in zip(envelope_joint.candidates, size_joint.candidates, strict=True):
+        assert mine.unit.id == own.unit.id
+        for name in AVERAGED:
+            if name in own.checks and own.checks[name].value is not None:
+                assert mine.checks[name].value == pytest.approx(own.checks[name].value,
+                                                                rel=1e-12)
+                checked += 1
+    assert checked > 0
+
+
 def test_a_one_task_mix_duty_is_the_motion_duty(tmp_path):
     """A motion is a mix of one task: the same units, worst states and averages, bit for bit."""
     spec = {"velocity": 180 * DEG, "acceleration": 900 * DEG, "stop_time": 0.1,
@@ -78,6 +96,7 @@ def test_a_two_task_mix_duty_pools_its_tasks_as_size_does():
         assert mine.mean_torque == pytest.approx(own.mean_torque, rel=1e-12)
         assert mine.mean_speed == pytest.approx(own.mean_speed, rel=1e-12)
         assert mine.peak_torque >= own.peak_torque  # the worst states add to the peaks
+        assert_same_averages(joint.sizing, alone)
     # the duty alone is `size` of the mix: the same units, task by task
     assert ([j.selected.unit.id if j.selected else None for j in result.duty_sizing.joints]
             == [j.selected.unit.id if j.selected else None for j in pooled.joints])
@@ -122,3 +141,50 @@ def test_an_envelope_files_duty_may_be_a_mix_and_the_cli_names_its_tasks(capsys,
     text = capsys.readouterr().out
     assert status in (0, 1) and "benchtop6_pick_inspect.toml" in text
     assert "(duty inspect t = " in text or "(duty pick t = " in text
+
+
+def two_mountings(tmp_path):
+    path = tmp_path / "mounted.toml"
+    path.write_text(f'robot = "{PLANAR2}"\n'
+                    f'[[task]]\nname = "floor"\nmotion = "{PLANAR2_MOTION}"\nshare = 0.5\n'
+                    f'[[task]]\nname = "ceiling"\nmotion = "{PLANAR2_MOTION}"\nshare = 0.5\n'
+                    'mounting = "ceiling"\n')
+    return path
+
+
+def test_a_mix_whose_tasks_are_mounted_differently_needs_the_envelopes_mounting(tmp_path):
+    spec = {"velocity": 180 * DEG, "acceleration": 900 * DEG, "settings": QUICK}
+    with pytest.raises(InputError, match="different mountings") as info:
+        envelope(PLANAR2, duty=two_mountings(tmp_path), **spec)
+    assert info.value.field == "mounting"
+    # given: every task runs with it (as `size --mounting` of the mix), and the search too
+    result = envelope(PLANAR2, duty=two_mountings(tmp_path), mounting="floor", **spec)
+    alone = envelope(PLANAR2, duty=PLANAR2_MOTION, mounting="floor", **spec)
+    for a, b in zip(result.joints, alone.joints, strict=True):
+        assert a.sizing.load.mean_torque == pytest.approx(b.sizing.load.mean_torque, rel=1e-12)
+
+
+def test_a_mix_in_cycles_per_hour_keeps_its_idle_time(tmp_path):
+    """The idle part of the hour counts as `size` counts it: the same mean speed and life.
+
+    A series whose mean speed is over the whole cycle, pauses included, sees the idle
+    time; `size` of the mix is the oracle for every unit's averaged rules.
+    """
+    catalog = tmp_path / "whole_cycle.toml"
+    text = (REPO / "catalogs" / "example_rated_bearing.toml").read_text()
+    catalog.write_text(text.replace('mean_speed = "moving"', 'mean_speed = "whole-cycle"'))
+    assert 'mean_speed = "whole-cycle"' in catalog.read_text()
+    path = tmp_path / "hourly.toml"
+    path.write_text(f'robot = "{PLANAR2}"\n'
+                    f'[[task]]\nmotion = "{PLANAR2_MOTION}"\ncycles_per_hour = 200\n')
+    options = {"mass_coupling": False, "stop_time": 0.1}
+    result = envelope(PLANAR2, duty=path, velocity=180 * DEG, acceleration=900 * DEG,
+                      settings=QUICK, catalog=[catalog], **options)
+    pooled = size(None, path, catalog=[catalog], **options)
+    assert 0.0 < result.duty.idle == pooled.idle < 1.0
+    for joint, own in zip(result.joints, pooled.joints, strict=True):
+        assert joint.sizing.load.mean_speed == pytest.approx(own.load.mean_speed, rel=1e-12)
+        assert joint.sizing.load.mean_torque == pytest.approx(own.load.mean_torque, rel=1e-12)
+        assert_same_averages(joint.sizing, own)
+    assert ([j.selected.unit.id if j.selected else None for j in result.duty_sizing.joints]
+            == [j.selected.unit.id if j.selected else None for j in pooled.joints])
