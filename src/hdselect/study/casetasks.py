@@ -28,9 +28,8 @@ from hdselect.motion.robot_named import load_named, robot_source
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
-from hdselect.sizing.duty import mix_options
-from hdselect.sizing.options import Options, options_for
-from hdselect.sizing.problem import file_motors
+from hdselect.sizing.options import Options
+from hdselect.sizing.problem import file_motors, source_options
 from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import check_shares
 from hdselect.study.case import Case
@@ -188,14 +187,9 @@ class Inputs:
         return {name: self.motor_files[case.motor_catalog] for name in robot.sized_joints}
 
 
-def case_options(case: Case, motion: Motion) -> Options:
-    """The case's options over the motion file's, one thread for the dynamics."""
-    return options_for(motion, **case.options, threads=1)
-
-
-def mix_case_options(case: Case, mix: Mix) -> Options:
-    """A mix case's options over the mix file's (and its motions'), one thread."""
-    return mix_options(mix, **case.options, threads=1)
+def case_options(case: Case, source: Motion | Mix) -> Options:
+    """The case's options over its motion or mix file's (`source_options`), one thread."""
+    return source_options(source, **case.options, threads=1)
 
 
 def mix_duty(case: Case, robot: Robot, mix: Mix) -> CaseDuty:
@@ -222,7 +216,7 @@ def mix_duty(case: Case, robot: Robot, mix: Mix) -> CaseDuty:
                            else item.mounting, payloads.get(k, _shape(mix, k)), shares[k],
                            item.name)
                   for k, item in enumerate(mix.tasks))
-    return CaseDuty(robot, tasks, mix_case_options(case, mix), mix)
+    return CaseDuty(robot, tasks, case_options(case, mix), mix)
 
 
 def case_payloads(case: Case, mix: Mix) -> dict[int, Payload]:

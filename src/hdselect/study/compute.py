@@ -49,7 +49,6 @@ from hdselect.study.casetasks import (
     case_payloads,
     case_shares,
     is_mix_case,
-    mix_case_options,
 )
 from hdselect.study.group import plan_depends_on_payload
 from hdselect.study.pooled import group_cases, scaled
@@ -135,7 +134,7 @@ def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
     source: Motion | Mix
     if is_mix_case(case):
         robot, source = inputs.mix(case)
-        options = mix_case_options(case, source)
+        options = case_options(case, source)
         tasks, idle = mix_tasks(robot, source, mounting=case.mounting, joints=robot.sized_joints,
                                 exclude=(), max_samples=options.max_samples,
                                 shares=case_shares(case, source),
