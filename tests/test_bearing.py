@@ -21,8 +21,9 @@ from hdselect.base.errors import InputError
 from hdselect.cli.main import main
 from hdselect.motion.motionfile import load_motion
 from hdselect.robot.wrenches import bearing_loads
-from hdselect.study.compute import scaled, size_rows
-from hdselect.study.group import build_basis, size_case
+from hdselect.study.compute import size_rows
+from hdselect.study.group import build_basis
+from hdselect.study.pooled import scaled, size_case
 from test_study_group import differences, separate
 
 REPO = Path(__file__).resolve().parents[1]

@@ -168,8 +168,10 @@ def test_no_unit_for_every_motion_exits_1_with_the_table(capsys):
     (["--acceleration", "900", "--velocity", "90", "--duty", PLANAR2_MOTION],
      ["planar2_pick_place.toml", "limits.velocity", "above the spec's velocity limit"]),
     (["--acceleration", "900", "--workers", "0"], ["--workers"]),
-    (["--acceleration", "900", "--duty", MIX], ["--duty", "is a mix file",
-                                                "does not take a mix as its duty yet"]),
+    # a mix duty of another robot: blamed on the mix file's task and both robots
+    (["--acceleration", "900", "--duty", MIX], ["benchtop6_pick_inspect.toml", "task[0].motion",
+                                                "written for", "but the mix runs",
+                                                "planar2.urdf"]),
     # the default duty's options beside a motion duty: refused, naming both options
     *[(["--acceleration", "1000", "--duty", PLANAR2_MOTION, flag, value],
        [flag, "default duty of random moves only", "--duty"])
@@ -200,8 +202,6 @@ def test_bad_input_is_one_line_and_exit_2_with_no_output(capsys, tmp_path, argv,
      '[duty]\nmoves = 0\n', ["duty.moves"]),
     ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
      '[duty]\nmotion = "nowhere.toml"\n', ["duty.motion", "not found"]),
-    ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nacceleration = 900\n'
-     '[duty]\nmotion = "{mix}"\n', ["duty.motion", "does not take a mix as its duty yet"]),
     # what the robot lacks, blamed on the envelope file's key, not on the robot file
     ('robot = "{robot}"\nangle_unit = "deg"\n[limits]\nvelocity = 90\n',
      ["limits.acceleration", "no acceleration limit for shoulder, elbow"]),

@@ -414,15 +414,16 @@ life_hours = 40000
 
 def test_grouped_mix_cases_equal_the_direct_core(tmp_path):
     """One basis per task, pooled with each case's shares: the core's answer to 1e-9."""
-    from hdselect.study.compute import _Inputs
-    from hdselect.study.mixgroup import mix_group, size_mix_direct
+    from hdselect.study.casetasks import Inputs
+    from hdselect.study.compute import size_direct
+    from hdselect.study.pooled import group_cases
     from hdselect.study.spec import load_study
 
     path = tmp_path / "study.toml"
     path.write_text(STUDY.format(mix=PICK_INSPECT))
     study = load_study(path)
-    inputs = _Inputs()
-    grouped = mix_group(study.cases, inputs.catalog, inputs.mix_motors, inputs.robots, "here")
+    inputs = Inputs()
+    grouped = group_cases(study.cases, inputs, "here")
     outcomes = []
     try:
         while True:
@@ -432,7 +433,7 @@ def test_grouped_mix_cases_equal_the_direct_core(tmp_path):
     assert [o.index for o in outcomes] == list(range(len(study.cases)))
     for case, outcome in zip(study.cases, outcomes, strict=True):
         assert outcome.ok, outcome.error
-        direct = size_mix_direct(case, inputs.catalog(case), inputs.mix_motors, inputs.robots)
+        direct = size_direct(case, inputs)
         assert differences(outcome.result, direct.to_dict()) < 1e-9, case.values
     last = outcomes[3].result  # 3 kg and 1.5 kg, 1.67 times faster: slow-downs
     assert not last["feasible"] and any(j["slowdown"] for j in last["joints"])
@@ -568,7 +569,7 @@ def test_the_share_weighted_mean_of_the_lives_weighs_the_operating_time():
     weighing by the shares of the hour would give 600 h, below the shortest life."""
     from types import SimpleNamespace
 
-    from hdselect.report.mix_tables import spread_notes
+    from hdselect.report.task_tables import spread_notes
 
     def unit(life):
         return SimpleNamespace(life_hours=life)
@@ -612,7 +613,7 @@ def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
     from hdselect.sizing.core import size_tasks
     from hdselect.sizing.duty import mix_options, mix_tasks
     from hdselect.sizing.records import size_json
-    from hdselect.study.mixgroup import scaled
+    from hdselect.study.pooled import scaled
 
     robot, mix = load_case(PICK_INSPECT)
     tasks, _ = mix_tasks(robot, mix)
@@ -651,14 +652,14 @@ def test_the_html_report_of_a_mix_has_its_tasks(pick_inspect, tmp_path):
 def test_the_tables_of_a_mix_fit_a_narrow_terminal(pick_inspect, monkeypatch):
     import io
 
-    from hdselect.report.mix_tables import mix_tables
     from hdselect.report.size_tables import size_table
     from hdselect.report.tables import console_for
+    from hdselect.report.task_tables import task_tables
 
     buffer = io.StringIO()
     monkeypatch.setenv("COLUMNS", "60")
     out = console_for(buffer)
-    for item in [size_table(pick_inspect), *mix_tables(pick_inspect)]:
+    for item in [size_table(pick_inspect), *task_tables(pick_inspect)]:
         out.print(item)
     lines = buffer.getvalue().splitlines()
     assert max(len(line) for line in lines) <= 60

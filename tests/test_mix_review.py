@@ -248,15 +248,16 @@ max_inertia_ratio = 4.0
 def test_grouped_mix_cases_with_margins_and_inertia_ratios_equal_the_direct_core(tmp_path):
     """One basis per task (with its inertias), pooled with each case's shares: the core's
     answer to 1e-9, margins and inertia ratios included."""
-    from hdselect.study.compute import _Inputs
-    from hdselect.study.mixgroup import mix_group, size_mix_direct
+    from hdselect.study.casetasks import Inputs
+    from hdselect.study.compute import size_direct
+    from hdselect.study.pooled import group_cases
     from hdselect.study.spec import load_study
 
     path = tmp_path / "study.toml"
     path.write_text(STUDY.format(mix=PICK_INSPECT, motors=MOTORS))
     study = load_study(path)
-    inputs = _Inputs()
-    grouped = mix_group(study.cases, inputs.catalog, inputs.mix_motors, inputs.robots, "here")
+    inputs = Inputs()
+    grouped = group_cases(study.cases, inputs, "here")
     outcomes = []
     try:
         while True:
@@ -266,7 +267,7 @@ def test_grouped_mix_cases_with_margins_and_inertia_ratios_equal_the_direct_core
     assert [o.index for o in outcomes] == list(range(len(study.cases)))
     for case, outcome in zip(study.cases, outcomes, strict=True):
         assert outcome.ok, outcome.error
-        direct = size_mix_direct(case, inputs.catalog(case), inputs.mix_motors, inputs.robots)
+        direct = size_direct(case, inputs)
         assert differences(outcome.result, direct.to_dict()) < 1e-9, case.values
     bindings = {(j["binding"], j["binding_task"]) for o in outcomes[1:]
                 for j in o.result["joints"]}

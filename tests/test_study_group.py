@@ -17,8 +17,8 @@ import hdselect
 import hdselect.sizing.core
 from hdselect import Options, load_case, load_catalog, plan, size_trajectory, summarize
 from hdselect.base.errors import InputError
-from hdselect.study.compute import scaled
-from hdselect.study.group import build_basis, size_case
+from hdselect.study.group import build_basis
+from hdselect.study.pooled import scaled, size_case
 from test_dynamics import REPO
 
 BENCHTOP = REPO / "trajectories" / "benchtop6_pick_place.toml"

@@ -136,8 +136,8 @@ def _mix_max_payload(args: argparse.Namespace, robot, mix, units, options, motor
     from hdselect.codesign.records import mix_payload_json
     from hdselect.report.codesign_tables import mix_payload_text
     from hdselect.report.export import write_json
-    from hdselect.report.mix_tables import mix_tables
     from hdselect.report.size_tables import size_table
+    from hdselect.report.task_tables import task_tables
 
     _refuse_for_mix(args, motors, ("--units", args.units))
     with Outputs(_inputs(args, robot, mix)) as outputs:
@@ -147,7 +147,7 @@ def _mix_max_payload(args: argparse.Namespace, robot, mix, units, options, motor
             write_json(json_file, mix_payload_json(result))
         items: list[Any] = [mix_payload_text(result, robot)]
         if result.selection is not None:
-            items += ["", size_table(result.selection), *mix_tables(result.selection)]
+            items += ["", size_table(result.selection), *task_tables(result.selection)]
         text = "" if to_stdout(args) else rendered(*items)
         outputs.commit()
     sys.stdout.write(text)
@@ -162,8 +162,8 @@ def _mix_fastest(args: argparse.Namespace, robot, mix, units, options, motors) -
     from hdselect.codesign.records import mix_fastest_json
     from hdselect.report.codesign_tables import mix_fastest_table
     from hdselect.report.export import write_json
-    from hdselect.report.mix_tables import mix_tables
     from hdselect.report.size_tables import size_table
+    from hdselect.report.task_tables import task_tables
 
     _refuse_for_mix(args, motors, ("--compare-ratios", args.compare_ratios),
                     ("--out", args.out), ("--plot", args.plot))
@@ -176,7 +176,7 @@ def _mix_fastest(args: argparse.Namespace, robot, mix, units, options, motors) -
         if json_file is not None:
             write_json(json_file, mix_fastest_json(result))
         text = "" if to_stdout(args) else rendered(
-            mix_fastest_table(result), "", size_table(result.check), *mix_tables(result.check))
+            mix_fastest_table(result), "", size_table(result.check), *task_tables(result.check))
         outputs.commit()
     sys.stdout.write(text)
     say_written([(args.json, None)], args)

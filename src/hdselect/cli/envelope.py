@@ -66,7 +66,8 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--exclude", metavar="A,B", action="append",
                         help="do not size these joints; they still move and load the others")
     parser.add_argument("--duty", metavar="MOTION",
-                        help="motion file whose cycle the mean torque and life are judged on "
+                        help="motion file whose cycle the mean torque and life are judged on, "
+                             "or a mix file: its tasks pooled by share, as size pools them "
                              "(default: the file's [duty], else random moves at the limits)")
     parser.add_argument("--moves", type=int, metavar="N",
                         help="moves of the default duty (default: 20); refused beside --duty "
@@ -251,9 +252,15 @@ def _payload(args: argparse.Namespace, robot, spec: Path | None):
     base = file.payload if file is not None else None
     duty = args.duty if args.duty is not None else (file.duty if file is not None else None)
     if base is None and duty is not None:  # the duty's payload, as `size --payload` changes it
+        from hdselect.envelope.duty import task_payloads
+        from hdselect.motion.mixfile import is_mix_file, load_mix
         from hdselect.motion.motionfile import load_motion
 
-        base = load_motion(duty, robot).payload
+        if is_mix_file(duty):  # the payload its counted tasks share, if they do
+            carried = {repr(payload): payload for payload in task_payloads(load_mix(duty, robot))}
+            base = next(iter(carried.values())) if len(carried) == 1 else None
+        else:
+            base = load_motion(duty, robot).payload
     if base is None and args.payload is None:
         raise InputError(f"no payload for {given[0]} to change; give its mass with --payload KG",
                          field=given[0])

@@ -23,8 +23,7 @@ from hdselect.cli.output import (
 
 def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
-    from hdselect.report.mix_tables import mix_tables
-    from hdselect.report.size_tables import loads_table, size_table
+    from hdselect.report.size_tables import report_tables
     from hdselect.sizing.core import size_problem
 
     problem = sizing_problem(args)
@@ -33,8 +32,7 @@ def run_size(args: argparse.Namespace) -> int:
         result = size_problem(problem)
         write_report_and_json(args, result, json_file, report)
         write_parts(bom, result)
-        table = "" if to_stdout(args) else rendered(size_table(result), *mix_tables(result),
-                                                      "", loads_table(result))
+        table = "" if to_stdout(args) else rendered(*report_tables(result))
         outputs.commit()
     args.held.shown(SHOWN_LOGGERS)  # the table, the JSON and the report list them
     sys.stdout.write(table)

@@ -1,7 +1,9 @@
-"""The duty an envelope judges its averaged rules on: a motion file, or random moves.
+"""The duty an envelope judges its averaged rules on: a motion or mix file, or random moves.
 
 Mean torque, mean speed and life are averages over what the robot does, so no
-worst state decides them. A given motion file stands for what it does; without one,
+worst state decides them. A given motion file stands for what it does, a mix file
+for its tasks pooled by share (each with its own payload and mounting, as `hdselect
+size` of the mix pools them: a motion is a mix of one task); without one,
 the default duty is `DUTY_MOVES` moves between poses drawn uniformly (seeded) in the
 joint box, each joint moving at its own limits (Ruckig, jerk-limited, every joint as
 fast as its limits allow, not slowed to arrive with the others). Either must stay
@@ -10,21 +12,28 @@ within the spec, so that its samples are states of the box too.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import ruckig
 
 from hdselect.base.errors import InputError, PlanningError
 from hdselect.envelope.spec import Spec
+from hdselect.motion.case import robot_for_mix
+from hdselect.motion.mixfile import Mix, MixTask
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
 from hdselect.motion.planning.grid import MIN_MOVE_SAMPLES
 from hdselect.motion.planning.ruckig import sample_profiles
 from hdselect.motion.planning.trajectory import Move, assemble
 from hdselect.robot.model import Robot
+from hdselect.robot.mounting import Mounting
+from hdselect.robot.payload import Payload
+from hdselect.sizing.duty import mix_motors, mix_tasks
 from hdselect.sizing.tasks import Task
 
 DUTY_DT = 0.001
@@ -43,12 +52,15 @@ class Duty:
     """What the averaged rules are judged on.
 
     Attributes:
-        tasks: The robot's tasks (one, for a motion file or the default duty).
+        tasks: The robot's tasks (one, for a motion file or the default duty; a mix
+            file's, each with its share).
         label: What every output calls it, e.g. ``default duty: 20 random moves at the
             limits (seed 0), 27.1 s``.
-        motion: The motion file's motion, or None for the default duty.
+        motion: The motion file's motion, or None for the default duty and a mix.
         moves: The default duty's moves, else None.
         seed: The default duty's seed, else None.
+        mix: The mix file's mix, else None.
+        idle: The fraction of the time no task runs [-] (a mix in cycles per hour).
     """
 
     tasks: tuple[Task, ...]
@@ -56,11 +68,19 @@ class Duty:
     motion: Motion | None = None
     moves: int | None = None
     seed: int | None = None
+    mix: Mix | None = None
+    idle: float = 0.0
 
     @property
     def default(self) -> bool:
         """It is the default duty of random moves."""
-        return self.motion is None
+        return self.motion is None and self.mix is None
+
+    @property
+    def path(self) -> Path | None:
+        """The duty's file (motion or mix), or None for the default duty."""
+        given = self.motion if self.motion is not None else self.mix
+        return None if given is None else given.path
 
     @property
     def phrase(self) -> str:
@@ -118,15 +138,81 @@ def default_duty(robot: Robot, spec: Spec, moves: int, seed: int, *,
     return Duty((Task(robot, trajectory, name="default duty"),), label, None, moves, seed)
 
 
-def motion_duty(robot: Robot, motion: Motion, *, max_samples: int) -> Duty:
-    """A motion file as the duty: its trajectory, run by the envelope's robot.
+def motion_duty(robot: Robot, motion: Motion | Mix, *, max_samples: int,
+                mounting: Mounting | None = None) -> Duty:
+    """A motion file as the duty, run by the envelope's robot; a mix file's tasks pooled.
+
+    Args:
+        robot: The robot as the envelope sizes it (a mix's tasks replace its payload and
+            mounting with their own).
+        motion: The motion, or the mix.
+        max_samples: Most samples a trajectory may have.
+        mounting: A mix's mounting for every task (the given one), else None for each
+            task's own.
 
     Raises:
-        InputError: The motion cannot be planned on a grid of `max_samples`.
+        InputError: A motion cannot be planned on a grid of `max_samples`, or a mix's
+            cycles per hour overfill the hour.
         PlanningError: The planner fails.
     """
+    if isinstance(motion, Mix):
+        tasks, idle = mix_tasks(robot, motion, mounting=mounting, joints=robot.sized_joints,
+                                exclude=(), max_samples=max_samples)
+        return Duty(tasks, motion.path.name, mix=motion, idle=idle)
     trajectory = plan(robot, motion, max_samples=max_samples)
     return Duty((Task(robot, trajectory, motion=motion),), motion.path.name, motion)
+
+
+def mix_robot(base: Robot, mix: Mix, *, payload: Payload | None, mounting: Mounting | None,
+              joints: Sequence[str] | None, exclude: Sequence[str] | None) -> Robot:
+    """The robot the envelope searches beside a mix duty: one payload and one mounting.
+
+    The mix's sized joints (given, else the files'); the payload and mounting given,
+    else the one every counted task (share or cycles per hour above 0) runs with.
+
+    Raises:
+        InputError: The counted tasks differ in payload (field ``payload``) or mounting
+            (field ``mounting``) and none is given, the mix gives motors (the envelope
+            does not choose them), or the joints are invalid.
+    """
+    robot = robot_for_mix(base, mix, joints=joints, exclude=exclude)
+    if mix_motors(robot, mix):
+        raise InputError("envelope does not choose motors yet; the motors given here would be "
+                         "left out: remove [motor] (size and compare choose motor and gearhead "
+                         "together)", path=mix.path, field="motor")
+    counted = _counted(mix)
+    if payload is None:
+        payload = _one(mix, "payload", task_payloads(mix), repr)
+    if mounting is None:
+        def where(given: Mounting | None) -> str:
+            mounted = robot if given is None else robot.with_mounting(given)
+            return repr((mounted.gravity.tolist(), mounted.base_pose))
+
+        mounting = _one(mix, "mounting", [item.mounting if item.mounting is not None
+                                          else item.motion.mounting for item in counted], where)
+    robot = robot.with_payload(payload) if payload is not None else robot
+    return robot.with_mounting(mounting) if mounting is not None else robot
+
+
+def task_payloads(mix: Mix) -> list[Payload | None]:
+    """The payload each counted task of a mix carries: the mix file's, else its motion's."""
+    return [item.payload if item.payload is not None else item.motion.payload
+            for item in _counted(mix)]
+
+
+def _counted(mix: Mix) -> list[MixTask]:
+    """The tasks of a mix that count: share, else cycles per hour, above 0."""
+    return [item for item in mix.tasks
+            if (item.share if item.share is not None else item.cycles_per_hour or 0.0) > 0.0]
+
+
+def _one(mix: Mix, field: str, values: list[Any], key: Callable[[Any], str]) -> Any:
+    """The value every counted task shares (by `key`), else an error asking for one."""
+    if len({key(value) for value in values}) > 1:
+        raise InputError(f"the tasks of {mix.path.name} run with different {field}s; the "
+                         f"envelope's worst states need one: give --{field} (or {field} in "
+                         "the envelope file)", field=field)
+    return values[0] if values else None
 
 
 def check_within(duty: Duty, spec: Spec) -> None:

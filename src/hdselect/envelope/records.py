@@ -48,7 +48,7 @@ def envelope_json(result: EnvelopeResult) -> dict[str, Any]:
                           "sources": {kind: spec.sources[kind][j] for kind in spec.sources}}
                    for j, name in enumerate(box.joint_names)},
         "duty": {"label": duty.label, "default": duty.default,
-                 "motion": None if duty.motion is None else str(duty.motion.path),
+                 "motion": None if duty.path is None else str(duty.path),
                  "moves": duty.moves, "seed": duty.seed, "cycle_time_s": trajectory.duration,
                  "samples": len(trajectory.t)},
         "search": {"starts": result.settings.starts, "refined_per_round": result.settings.refine,

@@ -28,7 +28,7 @@ from hdselect.catalog.select import DEFAULT_PREFER
 from hdselect.catalog.units import Unit
 from hdselect.envelope.box import Limits
 from hdselect.envelope.demands import KINDS
-from hdselect.envelope.duty import Duty, check_within, default_duty, motion_duty
+from hdselect.envelope.duty import Duty, check_within, default_duty, mix_robot, motion_duty
 from hdselect.envelope.result import (
     Convergence,
     EnvelopeResult,
@@ -45,10 +45,10 @@ from hdselect.envelope.specfile import (
     load_envelope_file,
 )
 from hdselect.envelope.states import StateRows, state_rows
-from hdselect.envelope.torques import EnvelopeTorques
+from hdselect.envelope.torques import EnvelopeTorques, duty_time
 from hdselect.envelope.workers import Spread, default_workers
 from hdselect.motion.case import robot_for_motion
-from hdselect.motion.mixfile import is_mix_file
+from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.option_specs import given_by
 from hdselect.motion.robot_named import other_robot
@@ -90,7 +90,7 @@ def envelope(
     mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
-    duty: Motion | str | Path | None = None,
+    duty: Motion | Mix | str | Path | None = None,
     moves: int | None = None,
     seed: int | None = None,
     catalog: Catalog | None = (),
@@ -113,12 +113,12 @@ def envelope(
         acceleration: Acceleration limits [rad/s^2 or m/s^2], as `velocity` (no default).
         jerk: Jerk limits of the default duty's moves [rad/s^3 or m/s^3], as `velocity`;
             like `moves` and `seed`, refused where the duty is a motion file.
-        payload: Payload, overriding the file's (and the duty's).
+        payload: Payload, overriding the file's (and the duty's; a mix's tasks keep theirs).
         mounting: Mounting, overriding the file's (and the duty's).
         joints: Joints to size (default: the file's, the duty's, else every rotary joint).
         exclude: Joints not to size; they still move and load the others.
-        duty: A motion file (or Motion) for the averaged rules; None: the file's, else the
-            default duty of random moves.
+        duty: A motion or mix file (or Motion, Mix) for the averaged rules (a mix's tasks
+            pooled by share, as `size` pools them); None: the file's, else random moves.
         moves: Moves of the default duty (default: the file's, else `DUTY_MOVES`).
         seed: Seed of the default duty's poses (default: the file's, else 0).
         catalog: Extra catalog files (the built-in PSA-G catalog is always loaded), or the
@@ -157,7 +157,7 @@ def envelope(
     expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
     options_argument(options, values)
     expect_type(spec, (str, Path, type(None)), "spec", "an envelope file or None")
-    expect_type(duty, (Motion, str, Path, type(None)), "duty", "a Motion, a motion file or None")
+    expect_type(duty, (Motion, Mix, str, Path, type(None)), "duty", "a Motion, Mix, file or None")
     expect_type(settings, (SearchSettings, type(None)), "settings", "a SearchSettings or None")
     for name, value, low, high in (("moves", moves, 1, MAX_DUTY_MOVES),
                                    ("seed", seed, 0, 2**63 - 1)):
@@ -182,15 +182,18 @@ def envelope(
     limits = resolve_spec(robot, velocity=velocity, acceleration=acceleration, jerk=jerk,
                           file=file)
     resolved = options if options is not None else _options(file, motion, values)
-    problem = Problem(robot, motion, catalog_units(catalog), resolved, {})
+    extra = motion.catalog if isinstance(motion, Mix) and isinstance(catalog, list) else ()
+    problem = Problem(robot, motion, catalog_units([*extra, *catalog] if extra else catalog),
+                      resolved, {})
     if motion is not None:
-        chosen_duty = motion_duty(robot, motion, max_samples=resolved.max_samples)
+        chosen_duty = motion_duty(robot, motion, max_samples=resolved.max_samples,
+                                  mounting=mounting or (file.mounting if file else None))
     else:
         chosen_duty = default_duty(
             robot, limits, _first(moves, file.moves if file else None, DUTY_MOVES),
             _first(seed, file.seed if file else None, 0), max_samples=resolved.max_samples)
     check_within(chosen_duty, limits)
-    problem = replace(problem, tasks=chosen_duty.tasks)
+    problem = replace(problem, tasks=chosen_duty.tasks, idle=chosen_duty.idle)
     duty_sizing = size_problem(problem)
     settings = settings or SearchSettings()
     if spread is None:
@@ -240,12 +243,13 @@ def _envelope(problem: Problem, spec: Spec, duty: Duty, duty_sizing: SizingResul
             rows[j] = state_rows(carrying, box, {(j, k): new[(j, k)] for k in KINDS},
                                  stop_time, threads=threads)
         model = EnvelopeTorques(duty.tasks, _stacked([rows[j] for j in sorted(rows)]),
-                                stop_time, threads=threads, guess=masses,
+                                stop_time, threads=threads, guess=masses, idle=duty.idle,
                                 wrenches=options.bearing_loads)
         sized, chosen = select_units(model, per_joint, options, {}, slowdowns=False)
         masses = chosen if options.mass_coupling else {}
     sizing = SizingResult(robot, duty.tasks[0].trajectory, tuple(sized), options, units,
-                          duty.motion, loads=model.loads(masses), tasks=duty.tasks)
+                          duty.motion, loads=model.loads(masses), tasks=duty.tasks,
+                          idle=duty.idle, mix=duty.mix)
     joints = tuple(_joint(model, joint, found, options, settings,
                           duty_sizing.joints[i].selected, masses)
                    for i, joint in enumerate(sized))
@@ -270,7 +274,7 @@ def _guessed_masses(robot: Robot, spec: Spec, duty: Duty, masses: dict[str, floa
     coarse = [replace(task, trajectory=decimated(task.trajectory, GUESS_SAMPLES))
               for task in duty.tasks]
     model = EnvelopeTorques(coarse, rows, options.stop_time, threads=options.threads,
-                            guess=masses, wrenches=any(unit.bearing is not None
+                            guess=masses, idle=duty.idle, wrenches=any(unit.bearing is not None
                                                        for units in per_joint.values()
                                                        for unit in units))
     _, chosen = select_units(model, per_joint, options, {}, detail=False, slowdowns=False)
@@ -295,7 +299,7 @@ def _joint(model: EnvelopeTorques, joint: JointSizing, found: Mapping[tuple[int,
         if abs(values[own]) >= abs(values[i]) * (1.0 - 1e-12):  # ties: the search's own
             i = own
         source = ("search" if i >= duty_count
-                  else f"duty t = {samples.t[i]:.4g} s")
+                  else f"duty {duty_time(samples, i)}")
         worst[figure] = WorstState(figure, model.q[i], samples.qd[i], samples.qdd[i],
                                    float(values[i]), source)
         if i != own and not agree(abs(values[own]), abs(values[i]), settings.tolerance):
@@ -319,7 +323,7 @@ def _joint(model: EnvelopeTorques, joint: JointSizing, found: Mapping[tuple[int,
 def _origin(model: EnvelopeTorques, i: int, duty_count: int) -> str:
     """Where sample i comes from, in words."""
     if i < duty_count:
-        return f"the duty (t = {model.samples.t[i]:.4g} s)"
+        return f"the duty ({duty_time(model.samples, i)})"
     r = i - duty_count
     return (f"the search for {model.robot.joint_names[model.rows.joint[r]]}'s "
             f"{model.rows.kind[r]}")
@@ -338,18 +342,14 @@ def _first(*values):
     return next(value for value in values if value is not None)
 
 
-def _duty_motion(duty: Motion | str | Path | None, file: EnvelopeFile | None,
-                 robot: Robot) -> Motion | None:
-    """The duty's motion: the argument's, else the envelope file's; None for the default."""
+def _duty_motion(duty: Motion | Mix | str | Path | None, file: EnvelopeFile | None,
+                 robot: Robot) -> Motion | Mix | None:
+    """The duty's motion or mix: the argument's, else the envelope file's; None for the default."""
     given = duty if duty is not None else (file.duty if file is not None else None)
     if given is None:
         return None
-    if not isinstance(given, Motion) and is_mix_file(given):
-        where = ({"field": "duty"} if duty is not None or file is None
-                 else {"path": file.path, "field": "duty.motion"})
-        raise InputError(f"{given} is a mix file; the envelope does not take a mix as its duty "
-                         "yet: give one of its motion files (or size the mix with `hdselect "
-                         "size`)", **where)
+    if isinstance(given, Mix) or (not isinstance(given, Motion) and is_mix_file(given)):
+        return given if isinstance(given, Mix) else load_mix(given, robot)
     if isinstance(given, Motion):
         motion = given
     else:
@@ -369,7 +369,7 @@ def _duty_motion(duty: Motion | str | Path | None, file: EnvelopeFile | None,
     return motion
 
 
-def _refuse_default_duty(duty: Motion | str | Path | None, file: EnvelopeFile | None,
+def _refuse_default_duty(duty: Motion | Mix | str | Path | None, file: EnvelopeFile | None,
                          **given: object) -> None:
     """Refuse what only the default duty of random moves takes, beside a motion duty.
 
@@ -385,7 +385,7 @@ def _refuse_default_duty(duty: Motion | str | Path | None, file: EnvelopeFile | 
                              f"{source}: drop one of them", field=name)
 
 
-def _robot_state(base: Robot, motion: Motion | None, file: EnvelopeFile | None,
+def _robot_state(base: Robot, motion: Motion | Mix | None, file: EnvelopeFile | None,
                  payload: Payload | None, mounting: Mounting | None,
                  joints: Sequence[str] | None, exclude: Sequence[str] | None) -> Robot:
     """The robot as the envelope sizes it: argument, else envelope file, else the duty's.
@@ -407,6 +407,9 @@ def _robot_state(base: Robot, motion: Motion | None, file: EnvelopeFile | None,
         joints = joints if joints is not None else file.joints
         exclude = exclude if exclude is not None else (file.exclude or None)
     try:
+        if isinstance(motion, Mix):
+            return mix_robot(base, motion, payload=payload, mounting=mounting, joints=joints,
+                             exclude=exclude)
         if motion is not None:
             return robot_for_motion(base, motion, payload=payload, mounting=mounting,
                                     joints=joints, exclude=exclude)
@@ -426,7 +429,7 @@ def _robot_state(base: Robot, motion: Motion | None, file: EnvelopeFile | None,
         raise InputError(f"{err.reason} (robot file {base.path.name})", **where) from err
 
 
-def _options(file: EnvelopeFile | None, motion: Motion | None,
+def _options(file: EnvelopeFile | None, motion: Motion | Mix | None,
              given: Mapping[str, Any]) -> Options:
     """The options: given, else the envelope file's, else the duty's motion file's."""
     values = dict(given)

@@ -53,7 +53,7 @@ class EnvelopeTorques:
 
     def __init__(self, tasks: Sequence[Task], rows: StateRows, stop_time: float, *,
                  threads: int | None = None, guess: Mapping[str, float] | None = None,
-                 wrenches: bool = True) -> None:
+                 idle: float = 0.0, wrenches: bool = True) -> None:
         """Prepare the model; the duty's torques are computed when first asked for.
 
         Args:
@@ -63,10 +63,11 @@ class EnvelopeTorques:
             threads: Threads for the batched passes.
             guess: Masses [kg] expected per joint (the duty's passes use them where the
                 core has not chosen yet).
+            idle: The fraction of the time no task of the duty runs [-].
             wrenches: Also compute the sized joints' wrenches along the duty (the output
                 bearings' loads).
         """
-        duty = pooled(tasks)
+        duty = pooled(tasks, idle)
         self.duty = DirectTorques(duty.tasks, duty, stop_time, threads=threads, guess=guess,
                                   wrenches=wrenches)
         self.robot: Robot = self.duty.robot
@@ -183,3 +184,11 @@ def appended(samples: Samples, rows: StateRows) -> Samples:
                    frozen(np.concatenate([samples.qd, rows.qd])),
                    frozen(np.concatenate([samples.qdd, rows.qdd])),
                    rest, task, samples.tasks, samples.duration, samples.idle)
+
+
+def duty_time(samples: Samples, i: int) -> str:
+    """When duty sample i happens: ``t = 3.141 s``, led by its task's name in a duty of several."""
+    when = f"t = {samples.t[i]:.4g} s"
+    if len(samples.tasks) < 2:
+        return when
+    return f"{samples.tasks[int(samples.task[i])].label} {when}"

@@ -22,9 +22,10 @@ from hdselect.report.case_tables import case_notes
 from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.html_summary import parts_section, summary
 from hdselect.report.html_tables import STYLE, anchor, esc, number, slug, table
-from hdselect.report.mix_html import duty_line, mix_section, task_of
+from hdselect.report.html_tasks import duty_line, task_section
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
+from hdselect.report.task_tables import task_of
 from hdselect.report.terminal import (
     binding_words,
     life_text,
@@ -57,7 +58,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
         The page, self-contained.
     """
     count = len(result.trajectory.t)
-    sections = [_selection(result), mix_section(result), parts_section(result),
+    sections = [_selection(result), task_section(result), parts_section(result),
                 _warnings(result), _notes(result), _heat_maps(result), _loads(result),
                 bearing_section(result, bearing_figures or {}),
                 *(_joint_section(result, joint, figures.get(joint.name),

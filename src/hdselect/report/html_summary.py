@@ -13,11 +13,10 @@ from hdselect.catalog.checks import CHECK_NAMES
 from hdselect.catalog.rules import Candidate
 from hdselect.motion.motionfile import Motion
 from hdselect.report.html_tables import esc, slug, table
-from hdselect.report.mix_html import task_of
-from hdselect.report.mix_tables import mounting_text
 from hdselect.report.parts import parts
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import time_scale_text
+from hdselect.report.task_tables import mounting_text, task_of
 from hdselect.report.terminal import binding_words, life_text, ratio_text, verdict
 from hdselect.robot.model import Robot
 from hdselect.sizing.records import inertia_limit_text, margin_text

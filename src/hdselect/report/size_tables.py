@@ -20,6 +20,7 @@ from hdselect.catalog.units import MeanSpeed, Unit
 from hdselect.report.bearing_tables import BEARING_COLUMNS, bearing_cells, bearing_notes, load_line
 from hdselect.report.case_tables import case_notes, tool_pose_notes
 from hdselect.report.tables import Column, FittedTable
+from hdselect.report.task_tables import task_of, task_tables
 from hdselect.report.terminal import (
     life_text,
     percent,
@@ -107,7 +108,7 @@ def size_table(result: SizingResult) -> FittedTable:
         rows.append((
             escape(joint.name), escape(chosen.unit.id) + mark,
             f"{chosen.binding} {utilization_text(check.utilization, True)}"
-            + _task_of(result, joint, chosen.binding),
+            + escape(task_of(result, joint, chosen.binding)),
             life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             *bearing, ", ".join(notes)))
@@ -163,19 +164,13 @@ def _pairs_table(result: SizingResult) -> FittedTable:
             escape(joint.name), escape(chosen.unit.id) + ("*" if chosen.flags else ""),
             "-" if chosen.motor_unit is None else escape(chosen.motor_unit.id),
             _binding_text(chosen, chosen.gearhead_binding)
-            + _task_of(result, joint, chosen.gearhead_binding),
+            + escape(task_of(result, joint, chosen.gearhead_binding)),
             "-" if side is None else _binding_text(chosen, side).removeprefix("motor_")
-            + _task_of(result, joint, side),
+            + escape(task_of(result, joint, side)),
             ratio_text(joint.inertia_ratio(chosen)), life_text(chosen.life_hours),
             f"{motor.peak_torque:.3g}", f"{motor.rms_torque:.3g}", f"{motor.max_speed:,.0f}",
             *bearing, ", ".join(notes)))
     return _fitted(result, columns, rows)
-
-
-def _task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
-    """The task that sets a rule, in brackets, for a duty of several tasks; else nothing."""
-    who = result.set_by(joint, rule)
-    return "" if who is None else f" ({escape(who)})"
 
 
 def _binding_text(candidate: Candidate, name: str) -> str:
@@ -366,3 +361,11 @@ def _size_notes(result: SizingResult) -> list[str]:
                      "backdrives when the input is free: where a falling load could injure, a "
                      "fail-safe device on the output is needed.")
     return notes
+
+
+def report_tables(result: SizingResult) -> list[object]:
+    """The size report in the terminal: the selection, the task section, the joints' loads.
+
+    One path for every duty: the task section (`task_tables`) is empty for one task.
+    """
+    return [size_table(result), *task_tables(result), "", loads_table(result)]

@@ -3,8 +3,9 @@
 A computation takes the cases of one group (same robot file, motion file, mounting
 and payload shape) and yields one `Outcome` per case as each completes; a case whose
 inputs are bad, or whose motion cannot be planned, fails alone, with its message.
-``size`` evaluates a group from one basis of batched passes (`hdselect.study.group`)
-when it may, and each case on its own otherwise (`size_direct`): a group too small
+``size`` evaluates a group from one basis of batched passes per task
+(`hdselect.study.pooled`: a motion file is a duty of one task, a mix file several) when
+it may, and each case on its own otherwise (`size_direct`): a group too small
 to repay the basis, or a motion whose plan depends on the payload (TOPPRA under
 torque limits). Either way the answer is the sizing core's, to rounding. A case's
 motors (its motion file's ``[motor]``, or its ``motor_catalog``) are sized as pairs on
@@ -24,37 +25,33 @@ import math
 import os
 import socket
 import time
-from collections.abc import Callable, Generator, Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
-from pathlib import Path
 from typing import Any
 
 from hdselect.base.errors import HdselectError, InputError
-from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.motors import Motor, load_motors
-from hdselect.catalog.units import Unit
 from hdselect.codesign.fastest_cycle import fastest, resolve_units
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
 from hdselect.motion.case import robot_for_motion
 from hdselect.motion.mixfile import Mix
-from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import plan
-from hdselect.motion.robot_named import load_named, robot_source
-from hdselect.robot.model import Robot
-from hdselect.robot.payload import Payload
-from hdselect.sizing.core import motion_motors, size_trajectory
-from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.core import size_problem
+from hdselect.sizing.duty import mix_tasks
+from hdselect.sizing.problem import Problem
 from hdselect.sizing.summary import Summary, summarize
+from hdselect.sizing.tasks import Task
 from hdselect.study.case import Case, Outcome
-from hdselect.study.group import build_basis, plan_depends_on_payload, size_case
-from hdselect.study.mixgroup import (
+from hdselect.study.casetasks import (
+    Inputs,
+    case_options,
+    case_payloads,
+    case_shares,
     is_mix_case,
-    mix_case_motors,
-    mix_group,
-    scaled,
-    size_mix_direct,
 )
+from hdselect.study.group import plan_depends_on_payload
+from hdselect.study.pooled import group_cases, scaled
 
 MIN_GROUP = 4
 """Cases of one robot and path from which a group is evaluated from a shared basis: below
@@ -124,102 +121,42 @@ def _bearing_fields(joint: dict[str, Any]) -> dict[str, Any]:
             "bearing_life_l10_h": joint.get("bearing_life_l10_hours")}
 
 
-class _Inputs:
-    """Robots, motions and catalogs read once per worker task, keyed by file."""
+def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
+    """One case on its own: its `Problem` planned as `hdselect.size` plans it, run s times slower.
 
-    def __init__(self) -> None:
-        self.robots: dict[tuple[Path, tuple[tuple[str, str], ...]], Robot] = {}
-        self.mix_robots: dict[Path, Robot] = {}  # a mix file's robot, by its file
-        self.motions: dict[tuple[Path, tuple[Path, tuple[tuple[str, str], ...]]], Motion] = {}
-        self.units: dict[tuple[tuple[Path, ...], int | None], tuple[Unit, ...]] = {}
-        self.motor_files: dict[Path, tuple[Motor, ...]] = {}
-        self.robot_files: dict[Path, tuple[Path, dict[str, str]]] = {}
-
-    def case(self, case: Case) -> tuple[Robot, Motion, Payload | None]:
-        """The bare robot, the motion and the case's payload."""
-        arguments: dict[str, str] = {}
-        if case.robot is not None:
-            robot_file = case.robot
-        else:  # the motion file read once for the robot it names
-            if case.motion not in self.robot_files:
-                self.robot_files[case.motion] = robot_source(case.motion)
-            robot_file, arguments = self.robot_files[case.motion]
-        key = (robot_file, tuple(sorted(arguments.items())))
-        if key not in self.robots:
-            self.robots[key] = load_named(robot_file, arguments, case.motion)
-        robot = self.robots[key]
-        if (case.motion, key) not in self.motions:
-            self.motions[case.motion, key] = load_motion(case.motion, robot)
-        motion = self.motions[case.motion, key]
-        return robot, motion, case.payload_for(motion.payload)
-
-    def catalog(self, case: Case) -> tuple[Unit, ...]:
-        """The case's candidate units (its catalogs, only its ratio if it gives one)."""
-        key = (case.catalog, case.ratio)
-        if key not in self.units:
-            units = load_catalog(case.catalog)
-            if case.ratio is not None:
-                chosen = tuple(u for u in units if u.ratio == case.ratio)
-                if not chosen:
-                    ratios = sorted({u.ratio for u in units})
-                    raise InputError(f"no unit has ratio {case.ratio}; the catalog's ratios "
-                                     f"are: {', '.join(map(str, ratios))}", field="ratio")
-                units = chosen
-            self.units[key] = units
-        return self.units[key]
-
-    def mix_motors(self, case: Case, robot: Robot, mix: Mix) -> dict[str, tuple[Motor, ...]]:
-        """A mix case's candidate motors: its ``motor_catalog``'s, else the mix's."""
-        if case.motor_catalog is None:
-            return mix_case_motors(case, robot, mix, None)
-        return self.motors(case, robot, mix.motions[0])
-
-    def motors(self, case: Case, robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
-        """The case's candidate motors per sized joint of `robot` (empty without motors).
-
-        Its ``motor_catalog`` for every sized joint, else the motion file's ``[motor]``.
-        """
-        if case.motor_catalog is None:
-            return motion_motors(robot, motion)
-        if case.motor_catalog not in self.motor_files:
-            self.motor_files[case.motor_catalog] = load_motors(case.motor_catalog)
-        return {name: self.motor_files[case.motor_catalog] for name in robot.sized_joints}
-
-
-def case_options(case: Case, motion: Motion) -> Options:
-    """The case's options over the motion file's, one thread for the dynamics."""
-    return options_for(motion, **case.options, threads=1)
-
-
-def size_direct(case: Case, inputs: _Inputs | None = None) -> Summary:
-    """One case on its own: `hdselect.size`'s load, plan and size, the path time-scaled.
+    A motion file is one task; a mix file's tasks take the case's shares and payloads.
+    Both are sized by the core's `size_problem`.
 
     Raises:
-        HdselectError: An input is bad or the motion cannot be planned.
+        HdselectError: An input is bad or a motion cannot be planned.
     """
-    inputs = inputs or _Inputs()
+    inputs = inputs or Inputs()
+    source: Motion | Mix
     if is_mix_case(case):
-        return size_mix_direct(case, inputs.catalog(case), inputs.mix_motors, inputs.mix_robots)
-    robot, motion, payload = inputs.case(case)
-    units = inputs.catalog(case)
-    options = case_options(case, motion)
-    carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
-    motors = inputs.motors(case, carrying, motion)
-    trajectory = scaled(plan(carrying, motion, max_samples=options.max_samples),
-                        case.time_scale)
-    result = size_trajectory(carrying, trajectory, units, options, motors=motors)
-    return summarize(replace(result, motion=motion))
+        robot, source = inputs.mix(case)
+        options = case_options(case, source)
+        tasks, idle = mix_tasks(robot, source, mounting=case.mounting, joints=robot.sized_joints,
+                                exclude=(), max_samples=options.max_samples,
+                                shares=case_shares(case, source),
+                                payloads=case_payloads(case, source))
+    else:
+        bare, source, payload = inputs.case(case)
+        options = case_options(case, source)
+        robot = robot_for_motion(bare, source, payload=payload, mounting=case.mounting)
+        tasks, idle = (Task(robot, plan(robot, source, max_samples=options.max_samples),
+                            motion=source),), 0.0
+    tasks = tuple(replace(task, trajectory=scaled(task.trajectory, case.time_scale))
+                  for task in tasks)
+    return summarize(size_problem(Problem(robot, source, inputs.catalog(case), options,
+                                          inputs.motors(case, robot, source), tasks, idle)))
 
 
 def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
-    """``size`` for the cases of one group: from a shared basis where it may, else each alone."""
-    inputs = _Inputs()
+    """``size`` for the cases of one group: from shared bases where it may, else each alone."""
+    inputs = Inputs()
     host = f"{socket.gethostname()}:{os.getpid()}"
-    if grouped and len(cases) >= MIN_GROUP and is_mix_case(cases[0]):  # a group: one mix
-        pending = yield from mix_group(cases, inputs.catalog, inputs.mix_motors, inputs.mix_robots,
-                                       host)
-    elif grouped and len(cases) >= MIN_GROUP:
-        pending = yield from _grouped(list(cases), inputs, host)
+    if grouped and len(cases) >= MIN_GROUP:
+        pending = yield from group_cases(cases, inputs, host)
     else:
         note = (f"a group of {len(cases)} case{'s' if len(cases) > 1 else ''} (under "
                 f"{MIN_GROUP}): sized on its own") if grouped else None
@@ -235,64 +172,6 @@ def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
                       time.perf_counter() - start, host)
 
 
-_PAYLOAD_PLAN = "TOPPRA plans under torque limits with the payload's dynamics: sized on its own"
-
-
-def _grouped(cases: list[Case], inputs: _Inputs,
-             host: str) -> Generator[Outcome, None, list[tuple[Case, str | None]]]:
-    """Yield the outcomes of the cases that share a basis; return the ones that do not."""
-    start = time.perf_counter()
-    loaded: list[tuple[Case, Robot, Motion, Payload | None]] = []
-    for case in cases:
-        try:
-            loaded.append((case, *inputs.case(case)))
-        except HdselectError as err:
-            yield _failed(case, err, "grouped", start, host)
-    alone: list[tuple[Case, str | None]] = []
-    shapes: dict[Any, list[tuple[Case, Robot, Motion, Payload | None]]] = {}
-    for item in loaded:
-        case, _, motion, payload = item
-        if plan_depends_on_payload(motion):
-            alone.append((case, _PAYLOAD_PLAN))
-            continue
-        shape = None if payload is None else (payload.com, payload.inertia, payload.frame)
-        shapes.setdefault(shape, []).append(item)
-    for members in shapes.values():
-        case, robot, motion, payload = members[0]
-        begin = time.perf_counter()
-        try:
-            mounted = robot_for_motion(robot, replace(motion, payload=None),
-                                       mounting=case.mounting)
-            motors: dict[int, dict[str, tuple[Motor, ...]]] = {}
-            for member in members:
-                try:
-                    motors[member[0].index] = inputs.motors(member[0], mounted, motion)
-                except HdselectError as err:  # a bad motor file fails its cases alone
-                    yield _failed(member[0], err, "grouped", begin, host)
-            members = [member for member in members if member[0].index in motors]
-            if not members:
-                continue
-            basis = build_basis(mounted, motion, payload,
-                                inertias=any(motors[m[0].index] for m in members))
-        except HdselectError as err:
-            for member in members:
-                yield _failed(member[0], err, "grouped", begin, host)
-            continue
-        share = (time.perf_counter() - begin) / len(members)
-        for case, _, motion, payload in members:
-            started = time.perf_counter()
-            try:
-                summary = size_case(basis, None if payload is None else payload.mass,
-                                    case.time_scale, inputs.catalog(case),
-                                    case_options(case, motion), motors[case.index])
-            except HdselectError as err:
-                yield _failed(case, err, "grouped", started, host)
-                continue
-            yield Outcome(case.index, case.key, True, None, summary.to_dict(), "grouped", None,
-                          share + time.perf_counter() - started, host)
-    return alone
-
-
 def _failed(case: Case, err: HdselectError, method: str, start: float, host: str) -> Outcome:
     return Outcome(case.index, case.key, False, str(err), None, method, None,
                    time.perf_counter() - start, host)
@@ -302,7 +181,7 @@ SIZE = Computation("size", "choose a gearhead for every joint (hdselect size)", 
                    size_rows, SIZE_COLUMNS)
 
 
-def fastest_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, Any]:
+def fastest_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     """One case's shortest cycle: ``hdselect fastest`` with `size`'s units for the case.
 
     The units are those `size` selects for the motion run ``time_scale`` times slower,
@@ -311,7 +190,7 @@ def fastest_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, Any]:
     Raises:
         HdselectError: An input is bad, the motion is a log, or the path cannot be run.
     """
-    inputs = inputs or _Inputs()
+    inputs = inputs or Inputs()
     robot, motion, payload = inputs.case(case)
     units = inputs.catalog(case)
     options = case_options(case, motion)
@@ -322,7 +201,7 @@ def fastest_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, Any]:
     return fastest_json(fastest(carrying, motion, chosen, options, catalog=units))
 
 
-def max_payload_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, Any]:
+def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     """One case's largest payload: ``hdselect max-payload`` on the case's trajectory.
 
     The payload's shape (frame, centre of mass, inertia per kg) is the case's; its mass
@@ -332,7 +211,7 @@ def max_payload_direct(case: Case, inputs: _Inputs | None = None) -> dict[str, A
     Raises:
         HdselectError: An input is bad or the motion's plan depends on the payload.
     """
-    inputs = inputs or _Inputs()
+    inputs = inputs or Inputs()
     robot, motion, payload = inputs.case(case)
     units = inputs.catalog(case)
     options = case_options(case, motion)
@@ -360,9 +239,9 @@ def run_max_payload(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
 
 
 def _each(cases: Sequence[Case],
-          compute: Callable[[Case, _Inputs], dict[str, Any]]) -> Iterator[Outcome]:
+          compute: Callable[[Case, Inputs], dict[str, Any]]) -> Iterator[Outcome]:
     """Each case on its own, its files read once per task; a case that fails fails alone."""
-    inputs = _Inputs()
+    inputs = Inputs()
     host = f"{socket.gethostname()}:{os.getpid()}"
     for case in cases:
         start = time.perf_counter()

@@ -13,7 +13,8 @@ and one gearhead point mass per joint that carries one (theta = its mass [kg]); 
 gravity RNEA(q, 0, 0), A = RNEA(q, qd, qdd) - G, V = RNEA(q, qd, 0) - G and
 E = RNEA(q, qd, -qd) - RNEA(q, qd, 0), one stacked batched pass per parameter.
 Every case of the group is then sized by the core's own selection
-(`hdselect.sizing.core.select_units`), which asks `BasisTorques` for each joint's
+(`hdselect.sizing.core.select_units`, through `hdselect.study.pooled`: a motion is a
+duty of one task, a mix one basis per task), which asks `BasisTorques` for each joint's
 torques with the units chosen further out: a linear combination, not a pass of
 inverse dynamics. The answer is the one `hdselect.size_trajectory` reaches.
 Runs of identical samples (dwells) are kept once, weighted by their length.
@@ -31,7 +32,7 @@ and checks the bearing loads as the core does.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -40,21 +41,14 @@ from hdselect.base.arrays import frozen
 from hdselect.catalog.rules import (
     at_rest,
 )
-from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
-from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import inverse_dynamics, joint_inertias, torque_spread
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import axis_wrenches
-from hdselect.sizing.arguments import check_bearing_options, checked_motors
 from hdselect.sizing.bearing import SampledWrench
-from hdselect.sizing.core import select_units
 from hdselect.sizing.loads import JointLoad, joint_loads
-from hdselect.sizing.options import Options
-from hdselect.sizing.result import Motors, SizingResult
-from hdselect.sizing.summary import Summary, summarize
 from hdselect.sizing.tasks import Samples, Task
 from hdselect.sizing.torques import GRAVITY_SAMPLES
 
@@ -198,46 +192,6 @@ def _wrench_parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarra
                            np.vstack([still, qdd]), robot.sized_joints, threads=1)[:, :5]
     gravity, full = wrench[:, :, :len(rows)], wrench[:, :, len(rows):]
     return np.stack([gravity, full - gravity])
-
-
-def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequence[Unit],
-              options: Options, motors: Motors | None = None) -> Summary:
-    """One case of the group, sized by the core from the basis.
-
-    Args:
-        basis: The group's basis (with `Basis.inertia` where motors are given).
-        mass: Payload mass [kg] (None exactly when the basis has no payload).
-        time_scale: The path run s times slower [-].
-        units: The candidate units.
-        options: The assumptions; ``prefer`` None is resolved as the core resolves it.
-        motors: Candidate motors per sized joint, as `hdselect.size_trajectory` takes them.
-
-    Returns:
-        The case's summary; its robot and motion are the basis's files.
-
-    Raises:
-        InputError: The motors are not valid for this robot and these options (as the
-            core says).
-    """
-    units = tuple(units)
-    motors = checked_motors(basis.robot, motors, options)
-    if options.prefer is None:
-        options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
-                          else DEFAULT_PREFER)
-    if motors and basis.inertia is None:
-        raise ValueError("a case with motors needs a basis built with inertias=True")
-    check_bearing_options(basis.robot, units, options)
-    model = BasisTorques(basis, mass, time_scale, options.stop_time,
-                         wrenches=options.bearing_loads)
-    joints, masses = select_units(model, {name: units for name in basis.robot.sized_joints},
-                                  options, motors, detail=False)
-    # only the cycle time and the sample count of the trajectory go into the summary
-    traj = basis.trajectory
-    timing = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale)
-    summary = summarize(SizingResult(basis.robot, timing, tuple(joints), options, units,
-                                     basis.motion, motors=motors, loads=model.loads(masses)))
-    # the basis's robot carries the reference payload; the case carries its own mass
-    return replace(summary, payload_mass=0.0 if mass is None else float(mass))
 
 
 class BasisTorques:

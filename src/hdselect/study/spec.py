@@ -32,8 +32,8 @@ from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options
 from hdselect.sizing.tasks import check_shares
 from hdselect.study.case import Case
+from hdselect.study.casetasks import check_task_keys
 from hdselect.study.compute import COMPUTATIONS
-from hdselect.study.mixgroup import check_task_keys
 
 OPTION_KEYS = tuple(option.name for option in OPTIONS if option.study)
 """Sizing options a study may set or vary (`hdselect.motion.option_specs.Option.study`;

@@ -1,9 +1,11 @@
-"""Terminal tables of a duty of several tasks (a mix): the tasks, and what each task sets.
+"""The size report's task section in the terminal: a duty's tasks and what each task sets.
 
-The selection table (`hdselect.report.size_tables.size_table`) gives the units for
-the whole duty; these say which task sets each rule of each joint's unit (a rule of
-single samples: the worst task; mean torque, average speed, life and motor RMS: every
-task pooled), and how the unit fares against each task alone.
+Every result is a duty of tasks (a motion file: one task). The selection table
+(`hdselect.report.size_tables.size_table`) gives the units for the whole duty; for a
+duty of several tasks (a mix) these tables follow it and say which task sets each
+rule of each joint's unit (a rule of single samples: the worst task; mean torque,
+average speed, life and motor RMS: every task pooled), and how the unit fares against
+each task alone. A duty of one task has no task section.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import mounting_name
-from hdselect.sizing.result import SizingResult
+from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
 
 POOLED_NOTE = ("pooled: mean torque, average speed, life and motor RMS pool every task's "
@@ -24,6 +26,15 @@ POOLED_NOTE = ("pooled: mean torque, average speed, life and motor RMS pool ever
                "and the crash), static and the inertia ratio (the largest load inertia of "
                "any task) are the worst task's")
 """How the rules combine the tasks, for notes."""
+
+
+def task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
+    """The task that sets a rule, in brackets, for a duty of several tasks; else nothing.
+
+    Plain text: the caller escapes it for its output.
+    """
+    who = result.set_by(joint, rule)
+    return "" if who is None else f" ({who})"
 
 
 def payload_text(robot: Robot) -> str:
@@ -187,8 +198,11 @@ def spread_notes(result: SizingResult) -> tuple[str, ...]:
     return tuple(notes)
 
 
-def mix_tables(result: SizingResult) -> list[object]:
-    """The tables of a mix after the selection: tasks, rules by task, each task alone."""
+def task_tables(result: SizingResult) -> list[object]:
+    """The task section after the selection: tasks, rules by task, each task alone.
+
+    Nothing for a duty of one task.
+    """
     if not any(joint.per_task for joint in result.joints) and len(result.tasks) < 2:
         return []
     items: list[object] = ["", tasks_table(result)]

@@ -1,6 +1,6 @@
-"""The HTML report's section on a duty of several tasks (a mix): the tasks and what each sets.
+"""The HTML size report's task section: a duty's tasks and what each sets (none for one task).
 
-The same content as the terminal's (`hdselect.report.mix_tables`): every task's
+The same content as the terminal's (`hdselect.report.task_tables`): every task's
 motion, share, cycle, payload and mounting; per joint, which task sets each rule of its
 unit (or ``pooled``); and the unit against each task alone beside the duty.
 """
@@ -10,7 +10,7 @@ from __future__ import annotations
 from hdselect.catalog.checks import CHECK_LABELS
 from hdselect.catalog.rules import Candidate
 from hdselect.report.html_tables import esc, table
-from hdselect.report.mix_tables import (
+from hdselect.report.task_tables import (
     POOLED_NOTE,
     mounting_text,
     payload_text,
@@ -18,11 +18,11 @@ from hdselect.report.mix_tables import (
     spread_notes,
 )
 from hdselect.report.terminal import life_text, percent, utilization_text
-from hdselect.sizing.result import JointSizing, SizingResult
+from hdselect.sizing.result import SizingResult
 from hdselect.sizing.tasks import cycle_of
 
 
-def mix_section(result: SizingResult) -> str:
+def task_section(result: SizingResult) -> str:
     """The section, or nothing for a result of one task."""
     if len(result.tasks) < 2:
         return ""
@@ -42,12 +42,6 @@ def mix_section(result: SizingResult) -> str:
     return (f"<section id=tasks><h2>Tasks: {esc(name)}, one duty</h2><p>The units above are "
             "chosen for every task together. " + esc(POOLED_NOTE) + ".</p>"
             + "".join(parts) + "</section>")
-
-
-def task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
-    """The task that sets a rule, in brackets, for a duty of several tasks; else nothing."""
-    who = result.set_by(joint, rule)
-    return "" if who is None else f" ({who})"
 
 
 def duty_line(result: SizingResult) -> str:
