@@ -1,7 +1,7 @@
 """Co-design with motors: `fastest` and `max-payload` take them, as `size` does, or refuse them.
 
 Oracles: the motor torque along the fastest cycle re-derived here from the gear torque
-the CSV carries (DESIGN.md, "Reflecting through the ratio"), and the public `size` at the
+the CSV carries (docs/rules.md, "The checks", motor side), and the public `size` at the
 largest payload and just above it.
 """
 

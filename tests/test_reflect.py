@@ -1,6 +1,6 @@
 """Reflecting a joint's demand through a gearhead, against hand arithmetic.
 
-Motor torque (DESIGN.md, "Reflecting through the ratio"):
+Motor torque (docs/rules.md, "The checks", motor side):
     T = tau / (N eta)   while the motor drives (tau qd > 0)
         tau eta / N     while the load drives back (tau qd < 0)
       + (J_in + J_m) N qdd,

@@ -1,7 +1,7 @@
 """`hdselect.sizing.core.size` against sizing done by hand, Pinocchio with the units' masses
 written into the model, re-runs of slowed motions, and invariants of the catalog rules.
 
-The catalog's rules (DESIGN.md, "The rules"), with n the input speed, T the output torque:
+The catalog's rules (docs/rules.md, "The checks"), with n the input speed, T the output torque:
     peak   max |T| while moving <= repeated-peak limit
     mean   T_av = cbrt(sum |n||T|^3 dt / sum |n| dt), N_av = sum |n| dt / moving time,
            T_allow = min((1750 / N_av)^0.33 T_N, repeated-peak limit)

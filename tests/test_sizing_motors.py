@@ -1,7 +1,7 @@
 """Gearhead and motor chosen together, against hand calculations and Pinocchio.
 
 The motor behind a unit of ratio N, efficiency eta, input inertia J_in, with rotor
-inertia J_m (DESIGN.md, "Reflecting through the ratio"), written out again here:
+inertia J_m (docs/rules.md, "The checks", motor side), written out again here:
 
     T_motor = tau / (N eta) + (J_in + J_m) N qdd   while the motor drives (tau qd >= 0)
             = tau eta / N   + (J_in + J_m) N qdd   while the load drives back

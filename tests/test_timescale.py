@@ -1,6 +1,6 @@
 """Time scaling against oracles: Pinocchio at the scaled speeds, hand algebra, brute force.
 
-A path run s times slower (DESIGN.md, "Time scaling and linearity"), per sample, with
+A path run s times slower (docs/rules.md, "When no unit fits"), per sample, with
 g = RNEA(q, 0, 0), v = RNEA(q, qd, 0) - g, i = RNEA(q, qd, qdd) - RNEA(q, qd, 0) and
 e = RNEA(q, qd, -qd / t_stop) - RNEA(q, qd, 0):
     speed qd / s, acceleration qdd / s^2, times t s
