@@ -18,8 +18,9 @@ KG_M2_PER_LB_IN2 = 2.9264e-4
 KG_M2_PER_KG_CM2 = 1e-4
 KG_PER_LB = 0.45359237
 
-# The seed's specification table (seed/psa-g-gearheads.md), both columns, transcribed
-# by hand: (lb-in, N m) for torques; None where the page is blank or says NA.
+# The PSA-G catalog page's specification table, both columns, transcribed by hand again
+# (not read from catalog/data/psa_g.toml): (lb-in, N m) for torques; None where the page
+# is blank or says NA.
 SEED = {
     "PSA-08-80": dict(rated=(14, 1.6), repeated=(23, 2.6), momentary=None, static=None,
                       speed=7000, inertia=None, mass=(0.66, 0.3)),

@@ -12,7 +12,7 @@ its fastest move through an angle theta under a torque limit T:
     crash binding                          J |qdd| + K |qd| <= M: accelerate with
         qd = (M / K) (1 - exp(-K t / J)) to the middle, then the mirror image
 
-The rules are written out here again, not taken from `hdselect.rules`.
+The rules are written out here again, not taken from `hdselect.catalog.rules`.
 """
 
 from __future__ import annotations

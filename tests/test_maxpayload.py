@@ -1,4 +1,4 @@
-"""`hdselect.maxpayload` against the sizing itself, re-run around the answer, and against
+"""`hdselect.codesign.maxpayload` against the sizing itself, re-run around the answer, and against
 inverse dynamics re-run with the payload written into the model."""
 
 from __future__ import annotations

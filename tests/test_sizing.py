@@ -6,7 +6,7 @@ The catalog's rules (docs/rules.md, "The checks"), with n the input speed, T the
     mean   T_av = cbrt(sum |n||T|^3 dt / sum |n| dt), N_av = sum |n| dt / moving time,
            T_allow = min((1750 / N_av)^0.33 T_N, repeated-peak limit)
     life   L50 = 35000 (1750 / N_av) (T_N / T_av)^3 h
-They are written out again here; nothing below is taken from `hdselect.rules`.
+They are written out again here; nothing below is taken from `hdselect.catalog`.
 """
 
 from __future__ import annotations

@@ -9,7 +9,7 @@ inertia J_m (docs/rules.md, "The checks", motor side), written out again here:
 The motor's rules: every sample's |T_motor| under its peak torque at that sample's
 input speed n = N |qd|; the RMS of T_motor over the whole cycle at most its rated
 torque; max n at most its maximum speed. Inertia ratio (M_jj / N^2 + J_in) / J_m.
-Nothing below is taken from `hdselect.rules` or `hdselect.reflect`.
+Nothing below is taken from `hdselect.catalog` or `hdselect.sizing.reflect`.
 """
 
 from __future__ import annotations

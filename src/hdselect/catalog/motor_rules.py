@@ -90,7 +90,9 @@ def with_motor(candidate: Candidate, motor: Motor, torque: np.ndarray,
     Returns:
         The pair, its checks in the order of `CHECKS`.
     """
-    assert candidate.motor is not None  # the motor demand comes with the reflection
+    if candidate.motor is None:
+        raise TypeError(f"{candidate.unit.id}: a motor pair needs the candidate's motor demand "
+                        "(reflect it with a motor)")
     margin = candidate.required_margin if margin is None else margin
     checks = {**candidate.checks, **check_motor(motor, torque, speed_rpm, candidate.motor,
                                                  margin=margin)}

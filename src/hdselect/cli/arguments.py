@@ -95,7 +95,7 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
 
 
 def sizing_arguments(parser: argparse.ArgumentParser) -> None:
-    """The flags of the sizing assumptions (`hdselect.sizing.core.options.Options`)."""
+    """The flags of the sizing assumptions (`hdselect.sizing.options.Options`)."""
     from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS, PREFERENCES
     from hdselect.motion.motionfile import LIFE_BASES
     from hdselect.sizing.options import Options

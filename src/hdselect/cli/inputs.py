@@ -192,7 +192,8 @@ def robot_and_motion(args: argparse.Namespace):
         if args.payload is not None:
             mass = float(args.payload)
         else:
-            assert base is not None  # refused above
+            if base is None:
+                raise RuntimeError("no payload mass to keep (refused above)")
             mass = base.mass
         try:
             payload = Payload(

@@ -1,10 +1,10 @@
 """The rules over the whole cycle on TOPPRA's run: the smallest slow-down, the derating, the check.
 
-TOPPRA (`hdselect.fastpath`) meets every rule that holds sample by sample. The rules
+TOPPRA (`hdselect.codesign.fastpath`) meets every rule that holds sample by sample. The rules
 over the whole cycle (mean torque, life, average input speed) are checked on its run
 with the sizing's own `check_unit`. Where one fails, `smallest_scale` finds the
 smallest uniform slow-down s of the moves (dwells keep their length) at which every
-rule of every joint passes, with the exact time scaling of `hdselect.timescale`: the
+rule of every joint passes, with the exact time scaling of `hdselect.sizing.timescale`: the
 rules on single samples exactly, the whole-cycle rules on 1 % steps, bisected to
 1e-6. `derated` instead holds the failing joints to a fraction of their
 repeated-peak limit (0.9, 0.8, ..., re-solved by TOPPRA, each with its own smallest
@@ -126,7 +126,8 @@ def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
     dt = np.where(held[keep], lasts, trajectory.dt)
     torques = cycle_torques(carrying, q, qd, qdd, options.stop_time, split=True,
                             threads=options.threads)
-    assert torques.gravity is not None and torques.coasting is not None
+    if torques.gravity is None or torques.coasting is None:
+        raise RuntimeError("cycle_torques(split=True) returned no gravity or coasting part")
     out = {}
     for name in units:
         j = carrying.joint_index(name)

@@ -43,11 +43,10 @@ from hdselect.motion.limits import (
 from hdselect.motion.lines import LinePath
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
-from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: public here too)
+from hdselect.motion.robot_named import (
     load_named,
     named_file,
     read_motion_toml,
-    robot_file_named,
     xacro_args_of,
 )
 from hdselect.motion.sizing_table import bearing_offsets, sizing_joints

@@ -123,7 +123,8 @@ def size(
     else:
         robot, loaded = load_case(motion, robot, payload=payload, mounting=mounting,
                                   joints=joints, exclude=exclude)
-        assert isinstance(loaded, Motion)  # a mix file went to _size_mix
+        if not isinstance(loaded, Motion):
+            raise RuntimeError("a mix file reached the single-motion path (it goes to _size_mix)")
         motion = loaded
     resolved = options_for(motion, **options)
     units = tuple(units) if units is not None else load_catalog(catalog)
