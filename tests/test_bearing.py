@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,9 +22,9 @@ from hdselect.motion.motionfile import load_motion
 from hdselect.robot.wrenches import bearing_loads
 from hdselect.study.compute import scaled, size_rows
 from hdselect.study.group import build_basis, size_case
-from test_study_group import differences, separate
+from helpers import REPO
+from helpers.studies import differences, separate
 
-REPO = Path(__file__).resolve().parents[1]
 PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"
 EXAMPLE = REPO / "catalogs" / "example_rated_bearing.toml"
 DOC = (REPO / "docs" / "bearing.md").read_text(encoding="utf-8")
@@ -279,6 +278,7 @@ def test_the_example_catalog_says_it_is_not_vendor_data():
 
 # --- the HTML report ----------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_the_report_has_a_bearing_section_with_a_figure_per_joint(rated, tmp_path):
     from hdselect.report.report_files import write_report
 
@@ -292,7 +292,6 @@ def test_the_report_has_a_bearing_section_with_a_figure_per_joint(rated, tmp_pat
         assert (tmp_path / "report" / f"bearing_{joint.name}.png").stat().st_size > 10_000
         assert f"alt='output bearing loads of {joint.name}" in section
     assert "data-check='bearing_moment'" in page
-
 
 
 BEARING_BOUND = """series = "XB"
@@ -313,6 +312,7 @@ max_moment_nm = 15.0
 """
 
 
+@pytest.mark.slow
 def test_max_payload_stops_where_a_rated_bearing_does(tmp_path):
     """A unit whose gear carries 60 N m but whose bearing only 15 N m of tilting moment:
     the largest payload is where the first bearing runs out (not where the torques do, 9.9

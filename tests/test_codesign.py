@@ -42,8 +42,8 @@ from hdselect.motion.planning.toppra import (
 )
 from hdselect.sizing.core import size
 from hdselect.sizing.options import Options
-from test_dynamics import REPO
-from test_motion import write_motion, write_robot
+from helpers import REPO
+from helpers.robots import write_motion, write_robot
 
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
 RESOLUTION = 3e-3
@@ -201,6 +201,7 @@ SLACK = dataclasses.replace(
     static_torque=1e6, rated_torque=1e6, max_input_speed=1e12, input_inertia=0.0, flags=())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mounting", ["floor", "wall"])
 def test_fastest_is_no_longer_than_the_plan_that_passes_with_its_units(mounting):
     """Issue 27: the pick-and-place of tool poses, planned, passes every rule with the
@@ -218,6 +219,7 @@ def test_fastest_is_no_longer_than_the_plan_that_passes_with_its_units(mounting)
     assert result.cycle_time == pytest.approx(sized.cycle_time, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_fastest_reports_a_slow_down_beyond_the_tolerance(monkeypatch, tmp_path):
     """Forced: the path model on its cosine grid alone (no knots, no refinement), as
     before issue 27, slows every piece of the pick-and-place down by more than 0.1 %:
@@ -367,6 +369,7 @@ def write_log_motion(directory: Path, csv: Path, source: Path) -> Path:
     """, name="log.toml")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("coupled", [True, False])
 def test_written_trajectory_passes_size_as_a_log(tmp_path, coupled):
     csv = tmp_path / "fastest.csv"
@@ -403,6 +406,7 @@ FAST_PICK_UNITS = {"shoulder_pan": "PSA-14-80", "shoulder_lift": "PSA-14-100",
                    "wrist_3": "PSA-08-80"}
 
 
+@pytest.mark.slow
 def test_stronger_unit_never_gives_a_longer_cycle(tmp_path):
     # the arm: shoulder_pan crash-bound (PSA-08-80) or torque-bound (PSA-10-50)
     robot, motion = load_case(FAST_PICK)
@@ -424,6 +428,7 @@ def test_stronger_unit_never_gives_a_longer_cycle(tmp_path):
     assert quick.cycle_time < slow.cycle_time
 
 
+@pytest.mark.slow
 def test_compare_ratios_equals_fastest_unit_by_unit(tmp_path):
     unit = UNITS["PSA-14-100"]
     # the units are chosen on the plan at the motion's own limits (about 1 ms long)
@@ -471,6 +476,7 @@ def test_a_log_has_no_path(capsys):
                    "path to run faster; give a motion with waypoints\n")
 
 
+@pytest.mark.slow
 def test_a_joint_no_unit_can_run_is_named_with_what_to_do(capsys):
     """No catalog unit holds the shoulder: the refusal says how to go on (--units would not)."""
     motion = REPO / "trajectories" / "benchtop6_pick_place.toml"
@@ -536,6 +542,7 @@ def test_options_and_joint_flags(capsys):
 
 # --- the command line ------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_json_csv_and_plot_of_fastest(tmp_path, capsys):
     out, plot = tmp_path / "fast.csv", tmp_path / "fast.png"
     assert main(["fastest", str(FAST_PICK), "--json", "-", "--out", str(out), "--plot",
@@ -562,6 +569,7 @@ def test_json_csv_and_plot_of_fastest(tmp_path, capsys):
     assert plot.stat().st_size > 0
 
 
+@pytest.mark.slow
 def test_json_of_compare_ratios(capsys):
     assert main(["fastest", str(FAST_PICK), "--compare-ratios", "--joint", "elbow",
                  "--json", "-"]) == 0
@@ -574,6 +582,7 @@ def test_json_of_compare_ratios(capsys):
     assert rows["PSA-14-100"]["cycle_time_s"] == pytest.approx(document["cycle_time_s"])
 
 
+@pytest.mark.slow
 def test_motor_data_of_the_motion_file_is_taken_not_left_out(tmp_path):
     """fastest and max-payload run the motion file's [motor] (they refused it before)."""
     from hdselect import max_payload
@@ -628,6 +637,7 @@ def test_fastest_shows_speed_limits_in_the_motion_files_angle_unit(capsys, tmp_p
     assert "100 motion" in text if angle == "deg" else "1.75 motion" in text  # the file's own
 
 
+@pytest.mark.slow
 def test_compare_says_nothing_is_selected_when_no_unit_passes(capsys, tmp_path):
     assert main(["compare", str(FAST_PICK), "--joint", "elbow", "--efficiency", "0.5",
                  "--life-hours", "1e9"]) == 1

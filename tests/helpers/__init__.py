@@ -7,6 +7,7 @@ package (never from one another); fixtures live in tests/conftest.py.
 from __future__ import annotations
 
 import io
+from collections.abc import Sequence
 from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
@@ -25,7 +26,7 @@ def run(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, st
     return status, out, err
 
 
-def run_redirected(*argv: object) -> tuple[int, str, str]:
+def run_redirected(argv: Sequence[object]) -> tuple[int, str, str]:
     """`run` without capsys: the output caught by redirecting sys.stdout and sys.stderr."""
     out, err = io.StringIO(), io.StringIO()
     with redirect_stdout(out), redirect_stderr(err):
