@@ -177,3 +177,7 @@ if __name__ == "__main__":
                         else "   <-- differs"
                     print(f"=== {example.kind}: {example.source.splitlines()[0]}{mark}")
                     print(printed)
+
+
+OWN_ROBOT = "## Your own robot"
+"""The README section whose steps build on a file the reader edits: test_readme runs it."""

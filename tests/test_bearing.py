@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,9 +23,10 @@ from hdselect.robot.wrenches import bearing_loads
 from hdselect.study.compute import size_rows
 from hdselect.study.group import build_basis
 from hdselect.study.pooled import scaled, size_case
-from test_study_group import differences, separate
+from helpers import REPO
+from helpers.bearings import BEARING_BOUND
+from helpers.studies import differences, separate
 
-REPO = Path(__file__).resolve().parents[1]
 PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"
 EXAMPLE = REPO / "catalogs" / "example_rated_bearing.toml"
 DOC = (REPO / "docs" / "bearing.md").read_text(encoding="utf-8")
@@ -280,6 +280,7 @@ def test_the_example_catalog_says_it_is_not_vendor_data():
 
 # --- the HTML report ----------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_the_report_has_a_bearing_section_with_a_figure_per_joint(rated, tmp_path):
     from hdselect.report.report_files import write_report
 
@@ -296,24 +297,8 @@ def test_the_report_has_a_bearing_section_with_a_figure_per_joint(rated, tmp_pat
 
 
 
-BEARING_BOUND = """series = "XB"
-source = "test: a strong gear on a weak bearing"
-""" + SPIN_RULES + """[[unit]]
-size = 20
-ratio = 100
-rated_torque_nm = 30
-repeated_torque_nm = 60
-momentary_torque_nm = 100
-static_torque_nm = 100
-max_input_speed_rpm = 7000
-input_inertia_kg_cm2 = 0.1
-mass_kg = 0.5
-[unit.bearing]
-pitch_diameter_m = 0.05
-max_moment_nm = 15.0
-"""
 
-
+@pytest.mark.slow
 def test_max_payload_stops_where_a_rated_bearing_does(tmp_path):
     """A unit whose gear carries 60 N m but whose bearing only 15 N m of tilting moment:
     the largest payload is where the first bearing runs out (not where the torques do, 9.9

@@ -29,7 +29,7 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.checks import BEARING_CHECKS
 from hdselect.catalog.rules import CHECK_LABELS, CHECKS, bearing_checks, check_unit
 from hdselect.catalog.units import BearingRating
-from test_rules import PSA_RULES, make_load, make_unit
+from helpers.motions import PSA_RULES, make_load, make_unit
 
 RPM = 2.0 * math.pi / 60.0  # rad/s in one rpm
 RATING = BearingRating(pitch_diameter=0.05, dynamic_rating=2000.0, static_rating=3000.0,

@@ -13,13 +13,14 @@ import pytest
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 
-NM_PER_LB_IN = 0.1129848  # DESIGN.md, "The catalog"
+NM_PER_LB_IN = 0.1129848  # N m per lbf in: 4.4482216 N x 0.0254 m
 KG_M2_PER_LB_IN2 = 2.9264e-4
 KG_M2_PER_KG_CM2 = 1e-4
 KG_PER_LB = 0.45359237
 
-# The seed's specification table (seed/psa-g-gearheads.md), both columns, transcribed
-# by hand: (lb-in, N m) for torques; None where the page is blank or says NA.
+# The PSA-G catalog page's specification table, both columns, transcribed by hand again
+# (not read from catalog/data/psa_g.toml): (lb-in, N m) for torques; None where the page
+# is blank or says NA.
 SEED = {
     "PSA-08-80": dict(rated=(14, 1.6), repeated=(23, 2.6), momentary=None, static=None,
                       speed=7000, inertia=None, mass=(0.66, 0.3)),
@@ -36,7 +37,8 @@ SEED = {
     "PSA-14-100": dict(rated=(102, 11.5), repeated=(180, 20.3), momentary=(200, 22.6),
                        static=(300, 34.6), speed=6000, inertia=(0.0114, 0.033), mass=(1.1, 0.5)),
 }
-# The two contradictions of the source (DESIGN.md): the lower column is used.
+# The two contradictions of the source (docs/rules.md, "The catalog and its defects"):
+# the lower column is used.
 CORRECTED_STATIC = {
     "PSA-10-80": 70 * NM_PER_LB_IN,  # 70 x 0.1129848 = 7.908936 N m < 9.0 N m
     "PSA-14-100": 300 * NM_PER_LB_IN,  # 300 x 0.1129848 = 33.89544 N m < 34.6 N m

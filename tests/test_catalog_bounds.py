@@ -16,8 +16,8 @@ import re
 import pytest
 
 from hdselect.cli.main import main
-from test_dynamics import REPO
-from test_option_effects import ONE_MOVE
+from helpers import REPO
+from helpers.options import ONE_MOVE
 
 CATALOG = (REPO / "catalogs" / "example_rated_bearing.toml").read_text(encoding="utf-8")
 MOTORS = (REPO / "motors" / "example_motors.toml").read_text(encoding="utf-8")

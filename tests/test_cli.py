@@ -12,8 +12,8 @@ from pathlib import Path
 import pytest
 
 from hdselect.cli.main import main
+from helpers import REPO, run
 
-REPO = Path(__file__).resolve().parents[1]
 CONVEYOR = REPO / "trajectories" / "duty" / "conveyor_index.toml"
 UNIT_IDS = ["PSA-08-80", "PSA-08-100", "PSA-10-50", "PSA-10-80", "PSA-14-50", "PSA-14-80",
             "PSA-14-100"]
@@ -38,12 +38,6 @@ def write_profile(tmp_path: Path, phases: list[tuple[object, object, object]] | 
     path = tmp_path / name
     path.write_text(text, encoding="utf-8")
     return path
-
-
-def run(capsys: pytest.CaptureFixture[str], *argv: object) -> tuple[int, str, str]:
-    status = main([str(arg) for arg in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def table_rows(out: str) -> dict[str, tuple[str, list[str]]]:
@@ -313,6 +307,7 @@ def test_duty_malformed_toml(tmp_path: Path, capsys: pytest.CaptureFixture[str])
     assert_one_error_line(err, str(profile), "not valid TOML")
 
 
+@pytest.mark.slow
 def test_duty_error_in_a_real_process(tmp_path: Path) -> None:
     """The installed entry point: one line on stderr, exit 2, no traceback."""
     profile = write_profile(tmp_path, [(3.0, math.nan, 10.0)])
@@ -325,6 +320,7 @@ def test_duty_error_in_a_real_process(tmp_path: Path) -> None:
     assert_one_error_line(completed.stderr, str(profile), "phase[0].time", "finite")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("module", ["hdselect", "hdselect.cli"])
 def test_python_dash_m_runs_the_command_line(module: str) -> None:
     """``python -m hdselect`` said "'hdselect' is a package and cannot be directly executed"."""

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pytest
 
-from test_dynamics import REPO
+from helpers import REPO
 
 pytestmark = pytest.mark.skipif(not Path("/proc/self/status").exists(),
                                 reason="needs /proc to see when the handlers are installed")
@@ -72,6 +72,7 @@ def ended_by(process: subprocess.Popen, signum: int, work: Path) -> None:
     assert sorted(p.name for p in work.iterdir()) == [], "an output or a temporary was left"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
 @pytest.mark.parametrize("delay", [0.05, 0.3, 1.0])
 def test_a_signal_during_start_up_is_one_line_and_its_status(tmp_path, signum, delay):
@@ -81,6 +82,7 @@ def test_a_signal_during_start_up_is_one_line_and_its_status(tmp_path, signum, d
     ended_by(process, signum, tmp_path)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
 def test_a_signal_mid_run_leaves_no_output_and_no_temporary(tmp_path, signum):
     process, _ = start(LONG, tmp_path)
@@ -101,6 +103,7 @@ def test_handlers_go_in_before_the_commands_modules_load():
     assert loaded.stdout.strip() == "[]"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["INT", "TERM"])
 def test_a_signal_after_the_command_ends_the_program_quietly_with_its_status(signum):
     """After the command (the interpreter exiting): 130 or 143, what was printed kept."""

@@ -12,7 +12,7 @@ its fastest move through an angle theta under a torque limit T:
     crash binding                          J |qdd| + K |qd| <= M: accelerate with
         qd = (M / K) (1 - exp(-K t / J)) to the middle, then the mirror image
 
-The rules are written out here again, not taken from `hdselect.rules`.
+The rules are written out here again, not taken from `hdselect.catalog.rules`.
 """
 
 from __future__ import annotations
@@ -42,52 +42,15 @@ from hdselect.motion.planning.toppra import (
 )
 from hdselect.sizing.core import size
 from hdselect.sizing.options import Options
-from test_dynamics import REPO
-from test_motion import write_motion, write_robot
+from helpers import REPO
+from helpers.codesign import index_table, mean_speed_allowing_peak
+from helpers.robots import write_motion, write_robot
 
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
 RESOLUTION = 3e-3
 """What the TOPPRA grid may cost a cycle against its closed form (measured: at most 0.21 %)."""
 FAST_PICK = REPO / "trajectories" / "benchtop6_fast_pick.toml"
 UNITS = {unit.id: unit for unit in load_catalog()}
-
-
-def index_table(directory: Path, inertia: float, theta: float, *, stop_time: float = 10.0,
-                dt: float = 0.001):
-    """A one-axis table of `inertia` [kg m^2] about a vertical axis, moving `theta` [rad].
-
-    The motion's own limits are far beyond any gearhead's; a long stop time keeps the
-    emergency stop and the crash far from their limits unless a test wants them. Planned
-    at those limits (as `size` would) the move takes about 1 ms: only a fine `dt`
-    resolves it.
-    """
-    (directory / "table.urdf").write_text(
-        '<robot name="table"><link name="base"/><link name="disk"><inertial><mass value="1"/>'
-        f'<inertia ixx="{inertia}" ixy="0" ixz="0" iyy="{inertia}" iyz="0" izz="{inertia}"/>'
-        '</inertial></link><joint name="table" type="continuous"><parent link="base"/>'
-        '<child link="disk"/><axis xyz="0 0 1"/><limit effort="1e6" velocity="1e6"/></joint>'
-        "</robot>")
-    return load_case(write_motion(directory, f"""\
-        robot = "table.urdf"
-        planner = "toppra"
-        angle_unit = "rad"
-        dt = {dt!r}
-        [limits]
-        velocity = 1e4
-        acceleration = 1e7
-        [safety]
-        stop_time = {stop_time}
-        [[waypoint]]
-        q = [0.0]
-        [[waypoint]]
-        q = [{theta!r}]
-    """))
-
-
-def mean_speed_allowing_peak(unit) -> float:
-    """Mean output speed [rad/s] at which the mean-torque allowance reaches the repeated peak."""
-    input_rpm = 1750.0 * (unit.rated_torque / unit.repeated_torque) ** (1.0 / 0.33)
-    return input_rpm / unit.ratio / RPM
 
 
 def top_speed(unit) -> float:
@@ -201,6 +164,7 @@ SLACK = dataclasses.replace(
     static_torque=1e6, rated_torque=1e6, max_input_speed=1e12, input_inertia=0.0, flags=())
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mounting", ["floor", "wall"])
 def test_fastest_is_no_longer_than_the_plan_that_passes_with_its_units(mounting):
     """Issue 27: the pick-and-place of tool poses, planned, passes every rule with the
@@ -218,6 +182,7 @@ def test_fastest_is_no_longer_than_the_plan_that_passes_with_its_units(mounting)
     assert result.cycle_time == pytest.approx(sized.cycle_time, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_fastest_reports_a_slow_down_beyond_the_tolerance(monkeypatch, tmp_path):
     """Forced: the path model on its cosine grid alone (no knots, no refinement), as
     before issue 27, slows every piece of the pick-and-place down by more than 0.1 %:
@@ -367,6 +332,7 @@ def write_log_motion(directory: Path, csv: Path, source: Path) -> Path:
     """, name="log.toml")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("coupled", [True, False])
 def test_written_trajectory_passes_size_as_a_log(tmp_path, coupled):
     csv = tmp_path / "fastest.csv"
@@ -403,6 +369,7 @@ FAST_PICK_UNITS = {"shoulder_pan": "PSA-14-80", "shoulder_lift": "PSA-14-100",
                    "wrist_3": "PSA-08-80"}
 
 
+@pytest.mark.slow
 def test_stronger_unit_never_gives_a_longer_cycle(tmp_path):
     # the arm: shoulder_pan crash-bound (PSA-08-80) or torque-bound (PSA-10-50)
     robot, motion = load_case(FAST_PICK)
@@ -424,6 +391,7 @@ def test_stronger_unit_never_gives_a_longer_cycle(tmp_path):
     assert quick.cycle_time < slow.cycle_time
 
 
+@pytest.mark.slow
 def test_compare_ratios_equals_fastest_unit_by_unit(tmp_path):
     unit = UNITS["PSA-14-100"]
     # the units are chosen on the plan at the motion's own limits (about 1 ms long)
@@ -471,6 +439,7 @@ def test_a_log_has_no_path(capsys):
                    "path to run faster; give a motion with waypoints\n")
 
 
+@pytest.mark.slow
 def test_a_joint_no_unit_can_run_is_named_with_what_to_do(capsys):
     """No catalog unit holds the shoulder: the refusal says how to go on (--units would not)."""
     motion = REPO / "trajectories" / "benchtop6_pick_place.toml"
@@ -536,6 +505,7 @@ def test_options_and_joint_flags(capsys):
 
 # --- the command line ------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_json_csv_and_plot_of_fastest(tmp_path, capsys):
     out, plot = tmp_path / "fast.csv", tmp_path / "fast.png"
     assert main(["fastest", str(FAST_PICK), "--json", "-", "--out", str(out), "--plot",
@@ -562,6 +532,7 @@ def test_json_csv_and_plot_of_fastest(tmp_path, capsys):
     assert plot.stat().st_size > 0
 
 
+@pytest.mark.slow
 def test_json_of_compare_ratios(capsys):
     assert main(["fastest", str(FAST_PICK), "--compare-ratios", "--joint", "elbow",
                  "--json", "-"]) == 0
@@ -574,6 +545,7 @@ def test_json_of_compare_ratios(capsys):
     assert rows["PSA-14-100"]["cycle_time_s"] == pytest.approx(document["cycle_time_s"])
 
 
+@pytest.mark.slow
 def test_motor_data_of_the_motion_file_is_taken_not_left_out(tmp_path):
     """fastest and max-payload run the motion file's [motor] (they refused it before)."""
     from hdselect import max_payload
@@ -628,6 +600,7 @@ def test_fastest_shows_speed_limits_in_the_motion_files_angle_unit(capsys, tmp_p
     assert "100 motion" in text if angle == "deg" else "1.75 motion" in text  # the file's own
 
 
+@pytest.mark.slow
 def test_compare_says_nothing_is_selected_when_no_unit_passes(capsys, tmp_path):
     assert main(["compare", str(FAST_PICK), "--joint", "elbow", "--efficiency", "0.5",
                  "--life-hours", "1e9"]) == 1

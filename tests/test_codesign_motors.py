@@ -1,7 +1,7 @@
 """Co-design with motors: `fastest` and `max-payload` take them, as `size` does, or refuse them.
 
 Oracles: the motor torque along the fastest cycle re-derived here from the gear torque
-the CSV carries (DESIGN.md, "Reflecting through the ratio"), and the public `size` at the
+the CSV carries (docs/rules.md, "The checks", motor side), and the public `size` at the
 largest payload and just above it.
 """
 
@@ -19,8 +19,7 @@ import hdselect
 from hdselect import InputError
 from hdselect.catalog.motors import load_motors
 from hdselect.catalog.rules import RPM_PER_RAD_S, at_rest
-from hdselect.cli.main import main
-from test_dynamics import REPO
+from helpers import REPO, run
 
 WEAK = """\
 [[motor]]
@@ -36,21 +35,14 @@ mass_kg = 0.2
 
 
 @pytest.fixture
-def work(tmp_path, monkeypatch):
-    (tmp_path / "robots").symlink_to(REPO / "robots")
-    shutil.copytree(REPO / "trajectories", tmp_path / "tr")
-    shutil.copytree(REPO / "motors", tmp_path / "motors")
-    (tmp_path / "weak.toml").write_text(WEAK)
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
+def work(work):
+    """The shared working directory (conftest.py), with a copy of motors/ and weak.toml."""
+    shutil.copytree(REPO / "motors", work / "motors")
+    (work / "weak.toml").write_text(WEAK)
+    return work
 
 
-def cli(capsys, *argv) -> tuple[int, str, str]:
-    status = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
+@pytest.mark.slow
 def test_fastest_holds_the_motor_to_its_ratings_and_takes_longer(work, capsys):
     """T_motor = tau / (N eta) driving or holding, tau eta / N driven back, + (J_in + J_m) N qdd.
 
@@ -58,8 +50,8 @@ def test_fastest_holds_the_motor_to_its_ratings_and_takes_longer(work, capsys):
     torque, its RMS at most the rated torque, and the motor binding (some rule of the
     motor at its limit to 1 %), so the cycle is longer than without it.
     """
-    assert cli(capsys, "fastest", "tr/planar2_pick_place.toml", "--json", "free.json")[0] == 0
-    status, _, err = cli(capsys, "fastest", "tr/planar2_pick_place.toml", "--motor-catalog",
+    assert run(capsys, "fastest", "tr/planar2_pick_place.toml", "--json", "free.json")[0] == 0
+    status, _, err = run(capsys, "fastest", "tr/planar2_pick_place.toml", "--motor-catalog",
                          "weak.toml", "--json", "weak.json", "--out", "weak.csv")
     assert status == 0, err
     free, weak = (json.loads(Path(name).read_text()) for name in ("free.json", "weak.json"))
@@ -90,12 +82,13 @@ def test_fastest_holds_the_motor_to_its_ratings_and_takes_longer(work, capsys):
 def test_a_motor_with_a_peak_torque_that_is_not_a_number_is_refused(work, capsys):
     Path("nan.toml").write_text(WEAK.replace("peak_torque_nm = 0.09", "peak_torque_nm = nan"))
     for command in ("fastest", "max-payload"):
-        status, out, err = cli(capsys, command, "tr/planar2_pick_place.toml", "--motor-catalog",
+        status, out, err = run(capsys, command, "tr/planar2_pick_place.toml", "--motor-catalog",
                                "nan.toml")
         assert status == 2 and out == "" and len(err.strip().splitlines()) == 1
         assert "nan.toml: motor[WEAK].peak_torque_nm: must be finite" in err
 
 
+@pytest.mark.slow
 def test_the_motion_files_motor_is_the_one_fastest_runs(work):
     """[motor] in the motion file, the motor file on the command line and Python agree."""
     text = Path("tr/planar2_pick_place.toml").read_text()
@@ -114,12 +107,13 @@ def test_the_motion_files_motor_is_the_one_fastest_runs(work):
     assert info.value.field == "motors.wrist"
 
 
+@pytest.mark.slow
 def test_max_payload_with_motors_is_what_size_says_at_that_payload(work, capsys):
     """The largest payload with the motors passes `size` with them; 0.1 % more does not."""
-    status, _, err = cli(capsys, "max-payload", "tr/planar2_pick_place.toml", "--json",
+    status, _, err = run(capsys, "max-payload", "tr/planar2_pick_place.toml", "--json",
                          "free.json")
     assert status == 0, err
-    status, _, err = cli(capsys, "max-payload", "tr/planar2_pick_place.toml",
+    status, _, err = run(capsys, "max-payload", "tr/planar2_pick_place.toml",
                          "--motor-catalog", "motors/example_motors.toml", "--json", "mot.json")
     assert status == 0, err
     free, mot = (json.loads(Path(n).read_text()) for n in ("free.json", "mot.json"))
@@ -139,16 +133,17 @@ def test_max_payload_with_motors_is_what_size_says_at_that_payload(work, capsys)
     assert not sized(mass * (1 + 1e-3)).feasible
 
 
+@pytest.mark.slow
 def test_max_payload_of_fixed_units_is_the_check_of_those_units(work, capsys):
     """--units: the payload the given units carry, not the catalog's best."""
-    status, _, _ = cli(capsys, "max-payload", "tr/planar2_pick_place.toml", "--json", "a.json")
+    status, _, _ = run(capsys, "max-payload", "tr/planar2_pick_place.toml", "--json", "a.json")
     assert status == 0
-    status, _, err = cli(capsys, "max-payload", "tr/planar2_pick_place.toml", "--units",
+    status, _, err = run(capsys, "max-payload", "tr/planar2_pick_place.toml", "--units",
                          "shoulder=PSA-14-80", "--units", "elbow=PSA-14-100", "--json",
                          "b.json")
     assert status == 0, err
     best, fixed = (json.loads(Path(n).read_text()) for n in ("a.json", "b.json"))
     assert fixed["max_payload_kg"] < best["max_payload_kg"]
-    status, out, err = cli(capsys, "max-payload", "tr/planar2_pick_place.toml", "--units",
+    status, out, err = run(capsys, "max-payload", "tr/planar2_pick_place.toml", "--units",
                            "shoulder=PSA-14-80")
     assert status == 2 and "--units" in err and "no unit given for elbow" in err

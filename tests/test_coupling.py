@@ -9,62 +9,25 @@ involved), and by hand on the planar arm and the SCARA.
 
 from __future__ import annotations
 
-import xml.etree.ElementTree as ET
-from pathlib import Path
-
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from hdselect.robot.model import load_robot
-from test_dynamics import MOTIONS, REPO, ROBOTS, G, planned, random_states, rnea_loop, thinned
+from helpers import REPO
+from helpers.dynamics import (
+    MOTIONS,
+    ROBOTS,
+    G,
+    planned,
+    random_states,
+    rnea_loop,
+    thinned,
+    urdf_with_masses,
+    with_point_masses,
+)
 
 STOP_TIME = 0.1  # [s]
-
-
-def with_point_masses(model: pin.Model, masses: dict[str, float]) -> pin.Model:
-    """A copy of `model` with a point mass m_k at joint k's origin, on its parent body."""
-    model = pin.Model(model)
-    for name, mass in masses.items():
-        k = model.getJointId(name)
-        model.appendBodyToJoint(model.parents[k], pin.Inertia(mass, np.zeros(3),
-                                                              np.zeros((3, 3))),
-                                model.jointPlacements[k])
-    return model
-
-
-# A mass in a URDF link needs a positive-definite inertia (the loader checks it): a solid
-# sphere of radius 1e-6 m, I = 2/5 m r^2 <= 4e-13 kg m^2 for m <= 1 kg. Its rotational
-# inertia adds at most 6 I (|alpha| + |omega|^2) to any joint torque; with |qd| <= 2 rad/s
-# and |qdd| <= 10 rad/s^2 on six joints (|omega| <= 12, |alpha| <= 60 + 144) that is
-# below 1e-9 N m, well inside the tolerance used.
-SPHERE_RADIUS = 1e-6
-
-
-def urdf_with_masses(source: Path, target: Path, masses: dict[str, float]) -> Path:
-    """Copy a URDF, adding for each joint k a link of mass m_k fixed at k's origin."""
-    tree = ET.parse(source)
-    root = tree.getroot()
-    joints = {j.get("name"): j for j in root.iter("joint")}
-    for name, mass in masses.items():
-        joint = joints[name]
-        parent = joint.find("parent").get("link")
-        origin = joint.find("origin")
-        xyz = origin.get("xyz", "0 0 0") if origin is not None else "0 0 0"
-        rpy = origin.get("rpy", "0 0 0") if origin is not None else "0 0 0"
-        inertia = 0.4 * mass * SPHERE_RADIUS**2
-        link = ET.SubElement(root, "link", name=f"gearhead_{name}")
-        inertial = ET.SubElement(link, "inertial")
-        ET.SubElement(inertial, "origin", xyz="0 0 0", rpy="0 0 0")
-        ET.SubElement(inertial, "mass", value=repr(mass))
-        ET.SubElement(inertial, "inertia", ixx=repr(inertia), iyy=repr(inertia),
-                      izz=repr(inertia), ixy="0", ixz="0", iyz="0")
-        mount = ET.SubElement(root, "joint", name=f"gearhead_{name}_mount", type="fixed")
-        ET.SubElement(mount, "parent", link=parent)
-        ET.SubElement(mount, "child", link=f"gearhead_{name}")
-        ET.SubElement(mount, "origin", xyz=xyz, rpy=rpy)
-    tree.write(target)
-    return target
 
 
 def random_masses(names, seed: int) -> dict[str, float]:
@@ -92,6 +55,7 @@ def test_gearheads_equal_masses_written_into_the_urdf(path, mounting, tmp_path):
                                    rnea_loop(heavy.model, q, qd, accel), rtol=0, atol=1e-8)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
 def test_gearheads_along_shipped_motions_with_payload(path):
     """Along the planned motion, payload included, masses of 0.3..0.5 kg (the catalog's)."""

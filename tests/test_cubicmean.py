@@ -41,6 +41,7 @@ def direct(c0, c1, w, most):
     return end(centre, centre - far), end(centre, centre + far)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(12))
 def test_the_interval_equals_bisection_on_the_samples(seed):
     rng = np.random.default_rng(seed)

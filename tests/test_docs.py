@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from docs_examples import PAGES, ROOT, Example, examples, matches, run, scratch
+from docs_examples import OWN_ROBOT, PAGES, ROOT, Example, examples, matches, run, scratch
 
 OWN_TESTS = {
     "bad-input.md": "test_bad_input_docs.py",
@@ -19,9 +19,6 @@ OWN_TESTS = {
 
 GUIDE = [page for page in PAGES if page.name not in OWN_TESTS]
 """The pages run here."""
-
-OWN_ROBOT = "## Your own robot"
-"""The README section whose steps build on a file the reader edits: test_readme runs it."""
 
 
 def page_examples(page: Path) -> list[Example]:
@@ -34,6 +31,7 @@ def page_examples(page: Path) -> list[Example]:
     return examples(page, text)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("page", GUIDE, ids=lambda page: page.name)
 def test_every_example_prints_what_the_page_shows(page, tmp_path):
     work = scratch(tmp_path)

@@ -10,6 +10,8 @@ import re
 import shlex
 from pathlib import Path
 
+import pytest
+
 from docs_examples import scratch
 from hdselect.cli.main import main
 
@@ -25,6 +27,7 @@ def test_the_files_shown_are_the_shipped_files():
     assert [block.rstrip() for block in blocks] == [p.read_text().rstrip() for p in shipped]
 
 
+@pytest.mark.slow
 def test_the_study_shown_runs_and_names_the_binding_task(tmp_path, monkeypatch):
     (command,) = re.findall(r"```sh\n(.*?)\n```", PAGE, flags=re.S)
     monkeypatch.chdir(scratch(tmp_path))

@@ -12,8 +12,8 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.duty import load_duty, size_duty
 from hdselect.cli.main import main
+from helpers import REPO
 
-REPO = Path(__file__).resolve().parents[1]
 CONVEYOR = REPO / "trajectories" / "duty" / "conveyor_index.toml"
 RPM = 2.0 * math.pi / 60.0  # rad/s in one rpm
 NM_PER_LB_IN = 0.1129848

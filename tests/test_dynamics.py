@@ -10,83 +10,41 @@ the URDF comments.
 
 from __future__ import annotations
 
-import functools
 import math
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.motion.case import load_case
-from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import cycle_torques, inverse_dynamics
 from hdselect.robot.model import load_robot
 from hdselect.robot.mounting import STANDARD_GRAVITY
-
-REPO = Path(__file__).resolve().parents[1]
-ROBOTS = sorted((REPO / "robots").glob("*.urdf"))
-MOTIONS = sorted((REPO / "trajectories").glob("*.toml"))
-G = 9.80665  # standard gravity [m/s^2], written out (not taken from the code under test)
-
-
-# --- factories (also used by test_coupling.py and test_sizing.py) ----------------------------
-
-@functools.cache
-def planned(motion_path: Path):
-    """(robot, motion, trajectory) of a shipped motion file, planned once per test session."""
-    robot, motion = load_case(motion_path)
-    return robot, motion, plan(robot, motion)
+from helpers import REPO
+from helpers.dynamics import (
+    J_TABLE,
+    L1,
+    L2,
+    LC1,
+    LC2,
+    M1,
+    M2,
+    MOTIONS,
+    ROBOTS,
+    G,
+    composite_link2,
+    pin_config,
+    planned,
+    random_states,
+    rnea_loop,
+    thinned,
+    two_link,
+)
 
 
 def joint_torques(robot, trajectory: Trajectory):
     """Torques along a trajectory with their gravity part (stop time 0.1 s)."""
     return cycle_torques(robot, trajectory.q, trajectory.qd, trajectory.qdd, 0.1, split=True)
-
-
-def pin_config(model: pin.Model, q: np.ndarray) -> np.ndarray:
-    """Pinocchio configuration of one joint-position vector, built by hand.
-
-    A one-coordinate joint takes the angle (or slide) as is; a continuous
-    (unbounded revolute) joint takes (cos q, sin q).
-    """
-    config = np.zeros(model.nq)
-    for joint in list(model.joints)[1:]:
-        value = q[joint.idx_v]
-        if joint.nq == 1:
-            config[joint.idx_q] = value
-        else:
-            config[joint.idx_q], config[joint.idx_q + 1] = math.cos(value), math.sin(value)
-    return config
-
-
-def rnea_loop(model: pin.Model, q, qd, qdd) -> np.ndarray:
-    """Oracle: one `pinocchio.rnea` call per sample, shape (n, nv)."""
-    data = model.createData()
-    return np.array([pin.rnea(model, data, pin_config(model, q[k]), qd[k], qdd[k]).copy()
-                     for k in range(len(q))])
-
-
-def noise_zeroed(tau: np.ndarray, floor: np.ndarray | float) -> np.ndarray:
-    """The oracle's torques with those below the noise floor [N m] as zero, as the sizing
-    counts them (`hdselect.robot.dynamics.torque_floor`, checked by hand in test_life_cap)."""
-    return np.where(np.abs(tau) < floor, 0.0, tau)
-
-
-def random_states(robot, n: int, seed: int, *, speed: float = 2.0, accel: float = 10.0):
-    """Random (q, qd, qdd) within the joint limits (continuous joints: -pi..pi)."""
-    rng = np.random.default_rng(seed)
-    lower = np.where(np.isfinite(robot.lower), robot.lower, -math.pi)
-    upper = np.where(np.isfinite(robot.upper), robot.upper, math.pi)
-    q = rng.uniform(lower, upper, size=(n, robot.dof))
-    qd = rng.uniform(-speed, speed, size=(n, robot.dof))
-    qdd = rng.uniform(-accel, accel, size=(n, robot.dof))
-    return q, qd, qdd
-
-
-def thinned(trajectory: Trajectory, n: int = 300) -> np.ndarray:
-    """Indices of about n samples spread over a trajectory."""
-    return np.unique(np.linspace(0, len(trajectory.t) - 1, n).astype(int))
 
 
 # --- a second method: Pinocchio one sample at a time -----------------------------------------
@@ -117,6 +75,7 @@ def test_repeated_states_are_computed_once_and_equal():
                                                     qdd[::17]), rtol=0, atol=1e-10)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
 def test_joint_torques_along_shipped_motions(path):
     robot, motion, trajectory = planned(path)
@@ -146,10 +105,6 @@ def test_payload_enters_the_dynamics():
 
 # --- the index table: tau = J qdd -------------------------------------------------------------
 
-# From robots/index_table.urdf: disk izz + four blocks (izz about their centre plus
-# the parallel-axis term m r^2, r = 0.11 m): J = 0.0429416 + 4 (0.00010048 + 0.3768 0.11^2)
-J_TABLE = 0.0429416 + 4 * (0.00010048 + 0.3768 * 0.11**2)
-
 
 def test_index_table_inertia_from_the_urdf_comment():
     assert J_TABLE == pytest.approx(0.061581, abs=5e-7)
@@ -168,47 +123,6 @@ def test_index_table_torque_is_inertia_times_acceleration():
 
 
 # --- the vertical two-link arm: M(q) qdd + C(q, qd) qd + g(q) ---------------------------------
-
-# From robots/planar2.urdf (axes -y: positive angles raise the arm; both links along +x at
-# zero; gravity along -z): link lengths, masses, centre-of-mass distances and the inertias
-# about the centre of mass, about the joint axes (iyy).
-L1, M1, LC1, I1 = 0.3, 0.243, 0.15, 0.00184072
-L2, M2, LC2, I2 = 0.25, 0.16875, 0.125, 0.000887695
-
-
-def two_link(q, qd, qdd, *, m2=M2, lc2=LC2, i2=I2, g=G):
-    """Textbook vertical two-link equations of motion, per sample; returns (n, 2).
-
-    tau1 = M11 qdd1 + M12 qdd2 - h (2 qd1 qd2 + qd2^2) + g1
-    tau2 = M12 qdd1 + M22 qdd2 + h qd1^2 + g2
-    M11 = I1 + I2 + m1 lc1^2 + m2 (l1^2 + lc2^2 + 2 l1 lc2 cos q2)
-    M12 = I2 + m2 (lc2^2 + l1 lc2 cos q2),  M22 = I2 + m2 lc2^2,  h = m2 l1 lc2 sin q2
-    g1 = (m1 lc1 + m2 l1) g cos q1 + m2 lc2 g cos(q1 + q2),  g2 = m2 lc2 g cos(q1 + q2)
-    """
-    q1, q2 = q[:, 0], q[:, 1]
-    d1, d2 = qd[:, 0], qd[:, 1]
-    a1, a2 = qdd[:, 0], qdd[:, 1]
-    c2, s2 = np.cos(q2), np.sin(q2)
-    m11 = I1 + i2 + M1 * LC1**2 + m2 * (L1**2 + lc2**2 + 2 * L1 * lc2 * c2)
-    m12 = i2 + m2 * (lc2**2 + L1 * lc2 * c2)
-    m22 = i2 + m2 * lc2**2
-    h = m2 * L1 * lc2 * s2
-    g1 = (M1 * LC1 + m2 * L1) * g * np.cos(q1) + m2 * lc2 * g * np.cos(q1 + q2)
-    g2 = m2 * lc2 * g * np.cos(q1 + q2)
-    tau1 = m11 * a1 + m12 * a2 - h * (2 * d1 * d2 + d2**2) + g1
-    tau2 = m12 * a1 + m22 * a2 + h * d1**2 + g2
-    return np.column_stack([tau1, tau2])
-
-
-def composite_link2(mass: float, distance: float):
-    """Link 2 with a point payload on its axis at `distance` from the elbow.
-
-    m = m2 + mp, lc = (m2 lc2 + mp d) / m, I about the new centre of mass by the
-    parallel-axis theorem: I2 + m2 (lc2 - lc)^2 + mp (d - lc)^2.
-    """
-    m = M2 + mass
-    lc = (M2 * LC2 + mass * distance) / m
-    return m, lc, I2 + M2 * (LC2 - lc) ** 2 + mass * (distance - lc) ** 2
 
 
 def test_two_link_closed_form_random_states():

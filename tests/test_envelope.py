@@ -22,7 +22,7 @@ from hdselect.motion.case import load_case
 from hdselect.robot.mounting import STANDARD_GRAVITY
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import check_units, size
-from test_dynamics import REPO
+from helpers import REPO
 
 ROBOTS = REPO / "robots"
 MOTIONS = REPO / "trajectories"
@@ -182,6 +182,7 @@ def test_planar_shoulder_peak_equals_the_closed_form_maximised_independently(pla
                                                                        rel=1e-8)
 
 
+@pytest.mark.slow
 def test_planar_shoulder_static_and_stop_equal_their_closed_forms_maximised(planar):
     """The shoulder held, and the shoulder's emergency stop, from `shoulder_terms`.
 
@@ -244,6 +245,7 @@ def arm():
     return envelope(ROBOTS / "benchtop6.urdf", payload=PAYLOAD, **SPEC6)
 
 
+@pytest.mark.slow
 def test_reported_worst_states_give_their_torques_by_per_sample_rnea(arm):
     """Each reported state, put through per-sample `pinocchio.rnea` on a model built here
     (payload and the chosen units' masses appended by hand), gives the reported torque;
@@ -268,6 +270,7 @@ def test_reported_worst_states_give_their_torques_by_per_sample_rnea(arm):
     assert arm.converged
 
 
+@pytest.mark.slow
 def test_no_state_of_a_dense_random_sample_beats_the_worst(arm):
     """10^6 random states of the box through batched Pinocchio (called here, not through
     hdselect): q and qd uniform, qdd at a random vertex; each joint's torque must not beat
@@ -356,6 +359,7 @@ def test_the_bearings_largest_loads_count_the_worst_states_and_its_means_the_dut
     assert beyond >= 3  # the states do load the bearings beyond what the duty does
 
 
+@pytest.mark.slow
 def test_a_rated_bearing_is_judged_at_the_worst_states_too():
     """With the example catalog that rates bearings, the contour duty alone lets the
     shoulder pan take the XB-07-100 (tilting moment below its 6 N m); at the worst
@@ -377,6 +381,7 @@ def test_a_rated_bearing_is_judged_at_the_worst_states_too():
                     result.sizing.options).joints[0].bearing.mean_moment, rel=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(path.name for path in MOTIONS.glob("benchtop6_*.toml")))
 def test_every_unit_picked_holds_for_each_shipped_motion_within_the_same_limits(name):
     """For every shipped motion of the 6-axis arm (each benchtop6_*.toml, tool poses
@@ -400,6 +405,7 @@ def test_every_unit_picked_holds_for_each_shipped_motion_within_the_same_limits(
             assert picked[joint.name].size >= alone.selected.unit.size
 
 
+@pytest.mark.slow
 def test_search_convergence_is_what_its_rounds_say():
     """With few starts the search reports each round's worst value; the flag is their
     agreement, and the reported value is the largest found."""

@@ -15,31 +15,22 @@ import pytest
 
 import hdselect
 from hdselect.base.errors import InputError
-from hdselect.cli.main import main
 from hdselect.envelope import SearchSettings, envelope
 from hdselect.envelope.records import envelope_json
 from hdselect.envelope.torques import BEARING_NOTE
 from hdselect.report.envelope_tables import note_lines
-from test_dynamics import REPO
+from helpers import REPO, run
+from helpers.options import (
+    ENVELOPE_EFFECTS,
+    ENVELOPE_OUTPUTS,
+    PLANAR2,
+    PLANAR2_MOTION,
+    one_line_error,
+)
 
-PLANAR2 = REPO / "robots" / "planar2.urdf"
-PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
 MIX = REPO / "trajectories" / "mixes" / "benchtop6_pick_inspect.toml"
 DEG = math.pi / 180.0
 QUICK = ("--starts", "256", "--moves", "4")
-
-
-def run(capsys, *argv):
-    status = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def one_line_error(err: str, *fragments: str) -> None:
-    lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("hdselect: error: "), err
-    for fragment in fragments:
-        assert fragment in lines[0], (fragment, err)
 
 
 def test_envelope_prints_every_joint_and_writes_json_that_matches_the_api(capsys, tmp_path):
@@ -65,6 +56,7 @@ def test_envelope_prints_every_joint_and_writes_json_that_matches_the_api(capsys
     assert document["duty_sizing"]["joints"][0]["name"] == "shoulder"
 
 
+@pytest.mark.slow
 def test_every_output_says_what_the_bearing_loads_are_over(capsys, tmp_path):
     """The search bounds torques, not the bearing's force and moment: the terminal, the
     JSON and the page say so, and the JSON gives each joint's loads as the API has them."""
@@ -137,6 +129,7 @@ def test_a_motion_file_as_the_duty_is_sized_alone_beside_the_envelope(capsys):
     assert payload["frame"] == "tool"
 
 
+@pytest.mark.slow
 def test_report_writes_the_page_and_the_duty_report_beside_it(capsys, tmp_path):
     status, out, _ = run(capsys, "envelope", PLANAR2, "--velocity", "180", "--acceleration",
                          "900", "--report", tmp_path / "report", *QUICK)
@@ -239,6 +232,7 @@ def test_the_python_api_is_callable_from_the_package_and_checks_its_arguments():
     assert np.allclose(result.spec.box.velocity, [2.0, 3.0])
 
 
+@pytest.mark.slow
 def test_states_computed_in_worker_processes_are_the_same():
     """The quasi-random states split over two spawned workers (each on one thread) give
     the same worst states, bit for bit, as the batched passes here."""
@@ -254,6 +248,7 @@ def test_states_computed_in_worker_processes_are_the_same():
     assert here.states == spread.states
 
 
+@pytest.mark.slow
 def test_states_computed_on_a_dask_cluster_are_the_same():
     """The same split on a Dask LocalCluster (one worker, one thread) gives the same states."""
     pytest.importorskip("distributed")
@@ -268,23 +263,6 @@ def test_states_computed_on_a_dask_cluster_are_the_same():
         envelope(PLANAR2, scheduler="udp://nowhere", **kwargs)
 
 
-ENVELOPE_EFFECTS = [
-    ("--velocity", ["90"]), ("--acceleration", ["600"]), ("--jerk", ["2000"]),
-    ("--angle-unit", ["rad"]), ("--payload", ["0.5"]), ("--payload-com", ["0", "0", "0.1"]),
-    ("--payload-frame", ["link2"]), ("--mounting", ["wall"]), ("--joints", ["shoulder"]),
-    ("--exclude", ["elbow"]), ("--duty", [PLANAR2_MOTION]), ("--moves", ["3"]),
-    ("--seed", ["1"]), ("--starts", ["128"]), ("--max-samples", ["100"]),
-    ("--catalog", ["acme.toml"]), ("--stop-time", ["0.3"]), ("--efficiency", ["0.5"]),
-    ("--motor-inertia", ["1e-5"]), ("--motor-mass", ["1.0"]),
-    ("--motor-catalog", [REPO / "motors" / "example_motors.toml"]),
-    ("--no-mass-coupling", []), ("--prefer", ["margin"]), ("--life-hours", ["1e5"]),
-    ("--life-basis", ["L10"]), ("--margin", ["0.5"]), ("--max-inertia-ratio", ["3"]),
-    ("--inertia-target", ["2"]),
-]
-"""Each option of ``hdselect envelope`` that changes its answer, with a value that must."""
-ENVELOPE_OUTPUTS = ("--json", "--report", "--workers", "--scheduler", "--timeout")
-"""Options that change where the answer goes or how it is computed (tested above; --timeout
-in test_scheduler)."""
 ACME = ('series = "ACME"\n[[unit]]\nsize = 20\nratio = 30\nrated_torque_nm = 40\n'
         "repeated_torque_nm = 50\nmax_input_speed_rpm = 4000\ninput_inertia_kg_cm2 = 0.2\n"
         "mass_kg = 1.5\n")
@@ -300,6 +278,7 @@ def _answer(document):
     return document
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("option", "values"), ENVELOPE_EFFECTS, ids=lambda x: str(x)[:20])
 def test_every_envelope_option_changes_the_answer_or_is_refused(capsys, tmp_path, monkeypatch,
                                                                  option, values):
@@ -320,9 +299,10 @@ def test_every_envelope_option_changes_the_answer_or_is_refused(capsys, tmp_path
 
 def test_the_effects_table_covers_every_option_of_envelope():
     from hdselect.cli.main import _parser
-    from test_option_effects import OTHER, _options
+    from helpers.options import OTHER
+    from helpers.options import effect_options as effect_options
 
-    options = _options(_parser())["envelope"]
+    options = effect_options(_parser())["envelope"]
     # --xacro-arg needs a .xacro robot: test_xacro.test_the_envelope_takes_xacro_arguments
     assert options == {row[0] for row in ENVELOPE_EFFECTS} | set(ENVELOPE_OUTPUTS) | {
         "--xacro-arg"}

@@ -7,10 +7,19 @@ small (the planar arm, 64 starts, a short default duty).
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from test_fuzz import anything, check_run, extreme, option_value, output_path, toml_value, workdir
+from helpers.fuzz import (
+    anything,
+    check_run,
+    extreme,
+    option_value,
+    output_path,
+    toml_value,
+    workdir,
+)
 
 SMALL = ["--starts", "64", "--moves", "2", "--max-samples", "20000"]
 FEW = settings(max_examples=min(settings.default.max_examples, 30))
@@ -57,6 +66,7 @@ def _toml(value: object) -> str:
     return toml_value(value)
 
 
+@pytest.mark.slow
 @FEW
 @given(envelope_files(), output_path)
 def test_fuzz_envelope_files(text, out):
@@ -95,6 +105,7 @@ def command_lines(draw) -> list[str]:
     return argv + ["--max-samples", "20000"]
 
 
+@pytest.mark.slow
 @FEW
 @given(command_lines(), output_path)
 def test_fuzz_envelope_command_lines(argv, out):

@@ -17,7 +17,7 @@ from hdselect.envelope import SearchSettings, envelope
 from hdselect.envelope.records import envelope_json
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import size
-from test_dynamics import REPO
+from helpers import REPO
 
 DEG = math.pi / 180.0
 PLANAR2 = REPO / "robots" / "planar2.urdf"

@@ -9,7 +9,6 @@ it must never refuse the file (exit 2).
 
 from __future__ import annotations
 
-import importlib.metadata
 import json
 from pathlib import Path
 
@@ -21,31 +20,7 @@ import hdselect
 from hdselect.cli.main import main
 from hdselect.robot.mounting import STANDARD_GRAVITY
 from hdselect.sizing.records import size_json
-
-
-def example_robots() -> Path:
-    """The robots folder the example-robot-data wheel installs (cmeel layout)."""
-    dist = importlib.metadata.distribution("example-robot-data")
-    folder = Path(str(dist.locate_file("cmeel.prefix/share/example-robot-data/robots")))
-    assert folder.is_dir(), f"example-robot-data has no robots folder at {folder}"
-    return folder
-
-
-ARMS = {
-    "UR3": "ur_description/urdf/ur3_robot.urdf",
-    "UR5": "ur_description/urdf/ur5_robot.urdf",
-    "UR10": "ur_description/urdf/ur10_robot.urdf",
-    "Panda": "panda_description/urdf/panda.urdf",
-    "Kinova": "kinova_description/robots/kinova.urdf",
-    "SO-100": "so_arm_description/urdf/so100.urdf",
-    "SO-101": "so_arm_description/urdf/so101.urdf",
-    "Z1": "z1_description/urdf/z1.urdf",
-    "TALOS left arm": "talos_data/robots/talos_left_arm.urdf",
-    "xArm7": "xarm_description/urdf/xarm7.urdf",
-    "Baxter": "baxter_description/urdf/baxter.urdf",
-    "TriFinger finger": "finger_edu_description/robots/finger_edu.urdf",
-    "TIAGo arm": "tiago_description/robots/tiago_no_hand.urdf",
-}
+from helpers.robots import ARMS, configuration, example_robots
 
 
 def independent_model(path: Path) -> pin.Model:
@@ -54,18 +29,6 @@ def independent_model(path: Path) -> pin.Model:
     model.armature = np.zeros(model.nv)
     model.gravity.linear = np.array([0.0, 0.0, -STANDARD_GRAVITY])
     return model
-
-
-def configuration(model: pin.Model, names, q: np.ndarray) -> np.ndarray:
-    """Pinocchio's q of one sample from joint angles in `names` order (cos/sin for continuous)."""
-    config = np.zeros(model.nq)
-    for name, value in zip(names, q, strict=True):
-        joint = model.joints[model.getJointId(name)]
-        if joint.nq == 2:
-            config[joint.idx_q:joint.idx_q + 2] = np.cos(value), np.sin(value)
-        else:
-            config[joint.idx_q] = value
-    return config
 
 
 @pytest.fixture(scope="module")
@@ -109,6 +72,7 @@ def test_starter_motion_plans_and_its_torques_equal_rnea(arm, written):
             assert load.peak == pytest.approx(np.abs(expected[:, column]).max(), rel=1e-9, abs=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("arm", ARMS)
 def test_size_never_refuses_the_file(arm, written, capsys, tmp_path):
     report = tmp_path / "result.json"

@@ -8,9 +8,7 @@ agrees with its leader. The arm: planar2 with a finger on link2 following the el
 
 from __future__ import annotations
 
-import io
 import math
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import numpy as np
@@ -18,37 +16,17 @@ import pytest
 
 import hdselect
 from hdselect.base.errors import InputError, PlanningError
-from hdselect.cli.main import main
 from hdselect.motion.planning import Trajectory, check_within_limits
-from test_dynamics import REPO
-from test_example_robots import ARMS, example_robots
-from test_urdfxml import FINGER
+from helpers import REPO, run_redirected
+from helpers.robots import ARMS, example_robots, finger_arm
 
-PLANAR2 = (REPO / "robots" / "planar2.urdf").read_text()
 MOTION = (REPO / "trajectories" / "planar2_pick_place.toml").read_text()
-
-
-def finger_arm(folder: Path, multiplier: float = 3.0, offset: float = 0.0,
-               limits: str = 'lower="-0.5" upper="0.5"') -> Path:
-    path = folder / "finger.urdf"
-    joint = FINGER.format(mimic=f'<mimic joint="elbow" multiplier="{multiplier!r}" '
-                                f'offset="{offset!r}"/>')
-    path.write_text(PLANAR2.replace("</robot>", joint.replace('lower="-0.5" upper="0.5"', limits)
-                                    + "</robot>"))
-    return path
 
 
 def motion_file(folder: Path, text: str = MOTION) -> Path:
     path = folder / "motion.toml"
     path.write_text(text.replace('robot = "../robots/planar2.urdf"', 'robot = "finger.urdf"'))
     return path
-
-
-def run(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        status = main(argv)
-    return status, out.getvalue(), err.getvalue()
 
 
 def test_the_follower_keeps_its_range_in_the_listing_and_the_robot(tmp_path):
@@ -62,7 +40,7 @@ def test_the_follower_keeps_its_range_in_the_listing_and_the_robot(tmp_path):
 def test_a_waypoint_that_takes_a_follower_past_its_limits_is_refused(tmp_path):
     """Multiplier 3: the elbow's -80 deg puts the finger at -240 deg against +-28.6 deg."""
     finger_arm(tmp_path)
-    status, out, err = run(["size", str(motion_file(tmp_path))])
+    status, out, err = run_redirected(["size", str(motion_file(tmp_path))])
     assert status == 2 and out == "" and err.count("\n") == 1
     limit = math.degrees(0.5)
     assert err == (f"hdselect: error: {tmp_path / 'motion.toml'}: waypoint[0].q.elbow: mimic "
@@ -80,7 +58,7 @@ def test_the_same_motion_within_the_follower_range_sizes(tmp_path):
 
 def test_an_offset_moves_the_follower_out_of_range(tmp_path):
     finger_arm(tmp_path, multiplier=0.1, offset=0.6)
-    status, _, err = run(["size", str(motion_file(tmp_path))])
+    status, _, err = run_redirected(["size", str(motion_file(tmp_path))])
     assert status == 2 and "mimic follower 'finger' (= 0.1 x elbow + 0.6)" in err
 
 
@@ -139,7 +117,7 @@ def test_a_log_whose_follower_disagrees_is_refused_naming_both(tmp_path):
     finger_arm(tmp_path, multiplier=0.1)
     motion = log_motion(tmp_path, "t,q_shoulder,q_elbow,q_finger",
                         with_follower(ROWS, 0.1, shift=0.01))
-    status, _, err = run(["size", str(motion)])
+    status, _, err = run_redirected(["size", str(motion)])
     assert status == 2 and err.count("\n") == 1
     assert f"{tmp_path / 'log.csv'}: q_finger: data row 1 (line 2): 0.01 rad for mimic " \
            "follower 'finger' (= 0.1 x elbow) disagrees with its leader, which puts it at 0 " \
@@ -148,7 +126,8 @@ def test_a_log_whose_follower_disagrees_is_refused_naming_both(tmp_path):
 
 def test_a_log_that_takes_a_follower_past_its_limits_is_refused(tmp_path):
     finger_arm(tmp_path, multiplier=3.0)
-    status, _, err = run(["size", str(log_motion(tmp_path, "t,q_shoulder,q_elbow", ROWS))])
+    motion = log_motion(tmp_path, "t,q_shoulder,q_elbow", ROWS)
+    status, _, err = run_redirected(["size", str(motion)])
     assert status == 2 and err.count("\n") == 1
     assert "q_elbow: data row" in err and "mimic follower 'finger' (= 3 x elbow)" in err
 

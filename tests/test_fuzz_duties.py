@@ -11,10 +11,11 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from test_fuzz import (
+from helpers.fuzz import (
     EXTREMES,
     MAX_SAMPLES,
     anything,
@@ -100,6 +101,7 @@ def mix_files(draw) -> str:
     return "\n".join(lines) + "\n"
 
 
+@pytest.mark.slow
 @FEW
 @given(mix_files(), st.sampled_from(["size", "size", "compare"]))
 def test_fuzz_mix_files(text, command):
@@ -169,6 +171,7 @@ def bearing_catalogs(draw) -> str:
     return text
 
 
+@pytest.mark.slow
 @FEW
 @given(bearing_catalogs(), st.sampled_from(["size", "compare", "max-payload"]))
 def test_fuzz_bearing_catalogs(text, command):
@@ -185,6 +188,7 @@ xacro_value = st.one_of(st.sampled_from(["0.5", "2.0", "nan", "inf", "-1", "1e30
 xacro_name = st.sampled_from(["gripper_mass", "gripper_mass", "gripper_mas", "nosuch", ""])
 
 
+@pytest.mark.slow
 @FEW
 @given(st.lists(st.tuples(xacro_name, xacro_value), min_size=1, max_size=2),
        st.sampled_from(["joints", "size", "plan", "motion-file"]), output_path)

@@ -18,7 +18,7 @@ from hdselect.motion.planning.grid import (
     resolving_factor,
     sample_count,
 )
-from test_plan import make_motion, ruckig_move
+from helpers.motions import make_motion, ruckig_move
 
 MOTION = Path("motion.toml")
 

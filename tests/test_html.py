@@ -17,7 +17,7 @@ import pytest
 from browser import Browser, chromium
 from hdselect.cli.main import main
 from hdselect.report.colours import FAIL_COLOURS, PASS_COLOURS, utilization_colour
-from test_report import LONG, ros_arm
+from helpers.robots import LONG, ros_arm
 
 CREATED = re.compile(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ")
 
@@ -69,6 +69,7 @@ def test_the_colour_scale_changes_character_at_the_limit():
     assert darkness == sorted(darkness, reverse=True)  # darker towards the limit
 
 
+@pytest.mark.slow
 def test_heat_maps_mark_exactly_the_failing_checks(report):
     out, result = report
     cells = Cells()
@@ -93,7 +94,6 @@ def test_the_page_is_self_contained_and_links_its_notes(report):
     for anchor in set(re.findall(r'href="#(note-[^"]+)"', page)):
         assert f'id="{anchor}"' in page  # every * leads to its note
     assert 'href="#note-PSA-08-80"' in page and "momentary limit not rated" in page
-
 
 
 class Sections(HTMLParser):
@@ -153,6 +153,7 @@ def test_the_page_has_the_base_the_warnings_and_every_joint_beside_its_file_limi
         (out / "index.html").read_text().replace("&#x27;", "'").split("\n"))
 
 
+@pytest.mark.slow
 def test_provenance_hashes_every_input_and_rerunning_reproduces_the_page(report, capsys):
     out, result = report
     page = (out / "index.html").read_text()
@@ -185,6 +186,7 @@ def browser():
         yield opened
 
 
+@pytest.mark.slow
 def test_a_browser_shows_and_prints_the_report(report, browser, tmp_path):
     out, result = report
     url = (out / "index.html").resolve().as_uri()
@@ -222,6 +224,7 @@ def test_a_browser_shows_and_prints_the_report(report, browser, tmp_path):
     assert requests and all(u == url or u.startswith("data:") for u in requests)
 
 
+@pytest.mark.slow
 def test_a_phone_sized_window_scrolls_tables_not_the_page(report, browser, tmp_path):
     out, _ = report
     browser.send("Emulation.setDeviceMetricsOverride", session=True, width=420, height=900,
@@ -236,11 +239,12 @@ def test_a_phone_sized_window_scrolls_tables_not_the_page(report, browser, tmp_p
     assert width <= inner
 
 
+@pytest.mark.slow
 def test_a_report_from_python_says_so_and_hashes_a_logged_trajectory(tmp_path):
     import hdselect
     from hdselect.report.provenance import provenance
     from hdselect.report.report_files import write_report
-    from test_sizing import REPO
+    from helpers import REPO
 
     result = hdselect.size(None, REPO / "trajectories" / "pan_tilt_logged.toml")
     origin = provenance(result)
@@ -292,6 +296,7 @@ def pair_report(tmp_path_factory):
     return out, hdselect.size(None, motion, motors={name: motors for name in LONG.values()})
 
 
+@pytest.mark.slow
 def test_pair_heat_maps_mark_exactly_the_failing_checks_of_both_sides(pair_report):
     out, result = pair_report
     page = (out / "index.html").read_text()
@@ -325,6 +330,7 @@ def test_pair_report_embeds_each_motor_figure_and_hashes_the_motor_file(pair_rep
     assert "no thermal model" in page and "load/rotor inertia" in page
 
 
+@pytest.mark.slow
 def test_a_browser_shows_the_pair_report(pair_report, browser, tmp_path):
     out, result = pair_report
     browser.load((out / "index.html").resolve().as_uri())
@@ -348,7 +354,7 @@ def test_the_case_as_run_says_what_an_option_left_unset_means():
     """No `None` in what a reader sees: threads and life say what they stand for."""
     import hdselect
     from hdselect.report.provenance import provenance
-    from test_sizing import REPO
+    from helpers import REPO
 
     robot, motion = hdselect.load_case(REPO / "trajectories" / "planar2_pick_place.toml")
     result = hdselect.size_trajectory(robot, hdselect.plan(robot, motion),
@@ -361,6 +367,7 @@ def test_the_case_as_run_says_what_an_option_left_unset_means():
     assert f"prefer = {result.options.prefer}" in options
 
 
+@pytest.mark.slow
 def test_the_report_package_gives_write_report_without_importing_matplotlib():
     code = ("import sys, hdselect.report as r; assert 'matplotlib' not in sys.modules; "
             "from hdselect.report.report_files import report_page, write_report; "

@@ -19,7 +19,6 @@ from hdselect.motion.branches import check_branch, indicators
 from hdselect.motion.ik import solve_pose
 from hdselect.motion.kinematics import FrameKinematics
 from hdselect.motion.poses import (
-    Tolerance,
     in_base,
     interpolate_pose,
     pose_error,
@@ -28,44 +27,8 @@ from hdselect.motion.poses import (
 )
 from hdselect.robot.model import load_robot
 from hdselect.robot.mounting import NAMED_BASES, BasePose
-from test_example_robots import configuration, example_robots
-from test_robot import robot_path
-
-TOLERANCE = Tolerance()
-UR5_Q = np.array([0.3, -1.2, 1.3, -1.5, 0.9, 0.2])
-"""A UR5 configuration away from singularities (elbow bent, wrist_2 well off 0)."""
-ARMS = {"UR5": ("ur_description/urdf/ur5_robot.urdf", "tool0"),
-        "Panda": ("panda_description/urdf/panda.urdf", "panda_hand_tcp")}
-
-
-def arm(name: str) -> FrameKinematics:
-    """The frame of a test arm: example-robot-data's UR5 or Panda, or the shipped benchtop6."""
-    if name == "benchtop6":
-        return FrameKinematics(load_robot(robot_path("benchtop6")), "tool0")
-    file, frame = ARMS[name]
-    return FrameKinematics(load_robot(example_robots() / file), frame)
-
-
-def fk(kin: FrameKinematics, q: np.ndarray) -> pin.SE3:
-    """Forward kinematics on a model built here from the file, with a Data of its own."""
-    model = pin.buildModelFromUrdf(str(kin.robot.path))
-    data = model.createData()
-    pin.framesForwardKinematics(model, data, configuration(model, kin.robot.joint_names, q))
-    return data.oMf[model.getFrameId(kin.frame)].copy()
-
-
-def within(kin: FrameKinematics, q: np.ndarray, target: pin.SE3,
-           tolerance: Tolerance = TOLERANCE) -> bool:
-    return tolerance.holds(*pose_error(fk(kin, q), target))
-
-
-def rot(axis: str, angle: float) -> np.ndarray:
-    """An elementary rotation about x, y or z [rad]."""
-    c, s = math.cos(angle), math.sin(angle)
-    return {"x": np.array([[1, 0, 0], [0, c, -s], [0, s, c]]),
-            "y": np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]),
-            "z": np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])}[axis]
-
+from helpers.poses import IK_ARMS, TOLERANCE, UR5_Q, arm, fk, rot, within
+from helpers.robots import example_robots, robot_path
 
 # --- poses ---------------------------------------------------------------------------------
 
@@ -133,6 +96,7 @@ def test_two_link_arm_matches_its_closed_form(elbow):
         assert np.sign(indicators(kin, solved.q)["elbow"]) == elbow
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["UR5", "Panda", "benchtop6"])
 def test_random_poses_solve_from_near_and_far_seeds(name):
     kin = arm(name)
@@ -166,7 +130,7 @@ def test_unreachable_out_of_reach_names_no_limit():
 
 
 def test_unreachable_behind_a_joint_limit_names_it(tmp_path):
-    text = (example_robots() / ARMS["UR5"][0]).read_text()
+    text = (example_robots() / IK_ARMS["UR5"][0]).read_text()
     # the elbow may bend 0.1 rad at most: the pose of UR5_Q needs 1.3 rad
     start = text.index('name="elbow_joint"')
     limit = text.index("<limit", start)

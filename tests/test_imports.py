@@ -13,7 +13,7 @@ import ast
 import re
 from pathlib import Path
 
-from test_dynamics import REPO
+from helpers import REPO
 
 PACKAGE = REPO / "src" / "hdselect"
 DOC = REPO / "docs" / "architecture.md"

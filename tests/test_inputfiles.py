@@ -7,12 +7,10 @@ file, exit status 2, and a refused stream leaves no temporary folder behind.
 
 from __future__ import annotations
 
-import io
 import os
 import subprocess
 import sys
 import threading
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import pytest
@@ -20,22 +18,14 @@ import pytest
 from hdselect.base import inputfiles
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import MAX_INPUT_BYTES, MAX_LOG_BYTES, readable
-from hdselect.cli.main import main
-from test_dynamics import REPO
+from helpers import REPO, run_redirected
 
 ROBOT = REPO / "robots" / "planar2.urdf"
 MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
 
 
-def run(*argv: object) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        status = main([str(a) for a in argv])
-    return status, out.getvalue(), err.getvalue()
-
-
 def one_line(argv: list[object], says: str) -> None:
-    status, out, err = run(*argv)
+    status, out, err = run_redirected(argv)
     assert status == 2 and out == "" and err.count("\n") == 1, err
     assert says in err, err
 
@@ -47,6 +37,7 @@ def sparse(path: Path, size: int) -> Path:
     return path
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("argv", [
     ["joints", "/dev/zero"], ["size", "/dev/urandom"], ["size", "/dev/zero", MOTION],
     ["envelope", "/dev/zero", "--acceleration", "100"]])
@@ -64,6 +55,7 @@ def test_an_endless_device_is_refused_and_leaves_no_temporary_folder(tmp_path, a
     assert list(scratch.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_a_stream_copied_then_refused_leaves_no_temporary_folder(tmp_path):
     """A named pipe is copied whole; the command's refusal of its content removes the copy."""
     scratch = tmp_path / "tmp"

@@ -11,8 +11,7 @@ import pytest
 from hdselect.cli.main import main
 from hdselect.robot.joints import describe_joints
 from hdselect.robot.model import load_robot
-from test_robot import robot_path
-from test_robotfile import gripper
+from helpers.robots import gripper, robot_path
 
 
 def test_scara_joints_in_list_order_with_the_mass_each_moves():

@@ -23,8 +23,8 @@ from hdselect.catalog.checks import LIFE_CAP
 from hdselect.cli.main import main
 from hdselect.robot.dynamics import NOISE_FLOOR, torque_floor
 from hdselect.robot.mounting import STANDARD_GRAVITY
-from test_dynamics import REPO
-from test_option_effects import ONE_MOVE
+from helpers import REPO
+from helpers.options import ONE_MOVE
 
 PLANAR2 = REPO / "robots" / "planar2.urdf"
 

@@ -19,8 +19,8 @@ from hdselect.motion.linefit import deviation
 from hdselect.motion.lines import LinePath, LineStop, refine, solve_line
 from hdselect.motion.poses import Tolerance
 from hdselect.robot.model import load_robot
-from test_example_robots import example_robots
-from test_ik import UR5_Q, arm, fk, rot, within
+from helpers.poses import UR5_Q, arm, fk, rot, within
+from helpers.robots import example_robots
 
 TOLERANCE = Tolerance()
 STARTS = {"UR5": UR5_Q, "benchtop6": np.array([0.3, -1.0, 1.2, -1.0, 0.8, 0.2]),
@@ -108,6 +108,7 @@ def test_refine_adds_a_sample_on_the_line():
     assert within(kin, finer.q[1], line_pose(start, end, middle))
 
 
+@pytest.mark.slow
 def test_deviation_matches_a_brute_force_search():
     """Distance from the segment and angle from the arc, against 20,001 points of the line."""
     start = pin.SE3(rot("z", 0.3), np.array([0.1, 0.2, 0.3]))

@@ -20,7 +20,7 @@ import hdselect
 from hdselect.motion.logderivatives import derivatives, noise_level, peak_uncertainty
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import torque_spread
-from test_dynamics import REPO
+from helpers import REPO
 
 
 def sinusoids(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -65,6 +65,7 @@ def log_of(tmp_path, motion: str, hz: int, quantum: float | None):
     return hdselect.load_case(tmp_path / "log.toml")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("quantum", QUANTA, ids=str)
 @pytest.mark.parametrize("hz", [50, 200, 1000, 4000])
 @pytest.mark.parametrize("motion", MOTIONS)
@@ -145,6 +146,7 @@ def test_the_torque_bound_is_the_inertia_matrix_times_the_acceleration_bound():
     assert np.all(found[2] == 0.0)
 
 
+@pytest.mark.slow
 def test_the_terminal_json_and_report_state_an_uncertain_peak(tmp_path, capsys):
     """A quintic logged at 4 kHz through a 17-bit encoder: pan's peak is uncertain by more
     than 1 %, and the terminal, the JSON and the HTML report say so; a planned motion's

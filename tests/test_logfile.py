@@ -10,7 +10,7 @@ import pytest
 from hdselect.base.errors import InputError
 from hdselect.motion.logfile import read_log
 from hdselect.robot.model import load_robot
-from test_motion import write_chain
+from helpers.robots import write_chain
 
 DEG = math.pi / 180
 

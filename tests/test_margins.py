@@ -22,9 +22,9 @@ from hdselect.catalog.motors import Motor, load_motors
 from hdselect.catalog.rules import check_unit
 from hdselect.cli.main import main
 from hdselect.sizing.options import Options
-from test_dynamics import J_TABLE, REPO
-from test_rules import make_load, make_unit
-from test_sizing_motors import CYCLE, ETA, T_A, A, index_motion
+from helpers import REPO
+from helpers.dynamics import J_TABLE
+from helpers.motions import CYCLE, ETA, T_A, A, index_motion, make_load, make_unit
 
 PSA_14_100 = next(u for u in load_catalog() if u.id == "PSA-14-100")
 J_IN = 3.3e-6  # PSA-14-100 input inertia: 0.033 kg cm^2 [kg m^2]

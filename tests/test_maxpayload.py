@@ -1,4 +1,4 @@
-"""`hdselect.maxpayload` against the sizing itself, re-run around the answer, and against
+"""`hdselect.codesign.maxpayload` against the sizing itself, re-run around the answer, and against
 inverse dynamics re-run with the payload written into the model."""
 
 from __future__ import annotations
@@ -19,12 +19,13 @@ from hdselect.robot.dynamics import inverse_dynamics
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import size
 from hdselect.sizing.options import options_for
-from test_dynamics import REPO
-from test_plan import make_motion
+from helpers import REPO
+from helpers.motions import make_motion
 
 MOTIONS = REPO / "trajectories"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "frame", "com"), [
     ("benchtop6_pick_place", None, None), ("planar2_pick_place", None, None),
     ("index_table_indexing", "fixture_1", None),  # off the axis: the disk's origin is on it

@@ -13,9 +13,7 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 from dataclasses import replace
-from pathlib import Path
 
-import numpy as np
 import pytest
 
 from hdselect import InputError, load_catalog, size
@@ -23,15 +21,19 @@ from hdselect.catalog.rules import PER_SAMPLE_CHECKS, RPM_PER_RAD_S
 from hdselect.cli.main import main
 from hdselect.sizing.core import check_units
 from hdselect.sizing.summary import summarize
-from test_study_group import differences
-
-REPO = Path(__file__).resolve().parents[1]
-TABLE = REPO / "robots" / "index_table.urdf"
-PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"
-INSPECT = REPO / "trajectories" / "benchtop6_inspect.toml"
-PICK_INSPECT = REPO / "trajectories" / "mixes" / "benchtop6_pick_inspect.toml"
-DT = 0.001
-
+from helpers import REPO
+from helpers.studies import (
+    BANG_BANG,
+    DT,
+    INSPECT,
+    PICK,
+    PICK_INSPECT,
+    TABLE,
+    differences,
+    mix_text,
+    plain_text,
+    write_index_mix,
+)
 
 # ------------------------------------------------------------------ the index table by hand
 
@@ -56,45 +58,6 @@ def table_inertia() -> float:
         cx, cy, _ = (float(v) for v in inertial.find("origin").get("xyz").split())
         total += izz + mass * ((x + cx) ** 2 + (y + cy) ** 2)
     return total
-
-
-BANG_BANG = {"fast": (30.0, 150, 250, 0.05), "slow": (10.0, 300, 400, 0.02)}
-"""Per task: acceleration a [rad/s^2], samples accelerating n (and as many braking),
-samples dwelling m, and the part's inertia about the table axis [kg m^2]."""
-
-
-def bang_bang(a: float, n: int, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """qd, qdd of one bang-bang index and its dwell, sampled every DT: qd = a i DT up, then down.
-
-    qd_i = a i DT for i < n (qdd = +a), a (2n - i) DT for n <= i < 2n (qdd = -a), then m
-    samples at rest (qd = qdd = 0).
-    """
-    i = np.arange(2 * n + m)
-    qd = np.where(i < n, a * i * DT, np.where(i < 2 * n, a * (2 * n - i) * DT, 0.0))
-    qdd = np.where(i < n, a, np.where(i < 2 * n, -a, 0.0))
-    return qd, qdd, i * DT
-
-
-def write_index_mix(folder: Path, *, shares=None, cycles_per_hour=None) -> Path:
-    """Two logged index-table tasks (`BANG_BANG`), each with its part's inertia, and their mix."""
-    lines = ['robot = "' + str(TABLE) + '"']
-    for k, (name, (a, n, m, inertia)) in enumerate(BANG_BANG.items()):
-        qd, qdd, t = bang_bang(a, n, m)
-        q = np.concatenate(([0.0], np.cumsum(qd[:-1]) * DT))
-        rows = "\n".join(",".join(repr(float(v)) for v in (t[i], q[i], qd[i], qdd[i]))
-                         for i in range(len(t)))
-        (folder / f"{name}.csv").write_text("t,q_table,qd_table,qdd_table\n" + rows + "\n")
-        (folder / f"{name}.toml").write_text(
-            f'robot = "{TABLE}"\nplanner = "samples"\nangle_unit = "rad"\ndt = {DT}\n'
-            f'[samples]\nfile = "{name}.csv"\n[payload]\nmass = 1.0\ncom = [0.0, 0.0, 0.03]\n'
-            f"inertia = [[{inertia / 2}, 0, 0], [0, {inertia / 2}, 0], [0, 0, {inertia}]]\n"
-            'frame = "disk"\n')
-        how = (f"share = {shares[k]}" if shares is not None
-               else f"cycles_per_hour = {cycles_per_hour[k]}")
-        lines.append(f'[[task]]\nname = "{name}"\nmotion = "{name}.toml"\n{how}')
-    mix = folder / "mix.toml"
-    mix.write_text("\n".join(lines) + "\n")
-    return mix
 
 
 def hand_figures(rates: dict[str, float], idle_time: float = 0.0):
@@ -186,25 +149,13 @@ def test_cycles_per_hour_cannot_overfill_the_hour(tmp_path):
 
 # ------------------------------------------------------------ mixes of the shipped motions
 
-def _mix(folder: Path, *tasks: tuple[str, Path, float]) -> Path:
-    text = "".join(f'[[task]]\nname = "{name}"\nmotion = "{motion}"\nshare = {share}\n'
-                   for name, motion, share in tasks)
-    path = folder / "mix.toml"
-    path.write_text(text)
-    return path
-
-
-def _plain(result):
-    """A result as nested plain values (its summary), without warnings."""
-    return replace(summarize(result), warnings=(), tasks=()).to_dict()  # tasks: listed apart
-
 
 @pytest.mark.parametrize("shares", [(1.0, 0.0), (0.0, 1.0)])
 def test_a_share_of_one_is_the_motion_sized_alone(tmp_path, shares):
-    mix = _mix(tmp_path, ("pick", PICK, shares[0]), ("inspect", INSPECT, shares[1]))
+    mix = mix_text(tmp_path, ("pick", PICK, shares[0]), ("inspect", INSPECT, shares[1]))
     mixed = size(None, mix)
     alone = size(None, PICK if shares[0] == 1.0 else INSPECT)
-    assert differences(_plain(mixed), _plain(alone)) == 0.0  # to the last bit
+    assert differences(plain_text(mixed), plain_text(alone)) == 0.0  # to the last bit
     assert len(mixed.tasks) == 2 and len(mixed.counted) == 1
     assert all(not joint.per_task for joint in mixed.joints)
     assert [(t["name"], t["share"]) for t in summarize(mixed).tasks] == [
@@ -212,7 +163,7 @@ def test_a_share_of_one_is_the_motion_sized_alone(tmp_path, shares):
 
 
 def test_a_motion_mixed_with_itself_is_the_motion(tmp_path):
-    mix = _mix(tmp_path, ("a", PICK, 0.4), ("b", PICK, 0.6))
+    mix = mix_text(tmp_path, ("a", PICK, 0.4), ("b", PICK, 0.6))
     mixed, alone = size(None, mix), size(None, PICK)
     for a, b in zip(alone.joints, mixed.joints, strict=True):
         assert a.selected.unit.id == b.selected.unit.id
@@ -322,7 +273,7 @@ def test_a_mix_of_another_robot_names_the_mix_the_task_and_both_robots(tmp_path,
     """The mix runs the two-link arm; its task's motion is the benchtop arm's: the error is
     the mix file's, not the motion file's waypoint that names a joint planar2 lacks."""
     planar = REPO / "robots" / "planar2.urdf"
-    path = _mix(tmp_path, ("pick", PICK, 1.0))
+    path = mix_text(tmp_path, ("pick", PICK, 1.0))
     path.write_text(f'robot = "{planar}"\n' + path.read_text())
     with pytest.raises(InputError) as info:
         size(None, path)
@@ -339,7 +290,7 @@ def test_motions_that_disagree_on_the_duty_are_named_both(tmp_path):
     other = tmp_path / "other.toml"
     other.write_text(INSPECT.read_text().replace("life_hours = 20000", "life_hours = 9000")
                      .replace('"../robots/', f'"{REPO}/robots/'))
-    path = _mix(tmp_path, ("pick", PICK, 0.5), ("other", other, 0.5))
+    path = mix_text(tmp_path, ("pick", PICK, 0.5), ("other", other, 0.5))
     with pytest.raises(InputError) as info:
         size(None, path)
     assert str(PICK) in info.value.reason and str(other) in info.value.reason
@@ -348,21 +299,22 @@ def test_motions_that_disagree_on_the_duty_are_named_both(tmp_path):
     assert size(None, path, life_hours=15000.0).options.life_hours == 15000.0
 
 
+@pytest.mark.slow
 def test_the_mix_files_stop_time_settles_the_duty_over_its_motions(tmp_path):
     """[safety] stop_time = 0.05 s in the mix, 0.15 s in both motions: the mix file's holds
     (as the same mix given --stop-time 0.05), with a note naming both motions. The stop
     time is the robot's safety system's, one for the duty, which the mix file describes."""
-    path = _mix(tmp_path, ("pick", PICK, 0.7), ("inspect", INSPECT, 0.3))
+    path = mix_text(tmp_path, ("pick", PICK, 0.7), ("inspect", INSPECT, 0.3))
     path.write_text("[safety]\nstop_time = 0.05\n" + path.read_text())
     (tmp_path / "plain").mkdir()
-    plain = _mix(tmp_path / "plain", ("pick", PICK, 0.7), ("inspect", INSPECT, 0.3))
+    plain = mix_text(tmp_path / "plain", ("pick", PICK, 0.7), ("inspect", INSPECT, 0.3))
     result = size(None, path)
     assert result.options.stop_time == 0.05
     assert ("motion file: mix.toml gives safety.stop_time 0.05 for the whole duty, over "
             "benchtop6_pick_place.toml's 0.15, benchtop6_inspect.toml's 0.15") in result.warnings
     given = size(None, plain, stop_time=0.05)
-    assert _plain(result) == _plain(given)
-    assert _plain(result) != _plain(size(None, plain))  # 0.15 s: the stop time took effect
+    assert plain_text(result) == plain_text(given)
+    assert plain_text(result) != plain_text(size(None, plain))  # 0.15 s: the stop time took effect
     path.write_text(path.read_text().replace("0.05", "0.15"))
     assert not any("stop_time" in warning for warning in size(None, path).warnings)
     # every duty-wide value alike: the required life
@@ -412,6 +364,7 @@ life_hours = 40000
 """
 
 
+@pytest.mark.slow
 def test_grouped_mix_cases_equal_the_direct_core(tmp_path):
     """One basis per task, pooled with each case's shares: the core's answer to 1e-9."""
     from hdselect.study.casetasks import Inputs
@@ -455,6 +408,7 @@ def test_a_mix_study_names_its_parameters(tmp_path):
 
 # ----------------------------------------------------------------------------- co-design
 
+@pytest.mark.slow
 def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
     """The factor found: the duty sized just below fits, just above some joint has no unit."""
     from hdselect.codesign.mixpayload import at_factor, mix_max_payload
@@ -475,12 +429,13 @@ def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
     assert binding.selected.checks[result.rule].utilization == pytest.approx(1.0, abs=2e-3)
 
 
+@pytest.mark.slow
 def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.mixpayload import mix_max_payload
     from hdselect.motion.case import load_case
 
-    path = _mix(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
+    path = mix_text(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
     robot, mix = load_case(path)
     mixed = mix_max_payload(robot, mix, tasks=["pick"])
     assert mixed.scaled == ("pick",)
@@ -489,12 +444,13 @@ def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
     assert (mixed.joint, mixed.unit.id, mixed.rule) == (alone.joint, alone.unit.id, alone.rule)
 
 
+@pytest.mark.slow
 def test_fastest_of_a_mix_of_one_task_is_its_motions(tmp_path):
     from hdselect.codesign.fastest_cycle import fastest
     from hdselect.codesign.mixfastest import mix_fastest
     from hdselect.motion.case import load_case
 
-    path = _mix(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
+    path = mix_text(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
     mixed = mix_fastest(*load_case(path))
     alone = fastest(*load_case(PICK), {name: unit.id for name, unit in mixed.units.items()})
     assert alone.reason is None and mixed.reason is None and mixed.slowdown == 1.0
@@ -503,6 +459,7 @@ def test_fastest_of_a_mix_of_one_task_is_its_motions(tmp_path):
     assert task.task.trajectory.qd == pytest.approx(alone.trajectory.qd, rel=1e-9, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
     """A required life the optima miss: every task slowed by one factor until it holds."""
     from hdselect.codesign.mixfastest import _optimum, mix_fastest, pooled_check
@@ -583,6 +540,7 @@ def test_the_share_weighted_mean_of_the_lives_weighs_the_operating_time():
                                        "(1,000 h) -33%")
 
 
+@pytest.mark.slow
 def test_a_day_in_cycles_per_hour_prints_a_mean_between_the_lives(tmp_path, capsys):
     """The index table at 900 and 1200 cycles an hour (53 % idle): the note's mean, in the
     terminal and the HTML report, is the lives alone weighted by the operating time."""
@@ -604,6 +562,7 @@ def test_a_day_in_cycles_per_hour_prints_a_mean_between_the_lives(tmp_path, caps
     assert f"the share-weighted mean of the lives alone ({mean:,.0f} h)" in page
 
 
+@pytest.mark.slow
 def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
     """Heavy parts, 1.67x faster: a joint no unit fits, and its slow-down s. Every task's
     trajectory run s times slower (the shares kept) must let that unit fit."""
@@ -636,6 +595,7 @@ def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
         assert next(j for j in again.joints if j.name == joint.name).selected is not None
 
 
+@pytest.mark.slow
 def test_the_html_report_of_a_mix_has_its_tasks(pick_inspect, tmp_path):
     from hdselect.report.report_files import write_report
 

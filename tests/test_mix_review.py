@@ -23,8 +23,10 @@ from hdselect.catalog.motors import load_motors
 from hdselect.catalog.select import select
 from hdselect.cli.main import main
 from hdselect.sizing.torques import GRAVITY_SAMPLES
-from test_mix import INSPECT, PICK, PICK_INSPECT, REPO, _mix, _plain, write_index_mix
-from test_study_group import differences
+from helpers import REPO
+from helpers.studies import INSPECT, PICK, PICK_INSPECT, differences, write_index_mix
+from helpers.studies import mix_text as mix_text
+from helpers.studies import plain_text as plain_text
 
 MOTORS = REPO / "motors" / "example_motors.toml"
 
@@ -43,7 +45,7 @@ def _every_joint(result_or_robot, motors):
 
 def test_shares_of_one_and_zero_keep_the_margin_and_the_inertia_rule(tmp_path, catalog_motors):
     """Margin, motors, largest inertia ratio and the inertia preference: the motion alone."""
-    mix = _mix(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
+    mix = mix_text(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
     given = {"margin": 0.15, "max_inertia_ratio": 8.0, "prefer": "inertia",
              "inertia_target": 3.0}
     robot = size(None, PICK).robot
@@ -51,7 +53,7 @@ def test_shares_of_one_and_zero_keep_the_margin_and_the_inertia_rule(tmp_path, c
     mixed = size(None, mix, motors=motors, **given)
     alone = size(None, PICK, motors=motors, **given)
     assert mixed.options.margin == 0.15 and mixed.options.max_inertia_ratio == 8.0
-    assert differences(_plain(mixed), _plain(alone)) == 0.0  # to the last bit
+    assert differences(plain_text(mixed), plain_text(alone)) == 0.0  # to the last bit
 
 
 def test_a_margin_changes_the_verdicts_over_a_mix_not_the_demands():
@@ -158,6 +160,7 @@ def _summary(page: str) -> str:
     return page[start:page.index("</section>", start)]
 
 
+@pytest.mark.slow
 def test_the_review_summary_lists_each_task_of_a_mix(matched, tmp_path):
     from hdselect.report.report_files import write_report
 
@@ -179,6 +182,7 @@ def test_the_review_summary_lists_each_task_of_a_mix(matched, tmp_path):
     assert "10 %: every rule must hold at up to 90 % of its limit" in summary
 
 
+@pytest.mark.slow
 def test_the_summary_of_a_day_in_cycles_per_hour_shows_its_idle_time(tmp_path):
     """The index table's two tasks at 900 and 1200 cycles an hour, one on the wall: each
     task's share, the idle rest of the hour, and each task's mounting."""
@@ -245,6 +249,7 @@ max_inertia_ratio = 4.0
 """
 
 
+@pytest.mark.slow
 def test_grouped_mix_cases_with_margins_and_inertia_ratios_equal_the_direct_core(tmp_path):
     """One basis per task (with its inertias), pooled with each case's shares: the core's
     answer to 1e-9, margins and inertia ratios included."""

@@ -22,17 +22,17 @@ from hdselect.motion.kinematics import FrameKinematics
 from hdselect.motion.poses import pose_error
 from hdselect.robot.mounting import NAMED_BASES
 from hdselect.sizing.summary import summarize
-from test_ik import fk
-from test_mix import INSPECT, REPO, _plain
-from test_study_group import differences
-from test_toolposes import TOLERANCE, written_pose
+from helpers import REPO
+from helpers.poses import TOLERANCE, fk, written_pose
+from helpers.studies import INSPECT, differences
+from helpers.studies import plain_text as plain_text
 
 POSES = REPO / "trajectories" / "benchtop6_pick_place_poses.toml"
 PLINTH = {"xyz": [0.02, -0.03, 0.05], "rpy_deg": [10, 0, 30]}
 """A base on a plinth 5 cm high, turned 30 deg and tilted 10 deg (test_toolposes' own)."""
 
 
-def _mix(folder: Path, first: str, share: float = 1.0, angle_unit: str | None = None) -> Path:
+def mix_text(folder: Path, first: str, share: float = 1.0, angle_unit: str | None = None) -> Path:
     """The tool-pose motion (with `first` added to its task table) and the inspection sweep."""
     head = f'angle_unit = "{angle_unit}"\n' if angle_unit else ""
     path = folder / "mix.toml"
@@ -42,22 +42,24 @@ def _mix(folder: Path, first: str, share: float = 1.0, angle_unit: str | None = 
     return path
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mounting", ["floor", "wall"])
 def test_a_task_of_tool_poses_is_its_motion_sized_alone(tmp_path, mounting):
     """Shares (1, 0): the duty is the tool-pose motion on that mounting, to the last bit."""
-    mixed = size(None, _mix(tmp_path, f'mounting = "{mounting}"'))
+    mixed = size(None, mix_text(tmp_path, f'mounting = "{mounting}"'))
     alone = size(None, POSES, mounting=mounting)
-    assert differences(_plain(mixed), _plain(alone)) == 0.0
+    assert differences(plain_text(mixed), plain_text(alone)) == 0.0
     task = mixed.tasks[0]
     assert task.motion.solution is not None and task.motion.lines  # the solved motion kept
     np.testing.assert_array_equal(task.motion.waypoints, alone.motion.waypoints)
     np.testing.assert_array_equal(task.trajectory.q, alone.trajectory.q)
 
 
+@pytest.mark.slow
 def test_a_task_mounted_on_the_wall_solves_its_poses_again(tmp_path):
     """The wall task's joint waypoints are new IK solutions that put the tool on the same
     world poses, not the floor's joint angles under another gravity."""
-    wall = size(None, _mix(tmp_path, 'mounting = "wall"', share=0.6))
+    wall = size(None, mix_text(tmp_path, 'mounting = "wall"', share=0.6))
     floor_motion = hdselect.load_case(POSES)[1]
     task = wall.tasks[0]
     assert np.abs(task.motion.waypoints - floor_motion.waypoints).max() > 0.5  # rad
@@ -71,6 +73,7 @@ def test_a_task_mounted_on_the_wall_solves_its_poses_again(tmp_path):
     assert wall.tasks[1].robot.base_pose == NAMED_BASES["floor"]  # the other task: its own
 
 
+@pytest.mark.slow
 def test_a_task_base_pose_reads_the_mix_file_angle_unit(tmp_path):
     """``base = {xyz, rpy}`` in a task, rpy in the mix file's angle_unit, is the motion file
     with that base: the same solution and the same sizing."""
@@ -82,11 +85,11 @@ def test_a_task_base_pose_reads_the_mix_file_angle_unit(tmp_path):
         'mounting = "floor"', f"base = {{xyz = {xyz}, rpy = {rpy}}}").replace(
         '"../robots/benchtop6.urdf"', f'"{robot}"'))
     alone = size(None, in_motion)
-    mixed = size(None, _mix(tmp_path, f"base = {{xyz = {xyz}, rpy = {radians}}}",
+    mixed = size(None, mix_text(tmp_path, f"base = {{xyz = {xyz}, rpy = {radians}}}",
                             angle_unit="rad"))
     files = ("motion",)  # the same motion but for its base, in another file
-    assert differences({k: v for k, v in _plain(mixed).items() if k not in files},
-                       {k: v for k, v in _plain(alone).items() if k not in files}) == 0.0
+    assert differences({k: v for k, v in plain_text(mixed).items() if k not in files},
+                       {k: v for k, v in plain_text(alone).items() if k not in files}) == 0.0
     np.testing.assert_array_equal(mixed.tasks[0].motion.waypoints, alone.motion.waypoints)
     placed = pin.SE3(Rotation.from_euler("xyz", rpy, degrees=True).as_matrix(), np.array(xyz))
     kin = FrameKinematics(mixed.tasks[0].robot, "tool0")
@@ -96,13 +99,14 @@ def test_a_task_base_pose_reads_the_mix_file_angle_unit(tmp_path):
 
 
 def test_a_gravity_vector_cannot_place_a_task_of_tool_poses(tmp_path):
-    mix = _mix(tmp_path, "mounting = [0.0, 0.0, -9.81]", share=0.5)
+    mix = mix_text(tmp_path, "mounting = [0.0, 0.0, -9.81]", share=0.5)
     with pytest.raises(InputError, match="does not place the base") as info:
         size(None, mix)
     assert info.value.path == mix and info.value.field == "task[0].mounting"
     assert "benchtop6_pick_place_poses.toml" in str(info.value)
 
 
+@pytest.mark.slow
 def test_a_mix_with_a_tool_pose_task_says_how_its_poses_were_solved(tmp_path, capsys):
     """Sized beside the inspection sweep: the duty's notes name the task whose poses were
     solved; the study summary lists both tasks; the duty is never less demanding on a
@@ -110,7 +114,7 @@ def test_a_mix_with_a_tool_pose_task_says_how_its_poses_were_solved(tmp_path, ca
     from hdselect.cli.main import main
     from hdselect.sizing.core import check_units
 
-    mix = _mix(tmp_path, 'mounting = "wall"', share=0.6)
+    mix = mix_text(tmp_path, 'mounting = "wall"', share=0.6)
     assert main(["size", str(mix)]) in (0, 1)
     out = capsys.readouterr().out
     assert "poses: tool poses: 8 waypoints solved for 'tool0' on the wall mounting" in out

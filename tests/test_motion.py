@@ -1,7 +1,6 @@
 from __future__ import annotations
 
 import math
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -12,46 +11,9 @@ from hdselect.motion.case import load_case, robot_for_motion
 from hdselect.motion.motionfile import load_motion
 from hdselect.robot.model import load_robot
 from hdselect.robot.payload import Payload
-
-# --- factories (also used by test_plan.py) ---------------------------------------------------
+from helpers.robots import write_chain, write_motion, write_robot
 
 NAMES6 = ("j1", "j2", "j3", "j4", "j5", "j6")
-
-
-def write_chain(directory: Path, joints, name: str = "arm") -> Path:
-    """A serial chain URDF; `joints` is a list of (name, type, lower, upper) with limits [rad/m]."""
-    links = ['<link name="base"/>']
-    parts = []
-    parent = "base"
-    axes = ("0 0 1", "0 1 0", "0 1 0", "1 0 0", "0 1 0", "0 0 1")
-    for i, (joint, kind, lower, upper) in enumerate(joints):
-        child = f"link{i + 1}"
-        links.append(
-            f'<link name="{child}"><inertial><origin xyz="0.1 0 0"/><mass value="1.0"/>'
-            '<inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>'
-        )
-        limit = "" if kind == "continuous" else \
-            f'<limit lower="{lower}" upper="{upper}" effort="50" velocity="10"/>'
-        parts.append(
-            f'<joint name="{joint}" type="{kind}"><parent link="{parent}"/><child link="{child}"/>'
-            f'<origin xyz="0 0 {0.2 if i else 0.1}"/><axis xyz="{axes[i % 6]}"/>{limit}</joint>'
-        )
-        parent = child
-    path = directory / f"{name}.urdf"
-    path.write_text(f'<robot name="{name}">{"".join(links + parts)}</robot>')
-    return path
-
-
-def write_robot(directory: Path, dof: int = 6, name: str = "arm") -> Path:
-    """A chain of `dof` revolute joints j1..jN with limits +-pi [rad]."""
-    return write_chain(directory, [(f"j{i + 1}", "revolute", -math.pi, math.pi)
-                                   for i in range(dof)], name)
-
-
-def write_motion(directory: Path, body: str, name: str = "motion.toml") -> Path:
-    path = directory / name
-    path.write_text(textwrap.dedent(body))
-    return path
 
 
 GOOD = """\

@@ -18,7 +18,7 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import load_motors
 from hdselect.cli.main import main
 from hdselect.motion.motionfile import load_motion
-from test_dynamics import REPO
+from helpers import REPO
 
 EXAMPLE = REPO / "motors" / "example_motors.toml"
 SCARA_MOTION = REPO / "trajectories" / "scara_wafer_transfer.toml"

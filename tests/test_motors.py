@@ -16,7 +16,7 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor, load_motors
 from hdselect.cli.main import main
 from hdselect.sizing.core import size
-from test_dynamics import REPO
+from helpers import REPO
 
 EXAMPLE = REPO / "motors" / "example_motors.toml"
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"

@@ -20,22 +20,13 @@ import pytest
 
 import hdselect
 from hdselect.base.errors import InputError
+from helpers.robots import EXAMPLE_ROBOTS, KNOWN_REFUSALS
 from mujoco_oracle import compare
-from test_example_robots import example_robots
 
 RTOL = 1e-9
 """Agreement asked, relative to the file's largest MuJoCo torque at the states drawn."""
 STATES = 3
 """Random states per file."""
-
-KNOWN_REFUSALS = {
-    "ur3.urdf": "not a valid URDF robot: No name given for the robot",
-    "iris.urdf": "limit.lower: must be a position between -1e+06 and 1e+06 rad, got -1e+16",
-    "iris_simple.urdf": "the robot has no movable joint",
-    "quadrotor_base.urdf": "the robot has no movable joint",
-    "romeo_laas_small.urdf": "inertia is not positive semi-definite",
-}
-"""The example-robot-data URDFs hdselect refuses, and why: every other one must load."""
 
 
 def package_folder(name: str) -> Path | None:
@@ -88,9 +79,7 @@ def check(path: Path) -> str:
     return "compared"
 
 
-EXAMPLE_ROBOTS = sorted(example_robots().rglob("*.urdf"))
-
-
+@pytest.mark.slow
 @pytest.mark.parametrize("path", EXAMPLE_ROBOTS, ids=lambda p: p.name)
 def test_example_robot_data(path: Path) -> None:
     outcome = check(path)

@@ -9,7 +9,6 @@ sized as one duty) run the same table on one too: a mix honours every option a m
 
 from __future__ import annotations
 
-import argparse
 import inspect
 import json
 from pathlib import Path
@@ -20,32 +19,8 @@ import hdselect
 from hdselect import InputError
 from hdselect.cli.main import _parser, main
 from hdselect.sizing.tasks import Task
-from test_dynamics import REPO
-from test_envelope_cli import ENVELOPE_EFFECTS, ENVELOPE_OUTPUTS
-
-ONE_MOVE = """\
-robot = "../robots/planar2.urdf"
-planner = "ruckig"
-angle_unit = "deg"
-dt = 0.002
-[payload]
-mass = 0.4
-com = [0.03, 0.0, 0.0]
-frame = "tool"
-[limits]
-velocity = 180
-acceleration = 900
-jerk = 9000
-[requirements]
-life_hours = 20000
-[[waypoint]]
-q = {shoulder = 40, elbow = -80}
-dwell = 0.2
-[[waypoint]]
-q = {shoulder = -30, elbow = 20}
-dwell = 0.2
-"""
-"""planar2's first move and back: co-design in a second."""
+from helpers import REPO
+from helpers.options import ONE_MOVE, OTHER, effect_options
 
 ACME = ('series = "ACME"\n[[unit]]\nsize = 20\nratio = 30\nrated_torque_nm = 40\n'
         "repeated_torque_nm = 50\nmax_input_speed_rpm = 4000\ninput_inertia_kg_cm2 = 0.2\n"
@@ -117,26 +92,6 @@ MIX_NOT_YET = {"fastest": ("--motor-catalog", "--compare-ratios"),
 motors (so --max-inertia-ratio and --inertia-target, which act on pairs, cannot act
 either), fastest compares no ratios, max-payload takes no units fixed beforehand."""
 
-OTHER = {
-    "catalog": ["--catalog", "--units", "--json"],
-    "duty": ["--catalog", "--json", "--margin"],  # test_margins: the duty example by hand
-    "joints": ["--json", "--xacro-arg"], "init": ["--out", "--tool-poses", "--xacro-arg"],
-    "study": ["--out", "--workers", "--scheduler", "--timeout", "--no-grouping", "--retry-failed",
-              "--plot"],
-    "plan": ["--out", "--xacro-arg"], "size": ["--json", "--bom", "--xacro-arg"],
-    "compare": ["--json", "--bom", "--xacro-arg"], "fastest": ["--json", "--xacro-arg"],
-    "max-payload": ["--json", "--prefer", "--xacro-arg"],
-    "envelope": [*(row[0] for row in ENVELOPE_EFFECTS), *ENVELOPE_OUTPUTS, "--xacro-arg"],
-}
-"""Options covered elsewhere (test_cli, test_study, test_outputs, test_bad_input): outputs,
-executors and listings, which change where a result goes or how it runs, not the result.
-init's --tool-poses writes another starter: test_toolposes solves, plans and sizes it.
-max-payload's --prefer orders the units that pass at the largest payload, where the joint
-that binds has one: `test_max_payload_selects_in_the_order_preferred` checks it is used.
---xacro-arg needs a .xacro robot: `test_xacro.test_every_command_takes_xacro_arguments`.
-envelope's options take a robot file, not a motion file: test_envelope_cli runs its own
-table of effects (`ENVELOPE_EFFECTS`)."""
-
 
 @pytest.fixture
 def work(tmp_path, monkeypatch):
@@ -181,6 +136,7 @@ def _without(document, key):
     return document
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("command", "option", "values", "base_args"), [
     (command, row[0], row[1], row[2] if len(row) > 2 else [])
     for command, rows in EFFECTS.items() for row in rows])
@@ -196,6 +152,7 @@ def test_an_option_changes_the_answer_or_is_refused(work, capsys, command, optio
     assert written != base[2], f"{command} {option} took no effect"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("command", "option", "values", "base_args"), [
     (command, row[0], row[1], row[2] if len(row) > 2 else [])
     for command, rows in MIX_EFFECTS.items() for row in rows])
@@ -262,15 +219,8 @@ def test_max_payload_selects_in_the_order_preferred(work):
     assert result.selection is not None and result.selection.options.prefer == "margin"
 
 
-def _options(parser: argparse.ArgumentParser) -> dict[str, set[str]]:
-    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    return {name: {o for a in sub._actions for o in a.option_strings
-                   if o.startswith("--") and o not in ("--help", "--verbose")}
-            for name, sub in commands.choices.items()}
-
-
 def test_every_option_is_in_the_table():
-    for command, options in _options(_parser()).items():
+    for command, options in effect_options(_parser()).items():
         covered = {row[0] for row in EFFECTS.get(command, [])} | set(OTHER.get(command, []))
         assert options <= covered, (command, options - covered)
 

@@ -28,7 +28,7 @@ from hdselect.robot.model import load_robot
 from hdselect.sizing.duty import mix_options
 from hdselect.sizing.options import options_for
 from hdselect.study.spec import load_study
-from test_dynamics import REPO
+from helpers import REPO
 
 ROBOT = REPO / "robots" / "index_table.urdf"
 JOINT = "table"

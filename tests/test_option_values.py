@@ -13,7 +13,7 @@ import argparse
 import pytest
 
 from hdselect.cli.main import _parser, main
-from test_dynamics import REPO
+from helpers import REPO
 
 MOTION = str(REPO / "trajectories" / "planar2_pick_place.toml")
 PLANAR2 = str(REPO / "robots" / "planar2.urdf")

@@ -20,7 +20,8 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.select import PREFERENCES
 from hdselect.cli.main import main
 from hdselect.sizing.options import options_for
-from test_dynamics import J_TABLE, REPO, G
+from helpers import REPO
+from helpers.dynamics import J_TABLE, G
 
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
 PLANAR2 = REPO / "trajectories" / "planar2_pick_place.toml"

@@ -14,7 +14,8 @@ from hdselect.motion.case import load_case
 from hdselect.motion.planning import PLANNERS, plan
 from hdselect.motion.planning.ruckig import sample_profiles
 from hdselect.motion.planning.toppra import TOPPRA_TOLERANCE, TOPPRA_TORQUE_TOLERANCE
-from test_motion import write_chain, write_motion, write_robot
+from helpers.motions import dense_toppra_cycle, make_motion, ruckig_move
+from helpers.robots import write_chain, write_motion
 
 
 def sample_at_time(traj: ruckig.Trajectory, times: np.ndarray):
@@ -22,35 +23,6 @@ def sample_at_time(traj: ruckig.Trajectory, times: np.ndarray):
     states = [traj.at_time(float(time)) for time in np.asarray(times, dtype=float)]
     shape = (len(states), traj.degrees_of_freedom)
     return tuple(np.array([s[i] for s in states]).reshape(shape) for i in range(3))
-
-
-def make_motion(directory, planner, waypoints, *, dwells=None, velocity, acceleration,
-                jerk=None, torque=None, dt=0.001, dof=None):
-    """A robot and a motion in radians for a chain of revolute joints j1..jN (limits +-pi)."""
-    dof = dof or len(waypoints[0])
-    if not (directory / "arm.urdf").exists():
-        write_robot(directory, dof)
-    lines = ['robot = "arm.urdf"', f'planner = "{planner}"', 'angle_unit = "rad"', f"dt = {dt}",
-             "[limits]", f"velocity = {velocity}", f"acceleration = {acceleration}"]
-    lines += [f"jerk = {jerk}"] if jerk is not None else []
-    lines += [f"torque = {torque}"] if torque is not None else []
-    for i, q in enumerate(waypoints):
-        lines += ["[[waypoint]]", f"q = {list(map(float, q))}"]
-        if dwells is not None:
-            lines.append(f"dwell = {dwells[i]}")
-    return load_case(write_motion(directory, "\n".join(lines) + "\n"))
-
-
-def ruckig_move(start, target, v, a, j, velocity=None):
-    dof = len(start)
-    inp = ruckig.InputParameter(dof)
-    inp.current_position, inp.target_position = list(start), list(target)
-    if velocity is not None:
-        inp.current_velocity = list(velocity)
-    inp.max_velocity, inp.max_acceleration, inp.max_jerk = list(v), list(a), list(j)
-    traj = ruckig.Trajectory(dof)
-    assert ruckig.Ruckig(dof).calculate(inp, traj) == ruckig.Result.Working
-    return traj
 
 
 def check_grid(trajectory, motion):
@@ -436,35 +408,6 @@ def test_a_log_leaving_a_limit_names_the_joint_in_the_files_units(tmp_path):
             "outside the limits of joint 'turn' [-28.6479, 28.6479] deg") in message
 
 
-def dense_toppra_cycle(robot, motion) -> float:
-    """The cycle on the dense grid (the oracle): every piece solved on 200 cosine-spaced
-    gridpoints per waypoint and 8 per line sample, with every knot of its spline (and a
-    point just before it where p'' steps there: a shape-preserving joint), then slowed down
-    uniformly by its overshoot between them (asserted below 0.1 %: the grid resolves the
-    path), plus the dwells."""
-    from hdselect.motion.planning.toppra import (
-        kinematic_constraints,
-        overshoot_scale,
-        path_pieces,
-        solve_piece,
-        with_gridpoints,
-    )
-
-    velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
-    total = float(np.sum(motion.dwells))
-    for piece in path_pieces(robot, motion, 200):
-        if piece.path is not None:
-            knots = piece.path.waypoints[0]
-            before = knots[1:] - 1e-9 if piece.path.shape_preserving else []
-            grid = np.union1d(piece.gridpoints, np.r_[knots, before])
-            profile = solve_piece(with_gridpoints(piece, grid),
-                                  kinematic_constraints(velocity, acceleration), where="test")
-            scale = overshoot_scale(profile, velocity, acceleration)
-            assert scale < 1.0 + 1e-3
-            total += profile.duration * scale
-    return total
-
-
 TOPPRA_MOTIONS = {
     "contour": ("benchtop6_contour.toml", None),
     "pan-tilt": ("pan_tilt_scan.toml", None),
@@ -484,7 +427,7 @@ TOPPRA_MOTIONS = {
 def test_toppra_on_its_refined_grid_keeps_the_dense_grids_cycle(tmp_path, name):
     """The planner solves 50 gridpoints per waypoint and refines where a limit is broken
     between them: its cycle is within 0.1 % of the dense grid's (200 per waypoint)."""
-    from test_dynamics import REPO
+    from helpers import REPO
 
     shipped, made = TOPPRA_MOTIONS[name]
     if shipped is not None:

@@ -18,7 +18,7 @@ import hdselect
 from hdselect import InputError, Problem, Task, load_catalog, load_mix, load_motion, resolve, size
 from hdselect.sizing.core import size_problem
 from hdselect.sizing.summary import summarize
-from test_study_group import differences
+from helpers.studies import differences
 
 REPO = Path(__file__).resolve().parents[1]
 PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"

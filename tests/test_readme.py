@@ -7,8 +7,7 @@ from __future__ import annotations
 
 import re
 
-from docs_examples import ROOT, examples, matches, run, scratch
-from test_docs import OWN_ROBOT
+from docs_examples import OWN_ROBOT, ROOT, examples, matches, run, scratch
 
 README = (ROOT / "README.md").read_text(encoding="utf-8")
 

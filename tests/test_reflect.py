@@ -1,6 +1,6 @@
 """Reflecting a joint's demand through a gearhead, against hand arithmetic.
 
-Motor torque (DESIGN.md, "Reflecting through the ratio"):
+Motor torque (docs/rules.md, "The checks", motor side):
     T = tau / (N eta)   while the motor drives (tau qd > 0)
         tau eta / N     while the load drives back (tau qd < 0)
       + (J_in + J_m) N qdd,
@@ -250,7 +250,7 @@ def test_efficiency_table_is_interpolated_by_hand(tmp_path):
 def test_efficiency_table_reaches_size(tmp_path):
     """`size` uses the table for that unit and the default for the others."""
     from hdselect.sizing.core import size
-    from test_dynamics import REPO
+    from helpers import REPO
 
     path = tmp_path / "tst.toml"
     path.write_text(TABLE_CATALOG)

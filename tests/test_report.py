@@ -27,44 +27,12 @@ from hdselect.report.size_tables import compare_table, loads_table, size_table
 from hdselect.report.tables import console_for
 from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
 from hdselect.robot.joints import describe_joints
-from test_sizing import PLANAR2, REPO
+from helpers import REPO
+from helpers.motions import PLANAR2
+from helpers.robots import LONG, ros_arm
 
 WIDTHS = (60, 80, 100, 160)
-LONG = {"shoulder": "left_arm_shoulder_lift_joint", "elbow": "left_arm_elbow_flex_joint"}
 CONVEYOR = REPO / "trajectories" / "duty" / "conveyor_index.toml"
-
-
-def ros_arm(directory: Path) -> Path:
-    """planar2 with ROS-style joint names, swinging 1.5 kg too fast for any shoulder unit."""
-    urdf = PLANAR2.read_text()
-    for short, long in LONG.items():
-        urdf = urdf.replace(f'joint name="{short}"', f'joint name="{long}"')
-    robot = directory / "ros_arm.urdf"
-    robot.write_text(urdf)
-    motion = directory / "swing.toml"
-    motion.write_text(f"""\
-robot = "{robot.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[payload]
-mass = 1.5
-frame = "tool"
-[limits]
-velocity = 300
-acceleration = 3000
-jerk = 60000
-[safety]
-stop_time = 0.5
-[[waypoint]]
-q = [60, -30]
-dwell = 0.3
-[[waypoint]]
-q = [-20, 40]
-dwell = 0.3
-[[waypoint]]
-q = [60, -30]
-""")
-    return motion
 
 
 @pytest.fixture(scope="module")
@@ -294,6 +262,7 @@ def test_pair_compare_table_keeps_every_pair_and_verdict_whole(overloaded_pairs,
         assert text.count("✗") == failing + 1  # every failing rule marked, and the legend
 
 
+@pytest.mark.slow
 def test_a_report_names_no_absolute_path_of_the_machine(tmp_path, monkeypatch, capsys):
     """Issue 27: the shipped example named the checkout it was made in. Made in one
     directory from relative paths, the report names its files relative to it, the built-in

@@ -47,6 +47,7 @@ def test_console_example_prints_what_the_document_shows(command, shown, tmp_path
     assert printed == shown.rstrip()
 
 
+@pytest.mark.slow
 def test_the_report_command_writes_the_summary_with_the_margin(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(workdir(tmp_path))
     (block,) = re.findall(r"```sh\n(.*?)```", DOC, flags=re.S)
@@ -99,6 +100,7 @@ def test_parts_list_by_hand_and_its_totals():
         assert float(row["ratio"]) == chosen.unit.ratio and row["motor"] == ""
 
 
+@pytest.mark.slow
 def test_parts_list_with_motors_and_a_joint_no_unit_fits(tmp_path):
     """Pairs: the motor ids and masses from the motor file, summed. A 4 kg payload leaves
     a joint without a unit: its row is empty but for the joint, and the total counts it."""

@@ -20,7 +20,7 @@ import pytest
 
 from browser import Browser, chromium
 from hdselect.cli.main import main
-from test_dynamics import REPO
+from helpers import REPO
 
 EXAMPLE = REPO / "docs" / "example-report"
 MOTORS = REPO / "motors" / "example_motors.toml"
@@ -90,6 +90,7 @@ def reset(browser):
     browser.send("Emulation.setEmulatedMedia", session=True, media="")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("which", ["example", "motors", "mix"])
 def test_every_table_fits_at_1280_px_on_a_phone_and_on_a4_and_letter(browser, motor_report,
                                                                      mix_report, which,
@@ -111,6 +112,7 @@ def test_every_table_fits_at_1280_px_on_a_phone_and_on_a4_and_letter(browser, mo
         reset(browser)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("paper", list(PAPERS))
 @pytest.mark.parametrize("which", ["example", "mix"])
 def test_the_summary_is_one_printed_page_and_folded_sections_still_print(browser, mix_report,
@@ -138,6 +140,7 @@ def test_the_summary_is_one_printed_page_and_folded_sections_still_print(browser
         reset(browser)
 
 
+@pytest.mark.slow
 def test_the_printed_pdf_holds_every_column_and_a_summary_page(browser, tmp_path):
     """Printed from Chromium as a reader would (A4, then Letter): every column header of
     every table and every joint's verdict is in the PDF's text, the summary on page 1."""

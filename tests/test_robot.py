@@ -14,26 +14,15 @@ from hdselect.base.errors import InputError
 from hdselect.robot.model import load_robot
 from hdselect.robot.mounting import STANDARD_GRAVITY
 from hdselect.robot.payload import Payload
+from helpers.robots import JOINTS, robot_path
 
-ROBOTS = Path(__file__).resolve().parents[1] / "robots"
 AL, STEEL, SI = 2700.0, 7850.0, 2329.0
 
-JOINTS = {
-    "index_table": ("table",),
-    "planar2": ("shoulder", "elbow"),
-    "scara": ("shoulder", "elbow", "lift", "wrist"),
-    "pan_tilt": ("pan", "tilt"),
-    "benchtop6": ("shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"),
-}
 SIZED = {**JOINTS, "scara": ("shoulder", "elbow", "wrist")}
 
 # planar2 geometry, as stated in the file's comment: aluminium bars l x w x h.
 L1, W1, H1 = 0.30, 0.010, 0.030
 L2, W2, H2 = 0.25, 0.010, 0.025
-
-
-def robot_path(name: str) -> Path:
-    return ROBOTS / f"{name}.urdf"
 
 
 def planar2(**kwargs):

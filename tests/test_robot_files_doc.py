@@ -9,8 +9,8 @@ import numpy as np
 
 import hdselect
 from hdselect.robot.dynamics import inverse_dynamics
-from test_dynamics import REPO
-from test_mujoco_oracle import EXAMPLE_ROBOTS, KNOWN_REFUSALS
+from helpers import REPO
+from helpers.robots import EXAMPLE_ROBOTS, KNOWN_REFUSALS
 
 DOC = (REPO / "docs" / "robot-files.md").read_text(encoding="utf-8")
 

@@ -16,25 +16,8 @@ from hdselect.cli.main import main
 from hdselect.robot.dynamics import inverse_dynamics
 from hdselect.robot.model import load_robot
 from hdselect.robot.mounting import STANDARD_GRAVITY
-from test_dynamics import REPO
-from test_robot import robot_path
-
-BOX = ('<inertial><origin xyz="{x} 0 0"/><mass value="{m}"/>'
-       '<inertia ixx="{i}" ixy="0" ixz="0" iyy="{i}" iyz="0" izz="{i}"/></inertial>')
-LIMIT = '<limit lower="-2" upper="2" effort="20" velocity="3"/>'
-
-
-def urdf(tmp_path: Path, body: str, name: str = "robot.urdf", robot: str = "arm") -> Path:
-    path = tmp_path / name
-    path.write_text(f'<?xml version="1.0"?>\n<robot name="{robot}">\n{body}\n</robot>\n')
-    return path
-
-
-def revolute(name: str, parent: str, child: str, *, axis: str = "0 0 1", xyz: str = "0 0 0",
-             extra: str = "") -> str:
-    return (f'<joint name="{name}" type="revolute"><parent link="{parent}"/>'
-            f'<child link="{child}"/><origin xyz="{xyz}"/><axis xyz="{axis}"/>{LIMIT}{extra}'
-            "</joint>")
+from helpers import REPO
+from helpers.robots import BOX, gripper, revolute, robot_path, urdf
 
 
 def fixed(name: str, parent: str, child: str, xyz: str = "0 0 0") -> str:
@@ -172,21 +155,6 @@ def test_the_assumption_is_printed_in_every_size_report(capsys, tmp_path):
 
 
 # --- mimic joints ---------------------------------------------------------------------------
-
-def gripper(tmp_path: Path, follower_names=("left_inner", "right_outer")) -> Path:
-    """An arm joint, a gripper leader and two followers (one reversed, with an offset)."""
-    first, second = follower_names
-    body = ('<link name="base"/>' + revolute("arm_joint", "base", "arm", axis="0 1 0")
-            + f'<link name="arm">{BOX.format(x=0.2, m=1.0, i=2e-3)}</link>'
-            + revolute("finger_joint", "arm", "finger", axis="1 0 0", xyz="0.4 0 0")
-            + f'<link name="finger">{BOX.format(x=0.03, m=0.1, i=2e-5)}</link>'
-            + revolute(first, "arm", "inner", axis="1 0 0", xyz="0.4 0.02 0",
-                       extra='<mimic joint="finger_joint"/>')
-            + f'<link name="inner">{BOX.format(x=0.03, m=0.05, i=1e-5)}</link>'
-            + revolute(second, "arm", "outer", axis="1 0 0", xyz="0.4 -0.02 0",
-                       extra='<mimic joint="finger_joint" multiplier="-1" offset="0.1"/>')
-            + f'<link name="outer">{BOX.format(x=0.04, m=0.08, i=1e-5)}</link>')
-    return urdf(tmp_path, body, "gripper.urdf")
 
 
 def test_followers_follow_their_leader_and_get_no_gearhead(tmp_path):

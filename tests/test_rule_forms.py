@@ -48,9 +48,9 @@ from hdselect.motion.case import load_case
 from hdselect.sizing.core import size
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import reflect
-from test_codesign import index_table, mean_speed_allowing_peak
-from test_dynamics import REPO
-from test_rule_registry import giving
+from helpers import REPO
+from helpers.codesign import index_table, mean_speed_allowing_peak
+from helpers.rules import giving
 
 CATALOG = load_catalog()
 CASES = 40
@@ -284,7 +284,7 @@ def test_a_rated_bearing_bounds_each_units_payload_masses(tmp_path) -> None:
     the unit whose bearing binds there allows masses up to that mass, to its bisection's
     accuracy, and its bearing's moment is the rule that ends there.
     """
-    from test_bearing import BEARING_BOUND, PICK
+    from helpers.bearings import BEARING_BOUND, PICK
 
     (tmp_path / "xb.toml").write_text(BEARING_BOUND)
     units = [u for u in load_catalog([tmp_path / "xb.toml"]) if u.series == "XB"]

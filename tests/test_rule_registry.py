@@ -48,6 +48,7 @@ from hdselect.catalog.units import Unit
 from hdselect.codesign.maxpayload import joint_mean
 from hdselect.sizing.reflect import reflect
 from hdselect.sizing.timescale import RTOL, ScalableCycle, check_at, exact_scales, feasible_scales
+from helpers.rules import giving
 
 REPO = Path(__file__).resolve().parents[1]
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
@@ -93,11 +94,6 @@ def random_cycle(rng: np.random.Generator, unit: Unit, n: int = 60) -> ScalableC
 
 
 # --- every form against the forward check ------------------------------------------------------
-
-def giving(form: str) -> list[str]:
-    """The registered rules that define the solver form `form` (a method of `Rule`)."""
-    return [found.name for found in RULES if getattr(type(found), form) is not getattr(Rule, form)]
-
 
 @pytest.mark.parametrize("name", giving("scale_rows"))
 def test_time_scale_form_is_the_forward_check(name):

@@ -28,33 +28,8 @@ from hdselect.catalog.rules import (
     l50_life_hours,
 )
 from hdselect.catalog.select import PREFERENCES, select
-from hdselect.catalog.units import Flag, SeriesRules, Unit
-
-RPM = 2.0 * math.pi / 60.0  # rad/s in one rpm
-# The PSA-G page's rules, as psa_g.toml states them: T_N at 1750 rpm input, L50 = 35000 h,
-# the speed-adjusted mean-torque limit, mean speed over the moving part, at most 1e4 events.
-PSA_RULES = SeriesRules(rated_input_speed=1750.0, rated_life_hours=35000.0, life_basis="L50",
-                        mean_torque_limit="speed-adjusted", mean_speed="moving",
-                        max_momentary_events=1e4, source=Path("test.toml"))
-
-
-def make_unit(**overrides: object) -> Unit:
-    """A plain unit with round numbers: T_N 10, repeated 20, momentary and static 30 N m."""
-    values: dict[str, object] = dict(
-        id="T-10-50", series="T", size=10, ratio=50, rated_torque=10.0, repeated_torque=20.0,
-        momentary_torque=30.0, static_torque=30.0, max_input_speed=6000.0,
-        input_inertia=1e-6, mass=0.5, efficiency=None, rules=PSA_RULES, average_torque=None,
-        max_average_input_speed=None, flags=(), source=Path("test.toml"))
-    values.update(overrides)
-    return Unit(**values)  # type: ignore[arg-type]
-
-
-def make_load(peak: float = 8.0, mean: float | None = 8.0, mean_speed: float = 35 * RPM,
-              max_speed: float | None = None, static: float | None = None) -> CycleLoad:
-    return CycleLoad(peak_torque=peak, mean_torque=mean, mean_speed=mean_speed,
-                     max_speed=mean_speed if max_speed is None else max_speed,
-                     moving_time=1.0, cycle_time=1.0, static_torque=static)
-
+from hdselect.catalog.units import Flag, Unit
+from helpers.motions import PSA_RULES, RPM, make_load, make_unit
 
 # ----------------------------------------------------------------------------- cycle_load
 

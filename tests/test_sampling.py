@@ -14,7 +14,7 @@ import pytest
 
 import hdselect
 from hdselect.motion.planning import plan
-from test_dynamics import REPO
+from helpers import REPO
 
 TRAJECTORIES = REPO / "trajectories"
 FINE = 1e-4
@@ -49,6 +49,7 @@ def worst(found, reference) -> float:
                if k != "unit" and abs(reference[j][k]) > 1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "dts"), [
     ("benchtop6_pick_place.toml", (0.001, 0.004, 0.008, 0.03)),  # Ruckig, six joints
     ("planar2_pick_place.toml", (0.002, 0.016, 0.1)),
@@ -64,6 +65,7 @@ def test_every_dt_gives_the_converged_demands_to_one_percent(tmp_path, name, dts
         assert worst(demands(result, units), expected) <= 0.01, dt
 
 
+@pytest.mark.slow
 def test_benchtop6_at_dt_0_008_finds_its_elbow_peak(tmp_path):
     """The battery's case: 4.4 % low before the grid was refined."""
     fine = hdselect.size(None, with_dt(tmp_path, "benchtop6_pick_place.toml", FINE))
@@ -95,6 +97,7 @@ def write_log(tmp_path: Path, name: str, hz: int) -> tuple[Path, object]:
     return motion_file, trajectory
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("hz", [1000, 200])
 def test_a_log_of_positions_only_gives_the_planned_demands(tmp_path, hz):
     """Velocities and accelerations from positions alone, against the planned ones: 1 %."""
@@ -114,6 +117,7 @@ def test_a_log_of_positions_only_gives_the_planned_demands(tmp_path, hz):
     assert not [w for w in result.warnings if "positions only" in w]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "hz"), [
     ("pan_tilt_scan.toml", 1000),  # TOPPRA: its acceleration steps every few ms
     ("pan_tilt_scan.toml", 200),

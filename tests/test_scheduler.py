@@ -18,8 +18,8 @@ import pytest
 from hdselect.base.errors import InputError
 from hdselect.base.scheduler import probe, scheduler_address, timeout_seconds
 from hdselect.cli.main import main
-from test_envelope_cli import PLANAR2, one_line_error
-from test_study import small_study, workspace
+from helpers.options import PLANAR2, one_line_error
+from helpers.studies import small_study, workspace
 
 ENVELOPE = ("envelope", str(PLANAR2), "--velocity", "180", "--acceleration", "900",
             "--starts", "64", "--moves", "2")
@@ -106,6 +106,7 @@ def test_addresses_that_are_well_formed_pass():
         assert scheduler_address(address, "--scheduler") == address
 
 
+@pytest.mark.slow
 def test_a_peer_that_never_answers_ends_within_the_timeout(capsys, tmp_path, study_file):
     with peer(None) as address:
         for argv in (_study(study_file, tmp_path, "--scheduler", address, "--timeout", "0.5"),
@@ -117,6 +118,7 @@ def test_a_peer_that_never_answers_ends_within_the_timeout(capsys, tmp_path, stu
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_a_web_server_is_not_a_dask_scheduler(capsys, tmp_path, study_file):
     """Dask itself would read ``HTTP/1.1`` as a frame of 3.5e18 bytes: out of memory."""
     with peer(b"HTTP/1.1 200 OK\r\nContent-Length: 0\r\n\r\n") as address:
@@ -129,6 +131,7 @@ def test_a_web_server_is_not_a_dask_scheduler(capsys, tmp_path, study_file):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("answer", [b"", b"\x00" * 8, b"\x10" + b"\x00" * 7 + b"x" * 16])
 def test_a_peer_that_hangs_up_or_sends_no_greeting_is_refused(answer):
     with peer(answer) as address, pytest.raises(InputError) as info:

@@ -19,19 +19,14 @@ import pytest
 from hdselect.catalog.motors import load_motors
 from hdselect.cli.main import main
 from hdselect.motion.case import load_case
-from test_dynamics import J_TABLE, L1, L2, REPO, G, composite_link2, two_link
-from test_sizing import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
+from helpers import REPO, run
+from helpers.dynamics import J_TABLE, L1, L2, G, composite_link2, two_link
+from helpers.motions import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
 BENCHTOP6 = REPO / "trajectories" / "benchtop6_pick_place.toml"
 SCARA = REPO / "trajectories" / "scara_wafer_transfer.toml"
-
-
-def run(capsys, *argv):
-    status = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    return status, out, err
 
 
 def assert_one_line_error(err: str, *fragments: str):
@@ -136,6 +131,7 @@ def test_compare_one_joint(capsys):
         assert unit in out
 
 
+@pytest.mark.slow
 def test_compare_every_joint_by_default(capsys):
     status, out, _ = run(capsys, "compare", PLANAR2_MOTION)
     assert status == 0
@@ -260,6 +256,7 @@ def test_plan_csv_lists_every_joint_the_prismatic_one_in_newtons(capsys, tmp_pat
 MOTOR_FILE = REPO / "motors" / "example_motors.toml"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("motors", [(), ("--motor-catalog", MOTOR_FILE)])
 def test_plan_with_units_writes_the_torques_size_computes(capsys, tmp_path, motors):
     """Issue 27: plan --units carries the units' (and motors') masses, as size does."""
@@ -294,6 +291,7 @@ def test_plan_with_units_writes_the_torques_size_computes(capsys, tmp_path, moto
                                        joint.torque, rtol=1e-9, atol=1e-9)
 
 
+@pytest.mark.slow
 def test_plan_with_units_but_no_mass_coupling_is_the_robot_alone(capsys, tmp_path):
     run(capsys, "plan", PLANAR2_MOTION, "--out", tmp_path / "bare.csv")
     status, out, err = run(capsys, "plan", PLANAR2_MOTION, "--out", tmp_path / "off.csv",
@@ -304,6 +302,7 @@ def test_plan_with_units_but_no_mass_coupling_is_the_robot_alone(capsys, tmp_pat
                                   read_csv(tmp_path / "bare.csv")[1])
 
 
+@pytest.mark.slow
 def test_plan_units_of_a_catalog_file_carry_their_mass(capsys, tmp_path):
     """A heavier elbow unit from --catalog: the shoulder carries m g r more (the elbow's
     unit sits on the elbow's axis, so its weight acts at the shoulder's link length)."""
@@ -364,6 +363,7 @@ def test_plan_into_a_missing_directory_is_one_line(capsys, tmp_path):
 
 # --- size --report -----------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_report_writes_html_and_pngs(capsys, tmp_path):
     pytest.importorskip("hdselect.report.figures")
     report = tmp_path / "report"
@@ -486,6 +486,7 @@ def test_payload_frame_missing_from_the_robot_names_the_motion_file(capsys, tmp_
                           "links are: base_link, link1, link2, tool")
 
 
+@pytest.mark.slow
 def test_joints_and_exclude_options_choose_the_sized_joints(capsys, tmp_path):
     report = tmp_path / "r.json"
     status, out, err = run(capsys, "size", BENCHTOP6, "--exclude", "wrist_1,wrist_3",
@@ -515,6 +516,7 @@ def test_bad_joint_options_are_one_line(capsys, args, text):
 
 # --- what the commands say, compare's outputs, -v anywhere -------------------------------------
 
+@pytest.mark.slow
 def test_plan_says_what_it_planned_and_wrote(capsys, tmp_path):
     out_file, plot = tmp_path / "scara.csv", tmp_path / "scara.png"
     status, out, err = run(capsys, "plan", SCARA, "--out", out_file, "--plot", plot)
@@ -537,6 +539,7 @@ def test_compare_json_is_the_size_document_for_the_joints_shown(capsys):
     assert shown["joints"][0] == next(j for j in whole["joints"] if j["name"] == "elbow")
 
 
+@pytest.mark.slow
 def test_compare_report_has_the_joints_shown(capsys, tmp_path):
     status, out, err = run(capsys, "compare", PLANAR2_MOTION, "--joint", "shoulder", "--report",
                            tmp_path / "r", "--json", tmp_path / "r.json")
@@ -549,6 +552,7 @@ def test_compare_report_has_the_joints_shown(capsys, tmp_path):
     assert "Joint shoulder" in text and f"wrote {tmp_path / 'r.json'}" in text
 
 
+@pytest.mark.slow
 def test_written_files_go_to_stderr_when_stdout_is_json(capsys, tmp_path):
     status, out, err = run(capsys, "size", PLANAR2_MOTION, "--json", "-", "--report",
                            tmp_path / "r")
@@ -593,6 +597,7 @@ def test_fastest_states_the_selection_order_that_chose_its_units(capsys, monkeyp
     assert "selection: size;" in out and "None" not in out
 
 
+@pytest.mark.slow
 def test_the_mass_carried_for_a_joint_without_a_unit_is_stated(capsys):
     """No unit fits shoulder_lift under 30 kg: the joints below carry the strongest unit's
     mass there, which the assumptions now say (they spoke of chosen units only)."""

@@ -1,12 +1,12 @@
 """`hdselect.sizing.core.size` against sizing done by hand, Pinocchio with the units' masses
 written into the model, re-runs of slowed motions, and invariants of the catalog rules.
 
-The catalog's rules (DESIGN.md, "The rules"), with n the input speed, T the output torque:
+The catalog's rules (docs/rules.md, "The checks"), with n the input speed, T the output torque:
     peak   max |T| while moving <= repeated-peak limit
     mean   T_av = cbrt(sum |n||T|^3 dt / sum |n| dt), N_av = sum |n| dt / moving time,
            T_allow = min((1750 / N_av)^0.33 T_N, repeated-peak limit)
     life   L50 = 35000 (1750 / N_av) (T_N / T_av)^3 h
-They are written out again here; nothing below is taken from `hdselect.rules`.
+They are written out again here; nothing below is taken from `hdselect.catalog`.
 """
 
 from __future__ import annotations
@@ -25,12 +25,21 @@ from hdselect.robot.dynamics import torque_floor
 from hdselect.robot.model import load_robot
 from hdselect.sizing.core import size
 from hdselect.sizing.records import payload_json, size_json
-from test_coupling import with_point_masses
-from test_dynamics import J_TABLE, MOTIONS, REPO, G, noise_zeroed, planned, rnea_loop, thinned
+from helpers import REPO
+from helpers.dynamics import (
+    J_TABLE,
+    MOTIONS,
+    G,
+    noise_zeroed,
+    planned,
+    rnea_loop,
+    thinned,
+    with_point_masses,
+)
+from helpers.motions import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
-PLANAR2 = REPO / "robots" / "planar2.urdf"
 
 
 def units_by_id(extra=()):
@@ -302,74 +311,6 @@ def test_stronger_unit_is_never_less_feasible(stem, tmp_path):
 
 # --- overloads and the slow-down factor ------------------------------------------------------
 
-def slow_planar2_motion(path: Path, *waypoints: tuple[float, float]) -> Path:
-    """A gentle planar2 motion through `waypoints` [deg], no payload."""
-    points = "".join(f"[[waypoint]]\nq = [{a}, {b}]\n" for a, b in waypoints)
-    path.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[limits]
-velocity = 90
-acceleration = 300
-jerk = 3000
-{points}""")
-    return path
-
-
-def gravity_overload_motion(path: Path) -> Path:
-    """planar2 holding 8 kg at the tool, barely moving: gravity alone is too much."""
-    path.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[payload]
-mass = 8.0
-frame = "tool"
-[limits]
-velocity = 30
-acceleration = 100
-jerk = 1000
-[[waypoint]]
-q = [0, 0]
-dwell = 1.0
-[[waypoint]]
-q = [5, 0]
-dwell = 1.0
-""")
-    return path
-
-
-def overload_motion(directory: Path, *, payload: float, velocity: float, acceleration: float,
-                    jerk: float, stop_time: float, scale: float = 1.0,
-                    waypoints=((60, -30), (-20, 40), (60, -30)),
-                    name: str = "overload.toml") -> Path:
-    """planar2 swinging a heavy payload between poses [deg], run `scale` times slower.
-
-    Ruckig's time-optimal rest-to-rest profile for the limits (v/s, a/s^2, j/s^3) is
-    exactly the original profile run s times slower, q_s(t) = q(t / s); dwells scale too.
-    """
-    s = scale
-    path = directory / name
-    points = "".join(f"[[waypoint]]\nq = {{shoulder = {a}, elbow = {b}}}\ndwell = {0.3 * s!r}\n"
-                     for a, b in waypoints)
-    path.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-dt = 0.001
-[payload]
-mass = {payload}
-frame = "tool"
-[limits]
-velocity = {velocity / s!r}
-acceleration = {acceleration / s**2!r}
-jerk = {jerk / s**3!r}
-[safety]
-stop_time = {stop_time}
-{points}""")
-    return path
-
 
 def candidate(result, joint_name: str, unit_id: str):
     joint = next(j for j in result.joints if j.name == joint_name)
@@ -386,6 +327,7 @@ OVERLOADS = {"mean-bound": dict(payload=2.5, velocity=300, acceleration=3000, je
                                     stop_time=0.03, waypoints=((-56.3, -59.3), (31.4, 15.1)))}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", OVERLOADS)
 def test_slowdown_factor_checked_by_rerunning_the_slowed_motion(case, tmp_path):
     """Mass coupling is off so that each joint's load does not depend on the units chosen
@@ -517,6 +459,7 @@ def check_document(document, robot_names, life_required: bool):
             assert all(isinstance(c["motor"][k], float) for k in MOTOR_KEYS)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
 def test_every_shipped_motion_sizes_and_its_json_has_the_shape(path):
     result = size(None, path)
@@ -592,6 +535,7 @@ EXPECTED_GRAVITY = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
 def test_gravity_loaded_joints_are_flagged(path):
     result = size(None, path)

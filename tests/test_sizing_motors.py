@@ -1,7 +1,7 @@
 """Gearhead and motor chosen together, against hand calculations and Pinocchio.
 
 The motor behind a unit of ratio N, efficiency eta, input inertia J_in, with rotor
-inertia J_m (DESIGN.md, "Reflecting through the ratio"), written out again here:
+inertia J_m (docs/rules.md, "The checks", motor side), written out again here:
 
     T_motor = tau / (N eta) + (J_in + J_m) N qdd   while the motor drives (tau qd >= 0)
             = tau eta / N   + (J_in + J_m) N qdd   while the load drives back
@@ -9,7 +9,7 @@ inertia J_m (DESIGN.md, "Reflecting through the ratio"), written out again here:
 The motor's rules: every sample's |T_motor| under its peak torque at that sample's
 input speed n = N |qd|; the RMS of T_motor over the whole cycle at most its rated
 torque; max n at most its maximum speed. Inertia ratio (M_jj / N^2 + J_in) / J_m.
-Nothing below is taken from `hdselect.rules` or `hdselect.reflect`.
+Nothing below is taken from `hdselect.catalog` or `hdselect.sizing.reflect`.
 """
 
 from __future__ import annotations
@@ -18,7 +18,6 @@ import base64
 import json
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -32,69 +31,19 @@ from hdselect.cli.main import main
 from hdselect.robot.model import load_robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.records import size_json
-from test_coupling import urdf_with_masses
-from test_dynamics import J_TABLE, REPO, pin_config, rnea_loop, thinned
+from helpers import REPO
+from helpers.dynamics import J_TABLE, pin_config, rnea_loop, thinned, urdf_with_masses
+from helpers.motions import CYCLE, ETA, MOTOR, T_A, A, V, index_motion
 
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
-ETA = 0.70  # the default efficiency (no PSA-G unit has a table)
 EXAMPLE = REPO / "motors" / "example_motors.toml"
 BENCHTOP = REPO / "trajectories" / "benchtop6_pick_place.toml"
-INDEX_URDF = REPO / "robots" / "index_table.urdf"
-
-# index table trapezoid: 180 deg at 180 deg/s, 720 deg/s^2, jerk high enough to be a trapezoid
-V, A = math.pi, 4 * math.pi  # [rad/s], [rad/s^2]
-T_A = V / A  # 0.25 s to accelerate, and to decelerate
-DWELL = 0.5  # [s] before and after the move
-CYCLE = 2 * DWELL + math.pi / V + T_A  # 0.5 + (1 + 0.25) + 0.5 = 2.25 s
-
-# a motor on a falling curve: flat 0.1 N m to 2000 rpm, then down to 0.05 N m at 6000 rpm
-MOTOR = """\
-id = "T1"
-rated_torque_nm = 0.03
-peak_torque_nm = 0.1
-max_speed_rpm = 6000
-rated_speed_rpm = 2000
-rotor_inertia_kg_m2 = 5e-6
-mass_kg = 0.2
-torque_constant_nm_per_a = 0.025
-resistance_ohm = 1.5
-[motor.table.curve]
-speed_rpm = [0, 2000, 6000]
-peak_torque_nm = [0.1, 0.1, 0.05]
-"""
 
 
 def curve_by_hand(n_rpm):
     """The MOTOR's peak torque [N m] at n [rpm], written out."""
     n = np.abs(n_rpm)
     return np.where(n <= 2000, 0.1, 0.1 - 0.05 * (n - 2000) / 4000)
-
-
-def index_motion(directory: Path, motor: str = MOTOR, *, scale: float = 1.0,
-                 name: str = "index.toml", header: str = "[motor.table]") -> Path:
-    """The index table's trapezoid run `scale` times slower, with a motor block."""
-    s = scale
-    path = directory / name
-    path.write_text(f"""\
-robot = "{INDEX_URDF.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-dt = 0.0005
-[limits]
-velocity = {180 / s!r}
-acceleration = {720 / s**2!r}
-jerk = {1e7 / s**3!r}
-[safety]
-stop_time = 0.1
-[[waypoint]]
-q = [0]
-dwell = {DWELL * s!r}
-[[waypoint]]
-q = [180]
-dwell = {DWELL * s!r}
-{header}
-{motor}""")
-    return path
 
 
 def motor_torque_by_hand(unit, j_m, tau, qd, qdd):
@@ -289,6 +238,7 @@ WEAK_PEAK = MOTOR.replace("peak_torque_nm = 0.1\n", "peak_torque_nm = 0.004\n").
     "peak_torque_nm = [0.1, 0.1, 0.05]", "peak_torque_nm = [0.004, 0.004, 0.002]")
 
 
+@pytest.mark.slow
 def test_a_pair_failing_only_on_the_motor_side_is_reported_with_the_motor_rule(tmp_path,
                                                                                 capsys):
     """A motor too weak for every gearhead: the gearheads alone all pass except where
@@ -398,6 +348,7 @@ def test_report_without_motor_data_says_inertia_and_mass_not_included(capsys):
         out.split())
 
 
+@pytest.mark.slow
 def test_html_report_has_a_motor_figure_per_joint(tmp_path, capsys):
     pytest.importorskip("hdselect.report.figures")
     report = tmp_path / "report"

@@ -13,9 +13,8 @@ import pytest
 import hdselect
 from hdselect.cli.main import main
 from hdselect.motion.starter import ACCELERATION_TIME, JERK_TIME, starter_motion
-from test_dynamics import REPO
-from test_robot import JOINTS, robot_path
-from test_robotfile import LIMIT, gripper, revolute, urdf
+from helpers import REPO
+from helpers.robots import JOINTS, LIMIT, gripper, revolute, robot_path, urdf
 
 
 @pytest.mark.parametrize("name", JOINTS)
@@ -126,6 +125,7 @@ SUGGESTIONS = {
 """Each suggestion a starter's comments make, carried out as its comment says."""
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("name", "tool_poses", "suggestion"), [
     ("benchtop6", True, "payload"), ("benchtop6", True, "tolerances"),
     ("benchtop6", True, "line"), ("benchtop6", True, "ruckig"), ("scara", True, "line"),

@@ -21,28 +21,10 @@ from hdselect.cli.main import main
 from hdselect.study import COMPUTATIONS, Computation, compute, load_study, run_study
 from hdselect.study.compute import SIZE, Outcome, run_size
 from hdselect.study.store import journal_path
-from test_dynamics import REPO
+from helpers import REPO
+from helpers.studies import small_study, workspace
 
 SRC = REPO / "src"
-
-
-def workspace(tmp_path: Path) -> Path:
-    """Copies of the shipped robots and motions, free to edit."""
-    for name in ("robots", "trajectories"):
-        shutil.copytree(REPO / name, tmp_path / name)
-    return tmp_path
-
-
-def small_study(root: Path, extra: str = "") -> Path:
-    """2 robots x 3 payloads x 2 speeds: 12 cases, two groups of 6."""
-    path = root / "study.toml"
-    path.write_text(f"""title = "small"
-[grid]
-motion = ["trajectories/planar2_pick_place.toml", "trajectories/index_table_indexing.toml"]
-payload = [0.2, 0.4, 0.6]
-time_scale = [1.0, 1.25]
-{extra}""")
-    return path
 
 
 def journal(csv: Path) -> list[dict]:
@@ -113,6 +95,7 @@ def test_a_bad_study_file_names_the_field(tmp_path, text, field, words):
 # --- executors and determinism ----------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_rows_are_identical_with_1_worker_2_workers_and_a_dask_local_cluster(tmp_path):
     study = load_study(small_study(workspace(tmp_path)))
     outputs = {}
@@ -138,6 +121,7 @@ def test_workers_beyond_the_tasks_start_no_more_processes_than_tasks(tmp_path):
     assert 1 <= count <= 12 and done.executor.endswith(("worker process", "worker processes"))
 
 
+@pytest.mark.slow
 def test_the_local_dask_cluster_listens_on_localhost_only():
     cluster = _local_cluster(1)
     try:
@@ -162,6 +146,7 @@ def test_without_dask_one_line_says_how_to_install_it(tmp_path, monkeypatch, cap
 # --- nothing lost: resume, failures, changed inputs -------------------------------------
 
 
+@pytest.mark.slow
 def test_a_study_stopped_after_k_cases_resumes_and_has_every_case_once(tmp_path):
     study = load_study(small_study(workspace(tmp_path)))
     out = tmp_path / "r.csv"
@@ -185,6 +170,7 @@ def test_a_study_stopped_after_k_cases_resumes_and_has_every_case_once(tmp_path)
     assert (finished.ran, finished.skipped) == (0, 12)
 
 
+@pytest.mark.slow
 def test_a_killed_command_resumes_where_it_stopped(tmp_path):
     path = small_study(workspace(tmp_path))
     out = tmp_path / "r.csv"
@@ -234,6 +220,7 @@ def dies_on_04(cases, grouped):
         yield from run_size([case], False)
 
 
+@pytest.mark.slow
 def test_a_case_that_kills_its_worker_is_recorded_and_the_rest_run(tmp_path, monkeypatch):
     monkeypatch.setitem(COMPUTATIONS, "dies", Computation("dies", "test", dies_on_04,
                                                           SIZE.rows, SIZE.columns))
@@ -270,6 +257,7 @@ def test_outcome_fields_are_what_the_journal_keeps(tmp_path):
 # --- the command and the Python API -----------------------------------------------------
 
 
+@pytest.mark.slow
 def test_the_command_prints_the_pivot_and_draws_the_plot(tmp_path, capsys):
     path = small_study(workspace(tmp_path))
     out, plot = tmp_path / "r.csv", tmp_path / "r.png"
@@ -295,6 +283,7 @@ def test_python_api_returns_rows_as_dicts(tmp_path):
 # --- motors -------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_a_study_with_motors_sizes_pairs_the_same_grouped_or_alone(tmp_path):
     root = workspace(tmp_path)
     shutil.copytree(REPO / "motors", root / "motors")
@@ -342,6 +331,7 @@ def test_a_motion_files_motor_files_are_inputs_of_its_cases(tmp_path):
 # --- fastest and max-payload -----------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_fastest_and_max_payload_rows_equal_the_direct_calls(tmp_path, capsys):
     root = workspace(tmp_path)
     path = root / "codesign.toml"
@@ -401,6 +391,7 @@ time_scale = [1.0, 0.8]
     assert payloads[-1] < payloads[0]
 
 
+@pytest.mark.slow
 def test_fastest_of_a_log_and_max_payload_under_toppra_torque_limits_fail_alone(tmp_path):
     root = workspace(tmp_path)
     contour = (root / "trajectories" / "benchtop6_contour.toml").read_text()

@@ -33,6 +33,7 @@ def drawn(monkeypatch):
     return figures
 
 
+@pytest.mark.slow
 def test_a_third_parameter_gets_panels_of_its_own(drawn):
     """Stop times 0.05 and 0.1 s: one row of panels each, labelled, each cell its own row."""
     study_figures.write_study_png("-", "t", _rows(), "ratio", "time_scale", ["shoulder"],
@@ -55,6 +56,7 @@ def test_a_third_parameter_gets_panels_of_its_own(drawn):
             assert cell == pytest.approx(expected), (ratio, scale, stop)
 
 
+@pytest.mark.slow
 def test_two_parameters_draw_one_row_per_joint(drawn):
     rows = [row for row in _rows() if row["stop_time"] == 0.1]
     study_figures.write_study_png("-", "t", rows, "ratio", "time_scale", ["shoulder"])

@@ -19,54 +19,11 @@ from hdselect import Options, load_case, load_catalog, plan, size_trajectory, su
 from hdselect.base.errors import InputError
 from hdselect.study.group import build_basis
 from hdselect.study.pooled import scaled, size_case
-from test_dynamics import REPO
+from helpers import REPO
+from helpers.studies import differences, separate
 
 BENCHTOP = REPO / "trajectories" / "benchtop6_pick_place.toml"
 SCARA = REPO / "trajectories" / "scara_wafer_transfer.toml"
-
-
-BEARING_LOADS = ("bearing_max_moment", "bearing_max_radial", "bearing_max_axial",
-                 "bearing_mean_moment", "bearing_mean_radial", "bearing_mean_axial")
-
-
-def differences(grouped, separate, path=""):
-    """Largest relative difference of two summaries as dicts; raises on any other mismatch.
-
-    A joint's bearing loads are parts of one wrench: each is compared relative to the
-    joint's largest of them (a component that is zero but for rounding differs in its
-    rounding only).
-    """
-    if isinstance(grouped, dict):
-        assert grouped.keys() == separate.keys(), path
-        found = [differences(grouped[k], separate[k], f"{path}.{k}") for k in grouped
-                 if k != "threads" and k not in BEARING_LOADS]
-        if grouped.get("bearing_max_moment") is not None:
-            scale = max(abs(v) for k in BEARING_LOADS for v in (grouped[k], separate[k])
-                        if v is not None)
-            for k in BEARING_LOADS:
-                a, b = grouped[k], separate[k]
-                assert (a is None) == (b is None), f"{path}.{k}"
-                found.append(0.0 if a is None else abs(a - b) / scale)
-        else:
-            found += [differences(grouped[k], separate[k], f"{path}.{k}")
-                      for k in BEARING_LOADS if k in grouped]
-        return max(found, default=0.0)
-    if isinstance(grouped, list | tuple):
-        assert len(grouped) == len(separate), path
-        return max([differences(a, b, f"{path}[{i}]")
-                    for i, (a, b) in enumerate(zip(grouped, separate, strict=True))], default=0.0)
-    if isinstance(grouped, float) and isinstance(separate, float):
-        scale = max(abs(grouped), abs(separate))
-        return 0.0 if grouped == separate else abs(grouped - separate) / scale
-    assert grouped == separate, (path, grouped, separate)
-    return 0.0
-
-
-def separate(robot, motion, mass, time_scale, units, options):
-    carrying = robot.with_payload(None if mass is None else replace(motion.payload, mass=mass))
-    trajectory = scaled(plan(carrying, motion), time_scale)
-    return summarize(replace(size_trajectory(carrying, trajectory, units, options),
-                             motion=motion))
 
 
 @pytest.fixture(scope="module")
@@ -76,6 +33,7 @@ def benchtop():
     return bare, motion, build_basis(bare, motion, motion.payload)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("mass", "time_scale", "given"), [
     (0.5, 1.0, {}),
     (2.0, 0.8, {"stop_time": 0.1}),
@@ -127,7 +85,6 @@ def test_dwells_are_kept_once_with_their_length(benchtop):
     assert math.isclose(float(basis.weight.max()) * basis.trajectory.dt, 3.0, rel_tol=0.01)
 
 
-
 def grouped_and_direct(motion, payloads=(0.5, 2.0), scales=(0.5, 1.0)):
     """A payload x speed study of `motion` run grouped and direct: outcomes by case index."""
     from hdselect.study import load_study
@@ -160,6 +117,7 @@ def starter(robot_file, out, exclude=None, mass=0.5):
     return out
 
 
+@pytest.mark.slow
 def test_a_real_arm_with_sizing_exclude_groups_exactly(tmp_path):
     """TALOS's left arm, its gripper joint excluded by the motion file's ``[sizing]``.
 
@@ -167,7 +125,7 @@ def test_a_real_arm_with_sizing_exclude_groups_exactly(tmp_path):
     file's velocity limits, so their records carry those warnings. Every grouped record equals
     the direct one (`hdselect size`'s path) but for the method.
     """
-    from test_example_robots import ARMS, example_robots
+    from helpers.robots import ARMS, example_robots
 
     motion = starter(example_robots() / ARMS["TALOS left arm"], tmp_path / "talos.toml",
                      exclude="gripper_left_joint")
@@ -185,7 +143,7 @@ def test_a_real_arm_with_sizing_exclude_groups_exactly(tmp_path):
 
 def test_mimic_followers_group_exactly(tmp_path):
     """A gripper leader whose two mimic followers (one reversed, offset) load it."""
-    from test_robotfile import gripper
+    from helpers.robots import gripper
 
     motion = starter(gripper(tmp_path), tmp_path / "gripper.toml", mass=0.1)
     robot, _ = load_case(motion)
@@ -218,6 +176,7 @@ def separate_pairs(robot, motion, mass, time_scale, units, options, motors):
                                              motors=motors), motion=motion))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("mass", "time_scale", "given"), [
     (0.5, 1.0, {}),  # prefer None: the lightest pair, as the core resolves it
     (1.5, 0.8, {"prefer": "size", "stop_time": 0.1}),
@@ -241,6 +200,7 @@ def test_grouped_pairs_equal_their_separate_runs(benchtop_pairs, mass, time_scal
     assert grouped.joints[0].carried_mass > bare.joints[0].carried_mass
 
 
+@pytest.mark.slow
 def test_grouped_pairs_no_pair_fits_and_the_slow_downs_equal_the_core(benchtop_pairs):
     robot, motion, basis, motors = benchtop_pairs
     units = load_catalog()
@@ -255,6 +215,7 @@ def test_grouped_pairs_no_pair_fits_and_the_slow_downs_equal_the_core(benchtop_p
     assert any(joint.slowdown and joint.slowdown > 1.0 for joint in failing)
 
 
+@pytest.mark.slow
 def test_a_motion_files_motors_on_some_joints_equal_the_core(benchtop_pairs, tmp_path):
     robot, _, basis, _ = benchtop_pairs
     text = BENCHTOP.read_text().replace('robot = "', 'robot = "' + str(BENCHTOP.parent) + "/")
@@ -285,6 +246,7 @@ def test_grouped_pairs_refuse_what_the_core_refuses(benchtop_pairs):
         size_case(basis, 1.0, 1.0, load_catalog(), Options(rotor_inertia=1e-6), motors)
 
 
+@pytest.mark.slow
 def test_a_log_of_positions_only_states_the_same_uncertainty_grouped(tmp_path):
     """The peak torque uncertainty of a positions-only log (issue 27) is the case's own,
     grouped or direct: its payload, its units' masses, its time scale."""

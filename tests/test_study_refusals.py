@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from hdselect.cli.main import main
-from test_dynamics import REPO
+from helpers import REPO
 
 MIX = "trajectories/mixes/benchtop6_pick_inspect.toml"
 SINGLE = "trajectories/planar2_pick_place.toml"

@@ -10,9 +10,11 @@ import pytest
 from hdselect import size
 from hdselect.catalog.checks import LIFE_CAP
 from hdselect.sizing.summary import summarize
-from test_dynamics import MOTIONS, REPO
+from helpers import REPO
+from helpers.dynamics import MOTIONS
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", MOTIONS, ids=lambda p: p.stem)
 def test_summary_carries_the_answer_of_the_full_result(path):
     result = size(None, path)

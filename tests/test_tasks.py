@@ -19,9 +19,9 @@ from hdselect import InputError, load_case, load_catalog, plan, size_trajectory
 from hdselect.sizing.core import size_tasks
 from hdselect.sizing.tasks import Task, pooled
 from hdselect.sizing.torques import DirectTorques
-from test_coupling import with_point_masses
-from test_dynamics import REPO, pin_config
-from test_study_group import differences
+from helpers import REPO
+from helpers.dynamics import pin_config, with_point_masses
+from helpers.studies import differences
 
 PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"
 CONTOUR = REPO / "trajectories" / "benchtop6_contour.toml"

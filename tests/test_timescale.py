@@ -1,6 +1,6 @@
 """Time scaling against oracles: Pinocchio at the scaled speeds, hand algebra, brute force.
 
-A path run s times slower (DESIGN.md, "Time scaling and linearity"), per sample, with
+A path run s times slower (docs/rules.md, "When no unit fits"), per sample, with
 g = RNEA(q, 0, 0), v = RNEA(q, qd, 0) - g, i = RNEA(q, qd, qdd) - RNEA(q, qd, 0) and
 e = RNEA(q, qd, -qd / t_stop) - RNEA(q, qd, 0):
     speed qd / s, acceleration qdd / s^2, times t s
@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -36,8 +35,8 @@ from hdselect.sizing.timescale import (
     find_slowdown,
     joint_scales,
 )
+from helpers import REPO
 
-REPO = Path(__file__).resolve().parents[1]
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
 J_TABLE = 0.0429416 + 4 * (0.00010048 + 0.3768 * 0.11**2)  # index table, from its URDF
 TABLE_TORQUE = J_TABLE * 8 * math.pi  # J A, A = 4 (pi / 2) / 0.5^2 [N m]
@@ -295,6 +294,7 @@ def random_case(seed: int) -> tuple[ScalableCycle, Unit, float | None]:
     return c, psa, [None, 2e4, 1e6][rng.integers(3)]
 
 
+@pytest.mark.slow
 def test_intervals_agree_with_brute_force():
     grid = np.geomspace(1e-2, 1e2, 1200)
     seen = {"bounded": 0, "two or more": 0, "set by a whole-cycle rule": 0, "empty": 0}

@@ -23,8 +23,8 @@ from hdselect.motion.branches import SINGULAR, check_branch, path_crossing, whol
 from hdselect.motion.kinematics import FrameKinematics
 from hdselect.motion.planning import PLANNERS, plan_motion
 from hdselect.motion.poses import Tolerance, pose_error, xyz_rpy
-from test_robot import robot_path
-from test_toolpose_robots import ROBOTS, pose_motion
+from helpers.poses import ROBOTS, pose_motion
+from helpers.robots import robot_path
 
 
 def planar2_swinging_past(folder, reconfigure: bool = False):
@@ -74,6 +74,7 @@ def test_reconfigure_allows_a_crossing_on_the_planned_path_with_a_note(tmp_path)
                for w in planned.motion.warnings)
 
 
+@pytest.mark.slow
 def test_an_allowed_crossing_is_among_the_sizings_warnings(tmp_path, capsys):
     """The note reaches `size`'s result (its table, JSON and report), and the terminal once."""
     path = planar2_swinging_past(tmp_path, reconfigure=True)
@@ -121,6 +122,7 @@ def ceiling_motion(folder, dwell: float = 0.0):
     return path
 
 
+@pytest.mark.slow
 def test_benchtop6_on_a_ceiling_swinging_through_its_stretched_arm_is_refused(tmp_path):
     robot, motion = hdselect.load_case(ceiling_motion(tmp_path))
     assert np.all(motion.waypoints[:, 2] < math.radians(-20))  # every waypoint bent one way
@@ -139,6 +141,7 @@ def test_benchtop6_on_a_ceiling_swinging_through_its_stretched_arm_is_refused(tm
     assert abs(np.interp(t, raw.t, raw.q[:, 2])) < math.radians(0.5)
 
 
+@pytest.mark.slow
 def test_resting_at_both_waypoints_keeps_the_ceiling_move_clear(tmp_path):
     """The message's advice: between two rests the move runs straight in joint space."""
     robot, motion = hdselect.load_case(ceiling_motion(tmp_path, dwell=0.1))
@@ -170,6 +173,7 @@ def turning_wrist(folder, wrist_3: list[float], reconfigure: bool = False):
     return path
 
 
+@pytest.mark.slow
 def test_a_cycle_back_to_its_start_pose_a_turn_away_closes_with_a_note(tmp_path):
     """+180 deg, -5 deg, and the first pose again, which the solver reaches at -180 deg."""
     robot, motion = hdselect.load_case(turning_wrist(tmp_path, [180.0, -5.0, 180.0]))

@@ -11,53 +11,20 @@ same file written out by hand as plain URDF.
 
 from __future__ import annotations
 
-import mujoco
 import numpy as np
 import pinocchio as pin
 import pytest
-from scipy.spatial.transform import Rotation
 
 import hdselect
 from hdselect.cli.main import main
 from hdselect.motion.poses import Tolerance, pose_error
 from hdselect.motion.solve import solve_motion
-from test_dynamics import REPO
-from test_followers import finger_arm
-from test_toolposes import SHORT, written_pose
+from helpers.poses import ANGLES, ROBOTS, SHORT, pose_motion, written_pose
+from helpers.robots import finger_arm
 
-ROBOTS = REPO / "robots"
-ANGLES = ([40.0, -80.0], [10.0, -50.0], [75.0, -45.0])
-"""planar2's joint angles (shoulder, elbow) [deg] whose tool poses the motion gives."""
 WITHIN = 0.05
 """How close the solved angles must come [deg]: the solver stops within 0.1 mm and
 0.01 deg of a pose, and 0.1 mm across the shorter link (0.25 m) is 0.023 deg."""
-
-
-def mujoco_tool_poses(angles_each=ANGLES) -> list[tuple[list[float], list[float]]]:
-    """The tool site's pose at each joint angles [deg], by MuJoCo: xyz [m], URDF rpy [deg]."""
-    model = mujoco.MjModel.from_xml_path(str(ROBOTS / "planar2.xml"))
-    data = mujoco.MjData(model)
-    poses = []
-    for angles in angles_each:
-        data.qpos[:] = np.radians(angles)
-        mujoco.mj_kinematics(model, data)
-        site = data.site("tool")
-        rpy = Rotation.from_matrix(site.xmat.reshape(3, 3)).as_euler("xyz", degrees=True)
-        poses.append((site.xpos.tolist(), rpy.tolist()))
-    return poses
-
-
-def pose_motion(folder, robot: str, frame: str, extra: str = "", angles_each=ANGLES) -> object:
-    """A toppra motion through `mujoco_tool_poses`, the first near its angles."""
-    lines = [f'robot = "{robot}"', 'planner = "toppra"', 'angle_unit = "deg"', extra,
-             "[limits]", "velocity = 90", "acceleration = 400", "[tool]", f'frame = "{frame}"']
-    for k, (xyz, rpy) in enumerate(mujoco_tool_poses(angles_each)):
-        lines += ["[[waypoint]]", f"pose = {{xyz = {xyz!r}, rpy = {rpy!r}}}", "dwell = 0.2"]
-        if k == 0:
-            lines.append("near = {shoulder = 30, elbow = -70}")
-    path = folder / "poses.toml"
-    path.write_text("\n".join(lines) + "\n")
-    return path
 
 
 @pytest.mark.parametrize(("robot", "frame", "extra"), [
@@ -77,6 +44,7 @@ def test_tool_poses_solve_on_robots_read_from_mjcf_and_xacro(robot, frame, extra
                                atol=WITHIN)
 
 
+@pytest.mark.slow
 def test_the_command_line_plans_tool_poses_on_a_xacro_robot_with_its_arguments(
         tmp_path, capsys):
     """--xacro-arg overrides the file's argument on the tool-pose path too."""
@@ -131,6 +99,7 @@ def benchtop6_xacro(folder) -> tuple[object, str]:
     return path, text
 
 
+@pytest.mark.slow
 def test_a_motion_solved_for_one_set_of_xacro_arguments_is_solved_again_for_another(tmp_path):
     """The same .xacro file with a longer tool is another arm: its poses need other joints."""
     path, text = benchtop6_xacro(tmp_path)

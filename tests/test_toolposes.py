@@ -26,48 +26,24 @@ from hdselect.cli.main import main
 from hdselect.motion.kinematics import FrameKinematics
 from hdselect.motion.motionfile import load_motion
 from hdselect.motion.planning import plan_motion
-from hdselect.motion.poses import Tolerance, pose_error
+from hdselect.motion.poses import pose_error
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.dynamics import inverse_dynamics
 from hdselect.robot.model import load_robot
 from hdselect.robot.mounting import STANDARD_GRAVITY, BasePose, shown_numbers
 from hdselect.sizing.records import base_text
-from test_dynamics import REPO
-from test_example_robots import ARMS as EXAMPLE_ARMS
-from test_example_robots import example_robots
-from test_ik import fk
-from test_robot import robot_path
+from helpers import REPO
+from helpers.poses import SHORT, TOLERANCE, fk, written_pose
+from helpers.robots import ARMS as EXAMPLE_ARMS
+from helpers.robots import example_robots, robot_path
 
 EXAMPLE = REPO / "trajectories" / "benchtop6_pick_place_poses.toml"
-TOLERANCE = Tolerance()
 
 WALL = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
 """The wall mounting written from its definition: columns are the base's x (world +z, up),
 y (z cross x = world -y) and z (world +x) axes in the world."""
 BASES = {"floor": pin.SE3.Identity(), "wall": pin.SE3(WALL, np.zeros(3)),
          "ceiling": pin.SE3(np.diag([1.0, -1.0, -1.0]), np.zeros(3))}
-
-SHORT = """robot = "{robot}"
-planner = "toppra"
-angle_unit = "deg"
-
-[limits]
-velocity = 90
-acceleration = 400
-
-[[waypoint]]
-pose = {{xyz = [0.26, 0.0, 0.30], rpy = [180, 0, -90]}}
-dwell = 0.2
-
-[[waypoint]]
-pose = {{xyz = [0.28, -0.20, 0.16], rpy = [180, 0, -135]}}
-
-[[waypoint]]
-pose = {{xyz = [0.28, -0.20, 0.08], rpy = [180, 0, -135]}}
-line = true
-dwell = 0.2
-"""
-"""A short tool-pose motion of benchtop6: home, above a part, straight down to it."""
 
 
 @pytest.mark.parametrize("name", ["floor", "wall", "ceiling"])
@@ -113,12 +89,7 @@ def write(tmp_path, text: str, name: str = "motion.toml"):
     return path
 
 
-def written_pose(motion, i: int) -> pin.SE3:
-    """Waypoint i's pose in the world, built here from the file's numbers (URDF's rpy)."""
-    pose = motion.tool.at(i)
-    return pin.SE3(Rotation.from_euler("xyz", pose.rpy).as_matrix(), np.array(pose.xyz))
-
-
+@pytest.mark.slow
 @pytest.mark.parametrize("mounting", ["floor", "wall", "base pose"])
 def test_every_solved_waypoint_lands_on_its_pose_in_the_world(mounting, tmp_path):
     if mounting == "base pose":  # on a plinth 5 cm high, turned 30 deg, tilted 10 deg
@@ -160,6 +131,7 @@ def mujoco_benchtop6(base: np.ndarray, payload: hdselect.Payload) -> mujoco.MjMo
     return spec.compile()
 
 
+@pytest.mark.slow
 def test_floor_and_wall_size_the_same_physical_task():
     """The wall's poses are the floor's poses, and its torques MuJoCo's with the robot on a wall.
 
@@ -217,6 +189,7 @@ def deviation_here(start: pin.SE3, end: pin.SE3, poses: list[pin.SE3]):
     return np.array(distance), np.array(angle)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mounting", ["floor", "wall"])
 def test_lines_hold_at_every_planned_sample(mounting):
     robot, motion = hdselect.load_case(EXAMPLE, mounting=mounting)
@@ -246,6 +219,7 @@ HUNG = BasePose.from_xyz_rpy([0.0, 0.0, 0.44], [math.pi, 0.0, 0.0])
 PLINTH = BasePose.from_xyz_rpy([0.02, -0.03, 0.05], [math.radians(10), 0.0, math.radians(30)])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mounting", ["floor", "wall", HUNG, PLINTH],
                          ids=["floor", "wall", "ceiling", "base pose"])
 def test_lines_keep_the_dense_grids_cycle_on_every_mounting(mounting):
@@ -253,7 +227,7 @@ def test_lines_keep_the_dense_grids_cycle_on_every_mounting(mounting):
     the planner's cycle stays within 0.1 % of TOPPRA's on the dense grid (every knot a
     gridpoint), with no uniform slow-down to report. Before the fix, the ceiling's pieces
     were slowed 1.2 to 1.5 % each, silently (4.796 s for 4.761 s)."""
-    from test_plan import dense_toppra_cycle
+    from helpers.motions import dense_toppra_cycle
 
     robot, motion = hdselect.load_case(EXAMPLE, mounting=mounting)
     planned = plan_motion(robot, motion)
@@ -264,6 +238,7 @@ def test_lines_keep_the_dense_grids_cycle_on_every_mounting(mounting):
     assert np.all(np.abs(trajectory.qdd) <= solved.acceleration_limit * (1 + 1e-6))
 
 
+@pytest.mark.slow
 def test_a_slow_down_beyond_the_tolerance_is_reported(monkeypatch, tmp_path, capsys):
     """Forced: a planner that solves a coarse grid without its knots once, never refining,
     must slow the pieces down; each such piece is named with its joint and factor in the
@@ -309,6 +284,7 @@ def test_a_slow_down_beyond_the_tolerance_is_reported(monkeypatch, tmp_path, cap
         assert shown.count(note.removeprefix("cycle: ")) == 1, note
 
 
+@pytest.mark.slow
 def test_a_solved_motion_is_an_ordinary_motion(tmp_path):
     path = write(tmp_path, SHORT)
     robot = load_robot(robot_path("benchtop6"))
@@ -340,6 +316,7 @@ def test_joint_and_pose_waypoints_mix(tmp_path):
     assert on_the_floor.warnings == ()  # the wall's note went with the wall
 
 
+@pytest.mark.slow
 def test_joint_waypoints_on_the_wall_print_a_note(capsys):
     joint_motion = REPO / "trajectories" / "benchtop6_pick_place.toml"
     assert main(["plan", str(joint_motion), "--mounting", "wall", "--out", "-"]) == 0
@@ -350,6 +327,7 @@ def test_joint_waypoints_on_the_wall_print_a_note(capsys):
     assert "moved with the robot" not in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_plan_writes_the_solved_waypoints_and_the_line_errors(tmp_path, capsys, monkeypatch):
     monkeypatch.setenv("COLUMNS", "80")
     out, solved, errors = (tmp_path / name for name in ("out.csv", "solved.csv", "lines.csv"))
@@ -383,6 +361,7 @@ def test_plan_writes_the_solved_waypoints_and_the_line_errors(tmp_path, capsys, 
     np.testing.assert_allclose(lines[:, 0], trajectory["t"][np.isin(trajectory["t"], lines[:, 0])])
 
 
+@pytest.mark.slow
 def test_init_writes_a_tool_pose_starter_that_solves_back_and_sizes(tmp_path, capsys):
     for name in ("benchtop6", "planar2", "scara", "pan_tilt", "index_table"):
         out = tmp_path / f"{name}.toml"
@@ -396,6 +375,7 @@ def test_init_writes_a_tool_pose_starter_that_solves_back_and_sizes(tmp_path, ca
     capsys.readouterr()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("arm", ["UR5", "Panda", "Kinova", "SO-101", "TIAGo arm"])
 def test_init_tool_poses_for_real_arms_plan_and_size(arm, tmp_path, capsys):
     """6 joints, 7 joints and a finger, continuous joints, a 5-joint arm, 12 joints."""
@@ -442,6 +422,7 @@ BAD = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("old", "new", "message"), BAD, ids=[m[:30] for _, _, m in BAD])
 def test_bad_tool_pose_input_is_one_line_naming_the_field(old, new, message, tmp_path, capsys):
     text = SHORT.replace(old, new, 1)
@@ -469,6 +450,7 @@ def test_unreachable_pose_names_the_limit_in_the_way(tmp_path):
     assert message.endswith("in the way: the lower limit of shoulder_pan (-10 deg)")
 
 
+@pytest.mark.slow
 def test_line_through_a_singularity_names_where(tmp_path):
     # straight down from above the pick to below the base: the arm folds onto itself
     text = SHORT.replace("xyz = [0.28, -0.20, 0.08]", "xyz = [0.28, -0.20, -0.6]")
@@ -530,6 +512,7 @@ def test_the_first_pose_takes_the_branch_that_carries_the_motion_through(tmp_pat
     assert TOLERANCE.holds(*pose_error(fk(kin, motion.waypoints[0]), written_pose(motion, 0)))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("command", [
     f"size {EXAMPLE}", f"size {EXAMPLE} --mounting wall", f"plan {EXAMPLE} --out -",
     f"fastest {EXAMPLE} --mounting wall"])
@@ -541,6 +524,7 @@ def test_the_example_runs_on_the_floor_and_on_the_wall(command, capsys):
 DOC = REPO / "docs" / "tool-poses.md"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("example", [e for e in examples(DOC) if e.shown is not None],
                          ids=lambda e: e.source.splitlines()[0][:50])
 def test_the_docs_examples_print_what_tool_poses_md_shows(example, tmp_path):

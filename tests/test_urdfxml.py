@@ -27,8 +27,8 @@ from hdselect.robot.dynamics import inverse_dynamics
 from hdselect.robot.pinurdf import build_urdf
 from hdselect.robot.urdfcheck import check_model
 from hdselect.robot.urdfxml import parse_elements, read_urdf_tree
-from test_dynamics import REPO
-from test_example_robots import example_robots
+from helpers import REPO
+from helpers.robots import FINGER, example_robots
 
 PLANAR2 = (REPO / "robots" / "planar2.urdf").read_text()
 MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
@@ -181,20 +181,6 @@ def test_a_mimic_out_of_range_is_refused_at_load(tmp_path, mimic, field):
     assert info.value.field == field
 
 
-FINGER = """
-  <joint name="finger" type="revolute">
-    <parent link="link2"/><child link="finger_link"/>
-    <origin xyz="0.25 0 0"/><axis xyz="0 -1 0"/>
-    <limit lower="-0.5" upper="0.5" effort="2.0" velocity="4.0"/>
-    {mimic}
-  </joint>
-  <link name="finger_link">
-    <inertial><origin xyz="0.02 0 0"/><mass value="0.05"/>
-      <inertia ixx="1e-6" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
-  </link>
-"""
-
-
 # --- limits 0 .. 0: no range given ---------------------------------------------------------
 
 def test_a_revolute_joint_limited_0_to_0_is_unlimited_with_a_note(tmp_path):
@@ -278,6 +264,7 @@ def test_a_model_that_differs_from_the_file_is_refused(change, field, reason):
     assert info.value.field == field and info.value.reason.startswith(reason)
 
 
+@pytest.mark.slow
 def test_every_urdf_of_example_robot_data_passes_the_check():
     """Real files (zero-mass frame links, point masses on fixed joints, mimic joints)."""
     folder = example_robots()

@@ -22,9 +22,9 @@ from hdselect.robot.joint_motions import joint_motions
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import BLOCK, axis_wrenches, bearing_loads, joint_wrenches
-from test_example_robots import example_robots
+from helpers import REPO
+from helpers.robots import example_robots
 
-REPO = Path(__file__).resolve().parents[1]
 G = 9.80665  # standard gravity [m/s^2], written out
 
 MIXED = """<?xml version="1.0"?>

@@ -32,9 +32,9 @@ from hdselect import Payload
 from hdselect.cli.main import main
 from hdselect.robot.dynamics import inverse_dynamics
 from hdselect.robot.wrenches import axis_wrenches, bearing_loads
+from helpers import REPO
 from mujoco_oracle import mujoco_joint_loads, mujoco_of, states
 
-REPO = Path(__file__).resolve().parents[1]
 ROBOTS = REPO / "robots"
 PICK = REPO / "trajectories" / "planar2_pick_place.toml"
 XACRO = ROBOTS / "planar2_gripper.urdf.xacro"

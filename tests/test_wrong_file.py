@@ -16,7 +16,7 @@ import hdselect
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import toml_kind
 from hdselect.cli.main import main
-from test_dynamics import REPO
+from helpers import REPO
 
 ROBOT = "robots/planar2.urdf"
 MOTION = "trajectories/planar2_pick_place.toml"
@@ -79,6 +79,7 @@ def test_a_robot_file_given_for_the_motion_is_told_as_before():
                                       "motion.toml writes one)")
 
 
+@pytest.mark.slow
 def test_envelope_given_a_motion_file_says_what_it_wants():
     """Before: "planner: unknown key 'planner'", the envelope file's complaint."""
     duty = f"give it as --duty {MOTION}: the cycle the mean torque and life are judged on"

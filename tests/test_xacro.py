@@ -7,9 +7,7 @@ included macro and an argument.
 
 from __future__ import annotations
 
-import io
 import json
-from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import numpy as np
@@ -17,9 +15,8 @@ import pytest
 
 import hdselect
 from hdselect.base.errors import InputError
-from hdselect.cli.main import main
 from hdselect.robot.dynamics import inverse_dynamics
-from test_dynamics import REPO
+from helpers import REPO, run_redirected
 
 PLANAR2 = (REPO / "robots" / "planar2.urdf").read_text()
 MOTION = (REPO / "trajectories" / "planar2_pick_place.toml").read_text()
@@ -88,13 +85,6 @@ def same_dynamics(a: hdselect.Robot, b: hdselect.Robot) -> None:
     assert a.moved_mass("shoulder") == pytest.approx(b.moved_mass("shoulder"), rel=1e-14)
 
 
-def run(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with redirect_stdout(out), redirect_stderr(err):
-        status = main(argv)
-    return status, out.getvalue(), err.getvalue()
-
-
 @pytest.mark.parametrize(("arguments", "mass"), [(None, 2.0), ({"gripper_mass": "1.0"}, 1.0),
                                                  ({"gripper_mass": 0.5}, 0.5)])
 def test_includes_properties_and_arguments_are_expanded(tmp_path, arguments, mass):
@@ -107,13 +97,14 @@ def test_includes_properties_and_arguments_are_expanded(tmp_path, arguments, mas
 
 def test_the_command_line_takes_xacro_arguments(tmp_path):
     path = xacro_robot(tmp_path)
-    status, out, err = run(["joints", str(path), "--xacro-arg", "gripper_mass:=1.0",
-                            "--json", "-"])
+    status, out, err = run_redirected(["joints", str(path), "--xacro-arg", "gripper_mass:=1.0",
+                                       "--json", "-"])
     assert status == 0 and err == ""
     listed = {joint["name"]: joint for joint in json.loads(out)["joints"]}
     assert listed["shoulder"]["moved_mass_kg"] == pytest.approx(0.243 + 0.16875 + 1.0)
 
 
+@pytest.mark.slow
 def test_a_motion_file_gives_its_xacro_robot_arguments_and_the_command_line_overrides(tmp_path):
     path = xacro_robot(tmp_path)
     motion = tmp_path / "motion.toml"
@@ -130,8 +121,8 @@ def test_a_motion_file_gives_its_xacro_robot_arguments_and_the_command_line_over
     for report in ("a.json", "b.json"):
         flag = ["--xacro-arg", "gripper_mass:=0.5"] if report == "a.json" else []
         robot_file = [] if flag else [str(by_hand(tmp_path, 0.5))]
-        status, _, err = run(["size", *robot_file, str(motion), *flag, "--json",
-                              str(tmp_path / report)])
+        status, _, err = run_redirected(["size", *robot_file, str(motion), *flag, "--json",
+                                         str(tmp_path / report)])
         assert status in (0, 1), err
     a, b = (json.loads((tmp_path / r).read_text()) for r in ("a.json", "b.json"))
     assert [j["peak_torque_nm"] for j in a["joints"]] == pytest.approx(
@@ -146,14 +137,14 @@ def test_a_motion_file_gives_its_xacro_robot_arguments_and_the_command_line_over
      "gripper_mass given twice (1 and 2); give it once"),  # the last won unseen, before
 ])
 def test_a_malformed_argument_is_one_line(tmp_path, argv, field, reason):
-    status, out, err = run(["joints", str(xacro_robot(tmp_path)), *argv])
+    status, out, err = run_redirected(["joints", str(xacro_robot(tmp_path)), *argv])
     assert status == 2 and out == "" and err.count("\n") == 1
     assert err == f"hdselect: error: {field}: {reason}\n"
 
 
 def test_arguments_for_a_file_that_takes_none_are_refused():
-    status, _, err = run(["joints", str(REPO / "robots" / "planar2.urdf"), "--xacro-arg",
-                          "a:=1"])
+    status, _, err = run_redirected(["joints", str(REPO / "robots" / "planar2.urdf"), "--xacro-arg",
+                                     "a:=1"])
     assert status == 2 and err.count("\n") == 1
     assert "--xacro-arg: xacro arguments given (a) for a URDF file; only a .xacro file" in err
 
@@ -173,7 +164,7 @@ def test_what_xacro_cannot_expand_is_one_line_naming_the_file(tmp_path, change, 
         hdselect.load_robot(path)
     assert info.value.path == path and info.value.reason.startswith("xacro cannot expand it: ")
     assert reason in info.value.reason
-    status, out, err = run(["joints", str(path)])
+    status, out, err = run_redirected(["joints", str(path)])
     assert status == 2 and out == "" and err.count("\n") == 1 and str(path) in err
 
 
@@ -184,14 +175,15 @@ def test_a_urdf_named_file_holding_xacro_elements_is_expanded_too(tmp_path):
 
 def test_init_writes_the_xacro_arguments_into_the_starter(tmp_path):
     path = xacro_robot(tmp_path)
-    status, _, err = run(["init", str(path), "--xacro-arg", "gripper_mass:=1.0", "--out",
-                          str(tmp_path / "starter.toml")])
+    status, _, err = run_redirected(["init", str(path), "--xacro-arg", "gripper_mass:=1.0", "--out",
+                                     str(tmp_path / "starter.toml")])
     assert status == 0, err
     assert 'xacro_args = {gripper_mass = "1.0"}' in (tmp_path / "starter.toml").read_text()
     robot, _ = hdselect.load_case(tmp_path / "starter.toml")
     same_dynamics(robot, hdselect.load_robot(by_hand(tmp_path, 1.0)))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("command", "output"), [
     ("size", "--json"), ("compare", "--json"), ("fastest", "--json"), ("max-payload", "--json"),
     ("plan", "--out"), ("joints", "--json"), ("init", "--out")])
@@ -205,12 +197,13 @@ def test_every_command_takes_xacro_arguments(tmp_path, command, output):
     for tag, extra in (("default", []), ("given", ["--xacro-arg", "gripper_mass:=0.2"])):
         out = tmp_path / f"{tag}.{suffix}"
         target = [str(path)] if command in ("joints", "init") else [str(motion)]
-        status, _, err = run([command, *target, *extra, output, str(out)])
+        status, _, err = run_redirected([command, *target, *extra, output, str(out)])
         assert status in (0, 1), err
         written.append(out.read_text())
     assert written[0] != written[1]
 
 
+@pytest.mark.slow
 def test_a_mix_on_a_xacro_robot_takes_xacro_arguments(tmp_path):
     """A mix file names its robot itself: --xacro-arg expands that robot too (the gripper's
     mass changes the day's answer), and reaches every task."""
@@ -223,7 +216,7 @@ def test_a_mix_on_a_xacro_robot_takes_xacro_arguments(tmp_path):
     written = []
     for tag, extra in (("default", []), ("given", ["--xacro-arg", "gripper_mass:=0.2"])):
         out = tmp_path / f"{tag}.json"
-        status, _, err = run(["size", str(mix), *extra, "--json", str(out)])
+        status, _, err = run_redirected(["size", str(mix), *extra, "--json", str(out)])
         assert status in (0, 1), err
         written.append(json.loads(out.read_text()))
     assert written[0]["joints"] != written[1]["joints"]
@@ -231,6 +224,7 @@ def test_a_mix_on_a_xacro_robot_takes_xacro_arguments(tmp_path):
     assert peaks[1][0] < peaks[0][0]  # a lighter gripper: less torque at the shoulder
 
 
+@pytest.mark.slow
 def test_the_envelope_takes_xacro_arguments(tmp_path):
     """envelope reads a robot file too: --xacro-arg expands it (a lighter gripper, less
     worst-case torque at the shoulder); an argument for a plain URDF is refused by flag."""
@@ -238,13 +232,13 @@ def test_the_envelope_takes_xacro_arguments(tmp_path):
     peaks = []
     for tag, extra in (("default", []), ("given", ["--xacro-arg", "gripper_mass:=0.2"])):
         out = tmp_path / f"{tag}.json"
-        status, _, err = run(["envelope", str(path), "--acceleration", "200", *extra,
-                              "--json", str(out)])
+        status, _, err = run_redirected(["envelope", str(path), "--acceleration", "200", *extra,
+                                         "--json", str(out)])
         assert status in (0, 1), err
         peaks.append(json.loads(out.read_text())["joints"][0])
     assert peaks[0] != peaks[1]
-    status, _, err = run(["envelope", str(REPO / "robots" / "planar2.urdf"), "--acceleration",
-                          "200", "--xacro-arg", "gripper_mass:=0.2"])
+    status, _, err = run_redirected(["envelope", str(REPO / "robots" / "planar2.urdf"),
+                                     "--acceleration", "200", "--xacro-arg", "gripper_mass:=0.2"])
     assert status == 2 and "--xacro-arg" in err and len(err.strip().splitlines()) == 1, err
 
 
@@ -257,7 +251,7 @@ def test_an_argument_the_file_does_not_declare_is_refused_naming_its_arguments(t
     assert info.value.reason == ("planar2_gripper.urdf.xacro has no xacro argument "
                                  "'gripper_mas'; its arguments are: gripper_mass")
     for command in (["joints", str(path)], ["envelope", str(path), "--acceleration", "200"]):
-        status, out, err = run([*command, "--xacro-arg", "gripper_mas:=1.0"])
+        status, out, err = run_redirected([*command, "--xacro-arg", "gripper_mas:=1.0"])
         assert status == 2 and out == "", err
         assert err == ("hdselect: error: --xacro-arg: planar2_gripper.urdf.xacro has no xacro "
                        "argument 'gripper_mas'; its arguments are: gripper_mass\n")
@@ -273,9 +267,9 @@ def test_an_undeclared_argument_of_a_motion_file_names_the_motion_file(tmp_path)
     with pytest.raises(InputError) as info:
         hdselect.load_case(motion)
     assert str(info.value) == expected
-    status, out, err = run(["size", str(motion)])
+    status, out, err = run_redirected(["size", str(motion)])
     assert status == 2 and out == "" and err == f"hdselect: error: {expected}\n"
-    status, _, err = run(["size", str(motion), "--xacro-arg", "nosuch:=2"])  # overridden
+    status, _, err = run_redirected(["size", str(motion), "--xacro-arg", "nosuch:=2"])  # overridden
     assert status == 2 and err.startswith("hdselect: error: --xacro-arg: planar2_gripper"), err
 
 
@@ -290,8 +284,8 @@ def test_an_argument_read_by_arg_without_a_declaration_is_the_files_own(tmp_path
 
 @pytest.mark.parametrize("value", ["", "  "])
 def test_an_empty_argument_value_is_refused(tmp_path, value):
-    status, out, err = run(["joints", str(xacro_robot(tmp_path)), "--xacro-arg",
-                            f"gripper_mass:={value}"])
+    status, out, err = run_redirected(["joints", str(xacro_robot(tmp_path)), "--xacro-arg",
+                                       f"gripper_mass:={value}"])
     assert status == 2 and out == ""
     assert err == "hdselect: error: --xacro-arg: no value given for gripper_mass\n"
     with pytest.raises(InputError, match="no value given for gripper_mass") as info:
@@ -311,11 +305,12 @@ def test_a_bad_number_from_an_argument_is_blamed_on_the_argument_and_its_source(
         f'robot = "{path.name}"\nxacro_args = {{gripper_mass = "{value}"}}'))
     said = (f"gripper_mass:={value} makes link[gripper].inertial.mass of the expanded "
             "planar2_gripper.urdf.xacro fail: ")
-    status, out, err = run(["size", str(motion)])
+    status, out, err = run_redirected(["size", str(motion)])
     assert status == 2 and out == "" and err.count("\n") == 1
     assert err.startswith(f"hdselect: error: {motion}: xacro_args.gripper_mass: {said}")
     assert shown in err
-    status, out, err = run(["joints", str(path), "--xacro-arg", f"gripper_mass:={value}"])
+    status, out, err = run_redirected(["joints", str(path), "--xacro-arg",
+                                       f"gripper_mass:={value}"])
     assert status == 2 and err.startswith(f"hdselect: error: --xacro-arg: {said}"), err
 
 

@@ -213,7 +213,7 @@ RESISTANCE = Bound("a resistance", "ohm", 1e-6, 1e6)
 # --- studies -----------------------------------------------------------------------------------
 TIME_SCALE = Bound("a time scale", "", 1e-3, 1e3)
 """A study's time scale s: the motion run s times slower [-], as far as the exact slow-down
-search goes (`hdselect.timescale`)."""
+search goes (`hdselect.sizing.timescale`)."""
 
 # --- resources ---------------------------------------------------------------------------------
 MAX_STUDY_CASES = 1_000_000

@@ -239,14 +239,17 @@ class Outputs:
             for staged in self._staged:
                 current = staged
                 if staged.kind == "file" and staged.exclusive:
-                    assert staged.target is not None
+                    if staged.target is None:
+                        raise RuntimeError(f"staged {staged.kind} output has no target")
                     _place_new(staged.staging, staged.target)
                     done.append((staged.target, None))
                 elif staged.kind == "file":
-                    assert staged.target is not None
+                    if staged.target is None:
+                        raise RuntimeError(f"staged {staged.kind} output has no target")
                     done.append((staged.target, _swap(staged.staging, staged.target)))
                 elif staged.kind == "directory":
-                    assert staged.target is not None
+                    if staged.target is None:
+                        raise RuntimeError(f"staged {staged.kind} output has no target")
                     created += _make_directory(staged.target)
                     for item in sorted(staged.staging.iterdir()):
                         destination = staged.target / item.name
@@ -254,7 +257,8 @@ class Outputs:
             for staged in self._staged:
                 current = staged
                 if staged.kind == "direct":
-                    assert staged.target is not None
+                    if staged.target is None:
+                        raise RuntimeError(f"staged {staged.kind} output has no target")
                     with staged.staging.open("rb") as source, staged.target.open("wb") as sink:
                         shutil.copyfileobj(source, sink)
         except FileExistsError as err:
@@ -299,7 +303,8 @@ class Outputs:
         for staged in self._staged:
             if staged.kind != "directory":
                 continue
-            assert staged.target is not None
+            if staged.target is None:
+                raise RuntimeError(f"staged {staged.kind} output has no target")
             for item in sorted(staged.staging.iterdir()):
                 destination = Path(os.path.realpath(staged.target / item.name))
                 if destination in self._inputs:

@@ -116,7 +116,7 @@ def number(
         default: Value when the key is absent; None makes the key required.
         minimum: Smallest allowed value (inclusive), if any.
         positive: Require a value strictly greater than zero.
-        bound: The physical range of the quantity (`hdselect.bounds`), if any.
+        bound: The physical range of the quantity (`hdselect.base.bounds`), if any.
 
     Returns:
         The value as a float.
@@ -144,7 +144,7 @@ def as_number(
         field: The dotted field, for messages.
         minimum: Smallest allowed value (inclusive), if any.
         positive: Require a value strictly greater than zero.
-        bound: The physical range of the quantity, checked in SI (`hdselect.bounds`).
+        bound: The physical range of the quantity, checked in SI (`hdselect.base.bounds`).
         scale: SI per unit of `value`, for `bound`.
         unit: The label of the unit of `value`, for `bound`'s message.
 

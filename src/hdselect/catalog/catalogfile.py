@@ -94,7 +94,7 @@ def load_catalog(extra: Sequence[str | Path] = ()) -> tuple[Unit, ...]:
 
     Raises:
         InputError: A file is missing or malformed, a value is missing, not a
-            finite number in its range (`hdselect.bounds`) or inconsistent, two units
+            finite number in its range (`hdselect.base.bounds`) or inconsistent, two units
             share an id, or `extra` is not a list of files.
     """
     extra = bounds.files_argument(extra, "extra")

@@ -1,6 +1,6 @@
 """Motors: TOML files of servo or frameless motors, loaded into immutable SI records.
 
-A motor is checked against what it must deliver behind a gearhead (`hdselect.rules`):
+A motor is checked against what it must deliver behind a gearhead (`hdselect.catalog.motor_rules`):
 every sample's (input speed, motor torque) under its peak torque-speed limit, the
 cycle's RMS torque against its rated (continuous) torque, and the largest input speed
 against its maximum. Speeds are in rpm, as datasheets give them; everything else SI.
@@ -40,7 +40,7 @@ _BOUNDS = {"rated_torque": bounds.MOTOR_TORQUE, "peak_torque": bounds.MOTOR_TORQ
            "max_speed": bounds.MOTOR_SPEED, "rated_speed": bounds.MOTOR_SPEED,
            "rotor_inertia": bounds.ROTOR_INERTIA, "mass": bounds.ADDED_MASS,
            "torque_constant": bounds.TORQUE_CONSTANT, "resistance": bounds.RESISTANCE}
-"""The physical range of each number of a motor (`hdselect.bounds`)."""
+"""The physical range of each number of a motor (`hdselect.base.bounds`)."""
 MOTOR_KEYS = ("id", *(key for key, _ in _KEYS.values()), *(key for key, _ in _INERTIA_KEYS),
               "curve", "max_inertia_ratio")
 """Keys of one motor's table, in a motor file or inline in a motion file."""
@@ -74,7 +74,7 @@ class Motor:
 
     Raises:
         InputError: A value is missing, not a finite number, out of its range in
-            `hdselect.bounds`, or the curve is not a function of speed; the field is the
+            `hdselect.base.bounds`, or the curve is not a function of speed; the field is the
             attribute's name.
     """
 

@@ -1,6 +1,6 @@
 """The rules over the whole cycle on TOPPRA's run: the smallest slow-down, the derating, the check.
 
-TOPPRA (`hdselect.fastpath`) meets every rule on single samples that gives a path form
+TOPPRA (`hdselect.codesign.fastpath`) meets every rule on single samples that gives a path form
 (`hdselect.codesign.pathbounds.path_bounds`). The rules over the whole cycle (mean
 torque, life, average input speed), and any rule on single samples without a path form
 (`after_solve`), are checked on its run with the sizing's own `check_unit`. Where one
@@ -148,7 +148,8 @@ def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
     dt = np.where(held[keep], lasts, trajectory.dt)
     torques = cycle_torques(carrying, q, qd, qdd, options.stop_time, split=True,
                             threads=options.threads)
-    assert torques.gravity is not None and torques.coasting is not None
+    if torques.gravity is None or torques.coasting is None:
+        raise RuntimeError("cycle_torques(split=True) returned no gravity or coasting part")
     out = {}
     for name in units:
         j = carrying.joint_index(name)

@@ -2,8 +2,8 @@
 
 `fastest` runs the motion's path as fast as the units allow, in three steps:
 
-1. TOPPRA under every limit that holds sample by sample (`hdselect.fastpath`,
-   `hdselect.pathbounds`): the motion's and the robot file's speeds, the units' maximum
+1. TOPPRA under every limit that holds sample by sample (`hdselect.codesign.fastpath`,
+   `hdselect.codesign.pathbounds`): the motion's and the robot file's speeds, the units' maximum
    input speeds over their ratios, the motion's accelerations, the units'
    repeated-peak torques (through the dynamics, payload and carried gearheads
    included), the emergency stop and the crash. Any trajectory that passes the rules
@@ -12,7 +12,7 @@
 2. The rules over the whole cycle (mean torque, life, average input speed) are
    checked on it; where one fails, the cycle is lengthened by the smallest exact
    slow-down, or by derating the failing joints' torque limits, whichever is shorter
-   (`hdselect.cyclerules`). A pure bang-bang move gives the same answer both ways
+   (`hdselect.codesign.cyclerules`). A pure bang-bang move gives the same answer both ways
    (both run it at the mean-torque allowance); a move that cruises is faster derated.
 3. The trajectory is sampled on the motion's time grid and checked by
    `hdselect.sizing.core.check_units`, the sizing's own path, and slowed by any excess.
@@ -378,7 +378,8 @@ def _paired_motor(pairs: Sequence[Candidate], unit: Unit, motors: Sequence[Motor
     best = select(mine, options.prefer or DEFAULT_PREFER_WITH_MOTORS)
     if best is None:
         best = min(mine, key=lambda pair: max(c.utilization for c in pair.checks.values()))
-    assert best.motor_unit is not None
+    if best.motor_unit is None:
+        raise RuntimeError(f"{unit.id}: the best pair has no motor")
     return best.motor_unit
 
 

@@ -7,7 +7,7 @@ between gridpoints). For a
 motion planned otherwise (Ruckig), the knots sit at the time each segment takes at
 the motion's velocity limits, so that joints in rad and in m weigh alike. Each piece
 is first solved under its speed and acceleration limits alone: where that profile
-meets every gearhead limit (`hdselect.pathbounds`) it is the answer, since no
+meets every gearhead limit (`hdselect.codesign.pathbounds`) it is the answer, since no
 profile under more constraints is faster. Otherwise TOPPRA solves the piece under
 all of them; the crash bound's tangent starts at a quarter of the speed the crash
 alone allows over gravity and then moves to TOPPRA's previous answer, round after
@@ -28,6 +28,7 @@ from functools import partial
 import numpy as np
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
+from hdselect.base.errors import InputError
 from hdselect.codesign.pathbounds import (
     Coefficients,
     JointLimits,
@@ -121,7 +122,9 @@ class PathModel:
         motion.check_joints(robot)
         speeds = None
         if motion.planner != "toppra":
-            assert motion.velocity_limit is not None  # waypoint planners require it
+            if motion.velocity_limit is None:
+                raise InputError(f"the {motion.planner} planner needs a velocity limit",
+                                 path=motion.path, field="limits.velocity")
             speeds = motion.velocity_limit
         pieces = tuple(_resolved(piece, motion) for piece in
                        path_pieces(robot, motion, grid_per_waypoint, speeds=speeds))
@@ -138,11 +141,13 @@ class PathModel:
     def coefficients(self, index: int, masses: Mapping[str, float]) -> Coefficients:
         """a, b, c, v of piece `index` with a mass [kg] carried at each named joint."""
         base = self.base[index]
-        assert base is not None
+        if base is None:
+            raise RuntimeError(f"path piece {index} has no coefficients")
         out = [x.copy() for x in base]
         for name, mass in masses.items():
             part = self.per_kg[name][index]
-            assert part is not None
+            if part is None:
+                raise RuntimeError(f"path piece {index} has no coefficients per kg at {name}")
             for total, x in zip(out, part, strict=True):
                 total += mass * x
         return out[0], out[1], out[2], out[3]
@@ -163,7 +168,9 @@ def _resolved(piece: PathPiece, motion: Motion) -> PathPiece:
     if bends_sharply(piece):
         piece = with_gridpoints(piece, dense_grid(piece))
     velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
-    assert velocity is not None and acceleration is not None  # waypoint planners require it
+    if velocity is None or acceleration is None:
+        raise InputError("a path needs velocity and acceleration limits",
+                         path=motion.path, field="limits")
     constraints = kinematic_constraints(velocity, acceleration)
     first = first_grid(piece, full=True)
     refined, found = solve_refined(first, lambda _: constraints,

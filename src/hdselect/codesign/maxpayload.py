@@ -163,7 +163,8 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
         if chosen == masses:
             break
         masses = chosen
-    assert result is not None
+    if result is None:
+        raise RuntimeError("the payload search ran no round")
     mass, ranges, bounds, selection, failing = result
     if selection is not None and failing is None and not selection.feasible:
         selection = sizing.at(inside)  # a joint no unit fits: its slow-downs, as size gives

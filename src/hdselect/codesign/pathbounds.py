@@ -19,7 +19,7 @@ bound on s' at each gridpoint (the first root of two quadratics). The crash term
 is concave in x, which TOPPRA cannot take: it is replaced by its tangent at a
 guess x0, K |p'| (sqrt(x0) / 2 + x / (2 sqrt(x0))), which lies above it everywhere
 (so the answer stays feasible) and touches it at x0 (`crash_rows`; the rounds that
-move x0 are in `hdselect.fastpath`). A rule on single samples without a path form is
+move x0 are in `hdselect.codesign.fastpath`). A rule on single samples without a path form is
 checked on the planned cycle (`hdselect.codesign.cyclerules.after_solve`).
 
 Where no profile exists, `diagnose` names the joint, the limit and where.
@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from hdselect.base.errors import PlanningError
+from hdselect.base.errors import InputError, PlanningError
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RULES, Scope
 from hdselect.catalog.rules.forms import PathBound, PathCase, PathKind
@@ -116,7 +116,9 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
             rotor inertia replaces the options'.
     """
     velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
-    assert velocity is not None and acceleration is not None  # waypoint planners require them
+    if velocity is None or acceleration is None:
+        raise InputError("a path needs velocity and acceleration limits",
+                         path=motion.path, field="limits")
     out = []
     for j, name in enumerate(robot.joint_names):
         urdf = float(robot.velocity_limit[j])
@@ -396,7 +398,8 @@ def diagnose(motion: Motion, names: Sequence[str], piece: PathPiece, groups: Seq
     for limit, name, items in groups[1:]:
         if solve_piece(piece, [*kinematic, *items], where=where) is not None:
             continue
-        assert name is not None
+        if name is None:
+            raise RuntimeError("only the first constraint group is unnamed")
         j = names.index(name)
         lim = limits[j]
         bound = {"emergency stop": lim.momentary, "static": lim.static,

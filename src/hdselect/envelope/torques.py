@@ -122,7 +122,8 @@ class EnvelopeTorques:
         j = self.robot.joint_index(joint)
         extra = cycle_torques(self._carrying(masses), self.rows.q, self.rows.qd, self.rows.qdd,
                               self.stop_time, split=True, threads=self.threads, columns=[j])
-        assert extra.gravity is not None and extra.coasting is not None
+        if extra.gravity is None or extra.coasting is None:
+            raise RuntimeError("cycle_torques(split=True) returned no gravity or coasting part")
         return (np.concatenate([gravity, extra.gravity[:, 0]]),
                 np.concatenate([coast, extra.coasting[:, 0]]))
 

@@ -113,7 +113,8 @@ class Spread:
                                            stop_time, pure=False) for chunk in chunks]
             parts = self._client.gather(futures)
         else:
-            assert self._pool is not None, "use Spread as a context manager"
+            if self._pool is None:
+                raise RuntimeError("use Spread as a context manager")
             parts = list(self._pool.map(_chunk_demands, [robot] * len(chunks),
                                         [box] * len(chunks), chunks,
                                         [joints] * len(chunks), [stop_time] * len(chunks)))

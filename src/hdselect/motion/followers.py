@@ -184,26 +184,3 @@ def check_logged_followers(robot: Robot, columns: dict[str, np.ndarray],
         name, k, position = found
         raise InputError(f"{where(k + 1)}: {outside_reason(robot, name, position, *angle)}",
                          path=log, field=f"q_{robot.mimic[name].leader}")
-
-
-def leader_range(robot: Robot, name: str, lower: float, upper: float) -> tuple[float, float]:
-    """The part of a joint's range that keeps every follower of it within its own limits.
-
-    Args:
-        robot: The robot.
-        name: The joint (a degree of freedom).
-        lower: Its lower limit [rad or m] (-inf: none).
-        upper: Its upper limit [rad or m] (+inf: none).
-
-    Returns:
-        The narrowed range [rad or m]; the joint's own when no position satisfies every
-        follower (a motion moving it is then refused naming the follower).
-    """
-    low, high = lower, upper
-    for mimic in robot.mimic.values():
-        if mimic.leader != name or mimic.multiplier == 0.0:
-            continue
-        ends = sorted(((mimic.lower - mimic.offset) / mimic.multiplier,
-                       (mimic.upper - mimic.offset) / mimic.multiplier))
-        low, high = max(low, ends[0]), min(high, ends[1])
-    return (low, high) if low <= high else (lower, upper)

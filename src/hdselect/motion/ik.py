@@ -109,7 +109,8 @@ def solve_pose(kin: FrameKinematics, target: pin.SE3, seed: np.ndarray, *,
             best = (score, q, position, orientation, attempt)
         if tolerance.holds(position, orientation):
             break
-    assert best is not None  # at least one attempt
+    if best is None:
+        raise RuntimeError("inverse kinematics made no attempt")
     _, q, position, orientation, attempt = best
     converged = tolerance.holds(position, orientation)
     q = q.copy()

@@ -5,7 +5,7 @@ solving, straight lines and branch checks evaluate thousands of configurations w
 re-allocating. Configurations are joint positions in the robot's joint order [rad or m]
 (`Robot.joint_names`); continuous joints are angles, turned into Pinocchio's (cos, sin)
 by `Robot.configuration`. A mimic follower's own limits narrow its leader's
-(`hdselect.motion.followers.leader_range`), so a solved pose keeps every follower in range.
+(`leader_range`), so a solved pose keeps every follower in range.
 """
 
 from __future__ import annotations
@@ -18,12 +18,34 @@ import numpy as np
 import pinocchio as pin
 
 from hdselect.base.errors import InputError
-from hdselect.motion.followers import leader_range
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import frame_id
 
 AT_BOUND = 1e-9
 """A joint within this of a limit is at that limit [rad or m]."""
+
+
+def leader_range(robot: Robot, name: str, lower: float, upper: float) -> tuple[float, float]:
+    """The part of a joint's range that keeps every follower of it within its own limits.
+
+    Args:
+        robot: The robot.
+        name: The joint (a degree of freedom).
+        lower: Its lower limit [rad or m] (-inf: none).
+        upper: Its upper limit [rad or m] (+inf: none).
+
+    Returns:
+        The narrowed range [rad or m]; the joint's own when no position satisfies every
+        follower (a motion moving it is then refused naming the follower).
+    """
+    low, high = lower, upper
+    for mimic in robot.mimic.values():
+        if mimic.leader != name or mimic.multiplier == 0.0:
+            continue
+        ends = sorted(((mimic.lower - mimic.offset) / mimic.multiplier,
+                       (mimic.upper - mimic.offset) / mimic.multiplier))
+        low, high = max(low, ends[0]), min(high, ends[1])
+    return (low, high) if low <= high else (lower, upper)
 
 
 @dataclass(frozen=True)

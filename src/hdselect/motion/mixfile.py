@@ -32,7 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from hdselect.base import bounds
-from hdselect.base.bounds import SHARE_TOLERANCE, check_shares  # noqa: F401  (re-exported)
+from hdselect.base.bounds import check_shares
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.motion.mixduty import (
@@ -49,9 +49,8 @@ from hdselect.motion.motionfile import (
     load_motion,
     mounting_of,
     payload_table,
-    robot_file_named,
 )
-from hdselect.motion.robot_named import other_robot
+from hdselect.motion.robot_named import other_robot, robot_file_named
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
@@ -243,7 +242,8 @@ def mix_robot_file(path: str | Path) -> Path:
                              "runs one robot: set `robot` in the mix file", path=path,
                              field=f"task[{i}].motion")
         found = found or (robot, motion)
-    assert found is not None  # _task_tables gives one at least
+    if found is None:
+        raise RuntimeError("a mix without tasks passed _task_tables")
     return found[0]
 
 

@@ -52,7 +52,6 @@ from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: publi
     load_named,
     named_file,
     read_motion_toml,
-    robot_file_named,
     xacro_args_of,
 )
 from hdselect.motion.sizing_table import bearing_offsets, sizing_joints

@@ -121,7 +121,8 @@ def _joint_motion(robot: Robot, motion: Motion) -> Motion:
     for note in notes:
         logger.warning("%s: %s", motion.path, note)
     nothing = frozen(np.full(len(motion.waypoints), np.nan))
-    assert base is not None  # no note for a gravity vector
+    if base is None:
+        raise RuntimeError("tool poses noted for a mounting given as a gravity vector")
     return replace(motion, warnings=_file_warnings(motion) + tuple(notes), solution=ToolSolution(
         "", base, nothing, nothing, tuple(notes), ()))
 
@@ -171,7 +172,8 @@ def _first_branch(kin: FrameKinematics, motion: Motion, tool: ToolPoses,
             return solver
         except InputError as err:
             failure = failure or err
-    assert failure is not None
+    if failure is None:
+        raise RuntimeError("no start was tried")
     raise failure
 
 
@@ -225,7 +227,8 @@ class _Solver:
                 continue
             target = in_base(self.base, written.pose)
             if written.line:
-                assert before is not None  # refused for the first waypoint
+                if before is None:
+                    raise RuntimeError("a straight line into the first waypoint passed the reader")
                 previous = tool.at(i - 1)
                 start = (in_base(self.base, previous.pose) if previous is not None
                          else kin.placement(before))

@@ -26,9 +26,8 @@ import numpy as np
 
 from hdselect.base.bounds import expect_type
 from hdselect.motion.branches import check_branch, path_crossing
-from hdselect.motion.followers import leader_range
 from hdselect.motion.ik import solve_pose
-from hdselect.motion.kinematics import FrameKinematics
+from hdselect.motion.kinematics import FrameKinematics, leader_range
 from hdselect.motion.lines import LinePath, solve_line
 from hdselect.motion.poses import Tolerance, pose_error, pose_from_xyz_rpy, xyz_rpy
 from hdselect.robot.joints import describe_joints

@@ -47,7 +47,8 @@ def bearing_section(result: SizingResult, figures: Mapping[str, bytes]) -> str:
 
 def _row(joint: JointSizing) -> list[str]:
     load = joint.bearing
-    assert load is not None
+    if load is None:
+        raise RuntimeError(f"joint {joint.name} has no bearing loads to show")
     shown = joint.selected or joint.strongest
     figures = shown.bearing
     if shown.unit.bearing is None:

@@ -129,7 +129,8 @@ def _selection(result: SizingResult) -> str:
                      *(["-", "-"] if motors else []), "-", "-", "-", "-", "-"]
             notes.append(f"no {'pair' if motors else 'unit'} fits: see below")
         else:
-            assert c.motor is not None
+            if c.motor is None:
+                raise RuntimeError(f"{c.unit.id} carries no motor demand")
             side = c.motor_binding
             binding = c.gearhead_binding if motors else c.binding
             cells = [f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>', _unit_cell(c),
@@ -319,7 +320,8 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
     pairs = joint.name in result.motors
     rows, figures, classes = [], [], []
     for c in joint.candidates:
-        assert c.motor is not None
+        if c.motor is None:
+            raise RuntimeError(f"{c.unit.id} carries no motor demand")
         who = [_unit_cell(c), *([_motor_cell(c)] if pairs else [])]
         rows.append([*who,
                      *(_heat_cell(c.checks.get(r), True, r, _where(joint, c)) for r in rules),

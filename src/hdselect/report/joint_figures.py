@@ -165,7 +165,8 @@ def motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
     j = result.robot.joint_index(joint.name)
     chosen = joint.selected or joint.strongest
     motor, unit, demand = chosen.motor_unit, chosen.unit, chosen.motor
-    assert motor is not None and demand is not None and joint.motor_torque is not None
+    if motor is None or demand is None or joint.motor_torque is None:
+        raise RuntimeError(f"joint {joint.name}: no motor, motor demand or motor torque to draw")
     speed = np.abs(timeline(result, j)[1]) * unit.ratio * RPM_PER_RAD_S
     torque = np.abs(joint.motor_torque)
     fig = Figure(figsize=(11, 5.2), layout="constrained")

@@ -22,7 +22,7 @@ def write_report(directory: str | Path, result: SizingResult, *,
     with motors, its motor's torque-speed plane as ``motor_<name>.png``; where the
     bearing loads were computed, their figure as ``bearing_<name>.png``). Every file is
     written aside first and the whole report moved into place at the end
-    (`hdselect.outputs`): a failure leaves no part of it, and puts back any file it
+    (`hdselect.base.outputs`): a failure leaves no part of it, and puts back any file it
     would have replaced.
 
     Args:

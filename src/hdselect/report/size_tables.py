@@ -249,7 +249,8 @@ def _bearing_title(joint: JointSizing) -> str:
 
 
 def _motor(candidate: Candidate) -> MotorDemand:
-    assert candidate.motor is not None  # every size candidate carries its motor demand
+    if candidate.motor is None:
+        raise RuntimeError(f"{candidate.unit.id} carries no motor demand")
     return candidate.motor
 
 

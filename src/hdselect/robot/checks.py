@@ -3,7 +3,7 @@
 Pinocchio's URDF and MJCF readers accept NaN and 1e308 where a length or a mass
 goes. These checks run on the model Pinocchio built, after it merged every link
 on a fixed joint into its moving body, so bodies are checked as the dynamics will
-see them (`hdselect.robotfile` calls them; it also catches the parser's output).
+see them (`hdselect.robot.reading` calls them; it also catches the parser's output).
 """
 
 from __future__ import annotations

@@ -152,7 +152,8 @@ def _same_axis(model: pin.Model, joint_id: int, joint: UrdfJoint, path: Path) ->
     subspace = np.array(data.S).ravel()
     axis = subspace[:3] if joint.kind == "prismatic" else subspace[3:]
     ours = direction(joint.axis)
-    assert ours is not None  # refused as read
+    if ours is None:
+        raise RuntimeError(f"joint {joint.name}: a zero axis passed the reader")
     if np.abs(axis - ours).max() > TOLERANCE:
         raise InputError(f"Pinocchio's axis is {_text(axis)}, the file's {_text(joint.axis)}",
                          path=path, field=f"joint[{joint.name}].axis")

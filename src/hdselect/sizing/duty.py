@@ -19,6 +19,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from hdselect.base.bounds import SHARE_TOLERANCE
 from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
 from hdselect.motion.case import robot_for_motion

@@ -194,7 +194,8 @@ def task_checks(cycle: JointCycle, chosen: Candidate, options: Options,
 
 
 def _prefer(options: Options) -> str:
-    assert options.prefer is not None  # resolved by the core
+    if options.prefer is None:
+        raise RuntimeError("options.prefer is unresolved (the core resolves it before selecting)")
     return options.prefer
 
 

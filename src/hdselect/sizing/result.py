@@ -108,7 +108,7 @@ class JointSizing:
         """Load inertia at the motor shaft over the rotor inertia for one pair [-].
 
         (M_jj / N^2 + J_in) / J_m with M_jj the `load_inertia`; None without a motor, or
-        for a motor without rotor inertia (`hdselect.catalog.rules.inertia_ratio`).
+        for a motor without rotor inertia (`hdselect.catalog.motor_rules.inertia_ratio`).
         """
         if self.load_inertia is None or candidate.motor_unit is None:
             return None

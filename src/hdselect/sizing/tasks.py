@@ -22,8 +22,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from hdselect.base.arrays import frozen
+from hdselect.base.bounds import SHARE_TOLERANCE, check_shares
 from hdselect.catalog.rules import at_rest
-from hdselect.motion.mixfile import SHARE_TOLERANCE, check_shares
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot

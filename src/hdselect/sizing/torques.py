@@ -133,7 +133,8 @@ class DirectTorques:
         if self._masses is None or any(self._masses.get(k, 0.0) != masses.get(k, 0.0)
                                        for k in self._below[joint]):
             self._pass(masses)
-        assert self._tau is not None and self._stop is not None
+        if self._tau is None or self._stop is None:
+            raise RuntimeError("the torque pass did not run")
         j = self.robot.joint_index(joint)
         return np.array(self._tau[:, j]), np.array(self._stop[:, j])
 
@@ -144,7 +145,8 @@ class DirectTorques:
         if self._masses is None or any(self._masses.get(k, 0.0) != masses.get(k, 0.0)
                                        for k in self._below[joint]):
             self._pass(masses)
-        assert self._wrench is not None
+        if self._wrench is None:
+            raise RuntimeError("the torque pass did not run")
         return SampledWrench(self._wrench[self.robot.sized_joints.index(joint)], self._index)
 
     def gravity_wrench(self, joint: str, masses: Mapping[str, float]) -> np.ndarray | None:
@@ -193,7 +195,8 @@ class DirectTorques:
         if self._masses is None or any(self._masses.get(k, 0.0) != masses.get(k, 0.0)
                                        for k in self._carriers):
             self._pass(masses)
-        assert self._tau is not None and self._masses is not None
+        if self._tau is None or self._masses is None:
+            raise RuntimeError("the torque pass did not run")
         per_task, start = [], 0
         for task in self.tasks:
             traj, n = task.trajectory, len(task.trajectory.t)

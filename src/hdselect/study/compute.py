@@ -185,7 +185,7 @@ def fastest_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     """One case's shortest cycle: ``hdselect fastest`` with `size`'s units for the case.
 
     The units are those `size` selects for the motion run ``time_scale`` times slower,
-    from the case's catalog and ratio; the result is `hdselect.report.export.fastest_json`.
+    from the case's catalog and ratio; the result is `hdselect.codesign.records.fastest_json`.
 
     Raises:
         HdselectError: An input is bad, the motion is a log, or the path cannot be run.
@@ -205,7 +205,7 @@ def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, An
     """One case's largest payload: ``hdselect max-payload`` on the case's trajectory.
 
     The payload's shape (frame, centre of mass, inertia per kg) is the case's; its mass
-    is what is found. The result is `hdselect.report.export.max_payload_json` with the
+    is what is found. The result is `hdselect.codesign.records.max_payload_json` with the
     selection as `Summary.to_dict` (the shape a ``size`` case records).
 
     Raises:

@@ -221,7 +221,8 @@ class BasisTorques:
         self._theta = np.zeros(basis.gravity.shape[1])
         self._theta[0] = 1.0
         if basis.payload is not None:
-            assert mass is not None
+            if mass is None:
+                raise RuntimeError("a basis with a payload needs the payload mass")
             self._theta[1] = mass - REFERENCE_MASS
         self._first = len(self._theta) - len(basis.carriers)
         traj = basis.trajectory
@@ -281,7 +282,8 @@ class BasisTorques:
 
     def load_inertia(self, joint: str, masses: Mapping[str, float]) -> float:
         """The joint's largest M_jj over the basis's poses [kg m^2]."""
-        assert self.basis.inertia is not None
+        if self.basis.inertia is None:
+            raise RuntimeError("the basis has no joint inertias")
         i = self.robot.sized_joints.index(joint)
         return float((self._with(masses) @ self.basis.inertia[i]).max())
 

@@ -137,7 +137,8 @@ def _after_death(worker: _Worker, keep: Callable[[Outcome], None]) -> list[Task]
 
     A task of one case that killed its worker is recorded as failed instead.
     """
-    assert worker.task is not None
+    if worker.task is None:
+        raise RuntimeError("a worker without a task died")
     task = worker.task
     left = [case for case in task.cases if case.index not in worker.received]
     worker.process.join()

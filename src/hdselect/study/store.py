@@ -142,7 +142,8 @@ class Store:
 
     def add(self, outcome: Outcome) -> dict[str, Any]:
         """Append and flush one case's record and rows; returns the record."""
-        assert self._csv is not None and self._journal is not None
+        if self._csv is None or self._journal is None:
+            raise RuntimeError("the store is not open")
         case = self.study.cases[outcome.index]
         record = {"key": outcome.key, "case": outcome.index, "compute": case.compute,
                   "values": dict(case.values), **asdict(outcome),

@@ -70,7 +70,8 @@ def evaluate_all(task: Task) -> list[Outcome]:
 
 
 def _moved(task: Task, folder: Path) -> tuple[Case, ...]:
-    assert task.files is not None
+    if task.files is None:
+        raise RuntimeError("a task to move has no files")
     for name, content in task.files.items():
         target = folder / Path(name).relative_to(Path(name).anchor)
         target.parent.mkdir(parents=True, exist_ok=True)

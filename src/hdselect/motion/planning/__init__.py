@@ -49,7 +49,8 @@ PLANNERS: dict[str, Callable[..., Trajectory]] = {
 }
 """Planner functions by the name a motion file's ``planner`` key gives: each takes the robot,
 the motion and a keyword ``max_samples``."""
-assert tuple(PLANNERS) == PLANNER_NAMES
+if tuple(PLANNERS) != PLANNER_NAMES:
+    raise RuntimeError(f"PLANNERS {tuple(PLANNERS)} differ from PLANNER_NAMES {PLANNER_NAMES}")
 
 __all__ = ["PLANNERS", "Planned", "Trajectory", "check_within_limits", "plan", "plan_motion"]
 

@@ -78,7 +78,8 @@ def check_crossings(robot: Robot, motion: Motion, trajectory: Trajectory) -> Mot
 
 def _advice(kin: FrameKinematics, motion: Motion, i: int) -> str:
     """What keeps the move into waypoint `i` away from the singularity it passes."""
-    assert motion.tool is not None
+    if motion.tool is None:
+        raise RuntimeError("a singularity advice for a motion without tool poses")
     if i in motion.tool.lines:
         return "move the line away from it, or drop line = true"
     last = len(motion.waypoints) - 1

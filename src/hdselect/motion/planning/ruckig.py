@@ -16,7 +16,7 @@ import numpy as np
 import ruckig
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
-from hdselect.base.errors import PlanningError
+from hdselect.base.errors import InputError, PlanningError
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.trajectory import Move, Trajectory, assemble
 from hdselect.robot.model import Robot
@@ -32,7 +32,9 @@ def plan_ruckig(robot: Robot, motion: Motion, *,
     """
     dof = robot.dof
     v, a, j = motion.velocity_limit, motion.acceleration_limit, motion.jerk_limit
-    assert v is not None and a is not None and j is not None  # load_motion requires them
+    if v is None or a is None or j is None:
+        raise InputError("the ruckig planner needs velocity, acceleration and jerk limits",
+                         path=motion.path, field="limits")
     moves = []
     for i in range(len(motion.waypoints) - 1):
         inp = ruckig.InputParameter(dof)

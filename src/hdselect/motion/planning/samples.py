@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
+from hdselect.base.errors import InputError
 from hdselect.motion.logderivatives import derivatives, spline_values
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.grid import check_log_period, check_size
@@ -32,7 +33,9 @@ def plan_samples(robot: Robot, motion: Motion, *,
             exceed `max_samples`.
     """
     log = motion.samples
-    assert log is not None  # load_motion reads it for the samples planner
+    if log is None:
+        raise InputError("the samples planner needs the logged samples (a log file)",
+                         path=motion.path, field="planner")
     t = log.t - log.t[0]
     dof = len(motion.joint_names)
     if np.all(np.abs(np.diff(t) - motion.dt) <= 1e-6 * motion.dt):

@@ -44,7 +44,7 @@ import numpy as np
 
 from hdselect.base.arrays import frozen
 from hdselect.base.bounds import DEFAULT_MAX_SAMPLES
-from hdselect.base.errors import PlanningError
+from hdselect.base.errors import InputError, PlanningError
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.path import (
     GRID_PER_LINE_SAMPLE,
@@ -359,7 +359,9 @@ def _toppra_pieces(robot: Robot, motion: Motion, notes: list[str]) -> list[Move]
     )
 
     velocity, acceleration = motion.velocity_limit, motion.acceleration_limit
-    assert velocity is not None and acceleration is not None  # load_motion requires them
+    if velocity is None or acceleration is None:
+        raise InputError("the toppra planner needs velocity and acceleration limits",
+                         path=motion.path, field="limits")
     kinematic = kinematic_constraints(velocity, acceleration)
     torque = motion.torque_limit
     where = str(motion.path)
@@ -406,7 +408,8 @@ def _toppra_pieces(robot: Robot, motion: Motion, notes: list[str]) -> list[Move]
                                 f"({type(err).__name__}: {err})") from err
         if scale > 1.0 + SLOWDOWN_NOTED:
             notes.append(slowdown_note(first, last, motion.joint_names[joint], limit, scale))
-        assert piece.knots is not None  # every piece with a path has its knots
+        if piece.knots is None:
+            raise RuntimeError("a path piece without its knots")
         reached = found.time_at(piece.knots) * scale
         passes = tuple(float(reached[max(k for k, w in enumerate(piece.waypoints) if w <= i)])
                        for i in range(first, last + 1))
