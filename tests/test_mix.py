@@ -490,11 +490,10 @@ def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
 
 def test_fastest_of_a_mix_of_one_task_is_its_motions(tmp_path):
     from hdselect.codesign.fastest_cycle import fastest
-    from hdselect.codesign.mixfastest import mix_fastest
     from hdselect.motion.case import load_case
 
     path = _mix(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
-    mixed = mix_fastest(*load_case(path))
+    mixed = fastest(*load_case(path))
     alone = fastest(*load_case(PICK), {name: unit.id for name, unit in mixed.units.items()})
     assert alone.reason is None and mixed.reason is None and mixed.slowdown == 1.0
     (task,) = mixed.tasks
@@ -504,7 +503,10 @@ def test_fastest_of_a_mix_of_one_task_is_its_motions(tmp_path):
 
 def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
     """A required life the optima miss: every task slowed by one factor until it holds."""
-    from hdselect.codesign.mixfastest import _optimum, mix_fastest, pooled_check
+    from hdselect.codesign.cyclerules import check_scaled
+    from hdselect.codesign.fastest_cycle import fastest
+    from hdselect.codesign.fastpath import PathModel
+    from hdselect.codesign.trials import run_trial
     from hdselect.motion.case import load_case
     from hdselect.sizing.duty import mix_options
 
@@ -512,7 +514,7 @@ def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
     units = {"shoulder_pan": "PSA-10-80", "shoulder_lift": "PSA-14-100", "elbow": "PSA-10-80",
              "wrist_1": "PSA-08-80", "wrist_2": "PSA-08-80", "wrist_3": "PSA-08-80"}
     options = mix_options(mix, life_hours=6e5)  # shoulder_lift: 3.8e5 h at the optima
-    result = mix_fastest(robot, mix, units, options=options)
+    result = fastest(robot, mix, units, options=options)
     assert result.slowdown > 1.0 and result.reason == ("shoulder_lift", "life")
     assert result.feasible
     check = next(j for j in result.check.joints
@@ -522,12 +524,16 @@ def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
         assert item.optimum < item.cycle_time
     # the search's pooled figures: failing just faster than the slow-down, passing at it
     masses = {name: unit.mass for name, unit in result.units.items()}
-    paths = [_optimum(item.task, result.units, masses, options) for item in result.tasks]
+    models = [PathModel.build(item.task.robot, item.task.motion, robot.sized_joints)
+              for item in result.tasks]
+    paths = run_trial(models, [model.robot.with_gearheads(masses) for model in models],
+                      [item.task.share for item in result.tasks], result.units, masses, {},
+                      options).legs
     unit = result.units["shoulder_lift"]
-    faster = pooled_check(paths, "shoulder_lift", unit, result.slowdown / 1.001, options, 0.0)
+    faster = check_scaled(paths, "shoulder_lift", unit, result.slowdown / 1.001, options)
     assert not faster.checks["life"].ok
-    assert pooled_check(paths, "shoulder_lift", unit, result.slowdown, options,
-                        0.0).checks["life"].ok
+    assert check_scaled(paths, "shoulder_lift", unit, result.slowdown,
+                        options).checks["life"].ok
 
 
 def test_the_duty_life_is_the_tasks_lives_combined_by_miners_rule(pick_inspect):
@@ -606,7 +612,7 @@ def test_a_day_in_cycles_per_hour_prints_a_mean_between_the_lives(tmp_path, caps
 def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
     """Heavy parts, 1.67x faster: a joint no unit fits, and its slow-down s. Every task's
     trajectory run s times slower (the shares kept) must let that unit fit."""
-    from hdselect.codesign.mixfastest import check_tasks
+    from hdselect.codesign.trials import check_tasks
     from hdselect.codesign.mixpayload import at_factor
     from hdselect.motion.case import load_case
     from hdselect.sizing.core import size_tasks

@@ -23,17 +23,16 @@ def run_fastest(args: argparse.Namespace) -> int:
     """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
-    from hdselect.codesign.records import fastest_json, ratios_json
-    from hdselect.report.codesign_tables import binding_table, fastest_table, ratios_table
-    from hdselect.report.export import write_json, write_trajectory_csv
+    from hdselect.codesign.records import fastest_json, mix_fastest_json, ratios_json
+    from hdselect.motion.mixfile import Mix
 
     if args.joint and not args.compare_ratios:
         raise InputError("only with --compare-ratios", field="--joint")
-    from hdselect.motion.mixfile import Mix
-
     robot, motion, units, options, motors = sizing_case(args)
-    if isinstance(motion, Mix):
-        return _mix_fastest(args, robot, motion, units, options, motors)
+    mix = isinstance(motion, Mix)  # several trajectories: no one CSV or figure of them
+    for flag, value in (("--out", args.out), ("--plot", not args.compare_ratios and args.plot)):
+        if mix and value:
+            raise InputError("not for a mix yet: give one of its motion files", field=flag)
     given = unit_pairs(args.units)
     with Outputs(_inputs(args, robot, motion)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
@@ -56,19 +55,18 @@ def run_fastest(args: argparse.Namespace) -> int:
             else:
                 write_fastest_png(figure, result)
         if csv_file is not None:
+            from hdselect.report.export import write_trajectory_csv
+
             write_trajectory_csv(csv_file, result.trajectory, gear_torques(result.check),
                                  result.robot.sized_joints)
         if json_file is not None:
+            from hdselect.report.export import write_json
+
             write_json(json_file, ratios_json(comparison) if args.compare_ratios
-                       else fastest_json(result))
-        tables: list[Any] = []
-        if args.compare_ratios:
-            for joint in comparison.joints:
-                tables += [""] if tables else []
-                tables.append(ratios_table(comparison, joint))
-        else:
-            tables = [fastest_table(result), "", binding_table(result)]
-        text = "" if to_stdout(args) else rendered(*tables)
+                       else mix_fastest_json(result) if mix else fastest_json(result))
+        text = "" if to_stdout(args) else rendered(*_fastest_tables(args, result, comparison
+                                                                    if args.compare_ratios
+                                                                    else None))
         outputs.commit()
     sys.stdout.write(text)
     say_written([
@@ -77,7 +75,31 @@ def run_fastest(args: argparse.Namespace) -> int:
         (args.plot, "the shortest cycle against the unit on each joint compared"
          if args.compare_ratios else "speed and torque of each sized joint against its limits"),
         (args.json, None)], args)
-    return EXIT_OK
+    return EXIT_OK if result.feasible else EXIT_NO_FIT
+
+
+def _fastest_tables(args: argparse.Namespace, result, comparison) -> list[Any]:
+    """What ``fastest`` prints: the ratios compared, else the cycle (each task's, for a mix)."""
+    from hdselect.report.codesign_tables import (
+        binding_table,
+        fastest_table,
+        mix_fastest_table,
+        ratios_table,
+    )
+
+    tables: list[Any] = []
+    if comparison is not None:
+        for joint in comparison.joints:
+            tables += [""] if tables else []
+            tables.append(ratios_table(comparison, joint))
+        return tables
+    if result.mix is not None:
+        from hdselect.report.mix_tables import mix_tables
+        from hdselect.report.size_tables import size_table
+
+        return [mix_fastest_table(result), "", size_table(result.check),
+                *mix_tables(result.check)]
+    return [fastest_table(result), "", binding_table(result)]
 
 
 def run_max_payload(args: argparse.Namespace) -> int:
@@ -153,34 +175,6 @@ def _mix_max_payload(args: argparse.Namespace, robot, mix, units, options, motor
     sys.stdout.write(text)
     say_written([(args.json, None)], args)
     return EXIT_OK if result.factor is not None else EXIT_NO_FIT
-
-
-def _mix_fastest(args: argparse.Namespace, robot, mix, units, options, motors) -> int:
-    """``hdselect fastest`` on a mix: the shortest cycle of each task with the duty's units."""
-    from hdselect.base.outputs import Outputs
-    from hdselect.codesign.mixfastest import mix_fastest
-    from hdselect.codesign.records import mix_fastest_json
-    from hdselect.report.codesign_tables import mix_fastest_table
-    from hdselect.report.export import write_json
-    from hdselect.report.mix_tables import mix_tables
-    from hdselect.report.size_tables import size_table
-
-    _refuse_for_mix(args, motors, ("--compare-ratios", args.compare_ratios),
-                    ("--out", args.out), ("--plot", args.plot))
-    with Outputs(_inputs(args, robot, mix)) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json is not None else None
-        try:
-            result = mix_fastest(robot, mix, unit_pairs(args.units), options, catalog=units)
-        except InputError as err:
-            raise flagged(err, args) from err
-        if json_file is not None:
-            write_json(json_file, mix_fastest_json(result))
-        text = "" if to_stdout(args) else rendered(
-            mix_fastest_table(result), "", size_table(result.check), *mix_tables(result.check))
-        outputs.commit()
-    sys.stdout.write(text)
-    say_written([(args.json, None)], args)
-    return EXIT_OK if result.feasible else EXIT_NO_FIT
 
 
 def _refuse_for_mix(args: argparse.Namespace, motors, *flags: tuple[str, object]) -> None:

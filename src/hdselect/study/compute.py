@@ -33,7 +33,8 @@ from hdselect.base.errors import HdselectError, InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor, load_motors
 from hdselect.catalog.units import Unit
-from hdselect.codesign.fastest_cycle import fastest, resolve_units
+from hdselect.codesign.choice import resolve_units
+from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
 from hdselect.motion.case import robot_for_motion
