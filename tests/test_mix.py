@@ -456,12 +456,13 @@ def test_a_mix_study_names_its_parameters(tmp_path):
 
 def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
     """The factor found: the duty sized just below fits, just above some joint has no unit."""
-    from hdselect.codesign.mixpayload import at_factor, mix_max_payload
+    from hdselect.codesign.maxpayload import max_payload
+    from hdselect.codesign.payloadsizing import at_factor
     from hdselect.motion.case import load_case
     from hdselect.sizing.core import size_tasks
 
     robot, mix = load_case(PICK_INSPECT)
-    result = mix_max_payload(robot, mix)
+    result = max_payload(robot, mix)
     assert result.scaled == ("pick", "inspect") and 1.0 < result.factor < math.inf
     assert result.masses() == pytest.approx({"pick": 0.4 * result.factor,
                                              "inspect": 0.3 * result.factor}, rel=1e-12)
@@ -476,12 +477,11 @@ def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
 
 def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
     from hdselect.codesign.maxpayload import max_payload
-    from hdselect.codesign.mixpayload import mix_max_payload
     from hdselect.motion.case import load_case
 
     path = _mix(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
     robot, mix = load_case(path)
-    mixed = mix_max_payload(robot, mix, tasks=["pick"])
+    mixed = max_payload(robot, mix, tasks=["pick"])
     assert mixed.scaled == ("pick",)
     alone = max_payload(*load_case(PICK))
     assert mixed.masses()["pick"] == pytest.approx(alone.mass, rel=1e-9)
@@ -613,7 +613,7 @@ def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
     """Heavy parts, 1.67x faster: a joint no unit fits, and its slow-down s. Every task's
     trajectory run s times slower (the shares kept) must let that unit fit."""
     from hdselect.codesign.trials import check_tasks
-    from hdselect.codesign.mixpayload import at_factor
+    from hdselect.codesign.payloadsizing import at_factor
     from hdselect.motion.case import load_case
     from hdselect.sizing.core import size_tasks
     from hdselect.sizing.duty import mix_options, mix_tasks

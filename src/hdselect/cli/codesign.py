@@ -103,41 +103,44 @@ def _fastest_tables(args: argparse.Namespace, result, comparison) -> list[Any]:
 
 
 def run_max_payload(args: argparse.Namespace) -> int:
-    """``hdselect max-payload``: the largest payload mass with a unit on every joint."""
+    """``hdselect max-payload``: the largest payload with a unit on every joint."""
     from dataclasses import replace
 
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.maxpayload import max_payload
-    from hdselect.codesign.records import max_payload_json
-    from hdselect.motion.mixfile import Mix
-    from hdselect.report.codesign_tables import max_payload_text
+    from hdselect.codesign.records import max_payload_json, mix_payload_json
+    from hdselect.report.codesign_tables import max_payload_text, mix_payload_text
     from hdselect.report.export import write_json
+    from hdselect.report.mix_tables import mix_tables
     from hdselect.report.size_tables import size_table
 
     robot, motion, units, options, motors = sizing_case(args)
-    if isinstance(motion, Mix):
-        return _mix_max_payload(args, robot, motion, units, options, motors)
-    if args.task:
-        raise InputError("only for a mix file: its tasks whose payload scales", field="--task")
     given = unit_pairs(args.units)
     with Outputs(_inputs(args, robot, motion)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         try:
             result = max_payload(robot, motion, options, catalog=units,
                                  frame=args.payload_frame, com=args.payload_com,
-                                 units=given or None, motors=motors)
+                                 units=given or None, motors=motors, tasks=args.task)
         except InputError as err:
             flag = {"payload.frame": "--payload-frame", "frame": "--payload-frame",
-                    "payload.com": "--payload-com", "com": "--payload-com"}.get(
-                str(err.field).split("[")[0])
+                    "payload.com": "--payload-com", "com": "--payload-com",
+                    "task": "--task"}.get(str(err.field).split("[")[0])
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
+        if result.mix is not None:
+            document = mix_payload_json(result)
+            items: list[Any] = [mix_payload_text(result, robot)]
+            if result.selection is not None:
+                items += ["", size_table(result.selection), *mix_tables(result.selection)]
+        else:
+            document = max_payload_json(result, motion)
+            items = [max_payload_text(result, robot, motion)]
+            if result.selection is not None:
+                items += ["", size_table(replace(result.selection, motion=motion))]
         if json_file is not None:
-            write_json(json_file, max_payload_json(result, motion))
-        items: list[Any] = [max_payload_text(result, robot, motion)]
-        if result.selection is not None:
-            items += ["", size_table(replace(result.selection, motion=motion))]
+            write_json(json_file, document)
         text = "" if to_stdout(args) else rendered(*items)
         outputs.commit()
     sys.stdout.write(text)
@@ -149,40 +152,3 @@ def _inputs(args: argparse.Namespace, robot, motion) -> list:
     """Every file the command reads: no output may replace one."""
     return [*input_files(robot, motion), *args.catalog,
             *([args.motor_catalog] if args.motor_catalog else [])]
-
-
-def _mix_max_payload(args: argparse.Namespace, robot, mix, units, options, motors) -> int:
-    """``hdselect max-payload`` on a mix: one factor on the payloads of its tasks."""
-    from hdselect.base.outputs import Outputs
-    from hdselect.codesign.mixpayload import mix_max_payload
-    from hdselect.codesign.records import mix_payload_json
-    from hdselect.report.codesign_tables import mix_payload_text
-    from hdselect.report.export import write_json
-    from hdselect.report.mix_tables import mix_tables
-    from hdselect.report.size_tables import size_table
-
-    _refuse_for_mix(args, motors, ("--units", args.units))
-    with Outputs(_inputs(args, robot, mix)) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json is not None else None
-        result = mix_max_payload(robot, mix, options, catalog=units, tasks=args.task)
-        if json_file is not None:
-            write_json(json_file, mix_payload_json(result))
-        items: list[Any] = [mix_payload_text(result, robot)]
-        if result.selection is not None:
-            items += ["", size_table(result.selection), *mix_tables(result.selection)]
-        text = "" if to_stdout(args) else rendered(*items)
-        outputs.commit()
-    sys.stdout.write(text)
-    say_written([(args.json, None)], args)
-    return EXIT_OK if result.factor is not None else EXIT_NO_FIT
-
-
-def _refuse_for_mix(args: argparse.Namespace, motors, *flags: tuple[str, object]) -> None:
-    """Options a mix does not take yet: one line naming the option."""
-    for flag, value in flags:
-        if value:
-            raise InputError("not for a mix yet: give one of its motion files", field=flag)
-    if motors:
-        raise InputError(f"{args.command_line[1]} on a mix does not choose motors yet; the "
-                         "motors given would be left out", field="--motor-catalog"
-                         if args.motor_catalog else "motor")

@@ -12,13 +12,14 @@ from typing import Any
 
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison, compare_ratios, fastest
 from hdselect.codesign.maxpayload import MaxPayloadResult, max_payload
-from hdselect.codesign.mixpayload import MixPayloadResult, mix_max_payload
 
-__all__ = ["FastestResult", "MaxPayloadResult", "MixPayloadResult", "RatioComparison",
-           "compare_ratios", "fastest", "max_payload", "mix_max_payload"]
+__all__ = ["FastestResult", "MaxPayloadResult", "RatioComparison", "compare_ratios", "fastest",
+           "max_payload"]
 
-_RENAMED = {"mix_fastest": ("fastest", fastest), "MixFastestResult": ("FastestResult",
-                                                                      FastestResult)}
+_RENAMED = {"mix_fastest": ("fastest", fastest),
+            "MixFastestResult": ("FastestResult", FastestResult),
+            "mix_max_payload": ("max_payload", max_payload),
+            "MixPayloadResult": ("MaxPayloadResult", MaxPayloadResult)}
 
 
 def __getattr__(name: str) -> Any:

@@ -14,7 +14,6 @@ import numpy as np
 
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
-from hdselect.codesign.mixpayload import MixPayloadResult
 from hdselect.motion.motionfile import Motion
 from hdselect.sizing.records import (
     candidate_json,
@@ -130,7 +129,7 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion) -> dict[str, Any]
     }
 
 
-def mix_payload_json(result: MixPayloadResult) -> dict[str, Any]:
+def mix_payload_json(result: MaxPayloadResult) -> dict[str, Any]:
     """The largest payloads of a mix as JSON.
 
     ``factor`` multiplies each task's payload named in ``scaled`` (mass and inertia);

@@ -13,7 +13,6 @@ from rich.markup import escape
 from hdselect.catalog.rules import CHECK_LABELS
 from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
-from hdselect.codesign.mixpayload import MixPayloadResult
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.report.case_tables import case_notes
 from hdselect.report.tables import Column, FittedTable, Paragraphs
@@ -223,7 +222,7 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> 
     return Paragraphs(tuple(lines))
 
 
-def mix_payload_text(result: MixPayloadResult, robot: Robot) -> Paragraphs:
+def mix_payload_text(result: MaxPayloadResult, robot: Robot) -> Paragraphs:
     """The largest payloads of a mix, which tasks they are, and where the duty binds."""
     name = result.selection.mix.path.name if (result.selection is not None and
                                               result.selection.mix is not None) else "the mix"
