@@ -230,7 +230,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
 
     def sweep_size() -> None:
         for payload in payloads:
-            size(ROBOT, motion_for_size, units=units, payload=payload)
+            size(ROBOT, motion_for_size, catalog=units, payload=payload)
 
     move = _longest_ruckig_move(motion)
     grid = np.linspace(0.0, move.duration, QUICK_SAMPLES if quick else 10_000)
@@ -297,7 +297,7 @@ def benchmarks(quick: bool) -> list[Benchmark]:
             check=Check("uncoupled max |tau - loop| [N m]", uncoupled_torque_error, 1e-9)),
         Benchmark(
             "size() incl. planning",
-            lambda: size(robot, motion_for_size, units=units), rnea_loop, None,
+            lambda: size(robot, motion_for_size, catalog=units), rnea_loop, None,
             notes="size (plans, then sizes with the file's options) vs the rnea loop",
             repeats=15),
         Benchmark(
@@ -398,14 +398,14 @@ def _envelope_row(robot, motion, units) -> Benchmark:
     found: list = []
 
     def run() -> None:
-        found[:] = [envelope(SPEC, units=units)]
+        found[:] = [envelope(SPEC, catalog=units)]
 
     def shortfall() -> float:
-        result = found[0] if found else envelope(SPEC, units=units)
+        result = found[0] if found else envelope(SPEC, catalog=units)
         return float(result.states < 100_000 or not result.converged)
 
     return Benchmark(
-        "envelope (6-axis)", run, lambda: size(robot, motion, units=units), 10.0, unit="s",
+        "envelope (6-axis)", run, lambda: size(robot, motion, catalog=units), 10.0, unit="s",
         absolute=True, repeats=3,
         notes=f"hdselect.envelope of {SPEC.name}: 6 joints x {len(units)} units, every "
               "joint's worst states over the limit box (>= 1e5 states), the contour duty "
@@ -471,13 +471,13 @@ def _codesign_rows(quick: bool, units, rnea_loop_for) -> list[Benchmark]:
                   "(200 per waypoint, the planner's grid before it refined)", repeats=9,
             check=Check("plan's moving time over toppra's, minus 1", plan_gap, 1e-3)),
         Benchmark(
-            "size() of the TOPPRA motion", lambda: size(robot, motion, units=units),
+            "size() of the TOPPRA motion", lambda: size(robot, motion, catalog=units),
             contour_loop, 3.0, repeats=9,
             notes=f"size() of {CONTOUR.name} (plans with TOPPRA, then sizes) vs the Python loop "
                   f"of pin.rnea over its {len(planned.t):,} samples"),
         Benchmark(
             "fastest (6-axis, torques)", lambda: fastest(fast_robot, fast_motion),
-            lambda: size(fast_robot, fast_motion, units=units), 1.0, unit="s", absolute=True,
+            lambda: size(fast_robot, fast_motion, catalog=units), 1.0, unit="s", absolute=True,
             repeats=5,
             notes=f"fastest on {FAST_PICK.name} with size's units (that selection included) vs "
                   "size() of the motion as planned",
@@ -571,7 +571,7 @@ def _long_cycle_rows(quick: bool, units) -> list[Benchmark]:
 
     folder = Path(tempfile.mkdtemp(prefix="hdselect-bench-long-"))
     robot, motion = load_case(_long_log(folder, quick))
-    samples = len(size(robot, motion, units=units).trajectory.t)
+    samples = len(size(robot, motion, catalog=units).trajectory.t)
     derate_robot, derate_motion = load_case(_derating_case(folder))
     joints = ["shoulder_pan"] if quick else None
     comparisons = len(units) * (1 if quick else len(derate_robot.sized_joints))
@@ -586,16 +586,16 @@ def _long_cycle_rows(quick: bool, units) -> list[Benchmark]:
         """How far the largest payload is from where `size` changes its verdict [-]."""
         found = max_payload(robot, motion)
         assert found.mass is not None and found.payload is not None
-        inside = size(robot, motion, units=units, payload=replace(
+        inside = size(robot, motion, catalog=units, payload=replace(
             found.payload, mass=found.mass * (1 - 1e-6))).feasible
-        outside = size(robot, motion, units=units, payload=replace(
+        outside = size(robot, motion, catalog=units, payload=replace(
             found.payload, mass=found.mass * (1 + 1e-6))).feasible
         return 0.0 if inside and not outside else 1.0
 
     rows = [
         Benchmark(
             "max-payload on a long log", lambda: max_payload(robot, motion),
-            lambda: size(robot, motion, units=units), 3.0, repeats=3,
+            lambda: size(robot, motion, catalog=units), 3.0, repeats=3,
             notes=f"max_payload of a {samples:,}-sample log (a {LONG_WAYPOINTS}-waypoint "
                   "benchtop6 motion written by plan --out) vs size() of the same log",
             check=Check("max-payload's mass not at size's verdict change (+-1e-6)",

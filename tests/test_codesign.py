@@ -380,7 +380,7 @@ def test_written_trajectory_passes_size_as_a_log(tmp_path, coupled):
     chosen = fastest(robot, motion, dict.fromkeys(robot.joint_names, UNITS["PSA-14-100"])
                      if coupled else None, options).units
     log = write_log_motion(tmp_path, csv, FAST_PICK)
-    result = size(None, log, units=[UNITS[u] for u in units] or None, stop_time=0.15,
+    result = size(None, log, catalog=[UNITS[u] for u in units] or None, stop_time=0.15,
                   life_hours=20000, mass_coupling=coupled)
     for joint in result.joints:
         (candidate,) = [c for c in joint.candidates if c.unit.id == chosen[joint.name].id]

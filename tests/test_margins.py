@@ -109,8 +109,8 @@ def test_a_pair_at_89_percent_rms_is_chosen_without_margin_and_refused_at_20_per
     motion = index_motion(tmp_path, MOTOR_M10)
     rms = rms_by_hand(5e-6)
     assert rms == pytest.approx(0.008899, abs=1e-6)
-    plain = size(None, motion, units=[PSA_14_100])
-    kept = size(None, motion, units=[PSA_14_100], margin=0.2)
+    plain = size(None, motion, catalog=[PSA_14_100])
+    kept = size(None, motion, catalog=[PSA_14_100], margin=0.2)
     (joint,), (held,) = plain.joints, kept.joints
     assert joint.selected is not None and joint.selected.binding == "motor_rms"
     assert joint.selected.checks["motor_rms"].utilization == pytest.approx(rms / 0.01, rel=3e-3)
@@ -132,9 +132,9 @@ def test_a_motion_files_margin_and_the_flag(tmp_path, capsys):
     motion = index_motion(tmp_path, MOTOR_M10)
     text = motion.read_text().replace("[safety]", "[requirements]\nmargin = 0.2\n[safety]")
     motion.write_text(text)
-    assert size(None, motion, units=[PSA_14_100]).options.margin == 0.2
-    assert not size(None, motion, units=[PSA_14_100]).feasible
-    assert size(None, motion, units=[PSA_14_100], margin=0.0).feasible
+    assert size(None, motion, catalog=[PSA_14_100]).options.margin == 0.2
+    assert not size(None, motion, catalog=[PSA_14_100]).feasible
+    assert size(None, motion, catalog=[PSA_14_100], margin=0.0).feasible
     out = tmp_path / "out.json"
     assert main(["size", str(motion), "--json", str(out)]) == 0  # another pair keeps 20 %
     document = json.loads(out.read_text())
@@ -176,12 +176,12 @@ def test_a_light_motor_is_rejected_for_its_inertia_ratio(tmp_path):
     motion = index_motion(tmp_path, "", header="")
     motors = {"table": (LIGHT, HEAVY)}
     assert ratio_by_hand(5e-7) == pytest.approx(18.916, abs=1e-3)
-    free = size(None, motion, units=[PSA_14_100], motors=motors)
+    free = size(None, motion, catalog=[PSA_14_100], motors=motors)
     (joint,) = free.joints
     assert joint.selected.motor_unit is LIGHT
     assert joint.selected.inertia_ratio == pytest.approx(ratio_by_hand(5e-7), rel=1e-9)
     assert "inertia_ratio" not in joint.selected.checks  # no limit given: reported only
-    limited = size(None, motion, units=[PSA_14_100], motors=motors, max_inertia_ratio=10.0)
+    limited = size(None, motion, catalog=[PSA_14_100], motors=motors, max_inertia_ratio=10.0)
     (joint,) = limited.joints
     assert joint.selected.motor_unit is HEAVY
     light = next(c for c in joint.candidates if c.motor_unit is LIGHT)
@@ -192,7 +192,7 @@ def test_a_light_motor_is_rejected_for_its_inertia_ratio(tmp_path):
         ratio_by_hand(5e-6), rel=1e-9)
     # the margin does not apply to the ratio (a design choice, not a rating): 1.89 of 2
     # is 95 % and still holds at margin 0.2
-    tight = size(None, motion, units=[PSA_14_100], motors={"table": (HEAVY,)},
+    tight = size(None, motion, catalog=[PSA_14_100], motors={"table": (HEAVY,)},
                  max_inertia_ratio=2.0, margin=0.2)
     assert tight.joints[0].selected is not None
 
@@ -214,9 +214,9 @@ mass_kg = {m.mass}
     motors = load_motors(file)
     assert [m.max_inertia_ratio for m in motors] == [10.0, 10.0]
     motion = index_motion(tmp_path, "", header="")
-    result = size(None, motion, units=[PSA_14_100], motors={"table": motors})
+    result = size(None, motion, catalog=[PSA_14_100], motors={"table": motors})
     assert result.joints[0].selected.motor_unit.id == "HEAVY"
-    override = size(None, motion, units=[PSA_14_100], motors={"table": motors},
+    override = size(None, motion, catalog=[PSA_14_100], motors={"table": motors},
                     max_inertia_ratio=20.0)
     assert override.joints[0].selected.motor_unit.id == "LIGHT"
     out = tmp_path / "size.json"
@@ -239,7 +239,7 @@ def test_prefer_inertia_takes_the_pair_closest_to_the_target_by_factor(tmp_path,
     middle = math.sqrt(ratio_by_hand(5e-6) * ratio_by_hand(5e-7))
     assert middle == pytest.approx(5.9817, abs=1e-3)
     motion = index_motion(tmp_path, "", header="")
-    result = size(None, motion, units=[PSA_14_100], motors={"table": (LIGHT, HEAVY)},
+    result = size(None, motion, catalog=[PSA_14_100], motors={"table": (LIGHT, HEAVY)},
                   prefer="inertia", inertia_target=target)
     assert result.joints[0].selected.motor_unit.id == chosen
     assert result.options.prefer == "inertia" and result.options.inertia_target == target

@@ -164,7 +164,7 @@ def test_idle_hours_count_only_where_the_mean_speed_takes_the_whole_cycle(tmp_pa
     assert busy < 1.0
     mean_torque, moving_speed, whole_speed = hand_figures(rates, idle_time=1.0 - busy)
     for units, speed in ((moving_rules, moving_speed), (whole_rules, whole_speed)):
-        result = size(None, mix, units=units)
+        result = size(None, mix, catalog=units)
         (joint,) = result.joints
         assert result.idle == pytest.approx(1.0 - busy, rel=1e-12)
         assert [t.share for t in result.tasks] == pytest.approx(

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import os
 from collections.abc import Mapping, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 
 from hdselect.base.errors import InputError
@@ -157,100 +158,102 @@ def _other_robot(args: argparse.Namespace, err: InputError) -> InputError:
 
 
 def robot_and_motion(args: argparse.Namespace):
-    """The robot and the motion, with the command line's payload, mounting and joints applied.
+    """The robot and the motion (or mix), with the command line's payload, mounting and joints.
 
     ``--payload KG`` changes the mass of the motion file's payload and keeps its centre
     of mass, inertia and frame; ``--payload-com`` and ``--payload-frame`` change those of
     the file's payload (or of the one ``--payload`` makes) and are refused when there is
-    none. A payload without a frame goes on the robot's default payload frame.
+    none. A payload without a frame goes on the robot's default payload frame. A mix
+    file's tasks carry their own payloads; ``--mounting`` goes on every task.
     """
-    from hdselect.motion.case import robot_for_motion
-    from hdselect.motion.mixfile import is_mix_file
+    from hdselect.motion.case import load_case, robot_for_motion
+    from hdselect.motion.mixfile import is_mix_file, load_mix, mix_robot_file
     from hdselect.motion.motionfile import load_motion
     from hdselect.motion.solve import solve_motion
-    from hdselect.robot.payload import Payload
 
     file_wanted(args, args.motion, "a motion file or a mix file (TOML)",
                 ("a motion file", "a mix file", "a TOML file"))
-    if is_mix_file(args.motion):
-        return _robot_and_mix(args)
-    robot = robot_of(args)
+    mix = is_mix_file(args.motion)
+    if mix:
+        for flag in ("payload", "payload_com", "payload_frame"):
+            if getattr(args, flag, None) is not None:
+                raise InputError("a mix's tasks carry their own payloads: give each task's "
+                                 "`payload` in the mix file",
+                                 field="--" + flag.replace("_", "-"))
+    robot = robot_of(args, mix_robot_file(args.motion) if mix else None)
+    if mix:
+        mixed = load_mix(args.motion, robot)
+        joints, exclude = _joint_flags(args)
+        with _flags_named(args, joints, exclude, None):
+            return load_case(mixed, robot, mounting=args.mounting, joints=joints,
+                             exclude=exclude)
     try:
         motion = load_motion(args.motion, robot)
     except InputError as err:
         raise _other_robot(args, err) from err
+    payload = _payload_of(args, motion)
+    joints, exclude = _joint_flags(args)
+    with _flags_named(args, joints, exclude, payload, motion.path):
+        robot = robot_for_motion(robot, motion, payload=payload, mounting=args.mounting,
+                                 joints=joints, exclude=exclude)
+    return robot, solve_motion(robot, motion)  # its messages name the motion file's fields
+
+
+def _joint_flags(args: argparse.Namespace) -> tuple[list[str] | None, list[str] | None]:
+    """The joints of ``--joints`` and ``--exclude`` (None: not given)."""
+    return joint_names(args.joints, "--joints"), joint_names(args.exclude, "--exclude")
+
+
+@contextmanager
+def _flags_named(args: argparse.Namespace, joints: list[str] | None,
+                 exclude: list[str] | None, payload, path: Path | None = None):
+    """Name the flag behind an error of the robot's set-up, where a flag gave the value."""
+    try:
+        yield
+    except InputError as err:
+        given = {"joints": joints, "exclude": exclude}
+        if err.field in given and given[str(err.field)] is not None:
+            raise InputError(err.reason, field=f"--{err.field}") from err
+        if err.field == "payload.frame" and args.payload_frame is not None:
+            raise InputError(err.reason, field="--payload-frame") from err
+        if err.field == "payload.frame" and payload is not None:
+            raise InputError(err.reason, path=path, field="payload.frame") from err
+        if str(err.field).startswith("mounting") and args.mounting is not None:
+            raise InputError(err.reason, field="--mounting") from err
+        raise
+
+
+def _payload_of(args: argparse.Namespace, motion):
+    """The payload the flags make of the motion file's, or None where no flag is given.
+
+    Raises:
+        InputError: A flag changes a payload the file does not give, or is invalid.
+    """
+    from hdselect.robot.payload import Payload
+
     base = motion.payload
     given = [flag for flag, value in (("--payload", args.payload),
                                       ("--payload-com", args.payload_com),
                                       ("--payload-frame", args.payload_frame))
              if value is not None] if hasattr(args, "payload") else []  # max-payload: its own
-    payload = None
-    if given:
-        if base is None and args.payload is None:
-            raise InputError(f"the motion file gives no payload for {given[0]} to change; give "
-                             "its mass with --payload KG", path=motion.path, field=given[0])
-        if args.payload is not None:
-            mass = float(args.payload)
-        else:
-            assert base is not None  # refused above
-            mass = base.mass
-        try:
-            payload = Payload(
-                mass,
-                tuple(args.payload_com) if args.payload_com is not None
-                else (base.com if base is not None else (0.0, 0.0, 0.0)),
-                base.inertia if base is not None else ((0.0,) * 3,) * 3,
-                args.payload_frame if args.payload_frame is not None
-                else (base.frame if base is not None else None))
-        except InputError as err:
-            field = str(err.field)
-            flag = next((f for k, f in _PAYLOAD_FLAGS.items() if field.startswith(k)), field)
-            raise InputError(err.reason, field=flag) from err
-    joints = joint_names(args.joints, "--joints")
-    exclude = joint_names(args.exclude, "--exclude")
+    if not given:
+        return None
+    if base is None and args.payload is None:
+        raise InputError(f"the motion file gives no payload for {given[0]} to change; give "
+                         "its mass with --payload KG", path=motion.path, field=given[0])
+    mass = float(args.payload) if args.payload is not None else base.mass
     try:
-        robot = robot_for_motion(robot, motion, payload=payload, mounting=args.mounting,
-                                 joints=joints, exclude=exclude)
+        return Payload(
+            mass,
+            tuple(args.payload_com) if args.payload_com is not None
+            else (base.com if base is not None else (0.0, 0.0, 0.0)),
+            base.inertia if base is not None else ((0.0,) * 3,) * 3,
+            args.payload_frame if args.payload_frame is not None
+            else (base.frame if base is not None else None))
     except InputError as err:
-        options = {"joints": joints, "exclude": exclude}
-        if err.field in options and options[str(err.field)] is not None:
-            raise InputError(err.reason, field=f"--{err.field}") from err
-        if err.field == "payload.frame" and args.payload_frame is not None:
-            raise InputError(err.reason, field="--payload-frame") from err
-        if err.field == "payload.frame" and payload is not None:
-            raise InputError(err.reason, path=motion.path, field="payload.frame") from err
-        if str(err.field).startswith("mounting") and args.mounting is not None:
-            raise InputError(err.reason, field="--mounting") from err
-        raise
-    return robot, solve_motion(robot, motion)
-
-
-def _robot_and_mix(args: argparse.Namespace):
-    """The robot with the mix's sized joints, and the mix with ``--mounting`` on every task."""
-    from hdselect.motion.case import robot_for_mix
-    from hdselect.motion.mixfile import load_mix, mix_robot_file
-
-    for flag in ("payload", "payload_com", "payload_frame"):
-        if getattr(args, flag, None) is not None:
-            raise InputError("a mix's tasks carry their own payloads: give each task's "
-                             "`payload` in the mix file", field="--" + flag.replace("_", "-"))
-    robot = robot_of(args, mix_robot_file(args.motion))
-    mix = load_mix(args.motion, robot)
-    if args.mounting is not None:
-        try:
-            robot.with_mounting(args.mounting)
-        except InputError as err:
-            raise InputError(err.reason, field="--mounting") from err
-        mix = mix.with_mounting(args.mounting)
-    joints = joint_names(args.joints, "--joints")
-    exclude = joint_names(args.exclude, "--exclude")
-    try:
-        return robot_for_mix(robot, mix, joints=joints, exclude=exclude), mix
-    except InputError as err:
-        given = {"joints": joints, "exclude": exclude}
-        if err.field in given and given[str(err.field)] is not None:
-            raise InputError(err.reason, field=f"--{err.field}") from err
-        raise
+        field = str(err.field)
+        flag = next((f for k, f in _PAYLOAD_FLAGS.items() if field.startswith(k)), field)
+        raise InputError(err.reason, field=flag) from err
 
 
 def unit_pairs(pairs: Sequence[str]) -> dict[str, str]:
@@ -292,16 +295,25 @@ def max_samples_of(args: argparse.Namespace) -> int:
     return check_max_samples(args.max_samples, field="--max-samples")
 
 
-def sizing_case(args: argparse.Namespace):
-    """The robot, the motion, the catalog, the validated options and the motors."""
-    from hdselect.catalog.catalogfile import load_catalog
-    from hdselect.motion.mixfile import Mix
+def sizing_problem(args: argparse.Namespace, *, plan: bool = False):
+    """The resolved problem of the flags (`hdselect.sizing.problem.Problem`), unplanned.
+
+    Everything is read and checked before any planning: the robot and the motion (or
+    mix) with the flags applied, the motors, the options and the catalog.
+    """
+    from hdselect.sizing.problem import problem_of
 
     robot, motion = robot_and_motion(args)
     motors = motors_of(args, robot, motion)
     options = sizing_options_of(args, motion)
-    extra = list(motion.catalog) if isinstance(motion, Mix) else []
-    return robot, motion, load_catalog([*extra, *args.catalog]), options, motors
+    return problem_of(robot, motion, catalog=args.catalog, motors=motors, options=options,
+                      plan=plan)
+
+
+def sizing_case(args: argparse.Namespace):
+    """The robot, the motion (or mix), the catalog, the options and the motors, unplanned."""
+    problem = sizing_problem(args)
+    return problem.robot, problem.source, problem.units, problem.options, problem.motors
 
 
 def motors_of(args: argparse.Namespace, robot, motion) -> dict:
@@ -311,17 +323,13 @@ def motors_of(args: argparse.Namespace, robot, motion) -> dict:
         InputError: ``--motor-inertia`` or ``--motor-mass`` is given beside the motors.
     """
     from hdselect.catalog.motors import load_motors
-    from hdselect.motion.mixfile import Mix
-    from hdselect.sizing.core import motion_motors
-    from hdselect.sizing.duty import mix_motors
+    from hdselect.sizing.problem import file_motors
 
     if args.motor_catalog:
         catalog = load_motors(args.motor_catalog)
         motors = {name: catalog for name in robot.sized_joints}
-    elif isinstance(motion, Mix):
-        motors = mix_motors(robot, motion)
     else:
-        motors = motion_motors(robot, motion)
+        motors = file_motors(robot, motion)
     refuse_pair_flags(args, bool(motors))
     if motors:
         for flag in ("--motor-inertia", "--motor-mass"):
@@ -364,24 +372,6 @@ def refuse_pair_flags(args: argparse.Namespace, motors: bool) -> None:
                              field=flag)
 
 
-def planned_and_sized(robot, motion, units, options, motors):
-    """Plan and size through the public core, as `hdselect.size` does."""
-    from dataclasses import replace
-
-    from hdselect.motion.mixfile import Mix
-    from hdselect.motion.planning import plan_motion
-    from hdselect.sizing.core import size_tasks, size_trajectory
-    from hdselect.sizing.duty import mix_tasks
-
-    if isinstance(motion, Mix):
-        tasks, idle = mix_tasks(robot, motion, joints=robot.sized_joints, exclude=(),
-                                max_samples=options.max_samples)
-        return replace(size_tasks(tasks, units, options, motors=motors, idle=idle), mix=motion)
-    planned = plan_motion(robot, motion, max_samples=options.max_samples)
-    return replace(size_trajectory(robot, planned.trajectory, units, options, motors=motors),
-                   motion=planned.motion)
-
-
 def sizing_options_of(args: argparse.Namespace, motion):
     """The validated options of the sizing flags, the motion file's where a flag is absent.
 
@@ -409,15 +399,6 @@ def sizing_options_of(args: argparse.Namespace, motion):
 
 def input_files(robot, motion) -> list[Path]:
     """The files a robot and a motion (or mix) were read from (logs and motor files included)."""
-    from hdselect.motion.mixfile import Mix
+    from hdselect.sizing.problem import source_files
 
-    if isinstance(motion, Mix):
-        files = [motion.path, *motion.catalog]
-        for item in dict.fromkeys(motion.motions):
-            files += [f for f in input_files(robot, item) if f not in files]
-        mine = {m.source for ms in (motion.given.get("motors") or {}).values() for m in ms
-                if m.source}
-        return files + sorted(f for f in mine if f not in files)
-    files = [motion.path, robot.path]
-    motors = {m.source for ms in (motion.motors or {}).values() for m in ms if m.source}
-    return files + ([motion.samples.path] if motion.samples is not None else []) + sorted(motors)
+    return source_files(robot, motion)

@@ -6,7 +6,7 @@ import argparse
 import sys
 from typing import Any
 
-from hdselect.cli.inputs import SHOWN_LOGGERS, planned_and_sized, sizing_case
+from hdselect.cli.inputs import SHOWN_LOGGERS, sizing_problem
 from hdselect.cli.output import (
     EXIT_NO_FIT,
     EXIT_OK,
@@ -25,11 +25,12 @@ def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
     from hdselect.report.mix_tables import mix_tables
     from hdselect.report.size_tables import loads_table, size_table
+    from hdselect.sizing.core import size_problem
 
-    robot, motion, units, options, motors = sizing_case(args)
-    with reserved_outputs(args, robot, motion) as (outputs, json_file, report):
+    problem = sizing_problem(args)
+    with reserved_outputs(args, problem.robot, problem.source) as (outputs, json_file, report):
         bom = reserve_parts(outputs, args)
-        result = planned_and_sized(robot, motion, units, options, motors)
+        result = size_problem(problem)
         write_report_and_json(args, result, json_file, report)
         write_parts(bom, result)
         table = "" if to_stdout(args) else rendered(size_table(result), *mix_tables(result),
@@ -47,14 +48,15 @@ def run_compare(args: argparse.Namespace) -> int:
 
     from hdselect.report.size_tables import compare_table
     from hdselect.sizing.arguments import not_sized
+    from hdselect.sizing.core import size_problem
 
-    robot, motion, units, options, motors = sizing_case(args)
+    problem = sizing_problem(args)
     for name in args.joint or []:
-        if name not in robot.sized_joints:
-            raise not_sized(robot, name, "--joint")
-    with reserved_outputs(args, robot, motion) as (outputs, json_file, report):
+        if name not in problem.robot.sized_joints:
+            raise not_sized(problem.robot, name, "--joint")
+    with reserved_outputs(args, problem.robot, problem.source) as (outputs, json_file, report):
         bom = reserve_parts(outputs, args)
-        result = planned_and_sized(robot, motion, units, options, motors)
+        result = size_problem(problem)
         shown = replace(result, joints=tuple(joint for joint in result.joints
                                              if not args.joint or joint.name in args.joint))
         write_report_and_json(args, shown, json_file, report)

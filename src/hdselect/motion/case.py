@@ -1,4 +1,4 @@
-"""A robot and its motion together: the motion file's payload, mounting and joints applied."""
+"""A robot and its motion (or mix) together: the files' payload, mounting and joints applied."""
 
 from __future__ import annotations
 
@@ -80,7 +80,7 @@ def robot_for_motion(
 
 
 def load_case(
-    motion: str | Path,
+    motion: Motion | Mix | str | Path,
     robot: Robot | str | Path | None = None,
     *,
     payload: Payload | None = None,
@@ -88,47 +88,71 @@ def load_case(
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
 ) -> tuple[Robot, Motion | Mix]:
-    """Load a motion file and the robot that runs it, payload and mounting applied.
+    """A motion (or mix) and the robot that runs it, payload, mounting and sized joints applied.
 
-    A mix file (``[[task]]`` tables, `hdselect.motion.mixfile`) gives the robot with the
-    duty's sized joints and the `Mix`: each task's payload and mounting apply when its
-    motion is planned (`hdselect.size` does).
+    Files or loaded objects alike. A mix (``[[task]]`` tables, `hdselect.motion.mixfile`)
+    gives the robot with the duty's sized joints and the `Mix` (`mounting` on every
+    task): each task's payload and mounting apply when its motion is planned
+    (`hdselect.sizing.duty.mix_tasks`).
 
     Args:
-        motion: The motion file, or a mix file.
-        robot: The robot or its file; None loads the motion file's ``robot`` (a ``.xacro``
-            with the motion file's ``xacro_args``).
-        payload: Payload overriding the motion file's.
-        mounting: Mounting overriding the motion file's.
+        motion: The motion file or a loaded `Motion`; or a mix file or a loaded `Mix`.
+        robot: The robot or its file; None loads the file the motion (or mix) names (a
+            ``.xacro`` with the motion file's ``xacro_args``).
+        payload: Payload overriding the motion file's (refused for a mix: its tasks give
+            theirs).
+        mounting: Mounting overriding the motion file's (a mix's: every task's).
         joints: Joints to size, overriding the file's ``[sizing] joints``.
         exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
 
     Returns:
         The robot as the motion runs it (see `robot_for_motion`) and the motion, its
-        tool poses solved for that robot's mounting (`hdselect.motion.solve.solve_motion`).
+        tool poses solved for that robot's mounting (`hdselect.motion.solve.solve_motion`);
+        or the robot with the duty's sized joints and the mix.
 
     Raises:
-        InputError: A file or option is invalid (a payload given for a mix), or a tool
+        InputError: A file or argument is invalid (a payload given for a mix), or a tool
             pose cannot be solved.
     """
-    motion_path = bounds.file_argument(motion, "motion")
     bounds.expect_type(robot, (Robot, str, Path, type(None)), "robot",
                        "a Robot, a robot file or None")
-    if is_mix_file(motion_path):
-        if payload is not None:
-            raise InputError("a mix's tasks carry their own payloads: give each task's "
-                             "`payload` in the mix file", field="payload")
-        mix = load_mix(motion_path, robot)
-        loaded_robot = robot if isinstance(robot, Robot) else load_robot(mix.robot_file)
-        return robot_for_mix(loaded_robot, mix, joints=joints, exclude=exclude), mix
-    if robot is None:
-        robot = load_motion_robot(motion_path)
-    elif not isinstance(robot, Robot):
-        robot = load_robot(robot)
-    loaded = load_motion(motion, robot)
-    robot = robot_for_motion(robot, loaded, payload=payload, mounting=mounting, joints=joints,
-                             exclude=exclude)
-    return robot, solve_motion(robot, loaded)
+    bounds.expect_type(motion, (Motion, Mix, str, Path), "motion",
+                       "a Motion, a Mix, a motion file or a mix file")
+    bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
+    if isinstance(motion, str | Path):
+        path = bounds.file_argument(motion, "motion")
+        if is_mix_file(path):
+            _refuse_payload(payload)
+            motion = load_mix(path, robot)
+            robot = robot if isinstance(robot, Robot) else load_robot(motion.robot_file)
+        else:
+            robot = (load_motion_robot(path) if robot is None
+                     else robot if isinstance(robot, Robot) else load_robot(robot))
+            motion = load_motion(path, robot)
+    if isinstance(motion, Mix):
+        _refuse_payload(payload)
+        robot = robot if isinstance(robot, Robot) else load_robot(
+            robot if robot is not None else motion.robot_file)
+        if mounting is not None:
+            robot.with_mounting(mounting)  # a bad mounting refused once, not task by task
+            motion = motion.with_mounting(mounting)
+        return robot_for_mix(robot, motion, joints=joints, exclude=exclude), motion
+    if not isinstance(robot, Robot):
+        file = robot if robot is not None else motion.robot_file
+        if file is None:
+            raise InputError("no robot given, and the motion file names none",
+                             path=motion.path, field="robot")
+        robot = load_robot(file, xacro_args=motion.xacro_args if robot is None else None)
+    robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
+                             joints=joints, exclude=exclude)
+    return robot, solve_motion(robot, motion)
+
+
+def _refuse_payload(payload: Payload | None) -> None:
+    """Refuse a payload given for a whole mix: its tasks carry their own."""
+    if payload is not None:
+        raise InputError("a mix's tasks carry their own payloads: give each task's "
+                         "`payload` in the mix file", field="payload")
 
 
 def robot_for_mix(robot: Robot, mix: Mix, *, joints: Sequence[str] | None = None,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
@@ -149,3 +150,8 @@ def fixed_units(given: Mapping[str, Unit | str] | None, catalog: Sequence[Unit],
                              f"{type(unit).__name__}", field="units")
         out[name] = unit
     return out
+
+
+def deprecated(old: str, new: str) -> None:
+    """Warn, at the caller's caller, that `old` is spelled `new` now (a DeprecationWarning)."""
+    warnings.warn(f"{old} is deprecated; use {new}", DeprecationWarning, stacklevel=3)

@@ -4,7 +4,8 @@
 own payload and mounting, and a share of the time) and chooses a gearhead per joint
 from the tip to the base, each chosen unit's mass (and motor mass) carried by the
 joints nearer the base. Where motors are given it chooses a gearhead and a motor
-together. `size_trajectory` is one task, `size` is load + plan + `size_trajectory`.
+together. `size_trajectory` is one task; `size_problem` solves a resolved
+`hdselect.sizing.problem.Problem`, and `size` is `resolve` + `size_problem`.
 
 The selection (`select_units`) reads its torques from a `TorqueModel`: batched
 inverse dynamics here, a study's basis in `hdselect.study.group`. Every front end
@@ -16,33 +17,33 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from hdselect.base.bounds import expect_type, files_argument
+from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
-from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import Unit
-from hdselect.motion.case import load_case, robot_for_mix, robot_for_motion
-from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
+from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import Trajectory, plan_motion
-from hdselect.motion.solve import solve_motion
+from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import torque_floor
-from hdselect.robot.model import Robot, load_robot
+from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import (
     check_bearing_options,
     check_trajectory,
     checked_motors,
+    deprecated,
     units_argument,
 )
-from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
 from hdselect.sizing.joint import JointCycle, size_joint, task_checks
-from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.options import Options
+from hdselect.sizing.problem import Catalog, Problem, plan_tasks, resolve
+from hdselect.sizing.problem import file_motors as motion_motors  # noqa: F401  (codesign, study)
 from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.slowdown import with_slowdowns
 from hdselect.sizing.tasks import Task, check_shares, pooled
@@ -58,16 +59,19 @@ def size(
     robot: Robot | str | Path | None,
     motion: Motion | Mix | str | Path,
     *,
-    catalog: Sequence[str | Path] = (),
-    units: Sequence[Unit] | None = None,
+    catalog: Catalog | None = (),
     payload: Payload | None = None,
     mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
     motors: Motors | None = None,
-    **options: object,
+    options: Options | None = None,
+    units: Sequence[Unit] | None = None,
+    **values: Any,
 ) -> SizingResult:
-    """Choose a gearhead for every joint of a robot from its motion: load, plan, size.
+    """Choose a gearhead for every joint of a robot from its motion: resolve, plan, size.
+
+    `hdselect.sizing.problem.resolve`, then `size_problem`.
 
     Args:
         robot: Robot file or loaded robot; None takes the motion file's ``robot``.
@@ -75,8 +79,7 @@ def size(
             loaded `Mix`: every task planned with its own payload and mounting and
             sized as one duty (`size_tasks`).
         catalog: Extra catalog files (the built-in PSA-G catalog is always loaded; a mix
-            file's ``[sizing] catalog`` too).
-        units: The catalog already loaded (instead of `catalog`).
+            file's ``[sizing] catalog`` too), or the units already loaded.
         payload: Payload, overriding the motion file's (not for a mix: its tasks give theirs).
         mounting: Mounting, overriding the motion file's (a mix's: every task's).
         joints: Joints to size (default: the motion file's ``[sizing] joints``, else every
@@ -85,7 +88,9 @@ def size(
             motion file's ``[sizing] exclude``).
         motors: Candidate motors per joint name, replacing the motion file's ``[motor]``;
             None takes the motion file's (for the joints sized).
-        **options: Fields of `hdselect.sizing.options.Options` (``stop_time``, ``efficiency``,
+        options: The assumptions as a whole (the files' are not read); not with `values`.
+        units: Deprecated: the loaded catalog, now given as `catalog`.
+        **values: Fields of `hdselect.sizing.options.Options` (``stop_time``, ``efficiency``,
             ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
             ``life_hours``, ``life_basis``, ``threads``); what is not given comes from
             the motion file, else the defaults.
@@ -97,89 +102,36 @@ def size(
         InputError: A file or argument is invalid, or two arguments contradict.
         PlanningError: The motion cannot be planned.
     """
-    catalog = files_argument(catalog, "catalog")
-    if units is not None and catalog:
-        raise InputError("give either catalog files or loaded units, not both", field="units")
     if units is not None:
-        units = units_argument(units)
-    expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
-    expect_type(motion, (Motion, Mix, str, Path), "motion",
-                "a Motion, a Mix, a motion file or a mix file")
-    expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
-    if isinstance(motion, Mix) or (not isinstance(motion, Motion) and is_mix_file(motion)):
-        return _size_mix(robot, motion, catalog=catalog, units=units, payload=payload,
-                         mounting=mounting, joints=joints, exclude=exclude, motors=motors,
-                         options=options)
-    if isinstance(motion, Motion):
-        if not isinstance(robot, Robot):
-            file = robot if robot is not None else motion.robot_file
-            if file is None:
-                raise InputError("no robot given, and the motion file names none",
-                                 path=motion.path, field="robot")
-            robot = load_robot(file, xacro_args=motion.xacro_args if robot is None else None)
-        robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
-                                 joints=joints, exclude=exclude)
-        motion = solve_motion(robot, motion)
-    else:
-        robot, loaded = load_case(motion, robot, payload=payload, mounting=mounting,
-                                  joints=joints, exclude=exclude)
-        assert isinstance(loaded, Motion)  # a mix file went to _size_mix
-        motion = loaded
-    resolved = options_for(motion, **options)
-    units = tuple(units) if units is not None else load_catalog(catalog)
-    if motors is None:
-        motors = motion_motors(robot, motion)
-    planned = plan_motion(robot, motion, max_samples=resolved.max_samples)
-    return size_tasks((Task(robot, planned.trajectory, motion=planned.motion),), units, resolved,
-                      motors=motors)
+        deprecated("size(units=...)", "size(catalog=...) with the loaded units")
+        if catalog:
+            raise InputError("give either catalog files or loaded units, not both",
+                             field="units")
+        catalog = units_argument(units)
+    return size_problem(resolve(robot, motion, catalog=catalog, payload=payload,
+                                mounting=mounting, joints=joints, exclude=exclude,
+                                motors=motors, options=options, **values))
 
 
-def _size_mix(robot: Robot | str | Path | None, mix: Mix | str | Path, *,
-              catalog: Sequence[Path], units: Sequence[Unit] | None, payload: Payload | None,
-              mounting: Mounting | None, joints: Sequence[str] | None,
-              exclude: Sequence[str] | None, motors: Motors | None,
-              options: Mapping[str, object]) -> SizingResult:
-    """`size` of a mix: every task planned with its own payload and mounting, one duty."""
-    if payload is not None:
-        raise InputError("a mix's tasks carry their own payloads: give each task's `payload` "
-                         "in the mix file", field="payload")
-    if not isinstance(mix, Mix):
-        mix = load_mix(mix, robot)
-    elif not isinstance(robot, Robot):
-        robot = None if robot is None else load_robot(robot)
-    if not isinstance(robot, Robot):
-        robot = load_robot(mix.robot_file)
-    robot = robot_for_mix(robot, mix, joints=joints, exclude=exclude)
-    resolved = mix_options(mix, **options)
-    units = tuple(units) if units is not None else load_catalog([*mix.catalog, *catalog])
-    if motors is None:
-        motors = mix_motors(robot, mix)
-    tasks, idle = mix_tasks(robot, mix, mounting=mounting, joints=robot.sized_joints,
-                            exclude=(), max_samples=resolved.max_samples)
-    return replace(size_tasks(tasks, units, resolved, motors=motors, idle=idle), mix=mix)
-
-
-def motion_motors(robot: Robot, motion: Motion) -> dict[str, tuple[Motor, ...]]:
-    """The motion file's candidate motors for the robot's sized joints (empty if none).
+def size_problem(problem: Problem, *, slowdowns: bool = True) -> SizingResult:
+    """Solve a resolved problem: plan its tasks if they are not, and size them (`size_tasks`).
 
     Args:
-        robot: The robot as sized (its sized joints choose which of the file's apply).
-        motion: The motion, with its ``[motor]`` tables read.
+        problem: The problem (`hdselect.sizing.problem.resolve`).
+        slowdowns: For a joint no unit fits, find the time scales at which each would.
 
     Returns:
-        Joint name -> its candidate motors, for every sized joint the file gives motors.
+        The result for every sized joint; its ``mix`` the problem's mix, if any.
 
     Raises:
-        InputError: A ``[motor.JOINT]`` block names a joint that is not sized.
+        InputError: As `size_tasks`.
+        PlanningError: A motion cannot be planned.
     """
-    if motion.motors is None:
-        return {}
-    for name in motion.motor_joints:
-        if name not in robot.sized_joints:
-            raise InputError(f"joint '{name}' is not sized (excluded, or a mimic follower), so "
-                             "its motor cannot apply; remove the block or size the joint",
-                             path=motion.path, field=f"motor.{name}")
-    return {name: motion.motors[name] for name in robot.sized_joints if name in motion.motors}
+    expect_type(problem, (Problem,), "problem", "a Problem (hdselect.sizing.problem.resolve)")
+    problem = problem if problem.planned else plan_tasks(problem)
+    result = size_tasks(problem.tasks, problem.units, problem.options, motors=problem.motors,
+                        idle=problem.idle, slowdowns=slowdowns)
+    return replace(result, mix=problem.mix) if problem.mix is not None else result
 
 
 def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],

@@ -1,0 +1,255 @@
+"""One sizing problem, resolved once from files or Python objects: what the core solves.
+
+`resolve` reads (or takes) the robot and its motion or mix, applies the payload, the
+mounting and the sized joints, takes the options and the motors (given, else the
+files'), loads the catalog and plans every task with its own payload and mounting.
+A motion is a problem of one task with share 1, a mix one task per ``[[task]]``; the
+command line, `hdselect.size` and the envelope all start from a `Problem`, and
+`hdselect.sizing.core.size_problem` solves it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from hdselect.base.bounds import expect_type, files_argument
+from hdselect.base.errors import InputError
+from hdselect.catalog.catalogfile import load_catalog
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.units import Unit
+from hdselect.motion.case import load_case
+from hdselect.motion.mixfile import Mix
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning import plan_motion
+from hdselect.robot.model import Robot
+from hdselect.robot.mounting import Mounting
+from hdselect.robot.payload import Payload
+from hdselect.sizing.arguments import checked_motors
+from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
+from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.result import Motors
+from hdselect.sizing.tasks import Task
+
+__all__ = ["Problem", "file_motors", "plan_tasks", "problem_of", "resolve", "source_files",
+           "source_options"]
+
+Catalog = Sequence[str | Path] | Sequence[Unit]
+"""Catalog files (the built-in PSA-G page always loaded) or the units already loaded."""
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """A sizing problem, resolved: everything the one selection needs, validated once.
+
+    Attributes:
+        robot: The robot as sized: for a motion, as it runs it (payload and mounting
+            applied); for a mix, with the duty's sized joints (each task applies its
+            own payload and mounting). No gearhead masses: the sizing adds those.
+        source: The motion (its tool poses solved for the robot's mounting) or the mix
+            the tasks come from.
+        units: The catalog's units to choose from.
+        options: The assumptions (its ``prefer`` None: the core's default).
+        motors: Candidate motors per sized joint (checked); empty without motor data.
+        tasks: Every task, in order (`hdselect.sizing.tasks.Task`: its robot with payload
+            and mounting, planned trajectory, share, solved motion and name); empty until
+            planned (`plan_tasks`). A motion is one task with share 1.
+        idle: The fraction of the time no task runs [-] (a mix in cycles per hour).
+        files: The files read (robot, motion or mix and its motions, logs, motor and
+            catalog files), for provenance.
+    """
+
+    robot: Robot
+    source: Motion | Mix
+    units: tuple[Unit, ...]
+    options: Options
+    motors: Mapping[str, tuple[Motor, ...]]
+    tasks: tuple[Task, ...] = ()
+    idle: float = 0.0
+    files: tuple[Path, ...] = ()
+
+    @property
+    def mix(self) -> Mix | None:
+        """The mix file's contents, where the tasks come from one (reports list them)."""
+        return self.source if isinstance(self.source, Mix) else None
+
+    @property
+    def planned(self) -> bool:
+        """Whether the tasks are planned."""
+        return bool(self.tasks)
+
+
+def resolve(
+    robot: Robot | str | Path | None,
+    motion: Motion | Mix | str | Path,
+    *,
+    catalog: Catalog | None = (),
+    payload: Payload | None = None,
+    mounting: Mounting | None = None,
+    joints: Sequence[str] | None = None,
+    exclude: Sequence[str] | None = None,
+    motors: Motors | None = None,
+    options: Options | None = None,
+    plan: bool = True,
+    **values: Any,
+) -> Problem:
+    """Resolve a robot and its motion (or mix), as files or objects, into one `Problem`.
+
+    Args:
+        robot: Robot file or loaded robot; None takes the one the motion (or mix) names.
+        motion: Motion file or `Motion`; or a mix file or `Mix` (every task planned with
+            its own payload and mounting, one duty).
+        catalog: Extra catalog files (the built-in PSA-G catalog always loaded, and a mix
+            file's ``[sizing] catalog``; None: none), or the units already loaded (used as
+            they are).
+        payload: Payload, overriding the motion file's (refused for a mix: its tasks give
+            theirs).
+        mounting: Mounting, overriding the motion file's (a mix's: every task's).
+        joints: Joints to size (default: the file's ``[sizing] joints``, else every
+            revolute joint that is not a mimic follower).
+        exclude: Joints not to size; they still move and load the others.
+        motors: Candidate motors per joint name, replacing the files' ``[motor]``.
+        options: The assumptions as a whole (the files' are not read); None: `values`,
+            else the files', else the defaults.
+        plan: Plan the tasks; False leaves `Problem.tasks` empty for `plan_tasks` (or a
+            front end that plans its own way).
+        **values: Fields of `Options`, each over the files' value (None: not given).
+
+    Returns:
+        The problem.
+
+    Raises:
+        InputError: A file or argument is invalid, or two arguments contradict.
+        PlanningError: A motion cannot be planned.
+    """
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    if options is not None and any(value is not None for value in values.values()):
+        raise InputError("give either options (an Options) or option keywords, not both",
+                         field=next(name for name, value in values.items() if value is not None))
+    loaded = _loaded_units(catalog)
+    files = [] if loaded is not None or catalog is None else files_argument(catalog, "catalog")
+    mounted, source = load_case(motion, robot, payload=payload, mounting=mounting,
+                                joints=joints, exclude=exclude)
+    if options is None:
+        options = source_options(source, **values)
+    return problem_of(mounted, source, catalog=loaded if loaded is not None else files,
+                      motors=motors, options=options, plan=plan)
+
+
+def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = (),
+               motors: Motors | None = None, options: Options | None = None,
+               plan: bool = True) -> Problem:
+    """The problem of a robot already set up for its motion or mix (`hdselect.load_case`).
+
+    `resolve` after its files are read; a front end that reads them its own way (the
+    command line, naming its flags in messages) starts here.
+
+    Args:
+        robot: The robot as the motion runs it (a mix: with the duty's sized joints).
+        source: The motion (tool poses solved) or the mix.
+        catalog: As `resolve`'s.
+        motors: Candidate motors per joint name; None takes the files'.
+        options: The assumptions; None takes the files', else the defaults.
+        plan: Plan the tasks (see `resolve`).
+
+    Raises:
+        InputError: The catalog, the motors or the options are invalid.
+        PlanningError: A motion cannot be planned.
+    """
+    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
+    expect_type(source, (Motion, Mix), "motion", "a Motion or a Mix (hdselect.load_case)")
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    loaded = _loaded_units(catalog)
+    files = [] if loaded is not None or catalog is None else files_argument(catalog, "catalog")
+    options = options if options is not None else source_options(source)
+    if loaded is None:
+        files = [*(source.catalog if isinstance(source, Mix) else ()), *files]
+        loaded = load_catalog(files)
+    chosen = checked_motors(robot, motors if motors is not None
+                            else file_motors(robot, source), options)
+    problem = Problem(robot, source, loaded, options, chosen,
+                      files=tuple(dict.fromkeys([*source_files(robot, source), *files])))
+    return plan_tasks(problem) if plan else problem
+
+
+def plan_tasks(problem: Problem) -> Problem:
+    """The problem with every task planned (each with its own payload and mounting).
+
+    Raises:
+        InputError: A task's tool pose cannot be solved for its mounting, or a mix's
+            cycles per hour overfill the hour.
+        PlanningError: A motion cannot be planned.
+    """
+    robot, source, limit = problem.robot, problem.source, problem.options.max_samples
+    if isinstance(source, Mix):
+        tasks, idle = mix_tasks(robot, source, joints=robot.sized_joints, exclude=(),
+                                max_samples=limit)
+        return replace(problem, tasks=tasks, idle=idle)
+    planned = plan_motion(robot, source, max_samples=limit)
+    return replace(problem, tasks=(Task(robot, planned.trajectory, motion=planned.motion),),
+                   idle=0.0)
+
+
+def source_options(source: Motion | Mix, **values: Any) -> Options:
+    """Options from keyword values (None: not given), else the files', else the defaults.
+
+    A motion file's ``[safety]``, ``[requirements]`` and bearing offsets; a mix file's
+    duty-wide values, else those its motions agree on (`hdselect.sizing.duty.mix_options`).
+
+    Raises:
+        InputError: An unknown name, a value out of range, or two motion files disagree.
+    """
+    return mix_options(source, **values) if isinstance(source, Mix) else options_for(
+        source, **values)
+
+
+def file_motors(robot: Robot, source: Motion | Mix) -> dict[str, tuple[Motor, ...]]:
+    """The files' candidate motors for the robot's sized joints (empty if none).
+
+    A motion file's ``[motor]`` tables; a mix file's, else those its motions agree on.
+
+    Raises:
+        InputError: A ``[motor.JOINT]`` block names a joint that is not sized, or two
+            motion files of a mix disagree.
+    """
+    if isinstance(source, Mix):
+        return mix_motors(robot, source)
+    if source.motors is None:
+        return {}
+    for name in source.motor_joints:
+        if name not in robot.sized_joints:
+            raise InputError(f"joint '{name}' is not sized (excluded, or a mimic follower), so "
+                             "its motor cannot apply; remove the block or size the joint",
+                             path=source.path, field=f"motor.{name}")
+    return {name: source.motors[name] for name in robot.sized_joints if name in source.motors}
+
+
+def source_files(robot: Robot, source: Motion | Mix) -> list[Path]:
+    """The files a robot and a motion (or mix) were read from (logs and motor files included)."""
+    if isinstance(source, Mix):
+        files = [source.path, *source.catalog]
+        for item in dict.fromkeys(source.motions):
+            files += [f for f in source_files(robot, item) if f not in files]
+        mine = {m.source for ms in (source.given.get("motors") or {}).values() for m in ms
+                if m.source}
+        return files + sorted(f for f in mine if f not in files)
+    files = [source.path, robot.path]
+    motors = {m.source for ms in (source.motors or {}).values() for m in ms if m.source}
+    return files + ([source.samples.path] if source.samples is not None else []) + sorted(motors)
+
+
+def _loaded_units(catalog: object) -> tuple[Unit, ...] | None:
+    """The catalog argument as loaded units, or None where it names files.
+
+    Raises:
+        InputError: It mixes units and files.
+    """
+    if (isinstance(catalog, str | bytes) or not isinstance(catalog, Sequence)
+            or not any(isinstance(item, Unit) for item in catalog)):
+        return None
+    if not all(isinstance(item, Unit) for item in catalog):
+        raise InputError("expected catalog files or the units of a loaded catalog "
+                         "(hdselect.load_catalog), not both", field="catalog")
+    return tuple(catalog)
