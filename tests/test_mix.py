@@ -612,8 +612,8 @@ def test_a_day_in_cycles_per_hour_prints_a_mean_between_the_lives(tmp_path, caps
 def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
     """Heavy parts, 1.67x faster: a joint no unit fits, and its slow-down s. Every task's
     trajectory run s times slower (the shares kept) must let that unit fit."""
-    from hdselect.codesign.trials import check_tasks
     from hdselect.codesign.payloadsizing import at_factor
+    from hdselect.codesign.trials import check_tasks
     from hdselect.motion.case import load_case
     from hdselect.sizing.core import size_tasks
     from hdselect.sizing.duty import mix_options, mix_tasks

@@ -7,7 +7,7 @@ import sys
 from typing import Any
 
 from hdselect.base.errors import InputError
-from hdselect.cli.inputs import flagged, input_files, sizing_case, unit_pairs
+from hdselect.cli.inputs import flagged, input_files, sizing_problem, unit_pairs
 from hdselect.cli.output import (
     EXIT_NO_FIT,
     EXIT_OK,
@@ -24,27 +24,25 @@ def run_fastest(args: argparse.Namespace) -> int:
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
     from hdselect.codesign.records import fastest_json, mix_fastest_json, ratios_json
-    from hdselect.motion.mixfile import Mix
 
     if args.joint and not args.compare_ratios:
         raise InputError("only with --compare-ratios", field="--joint")
-    robot, motion, units, options, motors = sizing_case(args)
-    mix = isinstance(motion, Mix)  # several trajectories: no one CSV or figure of them
+    problem = sizing_problem(args)
+    mix = problem.mix is not None  # several trajectories: no one CSV or figure of them
     for flag, value in (("--out", args.out), ("--plot", not args.compare_ratios and args.plot)):
         if mix and value:
             raise InputError("not for a mix yet: give one of its motion files", field=flag)
     given = unit_pairs(args.units)
-    with Outputs(_inputs(args, robot, motion)) as outputs:
+    with Outputs(_inputs(args, problem.robot, problem.source)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         csv_file = outputs.file(args.out, "--out") if args.out is not None else None
         figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         try:
             if args.compare_ratios:
-                comparison = compare_ratios(robot, motion, given, options, catalog=units,
-                                            joints=args.joint, motors=motors)
+                comparison = compare_ratios(problem, units=given, joints=args.joint)
                 result = comparison.base
             else:
-                result = fastest(robot, motion, given, options, catalog=units, motors=motors)
+                result = fastest(problem, units=given)
         except InputError as err:
             raise flagged(err, args) from err
         if figure is not None:
@@ -114,14 +112,14 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from hdselect.report.mix_tables import mix_tables
     from hdselect.report.size_tables import size_table
 
-    robot, motion, units, options, motors = sizing_case(args)
+    problem = sizing_problem(args)
+    robot, motion = problem.robot, problem.source
     given = unit_pairs(args.units)
     with Outputs(_inputs(args, robot, motion)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         try:
-            result = max_payload(robot, motion, options, catalog=units,
-                                 frame=args.payload_frame, com=args.payload_com,
-                                 units=given or None, motors=motors, tasks=args.task)
+            result = max_payload(problem, frame=args.payload_frame, com=args.payload_com,
+                                 units=given or None, tasks=args.task)
         except InputError as err:
             flag = {"payload.frame": "--payload-frame", "frame": "--payload-frame",
                     "payload.com": "--payload-com", "com": "--payload-com",

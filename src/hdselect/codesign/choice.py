@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import cast
 
 from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError, PlanningError
-from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import Candidate
 from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
@@ -23,10 +23,10 @@ from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
-from hdselect.sizing.arguments import checked_motors, fixed_units, units_argument
+from hdselect.sizing.arguments import checked_motors, fixed_units
 from hdselect.sizing.core import motion_motors, size_tasks
-from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
-from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.options import Options
+from hdselect.sizing.problem import Problem, plan_tasks, problem_of
 from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import Task
 
@@ -37,6 +37,7 @@ class Duty:
 
     Attributes:
         where: The motion or mix file, as errors name it.
+        robot: The robot with the duty's sized joints (a motion's: as it runs it).
         robots: Each counted task's robot (payload and mounting applied).
         motions: Each counted task's motion, tool poses solved.
         shares: Each counted task's share of the time [-].
@@ -44,15 +45,18 @@ class Duty:
         mix: The mix, or None for one motion.
         planned: The counted tasks as planned (a mix's); empty for a motion, which is
             planned only where the sizing needs it (`tasks`).
+        trajectory: One motion's trajectory as planned, where the problem had it.
     """
 
     where: str
+    robot: Robot
     robots: tuple[Robot, ...]
     motions: tuple[Motion, ...]
     shares: tuple[float, ...]
     idle: float = 0.0
     mix: Mix | None = None
     planned: tuple[Task, ...] = ()
+    trajectory: Trajectory | None = None
 
     @property
     def over(self) -> str:
@@ -63,58 +67,67 @@ class Duty:
         """The counted tasks as planned; a motion's `trajectory` replaces its plan."""
         if self.planned and trajectory is None:
             return self.planned
-        if len(self.motions) != 1:
+        if len(self.motions) != 1 or self.mix is not None:
             raise InputError("a trajectory replaces one motion's plan, not a mix's",
                              field="trajectory")
         robot, motion = self.robots[0], self.motions[0]
-        return (Task(robot, trajectory if trajectory is not None
+        given = trajectory if trajectory is not None else self.trajectory
+        return (Task(robot, given if given is not None
                      else plan(robot, motion, max_samples=options.max_samples)),)
 
 
-def duty_of(robot: Robot, motion: Motion | Mix, options: Options | None,
+def duty_of(robot: Robot | Problem, motion: Motion | Mix | None, options: Options | None,
             catalog: Sequence[Unit] | None, motors: Motors | None, *,
             what: str = "path to run faster"
-            ) -> tuple[Duty, Options, tuple[Unit, ...], dict[str, tuple[Motor, ...]]]:
-    """The duty of a motion or a mix, its options, catalog and candidate motors.
+            ) -> tuple[Duty, Options, tuple[Unit, ...], Mapping[str, tuple[Motor, ...]]]:
+    """The duty of a problem (or of a motion or a mix), its options, catalog and motors.
 
     Args:
-        robot: The robot (`hdselect.load_case` of the motion or mix file).
-        motion: A motion (one task), or a mix.
-        options: The assumptions (default: the motion's or the mix's).
-        catalog: The units (default: the built-in catalog, and the mix file's).
-        motors: Candidate motors per sized joint; None takes the files' ``[motor]``.
+        robot: The resolved problem (`hdselect.resolve`), or the robot
+            (`hdselect.load_case` of the motion or mix file).
+        motion: A motion (one task), or a mix; None with a problem.
+        options: The assumptions (default: the motion's or the mix's); None with a problem.
+        catalog: The units (default: the built-in catalog, and the mix file's); None with
+            a problem.
+        motors: Candidate motors per sized joint; None takes the files' ``[motor]`` (with
+            a problem: its own).
         what: What a logged trajectory has none of, for its refusal; empty: logs are taken.
 
     Raises:
         InputError: A task is a log (where refused), or an argument is invalid.
         PlanningError: A mix's motion cannot be planned.
     """
-    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
-    expect_type(motion, (Motion, Mix), "motion", "a Motion or Mix (hdselect.load_case)")
-    expect_type(options, (Options, type(None)), "options", "an Options or None")
-    if what:
-        refuse_logs((motion,) if isinstance(motion, Motion)
-                    else tuple(task.motion for task in motion.tasks), what,
-                    several=not isinstance(motion, Motion))
-    if isinstance(motion, Motion):
-        motion = solve_motion(robot, motion)
-        options = options if options is not None else options_for(motion)
-        units = units_argument(catalog) if catalog is not None else load_catalog()
-        given = motion_motors(robot, motion) if motors is None else motors
-        duty = Duty(str(motion.path), (robot,), (motion,), (1.0,))
+    if isinstance(robot, Problem):
+        given = {"motion": motion, "options": options, "catalog": catalog, "motors": motors}
+        for name, value in given.items():
+            if value is not None:
+                raise InputError("a Problem holds it: give the problem alone, or a robot and "
+                                 "its motion with it", field=name)
+        problem = robot
     else:
-        options = options if options is not None else mix_options(motion)
-        units = (units_argument(catalog) if catalog is not None
-                 else load_catalog(list(motion.catalog)))
-        given = mix_motors(robot, motion) if motors is None else motors
-        planned, idle = mix_tasks(robot, motion, joints=robot.sized_joints, exclude=(),
-                                  max_samples=options.max_samples)
-        counted = tuple(task for task in planned if task.share > 0.0)
-        duty = Duty(str(motion.path), tuple(task.robot for task in counted),
+        expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case) or a Problem")
+        expect_type(motion, (Motion, Mix), "motion", "a Motion or Mix (hdselect.load_case)")
+        source = (solve_motion(robot, motion) if isinstance(motion, Motion)
+                  else cast(Mix, motion))  # a motion's tool poses solved for its mounting
+        problem = problem_of(robot, source, catalog=catalog if catalog is not None else (),
+                             motors=motors, options=options, plan=False)
+    mix = problem.mix
+    if mix is None:  # one motion: planned where the sizing needs it
+        motion = cast(Motion, problem.source)
+        if what:
+            refuse_logs((motion,), what)
+        duty = Duty(str(motion.path), problem.robot, (problem.robot,), (motion,), (1.0,),
+                    trajectory=problem.tasks[0].trajectory if problem.planned else None)
+    else:
+        if what:
+            refuse_logs(tuple(task.motion for task in mix.tasks), what, several=True)
+        planned = problem if problem.planned else plan_tasks(problem)
+        counted = tuple(task for task in planned.tasks if task.share > 0.0)
+        duty = Duty(str(mix.path), problem.robot, tuple(task.robot for task in counted),
                     tuple(task.motion for task in counted  # type: ignore[misc]
                           if task.motion is not None), tuple(task.share for task in counted),
-                    idle, motion, counted)
-    return duty, options, tuple(units), checked_motors(robot, given, options)
+                    planned.idle, mix, counted)
+    return duty, problem.options, problem.units, problem.motors
 
 
 def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
@@ -196,7 +209,7 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
     """
     candidates = checked_motors(robot, motion_motors(robot, motion) if motors is None
                                 else motors, options)
-    duty = Duty(str(motion.path), (robot,), (motion,), (1.0,))
+    duty = Duty(str(motion.path), robot, (robot,), (motion,), (1.0,))
     return choose(robot, duty, given, catalog, options, candidates, selection=selection,
                   trajectory=trajectory)
 

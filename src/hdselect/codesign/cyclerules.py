@@ -89,10 +89,10 @@ def check_scaled(legs: Sequence[Leg], name: str, unit: Unit, s: float, options: 
         dt = np.where(leg.held, cycle_.dt, at.dt)
         parts.append((at, dt, leg.share / float(dt.sum())))
     reference = parts[0][2]
-    dt = np.concatenate([step * (rate / reference) for _, step, rate in parts])
+    dt = _joined([step * (rate / reference) for _, step, rate in parts])
 
     def joined(field: str) -> np.ndarray:
-        return np.concatenate([getattr(at, field) for at, _, _ in parts])
+        return _joined([getattr(at, field) for at, _, _ in parts])
 
     torque, qd, rest = joined("torque"), joined("qd"), joined("at_rest")
     load = cycle_load(torque, qd, dt, rest, idle=idle / reference)
@@ -101,15 +101,22 @@ def check_scaled(legs: Sequence[Leg], name: str, unit: Unit, s: float, options: 
                             efficiency=options.efficiency,
                             rotor_inertia=(motor.rotor_inertia if motor is not None
                                            else options.rotor_inertia),
-                            rest=np.concatenate([at_rest(at.qd, at.qdd) for at, _, _ in parts]))
+                            rest=_joined([at_rest(at.qd, at.qdd) for at, _, _ in parts]))
+    if motor is None:  # the motor demand is carried, not judged: no weights needed
+        return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
+                          life_hours=options.life_hours, life_basis=options.life_basis,
+                          margin=options.margin)
     demand = weighted_demand(reflection.motor, reflection.motor_torque, qd, unit.ratio, dt)
     candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
                            life_hours=options.life_hours, life_basis=options.life_basis,
                            margin=options.margin)
-    if motor is None:
-        return candidate
     return with_motor(candidate, motor, reflection.motor_torque,
                       np.abs(qd) * RPM_PER_RAD_S * unit.ratio)
+
+
+def _joined(arrays: Sequence[np.ndarray]) -> np.ndarray:
+    """The tasks' arrays end to end (one task's as it is)."""
+    return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
 
 
 def _failing(legs: Sequence[Leg], names: Sequence[str], units: Mapping[str, Unit],

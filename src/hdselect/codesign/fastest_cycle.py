@@ -41,6 +41,7 @@ from hdselect.motion.planning import Trajectory, check_within_limits
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import not_sized
 from hdselect.sizing.options import Options
+from hdselect.sizing.problem import Problem
 from hdselect.sizing.result import Motors, SizingResult
 from hdselect.sizing.tasks import Task
 
@@ -230,8 +231,8 @@ class RatioComparison:
     mix: Mix | None = None
 
 
-def fastest(robot: Robot, motion: Motion | Mix, units: Mapping[str, Unit | str] | None = None,
-            options: Options | None = None, *,
+def fastest(robot: Robot | Problem, motion: Motion | Mix | None = None,
+            units: Mapping[str, Unit | str] | None = None, options: Options | None = None, *,
             catalog: Sequence[Unit] | None = None,
             motors: Motors | None = None) -> FastestResult:
     """The shortest cycle of every task's path that the units allow, every rule passing.
@@ -241,7 +242,9 @@ def fastest(robot: Robot, motion: Motion | Mix, units: Mapping[str, Unit | str] 
     shares their value); a derating of a joint's torque limit is tried for one task only.
 
     Args:
-        robot: The robot as the motion runs it (`hdselect.load_case`).
+        robot: The robot as the motion runs it (`hdselect.load_case`); or the resolved
+            `Problem` (`hdselect.resolve`), alone: its motion or mix, catalog, options
+            and motors.
         motion: A motion with waypoints (a Ruckig or TOPPRA motion, not a log), or a mix
             of such motions.
         units: Unit (or unit id) per sized joint; joints not given get the unit
@@ -265,12 +268,12 @@ def fastest(robot: Robot, motion: Motion | Mix, units: Mapping[str, Unit | str] 
             message names the joint, the limit and where), or TOPPRA fails.
     """
     duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors)
-    chosen, _, paired = choose(robot, duty, units, catalog, options, candidates,
+    chosen, _, paired = choose(duty.robot, duty, units, catalog, options, candidates,
                                selection=False)
     return _fastest(_models(duty, options), chosen, options, paired, duty)
 
 
-def compare_ratios(robot: Robot, motion: Motion | Mix,
+def compare_ratios(robot: Robot | Problem, motion: Motion | Mix | None = None,
                    units: Mapping[str, Unit | str] | None = None,
                    options: Options | None = None, *, catalog: Sequence[Unit] | None = None,
                    joints: Sequence[str] | None = None,
@@ -278,7 +281,7 @@ def compare_ratios(robot: Robot, motion: Motion | Mix,
     """The shortest cycle with each catalog unit on each joint, the other joints' units fixed.
 
     Args:
-        robot: The robot as the motion runs it.
+        robot: The robot as the motion runs it; or the resolved `Problem`, alone.
         motion: A motion with waypoints, or a mix of such motions.
         units: Units the other joints keep (defaults as in `fastest`).
         options: The assumptions (default: `options_for(motion)`, or the mix's).
@@ -295,14 +298,14 @@ def compare_ratios(robot: Robot, motion: Motion | Mix,
         PlanningError: The units given cannot run the path at all.
     """
     duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors)
-    chosen, selected, paired = choose(robot, duty, units, catalog, options, candidates)
-    names = list(robot.sized_joints)
+    chosen, selected, paired = choose(duty.robot, duty, units, catalog, options, candidates)
+    names = list(duty.robot.sized_joints)
     if joints is not None and (isinstance(joints, str) or not isinstance(joints, Sequence)
                                or not all(isinstance(name, str) for name in joints)):
         raise InputError(f"expected a list of joint names, got {joints!r}", field="joints")
     for name in joints or ():
         if name not in names:
-            raise not_sized(robot, name, "joint")
+            raise not_sized(duty.robot, name, "joint")
     models = _models(duty, options)
     base = _fastest(models, chosen, options, paired, duty)
     out = []

@@ -47,6 +47,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import fixed_units
 from hdselect.sizing.options import Options
+from hdselect.sizing.problem import Problem
 from hdselect.sizing.result import Motors, SizingResult
 from hdselect.sizing.tasks import Task, pooled
 
@@ -136,7 +137,8 @@ class MaxPayloadResult:
         return {name: payload.mass * x for name, payload in self.payloads.items()}
 
 
-def max_payload(robot: Robot, motion: Motion | Mix, options: Options | None = None, *,
+def max_payload(robot: Robot | Problem, motion: Motion | Mix | None = None,
+                options: Options | None = None, *,
                 catalog: Sequence[Unit] | None = None, frame: str | None = None,
                 com: Sequence[float] | None = None,
                 trajectory: Trajectory | None = None,
@@ -149,18 +151,17 @@ def max_payload(robot: Robot, motion: Motion | Mix, options: Options | None = No
     the payloads of its tasks (mass and inertia alike), the others keeping theirs.
 
     Args:
-        robot: The robot as the motion runs it (its payload, if any, sets the geometry).
+        robot: The robot as the motion runs it (its payload, if any, sets the geometry);
+            or the resolved `Problem` (`hdselect.resolve`), alone: its motion or mix,
+            catalog, options and motors.
         motion: The motion, or a mix.
         options: The assumptions (default: `options_for(motion)`, or the mix's).
         catalog: The units (default: the built-in catalog, and the mix file's).
         frame: Frame one motion's payload is attached to (default: the payload's, else
-            the tip of the longest chain of joints not excluded,
-            `Robot.default_payload_frame`).
-        com: Its centre of mass in that frame [m] (default: the payload's, else the
-            frame's origin).
+            `Robot.default_payload_frame`, the tip of the longest chain of joints).
+        com: Its centre of mass in that frame [m] (default: the payload's, else 0).
         trajectory: The trajectory one motion's payload rides (default: the motion as
-            planned; a study gives it run s times slower). It must not depend on the
-            payload.
+            planned; a study gives it run s times slower), not depending on the payload.
         units: A fixed unit (or unit id) for every sized joint; None chooses them at each
             mass, as `hdselect.size` does.
         motors: Candidate motors per sized joint (one per joint with fixed units); None
@@ -186,9 +187,9 @@ def max_payload(robot: Robot, motion: Motion | Mix, options: Options | None = No
             raise InputError("the TOPPRA torque limits make the trajectory depend on the "
                              "payload; max-payload needs a trajectory that does not: remove "
                              "them", path=item.path, field="limits.torque")
-    planned = payload_tasks(robot, duty, options, frame, com, trajectory)
+    planned = payload_tasks(duty, options, frame, com, trajectory)
     scaled = scaled_tasks(planned, tasks, duty)
-    fixed = fixed_units(units, catalog, robot)
+    fixed = fixed_units(units, catalog, duty.robot)
     sizing = PayloadSizing(planned, scaled, duty.idle, catalog, options, fixed, candidates,
                            pooled=duty.mix is not None)
     # a rated output bearing's rules are not affine in m (a moment and forces combined):

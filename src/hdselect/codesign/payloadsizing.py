@@ -24,7 +24,6 @@ from hdselect.catalog.units import Unit
 from hdselect.codesign.choice import Duty
 from hdselect.codesign.trials import check_tasks
 from hdselect.motion.planning import Trajectory
-from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import check_units, size_tasks
 from hdselect.sizing.options import Options
@@ -161,7 +160,7 @@ def per_kilogram(payload: Payload | None, *, frame: str | None = None,
     return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where)
 
 
-def payload_tasks(robot: Robot, duty: Duty, options: Options, frame: str | None,
+def payload_tasks(duty: Duty, options: Options, frame: str | None,
                   com: Sequence[float] | None, trajectory: Trajectory | None
                   ) -> tuple[Task, ...]:
     """The duty's tasks planned, the payloads that scale at x = 1.
@@ -174,8 +173,8 @@ def payload_tasks(robot: Robot, duty: Duty, options: Options, frame: str | None,
             or a trajectory (each task has its own).
     """
     if duty.mix is None:
-        payload = per_kilogram(robot.payload, frame=frame, com=com)
-        carrying = robot.with_payload(None).with_payload(payload)  # the frame must exist
+        payload = per_kilogram(duty.robot.payload, frame=frame, com=com)
+        carrying = duty.robot.with_payload(None).with_payload(payload)  # the frame must exist
         return (Task(carrying, duty.tasks(options, trajectory)[0].trajectory,
                      name=duty.motions[0].path.name),)
     if frame is not None or com is not None or trajectory is not None:
