@@ -1,25 +1,29 @@
 """Co-design: the shortest cycle a choice of gearheads allows, and every ratio compared on it.
 
-`fastest` runs the motion's path as fast as the units allow, in three steps:
+`fastest` runs every task's path as fast as the units allow (a motion is a duty of one
+task; a mix's tasks keep their shares of the time), in three steps:
 
-1. TOPPRA under every limit that holds sample by sample (`hdselect.fastpath`,
-   `hdselect.pathbounds`): the motion's and the robot file's speeds, the units' maximum
-   input speeds over their ratios, the motion's accelerations, the units'
+1. TOPPRA under every limit that holds sample by sample (`hdselect.codesign.fastpath`,
+   `hdselect.codesign.pathbounds`): the motion's and the robot file's speeds, the units'
+   maximum input speeds over their ratios, the motion's accelerations, the units'
    repeated-peak torques (through the dynamics, payload and carried gearheads
    included), the emergency stop and the crash. Any trajectory that passes the rules
    meets these, so this cycle, the `optimum`, is the shortest possible to the grid's
    resolution.
-2. The rules over the whole cycle (mean torque, life, average input speed) are
-   checked on it; where one fails, the cycle is lengthened by the smallest exact
-   slow-down, or by derating the failing joints' torque limits, whichever is shorter
-   (`hdselect.cyclerules`). A pure bang-bang move gives the same answer both ways
-   (both run it at the mean-torque allowance); a move that cruises is faster derated.
-3. The trajectory is sampled on the motion's time grid and checked by
-   `hdselect.sizing.core.check_units`, the sizing's own path, and slowed by any excess.
+2. The rules over the whole cycle (mean torque, life, average input speed), every
+   task's samples pooled at its share, are checked on it; where one fails, every task's
+   moves are lengthened by the smallest common exact slow-down, or (one task) by
+   derating the failing joints' torque limits, whichever is shorter
+   (`hdselect.codesign.cyclerules`, `hdselect.codesign.trials`). A pure bang-bang move
+   gives the same answer both ways (both run it at the mean-torque allowance); a move
+   that cruises is faster derated.
+3. Each trajectory is sampled on its motion's time grid and checked by the sizing's own
+   selection with the units fixed (`hdselect.sizing.core.check_units` for one task),
+   and slowed by any excess.
 
 `compare_ratios` does this for every catalog unit on each joint, the others fixed,
-sharing one path and its dynamics (a unit's mass changes the torque coefficients
-linearly, so no unit needs new dynamics passes on the path).
+sharing one path and its dynamics per task (a unit's mass changes the torque
+coefficients linearly, so no unit needs new dynamics passes on the path).
 """
 
 from __future__ import annotations
