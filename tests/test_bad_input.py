@@ -361,7 +361,7 @@ def test_a_bug_is_its_own_status_one_line_and_no_output(work, capsys, monkeypatc
     def broken(*args, **kwargs):
         raise ZeroDivisionError("float division by zero")
 
-    monkeypatch.setattr(hdselect.sizing.core, "size_trajectory", broken)
+    monkeypatch.setattr(hdselect.sizing.core, "size_tasks", broken)
     status, out, err = run(capsys, "size", f"tr/{PLANAR2}", "--json", "out.json")
     lines = err.strip().splitlines()
     assert status == EXIT_BUG == 70 and out == "" and len(lines) == 1

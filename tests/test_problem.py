@@ -116,3 +116,73 @@ def test_contradicting_or_malformed_arguments_are_refused(kwargs, field):
     with pytest.raises(InputError) as caught:
         resolve(None, motion, plan=False, **kwargs)
     assert caught.value.field == field
+
+
+# ------------------------------------------------------------------ the Python API's spelling
+
+QUICK = {"velocity": 2.0, "acceleration": 10.0, "moves": 2, "stop_time": 0.1}
+"""A small envelope of the planar arm (a coarse search), for spellings, not numbers."""
+
+
+def test_size_units_is_the_deprecated_spelling_of_a_loaded_catalog():
+    units = load_catalog()[-3:]
+    with pytest.warns(DeprecationWarning, match=r"size\(units=\.\.\.\) is deprecated; use "
+                      r"size\(catalog=\.\.\.\)") as caught:
+        old = size(None, PLANAR, units=units)
+    assert len(caught) == 1 and caught[0].filename == __file__  # the caller's line
+    new = size(None, PLANAR, catalog=units)
+    assert old.units == new.units == tuple(units)
+    assert differences(_plain(old), _plain(new)) == 0.0
+
+
+def test_envelope_units_is_the_deprecated_spelling_of_a_loaded_catalog():
+    from hdselect.envelope import SearchSettings
+
+    units = load_catalog()[-2:]
+    quick = SearchSettings(starts=64, refine=1, rounds=0)
+    with pytest.warns(DeprecationWarning, match=r"envelope\(units=\.\.\.\) is deprecated; use "
+                      r"envelope\(catalog=\.\.\.\)"):
+        old = hdselect.envelope(REPO / "robots" / "planar2.urdf", units=units, settings=quick,
+                                **QUICK)
+    new = hdselect.envelope(REPO / "robots" / "planar2.urdf", catalog=units, settings=quick,
+                            **QUICK)
+    assert old.sizing.units == new.sizing.units == tuple(units)
+    assert [j.selected.unit.id for j in old.joints] == [j.selected.unit.id for j in new.joints]
+
+
+@pytest.mark.parametrize("call", [size, hdselect.envelope])
+def test_units_and_catalog_files_together_are_refused_without_a_warning(call, recwarn):
+    with pytest.raises(InputError, match="not both") as caught:
+        call(None, PLANAR, units=load_catalog(), catalog=["mine.toml"])
+    assert caught.value.field == "units" and not recwarn.list
+
+
+@pytest.mark.parametrize(("module", "expected"), [
+    ("envelope", ["robot", "spec", "velocity", "acceleration", "catalog", "options"]),
+    ("study", ["path", "out", "workers", "scheduler", "timeout"]),
+])
+def test_the_callable_modules_show_their_functions_signatures(module, expected):
+    import inspect
+
+    package = getattr(hdselect, module)
+    parameters = inspect.signature(package).parameters
+    assert all(name in parameters for name in expected), list(parameters)
+    assert "args" not in parameters and "kwargs" not in parameters
+    function = getattr(package, module)
+    assert inspect.signature(package) == inspect.signature(function)
+    assert type(package).__call__ is function  # the call is the function itself
+
+
+def test_every_type_a_public_function_takes_is_exported():
+    for name in ("Problem", "Task", "Options", "Payload", "Motion", "Mix", "Unit", "Motor",
+                 "Robot", "Trajectory"):
+        assert name in hdselect.__all__ and getattr(hdselect, name).__name__ == name
+    assert hdselect.Task is hdselect.sizing.tasks.Task
+
+
+def test_option_keywords_are_the_fields_of_options():
+    from dataclasses import fields
+
+    from hdselect.sizing.arguments import OptionValues
+
+    assert list(OptionValues.__annotations__) == [f.name for f in fields(hdselect.Options)]

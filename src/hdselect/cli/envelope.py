@@ -123,7 +123,7 @@ def run_envelope(args: argparse.Namespace) -> int:
                 jerk=_limits(args, "jerk", robot), payload=_payload(args, robot, spec),
                 mounting=args.mounting, joints=joint_names(args.joints, "--joints"),
                 exclude=joint_names(args.exclude, "--exclude"), duty=args.duty, moves=args.moves,
-                seed=args.seed, units=load_catalog(args.catalog), settings=settings,
+                seed=args.seed, catalog=load_catalog(args.catalog), settings=settings,
                 workers=args.workers, scheduler=args.scheduler, timeout=timeout_of(args),
                 **{name: getattr(options, name) for name in _GIVEN if _flag(args, name)})
         except InputError as err:

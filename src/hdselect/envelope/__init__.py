@@ -8,9 +8,9 @@ is `envelope`, and ``hdselect.envelope.SearchSettings`` still works.
 
 from __future__ import annotations
 
+import inspect
 import sys
 import types
-from typing import Any
 
 from hdselect.envelope.records import envelope_json
 from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
@@ -22,10 +22,10 @@ __all__ = ["EnvelopeResult", "JointEnvelope", "SearchSettings", "WorstState", "e
 
 
 class _CallableModule(types.ModuleType):
-    """This package, callable as the function `envelope` it exports."""
+    """This package, callable as the function `envelope` it exports, with its signature."""
 
-    def __call__(self, *args: Any, **kwargs: Any) -> EnvelopeResult:
-        return envelope(*args, **kwargs)
+    __call__ = staticmethod(envelope)
+    __signature__ = inspect.signature(envelope)
 
 
 sys.modules[__name__].__class__ = _CallableModule

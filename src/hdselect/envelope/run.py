@@ -17,13 +17,13 @@ import time
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from hdselect.base.bounds import DEFAULT_MAX_SAMPLES, expect_type, files_argument
+from hdselect.base.bounds import DEFAULT_MAX_SAMPLES, expect_type
 from hdselect.base.errors import InputError
 from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
-from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.select import DEFAULT_PREFER
 from hdselect.catalog.units import Unit
 from hdselect.envelope.box import Limits
@@ -50,16 +50,25 @@ from hdselect.envelope.workers import Spread, default_workers
 from hdselect.motion.case import robot_for_motion
 from hdselect.motion.mixfile import is_mix_file
 from hdselect.motion.motionfile import Motion, load_motion
-from hdselect.motion.planning import Trajectory
 from hdselect.motion.robot_named import other_robot
 from hdselect.robot.dynamics import gravity_torques
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
-from hdselect.sizing.arguments import units_argument
-from hdselect.sizing.core import select_units, size_tasks
-from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.arguments import OptionValues, options_argument, units_as_catalog
+from hdselect.sizing.core import added_mass, decimated, select_units, size_problem
+from hdselect.sizing.options import Options
+from hdselect.sizing.problem import (
+    Catalog,
+    Problem,
+    catalog_argument,
+    catalog_units,
+    source_options,
+)
 from hdselect.sizing.result import JointSizing, SizingResult
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 MAX_ROUNDS = 5
 """Most searches with new carried masses before the result says they did not settle."""
@@ -83,13 +92,14 @@ def envelope(
     duty: Motion | str | Path | None = None,
     moves: int | None = None,
     seed: int | None = None,
-    catalog: Sequence[str | Path] = (),
-    units: Sequence[Unit] | None = None,
+    catalog: Catalog | None = (),
     settings: SearchSettings | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
     timeout: float = DEFAULT_TIMEOUT,
-    **options: object,
+    options: Options | None = None,
+    units: Sequence[Unit] | None = None,
+    **values: Unpack[OptionValues],
 ) -> EnvelopeResult:
     """The unit per joint that holds for any motion within a spec, and the worst states.
 
@@ -110,8 +120,8 @@ def envelope(
             default duty of random moves.
         moves: Moves of the default duty (default: the file's, else `DUTY_MOVES`).
         seed: Seed of the default duty's poses (default: the file's, else 0).
-        catalog: Extra catalog files (the built-in PSA-G catalog is always loaded).
-        units: The catalog already loaded (instead of `catalog`).
+        catalog: Extra catalog files (the built-in PSA-G catalog is always loaded), or the
+            units already loaded.
         settings: How hard the search looks (default `SearchSettings()`).
         workers: Compute the search's quasi-random states in this many worker processes
             (with `scheduler`, Dask workers; default there: the cores here); None computes
@@ -120,7 +130,9 @@ def envelope(
             running Dask scheduler (checked before any work, and asked for Dask's greeting
             before it is used); None for none.
         timeout: The time limit of connecting to the scheduler [s], at most a day.
-        **options: Fields of `hdselect.sizing.options.Options` (``stop_time``,
+        options: The assumptions as a whole (the files' are not read); not with `values`.
+        units: Deprecated: the loaded catalog, now given as `catalog`.
+        **values: Fields of `hdselect.sizing.options.Options` (``stop_time``,
             ``efficiency``, ``rotor_inertia``, ``motor_mass``, ``mass_coupling``, ``prefer``,
             ``life_hours``, ``life_basis``, ``margin``, ``bearing_offset``,
             ``bearing_loads``, ``threads``, ``max_samples``); what is not given comes from
@@ -142,6 +154,7 @@ def envelope(
     spread = (None if workers is None and scheduler is None else
               Spread(workers if workers is not None else default_workers(), scheduler, timeout))
     expect_type(robot, (Robot, str, Path, type(None)), "robot", "a Robot, a robot file or None")
+    options_argument(options, values)
     expect_type(spec, (str, Path, type(None)), "spec", "an envelope file or None")
     expect_type(duty, (Motion, str, Path, type(None)), "duty", "a Motion, a motion file or None")
     expect_type(settings, (SearchSettings, type(None)), "settings", "a SearchSettings or None")
@@ -151,9 +164,9 @@ def envelope(
                                   or not low <= value <= high):
             raise InputError(f"must be a whole number in [{low}, {high}], got {value!r}",
                              field=name)
-    catalog = files_argument(catalog, "catalog")
-    if units is not None and catalog:
-        raise InputError("give either catalog files or loaded units, not both", field="units")
+    if units is not None:
+        catalog = units_as_catalog(units, catalog, "envelope")
+    catalog = catalog_argument(catalog)  # checked before any file is read
     if spec is None and isinstance(robot, str | Path) and Path(robot).suffix.lower() == ".toml":
         robot, spec = None, robot  # an envelope file alone: it names its robot
     if robot is None and spec is None:
@@ -167,8 +180,8 @@ def envelope(
     robot = _robot_state(base, motion, file, payload, mounting, joints, exclude)
     limits = resolve_spec(robot, velocity=velocity, acceleration=acceleration, jerk=jerk,
                           file=file)
-    resolved = _options(file, motion, options)
-    catalog_units = units_argument(units) if units is not None else load_catalog(catalog)
+    resolved = options if options is not None else _options(file, motion, values)
+    problem = Problem(robot, motion, catalog_units(catalog), resolved, {})
     if motion is not None:
         chosen_duty = motion_duty(robot, motion, max_samples=resolved.max_samples)
     else:
@@ -176,24 +189,26 @@ def envelope(
             robot, limits, _first(moves, file.moves if file else None, DUTY_MOVES),
             _first(seed, file.seed if file else None, 0), max_samples=resolved.max_samples)
     check_within(chosen_duty, limits)
-    duty_sizing = size_tasks(chosen_duty.tasks, catalog_units, resolved)
+    problem = replace(problem, tasks=chosen_duty.tasks)
+    duty_sizing = size_problem(problem)
     settings = settings or SearchSettings()
     if spread is None:
-        return _envelope(robot, limits, chosen_duty, duty_sizing, catalog_units, resolved,
-                         settings, None, started)
+        return _envelope(problem, limits, chosen_duty, duty_sizing, settings, None, started)
     with spread:
-        result = _envelope(robot, limits, chosen_duty, duty_sizing, catalog_units, resolved,
-                           settings, spread, started)
+        result = _envelope(problem, limits, chosen_duty, duty_sizing, settings, spread,
+                           started)
         return replace(result, executor=spread.where)
 
 
-def _envelope(robot: Robot, spec: Spec, duty: Duty, duty_sizing: SizingResult,
-              units: tuple[Unit, ...], options: Options, settings: SearchSettings,
-              evaluate: Evaluate | None, started: float) -> EnvelopeResult:
+def _envelope(problem: Problem, spec: Spec, duty: Duty, duty_sizing: SizingResult,
+              settings: SearchSettings, evaluate: Evaluate | None,
+              started: float) -> EnvelopeResult:
     """The rounds of search and selection until the carried masses settle; the result."""
+    robot, units, options = problem.robot, problem.units, problem.options
     options = options if options.prefer is not None else replace(options, prefer=DEFAULT_PREFER)
     box, stop_time, threads = spec.box, options.stop_time, options.threads
-    masses = _masses(duty_sizing.joints, options) if options.mass_coupling else {}
+    masses = ({joint.name: added_mass(joint, options) for joint in duty_sizing.joints}
+              if options.mass_coupling else {})
     carriers = {j: tuple(k for k in robot.sized_joints
                          if robot.carried_mass(name, {k: 1.0}) > 0.0)
                 for j, name in enumerate(robot.joint_names)}
@@ -251,23 +266,14 @@ def _guessed_masses(robot: Robot, spec: Spec, duty: Duty, masses: dict[str, floa
                           replace(GUESS, seed=settings.seed), threads=options.threads,
                           evaluate=evaluate)
     rows = state_rows(carrying, spec.box, quick, options.stop_time, threads=options.threads)
-    coarse = [replace(task, trajectory=_decimated(task.trajectory)) for task in duty.tasks]
+    coarse = [replace(task, trajectory=decimated(task.trajectory, GUESS_SAMPLES))
+              for task in duty.tasks]
     model = EnvelopeTorques(coarse, rows, options.stop_time, threads=options.threads,
                             guess=masses, wrenches=any(unit.bearing is not None
                                                        for units in per_joint.values()
                                                        for unit in units))
     _, chosen = select_units(model, per_joint, options, {}, detail=False, slowdowns=False)
     return chosen, count
-
-
-def _decimated(trajectory: Trajectory) -> Trajectory:
-    """Every k-th sample (about `GUESS_SAMPLES`), each standing for k periods."""
-    step = max(1, len(trajectory.t) // GUESS_SAMPLES)
-    spread = trajectory.qdd_uncertainty
-    return replace(trajectory, dt=trajectory.dt * step, t=trajectory.t[::step],
-                   q=trajectory.q[::step], qd=trajectory.qd[::step],
-                   qdd=trajectory.qdd[::step],
-                   qdd_uncertainty=None if spread is None else spread[::step])
 
 
 def _joint(model: EnvelopeTorques, joint: JointSizing, found: Mapping[tuple[int, str], Worst],
@@ -324,16 +330,6 @@ def _stacked(parts: Sequence[StateRows]) -> StateRows:
                      np.concatenate([p.qdd for p in parts]),
                      np.concatenate([p.joint for p in parts]),
                      tuple(k for p in parts for k in p.kind))
-
-
-def _masses(joints: Sequence[JointSizing], options: Options) -> dict[str, float]:
-    """The mass each joint's unit (or its strongest candidate) adds [kg], as the core counts it."""
-    out = {}
-    for joint in joints:
-        chosen = joint.selected or joint.strongest
-        out[joint.name] = chosen.unit.mass + (chosen.motor_unit.mass if chosen.motor_unit
-                                              is not None else options.motor_mass)
-    return out
 
 
 def _first(*values):
@@ -430,7 +426,7 @@ def _robot_state(base: Robot, motion: Motion | None, file: EnvelopeFile | None,
 
 
 def _options(file: EnvelopeFile | None, motion: Motion | None,
-             given: Mapping[str, object]) -> Options:
+             given: Mapping[str, Any]) -> Options:
     """The options: given, else the envelope file's, else the duty's motion file's."""
     values = dict(given)
     values.setdefault("max_samples", DEFAULT_MAX_SAMPLES)
@@ -440,4 +436,4 @@ def _options(file: EnvelopeFile | None, motion: Motion | None,
                 values[name] = getattr(file, name)
         if values.get("bearing_offset") is None and file.bearing_offset:
             values["bearing_offset"] = dict(file.bearing_offset)
-    return options_for(motion, **values)
+    return source_options(motion, **values)

@@ -6,6 +6,7 @@ import math
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import TypedDict
 
 import numpy as np
 
@@ -17,6 +18,30 @@ from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import Motors
+
+
+class OptionValues(TypedDict, total=False):
+    """The fields of `Options` as keyword arguments (``hdselect.size(..., stop_time=0.15)``).
+
+    Each is the `Options` field of its name, in its units; None means not given (the
+    files' value, else the default).
+    """
+
+    stop_time: float | None
+    efficiency: float | None
+    rotor_inertia: float | None
+    motor_mass: float | None
+    mass_coupling: bool | None
+    prefer: str | None
+    life_hours: float | None
+    life_basis: str | None
+    threads: int | None
+    max_samples: int | None
+    margin: float | None
+    max_inertia_ratio: float | None
+    inertia_target: float | None
+    bearing_offset: Mapping[str, float] | None
+    bearing_loads: bool | None
 
 
 def not_sized(robot: Robot, name: str, field: str) -> InputError:
@@ -152,6 +177,41 @@ def fixed_units(given: Mapping[str, Unit | str] | None, catalog: Sequence[Unit],
     return out
 
 
-def deprecated(old: str, new: str) -> None:
-    """Warn, at the caller's caller, that `old` is spelled `new` now (a DeprecationWarning)."""
-    warnings.warn(f"{old} is deprecated; use {new}", DeprecationWarning, stacklevel=3)
+def deprecated(old: str, new: str, *, depth: int = 1) -> None:
+    """Warn that `old` is spelled `new` now (a DeprecationWarning, one line).
+
+    Args:
+        old: The old spelling.
+        new: The new one.
+        depth: Calls between the caller's code and this one (1: the caller called the
+            function that calls this).
+    """
+    warnings.warn(f"{old} is deprecated; use {new}", DeprecationWarning, stacklevel=2 + depth)
+
+
+def units_as_catalog(units: object, catalog: object, call: str) -> tuple[Unit, ...]:
+    """The deprecated ``units=`` of `call` (a loaded catalog), checked, as its ``catalog``.
+
+    Raises:
+        InputError: It is not units, it is empty, or catalog files are given too.
+    """
+    checked = units_argument(units)
+    if not checked:
+        raise InputError("no gearhead to choose from", field="units")
+    if catalog:
+        raise InputError("give either catalog files or loaded units, not both", field="units")
+    deprecated(f"{call}(units=...)", f"{call}(catalog=...) with the loaded units", depth=2)
+    return checked
+
+
+def options_argument(options: object, values: Mapping[str, object]) -> None:
+    """The assumptions come either whole (`options`) or as keywords, not both.
+
+    Raises:
+        InputError: `options` is not an `Options` or None, or keywords are given beside it.
+    """
+    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    given = [name for name, value in values.items() if value is not None]
+    if options is not None and given:
+        raise InputError("give either options (an Options) or option keywords, not both",
+                         field=given[0])

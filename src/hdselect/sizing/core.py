@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -34,11 +34,12 @@ from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import (
+    OptionValues,
     check_bearing_options,
     check_trajectory,
     checked_motors,
-    deprecated,
     units_argument,
+    units_as_catalog,
 )
 from hdselect.sizing.joint import JointCycle, size_joint, task_checks
 from hdselect.sizing.options import Options
@@ -48,6 +49,9 @@ from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.slowdown import with_slowdowns
 from hdselect.sizing.tasks import Task, check_shares, pooled
 from hdselect.sizing.torques import DirectTorques, TorqueModel
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 GRAVITY_LOADED = 1e-3
 """Gravity torque above which a joint is gravity-loaded (backdriving warning) [N m]."""
@@ -67,7 +71,7 @@ def size(
     motors: Motors | None = None,
     options: Options | None = None,
     units: Sequence[Unit] | None = None,
-    **values: Any,
+    **values: Unpack[OptionValues],
 ) -> SizingResult:
     """Choose a gearhead for every joint of a robot from its motion: resolve, plan, size.
 
@@ -103,11 +107,7 @@ def size(
         PlanningError: The motion cannot be planned.
     """
     if units is not None:
-        deprecated("size(units=...)", "size(catalog=...) with the loaded units")
-        if catalog:
-            raise InputError("give either catalog files or loaded units, not both",
-                             field="units")
-        catalog = units_argument(units)
+        catalog = units_as_catalog(units, catalog, "size")
     return size_problem(resolve(robot, motion, catalog=catalog, payload=payload,
                                 mounting=mounting, joints=joints, exclude=exclude,
                                 motors=motors, options=options, **values))
@@ -127,6 +127,7 @@ def size_problem(problem: Problem, *, slowdowns: bool = True) -> SizingResult:
         InputError: As `size_tasks`.
         PlanningError: A motion cannot be planned.
     """
+    expect_type(slowdowns, (bool,), "slowdowns", "True or False")
     expect_type(problem, (Problem,), "problem", "a Problem (hdselect.sizing.problem.resolve)")
     problem = problem if problem.planned else plan_tasks(problem)
     result = size_tasks(problem.tasks, problem.units, problem.options, motors=problem.motors,
@@ -218,7 +219,7 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
     per_joint = {name: units for name in robot.sized_joints}
     guess: dict[str, float] = {}
     if options.mass_coupling:
-        coarse = [replace(task, trajectory=_decimated(task.trajectory)) for task in tasks]
+        coarse = [replace(task, trajectory=decimated(task.trajectory)) for task in tasks]
         coarse_samples = pooled(coarse, idle)
         coarse_model = DirectTorques(coarse_samples.tasks, coarse_samples, options.stop_time,
                                      threads=options.threads,
@@ -275,9 +276,7 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
                                                         options, inertias))
         found[name] = joint
         if options.mass_coupling:
-            chosen = joint.selected or joint.strongest
-            masses[name] = chosen.unit.mass + (chosen.motor_unit.mass if chosen.motor_unit
-                                               is not None else options.motor_mass)
+            masses[name] = added_mass(joint, options)
     masses = {name: masses[name] for name in robot.sized_joints if name in masses}
     gravity = model.gravity(masses)
     joints = []
@@ -387,10 +386,20 @@ def _tasks_argument(tasks: object, idle: float = 0.0) -> tuple[Task, ...]:
     return tuple(tasks)
 
 
-def _decimated(traj: Trajectory) -> Trajectory:
-    """Every k-th sample of a trajectory (about `GUESS_SAMPLES`), each standing for k periods."""
-    step = max(1, len(traj.t) // GUESS_SAMPLES)
+def decimated(traj: Trajectory, samples: int = GUESS_SAMPLES) -> Trajectory:
+    """Every k-th sample of a trajectory (about `samples`), each standing for k periods."""
+    step = max(1, len(traj.t) // samples)
     spread = traj.qdd_uncertainty
     return replace(traj, dt=traj.dt * step, t=traj.t[::step], q=traj.q[::step],
                    qd=traj.qd[::step], qdd=traj.qdd[::step],
                    qdd_uncertainty=None if spread is None else spread[::step])
+
+
+def added_mass(joint: JointSizing, options: Options) -> float:
+    """The mass a joint's unit (or, where none fits, its strongest candidate) and motor add [kg].
+
+    The options' motor mass stands for a motor where the pair has none.
+    """
+    chosen = joint.selected or joint.strongest
+    return chosen.unit.mass + (chosen.motor_unit.mass if chosen.motor_unit is not None
+                               else options.motor_mass)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 from hdselect.base.errors import InputError
@@ -66,15 +67,31 @@ def mix_motors(robot: Robot, mix: Mix) -> dict[str, tuple[Motor, ...]]:
         InputError: The files disagree, or a motor is given for a joint not sized.
     """
     motors: Mapping[str, tuple[Motor, ...]] | None = mix.duty_value("motors")
-    if not motors:
-        return {}
     own = (mix.given.get("motor_joints", ()) if "motors" in mix.given
            else tuple(name for motion in mix.motions for name in motion.motor_joints))
-    for name in own:
+    return sized_motors(robot, motors, own, mix.path)
+
+
+def sized_motors(robot: Robot, motors: Mapping[str, tuple[Motor, ...]] | None,
+                 named: Sequence[str], path: Path) -> dict[str, tuple[Motor, ...]]:
+    """A file's candidate motors for the robot's sized joints (empty if none).
+
+    Args:
+        robot: The robot as sized.
+        motors: The motors by joint name, or None.
+        named: The joints the file's ``[motor.JOINT]`` blocks name.
+        path: The file, for messages.
+
+    Raises:
+        InputError: A block names a joint that is not sized.
+    """
+    if not motors:
+        return {}
+    for name in named:
         if name not in robot.sized_joints:
             raise InputError(f"joint '{name}' is not sized (excluded, or a mimic follower), so "
                              "its motor cannot apply; remove the block or size the joint",
-                             path=mix.path, field=f"motor.{name}")
+                             path=path, field=f"motor.{name}")
     return {name: motors[name] for name in robot.sized_joints if name in motors}
 
 

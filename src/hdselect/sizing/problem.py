@@ -13,28 +13,31 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from hdselect.base.bounds import expect_type, files_argument
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
+from hdselect.motion import planning
 from hdselect.motion.case import load_case
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import plan_motion
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
-from hdselect.sizing.arguments import checked_motors
-from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks
+from hdselect.sizing.arguments import OptionValues, checked_motors, options_argument
+from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks, sized_motors
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import Task
 
-__all__ = ["Problem", "file_motors", "plan_tasks", "problem_of", "resolve", "source_files",
-           "source_options"]
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
+
+__all__ = ["Problem", "catalog_argument", "catalog_units", "file_motors", "plan_tasks",
+           "problem_of", "resolve", "source_files", "source_options"]
 
 Catalog = Sequence[str | Path] | Sequence[Unit]
 """Catalog files (the built-in PSA-G page always loaded) or the units already loaded."""
@@ -49,7 +52,8 @@ class Problem:
             applied); for a mix, with the duty's sized joints (each task applies its
             own payload and mounting). No gearhead masses: the sizing adds those.
         source: The motion (its tool poses solved for the robot's mounting) or the mix
-            the tasks come from.
+            the tasks come from; None for tasks made in Python (the envelope's default
+            duty).
         units: The catalog's units to choose from.
         options: The assumptions (its ``prefer`` None: the core's default).
         motors: Candidate motors per sized joint (checked); empty without motor data.
@@ -62,7 +66,7 @@ class Problem:
     """
 
     robot: Robot
-    source: Motion | Mix
+    source: Motion | Mix | None
     units: tuple[Unit, ...]
     options: Options
     motors: Mapping[str, tuple[Motor, ...]]
@@ -93,7 +97,7 @@ def resolve(
     motors: Motors | None = None,
     options: Options | None = None,
     plan: bool = True,
-    **values: Any,
+    **values: Unpack[OptionValues],
 ) -> Problem:
     """Resolve a robot and its motion (or mix), as files or objects, into one `Problem`.
 
@@ -124,18 +128,15 @@ def resolve(
         InputError: A file or argument is invalid, or two arguments contradict.
         PlanningError: A motion cannot be planned.
     """
-    expect_type(options, (Options, type(None)), "options", "an Options or None")
-    if options is not None and any(value is not None for value in values.values()):
-        raise InputError("give either options (an Options) or option keywords, not both",
-                         field=next(name for name, value in values.items() if value is not None))
-    loaded = _loaded_units(catalog)
-    files = [] if loaded is not None or catalog is None else files_argument(catalog, "catalog")
+    options_argument(options, values)
+    expect_type(plan, (bool,), "plan", "True or False")
+    given = catalog_argument(catalog)
     mounted, source = load_case(motion, robot, payload=payload, mounting=mounting,
                                 joints=joints, exclude=exclude)
     if options is None:
         options = source_options(source, **values)
-    return problem_of(mounted, source, catalog=loaded if loaded is not None else files,
-                      motors=motors, options=options, plan=plan)
+    return problem_of(mounted, source, catalog=given, motors=motors, options=options,
+                      plan=plan)
 
 
 def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = (),
@@ -161,17 +162,26 @@ def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = 
     expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
     expect_type(source, (Motion, Mix), "motion", "a Motion or a Mix (hdselect.load_case)")
     expect_type(options, (Options, type(None)), "options", "an Options or None")
-    loaded = _loaded_units(catalog)
-    files = [] if loaded is not None or catalog is None else files_argument(catalog, "catalog")
+    given = catalog_argument(catalog)
     options = options if options is not None else source_options(source)
-    if loaded is None:
-        files = [*(source.catalog if isinstance(source, Mix) else ()), *files]
-        loaded = load_catalog(files)
+    mix = source if isinstance(source, Mix) else None
+    files = [] if isinstance(given, tuple) else [*(mix.catalog if mix else ()), *given]
+    units = given if isinstance(given, tuple) else load_catalog(files)
     chosen = checked_motors(robot, motors if motors is not None
                             else file_motors(robot, source), options)
-    problem = Problem(robot, source, loaded, options, chosen,
+    problem = Problem(robot, source, units, options, chosen,
                       files=tuple(dict.fromkeys([*source_files(robot, source), *files])))
     return plan_tasks(problem) if plan else problem
+
+
+def catalog_units(catalog: Catalog | None) -> tuple[Unit, ...]:
+    """The units to choose from: those given loaded, else the built-in catalog and the files.
+
+    Raises:
+        InputError: The argument is neither files nor units, or a file is invalid.
+    """
+    given = catalog_argument(catalog)
+    return given if isinstance(given, tuple) else load_catalog(given)
 
 
 def plan_tasks(problem: Problem) -> Problem:
@@ -182,17 +192,19 @@ def plan_tasks(problem: Problem) -> Problem:
             cycles per hour overfill the hour.
         PlanningError: A motion cannot be planned.
     """
-    robot, source, limit = problem.robot, problem.source, problem.options.max_samples
-    if isinstance(source, Mix):
-        tasks, idle = mix_tasks(robot, source, joints=robot.sized_joints, exclude=(),
+    robot, limit = problem.robot, problem.options.max_samples
+    if problem.mix is not None:
+        tasks, idle = mix_tasks(robot, problem.mix, joints=robot.sized_joints, exclude=(),
                                 max_samples=limit)
         return replace(problem, tasks=tasks, idle=idle)
-    planned = plan_motion(robot, source, max_samples=limit)
+    if not isinstance(problem.source, Motion):
+        raise InputError("the problem has no motion to plan: give its tasks", field="tasks")
+    planned = planning.plan_motion(robot, problem.source, max_samples=limit)
     return replace(problem, tasks=(Task(robot, planned.trajectory, motion=planned.motion),),
                    idle=0.0)
 
 
-def source_options(source: Motion | Mix, **values: Any) -> Options:
+def source_options(source: Motion | Mix | None, **values: Any) -> Options:
     """Options from keyword values (None: not given), else the files', else the defaults.
 
     A motion file's ``[safety]``, ``[requirements]`` and bearing offsets; a mix file's
@@ -216,14 +228,7 @@ def file_motors(robot: Robot, source: Motion | Mix) -> dict[str, tuple[Motor, ..
     """
     if isinstance(source, Mix):
         return mix_motors(robot, source)
-    if source.motors is None:
-        return {}
-    for name in source.motor_joints:
-        if name not in robot.sized_joints:
-            raise InputError(f"joint '{name}' is not sized (excluded, or a mimic follower), so "
-                             "its motor cannot apply; remove the block or size the joint",
-                             path=source.path, field=f"motor.{name}")
-    return {name: source.motors[name] for name in robot.sized_joints if name in source.motors}
+    return sized_motors(robot, source.motors, source.motor_joints, source.path)
 
 
 def source_files(robot: Robot, source: Motion | Mix) -> list[Path]:
@@ -240,16 +245,18 @@ def source_files(robot: Robot, source: Motion | Mix) -> list[Path]:
     return files + ([source.samples.path] if source.samples is not None else []) + sorted(motors)
 
 
-def _loaded_units(catalog: object) -> tuple[Unit, ...] | None:
-    """The catalog argument as loaded units, or None where it names files.
+def catalog_argument(catalog: object) -> tuple[Unit, ...] | list[Path]:
+    """The catalog argument checked: the loaded units as a tuple, or the files as a list.
 
     Raises:
-        InputError: It mixes units and files.
+        InputError: It is neither, or mixes units and files.
     """
-    if (isinstance(catalog, str | bytes) or not isinstance(catalog, Sequence)
-            or not any(isinstance(item, Unit) for item in catalog)):
-        return None
-    if not all(isinstance(item, Unit) for item in catalog):
-        raise InputError("expected catalog files or the units of a loaded catalog "
-                         "(hdselect.load_catalog), not both", field="catalog")
-    return tuple(catalog)
+    if catalog is None:
+        return []
+    if (isinstance(catalog, Sequence) and not isinstance(catalog, str | bytes)
+            and any(isinstance(item, Unit) for item in catalog)):
+        if not all(isinstance(item, Unit) for item in catalog):
+            raise InputError("expected catalog files or the units of a loaded catalog "
+                             "(hdselect.load_catalog), not both", field="catalog")
+        return tuple(catalog)
+    return files_argument(catalog, "catalog")

@@ -8,6 +8,7 @@ and `hdselect.study.store` are the steps on their own. The package is callable:
 
 from __future__ import annotations
 
+import inspect
 import sys
 import types
 from collections.abc import Callable
@@ -65,10 +66,10 @@ def study(path: str | Path, out: str | Path | None = None, *, workers: int | Non
 
 
 class _CallableModule(types.ModuleType):
-    """This package, callable as the function `study` it exports."""
+    """This package, callable as the function `study` it exports, with its signature."""
 
-    def __call__(self, *args: Any, **kwargs: Any) -> Any:
-        return study(*args, **kwargs)
+    __call__ = staticmethod(study)
+    __signature__ = inspect.signature(study)
 
 
 sys.modules[__name__].__class__ = _CallableModule
