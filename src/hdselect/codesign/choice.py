@@ -24,9 +24,9 @@ from hdselect.motion.planning import Trajectory, plan
 from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors, fixed_units
-from hdselect.sizing.core import motion_motors, size_tasks
+from hdselect.sizing.core import size_tasks
 from hdselect.sizing.options import Options
-from hdselect.sizing.problem import Problem, plan_tasks, problem_of
+from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
 from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import Task
 
@@ -207,7 +207,7 @@ def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] |
         InputError: A name is not a sized joint, or an id is unknown.
         PlanningError: No unit can run a joint not given, at any speed.
     """
-    candidates = checked_motors(robot, motion_motors(robot, motion) if motors is None
+    candidates = checked_motors(robot, file_motors(robot, motion) if motors is None
                                 else motors, options)
     duty = Duty(str(motion.path), robot, (robot,), (motion,), (1.0,))
     return choose(robot, duty, given, catalog, options, candidates, selection=selection,
