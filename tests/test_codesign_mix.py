@@ -151,7 +151,7 @@ def test_compare_ratios_of_a_mix_equals_fastest_unit_by_unit():
 
 
 def test_a_problem_runs_as_its_robot_and_motion_do():
-    problem = hdselect.resolve(None, PICK, plan=False)
+    problem = hdselect.resolve(None, PICK)  # planned: its plan is the one sized
     by_problem = fastest(problem)
     by_case = fastest(*load_case(PICK))
     assert by_problem.cycle_time == by_case.cycle_time
