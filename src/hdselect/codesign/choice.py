@@ -76,9 +76,23 @@ class Duty:
                      else plan(robot, motion, max_samples=options.max_samples)),)
 
 
+_KINDS: dict[str, tuple[tuple[type, ...], str]] = {
+    "units": ((Mapping,), "a mapping of joint names to units or unit ids"),
+    "options": ((Options,), "an Options"),
+    "catalog": ((Sequence,), "catalog files or the units of a loaded catalog"),
+    "motors": ((Mapping,), "a mapping of joint names to motors"),
+    "joints": ((Sequence,), "a list of joint names"),
+    "frame": ((str,), "a link name"),
+    "com": ((Sequence,), "three numbers [m]"),
+    "trajectory": ((Trajectory,), "a Trajectory"),
+    "tasks": ((Sequence,), "a list of task names"),
+}
+"""What each optional argument of the co-design calls may be (None: not given)."""
+
+
 def duty_of(robot: Robot | Problem, motion: Motion | Mix | None, options: Options | None,
             catalog: Sequence[Unit] | None, motors: Motors | None, *,
-            what: str = "path to run faster"
+            what: str = "path to run faster", **others: object
             ) -> tuple[Duty, Options, tuple[Unit, ...], Mapping[str, tuple[Motor, ...]]]:
     """The duty of a problem (or of a motion or a mix), its options, catalog and motors.
 
@@ -92,6 +106,8 @@ def duty_of(robot: Robot | Problem, motion: Motion | Mix | None, options: Option
         motors: Candidate motors per sized joint; None takes the files' ``[motor]`` (with
             a problem: its own).
         what: What a logged trajectory has none of, for its refusal; empty: logs are taken.
+        **others: The call's other optional arguments, by name: without a motion, an
+            argument of no type it takes is named before the motion missing.
 
     Raises:
         InputError: A task is a log (where refused), or an argument is invalid.
@@ -106,6 +122,10 @@ def duty_of(robot: Robot | Problem, motion: Motion | Mix | None, options: Option
         problem = robot
     else:
         expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case) or a Problem")
+        given = {**others, "options": options, "catalog": catalog, "motors": motors}
+        for name, value in given.items() if motion is None else ():
+            kinds, words = _KINDS[name]
+            expect_type(value, (*kinds, type(None)), name, words)
         expect_type(motion, (Motion, Mix), "motion", "a Motion or Mix (hdselect.load_case)")
         source = (solve_motion(robot, motion) if isinstance(motion, Motion)
                   else cast(Mix, motion))  # a motion's tool poses solved for its mounting

@@ -271,7 +271,8 @@ def fastest(robot: Robot | Problem, motion: Motion | Mix | None = None,
         PlanningError: The path cannot be run with these units at any speed (the
             message names the joint, the limit and where), or TOPPRA fails.
     """
-    duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors)
+    duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors,
+                                                 units=units)
     chosen, _, paired = choose(duty.robot, duty, units, catalog, options, candidates,
                                selection=False)
     return _fastest(_models(duty, options), chosen, options, paired, duty)
@@ -301,7 +302,8 @@ def compare_ratios(robot: Robot | Problem, motion: Motion | Mix | None = None,
         InputError: A motion is a log, or a joint or unit id is unknown.
         PlanningError: The units given cannot run the path at all.
     """
-    duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors)
+    duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors,
+                                                 units=units, joints=joints)
     chosen, selected, paired = choose(duty.robot, duty, units, catalog, options, candidates)
     names = list(duty.robot.sized_joints)
     if joints is not None and (isinstance(joints, str) or not isinstance(joints, Sequence)

@@ -83,9 +83,8 @@ class UnitBound:
 class MaxPayloadResult:
     """The largest payload with a feasible unit on every joint.
 
-    The answer is a factor x on the payload of every task that scales: one motion's is
-    its payload's geometry at 1 kg, so x is its mass [kg]; a mix's are each task's
-    payload as its file gives it (`masses` gives each at x).
+    The answer is a factor x on the payload of every task that scales: one motion's is its
+    geometry at 1 kg (x its mass [kg]), a mix's each task's as given (`masses`: at x).
 
     Attributes:
         mass: The largest x (one motion's payload mass [kg], a mix's factor [-]);
@@ -179,8 +178,9 @@ def max_payload(robot: Robot | Problem, motion: Motion | Mix | None = None,
             payload.
         PlanningError: A motion cannot be planned.
     """
-    duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors,
-                                                 what="")
+    duty, options, catalog, candidates = duty_of(
+        robot, motion, options, catalog, motors, what="", units=units, frame=frame, com=com,
+        trajectory=trajectory, tasks=tasks)
     expect_type(trajectory, (Trajectory, type(None)), "trajectory", "a Trajectory or None")
     for item in duty.motions:
         if item.planner == "toppra" and item.torque_limit is not None:
