@@ -11,8 +11,8 @@ import pytest
 
 from hdselect.base.errors import InputError
 from hdselect.cli.main import main
-from hdselect.codesign.maxpayload import max_payload, per_kilogram
-from hdselect.codesign.payloadsizing import scaled
+from hdselect.codesign.maxpayload import max_payload
+from hdselect.codesign.payloadsizing import per_kilogram, scaled
 from hdselect.motion.case import load_case
 from hdselect.motion.planning import plan
 from hdselect.robot.dynamics import inverse_dynamics

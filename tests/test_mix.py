@@ -411,12 +411,13 @@ def test_a_mix_study_names_its_parameters(tmp_path):
 @pytest.mark.slow
 def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
     """The factor found: the duty sized just below fits, just above some joint has no unit."""
-    from hdselect.codesign.mixpayload import at_factor, mix_max_payload
+    from hdselect.codesign.maxpayload import max_payload
+    from hdselect.codesign.payloadsizing import at_factor
     from hdselect.motion.case import load_case
     from hdselect.sizing.core import size_tasks
 
     robot, mix = load_case(PICK_INSPECT)
-    result = mix_max_payload(robot, mix)
+    result = max_payload(robot, mix)
     assert result.scaled == ("pick", "inspect") and 1.0 < result.factor < math.inf
     assert result.masses() == pytest.approx({"pick": 0.4 * result.factor,
                                              "inspect": 0.3 * result.factor}, rel=1e-12)
@@ -432,12 +433,11 @@ def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
 @pytest.mark.slow
 def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
     from hdselect.codesign.maxpayload import max_payload
-    from hdselect.codesign.mixpayload import mix_max_payload
     from hdselect.motion.case import load_case
 
     path = mix_text(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
     robot, mix = load_case(path)
-    mixed = mix_max_payload(robot, mix, tasks=["pick"])
+    mixed = max_payload(robot, mix, tasks=["pick"])
     assert mixed.scaled == ("pick",)
     alone = max_payload(*load_case(PICK))
     assert mixed.masses()["pick"] == pytest.approx(alone.mass, rel=1e-9)
@@ -447,11 +447,10 @@ def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
 @pytest.mark.slow
 def test_fastest_of_a_mix_of_one_task_is_its_motions(tmp_path):
     from hdselect.codesign.fastest_cycle import fastest
-    from hdselect.codesign.mixfastest import mix_fastest
     from hdselect.motion.case import load_case
 
     path = mix_text(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
-    mixed = mix_fastest(*load_case(path))
+    mixed = fastest(*load_case(path))
     alone = fastest(*load_case(PICK), {name: unit.id for name, unit in mixed.units.items()})
     assert alone.reason is None and mixed.reason is None and mixed.slowdown == 1.0
     (task,) = mixed.tasks
@@ -462,7 +461,10 @@ def test_fastest_of_a_mix_of_one_task_is_its_motions(tmp_path):
 @pytest.mark.slow
 def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
     """A required life the optima miss: every task slowed by one factor until it holds."""
-    from hdselect.codesign.mixfastest import _optimum, mix_fastest, pooled_check
+    from hdselect.codesign.cyclerules import check_scaled
+    from hdselect.codesign.fastest_cycle import fastest
+    from hdselect.codesign.fastpath import PathModel
+    from hdselect.codesign.trials import run_trial
     from hdselect.motion.case import load_case
     from hdselect.sizing.duty import mix_options
 
@@ -470,7 +472,7 @@ def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
     units = {"shoulder_pan": "PSA-10-80", "shoulder_lift": "PSA-14-100", "elbow": "PSA-10-80",
              "wrist_1": "PSA-08-80", "wrist_2": "PSA-08-80", "wrist_3": "PSA-08-80"}
     options = mix_options(mix, life_hours=6e5)  # shoulder_lift: 3.8e5 h at the optima
-    result = mix_fastest(robot, mix, units, options=options)
+    result = fastest(robot, mix, units, options=options)
     assert result.slowdown > 1.0 and result.reason == ("shoulder_lift", "life")
     assert result.feasible
     check = next(j for j in result.check.joints
@@ -480,12 +482,16 @@ def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
         assert item.optimum < item.cycle_time
     # the search's pooled figures: failing just faster than the slow-down, passing at it
     masses = {name: unit.mass for name, unit in result.units.items()}
-    paths = [_optimum(item.task, result.units, masses, options) for item in result.tasks]
+    models = [PathModel.build(item.task.robot, item.task.motion, robot.sized_joints)
+              for item in result.tasks]
+    paths = run_trial(models, [model.robot.with_gearheads(masses) for model in models],
+                      [item.task.share for item in result.tasks], result.units, masses, {},
+                      options).legs
     unit = result.units["shoulder_lift"]
-    faster = pooled_check(paths, "shoulder_lift", unit, result.slowdown / 1.001, options, 0.0)
+    faster = check_scaled(paths, "shoulder_lift", unit, result.slowdown / 1.001, options)
     assert not faster.checks["life"].ok
-    assert pooled_check(paths, "shoulder_lift", unit, result.slowdown, options,
-                        0.0).checks["life"].ok
+    assert check_scaled(paths, "shoulder_lift", unit, result.slowdown,
+                        options).checks["life"].ok
 
 
 def test_the_duty_life_is_the_tasks_lives_combined_by_miners_rule(pick_inspect):
@@ -566,8 +572,8 @@ def test_a_day_in_cycles_per_hour_prints_a_mean_between_the_lives(tmp_path, caps
 def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
     """Heavy parts, 1.67x faster: a joint no unit fits, and its slow-down s. Every task's
     trajectory run s times slower (the shares kept) must let that unit fit."""
-    from hdselect.codesign.mixfastest import check_tasks
-    from hdselect.codesign.mixpayload import at_factor
+    from hdselect.codesign.payloadsizing import at_factor
+    from hdselect.codesign.trials import check_tasks
     from hdselect.motion.case import load_case
     from hdselect.sizing.core import size_tasks
     from hdselect.sizing.duty import mix_options, mix_tasks

@@ -7,7 +7,7 @@ import sys
 from typing import Any
 
 from hdselect.base.errors import InputError
-from hdselect.cli.inputs import flagged, input_files, sizing_case, unit_pairs
+from hdselect.cli.inputs import flagged, input_files, sizing_problem, unit_pairs
 from hdselect.cli.output import (
     EXIT_NO_FIT,
     EXIT_OK,
@@ -23,29 +23,26 @@ def run_fastest(args: argparse.Namespace) -> int:
     """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
-    from hdselect.codesign.records import fastest_json, ratios_json
-    from hdselect.report.codesign_tables import binding_table, fastest_table, ratios_table
-    from hdselect.report.export import write_json, write_trajectory_csv
+    from hdselect.codesign.records import fastest_json, mix_fastest_json, ratios_json
 
     if args.joint and not args.compare_ratios:
         raise InputError("only with --compare-ratios", field="--joint")
-    from hdselect.motion.mixfile import Mix
-
-    robot, motion, units, options, motors = sizing_case(args)
-    if isinstance(motion, Mix):
-        return _mix_fastest(args, robot, motion, units, options, motors)
+    problem = sizing_problem(args)
+    mix = problem.mix is not None  # several trajectories: no one CSV or figure of them
+    for flag, value in (("--out", args.out), ("--plot", not args.compare_ratios and args.plot)):
+        if mix and value:
+            raise InputError("not for a mix yet: give one of its motion files", field=flag)
     given = unit_pairs(args.units)
-    with Outputs(_inputs(args, robot, motion)) as outputs:
+    with Outputs(_inputs(args, problem.robot, problem.source)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         csv_file = outputs.file(args.out, "--out") if args.out is not None else None
         figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         try:
             if args.compare_ratios:
-                comparison = compare_ratios(robot, motion, given, options, catalog=units,
-                                            joints=args.joint, motors=motors)
+                comparison = compare_ratios(problem, units=given, joints=args.joint)
                 result = comparison.base
             else:
-                result = fastest(robot, motion, given, options, catalog=units, motors=motors)
+                result = fastest(problem, units=given)
         except InputError as err:
             raise flagged(err, args) from err
         if figure is not None:
@@ -56,19 +53,18 @@ def run_fastest(args: argparse.Namespace) -> int:
             else:
                 write_fastest_png(figure, result)
         if csv_file is not None:
+            from hdselect.report.export import write_trajectory_csv
+
             write_trajectory_csv(csv_file, result.trajectory, gear_torques(result.check),
                                  result.robot.sized_joints)
         if json_file is not None:
+            from hdselect.report.export import write_json
+
             write_json(json_file, ratios_json(comparison) if args.compare_ratios
-                       else fastest_json(result))
-        tables: list[Any] = []
-        if args.compare_ratios:
-            for joint in comparison.joints:
-                tables += [""] if tables else []
-                tables.append(ratios_table(comparison, joint))
-        else:
-            tables = [fastest_table(result), "", binding_table(result)]
-        text = "" if to_stdout(args) else rendered(*tables)
+                       else mix_fastest_json(result) if mix else fastest_json(result))
+        text = "" if to_stdout(args) else rendered(*_fastest_tables(args, result, comparison
+                                                                    if args.compare_ratios
+                                                                    else None))
         outputs.commit()
     sys.stdout.write(text)
     say_written([
@@ -77,45 +73,72 @@ def run_fastest(args: argparse.Namespace) -> int:
         (args.plot, "the shortest cycle against the unit on each joint compared"
          if args.compare_ratios else "speed and torque of each sized joint against its limits"),
         (args.json, None)], args)
-    return EXIT_OK
+    return EXIT_OK if result.feasible else EXIT_NO_FIT
+
+
+def _fastest_tables(args: argparse.Namespace, result, comparison) -> list[Any]:
+    """What ``fastest`` prints: the ratios compared, else the cycle (each task's, for a mix)."""
+    from hdselect.report.codesign_tables import (
+        binding_table,
+        fastest_table,
+        mix_fastest_table,
+        ratios_table,
+    )
+
+    tables: list[Any] = []
+    if comparison is not None:
+        for joint in comparison.joints:
+            tables += [""] if tables else []
+            tables.append(ratios_table(comparison, joint))
+        return tables
+    if result.mix is not None:
+        from hdselect.report.size_tables import size_table
+        from hdselect.report.task_tables import task_tables
+
+        return [mix_fastest_table(result), "", size_table(result.check),
+                *task_tables(result.check)]
+    return [fastest_table(result), "", binding_table(result)]
 
 
 def run_max_payload(args: argparse.Namespace) -> int:
-    """``hdselect max-payload``: the largest payload mass with a unit on every joint."""
+    """``hdselect max-payload``: the largest payload with a unit on every joint."""
     from dataclasses import replace
 
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.maxpayload import max_payload
-    from hdselect.codesign.records import max_payload_json
-    from hdselect.motion.mixfile import Mix
-    from hdselect.report.codesign_tables import max_payload_text
+    from hdselect.codesign.records import max_payload_json, mix_payload_json
+    from hdselect.report.codesign_tables import max_payload_text, mix_payload_text
     from hdselect.report.export import write_json
     from hdselect.report.size_tables import size_table
+    from hdselect.report.task_tables import task_tables
 
-    robot, motion, units, options, motors = sizing_case(args)
-    if isinstance(motion, Mix):
-        return _mix_max_payload(args, robot, motion, units, options, motors)
-    if args.task:
-        raise InputError("only for a mix file: its tasks whose payload scales", field="--task")
+    problem = sizing_problem(args)
+    robot, motion = problem.robot, problem.source
     given = unit_pairs(args.units)
     with Outputs(_inputs(args, robot, motion)) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None
         try:
-            result = max_payload(robot, motion, options, catalog=units,
-                                 frame=args.payload_frame, com=args.payload_com,
-                                 units=given or None, motors=motors)
+            result = max_payload(problem, frame=args.payload_frame, com=args.payload_com,
+                                 units=given or None, tasks=args.task)
         except InputError as err:
             flag = {"payload.frame": "--payload-frame", "frame": "--payload-frame",
-                    "payload.com": "--payload-com", "com": "--payload-com"}.get(
-                str(err.field).split("[")[0])
+                    "payload.com": "--payload-com", "com": "--payload-com",
+                    "task": "--task"}.get(str(err.field).split("[")[0])
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
+        if result.mix is not None:
+            document = mix_payload_json(result)
+            items: list[Any] = [mix_payload_text(result, robot)]
+            if result.selection is not None:
+                items += ["", size_table(result.selection), *task_tables(result.selection)]
+        else:
+            document = max_payload_json(result, motion)
+            items = [max_payload_text(result, robot, motion)]
+            if result.selection is not None:
+                items += ["", size_table(replace(result.selection, motion=motion))]
         if json_file is not None:
-            write_json(json_file, max_payload_json(result, motion))
-        items: list[Any] = [max_payload_text(result, robot, motion)]
-        if result.selection is not None:
-            items += ["", size_table(replace(result.selection, motion=motion))]
+            write_json(json_file, document)
         text = "" if to_stdout(args) else rendered(*items)
         outputs.commit()
     sys.stdout.write(text)
@@ -127,68 +150,3 @@ def _inputs(args: argparse.Namespace, robot, motion) -> list:
     """Every file the command reads: no output may replace one."""
     return [*input_files(robot, motion), *args.catalog,
             *([args.motor_catalog] if args.motor_catalog else [])]
-
-
-def _mix_max_payload(args: argparse.Namespace, robot, mix, units, options, motors) -> int:
-    """``hdselect max-payload`` on a mix: one factor on the payloads of its tasks."""
-    from hdselect.base.outputs import Outputs
-    from hdselect.codesign.mixpayload import mix_max_payload
-    from hdselect.codesign.records import mix_payload_json
-    from hdselect.report.codesign_tables import mix_payload_text
-    from hdselect.report.export import write_json
-    from hdselect.report.size_tables import size_table
-    from hdselect.report.task_tables import task_tables
-
-    _refuse_for_mix(args, motors, ("--units", args.units))
-    with Outputs(_inputs(args, robot, mix)) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json is not None else None
-        result = mix_max_payload(robot, mix, options, catalog=units, tasks=args.task)
-        if json_file is not None:
-            write_json(json_file, mix_payload_json(result))
-        items: list[Any] = [mix_payload_text(result, robot)]
-        if result.selection is not None:
-            items += ["", size_table(result.selection), *task_tables(result.selection)]
-        text = "" if to_stdout(args) else rendered(*items)
-        outputs.commit()
-    sys.stdout.write(text)
-    say_written([(args.json, None)], args)
-    return EXIT_OK if result.factor is not None else EXIT_NO_FIT
-
-
-def _mix_fastest(args: argparse.Namespace, robot, mix, units, options, motors) -> int:
-    """``hdselect fastest`` on a mix: the shortest cycle of each task with the duty's units."""
-    from hdselect.base.outputs import Outputs
-    from hdselect.codesign.mixfastest import mix_fastest
-    from hdselect.codesign.records import mix_fastest_json
-    from hdselect.report.codesign_tables import mix_fastest_table
-    from hdselect.report.export import write_json
-    from hdselect.report.size_tables import size_table
-    from hdselect.report.task_tables import task_tables
-
-    _refuse_for_mix(args, motors, ("--compare-ratios", args.compare_ratios),
-                    ("--out", args.out), ("--plot", args.plot))
-    with Outputs(_inputs(args, robot, mix)) as outputs:
-        json_file = outputs.file(args.json, "--json") if args.json is not None else None
-        try:
-            result = mix_fastest(robot, mix, unit_pairs(args.units), options, catalog=units)
-        except InputError as err:
-            raise flagged(err, args) from err
-        if json_file is not None:
-            write_json(json_file, mix_fastest_json(result))
-        text = "" if to_stdout(args) else rendered(
-            mix_fastest_table(result), "", size_table(result.check), *task_tables(result.check))
-        outputs.commit()
-    sys.stdout.write(text)
-    say_written([(args.json, None)], args)
-    return EXIT_OK if result.feasible else EXIT_NO_FIT
-
-
-def _refuse_for_mix(args: argparse.Namespace, motors, *flags: tuple[str, object]) -> None:
-    """Options a mix does not take yet: one line naming the option."""
-    for flag, value in flags:
-        if value:
-            raise InputError("not for a mix yet: give one of its motion files", field=flag)
-    if motors:
-        raise InputError(f"{args.command_line[1]} on a mix does not choose motors yet; the "
-                         "motors given would be left out", field="--motor-catalog"
-                         if args.motor_catalog else "motor")

@@ -147,7 +147,7 @@ def _checked_units(args: argparse.Namespace, units, robot, motion, trajectory):
     The sized joints not given get the sizing's selection; the check's torques carry the
     units' and motors' masses as `size`'s do.
     """
-    from hdselect.codesign.fastest_cycle import resolve_case
+    from hdselect.codesign.choice import resolve_case
     from hdselect.sizing.core import check_units
 
     given, problem = units

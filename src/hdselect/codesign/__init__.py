@@ -1,16 +1,33 @@
 """Co-design: the shortest cycle a choice of units allows, ratios compared, the largest payload.
 
-`fastest` runs TOPPRA along the motion's path under the units' limits (`pathbounds`,
-`fastpath`), holds the whole-cycle rules (`cyclerules`) and says what binds
-(`bindings`); `max_payload` finds the heaviest payload a motion can carry; `mix_fastest`
-and `mix_max_payload` do both for a mix of motions (`mixfastest`, `mixpayload`).
+`fastest` runs every task's path (a motion is a duty of one task; a mix has several)
+under the units' limits (`pathbounds`, `fastpath`), holds the whole-cycle rules over
+the duty (`cyclerules`, `trials`) and says what binds (`bindings`); `compare_ratios`
+does it for every unit on each joint; `max_payload` finds the heaviest payload a motion
+(or the largest factor on a mix's payloads) leaves a unit on every joint.
 """
+
+import warnings
+from typing import Any
 
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison, compare_ratios, fastest
 from hdselect.codesign.maxpayload import MaxPayloadResult, max_payload
-from hdselect.codesign.mixfastest import MixFastestResult, mix_fastest
-from hdselect.codesign.mixpayload import MixPayloadResult, mix_max_payload
 
-__all__ = ["FastestResult", "MaxPayloadResult", "MixFastestResult", "MixPayloadResult",
-           "RatioComparison", "compare_ratios", "fastest", "max_payload", "mix_fastest",
-           "mix_max_payload"]
+__all__ = ["FastestResult", "MaxPayloadResult", "RatioComparison", "compare_ratios", "fastest",
+           "max_payload"]
+
+_RENAMED = {"mix_fastest": ("fastest", fastest),
+            "MixFastestResult": ("FastestResult", FastestResult),
+            "mix_max_payload": ("max_payload", max_payload),
+            "MixPayloadResult": ("MaxPayloadResult", MaxPayloadResult)}
+
+
+def __getattr__(name: str) -> Any:
+    """The old spellings of the mix's co-design, with a DeprecationWarning naming the new."""
+    if name in _RENAMED:
+        new, value = _RENAMED[name]
+        warnings.warn(f"hdselect.codesign.{name} is deprecated: use hdselect.codesign.{new} "
+                      "(it takes a mix wherever it takes a motion)", DeprecationWarning,
+                      stacklevel=2)
+        return value
+    raise AttributeError(f"module 'hdselect.codesign' has no attribute {name!r}")

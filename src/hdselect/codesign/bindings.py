@@ -16,9 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from hdselect.catalog.rules import at_rest
-from hdselect.codesign.cyclerules import Trial
 from hdselect.codesign.fastpath import PathModel
 from hdselect.codesign.pathbounds import JointLimits
+from hdselect.codesign.trials import Trial
 from hdselect.sizing.result import SizingResult
 
 

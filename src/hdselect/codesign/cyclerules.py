@@ -1,18 +1,14 @@
-"""The rules over the whole cycle on TOPPRA's run: the smallest slow-down, the derating, the check.
+"""The rules over the whole cycle on TOPPRA's runs: the smallest common slow-down.
 
-TOPPRA (`hdselect.codesign.fastpath`) meets every rule on single samples that gives a path form
-(`hdselect.codesign.pathbounds.path_bounds`). The rules over the whole cycle (mean
-torque, life, average input speed), and any rule on single samples without a path form
-(`after_solve`), are checked on its run with the sizing's own `check_unit`. Where one
-fails, `smallest_scale` finds the smallest uniform slow-down s of the moves (dwells
-keep their length) at which every rule of every joint passes, with the exact time
-scaling of `hdselect.timescale`: the rules on single samples exactly, the whole-cycle
-rules on 1 % steps, bisected to 1e-6. `derated` instead holds the failing joints to a
-fraction of their repeated-peak limit (0.9, 0.8, ..., re-solved by TOPPRA, each with its
-own smallest slow-down) and refines the best by golden section: the moves keep their
-speed while the torque drops. `verified` samples the winner on the motion's grid and
-checks it with `hdselect.sizing.core.check_units`, slowing it by the excess where a
-sample lands on a peak the scaled model missed.
+TOPPRA (`hdselect.codesign.fastpath`) meets every rule on single samples that gives a
+path form (`hdselect.codesign.pathbounds`). The rules over the whole cycle (mean torque,
+life, average input speed), and any rule on single samples without a path form
+(`after_solve`), are checked on its runs with the sizing's own `check_unit`, every task
+of a duty pooled at its share of the time (`check_scaled`; one task is a duty of one).
+Where one fails, `smallest_scale` finds the smallest common slow-down s of every task's
+moves (dwells keep their length) at which every rule of every joint passes, with the
+exact time scaling of `hdselect.sizing.timescale`: the rules on single samples exactly
+(each task's intervals intersected), the whole-cycle rules on 1 % steps, bisected to 1e-6.
 """
 
 from __future__ import annotations
@@ -36,29 +32,13 @@ from hdselect.catalog.rules import (
     cycle_load,
 )
 from hdselect.catalog.units import Unit
-from hdselect.codesign.fastpath import (
-    PathModel,
-    cycle,
-    kinematic_scales,
-    slowdown_notes,
-    solve,
-)
-from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limits
-from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import Trajectory
+from hdselect.codesign.fastpath import PathModel
+from hdselect.codesign.pathbounds import JointLimits, PathInfeasible
 from hdselect.motion.planning.toppra import Profile
-from hdselect.robot.dynamics import cycle_torques
-from hdselect.robot.model import Robot
-from hdselect.sizing.core import check_units
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import reflect, weighted_demand
-from hdselect.sizing.result import SizingResult
 from hdselect.sizing.timescale import S_MAX, ScalableCycle, exact_scales
 
-DERATINGS = (0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3)
-"""Fractions of the repeated-peak limit tried, until the cycle stops getting shorter."""
-DERATING_RESOLUTION = 0.01
-"""Width to which the best derating is refined [-]."""
 SCALE_STEP = 1.01
 """Step of the search for the smallest slow-down, before bisection [-]."""
 SCALE_RTOL = 1e-6
@@ -66,56 +46,38 @@ SCALE_RTOL = 1e-6
 WRITTEN_MARGIN = 1e-7
 """Utilization a rule that scales with speed must stay below 1 by, so that the
 trajectory written with 10 significant digits passes too [-]."""
-_VERIFY_ROUNDS = 12
 
 
 @dataclass(frozen=True, eq=False)
-class Trial:
-    """TOPPRA's profiles for one derating, and the smallest slow-down that passes."""
+class Leg:
+    """One task's path run at one derating: TOPPRA's profiles and the cycle they give.
 
-    derating: Mapping[str, float]
+    Attributes:
+        model: The task's path.
+        share: The task's share of the time [-].
+        profiles: TOPPRA's profile of each piece (None: a piece that does not move).
+        kinematic: Each piece's slow-down that keeps its speeds and accelerations [-].
+        moving: The time of the moves [s].
+        dwell: The time of the dwells [s].
+        cycles: Each sized joint's cycle, split by how its torque scales with time.
+        held: Which samples of `cycles` are dwells (their time does not scale).
+        notes: The planner's lines for pieces slowed beyond its tolerance.
+    """
+
+    model: PathModel
+    share: float
     profiles: list[Profile | None]
     kinematic: list[float]
     moving: float
     dwell: float
-    scale: float
-    reason: tuple[str, str] | None
-    whole_cycle_failing: tuple[str, ...] = ()
+    cycles: Mapping[str, ScalableCycle]
+    held: np.ndarray
     notes: tuple[str, ...] = ()
 
     @property
-    def cycle_time(self) -> float:
-        """Its cycle at its slow-down [s]."""
-        return self.moving * self.scale + self.dwell
-
-
-def run_trial(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
-              masses: Mapping[str, float], derating: Mapping[str, float],
-              options: Options, motors: Mapping[str, Motor] | None = None) -> Trial:
-    """Solve TOPPRA at one derating and find the smallest slow-down at which all passes.
-
-    `motors`: the motor behind the unit of some joints (its limits and rules apply).
-    """
-    motion = model.motion
-    motors = motors or {}
-    limits = joint_limits(model.robot, motion, units, options, derating, motors=motors)
-    profiles = solve(model, limits, masses, stop_time=options.stop_time)
-    kinematic = kinematic_scales(profiles, limits)
-    trajectory, held = cycle(motion, profiles, kinematic, max_samples=options.max_samples)
-    moving = sum(p.duration * r for p, r in zip(profiles, kinematic, strict=True)
-                 if p is not None)
-    cycles, held = _scalable(carrying, trajectory, held, units, options)
-    scale, reason = smallest_scale(cycles, held, units, options, motion, motors)
-    after = {name: after_solve(lim) for name, lim in zip(model.robot.joint_names, limits,
-                                                          strict=True)}
-    failing = {name for name, cycle_ in cycles.items()
-               if any(not c.ok for rule, c in _check_scaled(cycle_, held, units[name], 1.0,
-                                                             options, motors.get(name)
-                                                             ).checks.items()
-                      if rule in after[name])}
-    return Trial(dict(derating), profiles, kinematic, moving, trajectory.duration - moving,
-                 scale, reason, tuple(sorted(failing)),
-                 slowdown_notes(motion.joint_names, profiles, limits))
+    def optimum(self) -> float:
+        """Its cycle at the kinematic slow-downs alone [s]."""
+        return self.moving + self.dwell
 
 
 def after_solve(limits: JointLimits) -> frozenset[str]:
@@ -130,72 +92,60 @@ def after_solve(limits: JointLimits) -> frozenset[str]:
                      or rule.name in limits.unbounded)
 
 
-def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
-              units: Mapping[str, Unit],
-              options: Options) -> tuple[dict[str, ScalableCycle], np.ndarray]:
-    """Each sized joint's cycle split by how its torque scales with time (four passes).
+def check_scaled(legs: Sequence[Leg], name: str, unit: Unit, s: float, options: Options,
+                 motor: Motor | None = None, idle: float = 0.0) -> Candidate:
+    """Every rule of `check_unit` on a joint's duty with every task's moves s times slower [-].
 
-    A dwell holds one pose at rest: it is kept as one sample that lasts the whole
-    dwell, which every rule weighs alike (the motor's RMS torque, which assumes equal
-    samples, is not a rule).
-
-    Returns:
-        The cycles by joint, and which of their samples are dwells.
+    As `hdselect.sizing.timescale.check_at`, except that dwells keep their length. Each
+    task's samples weigh by how often its cycle runs at its share (share / cycle time at
+    s), as `hdselect.sizing.tasks.pooled` weighs them; the idle time is a pause. With a
+    motor, its rules too (`with_motor`), its RMS torque weighing each sample by the time
+    it stands for.
     """
-    keep = np.flatnonzero(~held | np.r_[True, ~held[:-1]])
-    lasts = np.diff(np.r_[keep, len(held)]) * trajectory.dt
-    q, qd, qdd = trajectory.q[keep], trajectory.qd[keep], trajectory.qdd[keep]
-    dt = np.where(held[keep], lasts, trajectory.dt)
-    torques = cycle_torques(carrying, q, qd, qdd, options.stop_time, split=True,
-                            threads=options.threads)
-    if torques.gravity is None or torques.coasting is None:
-        raise RuntimeError("cycle_torques(split=True) returned no gravity or coasting part")
-    out = {}
-    for name in units:
-        j = carrying.joint_index(name)
-        out[name] = ScalableCycle.split(
-            trajectory.t[keep], dt, trajectory.duration, qd[:, j], qdd[:, j],
-            at_rest(qd[:, j], qdd[:, j]), torque=torques.tau[:, j],
-            stop_torque=torques.stop[:, j], gravity=torques.gravity[:, j],
-            coast=torques.coasting[:, j], stop_time=options.stop_time)
-    return out, held[keep]
+    parts = []
+    for leg in legs:
+        cycle_ = leg.cycles[name]
+        at = cycle_.at(s)
+        dt = np.where(leg.held, cycle_.dt, at.dt)
+        parts.append((at, dt, leg.share / float(dt.sum())))
+    reference = parts[0][2]
+    dt = _joined([step * (rate / reference) for _, step, rate in parts])
 
+    def joined(field: str) -> np.ndarray:
+        return _joined([getattr(at, field) for at, _, _ in parts])
 
-def _check_scaled(cycle_: ScalableCycle, held: np.ndarray, unit: Unit, s: float,
-                  options: Options, motor: Motor | None = None) -> Candidate:
-    """Every rule of `check_unit` on a joint's cycle with its moves run s times slower [-].
-
-    As `hdselect.sizing.timescale.check_at`, except that dwells keep their length; with
-    a motor, its rules too (`with_motor`), its RMS torque weighing each sample by the
-    time it stands for.
-    """
-    at = cycle_.at(s)
-    dt = np.where(held, cycle_.dt, at.dt)
-    load = cycle_load(at.torque, at.qd, dt, at.at_rest)
-    (reflection,) = reflect([unit], at.t, at.torque, at.qd, at.qdd, at.stop_torque,
-                            stop_time=cycle_.stop_time, efficiency=options.efficiency,
+    torque, qd, rest = joined("torque"), joined("qd"), joined("at_rest")
+    load = cycle_load(torque, qd, dt, rest, idle=idle / reference)
+    (reflection,) = reflect([unit], joined("t"), torque, qd, joined("qdd"),
+                            joined("stop_torque"), stop_time=options.stop_time,
+                            efficiency=options.efficiency,
                             rotor_inertia=(motor.rotor_inertia if motor is not None
-                                           else options.rotor_inertia))
-    if motor is None:
+                                           else options.rotor_inertia),
+                            rest=_joined([at_rest(at.qd, at.qdd) for at, _, _ in parts]))
+    if motor is None:  # the motor demand is carried, not judged: no weights needed
         return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
                           life_hours=options.life_hours, life_basis=options.life_basis,
                           margin=options.margin)
-    torque = reflection.motor_torque
-    demand = weighted_demand(reflection.motor, torque, at.qd, unit.ratio, dt)
+    demand = weighted_demand(reflection.motor, reflection.motor_torque, qd, unit.ratio, dt)
     candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
                            life_hours=options.life_hours, life_basis=options.life_basis,
                            margin=options.margin)
-    return with_motor(candidate, motor, torque, np.abs(at.qd) * RPM_PER_RAD_S * unit.ratio)
+    return with_motor(candidate, motor, reflection.motor_torque,
+                      np.abs(qd) * RPM_PER_RAD_S * unit.ratio)
 
 
-def _failing(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
-             units: Mapping[str, Unit], options: Options, s: float,
-             motors: Mapping[str, Motor] | None = None) -> tuple[str, str] | None:
-    """The (joint, rule) that fails worst at scale s [-], or None when all pass."""
+def _joined(arrays: Sequence[np.ndarray]) -> np.ndarray:
+    """The tasks' arrays end to end (one task's as it is)."""
+    return arrays[0] if len(arrays) == 1 else np.concatenate(arrays)
+
+
+def _failing(legs: Sequence[Leg], names: Sequence[str], units: Mapping[str, Unit],
+             options: Options, s: float, motors: Mapping[str, Motor], idle: float
+             ) -> tuple[str, str] | None:
+    """The (joint, rule) of `names` that fails worst at scale s [-], or None when all pass."""
     worst: tuple[float, str, str] | None = None
-    for name, cycle_ in cycles.items():
-        candidate = _check_scaled(cycle_, held, units[name], s, options,
-                                  (motors or {}).get(name))
+    for name in names:
+        candidate = check_scaled(legs, name, units[name], s, options, motors.get(name), idle)
         if not candidate.feasible:
             rule = candidate.binding
             utilization = candidate.checks[rule].utilization
@@ -204,44 +154,46 @@ def _failing(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
     return None if worst is None else (worst[1], worst[2])
 
 
-def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
-                   units: Mapping[str, Unit], options: Options, motion: Motion,
-                   motors: Mapping[str, Motor] | None = None
+def smallest_scale(legs: Sequence[Leg], units: Mapping[str, Unit], options: Options,
+                   where: str, motors: Mapping[str, Motor] | None = None, idle: float = 0.0
                    ) -> tuple[float, tuple[str, str] | None]:
-    """The smallest s >= 1 [-] at which every joint passes every rule, and what set it.
+    """The smallest common s >= 1 [-] at which every joint passes every rule, and what set it.
 
-    The rules on single samples give exact intervals of s (`exact_scales`); inside
-    them the whole-cycle rules are checked on steps of `SCALE_STEP` (20 % beyond
-    s = 2) and the first pass is bisected to `SCALE_RTOL`.
+    The rules on single samples give exact intervals of s (`exact_scales`), intersected
+    over the tasks; inside them the whole-cycle rules are checked on steps of
+    `SCALE_STEP` (20 % beyond s = 2) and the first pass is bisected to `SCALE_RTOL`.
 
     Returns:
         s, and the (joint, rule) failing just below it (None when s = 1).
 
     Raises:
-        PathInfeasible: No s from 1 to `S_MAX` passes.
+        PathInfeasible: No s from 1 to `S_MAX` passes (the message names `where`).
     """
     motors = motors or {}
+    names = list(units)
+    duty = len(legs) > 1
     feasible: list[tuple[float, float]] = [(1.0, S_MAX)]
-    for name, cycle_ in cycles.items():
+    for name in names:
         motor = motors.get(name)
-        feasible = _intersect(feasible, list(exact_scales(
-            cycle_, units[name], rotor_inertia=(motor.rotor_inertia if motor is not None
-                                                else options.rotor_inertia),
-            margin=options.margin)))
+        for leg in legs:
+            feasible = _intersect(feasible, list(exact_scales(
+                leg.cycles[name], units[name],
+                rotor_inertia=(motor.rotor_inertia if motor is not None
+                               else options.rotor_inertia), margin=options.margin)))
         if not feasible:
-            failing = _failing({name: cycle_}, held, units, options, S_MAX, motors)
-            raise hopeless(motion, name, failing[1] if failing else "peak", units[name])
+            failing = _failing(legs, [name], units, options, S_MAX, motors, idle)
+            raise hopeless(where, name, failing[1] if failing else "peak", units[name], duty)
 
     def fails(s: float) -> tuple[str, str] | None:
-        return _failing(cycles, held, units, options, s, motors)
+        return _failing(legs, names, units, options, s, motors, idle)
 
-    last = [next(iter(cycles))]  # the joint that failed last: most likely to fail again
+    last = [names[0]]  # the joint that failed last: most likely to fail again
 
     def passes(s: float) -> bool:
         """Whether every joint passes at s: the last joint to fail is checked first."""
-        for name in (last[0], *(name for name in cycles if name != last[0])):
-            if not _check_scaled(cycles[name], held, units[name], s, options,
-                                 motors.get(name)).feasible:
+        for name in (last[0], *(name for name in names if name != last[0])):
+            if not check_scaled(legs, name, units[name], s, options, motors.get(name),
+                                idle).feasible:
                 last[0] = name
                 return False
         return True
@@ -249,8 +201,8 @@ def smallest_scale(cycles: Mapping[str, ScalableCycle], held: np.ndarray,
     found = first_passing(feasible, passes, fails)
     if found is not None:
         return found
-    name, rule = fails(S_MAX) or (next(iter(cycles)), "mean")
-    raise hopeless(motion, name, rule, units[name])
+    name, rule = fails(S_MAX) or (names[0], "mean")
+    raise hopeless(where, name, rule, units[name], duty)
 
 
 def first_passing(feasible: Sequence[tuple[float, float]], passes: Callable[[float], bool],
@@ -289,9 +241,11 @@ def first_passing(feasible: Sequence[tuple[float, float]], passes: Callable[[flo
     return None
 
 
-def hopeless(motion: Motion, joint: str, rule: str, unit: Unit) -> PathInfeasible:
-    """The error for a rule no speed lets the unit pass."""
-    return PathInfeasible(f"{motion.path}: joint '{joint}' fails its {rule} rule with "
+def hopeless(where: str, joint: str, rule: str, unit: Unit,
+             duty: bool = False) -> PathInfeasible:
+    """The error for a rule no speed lets the unit pass (`duty`: over several tasks)."""
+    over = " over the duty" if duty else ""
+    return PathInfeasible(f"{where}: joint '{joint}' fails its {rule} rule{over} with "
                           f"{unit.id} at every speed (from as fast as the limits allow to "
                           f"{S_MAX:g} times slower)", joint=joint, limit=rule,
                           gravity=rule in ("static", "peak", "momentary"))
@@ -307,82 +261,3 @@ def _intersect(a: list[tuple[float, float]],
             if lo <= hi:
                 out.append((lo, hi))
     return sorted(out)
-
-
-def derated(model: PathModel, carrying: Robot, units: Mapping[str, Unit],
-            masses: Mapping[str, float], first: Trial, options: Options,
-            motors: Mapping[str, Motor] | None = None) -> Trial:
-    """The derating of the failing joints' torque limits that gives the shortest cycle."""
-    joints = first.whole_cycle_failing
-
-    def attempt(fraction: float) -> Trial | None:
-        try:
-            return run_trial(model, carrying, units, masses, dict.fromkeys(joints, fraction),
-                             options, motors)
-        except PathInfeasible:
-            return None
-
-    tried: dict[float, Trial | None] = {1.0: first}
-    best, previous = first, first.cycle_time
-    for fraction in DERATINGS:
-        found = tried[fraction] = attempt(fraction)
-        if found is None or found.cycle_time > previous:
-            break
-        previous = found.cycle_time
-        if found.cycle_time < best.cycle_time:
-            best = found
-    centre = max(best.derating.values(), default=1.0)
-    lo, hi = max(centre - 0.1, 0.05), min(centre + 0.1, 1.0)
-    golden = (math.sqrt(5.0) - 1.0) / 2.0
-
-    def cycle_at(fraction: float) -> float:
-        if fraction not in tried:
-            tried[fraction] = attempt(fraction)
-        found = tried[fraction]
-        return math.inf if found is None else found.cycle_time
-
-    x1, x2 = hi - golden * (hi - lo), lo + golden * (hi - lo)
-    while hi - lo > DERATING_RESOLUTION:
-        if cycle_at(x1) <= cycle_at(x2):
-            hi, x2 = x2, x1
-            x1 = hi - golden * (hi - lo)
-        else:
-            lo, x1 = x1, x2
-            x2 = lo + golden * (hi - lo)
-    for found in tried.values():
-        if found is not None and found.cycle_time < best.cycle_time:
-            best = found
-    return best
-
-
-def verified(model: PathModel, units: Mapping[str, Unit], trial: Trial,
-             options: Options, motors: Mapping[str, Motor] | None = None
-             ) -> tuple[Trajectory, np.ndarray, SizingResult, float]:
-    """The trajectory on the motion's grid and its check, slowed until every rule passes.
-
-    Returns:
-        The trajectory, its dwell samples, its check and the slow-down [-].
-    """
-    scale = trial.scale
-    passing = None
-    for _ in range(_VERIFY_ROUNDS):
-        trajectory, held = cycle(model.motion, trial.profiles,
-                                 [r * scale for r in trial.kinematic],
-                                 max_samples=options.max_samples, notes=trial.notes)
-        check = check_units(model.robot, trajectory, units, options, motors=motors)
-        candidates = [c for joint in check.joints for c in joint.candidates]
-        excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks
-                      if rule != "static"), default=0.0) / (1.0 - options.margin)
-        if check.feasible:
-            passing = passing or (trajectory, held, check, scale)
-            if excess <= 1.0 - WRITTEN_MARGIN:
-                return trajectory, held, check, scale
-        if any(not c.checks["static"].ok for c in candidates):
-            break  # a held load: no speed helps
-        scale *= max(math.sqrt(excess), 1.0 + 10.0 * WRITTEN_MARGIN)
-    if passing is not None:  # at its limit to within the margin, whatever the speed
-        return passing
-    failing = [(joint.name, c.binding) for joint in check.joints for c in joint.candidates
-               if not c.feasible]
-    name, rule = failing[0] if failing else (next(iter(units)), "peak")
-    raise hopeless(model.motion, name, rule, units[name])

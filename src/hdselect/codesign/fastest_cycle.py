@@ -1,25 +1,29 @@
 """Co-design: the shortest cycle a choice of gearheads allows, and every ratio compared on it.
 
-`fastest` runs the motion's path as fast as the units allow, in three steps:
+`fastest` runs every task's path as fast as the units allow (a motion is a duty of one
+task; a mix's tasks keep their shares of the time), in three steps:
 
 1. TOPPRA under every limit that holds sample by sample (`hdselect.codesign.fastpath`,
-   `hdselect.codesign.pathbounds`): the motion's and the robot file's speeds, the units' maximum
-   input speeds over their ratios, the motion's accelerations, the units'
+   `hdselect.codesign.pathbounds`): the motion's and the robot file's speeds, the units'
+   maximum input speeds over their ratios, the motion's accelerations, the units'
    repeated-peak torques (through the dynamics, payload and carried gearheads
    included), the emergency stop and the crash. Any trajectory that passes the rules
    meets these, so this cycle, the `optimum`, is the shortest possible to the grid's
    resolution.
-2. The rules over the whole cycle (mean torque, life, average input speed) are
-   checked on it; where one fails, the cycle is lengthened by the smallest exact
-   slow-down, or by derating the failing joints' torque limits, whichever is shorter
-   (`hdselect.codesign.cyclerules`). A pure bang-bang move gives the same answer both ways
-   (both run it at the mean-torque allowance); a move that cruises is faster derated.
-3. The trajectory is sampled on the motion's time grid and checked by
-   `hdselect.sizing.core.check_units`, the sizing's own path, and slowed by any excess.
+2. The rules over the whole cycle (mean torque, life, average input speed), every
+   task's samples pooled at its share, are checked on it; where one fails, every task's
+   moves are lengthened by the smallest common exact slow-down, or (one task) by
+   derating the failing joints' torque limits, whichever is shorter
+   (`hdselect.codesign.cyclerules`, `hdselect.codesign.trials`). A pure bang-bang move
+   gives the same answer both ways (both run it at the mean-torque allowance); a move
+   that cruises is faster derated.
+3. Each trajectory is sampled on its motion's time grid and checked by the sizing's own
+   selection with the units fixed (`hdselect.sizing.core.check_units` for one task),
+   and slowed by any excess.
 
 `compare_ratios` does this for every catalog unit on each joint, the others fixed,
-sharing one path and its dynamics (a unit's mass changes the torque coefficients
-linearly, so no unit needs new dynamics passes on the path).
+sharing one path and its dynamics per task (a unit's mass changes the torque
+coefficients linearly, so no unit needs new dynamics passes on the path).
 """
 
 from __future__ import annotations
@@ -27,32 +31,55 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
-from hdselect.base.bounds import expect_type
-from hdselect.base.errors import InputError, PlanningError
-from hdselect.catalog.catalogfile import load_catalog
+from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import Candidate
-from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
 from hdselect.codesign.bindings import Binding, bindings
-from hdselect.codesign.cyclerules import derated, run_trial, verified
+from hdselect.codesign.choice import Duty, choose, duty_of
 from hdselect.codesign.fastpath import PathModel
 from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limits
+from hdselect.codesign.trials import derated, run_trial, verified
+from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import Trajectory, check_within_limits, plan
-from hdselect.motion.solve import solve_motion
+from hdselect.motion.planning import Trajectory, check_within_limits
 from hdselect.robot.model import Robot
-from hdselect.sizing.arguments import checked_motors, fixed_units, not_sized, units_argument
-from hdselect.sizing.core import motion_motors, size_trajectory
-from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.arguments import not_sized
+from hdselect.sizing.options import Options
+from hdselect.sizing.problem import Problem
 from hdselect.sizing.result import Motors, SizingResult
+from hdselect.sizing.tasks import Task
 
 OPTIMAL_WITHIN = 1e-3
 """A cycle at most this fraction longer than the optimum counts as the optimum: the
 slow-down that corrects TOPPRA's overshoot between gridpoints is of this order [-]."""
 @dataclass(frozen=True, eq=False)
+class TaskFastest:
+    """One task of a duty at its shortest cycle.
+
+    Attributes:
+        task: The task at its fastest: its robot, trajectory (sampled every ``motion.dt``),
+            share, motion and name.
+        planned: Its cycle as the motion file plans it [s]; None where it was not planned.
+        optimum: Its time-optimal cycle under the limits on single samples [s].
+    """
+
+    task: Task
+    planned: float | None
+    optimum: float
+
+    @property
+    def cycle_time(self) -> float:
+        """Its shortest cycle over the duty, dwells included [s]."""
+        return self.task.trajectory.duration
+
+
+@dataclass(frozen=True, eq=False)
 class FastestResult:
-    """The shortest cycle of a motion's path that a choice of units allows.
+    """The shortest cycle of every task's path that a choice of units allows.
+
+    A motion is a duty of one task; for a mix, `robot`, `motion`, `trajectory`,
+    `limits`, `optimum` and `grid_per_waypoint` are its first counted task's, `check`
+    is the duty's and `tasks` has every counted task.
 
     Attributes:
         robot: The robot (payload and mounting applied, no gearhead masses).
@@ -73,6 +100,9 @@ class FastestResult:
         grid_per_waypoint: TOPPRA gridpoints per waypoint.
         motors: The motor behind the unit of each joint that has one (its peak torque,
             speed and rotor inertia bound the path; its rules are checked).
+        tasks: Every counted task at its fastest, in the duty's order.
+        idle: The fraction of the time no task runs [-].
+        mix: The mix, or None for one motion.
     """
 
     robot: Robot
@@ -89,11 +119,30 @@ class FastestResult:
     binding: tuple[Binding, ...]
     grid_per_waypoint: int
     motors: Mapping[str, Motor] = field(default_factory=dict)
+    tasks: tuple[TaskFastest, ...] = ()
+    idle: float = 0.0
+    mix: Mix | None = None
 
     @property
     def cycle_time(self) -> float:
-        """The cycle time, dwells included [s]."""
+        """The cycle time, dwells included [s] (of the first task, for a mix)."""
         return self.trajectory.duration
+
+    @property
+    def mean_cycle_time(self) -> float:
+        """The tasks' cycle times weighted by their shares [s]; one task's cycle time."""
+        if len(self.tasks) < 2:
+            return self.cycle_time
+        return (sum(item.task.share * item.cycle_time for item in self.tasks)
+                / sum(item.task.share for item in self.tasks))
+
+    @property
+    def mean_optimum(self) -> float:
+        """The tasks' optima weighted by their shares [s]; one task's `optimum`."""
+        if len(self.tasks) < 2:
+            return self.optimum
+        return (sum(item.task.share * item.optimum for item in self.tasks)
+                / sum(item.task.share for item in self.tasks))
 
     @property
     def feasible(self) -> bool:
@@ -173,6 +222,8 @@ class RatioComparison:
         options: The assumptions.
         joints: One comparison per joint compared.
         base: The fastest cycle with `units` everywhere.
+        mix: The mix whose tasks were run, or None for one motion (a mix's rows give
+            the share-weighted mean of its tasks' cycles, `FastestResult.mean_cycle_time`).
     """
 
     robot: Robot
@@ -181,61 +232,65 @@ class RatioComparison:
     options: Options
     joints: tuple[JointRatios, ...]
     base: FastestResult = field(repr=False)
+    mix: Mix | None = None
 
 
-def fastest(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None = None,
-            options: Options | None = None, *,
+def fastest(robot: Robot | Problem, motion: Motion | Mix | None = None,
+            units: Mapping[str, Unit | str] | None = None, options: Options | None = None, *,
             catalog: Sequence[Unit] | None = None,
             motors: Motors | None = None) -> FastestResult:
-    """The shortest cycle of the motion's path that the units allow, every rule passing.
+    """The shortest cycle of every task's path that the units allow, every rule passing.
+
+    A motion is a duty of one task. For a mix, every task's moves are slowed by one
+    common factor where the duty's pooled rules need it (dwells keep their length, the
+    shares their value); a derating of a joint's torque limit is tried for one task only.
 
     Args:
-        robot: The robot as the motion runs it (`hdselect.load_case`).
-        motion: A motion with waypoints (a Ruckig or TOPPRA motion, not a log).
+        robot: The robot as the motion runs it (`hdselect.load_case`); or the resolved
+            `Problem` (`hdselect.resolve`), alone: its motion or mix, catalog, options
+            and motors.
+        motion: A motion with waypoints (a Ruckig or TOPPRA motion, not a log), or a mix
+            of such motions.
         units: Unit (or unit id) per sized joint; joints not given get the unit
-            `hdselect.size_trajectory` selects for the motion as planned.
-        options: The assumptions (default: `options_for(motion)`).
-        catalog: Units to resolve ids and defaults from (default: the built-in catalog).
+            `hdselect.size` selects for the motion (or mix) as planned.
+        options: The assumptions (default: `options_for(motion)`, or the mix's).
+        catalog: Units to resolve ids and defaults from (default: the built-in catalog,
+            and the mix file's).
         motors: Candidate motors per sized joint (a `Motor` is a fixed one); None takes
-            the motion file's ``[motor]``. A joint with several gets the motor the sizing
+            the files' ``[motor]``. A joint with several gets the motor the sizing
             pairs with its unit. The motor's peak torque (through the ratio, with the
             reflected inertia (J_in + J_m) N qdd) and maximum speed bound the path, and
             its rules are checked on the result.
 
     Returns:
-        The fastest trajectory, its check and what bounds it.
+        The fastest trajectories, their check and what bounds them.
 
     Raises:
-        InputError: The motion is a log, or a joint, unit id or motor is unknown or
+        InputError: A motion is a log, or a joint, unit id or motor is unknown or
             invalid.
         PlanningError: The path cannot be run with these units at any speed (the
             message names the joint, the limit and where), or TOPPRA fails.
     """
-    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
-    expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
-    expect_type(options, (Options, type(None)), "options", "an Options or None")
-    _refuse_log(motion)
-    motion = solve_motion(robot, motion)
-    options = options if options is not None else options_for(motion)
-    catalog = units_argument(catalog) if catalog is not None else load_catalog()
-    chosen, _, paired = resolve_case(robot, motion, units, catalog, options, selection=False,
-                                     motors=motors)
-    model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
-    return _fastest(model, chosen, options, paired)
+    duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors,
+                                                 units=units)
+    chosen, _, paired = choose(duty.robot, duty, units, catalog, options, candidates,
+                               selection=False)
+    return _fastest(_models(duty, options), chosen, options, paired, duty)
 
 
-def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str] | None = None,
+def compare_ratios(robot: Robot | Problem, motion: Motion | Mix | None = None,
+                   units: Mapping[str, Unit | str] | None = None,
                    options: Options | None = None, *, catalog: Sequence[Unit] | None = None,
                    joints: Sequence[str] | None = None,
                    motors: Motors | None = None) -> RatioComparison:
     """The shortest cycle with each catalog unit on each joint, the other joints' units fixed.
 
     Args:
-        robot: The robot as the motion runs it.
-        motion: A motion with waypoints.
+        robot: The robot as the motion runs it; or the resolved `Problem`, alone.
+        motion: A motion with waypoints, or a mix of such motions.
         units: Units the other joints keep (defaults as in `fastest`).
-        options: The assumptions (default: `options_for(motion)`).
-        catalog: The units compared (default: the built-in catalog).
+        options: The assumptions (default: `options_for(motion)`, or the mix's).
+        catalog: The units compared (default: the built-in catalog, and the mix file's).
         joints: The joints compared (default: every sized joint).
         motors: Candidate motors per sized joint, as `fastest` takes them; each joint
             keeps its motor whatever unit it is compared with.
@@ -244,27 +299,21 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
         One row per unit and joint.
 
     Raises:
-        InputError: The motion is a log, or a joint or unit id is unknown.
+        InputError: A motion is a log, or a joint or unit id is unknown.
         PlanningError: The units given cannot run the path at all.
     """
-    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
-    expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
-    expect_type(options, (Options, type(None)), "options", "an Options or None")
-    _refuse_log(motion)
-    motion = solve_motion(robot, motion)
-    options = options if options is not None else options_for(motion)
-    catalog = units_argument(catalog) if catalog is not None else load_catalog()
-    chosen, selected, paired = resolve_case(robot, motion, units, catalog, options,
-                                            motors=motors)
-    names = list(robot.sized_joints)
+    duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors,
+                                                 units=units, joints=joints)
+    chosen, selected, paired = choose(duty.robot, duty, units, catalog, options, candidates)
+    names = list(duty.robot.sized_joints)
     if joints is not None and (isinstance(joints, str) or not isinstance(joints, Sequence)
                                or not all(isinstance(name, str) for name in joints)):
         raise InputError(f"expected a list of joint names, got {joints!r}", field="joints")
     for name in joints or ():
         if name not in names:
-            raise not_sized(robot, name, "joint")
-    model = PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
-    base = _fastest(model, chosen, options, paired)
+            raise not_sized(duty.robot, name, "joint")
+    models = _models(duty, options)
+    base = _fastest(models, chosen, options, paired, duty)
     out = []
     for name in joints or names:
         rows = []
@@ -273,145 +322,61 @@ def compare_ratios(robot: Robot, motion: Motion, units: Mapping[str, Unit | str]
                 rows.append(_row(unit, base))
                 continue
             try:
-                rows.append(_row(unit, _fastest(model, {**chosen, name: unit}, options,
-                                                paired)))
+                rows.append(_row(unit, _fastest(models, {**chosen, name: unit}, options,
+                                                paired, duty)))
             except PathInfeasible as err:
                 rows.append(RatioRow(unit, None, None, err.gravity, _short(err), None))
         out.append(JointRatios(name, selected.get(name), tuple(rows)))
-    return RatioComparison(robot, motion, chosen, options, tuple(out), base)
+    return RatioComparison(base.robot, base.motion, chosen, options, tuple(out), base,
+                           duty.mix)
 
 
-def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] | None,
-                  catalog: Sequence[Unit], options: Options, *,
-                  selection: bool = True, trajectory: Trajectory | None = None
-                  ) -> tuple[dict[str, Unit], dict[str, str]]:
-    """The unit of every sized joint: those given, the sizing's selection for the others.
-
-    As `resolve_case`, with the motion file's motors; without the motors chosen.
-
-    Raises:
-        InputError: As `resolve_case`; the motion is a log (it has no path to run faster).
-    """
-    _refuse_log(motion)
-    chosen, selected, _ = resolve_case(robot, motion, given, catalog, options,
-                                       selection=selection, trajectory=trajectory)
-    return chosen, selected
+def _models(duty: Duty, options: Options) -> tuple[PathModel, ...]:
+    """Each counted task's path, its dynamics batched once."""
+    return tuple(PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
+                 for robot, motion in zip(duty.robots, duty.motions, strict=True))
 
 
-def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] | None,
-                 catalog: Sequence[Unit], options: Options, *,
-                 selection: bool = True, trajectory: Trajectory | None = None,
-                 motors: Motors | None = None
-                 ) -> tuple[dict[str, Unit], dict[str, str], dict[str, Motor]]:
-    """The unit (and motor) of every sized joint: those given, the sizing's for the others.
-
-    Args:
-        robot: The robot as the motion runs it.
-        motion: The motion (planned with its own planner for the selection).
-        given: Unit or unit id per joint.
-        catalog: The units ids refer to, and the sizing chooses from.
-        options: The assumptions of the sizing.
-        selection: Size the motion even when every joint has a unit and one motor given.
-        trajectory: The trajectory the selection sizes (default: the motion as planned;
-            a study gives it run s times slower).
-        motors: Candidate motors per joint; None takes the motion file's ``[motor]``.
-
-    Returns:
-        The unit per sized joint; the unit id the sizing selects per joint (where one
-        fits; else the one that fits with the smallest slow-down; empty when the motion
-        was not sized); the motor per joint that has motors: the only one given, else
-        the one the sizing pairs with the joint's unit (the pair it selects, else the one
-        closest to passing).
-
-    Raises:
-        InputError: A name is not a sized joint, or an id is unknown.
-        PlanningError: No unit can run a joint not given, at any speed.
-    """
-    chosen = fixed_units(given, catalog, robot)
-    by_id = {unit.id: unit for unit in catalog}
-    candidates = checked_motors(robot, motion_motors(robot, motion) if motors is None
-                                else motors, options)
-    single = all(len(found) == 1 for found in candidates.values())
-    if not selection and single and all(name in chosen for name in robot.sized_joints):
-        return chosen, {}, {name: found[0] for name, found in candidates.items()}
-    sized = (trajectory if trajectory is not None
-             else plan(robot, motion, max_samples=options.max_samples))
-    sizing = size_trajectory(robot, sized, catalog, options, motors=candidates)
-    selected: dict[str, str] = {}
-    paired: dict[str, Motor] = {}
-    for joint in sizing.joints:
-        pick = joint.selected.unit.id if joint.selected is not None else (
-            joint.slowdown.unit.split(" + ")[0]
-            if joint.slowdown is not None and joint.slowdown.unit is not None else None)
-        if pick is not None:  # a slow-down names a pair "UNIT + MOTOR"
-            selected[joint.name] = pick
-        if joint.name not in chosen:
-            if pick is None:
-                raise PlanningError(f"{motion.path}: {no_unit_at_any_speed(joint.name)}")
-            chosen[joint.name] = by_id[pick]
-        if joint.name in candidates:
-            paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
-                                               candidates[joint.name], sizing.options)
-    return chosen, selected, paired
-
-
-def no_unit_at_any_speed(joint: str, over: str = "this motion") -> str:
-    """The refusal for a joint no catalog unit can run, slowed or not, with what helps."""
-    return (f"no unit of the catalog can run joint '{joint}' on {over} at any speed "
-            f"(hdselect size says how close each comes); leave it out with --exclude {joint}, "
-            "or give a catalog with a stronger unit (--catalog)")
-
-
-def _refuse_log(motion: Motion) -> None:
-    """A logged trajectory has no path to run faster: refused, naming its planner."""
-    if motion.planner == "samples":
-        raise InputError("a logged trajectory ('samples') has no path to run faster; give "
-                         "a motion with waypoints", path=motion.path, field="planner")
-
-
-def _paired_motor(pairs: Sequence[Candidate], unit: Unit, motors: Sequence[Motor],
-                  options: Options) -> Motor:
-    """The motor for `unit`: the only one, the pair the selection order picks, or the closest."""
-    if len(motors) == 1:
-        return motors[0]
-    mine = [pair for pair in pairs if pair.unit.id == unit.id and pair.motor_unit is not None]
-    best = select(mine, options.prefer or DEFAULT_PREFER_WITH_MOTORS)
-    if best is None:
-        best = min(mine, key=lambda pair: max(c.utilization for c in pair.checks.values()))
-    if best.motor_unit is None:
-        raise RuntimeError(f"{unit.id}: the best pair has no motor")
-    return best.motor_unit
-
-
-def _fastest(model: PathModel, units: Mapping[str, Unit], options: Options,
-             motors: Mapping[str, Motor] | None = None) -> FastestResult:
+def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Options,
+             motors: Mapping[str, Motor], duty: Duty) -> FastestResult:
     """Steps 1 to 3 of the module's method for one choice of units (and motors)."""
+    model = models[0]
     robot = model.robot
-    motors = dict(motors or {})
+    motors = dict(motors)
     masses = ({name: unit.mass + (motors[name].mass if name in motors else options.motor_mass)
                for name, unit in units.items()} if options.mass_coupling else {})
-    carrying = robot.with_gearheads(masses)
-    first = run_trial(model, carrying, units, masses, {}, options, motors)
+    carrying = [each.robot.with_gearheads(masses) for each in models]
+    first = run_trial(models, carrying, duty.shares, units, masses, {}, options, motors,
+                      duty.idle, duty.where)
     best = first
-    if first.whole_cycle_failing:
-        best = derated(model, carrying, units, masses, first, options, motors)
-    limits = joint_limits(robot, model.motion, units, options, best.derating, motors=motors)
-    trajectory, held, check, scale = verified(model, units, best, options, motors)
-    check_within_limits(robot, model.motion, trajectory, what="fastest")  # as plan does
-    slowdown = scale
-    optimum = first.moving + first.dwell
+    if first.whole_cycle_failing and len(models) == 1:  # a duty keeps its shares: slowed
+        best = derated(models, carrying, units, masses, first, options, motors)
+    trajectory, held, check, scale = verified(units, best, options, motors,
+                                              duty.planned or None, duty.where)
+    trajectories = tuple(task.trajectory for task in check.tasks) if duty.planned else (
+        trajectory,)
+    for each, run in zip(models, trajectories, strict=True):
+        check_within_limits(each.robot, each.motion, run, what="fastest")  # as plan does
     reason = None
-    if trajectory.duration > optimum * (1.0 + OPTIMAL_WITHIN):
+    if any(run.duration > leg.optimum * (1.0 + OPTIMAL_WITHIN)
+           for run, leg in zip(trajectories, first.legs, strict=True)):
         reason = first.reason if best is not first else best.reason
+    limits = joint_limits(robot, model.motion, units, options, best.derating, motors=motors)
+    binding = bindings(model, best, scale, check, held, joint_limits(
+        robot, model.motion, units, options, motors=motors)) if len(models) == 1 else ()
+    tasks = duty.planned or (Task(robot, trajectories[0], 1.0, model.motion),)
+    timed = tuple(TaskFastest(replace(task, trajectory=run),
+                              task.trajectory.duration if duty.planned else None, leg.optimum)
+                  for task, run, leg in zip(tasks, trajectories, first.legs, strict=True))
+    if duty.mix is not None:
+        check = replace(check, mix=duty.mix)
     return FastestResult(
         robot=robot, motion=model.motion, units=dict(units), options=options,
         trajectory=trajectory, check=check,
         limits=dict(zip(robot.joint_names, limits, strict=True)),
-        optimum=optimum, slowdown=slowdown, derating=dict(best.derating),
-        reason=reason, binding=bindings(model, best, scale, check, held,
-                                        joint_limits(robot, model.motion, units, options,
-                                                     motors=motors)),
-        grid_per_waypoint=model.grid_per_waypoint, motors=motors)
+        optimum=first.legs[0].optimum, slowdown=scale, derating=dict(best.derating),
+        reason=reason, binding=binding, grid_per_waypoint=model.grid_per_waypoint,
+        motors=motors, tasks=timed, idle=duty.idle, mix=duty.mix)
 
 
 def _row(unit: Unit, result: FastestResult) -> RatioRow:
@@ -423,7 +388,7 @@ def _row(unit: Unit, result: FastestResult) -> RatioRow:
         if result.slowdown > 1.0 + 1e-9:
             how.append(f"x{result.slowdown:.4f}")
         note = f"{result.reason[0]} {result.reason[1]}: {', '.join(how)}"
-    return RatioRow(unit, result.cycle_time, result.optimum, False, note,
+    return RatioRow(unit, result.mean_cycle_time, result.mean_optimum, False, note,
                     (shares[0][0], shares[0][1]) if shares else None, result.reason, derating,
                     result.slowdown)
 

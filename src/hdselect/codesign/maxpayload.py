@@ -1,10 +1,11 @@
-"""The largest payload a motion can carry with some unit on every joint, found exactly.
+"""The largest payload a motion (or a mix's tasks) can carry with a unit on every joint, exactly.
 
 For a fixed trajectory the joint torques are affine in the payload mass m (its
 inertia about its centre of mass scales with m: the same body, denser):
 tau(m) = tau_0 + m tau_1, and so is the emergency stop's. Two pairs of batched passes
 (without payload, and with 1 kg) therefore give every rule of every unit as a
-function of m:
+function of m; a mix's payloads scale by one factor x alike, every task's samples
+pooled at its share (`duty_bounds`):
 
 - peak, static, emergency stop, crash: |tau_0 + m tau_1| <= limit (minus K |qd| for the
   crash) at every sample: an interval of m per sample, intersected;
@@ -14,38 +15,44 @@ function of m:
   from the sorted roots of the samples' torques (`hdselect.codesign.cubicmean`);
 - input speed and average input speed do not depend on m.
 
-The units chosen (and so the gearhead masses the joints nearer the base carry)
-depend on m: the largest mass with the masses of the units `size` selects there is
-found, the selection redone at it, and the two repeated until the masses settle.
+The units chosen (and so the gearhead masses the joints nearer the base carry) depend
+on m: the largest mass with the masses of the units `size` selects there is found, the
+selection redone at it, and the two repeated until the masses settle.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from hdselect.base.bounds import LENGTH, expect_type
+from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
-from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.rules import Candidate, at_rest
+from hdselect.catalog.rules import Candidate
 from hdselect.catalog.rules.forms import Interval
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
+from hdselect.codesign.choice import duty_of
 from hdselect.codesign.payloadbounds import UnitBound, joint_mean, unit_bound
-from hdselect.codesign.payloadsizing import PayloadSizing
+from hdselect.codesign.payloadsizing import (
+    PayloadSizing,
+    payload_tasks,
+    scaled_tasks,
+)
+from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import axis_wrenches
-from hdselect.sizing.arguments import checked_motors, fixed_units, units_argument
-from hdselect.sizing.core import motion_motors
-from hdselect.sizing.options import Options, options_for
+from hdselect.sizing.arguments import fixed_units
+from hdselect.sizing.options import Options
+from hdselect.sizing.problem import Problem
 from hdselect.sizing.result import Motors, SizingResult
+from hdselect.sizing.tasks import Task, pooled
 
 _ROUNDS = 12
 _ROUNDOFF = 1e-12
@@ -56,20 +63,28 @@ _ROUNDOFF = 1e-12
 class MaxPayloadResult:
     """The largest payload with a feasible unit on every joint.
 
+    The answer is a factor x on the payload of every task that scales: one motion's is its
+    geometry at 1 kg (x its mass [kg]), a mix's each task's as given (`masses`: at x).
+
     Attributes:
-        mass: The largest payload mass [kg]; math.inf when no rule depends on it; None
-            when no mass, not even 0, has a unit on every joint.
-        payload: The payload's geometry per kilogram: frame, centre of mass [m] and
-            inertia about it [kg m^2 per kg].
-        ranges: Every interval of masses with a unit on every joint [kg].
+        mass: The largest x (one motion's payload mass [kg], a mix's factor [-]);
+            math.inf when no rule depends on it; None when no x, not even 0, has a unit
+            on every joint.
+        payload: The (first scaled task's) payload at x = 1: one motion's geometry per
+            kilogram: frame, centre of mass [m] and inertia about it [kg m^2 per kg].
+        ranges: Every interval of x with a unit on every joint.
         joint: The joint that runs out of units at `mass`, or None.
         unit: The last of its units to pass there, or None.
         rule: The rule that unit fails just above `mass`, or None.
         selection: The sizing at `mass` (just inside it), or None.
-        trajectory: The trajectory the payload rides.
-        bounds: Per joint, each unit's interval of masses.
+        trajectory: The trajectory the payload rides (the first task's).
+        bounds: Per joint, each unit's interval of x.
         frame: The link the payload is attached to (the robot's default payload frame,
             the tip of the longest chain of joints not excluded, when `payload` names none).
+        scaled: The tasks whose payload scales, by name.
+        payloads: Each scaled task's payload at x = 1, by name.
+        tasks: The duty's tasks at x = 1; idle: the fraction of the time none runs [-].
+        mix: The mix, or None for one motion.
     """
 
     mass: float | None
@@ -82,67 +97,87 @@ class MaxPayloadResult:
     trajectory: Trajectory
     bounds: Mapping[str, tuple[UnitBound, ...]]
     frame: str = ""
+    scaled: tuple[str, ...] = ()
+    payloads: Mapping[str, Payload] = field(default_factory=dict)
+    tasks: tuple[Task, ...] = ()
+    idle: float = 0.0
+    mix: Mix | None = None
+
+    @property
+    def factor(self) -> float | None:
+        """The largest factor on the scaled payloads [-] (`mass`)."""
+        return self.mass
+
+    def masses(self, factor: float | None = None) -> dict[str, float]:
+        """Each scaled task's payload mass at a factor (default: the largest) [kg]."""
+        x = self.mass if factor is None else factor
+        if x is None:
+            return {}
+        return {name: payload.mass * x for name, payload in self.payloads.items()}
 
 
-def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
+def max_payload(robot: Robot | Problem, motion: Motion | Mix | None = None,
+                options: Options | None = None, *,
                 catalog: Sequence[Unit] | None = None, frame: str | None = None,
                 com: Sequence[float] | None = None,
                 trajectory: Trajectory | None = None,
                 units: Mapping[str, Unit | str] | None = None,
-                motors: Motors | None = None) -> MaxPayloadResult:
-    """The largest payload mass for which every joint still has a feasible unit.
+                motors: Motors | None = None,
+                tasks: Sequence[str] | None = None) -> MaxPayloadResult:
+    """The largest payload for which every joint still has a feasible unit.
+
+    For one motion, the largest payload mass; for a mix, the largest common factor on
+    the payloads of its tasks (mass and inertia alike), the others keeping theirs.
 
     Args:
-        robot: The robot as the motion runs it (its payload, if any, sets the geometry).
-        motion: The motion.
-        options: The assumptions (default: `options_for(motion)`).
-        catalog: The units (default: the built-in catalog).
-        frame: Frame the payload is attached to (default: the payload's, else the tip of
-            the longest chain of joints not excluded, `Robot.default_payload_frame`).
-        com: Its centre of mass in that frame [m] (default: the payload's, else the
-            frame's origin).
-        trajectory: The trajectory the payload rides (default: the motion as planned;
-            a study gives it run s times slower). It must not depend on the payload.
+        robot: The robot as the motion runs it (its payload, if any, sets the geometry);
+            or the resolved `Problem` (`hdselect.resolve`), alone: its motion or mix,
+            catalog, options and motors.
+        motion: The motion, or a mix.
+        options: The assumptions (default: `options_for(motion)`, or the mix's).
+        catalog: The units (default: the built-in catalog, and the mix file's).
+        frame: Frame one motion's payload is attached to (default: the payload's, else
+            `Robot.default_payload_frame`, the tip of the longest chain of joints).
+        com: Its centre of mass in that frame [m] (default: the payload's, else 0).
+        trajectory: The trajectory one motion's payload rides (default: the motion as
+            planned; a study gives it run s times slower), not depending on the payload.
         units: A fixed unit (or unit id) for every sized joint; None chooses them at each
             mass, as `hdselect.size` does.
         motors: Candidate motors per sized joint (one per joint with fixed units); None
-            takes the motion file's ``[motor]``. Their rules bound the mass too
+            takes the files' ``[motor]``. Their rules bound the mass too
             (`hdselect.codesign.payloadsizing`).
+        tasks: The tasks of a mix whose payload scales, by name (default: every task that
+            carries one).
 
     Returns:
-        The mass, where it binds, and the sizing there.
+        The mass (or factor), where it binds, and the sizing there.
 
     Raises:
-        InputError: The motion's trajectory depends on the payload (TOPPRA with torque
-            limits), or the frame does not exist.
-        PlanningError: The motion cannot be planned.
+        InputError: A trajectory depends on the payload (TOPPRA with torque limits), the
+            frame does not exist, a name is not a task, or no task named carries a
+            payload.
+        PlanningError: A motion cannot be planned.
     """
-    expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
-    expect_type(motion, (Motion,), "motion", "a Motion (hdselect.load_case)")
-    expect_type(options, (Options, type(None)), "options", "an Options or None")
+    duty, options, catalog, candidates = duty_of(
+        robot, motion, options, catalog, motors, what="", units=units, frame=frame, com=com,
+        trajectory=trajectory, tasks=tasks)
     expect_type(trajectory, (Trajectory, type(None)), "trajectory", "a Trajectory or None")
-    if motion.planner == "toppra" and motion.torque_limit is not None:
-        raise InputError("the TOPPRA torque limits make the trajectory depend on the payload;"
-                         " max-payload needs a trajectory that does not: remove them",
-                         path=motion.path, field="limits.torque")
-    options = options if options is not None else options_for(motion)
-    catalog = units_argument(catalog) if catalog is not None else load_catalog()
-    payload = per_kilogram(robot.payload, frame=frame, com=com)
-    bare = robot.with_payload(None)
-    bare.with_payload(payload)  # the frame must exist
-    fixed = fixed_units(units, catalog, robot)
-    candidates = checked_motors(robot, motion_motors(robot, motion) if motors is None
-                                else motors, options)
-    if trajectory is None:
-        trajectory = plan(robot, motion, max_samples=options.max_samples)
-    sizing = PayloadSizing(bare, payload, trajectory, catalog, options, fixed, candidates)
+    for item in duty.motions:
+        if item.planner == "toppra" and item.torque_limit is not None:
+            raise InputError("the TOPPRA torque limits make the trajectory depend on the "
+                             "payload; max-payload needs a trajectory that does not: remove "
+                             "them", path=item.path, field="limits.torque")
+    planned = payload_tasks(duty, options, frame, com, trajectory)
+    scaled = scaled_tasks(planned, tasks, duty)
+    fixed = fixed_units(units, catalog, duty.robot)
+    sizing = PayloadSizing(planned, scaled, duty.idle, catalog, options, fixed, candidates,
+                           pooled=duty.mix is not None)
     # a rated output bearing's rules are not affine in m (a moment and forces combined):
     # like a motor's, the sizing judges them, and the mass is bisected on its verdict
     bearings = options.bearing_loads and any(unit.bearing is not None for unit in catalog)
     masses: dict[str, float] = {}
-    result = None
     for _ in range(_ROUNDS):
-        bounds = joint_bounds(bare.with_gearheads(masses), payload, trajectory, catalog, options)
+        bounds = duty_bounds(planned, duty.idle, scaled, masses, catalog, options)
         if fixed:
             bounds = {name: tuple(b for b in per_unit if b.unit is fixed[name])
                       for name, per_unit in bounds.items()}
@@ -155,7 +190,6 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
                 mass, selection, failing = sizing.largest(ranges[-1][0], inside)
             else:  # a round's sizing gives the masses: slow-downs only for the answer
                 selection = sizing.at(inside, slowdowns=False)
-        result = (mass, ranges, bounds, selection, failing)
         if selection is None or not options.mass_coupling:
             break
         chosen = {joint.name: _carried(joint.selected or joint.strongest, options)
@@ -163,9 +197,6 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
         if chosen == masses:
             break
         masses = chosen
-    if result is None:
-        raise RuntimeError("the payload search ran no round")
-    mass, ranges, bounds, selection, failing = result
     if selection is not None and failing is None and not selection.feasible:
         selection = sizing.at(inside)  # a joint no unit fits: its slow-downs, as size gives
     joint = unit = rule = None
@@ -179,8 +210,15 @@ def max_payload(robot: Robot, motion: Motion, options: Options | None = None, *,
     elif mass is not None and math.isfinite(mass):
         joint, best = _binding(bounds, mass)
         unit, rule = best.unit, best.limiting(mass)
-    return MaxPayloadResult(mass, payload, tuple(ranges), joint, unit, rule, selection,
-                            trajectory, bounds, bare.with_payload(payload).payload_frame)
+    if selection is not None and duty.mix is not None:
+        selection = replace(selection, mix=duty.mix)
+    payloads = {task.label: task.robot.payload for task in planned
+                if task.label in scaled and task.robot.payload is not None}
+    first = next(task for task in planned if task.label in scaled)
+    return MaxPayloadResult(mass, payloads[first.label], tuple(ranges), joint, unit, rule,
+                            selection, planned[0].trajectory, bounds,
+                            first.robot.payload_frame, scaled, payloads, planned, duty.idle,
+                            duty.mix)
 
 
 def _carried(chosen: Candidate, options: Options) -> float:
@@ -189,60 +227,64 @@ def _carried(chosen: Candidate, options: Options) -> float:
     return chosen.unit.mass + (motor.mass if motor is not None else options.motor_mass)
 
 
-def per_kilogram(payload: Payload | None, *, frame: str | None = None,
-                 com: Sequence[float] | None = None) -> Payload:
-    """A 1 kg payload of the given geometry; its inertia is the payload's per kg.
+def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
+                masses: Mapping[str, float], units: Sequence[Unit],
+                options: Options) -> dict[str, tuple[UnitBound, ...]]:
+    """Each unit's interval of x on each sized joint, gearhead masses fixed.
 
-    With `frame` or `com` given, a point mass there (the payload's inertia was about
-    its own centre, in its own frame).
-    """
-    expect_type(frame, (str, type(None)), "frame", "a link name or None")
-    if com is not None:
-        if isinstance(com, str) or not isinstance(com, Sequence) or len(com) != 3:
-            raise InputError(f"expected three numbers [m], got {com!r}", field="com")
-        com = [LENGTH.check(c, field=f"com[{i}]") for i, c in enumerate(com)]
-    if payload is not None and frame is None and com is None:
-        return Payload(1.0, payload.com, tuple(tuple(v / payload.mass for v in row)
-                                               for row in payload.inertia), payload.frame)
-    at = tuple(com) if com is not None else (payload.com if payload is not None and frame is None
-                                              else (0.0, 0.0, 0.0))
-    where = frame if frame is not None else (payload.frame if payload is not None else None)
-    return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where)
-
-
-def joint_bounds(carrying: Robot, payload: Payload, trajectory: Trajectory,
-                 units: Sequence[Unit], options: Options) -> dict[str, tuple[UnitBound, ...]]:
-    """Each unit's interval of payload masses on each sized joint, for fixed gearhead masses.
+    The payloads of `scaled` tasks are x times theirs (mass and inertia), the others'
+    fixed: every task's torque is affine in x on its fixed trajectory, so two batched
+    passes per task give each rule as an interval of x, over the tasks' samples pooled at
+    their shares (`hdselect.sizing.tasks.pooled`): the rules of single samples on every
+    sample, the mean torque and life on the pooled cubic mean.
 
     Args:
-        carrying: The robot without payload, carrying the gearhead masses.
-        payload: The 1 kg payload.
-        trajectory: The trajectory.
+        tasks: The duty's tasks, payloads at x = 1.
+        idle: The fraction of the time no task runs [-].
+        scaled: The tasks whose payload scales, by name.
+        masses: The gearhead (and motor) mass per joint's unit [kg].
         units: The catalog.
         options: The assumptions.
     """
-    q, qd, qdd = trajectory.q, trajectory.qd, trajectory.qdd
-    empty = cycle_torques(carrying, q, qd, qdd, options.stop_time, threads=options.threads)
-    loaded = cycle_torques(carrying.with_payload(payload), q, qd, qdd, options.stop_time,
-                           threads=options.threads)
-    names = list(carrying.sized_joints)
-    wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m too
-    if options.bearing_loads and any(unit.bearing is not None for unit in units):
-        wrenches = [axis_wrenches(robot, q, qd, qdd, names, threads=options.threads)
-                    for robot in (carrying, carrying.with_payload(payload))]
+    counted = [task for task in tasks if task.share > 0.0]
+    samples = pooled(counted, idle)
+    robot = counted[0].robot
+    names = list(robot.sized_joints)
+    bearings = options.bearing_loads and any(unit.bearing is not None for unit in units)
+    parts = []
+    for task in counted:
+        traj = task.trajectory
+        carrying = task.robot.with_payload(None).with_gearheads(masses)
+        args = (traj.q, traj.qd, traj.qdd)
+        payload = task.robot.payload
+        ends = ((carrying, carrying.with_payload(payload))
+                if task.label in scaled and payload is not None
+                else (task.robot.with_gearheads(masses),) * 2)
+        none, full = (cycle_torques(end, *args, options.stop_time, threads=options.threads)
+                      for end in ends)
+        wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
+        if bearings:
+            wrenches = [axis_wrenches(end, *args, names, threads=options.threads)
+                        for end in ends]
+        parts.append((none, full, wrenches))
     out = {}
     for k, name in enumerate(names):
-        j = carrying.joint_index(name)
-        tau0, stop0 = empty.tau[:, j], empty.stop[:, j]
-        tau1 = _per_kg(loaded.tau[:, j], tau0)
-        stop1 = _per_kg(loaded.stop[:, j], stop0)
-        cubic = joint_mean(trajectory.dt, at_rest(qd[:, j], qdd[:, j]), qd[:, j], tau0, tau1)
-        wrench = (None if wrenches is None else
-                  (wrenches[0][k], wrenches[1][k] - wrenches[0][k],
-                   options.bearing_offset.get(name, 0.0)))
-        out[name] = tuple(unit_bound(unit, trajectory.dt, at_rest(qd[:, j], qdd[:, j]), qd[:, j],
-                                     tau0, tau1, stop0, stop1, options, cubic=cubic,
-                                     t=trajectory.t, qdd=qdd[:, j], wrench=wrench)
+        j = robot.joint_index(name)
+        tau0 = np.concatenate([none.tau[:, j] for none, _, _ in parts])
+        stop0 = np.concatenate([none.stop[:, j] for none, _, _ in parts])
+        tau1 = np.concatenate([_per_kg(full.tau[:, j], none.tau[:, j])
+                               for none, full, _ in parts])
+        stop1 = np.concatenate([_per_kg(full.stop[:, j], none.stop[:, j])
+                                for none, full, _ in parts])
+        wrench = None if not bearings else (
+            np.concatenate([w[0][k] for _, _, w in parts], axis=1),
+            np.concatenate([w[1][k] - w[0][k] for _, _, w in parts], axis=1),
+            options.bearing_offset.get(name, 0.0))
+        rest, qd = samples.rest[:, j], samples.qd[:, j]
+        cubic = joint_mean(samples.dt, rest, qd, tau0, tau1)
+        out[name] = tuple(unit_bound(unit, samples.dt, rest, qd, tau0, tau1, stop0, stop1,
+                                     options, samples.idle, cubic=cubic, t=samples.t,
+                                     qdd=samples.qdd[:, j], wrench=wrench)
                           for unit in units)
     return out
 

@@ -3,7 +3,9 @@
 `hdselect.codesign.maxpayload` finds the largest payload exactly from the gearheads' rules
 (torque is affine in the payload mass). A motor's rules (peak torque through the ratio
 and the efficiency, RMS torque, speed) and a fixed unit per joint are then taken from the
-sizing itself: `PayloadSizing.at` sizes (or checks) the trajectory with the payload, and
+sizing itself: `PayloadSizing.at` sizes (or checks) the tasks with the payloads scaled
+(`at_factor`: one motion's 1 kg payload scaled to a mass, a mix's payloads by a factor),
+and
 `PayloadSizing.largest` bisects the mass between one that passes and one that does not,
 so the answer is exactly what `hdselect.size` says at that payload. The gearheads' exact
 mass bounds it from above: a motor only adds rules (its rotor inertia, larger than none,
@@ -12,14 +14,16 @@ only tightens the crash rule).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
+from hdselect.base.bounds import LENGTH, expect_type
 from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
+from hdselect.codesign.choice import Duty
+from hdselect.codesign.trials import check_tasks
 from hdselect.motion.planning import Trajectory
-from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import check_units, size_tasks
 from hdselect.sizing.options import Options
@@ -32,29 +36,34 @@ MASS_RTOL = 1e-6
 
 @dataclass(frozen=True)
 class PayloadSizing:
-    """How the robot is sized at a payload mass.
+    """How the robot's tasks are sized at a factor x on the payloads that scale.
 
     Attributes:
-        bare: The robot without payload (no gearhead masses).
-        payload: The payload's geometry for 1 kg.
-        trajectory: The trajectory the payload rides.
+        tasks: The duty's counted tasks, the payloads that scale at x = 1 (one motion's:
+            1 kg, so that x is its mass [kg]).
+        scaled: The tasks whose payload scales, by label.
+        idle: The fraction of the time no task runs [-].
         catalog: The units to choose from.
         options: The assumptions.
         units: The fixed unit of every sized joint, or empty to choose them.
         motors: Candidate motors per joint (one per joint with fixed units).
+        pooled: Check fixed units over the tasks pooled (`check_tasks`: a mix); False
+            checks the one task's trajectory (`hdselect.sizing.core.check_units`).
     """
 
-    bare: Robot
-    payload: Payload
-    trajectory: Trajectory
+    tasks: tuple[Task, ...]
+    scaled: tuple[str, ...]
+    idle: float
     catalog: tuple[Unit, ...]
     options: Options
     units: Mapping[str, Unit]
     motors: Mapping[str, tuple[Motor, ...]]
+    pooled: bool = False
 
     def __post_init__(self) -> None:
         if self.units:
-            missing = [name for name in self.bare.sized_joints if name not in self.units]
+            missing = [name for name in self.tasks[0].robot.sized_joints
+                       if name not in self.units]
             if missing:
                 raise InputError(f"no unit given for {', '.join(missing)}: give a unit for "
                                  "every sized joint, or none to choose them", field="units")
@@ -65,23 +74,25 @@ class PayloadSizing:
                                  field="motors")
 
     def at(self, mass: float, *, slowdowns: bool = True) -> SizingResult:
-        """The sizing (or the check of the fixed units) with `mass` [kg] of payload.
+        """The sizing (or the check of the fixed units) at a factor `mass` on the payloads.
 
         Args:
-            mass: The payload's mass [kg].
+            mass: The factor x [-] (one motion's payload mass [kg]).
             slowdowns: Find, for a joint no unit fits, the time scales at which each
                 would (`hdselect.sizing.slowdown`); False asks for the verdict only.
         """
-        robot = self.bare.with_payload(scaled(self.payload, mass)) if mass > 0 else self.bare
+        tasks = at_factor(self.tasks, self.scaled, mass)
         if self.units:
-            return check_units(robot, self.trajectory, self.units, self.options,
-                               motors={name: found[0] for name, found in self.motors.items()})
-        return size_tasks((Task(robot, self.trajectory),), self.catalog, self.options,
-                          motors=self.motors, slowdowns=slowdowns)
-
+            motors = {name: found[0] for name, found in self.motors.items()}
+            if self.pooled:
+                return check_tasks(tasks, self.units, self.options, self.idle, motors)
+            return check_units(tasks[0].robot, tasks[0].trajectory, self.units, self.options,
+                               motors=motors)
+        return size_tasks(tasks, self.catalog, self.options, motors=self.motors,
+                          slowdowns=slowdowns, idle=self.idle)
     def largest(self, low: float, high: float) -> tuple[float | None, SizingResult | None,
                                                          SizingResult | None]:
-        """The largest mass in [low, high] [kg] at which every joint passes, by bisection.
+        """The largest factor in [low, high] [-] at which every joint passes, by bisection.
 
         Returns:
             The mass (None when not even `low` passes), the sizing there, and the sizing
@@ -104,8 +115,90 @@ class PayloadSizing:
         return low, bottom, failing
 
 
+def at_factor(tasks: Sequence[Task], scaled: Sequence[str], factor: float) -> tuple[Task, ...]:
+    """The tasks with the payloads of `scaled` ones times `factor` (mass and inertia) [-].
+
+    A factor of 0 or less takes their payload off.
+    """
+    out = []
+    for task in tasks:
+        payload = task.robot.payload
+        if task.label in scaled and payload is not None:
+            robot = task.robot.with_payload(None) if factor <= 0.0 else task.robot.with_payload(
+                replace(payload, mass=payload.mass * factor,
+                        inertia=tuple(tuple(v * factor for v in row) for row in payload.inertia)))
+            task = replace(task, robot=robot)
+        out.append(task)
+    return tuple(out)
+
+
 def scaled(payload: Payload, mass: float) -> Payload:
     """The payload of `payload`'s geometry with `mass` [kg] (inertia scaled alike)."""
     return replace(payload, mass=mass,
                    inertia=tuple(tuple(v * mass / payload.mass for v in row)
                                  for row in payload.inertia))
+
+
+def per_kilogram(payload: Payload | None, *, frame: str | None = None,
+                 com: Sequence[float] | None = None) -> Payload:
+    """A 1 kg payload of the given geometry; its inertia is the payload's per kg.
+
+    With `frame` or `com` given, a point mass there (the payload's inertia was about
+    its own centre, in its own frame).
+    """
+    expect_type(frame, (str, type(None)), "frame", "a link name or None")
+    if com is not None:
+        if isinstance(com, str) or not isinstance(com, Sequence) or len(com) != 3:
+            raise InputError(f"expected three numbers [m], got {com!r}", field="com")
+        com = [LENGTH.check(c, field=f"com[{i}]") for i, c in enumerate(com)]
+    if payload is not None and frame is None and com is None:
+        return Payload(1.0, payload.com, tuple(tuple(v / payload.mass for v in row)
+                                               for row in payload.inertia), payload.frame)
+    at = tuple(com) if com is not None else (payload.com if payload is not None and frame is None
+                                              else (0.0, 0.0, 0.0))
+    where = frame if frame is not None else (payload.frame if payload is not None else None)
+    return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where)
+
+
+def payload_tasks(duty: Duty, options: Options, frame: str | None,
+                  com: Sequence[float] | None, trajectory: Trajectory | None
+                  ) -> tuple[Task, ...]:
+    """The duty's tasks planned, the payloads that scale at x = 1.
+
+    One motion's payload is its geometry at 1 kg (`per_kilogram` of `frame` and `com`),
+    so that x is its mass [kg]; a mix's tasks keep their payloads as the files give them.
+
+    Raises:
+        InputError: The frame does not exist, or a mix is given a frame, a centre of mass
+            or a trajectory (each task has its own).
+    """
+    if duty.mix is None:
+        payload = per_kilogram(duty.robot.payload, frame=frame, com=com)
+        carrying = duty.robot.with_payload(None).with_payload(payload)  # the frame must exist
+        return (Task(carrying, duty.tasks(options, trajectory)[0].trajectory,
+                     name=duty.motions[0].path.name),)
+    if frame is not None or com is not None or trajectory is not None:
+        raise InputError("each task of a mix gives its own payload and trajectory",
+                         field="frame" if frame is not None else
+                         "com" if com is not None else "trajectory")
+    return duty.tasks(options)
+
+
+def scaled_tasks(planned: Sequence[Task], names: Sequence[str] | None,
+                 duty: Duty) -> tuple[str, ...]:
+    """The tasks whose payload scales: those named, else every one that carries a payload.
+
+    Raises:
+        InputError: A name is not a task, or no task named carries a payload.
+    """
+    labels = [task.label for task in planned]
+    for name in names or ():
+        if name not in labels:
+            raise InputError(f"no task {name!r} in {duty.where.rsplit('/', 1)[-1]}; its tasks "
+                             f"are: {', '.join(labels)}", field="task")
+    chosen = tuple(task.label for task in planned if task.robot.payload is not None
+                   and (names is None or task.label in names))
+    if not chosen:
+        raise InputError("no task " + ("named " if names else "of the mix ")
+                         + "carries a payload to scale", path=duty.where, field="task")
+    return chosen

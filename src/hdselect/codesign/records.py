@@ -14,8 +14,6 @@ import numpy as np
 
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
-from hdselect.codesign.mixfastest import MixFastestResult
-from hdselect.codesign.mixpayload import MixPayloadResult
 from hdselect.motion.motionfile import Motion
 from hdselect.sizing.records import (
     candidate_json,
@@ -74,12 +72,21 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
 
 
 def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
-    """Every unit on every joint compared, as JSON; cycle times in s, null where none."""
+    """Every unit on every joint compared, as JSON; cycle times in s, null where none.
+
+    For a mix (``mix``, its ``tasks`` at the base units), each cycle time is the
+    share-weighted mean of its tasks' cycles (`FastestResult.mean_cycle_time`).
+    """
+    mix = {} if comparison.mix is None else {
+        "mix": str(comparison.mix.path),
+        "tasks": [{"name": item.task.label, "share": item.task.share,
+                   "cycle_time_s": item.cycle_time} for item in comparison.base.tasks]}
     return {
         "robot": str(comparison.robot.path),
         "motion": str(comparison.motion.path),
+        **mix,
         "units": {name: unit.id for name, unit in comparison.units.items()},
-        "cycle_time_s": comparison.base.cycle_time,
+        "cycle_time_s": comparison.base.mean_cycle_time,
         "joints": [{
             "name": joint.joint,
             "selected": joint.selected,
@@ -122,7 +129,7 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion) -> dict[str, Any]
     }
 
 
-def mix_payload_json(result: MixPayloadResult) -> dict[str, Any]:
+def mix_payload_json(result: MaxPayloadResult) -> dict[str, Any]:
     """The largest payloads of a mix as JSON.
 
     ``factor`` multiplies each task's payload named in ``scaled`` (mass and inertia);
@@ -147,12 +154,17 @@ def mix_payload_json(result: MixPayloadResult) -> dict[str, Any]:
     }
 
 
-def mix_fastest_json(result: MixFastestResult) -> dict[str, Any]:
-    """The shortest cycle of each task of a mix as JSON, with the duty's check (``check``)."""
+def mix_fastest_json(result: FastestResult) -> dict[str, Any]:
+    """The shortest cycle of each task of a mix as JSON, with the duty's check (``check``).
+
+    ``motors`` names the motor of each joint that has one.
+    """
+    sized = result.robot.sized_joints
     return {
         "robot": str(result.check.robot.path),
-        "mix": str(result.mix.path),
-        "units": {name: unit.id for name, unit in result.units.items()},
+        "mix": str(result.mix.path if result.mix is not None else result.motion.path),
+        "units": {name: result.units[name].id for name in sized},
+        "motors": {name: result.motors[name].id for name in sized if name in result.motors},
         "tasks": [{"name": item.task.label, "share": item.task.share,
                    "planned_cycle_s": item.planned, "optimum_s": item.optimum,
                    "cycle_time_s": item.cycle_time,

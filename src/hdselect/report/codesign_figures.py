@@ -40,8 +40,8 @@ def write_ratios_png(path: str | Path, comparison: RatioComparison) -> None:
             if row.unit.id == joint.selected:
                 ax.plot([k], [row.cycle_time], "*", color="tab:orange", ms=15, zorder=3,
                         label="the unit size selects")
-        ax.axhline(comparison.base.cycle_time, color="0.5", ls=":", lw=1,
-                   label=f"every joint's unit as given ({comparison.base.cycle_time:.3f} s)")
+        ax.axhline(comparison.base.mean_cycle_time, color="0.5", ls=":", lw=1,
+                   label=f"every joint's unit as given ({comparison.base.mean_cycle_time:.3f} s)")
         ax.set_xticks(x, [row.unit.id for row in fits], rotation=45, ha="right", fontsize=8)
         ax.set_xlim(-0.6, max(len(fits), 1) - 0.4)
         ax.set_ylim(low - 2.0 * pad, high + 2.0 * pad)
@@ -60,8 +60,10 @@ def write_ratios_png(path: str | Path, comparison: RatioComparison) -> None:
                 names.append(name)
     fig.legend([handles[n] for n in names], names, loc="lower center", ncol=min(4, len(names)),
                fontsize=8, frameon=False)
-    fig.suptitle(f"{comparison.robot.path.name} on the path of {comparison.motion.path.name}: "
-                 "shortest cycle by unit, the other joints' units fixed", fontsize=11)
+    what = (f"the path of {comparison.motion.path.name}" if comparison.mix is None else
+            f"the paths of {comparison.mix.path.name} (cycles weighted by shares)")
+    fig.suptitle(f"{comparison.robot.path.name} on {what}: shortest cycle by unit, the other "
+                 "joints' units fixed", fontsize=11)
     fig.tight_layout(rect=(0, 0.06, 0.97, 1), w_pad=5.0)
     save(fig, Path(path))
 

@@ -13,8 +13,6 @@ from rich.markup import escape
 from hdselect.catalog.rules import CHECK_LABELS
 from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
-from hdselect.codesign.mixfastest import MixFastestResult
-from hdselect.codesign.mixpayload import MixPayloadResult
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.report.case_tables import case_notes
 from hdselect.report.tables import Column, FittedTable, Paragraphs
@@ -177,7 +175,7 @@ def ratios_table(comparison: RatioComparison, joint: JointRatios) -> FittedTable
     others = ", ".join(f"{name} {unit.id}" for name, unit in comparison.units.items()
                        if name != joint.joint)
     note = ((f"Other joints: {others}. " if others else "")
-            + f"▶ the unit `size` selects for {comparison.motion.path.name} as planned. none: "
+            + f"▶ the unit `size` selects for {_planned_name(comparison)} as planned. none: "
             "the units cannot run the path at any speed. lengthened by: the rule that made the "
             "cycle longer than the time-optimal run under the limits on single samples, and "
             "how (derated: the repeated-peak limit held to that fraction; x: the moves slowed).")
@@ -185,6 +183,14 @@ def ratios_table(comparison: RatioComparison, joint: JointRatios) -> FittedTable
     return FittedTable(f"Joint {joint.joint}: the shortest cycle with each unit",
                        columns[:shown], tuple(row[:shown] for row in rows), tuple(styles),
                        (note,))
+
+
+def _planned_name(comparison: RatioComparison) -> str:
+    """The file `size` sized: the motion's, or the mix's (whose rows are share-weighted)."""
+    if comparison.mix is None:
+        return comparison.motion.path.name
+    return (f"{comparison.mix.path.name} (cycle s: the tasks' cycles weighted by their "
+            "shares)")
 
 
 def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> Paragraphs:
@@ -216,7 +222,7 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> 
     return Paragraphs(tuple(lines))
 
 
-def mix_payload_text(result: MixPayloadResult, robot: Robot) -> Paragraphs:
+def mix_payload_text(result: MaxPayloadResult, robot: Robot) -> Paragraphs:
     """The largest payloads of a mix, which tasks they are, and where the duty binds."""
     name = result.selection.mix.path.name if (result.selection is not None and
                                               result.selection.mix is not None) else "the mix"
@@ -242,15 +248,18 @@ def mix_payload_text(result: MixPayloadResult, robot: Robot) -> Paragraphs:
     return Paragraphs(tuple(lines))
 
 
-def mix_fastest_table(result: MixFastestResult) -> FittedTable:
+def mix_fastest_table(result: FastestResult) -> FittedTable:
     """Each task of a mix: its planned cycle, its optimum and its shortest over the duty."""
     columns = (Column("task", "left"), Column("share"), Column("planned s"),
                Column("optimum s"), Column("fastest s"), Column("cycles/h"))
-    rows = tuple((escape(item.task.label), percent(item.task.share), f"{item.planned:.3f}",
+    rows = tuple((escape(item.task.label), percent(item.task.share),
+                  "-" if item.planned is None else f"{item.planned:.3f}",
                   f"{item.optimum:.3f}", f"{item.cycle_time:.3f}",
                   f"{item.task.share * 3600.0 / item.cycle_time:,.1f}")
                  for item in result.tasks)
-    units = ", ".join(f"{name} {unit.id}" for name, unit in result.units.items())
+    units = ", ".join(f"{name} {result.units[name].id}"
+                      + (f" + {result.motors[name].id}" if name in result.motors else "")
+                      for name in result.robot.sized_joints)
     if result.reason is None:
         why = ("every task at its optimum: the rules over the duty pass there (the limits on "
                "single samples, TOPPRA's, bound each task)")
@@ -261,6 +270,6 @@ def mix_fastest_table(result: MixFastestResult) -> FittedTable:
     notes = (f"units: {units}", why,
              "optimum: TOPPRA under the motion's and the units' limits on single samples; "
              "the shares of the time are held, so a faster cycle runs more often")
-    name = result.mix.path.name
+    name = result.mix.path.name if result.mix is not None else result.motion.path.name
     return FittedTable(f"{name}: the shortest cycle of each task with these units",
                        columns, rows, notes=notes)

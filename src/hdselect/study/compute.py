@@ -30,7 +30,8 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from hdselect.base.errors import HdselectError, InputError
-from hdselect.codesign.fastest_cycle import fastest, resolve_units
+from hdselect.codesign.choice import resolve_units
+from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
 from hdselect.motion.case import robot_for_motion

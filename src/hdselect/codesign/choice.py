@@ -1,0 +1,285 @@
+"""What a co-design case runs: its tasks, and the unit and motor of every sized joint.
+
+A motion is a duty of one task (share 1); a mix file's tasks are planned with their own
+payloads and mountings (`hdselect.sizing.duty.mix_tasks`). The units not given, and the
+motor of a joint with several candidates, are what the sizing selects for the duty as
+planned (`hdselect.sizing.core.size_tasks`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import cast
+
+from hdselect.base.bounds import expect_type
+from hdselect.base.errors import InputError, PlanningError
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.rules import Candidate
+from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
+from hdselect.catalog.units import Unit
+from hdselect.motion.mixfile import Mix
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning import Trajectory, plan
+from hdselect.motion.solve import solve_motion
+from hdselect.robot.model import Robot
+from hdselect.sizing.arguments import checked_motors, fixed_units
+from hdselect.sizing.core import size_tasks
+from hdselect.sizing.options import Options
+from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
+from hdselect.sizing.result import Motors
+from hdselect.sizing.tasks import Task
+
+
+@dataclass(frozen=True, eq=False)
+class Duty:
+    """A robot's tasks as co-design runs them: one motion, or a mix file's tasks.
+
+    Attributes:
+        where: The motion or mix file, as errors name it.
+        robot: The robot with the duty's sized joints (a motion's: as it runs it).
+        robots: Each counted task's robot (payload and mounting applied).
+        motions: Each counted task's motion, tool poses solved.
+        shares: Each counted task's share of the time [-].
+        idle: The fraction of the time no task runs [-].
+        mix: The mix, or None for one motion.
+        planned: The counted tasks as planned (a mix's); empty for a motion, which is
+            planned only where the sizing needs it (`tasks`).
+        trajectory: One motion's trajectory as planned, where the problem had it.
+    """
+
+    where: str
+    robot: Robot
+    robots: tuple[Robot, ...]
+    motions: tuple[Motion, ...]
+    shares: tuple[float, ...]
+    idle: float = 0.0
+    mix: Mix | None = None
+    planned: tuple[Task, ...] = ()
+    trajectory: Trajectory | None = None
+
+    @property
+    def over(self) -> str:
+        """What the duty is, in a refusal's words."""
+        return "this mix" if self.mix is not None else "this motion"
+
+    def tasks(self, options: Options, trajectory: Trajectory | None = None) -> tuple[Task, ...]:
+        """The counted tasks as planned; a motion's `trajectory` replaces its plan."""
+        if self.planned and trajectory is None:
+            return self.planned
+        if len(self.motions) != 1 or self.mix is not None:
+            raise InputError("a trajectory replaces one motion's plan, not a mix's",
+                             field="trajectory")
+        robot, motion = self.robots[0], self.motions[0]
+        given = trajectory if trajectory is not None else self.trajectory
+        return (Task(robot, given if given is not None
+                     else plan(robot, motion, max_samples=options.max_samples)),)
+
+
+_KINDS: dict[str, tuple[tuple[type, ...], str]] = {
+    "units": ((Mapping,), "a mapping of joint names to units or unit ids"),
+    "options": ((Options,), "an Options"),
+    "catalog": ((Sequence,), "catalog files or the units of a loaded catalog"),
+    "motors": ((Mapping,), "a mapping of joint names to motors"),
+    "joints": ((Sequence,), "a list of joint names"),
+    "frame": ((str,), "a link name"),
+    "com": ((Sequence,), "three numbers [m]"),
+    "trajectory": ((Trajectory,), "a Trajectory"),
+    "tasks": ((Sequence,), "a list of task names"),
+}
+"""What each optional argument of the co-design calls may be (None: not given)."""
+
+
+def duty_of(robot: Robot | Problem, motion: Motion | Mix | None, options: Options | None,
+            catalog: Sequence[Unit] | None, motors: Motors | None, *,
+            what: str = "path to run faster", **others: object
+            ) -> tuple[Duty, Options, tuple[Unit, ...], Mapping[str, tuple[Motor, ...]]]:
+    """The duty of a problem (or of a motion or a mix), its options, catalog and motors.
+
+    Args:
+        robot: The resolved problem (`hdselect.resolve`), or the robot
+            (`hdselect.load_case` of the motion or mix file).
+        motion: A motion (one task), or a mix; None with a problem.
+        options: The assumptions (default: the motion's or the mix's); None with a problem.
+        catalog: The units (default: the built-in catalog, and the mix file's); None with
+            a problem.
+        motors: Candidate motors per sized joint; None takes the files' ``[motor]`` (with
+            a problem: its own).
+        what: What a logged trajectory has none of, for its refusal; empty: logs are taken.
+        **others: The call's other optional arguments, by name: without a motion, an
+            argument of no type it takes is named before the motion missing.
+
+    Raises:
+        InputError: A task is a log (where refused), or an argument is invalid.
+        PlanningError: A mix's motion cannot be planned.
+    """
+    if isinstance(robot, Problem):
+        given = {"motion": motion, "options": options, "catalog": catalog, "motors": motors}
+        for name, value in given.items():
+            if value is not None:
+                raise InputError("a Problem holds it: give the problem alone, or a robot and "
+                                 "its motion with it", field=name)
+        problem = robot
+    else:
+        expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case) or a Problem")
+        given = {**others, "options": options, "catalog": catalog, "motors": motors}
+        for name, value in given.items() if motion is None else ():
+            kinds, words = _KINDS[name]
+            expect_type(value, (*kinds, type(None)), name, words)
+        expect_type(motion, (Motion, Mix), "motion", "a Motion or Mix (hdselect.load_case)")
+        source = (solve_motion(robot, motion) if isinstance(motion, Motion)
+                  else cast(Mix, motion))  # a motion's tool poses solved for its mounting
+        problem = problem_of(robot, source, catalog=catalog if catalog is not None else (),
+                             motors=motors, options=options, plan=False)
+    mix = problem.mix
+    if mix is None:  # one motion: planned where the sizing needs it
+        motion = cast(Motion, problem.source)
+        if what:
+            refuse_logs((motion,), what)
+        duty = Duty(str(motion.path), problem.robot, (problem.robot,), (motion,), (1.0,),
+                    trajectory=problem.tasks[0].trajectory if problem.planned else None)
+    else:
+        if what:
+            refuse_logs(tuple(task.motion for task in mix.tasks), what, several=True)
+        planned = problem if problem.planned else plan_tasks(problem)
+        counted = tuple(task for task in planned.tasks if task.share > 0.0)
+        duty = Duty(str(mix.path), problem.robot, tuple(task.robot for task in counted),
+                    tuple(task.motion for task in counted  # type: ignore[misc]
+                          if task.motion is not None), tuple(task.share for task in counted),
+                    planned.idle, mix, counted)
+    return duty, problem.options, problem.units, problem.motors
+
+
+def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
+           catalog: Sequence[Unit], options: Options, candidates: Mapping[str, tuple[Motor, ...]],
+           *, selection: bool = True, trajectory: Trajectory | None = None
+           ) -> tuple[dict[str, Unit], dict[str, str], dict[str, Motor]]:
+    """The unit (and motor) of every sized joint: those given, the sizing's for the others.
+
+    Args:
+        robot: The robot with the duty's sized joints.
+        duty: The tasks.
+        given: Unit or unit id per joint.
+        catalog: The units ids refer to, and the sizing chooses from.
+        options: The assumptions of the sizing.
+        candidates: Candidate motors per joint (checked).
+        selection: Size the duty even when every joint has a unit and one motor given.
+        trajectory: The trajectory a motion's selection sizes (default: the motion as
+            planned; a study gives it run s times slower).
+
+    Returns:
+        The unit per sized joint; the unit id the sizing selects per joint (where one
+        fits; else the one that fits with the smallest slow-down; empty when the duty
+        was not sized); the motor per joint that has motors: the only one given, else
+        the one the sizing pairs with the joint's unit (the pair it selects, else the one
+        closest to passing).
+
+    Raises:
+        InputError: A name is not a sized joint, or an id is unknown.
+        PlanningError: No unit can run a joint not given, at any speed.
+    """
+    chosen = fixed_units(given, catalog, robot)
+    by_id = {unit.id: unit for unit in catalog}
+    single = all(len(found) == 1 for found in candidates.values())
+    if not selection and single and all(name in chosen for name in robot.sized_joints):
+        return chosen, {}, {name: found[0] for name, found in candidates.items()}
+    sizing = size_tasks(duty.tasks(options, trajectory), catalog, options, motors=candidates,
+                        idle=duty.idle)
+    selected: dict[str, str] = {}
+    paired: dict[str, Motor] = {}
+    for joint in sizing.joints:
+        pick = joint.selected.unit.id if joint.selected is not None else (
+            joint.slowdown.unit.split(" + ")[0]
+            if joint.slowdown is not None and joint.slowdown.unit is not None else None)
+        if pick is not None:  # a slow-down names a pair "UNIT + MOTOR"
+            selected[joint.name] = pick
+        if joint.name not in chosen:
+            if pick is None:
+                raise PlanningError(f"{duty.where}: {no_unit_at_any_speed(joint.name, duty.over)}")
+            chosen[joint.name] = by_id[pick]
+        if joint.name in candidates:
+            paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
+                                               candidates[joint.name], sizing.options)
+    return chosen, selected, paired
+
+
+def resolve_case(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] | None,
+                 catalog: Sequence[Unit], options: Options, *,
+                 selection: bool = True, trajectory: Trajectory | None = None,
+                 motors: Motors | None = None
+                 ) -> tuple[dict[str, Unit], dict[str, str], dict[str, Motor]]:
+    """The unit (and motor) of every sized joint of one motion: `choose` for its duty.
+
+    Args:
+        robot: The robot as the motion runs it.
+        motion: The motion (planned with its own planner for the selection).
+        given: Unit or unit id per joint.
+        catalog: The units ids refer to, and the sizing chooses from.
+        options: The assumptions of the sizing.
+        selection: Size the motion even when every joint has a unit and one motor given.
+        trajectory: The trajectory the selection sizes (default: the motion as planned).
+        motors: Candidate motors per joint; None takes the motion file's ``[motor]``.
+
+    Returns:
+        As `choose`.
+
+    Raises:
+        InputError: A name is not a sized joint, or an id is unknown.
+        PlanningError: No unit can run a joint not given, at any speed.
+    """
+    candidates = checked_motors(robot, file_motors(robot, motion) if motors is None
+                                else motors, options)
+    duty = Duty(str(motion.path), robot, (robot,), (motion,), (1.0,))
+    return choose(robot, duty, given, catalog, options, candidates, selection=selection,
+                  trajectory=trajectory)
+
+
+def resolve_units(robot: Robot, motion: Motion, given: Mapping[str, Unit | str] | None,
+                  catalog: Sequence[Unit], options: Options, *,
+                  selection: bool = True, trajectory: Trajectory | None = None
+                  ) -> tuple[dict[str, Unit], dict[str, str]]:
+    """The unit of every sized joint: those given, the sizing's selection for the others.
+
+    As `resolve_case`, with the motion file's motors; without the motors chosen.
+
+    Raises:
+        InputError: As `resolve_case`; the motion is a log (it has no path to run faster).
+    """
+    refuse_logs((motion,))
+    chosen, selected, _ = resolve_case(robot, motion, given, catalog, options,
+                                       selection=selection, trajectory=trajectory)
+    return chosen, selected
+
+
+def refuse_logs(motions: Sequence[Motion], what: str = "path to run faster", *,
+                several: bool = False) -> None:
+    """A logged trajectory has no path to run faster (or `what`): refused, naming its planner.
+
+    `several`: the motions are a mix's tasks.
+    """
+    for motion in motions:
+        if motion.planner == "samples":
+            raise InputError(f"a logged trajectory ('samples') has no {what}; give "
+                             f"{'motions' if several else 'a motion'} with waypoints",
+                             path=motion.path, field="planner")
+
+
+def no_unit_at_any_speed(joint: str, over: str = "this motion") -> str:
+    """The refusal for a joint no catalog unit can run, slowed or not, with what helps."""
+    return (f"no unit of the catalog can run joint '{joint}' on {over} at any speed "
+            f"(hdselect size says how close each comes); leave it out with --exclude {joint}, "
+            "or give a catalog with a stronger unit (--catalog)")
+
+
+def _paired_motor(pairs: Sequence[Candidate], unit: Unit, motors: Sequence[Motor],
+                  options: Options) -> Motor:
+    """The motor for `unit`: the only one, the pair the selection order picks, or the closest."""
+    if len(motors) == 1:
+        return motors[0]
+    mine = [pair for pair in pairs if pair.unit.id == unit.id and pair.motor_unit is not None]
+    best = select(mine, options.prefer or DEFAULT_PREFER_WITH_MOTORS)
+    if best is None:
+        best = min(mine, key=lambda pair: max(c.utilization for c in pair.checks.values()))
+    if best.motor_unit is None:
+        raise PlanningError(f"no motor pairs with {unit.id}")
+    return best.motor_unit
