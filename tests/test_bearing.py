@@ -24,7 +24,7 @@ from hdselect.study.compute import size_rows
 from hdselect.study.group import build_basis
 from hdselect.study.pooled import scaled, size_case
 from helpers import REPO
-from helpers.bearings import BEARING_BOUND
+from helpers.bearings import BEARING_BOUND, SPIN_RULES
 from helpers.studies import differences, separate
 
 PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"
@@ -166,15 +166,6 @@ q = [-180]
 [[waypoint]]
 q = [180]
 """
-SPIN_RULES = """[rules]
-rated_input_speed_rpm = 1750
-rated_life_hours = 35000
-life_basis = "L50"
-mean_torque_limit = "speed-adjusted"
-mean_speed = "moving"
-max_momentary_events = 10000
-"""
-"""The rules of the made-up series below (PSA-G's, by the catalog page)."""
 SPIN_CATALOG = """series = "SPIN"
 source = "made up for a test"
 """ + SPIN_RULES + """[[unit]]

@@ -26,8 +26,7 @@ from hdselect.catalog.bearing_rules import (
     bearing_load,
 )
 from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.checks import BEARING_CHECKS
-from hdselect.catalog.rules import CHECK_LABELS, CHECKS, bearing_checks, check_unit
+from hdselect.catalog.rules import BEARING_CHECKS, CHECK_LABELS, CHECKS, bearing_checks, check_unit
 from hdselect.catalog.units import BearingRating
 from helpers.motions import PSA_RULES, make_load, make_unit
 

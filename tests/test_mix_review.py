@@ -18,8 +18,8 @@ import pinocchio as pin
 import pytest
 
 from hdselect import size
-from hdselect.catalog.checks import holds
 from hdselect.catalog.motors import load_motors
+from hdselect.catalog.rules import holds
 from hdselect.catalog.select import select
 from hdselect.cli.main import main
 from hdselect.sizing.torques import GRAVITY_SAMPLES

@@ -12,8 +12,8 @@ import pytest
 
 from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
-from hdselect.catalog.checks import BEARING_CHECKS
 from hdselect.catalog.rules import (
+    BEARING_CHECKS,
     CHECKS,
     MOTOR_CHECKS,
     PAIR_CHECKS,
@@ -447,9 +447,8 @@ def test_a_stronger_unit_is_never_less_feasible() -> None:
 def test_motor_rules_by_hand():
     """Three samples at 0, 3000 and 6000 rpm under a curve 0.3 -> 0.3 -> 0 N m: the last
     sample's 0.01 N m at 6000 rpm exceeds a zero limit; zero torque at zero limit is fine."""
-    from hdselect.catalog.motor_rules import check_motor, inertia_ratio
     from hdselect.catalog.motors import Motor
-    from hdselect.catalog.rules import MotorDemand
+    from hdselect.catalog.rules import MotorDemand, check_motor, inertia_ratio
 
     motor = Motor("M", rated_torque=0.1, peak_torque=0.3, max_speed=6000.0, rated_speed=3000.0,
                   rotor_inertia=4e-6, mass=0.3, torque_constant=0.05, resistance=2.0,

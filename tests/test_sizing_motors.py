@@ -408,7 +408,7 @@ def test_the_motor_peak_judged_once_per_dwell_is_the_one_of_every_sample():
     """A second method: `check_motor` on every sample against once per run of identical
     samples (`Reflection.distinct_motor_torque`), on the benchtop motion's dwells, for
     every unit and motor (a motor with a speed curve among them)."""
-    from hdselect.catalog.motor_rules import check_motor
+    from hdselect.catalog.rules import check_motor
     from hdselect.robot.dynamics import inverse_dynamics
     from hdselect.sizing.reflect import reflect_motors
 

@@ -15,6 +15,7 @@ import pytest
 
 import hdselect
 import hdselect.sizing.core
+import hdselect.sizing.problem
 from hdselect import Options, load_case, load_catalog, plan, size_trajectory, summarize
 from hdselect.base.errors import InputError
 from hdselect.study.group import build_basis
@@ -228,7 +229,7 @@ catalog = "{EXAMPLE_MOTORS.as_posix()}"
 id = "EX-16"
 """)
     motion = hdselect.load_motion(path, robot)
-    motors = hdselect.sizing.core.motion_motors(robot, motion)
+    motors = hdselect.sizing.problem.file_motors(robot, motion)
     assert set(motors) == {"elbow", "wrist_3"} and len(motors["wrist_3"]) == 1
     units = load_catalog()
     options = Options(stop_time=0.15, life_hours=20000.0, threads=1)

@@ -1,4 +1,5 @@
-"""A made-up series whose gear is strong and whose output bearing is weak."""
+"""Made-up series for the output-bearing tests: PSA-G's rules, and a strong gear on a weak
+bearing."""
 
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ mean_torque_limit = "speed-adjusted"
 mean_speed = "moving"
 max_momentary_events = 10000
 """
+"""The rules of the made-up series (PSA-G's, by the catalog page)."""
 
 BEARING_BOUND = """series = "XB"
 source = "test: a strong gear on a weak bearing"

@@ -1,28 +1,18 @@
-"""How a check's life is reported, and the verdict's names at their first public home.
+"""How a check's life is reported.
 
 A life beyond `LIFE_CAP` is reported as the cap. `Check`, the check tables and the margin's
 `holds` and `derated` live in `hdselect.catalog.rules` (derived from its registry of
-rules); they are importable from here too, as before.
+rules).
 """
 
 from __future__ import annotations
 
 import warnings
 
-from hdselect.catalog.rules import (  # noqa: F401  (their first public home was here)
-    BEARING_CHECKS,
-    CHECK_LABELS,
-    CHECK_NAMES,
-    CHECKS,
+from hdselect.catalog.rules import (
     DEFAULT_MARGIN,
-    LIFE_CHECKS,
-    MOTOR_CHECKS,
-    PAIR_CHECKS,
-    PER_SAMPLE_CHECKS,
     Check,
     Rule,
-    derated,
-    holds,
 )
 
 LIFE_CAP = 1e6

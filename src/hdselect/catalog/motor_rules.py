@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import (  # noqa: F401  (check_motor, inertia_ratio: public here)
+from hdselect.catalog.rules import (
     Candidate,
     Check,
     Part,

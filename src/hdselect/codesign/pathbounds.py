@@ -38,7 +38,6 @@ from hdselect.base.errors import InputError, PlanningError
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import RULES, Scope
 from hdselect.catalog.rules.forms import PathBound, PathCase, PathKind
-from hdselect.catalog.rules.motor import efficiency_range  # noqa: F401  (its home was here)
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.toppra import PathPiece, Profile, kinematic_constraints, solve_piece

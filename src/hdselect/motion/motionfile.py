@@ -43,12 +43,11 @@ from hdselect.motion.limits import (
 from hdselect.motion.lines import LinePath
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
-from hdselect.motion.option_specs import (  # noqa: F401 (LIFE_BASES: public here too)
-    LIFE_BASES,
+from hdselect.motion.option_specs import (
     file_keys,
     file_options,
 )
-from hdselect.motion.robot_named import (  # noqa: F401 (robot_file_named: public here too)
+from hdselect.motion.robot_named import (
     load_named,
     named_file,
     read_motion_toml,

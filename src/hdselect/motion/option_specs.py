@@ -17,7 +17,7 @@ from typing import Any, cast
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import table_of
-from hdselect.catalog.checks import DEFAULT_MARGIN
+from hdselect.catalog.rules import DEFAULT_MARGIN
 from hdselect.catalog.select import (
     DEFAULT_INERTIA_TARGET,
     DEFAULT_PREFER,

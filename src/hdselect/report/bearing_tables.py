@@ -7,8 +7,7 @@ Tables format; they do not compute: every figure comes from
 from __future__ import annotations
 
 from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
-from hdselect.catalog.checks import BEARING_CHECKS, CHECK_LABELS
-from hdselect.catalog.rules import Candidate
+from hdselect.catalog.rules import BEARING_CHECKS, CHECK_LABELS, Candidate
 from hdselect.report.tables import Column
 from hdselect.report.terminal import utilization_text
 from hdselect.sizing.result import JointSizing, SizingResult

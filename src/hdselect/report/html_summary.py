@@ -9,8 +9,7 @@ not rate among them) and the assumptions in one short list.
 
 from __future__ import annotations
 
-from hdselect.catalog.checks import CHECK_NAMES
-from hdselect.catalog.rules import Candidate
+from hdselect.catalog.rules import CHECK_NAMES, Candidate
 from hdselect.motion.motionfile import Motion
 from hdselect.report.html_tables import esc, slug, table
 from hdselect.report.parts import parts

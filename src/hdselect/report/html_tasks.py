@@ -7,8 +7,7 @@ unit (or ``pooled``); and the unit against each task alone beside the duty.
 
 from __future__ import annotations
 
-from hdselect.catalog.checks import CHECK_LABELS
-from hdselect.catalog.rules import Candidate
+from hdselect.catalog.rules import CHECK_LABELS, Candidate
 from hdselect.report.html_tables import esc, table
 from hdselect.report.task_tables import (
     POOLED_NOTE,

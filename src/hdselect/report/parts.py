@@ -10,7 +10,8 @@ import csv
 import io
 from dataclasses import dataclass
 
-from hdselect.catalog.checks import CHECK_NAMES, life_capped
+from hdselect.catalog.checks import life_capped
+from hdselect.catalog.rules import CHECK_NAMES
 from hdselect.report.terminal import life_text
 from hdselect.sizing.result import JointSizing, SizingResult
 

@@ -44,7 +44,6 @@ from hdselect.sizing.arguments import (
 from hdselect.sizing.joint import JointCycle, size_joint, task_checks
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Catalog, Problem, plan_tasks, resolve
-from hdselect.sizing.problem import file_motors as motion_motors  # noqa: F401  (codesign, study)
 from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.slowdown import with_slowdowns
 from hdselect.sizing.tasks import Task, check_shares, pooled

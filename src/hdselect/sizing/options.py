@@ -11,9 +11,7 @@ from typing import Any
 
 from hdselect.base.errors import InputError
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.option_specs import (  # noqa: F401 (DEFAULT_STOP_TIME, MAX_THREADS: public here)
-    DEFAULT_STOP_TIME,
-    MAX_THREADS,
+from hdselect.motion.option_specs import (
     OPTION,
     OPTIONS,
     given_by,

@@ -11,9 +11,9 @@ from collections.abc import Iterable
 from typing import Any
 
 from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
-from hdselect.catalog.checks import LIFE_CHECKS, life_capped, reported_life
+from hdselect.catalog.checks import life_capped, reported_life
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate, Check
+from hdselect.catalog.rules import LIFE_CHECKS, RPM_PER_RAD_S, Candidate, Check
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import MeanSpeed, SeriesRules, Unit
 from hdselect.motion.mixfile import SECONDS_PER_HOUR

@@ -8,9 +8,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from hdselect.catalog.bearing_rules import BearingLoad
-from hdselect.catalog.motor_rules import inertia_ratio
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import PER_SAMPLE_CHECKS, Candidate, CycleLoad
+from hdselect.catalog.rules import PER_SAMPLE_CHECKS, Candidate, CycleLoad, inertia_ratio
 from hdselect.catalog.units import Unit
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion

@@ -185,7 +185,9 @@ def allowable_mean_torque(unit: Unit, mean_input_speed_rpm: float) -> tuple[floa
     """
     rules = unit.rules
     if rules.mean_torque_limit == "tabulated":
-        assert unit.average_torque is not None  # the catalog requires it for this rule
+        if unit.average_torque is None:  # the catalog reader requires it for this rule
+            raise TypeError(f"{unit.id}: a tabulated mean-torque limit needs the unit's "
+                            "average torque")
         return unit.average_torque, False
     if mean_input_speed_rpm <= 0.0:
         return unit.repeated_torque, True
