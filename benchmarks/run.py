@@ -616,12 +616,12 @@ def _tool_pose_rows(quick: bool) -> list[Benchmark]:
     import pinocchio as pin
 
     from hdselect import load_robot
-    from hdselect.motion.ik import solve_pose
-    from hdselect.motion.kinematics import FrameKinematics
+    from hdselect.ik.poses import Tolerance, pose_error
+    from hdselect.ik.solver import solve_pose
     from hdselect.motion.motionfile import load_motion
     from hdselect.motion.planning import plan, plan_motion
-    from hdselect.motion.poses import Tolerance, pose_error
-    from hdselect.motion.solve import solve_motion
+    from hdselect.motion.planning.solve import solve_motion
+    from hdselect.robot.kinematics import FrameKinematics
 
     kin = FrameKinematics(load_robot(ROBOT), "tool0")
     rng = np.random.default_rng(0)

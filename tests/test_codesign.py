@@ -32,7 +32,7 @@ from hdselect.cli.main import main
 from hdselect.codesign.fastest_cycle import compare_ratios, fastest
 from hdselect.codesign.fastpath import GRID_PER_WAYPOINT, PathModel
 from hdselect.codesign.pathbounds import PathInfeasible
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.motion.planning import plan
 from hdselect.motion.planning.toppra import (
     kinematic_constraints,

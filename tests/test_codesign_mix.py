@@ -25,9 +25,9 @@ from hdselect.codesign.fastpath import PathModel, cycle
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.payloadsizing import at_factor
 from hdselect.codesign.trials import check_tasks, run_trial
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.sizing.core import size_tasks
-from hdselect.sizing.duty import mix_options
+from hdselect.sizing.mixtasks import mix_options
 
 REPO = Path(__file__).resolve().parents[1]
 PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"

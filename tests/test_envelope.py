@@ -18,7 +18,7 @@ from scipy.optimize import minimize
 
 from hdselect.envelope import SearchSettings, envelope
 from hdselect.envelope.search import agree
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.robot.mounting import STANDARD_GRAVITY
 from hdselect.robot.payload import Payload
 from hdselect.sizing.core import check_units, size

@@ -1,4 +1,4 @@
-"""Tests of hdselect.motion.poses, kinematics, ik and branches: one tool pose solved.
+"""Tests of hdselect.ik.poses, kinematics, ik and branches: one tool pose solved.
 
 Oracles that do not come from the code under test: the closed-form inverse kinematics
 of the shipped two-link arm (robots/planar2.urdf), forward kinematics re-run on a fresh
@@ -15,16 +15,16 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from hdselect.motion.branches import check_branch, indicators
-from hdselect.motion.ik import solve_pose
-from hdselect.motion.kinematics import FrameKinematics
-from hdselect.motion.poses import (
+from hdselect.ik.branches import check_branch, indicators
+from hdselect.ik.poses import (
     in_base,
     interpolate_pose,
     pose_error,
     pose_from_xyz_rpy,
     xyz_rpy,
 )
+from hdselect.ik.solver import solve_pose
+from hdselect.robot.kinematics import FrameKinematics
 from hdselect.robot.model import load_robot
 from hdselect.robot.mounting import NAMED_BASES, BasePose
 from helpers.poses import IK_ARMS, TOLERANCE, UR5_Q, arm, fk, rot, within

@@ -1,4 +1,4 @@
-"""Tests of hdselect.motion.lines and linefit: straight tool moves as joint paths.
+"""Tests of hdselect.ik.lines and linefit: straight tool moves as joint paths.
 
 Oracles: forward kinematics on a model built here from the file (`test_ik.fk`), the
 line's pose computed here (position linear, orientation R0 exp(f log(R0^T R1))), a
@@ -14,10 +14,10 @@ import pinocchio as pin
 import pytest
 from scipy.spatial.transform import Rotation
 
-from hdselect.motion.kinematics import FrameKinematics
-from hdselect.motion.linefit import deviation
-from hdselect.motion.lines import LinePath, LineStop, refine, solve_line
-from hdselect.motion.poses import Tolerance
+from hdselect.ik.lines import LinePath, LineStop, refine, solve_line
+from hdselect.ik.poses import Tolerance
+from hdselect.motion.planning.linefit import deviation
+from hdselect.robot.kinematics import FrameKinematics
 from hdselect.robot.model import load_robot
 from helpers.poses import UR5_Q, arm, fk, rot, within
 from helpers.robots import example_robots

@@ -13,7 +13,7 @@ from hdselect.base.errors import InputError
 from hdselect.cli.main import main
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.payloadsizing import per_kilogram, scaled
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.motion.planning import plan
 from hdselect.robot.dynamics import inverse_dynamics
 from hdselect.robot.payload import Payload

@@ -1,5 +1,5 @@
 """Tests of a robot's working day sized as one duty: mix files (hdselect.motion.mixfile,
-hdselect.sizing.duty) through the core (hdselect.sizing.core.size_tasks).
+hdselect.sizing.mixtasks) through the core (hdselect.sizing.core.size_tasks).
 
 Oracles: a two-task index-table mix computed by hand from its bang-bang samples (the
 table's inertia summed from the URDF's own numbers, independently of Pinocchio); each
@@ -413,7 +413,7 @@ def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
     """The factor found: the duty sized just below fits, just above some joint has no unit."""
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.payloadsizing import at_factor
-    from hdselect.motion.case import load_case
+    from hdselect.motion.loading import load_case
     from hdselect.sizing.core import size_tasks
 
     robot, mix = load_case(PICK_INSPECT)
@@ -433,7 +433,7 @@ def test_max_payload_of_a_mix_is_where_the_duty_stops_fitting(tmp_path):
 @pytest.mark.slow
 def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
     from hdselect.codesign.maxpayload import max_payload
-    from hdselect.motion.case import load_case
+    from hdselect.motion.loading import load_case
 
     path = mix_text(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
     robot, mix = load_case(path)
@@ -447,7 +447,7 @@ def test_max_payload_of_a_mix_of_one_task_is_its_motions(tmp_path):
 @pytest.mark.slow
 def test_fastest_of_a_mix_of_one_task_is_its_motions(tmp_path):
     from hdselect.codesign.fastest_cycle import fastest
-    from hdselect.motion.case import load_case
+    from hdselect.motion.loading import load_case
 
     path = mix_text(tmp_path, ("pick", PICK, 1.0), ("inspect", INSPECT, 0.0))
     mixed = fastest(*load_case(path))
@@ -465,8 +465,8 @@ def test_fastest_of_a_mix_holds_the_pooled_rules_at_the_shares():
     from hdselect.codesign.fastest_cycle import fastest
     from hdselect.codesign.fastpath import PathModel
     from hdselect.codesign.trials import run_trial
-    from hdselect.motion.case import load_case
-    from hdselect.sizing.duty import mix_options
+    from hdselect.motion.loading import load_case
+    from hdselect.sizing.mixtasks import mix_options
 
     robot, mix = load_case(PICK_INSPECT)
     units = {"shoulder_pan": "PSA-10-80", "shoulder_lift": "PSA-14-100", "elbow": "PSA-10-80",
@@ -574,9 +574,9 @@ def test_a_slowdown_of_a_mix_runs_every_task_that_much_slower():
     trajectory run s times slower (the shares kept) must let that unit fit."""
     from hdselect.codesign.payloadsizing import at_factor
     from hdselect.codesign.trials import check_tasks
-    from hdselect.motion.case import load_case
+    from hdselect.motion.loading import load_case
     from hdselect.sizing.core import size_tasks
-    from hdselect.sizing.duty import mix_options, mix_tasks
+    from hdselect.sizing.mixtasks import mix_options, mix_tasks
     from hdselect.sizing.records import size_json
     from hdselect.study.pooled import scaled
 

@@ -18,8 +18,8 @@ from scipy.spatial.transform import Rotation
 
 import hdselect
 from hdselect import InputError, size
-from hdselect.motion.kinematics import FrameKinematics
-from hdselect.motion.poses import pose_error
+from hdselect.ik.poses import pose_error
+from hdselect.robot.kinematics import FrameKinematics
 from hdselect.robot.mounting import NAMED_BASES
 from hdselect.sizing.summary import summarize
 from helpers import REPO

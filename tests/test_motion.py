@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from hdselect.base.errors import InputError
-from hdselect.motion.case import load_case, robot_for_motion
+from hdselect.motion.loading import load_case, robot_for_motion
 from hdselect.motion.motionfile import load_motion
 from hdselect.robot.model import load_robot
 from hdselect.robot.payload import Payload

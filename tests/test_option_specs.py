@@ -25,7 +25,7 @@ from hdselect.motion.mixfile import load_mix
 from hdselect.motion.motionfile import load_motion
 from hdselect.motion.option_specs import OPTION, OPTIONS, Option, given_by
 from hdselect.robot.model import load_robot
-from hdselect.sizing.duty import mix_options
+from hdselect.sizing.mixtasks import mix_options
 from hdselect.sizing.options import options_for
 from hdselect.study.spec import load_study
 from helpers import REPO

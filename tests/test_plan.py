@@ -10,7 +10,7 @@ import ruckig
 from scipy.interpolate import CubicSpline
 
 from hdselect.base.errors import InputError, PlanningError
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.motion.planning import PLANNERS, plan
 from hdselect.motion.planning.ruckig import sample_profiles
 from hdselect.motion.planning.toppra import TOPPRA_TOLERANCE, TOPPRA_TORQUE_TOLERANCE

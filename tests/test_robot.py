@@ -222,7 +222,7 @@ def test_a_link_and_a_fixed_joint_of_one_name_place_the_payload_on_the_link(tmp_
     at_flange = load_robot(path, payload=Payload(mass=2.0, frame="flange"))
     assert (gravity_torque(at_flange, [[0.0]]) - bare)[0] == pytest.approx(
         2.0 * STANDARD_GRAVITY * 0.2, rel=1e-12)  # where the joint's frame 'tool' sits
-    from hdselect.motion.kinematics import FrameKinematics
+    from hdselect.robot.kinematics import FrameKinematics
 
     robot = load_robot(path)
     assert FrameKinematics(robot, "tool").frame_id == robot.model.getFrameId(

@@ -44,7 +44,7 @@ from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.pathbounds import bounded, joint_limits, meets, stop_bound
 from hdselect.codesign.payloadbounds import forward_check, joint_mean
 from hdselect.codesign.payloadsizing import scaled
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.sizing.core import size
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import reflect

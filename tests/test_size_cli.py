@@ -18,7 +18,7 @@ import pytest
 
 from hdselect.catalog.motors import load_motors
 from hdselect.cli.main import main
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from helpers import REPO, run
 from helpers.dynamics import J_TABLE, L1, L2, G, composite_link2, two_link
 from helpers.motions import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion

@@ -19,10 +19,10 @@ import pytest
 import hdselect
 from hdselect.base.errors import InputError
 from hdselect.cli.main import main
-from hdselect.motion.branches import SINGULAR, check_branch, path_crossing, whole_turns
-from hdselect.motion.kinematics import FrameKinematics
+from hdselect.ik.branches import SINGULAR, check_branch, path_crossing, whole_turns
+from hdselect.ik.poses import Tolerance, pose_error, xyz_rpy
 from hdselect.motion.planning import PLANNERS, plan_motion
-from hdselect.motion.poses import Tolerance, pose_error, xyz_rpy
+from hdselect.robot.kinematics import FrameKinematics
 from helpers.poses import ROBOTS, pose_motion
 from helpers.robots import robot_path
 

@@ -17,8 +17,8 @@ import pytest
 
 import hdselect
 from hdselect.cli.main import main
-from hdselect.motion.poses import Tolerance, pose_error
-from hdselect.motion.solve import solve_motion
+from hdselect.ik.poses import Tolerance, pose_error
+from hdselect.motion.planning.solve import solve_motion
 from helpers.poses import ANGLES, ROBOTS, SHORT, pose_motion, written_pose
 from helpers.robots import finger_arm
 

@@ -23,12 +23,12 @@ import hdselect
 from docs_examples import examples, matches, run, scratch
 from hdselect.base.errors import InputError
 from hdselect.cli.main import main
-from hdselect.motion.kinematics import FrameKinematics
+from hdselect.ik.poses import pose_error
 from hdselect.motion.motionfile import load_motion
 from hdselect.motion.planning import plan_motion
-from hdselect.motion.poses import pose_error
-from hdselect.motion.solve import solve_motion
+from hdselect.motion.planning.solve import solve_motion
 from hdselect.robot.dynamics import inverse_dynamics
+from hdselect.robot.kinematics import FrameKinematics
 from hdselect.robot.model import load_robot
 from hdselect.robot.mounting import STANDARD_GRAVITY, BasePose, shown_numbers
 from hdselect.sizing.records import base_text

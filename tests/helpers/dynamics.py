@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.motion.planning import Trajectory, plan
 from helpers import REPO
 

@@ -13,7 +13,7 @@ import ruckig
 
 from hdselect.catalog.rules import CycleLoad
 from hdselect.catalog.units import SeriesRules, Unit
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from helpers import REPO
 from helpers.robots import write_motion, write_robot
 

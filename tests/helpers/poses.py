@@ -11,8 +11,8 @@ import numpy as np
 import pinocchio as pin
 from scipy.spatial.transform import Rotation
 
-from hdselect.motion.kinematics import FrameKinematics
-from hdselect.motion.poses import Tolerance, pose_error
+from hdselect.ik.poses import Tolerance, pose_error
+from hdselect.robot.kinematics import FrameKinematics
 from hdselect.robot.model import load_robot
 from helpers import REPO
 from helpers.robots import configuration, example_robots, robot_path

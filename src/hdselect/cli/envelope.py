@@ -252,7 +252,7 @@ def _payload(args: argparse.Namespace, robot, spec: Path | None):
     base = file.payload if file is not None else None
     duty = args.duty if args.duty is not None else (file.duty if file is not None else None)
     if base is None and duty is not None:  # the duty's payload, as `size --payload` changes it
-        from hdselect.envelope.duty import task_payloads
+        from hdselect.envelope.dutycycle import task_payloads
         from hdselect.motion.mixfile import is_mix_file, load_mix
         from hdselect.motion.motionfile import load_motion
 

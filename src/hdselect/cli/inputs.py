@@ -16,7 +16,8 @@ from hdselect.base.errors import InputError
 from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
 from hdselect.motion.option_specs import OPTION, OPTIONS
 
-SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile", "hdselect.motion.solve",
+SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile",
+                 "hdselect.motion.planning.solve",
                  "hdselect.motion.planning", "hdselect.motion.planning.crossings")
 """Loggers whose warnings a sizing result carries (`SizingResult.warnings`)."""
 
@@ -158,10 +159,10 @@ def robot_and_motion(args: argparse.Namespace):
     none. A payload without a frame goes on the robot's default payload frame. A mix
     file's tasks carry their own payloads; ``--mounting`` goes on every task.
     """
-    from hdselect.motion.case import load_case, robot_for_motion
+    from hdselect.motion.loading import load_case, robot_for_motion
     from hdselect.motion.mixfile import is_mix_file, load_mix, mix_robot_file
     from hdselect.motion.motionfile import load_motion
-    from hdselect.motion.solve import solve_motion
+    from hdselect.motion.planning.solve import solve_motion
 
     file_wanted(args, args.motion, "a motion file or a mix file (TOML)",
                 ("a motion file", "a mix file", "a TOML file"))

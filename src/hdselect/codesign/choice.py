@@ -1,7 +1,7 @@
 """What a co-design case runs: its tasks, and the unit and motor of every sized joint.
 
 A motion is a duty of one task (share 1); a mix file's tasks are planned with their own
-payloads and mountings (`hdselect.sizing.duty.mix_tasks`). The units not given, and the
+payloads and mountings (`hdselect.sizing.mixtasks.mix_tasks`). The units not given, and the
 motor of a joint with several candidates, are what the sizing selects for the duty as
 planned (`hdselect.sizing.core.size_tasks`).
 """
@@ -21,7 +21,7 @@ from hdselect.catalog.units import Unit
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
-from hdselect.motion.solve import solve_motion
+from hdselect.motion.planning.solve import solve_motion
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors, fixed_units
 from hdselect.sizing.core import size_tasks

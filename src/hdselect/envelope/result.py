@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hdselect.catalog.rules import Candidate
-from hdselect.envelope.duty import Duty
+from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.search import SearchSettings, Worst
 from hdselect.envelope.spec import Spec
 from hdselect.robot.model import Robot

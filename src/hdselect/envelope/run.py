@@ -28,7 +28,7 @@ from hdselect.catalog.select import DEFAULT_PREFER
 from hdselect.catalog.units import Unit
 from hdselect.envelope.box import Limits
 from hdselect.envelope.demands import KINDS
-from hdselect.envelope.duty import Duty, check_within, default_duty, mix_robot, motion_duty
+from hdselect.envelope.dutycycle import Duty, check_within, default_duty, mix_robot, motion_duty
 from hdselect.envelope.result import (
     Convergence,
     EnvelopeResult,
@@ -47,7 +47,7 @@ from hdselect.envelope.specfile import (
 from hdselect.envelope.states import StateRows, state_rows
 from hdselect.envelope.torques import EnvelopeTorques, duty_time
 from hdselect.envelope.workers import Spread, default_workers
-from hdselect.motion.case import robot_for_motion
+from hdselect.motion.loading import robot_for_motion
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.option_specs import given_by

@@ -8,11 +8,11 @@ solved motion and its straight lines' deviations), and `starter` writes a first 
 file for a robot.
 """
 
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.motion.mixfile import Mix, load_mix
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning import Trajectory, plan, plan_motion
-from hdselect.motion.solve import solve_motion
+from hdselect.motion.planning.solve import solve_motion
 from hdselect.motion.starter import starter_motion
 
 __all__ = ["Mix", "Motion", "Trajectory", "load_case", "load_mix", "load_motion", "plan",

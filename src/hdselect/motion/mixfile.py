@@ -15,7 +15,7 @@ cycles per hour) and, optionally, its own payload and mounting::
 
 A task's ``mounting`` (a name or a gravity vector) or ``base = {xyz, rpy}`` replaces its
 motion file's; a motion of tool poses is solved for its task's own mounting when it is
-planned (`hdselect.sizing.duty`). What belongs to the whole duty (the sized joints, the
+planned (`hdselect.sizing.mixtasks`). What belongs to the whole duty (the sized joints, the
 stop time, the required life, the design margin, the motors, the selection order,
 efficiency, mass coupling, catalogs) comes from the command line, else the mix file's
 ``[sizing]``, ``[requirements]``, ``[safety]`` and ``[motor]`` tables (which settle it

@@ -32,6 +32,7 @@ from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import is_input_file
 from hdselect.base.tomlfile import check_keys, number, table_of
 from hdselect.catalog.motors import Motor
+from hdselect.ik.lines import LinePath
 from hdselect.motion.limits import (
     JointLists,
     beyond_robot,
@@ -40,7 +41,6 @@ from hdselect.motion.limits import (
     vector,
     velocity_limit,
 )
-from hdselect.motion.lines import LinePath
 from hdselect.motion.logfile import SampleLog, read_log
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.motion.option_specs import (
@@ -94,7 +94,7 @@ class Motion:
     A Motion is planned against a Robot with the same joints (`hdselect.plan`); it
     does not hold one. What the file says about the robot (its file, payload and
     mounting) is kept here as given, and applied by `robot_for_motion`. Waypoints
-    written as tool poses are solved for a robot by `hdselect.motion.solve.solve_motion`
+    written as tool poses are solved for a robot by `hdselect.motion.planning.solve.solve_motion`
     (which `load_case`, `plan` and `size` call): until then their rows are NaN.
 
     Attributes:

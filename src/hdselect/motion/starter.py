@@ -25,12 +25,12 @@ import textwrap
 import numpy as np
 
 from hdselect.base.bounds import expect_type
-from hdselect.motion.branches import check_branch, path_crossing
-from hdselect.motion.ik import solve_pose
-from hdselect.motion.kinematics import FrameKinematics, leader_range
-from hdselect.motion.lines import LinePath, solve_line
-from hdselect.motion.poses import Tolerance, pose_error, pose_from_xyz_rpy, xyz_rpy
+from hdselect.ik.branches import check_branch, path_crossing
+from hdselect.ik.lines import LinePath, solve_line
+from hdselect.ik.poses import Tolerance, pose_error, pose_from_xyz_rpy, xyz_rpy
+from hdselect.ik.solver import solve_pose
 from hdselect.robot.joints import describe_joints
+from hdselect.robot.kinematics import FrameKinematics, leader_range
 from hdselect.robot.model import Robot
 
 DEG_PER_RAD = 180.0 / math.pi

@@ -19,7 +19,7 @@ in any mix::
     reconfigure = true               # optional: the arm may change branch on the way here
 
 Everything is converted to SI here (m, rad); the poses are solved for a robot's
-mounting by `hdselect.motion.solve`.
+mounting by `hdselect.motion.planning.solve`.
 """
 
 from __future__ import annotations
@@ -35,8 +35,8 @@ import pinocchio as pin
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, table_of
+from hdselect.ik.poses import Tolerance, pose_from_xyz_rpy
 from hdselect.motion.limits import LIMIT_ROUNDING, vector
-from hdselect.motion.poses import Tolerance, pose_from_xyz_rpy
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import BasePose
 

@@ -21,14 +21,14 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
 from hdselect.motion import planning
-from hdselect.motion.case import load_case
+from hdselect.motion.loading import load_case
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import OptionValues, checked_motors, options_argument
-from hdselect.sizing.duty import mix_motors, mix_options, mix_tasks, sized_motors
+from hdselect.sizing.mixtasks import mix_motors, mix_options, mix_tasks, sized_motors
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import Task
@@ -209,7 +209,7 @@ def source_options(source: Motion | Mix | None, **values: Any) -> Options:
     """Options from keyword values (None: not given), else the files', else the defaults.
 
     A motion file's ``[safety]``, ``[requirements]`` and bearing offsets; a mix file's
-    duty-wide values, else those its motions agree on (`hdselect.sizing.duty.mix_options`).
+    duty-wide values, else those its motions agree on (`hdselect.sizing.mixtasks.mix_options`).
 
     Raises:
         InputError: An unknown name, a value out of range, or two motion files disagree.

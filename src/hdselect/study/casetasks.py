@@ -21,7 +21,7 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor, load_motors
 from hdselect.catalog.units import Unit
-from hdselect.motion.case import robot_for_mix, robot_for_motion
+from hdselect.motion.loading import robot_for_mix, robot_for_motion
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix, mix_robot_file
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.robot_named import load_named, robot_source
@@ -76,7 +76,7 @@ class CaseDuty:
         """Task k's robot as it runs the task, without its payload: mounting and joints applied.
 
         Raises:
-            InputError: As `hdselect.motion.case.robot_for_motion`.
+            InputError: As `hdselect.motion.loading.robot_for_motion`.
         """
         task = self.tasks[k]
         joints = None if self.mix is None else self.robot.sized_joints

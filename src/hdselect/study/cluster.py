@@ -8,7 +8,7 @@ from dataclasses import replace
 from hdselect.base.errors import InputError
 from hdselect.base.scheduler import DASK_HINT, DEFAULT_TIMEOUT, open_client, where
 from hdselect.study.compute import Outcome
-from hdselect.study.tasks import Task, evaluate_all, shipped
+from hdselect.study.jobs import Task, evaluate_all, shipped
 
 
 def run_dask(tasks: Sequence[Task], scheduler: str, workers: int,

@@ -34,12 +34,12 @@ from hdselect.codesign.choice import resolve_units
 from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
-from hdselect.motion.case import robot_for_motion
+from hdselect.motion.loading import robot_for_motion
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import plan
 from hdselect.sizing.core import size_problem
-from hdselect.sizing.duty import mix_tasks
+from hdselect.sizing.mixtasks import mix_tasks
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.summary import Summary, summarize
 from hdselect.sizing.tasks import Task

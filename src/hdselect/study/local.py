@@ -21,7 +21,7 @@ from typing import Any
 
 from hdselect.base.errors import HdselectError
 from hdselect.study.compute import Outcome
-from hdselect.study.tasks import Task, evaluate
+from hdselect.study.jobs import Task, evaluate
 
 _DONE = "done"
 

@@ -25,10 +25,10 @@ from hdselect.base.scheduler import DEFAULT_TIMEOUT, scheduler_address, timeout_
 from hdselect.study.case import Case
 from hdselect.study.cluster import run_dask
 from hdselect.study.compute import COMPUTATIONS, MIN_GROUP, Outcome
+from hdselect.study.jobs import MAX_CHUNK, Task, evaluate
 from hdselect.study.local import run_local
 from hdselect.study.spec import Study, _canonical
 from hdselect.study.store import Store
-from hdselect.study.tasks import MAX_CHUNK, Task, evaluate
 
 logger = logging.getLogger(__name__)
 

@@ -8,7 +8,7 @@ Three planners, chosen by the motion file, one module each:
   through the waypoints, split where the arm dwells.
 - ``samples`` (`hdselect.motion.planning.samples`): a logged trajectory.
 
-Tool poses are solved for the robot's mounting first (`hdselect.motion.solve`), a
+Tool poses are solved for the robot's mounting first (`hdselect.motion.planning.solve`), a
 straight line is checked at every planned sample (`hdselect.motion.planning.toolpath`),
 and so is every move into or out of a pose for a singularity on the way
 (`hdselect.motion.planning.crossings`).
@@ -34,10 +34,10 @@ from hdselect.motion.motionfile import PLANNERS as PLANNER_NAMES
 from hdselect.motion.planning.crossings import check_crossings
 from hdselect.motion.planning.ruckig import plan_ruckig
 from hdselect.motion.planning.samples import plan_samples
+from hdselect.motion.planning.solve import solve_motion
 from hdselect.motion.planning.toolpath import LineDeviation, plan_lines
 from hdselect.motion.planning.toppra import plan_toppra
 from hdselect.motion.planning.trajectory import Trajectory
-from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot
 
 logger = logging.getLogger(__name__)

@@ -1,10 +1,10 @@
 """Singularities on the planned path of a tool-pose motion, refused as a change of branch is.
 
 The solved waypoints are checked for a change of branch on the straight joint move between
-them (`hdselect.motion.branches.check_branch`); the planner follows another path: TOPPRA
+them (`hdselect.ik.branches.check_branch`); the planner follows another path: TOPPRA
 a spline through the waypoints and the lines' samples, which swings past their joints,
 Ruckig jerk-limited moves. `check_crossings` follows the planned samples of every move
-into or out of a tool pose (`hdselect.motion.branches.path_crossing`): a move that passes
+into or out of a tool pose (`hdselect.ik.branches.path_crossing`): a move that passes
 a singularity swings the arm through it, or changes its branch and back, which the task
 as written does not ask for. It is an error naming the move, unless the waypoint the
 move ends at says ``reconfigure = true``; then it is a note.
@@ -18,10 +18,10 @@ from dataclasses import replace
 import numpy as np
 
 from hdselect.base.errors import InputError
-from hdselect.motion.branches import SINGULAR, SINGULARITY_NAMES, check_branch, path_crossing
-from hdselect.motion.kinematics import FrameKinematics
+from hdselect.ik.branches import SINGULAR, SINGULARITY_NAMES, check_branch, path_crossing
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.trajectory import Trajectory
+from hdselect.robot.kinematics import FrameKinematics
 from hdselect.robot.model import Robot
 
 logger = logging.getLogger(__name__)

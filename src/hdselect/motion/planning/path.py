@@ -2,7 +2,7 @@
 
 The path itself (a clamped cubic spline through the waypoints and a straight line's
 joint samples, shape-preserving where a joint's spline would leave its limits) is
-`hdselect.motion.paths.SplinePath`; it is split where the arm dwells (`path_pieces`). A
+`hdselect.motion.planning.spline.SplinePath`; it is split where the arm dwells (`path_pieces`). A
 `PathPiece` holds the path and its derivatives at TOPPRA's gridpoints, which
 `with_gridpoints` changes.
 """
@@ -21,7 +21,7 @@ import numpy as np
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import PlanningError
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.paths import SplinePath, piece_bounds, piece_geometry
+from hdselect.motion.planning.spline import SplinePath, piece_bounds, piece_geometry
 from hdselect.robot.model import Robot
 
 GRID_PER_WAYPOINT = 200
@@ -46,7 +46,7 @@ class PathPiece:
     Attributes:
         first: Index of the waypoint it starts from.
         last: Index of the waypoint it ends at (the next one with a dwell, or the last).
-        path: The path over s in [0, 1] (`hdselect.motion.paths.SplinePath`, toppra's path
+        path: The path over s in [0, 1] (`hdselect.motion.planning.spline.SplinePath`, toppra's path
             interface), or None when the piece has zero length.
         gridpoints: TOPPRA's gridpoints s, shape (m,).
         q: p(s) at the gridpoints [rad or m], shape (m, dof).
@@ -97,7 +97,7 @@ def path_pieces(robot: Robot, motion: Motion, grid_per_waypoint: int = GRID_PER_
     Repeated consecutive waypoints are dropped; a piece whose waypoints all coincide
     has no path (zero length). A straight line's joint samples are points of the path
     too. A joint whose spline would leave the robot's position limits follows a
-    shape-preserving cubic instead (`hdselect.motion.paths.SplinePath`). The knots are at
+    shape-preserving cubic instead (`hdselect.motion.planning.spline.SplinePath`). The knots are at
     the cumulative chord length (the TOPPRA planner's path) or, given `speeds`, at the
     cumulative time each segment takes at those speeds, max_j |dq_j| / speed_j, which
     weighs joints in different units (rad, m) alike. Each piece gets

@@ -1,7 +1,7 @@
 """Straight lines checked where the trajectory is sampled, and refined until they hold.
 
 After planning, the tool's pose at every planned sample along a line is compared with
-the line (`hdselect.motion.linefit.deviation`: the distance from the segment, the angle
+the line (`hdselect.motion.planning.linefit.deviation`: the distance from the segment, the angle
 from the slerp arc). Where a sample strays beyond the tolerance, the line gets an IK
 sample in the middle of the step around it and the motion is planned again
 (`MAX_REPLANS` times at most).
@@ -16,10 +16,10 @@ import numpy as np
 
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import PlanningError
-from hdselect.motion.kinematics import FrameKinematics
-from hdselect.motion.linefit import deviation, fit_lines, refined
 from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning.linefit import deviation, fit_lines, refined
 from hdselect.motion.planning.trajectory import Trajectory
+from hdselect.robot.kinematics import FrameKinematics
 from hdselect.robot.model import Robot
 
 MAX_REPLANS = 4

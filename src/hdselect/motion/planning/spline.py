@@ -8,7 +8,7 @@ length (the TOPPRA planner's) or at the cumulative time each step takes at given
 speeds (co-design's knots for a ruckig motion).
 
 The TOPPRA planner (`hdselect.motion.planning.toppra.path_pieces`) and the check of
-straight lines (`hdselect.motion.solve`) build the same spline from here.
+straight lines (`hdselect.motion.planning.solve`) build the same spline from here.
 """
 
 from __future__ import annotations

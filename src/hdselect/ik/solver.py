@@ -35,8 +35,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from hdselect.motion.kinematics import AT_BOUND, FrameKinematics, LimitContact
-from hdselect.motion.poses import Tolerance, pose_error
+from hdselect.ik.poses import Tolerance, pose_error
+from hdselect.robot.kinematics import AT_BOUND, FrameKinematics, LimitContact
 
 MAX_ITERATIONS = 200
 """Jacobian evaluations per attempt [-]."""

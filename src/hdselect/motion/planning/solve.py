@@ -1,17 +1,17 @@
 """A motion's tool poses solved for one robot and mounting: an ordinary joint motion.
 
 Each pose is carried from the world into the robot's base frame through its mounting
-(`Robot.base_pose`) and solved by inverse kinematics (`hdselect.motion.ik`), seeded from
+(`Robot.base_pose`) and solved by inverse kinematics (`hdselect.ik.solver`), seeded from
 the waypoint before (the first from the middle of the joint ranges), with the
 waypoint's ``near`` hint applied; up to `RESTARTS` random restarts follow when that seed
 fails; when the solution is on another branch than the waypoint before, other seeds
 look for one on the same branch (unless the waypoint's ``near`` chose the branch). A line
 (``line = true``) is walked from the waypoint before
-(`hdselect.motion.lines`), and its samples refined until the planner's spline follows
-it (`hdselect.motion.linefit`).
+(`hdselect.ik.lines`), and its samples refined until the planner's spline follows
+it (`hdselect.motion.planning.linefit`).
 
 Every move into or out of a solved pose is checked for a change of branch
-(`hdselect.motion.branches`). A change is an error unless the waypoint says
+(`hdselect.ik.branches`). A change is an error unless the waypoint says
 ``reconfigure = true``: a reconfiguration swings joints through large angles that the
 task, as written, does not need, so sizing it silently would size another task. The
 message names the waypoints and how to keep the branch (a ``near`` hint).
@@ -34,14 +34,14 @@ import pinocchio as pin
 from hdselect.base.arrays import frozen
 from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
-from hdselect.motion.branches import SINGULARITY_NAMES, check_branch, whole_turns
-from hdselect.motion.ik import PoseSolution, solve_pose
-from hdselect.motion.kinematics import FrameKinematics, LimitContact
-from hdselect.motion.linefit import fit_lines
-from hdselect.motion.lines import LinePath, LineStop, solve_line
+from hdselect.ik.branches import SINGULARITY_NAMES, check_branch, whole_turns
+from hdselect.ik.lines import LinePath, LineStop, solve_line
+from hdselect.ik.poses import base_in_world, in_base, interpolate_pose, pose_error
+from hdselect.ik.solver import PoseSolution, solve_pose
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
-from hdselect.motion.poses import base_in_world, in_base, interpolate_pose, pose_error
+from hdselect.motion.planning.linefit import fit_lines
 from hdselect.motion.toolposes import ToolPoses, ToolSolution
+from hdselect.robot.kinematics import FrameKinematics, LimitContact
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import NAMED_BASES, BasePose, mounting_name
 

@@ -1,8 +1,8 @@
 """Straight lines as the planner follows them: the spline through their samples, checked.
 
 The TOPPRA planner joins a line's joint samples by a clamped cubic spline
-(`hdselect.motion.paths.SplinePath`), which bends between samples otherwise than the
-joint-space chords `hdselect.motion.lines.solve_line` checked, and is pulled by the
+(`hdselect.motion.planning.spline.SplinePath`), which bends between samples otherwise than the
+joint-space chords `hdselect.ik.lines.solve_line` checked, and is pulled by the
 waypoints around the line. `fit_lines` evaluates that spline at `CHECKS_PER_STEP` points
 between every two samples of a line, compares the tool's pose there with the line's pose
 at the matching fraction (linear in the path position s between samples), and adds an
@@ -23,11 +23,11 @@ import numpy as np
 import pinocchio as pin
 
 from hdselect.base.errors import InputError
-from hdselect.motion.kinematics import FrameKinematics
-from hdselect.motion.lines import LinePath, refine
+from hdselect.ik.lines import LinePath, refine
+from hdselect.ik.poses import Tolerance, pose_error
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.paths import SplinePath, piece_bounds, piece_geometry
-from hdselect.motion.poses import Tolerance, pose_error
+from hdselect.motion.planning.spline import SplinePath, piece_bounds, piece_geometry
+from hdselect.robot.kinematics import FrameKinematics
 
 CHECKS_PER_STEP = 8
 """Points between two samples of a line at which the spline is checked [-]."""

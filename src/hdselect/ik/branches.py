@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from hdselect.motion.kinematics import FrameKinematics
+from hdselect.robot.kinematics import FrameKinematics
 
 SINGULAR = 1e-3
 """A scaled smallest singular value below this is a singularity [rad/rad]."""

@@ -1,14 +1,14 @@
 """Straight tool moves turned into dense joint paths by inverse kinematics.
 
 The tool's path from one pose to the next is a line in position and a slerp in
-orientation (`hdselect.motion.poses.interpolate_pose`). `solve_line` walks it from
+orientation (`hdselect.ik.poses.interpolate_pose`). `solve_line` walks it from
 fraction 0 to 1, solving one pose per sample from the previous sample, with a spacing
 that adapts: a step is halved until
 
 - its pose solves (else a joint limit, or the edge of the arm's reach, is in the way);
 - no joint moves more than `MAX_JOINT_RATE` times the scaled tool motion (else the joint
   speed blows up: a singularity);
-- the scaled smallest singular value stays above `hdselect.motion.branches.SINGULAR`;
+- the scaled smallest singular value stays above `hdselect.ik.branches.SINGULAR`;
 - the tool at the joint-space midpoint of the step is within the tolerance of the line's
   pose at the middle fraction,
 
@@ -17,7 +17,7 @@ tolerance and still fails stops the line there, with the reason (`LineStop`).
 
 The planner joins the samples by a spline, which bends between them otherwise than the
 joint-space chords checked here: `refine` adds a sample where that spline strays
-(`hdselect.motion.solve`).
+(`hdselect.motion.planning.solve`).
 """
 
 from __future__ import annotations
@@ -28,10 +28,10 @@ import numpy as np
 import pinocchio as pin
 
 from hdselect.base.arrays import frozen
-from hdselect.motion.branches import SINGULAR, singularity_kind
-from hdselect.motion.ik import solve_pose
-from hdselect.motion.kinematics import FrameKinematics, LimitContact
-from hdselect.motion.poses import Tolerance, interpolate_pose, pose_error
+from hdselect.ik.branches import SINGULAR, singularity_kind
+from hdselect.ik.poses import Tolerance, interpolate_pose, pose_error
+from hdselect.ik.solver import solve_pose
+from hdselect.robot.kinematics import FrameKinematics, LimitContact
 
 MAX_JOINT_RATE = 100.0
 """Joint move [rad or m] per unit of scaled tool motion [rad] above which the joint speed

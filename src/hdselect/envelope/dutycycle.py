@@ -23,7 +23,7 @@ import ruckig
 
 from hdselect.base.errors import InputError, PlanningError
 from hdselect.envelope.spec import Spec
-from hdselect.motion.case import robot_for_mix
+from hdselect.motion.loading import robot_for_mix
 from hdselect.motion.mixfile import Mix, MixTask
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, check_within_limits, plan
@@ -33,7 +33,7 @@ from hdselect.motion.planning.trajectory import Move, assemble
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
-from hdselect.sizing.duty import mix_motors, mix_tasks
+from hdselect.sizing.mixtasks import mix_motors, mix_tasks
 from hdselect.sizing.tasks import Task
 
 DUTY_DT = 0.001

@@ -9,8 +9,8 @@ from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.planning.solve import solve_motion
 from hdselect.motion.robot_named import load_motion_robot
-from hdselect.motion.solve import solve_motion
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
@@ -93,7 +93,7 @@ def load_case(
     Files or loaded objects alike. A mix (``[[task]]`` tables, `hdselect.motion.mixfile`)
     gives the robot with the duty's sized joints and the `Mix` (`mounting` on every
     task): each task's payload and mounting apply when its motion is planned
-    (`hdselect.sizing.duty.mix_tasks`).
+    (`hdselect.sizing.mixtasks.mix_tasks`).
 
     Args:
         motion: The motion file or a loaded `Motion`; or a mix file or a loaded `Mix`.
@@ -107,7 +107,7 @@ def load_case(
 
     Returns:
         The robot as the motion runs it (see `robot_for_motion`) and the motion, its
-        tool poses solved for that robot's mounting (`hdselect.motion.solve.solve_motion`);
+        tool poses solved for that robot's mounting (`hdselect.motion.planning.solve.solve_motion`);
         or the robot with the duty's sized joints and the mix.
 
     Raises:

@@ -22,7 +22,7 @@ from typing import Any
 from hdselect.base.bounds import SHARE_TOLERANCE
 from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
-from hdselect.motion.case import robot_for_motion
+from hdselect.motion.loading import robot_for_motion
 from hdselect.motion.mixfile import SECONDS_PER_HOUR, Mix
 from hdselect.motion.option_specs import OPTIONS
 from hdselect.motion.planning import plan_motion
