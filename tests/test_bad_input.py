@@ -704,7 +704,7 @@ def test_the_other_entry_points_refuse_wrong_arguments_naming_the_parameter():
         (hdselect.load_robot, (REPO / "robots" / "planar2.urdf",), {"payload": 1}, "payload"),
         (hdselect.load_motion, (None,), {}, "path"),
         (hdselect.load_case, (PLANAR2_PATH,), {"robot": 3}, "robot"),
-        (hdselect.load_catalog, ("mine.toml",), {}, "extra"),
+        (hdselect.load_catalog, ("mine.toml",), {}, "catalog"),
         (hdselect.load_duty, (5,), {}, "path"),
         (hdselect.size_duty, ("cycle", ()), {}, "cycle"),
         (hdselect.plan, ("robot", motion), {}, "robot"),

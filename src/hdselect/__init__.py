@@ -12,20 +12,25 @@ __version__ = "0.3.0"
 
 _HOME = {
     "BasePose": "robot",
+    "DutyCycle": "catalog.duty",
+    "DutyResult": "catalog",
     "EnvelopeResult": "envelope",
     "FastestResult": "codesign",
     "HdselectError": "base",
     "InputError": "base",
+    "JointInfo": "robot",
     "MaxPayloadResult": "codesign",
     "Mix": "motion",
     "Motion": "motion",
     "Motor": "catalog",
     "Options": "sizing",
     "Payload": "robot",
+    "Planned": "motion.planning",
     "PlanningError": "base",
     "Problem": "sizing",
     "RatioComparison": "codesign",
     "Robot": "robot",
+    "SearchSettings": "envelope",
     "SizingResult": "sizing",
     "Summary": "sizing",
     "Task": "sizing",
@@ -57,24 +62,29 @@ _HOME = {
     "study": "study",
     "summarize": "sizing",
 }
-"""The module each public name lives in."""
+"""The package (or module) each public name lives in."""
 
 __all__ = [
     "BasePose",
+    "DutyCycle",
+    "DutyResult",
     "EnvelopeResult",
     "FastestResult",
     "HdselectError",
     "InputError",
+    "JointInfo",
     "MaxPayloadResult",
     "Mix",
     "Motion",
     "Motor",
     "Options",
     "Payload",
+    "Planned",
     "PlanningError",
     "Problem",
     "RatioComparison",
     "Robot",
+    "SearchSettings",
     "SizingResult",
     "Summary",
     "Task",
@@ -110,7 +120,16 @@ __all__ = [
 
 if TYPE_CHECKING:
     from hdselect.base import HdselectError, InputError, PlanningError
-    from hdselect.catalog import Motor, Unit, load_catalog, load_duty, load_motors, size_duty
+    from hdselect.catalog import (
+        DutyResult,
+        Motor,
+        Unit,
+        load_catalog,
+        load_duty,
+        load_motors,
+        size_duty,
+    )
+    from hdselect.catalog.duty import DutyCycle
     from hdselect.codesign import (
         FastestResult,
         MaxPayloadResult,
@@ -119,7 +138,7 @@ if TYPE_CHECKING:
         fastest,
         max_payload,
     )
-    from hdselect.envelope import EnvelopeResult, envelope
+    from hdselect.envelope import EnvelopeResult, SearchSettings, envelope
     from hdselect.motion import (
         Mix,
         Motion,
@@ -132,7 +151,8 @@ if TYPE_CHECKING:
         solve_motion,
         starter_motion,
     )
-    from hdselect.robot import BasePose, Payload, Robot, describe_joints, load_robot
+    from hdselect.motion.planning import Planned
+    from hdselect.robot import BasePose, JointInfo, Payload, Robot, describe_joints, load_robot
     from hdselect.sizing import (
         Options,
         Problem,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 
@@ -27,3 +28,15 @@ class InputError(HdselectError):
 
 class PlanningError(HdselectError):
     """The planner could not produce a trajectory for a valid motion file."""
+
+
+def deprecated(old: str, new: str, *, depth: int = 1) -> None:
+    """Warn that `old` is spelled `new` now (a DeprecationWarning, one line).
+
+    Args:
+        old: The old spelling.
+        new: The new one.
+        depth: Calls between the caller's code and this one (1: the caller called the
+            function that calls this).
+    """
+    warnings.warn(f"{old} is deprecated; use {new}", DeprecationWarning, stacklevel=2 + depth)

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from hdselect.base import bounds
-from hdselect.base.errors import InputError
+from hdselect.base.errors import InputError, deprecated
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.catalog.units import (
     BEARING_RULE_KEYS,
@@ -81,13 +81,15 @@ _EFFICIENCY_AXES = {"input_speed_rpm": bounds.Bound("a speed", "rpm", 0.0, 1e6),
 BUILTIN = "psa_g.toml"
 
 
-def load_catalog(extra: Sequence[str | Path] = ()) -> tuple[Unit, ...]:
+def load_catalog(catalog: Sequence[str | Path] = (), *,
+                 extra: Sequence[str | Path] | None = None) -> tuple[Unit, ...]:
     """Load the built-in PSA-G catalog and any user catalog files.
 
     Args:
-        extra: User catalog files of the same schema as the built-in one. A file
+        catalog: User catalog files of the same schema as the built-in one. A file
             without a ``[rules]`` table is judged by the built-in file's rules, and
             each of its units carries a flag that says so.
+        extra: Deprecated: the user catalog files, now given as `catalog`.
 
     Returns:
         Every unit, sorted by size, then ratio, then id.
@@ -95,15 +97,22 @@ def load_catalog(extra: Sequence[str | Path] = ()) -> tuple[Unit, ...]:
     Raises:
         InputError: A file is missing or malformed, a value is missing, not a
             finite number in its range (`hdselect.base.bounds`) or inconsistent, two units
-            share an id, or `extra` is not a list of files.
+            share an id, or `catalog` is not a list of files.
     """
-    extra = bounds.files_argument(extra, "extra")
+    if extra is not None:
+        old = bounds.files_argument(extra, "extra")
+        if catalog:
+            raise InputError("give either catalog or extra (its old spelling), not both",
+                             field="extra")
+        deprecated("load_catalog(extra=...)", "load_catalog(catalog=...)")
+        catalog = old
+    files = bounds.files_argument(catalog, "catalog")
     builtin = resources.files("hdselect.catalog") / "data" / BUILTIN
     with resources.as_file(builtin) as path:
         units = list(_read_file(Path(path), None))
     assumed = _assumed(units[0])
     seen = {unit.id: unit.source for unit in units}
-    for file in extra:
+    for file in files:
         for unit in _read_file(Path(file), assumed):
             if unit.id in seen:
                 raise InputError(f"unit id '{unit.id}' is already defined in {seen[unit.id]}",

@@ -9,8 +9,9 @@ from pathlib import Path
 import numpy as np
 
 from hdselect.base import bounds
-from hdselect.base.errors import InputError
+from hdselect.base.errors import InputError, deprecated
 from hdselect.base.tomlfile import check_keys, number, read_toml, table_of
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import (
     RPM_PER_RAD_S,
     Candidate,
@@ -149,16 +150,18 @@ def load_duty(path: str | Path) -> DutyCycle:
     return DutyCycle(path, tuple(phases), momentary, static, life, basis)
 
 
-def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size",
-              margin: float = 0.0) -> DutyResult:
+def size_duty(cycle: DutyCycle, catalog: Sequence[Unit] | None = None, *,
+              prefer: str = "size", margin: float = 0.0,
+              units: Sequence[Unit] | None = None) -> DutyResult:
     """Check every unit against a duty cycle and select the smallest that fits.
 
     Args:
         cycle: The profile.
-        units: The catalog.
+        catalog: The loaded units to choose from (default: the built-in catalog).
         prefer: Selection order, a key of `hdselect.catalog.select.PREFERENCES`.
         margin: Design margin [-], in [0, 0.9]: every rule must hold at (1 - margin) of
             its limit.
+        units: Deprecated: the loaded catalog, now given as `catalog`.
 
     Returns:
         Every candidate and the selection.
@@ -167,10 +170,20 @@ def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size"
         InputError: An argument is of the wrong type, or `prefer` is unknown.
     """
     bounds.expect_type(cycle, DutyCycle, "cycle", "a DutyCycle (hdselect.load_duty)")
-    if isinstance(units, str | bytes) or not isinstance(units, Sequence) or not units:
-        raise InputError("expected a non-empty sequence of catalog units", field="units")
-    for unit in units:
-        bounds.expect_type(unit, Unit, "units", "catalog units (hdselect.load_catalog)")
+    field = "catalog" if units is None else "units"
+    if units is not None:
+        if catalog is not None:
+            raise InputError("give either catalog or units (its old spelling), not both",
+                             field="units")
+        catalog = units
+    elif catalog is None:
+        catalog = load_catalog()
+    if isinstance(catalog, str | bytes) or not isinstance(catalog, Sequence) or not catalog:
+        raise InputError("expected a non-empty sequence of catalog units", field=field)
+    for unit in catalog:
+        bounds.expect_type(unit, Unit, field, "catalog units (hdselect.load_catalog)")
+    if units is not None:
+        deprecated("size_duty(units=...)", "size_duty(catalog=...)")
     margin = bounds.MARGIN.check(margin, field="margin")
     phases = cycle.phases
     load = cycle_load(
@@ -183,5 +196,5 @@ def size_duty(cycle: DutyCycle, units: tuple[Unit, ...], *, prefer: str = "size"
     candidates = tuple(check_unit(load, unit, momentary=cycle.momentary,
                                   life_hours=cycle.life_hours, life_basis=cycle.life_basis,
                                   margin=margin)
-                       for unit in units)
+                       for unit in catalog)
     return DutyResult(cycle, load, candidates, select(candidates, prefer))

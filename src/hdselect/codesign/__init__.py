@@ -7,9 +7,9 @@ does it for every unit on each joint; `max_payload` finds the heaviest payload a
 (or the largest factor on a mix's payloads) leaves a unit on every joint.
 """
 
-import warnings
 from typing import Any
 
+from hdselect.base.errors import deprecated
 from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison, compare_ratios, fastest
 from hdselect.codesign.maxpayload import MaxPayloadResult, max_payload
 
@@ -26,8 +26,7 @@ def __getattr__(name: str) -> Any:
     """The old spellings of the mix's co-design, with a DeprecationWarning naming the new."""
     if name in _RENAMED:
         new, value = _RENAMED[name]
-        warnings.warn(f"hdselect.codesign.{name} is deprecated: use hdselect.codesign.{new} "
-                      "(it takes a mix wherever it takes a motion)", DeprecationWarning,
-                      stacklevel=2)
+        deprecated(f"hdselect.codesign.{name}", f"hdselect.codesign.{new} (it takes a mix "
+                   "wherever it takes a motion)")
         return value
     raise AttributeError(f"module 'hdselect.codesign' has no attribute {name!r}")

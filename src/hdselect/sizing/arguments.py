@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TypedDict
@@ -11,7 +10,8 @@ from typing import TypedDict
 import numpy as np
 
 from hdselect.base.bounds import expect_type
-from hdselect.base.errors import InputError
+from hdselect.base.errors import InputError, deprecated
+from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
 from hdselect.motion.planning import Trajectory
@@ -95,18 +95,30 @@ def checked_motors(robot: Robot, motors: Motors | Mapping[str, Motor] | None,
     return checked
 
 
-def units_argument(units: object) -> tuple[Unit, ...]:
-    """The `units` argument as a tuple of units.
+def units_argument(units: object, field: str = "units") -> tuple[Unit, ...]:
+    """Loaded catalog units given as the argument `field`, as a tuple.
 
     Raises:
         InputError: It is not a sequence of `hdselect.catalog.units.Unit`.
     """
     if isinstance(units, str | bytes | Path) or not isinstance(units, Sequence):
         raise InputError(f"expected a sequence of catalog units, got {type(units).__name__}",
-                         field="units")
+                         field=field)
     for unit in units:
-        expect_type(unit, (Unit,), "units", "catalog units (hdselect.load_catalog)")
+        expect_type(unit, (Unit,), field, "catalog units (hdselect.load_catalog)")
     return tuple(units)
+
+
+def catalog_units(catalog: object) -> tuple[Unit, ...]:
+    """The units of a loaded `catalog` argument; None is the built-in catalog.
+
+    Raises:
+        InputError: It is not a sequence of `hdselect.catalog.units.Unit`, or it is empty.
+    """
+    units = load_catalog() if catalog is None else units_argument(catalog, "catalog")
+    if not units:
+        raise InputError("no gearhead to choose from", field="catalog")
+    return units
 
 
 def check_trajectory(trajectory: Trajectory) -> None:
@@ -177,18 +189,6 @@ def fixed_units(given: Mapping[str, Unit | str] | None, catalog: Sequence[Unit],
     return out
 
 
-def deprecated(old: str, new: str, *, depth: int = 1) -> None:
-    """Warn that `old` is spelled `new` now (a DeprecationWarning, one line).
-
-    Args:
-        old: The old spelling.
-        new: The new one.
-        depth: Calls between the caller's code and this one (1: the caller called the
-            function that calls this).
-    """
-    warnings.warn(f"{old} is deprecated; use {new}", DeprecationWarning, stacklevel=2 + depth)
-
-
 def units_as_catalog(units: object, catalog: object, call: str) -> tuple[Unit, ...]:
     """The deprecated ``units=`` of `call` (a loaded catalog), checked, as its ``catalog``.
 
@@ -199,7 +199,8 @@ def units_as_catalog(units: object, catalog: object, call: str) -> tuple[Unit, .
     if not checked:
         raise InputError("no gearhead to choose from", field="units")
     if catalog:
-        raise InputError("give either catalog files or loaded units, not both", field="units")
+        raise InputError("give either catalog or units (the old spelling of a loaded "
+                         "catalog), not both", field="units")
     deprecated(f"{call}(units=...)", f"{call}(catalog=...) with the loaded units", depth=2)
     return checked
 

@@ -35,10 +35,10 @@ from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import (
     OptionValues,
+    catalog_units,
     check_bearing_options,
     check_trajectory,
     checked_motors,
-    units_argument,
     units_as_catalog,
 )
 from hdselect.sizing.joint import JointCycle, size_joint, task_checks
@@ -134,9 +134,9 @@ def size_problem(problem: Problem, *, slowdowns: bool = True) -> SizingResult:
     return replace(result, mix=problem.mix) if problem.mix is not None else result
 
 
-def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
-                    options: Options | None = None, *,
-                    motors: Motors | None = None) -> SizingResult:
+def size_trajectory(robot: Robot, trajectory: Trajectory, catalog: Sequence[Unit] | None = None,
+                    options: Options | None = None, *, motors: Motors | None = None,
+                    units: Sequence[Unit] | None = None) -> SizingResult:
     """Choose a gearhead (or a gearhead and a motor) for every sized joint along a trajectory.
 
     One task: `size_tasks` of this trajectory alone.
@@ -144,10 +144,11 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     Args:
         robot: The robot (payload and mounting applied).
         trajectory: The trajectory, with the robot's joints.
-        units: The catalog.
+        catalog: The loaded units to choose from (default: the built-in catalog).
         options: The assumptions (default `Options()`); its ``prefer`` None means
             ``"mass"`` where motors are given, else ``"size"``.
         motors: Candidate motors per sized joint; a joint not named has no motor data.
+        units: Deprecated: the loaded catalog, now given as `catalog`.
 
     Returns:
         The result for every sized joint (its ``motion`` is None); its options hold the
@@ -161,12 +162,15 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, units: Sequence[Unit],
     """
     expect_type(robot, (Robot,), "robot", "a Robot")
     expect_type(trajectory, (Trajectory,), "trajectory", "a Trajectory (hdselect.plan)")
-    return size_tasks((Task(robot, trajectory),), units, options, motors=motors)
+    if units is not None:
+        catalog = units_as_catalog(units, catalog, "size_trajectory")
+    return size_tasks((Task(robot, trajectory),), catalog, options, motors=motors)
 
 
-def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | None = None,
-               *, motors: Motors | None = None, idle: float = 0.0,
-               slowdowns: bool = True) -> SizingResult:
+def size_tasks(tasks: Sequence[Task], catalog: Sequence[Unit] | None = None,
+               options: Options | None = None, *, motors: Motors | None = None,
+               idle: float = 0.0, slowdowns: bool = True,
+               units: Sequence[Unit] | None = None) -> SizingResult:
     """Choose a gearhead (or a pair) for every sized joint for everything a robot does.
 
     Per joint and unit, the rules of one sample (repeated peak, static, speed,
@@ -180,7 +184,7 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
     Args:
         tasks: The robot's tasks: the same robot file and sized joints, each with its own
             payload and mounting; shares summing to 1.
-        units: The catalog.
+        catalog: The loaded units to choose from (default: the built-in catalog).
         options: The assumptions (default `Options()`).
         motors: Candidate motors per sized joint.
         idle: The fraction of the time no task runs [-]: the shares and it sum to 1. A
@@ -188,6 +192,7 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
             whole cycle, pauses included.
         slowdowns: For a joint no unit fits, find the time scales at which each would;
             False leaves them out (the verdict and the figures are the same).
+        units: Deprecated: the loaded catalog, now given as `catalog`.
 
     Returns:
         The result for every sized joint; its robot, trajectory and motion are the first
@@ -200,9 +205,9 @@ def size_tasks(tasks: Sequence[Task], units: Sequence[Unit], options: Options | 
             fractions summing to 1.
     """
     tasks = _tasks_argument(tasks, idle)
-    units = units_argument(units)
-    if not units:
-        raise InputError("no gearhead to choose from", field="units")
+    if units is not None:
+        catalog = units_as_catalog(units, catalog, "size_tasks")
+    units = catalog_units(catalog)
     expect_type(options, (Options, type(None)), "options", "an Options or None")
     expect_type(slowdowns, (bool,), "slowdowns", "True or False")
     robot = tasks[0].robot
