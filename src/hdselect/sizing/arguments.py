@@ -193,7 +193,7 @@ def units_as_catalog(units: object, catalog: object, call: str) -> tuple[Unit, .
     """The deprecated ``units=`` of `call` (a loaded catalog), checked, as its ``catalog``.
 
     Raises:
-        InputError: It is not units, it is empty, or catalog files are given too.
+        InputError: It is not units, it is empty, or `catalog` is given too.
     """
     checked = units_argument(units)
     if not checked:
