@@ -199,8 +199,8 @@ def units_as_catalog(units: object, catalog: object, call: str) -> tuple[Unit, .
     if not checked:
         raise InputError("no gearhead to choose from", field="units")
     if catalog:
-        raise InputError("give either catalog or units (the old spelling of a loaded "
-                         "catalog), not both", field="units")
+        raise InputError("give either catalog or units (its old spelling), not both",
+                         field="units")
     deprecated(f"{call}(units=...)", f"{call}(catalog=...) with the loaded units", depth=2)
     return checked
 
