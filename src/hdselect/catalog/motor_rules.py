@@ -16,7 +16,6 @@ from hdselect.catalog.rules import (
     Part,
     RuleInput,
     apply_rules,
-    check_motor,
     inertia_ratio,
 )
 from hdselect.catalog.rules.inertia_ratio import INERTIA_RATIO
@@ -51,13 +50,11 @@ def with_motor(candidate: Candidate, motor: Motor, torque: np.ndarray,
     if candidate.motor is None:
         raise ValueError("a pair needs the motor demand of its reflection")
     margin = candidate.required_margin if margin is None else margin
-    checks = {**candidate.checks, **check_motor(motor, torque, speed_rpm, candidate.motor,
-                                                 margin=margin)}
     ratio = None if load_inertia is None else inertia_ratio(load_inertia, candidate.unit, motor)
     case = RuleInput(candidate.unit, None, margin, demand=candidate.motor, motor=motor,
                      motor_torque=torque, motor_speed=speed_rpm, load_inertia=load_inertia,
                      max_inertia_ratio=max_inertia_ratio)
-    checks.update(apply_rules((Part.PAIR,), case))
+    checks = {**candidate.checks, **apply_rules((Part.MOTOR, Part.PAIR), case)}
     return Candidate(candidate.unit, checks, candidate.life_hours, candidate.flags,
                      candidate.motor, motor, ratio, margin, candidate.bearing)
 

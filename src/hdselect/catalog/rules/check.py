@@ -12,10 +12,10 @@ import numpy as np
 from hdselect.base.errors import InputError
 from hdselect.catalog.bearing_rules import BearingLoad, bearing_figures
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules.base import DEFAULT_MARGIN, Check, Part, RuleInput
+from hdselect.catalog.rules.base import DEFAULT_MARGIN, Check, Part, Rule, RuleInput
 from hdselect.catalog.rules.candidate import Candidate
 from hdselect.catalog.rules.load import CycleLoad, Momentary, MotorDemand
-from hdselect.catalog.rules.registry import rule, rules_of
+from hdselect.catalog.rules.registry import rules_of
 from hdselect.catalog.units import LIFE_BASES, Unit
 
 
@@ -61,9 +61,11 @@ def check_unit(
     if unit.bearing is not None and bearing is not None:
         figures = bearing_figures(bearing, unit.bearing, rules, load.mean_speed_under(rules))
     case = RuleInput(unit, load, margin, momentary, life_hours, life_basis, figures, motor)
-    checks = apply_rules((Part.GEARHEAD, Part.BEARING), case)
-    fields = [field for name, check in checks.items() if check.value is not None
-              for field in rule(name).fields(unit)]
+    applied = _applied((Part.GEARHEAD, Part.BEARING) if figures is not None
+                       else (Part.GEARHEAD,), case)  # a bearing rule needs its figures
+    checks = {found.name: check for found, check in applied}
+    fields = [field for found, check in applied if check.value is not None
+              for field in found.fields(unit)]
     life = case.l50_hours
     if life is not None:
         fields.append("rated_torque")
@@ -97,9 +99,10 @@ def apply_rules(parts: tuple[Part, ...], case: RuleInput) -> dict[str, Check]:
 
     A rule absent for the case (its check None) is left out.
     """
-    checks = {}
-    for part in parts:
-        for found in rules_of(part):
-            if (check := found.check(case)) is not None:
-                checks[found.name] = check
-    return checks
+    return {found.name: check for found, check in _applied(parts, case)}
+
+
+def _applied(parts: tuple[Part, ...], case: RuleInput) -> list[tuple[Rule, Check]]:
+    """Each registered rule of `parts` with its check on the case, where present."""
+    return [(found, check) for part in parts for found in rules_of(part)
+            if (check := found.check(case)) is not None]
