@@ -311,6 +311,49 @@ class Rule:
         return None
 
 
+class UnitLimit(Rule):
+    """A gearhead rule on single samples: the cycle's largest |x| within one of the unit's limits.
+
+    `peak`, `static`, `momentary` and `speed`. Each gives its largest value (`largest`);
+    the check, the field it reads, the limit the solvers use (`allowed`) and every unit's
+    utilization at once (`utilizations`, a prefilter's) are written here once.
+
+    Attributes:
+        limit: The unit's field that is the limit, e.g. ``"repeated_torque"``.
+    """
+
+    limit: ClassVar[str]
+    part = Part.GEARHEAD
+    scope = Scope.SAMPLE
+
+    def largest(self, case: RuleInput, unit: Unit, load: CycleLoad
+                ) -> tuple[float | None, dict[str, object]]:
+        """The cycle's largest |x| [the rule's unit] (None where nothing is read) and detail."""
+        raise NotImplementedError
+
+    def check(self, case: RuleInput) -> Check | None:
+        """See `Rule.check`."""
+        if (gear := case.gear) is None:
+            return None
+        unit, load = gear
+        value, detail = self.largest(case, unit, load)
+        return self.judge(value, getattr(unit, self.limit), case.margin, **detail)
+
+    def fields(self, unit: Unit) -> tuple[str, ...]:
+        """See `Rule.fields`."""
+        return (self.limit,)
+
+    def allowed(self, unit: Unit, margin: float) -> float:
+        """The unit's limit as the solvers use it (`derate`d) [the rule's unit]."""
+        return self.derate(getattr(unit, self.limit), margin)
+
+    def utilizations(self, largest: float | np.ndarray, units: Sequence[Unit]) -> np.ndarray:
+        """Every unit's utilization [-], (units,): its largest |x| over its limit."""
+        utilization: np.ndarray = largest / np.array([getattr(unit, self.limit)
+                                                      for unit in units])
+        return utilization
+
+
 def within(c2: np.ndarray, c1: np.ndarray, c0: np.ndarray, limit: float) -> tuple[Rows, Rows]:
     """|c2 y^2 + c1 y + c0| <= limit [same unit as c0] as two rows of `... <= 0`."""
     return (c2, c1, c0 - limit), (-c2, -c1, -c0 - limit)
