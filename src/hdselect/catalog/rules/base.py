@@ -57,6 +57,9 @@ from hdselect.catalog.rules.load import (
 )
 from hdselect.catalog.units import Unit
 
+Gear = tuple[Unit, CycleLoad]
+"""A gearhead and the joint's cycle on its output side: what every gearhead rule reads."""
+
 DEFAULT_MARGIN = 0.0
 """Design margin by default [-]: every rule holds at up to 100 % of its limit."""
 
@@ -157,7 +160,7 @@ class RuleInput:
     max_inertia_ratio: float | None = None
 
     @property
-    def gear(self) -> tuple[Unit, CycleLoad] | None:
+    def gear(self) -> Gear | None:
         """(unit, load) where both are known: what every gearhead rule reads; else None."""
         return None if self.unit is None or self.load is None else (self.unit, self.load)
 
@@ -326,8 +329,7 @@ class UnitLimit(Rule):
     part = Part.GEARHEAD
     scope = Scope.SAMPLE
 
-    def largest(self, case: RuleInput, unit: Unit, load: CycleLoad
-                ) -> tuple[float | None, dict[str, object]]:
+    def largest(self, case: RuleInput, gear: Gear) -> tuple[float | None, dict[str, object]]:
         """The cycle's largest |x| [the rule's unit] (None where nothing is read) and detail."""
         raise NotImplementedError
 
@@ -335,9 +337,8 @@ class UnitLimit(Rule):
         """See `Rule.check`."""
         if (gear := case.gear) is None:
             return None
-        unit, load = gear
-        value, detail = self.largest(case, unit, load)
-        return self.judge(value, getattr(unit, self.limit), case.margin, **detail)
+        value, detail = self.largest(case, gear)
+        return self.judge(value, getattr(gear[0], self.limit), case.margin, **detail)
 
     def fields(self, unit: Unit) -> tuple[str, ...]:
         """See `Rule.fields`."""

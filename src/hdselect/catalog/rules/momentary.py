@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from hdselect.catalog.rules.base import RuleInput, UnitLimit, within
+from hdselect.catalog.rules.base import Gear, RuleInput, UnitLimit, within
 from hdselect.catalog.rules.forms import (
     Interval,
     PathBound,
@@ -23,12 +23,7 @@ from hdselect.catalog.rules.forms import (
     ScaleTerms,
     UnitBatch,
 )
-from hdselect.catalog.rules.load import (
-    RPM_PER_RAD_S,
-    CycleLoad,
-    Momentary,
-    allowed_momentary_events,
-)
+from hdselect.catalog.rules.load import RPM_PER_RAD_S, Momentary, allowed_momentary_events
 from hdselect.catalog.rules.masses import masses_within, meet, spans
 from hdselect.catalog.units import Unit
 
@@ -46,10 +41,9 @@ class MomentaryTorque(UnitLimit):
     unit = "N m"
     limit = "momentary_torque"
 
-    def largest(self, case: RuleInput, unit: Unit, load: CycleLoad
-                ) -> tuple[float | None, dict[str, object]]:
+    def largest(self, case: RuleInput, gear: Gear) -> tuple[float | None, dict[str, object]]:
         """See `UnitLimit.largest`: the worst event's |T| [N m]."""
-        event = case.momentary
+        unit, event = gear[0], case.momentary
         if event is None:
             return None, {}
         detail: dict[str, object] = {"kind": event.kind}

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from hdselect.catalog.rules.base import RuleInput, UnitLimit
+from hdselect.catalog.rules.base import Gear, RuleInput, UnitLimit
 from hdselect.catalog.rules.forms import (
     Interval,
     PathBound,
@@ -18,7 +18,7 @@ from hdselect.catalog.rules.forms import (
     ScaleTerms,
     UnitBatch,
 )
-from hdselect.catalog.rules.load import RPM_PER_RAD_S, CycleLoad
+from hdselect.catalog.rules.load import RPM_PER_RAD_S
 from hdselect.catalog.rules.masses import EVERY_MASS
 from hdselect.catalog.units import Unit
 
@@ -32,9 +32,9 @@ class Speed(UnitLimit):
     unit = "rpm"
     limit = "max_input_speed"
 
-    def largest(self, case: RuleInput, unit: Unit, load: CycleLoad
-                ) -> tuple[float | None, dict[str, object]]:
+    def largest(self, case: RuleInput, gear: Gear) -> tuple[float | None, dict[str, object]]:
         """See `UnitLimit.largest`: the largest input speed [rpm]."""
+        unit, load = gear
         return load.max_speed * RPM_PER_RAD_S * unit.ratio, {}
 
     def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:

@@ -12,7 +12,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from hdselect.catalog.rules.base import RuleInput, UnitLimit, within
+from hdselect.catalog.rules.base import Gear, RuleInput, UnitLimit, within
 from hdselect.catalog.rules.forms import (
     Interval,
     PathBound,
@@ -42,10 +42,9 @@ class TorqueLimit(UnitLimit):
         """The cycle's largest |T| of these samples [N m]; None where there is none."""
         return load.static_torque if self.at_rest else load.peak_torque
 
-    def largest(self, case: RuleInput, unit: Unit, load: CycleLoad
-                ) -> tuple[float | None, dict[str, object]]:
+    def largest(self, case: RuleInput, gear: Gear) -> tuple[float | None, dict[str, object]]:
         """See `UnitLimit.largest`."""
-        return self.torque(load), {}
+        return self.torque(gear[1]), {}
 
     def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:
         """|g + (v + i) y^2| <= the limit at every sample read."""
