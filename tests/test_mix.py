@@ -633,6 +633,29 @@ def test_the_tables_of_a_mix_fit_a_narrow_terminal(pick_inspect, monkeypatch):
     assert sum(line.startswith("shoulder_lift") for line in lines) >= 4  # tables moved below
 
 
+@pytest.mark.slow
+def test_both_task_sections_mark_exactly_the_failing_rules(monkeypatch):
+    """The terminal's and the HTML's "which task sets each rule" mark a cell failing
+    exactly where the chosen unit's check fails (their rows are built once)."""
+    import io
+
+    from hdselect.report.html_tasks import task_section
+    from hdselect.report.tables import console_for
+    from hdselect.report.task_tables import rules_table
+
+    result = size(None, PICK_INSPECT, margin=0.8)
+    failing = sum(not check.ok for joint in result.joints
+                  for check in (joint.selected or joint.strongest).checks.values()
+                  if check.value is not None)
+    assert failing > 0
+    section = task_section(result).split("<h3>Which task sets each rule</h3>", 1)[1]
+    assert section.split("<h3>", 1)[0].count("class=fail") == failing
+    buffer = io.StringIO()
+    monkeypatch.setenv("COLUMNS", "300")
+    console_for(buffer).print(rules_table(result))
+    assert buffer.getvalue().count("✗") == failing
+
+
 @pytest.mark.parametrize("argv, flag", [
     (["--joints", "elbo"], "--joints: unknown joint 'elbo'"),
     (["--mounting", "sideways"], "--mounting: unknown mounting 'sideways'"),

@@ -28,7 +28,7 @@ from hdselect.report.tables import console_for
 from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
 from hdselect.robot.joints import describe_joints
 from helpers import REPO
-from helpers.motions import PLANAR2
+from helpers.motions import planar2_motion
 from helpers.robots import LONG, ros_arm
 
 WIDTHS = (60, 80, 100, 160)
@@ -184,23 +184,7 @@ def test_case_notes_need_no_verbose(capsys, tmp_path, monkeypatch):
     assert main(["size", str(REPO / "trajectories" / "scara_wafer_transfer.toml")]) == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "not sized: lift (prismatic" in text
-    still = tmp_path / "still.toml"
-    still.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[payload]
-mass = 0.4
-[limits]
-velocity = 90
-acceleration = 300
-jerk = 3000
-[[waypoint]]
-q = [10, 20]
-dwell = 0.5
-[[waypoint]]
-q = [10, 20]
-""")
+    still = planar2_motion(tmp_path / "still.toml", (10, 20, 0.5), (10, 20), payload=0.4)
     assert main(["size", str(still)]) == 0
     text = " ".join(capsys.readouterr().out.split())
     assert "hold only: nothing moves in this cycle, so only holding the pose (static)" in text

@@ -36,7 +36,6 @@ from hdselect.catalog.rules import (
     PayloadCase,
     Rule,
     RuleInput,
-    ScaleTerms,
     Scope,
     UnitBatch,
     check_unit,
@@ -109,8 +108,7 @@ def test_time_scale_form_is_the_forward_check(name):
         rotor = motor.rotor_inertia if motor else float(rng.uniform(0.0, 5.0)) * unit.input_inertia
         margin = (0.0, 0.2)[case % 4 // 2]
         cycle = random_cycle(rng, unit)
-        terms = ScaleTerms(cycle.gravity, cycle.velocity, cycle.inertial, cycle.stop_inertial,
-                           cycle.qd, cycle.at_rest, STOP_TIME, rotor, motor)
+        terms = cycle.terms(rotor_inertia=rotor, motor=motor)
         rows = found.scale_rows(terms, unit, margin)
         assert rows is not None, f"{name} defines the form: it must give it"
         for s in np.geomspace(0.1, 10.0, 25):
@@ -305,9 +303,7 @@ def test_the_time_scale_solver_honours_a_rule_without_a_form(torsion):
     cycle = ScalableCycle(t=np.arange(n) * 0.01, dt=0.01, duration=n * 0.01, qd=0.1, qdd=0.0,
                           at_rest=False, gravity=0.0, velocity=0.0, inertial=a,
                           stop_inertial=0.0, stop_time=STOP_TIME)
-    assert torsion.scale_rows(ScaleTerms(cycle.gravity, cycle.velocity, cycle.inertial,
-                                         cycle.stop_inertial, cycle.qd, cycle.at_rest,
-                                         STOP_TIME), unit, 0.0) is None
+    assert torsion.scale_rows(cycle.terms(), unit, 0.0) is None
     assert exact_scales(cycle, unit)[0][0] < 1.0  # no form: the exact part allows faster
     (found,) = feasible_scales(cycle, unit)
     assert found[0] == pytest.approx(2.0, rel=4 * RTOL) and found[1] == math.inf

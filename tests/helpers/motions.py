@@ -83,42 +83,41 @@ dwell = {DWELL * s!r}
 PLANAR2 = REPO / "robots" / "planar2.urdf"
 
 
-def slow_planar2_motion(path: Path, *waypoints: tuple[float, float]) -> Path:
-    """A gentle planar2 motion through `waypoints` [deg], no payload."""
-    points = "".join(f"[[waypoint]]\nq = [{a}, {b}]\n" for a, b in waypoints)
+def planar2_motion(path: Path, *waypoints: tuple[float, ...], payload: float | None = None,
+                   frame: str | None = None,
+                   limits: tuple[float, float, float] = (90, 300, 3000)) -> Path:
+    """A planar2 motion through `waypoints` (q1, q2 [deg], and a dwell [s] if given).
+
+    Ruckig at `limits` (velocity, acceleration, jerk [deg/s, deg/s^2, deg/s^3]), and a
+    payload of `payload` [kg] on `frame` (the default frame where None) if given.
+    """
+    points = "".join(f"[[waypoint]]\nq = [{point[0]}, {point[1]}]\n"
+                     + (f"dwell = {point[2]}\n" if len(point) > 2 else "")
+                     for point in waypoints)
+    carried = "" if payload is None else f"[payload]\nmass = {payload}\n" + (
+        "" if frame is None else f'frame = "{frame}"\n')
+    velocity, acceleration, jerk = limits
     path.write_text(f"""\
 robot = "{PLANAR2.as_posix()}"
 planner = "ruckig"
 angle_unit = "deg"
-[limits]
-velocity = 90
-acceleration = 300
-jerk = 3000
+{carried}[limits]
+velocity = {velocity}
+acceleration = {acceleration}
+jerk = {jerk}
 {points}""")
     return path
 
 
+def slow_planar2_motion(path: Path, *waypoints: tuple[float, float]) -> Path:
+    """A gentle planar2 motion through `waypoints` [deg], no payload."""
+    return planar2_motion(path, *waypoints)
+
+
 def gravity_overload_motion(path: Path) -> Path:
     """planar2 holding 8 kg at the tool, barely moving: gravity alone is too much."""
-    path.write_text(f"""\
-robot = "{PLANAR2.as_posix()}"
-planner = "ruckig"
-angle_unit = "deg"
-[payload]
-mass = 8.0
-frame = "tool"
-[limits]
-velocity = 30
-acceleration = 100
-jerk = 1000
-[[waypoint]]
-q = [0, 0]
-dwell = 1.0
-[[waypoint]]
-q = [5, 0]
-dwell = 1.0
-""")
-    return path
+    return planar2_motion(path, (0, 0, 1.0), (5, 0, 1.0), payload=8.0, frame="tool",
+                          limits=(30, 100, 1000))
 
 
 def overload_motion(directory: Path, *, payload: float, velocity: float, acceleration: float,

@@ -131,17 +131,19 @@ class FastestResult:
     @property
     def mean_cycle_time(self) -> float:
         """The tasks' cycle times weighted by their shares [s]; one task's cycle time."""
-        if len(self.tasks) < 2:
-            return self.cycle_time
-        return (sum(item.task.share * item.cycle_time for item in self.tasks)
-                / sum(item.task.share for item in self.tasks))
+        return self._share_mean([item.cycle_time for item in self.tasks], self.cycle_time)
 
     @property
     def mean_optimum(self) -> float:
         """The tasks' optima weighted by their shares [s]; one task's `optimum`."""
+        return self._share_mean([item.optimum for item in self.tasks], self.optimum)
+
+    def _share_mean(self, values: Sequence[float], alone: float) -> float:
+        """The tasks' `values` weighted by their shares [s]; `alone` for one task."""
         if len(self.tasks) < 2:
-            return self.optimum
-        return (sum(item.task.share * item.optimum for item in self.tasks)
+            return alone
+        return (sum(item.task.share * value for item, value in zip(self.tasks, values,
+                                                                   strict=True))
                 / sum(item.task.share for item in self.tasks))
 
     @property

@@ -21,7 +21,6 @@ import numpy as np
 
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import at_rest
-from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cyclerules import (
     WRITTEN_MARGIN,
@@ -39,7 +38,7 @@ from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors
 from hdselect.sizing.core import check_units, select_units
-from hdselect.sizing.options import Options
+from hdselect.sizing.options import Options, fixed_choice
 from hdselect.sizing.result import SizingResult
 from hdselect.sizing.tasks import Task, pooled
 from hdselect.sizing.timescale import ScalableCycle
@@ -299,11 +298,7 @@ def check_tasks(tasks: Sequence[Task], units: Mapping[str, Unit], options: Optio
     robot = tasks[0].robot
     fixed = checked_motors(robot, {name: (motor,) for name, motor in (motors or {}).items()},
                            options) if motors else {}
-    resolved = options if options.prefer is not None else replace(
-        options, prefer=DEFAULT_PREFER_WITH_MOTORS if fixed else DEFAULT_PREFER)
-    masses = ({name: units[name].mass + (fixed[name][0].mass if name in fixed
-                                         else options.motor_mass)
-               for name in robot.sized_joints} if options.mass_coupling else {})
+    resolved, masses = fixed_choice(options, units, fixed, robot.sized_joints)
     samples = pooled(tasks, idle)
     model = DirectTorques(samples.tasks, samples, options.stop_time, threads=options.threads,
                           guess=masses, wrenches=options.bearing_loads)

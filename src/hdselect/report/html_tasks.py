@@ -7,29 +7,24 @@ unit (or ``pooled``); and the unit against each task alone beside the duty.
 
 from __future__ import annotations
 
-from hdselect.catalog.rules import CHECK_LABELS, Candidate
+from hdselect.catalog.rules import CHECK_LABELS
 from hdselect.report.html_tables import esc, table
 from hdselect.report.task_tables import (
     POOLED_NOTE,
-    mounting_text,
-    payload_text,
-    rule_setters,
+    alone_rows,
+    rule_rows,
     spread_notes,
+    task_rows,
 )
-from hdselect.report.terminal import life_text, percent, utilization_text
+from hdselect.report.terminal import percent
 from hdselect.sizing.result import SizingResult
-from hdselect.sizing.tasks import cycle_of
 
 
 def task_section(result: SizingResult) -> str:
     """The section, or nothing for a result of one task."""
     if len(result.tasks) < 2:
         return ""
-    rows = [[esc(task.label), esc("-" if task.motion is None else task.motion.path.name),
-             percent(task.share), f"{task.trajectory.duration:.3f}",
-             f"{task.share * 3600.0 / cycle_of(task.trajectory):,.1f}",
-             esc(payload_text(task.robot)), esc(mounting_text(task.robot))]
-            for task in result.tasks]
+    rows = [[esc(cell) for cell in row] for row in task_rows(result)]
     idle = (f"<p>Idle {percent(result.idle)} of the time: a pause, counted only where a "
             "series' rules take the mean speed over the whole cycle, pauses included.</p>"
             if result.idle > 0.0 else "")
@@ -52,44 +47,20 @@ def duty_line(result: SizingResult) -> str:
 
 
 def _rules(result: SizingResult) -> str:
-    names, setters = rule_setters(result)
-    rows = []
-    for joint, label, found in setters:
-        cells = [esc(joint), esc(label)]
-        for setting in found:
-            if setting is None:
-                cells.append("-")
-                continue
-            check, who = setting
-            text = f"{utilization_text(check.utilization, check.ok)} {who}"
-            cells.append(esc(text) if check.ok else f"<td class=fail>{esc(text)} ✗</td>")
-        rows.append(cells)
+    names, rows = rule_rows(result)
+    cells = [[esc(text) if ok else f"<td class=fail>{esc(text)} ✗</td>" for text, ok in row]
+             for row in rows]
     return ("<h3>Which task sets each rule</h3>"
-            + table(["joint", "unit", *(CHECK_LABELS[name] for name in names)], rows, left=2))
+            + table(["joint", "unit", *(CHECK_LABELS[name] for name in names)], cells, left=2))
 
 
 def _alone(result: SizingResult) -> str:
-    labels = [task.label for task in result.counted]
     header = ["joint", "unit", "duty: binding", "duty: L50 h"]
-    for label in labels:
-        header += [f"{label}: binding", f"{label}: L50 h"]
-    rows = []
-    for joint in result.joints:
-        candidate = joint.selected or joint.strongest
-        cells = [esc(joint.name), esc(candidate.label), *_cells(candidate)]
-        for alone in joint.per_task:
-            cells += _cells(alone)
-        rows.append(cells)
+    for task in result.counted:
+        header += [f"{task.label}: binding", f"{task.label}: L50 h"]
+    rows = [[esc(text) for text, _ in row] for row in alone_rows(result)]
     notes = "".join(f"<li>{esc(note)}</li>" for note in spread_notes(result))
     return ("<h3>Each joint's unit against each task alone</h3><p>As if the robot did nothing "
             "else: the rules of single samples reach the duty's in the task that sets them; "
             "the life alone differs from the duty's, which pools the tasks.</p>"
             + table(header, rows, left=2) + (f"<ul>{notes}</ul>" if notes else ""))
-
-
-def _cells(candidate: Candidate) -> list[str]:
-    rule = candidate.binding
-    check = candidate.checks[rule]
-    return [esc(f"{CHECK_LABELS.get(rule, rule)} {utilization_text(check.utilization, check.ok)}"),
-            esc(life_text(candidate.life_hours, ""))]
-

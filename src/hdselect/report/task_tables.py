@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from rich.markup import escape
 
-from hdselect.catalog.rules import CHECK_LABELS, CHECKS, Candidate, Check
+from hdselect.catalog.rules import CHECK_LABELS, CHECKS
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.robot.model import Robot
@@ -53,6 +53,17 @@ def mounting_text(robot: Robot) -> str:
     return "g = (" + ", ".join(f"{g:.3g}" for g in robot.gravity) + ") m/s^2"
 
 
+def task_rows(result: SizingResult) -> list[list[str]]:
+    """One row per task in plain text, as both reports show it.
+
+    Its label, motion, share, cycle [s], cycles per hour, payload and mounting.
+    """
+    return [[task.label, "-" if task.motion is None else task.motion.path.name,
+             percent(task.share), f"{task.trajectory.duration:.3f}",
+             f"{task.share * 3600.0 / cycle_of(task.trajectory):,.1f}",
+             payload_text(task.robot), mounting_text(task.robot)] for task in result.tasks]
+
+
 def tasks_table(result: SizingResult) -> FittedTable:
     """One row per task: its motion, share, cycle, cycles per hour, payload and mounting.
 
@@ -61,14 +72,7 @@ def tasks_table(result: SizingResult) -> FittedTable:
     columns = (Column("task", "left"), Column("motion", "left"), Column("share"),
                Column("cycle s"), Column("cycles/h"), Column("payload", "left", group="robot"),
                Column("mounting", "left", group="robot"))
-    rows = []
-    for task in result.tasks:
-        traj = task.trajectory
-        rate = task.share * 3600.0 / cycle_of(traj)
-        rows.append((escape(task.label),
-                     "-" if task.motion is None else escape(task.motion.path.name),
-                     percent(task.share), f"{traj.duration:.3f}", f"{rate:,.1f}",
-                     escape(payload_text(task.robot)), mounting_text(task.robot)))
+    rows = [tuple(escape(cell) for cell in row) for row in task_rows(result)]
     notes = []
     if result.idle > 0.0:
         notes.append(f"idle {percent(result.idle)} of the time: a pause, counted only where a "
@@ -85,33 +89,59 @@ def tasks_table(result: SizingResult) -> FittedTable:
     return FittedTable(title, columns, tuple(rows), notes=tuple(notes))
 
 
-RuleSetting = tuple[Check, str] | None
-"""A rule of a joint's unit: its check and the task that sets it ("" where none does, or
-"pooled"); None where the unit gives the rule no value."""
+Cell = tuple[str, bool]
+"""A table cell in plain text, and False where it shows a failing rule (to be marked)."""
 
 
-def rule_setters(result: SizingResult
-                 ) -> tuple[list[str], list[tuple[str, str, list[RuleSetting]]]]:
+def rule_rows(result: SizingResult) -> tuple[list[str], list[list[Cell]]]:
     """Which task sets each rule of each joint's unit: what both mix tables show.
 
     Returns:
         The rules some joint's unit gives a value, and per joint its name, its unit's
-        label and, in the rules' order, each rule's setting.
+        label and, in the rules' order, each rule's utilization and the task that sets
+        it ("" where none does, or "pooled"); "-" where the unit gives the rule no value.
     """
     chosen = {joint.name: joint.selected or joint.strongest for joint in result.joints}
     names = [name for name in CHECKS
              if any(name in c.checks and c.checks[name].value is not None
                     for c in chosen.values())]
-    setters = []
+    rows = []
     for joint in result.joints:
         candidate = chosen[joint.name]
-        found: list[RuleSetting] = []
+        cells: list[Cell] = [(joint.name, True), (candidate.label, True)]
         for name in names:
             check = candidate.checks.get(name)
-            found.append(None if check is None or check.value is None
-                         else (check, result.set_by(joint, name) or ""))
-        setters.append((joint.name, candidate.label, found))
-    return names, setters
+            if check is None or check.value is None:
+                cells.append(("-", True))
+                continue
+            who = result.set_by(joint, name) or ""
+            cells.append((f"{utilization_text(check.utilization, check.ok)} {who}", check.ok))
+        rows.append(cells)
+    return names, rows
+
+
+def alone_rows(result: SizingResult) -> list[list[Cell]]:
+    """Per joint, its unit against the duty and then each counted task alone.
+
+    Its name, its unit's label, then for the duty and each task the binding rule with
+    its utilization, and the L50 life [h].
+    """
+    rows = []
+    for joint in result.joints:
+        candidate = joint.selected or joint.strongest
+        cells: list[Cell] = [(joint.name, True), (candidate.label, True)]
+        for each in (candidate, *joint.per_task):
+            check = each.checks[each.binding]
+            cells += [(f"{CHECK_LABELS.get(each.binding, each.binding)} "
+                       f"{utilization_text(check.utilization, check.ok)}", check.ok),
+                      (life_text(each.life_hours, ""), True)]
+        rows.append(cells)
+    return rows
+
+
+def _marked(row: list[Cell]) -> tuple[str, ...]:
+    """A row for the terminal: each cell escaped, a failing one in red with a ✗."""
+    return tuple(escape(text) if ok else f"[red]{escape(text)}✗[/red]" for text, ok in row)
 
 
 def rules_table(result: SizingResult) -> FittedTable:
@@ -119,22 +149,12 @@ def rules_table(result: SizingResult) -> FittedTable:
 
     A rule has a column when some joint's unit gives it a value.
     """
-    names, setters = rule_setters(result)
+    names, rows = rule_rows(result)
     columns = (Column("joint", "left"), Column("unit", "left"),
                *(Column(CHECK_LABELS[name], "left", group=name) for name in names))
-    rows = []
-    for joint, label, found in setters:
-        cells = [escape(joint), escape(label)]
-        for setting in found:
-            if setting is None:
-                cells.append("-")
-                continue
-            check, who = setting
-            text = f"{utilization_text(check.utilization, check.ok)} {escape(who)}"
-            cells.append(text if check.ok else f"[red]{text}✗[/red]")
-        rows.append(tuple(cells))
     return FittedTable("Which task sets each rule (the unit's utilization, and the task that "
-                       "reaches it)", columns, tuple(rows), notes=(POOLED_NOTE,))
+                       "reaches it)", columns, tuple(_marked(row) for row in rows),
+                       notes=(POOLED_NOTE,))
 
 
 def per_task_table(result: SizingResult) -> FittedTable:
@@ -150,23 +170,10 @@ def per_task_table(result: SizingResult) -> FittedTable:
     for label in labels:
         columns += [Column(f"{escape(label)}\nbinding", "left", group=label),
                     Column(f"{escape(label)}\nL50 h", group=label)]
-    rows = []
-    for joint in result.joints:
-        candidate = joint.selected or joint.strongest
-        cells = [escape(joint.name), escape(candidate.label), *_binding_cells(candidate)]
-        for alone in joint.per_task:
-            cells += _binding_cells(alone)
-        rows.append(tuple(cells))
     return FittedTable("Each joint's unit against the duty and against each task alone "
-                       "(as if the robot did nothing else)", tuple(columns), tuple(rows),
+                       "(as if the robot did nothing else)", tuple(columns),
+                       tuple(_marked(row) for row in alone_rows(result)),
                        notes=spread_notes(result))
-
-
-def _binding_cells(candidate: Candidate) -> list[str]:
-    rule = candidate.binding
-    check = candidate.checks[rule]
-    text = f"{CHECK_LABELS.get(rule, rule)} {utilization_text(check.utilization, check.ok)}"
-    return [text if check.ok else f"[red]{text}✗[/red]", life_text(candidate.life_hours, "")]
 
 
 def spread_notes(result: SizingResult) -> tuple[str, ...]:

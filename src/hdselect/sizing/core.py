@@ -42,7 +42,7 @@ from hdselect.sizing.arguments import (
     units_as_catalog,
 )
 from hdselect.sizing.joint import JointCycle, size_joint, task_checks
-from hdselect.sizing.options import Options
+from hdselect.sizing.options import Options, fixed_choice
 from hdselect.sizing.problem import Catalog, Problem, plan_tasks, resolve
 from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.slowdown import with_slowdowns
@@ -345,11 +345,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
         if len(given) != 1:
             raise InputError(f"expected one motor to check, got {len(given)}",
                              field=f"motors.{name}")
-    resolved = options if options.prefer is not None else replace(
-        options, prefer=DEFAULT_PREFER_WITH_MOTORS if fixed else DEFAULT_PREFER)
-    masses = ({name: units[name].mass + (fixed[name][0].mass if name in fixed
-                                         else options.motor_mass)
-               for name in robot.sized_joints} if options.mass_coupling else {})
+    resolved, masses = fixed_choice(options, units, fixed, robot.sized_joints)
     task = Task(robot, trajectory)
     samples = pooled((task,))
     model = DirectTorques((task,), samples, options.stop_time, threads=options.threads,

@@ -5,11 +5,14 @@ Each field, its default and its check are declared in `hdselect.motion.option_sp
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 from hdselect.base.errors import InputError
+from hdselect.catalog.motors import Motor
+from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
+from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.option_specs import (
     OPTION,
@@ -108,6 +111,30 @@ def options_for(motion: Motion | None, **given: Any) -> Options:
                              field=name)
     values = {name: value for name, value in given.items() if value is not None}
     return Options(**{**(given_by(motion, "motion") if motion is not None else {}), **values})
+
+
+def fixed_choice(options: Options, units: Mapping[str, Unit],
+                 motors: Mapping[str, Sequence[Motor]], joints: Sequence[str]
+                 ) -> tuple[Options, dict[str, float]]:
+    """The options and carried masses for checking given units (and motors), no choice.
+
+    Args:
+        options: The assumptions.
+        units: The unit of every joint in `joints`.
+        motors: The motor behind the unit of some joints (the first of each is used).
+        joints: The sized joints.
+
+    Returns:
+        The options with `prefer` defaulted (by mass with motors, else by size), and with
+        mass coupling each joint's unit mass plus its motor's (else the options' motor
+        mass) [kg]; empty without mass coupling.
+    """
+    resolved = options if options.prefer is not None else replace(
+        options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors else DEFAULT_PREFER)
+    masses = ({name: units[name].mass + (motors[name][0].mass if name in motors
+                                         else options.motor_mass)
+               for name in joints} if options.mass_coupling else {})
+    return resolved, masses
 
 
 def _set(options: Options, name: str, value: object) -> None:

@@ -141,6 +141,19 @@ class ScalableCycle:
         return cls(t, np.asarray(dt, dtype=float), duration, qd, qdd, at_rest, gravity,
                    coast - gravity, torque - coast, stop_torque - coast, stop_time, idle)
 
+    def terms(self, part: slice = slice(None), rotor_inertia: float = 0.0,
+              motor: Motor | None = None) -> ScaleTerms:
+        """A piece of the cycle as the rules' time-scale form reads it (`Rule.scale_rows`).
+
+        Args:
+            part: The samples of the piece.
+            rotor_inertia: The motor's rotor inertia J_m [kg m^2].
+            motor: The paired motor, if any.
+        """
+        return ScaleTerms(self.gravity[part], self.velocity[part], self.inertial[part],
+                          self.stop_inertial[part], self.qd[part], self.at_rest[part],
+                          self.stop_time, rotor_inertia, motor)
+
     def at(self, s: float) -> ScaledCycle:
         """The cycle run s times slower (s < 1: faster): exact for a fixed path.
 
@@ -275,9 +288,7 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0
         if not found:
             break
         part = slice(start, start + _CHUNK)
-        terms = ScaleTerms(cycle.gravity[part], cycle.velocity[part], cycle.inertial[part],
-                           cycle.stop_inertial[part], cycle.qd[part], cycle.at_rest[part],
-                           cycle.stop_time, rotor_inertia, motor)
+        terms = cycle.terms(part, rotor_inertia, motor)
         rows = [row for rule in RULES
                 if (form := rule.scale_rows(terms, unit, margin)) is not None for row in form]
         if rows:

@@ -4,7 +4,9 @@ Each rule is a `Rule` in a file of its own (`peak`, `mean`, `speed`, `average_sp
 `momentary`, `static`, `life`; the output bearing's five in `bearing`, the motor's three
 in `motor`; the pair's `inertia_ratio`; `peak` and `static` share `torque`), on the base
 of `base`: its names, what it judges, its forward check, the margin applied once
-(`Rule.judge`) and the solvers' forms (their inputs in `forms`). `registry` orders them
+(`Rule.judge`) and the solvers' forms (their inputs in `forms`, the payload intervals'
+arithmetic in `masses`). `peak`, `static`, `momentary` and `speed` are each a
+`UnitLimit`: the cycle's largest magnitude against one of the unit's fields. `registry` orders them
 (`RULES`, `rule`) and derives the check tables from them; `check` applies them
 (`check_unit`, `check_motor`). What the rules read of a cycle is in `load`, a unit's
 verdicts in `candidate`.
@@ -17,6 +19,7 @@ from hdselect.catalog.rules.base import (
     Rule,
     RuleInput,
     Scope,
+    UnitLimit,
     derated,
     holds,
     within,
@@ -71,8 +74,9 @@ __all__ = [
     "PAIR_CHECKS", "PER_SAMPLE_CHECKS", "REST_FRACTION", "RPM_PER_RAD_S", "RULES",
     "Candidate", "Check", "CycleLoad", "Interval", "MeanOfMass", "Momentary",
     "MotorDemand", "Part", "PathCase", "PayloadCase", "Rows", "Rule", "RuleInput",
-    "ScaleTerms", "Scope", "UnitBatch", "allowable_mean_torque", "allowed_momentary_events",
-    "apply_rules", "at_rest", "bearing_checks", "check_motor", "check_unit", "cycle_load",
+    "ScaleTerms", "Scope", "UnitBatch", "UnitLimit", "allowable_mean_torque",
+    "allowed_momentary_events", "apply_rules", "at_rest", "bearing_checks", "check_motor",
+    "check_unit", "cycle_load",
     "derated", "holds", "inertia_ratio", "l50_life_hours", "register", "registered", "rule",
     "rules_of", "unregister", "within",
 ]

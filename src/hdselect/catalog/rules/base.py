@@ -57,6 +57,9 @@ from hdselect.catalog.rules.load import (
 )
 from hdselect.catalog.units import Unit
 
+Gear = tuple[Unit, CycleLoad]
+"""A gearhead and the joint's cycle on its output side: what every gearhead rule reads."""
+
 DEFAULT_MARGIN = 0.0
 """Design margin by default [-]: every rule holds at up to 100 % of its limit."""
 
@@ -157,7 +160,7 @@ class RuleInput:
     max_inertia_ratio: float | None = None
 
     @property
-    def gear(self) -> tuple[Unit, CycleLoad] | None:
+    def gear(self) -> Gear | None:
         """(unit, load) where both are known: what every gearhead rule reads; else None."""
         return None if self.unit is None or self.load is None else (self.unit, self.load)
 
@@ -309,6 +312,47 @@ class Rule:
             forward on the planned cycle).
         """
         return None
+
+
+class UnitLimit(Rule):
+    """A gearhead rule on single samples: the cycle's largest |x| within one of the unit's limits.
+
+    `peak`, `static`, `momentary` and `speed`. Each gives its largest value (`largest`);
+    the check, the field it reads, the limit the solvers use (`allowed`) and every unit's
+    utilization at once (`utilizations`, a prefilter's) are written here once.
+
+    Attributes:
+        limit: The unit's field that is the limit, e.g. ``"repeated_torque"``.
+    """
+
+    limit: ClassVar[str]
+    part = Part.GEARHEAD
+    scope = Scope.SAMPLE
+
+    def largest(self, case: RuleInput, gear: Gear) -> tuple[float | None, dict[str, object]]:
+        """The cycle's largest |x| [the rule's unit] (None where nothing is read) and detail."""
+        raise NotImplementedError
+
+    def check(self, case: RuleInput) -> Check | None:
+        """See `Rule.check`."""
+        if (gear := case.gear) is None:
+            return None
+        value, detail = self.largest(case, gear)
+        return self.judge(value, getattr(gear[0], self.limit), case.margin, **detail)
+
+    def fields(self, unit: Unit) -> tuple[str, ...]:
+        """See `Rule.fields`."""
+        return (self.limit,)
+
+    def allowed(self, unit: Unit, margin: float) -> float:
+        """The unit's limit as the solvers use it (`derate`d) [the rule's unit]."""
+        return self.derate(getattr(unit, self.limit), margin)
+
+    def utilizations(self, largest: float | np.ndarray, units: Sequence[Unit]) -> np.ndarray:
+        """Every unit's utilization [-], (units,): its largest |x| over its limit."""
+        utilization: np.ndarray = largest / np.array([getattr(unit, self.limit)
+                                                      for unit in units])
+        return utilization
 
 
 def within(c2: np.ndarray, c1: np.ndarray, c0: np.ndarray, limit: float) -> tuple[Rows, Rows]:

@@ -12,7 +12,7 @@ from typing import Any
 
 import numpy as np
 
-from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope, within
+from hdselect.catalog.rules.base import Gear, RuleInput, UnitLimit, within
 from hdselect.catalog.rules.forms import (
     Interval,
     PathBound,
@@ -28,7 +28,7 @@ from hdselect.catalog.rules.masses import masses_within, meet, spans
 from hdselect.catalog.units import Unit
 
 
-class MomentaryTorque(Rule):
+class MomentaryTorque(UnitLimit):
     """The worst momentary event's |T| at most the momentary torque T_M.
 
     Its detail: the event's kind, the events the unit survives (with its speed and
@@ -38,17 +38,14 @@ class MomentaryTorque(Rule):
     name = "momentary"
     label = "mom."
     words = "momentary torque"
-    part = Part.GEARHEAD
-    scope = Scope.SAMPLE
     unit = "N m"
+    limit = "momentary_torque"
 
-    def check(self, case: RuleInput) -> Check | None:
-        """See `Rule.check`."""
-        if (gear := case.gear) is None:
-            return None
+    def largest(self, case: RuleInput, gear: Gear) -> tuple[float | None, dict[str, object]]:
+        """See `UnitLimit.largest`: the worst event's |T| [N m]."""
         unit, event = gear[0], case.momentary
         if event is None:
-            return self.judge(None, unit.momentary_torque, case.margin)
+            return None, {}
         detail: dict[str, object] = {"kind": event.kind}
         if event.speed is not None and event.duration is not None:
             event_rpm = abs(event.speed) * RPM_PER_RAD_S * unit.ratio
@@ -56,15 +53,11 @@ class MomentaryTorque(Rule):
                 event_rpm, event.duration, cap=unit.rules.max_momentary_events)
         if event.time is not None:
             detail["time_s"] = event.time
-        return self.judge(abs(event.torque), unit.momentary_torque, case.margin, **detail)
-
-    def fields(self, unit: Unit) -> tuple[str, ...]:
-        """See `Rule.fields`."""
-        return ("momentary_torque",)
+        return abs(event.torque), detail
 
     def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:
         """Emergency stop |g + v y^2 + e y| <= T_M; crash |g + (v + i) y^2| + K |qd| y <= T_M."""
-        limit = self.derate(unit.momentary_torque, margin)
+        limit = self.allowed(unit, margin)
         gain = (unit.input_inertia + terms.rotor_inertia) * unit.ratio**2 / terms.stop_time
         g, v = terms.gravity, terms.velocity
         a = v + terms.inertial
@@ -78,20 +71,19 @@ class MomentaryTorque(Rule):
         if batch.rotor_inertia is None:
             return None  # each motor's rotor inertia changes the crash
         worst = worst_events(batch)
-        return (np.maximum(worst.stop_torque, worst.crash_torque)
-                / np.array([unit.momentary_torque for unit in batch.units]))
+        return self.utilizations(np.maximum(worst.stop_torque, worst.crash_torque),
+                                 batch.units)
 
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """Emergency stop |stop0 + x stop1| <= T_M; crash |tau0 + x tau1| + K |qd| <= T_M."""
-        limit = self.derate(case.unit.momentary_torque, case.margin)
+        limit = self.allowed(case.unit, case.margin)
         gain = _gain(case.unit, case.rotor_inertia, case.stop_time)
         return spans(meet(masses_within(case.stop0, case.stop1, limit),
                           masses_within(case.tau0, case.tau1, limit - gain * np.abs(case.qd))))
 
     def path_rows(self, case: PathCase) -> list[Any]:
         """The emergency stop's and the crash's |tau| (+ K |qd|) <= T_M."""
-        return [PathBound(PathKind.MOMENTARY,
-                          self.derate(case.unit.momentary_torque, case.margin),
+        return [PathBound(PathKind.MOMENTARY, self.allowed(case.unit, case.margin),
                           gain=_gain(case.unit, case.rotor_inertia, case.stop_time))]
 
 

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
+from hdselect.catalog.rules.base import Gear, RuleInput, UnitLimit
 from hdselect.catalog.rules.forms import (
     Interval,
     PathBound,
@@ -23,43 +23,38 @@ from hdselect.catalog.rules.masses import EVERY_MASS
 from hdselect.catalog.units import Unit
 
 
-class Speed(Rule):
+class Speed(UnitLimit):
     """max |qd| N at most the unit's maximum input speed [rpm]."""
 
     name = "speed"
     label = "speed"
     words = "input speed"
-    part = Part.GEARHEAD
-    scope = Scope.SAMPLE
     unit = "rpm"
+    limit = "max_input_speed"
 
-    def check(self, case: RuleInput) -> Check | None:
-        """See `Rule.check`."""
-        if (gear := case.gear) is None:
-            return None
+    def largest(self, case: RuleInput, gear: Gear) -> tuple[float | None, dict[str, object]]:
+        """See `UnitLimit.largest`: the largest input speed [rpm]."""
         unit, load = gear
-        return self.judge(load.max_speed * RPM_PER_RAD_S * unit.ratio, unit.max_input_speed,
-                          case.margin)
+        return load.max_speed * RPM_PER_RAD_S * unit.ratio, {}
 
     def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:
         """The largest |qd| N y at most the maximum input speed [rpm]."""
-        return (speed_row(terms, unit, self.derate(unit.max_input_speed, margin)),)
+        return (speed_row(terms, unit, self.allowed(unit, margin)),)
 
     def prefilter(self, batch: UnitBatch) -> np.ndarray:
         """See `Rule.prefilter`."""
-        return (batch.load.max_speed * RPM_PER_RAD_S * batch.ratio
-                / np.array([unit.max_input_speed for unit in batch.units]))
+        return self.utilizations(batch.load.max_speed * RPM_PER_RAD_S * batch.ratio,
+                                 batch.units)
 
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """Every mass or none: the speeds do not depend on it."""
-        passes = case.max_input_rpm <= self.derate(case.unit.max_input_speed, case.margin)
+        passes = case.max_input_rpm <= self.allowed(case.unit, case.margin)
         return EVERY_MASS if passes else ()
 
     def path_rows(self, case: PathCase) -> list[Any]:
         """|qd| <= the maximum input speed over the ratio [rad/s]."""
-        unit = case.unit
-        return [PathBound(PathKind.SPEED, self.derate(unit.max_input_speed, case.margin)
-                          / unit.ratio / RPM_PER_RAD_S, "unit")]
+        return [PathBound(PathKind.SPEED, self.allowed(case.unit, case.margin)
+                          / case.unit.ratio / RPM_PER_RAD_S, "unit")]
 
 
 def speed_row(terms: ScaleTerms, unit: Unit, top: float) -> Rows:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from hdselect.catalog.rules.base import Part, Scope
 from hdselect.catalog.rules.torque import TorqueLimit
 
 
@@ -12,8 +11,6 @@ class Static(TorqueLimit):
     name = "static"
     label = "static"
     words = "static torque"
-    part = Part.GEARHEAD
-    scope = Scope.SAMPLE
     limit = "static_torque"
     at_rest = True
 

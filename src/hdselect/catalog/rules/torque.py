@@ -12,7 +12,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from hdselect.catalog.rules.base import Check, Rule, RuleInput, within
+from hdselect.catalog.rules.base import Gear, RuleInput, UnitLimit, within
 from hdselect.catalog.rules.forms import (
     Interval,
     PathBound,
@@ -28,15 +28,13 @@ from hdselect.catalog.rules.masses import masses_within, spans
 from hdselect.catalog.units import Unit
 
 
-class TorqueLimit(Rule):
+class TorqueLimit(UnitLimit):
     """The largest |T| of the samples at rest (or of the moving ones) within a unit's limit.
 
     Attributes:
-        limit: The unit's field that is the limit [N m], e.g. ``"repeated_torque"``.
         at_rest: True: the samples at rest (input locked); False: the moving samples.
     """
 
-    limit: ClassVar[str]
     at_rest: ClassVar[bool]
     unit = "N m"
 
@@ -44,38 +42,31 @@ class TorqueLimit(Rule):
         """The cycle's largest |T| of these samples [N m]; None where there is none."""
         return load.static_torque if self.at_rest else load.peak_torque
 
-    def check(self, case: RuleInput) -> Check | None:
-        """See `Rule.check`."""
-        if (gear := case.gear) is None:
-            return None
-        unit, load = gear
-        return self.judge(self.torque(load), getattr(unit, self.limit), case.margin)
-
-    def fields(self, unit: Unit) -> tuple[str, ...]:
-        """See `Rule.fields`."""
-        return (self.limit,)
+    def largest(self, case: RuleInput, gear: Gear) -> tuple[float | None, dict[str, object]]:
+        """See `UnitLimit.largest`."""
+        return self.torque(gear[1]), {}
 
     def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:
         """|g + (v + i) y^2| <= the limit at every sample read."""
         read = terms.at_rest if self.at_rest else ~terms.at_rest
         g = terms.gravity[read]
         return within(terms.velocity[read] + terms.inertial[read], np.zeros_like(g), g,
-                      self.derate(getattr(unit, self.limit), margin))
+                      self.allowed(unit, margin))
 
     def prefilter(self, batch: UnitBatch) -> np.ndarray | None:
         """See `Rule.prefilter`; None where no sample is read (the check then holds)."""
         torque = self.torque(batch.load)
         if torque is None:
             return None
-        return torque / np.array([getattr(unit, self.limit) for unit in batch.units])
+        return self.utilizations(torque, batch.units)
 
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """|tau0 + x tau1| <= the limit at every sample read."""
         read = case.rest if self.at_rest else ~case.rest
         return spans(masses_within(case.tau0[read], case.tau1[read],
-                                   self.derate(getattr(case.unit, self.limit), case.margin)))
+                                   self.allowed(case.unit, case.margin)))
 
     def path_rows(self, case: PathCase) -> list[Any]:
         """|tau| <= the limit in a piece where the joint does not move (at rest) or moves."""
         return [PathBound(PathKind.STATIC if self.at_rest else PathKind.TORQUE,
-                          self.derate(getattr(case.unit, self.limit), case.margin))]
+                          self.allowed(case.unit, case.margin))]
