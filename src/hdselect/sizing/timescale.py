@@ -316,7 +316,7 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
         rotor_inertia: Motor rotor inertia J_m [kg m^2].
         check_options: Keywords for `hdselect.catalog.rules.check_unit`, e.g. ``life_hours``.
         motor: A motor paired with the unit: its rotor inertia replaces `rotor_inertia`,
-            and its rules (`hdselect.catalog.motor_rules.check_motor`) must hold too.
+            and its rules (`hdselect.catalog.rules.check_motor`) must hold too.
         pair_options: Keywords for `hdselect.catalog.motor_rules.with_motor`.
 
     Returns:
