@@ -8,6 +8,10 @@ the default duty is `DUTY_MOVES` moves between poses drawn uniformly (seeded) in
 joint box, each joint moving at its own limits (Ruckig, jerk-limited, every joint as
 fast as its limits allow, not slowed to arrive with the others). Either must stay
 within the spec, so that its samples are states of the box too.
+
+A motion or mix file is read here (`duty_source`) and resolved and planned by the one
+resolver (`hdselect.sizing.problem.problem_of`, `plan_tasks`) into the `Duty`
+(`problem_duty`); the robot the envelope searches beside a mix is `mix_robot`.
 """
 
 from __future__ import annotations
