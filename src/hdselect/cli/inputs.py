@@ -300,7 +300,7 @@ def sizing_problem(args: argparse.Namespace, *, plan: bool = False):
     motors = motors_of(args, robot, motion)
     options = sizing_options_of(args, motion)
     return problem_of(robot, motion, catalog=args.catalog, motors=motors, options=options,
-                      plan=plan)
+                      plan=plan, mounting=getattr(args, "mounting", None))
 
 
 def sizing_case(args: argparse.Namespace):

@@ -8,11 +8,16 @@ the default duty is `DUTY_MOVES` moves between poses drawn uniformly (seeded) in
 joint box, each joint moving at its own limits (Ruckig, jerk-limited, every joint as
 fast as its limits allow, not slowed to arrive with the others). Either must stay
 within the spec, so that its samples are states of the box too.
+
+A motion or mix file is read here (`duty_source`) and resolved and planned by the one
+resolver (`hdselect.sizing.problem.problem_of`, `plan_tasks`) into the `Duty`
+(`problem_duty`); the robot the envelope searches beside a mix is `mix_robot`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
@@ -23,17 +28,20 @@ import ruckig
 
 from hdselect.base.errors import InputError, PlanningError
 from hdselect.envelope.spec import Spec
+from hdselect.envelope.specfile import EnvelopeFile
 from hdselect.motion.loading import robot_for_mix
-from hdselect.motion.mixfile import Mix, MixTask
-from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import Trajectory, check_within_limits, plan
+from hdselect.motion.mixfile import Mix, MixTask, is_mix_file, load_mix
+from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.planning import Trajectory, check_within_limits
 from hdselect.motion.planning.grid import MIN_MOVE_SAMPLES
 from hdselect.motion.planning.ruckig import sample_profiles
 from hdselect.motion.planning.trajectory import Move, assemble
+from hdselect.motion.robot_named import other_robot
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
-from hdselect.sizing.mixtasks import mix_motors, mix_tasks
+from hdselect.sizing.mixtasks import mix_motors
+from hdselect.sizing.problem import Problem
 from hdselect.sizing.tasks import Task
 
 DUTY_DT = 0.001
@@ -138,29 +146,21 @@ def default_duty(robot: Robot, spec: Spec, moves: int, seed: int, *,
     return Duty((Task(robot, trajectory, name="default duty"),), label, None, moves, seed)
 
 
-def motion_duty(robot: Robot, motion: Motion | Mix, *, max_samples: int,
-                mounting: Mounting | None = None) -> Duty:
-    """A motion file as the duty, run by the envelope's robot; a mix file's tasks pooled.
+def problem_duty(problem: Problem) -> Duty:
+    """The duty of a motion or mix file: its resolved problem's planned tasks.
 
     Args:
-        robot: The robot as the envelope sizes it (a mix's tasks replace its payload and
-            mounting with their own).
-        motion: The motion, or the mix.
-        max_samples: Most samples a trajectory may have.
-        mounting: A mix's mounting for every task (the given one), else None for each
-            task's own.
+        problem: The duty's problem (`hdselect.sizing.problem.plan_tasks`): a motion's
+            one task, or a mix's tasks with their shares and idle time.
 
     Raises:
-        InputError: A motion cannot be planned on a grid of `max_samples`, or a mix's
-            cycles per hour overfill the hour.
-        PlanningError: The planner fails.
+        InputError: The problem is not planned, or has no motion or mix.
     """
-    if isinstance(motion, Mix):
-        tasks, idle = mix_tasks(robot, motion, mounting=mounting, joints=robot.sized_joints,
-                                exclude=(), max_samples=max_samples)
-        return Duty(tasks, motion.path.name, mix=motion, idle=idle)
-    trajectory = plan(robot, motion, max_samples=max_samples)
-    return Duty((Task(robot, trajectory, motion=motion),), motion.path.name, motion)
+    given = problem.mix if problem.mix is not None else problem.motion
+    if given is None or not problem.planned:
+        raise InputError("a duty is a motion or mix file's planned problem", field="duty")
+    return Duty(problem.tasks, given.path.name, problem.motion, mix=problem.mix,
+                idle=problem.idle)
 
 
 def mix_robot(base: Robot, mix: Mix, *, payload: Payload | None, mounting: Mounting | None,
@@ -213,6 +213,68 @@ def _one(mix: Mix, field: str, values: list[Any], key: Callable[[Any], str]) -> 
                          f"envelope's worst states need one: give --{field} (or {field} in "
                          "the envelope file)", field=field)
     return values[0] if values else None
+
+
+def duty_source(duty: Motion | Mix | str | Path | None, file: EnvelopeFile | None,
+                robot: Robot) -> Motion | Mix | None:
+    """The duty's motion or mix: the argument's, else the envelope file's; None for the default.
+
+    Raises:
+        InputError: The file is invalid or written for another robot, or a motion's
+            joints differ from the robot's or it gives motors (a mix's: `mix_robot`).
+    """
+    given = duty if duty is not None else (file.duty if file is not None else None)
+    if isinstance(given, str | Path):
+        path = given
+        if is_mix_file(path):
+            return load_mix(path, robot)
+        try:
+            given = load_motion(path, robot)
+        except InputError as err:
+            named = other_robot(Path(path), robot)
+            if named is None:
+                raise
+            where = ({"field": "duty"} if duty is not None or file is None
+                     else {"path": file.path, "field": "duty.motion"})
+            raise InputError(f"{Path(path).name} is written for {named}, but the envelope "
+                             f"runs {robot.path}: the motion does not fit it ({err}); give a "
+                             "duty motion of this robot", **where) from err
+    if isinstance(given, Motion):
+        given.check_joints(robot)
+        given.refuse_motors("envelope")
+    return given
+
+
+def refuse_default_duty(duty: Motion | Mix | str | Path | None, file: EnvelopeFile | None,
+                         **given: object) -> None:
+    """Refuse what only the default duty of random moves takes, beside a motion duty.
+
+    Raises:
+        InputError: `moves`, `seed` or `jerk` is given (the field names it) while the
+            duty is a motion file (`duty`, or the envelope file's ``[duty] motion``).
+    """
+    for name, value in given.items():
+        if value is not None:
+            source = ("a motion file (duty, --duty)" if duty is not None or file is None
+                      else f"{file.path.name}'s [duty] motion")
+            raise InputError(f"acts on the default duty of random moves only, and the duty is "
+                             f"{source}: drop one of them", field=name)
+
+
+@contextmanager
+def mounting_named(file: EnvelopeFile | None) -> Iterator[None]:
+    """Blame the envelope file's ``mounting`` (where it gave it) for a base it cannot place.
+
+    Raises:
+        InputError: The error inside, a mounting given (field ``mounting``, no file)
+            renamed to the envelope file's key when `file` gave the mounting.
+    """
+    try:
+        yield
+    except InputError as err:
+        if file is None or err.field != "mounting" or err.path is not None:
+            raise
+        raise InputError(err.reason, path=file.path, field="mounting") from err
 
 
 def check_within(duty: Duty, spec: Spec) -> None:

@@ -3,17 +3,21 @@
 Every number is SI: positions rad (m for a prismatic joint), speeds rad/s,
 accelerations rad/s^2, torques N m (N), so a state can be fed back into inverse
 dynamics as it is. The duty's own sizing is the `hdselect size --json` document.
+A duty of several tasks (a mix) gives its figures over one cycle of each task in turn
+(``cycle_time_s``, ``samples``) and each task's own (``tasks``).
 An output bearing's largest loads are over the duty and the worst states, its means
 over the duty (``bearing_note``).
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
 from hdselect.catalog.bearing_rules import NOT_RATED
+from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
 from hdselect.envelope.torques import BEARING_NOTE
 from hdselect.sizing.records import (
@@ -34,7 +38,6 @@ def envelope_json(result: EnvelopeResult) -> dict[str, Any]:
     """An envelope as JSON: the spec, the duty, the search, and every joint's verdict."""
     spec, box = result.spec, result.spec.box
     duty = result.duty
-    trajectory = duty.tasks[0].trajectory
     sized = result.sizing
     return {
         "robot": str(result.robot.path),
@@ -49,8 +52,7 @@ def envelope_json(result: EnvelopeResult) -> dict[str, Any]:
                    for j, name in enumerate(box.joint_names)},
         "duty": {"label": duty.label, "default": duty.default,
                  "motion": None if duty.path is None else str(duty.path),
-                 "moves": duty.moves, "seed": duty.seed, "cycle_time_s": trajectory.duration,
-                 "samples": len(trajectory.t)},
+                 "moves": duty.moves, "seed": duty.seed, **_duty_cycles(duty)},
         "search": {"starts": result.settings.starts, "refined_per_round": result.settings.refine,
                    "tolerance": result.settings.tolerance, "seed": result.settings.seed,
                    "states_evaluated": result.states, "rounds": result.rounds,
@@ -68,6 +70,18 @@ def envelope_json(result: EnvelopeResult) -> dict[str, Any]:
         "warnings": list(sized.warnings),
         "duty_sizing": size_json(result.duty_sizing),
     }
+
+
+def _duty_cycles(duty: Duty) -> dict[str, Any]:
+    """The duty's cycle time [s] and samples: one cycle of each task in turn, and per task."""
+    cycles = [(task.label, task.share, task.trajectory.duration, len(task.trajectory.t))
+              for task in duty.tasks]
+    document: dict[str, Any] = {"cycle_time_s": math.fsum(c[2] for c in cycles),
+                                "samples": sum(c[3] for c in cycles)}
+    if len(cycles) > 1:
+        document["tasks"] = [{"name": name, "share": share, "cycle_time_s": time,
+                              "samples": count} for name, share, time, count in cycles]
+    return document
 
 
 def _joint_json(joint: JointEnvelope, result: EnvelopeResult) -> dict[str, Any]:

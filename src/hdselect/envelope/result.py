@@ -31,7 +31,8 @@ class WorstState:
         torque: The joint's torque there, signed [N m or N]: RNEA(q, qd, qdd) for peak and
             static, RNEA(q, qd, -qd / stop_time) for stop, with the chosen units' masses.
         source: ``"search"`` (a worst state found), or where in the duty it lies, e.g.
-            ``"duty t = 3.141 s"``.
+            ``"duty t = 3.141 s"``, led by its task's name in a duty of several tasks (a
+            mix): ``"duty pick t = 4.234 s"``.
     """
 
     figure: str

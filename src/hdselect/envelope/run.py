@@ -28,7 +28,16 @@ from hdselect.catalog.select import DEFAULT_PREFER
 from hdselect.catalog.units import Unit
 from hdselect.envelope.box import Limits
 from hdselect.envelope.demands import KINDS
-from hdselect.envelope.dutycycle import Duty, check_within, default_duty, mix_robot, motion_duty
+from hdselect.envelope.dutycycle import (
+    Duty,
+    check_within,
+    default_duty,
+    duty_source,
+    mix_robot,
+    mounting_named,
+    problem_duty,
+    refuse_default_duty,
+)
 from hdselect.envelope.result import (
     Convergence,
     EnvelopeResult,
@@ -47,11 +56,10 @@ from hdselect.envelope.specfile import (
 from hdselect.envelope.states import StateRows, state_rows
 from hdselect.envelope.torques import EnvelopeTorques, duty_time
 from hdselect.envelope.workers import Spread, default_workers
-from hdselect.motion.loading import robot_for_motion
-from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
-from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.loading import load_case
+from hdselect.motion.mixfile import Mix
+from hdselect.motion.motionfile import Motion
 from hdselect.motion.option_specs import given_by
-from hdselect.motion.robot_named import other_robot
 from hdselect.robot.dynamics import gravity_torques
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
@@ -64,6 +72,8 @@ from hdselect.sizing.problem import (
     Problem,
     catalog_argument,
     catalog_units,
+    plan_tasks,
+    problem_of,
     source_options,
 )
 from hdselect.sizing.result import JointSizing, SizingResult
@@ -175,25 +185,29 @@ def envelope(
     base = robot if isinstance(robot, Robot) else load_robot(
         robot if robot is not None else envelope_robot_file(str(spec)))
     file = load_envelope_file(spec, base) if spec is not None else None
-    motion = _duty_motion(duty, file, base)
-    if motion is not None:
-        _refuse_default_duty(duty, file, moves=moves, seed=seed, jerk=jerk)
-    robot = _robot_state(base, motion, file, payload, mounting, joints, exclude)
+    source = duty_source(duty, file, base)
+    if source is not None:
+        refuse_default_duty(duty, file, moves=moves, seed=seed, jerk=jerk)
+    filed = mounting is None and file is not None and file.mounting is not None
+    mounting = mounting if mounting is not None else (file.mounting if file else None)
+    with mounting_named(file if filed else None):
+        robot, source = _robot_state(base, source, file, payload, mounting, joints, exclude)
     limits = resolve_spec(robot, velocity=velocity, acceleration=acceleration, jerk=jerk,
                           file=file)
-    resolved = options if options is not None else _options(file, motion, values)
-    extra = motion.catalog if isinstance(motion, Mix) and isinstance(catalog, list) else ()
-    problem = Problem(robot, motion, catalog_units([*extra, *catalog] if extra else catalog),
-                      resolved, {})
-    if motion is not None:
-        chosen_duty = motion_duty(robot, motion, max_samples=resolved.max_samples,
-                                  mounting=mounting or (file.mounting if file else None))
-    else:
+    resolved = options if options is not None else _options(file, source, values)
+    if source is None:
+        problem = Problem(robot, None, catalog_units(catalog), resolved, {})
         chosen_duty = default_duty(
             robot, limits, _first(moves, file.moves if file else None, DUTY_MOVES),
             _first(seed, file.seed if file else None, 0), max_samples=resolved.max_samples)
+        problem = replace(problem, tasks=chosen_duty.tasks)
+    else:  # the one resolver: the duty's units, options, motors and tasks
+        problem = problem_of(robot, source, catalog=catalog, options=resolved, plan=False,
+                             mounting=mounting)
+        with mounting_named(file if filed else None):
+            problem = plan_tasks(problem)
+        chosen_duty = problem_duty(problem)
     check_within(chosen_duty, limits)
-    problem = replace(problem, tasks=chosen_duty.tasks, idle=chosen_duty.idle)
     duty_sizing = size_problem(problem)
     settings = settings or SearchSettings()
     if spread is None:
@@ -342,56 +356,18 @@ def _first(*values):
     return next(value for value in values if value is not None)
 
 
-def _duty_motion(duty: Motion | Mix | str | Path | None, file: EnvelopeFile | None,
-                 robot: Robot) -> Motion | Mix | None:
-    """The duty's motion or mix: the argument's, else the envelope file's; None for the default."""
-    given = duty if duty is not None else (file.duty if file is not None else None)
-    if given is None:
-        return None
-    if isinstance(given, Mix) or (not isinstance(given, Motion) and is_mix_file(given)):
-        return given if isinstance(given, Mix) else load_mix(given, robot)
-    if isinstance(given, Motion):
-        motion = given
-    else:
-        try:
-            motion = load_motion(given, robot)
-        except InputError as err:
-            named = other_robot(Path(given), robot)
-            if named is None:
-                raise
-            where = ({"field": "duty"} if duty is not None or file is None
-                     else {"path": file.path, "field": "duty.motion"})
-            raise InputError(f"{Path(given).name} is written for {named}, but the envelope "
-                             f"runs {robot.path}: the motion does not fit it ({err}); give a "
-                             "duty motion of this robot", **where) from err
-    motion.check_joints(robot)
-    motion.refuse_motors("envelope")
-    return motion
-
-
-def _refuse_default_duty(duty: Motion | Mix | str | Path | None, file: EnvelopeFile | None,
-                         **given: object) -> None:
-    """Refuse what only the default duty of random moves takes, beside a motion duty.
-
-    Raises:
-        InputError: `moves`, `seed` or `jerk` is given (the field names it) while the
-            duty is a motion file (`duty`, or the envelope file's ``[duty] motion``).
-    """
-    for name, value in given.items():
-        if value is not None:
-            source = ("a motion file (duty, --duty)" if duty is not None or file is None
-                      else f"{file.path.name}'s [duty] motion")
-            raise InputError(f"acts on the default duty of random moves only, and the duty is "
-                             f"{source}: drop one of them", field=name)
-
-
-def _robot_state(base: Robot, motion: Motion | Mix | None, file: EnvelopeFile | None,
+def _robot_state(base: Robot, source: Motion | Mix | None, file: EnvelopeFile | None,
                  payload: Payload | None, mounting: Mounting | None,
-                 joints: Sequence[str] | None, exclude: Sequence[str] | None) -> Robot:
-    """The robot as the envelope sizes it: argument, else envelope file, else the duty's.
+                 joints: Sequence[str] | None, exclude: Sequence[str] | None
+                 ) -> tuple[Robot, Motion | Mix | None]:
+    """The robot as the envelope sizes it, and the duty: argument, else envelope file, else duty's.
+
+    A motion duty is set up as `hdselect.load_case` sets it up (its tool poses solved);
+    a mix duty's tasks keep theirs, and the search runs the one payload and mounting
+    they share (`hdselect.envelope.dutycycle.mix_robot`).
 
     Raises:
-        InputError: As `robot_for_motion`; a payload frame or a joint that the envelope
+        InputError: As `hdselect.load_case`; a payload frame or a joint that the envelope
             file names and the robot lacks is blamed on the file's key.
     """
     expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
@@ -399,7 +375,6 @@ def _robot_state(base: Robot, motion: Motion | Mix | None, file: EnvelopeFile | 
     if file is not None:
         if payload is None and file.payload is not None:
             payload, from_file["payload"] = file.payload, "payload"
-        mounting = mounting if mounting is not None else file.mounting
         for name, given, filed in (("joints", joints, file.joints),
                                    ("exclude", exclude, file.exclude or None)):
             if given is None and filed is not None:
@@ -407,17 +382,17 @@ def _robot_state(base: Robot, motion: Motion | Mix | None, file: EnvelopeFile | 
         joints = joints if joints is not None else file.joints
         exclude = exclude if exclude is not None else (file.exclude or None)
     try:
-        if isinstance(motion, Mix):
-            return mix_robot(base, motion, payload=payload, mounting=mounting, joints=joints,
+        if isinstance(source, Mix):  # the search's one payload and mounting (the envelope's)
+            return mix_robot(base, source, payload=payload, mounting=mounting, joints=joints,
+                             exclude=exclude), source
+        if source is not None:
+            return load_case(source, base, payload=payload, mounting=mounting, joints=joints,
                              exclude=exclude)
-        if motion is not None:
-            return robot_for_motion(base, motion, payload=payload, mounting=mounting,
-                                    joints=joints, exclude=exclude)
         robot = base.with_payload(payload) if payload is not None else base
         robot = robot.with_mounting(mounting) if mounting is not None else robot
         if joints is not None or exclude:
             robot = robot.with_sized_joints(joints, exclude or ())
-        return robot
+        return robot, None
     except InputError as err:  # the robot lacks what an argument or the file names
         field = str(err.field)
         owner = next((k for k in ("payload", "joints", "exclude")

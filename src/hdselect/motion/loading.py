@@ -145,7 +145,28 @@ def load_case(
         robot = load_robot(file, xacro_args=motion.xacro_args if robot is None else None)
     robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
                              joints=joints, exclude=exclude)
-    return robot, solve_motion(robot, motion)
+    return robot, solved_on(robot, motion, mounting)
+
+
+def solved_on(robot: Robot, motion: Motion, mounting: Mounting | None) -> Motion:
+    """The motion's tool poses solved for the robot, a mounting given blamed as given.
+
+    Args:
+        robot: The robot as the motion runs it (its mounting applied).
+        motion: The motion.
+        mounting: The mounting given over the file's (a parameter or a flag), else None.
+
+    Raises:
+        InputError: As `hdselect.motion.planning.solve.solve_motion`; a base the given
+            mounting cannot place (a gravity vector) names the parameter ``mounting``, not
+            the motion file's key.
+    """
+    try:
+        return solve_motion(robot, motion)
+    except InputError as err:
+        if mounting is None or err.field != "mounting":
+            raise
+        raise InputError(f"{motion.path.name}: {err.reason}", field="mounting") from err
 
 
 def _refuse_payload(payload: Payload | None) -> None:

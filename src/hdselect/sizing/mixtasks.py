@@ -103,7 +103,8 @@ def mix_tasks(robot: Robot, mix: Mix, *, mounting: Mounting | None = None,
     Args:
         robot: The robot (no payload; any mounting is replaced by each task's).
         mix: The mix.
-        mounting: Mounting for every task, overriding the files'.
+        mounting: Mounting for every task, overriding the files' (a tool pose it cannot
+            place is blamed on the field ``mounting``, the caller's).
         joints: Joints to size, overriding the files'.
         exclude: Joints not to size, overriding the files'.
         max_samples: Most samples a trajectory may have (default: `Options`'s).
@@ -128,11 +129,12 @@ def mix_tasks(robot: Robot, mix: Mix, *, mounting: Mounting | None = None,
                                     joints=chosen, exclude=left_out)
         try:
             done = plan_motion(carrying, item.motion, max_samples=limit)
-        except InputError as err:
-            if err.field != "mounting" or mounting is not None or item.mounting is None:
+        except InputError as err:  # blamed on who gave the mounting: caller, else mix file
+            if err.field != "mounting" or (mounting is None and item.mounting is None):
                 raise
-            raise InputError(f"{item.motion.path.name}: {err.reason}", path=mix.path,
-                             field=f"task[{k}].mounting") from err
+            where = ({"field": "mounting"} if mounting is not None
+                     else {"path": mix.path, "field": f"task[{k}].mounting"})
+            raise InputError(f"{item.motion.path.name}: {err.reason}", **where) from err
         planned.append((item, carrying, done.trajectory, done.motion))
     if shares is None:
         shares = [item.share if item.share is not None

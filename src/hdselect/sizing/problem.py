@@ -21,7 +21,7 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
 from hdselect.motion import planning
-from hdselect.motion.loading import load_case
+from hdselect.motion.loading import load_case, solved_on
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.robot.model import Robot
@@ -63,6 +63,8 @@ class Problem:
         idle: The fraction of the time no task runs [-] (a mix in cycles per hour).
         files: The files read (robot, motion or mix and its motions, logs, motor and
             catalog files), for provenance.
+        mounting: The mounting given over the files' (a parameter or a flag: a mix's on
+            every task, which a tool pose it cannot place blames), else None.
     """
 
     robot: Robot
@@ -73,6 +75,12 @@ class Problem:
     tasks: tuple[Task, ...] = ()
     idle: float = 0.0
     files: tuple[Path, ...] = ()
+    mounting: Mounting | None = None
+
+    @property
+    def motion(self) -> Motion | None:
+        """The motion, where the task comes from one motion (not a mix, nor made in Python)."""
+        return self.source if isinstance(self.source, Motion) else None
 
     @property
     def mix(self) -> Mix | None:
@@ -136,12 +144,12 @@ def resolve(
     if options is None:
         options = source_options(source, **values)
     return problem_of(mounted, source, catalog=given, motors=motors, options=options,
-                      plan=plan)
+                      plan=plan, mounting=mounting)
 
 
 def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = (),
                motors: Motors | None = None, options: Options | None = None,
-               plan: bool = True) -> Problem:
+               plan: bool = True, mounting: Mounting | None = None) -> Problem:
     """The problem of a robot already set up for its motion or mix (`hdselect.load_case`).
 
     `resolve` after its files are read; a front end that reads them its own way (the
@@ -154,9 +162,11 @@ def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = 
         motors: Candidate motors per joint name; None takes the files'.
         options: The assumptions; None takes the files', else the defaults.
         plan: Plan the tasks (see `resolve`).
+        mounting: Mounting over the files': a motion's (the robot mounted with it and
+            its tool poses solved again), a mix's on every task; None: as they are.
 
     Raises:
-        InputError: The catalog, the motors or the options are invalid.
+        InputError: The catalog, the motors, the options or the mounting are invalid.
         PlanningError: A motion cannot be planned.
     """
     expect_type(robot, (Robot,), "robot", "a Robot (hdselect.load_case)")
@@ -164,6 +174,12 @@ def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = 
     expect_type(options, (Options, type(None)), "options", "an Options or None")
     given = catalog_argument(catalog)
     options = options if options is not None else source_options(source)
+    if mounting is not None:  # a bad mounting refused once, not task by task
+        mounted = robot.with_mounting(mounting)
+        if isinstance(source, Motion):
+            robot, source = mounted, solved_on(mounted, source, mounting)
+        else:
+            source = source.with_mounting(mounting)
     mix = source if isinstance(source, Mix) else None
     files = [] if isinstance(given, tuple) else [*(mix.catalog if mix else ()), *given]
     units = given if isinstance(given, tuple) else load_catalog(files)
@@ -171,7 +187,7 @@ def problem_of(robot: Robot, source: Motion | Mix, *, catalog: Catalog | None = 
                             else file_motors(robot, source), options)
     motor_files = sorted({m.source for ms in chosen.values() for m in ms if m.source})
     problem = Problem(robot, source, units, options, chosen, files=tuple(dict.fromkeys(
-        [*source_files(robot, source), *files, *motor_files])))
+        [*source_files(robot, source), *files, *motor_files])), mounting=mounting)
     return plan_tasks(problem) if plan else problem
 
 
@@ -188,6 +204,8 @@ def catalog_units(catalog: Catalog | None) -> tuple[Unit, ...]:
 def plan_tasks(problem: Problem) -> Problem:
     """The problem with every task planned (each with its own payload and mounting).
 
+    A mix's tasks run on `Problem.mounting` where it is given, else each on its own.
+
     Raises:
         InputError: A task's tool pose cannot be solved for its mounting, or a mix's
             cycles per hour overfill the hour.
@@ -195,8 +213,8 @@ def plan_tasks(problem: Problem) -> Problem:
     """
     robot, limit = problem.robot, problem.options.max_samples
     if problem.mix is not None:
-        tasks, idle = mix_tasks(robot, problem.mix, joints=robot.sized_joints, exclude=(),
-                                max_samples=limit)
+        tasks, idle = mix_tasks(robot, problem.mix, mounting=problem.mounting,
+                                joints=robot.sized_joints, exclude=(), max_samples=limit)
         return replace(problem, tasks=tasks, idle=idle)
     if not isinstance(problem.source, Motion):
         raise InputError("the problem has no motion to plan: give its tasks", field="tasks")
