@@ -229,7 +229,8 @@ def derated(models: Sequence[PathModel], carrying: Sequence[Robot], units: Mappi
 
 def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
              motors: Mapping[str, Motor] | None = None, tasks: Sequence[Task] | None = None,
-             where: str = "") -> tuple[Trajectory, np.ndarray, SizingResult, float]:
+             where: str = "") -> tuple[Trajectory, np.ndarray, SizingResult, float,
+                                       tuple[np.ndarray, ...]]:
     """Every task's trajectory on its motion's grid and their check, slowed until all pass.
 
     Args:
@@ -243,7 +244,7 @@ def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
 
     Returns:
         The first task's trajectory, its dwell samples, the check (the tasks checked hold
-        every task's trajectory) and the slow-down [-].
+        every task's trajectory), the slow-down [-] and every task's dwell samples.
 
     Raises:
         PathInfeasible: No slow-down the check confirms lets every rule pass.
@@ -255,6 +256,7 @@ def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
                       max_samples=options.max_samples, notes=leg.notes) for leg in trial.legs]
         trajectories = tuple(trajectory for trajectory, _ in runs)
         held = runs[0][1]
+        helds = tuple(dwells for _, dwells in runs)
         if tasks is None:
             check = check_units(trial.legs[0].model.robot, trajectories[0], units, options,
                                 motors=motors)
@@ -266,9 +268,9 @@ def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
         excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks
                       if rule != "static"), default=0.0) / (1.0 - options.margin)
         if check.feasible:
-            passing = passing or (trajectories[0], held, check, scale)
+            passing = passing or (trajectories[0], held, check, scale, helds)
             if excess <= 1.0 - WRITTEN_MARGIN:
-                return trajectories[0], held, check, scale
+                return trajectories[0], held, check, scale, helds
         if any(not c.checks["static"].ok for c in candidates):
             break  # a held load: no speed helps
         scale *= max(math.sqrt(excess), 1.0 + 10.0 * WRITTEN_MARGIN)
