@@ -107,6 +107,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.records import max_payload_json
+    from hdselect.motion.motionfile import Motion
     from hdselect.report.codesign_tables import max_payload_text, mix_payload_text
     from hdselect.report.export import write_json
     from hdselect.report.size_tables import size_table
@@ -127,7 +128,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
-        document = max_payload_json(result)
+        document = max_payload_json(result, motion if isinstance(motion, Motion) else None)
         if result.mix is not None:
             items: list[Any] = [mix_payload_text(result, robot)]
             if result.selection is not None:

@@ -159,15 +159,14 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> 
 
     Args:
         result: The largest payload.
-        motion: The motion file named (default: the one task's).
+        motion: One motion's (a mix's: that of its one task, where it has one).
     """
     x = result.mass
     finite = x is not None and math.isfinite(x)
     selection = result.selection
     mix = result.mix
-    alone = [task for task in result.tasks if task.motion is not None]
-    if motion is None and len(alone) == 1:
-        motion = alone[0].motion
+    if motion is None and mix is not None and len(result.tasks) == 1:
+        motion = result.tasks[0].motion  # a mix of one task names its motion
     if mix is None:
         per_kg: float | None = 1.0  # one motion's payload is its shape at 1 kg
     else:
