@@ -7,6 +7,7 @@ per case.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import replace
 from typing import Any
 
@@ -199,3 +200,18 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> 
             "scaled": list(result.scaled), "payloads_kg": result.masses() if finite else None,
             "given_kg": {name: item.mass for name, item in result.payloads.items()},
             "ranges": [[lo, finite_or_none(hi)] for lo, hi in result.ranges]}
+
+
+_RENAMED = {"mix_fastest_json": ("fastest_json", fastest_json),
+            "mix_payload_json": ("max_payload_json", max_payload_json)}
+
+
+def __getattr__(name: str) -> Any:
+    """The mix's old writers, with a DeprecationWarning naming the one writer."""
+    if name in _RENAMED:
+        new, value = _RENAMED[name]
+        warnings.warn(f"hdselect.codesign.records.{name} is deprecated: use "
+                      f"hdselect.codesign.records.{new} (it writes a mix and a motion)",
+                      DeprecationWarning, stacklevel=2)
+        return value
+    raise AttributeError(f"module 'hdselect.codesign.records' has no attribute {name!r}")
