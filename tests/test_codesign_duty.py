@@ -115,8 +115,8 @@ def test_a_mix_has_each_tasks_cycle_limits_and_binding_and_no_first_task(duty):
     ours = {(joint, limit): share for joint, limit, share in result.binding_shares()}
     assert ours == pytest.approx(by_hand, rel=1e-12)
     shares = [item.task.share for item in result.tasks]
-    assert result.cycle_time == pytest.approx(
-        sum(s * item.cycle_time for s, item in zip(shares, result.tasks, strict=True)) / sum(shares))
+    weighted = sum(s * item.cycle_time for s, item in zip(shares, result.tasks, strict=True))
+    assert result.cycle_time == pytest.approx(weighted / sum(shares))
 
 
 @pytest.mark.slow
