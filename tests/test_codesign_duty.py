@@ -201,3 +201,24 @@ def test_the_mixs_old_writers_warn_and_are_the_one_writer():
             assert getattr(records, old) is new
     with pytest.raises(AttributeError):
         records.mix_nothing  # noqa: B018
+
+
+@pytest.mark.slow
+def test_a_mixs_tables_show_each_tasks_binding_and_the_duty(duty):
+    from hdselect.cli.output import rendered
+    from hdselect.report.codesign_tables import binding_table, fastest_tables
+
+    _, mix, result = duty
+    tables = fastest_tables(result)
+    text = rendered(*tables)
+    assert "pick       70%" in text and f"fastest cycle {result.cycle_time:.3f} s" in text
+    binds = binding_table(result)
+    assert binds.columns[0].header == "task"
+    assert [row[0] for row in binds.rows] == [b.task for b in result.binding]
+    longest = {}
+    for joint, limit, _ in result.binding_shares():
+        longest.setdefault(joint, limit)
+    joints = tables[2]
+    shown = {row[0]: row[5] for row in joints.rows}
+    assert any(value != "-" for value in shown.values())
+    assert all((shown[name] == "-") == (name not in longest) for name in shown)

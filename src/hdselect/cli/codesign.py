@@ -77,27 +77,16 @@ def run_fastest(args: argparse.Namespace) -> int:
 
 
 def _fastest_tables(args: argparse.Namespace, result, comparison) -> list[Any]:
-    """What ``fastest`` prints: the ratios compared, else the cycle (each task's, for a mix)."""
-    from hdselect.report.codesign_tables import (
-        binding_table,
-        fastest_table,
-        mix_fastest_table,
-        ratios_table,
-    )
+    """What ``fastest`` prints: the ratios compared, else the cycle (a mix's tasks first)."""
+    from hdselect.report.codesign_tables import fastest_tables, ratios_table
 
+    if comparison is None:
+        return fastest_tables(result)
     tables: list[Any] = []
-    if comparison is not None:
-        for joint in comparison.joints:
-            tables += [""] if tables else []
-            tables.append(ratios_table(comparison, joint))
-        return tables
-    if result.mix is not None:
-        from hdselect.report.size_tables import size_table
-        from hdselect.report.task_tables import task_tables
-
-        return [mix_fastest_table(result), "", size_table(result.check),
-                *task_tables(result.check)]
-    return [fastest_table(result), "", binding_table(result)]
+    for joint in comparison.joints:
+        tables += [""] if tables else []
+        tables.append(ratios_table(comparison, joint))
+    return tables
 
 
 def run_max_payload(args: argparse.Namespace) -> int:
