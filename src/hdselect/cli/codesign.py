@@ -91,16 +91,12 @@ def _fastest_tables(args: argparse.Namespace, result, comparison) -> list[Any]:
 
 def run_max_payload(args: argparse.Namespace) -> int:
     """``hdselect max-payload``: the largest payload with a unit on every joint."""
-    from dataclasses import replace
-
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.records import max_payload_json
     from hdselect.motion.motionfile import Motion
-    from hdselect.report.codesign_tables import max_payload_text, mix_payload_text
+    from hdselect.report.codesign_tables import max_payload_tables
     from hdselect.report.export import write_json
-    from hdselect.report.size_tables import size_table
-    from hdselect.report.task_tables import task_tables
 
     problem = sizing_problem(args)
     robot, motion = problem.robot, problem.source
@@ -117,15 +113,9 @@ def run_max_payload(args: argparse.Namespace) -> int:
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
-        document = max_payload_json(result, motion if isinstance(motion, Motion) else None)
-        if result.mix is not None:
-            items: list[Any] = [mix_payload_text(result, robot)]
-            if result.selection is not None:
-                items += ["", size_table(result.selection), *task_tables(result.selection)]
-        else:
-            items = [max_payload_text(result, robot, motion)]
-            if result.selection is not None:
-                items += ["", size_table(replace(result.selection, motion=motion))]
+        alone = motion if isinstance(motion, Motion) else None  # a mix's tasks name theirs
+        document = max_payload_json(result, alone)
+        items = max_payload_tables(result, robot, alone)
         if json_file is not None:
             write_json(json_file, document)
         text = "" if to_stdout(args) else rendered(*items)

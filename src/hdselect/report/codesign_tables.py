@@ -6,6 +6,7 @@ The fastest cycle, what binds it, ratios compared, the largest payload.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 from rich.markup import escape
@@ -15,7 +16,9 @@ from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioCom
 from hdselect.codesign.maxpayload import MaxPayloadResult
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.report.case_tables import case_notes
+from hdselect.report.size_tables import size_table
 from hdselect.report.tables import Column, FittedTable, Paragraphs
+from hdselect.report.task_tables import task_tables
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.robot.model import Robot
 from hdselect.sizing.records import assumptions, base_text
@@ -233,6 +236,25 @@ def _planned_name(comparison: RatioComparison) -> str:
         return comparison.motion.path.name
     return (f"{comparison.mix.path.name} (cycle s: the tasks' cycles weighted by their "
             "shares)")
+
+
+def max_payload_tables(result: MaxPayloadResult, robot: Robot,
+                       motion: Motion | None = None) -> list[object]:
+    """What ``max-payload`` prints: the answer, then the selection there (a mix's tasks too).
+
+    Args:
+        result: The largest payload.
+        robot: The robot as the command read it.
+        motion: One motion (None for a mix: its tasks name theirs).
+    """
+    text = (mix_payload_text(result, robot) if result.mix is not None or motion is None
+            else max_payload_text(result, robot, motion))
+    selection = result.selection
+    if selection is None:
+        return [text]
+    if motion is not None:
+        selection = replace(selection, motion=motion)
+    return [text, "", size_table(selection), *task_tables(selection)]
 
 
 def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> Paragraphs:
