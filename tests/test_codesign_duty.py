@@ -222,3 +222,25 @@ def test_a_mixs_tables_show_each_tasks_binding_and_the_duty(duty):
     shown = {row[0]: row[5] for row in joints.rows}
     assert any(value != "-" for value in shown.values())
     assert all((shown[name] == "-") == (name not in longest) for name in shown)
+
+
+def test_a_study_of_a_logged_mix_fails_fastest_alone_and_finds_its_payload(tmp_path):
+    """Logged tasks have no path to run faster (that case fails alone, saying so); their
+    payloads still scale, to the factor `max_payload` of the mix finds."""
+    from helpers.studies import write_index_mix
+
+    mix_file = write_index_mix(tmp_path, shares=[0.6, 0.4])
+    path = tmp_path / "logged.toml"
+    path.write_text(f'compute = ["fastest", "max-payload"]\n[base]\nmotion = "{mix_file}"\n'
+                    "[grid]\nshares = [[0.6, 0.4]]\n")
+    rows = hdselect.study(path, workers=0)
+    (failed,) = [row for row in rows if row["compute"] == "fastest"]
+    assert failed["status"] == "failed"
+    assert "has no path to run faster; give motions with waypoints" in failed["error"]
+    found = [row for row in rows if row["compute"] == "max-payload"]
+    assert {row["status"] for row in found} == {"ok"}
+    robot, mix = load_case(mix_file)
+    largest = max_payload(robot, mix)
+    assert math.isfinite(largest.factor)
+    assert [row["payload_factor"] for row in found] == pytest.approx([largest.factor],
+                                                                     rel=1e-12)
