@@ -244,3 +244,35 @@ def test_a_study_of_a_logged_mix_fails_fastest_alone_and_finds_its_payload(tmp_p
     assert math.isfinite(largest.factor)
     assert [row["payload_factor"] for row in found] == pytest.approx([largest.factor],
                                                                      rel=1e-12)
+    assert {"robot", "mix", "factor", "unlimited", "scaled", "payloads_kg", "given_kg",
+            "ranges", "binding", "selection"} <= set(max_payload_json(largest))
+
+
+@pytest.mark.slow
+def test_a_mixs_ratio_rows_say_what_binds_longest_over_the_duty(duty):
+    from hdselect.codesign.fastest_cycle import compare_ratios
+    from hdselect.report.codesign_tables import ratios_table
+
+    robot, mix, result = duty
+    catalog = list(dict.fromkeys(result.units.values()))
+    comparison = compare_ratios(robot, mix, result.units, catalog=catalog, joints=["wrist_3"])
+    (joint,) = comparison.joints
+    (mine,) = [row for row in joint.rows if row.unit is result.units["wrist_3"]]
+    joint_name, limit, _ = result.binding_shares()[0]
+    assert mine.binding == (joint_name, limit)
+    assert all(row.binding is not None for row in joint.rows if row.cycle_time is not None)
+    table = ratios_table(comparison, joint)
+    assert all(row[3] != "-" for row in table.rows if "none" not in row[1])
+    with pytest.raises(InputError, match="one per task"):
+        comparison.motion  # noqa: B018
+
+
+@pytest.mark.slow
+def test_a_mixs_documents_keep_every_key_they_had(duty):
+    _, mix, result = duty
+    document = fastest_json(result)
+    assert {"robot", "mix", "units", "motors", "tasks", "idle_share", "slowdown",
+            "lengthened_by", "feasible", "check"} <= set(document)
+    for task in document["tasks"]:
+        assert {"name", "share", "planned_cycle_s", "optimum_s", "cycle_time_s",
+                "cycles_per_hour"} <= set(task)
