@@ -34,7 +34,6 @@ from hdselect.codesign.cyclerules import (
 from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, slowdown_notes, solve
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
 from hdselect.motion.planning import Trajectory
-from hdselect.motion.planning.toppra import Profile
 from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors
@@ -73,29 +72,10 @@ class Trial:
     idle: float = 0.0
 
     @property
-    def profiles(self) -> list[Profile | None]:
-        """The first task's profiles."""
-        return self.legs[0].profiles
-
-    @property
-    def kinematic(self) -> list[float]:
-        """The first task's kinematic slow-downs [-]."""
-        return self.legs[0].kinematic
-
-    @property
-    def moving(self) -> float:
-        """The first task's time of the moves [s]."""
-        return self.legs[0].moving
-
-    @property
-    def dwell(self) -> float:
-        """The first task's time of the dwells [s]."""
-        return self.legs[0].dwell
-
-    @property
     def cycle_time(self) -> float:
-        """The first task's cycle at the slow-down [s] (the one a derating shortens)."""
-        return self.moving * self.scale + self.dwell
+        """One task's cycle at the slow-down [s] (a derating is tried for one task only)."""
+        (leg,) = self.legs
+        return leg.moving * self.scale + leg.dwell
 
 
 def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Sequence[float],
