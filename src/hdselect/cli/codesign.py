@@ -94,7 +94,6 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.maxpayload import max_payload
     from hdselect.codesign.records import max_payload_json
-    from hdselect.motion.motionfile import Motion
     from hdselect.report.codesign_tables import max_payload_tables
     from hdselect.report.export import write_json
 
@@ -113,9 +112,8 @@ def run_max_payload(args: argparse.Namespace) -> int:
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
-        alone = motion if isinstance(motion, Motion) else None  # a mix's tasks name theirs
-        document = max_payload_json(result, alone)
-        items = max_payload_tables(result, robot, alone)
+        document = max_payload_json(result)
+        items = max_payload_tables(result, robot)
         if json_file is not None:
             write_json(json_file, document)
         text = "" if to_stdout(args) else rendered(*items)

@@ -160,14 +160,14 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> 
 
     Args:
         result: The largest payload.
-        motion: One motion's (a mix's: that of its one task, where it has one).
+        motion: The motion named (default: the one task's, where the duty has one).
     """
     x = result.mass
     finite = x is not None and math.isfinite(x)
     selection = result.selection
     mix = result.mix
-    if motion is None and mix is not None and len(result.tasks) == 1:
-        motion = result.tasks[0].motion  # a mix of one task names its motion
+    if motion is None and len(result.tasks) == 1:
+        motion = result.tasks[0].motion
     if mix is None:
         per_kg: float | None = 1.0  # one motion's payload is its shape at 1 kg
     else:

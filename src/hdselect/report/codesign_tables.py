@@ -6,7 +6,6 @@ The fastest cycle, what binds it, ratios compared, the largest payload.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 from rich.markup import escape
@@ -238,23 +237,19 @@ def _planned_name(comparison: RatioComparison) -> str:
             "shares)")
 
 
-def max_payload_tables(result: MaxPayloadResult, robot: Robot,
-                       motion: Motion | None = None) -> list[object]:
+def max_payload_tables(result: MaxPayloadResult, robot: Robot) -> list[object]:
     """What ``max-payload`` prints: the answer, then the selection there (a mix's tasks too).
 
     Args:
         result: The largest payload.
         robot: The robot as the command read it.
-        motion: One motion (None for a mix: its tasks name theirs).
     """
-    text = (mix_payload_text(result, robot) if result.mix is not None or motion is None
-            else max_payload_text(result, robot, motion))
-    selection = result.selection
-    if selection is None:
+    motion = result.tasks[0].motion  # one motion's payload rides its one task
+    text = (max_payload_text(result, robot, motion) if result.mix is None and motion is not None
+            else mix_payload_text(result, robot))
+    if result.selection is None:
         return [text]
-    if motion is not None:
-        selection = replace(selection, motion=motion)
-    return [text, "", size_table(selection), *task_tables(selection)]
+    return [text, "", size_table(result.selection), *task_tables(result.selection)]
 
 
 def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> Paragraphs:

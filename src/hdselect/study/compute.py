@@ -233,19 +233,16 @@ def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, An
     Raises:
         HdselectError: An input is bad or a motion's plan depends on the payload.
     """
-    planned = case_problem(case, inputs)
-    problem = _codesign_problem(planned)
+    problem = _codesign_problem(case_problem(case, inputs))
     if case.time_scale != 1.0 and not any(plan_depends_on_payload(task.motion)
                                           for task in problem.tasks
                                           if task.motion is not None):  # else refused below
         problem = _slower(problem, case.time_scale)
     result = max_payload(problem)
-    motion = planned.source if isinstance(planned.source, Motion) else None  # as read
-    document = max_payload_json(replace(result, selection=None), motion)
+    document = max_payload_json(replace(result, selection=None))
     document["robot"] = str(problem.robot.path)
     if result.selection is not None:
-        document["selection"] = summarize(result.selection if motion is None else
-                                          replace(result.selection, motion=motion)).to_dict()
+        document["selection"] = summarize(result.selection).to_dict()
     return document
 
 
