@@ -26,7 +26,8 @@ from helpers.studies import workspace
 REPO = Path(__file__).resolve().parents[1]
 PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"
 INSPECT = REPO / "trajectories" / "benchtop6_inspect.toml"
-PICK_INSPECT = REPO / "trajectories" / "mixes" / "benchtop6_pick_inspect.toml"
+MIX_NAME = "benchtop6_pick_inspect.toml"
+PICK_INSPECT = REPO / "trajectories" / "mixes" / MIX_NAME
 
 
 def _same(ours, theirs, where="document"):
@@ -276,3 +277,41 @@ def test_a_mixs_documents_keep_every_key_they_had(duty):
     for task in document["tasks"]:
         assert {"name", "share", "planned_cycle_s", "optimum_s", "cycle_time_s",
                 "cycles_per_hour"} <= set(task)
+
+
+@pytest.mark.slow
+def test_a_study_of_a_mix_run_slower_takes_sizes_units_there(tmp_path):
+    """``time_scale`` runs every task slower: `fastest` takes the units `size` selects for
+    the slower duty, `max-payload` carries the payloads along it."""
+    from dataclasses import replace
+
+    from hdselect.study.pooled import scaled
+
+    root = workspace(tmp_path)
+    path = root / "slower.toml"
+    path.write_text("""compute = ["fastest", "max-payload"]
+[base]
+motion = "trajectories/mixes/benchtop6_pick_inspect.toml"
+[grid]
+time_scale = [1.6]
+""")
+    rows = hdselect.study(path, workers=0)
+    assert {row["status"] for row in rows} == {"ok"}, [row["error"] for row in rows]
+    problem = hdselect.resolve(None, root / "trajectories" / "mixes" / MIX_NAME)
+    slower = replace(problem, tasks=tuple(replace(task, trajectory=scaled(task.trajectory, 1.6))
+                                          for task in problem.tasks))
+    sized = hdselect.size_problem(slower)
+    units = {joint.name: joint.selected.unit.id for joint in sized.joints}
+    at_speed = {joint.name: joint.selected.unit.id
+                for joint in hdselect.size_problem(problem).joints}
+    assert units != at_speed  # the slower duty takes another unit somewhere
+    direct = fastest(problem, units=units)
+    mine = [row for row in rows if row["compute"] == "fastest"]
+    assert {row["joint"]: row["unit"] for row in mine} == units
+    assert [r["cycle_time_s"] for r in mine] == pytest.approx(
+        [direct.cycle_time] * len(mine), rel=1e-9)
+    largest = max_payload(slower)
+    mine = [row for row in rows if row["compute"] == "max-payload"]
+    assert [r["payload_factor"] for r in mine] == pytest.approx(
+        [largest.factor] * len(mine), rel=1e-12)
+    assert largest.factor > max_payload(problem).factor  # slower: a heavier payload
