@@ -41,7 +41,8 @@ def fastest_tables(result: FastestResult) -> list[FittedTable | str]:
 
     A motion is a duty of one task: it has no table of tasks.
     """
-    tasks: list[FittedTable | str] = [] if result.mix is None else [tasks_table(result), ""]
+    tasks: list[FittedTable | str] = ([] if result.mix is None
+                                      else [fastest_tasks_table(result), ""])
     return [*tasks, fastest_table(result), "", binding_table(result)]
 
 
@@ -307,7 +308,7 @@ def mix_payload_text(result: MaxPayloadResult, robot: Robot) -> Paragraphs:
     return Paragraphs(tuple(lines))
 
 
-def tasks_table(result: FastestResult) -> FittedTable:
+def fastest_tasks_table(result: FastestResult) -> FittedTable:
     """Each task of a mix: its planned cycle, its optimum and its shortest over the duty."""
     columns = (Column("task", "left"), Column("share"), Column("planned s"),
                Column("optimum s"), Column("fastest s"), Column("cycles/h"))
