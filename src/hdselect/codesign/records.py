@@ -49,6 +49,7 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
             "candidate": candidate_json(candidate),
         })
     dwell = result.weighted([item.dwell_time for item in result.tasks])
+    check = size_json(result.check)
     document = {
         "robot": str(result.robot.path),
         "motion": None if alone is None else str(alone.motion.path),
@@ -62,7 +63,7 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
         "grid_per_waypoint": result.grid_per_waypoint,
         "samples": sum(len(item.task.trajectory.t) for item in result.tasks),
         "feasible": result.feasible,
-        "assumptions": size_json(result.check)["assumptions"],
+        "assumptions": check["assumptions"],
         "root_link": result.robot.root_link,
         "payload": None if alone is None else payload_json(alone.task.robot),
         "warnings": list(result.warnings),
@@ -76,7 +77,7 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
             "units": {name: result.units[name].id for name in sized},
             "motors": {name: result.motors[name].id for name in sized if name in result.motors},
             "tasks": [_task_json(item, result) for item in result.tasks],
-            "idle_share": result.idle, "check": size_json(result.check)}
+            "idle_share": result.idle, "check": check}
 
 
 def _limits_json(item: TaskFastest | None, name: str, result: FastestResult) -> dict[str, Any]:
