@@ -245,66 +245,64 @@ def max_payload_tables(result: MaxPayloadResult, robot: Robot) -> list[object]:
         result: The largest payload.
         robot: The robot as the command read it.
     """
-    motion = result.tasks[0].motion  # one motion's payload rides its one task
-    text = (max_payload_text(result, robot, motion) if result.mix is None and motion is not None
-            else mix_payload_text(result, robot))
+    text = max_payload_text(result, robot, result.tasks[0].motion)
     if result.selection is None:
         return [text]
     return [text, "", size_table(result.selection), *task_tables(result.selection)]
 
 
-def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> Paragraphs:
-    """The largest payload, where it sits, and which joint runs out of units there."""
-    payload = result.payload
-    where = (f"on '{result.frame}'"
-             + ("" if payload.frame is not None else
-                " (the tip of the longest chain of joints not excluded: no frame was given)")
-             + f", centre of mass ({', '.join(f'{c:g}' for c in payload.com)}) m")
-    inertia = np.asarray(payload.inertia)
-    if inertia.any():
-        where += (f", inertia about it {np.diag(inertia)[0]:.3g}, {np.diag(inertia)[1]:.3g}, "
-                  f"{np.diag(inertia)[2]:.3g} kg m² per kg (diagonal)")
-    head = f"{robot.path.name} running {motion.path.name} ({motion.planner})"
-    if result.mass is None:
-        return Paragraphs((f"{head}: no payload mass, not even none, leaves every joint a "
-                           f"feasible unit ({where}).",))
-    if not math.isfinite(result.mass):
-        return Paragraphs((f"{head}: no rule depends on the payload mass {where}: no limit.",))
-    lines = [f"{head}: the largest payload is {result.mass:.4g} kg {where}."]
-    lines.append(f"{result.joint} runs out of units there: {result.unit.id if result.unit else '-'}"
-                 f" reaches its {result.rule} limit. Torque is affine in the payload mass on a "
-                 "fixed trajectory, so each rule's limit is solved exactly; the inertia about the "
-                 "centre of mass grows with the mass.")
-    if len(result.ranges) > 1 or result.ranges[0][0] > 0.0:
-        spans = ", ".join(f"{lo:.4g} to {hi:.4g} kg" for lo, hi in result.ranges)
-        lines.append(f"Every joint has a unit only from {spans}.")
-    lines.append(f"The selection at {result.mass:.4g} kg:")
-    return Paragraphs(tuple(lines))
+def max_payload_text(result: MaxPayloadResult, robot: Robot,
+                     motion: Motion | None = None) -> Paragraphs:
+    """The largest payload, where it sits, and which joint runs out of units there.
 
-
-def mix_payload_text(result: MaxPayloadResult, robot: Robot) -> Paragraphs:
-    """The largest payloads of a mix, which tasks they are, and where the duty binds."""
-    name = result.selection.mix.path.name if (result.selection is not None and
-                                              result.selection.mix is not None) else "the mix"
-    given = ", ".join(f"{task} {payload.mass:g} kg" for task, payload in result.payloads.items())
-    head = (f"{robot.path.name} running {name}: the payloads of {', '.join(result.scaled)} "
-            f"(as given: {given}) scaled by one factor, mass and inertia alike")
-    if result.factor is None:
-        return Paragraphs((f"{head}: no factor, not even 0, leaves every joint a feasible "
-                           "unit.",))
-    if not math.isfinite(result.factor):
-        return Paragraphs((f"{head}: no rule depends on them: no limit.",))
-    masses = ", ".join(f"{task} {mass:.4g} kg" for task, mass in result.masses().items())
-    lines = [f"{head}: the largest factor is {result.factor:.4g}: {masses}.",
-             f"{result.joint} runs out of units there: "
-             f"{result.unit.id if result.unit else '-'} reaches its {result.rule} limit "
-             "over the duty (rules of single samples: the worst task; mean torque and life: "
-             "every task pooled at its share). Torque is affine in the factor on fixed "
-             "trajectories, so each rule's limit is solved exactly."]
+    One motion's answer is a mass on its payload's shape; a mix's (`motion` None) one
+    factor on its tasks' payloads as given, mass and inertia alike.
+    """
+    x = result.mass
+    one = motion if result.mix is None else None  # a mix's tasks name their motions
+    if one is not None:
+        payload = result.payload
+        where = (f"on '{result.frame}'"
+                 + ("" if payload.frame is not None else
+                    " (the tip of the longest chain of joints not excluded: no frame was given)")
+                 + f", centre of mass ({', '.join(f'{c:g}' for c in payload.com)}) m")
+        inertia = np.asarray(payload.inertia)
+        if inertia.any():
+            diagonal = np.diag(inertia)
+            where += (f", inertia about it {diagonal[0]:.3g}, {diagonal[1]:.3g}, "
+                      f"{diagonal[2]:.3g} kg m² per kg (diagonal)")
+        head = f"{robot.path.name} running {one.path.name} ({one.planner})"
+        nothing = f"no payload mass, not even none, leaves every joint a feasible unit ({where})."
+        unlimited = f"no rule depends on the payload mass {where}: no limit."
+    else:
+        name = result.mix.path.name if result.mix is not None else "the mix"
+        given = ", ".join(f"{task} {item.mass:g} kg" for task, item in result.payloads.items())
+        head = (f"{robot.path.name} running {name}: the payloads of "
+                f"{', '.join(result.scaled)} (as given: {given}) scaled by one factor, mass "
+                "and inertia alike")
+        nothing = "no factor, not even 0, leaves every joint a feasible unit."
+        unlimited = "no rule depends on them: no limit."
+    if x is None or not math.isfinite(x):
+        return Paragraphs((f"{head}: {nothing if x is None else unlimited}",))
+    if one is not None:
+        answer, at, kg, of = f"the largest payload is {x:.4g} kg {where}.", f"{x:.4g} kg", " kg", ""
+        how = (". Torque is affine in the payload mass on a fixed trajectory, so each rule's "
+               "limit is solved exactly; the inertia about the centre of mass grows with the "
+               "mass.")
+    else:
+        masses = ", ".join(f"{task} {mass:.4g} kg" for task, mass in result.masses().items())
+        answer, at, kg, of = (f"the largest factor is {x:.4g}: {masses}.",
+                              f"a factor of {x:.4g}", "", "for factors ")
+        how = (" over the duty (rules of single samples: the worst task; mean torque and life: "
+               "every task pooled at its share). Torque is affine in the factor on fixed "
+               "trajectories, so each rule's limit is solved exactly.")
+    lines = [f"{head}: {answer}",
+             f"{result.joint} runs out of units there: {result.unit.id if result.unit else '-'}"
+             f" reaches its {result.rule} limit{how}"]
     if len(result.ranges) > 1 or result.ranges[0][0] > 0.0:
-        spans = ", ".join(f"{lo:.4g} to {hi:.4g}" for lo, hi in result.ranges)
-        lines.append(f"Every joint has a unit only for factors from {spans}.")
-    lines.append(f"The selection at a factor of {result.factor:.4g}:")
+        spans = ", ".join(f"{lo:.4g} to {hi:.4g}{kg}" for lo, hi in result.ranges)
+        lines.append(f"Every joint has a unit only {of}from {spans}.")
+    lines.append(f"The selection at {at}:")
     return Paragraphs(tuple(lines))
 
 
