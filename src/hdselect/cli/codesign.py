@@ -23,7 +23,7 @@ def run_fastest(args: argparse.Namespace) -> int:
     """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
-    from hdselect.codesign.records import fastest_json, mix_fastest_json, ratios_json
+    from hdselect.codesign.records import fastest_json, ratios_json
 
     if args.joint and not args.compare_ratios:
         raise InputError("only with --compare-ratios", field="--joint")
@@ -61,7 +61,7 @@ def run_fastest(args: argparse.Namespace) -> int:
             from hdselect.report.export import write_json
 
             write_json(json_file, ratios_json(comparison) if args.compare_ratios
-                       else mix_fastest_json(result) if mix else fastest_json(result))
+                       else fastest_json(result))
         text = "" if to_stdout(args) else rendered(*_fastest_tables(args, result, comparison
                                                                     if args.compare_ratios
                                                                     else None))
@@ -77,40 +77,25 @@ def run_fastest(args: argparse.Namespace) -> int:
 
 
 def _fastest_tables(args: argparse.Namespace, result, comparison) -> list[Any]:
-    """What ``fastest`` prints: the ratios compared, else the cycle (each task's, for a mix)."""
-    from hdselect.report.codesign_tables import (
-        binding_table,
-        fastest_table,
-        mix_fastest_table,
-        ratios_table,
-    )
+    """What ``fastest`` prints: the ratios compared, else the cycle (a mix's tasks first)."""
+    from hdselect.report.codesign_tables import fastest_tables, ratios_table
 
+    if comparison is None:
+        return fastest_tables(result)
     tables: list[Any] = []
-    if comparison is not None:
-        for joint in comparison.joints:
-            tables += [""] if tables else []
-            tables.append(ratios_table(comparison, joint))
-        return tables
-    if result.mix is not None:
-        from hdselect.report.size_tables import size_table
-        from hdselect.report.task_tables import task_tables
-
-        return [mix_fastest_table(result), "", size_table(result.check),
-                *task_tables(result.check)]
-    return [fastest_table(result), "", binding_table(result)]
+    for joint in comparison.joints:
+        tables += [""] if tables else []
+        tables.append(ratios_table(comparison, joint))
+    return tables
 
 
 def run_max_payload(args: argparse.Namespace) -> int:
     """``hdselect max-payload``: the largest payload with a unit on every joint."""
-    from dataclasses import replace
-
     from hdselect.base.outputs import Outputs
     from hdselect.codesign.maxpayload import max_payload
-    from hdselect.codesign.records import max_payload_json, mix_payload_json
-    from hdselect.report.codesign_tables import max_payload_text, mix_payload_text
+    from hdselect.codesign.records import max_payload_json
+    from hdselect.report.codesign_tables import max_payload_tables
     from hdselect.report.export import write_json
-    from hdselect.report.size_tables import size_table
-    from hdselect.report.task_tables import task_tables
 
     problem = sizing_problem(args)
     robot, motion = problem.robot, problem.source
@@ -127,16 +112,8 @@ def run_max_payload(args: argparse.Namespace) -> int:
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
-        if result.mix is not None:
-            document = mix_payload_json(result)
-            items: list[Any] = [mix_payload_text(result, robot)]
-            if result.selection is not None:
-                items += ["", size_table(result.selection), *task_tables(result.selection)]
-        else:
-            document = max_payload_json(result, motion)
-            items = [max_payload_text(result, robot, motion)]
-            if result.selection is not None:
-                items += ["", size_table(replace(result.selection, motion=motion))]
+        document = max_payload_json(result)
+        items = max_payload_tables(result, robot)
         if json_file is not None:
             write_json(json_file, document)
         text = "" if to_stdout(args) else rendered(*items)

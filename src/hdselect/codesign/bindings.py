@@ -10,16 +10,17 @@ a stretch, and a stretch under 1 % of the moving time joins its neighbour.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from hdselect.catalog.rules import at_rest
+from hdselect.codesign.cyclerules import Leg
 from hdselect.codesign.fastpath import PathModel
 from hdselect.codesign.pathbounds import JointLimits
-from hdselect.codesign.trials import Trial
-from hdselect.sizing.result import SizingResult
+from hdselect.motion.planning import Trajectory
+from hdselect.sizing.result import JointSizing
 
 
 @dataclass(frozen=True)
@@ -35,6 +36,7 @@ class Binding:
         utilization: The largest demand / limit over the stretch [-] (torque: against its
             limit before any derating).
         waypoints: The waypoints between which the stretch starts.
+        task: The task whose moves it is in, by name (empty for one motion).
     """
 
     start: float
@@ -43,21 +45,26 @@ class Binding:
     limit: str
     utilization: float
     waypoints: tuple[int, int]
+    task: str = ""
 
 
-def bindings(model: PathModel, trial: Trial, scale: float, check: SizingResult,
-             held: np.ndarray, limits: Sequence[JointLimits]) -> tuple[Binding, ...]:
-    """The limit closest to its bound at each moving sample, grouped into stretches.
+def bindings(model: PathModel, leg: Leg, scale: float, trajectory: Trajectory,
+             joints: Sequence[JointSizing], held: np.ndarray, limits: Sequence[JointLimits],
+             samples: slice = slice(None), task: str = "") -> tuple[Binding, ...]:
+    """The limit closest to its bound at each moving sample of one task, grouped into stretches.
 
     Args:
-        model: The path.
-        trial: The profiles run.
+        model: The task's path.
+        leg: Its profiles run.
         scale: Their slow-down [-].
-        check: The sizing's check of the trajectory (its torques).
+        trajectory: The task's trajectory as checked.
+        joints: The sizing's check of the duty (its torques), each joint's samples of
+            every task in the duty's order.
         held: The trajectory's samples in dwells.
-        limits: Each joint's limits, not derated.
+        limits: Each joint's limits on this task's path, not derated.
+        samples: This task's samples among the check's.
+        task: The task's name, for a duty of several.
     """
-    trajectory = check.trajectory
     robot = model.robot
     names = list(robot.joint_names)
     labels = {"motion": "velocity (motion file)", "robot": "velocity (robot file)",
@@ -67,14 +74,18 @@ def bindings(model: PathModel, trial: Trial, scale: float, check: SizingResult,
         name = names[j]
         rows.append((name, labels[lim.velocity_source], np.abs(trajectory.qd[:, j]) / lim.velocity))
         rows.append((name, "acceleration", np.abs(trajectory.qdd[:, j]) / lim.acceleration))
-    for joint in check.joints:
+    for joint in joints:
         j = names.index(joint.name)
         lim = limits[j]
+        torque, stop = joint.torque[samples], joint.stop_torque[samples]
+        if len(torque) != len(trajectory.t):
+            raise RuntimeError(f"{joint.name}: {len(torque)} checked samples for a task of "
+                               f"{len(trajectory.t)}")
         still = at_rest(trajectory.qd[:, j], trajectory.qdd[:, j])  # held: the static limit
-        rows.append((joint.name, "torque", np.abs(joint.torque)
+        rows.append((joint.name, "torque", np.abs(torque)
                      / np.where(still, lim.static, lim.torque)))
-        rows.append((joint.name, "emergency stop", np.abs(joint.stop_torque) / lim.momentary))
-        rows.append((joint.name, "crash", (np.abs(joint.torque) + lim.crash_gain
+        rows.append((joint.name, "emergency stop", np.abs(stop) / lim.momentary))
+        rows.append((joint.name, "crash", (np.abs(torque) + lim.crash_gain
                                            * np.abs(trajectory.qd[:, j])) / lim.momentary))
     table = np.stack([r[2] for r in rows])
     moving = ~held
@@ -104,16 +115,35 @@ def bindings(model: PathModel, trial: Trial, scale: float, check: SizingResult,
         else:
             merged.append(list(stretch))
     return tuple(Binding(float(a), float(b), rows[row][0], rows[row][1], float(peak),
-                         _waypoints_at(model, trial, scale, (a + b) / 2.0))
+                         _waypoints_at(model, leg, scale, (a + b) / 2.0), task)
                  for a, b, row, peak in merged)
 
 
-def _waypoints_at(model: PathModel, trial: Trial, scale: float,
+def shares(stretches: Sequence[Binding],
+           rates: Mapping[str, float] | None = None) -> list[tuple[str, str, float]]:
+    """(joint, limit, share of the moving time) [-], longest first.
+
+    Args:
+        stretches: The stretches of one task, or of every task of a duty.
+        rates: For a duty, each task's cycles per unit time relative to the others' [-]
+            (share / cycle time): a stretch counts for the time it takes in the duty.
+    """
+    total: dict[tuple[str, str], float] = {}
+    for b in stretches:
+        weight = 1.0 if rates is None else rates[b.task]
+        total[(b.joint, b.limit)] = (total.get((b.joint, b.limit), 0.0)
+                                     + weight * (b.end - b.start))
+    moving = sum(total.values()) or 1.0
+    return sorted(((j, lim, t / moving) for (j, lim), t in total.items()),
+                  key=lambda item: -item[2])
+
+
+def _waypoints_at(model: PathModel, leg: Leg, scale: float,
                   time: float) -> tuple[int, int]:
     """The waypoints between which the path is at a time of the cycle [s]."""
     motion = model.motion
     clock = motion.dwells[0]
-    for profile, r in zip(trial.profiles, trial.kinematic, strict=True):
+    for profile, r in zip(leg.profiles, leg.kinematic, strict=True):
         if profile is None:
             continue
         duration = profile.duration * r * scale

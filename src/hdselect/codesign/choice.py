@@ -114,7 +114,8 @@ def duty_of(robot: Robot | Problem, motion: Motion | Mix | None, options: Option
         PlanningError: A mix's motion cannot be planned.
     """
     if isinstance(robot, Problem):
-        given = {"motion": motion, "options": options, "catalog": catalog, "motors": motors}
+        given: dict[str, object] = {"motion": motion, "options": options, "catalog": catalog,
+                                    "motors": motors}
         for name, value in given.items():
             if value is not None:
                 raise InputError("a Problem holds it: give the problem alone, or a robot and "

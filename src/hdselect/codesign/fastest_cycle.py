@@ -29,214 +29,36 @@ coefficients linearly, so no unit needs new dynamics passes on the path).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
-from hdselect.codesign.bindings import Binding, bindings
+from hdselect.codesign.bindings import bindings
 from hdselect.codesign.choice import Duty, choose, duty_of
+from hdselect.codesign.fastest_result import (
+    FastestResult,
+    JointRatios,
+    RatioComparison,
+    RatioRow,
+    TaskFastest,
+)
 from hdselect.codesign.fastpath import PathModel
-from hdselect.codesign.pathbounds import JointLimits, PathInfeasible, joint_limits
+from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
 from hdselect.codesign.trials import derated, run_trial, verified
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import Trajectory, check_within_limits
+from hdselect.motion.planning import check_within_limits
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import not_sized
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Problem
-from hdselect.sizing.result import Motors, SizingResult
+from hdselect.sizing.result import Motors
 from hdselect.sizing.tasks import Task
 
 OPTIMAL_WITHIN = 1e-3
 """A cycle at most this fraction longer than the optimum counts as the optimum: the
 slow-down that corrects TOPPRA's overshoot between gridpoints is of this order [-]."""
-@dataclass(frozen=True, eq=False)
-class TaskFastest:
-    """One task of a duty at its shortest cycle.
-
-    Attributes:
-        task: The task at its fastest: its robot, trajectory (sampled every ``motion.dt``),
-            share, motion and name.
-        planned: Its cycle as the motion file plans it [s]; None where it was not planned.
-        optimum: Its time-optimal cycle under the limits on single samples [s].
-    """
-
-    task: Task
-    planned: float | None
-    optimum: float
-
-    @property
-    def cycle_time(self) -> float:
-        """Its shortest cycle over the duty, dwells included [s]."""
-        return self.task.trajectory.duration
-
-
-@dataclass(frozen=True, eq=False)
-class FastestResult:
-    """The shortest cycle of every task's path that a choice of units allows.
-
-    A motion is a duty of one task; for a mix, `robot`, `motion`, `trajectory`,
-    `limits`, `optimum` and `grid_per_waypoint` are its first counted task's, `check`
-    is the duty's and `tasks` has every counted task.
-
-    Attributes:
-        robot: The robot (payload and mounting applied, no gearhead masses).
-        motion: The motion whose path was run.
-        units: The unit of every sized joint.
-        options: The assumptions.
-        trajectory: The trajectory, sampled every ``motion.dt``.
-        check: Every rule of every joint's unit on that trajectory (`check_units`).
-        limits: What bounded each joint along the path, by joint name.
-        optimum: The time-optimal cycle under the limits on single samples, before any
-            slow-down or derating [s].
-        slowdown: The uniform slow-down of the moves beyond TOPPRA's own overshoot
-            correction [-]; 1 when none was needed.
-        derating: Fraction of its repeated-peak limit each derated joint was held to [-].
-        reason: What made the cycle longer than `optimum` (by more than `OPTIMAL_WITHIN`):
-            ``(joint, rule)``, or None.
-        binding: Which limit is closest to its bound along the moves, stretch by stretch.
-        grid_per_waypoint: TOPPRA gridpoints per waypoint.
-        motors: The motor behind the unit of each joint that has one (its peak torque,
-            speed and rotor inertia bound the path; its rules are checked).
-        tasks: Every counted task at its fastest, in the duty's order.
-        idle: The fraction of the time no task runs [-].
-        mix: The mix, or None for one motion.
-    """
-
-    robot: Robot
-    motion: Motion
-    units: Mapping[str, Unit]
-    options: Options
-    trajectory: Trajectory
-    check: SizingResult
-    limits: Mapping[str, JointLimits]
-    optimum: float
-    slowdown: float
-    derating: Mapping[str, float]
-    reason: tuple[str, str] | None
-    binding: tuple[Binding, ...]
-    grid_per_waypoint: int
-    motors: Mapping[str, Motor] = field(default_factory=dict)
-    tasks: tuple[TaskFastest, ...] = ()
-    idle: float = 0.0
-    mix: Mix | None = None
-
-    @property
-    def cycle_time(self) -> float:
-        """The cycle time, dwells included [s] (of the first task, for a mix)."""
-        return self.trajectory.duration
-
-    @property
-    def mean_cycle_time(self) -> float:
-        """The tasks' cycle times weighted by their shares [s]; one task's cycle time."""
-        return self._share_mean([item.cycle_time for item in self.tasks], self.cycle_time)
-
-    @property
-    def mean_optimum(self) -> float:
-        """The tasks' optima weighted by their shares [s]; one task's `optimum`."""
-        return self._share_mean([item.optimum for item in self.tasks], self.optimum)
-
-    def _share_mean(self, values: Sequence[float], alone: float) -> float:
-        """The tasks' `values` weighted by their shares [s]; `alone` for one task."""
-        if len(self.tasks) < 2:
-            return alone
-        return (sum(item.task.share * value for item, value in zip(self.tasks, values,
-                                                                   strict=True))
-                / sum(item.task.share for item in self.tasks))
-
-    @property
-    def feasible(self) -> bool:
-        """Every rule of every joint passes on the trajectory."""
-        return self.check.feasible
-
-    @property
-    def warnings(self) -> tuple[str, ...]:
-        """What the robot and motion files raised, and robot-file limits the cycle exceeds.
-
-        As `hdselect.sizing.core.SizingResult.warnings`: each line starts with ``robot file:``,
-        ``motion file:`` or ``cycle:``.
-        """
-        return replace(self.check, motion=self.motion).warnings
-
-    def binding_shares(self) -> list[tuple[str, str, float]]:
-        """(joint, limit, share of the moving time) [-], longest first."""
-        total: dict[tuple[str, str], float] = {}
-        for b in self.binding:
-            total[(b.joint, b.limit)] = total.get((b.joint, b.limit), 0.0) + b.end - b.start
-        moving = sum(total.values()) or 1.0
-        return sorted(((j, lim, t / moving) for (j, lim), t in total.items()),
-                      key=lambda item: -item[2])
-
-
-@dataclass(frozen=True)
-class RatioRow:
-    """One unit on one joint, the other joints' units fixed.
-
-    Attributes:
-        unit: The unit.
-        cycle_time: The shortest cycle [s]; None when the units cannot run the path.
-        optimum: The time-optimal cycle under the limits on single samples [s], or None.
-        gravity: The units cannot run the path at any speed because a load that does not
-            depend on the speed (gravity, held at rest or moving) is beyond a limit.
-        note: Why there is no cycle, or what lengthened it beyond `optimum`, in a few words.
-        binding: The limit that binds longest, ``(joint, limit)``, or None.
-        lengthened_by: The ``(joint, rule)`` that lengthened the cycle, or None.
-        derating: The fraction of its repeated-peak limit the derated joint kept [-].
-        slowdown: The uniform slow-down of the moves [-].
-    """
-
-    unit: Unit
-    cycle_time: float | None
-    optimum: float | None
-    gravity: bool
-    note: str | None
-    binding: tuple[str, str] | None
-    lengthened_by: tuple[str, str] | None = None
-    derating: float | None = None
-    slowdown: float = 1.0
-
-
-@dataclass(frozen=True)
-class JointRatios:
-    """Every catalog unit on one joint.
-
-    Attributes:
-        joint: The joint.
-        selected: The unit `hdselect.size` picks for the motion as planned, or None.
-        rows: One per unit, in catalog order.
-    """
-
-    joint: str
-    selected: str | None
-    rows: tuple[RatioRow, ...]
-
-
-@dataclass(frozen=True, eq=False)
-class RatioComparison:
-    """The shortest cycle with each unit on each joint compared.
-
-    Attributes:
-        robot: The robot (payload and mounting applied).
-        motion: The motion whose path was run.
-        units: The units the other joints keep.
-        options: The assumptions.
-        joints: One comparison per joint compared.
-        base: The fastest cycle with `units` everywhere.
-        mix: The mix whose tasks were run, or None for one motion (a mix's rows give
-            the share-weighted mean of its tasks' cycles, `FastestResult.mean_cycle_time`).
-    """
-
-    robot: Robot
-    motion: Motion
-    units: Mapping[str, Unit]
-    options: Options
-    joints: tuple[JointRatios, ...]
-    base: FastestResult = field(repr=False)
-    mix: Mix | None = None
-
-
 def fastest(robot: Robot | Problem, motion: Motion | Mix | None = None,
             units: Mapping[str, Unit | str] | None = None, options: Options | None = None, *,
             catalog: Sequence[Unit] | None = None,
@@ -329,8 +151,7 @@ def compare_ratios(robot: Robot | Problem, motion: Motion | Mix | None = None,
             except PathInfeasible as err:
                 rows.append(RatioRow(unit, None, None, err.gravity, _short(err), None))
         out.append(JointRatios(name, selected.get(name), tuple(rows)))
-    return RatioComparison(base.robot, base.motion, chosen, options, tuple(out), base,
-                           duty.mix)
+    return RatioComparison(base.robot, chosen, options, tuple(out), base, duty.mix)
 
 
 def _models(duty: Duty, options: Options) -> tuple[PathModel, ...]:
@@ -342,8 +163,6 @@ def _models(duty: Duty, options: Options) -> tuple[PathModel, ...]:
 def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Options,
              motors: Mapping[str, Motor], duty: Duty) -> FastestResult:
     """Steps 1 to 3 of the module's method for one choice of units (and motors)."""
-    model = models[0]
-    robot = model.robot
     motors = dict(motors)
     masses = ({name: unit.mass + (motors[name].mass if name in motors else options.motor_mass)
                for name, unit in units.items()} if options.mass_coupling else {})
@@ -353,8 +172,8 @@ def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Op
     best = first
     if first.whole_cycle_failing and len(models) == 1:  # a duty keeps its shares: slowed
         best = derated(models, carrying, units, masses, first, options, motors)
-    trajectory, held, check, scale = verified(units, best, options, motors,
-                                              duty.planned or None, duty.where)
+    trajectory, _, check, scale, helds = verified(units, best, options, motors,
+                                                  duty.planned or None, duty.where)
     trajectories = tuple(task.trajectory for task in check.tasks) if duty.planned else (
         trajectory,)
     for each, run in zip(models, trajectories, strict=True):
@@ -363,22 +182,30 @@ def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Op
     if any(run.duration > leg.optimum * (1.0 + OPTIMAL_WITHIN)
            for run, leg in zip(trajectories, first.legs, strict=True)):
         reason = first.reason if best is not first else best.reason
-    limits = joint_limits(robot, model.motion, units, options, best.derating, motors=motors)
-    binding = bindings(model, best, scale, check, held, joint_limits(
-        robot, model.motion, units, options, motors=motors)) if len(models) == 1 else ()
-    tasks = duty.planned or (Task(robot, trajectories[0], 1.0, model.motion),)
-    timed = tuple(TaskFastest(replace(task, trajectory=run),
-                              task.trajectory.duration if duty.planned else None, leg.optimum)
-                  for task, run, leg in zip(tasks, trajectories, first.legs, strict=True))
+    tasks = duty.planned or (Task(models[0].robot, trajectories[0], 1.0, models[0].motion),)
+    checked = tuple(task.trajectory for task in check.tasks) if duty.planned else (
+        check.trajectory,)
+    timed, start = [], 0
+    for task, run, sampled, model, leg, run_leg, held in zip(
+            tasks, trajectories, checked, models, first.legs, best.legs, helds, strict=True):
+        names = model.robot.joint_names
+        limits = joint_limits(model.robot, model.motion, units, options, best.derating,
+                              motors=motors)
+        plain = joint_limits(model.robot, model.motion, units, options, motors=motors)
+        span = slice(start, start + len(sampled.t))
+        start = span.stop
+        binding = bindings(model, run_leg, scale, sampled, check.joints, held, plain, span,
+                           task.label if len(models) > 1 else "")
+        timed.append(TaskFastest(replace(task, trajectory=run),
+                                 task.trajectory.duration if duty.planned else None,
+                                 leg.optimum, dict(zip(names, limits, strict=True)), binding))
     if duty.mix is not None:
         check = replace(check, mix=duty.mix)
     return FastestResult(
-        robot=robot, motion=model.motion, units=dict(units), options=options,
-        trajectory=trajectory, check=check,
-        limits=dict(zip(robot.joint_names, limits, strict=True)),
-        optimum=first.legs[0].optimum, slowdown=scale, derating=dict(best.derating),
-        reason=reason, binding=binding, grid_per_waypoint=model.grid_per_waypoint,
-        motors=motors, tasks=timed, idle=duty.idle, mix=duty.mix)
+        robot=models[0].robot if duty.mix is None else duty.robot, units=dict(units),
+        options=options, check=check, slowdown=scale, derating=dict(best.derating),
+        reason=reason, grid_per_waypoint=models[0].grid_per_waypoint, motors=motors,
+        tasks=tuple(timed), idle=duty.idle, mix=duty.mix)
 
 
 def _row(unit: Unit, result: FastestResult) -> RatioRow:
@@ -390,7 +217,7 @@ def _row(unit: Unit, result: FastestResult) -> RatioRow:
         if result.slowdown > 1.0 + 1e-9:
             how.append(f"x{result.slowdown:.4f}")
         note = f"{result.reason[0]} {result.reason[1]}: {', '.join(how)}"
-    return RatioRow(unit, result.mean_cycle_time, result.mean_optimum, False, note,
+    return RatioRow(unit, result.cycle_time, result.optimum, False, note,
                     (shares[0][0], shares[0][1]) if shares else None, result.reason, derating,
                     result.slowdown)
 

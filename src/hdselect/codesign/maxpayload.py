@@ -277,8 +277,8 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
         stop1 = np.concatenate([_per_kg(full.stop[:, j], none.stop[:, j])
                                 for none, full, _ in parts])
         wrench = None if not bearings else (
-            np.concatenate([w[0][k] for _, _, w in parts], axis=1),
-            np.concatenate([w[1][k] - w[0][k] for _, _, w in parts], axis=1),
+            np.concatenate([w[0][k] for _, _, w in parts if w is not None], axis=1),
+            np.concatenate([w[1][k] - w[0][k] for _, _, w in parts if w is not None], axis=1),
             options.bearing_offset.get(name, 0.0))
         rest, qd = samples.rest[:, j], samples.qd[:, j]
         cubic = joint_mean(samples.dt, rest, qd, tau0, tau1)

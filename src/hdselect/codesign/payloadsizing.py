@@ -176,7 +176,7 @@ def payload_tasks(duty: Duty, options: Options, frame: str | None,
         payload = per_kilogram(duty.robot.payload, frame=frame, com=com)
         carrying = duty.robot.with_payload(None).with_payload(payload)  # the frame must exist
         return (Task(carrying, duty.tasks(options, trajectory)[0].trajectory,
-                     name=duty.motions[0].path.name),)
+                     motion=duty.motions[0], name=duty.motions[0].path.name),)
     if frame is not None or com is not None or trajectory is not None:
         raise InputError("each task of a mix gives its own payload and trajectory",
                          field="frame" if frame is not None else

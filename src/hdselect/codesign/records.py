@@ -7,12 +7,12 @@ per case.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import replace
 from typing import Any
 
-import numpy as np
-
-from hdselect.codesign.fastest_cycle import FastestResult, RatioComparison
+from hdselect.codesign.bindings import Binding
+from hdselect.codesign.fastest_result import FastestResult, RatioComparison, TaskFastest
 from hdselect.codesign.maxpayload import MaxPayloadResult
 from hdselect.motion.motionfile import Motion
 from hdselect.sizing.records import (
@@ -24,32 +24,35 @@ from hdselect.sizing.records import (
 
 
 def fastest_json(result: FastestResult) -> dict[str, Any]:
-    """A co-design result as JSON: the cycle, what bounds it, and every joint's check."""
-    motion = result.motion
-    dwell = float(np.sum(motion.dwells))
+    """A co-design result as JSON: the cycle, what bounds it, and every joint's check.
+
+    A motion is a duty of one task. A mix adds ``mix``, ``units``, ``motors``, ``tasks``
+    (each task's cycle, limits and binding), ``idle_share`` and ``check`` (the duty's in
+    the ``size`` shape); its ``cycle_time_s``, ``moving_time_s``, ``dwell_time_s`` and
+    ``optimum_s`` are its tasks' weighted by their shares, ``samples`` theirs summed,
+    ``binding`` every task's stretches (each naming its ``task``), and a figure of one
+    task's path (``motion``, ``payload``, a joint's limits) is null unless it has one task.
+    """
+    alone = result.tasks[0] if len(result.tasks) == 1 else None
+    several = alone is None
     joints = []
     for joint in result.check.joints:
         (candidate,) = joint.candidates
-        lim = result.limits[joint.name]
         joints.append({
             "name": joint.name,
             "unit": candidate.unit.id,
-            "velocity_limit": lim.velocity,
-            "velocity_limit_source": lim.velocity_source,
-            "acceleration_limit": lim.acceleration,
-            "torque_limit_nm": lim.torque,
-            "motor": result.motors[joint.name].id if joint.name in result.motors else None,
-            "motor_torque_limit_nm": (lim.motor_torque if joint.name in result.motors
-                                      else None),
+            **_limits_json(alone, joint.name, result),
             "derating": result.derating.get(joint.name),
             "carried_mass_kg": joint.carried_mass,
             "binding_share": {limit: share for name, limit, share in result.binding_shares()
                               if name == joint.name},
             "candidate": candidate_json(candidate),
         })
-    return {
+    dwell = result.weighted([item.dwell_time for item in result.tasks])
+    check = size_json(result.check)
+    document = {
         "robot": str(result.robot.path),
-        "motion": str(motion.path),
+        "motion": None if alone is None else str(alone.motion.path),
         "cycle_time_s": result.cycle_time,
         "moving_time_s": result.cycle_time - dwell,
         "dwell_time_s": dwell,
@@ -58,35 +61,78 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
         "lengthened_by": None if result.reason is None else {
             "joint": result.reason[0], "rule": result.reason[1]},
         "grid_per_waypoint": result.grid_per_waypoint,
-        "samples": len(result.trajectory.t),
+        "samples": sum(len(item.task.trajectory.t) for item in result.tasks),
         "feasible": result.feasible,
-        "assumptions": size_json(result.check)["assumptions"],
+        "assumptions": check["assumptions"],
         "root_link": result.robot.root_link,
-        "payload": payload_json(result.robot),
+        "payload": None if alone is None else payload_json(alone.task.robot),
         "warnings": list(result.warnings),
         "joints": joints,
-        "binding": [{"start_s": b.start, "end_s": b.end, "joint": b.joint, "limit": b.limit,
-                     "utilization": b.utilization, "waypoints": list(b.waypoints)}
-                    for b in result.binding],
+        "binding": [_stretch_json(b, several) for b in result.binding],
     }
+    if result.mix is None:
+        return document
+    sized = result.robot.sized_joints
+    return {**document, "mix": str(result.mix.path),
+            "units": {name: result.units[name].id for name in sized},
+            "motors": {name: result.motors[name].id for name in sized if name in result.motors},
+            "tasks": [_task_json(item, result) for item in result.tasks],
+            "idle_share": result.idle, "check": check}
+
+
+def _limits_json(item: TaskFastest | None, name: str, result: FastestResult) -> dict[str, Any]:
+    """What bounded one joint along one task's path; nulls for a duty of several tasks."""
+    lim = None if item is None else item.limits[name]
+    motor = name in result.motors
+    return {"velocity_limit": None if lim is None else lim.velocity,
+            "velocity_limit_source": None if lim is None else lim.velocity_source,
+            "acceleration_limit": None if lim is None else lim.acceleration,
+            "torque_limit_nm": None if lim is None else lim.torque,
+            "motor": result.motors[name].id if motor else None,
+            "motor_torque_limit_nm": lim.motor_torque if motor and lim is not None else None}
+
+
+def _stretch_json(b: Binding, named: bool) -> dict[str, Any]:
+    """One stretch of what binds; `named`: it says its task (a duty of several)."""
+    return {**({"task": b.task} if named else {}), "start_s": b.start, "end_s": b.end,
+            "joint": b.joint, "limit": b.limit, "utilization": b.utilization,
+            "waypoints": list(b.waypoints)}
+
+
+def _task_json(item: TaskFastest, result: FastestResult) -> dict[str, Any]:
+    """One task of a duty at its fastest: its cycle, its limits and what binds it."""
+    task = item.task
+    return {"name": task.label, "share": task.share, "motion": str(item.motion.path),
+            "planned_cycle_s": item.planned, "optimum_s": item.optimum,
+            "cycle_time_s": item.cycle_time,
+            "cycles_per_hour": task.share * 3600.0 / item.cycle_time,
+            "moving_time_s": item.cycle_time - item.dwell_time,
+            "dwell_time_s": item.dwell_time, "samples": len(task.trajectory.t),
+            "payload": payload_json(task.robot),
+            "joints": [{"name": name, **_limits_json(item, name, result),
+                        "binding_share": {limit: share for joint, limit, share
+                                          in item.binding_shares() if joint == name}}
+                       for name in result.robot.sized_joints],
+            "binding": [_stretch_json(b, False) for b in item.binding]}
 
 
 def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
     """Every unit on every joint compared, as JSON; cycle times in s, null where none.
 
-    For a mix (``mix``, its ``tasks`` at the base units), each cycle time is the
-    share-weighted mean of its tasks' cycles (`FastestResult.mean_cycle_time`).
+    For a mix (``mix``, its ``tasks`` at the base units as `fastest_json` gives them;
+    ``motion`` null unless it has one task), each cycle time is the share-weighted mean
+    of its tasks' cycles (`FastestResult.cycle_time`).
     """
+    base = comparison.base
     mix = {} if comparison.mix is None else {
         "mix": str(comparison.mix.path),
-        "tasks": [{"name": item.task.label, "share": item.task.share,
-                   "cycle_time_s": item.cycle_time} for item in comparison.base.tasks]}
+        "tasks": [_task_json(item, base) for item in base.tasks]}
     return {
         "robot": str(comparison.robot.path),
-        "motion": str(comparison.motion.path),
+        "motion": str(base.tasks[0].motion.path) if len(base.tasks) == 1 else None,
         **mix,
         "units": {name: unit.id for name, unit in comparison.units.items()},
-        "cycle_time_s": comparison.base.mean_cycle_time,
+        "cycle_time_s": base.cycle_time,
         "joints": [{
             "name": joint.joint,
             "selected": joint.selected,
@@ -103,77 +149,70 @@ def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
     }
 
 
-def max_payload_json(result: MaxPayloadResult, motion: Motion) -> dict[str, Any]:
+def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> dict[str, Any]:
     """The largest payload as JSON.
 
     ``max_payload_kg`` is null when no mass fits and ``unlimited`` true when no rule
-    depends on the mass.
+    depends on the mass. A motion is a duty of one task. A mix's answer is a factor on
+    the payloads of its tasks in ``scaled``: it adds ``mix``, ``factor``, ``scaled``,
+    ``payloads_kg`` (their masses there), ``given_kg`` and ``ranges`` (of the factor);
+    ``max_payload_kg``, ``payload`` and ``ranges_kg`` are of the one task that scales
+    (null when several do), ``motion`` of its one task (null when it has several).
+
+    Args:
+        result: The largest payload.
+        motion: The motion named (default: the one task's, where the duty has one).
     """
-    payload = result.payload
-    selection = None
-    if result.selection is not None:
-        selection = size_json(replace(result.selection, motion=motion))
-    return {
-        "robot": str(result.selection.robot.path) if result.selection else None,
-        "motion": str(motion.path),
-        "max_payload_kg": finite_or_none(result.mass),
-        "unlimited": result.mass is not None and not math.isfinite(result.mass),
-        "payload": {"frame": result.frame, "frame_given": payload.frame is not None,
-                    "com_m": list(payload.com),
-                    "inertia_kg_m2_per_kg": [list(row) for row in payload.inertia]},
-        "ranges_kg": [[lo, finite_or_none(hi)] for lo, hi in result.ranges],
-        "binding": None if result.joint is None else {
-            "joint": result.joint, "unit": result.unit.id if result.unit else None,
-            "rule": result.rule},
-        "selection": selection,
-    }
-
-
-def mix_payload_json(result: MaxPayloadResult) -> dict[str, Any]:
-    """The largest payloads of a mix as JSON.
-
-    ``factor`` multiplies each task's payload named in ``scaled`` (mass and inertia);
-    ``payloads_kg`` gives their masses there. ``factor`` is null when no factor fits and
-    ``unlimited`` true when no rule depends on it.
-    """
-    finite = result.factor is not None and math.isfinite(result.factor)
+    x = result.mass
+    finite = x is not None and math.isfinite(x)
     selection = result.selection
-    return {
+    mix = result.mix
+    if motion is None and len(result.tasks) == 1:
+        motion = result.tasks[0].motion
+    if mix is None:
+        per_kg: float | None = 1.0  # one motion's payload is its shape at 1 kg
+    else:
+        per_kg = (next(iter(result.payloads.values())).mass if len(result.payloads) == 1
+                  else None)
+    payload = result.payload
+    document = {
         "robot": None if selection is None else str(selection.robot.path),
-        "mix": None if selection is None or selection.mix is None else str(selection.mix.path),
-        "factor": finite_or_none(result.factor),
-        "unlimited": result.factor is not None and not finite,
-        "scaled": list(result.scaled),
-        "payloads_kg": result.masses() if finite else None,
-        "given_kg": {name: payload.mass for name, payload in result.payloads.items()},
-        "ranges": [[lo, finite_or_none(hi)] for lo, hi in result.ranges],
+        "motion": None if motion is None else str(motion.path),
+        "max_payload_kg": None if per_kg is None else finite_or_none(
+            None if x is None else x * per_kg),
+        "unlimited": x is not None and not finite,
+        "payload": None if per_kg is None else {
+            "frame": result.frame, "frame_given": payload.frame is not None,
+            "com_m": list(payload.com),
+            "inertia_kg_m2_per_kg": [[value / per_kg for value in row]
+                                     for row in payload.inertia]},
+        "ranges_kg": None if per_kg is None else [
+            [lo * per_kg, finite_or_none(hi * per_kg)] for lo, hi in result.ranges],
         "binding": None if result.joint is None else {
             "joint": result.joint, "unit": result.unit.id if result.unit else None,
             "rule": result.rule},
-        "selection": None if selection is None else size_json(selection),
+        "selection": None if selection is None else size_json(
+            selection if mix is not None or motion is None
+            else replace(selection, motion=motion)),
     }
+    if mix is None:
+        return document
+    return {**document, "mix": str(mix.path), "factor": finite_or_none(x),
+            "scaled": list(result.scaled), "payloads_kg": result.masses() if finite else None,
+            "given_kg": {name: item.mass for name, item in result.payloads.items()},
+            "ranges": [[lo, finite_or_none(hi)] for lo, hi in result.ranges]}
 
 
-def mix_fastest_json(result: FastestResult) -> dict[str, Any]:
-    """The shortest cycle of each task of a mix as JSON, with the duty's check (``check``).
+_RENAMED = {"mix_fastest_json": ("fastest_json", fastest_json),
+            "mix_payload_json": ("max_payload_json", max_payload_json)}
 
-    ``motors`` names the motor of each joint that has one.
-    """
-    sized = result.robot.sized_joints
-    return {
-        "robot": str(result.check.robot.path),
-        "mix": str(result.mix.path if result.mix is not None else result.motion.path),
-        "units": {name: result.units[name].id for name in sized},
-        "motors": {name: result.motors[name].id for name in sized if name in result.motors},
-        "tasks": [{"name": item.task.label, "share": item.task.share,
-                   "planned_cycle_s": item.planned, "optimum_s": item.optimum,
-                   "cycle_time_s": item.cycle_time,
-                   "cycles_per_hour": item.task.share * 3600.0 / item.cycle_time}
-                  for item in result.tasks],
-        "idle_share": result.idle,
-        "slowdown": result.slowdown,
-        "lengthened_by": None if result.reason is None else {
-            "joint": result.reason[0], "rule": result.reason[1]},
-        "feasible": result.feasible,
-        "check": size_json(result.check),
-    }
+
+def __getattr__(name: str) -> Any:
+    """The mix's old writers, with a DeprecationWarning naming the one writer."""
+    if name in _RENAMED:
+        new, value = _RENAMED[name]
+        warnings.warn(f"hdselect.codesign.records.{name} is deprecated: use "
+                      f"hdselect.codesign.records.{new} (it writes a mix and a motion)",
+                      DeprecationWarning, stacklevel=2)
+        return value
+    raise AttributeError(f"module 'hdselect.codesign.records' has no attribute {name!r}")

@@ -33,7 +33,6 @@ from hdselect.codesign.cyclerules import (
 from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, slowdown_notes, solve
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
 from hdselect.motion.planning import Trajectory
-from hdselect.motion.planning.toppra import Profile
 from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors
@@ -72,29 +71,10 @@ class Trial:
     idle: float = 0.0
 
     @property
-    def profiles(self) -> list[Profile | None]:
-        """The first task's profiles."""
-        return self.legs[0].profiles
-
-    @property
-    def kinematic(self) -> list[float]:
-        """The first task's kinematic slow-downs [-]."""
-        return self.legs[0].kinematic
-
-    @property
-    def moving(self) -> float:
-        """The first task's time of the moves [s]."""
-        return self.legs[0].moving
-
-    @property
-    def dwell(self) -> float:
-        """The first task's time of the dwells [s]."""
-        return self.legs[0].dwell
-
-    @property
     def cycle_time(self) -> float:
-        """The first task's cycle at the slow-down [s] (the one a derating shortens)."""
-        return self.moving * self.scale + self.dwell
+        """One task's cycle at the slow-down [s] (a derating is tried for one task only)."""
+        (leg,) = self.legs
+        return leg.moving * self.scale + leg.dwell
 
 
 def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Sequence[float],
@@ -228,7 +208,8 @@ def derated(models: Sequence[PathModel], carrying: Sequence[Robot], units: Mappi
 
 def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
              motors: Mapping[str, Motor] | None = None, tasks: Sequence[Task] | None = None,
-             where: str = "") -> tuple[Trajectory, np.ndarray, SizingResult, float]:
+             where: str = "") -> tuple[Trajectory, np.ndarray, SizingResult, float,
+                                       tuple[np.ndarray, ...]]:
     """Every task's trajectory on its motion's grid and their check, slowed until all pass.
 
     Args:
@@ -242,7 +223,7 @@ def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
 
     Returns:
         The first task's trajectory, its dwell samples, the check (the tasks checked hold
-        every task's trajectory) and the slow-down [-].
+        every task's trajectory), the slow-down [-] and every task's dwell samples.
 
     Raises:
         PathInfeasible: No slow-down the check confirms lets every rule pass.
@@ -254,6 +235,7 @@ def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
                       max_samples=options.max_samples, notes=leg.notes) for leg in trial.legs]
         trajectories = tuple(trajectory for trajectory, _ in runs)
         held = runs[0][1]
+        helds = tuple(dwells for _, dwells in runs)
         if tasks is None:
             check = check_units(trial.legs[0].model.robot, trajectories[0], units, options,
                                 motors=motors)
@@ -265,9 +247,9 @@ def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
         excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks
                       if rule != "static"), default=0.0) / (1.0 - options.margin)
         if check.feasible:
-            passing = passing or (trajectories[0], held, check, scale)
+            passing = passing or (trajectories[0], held, check, scale, helds)
             if excess <= 1.0 - WRITTEN_MARGIN:
-                return trajectories[0], held, check, scale
+                return trajectories[0], held, check, scale, helds
         if any(not c.checks["static"].ok for c in candidates):
             break  # a held load: no speed helps
         scale *= max(math.sqrt(excess), 1.0 + 10.0 * WRITTEN_MARGIN)

@@ -15,7 +15,9 @@ from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioCom
 from hdselect.codesign.maxpayload import MaxPayloadResult
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.report.case_tables import case_notes
+from hdselect.report.size_tables import size_table
 from hdselect.report.tables import Column, FittedTable, Paragraphs
+from hdselect.report.task_tables import task_tables
 from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.robot.model import Robot
 from hdselect.sizing.records import assumptions, base_text
@@ -34,20 +36,38 @@ _SHORT_LIMITS = {"velocity (motion file)": "speed", "velocity (robot file)": "sp
                  "emergency stop": "e-stop", "crash": "crash"}
 
 
+def fastest_tables(result: FastestResult) -> list[FittedTable | str]:
+    """What ``fastest`` prints: a mix's tasks, then every joint and what binds it.
+
+    A motion is a duty of one task: it has no table of tasks.
+    """
+    tasks: list[FittedTable | str] = ([] if result.mix is None
+                                      else [fastest_tasks_table(result), ""])
+    return [*tasks, fastest_table(result), "", binding_table(result)]
+
+
 def fastest_table(result: FastestResult) -> FittedTable:
     """One row per sized joint: its unit, the limits it ran under, what bound it, its rules.
 
-    Speeds are in the motion file's angle unit per second (the sized joints are rotary).
+    Speeds are in the motion file's angle unit per second (the sized joints are rotary);
+    a mix's limits are the lowest over its tasks, its binding over the duty's moving time.
 
     On a narrow terminal the limits, then what binds longest, then the life move below;
     the joint, its unit and its highest rule stay.
     """
-    robot, motion = result.robot, result.motion
-    per_rad = 1.0 / ANGLE_UNITS[motion.angle_unit]  # speeds in the file's angle unit
-    pieces = 1 + int(np.count_nonzero(motion.dwells[1:-1] > 0.0))
-    title = (f"{motion.path.name} on {robot.path.name}: fastest cycle {result.cycle_time:.3f} s "
-             f"({len(motion.waypoints)} waypoints, {pieces} piece{'s' if pieces > 1 else ''})"
-             f"\n{base_text(robot)}")
+    robot, alone = result.robot, result.tasks[0] if len(result.tasks) == 1 else None
+    angle = _angle_unit(result)
+    per_rad = 1.0 / ANGLE_UNITS[angle]  # speeds in the files' angle unit
+    if alone is not None:
+        motion = alone.motion
+        pieces = 1 + int(np.count_nonzero(motion.dwells[1:-1] > 0.0))
+        title = (f"{motion.path.name} on {robot.path.name}: fastest cycle "
+                 f"{result.cycle_time:.3f} s ({len(motion.waypoints)} waypoints, {pieces} "
+                 f"piece{'s' if pieces > 1 else ''})\n{base_text(alone.task.robot)}")
+    else:
+        name = result.mix.path.name if result.mix is not None else "the duty"
+        title = (f"{name} on {robot.path.name}: fastest cycle {result.cycle_time:.3f} s (its "
+                 f"{len(result.tasks)} tasks' weighted by their shares)")
     columns = (Column("joint", "left"), Column("unit", "left"), Column("rule", "left"),
                Column("speed\nlimit", "left", group="limits"),
                Column("torque\nlimit", group="limits"),
@@ -58,7 +78,9 @@ def fastest_table(result: FastestResult) -> FittedTable:
     rows, styles = [], []
     for joint in result.check.joints:
         (candidate,) = joint.candidates
-        lim = result.limits[joint.name]
+        lim = min((item.limits[joint.name] for item in result.tasks),
+                  key=lambda each: each.velocity)
+        torque = min(item.limits[joint.name].torque for item in result.tasks)
         derated = result.derating.get(joint.name)
         bound = shares.get(joint.name)
         check = candidate.checks[candidate.binding]
@@ -68,23 +90,38 @@ def fastest_table(result: FastestResult) -> FittedTable:
         rows.append((
             escape(joint.name), escape(candidate.unit.id) + ("*" if candidate.flags else ""),
             rule, f"{lim.velocity * per_rad:.3g} {_SOURCES[lim.velocity_source]}",
-            f"{lim.torque:.3g}" + (f" ({derated:.0%})" if derated else ""),
+            f"{torque:.3g}" + (f" ({derated:.0%})" if derated else ""),
             "-" if bound is None else f"{_SHORT_LIMITS[bound[0]]} {percent(bound[1])}",
             life_text(candidate.life_hours, "")))
         styles.append(None if check.ok else "bold")
     return FittedTable(title, columns, tuple(rows), tuple(styles),
-                       tuple(_fastest_notes(result)))
+                       tuple(_fastest_notes(result, angle)))
 
 
-def _fastest_notes(result: FastestResult) -> list[str]:
-    motion = result.motion
-    moving = result.cycle_time - float(np.sum(motion.dwells))
-    notes = [f"Moving {moving:.3f} s, dwells {float(np.sum(motion.dwells)):.3f} s, "
-             f"{len(result.trajectory.t):,} samples every {result.trajectory.dt * 1e3:g} ms."]
+def _angle_unit(result: FastestResult) -> str:
+    """The tasks' motion files' angle unit, where they agree; else degrees."""
+    units = {item.motion.angle_unit for item in result.tasks}
+    return units.pop() if len(units) == 1 else "deg"
+
+
+def _fastest_notes(result: FastestResult, angle: str) -> list[str]:
+    alone = result.tasks[0] if len(result.tasks) == 1 else None
+    if alone is not None:
+        motion = alone.motion
+        notes = [f"Moving {result.cycle_time - alone.dwell_time:.3f} s, dwells "
+                 f"{alone.dwell_time:.3f} s, {len(result.trajectory.t):,} samples every "
+                 f"{result.trajectory.dt * 1e3:g} ms."]
+        weighted = ""
+    else:
+        notes = ["; ".join(f"{item.task.label}: moving {item.cycle_time - item.dwell_time:.3f}"
+                           f" s, dwells {item.dwell_time:.3f} s" for item in result.tasks)
+                 + "."]
+        weighted = ", the tasks' weighted by their shares"
     if result.reason is None:
         notes.append(f"Every rule holds on the time-optimal run under the limits on single "
-                     f"samples ({result.optimum:.3f} s): no shorter cycle passes, to the grid's "
-                     f"resolution ({result.grid_per_waypoint} TOPPRA gridpoints per waypoint).")
+                     f"samples ({result.optimum:.3f} s{weighted}): no shorter cycle passes, to "
+                     f"the grid's resolution ({result.grid_per_waypoint} TOPPRA gridpoints per "
+                     "waypoint).")
     else:
         joint, rule = result.reason
         how = [f"{name}'s repeated-peak limit derated to {value:.0%}"
@@ -92,27 +129,32 @@ def _fastest_notes(result: FastestResult) -> list[str]:
         if result.slowdown > 1.0 + 1e-9:
             how.append(f"the moves slowed x{result.slowdown:.4f}")
         notes.append(f"The time-optimal run under the limits on single samples takes "
-                     f"{result.optimum:.3f} s; {joint}'s {rule} rule fails there, so "
+                     f"{result.optimum:.3f} s{weighted}; {joint}'s {rule} rule fails there, so "
                      f"{' and '.join(how)} (the shortest cycle found that passes).")
-    stops = [str(i) for i in range(len(motion.waypoints)) if motion.dwells[i] > 0.0]
-    path = ("the TOPPRA planner's path" if motion.planner == "toppra" else
-            "a clamped cubic spline through the waypoints, knots at each segment's time at "
-            "the motion's velocity limits")
-    notes.append(f"Path: {path}; it stops only where the motion dwells"
-                 f"{' (waypoint ' + ', '.join(stops) + ')' if stops else ''}, and keeps "
-                 "the dwells." + (" Ruckig's jerk limits do not apply: TOPPRA runs at a "
-                                  "piecewise-constant path acceleration."
-                                  if motion.jerk_limit is not None else ""))
+    if alone is not None:
+        stops = [str(i) for i in range(len(motion.waypoints)) if motion.dwells[i] > 0.0]
+        path = ("the TOPPRA planner's path" if motion.planner == "toppra" else
+                "a clamped cubic spline through the waypoints, knots at each segment's time at "
+                "the motion's velocity limits")
+        notes.append(f"Path: {path}; it stops only where the motion dwells"
+                     f"{' (waypoint ' + ', '.join(stops) + ')' if stops else ''}, and keeps "
+                     "the dwells." + (" Ruckig's jerk limits do not apply: TOPPRA runs at a "
+                                      "piecewise-constant path acceleration."
+                                      if motion.jerk_limit is not None else ""))
+    lowest = "" if alone is not None else " (a mix: the lowest over its tasks)"
     notes.append("rule: the rule with the highest utilization on the result (* catalog "
-                 f"stand-in). speed limit [{motion.angle_unit}/s, the motion file's angle "
+                 f"stand-in). speed limit [{angle}/s, the motion file's angle "
                  "unit]: the lowest of the "
-                 "motion file's, the robot file's and the unit's (maximum input speed / ratio). "
-                 "torque limit [N m]: the unit's repeated peak (derated: the fraction kept). "
-                 "binds longest: the joint's limit that is the closest to its bound of all for "
-                 "the longest share of the moving time.")
+                 "motion file's, the robot file's and the unit's (maximum input speed / ratio)"
+                 f"{lowest}. torque limit [N m]: the unit's repeated peak (derated: the "
+                 "fraction kept). binds longest: the joint's limit that is the closest to its "
+                 "bound of all for the longest share of the moving time"
+                 + ("." if alone is not None else " (of the duty: each task's as often as "
+                    "it runs)."))
     notes.append("Assumptions: " + "; ".join(f"{k}: {v}" for k, v in
                                               assumptions(result.check).items()))
-    notes += case_notes(result.robot, result.trajectory)
+    notes += case_notes(result.robot, [item.task.trajectory for item in result.tasks]
+                        if alone is None else result.trajectory)
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.check.joints
                for c in joint.candidates for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
@@ -121,18 +163,21 @@ def _fastest_notes(result: FastestResult) -> list[str]:
 
 
 def binding_table(result: FastestResult) -> FittedTable:
-    """The limit closest to its bound, stretch by stretch along the moves."""
-    columns = (Column("from s"), Column("to s"), Column("joint", "left"),
-               Column("limit", "left"), Column("peak"),
-               Column("waypoints", "left", group="waypoints"))
-    rows = tuple((f"{b.start:.3f}", f"{b.end:.3f}", escape(b.joint), b.limit,
-                  percent(b.utilization), f"{b.waypoints[0]} to {b.waypoints[1]}")
-                 for b in result.binding)
+    """The limit closest to its bound, stretch by stretch along the moves (each task's)."""
+    named = len(result.tasks) > 1
+    columns = ((Column("task", "left"),) if named else ()) + (
+        Column("from s"), Column("to s"), Column("joint", "left"),
+        Column("limit", "left"), Column("peak"),
+        Column("waypoints", "left", group="waypoints"))
+    rows = tuple(((escape(b.task),) if named else ()) + (
+        f"{b.start:.3f}", f"{b.end:.3f}", escape(b.joint), b.limit,
+        percent(b.utilization), f"{b.waypoints[0]} to {b.waypoints[1]}")
+        for b in result.binding)
     return FittedTable(
         "What binds along the moves", columns, rows,
         notes=("peak: the largest demand / limit over the stretch (torque against the limit "
                "before any derating). A stretch under 1 % of the moving time joins its "
-               "neighbour.",))
+               "neighbour." + (" from s, to s: in the task's own cycle." if named else ""),))
 
 
 def ratios_table(comparison: RatioComparison, joint: JointRatios) -> FittedTable:
@@ -193,62 +238,75 @@ def _planned_name(comparison: RatioComparison) -> str:
             "shares)")
 
 
-def max_payload_text(result: MaxPayloadResult, robot: Robot, motion: Motion) -> Paragraphs:
-    """The largest payload, where it sits, and which joint runs out of units there."""
-    payload = result.payload
-    where = (f"on '{result.frame}'"
-             + ("" if payload.frame is not None else
-                " (the tip of the longest chain of joints not excluded: no frame was given)")
-             + f", centre of mass ({', '.join(f'{c:g}' for c in payload.com)}) m")
-    inertia = np.asarray(payload.inertia)
-    if inertia.any():
-        where += (f", inertia about it {np.diag(inertia)[0]:.3g}, {np.diag(inertia)[1]:.3g}, "
-                  f"{np.diag(inertia)[2]:.3g} kg m² per kg (diagonal)")
-    head = f"{robot.path.name} running {motion.path.name} ({motion.planner})"
-    if result.mass is None:
-        return Paragraphs((f"{head}: no payload mass, not even none, leaves every joint a "
-                           f"feasible unit ({where}).",))
-    if not math.isfinite(result.mass):
-        return Paragraphs((f"{head}: no rule depends on the payload mass {where}: no limit.",))
-    lines = [f"{head}: the largest payload is {result.mass:.4g} kg {where}."]
-    lines.append(f"{result.joint} runs out of units there: {result.unit.id if result.unit else '-'}"
-                 f" reaches its {result.rule} limit. Torque is affine in the payload mass on a "
-                 "fixed trajectory, so each rule's limit is solved exactly; the inertia about the "
-                 "centre of mass grows with the mass.")
+def max_payload_tables(result: MaxPayloadResult, robot: Robot) -> list[object]:
+    """What ``max-payload`` prints: the answer, then the selection there (a mix's tasks too).
+
+    Args:
+        result: The largest payload.
+        robot: The robot as the command read it.
+    """
+    text = max_payload_text(result, robot, result.tasks[0].motion)
+    if result.selection is None:
+        return [text]
+    return [text, "", size_table(result.selection), *task_tables(result.selection)]
+
+
+def max_payload_text(result: MaxPayloadResult, robot: Robot,
+                     motion: Motion | None = None) -> Paragraphs:
+    """The largest payload, where it sits, and which joint runs out of units there.
+
+    One motion's answer is a mass on its payload's shape; a mix's (`motion` None) one
+    factor on its tasks' payloads as given, mass and inertia alike.
+    """
+    x = result.mass
+    one = motion if result.mix is None else None  # a mix's tasks name their motions
+    if one is not None:
+        payload = result.payload
+        where = (f"on '{result.frame}'"
+                 + ("" if payload.frame is not None else
+                    " (the tip of the longest chain of joints not excluded: no frame was given)")
+                 + f", centre of mass ({', '.join(f'{c:g}' for c in payload.com)}) m")
+        inertia = np.asarray(payload.inertia)
+        if inertia.any():
+            diagonal = np.diag(inertia)
+            where += (f", inertia about it {diagonal[0]:.3g}, {diagonal[1]:.3g}, "
+                      f"{diagonal[2]:.3g} kg m² per kg (diagonal)")
+        head = f"{robot.path.name} running {one.path.name} ({one.planner})"
+        nothing = f"no payload mass, not even none, leaves every joint a feasible unit ({where})."
+        unlimited = f"no rule depends on the payload mass {where}: no limit."
+    else:
+        name = result.mix.path.name if result.mix is not None else "the mix"
+        given = ", ".join(f"{task} {item.mass:g} kg" for task, item in result.payloads.items())
+        head = (f"{robot.path.name} running {name}: the payloads of "
+                f"{', '.join(result.scaled)} (as given: {given}) scaled by one factor, mass "
+                "and inertia alike")
+        nothing = "no factor, not even 0, leaves every joint a feasible unit."
+        unlimited = "no rule depends on them: no limit."
+    if x is None or not math.isfinite(x):
+        return Paragraphs((f"{head}: {nothing if x is None else unlimited}",))
+    if one is not None:
+        answer, at, kg, of = f"the largest payload is {x:.4g} kg {where}.", f"{x:.4g} kg", " kg", ""
+        how = (". Torque is affine in the payload mass on a fixed trajectory, so each rule's "
+               "limit is solved exactly; the inertia about the centre of mass grows with the "
+               "mass.")
+    else:
+        masses = ", ".join(f"{task} {mass:.4g} kg" for task, mass in result.masses().items())
+        answer, at, kg, of = (f"the largest factor is {x:.4g}: {masses}.",
+                              f"a factor of {x:.4g}", "", "for factors ")
+        how = (" over the duty (rules of single samples: the worst task; mean torque and life: "
+               "every task pooled at its share). Torque is affine in the factor on fixed "
+               "trajectories, so each rule's limit is solved exactly.")
+    lines = [f"{head}: {answer}",
+             f"{result.joint} runs out of units there: {result.unit.id if result.unit else '-'}"
+             f" reaches its {result.rule} limit{how}"]
     if len(result.ranges) > 1 or result.ranges[0][0] > 0.0:
-        spans = ", ".join(f"{lo:.4g} to {hi:.4g} kg" for lo, hi in result.ranges)
-        lines.append(f"Every joint has a unit only from {spans}.")
-    lines.append(f"The selection at {result.mass:.4g} kg:")
+        spans = ", ".join(f"{lo:.4g} to {hi:.4g}{kg}" for lo, hi in result.ranges)
+        lines.append(f"Every joint has a unit only {of}from {spans}.")
+    lines.append(f"The selection at {at}:")
     return Paragraphs(tuple(lines))
 
 
-def mix_payload_text(result: MaxPayloadResult, robot: Robot) -> Paragraphs:
-    """The largest payloads of a mix, which tasks they are, and where the duty binds."""
-    name = result.selection.mix.path.name if (result.selection is not None and
-                                              result.selection.mix is not None) else "the mix"
-    given = ", ".join(f"{task} {payload.mass:g} kg" for task, payload in result.payloads.items())
-    head = (f"{robot.path.name} running {name}: the payloads of {', '.join(result.scaled)} "
-            f"(as given: {given}) scaled by one factor, mass and inertia alike")
-    if result.factor is None:
-        return Paragraphs((f"{head}: no factor, not even 0, leaves every joint a feasible "
-                           "unit.",))
-    if not math.isfinite(result.factor):
-        return Paragraphs((f"{head}: no rule depends on them: no limit.",))
-    masses = ", ".join(f"{task} {mass:.4g} kg" for task, mass in result.masses().items())
-    lines = [f"{head}: the largest factor is {result.factor:.4g}: {masses}.",
-             f"{result.joint} runs out of units there: "
-             f"{result.unit.id if result.unit else '-'} reaches its {result.rule} limit "
-             "over the duty (rules of single samples: the worst task; mean torque and life: "
-             "every task pooled at its share). Torque is affine in the factor on fixed "
-             "trajectories, so each rule's limit is solved exactly."]
-    if len(result.ranges) > 1 or result.ranges[0][0] > 0.0:
-        spans = ", ".join(f"{lo:.4g} to {hi:.4g}" for lo, hi in result.ranges)
-        lines.append(f"Every joint has a unit only for factors from {spans}.")
-    lines.append(f"The selection at a factor of {result.factor:.4g}:")
-    return Paragraphs(tuple(lines))
-
-
-def mix_fastest_table(result: FastestResult) -> FittedTable:
+def fastest_tasks_table(result: FastestResult) -> FittedTable:
     """Each task of a mix: its planned cycle, its optimum and its shortest over the duty."""
     columns = (Column("task", "left"), Column("share"), Column("planned s"),
                Column("optimum s"), Column("fastest s"), Column("cycles/h"))
@@ -270,6 +328,6 @@ def mix_fastest_table(result: FastestResult) -> FittedTable:
     notes = (f"units: {units}", why,
              "optimum: TOPPRA under the motion's and the units' limits on single samples; "
              "the shares of the time are held, so a faster cycle runs more often")
-    name = result.mix.path.name if result.mix is not None else result.motion.path.name
+    name = result.mix.path.name if result.mix is not None else "the duty"
     return FittedTable(f"{name}: the shortest cycle of each task with these units",
                        columns, rows, notes=notes)

@@ -29,15 +29,16 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
-from hdselect.base.errors import HdselectError, InputError
-from hdselect.codesign.choice import resolve_units
+from hdselect.base.errors import HdselectError
+from hdselect.codesign.choice import choose, duty_of
 from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.records import fastest_json, max_payload_json
 from hdselect.motion.loading import robot_for_motion
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import plan
+from hdselect.motion.planning import plan, solve_motion
+from hdselect.sizing.arguments import checked_motors
 from hdselect.sizing.core import size_problem
 from hdselect.sizing.mixtasks import mix_tasks
 from hdselect.sizing.problem import Problem
@@ -122,11 +123,10 @@ def _bearing_fields(joint: dict[str, Any]) -> dict[str, Any]:
             "bearing_life_l10_h": joint.get("bearing_life_l10_hours")}
 
 
-def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
-    """One case on its own: its `Problem` planned as `hdselect.size` plans it, run s times slower.
+def case_problem(case: Case, inputs: Inputs | None = None) -> Problem:
+    """One case's `Problem`, planned as `hdselect size` plans it (not yet run s times slower).
 
     A motion file is one task; a mix file's tasks take the case's shares and payloads.
-    Both are sized by the core's `size_problem`.
 
     Raises:
         HdselectError: An input is bad or a motion cannot be planned.
@@ -146,10 +146,31 @@ def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
         robot = robot_for_motion(bare, source, payload=payload, mounting=case.mounting)
         tasks, idle = (Task(robot, plan(robot, source, max_samples=options.max_samples),
                             motion=source),), 0.0
-    tasks = tuple(replace(task, trajectory=scaled(task.trajectory, case.time_scale))
-                  for task in tasks)
-    return summarize(size_problem(Problem(robot, source, inputs.catalog(case), options,
-                                          inputs.motors(case, robot, source), tasks, idle)))
+    return Problem(robot, source, inputs.catalog(case), options,
+                   inputs.motors(case, robot, source), tasks, idle)
+
+
+def _slower(problem: Problem, time_scale: float) -> Problem:
+    """The problem with every task run `time_scale` times slower [-]."""
+    return replace(problem, tasks=tuple(
+        replace(task, trajectory=scaled(task.trajectory, time_scale)) for task in problem.tasks))
+
+
+def _codesign_problem(problem: Problem) -> Problem:
+    """The problem as co-design takes it: its motors checked, one motion's tool poses solved."""
+    source = problem.source
+    return replace(problem, source=solve_motion(problem.robot, source)
+                   if isinstance(source, Motion) else source,
+                   motors=checked_motors(problem.robot, problem.motors, problem.options))
+
+
+def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
+    """One case on its own: its `Problem` (`case_problem`) run s times slower, sized.
+
+    Raises:
+        HdselectError: An input is bad or a motion cannot be planned.
+    """
+    return summarize(size_problem(_slower(case_problem(case, inputs), case.time_scale)))
 
 
 def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
@@ -185,47 +206,43 @@ SIZE = Computation("size", "choose a gearhead for every joint (hdselect size)", 
 def fastest_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     """One case's shortest cycle: ``hdselect fastest`` with `size`'s units for the case.
 
-    The units are those `size` selects for the motion run ``time_scale`` times slower,
-    from the case's catalog and ratio; the result is `hdselect.codesign.records.fastest_json`.
+    The units (and the motor paired with each) are those `size` selects for the case's
+    motion or mix run ``time_scale`` times slower, from the case's catalog and ratio; the
+    result is `hdselect.codesign.records.fastest_json`.
 
     Raises:
-        HdselectError: An input is bad, the motion is a log, or the path cannot be run.
+        HdselectError: An input is bad, a motion is a log, or the path cannot be run.
     """
-    inputs = inputs or Inputs()
-    robot, motion, payload = inputs.case(case)
-    units = inputs.catalog(case)
-    options = case_options(case, motion)
-    carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
-    sized = (None if case.time_scale == 1.0 else
-             scaled(plan(carrying, motion, max_samples=options.max_samples), case.time_scale))
-    chosen, _ = resolve_units(carrying, motion, None, units, options, trajectory=sized)
-    return fastest_json(fastest(carrying, motion, chosen, options, catalog=units))
+    problem = _codesign_problem(case_problem(case, inputs))
+    duty, options, catalog, candidates = duty_of(_slower(problem, case.time_scale), None,
+                                                 None, None, None)
+    chosen, _, paired = choose(duty.robot, duty, None, catalog, options, candidates)
+    motors = {**problem.motors, **{name: (motor,) for name, motor in paired.items()}}
+    return fastest_json(fastest(replace(problem, motors=motors), units=chosen))
 
 
 def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
-    """One case's largest payload: ``hdselect max-payload`` on the case's trajectory.
+    """One case's largest payload: ``hdselect max-payload`` on the case's trajectories.
 
-    The payload's shape (frame, centre of mass, inertia per kg) is the case's; its mass
-    is what is found. The result is `hdselect.codesign.records.max_payload_json` with the
-    selection as `Summary.to_dict` (the shape a ``size`` case records).
+    One motion's payload shape (frame, centre of mass, inertia per kg) is the case's and
+    its mass is what is found; a mix's payloads (the case's) scale by one factor. The
+    tasks are run ``time_scale`` times slower. The result is
+    `hdselect.codesign.records.max_payload_json` with the selection as
+    `Summary.to_dict` (the shape a ``size`` case records).
 
     Raises:
-        HdselectError: An input is bad or the motion's plan depends on the payload.
+        HdselectError: An input is bad or a motion's plan depends on the payload.
     """
-    inputs = inputs or Inputs()
-    robot, motion, payload = inputs.case(case)
-    units = inputs.catalog(case)
-    options = case_options(case, motion)
-    carrying = robot_for_motion(robot, motion, payload=payload, mounting=case.mounting)
-    trajectory = None
-    if case.time_scale != 1.0 and not plan_depends_on_payload(motion):  # else refused below
-        trajectory = scaled(plan(carrying, motion, max_samples=options.max_samples),
-                            case.time_scale)
-    result = max_payload(carrying, motion, options, catalog=units, trajectory=trajectory)
-    document = max_payload_json(replace(result, selection=None), motion)
-    document["robot"] = str(carrying.path)
+    problem = _codesign_problem(case_problem(case, inputs))
+    if case.time_scale != 1.0 and not any(plan_depends_on_payload(task.motion)
+                                          for task in problem.tasks
+                                          if task.motion is not None):  # else refused below
+        problem = _slower(problem, case.time_scale)
+    result = max_payload(problem)
+    document = max_payload_json(replace(result, selection=None))
+    document["robot"] = str(problem.robot.path)
     if result.selection is not None:
-        document["selection"] = summarize(replace(result.selection, motion=motion)).to_dict()
+        document["selection"] = summarize(result.selection).to_dict()
     return document
 
 
@@ -247,10 +264,6 @@ def _each(cases: Sequence[Case],
     for case in cases:
         start = time.perf_counter()
         try:
-            if is_mix_case(case):  # their JSON is a duty's, not these rows'
-                raise InputError(f"{case.compute} of a mix file is not a study computation "
-                                 f"yet; run `hdselect {case.compute}` on it, or compute size",
-                                 field="compute")
             result = compute(case, inputs)
         except HdselectError as err:
             yield _failed(case, err, "direct", start, host)
@@ -290,8 +303,10 @@ def fastest_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     return rows
 
 
-MAX_PAYLOAD_COLUMNS = (*SIZE_COLUMNS, "max_payload_kg", "payload_frame", "payload_limit")
-"""Per-joint columns of a ``max-payload`` row: the selection at the largest mass."""
+MAX_PAYLOAD_COLUMNS = (*SIZE_COLUMNS, "max_payload_kg", "payload_frame", "payload_limit",
+                       "payload_factor")
+"""Per-joint columns of a ``max-payload`` row: the selection at the largest payload; last,
+``payload_factor``: for a mix, the largest factor on its tasks' payloads."""
 
 
 def max_payload_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
@@ -299,12 +314,16 @@ def max_payload_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
 
     ``payload_limit`` names, on the joint that runs out of units, the unit and the rule
     it reaches; ``max_payload_kg`` is inf where no rule depends on the mass and empty
-    where no mass, not even none, fits.
+    where no mass, not even none, fits (or, in a mix, where several tasks' payloads
+    scale: ``payload_factor`` is then the answer, each task's mass in the record).
     """
-    mass = math.inf if result["unlimited"] else result["max_payload_kg"]
-    head = {"max_payload_kg": mass, "payload_frame": result["payload"]["frame"]}
+    unlimited = result["unlimited"]
+    head = {"max_payload_kg": math.inf if unlimited else result["max_payload_kg"],
+            "payload_frame": None if result["payload"] is None else result["payload"]["frame"],
+            "payload_factor": None if "factor" not in result
+            else math.inf if unlimited else result["factor"]}
     if result["selection"] is None:
-        why = ("no rule depends on the payload mass" if result["unlimited"] else
+        why = ("no rule depends on the payload mass" if unlimited else
                "no mass, not even none, leaves every joint a unit")
         return [{**head, "payload_limit": why}]
     binding = result["binding"] or {}
