@@ -257,9 +257,10 @@ class Rule:
 
         The rule holds where the utilization is at most `share`. `judge` finds the
         utilization; a rule that finds it otherwise (the motor's worst sample) gives it.
+        `detail` becomes the check's own: pass a dict made for it.
         """
-        return Check(value, limit, utilization <= self.share(margin), utilization,
-                     dict(detail or {}))
+        return Check(value, limit, utilization <= _share(margin, self.margin_applies),
+                     utilization, {} if detail is None else detail)
 
     def passes(self, utilization: np.ndarray, margin: float) -> np.ndarray:
         """`judge`'s verdict on many utilizations at once (a prefilter's) [-]."""
