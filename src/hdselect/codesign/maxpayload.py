@@ -257,16 +257,18 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
         carrying = task.robot.with_payload(None).with_gearheads(masses)
         args = (traj.q, traj.qd, traj.qdd)
         payload = task.robot.payload
+        # without the scaled payload and with it; a task that keeps its payload: one pass
         ends = ((carrying, carrying.with_payload(payload))
                 if task.label in scaled and payload is not None
-                else (task.robot.with_gearheads(masses),) * 2)
-        none, full = (cycle_torques(end, *args, options.stop_time, threads=options.threads)
-                      for end in ends)
+                else (task.robot.with_gearheads(masses),))
+        torques = [cycle_torques(end, *args, options.stop_time, threads=options.threads)
+                   for end in ends]
         wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
         if bearings:
-            wrenches = [axis_wrenches(end, *args, names, threads=options.threads)
-                        for end in ends]
-        parts.append((none, full, wrenches))
+            found = [axis_wrenches(end, *args, names, threads=options.threads)
+                     for end in ends]
+            wrenches = [found[0], found[-1]]
+        parts.append((torques[0], torques[-1], wrenches))
     out = {}
     for k, name in enumerate(names):
         j = robot.joint_index(name)
