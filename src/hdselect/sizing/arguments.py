@@ -109,7 +109,7 @@ def units_argument(units: object, field: str = "units") -> tuple[Unit, ...]:
     return tuple(units)
 
 
-def catalog_units(catalog: object) -> tuple[Unit, ...]:
+def loaded_units(catalog: object) -> tuple[Unit, ...]:
     """The units of a loaded `catalog` argument; None is the built-in catalog.
 
     Raises:

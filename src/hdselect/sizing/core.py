@@ -35,10 +35,10 @@ from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import (
     OptionValues,
-    catalog_units,
     check_bearing_options,
     check_trajectory,
     checked_motors,
+    loaded_units,
     units_as_catalog,
 )
 from hdselect.sizing.joint import JointCycle, size_joint, task_checks
@@ -207,7 +207,7 @@ def size_tasks(tasks: Sequence[Task], catalog: Sequence[Unit] | None = None,
     tasks = _tasks_argument(tasks, idle)
     if units is not None:
         catalog = units_as_catalog(units, catalog, "size_tasks")
-    units = catalog_units(catalog)
+    units = loaded_units(catalog)
     expect_type(options, (Options, type(None)), "options", "an Options or None")
     expect_type(slowdowns, (bool,), "slowdowns", "True or False")
     robot = tasks[0].robot
