@@ -437,3 +437,18 @@ def test_a_study_names_a_builtin_catalog(tmp_path: Path) -> None:
     (root / "psa-g").write_text("", encoding="utf-8")
     with pytest.raises(InputError, match=r"'psa-g' is both a built-in catalog and the file"):
         load_study(path)
+
+
+def test_a_note_on_every_unit_of_a_catalog_is_said_once(tmp_path: Path,
+                                                        capsys: pytest.CaptureFixture[str]) -> None:
+    path = altered(tmp_path, "static_torque_nm = 60.0\n", "")
+    text = path.read_text(encoding="utf-8").replace("repeated_torque_nm = 60.0",
+                                                    "repeated_torque_nm = 1260.0")
+    path.write_text(text, encoding="utf-8")
+    assert main(["catalog", "--catalog", str(path), "--series", "ZX"]) == 0
+    out = capsys.readouterr().out
+    assert " ".join(out.split()).count("static limit not rated by the source") == 1
+    assert "zx-test (every unit): static limit not rated by the source" in out
+    assert "ZX-25-100-T: momentary limit not rated by the source" in out  # one unit's own
+    row = next(line for line in out.splitlines() if line.startswith("ZX-25-100-T"))
+    assert row.split()[2] == "1260"  # whole, never 1.26e+03
