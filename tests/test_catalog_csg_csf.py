@@ -8,12 +8,16 @@ disagreement (resolved to the lower limit), and every numeric key must carry its
 
 from __future__ import annotations
 
+import json
 import math
 import tomllib
 from pathlib import Path
 from typing import Any
 
 import pytest
+
+from hdselect.catalog.catalogfile import load_catalog
+from hdselect.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "src" / "hdselect" / "catalog" / "data"
@@ -221,3 +225,101 @@ def test_t4_confirms_the_csg_bearing_for_sizes_50_and_65() -> None:
         # t2's 497 and 1175 N m/arcmin are t4's 171 and 404 x10^4 N m/rad to 3 figures
         assert float(f"{bearing['moment_stiffness_nm_per_rad']:.3g}") == km
 
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_built_in_by_name_with_its_sources_and_flags(name: str) -> None:
+    """`load_catalog(["csg-2uh"])` reads the file: every unit, its provenance, its flags."""
+    catalog = name.replace("_", "-")
+    units = [u for u in load_catalog([catalog]) if u.series == SHIPPED[name]["series"]]
+    assert [u.id for u in units] == sorted(
+        (u["id"] for u in _units(name)), key=lambda i: tuple(int(p) for p in i.split("-")[1:3]))
+    for unit in units:
+        assert unit.catalog is not None and unit.catalog.name == catalog
+        kinds = {flag.kind for flag in unit.flags}
+        assert {"transcription", "not-rated"} <= kinds  # said on every result of the unit
+        assert unit.static_torque is None and unit.rules.missing_limits == "not-rated"
+        row = next(u for u in _units(name) if u["id"] == unit.id)
+        for key in _shipped_numbers(row):
+            assert key in unit.provenance, f"{unit.id} {key}"
+        assert unit.mass == row["mass_kg"]
+        assert unit.input_inertia == pytest.approx(row["input_inertia_kg_cm2"] * 1e-4,
+                                                   rel=1e-12)
+        if "bearing" in row:
+            assert unit.bearing is not None
+            assert unit.bearing.moment_stiffness == row["bearing"][
+                "moment_stiffness_nm_per_rad"]
+
+
+# ----------------------------------------------------------------- the selection example
+
+# The CSF & CSG catalog's "Selection Example" (p. 15) could not be read from any stored
+# copy, so its printed results are NOT checked here. Its load pattern is the one a public
+# transcription runs (AimanHaidar/harmonic-drive-selector, src/harmonic_designer.py:
+# T = 400 / 320 / 200 N m for 0.3 / 3 / 0.4 s at 7 / 14 / 7 r/min, a 0.2 s pause, a
+# momentary 1000 N m at 14 r/min for 0.15 s, required L10 15,000 h). This test runs that
+# pattern through `hdselect duty` on each shipped file and checks every unit's verdict, the
+# cycle's numbers and the selection against Harmonic Drive's procedure worked by hand on
+# the same shipped numbers (read straight from the TOML, not through hdselect's loader).
+PATTERN = [(400.0, 0.3, 7.0), (320.0, 3.0, 14.0), (200.0, 0.4, 7.0)]  # N m, s, r/min
+PAUSE, IMPACT, IMPACT_SPEED, IMPACT_TIME = 0.2, 1000.0, 14.0, 0.15
+
+
+def _by_hand(unit: dict[str, Any], rated_life: float, required: float) -> dict[str, Any]:
+    """Harmonic Drive's torque-based dimensioning of one unit, from its raw TOML row."""
+    nt = sum(n * t for _, t, n in PATTERN)
+    t_av = (sum(n * t * torque**3 for torque, t, n in PATTERN) / nt) ** (1 / 3)
+    n_in = unit["ratio"] * nt / (sum(t for _, t, _ in PATTERN) + PAUSE)  # pause included
+    l10 = rated_life * (2000 / n_in) * (unit["rated_torque_nm"] / t_av) ** 3
+    ok = (max(t for t, _, _ in PATTERN) <= unit["repeated_torque_nm"]
+          and t_av <= unit["average_torque_nm"]
+          and n_in <= unit["max_average_input_speed_rpm"]
+          and unit["ratio"] * max(n for _, _, n in PATTERN) <= unit["max_input_speed_rpm"]
+          and IMPACT <= unit["momentary_torque_nm"] and l10 >= required)
+    events = 1e4 / (2 * unit["ratio"] * IMPACT_SPEED / 60 * IMPACT_TIME)
+    return {"t_av": t_av, "n_in": n_in, "l10": l10, "ok": ok, "events": events}
+
+
+@pytest.mark.parametrize(("name", "rated_life", "required", "selected"),
+                         [("csg_2uh", 10000, 15000, "CSG-40-"), ("csf_2uh", 7000, 7000,
+                                                                 "CSF-40-120-2UH")])
+def test_selection_example_pattern_against_the_procedure_by_hand(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], name: str, rated_life: float,
+        required: float, selected: str) -> None:
+    profile = tmp_path / "example.toml"
+    profile.write_text("".join(
+        f"[[phase]]\ntorque = {torque}\ntime = {t}\nspeed = {n}\n" for torque, t, n in PATTERN)
+        + f"[[phase]]\nname = \"pause\"\ntorque = 0.0\ntime = {PAUSE}\nspeed = 0.0\n"
+        + f"[momentary]\ntorque = {IMPACT}\nspeed = {IMPACT_SPEED}\ntime = {IMPACT_TIME}\n"
+        + f'[requirements]\nlife_hours = {required}\nlife_basis = "L10"\n', encoding="utf-8")
+    assert main(["duty", str(profile), "--catalog", name.replace("_", "-"),
+                 "--json", "-"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    # T_av = cbrt(1533.056e6 / 46.9) = 319.74 N m; mean output speed 46.9 / 3.9 = 12.03 r/min
+    assert document["mean_torque_nm"] == pytest.approx((1533.056e6 / 46.9) ** (1 / 3),
+                                                       rel=1e-12)
+    assert document["cycle_mean_output_speed_rpm"] == pytest.approx(46.9 / 3.9, rel=1e-12)
+    candidates = {c["unit"]: c for c in document["candidates"]}
+    rows = {u["id"]: u for u in _units(name)}
+    hand = {uid: _by_hand(row, rated_life, required) for uid, row in rows.items()}
+    for uid, expected in hand.items():
+        got = candidates[uid]
+        assert got["feasible"] is expected["ok"], uid
+        assert got["l10_hours"] == pytest.approx(expected["l10"], rel=1e-12)
+        assert got["checks"]["mean"]["mean_input_speed_rpm"] == pytest.approx(
+            expected["n_in"], rel=1e-12)
+        assert got["checks"]["momentary"]["allowed_events"] == pytest.approx(
+            min(expected["events"], 1e4), rel=1e-12)
+    # the smallest size that holds, as the procedure selects it (PSA-G's units, loaded
+    # beside the catalog, all fail at 400 N m)
+    chosen = document["selected"]
+    assert chosen.startswith(selected) and hand[chosen]["ok"]
+    # the pause holds 0 N m with the input locked; no static limit is rated, so none checked
+    assert candidates[chosen]["checks"]["static"]["not_rated"] == "not rated by the source"
+    assert {"static_torque:not-rated", "unit:transcription"} <= set(candidates[chosen]["flags"])
+    smallest = min(rows[uid]["size"] for uid, h in hand.items() if h["ok"])
+    assert rows[chosen]["size"] == smallest == 40
+    if name == "csf_2uh":  # the only CSF-40 that holds: L10 7542 h >= 7000 h
+        assert round(hand[chosen]["l10"]) == 7542
+        assert [uid for uid, h in hand.items() if h["ok"] and rows[uid]["size"] == 40] == [
+            "CSF-40-120-2UH"]
