@@ -20,6 +20,9 @@ from hdselect.report.tables import Column, FittedTable
 from hdselect.report.terminal import assumed_notes, life_text, selected_note
 from hdselect.sizing.records import HOLD_NOTE, margin_text, mean_speed_note
 
+MARKS = {"fallback": "*", "corrected": "†"}
+"""The mark of a catalog value by the kind of its flag."""
+
 
 def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
     """The catalog as a table of the values used, flagged values marked with * or †.
@@ -49,11 +52,15 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
         *([Column("max avg\ninput", group="average speed")] if average_speed else [])]
     rows = []
     for u in units:
-        marks = {f.field: "*" if f.kind == "fallback" else "†" for f in u.flags}
+        marks = {f.field: MARKS[f.kind] for f in u.flags if f.kind in MARKS}
+
+        not_rated = {f.field for f in u.flags if f.kind == "not-rated"}
 
         def cell(field: str, value: float | None, scale: float, digits: int = 3,
-                 marks: dict[str, str] = marks) -> str:
-            return "-" if value is None else f"{value * scale:.{digits}g}{marks.get(field, '')}"
+                 marks: dict[str, str] = marks, not_rated: set[str] = not_rated) -> str:
+            if value is None:
+                return "n.r." if field in not_rated else "-"
+            return f"{value * scale:.{digits}g}{marks.get(field, '')}"
 
         cells = [escape(u.id), cell("rated_torque", u.rated_torque, torque),
                  cell("repeated_torque", u.repeated_torque, torque),
@@ -69,7 +76,9 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
         notes += [f"{', '.join(series)}: {_rules_text(r)}" for r, series in rules.items()]
     if notes:
         notes.insert(0, "* stand-in for a blank in the source   † the source's two columns "
-                        "disagree")
+                        "disagree" + ("   n.r. not rated by the source"
+                                      if any(f.kind == "not-rated" for u in units
+                                             for f in u.flags) else ""))
     return FittedTable(title, tuple(columns), tuple(rows), notes=tuple(notes))
 
 

@@ -12,7 +12,7 @@ import numpy as np
 from hdselect.base.outputs import write_file
 from hdselect.catalog.duty import DutyResult
 from hdselect.catalog.rules import RPM_PER_RAD_S
-from hdselect.catalog.units import Unit
+from hdselect.catalog.units import NOT_RATED, Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.motion.planning.toolpath import LineDeviation
@@ -91,6 +91,7 @@ def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
         "mass_kg": u.mass, "efficiency_table": u.efficiency is not None,
         "flags": [{"field": f.field, "kind": f.kind, "note": f.note} for f in u.flags],
         "source": str(u.source), "bearing": bearing_rating_json(u),
+        "not_rated": {f"{f.field}_nm": NOT_RATED for f in u.flags if f.kind == "not-rated"},
     } for u in units]}
 
 
