@@ -30,9 +30,9 @@ PRINTED_NUMBERS = {
     ("row", 5): ("rated_torque", 1.0), ("row", 6): ("momentary_torque", 1.0),
     ("row", 7): ("max_input_speed", 1.0), ("row", 9): ("input_inertia", KG_M2_PER_X1E4),
     ("row", 10): ("mass", 1.0),
-    ("torsion", 0): ("stiffness.t1", 1.0), ("torsion", 1): ("stiffness.t2", 1.0),
-    ("torsion", 2): ("stiffness.k3", 1e4), ("torsion", 3): ("stiffness.k2", 1e4),
-    ("torsion", 4): ("stiffness.k1", 1e4),
+    ("cha", 0): ("stiffness.t1", 1.0), ("cha", 1): ("stiffness.t2", 1.0),
+    ("cha", 2): ("stiffness.k3", 1e3), ("cha", 3): ("stiffness.k2", 1e3),
+    ("cha", 4): ("stiffness.k1", 1e3),
     ("bearing", 0): ("bearing.pitch_diameter", 1.0), ("bearing", 1): ("bearing.offset", 1.0),
     ("bearing", 2): ("bearing.dynamic_rating", 1.0),
     ("bearing", 3): ("bearing.static_rating", 1.0),
@@ -76,7 +76,6 @@ def test_what_no_source_rates_is_left_out(units, unit_id):
     assert unit.max_average_input_speed is None  # the column is not read as a rating
     assert unit.static_torque is None
     assert unit.stiffness is not None and unit.bearing is not None
-    assert (unit.stiffness.hysteresis_loss, unit.stiffness.lost_motion) == (None, None)
     assert (unit.bearing.max_radial, unit.bearing.max_axial) == (None, None)
     assert (unit.starting_torque, unit.backdriving_torque) == (None, None)
 
@@ -95,6 +94,22 @@ def test_stiffness_agrees_with_harmonic_drives_cha_tables(unit_id):
     torsion, cha = ROWS[unit_id]["torsion"], ROWS[unit_id]["cha"]
     assert torsion[:2] == pytest.approx(cha[:2])
     assert [k * 1e4 for k in torsion[2:]] == pytest.approx([k * 1e3 for k in cha[2:]])
+
+
+@pytest.mark.parametrize("unit_id", sorted(ROWS))
+def test_stiffness_and_its_bounds_come_from_the_cha_tables(units, unit_id):
+    """Stiffness from the vendor's table; hysteresis and lost motion as its printed bounds."""
+    unit = units[unit_id]
+    for key in ("t1_nm", "t2_nm", "k1_nm_per_rad", "k2_nm_per_rad", "k3_nm_per_rad",
+                "hysteresis_loss_arcmin", "lost_motion_arcmin"):
+        assert unit.provenance[f"stiffness.{key}"].edition.startswith("1018854 12/2015"), key
+        assert unit.provenance[f"stiffness.{key}"].page == "50", key
+    hysteresis, lost_motion = ROWS[unit_id]["cha_accuracy"]
+    assert hysteresis == ("< 3" if unit.ratio == 30 else "< 1")
+    for printed, value in ((hysteresis, unit.stiffness.hysteresis_loss),
+                           (lost_motion, unit.stiffness.lost_motion)):
+        assert printed.startswith("< ")  # a bound: the value used is the bound
+        assert value == pytest.approx(float(printed[2:]) * RAD_PER_ARCMIN, rel=1e-12)
 
 
 @pytest.mark.parametrize("unit_id", sorted(ROWS))
@@ -155,6 +170,7 @@ def test_file_says_it_is_a_transcription_to_check(units):
     info = next(iter(units.values())).catalog
     assert info.name == "hfus-2uh"
     assert "AimanHaidar/harmonic-drive-selector" in info.transcription
+    assert "but the torsional stiffness, hysteresis loss and lost motion" in info.transcription
     assert "check the current vendor data" in info.check
 
 

@@ -3,7 +3,10 @@
 Every number of ``shg_2uh.toml`` is checked against ``tests/data/transcriptions/shg_2uh.toml``
 (the documents' numbers as printed, in their units) converted to SI; the public
 transcription is compared with the vendor's document wherever both give a number; every
-number carries its source. SHF-2UH is not shipped: no stored copy of an SHF table is
+number carries its source. The torsional stiffness is Harmonic Drive AG's CHA table where it
+has the size (checked against the transcription's SHG table, number by number, and against
+the vendor's worked torsion-angle example); the output bearing rests on the transcription.
+SHF-2UH is not shipped: no stored copy of an SHF table is
 legible and no public transcription covers it (docs/catalogs.md).
 
 No Harmonic Drive worked selection example for SHG is legible in any stored copy (the SHF/SHG
@@ -300,3 +303,161 @@ def test_lower_csg_momentary_limits_are_flagged_not_used(shg: dict[str, Any]) ->
     for unit_id, row in noted.items():
         assert row["csg_momentary_lowest_nm"] < row["ah"]["momentary_torque_nm"], unit_id
         assert shg[unit_id].momentary_torque == row["ah"]["momentary_torque_nm"], unit_id
+
+
+# Torsional stiffness and output bearing: shipped key -> (printed key of each source, SI
+# per printed unit). CHA: Harmonic Drive AG's Tables 50.3/50.4 (x10^3 N m/rad); ahtables:
+# the transcription's shg_torsional_data (x10^4 N m/rad) and shg_output_bearing_data.
+RAD_PER_ARCMIN = math.pi / (180.0 * 60.0)
+STIFFNESS = {"t1_nm": ("t1", "t1_nm", "t1_nm", 1.0, 1.0),
+             "t2_nm": ("t2", "t2_nm", "t2_nm", 1.0, 1.0),
+             "k1_nm_per_rad": ("k1", "k1_1e3_nm_per_rad", "k1_1e4_nm_per_rad", 1e3, 1e4),
+             "k2_nm_per_rad": ("k2", "k2_1e3_nm_per_rad", "k2_1e4_nm_per_rad", 1e3, 1e4),
+             "k3_nm_per_rad": ("k3", "k3_1e3_nm_per_rad", "k3_1e4_nm_per_rad", 1e3, 1e4)}
+BEARING = {"pitch_diameter_m": ("pitch_diameter", "d_p_m", 1.0),
+           "offset_m": ("offset", "r_m", 1.0),
+           "dynamic_rating_n": ("dynamic_rating", "c_n", 1.0),
+           "static_rating_n": ("static_rating", "c0_n", 1.0),
+           "max_moment_nm": ("max_moment", "m_nm", 1.0),
+           "moment_stiffness_nm_per_rad": ("moment_stiffness", "k_b_nm_per_arcmin",
+                                           1.0 / RAD_PER_ARCMIN)}
+CHA_SIZES = {14, 17, 20, 25, 32, 40, 50, 58}  # the CHA sizes of Tables 50.1 to 50.4
+# Every disagreement between the CHA tables and the transcription's SHG table, with its
+# resolution: none (8 sizes x 2 ratio columns x T1, T2, K1-K3 compared).
+STIFFNESS_DISAGREEMENTS: dict[tuple[int, int, str], str] = {}
+UNIT_IDS = list(RAW_UNITS)
+
+
+def stiffness_printed(unit_id: str, key: str) -> float:
+    """The as-printed stiffness number in SI, from the source the provenance names."""
+    unit = RAW_UNITS[unit_id]
+    row = ROWS[unit["size"], unit["ratio"]]
+    _, cha_key, ah_key, cha_factor, ah_factor = STIFFNESS[key]
+    document = source(unit_id, f"stiffness.{key}")["document"]
+    if document == "cha":
+        return float(row["cha"][cha_key]) * cha_factor
+    assert document == "ahtables", (unit_id, key)
+    return float(row["ah_torsion"][ah_key]) * ah_factor
+
+
+@pytest.mark.parametrize("unit_id", UNIT_IDS)
+def test_stiffness_is_the_printed_one_in_si(shg: dict[str, Any], unit_id: str) -> None:
+    unit = RAW_UNITS[unit_id]
+    assert set(unit["stiffness"]) >= set(STIFFNESS)
+    for key, (attribute, *_rest) in STIFFNESS.items():
+        expected = stiffness_printed(unit_id, key)
+        assert unit["stiffness"][key] == pytest.approx(expected, rel=1e-12), key
+        assert getattr(shg[unit_id].stiffness, attribute) == pytest.approx(expected, rel=1e-12)
+    stiffness = shg[unit_id].stiffness
+    assert stiffness.t1 < stiffness.t2
+    assert stiffness.k1 < stiffness.k2 < stiffness.k3  # stiffer as the teeth load up
+
+
+@pytest.mark.parametrize("unit_id", UNIT_IDS)
+def test_stiffness_from_the_vendor_where_it_prints_it(unit_id: str) -> None:
+    unit = RAW_UNITS[unit_id]
+    row = ROWS[unit["size"], unit["ratio"]]
+    documents = {source(unit_id, f"stiffness.{key}")["document"] for key in STIFFNESS}
+    if unit["size"] in CHA_SIZES:
+        assert documents == {"cha"}
+        assert row["cha"]["column"] == ("50" if unit["ratio"] == 50 else "> 50")
+    else:
+        assert documents == {"ahtables"} and "cha" not in row
+        assert "provenance" in unit  # the file-level source is overridden for this unit
+    assert row["ah_torsion"]["column"] == ("i50" if unit["ratio"] == 50 else "i80")
+
+
+def test_stiffness_sources_agree() -> None:
+    """Harmonic Drive's CHA tables and the transcription's SHG table, number by number."""
+    found = {}
+    compared = 0
+    for (size, ratio), row in ROWS.items():
+        if "cha" not in row:
+            continue
+        for key, (_, cha_key, ah_key, cha_factor, ah_factor) in STIFFNESS.items():
+            compared += 1
+            cha = float(row["cha"][cha_key]) * cha_factor
+            ah = float(row["ah_torsion"][ah_key]) * ah_factor
+            if cha != pytest.approx(ah, rel=1e-12):
+                found[size, ratio, key] = f"CHA {cha} against transcription {ah}"
+    assert compared == 5 * sum(size in CHA_SIZES for size, _ in ROWS)
+    assert found.keys() == STIFFNESS_DISAGREEMENTS.keys()
+
+
+@pytest.mark.parametrize("unit_id", UNIT_IDS)
+def test_hysteresis_and_lost_motion_as_bounded_by_the_vendor(shg: dict[str, Any],
+                                                            unit_id: str) -> None:
+    unit = RAW_UNITS[unit_id]
+    row = ROWS[unit["size"], unit["ratio"]]
+    stiffness = shg[unit_id].stiffness
+    if "cha" not in row:
+        assert "hysteresis_loss_arcmin" not in unit["stiffness"]
+        assert (stiffness.hysteresis_loss, stiffness.lost_motion) == (None, None)
+        return
+    for key, attribute in (("hysteresis_loss_arcmin", "hysteresis_loss"),
+                           ("lost_motion_arcmin", "lost_motion")):
+        printed_text = row["cha"][key]
+        assert printed_text.startswith("< ")  # a bound: the value used is the bound
+        assert unit["stiffness"][key] == float(printed_text[2:])
+        assert getattr(stiffness, attribute) == pytest.approx(
+            float(printed_text[2:]) * RAD_PER_ARCMIN, rel=1e-12)
+        assert source(unit_id, f"stiffness.{key}")["document"] == "cha"
+
+
+def test_vendors_torsion_angle_example_from_the_shipped_stiffness(
+        shg: dict[str, Any]) -> None:
+    """Harmonic Drive's worked example (1018854 p. 68, Eq. 68.2) with SHG-32's numbers."""
+    example = TABLE["torsion_example"]
+
+    def german(text: str) -> float:  # "6,7 . 10^4" as printed -> 67000.0
+        mantissa, _, power = text.replace(",", ".").partition(" . 10^")
+        return float(mantissa) * 10.0 ** int(power or 0)
+
+    torque = float(example["torque_nm"])
+    for ratio in (80, 100, 120, 160):
+        s = shg[f"SHG-32-{ratio}-2UH"].stiffness
+        assert (s.t1, s.t2) == (example["t1_nm"], example["t2_nm"])
+        assert (s.k1, s.k2, s.k3) == pytest.approx(
+            [german(example[f"k{i}_nm_per_rad"]) for i in (1, 2, 3)], rel=1e-12)
+        assert s.t1 < torque <= s.t2  # Equation 68.2's range
+        angle = s.t1 / s.k1 + (torque - s.t1) / s.k2
+        assert angle == pytest.approx(german(example["angle_rad"]), abs=0.005e-4)
+        assert angle / RAD_PER_ARCMIN == pytest.approx(german(example["angle_arcmin"]),
+                                                       abs=0.05)
+
+
+@pytest.mark.parametrize("unit_id", UNIT_IDS)
+def test_bearing_is_the_printed_one_in_si(shg: dict[str, Any], unit_id: str) -> None:
+    unit = RAW_UNITS[unit_id]
+    printed_row = ROWS[unit["size"], unit["ratio"]]["ah_bearing"]
+    assert set(unit["bearing"]) == set(BEARING)  # F_a and F_r are left out
+    bearing = shg[unit_id].bearing
+    for key, (attribute, column, factor) in BEARING.items():
+        expected = float(printed_row[column]) * factor
+        assert unit["bearing"][key] == pytest.approx(expected, rel=1e-12), key
+        assert getattr(bearing, attribute) == pytest.approx(expected, rel=1e-12), key
+        assert source(unit_id, f"bearing.{key}")["document"] == "ahtables"
+    assert (bearing.max_radial, bearing.max_axial) == (None, None)
+    assert bearing.dynamic_rating < bearing.static_rating
+    assert bearing.offset < bearing.pitch_diameter / 2.0
+
+
+def test_one_bearing_per_size() -> None:
+    """The bearing is the unit's, not the ratio's: every ratio of a size has the same one."""
+    by_size: dict[int, set[tuple[float, ...]]] = {}
+    for unit in RAW_UNITS.values():
+        by_size.setdefault(unit["size"], set()).add(tuple(unit["bearing"].values()))
+    assert all(len(bearings) == 1 for bearings in by_size.values())
+    diameters = [next(iter(by_size[size]))[0] for size in sorted(by_size)]
+    assert diameters == sorted(diameters)  # larger size, larger bearing
+
+
+def test_transcription_declares_the_bearing_and_the_stiffness_it_gives() -> None:
+    declared = RAW["transcription"]
+    assert "every output-bearing number" in declared
+    assert "torsional stiffness of SHG-45 and SHG-65" in declared
+    assert "d0bd9b5" in declared and "d0bd9b5" in RAW["documents"]["ahtables"]["edition"]
+    from_transcription = {RAW_UNITS[u]["size"] for u in UNIT_IDS
+                          if source(u, "stiffness.k1_nm_per_rad")["document"] == "ahtables"}
+    assert from_transcription == {45, 65}
+    assert RAW["documents"]["cha"]["publisher"] == "Harmonic Drive AG"
