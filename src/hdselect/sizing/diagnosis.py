@@ -93,7 +93,8 @@ class GravityLoad:
 
     Attributes:
         torque: The largest |gravity torque| over the cycle's poses, payload and carried
-            units included [N m].
+            units included [N m]; where it exceeds, the largest over the poses the
+            exceeded limit judges (moving: repeated peak; at rest: static).
         limit: The largest usable limit that applies to it: repeated peak while moving,
             static (where rated) at rest, of any candidate [N m].
         unit: The unit of that limit.
@@ -207,7 +208,7 @@ def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | N
     for joint in missing:
         steps = [*found.get(joint.name, ()), *payload.get(joint.name, ()),
                  exclude_step(result, joint.name)]
-        scale = slowdown_step(joint)
+        scale = slowdown_step(result, joint)
         if scale is not None:
             steps.append(scale)
         out[joint.name] = replace(out[joint.name], steps=tuple(steps))
@@ -229,11 +230,19 @@ def diagnosis_of(result: SizingResult, joint: str) -> Diagnosis | None:
 
 
 def with_diagnoses(result: SizingResult, **keywords: Any) -> SizingResult:
-    """The result with `diagnose`'s diagnoses kept on it (its ``diagnoses``); `keywords` are its."""
+    """The result with `diagnose`'s diagnoses kept on it (its ``diagnoses``).
+
+    A result that has them already, or has a unit on every joint, is returned as it is:
+    every front end may call this, and the diagnoses are computed once.
+
+    Args:
+        result: The sizing.
+        **keywords: `diagnose`'s keywords (``catalogs``, ``payload_bounds``).
+    """
+    if result.diagnoses or result.feasible:
+        return result
     return replace(result, diagnoses=diagnose(result, **keywords))
 
-
-# the shortfalls
 
 def _order(found: Rule) -> tuple[int, ...]:
     """Where a rule's shortfall comes in a diagnosis.
@@ -308,10 +317,12 @@ def _gravity_load(joint: JointSizing, gravity: np.ndarray, rest: np.ndarray,
             continue
         strongest = max(rated, key=lambda u: limit.allowed(u, options.margin))
         allowed = limit.allowed(strongest, options.margin)
-        out.append((float(held[read].max()) > allowed, allowed, strongest.id))
+        largest = float(held[read].max())
+        out.append((largest > allowed, largest, allowed, strongest.id))
     exceeds = [found for found in out if found[0]]
-    _, allowed, unit = (exceeds or out or [(False, math.inf, "")])[0]
-    return GravityLoad(float(held.max(initial=0.0)), float(allowed), unit, bool(exceeds))
+    _, largest, allowed, unit = (exceeds or out or [(False, 0.0, math.inf, "")])[0]
+    return GravityLoad(largest if exceeds else float(held.max(initial=0.0)), float(allowed),
+                       unit, bool(exceeds))
 
 
 def _finite(x: object) -> bool:

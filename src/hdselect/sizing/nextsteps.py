@@ -170,16 +170,24 @@ def exclude_step(result: SizingResult, joint: str) -> NextStep:
                     _command(result, f"--exclude {names}"))
 
 
-def slowdown_step(joint: JointSizing) -> NextStep | None:
-    """The uniform slow-down the time-scale solver found, where it found one."""
+def slowdown_step(result: SizingResult, joint: JointSizing) -> NextStep | None:
+    """The uniform slow-down the time-scale solver found, where it found one.
+
+    For a duty of several tasks, every task runs s times slower at the same shares.
+    """
     slowdown = joint.slowdown
     if slowdown is None or slowdown.factor is None or slowdown.unit is None:
         return None
     factor = slowdown.factor
     speed = f"{factor:.3f}x slower" if factor >= 1.0 else f"{1.0 / factor:.3f}x faster"
-    cycle = f" (cycle {slowdown.cycle_time:.3f} s)" if slowdown.cycle_time is not None else ""
-    return NextStep("slowdown", f"run the motion {speed}{cycle} and {slowdown.unit} holds it",
-                    None, slowdown.unit, factor)
+    if len(result.counted) > 1:
+        cycles = ", ".join(f"{task.label} {factor * task.trajectory.duration:.3f} s"
+                           for task in result.counted)
+        text = f"run every task {speed} (cycles {cycles})"
+    else:
+        text = f"run the motion {speed} (cycle {factor * result.cycle_time:.3f} s)"
+    return NextStep("slowdown", f"{text} and {slowdown.unit} holds it", None, slowdown.unit,
+                    factor)
 
 
 def _command(result: SizingResult, option: str) -> str | None:
