@@ -126,7 +126,7 @@ def _selection(result: SizingResult) -> str:
         if c is None:
             cells = [esc(joint.name), "<td class='t fail'>none</td>",
                      *(["none"] if motors else []),
-                     esc(f"no unit holds it: {shortfall_text(result, joint)}"),
+                     esc(shortfall_text(result, joint, words=True)),
                      *(["-", "-"] if motors else []), "-", "-", "-", "-", "-"]
             notes.append(f"no {'pair' if motors else 'unit'} fits: see below")
         else:

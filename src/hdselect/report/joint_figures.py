@@ -256,4 +256,4 @@ def rest_spans(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, 
 def _no_unit(result: SizingResult, joint: JointSizing) -> str:
     """A figure title's words for a joint no unit holds: its headline shortfall."""
     found = diagnosis_of(result, joint.name)
-    return "no unit holds it" + ("" if found is None else f": {found.headline.short()}")
+    return "no unit holds it" if found is None else found.summary()

@@ -119,6 +119,7 @@ class Diagnosis:
             shortfalls are those of the closest candidate.
         gravity: Gravity alone against the strongest unit; None where not computed.
         steps: The next steps that work, in the order `NEXT_STEPS`.
+        what: What the candidates are: ``"unit"``, or ``"pair"`` (a gearhead and a motor).
     """
 
     joint: str
@@ -126,22 +127,29 @@ class Diagnosis:
     combined: bool
     gravity: GravityLoad | None
     steps: tuple[NextStep, ...] = ()
+    what: str = "unit"
 
     @property
     def headline(self) -> Shortfall:
         """The first shortfall: a torque rule wherever one fails, a life only when alone."""
         return self.shortfalls[0]
 
+    def summary(self) -> str:
+        """In a line, e.g. ``no unit holds it: peak 87.3 > 20.3 N m``."""
+        return f"no {self.what} holds it: {self.headline.short()}"
+
     def lines(self) -> list[str]:
         """The diagnosis as sentences, as every front end prints it."""
-        what = "no unit holds every rule; the closest" if self.combined else "no unit holds it"
+        what = (f"no {self.what} holds every rule; the closest" if self.combined
+                else f"no {self.what} holds it")
         first = f"{self.joint}: {what}: " + "; ".join(s.text() for s in self.shortfalls) + "."
         lines = [first]
+        unit = f"{self.what}'s" if self.what == "unit" else "gearhead's"
         if self.gravity is not None and self.gravity.exceeds:
             helps = ("" if any(step.kind == "slowdown" for step in self.steps)
                      else ": no slow-down or lower speed/acceleration limit helps")
             lines.append(f"{self.joint}: gravity alone needs {_number(self.gravity.torque)} N m, "
-                         f"over every unit's limit ({self.gravity.unit}: "
+                         f"over every {unit} limit ({self.gravity.unit}: "
                          f"{_number(self.gravity.limit)} N m){helps}.")
         lines += [f"{self.joint}: {step.text}" + (f": {step.command}" if step.command else "")
                   for step in self.steps]
@@ -154,6 +162,7 @@ class Diagnosis:
         return {
             "headline": self.headline.short(),
             "combined": self.combined,
+            "candidates": self.what,
             "shortfalls": [{"rule": s.rule, "unit": s.unit, "value": finite(s.value),
                             "limit": finite(s.limit), "usable_limit": finite(s.usable),
                             "si_unit": s.si, "utilization": finite(s.utilization),
@@ -201,7 +210,8 @@ def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | N
         j = result.robot.joint_index(joint.name)
         shortfalls, combined = _shortfalls(joint.candidates)
         held = _gravity_load(joint, gravity[:, j], rest[:, j], options)
-        out[joint.name] = Diagnosis(joint.name, shortfalls, combined, held)
+        what = "pair" if any(c.motor_unit is not None for c in joint.candidates) else "unit"
+        out[joint.name] = Diagnosis(joint.name, shortfalls, combined, held, what=what)
     found = catalog_steps(result, missing, tasks,
                            shipped_catalogs() if catalogs is None else catalogs)
     payload = payload_steps(result, missing, tasks, masses, payload_bounds)
