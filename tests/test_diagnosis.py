@@ -13,6 +13,7 @@ import io
 import json
 import math
 import re
+import shlex
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -81,7 +82,7 @@ def step_of(diagnosis, kind):
 
 def rerun(capsys, command: str) -> tuple[int, str]:
     """Run a next step's command line as printed (``hdselect`` dropped)."""
-    argv = command.split()
+    argv = shlex.split(command)
     assert argv[0] == "hdselect"
     status, out, _ = run(capsys, *argv[1:])
     return status, out
@@ -110,8 +111,7 @@ def test_gravity_alone_over_every_unit_by_hand(tmp_path, capsys):
     assert catalog is not None and catalog.unit == "BIG-20-100"
     status, out = rerun(capsys, catalog.command)  # the step works as printed
     assert status == 0 and "BIG-20-100" in out
-    exclude = step_of(found, "exclude")
-    assert exclude.command.endswith("--exclude swing")
+    assert step_of(found, "exclude") is None  # its only joint: nothing would be left
 
 
 def test_dynamics_only_and_the_slowdown_by_hand(tmp_path, capsys):
@@ -307,3 +307,18 @@ def test_real_arms_against_pinocchio(tmp_path, capsys, robot, stuck):
         if diagnosis.gravity.exceeds:
             assert diagnosis.gravity.torque == pytest.approx(np.abs(still[moving, j]).max(),
                                                              rel=1e-6)
+
+
+def test_a_step_keeps_the_runs_own_options(tmp_path, capsys, monkeypatch):
+    """The command is the run's, one option set and the output files left out."""
+    monkeypatch.chdir(tmp_path)
+    motion = gravity_overload_motion(tmp_path / "heavy.toml")
+    status, _, err = run(capsys, "size", "heavy.toml", "--margin", "0.1", "--json", "a.json",
+                         "--exclude", "elbow")
+    assert status == 1, err
+    (shoulder,) = json.loads((tmp_path / "a.json").read_text())["joints"]
+    steps = {s["kind"]: s["command"] for s in shoulder["diagnosis"]["next_steps"]}
+    assert steps["payload"].startswith("hdselect size heavy.toml --margin 0.1 --exclude elbow")
+    assert "--json" not in steps["payload"] and "exclude" not in steps  # its only joint left
+    status, out = rerun(capsys, steps["payload"])
+    assert status == 0 and "design margin: 10 %" in " ".join(out.split()) and motion.exists()

@@ -177,7 +177,8 @@ class Diagnosis:
 
 
 def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | None = None,
-             payload_bounds: PayloadBounds | None = None) -> dict[str, Diagnosis]:
+             payload_bounds: PayloadBounds | None = None,
+             command: Sequence[str] | None = None) -> dict[str, Diagnosis]:
     """A diagnosis of every sized joint that no candidate holds.
 
     Only those joints are looked at, once: the shortfalls and gravity from the sizing's
@@ -191,6 +192,9 @@ def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | N
             (default: `shipped_catalogs`); a catalog whose units are all candidates
             already is skipped.
         payload_bounds: The payload solver (`PayloadBounds`); None offers no payload step.
+        command: The command line of the run, program name first: each step's command is
+            it with one option set (the output options left out); None (from Python):
+            ``hdselect size FILE`` with the option.
 
     Returns:
         Joint name -> its diagnosis, in the robot's order; empty where every joint has a
@@ -213,15 +217,13 @@ def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | N
         what = "pair" if any(c.motor_unit is not None for c in joint.candidates) else "unit"
         out[joint.name] = Diagnosis(joint.name, shortfalls, combined, held, what=what)
     found = catalog_steps(result, missing, tasks,
-                           shipped_catalogs() if catalogs is None else catalogs)
-    payload = payload_steps(result, missing, tasks, masses, payload_bounds)
+                           shipped_catalogs() if catalogs is None else catalogs, command)
+    payload = payload_steps(result, missing, tasks, masses, payload_bounds, command)
     for joint in missing:
-        steps = [*found.get(joint.name, ()), *payload.get(joint.name, ()),
-                 exclude_step(result, joint.name)]
-        scale = slowdown_step(result, joint)
-        if scale is not None:
-            steps.append(scale)
-        out[joint.name] = replace(out[joint.name], steps=tuple(steps))
+        steps = (*found.get(joint.name, ()), *payload.get(joint.name, ()),
+                 exclude_step(result, joint.name, command), slowdown_step(result, joint))
+        out[joint.name] = replace(out[joint.name],
+                                  steps=tuple(step for step in steps if step is not None))
     return out
 
 

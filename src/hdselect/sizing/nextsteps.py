@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import os
+import shlex
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -61,7 +62,8 @@ NEXT_STEPS = ("catalog", "payload", "exclude", "slowdown")
 
 
 def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: Sequence[Task],
-                   catalogs: Mapping[str, Sequence[Unit]]) -> dict[str, list[NextStep]]:
+                   catalogs: Mapping[str, Sequence[Unit]],
+                   command: Sequence[str] | None = None) -> dict[str, list[NextStep]]:
     """Per joint, the shipped series whose smallest holding unit is smallest, verified.
 
     Each catalog's units are first checked against the joint's cycle as sized (the same
@@ -100,14 +102,15 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
             if chosen is not None:
                 out[joint.name] = [NextStep(
                     "catalog", f"the {name} catalog holds it with {chosen.label}",
-                    _command(result, f"--catalog {name}"), chosen.label, catalog=name)]
+                    _command(result, command, "--catalog", name), chosen.label, catalog=name)]
                 break
     return out
 
 
 def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: Sequence[Task],
                    masses: Mapping[str, float],
-                   payload_bounds: PayloadBounds | None) -> dict[str, list[NextStep]]:
+                   payload_bounds: PayloadBounds | None,
+                   command: Sequence[str] | None = None) -> dict[str, list[NextStep]]:
     """Per joint, the largest payload at which some candidate holds it, verified by sizing."""
     scaled = [task.label for task in tasks if task.robot.payload is not None]
     if payload_bounds is None or not scaled or any(
@@ -140,8 +143,9 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
             continue
         if single:
             text = f"a payload of {kg:.2f} kg (not more) lets {chosen.label} hold it"
-            command = _command(result, f"--payload {kg:.2f}")
-            out[joint.name] = [NextStep("payload", text, command, chosen.label, kg)]
+            out[joint.name] = [NextStep("payload", text,
+                                        _command(result, command, "--payload", f"{kg:.2f}"),
+                                        chosen.label, kg)]
         else:
             carried = ", ".join(f"{task.label} {task.robot.payload.mass:.3g} kg"
                                 for task in lighter if task.label in scaled
@@ -161,13 +165,21 @@ def _scaled(task: Task, factor: float) -> Task:
     return replace(task, robot=task.robot.with_payload(lighter))
 
 
-def exclude_step(result: SizingResult, joint: str) -> NextStep:
-    """Leave the joint out of the sizing: it still moves and loads the others."""
-    left_out = [load.name for load in result.loads
-                if not load.sized and load.kind == "revolute" and load.leader is None]
-    names = ",".join([*left_out, joint])
+def exclude_step(result: SizingResult, joint: str,
+                 command: Sequence[str] | None = None) -> NextStep | None:
+    """Leave the joint out of the sizing: it still moves and loads the others.
+
+    ``--exclude`` replaces the file's list: the joints left out already are kept in it.
+    None where it is the only joint sized (nothing would be left to size).
+    """
+    if set(result.robot.sized_joints) <= {joint}:
+        return None
+    before = given(command, "--exclude")
+    left_out = (before.split(",") if before else
+                [load.name for load in result.loads
+                 if not load.sized and load.kind == "revolute" and load.leader is None])
     return NextStep("exclude", "size the other joints without it",
-                    _command(result, f"--exclude {names}"))
+                    _command(result, command, "--exclude", ",".join([*left_out, joint])))
 
 
 def slowdown_step(result: SizingResult, joint: JointSizing) -> NextStep | None:
@@ -190,13 +202,57 @@ def slowdown_step(result: SizingResult, joint: JointSizing) -> NextStep | None:
                     factor)
 
 
-def _command(result: SizingResult, option: str) -> str | None:
-    """``hdselect size FILE OPTION`` for the result's motion (or mix) file; None without one."""
-    source = result.mix.path if result.mix is not None else (
-        result.motion.path if result.motion is not None else None)
-    if source is None:
-        return None
-    return f"hdselect size {_shown(source)} {option}"
+OUTPUT_OPTIONS = ("--json", "--report", "--bom")
+"""Options that write files: left out of a next step's command (it is run to be read)."""
+
+
+def _command(result: SizingResult, command: Sequence[str] | None, option: str,
+             value: str) -> str | None:
+    """The run's command line with `option value` set, or ``hdselect size FILE option value``.
+
+    The user's own options are kept (so the step is checked on the same assumptions it
+    is run with), `option` replaced where given, the output options left out.
+
+    Args:
+        result: The sizing, for its motion or mix file where no command is known.
+        command: The command line of the run, program name first; None from Python.
+        option: The option, e.g. ``--catalog``; ``--catalog`` is added to any given.
+        value: Its value.
+
+    Returns:
+        The command, quoted for a POSIX shell; None without a command or a file.
+    """
+    if command is None:
+        source = result.mix.path if result.mix is not None else (
+            result.motion.path if result.motion is not None else None)
+        if source is None:
+            return None
+        return shlex.join(["hdselect", "size", _shown(source), option, value])
+    kept: list[str] = []
+    words = list(command)
+    k = 0
+    while k < len(words):
+        word = words[k]
+        name = word.split("=", 1)[0]
+        dropped = name in OUTPUT_OPTIONS or (name == option and option != "--catalog")
+        if dropped:
+            k += 1 if "=" in word else 2
+            continue
+        kept.append(word)
+        k += 1
+    return shlex.join([*kept, option, value])
+
+
+def given(command: Sequence[str] | None, option: str) -> str | None:
+    """The value of `option` in a command line (its last), or None."""
+    found = None
+    words = list(command or ())
+    for k, word in enumerate(words):
+        if word == option and k + 1 < len(words):
+            found = words[k + 1]
+        elif word.startswith(option + "="):
+            found = word.split("=", 1)[1]
+    return found
 
 
 def _shown(path: Path) -> str:
