@@ -126,16 +126,15 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
         if not ends:
             continue
         factor = max(ends)
-        if single:
-            mass = tasks[0].robot.payload.mass  # type: ignore[union-attr]
-            kg = math.floor(factor * mass / PAYLOAD_STEP) * PAYLOAD_STEP
-            factor = kg / mass
-        else:
-            factor = math.floor(factor / PAYLOAD_STEP) * PAYLOAD_STEP
-        if factor <= 0.0:
+        if single:  # as --payload KG: the mass changed, its inertia and place kept
+            kg = _rounded_down(factor * _mass(tasks[0]))
+            lighter = tuple(_lighter(task, kg, 1.0) for task in tasks)
+        else:  # every scaled task's payload x times: mass and inertia alike
+            factor = _rounded_down(factor)
+            lighter = tuple(_lighter(task, _mass(task) * factor, factor)
+                            if task.label in scaled else task for task in tasks)
+        if (kg if single else factor) <= 0.0:
             continue
-        lighter = tuple(_scaled(task, factor) if task.label in scaled else task
-                        for task in tasks)
         check = size_tasks(lighter, result.units, result.options,
                            motors=result.motors or None, idle=result.idle, slowdowns=False)
         chosen = next(j for j in check.joints if j.name == joint.name).selected
@@ -156,12 +155,23 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
     return out
 
 
-def _scaled(task: Task, factor: float) -> Task:
-    """The task with its payload `factor` times as heavy (mass and inertia alike)."""
+def _rounded_down(x: float) -> float:
+    """`x` rounded down to `PAYLOAD_STEP`, as it is printed (two decimals)."""
+    return math.floor(round(x / PAYLOAD_STEP, 6)) * PAYLOAD_STEP
+
+
+def _mass(task: Task) -> float:
+    """The task's payload mass [kg] (0 without one)."""
+    return 0.0 if task.robot.payload is None else task.robot.payload.mass
+
+
+def _lighter(task: Task, mass: float, inertia: float) -> Task:
+    """The task with a payload of `mass` [kg], its inertia times `inertia` [-]."""
     payload = task.robot.payload
-    assert payload is not None
-    lighter = replace(payload, mass=payload.mass * factor,
-                      inertia=tuple(tuple(x * factor for x in row) for row in payload.inertia))
+    if payload is None:
+        return task
+    lighter = replace(payload, mass=float(f"{mass:.12g}"),
+                      inertia=tuple(tuple(x * inertia for x in row) for row in payload.inertia))
     return replace(task, robot=task.robot.with_payload(lighter))
 
 
