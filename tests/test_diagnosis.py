@@ -322,3 +322,34 @@ def test_a_step_keeps_the_runs_own_options(tmp_path, capsys, monkeypatch):
     assert "--json" not in steps["payload"] and "exclude" not in steps  # its only joint left
     status, out = rerun(capsys, steps["payload"])
     assert status == 0 and "design margin: 10 %" in " ".join(out.split()) and motion.exists()
+
+
+def test_each_rule_held_by_some_unit_but_none_holds_all(tmp_path):
+    """A strong slow unit and a weak fast one: the closest unit's shortfalls, said so."""
+    catalog = tmp_path / "split.toml"  # invented
+    unit = """\
+[[unit]]
+size = {size}
+ratio = 100
+rated_torque_nm = {torque}
+repeated_torque_nm = {torque}
+momentary_torque_nm = {torque}
+static_torque_nm = {torque}
+max_input_speed_rpm = {speed}
+input_inertia_kg_cm2 = 0.01
+mass_kg = 0.5
+"""
+    catalog.write_text(BIG.read_text().split("[[unit]]")[0].replace('"BIG"', '"SPLIT"')
+                       + unit.format(size=20, torque=300, speed=100)
+                       + unit.format(size=21, torque=1, speed=9000))
+    units = tuple(u for u in load_catalog([catalog]) if u.series == "SPLIT")
+    motion = gravity_overload_motion(tmp_path / "heavy.toml")
+    result = hdselect.size(None, motion, catalog=units)
+    found = diagnose(result)["shoulder"]
+    strong = result.joints[0].candidates[0]
+    speed = strong.checks["speed"]
+    assert found.combined and [s.rule for s in found.shortfalls] == ["speed"]
+    assert found.headline.unit == strong.unit.id == "SPLIT-20-100"
+    assert found.headline.value == pytest.approx(speed.value) and found.headline.limit == 100
+    assert found.headline.short() == f"speed {speed.value:.3g} > 100 rpm"
+    assert found.lines()[0].startswith("shoulder: no unit holds every rule; the closest: ")

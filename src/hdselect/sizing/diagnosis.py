@@ -288,8 +288,8 @@ def _shortfalls(candidates: Sequence[Candidate]) -> tuple[tuple[Shortfall, ...],
         return max((check.utilization for n, check in c.checks.items()
                     if not rule(n).at_least), default=0.0)
     closest = min(candidates, key=worst)
-    return tuple(_shortfall(closest, name) for name in names
-                 if name in closest.checks and not closest.checks[name].ok), True
+    failed = [name for name in names if name in closest.checks and not closest.checks[name].ok]
+    return tuple(_shortfall(closest, name) for name in failed or [closest.binding]), True
 
 
 def _shortfall(candidate: Candidate, name: str) -> Shortfall:
