@@ -108,6 +108,8 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
                                        ("momentary_torque", "momentary limit", STOP, "--"),
                                        ("static_torque", "static limit", REST, "-.")):
         value = getattr(unit, field)
+        if value is None:  # not rated by the source
+            continue
         kinds = {flag.kind for flag in unit.flags_for(field)}
         mark = " (stand-in)" if "fallback" in kinds else " (corrected)" if kinds else ""
         lines.append((value, color, style, f"{label} {value:.3g} N m{mark}"))
