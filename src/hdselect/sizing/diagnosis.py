@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from hdselect.catalog.builtin import DEFAULT, builtin_catalogs
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import RULES, Candidate, Part, Rule, Scope, rule
 from hdselect.catalog.rules.peak import PEAK
@@ -228,11 +229,14 @@ def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | N
 
 
 def shipped_catalogs() -> dict[str, tuple[Unit, ...]]:
-    """The catalogs shipped with hdselect, by their ``--catalog`` argument.
+    """The catalogs shipped with hdselect but the default, by name (``--catalog NAME``).
 
-    The one place that knows where the shipped series live.
+    Each with its own units only (`hdselect.catalog.builtin.builtin_catalogs`): the one
+    place the diagnosis learns which series are shipped.
     """
-    return {"psa-g": load_catalog()}
+    return {catalog.name: tuple(unit for unit in load_catalog([catalog.name])
+                                if unit.source == catalog.file)
+            for catalog in builtin_catalogs() if catalog.name != DEFAULT}
 
 
 def diagnosis_of(result: SizingResult, joint: str) -> Diagnosis | None:

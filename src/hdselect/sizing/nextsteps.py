@@ -102,7 +102,9 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
             if chosen is not None:
                 out[joint.name] = [NextStep(
                     "catalog", f"the {name} catalog holds it with {chosen.label}",
-                    _command(result, command, "--catalog", name), chosen.label, catalog=name)]
+                    _command(result, command, ("--catalog", name),
+                             *([("--series", name)] if given(command, "--series") else [])),
+                    chosen.label, catalog=name)]
                 break
     return out
 
@@ -143,7 +145,7 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
         if single:
             text = f"a payload of {kg:.2f} kg (not more) lets {chosen.label} hold it"
             out[joint.name] = [NextStep("payload", text,
-                                        _command(result, command, "--payload", f"{kg:.2f}"),
+                                        _command(result, command, ("--payload", f"{kg:.2f}")),
                                         chosen.label, kg)]
         else:
             carried = ", ".join(f"{task.label} {task.robot.payload.mass:.3g} kg"
@@ -189,7 +191,7 @@ def exclude_step(result: SizingResult, joint: str,
                 [load.name for load in result.loads
                  if not load.sized and load.kind == "revolute" and load.leader is None])
     return NextStep("exclude", "size the other joints without it",
-                    _command(result, command, "--exclude", ",".join([*left_out, joint])))
+                    _command(result, command, ("--exclude", ",".join([*left_out, joint]))))
 
 
 def slowdown_step(result: SizingResult, joint: JointSizing) -> NextStep | None:
@@ -216,41 +218,46 @@ OUTPUT_OPTIONS = ("--json", "--report", "--bom")
 """Options that write files: left out of a next step's command (it is run to be read)."""
 
 
-def _command(result: SizingResult, command: Sequence[str] | None, option: str,
-             value: str) -> str | None:
-    """The run's command line with `option value` set, or ``hdselect size FILE option value``.
+def _command(result: SizingResult, command: Sequence[str] | None,
+             *options: tuple[str, str]) -> str | None:
+    """The run's command line with `options` set, or ``hdselect size FILE`` with them.
 
     The user's own options are kept (so the step is checked on the same assumptions it
-    is run with), `option` replaced where given, the output options left out.
+    is run with), each option of `options` replaced where given (``--catalog`` and
+    ``--series``, which repeat, added to), the output options left out.
 
     Args:
         result: The sizing, for its motion or mix file where no command is known.
         command: The command line of the run, program name first; None from Python.
-        option: The option, e.g. ``--catalog``; ``--catalog`` is added to any given.
-        value: Its value.
+        *options: The options to set, each (option, value), e.g. ``("--payload", "2.5")``.
 
     Returns:
         The command, quoted for a POSIX shell; None without a command or a file.
     """
+    added = [word for pair in options for word in pair]
     if command is None:
         source = result.mix.path if result.mix is not None else (
             result.motion.path if result.motion is not None else None)
         if source is None:
             return None
-        return shlex.join(["hdselect", "size", _shown(source), option, value])
+        return shlex.join(["hdselect", "size", _shown(source), *added])
+    replaced = {option for option, _ in options} - set(REPEATED)
     kept: list[str] = []
     words = list(command)
     k = 0
     while k < len(words):
         word = words[k]
         name = word.split("=", 1)[0]
-        dropped = name in OUTPUT_OPTIONS or (name == option and option != "--catalog")
-        if dropped:
+        if name in OUTPUT_OPTIONS or name in replaced:
             k += 1 if "=" in word else 2
             continue
         kept.append(word)
         k += 1
-    return shlex.join([*kept, option, value])
+    return shlex.join([*kept, *added])
+
+
+REPEATED = ("--catalog", "--series")
+"""Options given once per value: a step adds its value to the run's."""
 
 
 def given(command: Sequence[str] | None, option: str) -> str | None:
