@@ -70,22 +70,26 @@ class Shortfall:
     @property
     def is_life(self) -> bool:
         """The rule judges a life (shown as a consequence, never as a percentage)."""
-        return rule(self.rule).at_least
+        return rule(self.rule).life
 
     def short(self) -> str:
-        """The shortfall in a table cell, e.g. ``peak 87.3 > 20.3 N m``."""
-        sign = "<" if self.is_life else ">"
-        return (f"{self.rule} {_number(self.value)} {sign} {_number(self.usable)} "
-                f"{self.si}").rstrip()
+        """The shortfall in a table cell, e.g. ``peak 87.3 > 20.3 N m``, ``life 643 < 20,000 h``."""
+        sign = "<" if rule(self.rule).at_least else ">"
+        return " ".join(filter(None, (self.rule, _number(self.value), sign,
+                                      _number(self.usable), self.si)))
 
     def text(self) -> str:
-        """In words, e.g. ``repeated peak torque 87.3 N m over PSA-14-100's 20.3 N m``."""
-        words = rule(self.rule).words
-        if self.is_life:
-            return (f"{words} {_number(self.value)} h of the {_number(self.usable)} h required "
-                    f"({self.unit})")
-        return (f"{words} {_number(self.value)} {self.si} over {self.unit}'s "
-                f"{_number(self.usable)} {self.si}".replace("  ", " ").rstrip())
+        """In words, e.g. ``repeated peak torque 87.3 N m over PSA-14-100's 20.3 N m``.
+
+        A life or a safety (which must reach its figure): ``life 643 h of the 20,000 h
+        required (PSA-14-100)``.
+        """
+        found = rule(self.rule)
+        value, usable = (" ".join(filter(None, (_number(x), self.si)))
+                         for x in (self.value, self.usable))
+        if found.at_least:
+            return f"{found.words} {value} of the {usable} required ({self.unit})"
+        return f"{found.words} {value} over {self.unit}'s {usable}"
 
 
 @dataclass(frozen=True)
@@ -267,7 +271,7 @@ def _order(found: Rule) -> tuple[int, ...]:
     the bearing's, the motor's and the pair's rules; every life last.
     """
     parts = list(Part)
-    return (int(found.at_least), parts.index(found.part), int(found.unit != "N m"),
+    return (int(found.life), parts.index(found.part), int(found.unit != "N m"),
             int(found.scope is Scope.CYCLE), list(RULES).index(found))
 
 
