@@ -353,3 +353,19 @@ mass_kg = 0.5
     assert found.headline.value == pytest.approx(speed.value) and found.headline.limit == 100
     assert found.headline.short() == f"speed {speed.value:.3g} > 100 rpm"
     assert found.lines()[0].startswith("shoulder: no unit holds every rule; the closest: ")
+
+
+def test_figures_name_no_unit_as_the_joints(tmp_path):
+    """The torque figure's title gives the shortfall; the bearing figure draws no rating."""
+    from hdselect.report.bearing_figures import bearing_figure
+    from hdselect.report.joint_figures import joint_figure
+
+    motion = gravity_overload_motion(tmp_path / "heavy.toml")
+    result = with_diagnoses(hdselect.size(None, motion))
+    shoulder = result.joints[0]
+    title = joint_figure(result, shoulder).get_suptitle()
+    assert title.startswith(f"shoulder: {result.diagnoses['shoulder'].summary()}; the limits "
+                            "drawn: the strongest candidate, ")
+    bearing = bearing_figure(result, shoulder)
+    assert bearing is not None
+    assert not any(unit.id in bearing.get_suptitle() for unit in result.units)
