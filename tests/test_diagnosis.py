@@ -369,3 +369,20 @@ def test_figures_name_no_unit_as_the_joints(tmp_path):
     bearing = bearing_figure(result, shoulder)
     assert bearing is not None
     assert not any(unit.id in bearing.get_suptitle() for unit in result.units)
+
+
+def test_no_step_checked_on_less_than_the_joint_was_sized_on(tmp_path):
+    """An envelope sizes a joint on its tasks' samples and worst states of no duration:
+    a step checked on the tasks alone could fail there, so none is offered from them."""
+    from dataclasses import replace
+
+    motion = gravity_overload_motion(tmp_path / "heavy.toml")
+    result = hdselect.size(None, motion)
+    worse = replace(result, joints=tuple(
+        replace(j, torque=np.append(j.torque, 0.0), stop_torque=np.append(j.stop_torque, 0.0))
+        for j in result.joints))
+    plain = diagnose(result, catalogs=big_units(), payload_bounds=duty_bounds)["shoulder"]
+    found = diagnose(worse, catalogs=big_units(), payload_bounds=duty_bounds)["shoulder"]
+    assert {s.kind for s in plain.steps} == {"catalog", "payload", "exclude"}
+    assert {s.kind for s in found.steps} == {"exclude"}
+    assert found.shortfalls == plain.shortfalls

@@ -80,6 +80,8 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
     options = result.options
     best: dict[str, list[tuple[tuple[float, float], str]]] = {}
     for joint in missing:
+        if len(joint.torque) != len(samples):
+            continue  # sized on more than its tasks' samples (an envelope's worst states)
         cycle = JointCycle(samples, result.robot.joint_index(joint.name), joint.torque,
                            joint.stop_torque, joint.wrench,
                            options.bearing_offset.get(joint.name, 0.0))
@@ -121,8 +123,11 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
         return {}  # no payload, or a trajectory that depends on it
     bounds = payload_bounds(tasks, result.idle, scaled, masses, result.units, result.options)
     single = len(tasks) == 1
+    count = len(pooled(tasks, result.idle))
     out: dict[str, list[NextStep]] = {}
     for joint in missing:
+        if len(joint.torque) != count:
+            continue  # sized on more than its tasks' samples: they alone do not check it
         ends = [min(b.masses[1], 1.0) for b in bounds[joint.name]
                 if b.masses is not None and b.masses[0] <= min(b.masses[1], 1.0)]
         if not ends:
