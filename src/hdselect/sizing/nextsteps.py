@@ -72,8 +72,8 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
     gives the joint a unit (the unit it gives is the one named).
     """
     have = {unit.id for unit in result.units}
-    offered = {name: tuple(units) for name, units in catalogs.items()
-               if any(unit.id not in have for unit in units)}
+    offered = {name: fresh for name, units in catalogs.items()
+               if (fresh := tuple(unit for unit in units if unit.id not in have))}
     if not offered:
         return {}
     samples = pooled(tasks, result.idle)
@@ -86,8 +86,7 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
                            joint.stop_torque, joint.wrench,
                            options.bearing_offset.get(joint.name, 0.0))
         for name, units in offered.items():
-            fresh = tuple(u for u in units if u.id not in have)
-            found = size_joint(joint.name, cycle, fresh, options,
+            found = size_joint(joint.name, cycle, units, options,
                                motors=result.motors.get(joint.name, ()), detail=False)
             if found.selected is not None:
                 unit = found.selected.unit
