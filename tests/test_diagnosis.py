@@ -386,3 +386,14 @@ def test_no_step_checked_on_less_than_the_joint_was_sized_on(tmp_path):
     assert {s.kind for s in plain.steps} == {"catalog", "payload", "exclude"}
     assert {s.kind for s in found.steps} == {"exclude"}
     assert found.shortfalls == plain.shortfalls
+
+
+def test_the_design_margin_lowers_every_limit_stated(tmp_path):
+    motion = gravity_overload_motion(tmp_path / "heavy.toml")
+    result = hdselect.size(None, motion, margin=0.2)
+    found = diagnose(result)["shoulder"]
+    strongest = max(u.repeated_torque for u in result.units)
+    assert found.headline.limit == pytest.approx(strongest)
+    assert found.headline.usable == pytest.approx(0.8 * strongest)
+    assert found.gravity.limit == pytest.approx(0.8 * strongest)
+    assert found.headline.short().endswith(f"> {0.8 * strongest:.3g} N m")
