@@ -22,7 +22,9 @@ from hdselect.cli.output import (
 def run_fastest(args: argparse.Namespace) -> int:
     """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
     from hdselect.base.outputs import Outputs
+    from hdselect.codesign.choice import NoUnit
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
+    from hdselect.codesign.pathbounds import PathInfeasible
     from hdselect.codesign.records import fastest_json, ratios_json
 
     if args.joint and not args.compare_ratios:
@@ -45,6 +47,13 @@ def run_fastest(args: argparse.Namespace) -> int:
                 result = fastest(problem, units=given)
         except InputError as err:
             raise flagged(err, args) from err
+        except (NoUnit, PathInfeasible) as err:  # the units' physics: a result, no file
+            if isinstance(err, PathInfeasible) and not err.units:
+                raise
+            from hdselect.report.tables import Paragraphs
+
+            sys.stdout.write(rendered(Paragraphs(tuple(str(err).splitlines()))))
+            return EXIT_NO_FIT
         if figure is not None:
             from hdselect.report.codesign_figures import write_fastest_png, write_ratios_png
 

@@ -15,7 +15,7 @@ from typing import cast
 from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError, PlanningError
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import Candidate
+from hdselect.catalog.rules import Candidate, rule
 from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
 from hdselect.motion.mixfile import Mix
@@ -27,8 +27,27 @@ from hdselect.sizing.arguments import checked_motors, fixed_units
 from hdselect.sizing.core import size_tasks
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
-from hdselect.sizing.result import Motors
+from hdselect.sizing.result import JointSizing, Motors
 from hdselect.sizing.tasks import Task
+
+
+class NoUnit(PlanningError):
+    """No candidate unit can run a joint at any speed: a result of the physics, not bad input.
+
+    The command line prints it as a result and exits 1 (no fit), as ``size`` does for a
+    joint without a unit.
+
+    Attributes:
+        where: The motion or mix file.
+        over: The duty in words (``"this motion"``, ``"this mix"``).
+        joints: Each joint without a unit, as the sizing checked every candidate on it.
+        options: The assumptions it was checked under.
+    """
+
+    def __init__(self, where: str, over: str, joints: Sequence[JointSizing], options: Options):
+        self.where, self.over, self.joints, self.options = where, over, tuple(joints), options
+        super().__init__("\n".join(f"{where}: {no_unit_at_any_speed(joint, options, over)}"
+                                    for joint in self.joints))
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,7 +196,7 @@ def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
 
     Raises:
         InputError: A name is not a sized joint, or an id is unknown.
-        PlanningError: No unit can run a joint not given, at any speed.
+        NoUnit: No unit can run a joint not given, at any speed.
     """
     chosen = fixed_units(given, catalog, robot)
     by_id = {unit.id: unit for unit in catalog}
@@ -186,18 +205,19 @@ def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
         return chosen, {}, {name: found[0] for name, found in candidates.items()}
     sizing = size_tasks(duty.tasks(options, trajectory), catalog, options, motors=candidates,
                         idle=duty.idle)
-    selected: dict[str, str] = {}
+    picks = {joint.name: joint.selected.unit.id if joint.selected is not None else (
+        joint.slowdown.unit.split(" + ")[0]  # a slow-down names a pair "UNIT + MOTOR"
+        if joint.slowdown is not None and joint.slowdown.unit is not None else None)
+        for joint in sizing.joints}
+    stuck = [joint for joint in sizing.joints if picks[joint.name] is None
+             and joint.name not in chosen]
+    if stuck:
+        raise NoUnit(duty.where, duty.over, stuck, sizing.options)
+    selected = {name: pick for name, pick in picks.items() if pick is not None}
     paired: dict[str, Motor] = {}
     for joint in sizing.joints:
-        pick = joint.selected.unit.id if joint.selected is not None else (
-            joint.slowdown.unit.split(" + ")[0]
-            if joint.slowdown is not None and joint.slowdown.unit is not None else None)
-        if pick is not None:  # a slow-down names a pair "UNIT + MOTOR"
-            selected[joint.name] = pick
         if joint.name not in chosen:
-            if pick is None:
-                raise PlanningError(f"{duty.where}: {no_unit_at_any_speed(joint.name, duty.over)}")
-            chosen[joint.name] = by_id[pick]
+            chosen[joint.name] = by_id[selected[joint.name]]
         if joint.name in candidates:
             paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
                                                candidates[joint.name], sizing.options)
@@ -265,11 +285,45 @@ def refuse_logs(motions: Sequence[Motion], what: str = "path to run faster", *,
                              path=motion.path, field="planner")
 
 
-def no_unit_at_any_speed(joint: str, over: str = "this motion") -> str:
-    """The refusal for a joint no catalog unit can run, slowed or not, with what helps."""
-    return (f"no unit of the catalog can run joint '{joint}' on {over} at any speed "
-            f"(hdselect size says how close each comes); leave it out with --exclude {joint}, "
-            "or give a catalog with a stronger unit (--catalog)")
+def no_unit_at_any_speed(joint: JointSizing, options: Options, over: str = "this motion"
+                         ) -> str:
+    """The refusal for a joint no catalog unit can run, slowed or not: why, and what helps."""
+    return (f"no unit of the catalog can run joint '{joint.name}' on {over} at any speed: "
+            f"{no_unit_reason(joint, options)}; leave it out with --exclude {joint.name}, or "
+            "give a catalog with a stronger unit (--catalog)")
+
+
+def no_unit_reason(joint: JointSizing, options: Options) -> str:
+    """Why no candidate fits a joint, in figures.
+
+    Gravity alone over every unit's repeated-peak limit [N m] is said as such (then no
+    slow-down or lower limit helps); else the strongest unit's failing rules, each demand
+    against its limit, and the slow-down that fits where one does.
+    """
+    peak = rule("peak")
+    strongest = max((c.unit for c in joint.candidates),
+                    key=lambda unit: peak.allowed(unit, options.margin))
+    allowed = peak.allowed(strongest, options.margin)
+    if joint.max_gravity_torque > allowed:
+        return (f"gravity alone needs {joint.max_gravity_torque:.3g} N m, over every unit's "
+                f"repeated-peak limit (the strongest, {strongest.id}, allows {allowed:.3g} "
+                "N m): no slow-down or lower limit helps")
+    closest = joint.strongest
+    why = f"the strongest, {closest.unit.id}, fails " + ", ".join(
+        f"{rule(name).words} ({_figure(name, check)})"
+        for name, check in closest.checks.items() if not check.ok)
+    slowdown = joint.slowdown
+    if slowdown is not None and slowdown.factor is not None and slowdown.factor >= 1.0:
+        why += f"; run x{slowdown.factor:.4g} slower, {slowdown.unit} fits"
+    return why
+
+
+def _figure(name: str, check) -> str:
+    """A failing check's demand against its limit, in the rule's unit."""
+    unit = rule(name).unit
+    if check.value is None:
+        return f"{check.utilization:.0%} of its limit"
+    return f"{check.value:.3g} against {check.limit:.3g}{' ' + unit if unit else ''}"
 
 
 def _paired_motor(pairs: Sequence[Candidate], unit: Unit, motors: Sequence[Motor],

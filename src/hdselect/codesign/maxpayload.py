@@ -85,6 +85,8 @@ class MaxPayloadResult:
         payloads: Each scaled task's payload at x = 1, by name.
         tasks: The duty's tasks at x = 1; idle: the fraction of the time none runs [-].
         mix: The mix, or None for one motion.
+        unloaded: Where no x fits: the sizing at x = 0 (no scaled payload), with the
+            joints no unit fits even then and their slow-downs; else None.
     """
 
     mass: float | None
@@ -102,6 +104,7 @@ class MaxPayloadResult:
     tasks: tuple[Task, ...] = ()
     idle: float = 0.0
     mix: Mix | None = None
+    unloaded: SizingResult | None = None
 
     @property
     def factor(self) -> float | None:
@@ -215,10 +218,11 @@ def max_payload(robot: Robot | Problem, motion: Motion | Mix | None = None,
     payloads = {task.label: task.robot.payload for task in planned
                 if task.label in scaled and task.robot.payload is not None}
     first = next(task for task in planned if task.label in scaled)
+    unloaded = sizing.at(0.0) if mass is None else None  # the joints no unit fits, and why
     return MaxPayloadResult(mass, payloads[first.label], tuple(ranges), joint, unit, rule,
                             selection, planned[0].trajectory, bounds,
                             first.robot.payload_frame, scaled, payloads, planned, duty.idle,
-                            duty.mix)
+                            duty.mix, unloaded)
 
 
 def _carried(chosen: Candidate, options: Options) -> float:

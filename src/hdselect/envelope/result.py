@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hdselect.catalog.rules import Candidate
+from hdselect.catalog.rules import Candidate, Scope, rule
 from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.search import SearchSettings, Worst
 from hdselect.envelope.spec import Spec
@@ -130,3 +130,70 @@ class EnvelopeResult:
     def converged(self) -> bool:
         """Every joint's search converged and the masses settled."""
         return self.settled and all(joint.convergence.converged for joint in self.joints)
+
+
+GRAVITY_RULES = ("peak", "static", "momentary")
+"""The torque rules of single samples whose demand tends to the gravity torque as the speed
+and acceleration limits tend to 0: lowering them helps only where gravity is within."""
+
+
+def no_unit_note(joint: JointEnvelope, result: EnvelopeResult) -> str:
+    """Why no unit holds a joint for every motion within the spec, and what helps.
+
+    Gravity alone over the joint's range beyond every unit's repeated-peak limit [N m]:
+    no lower limit helps. Else the strongest unit's failing rules, each demand against
+    its limit; lowering the velocity and acceleration limits is suggested only where it
+    helps every one of them: a speed, a torque rule whose gravity part is within the
+    limit, or a mean or life on the default duty (moves at the limits).
+    """
+    margin = result.sizing.options.margin
+    gravity = abs(joint.gravity.torque)
+    peak = rule("peak")
+    strongest = joint.sizing.strongest
+    best = max((c.unit for c in joint.sizing.candidates),
+               key=lambda unit: peak.allowed(unit, margin))
+    head = f"{joint.name}: no unit holds for every motion within the spec"
+    away = (f"leave it out with --exclude {joint.name}, or give a catalog with a stronger "
+            "unit (--catalog)")
+    if gravity > peak.allowed(best, margin):
+        return (f"{head}: gravity alone needs {gravity:.3g} N m over the joint's range, over "
+                f"every unit's repeated-peak limit (the strongest, {best.id}, allows "
+                f"{peak.allowed(best, margin):.3g} N m): no lower velocity or acceleration "
+                f"limit helps; {away}.")
+    failing = [name for name, check in strongest.checks.items() if not check.ok]
+    figures = ", ".join(f"{rule(name).words} {_figure(strongest.checks[name], rule(name).unit)}"
+                        for name in failing)
+    stuck = [name for name in failing if not _lowering_helps(
+        name, gravity, strongest, margin, result.duty.default)]
+    said = (f"{head}; the strongest, {strongest.unit.id}, fails {figures}. Gravity alone "
+            f"needs at most {gravity if gravity >= 5e-5 else 0.0:.3g} N m over the "
+            "joint's range")
+    if not stuck:
+        return (f"{said}, within its limits: the speed and acceleration terms fail, so lower "
+                "the velocity and acceleration limits.")
+    cycle = any(rule(name).scope is Scope.CYCLE for name in stuck)
+    return (f"{said}; lower velocity and acceleration limits are not shown to help its "
+            f"{', '.join(rule(name).words for name in stuck)}"
+            + (f" (judged on the {result.duty.label}, which they do not change)" if cycle
+               else "") + f"; {away}.")
+
+
+def _lowering_helps(name: str, gravity: float, candidate: Candidate, margin: float,
+                    default_duty: bool) -> bool:
+    """Lower velocity and acceleration limits bring a failing rule within, in the limit.
+
+    A torque rule of single samples tends to the gravity torque [N m]; the input speed to
+    0; a rule over the duty follows the limits only on the default duty (moves at them).
+    """
+    if name in GRAVITY_RULES:
+        return gravity <= rule(name).allowed(candidate.unit, margin)
+    if rule(name).scope is Scope.CYCLE:
+        return default_duty
+    return name == "speed"
+
+
+def _figure(check, unit: str) -> str:
+    """A failing check: its demand against its limit, in the rule's unit."""
+    if check.value is None or not np.isfinite(check.limit):
+        return f"at {check.utilization:.0%} of its limit"
+    return f"({check.value:.3g} against {check.limit:.3g}{' ' + unit if unit else ''})"

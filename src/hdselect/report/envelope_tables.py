@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from rich.markup import escape
 
-from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
+from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState, no_unit_note
 from hdselect.envelope.search import ABSOLUTE
 from hdselect.envelope.torques import BEARING_NOTE
 from hdselect.report.tables import Column, FittedTable, Paragraphs
@@ -119,13 +119,7 @@ def note_lines(result: EnvelopeResult) -> list[str]:
         notes.append(f"{BEARING_NOTE}. --json gives each joint's bearing loads.")
     notes += [f"{joint.name}: not converged: {joint.convergence.note}"
               for joint in result.joints if not joint.convergence.converged]
-    for joint in result.joints:
-        if joint.selected is None:
-            strongest = joint.sizing.strongest
-            check = strongest.checks[strongest.binding]
-            notes.append(f"{joint.name}: no unit holds for every motion within the spec; the "
-                         f"strongest, {strongest.unit.id}, fails {strongest.binding} at "
-                         f"{percent(check.utilization)} of its limit: lower the limits.")
+    notes += [no_unit_note(joint, result) for joint in result.joints if joint.selected is None]
     notes.append("Assumptions: " + "; ".join(f"{k}: {v}" for k, v in
                                              assumptions(result.sizing).items()))
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
