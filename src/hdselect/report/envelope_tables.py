@@ -9,7 +9,7 @@ from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState, 
 from hdselect.envelope.search import ABSOLUTE
 from hdselect.envelope.torques import BEARING_NOTE
 from hdselect.report.tables import Column, FittedTable, Paragraphs
-from hdselect.report.terminal import DEG_PER_RAD, life_text, percent, utilization_text, verdict
+from hdselect.report.terminal import DEG_PER_RAD, life_text, utilization_text, verdict
 from hdselect.sizing.records import assumptions, base_text
 
 _SOURCE_SHORT = {"given": "given", "file": "file", "robot file": "robot", "default": "default"}
