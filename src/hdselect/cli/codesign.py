@@ -22,7 +22,7 @@ from hdselect.cli.output import (
 def run_fastest(args: argparse.Namespace) -> int:
     """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
     from hdselect.base.outputs import Outputs
-    from hdselect.codesign.choice import NoUnit
+    from hdselect.codesign.choice import NoUnit, no_fit
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
     from hdselect.codesign.pathbounds import PathInfeasible
     from hdselect.codesign.records import fastest_json, ratios_json
@@ -47,13 +47,11 @@ def run_fastest(args: argparse.Namespace) -> int:
                 result = fastest(problem, units=given)
         except InputError as err:
             raise flagged(err, args) from err
-        except (NoUnit, PathInfeasible) as err:  # the units' physics: a result, no file
-            if isinstance(err, PathInfeasible) and not err.units:
+        except (NoUnit, PathInfeasible) as err:  # the units' physics: a result
+            if not no_fit(err):
                 raise
-            from hdselect.report.tables import Paragraphs
-
-            sys.stdout.write(rendered(Paragraphs(tuple(str(err).splitlines()))))
-            return EXIT_NO_FIT
+            outputs.discard()  # no cycle: no CSV or figure
+            return _no_fit(args, err, problem)
         if figure is not None:
             from hdselect.report.codesign_figures import write_fastest_png, write_ratios_png
 
@@ -83,6 +81,29 @@ def run_fastest(args: argparse.Namespace) -> int:
          if args.compare_ratios else "speed and torque of each sized joint against its limits"),
         (args.json, None)], args)
     return EXIT_OK if result.feasible else EXIT_NO_FIT
+
+
+def _no_fit(args: argparse.Namespace, err: Exception, problem) -> int:
+    """``fastest`` where a joint has no unit that runs the path at any speed: a result.
+
+    Why on standard output, and the JSON (`hdselect.codesign.records.no_fit_json`) if
+    asked for; exit status 1.
+    """
+    from hdselect.base.outputs import Outputs
+    from hdselect.codesign.records import no_fit_json
+    from hdselect.report.export import write_json
+    from hdselect.report.tables import Paragraphs
+
+    source = problem.source
+    with Outputs(_inputs(args, problem.robot, source)) as outputs:
+        if args.json is not None:
+            write_json(outputs.file(args.json, "--json"), no_fit_json(
+                err, str(problem.robot.path), None if source is None else str(source.path)))
+        text = "" if to_stdout(args) else rendered(Paragraphs(tuple(str(err).splitlines())))
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written([(args.json, None)], args)
+    return EXIT_NO_FIT
 
 
 def _fastest_tables(args: argparse.Namespace, result, comparison) -> list[Any]:

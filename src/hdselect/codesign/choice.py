@@ -18,6 +18,7 @@ from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import Candidate, rule
 from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
+from hdselect.codesign.pathbounds import PathInfeasible
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
@@ -27,7 +28,7 @@ from hdselect.sizing.arguments import checked_motors, fixed_units
 from hdselect.sizing.core import size_tasks
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
-from hdselect.sizing.result import JointSizing, Motors
+from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.tasks import Task
 
 
@@ -40,14 +41,25 @@ class NoUnit(PlanningError):
     Attributes:
         where: The motion or mix file.
         over: The duty in words (``"this motion"``, ``"this mix"``).
-        joints: Each joint without a unit, as the sizing checked every candidate on it.
-        options: The assumptions it was checked under.
+        sizing: The selection that found no unit (every candidate checked on every joint).
+        joints: Each joint without a unit (none given for it), as the sizing checked it.
     """
 
-    def __init__(self, where: str, over: str, joints: Sequence[JointSizing], options: Options):
-        self.where, self.over, self.joints, self.options = where, over, tuple(joints), options
-        super().__init__("\n".join(f"{where}: {no_unit_at_any_speed(joint, options, over)}"
+    def __init__(self, where: str, over: str, sizing: SizingResult, names: Sequence[str]):
+        self.where, self.over, self.sizing = where, over, sizing
+        self.joints = tuple(joint for joint in sizing.joints if joint.name in names)
+        super().__init__("\n".join(f"{where}: {no_unit_at_any_speed(joint, sizing.options, over)}"
                                     for joint in self.joints))
+
+
+def no_fit(err: BaseException) -> bool:
+    """The error is a result, not bad input: no unit (of those given) runs a joint at any speed.
+
+    `NoUnit`, or a `PathInfeasible` whose fault is the units' (or motors') limits rather
+    than the motion's own velocity and acceleration limits.
+    """
+    return isinstance(err, NoUnit) or (isinstance(err, PathInfeasible)
+                                       and err.limit != "velocity and acceleration")
 
 
 @dataclass(frozen=True, eq=False)
@@ -209,10 +221,9 @@ def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
         joint.slowdown.unit.split(" + ")[0]  # a slow-down names a pair "UNIT + MOTOR"
         if joint.slowdown is not None and joint.slowdown.unit is not None else None)
         for joint in sizing.joints}
-    stuck = [joint for joint in sizing.joints if picks[joint.name] is None
-             and joint.name not in chosen]
+    stuck = [name for name, pick in picks.items() if pick is None and name not in chosen]
     if stuck:
-        raise NoUnit(duty.where, duty.over, stuck, sizing.options)
+        raise NoUnit(duty.where, duty.over, sizing, stuck)
     selected = {name: pick for name, pick in picks.items() if pick is not None}
     paired: dict[str, Motor] = {}
     for joint in sizing.joints:

@@ -62,11 +62,6 @@ class PathInfeasible(PlanningError):
         super().__init__(message)
         self.joint, self.limit, self.gravity = joint, limit, gravity
 
-    @property
-    def units(self) -> bool:
-        """The units' (or motors') limits are at fault, not the motion's own: a result."""
-        return self.limit != "velocity and acceleration"
-
 
 @dataclass(frozen=True)
 class JointLimits:

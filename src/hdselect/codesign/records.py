@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
 
 from hdselect.codesign.bindings import Binding
+from hdselect.codesign.choice import NoUnit, no_unit_reason
 from hdselect.codesign.fastest_result import FastestResult, RatioComparison, TaskFastest
 from hdselect.codesign.maxpayload import MaxPayloadResult
+from hdselect.codesign.pathbounds import PathInfeasible
 from hdselect.motion.motionfile import Motion
 from hdselect.sizing.records import (
     candidate_json,
@@ -21,6 +24,7 @@ from hdselect.sizing.records import (
     payload_json,
     size_json,
 )
+from hdselect.sizing.result import SizingResult
 
 
 def fastest_json(result: FastestResult) -> dict[str, Any]:
@@ -78,6 +82,42 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
             "motors": {name: result.motors[name].id for name in sized if name in result.motors},
             "tasks": [_task_json(item, result) for item in result.tasks],
             "idle_share": result.idle, "check": check}
+
+
+def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None
+                ) -> dict[str, Any]:
+    """``fastest`` where a joint has no unit that runs the path at any speed, as JSON.
+
+    A result, not an error: ``feasible`` false, ``cycle_time_s`` null, ``joints`` empty,
+    and ``no_unit``: per joint without one, its ``joint``, the ``reason`` in words and,
+    where the sizing found none, its largest gravity torque (``gravity_torque_nm``);
+    where a unit given cannot run it, the ``limit`` at fault and whether ``gravity`` alone
+    exceeds it.
+
+    Args:
+        err: Why (`NoUnit` from the selection, or `PathInfeasible` for the units given).
+        robot: The robot file.
+        source: The motion or mix file.
+    """
+    if isinstance(err, NoUnit):
+        rows = no_unit_json(err.sizing, [joint.name for joint in err.joints])
+    else:
+        rows = [{"joint": err.joint, "reason": str(err), "limit": err.limit,
+                 "gravity": err.gravity}]
+    return {"robot": robot, "motion": source, "cycle_time_s": None, "feasible": False,
+            "joints": [], "no_unit": rows}
+
+
+def no_unit_json(sizing: SizingResult, names: Sequence[str] | None = None
+                 ) -> list[dict[str, Any]]:
+    """The joints of a sizing without a unit (or those of `names`), as JSON.
+
+    Each: ``joint``, the ``reason`` in words and its largest gravity torque
+    ``gravity_torque_nm`` [N m].
+    """
+    return [{"joint": joint.name, "reason": no_unit_reason(joint, sizing.options),
+             "gravity_torque_nm": joint.max_gravity_torque} for joint in sizing.joints
+            if (joint.selected is None if names is None else joint.name in names)]
 
 
 def _limits_json(item: TaskFastest | None, name: str, result: FastestResult) -> dict[str, Any]:
@@ -152,8 +192,9 @@ def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
 def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> dict[str, Any]:
     """The largest payload as JSON.
 
-    ``max_payload_kg`` is null when no mass fits and ``unlimited`` true when no rule
-    depends on the mass. A motion is a duty of one task. A mix's answer is a factor on
+    ``max_payload_kg`` is null when no mass fits (``no_unit`` then lists the joints no
+    unit fits even without the payload, as `no_unit_json`) and ``unlimited`` true when no
+    rule depends on the mass. A motion is a duty of one task. A mix's answer is a factor on
     the payloads of its tasks in ``scaled``: it adds ``mix``, ``factor``, ``scaled``,
     ``payloads_kg`` (their masses there), ``given_kg`` and ``ranges`` (of the factor);
     ``max_payload_kg``, ``payload`` and ``ranges_kg`` are of the one task that scales
@@ -194,6 +235,7 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> 
         "selection": None if selection is None else size_json(
             selection if mix is not None or motion is None
             else replace(selection, motion=motion)),
+        "no_unit": [] if result.unloaded is None else no_unit_json(result.unloaded),
     }
     if mix is None:
         return document

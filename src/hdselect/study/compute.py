@@ -30,10 +30,11 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from hdselect.base.errors import HdselectError
-from hdselect.codesign.choice import choose, duty_of
+from hdselect.codesign.choice import NoUnit, choose, duty_of, no_fit
 from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
-from hdselect.codesign.records import fastest_json, max_payload_json
+from hdselect.codesign.pathbounds import PathInfeasible
+from hdselect.codesign.records import fastest_json, max_payload_json, no_fit_json
 from hdselect.motion.loading import robot_for_motion
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
@@ -210,15 +211,23 @@ def fastest_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     motion or mix run ``time_scale`` times slower, from the case's catalog and ratio; the
     result is `hdselect.codesign.records.fastest_json`.
 
+    Where a joint has no unit that runs the path at any speed, the result is
+    `hdselect.codesign.records.no_fit_json` (a row per such joint, with why).
+
     Raises:
-        HdselectError: An input is bad, a motion is a log, or the path cannot be run.
+        HdselectError: An input is bad, a motion is a log, or TOPPRA fails.
     """
     problem = _codesign_problem(case_problem(case, inputs))
     duty, options, catalog, candidates = duty_of(_slower(problem, case.time_scale), None,
                                                  None, None, None)
-    chosen, _, paired = choose(duty.robot, duty, None, catalog, options, candidates)
-    motors = {**problem.motors, **{name: (motor,) for name, motor in paired.items()}}
-    return fastest_json(fastest(replace(problem, motors=motors), units=chosen))
+    try:
+        chosen, _, paired = choose(duty.robot, duty, None, catalog, options, candidates)
+        motors = {**problem.motors, **{name: (motor,) for name, motor in paired.items()}}
+        return fastest_json(fastest(replace(problem, motors=motors), units=chosen))
+    except (NoUnit, PathInfeasible) as err:  # a result: a joint no unit runs at any speed
+        if not no_fit(err):
+            raise
+        return no_fit_json(err, str(problem.robot.path), duty.where)
 
 
 def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
@@ -275,12 +284,16 @@ def _each(cases: Sequence[Case],
 FASTEST_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50_h",
                    "life_l10_h", "cycle_time_s", "carried_mass_kg", "flags", "optimum_s",
                    "lengthened_by", "derating", "velocity_limit", "velocity_limit_source",
-                   "torque_limit_nm", "binds_longest", "binds_share")
-"""Per-joint columns of a ``fastest`` row."""
+                   "torque_limit_nm", "binds_longest", "binds_share", "shortfall")
+"""Per-joint columns of a ``fastest`` row (``shortfall``: where no unit runs a joint at any
+speed, the row of that joint says why; the others are then empty)."""
 
 
 def fastest_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     """One row per sized joint of a ``fastest`` result (``hdselect fastest --json``)."""
+    if result.get("no_unit"):  # a joint no unit runs at any speed: its row says why
+        return [{"joint": row["joint"], "unit": None, "feasible": False,
+                 "cycle_time_s": None, "shortfall": row["reason"]} for row in result["no_unit"]]
     reason = result["lengthened_by"]
     rows = []
     for joint in result["joints"]:
@@ -304,7 +317,7 @@ def fastest_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 MAX_PAYLOAD_COLUMNS = (*SIZE_COLUMNS, "max_payload_kg", "payload_frame", "payload_limit",
-                       "payload_factor")
+                       "payload_factor", "shortfall")
 """Per-joint columns of a ``max-payload`` row: the selection at the largest payload; last,
 ``payload_factor``: for a mix, the largest factor on its tasks' payloads."""
 
@@ -315,7 +328,9 @@ def max_payload_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     ``payload_limit`` names, on the joint that runs out of units, the unit and the rule
     it reaches; ``max_payload_kg`` is inf where no rule depends on the mass and empty
     where no mass, not even none, fits (or, in a mix, where several tasks' payloads
-    scale: ``payload_factor`` is then the answer, each task's mass in the record).
+    scale: ``payload_factor`` is then the answer, each task's mass in the record). Where no
+    mass fits, a row per joint no unit fits even without the payload, its ``shortfall``
+    saying why.
     """
     unlimited = result["unlimited"]
     head = {"max_payload_kg": math.inf if unlimited else result["max_payload_kg"],
@@ -325,7 +340,9 @@ def max_payload_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     if result["selection"] is None:
         why = ("no rule depends on the payload mass" if unlimited else
                "no mass, not even none, leaves every joint a unit")
-        return [{**head, "payload_limit": why}]
+        stuck = result.get("no_unit") or []  # the joints no unit fits even without it
+        return [{**head, "payload_limit": why, "joint": row["joint"], "feasible": False,
+                 "shortfall": row["reason"]} for row in stuck] or [{**head, "payload_limit": why}]
     binding = result["binding"] or {}
     return [{**row, **head, "payload_limit": f"{binding['unit']} {binding['rule']}"
              if row["joint"] == binding.get("joint") else None}
