@@ -83,7 +83,7 @@ def run_fastest(args: argparse.Namespace) -> int:
     return EXIT_OK if result.feasible else EXIT_NO_FIT
 
 
-def _no_fit(args: argparse.Namespace, err: Exception, problem) -> int:
+def _no_fit(args: argparse.Namespace, err, problem) -> int:
     """``fastest`` where a joint has no unit that runs the path at any speed: a result.
 
     Why on standard output, and the JSON (`hdselect.codesign.records.no_fit_json`) if

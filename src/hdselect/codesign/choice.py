@@ -15,7 +15,7 @@ from typing import cast
 from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError, PlanningError
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import Candidate, rule
+from hdselect.catalog.rules import Candidate, UnitLimit, rule
 from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
 from hdselect.codesign.pathbounds import PathInfeasible
@@ -311,7 +311,7 @@ def no_unit_reason(joint: JointSizing, options: Options) -> str:
     slow-down or lower limit helps); else the strongest unit's failing rules, each demand
     against its limit, and the slow-down that fits where one does.
     """
-    peak = rule("peak")
+    peak = cast(UnitLimit, rule("peak"))
     strongest = max((c.unit for c in joint.candidates),
                     key=lambda unit: peak.allowed(unit, options.margin))
     allowed = peak.allowed(strongest, options.margin)

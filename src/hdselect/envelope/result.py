@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
-from hdselect.catalog.rules import Candidate, Scope, rule
+from hdselect.catalog.rules import Candidate, Scope, UnitLimit, rule
 from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.search import SearchSettings, Worst
 from hdselect.envelope.spec import Spec
@@ -148,7 +149,7 @@ def no_unit_note(joint: JointEnvelope, result: EnvelopeResult) -> str:
     """
     margin = result.sizing.options.margin
     gravity = abs(joint.gravity.torque)
-    peak = rule("peak")
+    peak = cast(UnitLimit, rule("peak"))
     strongest = joint.sizing.strongest
     best = max((c.unit for c in joint.sizing.candidates),
                key=lambda unit: peak.allowed(unit, margin))
@@ -186,7 +187,7 @@ def _lowering_helps(name: str, gravity: float, candidate: Candidate, margin: flo
     0; a rule over the duty follows the limits only on the default duty (moves at them).
     """
     if name in GRAVITY_RULES:
-        return gravity <= rule(name).allowed(candidate.unit, margin)
+        return gravity <= cast(UnitLimit, rule(name)).allowed(candidate.unit, margin)
     if rule(name).scope is Scope.CYCLE:
         return default_duty
     return name == "speed"
