@@ -24,12 +24,11 @@ from hdselect.cli.output import (
 def run_size(args: argparse.Namespace) -> int:
     """``hdselect size``: a gearhead for every joint."""
     from hdselect.report.size_tables import report_tables
-    from hdselect.sizing.core import size_problem
 
     problem = sizing_problem(args)
     with reserved_outputs(args, problem.robot, problem.source) as (outputs, json_file, report):
         bom = reserve_parts(outputs, args)
-        result = size_problem(problem)
+        result = _sized(problem)
         write_report_and_json(args, result, json_file, report)
         write_parts(bom, result)
         table = "" if to_stdout(args) else rendered(*report_tables(result))
@@ -46,7 +45,6 @@ def run_compare(args: argparse.Namespace) -> int:
 
     from hdselect.report.size_tables import compare_table
     from hdselect.sizing.arguments import not_sized
-    from hdselect.sizing.core import size_problem
 
     problem = sizing_problem(args)
     for name in args.joint or []:
@@ -54,7 +52,7 @@ def run_compare(args: argparse.Namespace) -> int:
             raise not_sized(problem.robot, name, "--joint")
     with reserved_outputs(args, problem.robot, problem.source) as (outputs, json_file, report):
         bom = reserve_parts(outputs, args)
-        result = size_problem(problem)
+        result = _sized(problem)
         shown = replace(result, joints=tuple(joint for joint in result.joints
                                              if not args.joint or joint.name in args.joint))
         write_report_and_json(args, shown, json_file, report)
@@ -68,3 +66,12 @@ def run_compare(args: argparse.Namespace) -> int:
     sys.stdout.write(text)
     say_written(report_and_json(args), args)
     return EXIT_OK if result.feasible else EXIT_NO_FIT
+
+
+def _sized(problem: Any) -> Any:
+    """The sizing, with the diagnosis of every joint no unit fits (its next steps checked)."""
+    from hdselect.codesign.maxpayload import duty_bounds
+    from hdselect.sizing.core import size_problem
+    from hdselect.sizing.diagnosis import with_diagnoses
+
+    return with_diagnoses(size_problem(problem), payload_bounds=duty_bounds)

@@ -33,7 +33,7 @@ def bearing_figure(result: SizingResult, joint: JointSizing) -> Figure | None:
     t, _, rest, spans = timeline(result, result.robot.joint_index(joint.name))
     axial, radial, moment = (values[:len(t)] for values in joint.wrench.loads(load.offset))
     shown = joint.selected or joint.strongest
-    rating = shown.unit.bearing
+    rating = shown.unit.bearing if joint.selected is not None else None
     fig = Figure(figsize=(11, 6.8), layout="constrained")
     axes = fig.subplots(3, 1, sharex=True)
     panels = ((moment, "tilting moment M [N m]", load.max_moment, load.mean_moment,
@@ -72,7 +72,8 @@ def bearing_figure(result: SizingResult, joint: JointSizing) -> Figure | None:
     axes[-1].set_xlabel("time [s]")
     axes[-1].set_xlim(t[0], max(t[-1], t[0] + traj.dt))
     where = "joint origin" if load.offset == 0.0 else f"{load.offset:g} m along the axis"
-    state = (f"{shown.unit.id}: {NOT_RATED.split(':')[0]}" if rating is None
+    state = ("no unit holds this joint: loads not checked" if joint.selected is None
+             else f"{shown.unit.id}: {NOT_RATED.split(':')[0]}" if rating is None
              else f"{shown.unit.id}'s rating")
     fig.suptitle(f"{joint.name}: output bearing loads about the flange ({where}); {state}",
                  fontsize=12)

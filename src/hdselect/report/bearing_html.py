@@ -11,6 +11,9 @@ from hdselect.report.terminal import life_text
 from hdselect.sizing.records import BEARING_RULE_NOTE
 from hdselect.sizing.result import JointSizing, SizingResult
 
+NO_UNIT = "no unit holds this joint: its loads are reported, not checked"
+"""The rating cell and caption of a joint without a unit: no unit is named for it."""
+
 
 def figure(value: float | None, unit: str = "") -> str:
     """A load for a table, three significant digits (``-`` for none)."""
@@ -51,7 +54,10 @@ def _row(joint: JointSizing) -> list[str]:
         raise RuntimeError(f"joint {joint.name} has no bearing loads to show")
     shown = joint.selected or joint.strongest
     figures = shown.bearing
-    if shown.unit.bearing is None:
+    if joint.selected is None:
+        rating = f"<td class='t wrap'>{esc(NO_UNIT)}</td>"
+        life = safety = equivalent = "-"
+    elif shown.unit.bearing is None:
         rating = f"<td class='t wrap'>{esc(NOT_RATED)}</td>"
         life = safety = equivalent = "-"
     else:
@@ -59,7 +65,8 @@ def _row(joint: JointSizing) -> list[str]:
         life = "-" if figures is None else life_text(figures.life_hours)
         safety = "-" if figures is None else figure(figures.static_safety)
         equivalent = "-" if figures is None else figure(figures.equivalent_load)
-    return [esc(joint.name), esc(shown.unit.id), f"{load.offset:g}",
+    unit = "none" if joint.selected is None else esc(shown.unit.id)
+    return [esc(joint.name), unit, f"{load.offset:g}",
             *(_pair(a, b) for a, b in _loads(load)), esc(life).replace(" h", "&nbsp;h"),
             esc(safety), esc(equivalent), rating]
 
@@ -79,7 +86,8 @@ def _figure(joint: JointSizing, png: bytes | None) -> str:
         return ""
     shown = joint.selected or joint.strongest
     data = base64.b64encode(png).decode("ascii")
-    rated = ("its allowable loads drawn" if shown.unit.bearing is not None
+    rated = (esc(NO_UNIT) if joint.selected is None
+             else "its allowable loads drawn" if shown.unit.bearing is not None
              else f"{esc(shown.unit.id)}: {esc(NOT_RATED)}")
     return (f"<figure><img src='data:image/png;base64,{data}' alt='output bearing loads of "
             f"{esc(joint.name)} over the cycle'><figcaption>Output bearing of "

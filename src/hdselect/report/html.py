@@ -24,7 +24,7 @@ from hdselect.report.html_summary import parts_section, summary
 from hdselect.report.html_tables import STYLE, anchor, esc, number, slug, table
 from hdselect.report.html_tasks import duty_line, task_section
 from hdselect.report.provenance import Provenance
-from hdselect.report.size_tables import time_scale_text
+from hdselect.report.size_tables import diagnosis_lines, shortfall_text
 from hdselect.report.task_tables import task_of
 from hdselect.report.terminal import (
     binding_words,
@@ -34,6 +34,7 @@ from hdselect.report.terminal import (
     utilization_text,
     verdict,
 )
+from hdselect.sizing.diagnosis import with_diagnoses
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.records import MOTOR_MODEL_NOTE, assumptions, base_text
 from hdselect.sizing.result import JointSizing, SizingResult
@@ -57,6 +58,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
     Returns:
         The page, self-contained.
     """
+    result = with_diagnoses(result)
     count = len(result.trajectory.t)
     sections = [_selection(result), task_section(result), parts_section(result),
                 _warnings(result), _notes(result), _heat_maps(result), _loads(result),
@@ -122,10 +124,9 @@ def _selection(result: SizingResult) -> str:
         if joint.load.max_speed == 0.0:
             notes.append("still")
         if c is None:
-            strongest = joint.strongest
             cells = [esc(joint.name), "<td class='t fail'>none</td>",
                      *(["none"] if motors else []),
-                     esc(f"{verdict(strongest)} ({strongest.label})"),
+                     esc(f"no unit holds it: {shortfall_text(result, joint)}"),
                      *(["-", "-"] if motors else []), "-", "-", "-", "-", "-"]
             notes.append(f"no {'pair' if motors else 'unit'} fits: see below")
         else:
@@ -148,12 +149,8 @@ def _selection(result: SizingResult) -> str:
                                   "load/rotor inertia"] if motors else ["binding rule"]),
               "L50 life", "L10 life", "motor peak [N m]", "motor rms [N m]", "motor max [rpm]",
               "carries [kg]", "notes"]
-    what = "pair" if motors else "unit"
-    slow = "".join(
-        f"<p><b>{esc(joint.name)}</b>: no {what} fits; the strongest, "
-        f"{esc(joint.strongest.label)}, fails {esc(verdict(joint.strongest))}. "
-        f"{esc(time_scale_text(joint, result))}.</p>" for joint in result.joints
-        if joint.selected is None)
+    slow = "".join(f"<p>{esc(line)}</p>" for joint in result.joints
+                   for line in diagnosis_lines(result, joint))
     legend = ("<p>Gearhead binding: the gearhead's check closest to its limit (demand / limit); "
               "motor binding: the motor's (peak under its torque-speed curve, RMS against its "
               "rated torque, speed). load/rotor inertia = (M_jj / N&sup2; + J_in) / J_m, M_jj "
@@ -346,10 +343,12 @@ def _joint_section(result: SizingResult, joint: JointSizing, png: bytes | None,
                f"{joint.carried_mass:.2f} kg of gearheads{' and motors' if result.motors else ''}"
                f". Selected: {chosen.label if chosen else 'none'}.")
     shown = chosen or joint.strongest
+    limits = (shown.unit.id if chosen is not None
+              else f"the strongest candidate, {shown.unit.id} (no unit holds this joint)")
     figure = ""
     if png is not None:
         figure = (f"<figure>{_img(png)} alt='speed and torque of {esc(joint.name)} over the "
-                  f"cycle, with the limits of {esc(shown.unit.id)}'><figcaption>Speed (output "
+                  f"cycle, with the limits of {esc(limits)}'><figcaption>Speed (output "
                   "and input) and output torque over the cycle. Grey bands: at rest, input "
                   "locked (static limit); elsewhere moving (repeated-peak limit).</figcaption>"
                   "</figure>")

@@ -14,9 +14,9 @@ from hdselect.motion.motionfile import Motion
 from hdselect.report.html_tables import esc, slug, table
 from hdselect.report.parts import parts
 from hdselect.report.provenance import Provenance
-from hdselect.report.size_tables import time_scale_text
+from hdselect.report.size_tables import diagnosis_lines, shortfall_text
 from hdselect.report.task_tables import mounting_text, task_of
-from hdselect.report.terminal import binding_words, life_text, ratio_text, verdict
+from hdselect.report.terminal import binding_words, life_text, ratio_text
 from hdselect.robot.model import Robot
 from hdselect.sizing.records import inertia_limit_text, margin_text
 from hdselect.sizing.result import SizingResult
@@ -84,10 +84,9 @@ def _selection(result: SizingResult) -> str:
         c = joint.selected
         name = f'<a href="#joint-{slug(joint.name)}">{esc(joint.name)}</a>'
         if c is None:
-            strongest = joint.strongest
             rows.append([name, "<td class='t fail'>none fits</td>",
                          *(["-"] if motors else []),
-                         esc(f"the strongest, {strongest.label}, fails {verdict(strongest)}"),
+                         esc(f"no unit holds it: {shortfall_text(result, joint)}"),
                          "-", "-", *(["-"] if motors else [])])
             continue
         binding = c.gearhead_binding if motors else c.binding
@@ -124,9 +123,10 @@ def _totals(result: SizingResult) -> str:
 def _warnings(result: SizingResult) -> str:
     items = []
     for joint in result.joints:
-        if joint.selected is None:
-            items.append(f"<b>{esc(joint.name)}</b>: no {'pair' if result.motors else 'unit'} "
-                         f"fits. {esc(time_scale_text(joint))}.")
+        lines = diagnosis_lines(result, joint)
+        if lines:
+            items.append(f"<b>{esc(joint.name)}</b>: " + " ".join(
+                esc(line.removeprefix(f"{joint.name}: ").rstrip(".") + ".") for line in lines))
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     if loaded:
         items.append(f"<b>Backdriving</b>: {esc(', '.join(loaded))} carry gravity and "

@@ -12,6 +12,7 @@ from matplotlib.figure import Figure
 from hdselect.catalog.rules import RPM_PER_RAD_S, Part, at_rest, rule
 from hdselect.report.figures import ALLOWED, MEAN, MOVING, REST, STOP, envelope, extremes
 from hdselect.report.terminal import binding_words, ratio_text, utilization_text
+from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.result import JointSizing, SizingResult
 
 _SHOW_BINDING = 0.25
@@ -122,9 +123,12 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     for ax in (speed_ax, torque_ax):
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", bbox_to_anchor=(1.09, 1.0), fontsize=8, frameon=False)
-    state = "selected" if joint.selected else "no unit fits; the strongest shown"
-    fig.suptitle(f"{joint.name}: {unit.id} ({state}); closest to its limit: "
-                 f"{binding_words(chosen)}", fontsize=12)
+    if joint.selected is None:
+        fig.suptitle(f"{joint.name}: {_no_unit(result, joint)}; the limits drawn: the "
+                     f"strongest candidate, {unit.id}", fontsize=12)
+    else:
+        fig.suptitle(f"{joint.name}: {unit.id} (selected); closest to its limit: "
+                     f"{binding_words(chosen)}", fontsize=12)
     return fig
 
 
@@ -202,7 +206,8 @@ def motor_figure(result: SizingResult, joint: JointSizing) -> Figure:
     ax.set_ylabel("motor torque |T_motor| [N m]")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    state = "selected" if joint.selected else "no pair fits; the strongest shown"
+    state = ("selected" if joint.selected
+             else f"{_no_unit(result, joint)}; the strongest candidate shown")
     side = chosen.motor_binding or "motor_peak"
     ratio = joint.inertia_ratio(chosen)
     fig.suptitle(f"{joint.name}: motor {motor.id} behind {unit.id} ({state}); "
@@ -246,3 +251,9 @@ def rest_spans(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, 
     edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
     return [(float(t[a]) - dt / 2, float(t[b - 1]) + dt / 2)
             for a, b in zip(edges[::2], edges[1::2], strict=True)]
+
+
+def _no_unit(result: SizingResult, joint: JointSizing) -> str:
+    """A figure title's words for a joint no unit holds: its headline shortfall."""
+    found = diagnosis_of(result, joint.name)
+    return "no unit holds it" + ("" if found is None else f": {found.headline.short()}")

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from hdselect.catalog.checks import life_capped
 from hdselect.catalog.rules import CHECK_NAMES
 from hdselect.report.terminal import life_text
+from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.result import JointSizing, SizingResult
 
 PARTS_COLUMNS = ("joint", "gearhead", "ratio", "gearhead_mass_kg", "motor", "motor_mass_kg",
@@ -31,8 +32,11 @@ life_l50_h, life_l10_h: the gearhead's life [h], as the terminal writes it: ``un
 (no load while moving), ``> 1e6`` at the cap (`hdselect.catalog.checks.LIFE_CAP`) and
 beyond, else the hours. inertia_ratio:
 load-to-rotor inertia ratio of the pair [-], empty without a motor. status:
-``selected``, or ``no unit fits`` (then the row is empty but for the joint). On the
-``total`` row the masses are sums over the joints with a unit."""
+``selected``, or for a joint no unit fits ``no unit fits: `` and its headline shortfall
+(e.g. ``peak 87.3 > 20.3 N m``: the demand against the strongest candidate's limit,
+`hdselect.sizing.diagnosis`); that row names no unit and no mass, its binding,
+binding_rule, utilization and margin_left are the shortfall's (against the strongest
+candidate). On the ``total`` row the masses are sums over the joints with a unit."""
 
 
 @dataclass(frozen=True)
@@ -59,6 +63,7 @@ class Part:
 
 def parts(result: SizingResult) -> list[Part]:
     """The parts list: one row per sized joint, then the ``total`` row."""
+    result = with_diagnoses(result)
     rows = [_part(result, joint) for joint in result.joints]
     chosen = [row for row in rows if row.gearhead is not None]
     gearheads = sum(row.gearhead_mass_kg or 0.0 for row in chosen)
@@ -74,8 +79,13 @@ def parts(result: SizingResult) -> list[Part]:
 def _part(result: SizingResult, joint: JointSizing) -> Part:
     chosen = joint.selected
     if chosen is None:
-        return Part(joint.name, *(None,) * 10, result.options.margin, None, None, None,
-                    "no unit fits")
+        found = diagnosis_of(result, joint.name)
+        if found is None:
+            raise RuntimeError(f"joint {joint.name} has no diagnosis (with_diagnoses first)")
+        short = found.headline
+        return Part(joint.name, *(None,) * 6, short.rule, CHECK_NAMES.get(short.rule, short.rule),
+                    short.utilization, 1.0 - short.utilization, result.options.margin, None,
+                    None, None, f"no unit fits: {short.short()}")
     motor = chosen.motor_unit
     motor_mass = motor.mass if motor is not None else result.options.motor_mass
     check = chosen.checks[chosen.binding]

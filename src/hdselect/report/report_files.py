@@ -10,6 +10,7 @@ from hdselect.base.outputs import Outputs
 from hdselect.report.bearing_figures import bearing_figure
 from hdselect.report.figures import png_bytes
 from hdselect.report.joint_figures import joint_figure, motor_figure
+from hdselect.sizing.diagnosis import with_diagnoses
 from hdselect.sizing.result import SizingResult
 
 
@@ -72,6 +73,7 @@ def _report(result: SizingResult, command: Sequence[str] | None
     from hdselect.report.html import page
     from hdselect.report.provenance import provenance
 
+    result = with_diagnoses(result)
     origin = provenance(result, command)
     figures = {joint.name: png_bytes(joint_figure(result, joint)) for joint in result.joints}
     motor_figures = {joint.name: png_bytes(motor_figure(result, joint))

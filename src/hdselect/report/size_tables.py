@@ -23,13 +23,13 @@ from hdselect.report.tables import Column, FittedTable
 from hdselect.report.task_tables import task_of, task_tables
 from hdselect.report.terminal import (
     life_text,
-    percent,
     ratio_text,
     selected_note,
     utilization_cell,
     utilization_text,
     verdict,
 )
+from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.records import assumptions, base_text
 from hdselect.sizing.result import JointSizing, SizingResult
@@ -83,6 +83,7 @@ def size_table(result: SizingResult) -> FittedTable:
     without a note on any joint there is no notes column. Where motors are given: the
     pair chosen and the binding rule on either side (`_pairs_table`).
     """
+    result = with_diagnoses(result)
     if result.motors:
         return _pairs_table(result)
     columns = (Column("joint", "left"), Column("unit", "left"), Column("binding", "left"),
@@ -97,10 +98,9 @@ def size_table(result: SizingResult) -> FittedTable:
             notes.append("still")
         bearing = bearing_cells(joint, chosen or joint.strongest)
         if chosen is None:
-            strongest = joint.strongest
             rows.append((escape(joint.name), "[red]none[/red]",
-                         f"[red]{verdict(strongest)}[/red]", "-", "-", "-", "-", *bearing,
-                         ", ".join(notes)))
+                         f"[red]{escape(shortfall_text(result, joint))}[/red]", "-", "-", "-",
+                         "-", *bearing, ", ".join(notes)))
             continue
         motor = _motor(chosen)
         check = chosen.checks[chosen.binding]
@@ -153,10 +153,9 @@ def _pairs_table(result: SizingResult) -> FittedTable:
         notes = _joint_notes(joint)
         bearing = bearing_cells(joint, chosen or joint.strongest)
         if chosen is None:
-            strongest = joint.strongest
             rows.append((escape(joint.name), "[red]none[/red]", "[red]none[/red]",
-                         f"[red]{verdict(strongest)}[/red]", "-", "-", "-", "-", "-", "-",
-                         *bearing, ", ".join(notes)))
+                         f"[red]{escape(shortfall_text(result, joint))}[/red]", "-", "-", "-",
+                         "-", "-", "-", *bearing, ", ".join(notes)))
             continue
         motor = _motor(chosen)
         side = chosen.motor_binding
@@ -185,6 +184,7 @@ def compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:
     Where the joint has motors, one row per (unit, motor) pair: the motor's rules appear
     among the rules, with the inertia ratio and the motor's torques (`_pairs_compare_table`).
     """
+    result = with_diagnoses(result)
     if joint.name in result.motors:
         return _pairs_compare_table(result, joint)
     return candidates_table(
@@ -200,7 +200,8 @@ def compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:
                + (" b. = the output bearing's checks (b.life: its L10 life, b.static: "
                   "the static safety C0 / P0; utilization = required / reached), - where the "
                   "unit's catalog does not rate the bearing."
-                  if any(c.bearing is not None for c in joint.candidates) else "")])
+                  if any(c.bearing is not None for c in joint.candidates) else ""),
+               *diagnosis_lines(result, joint)])
 
 
 def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> FittedTable:
@@ -237,7 +238,8 @@ def _pairs_compare_table(result: SizingResult, joint: JointSizing) -> FittedTabl
              "(the crash case carries the motor's rotor inertia), ✗ over the limit; m. = the "
              "motor's rules: peak under its torque-speed curve, RMS over the cycle against its "
              "rated torque, speed; load/rotor = (M_jj / N² + J_in) / J_m, M_jj the joint's "
-             "largest over the cycle. --json gives every rule of every pair.",)
+             "largest over the cycle. --json gives every rule of every pair.",
+             *diagnosis_lines(result, joint))
     return FittedTable(f"Joint {joint.name}: {load_text(joint.load, result.units)}, carries "
                        f"{joint.carried_mass:.2f} kg of gearheads and motors"
                        f"{_bearing_title(joint)}", columns, tuple(rows), tuple(styles), notes)
@@ -254,28 +256,22 @@ def _motor(candidate: Candidate) -> MotorDemand:
     return candidate.motor
 
 
-def time_scale_text(joint: JointSizing, result: SizingResult | None = None) -> str:
-    """For a joint no unit fits: the uniform time scale that would fit, and each unit's range.
+def shortfall_text(result: SizingResult, joint: JointSizing) -> str:
+    """For a joint no unit fits: its headline shortfall, e.g. ``peak 87.3 > 20.3 N m``.
 
-    For a duty of several tasks (`result` given), every task runs s times slower at the
-    same shares of the time: each task's cycle is stated.
+    The demand against the strongest candidate's limit in the rule's own unit
+    (`hdselect.sizing.diagnosis`); a life only where nothing else falls short.
     """
-    slowdown, scales = joint.slowdown, joint.scales
-    if slowdown is None or slowdown.factor is None or scales is None:
-        what = "pair" if any(c.motor_unit is not None for c in joint.candidates) else "unit"
-        return ("Gravity alone is too much: no slow-down helps (no time scale from 1000x faster "
-                f"to 1000x slower fits any {what})")
-    factor = slowdown.factor
-    speed = (f"{factor:.3f}x slower" if factor >= 1.0 else f"{1.0 / factor:.3f}x faster")
-    ranges = [f"{unit} for s in " + " or ".join(f"[{lo:.3g}, {hi:.3g}]" for lo, hi in intervals)
-              for unit, intervals in scales.fits.items() if intervals]
-    cycle = f"cycle {slowdown.cycle_time:.3f} s"
-    if result is not None and len(result.counted) > 1:
-        speed = "every task " + speed
-        cycle = "cycles " + ", ".join(f"{task.label} {factor * task.trajectory.duration:.3f} s"
-                                      for task in result.counted)
-    return (f"Run {speed} ({cycle}) and {slowdown.unit} fits; "
-            f"run s times slower, it fits: {'; '.join(ranges)}")
+    found = diagnosis_of(result, joint.name)
+    if found is None:
+        raise RuntimeError(f"joint {joint.name} has no diagnosis (with_diagnoses first)")
+    return found.headline.short()
+
+
+def diagnosis_lines(result: SizingResult, joint: JointSizing) -> list[str]:
+    """For a joint no unit fits: its diagnosis as sentences (none for a joint with a unit)."""
+    found = diagnosis_of(result, joint.name)
+    return [] if joint.selected is not None or found is None else found.lines()
 
 
 def _size_title(result: SizingResult) -> str:
@@ -337,13 +333,7 @@ def _size_notes(result: SizingResult) -> list[str]:
                                 if result.counted else result.trajectory)
     notes += bearing_notes(result)
     for joint in result.joints:
-        if joint.selected is None:
-            strongest = joint.strongest
-            check = strongest.checks[strongest.binding]
-            what = "pair" if strongest.motor_unit is not None else "unit"
-            line = (f"{joint.name}: no {what} fits; the strongest, {strongest.label}, fails "
-                    f"{strongest.binding} at {percent(check.utilization)} of its limit. ")
-            notes.append(line + time_scale_text(joint, result) + ".")
+        notes += diagnosis_lines(result, joint)
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
                for c in [joint.selected] if c is not None for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
@@ -369,4 +359,5 @@ def report_tables(result: SizingResult) -> list[object]:
 
     One path for every duty: the task section (`task_tables`) is empty for one task.
     """
+    result = with_diagnoses(result)
     return [size_table(result), *task_tables(result), "", loads_table(result)]

@@ -19,6 +19,7 @@ from hdselect.catalog.units import MeanSpeed, SeriesRules, Unit
 from hdselect.motion.mixfile import SECONDS_PER_HOUR
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import NAMED_BASES, mounting_name, shown_numbers
+from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
@@ -317,8 +318,11 @@ def size_json(result: SizingResult) -> dict[str, Any]:
     A duty of several tasks (a mix) adds ``mix``, ``tasks`` and ``idle_share`` at the
     top, and per joint ``set_by`` (rule -> the task setting it, or ``"pooled"``) and
     ``per_task`` (the joint's unit checked against each counted task alone); a slow-down
-    (every task s times slower, at the same shares) gives ``task_cycle_times_s``.
+    (every task s times slower, at the same shares) gives ``task_cycle_times_s``. A joint
+    no unit fits has its ``diagnosis`` (`hdselect.sizing.diagnosis.Diagnosis.to_dict`;
+    None for a joint with a unit).
     """
+    result = with_diagnoses(result)
     options = result.options
     joints = []
     for joint in result.joints:
@@ -342,6 +346,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
                 unit: [[lo, finite_or_none(hi)] for lo, hi in intervals]
                 for unit, intervals in joint.scales.fits.items()},
             "candidates": [candidate_json(c) for c in joint.candidates],
+            "diagnosis": None if (found := diagnosis_of(result, joint.name)) is None
+            else found.to_dict(),
         }
         if joint.bearing is not None:
             rating = (joint.selected or joint.strongest).unit.bearing

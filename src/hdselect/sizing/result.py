@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -134,6 +135,9 @@ class SizingResult:
             the only task).
         idle: The fraction of the time no task runs [-] (a mix in cycles per hour).
         mix: The mix file the tasks came from, when `size` read one.
+        diagnoses: For each joint no unit fits, why and what would give it one: joint
+            name -> `hdselect.sizing.diagnosis.Diagnosis`, where the front end asked for
+            them (`hdselect.sizing.diagnosis.with_diagnoses`); else empty.
     """
 
     robot: Robot
@@ -147,6 +151,7 @@ class SizingResult:
     tasks: tuple[Task, ...] = ()
     idle: float = 0.0
     mix: Mix | None = None
+    diagnoses: Mapping[str, Any] = field(default_factory=dict)
 
     @property
     def counted(self) -> tuple[Task, ...]:

@@ -12,6 +12,7 @@ from typing import Any
 
 from hdselect.base.bounds import expect_type
 from hdselect.catalog.checks import life_capped, reported_life
+from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.result import JointSizing, SizingResult
 
 
@@ -59,6 +60,9 @@ class JointSummary:
         binding_task: For a duty of several tasks, the task that sets the binding rule
             (``"pooled"`` for a rule over every task); None for one task.
         life_capped: `life_l50_hours` is the cap, not the life (which is longer).
+        diagnosis: For a joint no unit fits, its diagnosis as JSON
+            (`hdselect.sizing.diagnosis.Diagnosis.to_dict`) where the result carries one
+            (`hdselect.sizing.diagnosis.with_diagnoses`); else None.
     """
 
     name: str
@@ -90,6 +94,7 @@ class JointSummary:
     bearing_life_l10_hours: float | None = None
     binding_task: str | None = None
     life_capped: bool = False
+    diagnosis: dict[str, Any] | None = None
 
 
 @dataclass(frozen=True)
@@ -206,6 +211,8 @@ def _joint(joint: JointSizing, result: SizingResult) -> JointSummary:
         motor_binding=chosen.motor_binding,
         inertia_ratio=joint.inertia_ratio(chosen),
         binding_task=result.set_by(joint, chosen.binding),
+        diagnosis=None if (found := diagnosis_of(result, joint.name)) is None
+        else found.to_dict(),
         **bearing,
     )
 
