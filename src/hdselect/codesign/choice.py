@@ -9,16 +9,17 @@ planned (`hdselect.sizing.core.size_tasks`).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import cast
 
 from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError, PlanningError
 from hdselect.catalog.motors import Motor
-from hdselect.catalog.rules import Candidate, UnitLimit, rule
+from hdselect.catalog.rules import Candidate
 from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
 from hdselect.codesign.pathbounds import PathInfeasible
+from hdselect.codesign.payloadbounds import duty_bounds
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
@@ -26,9 +27,10 @@ from hdselect.motion.planning.solve import solve_motion
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors, fixed_units
 from hdselect.sizing.core import size_tasks
+from hdselect.sizing.diagnosis import Diagnosis, diagnosis_of, with_diagnoses
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
-from hdselect.sizing.result import JointSizing, Motors, SizingResult
+from hdselect.sizing.result import Motors, SizingResult
 from hdselect.sizing.tasks import Task
 
 
@@ -36,20 +38,31 @@ class NoUnit(PlanningError):
     """No candidate unit can run a joint at any speed: a result of the physics, not bad input.
 
     The command line prints it as a result and exits 1 (no fit), as ``size`` does for a
-    joint without a unit.
+    joint without a unit; its message is each such joint's diagnosis
+    (`hdselect.sizing.diagnosis.Diagnosis`), the same ``size`` prints.
 
     Attributes:
         where: The motion or mix file.
         over: The duty in words (``"this motion"``, ``"this mix"``).
-        sizing: The selection that found no unit (every candidate checked on every joint).
-        joints: Each joint without a unit (none given for it), as the sizing checked it.
+        sizing: The selection that found no unit, with its diagnoses.
+        joints: The joints without a unit (none given for them), in the robot's order.
     """
 
     def __init__(self, where: str, over: str, sizing: SizingResult, names: Sequence[str]):
         self.where, self.over, self.sizing = where, over, sizing
-        self.joints = tuple(joint for joint in sizing.joints if joint.name in names)
-        super().__init__("\n".join(f"{where}: {no_unit_at_any_speed(joint, sizing.options, over)}"
-                                    for joint in self.joints))
+        self.joints = tuple(joint.name for joint in sizing.joints if joint.name in names)
+        lines = []
+        for name in self.joints:
+            lines.append(f"{where}: no unit of the catalog can run joint '{name}' on {over} at "
+                         "any speed.")
+            found = diagnosis_of(sizing, name)
+            lines += found.lines() if found is not None else []
+        super().__init__("\n".join(lines))
+
+    def diagnoses(self) -> dict[str, Diagnosis]:
+        """Each joint without a unit: its diagnosis."""
+        return {name: found for name in self.joints
+                if (found := diagnosis_of(self.sizing, name)) is not None}
 
 
 def no_fit(err: BaseException) -> bool:
@@ -223,7 +236,10 @@ def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
         for joint in sizing.joints}
     stuck = [name for name, pick in picks.items() if pick is None and name not in chosen]
     if stuck:
-        raise NoUnit(duty.where, duty.over, sizing, stuck)
+        named = replace(sizing, mix=duty.mix,  # the next steps' commands name its file
+                        motion=duty.motions[0] if duty.mix is None else None)
+        raise NoUnit(duty.where, duty.over, with_diagnoses(named, payload_bounds=duty_bounds),
+                     stuck)
     selected = {name: pick for name, pick in picks.items() if pick is not None}
     paired: dict[str, Motor] = {}
     for joint in sizing.joints:
@@ -294,47 +310,6 @@ def refuse_logs(motions: Sequence[Motion], what: str = "path to run faster", *,
             raise InputError(f"a logged trajectory ('samples') has no {what}; give "
                              f"{'motions' if several else 'a motion'} with waypoints",
                              path=motion.path, field="planner")
-
-
-def no_unit_at_any_speed(joint: JointSizing, options: Options, over: str = "this motion"
-                         ) -> str:
-    """The refusal for a joint no catalog unit can run, slowed or not: why, and what helps."""
-    return (f"no unit of the catalog can run joint '{joint.name}' on {over} at any speed: "
-            f"{no_unit_reason(joint, options)}; leave it out with --exclude {joint.name}, or "
-            "give a catalog with a stronger unit (--catalog)")
-
-
-def no_unit_reason(joint: JointSizing, options: Options) -> str:
-    """Why no candidate fits a joint, in figures.
-
-    Gravity alone over every unit's repeated-peak limit [N m] is said as such (then no
-    slow-down or lower limit helps); else the strongest unit's failing rules, each demand
-    against its limit, and the slow-down that fits where one does.
-    """
-    peak = cast(UnitLimit, rule("peak"))
-    strongest = max((c.unit for c in joint.candidates),
-                    key=lambda unit: peak.allowed(unit, options.margin))
-    allowed = peak.allowed(strongest, options.margin)
-    if joint.max_gravity_torque > allowed:
-        return (f"gravity alone needs {joint.max_gravity_torque:.3g} N m, over every unit's "
-                f"repeated-peak limit (the strongest, {strongest.id}, allows {allowed:.3g} "
-                "N m): no slow-down or lower limit helps")
-    closest = joint.strongest
-    why = f"the strongest, {closest.unit.id}, fails " + ", ".join(
-        f"{rule(name).words} ({_figure(name, check)})"
-        for name, check in closest.checks.items() if not check.ok)
-    slowdown = joint.slowdown
-    if slowdown is not None and slowdown.factor is not None and slowdown.factor >= 1.0:
-        why += f"; run x{slowdown.factor:.4g} slower, {slowdown.unit} fits"
-    return why
-
-
-def _figure(name: str, check) -> str:
-    """A failing check's demand against its limit, in the rule's unit."""
-    unit = rule(name).unit
-    if check.value is None:
-        return f"{check.utilization:.0%} of its limit"
-    return f"{check.value:.3g} against {check.limit:.3g}{' ' + unit if unit else ''}"
 
 
 def _paired_motor(pairs: Sequence[Candidate], unit: Unit, motors: Sequence[Motor],

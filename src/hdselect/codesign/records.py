@@ -13,11 +13,12 @@ from dataclasses import replace
 from typing import Any
 
 from hdselect.codesign.bindings import Binding
-from hdselect.codesign.choice import NoUnit, no_unit_reason
+from hdselect.codesign.choice import NoUnit
 from hdselect.codesign.fastest_result import FastestResult, RatioComparison, TaskFastest
 from hdselect.codesign.maxpayload import MaxPayloadResult
 from hdselect.codesign.pathbounds import PathInfeasible
 from hdselect.motion.motionfile import Motion
+from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.records import (
     candidate_json,
     finite_or_none,
@@ -89,10 +90,10 @@ def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None
     """``fastest`` where a joint has no unit that runs the path at any speed, as JSON.
 
     A result, not an error: ``feasible`` false, ``cycle_time_s`` null, ``joints`` empty,
-    and ``no_unit``: per joint without one, its ``joint``, the ``reason`` in words and,
-    where the sizing found none, its largest gravity torque (``gravity_torque_nm``);
-    where a unit given cannot run it, the ``limit`` at fault and whether ``gravity`` alone
-    exceeds it.
+    and ``no_unit``: per joint without one, its ``joint`` and the ``reason`` in words; where
+    the selection found none, its ``diagnosis`` (`hdselect.sizing.diagnosis.Diagnosis`, as
+    ``size --json`` writes it); where a unit given cannot run it, the ``limit`` at fault and
+    whether ``gravity`` alone exceeds it.
 
     Args:
         err: Why (`NoUnit` from the selection, or `PathInfeasible` for the units given).
@@ -100,7 +101,7 @@ def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None
         source: The motion or mix file.
     """
     if isinstance(err, NoUnit):
-        rows = no_unit_json(err.sizing, [joint.name for joint in err.joints])
+        rows = no_unit_json(err.sizing, err.joints)
     else:
         rows = [{"joint": err.joint, "reason": str(err), "limit": err.limit,
                  "gravity": err.gravity}]
@@ -112,12 +113,17 @@ def no_unit_json(sizing: SizingResult, names: Sequence[str] | None = None
                  ) -> list[dict[str, Any]]:
     """The joints of a sizing without a unit (or those of `names`), as JSON.
 
-    Each: ``joint``, the ``reason`` in words and its largest gravity torque
-    ``gravity_torque_nm`` [N m].
+    Each: ``joint``, the ``reason`` (its diagnosis's sentences) and the ``diagnosis``
+    (`hdselect.sizing.diagnosis.Diagnosis.to_dict`).
     """
-    return [{"joint": joint.name, "reason": no_unit_reason(joint, sizing.options),
-             "gravity_torque_nm": joint.max_gravity_torque} for joint in sizing.joints
-            if (joint.selected is None if names is None else joint.name in names)]
+    sizing = with_diagnoses(sizing)
+    out = []
+    for joint in sizing.joints:
+        found = diagnosis_of(sizing, joint.name)
+        if found is not None and (names is None or joint.name in names):
+            out.append({"joint": joint.name, "reason": " ".join(found.lines()),
+                        "diagnosis": found.to_dict()})
+    return out
 
 
 def _limits_json(item: TaskFastest | None, name: str, result: FastestResult) -> dict[str, Any]:

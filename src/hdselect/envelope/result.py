@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from typing import cast
 
 import numpy as np
@@ -12,6 +13,8 @@ from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.search import SearchSettings, Worst
 from hdselect.envelope.spec import Spec
 from hdselect.robot.model import Robot
+from hdselect.sizing.diagnosis import Diagnosis, GravityLoad, diagnose
+from hdselect.sizing.nextsteps import NextStep
 from hdselect.sizing.result import JointSizing, SizingResult
 
 FIGURES = ("peak", "static", "stop")
@@ -138,63 +141,68 @@ GRAVITY_RULES = ("peak", "static", "momentary")
 and acceleration limits tend to 0: lowering them helps only where gravity is within."""
 
 
-def no_unit_note(joint: JointEnvelope, result: EnvelopeResult) -> str:
-    """Why no unit holds a joint for every motion within the spec, and what helps.
+def envelope_diagnoses(sizing: SizingResult, joints: Sequence[JointEnvelope],
+                       duty: Duty) -> dict[str, Diagnosis]:
+    """The diagnosis of every joint no unit holds for every motion within the spec.
 
-    Gravity alone over the joint's range beyond every unit's repeated-peak limit [N m]:
-    no lower limit helps. Else the strongest unit's failing rules, each demand against
-    its limit; lowering the velocity and acceleration limits is suggested only where it
-    helps every one of them: a speed, a torque rule whose gravity part is within the
-    limit, or a mean or life on the default duty (moves at the limits).
+    The sizing's own (`hdselect.sizing.diagnosis.diagnose`: the shortfalls over the worst
+    states and the duty), with the envelope's facts: gravity alone is the largest over the
+    joint's range (the search's) against every unit's repeated-peak limit while moving;
+    the next steps are the envelope's: lower velocity and acceleration limits where that
+    helps every failing rule (`lowering_helps`), and the joint left out (``--exclude``).
+    A shipped series is not offered: its verification would be another envelope.
+
+    Args:
+        sizing: The envelope's selection (the duty and the worst states).
+        joints: Each joint's envelope (its gravity over the range).
+        duty: The duty the averaged rules are judged on.
     """
-    margin = result.sizing.options.margin
-    gravity = abs(joint.gravity.torque)
+    found = diagnose(sizing, catalogs={})
+    margin = sizing.options.margin
     peak = cast(UnitLimit, rule("peak"))
-    strongest = joint.sizing.strongest
-    best = max((c.unit for c in joint.sizing.candidates),
-               key=lambda unit: peak.allowed(unit, margin))
-    head = f"{joint.name}: no unit holds for every motion within the spec"
-    away = (f"leave it out with --exclude {joint.name}, or give a catalog with a stronger "
-            "unit (--catalog)")
-    if gravity > peak.allowed(best, margin):
-        return (f"{head}: gravity alone needs {gravity:.3g} N m over the joint's range, over "
-                f"every unit's repeated-peak limit (the strongest, {best.id}, allows "
-                f"{peak.allowed(best, margin):.3g} N m): no lower velocity or acceleration "
-                f"limit helps; {away}.")
-    failing = [name for name, check in strongest.checks.items() if not check.ok]
-    figures = ", ".join(f"{rule(name).words} {_figure(strongest.checks[name], rule(name).unit)}"
-                        for name in failing)
-    stuck = [name for name in failing if not _lowering_helps(
-        name, gravity, strongest, margin, result.duty.default)]
-    said = (f"{head}; the strongest, {strongest.unit.id}, fails {figures}. Gravity alone "
-            f"needs at most {gravity if gravity >= 5e-5 else 0.0:.3g} N m over the "
-            "joint's range")
-    if not stuck:
-        return (f"{said}, within its limits: the speed and acceleration terms fail, so lower "
-                "the velocity and acceleration limits.")
-    cycle = any(rule(name).scope is Scope.CYCLE for name in stuck)
-    return (f"{said}; lower velocity and acceleration limits are not shown to help its "
-            f"{', '.join(rule(name).words for name in stuck)}"
-            + (f" (judged on the {result.duty.label}, which they do not change)" if cycle
-               else "") + f"; {away}.")
+    out = {}
+    for joint in joints:
+        if joint.name not in found:
+            continue
+        torque = abs(joint.gravity.torque)
+        strongest = max((c.unit for c in joint.sizing.candidates),
+                        key=lambda unit: peak.allowed(unit, margin))
+        limit = peak.allowed(strongest, margin)
+        gravity = GravityLoad(torque if torque >= 5e-5 else 0.0, limit, strongest.id,
+                              torque > limit)
+        steps = []
+        if not gravity.exceeds and lowering_helps(joint.sizing.strongest, gravity.torque,
+                                                  margin, duty.default):
+            steps.append(NextStep(
+                "limits", "lower the velocity and acceleration limits: the speed and "
+                "acceleration terms fail; " + (
+                    f"gravity alone needs at most {gravity.torque:.3g} N m over the joint's "
+                    f"range, within {joint.sizing.strongest.unit.id}'s limits"
+                    if gravity.torque > 0.0 else "gravity does not load it")))
+        steps.append(NextStep("exclude", f"leave it out with --exclude {joint.name}"))
+        out[joint.name] = replace(found[joint.name], gravity=gravity, steps=tuple(steps))
+    return out
 
 
-def _lowering_helps(name: str, gravity: float, candidate: Candidate, margin: float,
-                    default_duty: bool) -> bool:
-    """Lower velocity and acceleration limits bring a failing rule within, in the limit.
+def lowering_helps(candidate: Candidate, gravity: float, margin: float,
+                   default_duty: bool) -> bool:
+    """Lower velocity and acceleration limits bring every rule a candidate fails within.
 
-    A torque rule of single samples tends to the gravity torque [N m]; the input speed to
-    0; a rule over the duty follows the limits only on the default duty (moves at them).
+    In the limit of slow motion: a torque rule of single samples tends to the gravity
+    torque [N m] (within its limit, or not); the input speed to 0; a rule over the duty
+    follows the limits only on the default duty (moves at them); any other rule (an output
+    bearing's, a motor's) is not shown to.
     """
-    if name in GRAVITY_RULES:
-        return gravity <= cast(UnitLimit, rule(name)).allowed(candidate.unit, margin)
-    if rule(name).scope is Scope.CYCLE:
-        return default_duty
-    return name == "speed"
-
-
-def _figure(check, unit: str) -> str:
-    """A failing check: its demand against its limit, in the rule's unit."""
-    if check.value is None or not np.isfinite(check.limit):
-        return f"at {check.utilization:.0%} of its limit"
-    return f"({check.value:.3g} against {check.limit:.3g}{' ' + unit if unit else ''})"
+    for name, check in candidate.checks.items():
+        if check.ok:
+            continue
+        found = rule(name)
+        if name in GRAVITY_RULES:
+            helps = gravity <= cast(UnitLimit, found).allowed(candidate.unit, margin)
+        elif found.scope is Scope.CYCLE:
+            helps = default_duty
+        else:
+            helps = name == "speed"
+        if not helps:
+            return False
+    return True

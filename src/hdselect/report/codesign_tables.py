@@ -11,7 +11,6 @@ import numpy as np
 from rich.markup import escape
 
 from hdselect.catalog.rules import CHECK_LABELS
-from hdselect.codesign.choice import no_unit_reason
 from hdselect.codesign.fastest_cycle import FastestResult, JointRatios, RatioComparison
 from hdselect.codesign.maxpayload import MaxPayloadResult
 from hdselect.motion.motionfile import ANGLE_UNITS, Motion
@@ -286,12 +285,10 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot,
         nothing = "no factor, not even 0, leaves every joint a feasible unit."
         unlimited = "no rule depends on them: no limit."
     if x is None or not math.isfinite(x):
-        stuck = [] if result.unloaded is None else [
-            f"{joint.name}: {no_unit_reason(joint, result.unloaded.options)}."
-            for joint in result.unloaded.joints if joint.selected is None]
+        found = {} if result.unloaded is None else result.unloaded.diagnoses
         return Paragraphs((f"{head}: {nothing if x is None else unlimited}",
-                           *(["Without the payload no unit fits:", *stuck, "The selection "
-                              "without the payload:"] if stuck else [])))
+                           *([f"Even without the payload no unit fits {', '.join(found)}; the "
+                              "selection without it:"] if found else [])))
     if one is not None:
         answer, at, kg, of = f"the largest payload is {x:.4g} kg {where}.", f"{x:.4g} kg", " kg", ""
         how = (". Torque is affine in the payload mass on a fixed trajectory, so each rule's "

@@ -5,11 +5,12 @@ from __future__ import annotations
 import numpy as np
 from rich.markup import escape
 
-from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState, no_unit_note
+from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
 from hdselect.envelope.search import ABSOLUTE
 from hdselect.envelope.torques import BEARING_NOTE
 from hdselect.report.tables import Column, FittedTable, Paragraphs
 from hdselect.report.terminal import DEG_PER_RAD, life_text, utilization_text, verdict
+from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.records import assumptions, base_text
 
 _SOURCE_SHORT = {"given": "given", "file": "file", "robot file": "robot", "default": "default"}
@@ -34,9 +35,10 @@ def envelope_table(result: EnvelopeResult) -> FittedTable:
         duty = escape(joint.duty.unit.id) if joint.duty is not None else "none"
         settled = "yes" if joint.convergence.converged else "[red]no[/red]"
         if chosen is None:
-            rows.append((escape(joint.name), "[red]none[/red]",
-                         f"[red]{verdict(joint.sizing.strongest)}[/red]", *torques, "-",
-                         settled, duty))
+            found = diagnosis_of(result.sizing, joint.name)
+            short = found.headline.short() if found else verdict(joint.sizing.strongest)
+            rows.append((escape(joint.name), "[red]none[/red]", f"[red]{escape(short)}[/red]",
+                         *torques, "-", settled, duty))
             continue
         check = chosen.checks[chosen.binding]
         rows.append((escape(joint.name), escape(chosen.unit.id) + ("*" if chosen.flags else ""),
@@ -119,7 +121,9 @@ def note_lines(result: EnvelopeResult) -> list[str]:
         notes.append(f"{BEARING_NOTE}. --json gives each joint's bearing loads.")
     notes += [f"{joint.name}: not converged: {joint.convergence.note}"
               for joint in result.joints if not joint.convergence.converged]
-    notes += [no_unit_note(joint, result) for joint in result.joints if joint.selected is None]
+    notes += [line for joint in result.joints if joint.selected is None
+              for found in [diagnosis_of(result.sizing, joint.name)] if found is not None
+              for line in found.lines()]
     notes.append("Assumptions: " + "; ".join(f"{k}: {v}" for k, v in
                                              assumptions(result.sizing).items()))
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints
