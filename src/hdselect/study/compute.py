@@ -54,7 +54,7 @@ from hdselect.study.casetasks import (
     is_mix_case,
 )
 from hdselect.study.group import plan_depends_on_payload
-from hdselect.study.pooled import group_cases, scaled
+from hdselect.study.pooled import diagnosed, group_cases, scaled
 
 MIN_GROUP = 4
 """Cases of one robot and path from which a group is evaluated from a shared basis: below
@@ -87,12 +87,14 @@ SIZE_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50
                 "motor_binding", "inertia_ratio", "bearing_max_moment_nm",
                 "bearing_max_radial_n", "bearing_max_axial_n", "bearing_mean_moment_nm",
                 "bearing_mean_radial_n", "bearing_mean_axial_n", "bearing",
-                "bearing_life_l10_h", "binding_task")
+                "bearing_life_l10_h", "binding_task", "shortfall")
 """Per-joint columns of a ``size`` row (after ``flags``: where motors are given, the motor
 of the selected pair, else of the strongest; its binding rule; load over rotor inertia;
 then the output bearing's loads about the flange, largest and 10/3-power means, whether
 the unit's catalog rates the bearing (``rated`` / ``not rated``) and its L10 life; last,
-``binding_task``: for a mix, the task that sets the binding rule)."""
+``binding_task``: for a mix, the task that sets the binding rule; ``shortfall``: for a joint
+without a unit, its diagnosis: each rule's demand against the strongest unit's limit, and
+gravity alone where it exceeds every unit's)."""
 
 
 def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
@@ -108,7 +110,20 @@ def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
         "motor_binding": joint["motor_binding"], "inertia_ratio": joint["inertia_ratio"],
         "binding_task": joint.get("binding_task"),
         **_bearing_fields(joint),
+        "shortfall": _shortfall(joint.get("diagnosis")),
     } for joint in result["joints"]]
+
+
+def _shortfall(diagnosis: dict[str, Any] | None) -> str | None:
+    """A joint without a unit: its diagnosis in words; else None."""
+    if diagnosis is None:
+        return None
+    words = "; ".join(item["text"] for item in diagnosis["shortfalls"])
+    gravity = diagnosis["gravity"]
+    if gravity is not None and gravity["exceeds"]:
+        words += (f"; gravity alone needs {gravity['torque_nm']:.3g} N m, over every unit's "
+                  f"limit ({gravity['unit']}: {gravity['limit_nm']:.3g} N m)")
+    return words
 
 
 def _bearing_fields(joint: dict[str, Any]) -> dict[str, Any]:
@@ -171,7 +186,8 @@ def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
     Raises:
         HdselectError: An input is bad or a motion cannot be planned.
     """
-    return summarize(size_problem(_slower(case_problem(case, inputs), case.time_scale)))
+    return summarize(diagnosed(size_problem(_slower(case_problem(case, inputs),
+                                                    case.time_scale))))
 
 
 def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
@@ -286,14 +302,15 @@ FASTEST_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_
                    "lengthened_by", "derating", "velocity_limit", "velocity_limit_source",
                    "torque_limit_nm", "binds_longest", "binds_share", "shortfall")
 """Per-joint columns of a ``fastest`` row (``shortfall``: where no unit runs a joint at any
-speed, the row of that joint says why; the others are then empty)."""
+speed, a row per such joint says why, as ``size``'s does; nothing else is filled)."""
 
 
 def fastest_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     """One row per sized joint of a ``fastest`` result (``hdselect fastest --json``)."""
     if result.get("no_unit"):  # a joint no unit runs at any speed: its row says why
-        return [{"joint": row["joint"], "unit": None, "feasible": False,
-                 "cycle_time_s": None, "shortfall": row["reason"]} for row in result["no_unit"]]
+        return [{"joint": row["joint"], "unit": None, "feasible": False, "cycle_time_s": None,
+                 "shortfall": _shortfall(row.get("diagnosis")) or row["reason"]}
+                for row in result["no_unit"]]
     reason = result["lengthened_by"]
     rows = []
     for joint in result["joints"]:
@@ -317,7 +334,7 @@ def fastest_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
 
 
 MAX_PAYLOAD_COLUMNS = (*SIZE_COLUMNS, "max_payload_kg", "payload_frame", "payload_limit",
-                       "payload_factor", "shortfall")
+                       "payload_factor")
 """Per-joint columns of a ``max-payload`` row: the selection at the largest payload; last,
 ``payload_factor``: for a mix, the largest factor on its tasks' payloads."""
 
@@ -342,7 +359,8 @@ def max_payload_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
                "no mass, not even none, leaves every joint a unit")
         stuck = result.get("no_unit") or []  # the joints no unit fits even without it
         return [{**head, "payload_limit": why, "joint": row["joint"], "feasible": False,
-                 "shortfall": row["reason"]} for row in stuck] or [{**head, "payload_limit": why}]
+                 "shortfall": _shortfall(row["diagnosis"])}
+                for row in stuck] or [{**head, "payload_limit": why}]
     binding = result["binding"] or {}
     return [{**row, **head, "payload_limit": f"{binding['unit']} {binding['rule']}"
              if row["joint"] == binding.get("joint") else None}
