@@ -149,7 +149,8 @@ def envelope_diagnoses(sizing: SizingResult, joints: Sequence[JointEnvelope],
     states and the duty), with the envelope's facts: gravity alone is the largest over the
     joint's range (the search's) against every unit's repeated-peak limit while moving;
     the next steps are the envelope's: lower velocity and acceleration limits where that
-    helps every failing rule (`lowering_helps`), and the joint left out (``--exclude``).
+    helps every failing rule (`lowering_helps`), and the joint left out (``--exclude``)
+    where another joint is sized.
     A shipped series is not offered: its verification would be another envelope.
 
     Args:
@@ -179,7 +180,8 @@ def envelope_diagnoses(sizing: SizingResult, joints: Sequence[JointEnvelope],
                     f"gravity alone needs at most {gravity.torque:.3g} N m over the joint's "
                     f"range, within {joint.sizing.strongest.unit.id}'s limits"
                     if gravity.torque > 0.0 else "gravity does not load it")))
-        steps.append(NextStep("exclude", f"leave it out with --exclude {joint.name}"))
+        if len(sizing.robot.sized_joints) > 1:  # else nothing would be left to size
+            steps.append(NextStep("exclude", f"leave it out with --exclude {joint.name}"))
         out[joint.name] = replace(found[joint.name], gravity=gravity, steps=tuple(steps))
     return out
 
