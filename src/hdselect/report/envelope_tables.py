@@ -35,10 +35,9 @@ def envelope_table(result: EnvelopeResult) -> FittedTable:
         duty = escape(joint.duty.unit.id) if joint.duty is not None else "none"
         settled = "yes" if joint.convergence.converged else "[red]no[/red]"
         if chosen is None:
-            found = diagnosis_of(result.sizing, joint.name)
-            short = found.headline.short() if found else verdict(joint.sizing.strongest)
-            rows.append((escape(joint.name), "[red]none[/red]", f"[red]{escape(short)}[/red]",
-                         *torques, "-", settled, duty))
+            rows.append((escape(joint.name), "[red]none[/red]",
+                         f"[red]{escape(shortfall_cell(result, joint))}[/red]", *torques, "-",
+                         settled, duty))
             continue
         check = chosen.checks[chosen.binding]
         rows.append((escape(joint.name), escape(chosen.unit.id) + ("*" if chosen.flags else ""),
@@ -48,6 +47,12 @@ def envelope_table(result: EnvelopeResult) -> FittedTable:
              "joint ranges, |qd| <= v, |qdd| <= a)\n" + base_text(result.robot)
              + f"\nmean torque and life on {result.duty.phrase}")
     return FittedTable(title, columns, tuple(rows), notes=tuple(note_lines(result)))
+
+
+def shortfall_cell(result: EnvelopeResult, joint: JointEnvelope) -> str:
+    """A joint without a unit: its diagnosis's headline, e.g. ``peak 45.2 > 20.3 N m``."""
+    found = diagnosis_of(result.sizing, joint.name)
+    return found.headline.short() if found is not None else verdict(joint.sizing.strongest)
 
 
 def limits_table(result: EnvelopeResult) -> FittedTable:

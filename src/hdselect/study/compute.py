@@ -228,7 +228,8 @@ def fastest_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     result is `hdselect.codesign.records.fastest_json`.
 
     Where a joint has no unit that runs the path at any speed, the result is
-    `hdselect.codesign.records.no_fit_json` (a row per such joint, with why).
+    `hdselect.codesign.records.no_fit_json` (a row per such joint, with why; its
+    diagnosis without next steps, as a ``size`` case's).
 
     Raises:
         HdselectError: An input is bad, a motion is a log, or TOPPRA fails.
@@ -243,7 +244,20 @@ def fastest_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     except (NoUnit, PathInfeasible) as err:  # a result: a joint no unit runs at any speed
         if not no_fit(err):
             raise
-        return no_fit_json(err, str(problem.robot.path), duty.where)
+        return _case_steps(no_fit_json(err, str(problem.robot.path), duty.where))
+
+
+def _case_steps(document: dict[str, Any]) -> dict[str, Any]:
+    """A record's joints without a unit as a case has them: the next steps left out.
+
+    Their commands would size the motion file, not the case (as `diagnosed`); the
+    ``reason`` is then the diagnosis's shortfall in words.
+    """
+    for row in document["no_unit"]:
+        if row.get("diagnosis") is not None:
+            row["diagnosis"] = {**row["diagnosis"], "next_steps": []}
+            row["reason"] = _shortfall(row["diagnosis"])
+    return document
 
 
 def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
@@ -264,7 +278,7 @@ def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, An
                                           if task.motion is not None):  # else refused below
         problem = _slower(problem, case.time_scale)
     result = max_payload(problem)
-    document = max_payload_json(replace(result, selection=None))
+    document = _case_steps(max_payload_json(replace(result, selection=None)))
     document["robot"] = str(problem.robot.path)
     if result.selection is not None:
         document["selection"] = summarize(result.selection).to_dict()
