@@ -27,6 +27,7 @@ from hdselect.report.size_tables import compare_table, loads_table, size_table
 from hdselect.report.tables import console_for
 from hdselect.report.terminal import life_text, ratio_text, utilization_text, verdict
 from hdselect.robot.joints import describe_joints
+from hdselect.sizing.diagnosis import with_diagnoses
 from helpers import REPO
 from helpers.motions import planar2_motion
 from helpers.robots import LONG, ros_arm
@@ -71,7 +72,9 @@ def test_size_table_keeps_every_name_and_verdict_whole(overloaded, width):
     shoulder, elbow = overloaded.joints
     for joint in overloaded.joints:
         assert whole(text, joint.name)
-    assert whole(text, verdict(shoulder.strongest))  # the joint no unit fits
+    # the joint no unit fits: its shortfall in N m against the strongest unit, not a life %
+    headline = with_diagnoses(overloaded).diagnoses[shoulder.name].headline
+    assert not headline.is_life and whole(text, headline.short())
     chosen = elbow.selected
     assert whole(text, chosen.unit.id)
     binding = chosen.checks[chosen.binding]
@@ -215,7 +218,8 @@ def test_pair_table_keeps_the_pair_and_both_bindings_whole(overloaded_pairs, wid
     shoulder, elbow = overloaded_pairs.joints
     for joint in overloaded_pairs.joints:
         assert whole(text, joint.name)
-    assert whole(text, verdict(shoulder.strongest)) and "no pair fits" in " ".join(text.split())
+    headline = with_diagnoses(overloaded_pairs).diagnoses[shoulder.name].headline
+    assert whole(text, headline.short()) and "no pair holds it" in " ".join(text.split())
     chosen = elbow.selected
     gearhead, motor = chosen.checks[chosen.gearhead_binding], chosen.checks[chosen.motor_binding]
     for value in (chosen.unit.id, chosen.motor_unit.id,

@@ -182,6 +182,12 @@ PITCH_DIAMETER = Bound("a diameter", "m", 1e-3, 10.0)
 span about 20 mm to 1 m). It divides the tilting moment in the equivalent loads."""
 BEARING_OFFSET = Bound("a distance", "m", 0.0, 100.0)
 """A catalog's distance from the output flange to the bearing centre [m]."""
+TORSIONAL_STIFFNESS = Bound("a stiffness", "N m/rad", 1.0, 1e12)
+"""A gearhead's torsional stiffness K1..K3, or its output bearing's moment stiffness K_B
+[N m/rad]: from 1 N m/rad (the smallest units are stiffer than 100 N m/rad) to 1e12."""
+TWIST = Bound("an angle", "rad", 0.0, 0.1)
+"""A gearhead's hysteresis loss or lost motion [rad]: 0 to 0.1 rad (about 344 arcmin;
+catalogs give a few arcmin)."""
 LOAD_FACTOR = Bound("a load factor", "", 1.0, 10.0)
 """Harmonic Drive's load factor f_w of a bearing life [-]."""
 SAFETY_FACTOR = Bound("a safety factor", "", 0.1, 100.0)

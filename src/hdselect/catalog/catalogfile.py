@@ -1,26 +1,39 @@
-"""Read catalog files (TOML) into units: the built-in PSA-G page, and a user's own.
+"""Read catalog files (TOML) into units: the built-in catalogs, and a user's own.
 
 Every number is checked and converted to SI once, here; where the source's two
-unit systems disagree the lower value is taken and flagged.
+unit systems disagree the lower value is taken and flagged. What a file says of
+itself and of its sources is read by `hdselect.catalog.sources`.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import replace
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError, deprecated
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
+from hdselect.catalog.builtin import DATA, catalog_files, default_file, of_series
+from hdselect.catalog.columns import QUANTITIES, RANGES, agree, imperial, unit_label
+from hdselect.catalog.sources import (
+    HEADER_KEYS,
+    STIFFNESS_KEYS,
+    catalog_info,
+    optional_text,
+    read_documents,
+    read_sources,
+    read_stiffness,
+    rule_keys,
+    sourced_keys,
+    unit_notes,
+)
 from hdselect.catalog.units import (
     BEARING_RULE_KEYS,
     KG_M2_PER_KG_CM2,
-    KG_M2_PER_LB_IN2,
-    KG_PER_LB,
-    NM_PER_LB_IN,
+    MISSING_LIMITS,
+    NOT_RATED,
     RULE_KEYS,
     BearingRating,
     EfficiencyTable,
@@ -31,26 +44,13 @@ from hdselect.catalog.units import (
     logger,
 )
 
-# quantity -> ((SI key, factor to SI), (imperial key, factor to SI))
-_QUANTITIES = {
-    "rated_torque": (("rated_torque_nm", 1.0), ("rated_torque_lb_in", NM_PER_LB_IN)),
-    "repeated_torque": (("repeated_torque_nm", 1.0), ("repeated_torque_lb_in", NM_PER_LB_IN)),
-    "momentary_torque": (("momentary_torque_nm", 1.0),
-                         ("momentary_torque_lb_in", NM_PER_LB_IN)),
-    "static_torque": (("static_torque_nm", 1.0), ("static_torque_lb_in", NM_PER_LB_IN)),
-    "average_torque": (("average_torque_nm", 1.0), ("average_torque_lb_in", NM_PER_LB_IN)),
-    "input_inertia": (("input_inertia_kg_cm2", KG_M2_PER_KG_CM2),
-                      ("input_inertia_lb_in2", KG_M2_PER_LB_IN2)),
-    "mass": (("mass_kg", 1.0), ("mass_lb", KG_PER_LB)),
-}
-
-
 _REQUIRED = ("rated_torque", "repeated_torque", "mass")
 
 
 _UNIT_KEYS = ["id", "size", "ratio", "max_input_speed_rpm", "max_average_input_speed_rpm",
-              "efficiency", "bearing"] + [
-    key for pair in _QUANTITIES.values() for key, _ in pair
+              "efficiency", "bearing", "starting_torque_nm", "backdriving_torque_nm",
+              "stiffness", "defects", "provenance"] + [
+    key for pair in QUANTITIES.values() for key, _ in pair
 ]
 
 
@@ -64,14 +64,20 @@ _BEARING_KEYS = {"pitch_diameter_m": ("pitch_diameter", bounds.PITCH_DIAMETER),
                  "max_moment_nm": ("max_moment", bounds.TORQUE),
                  "max_radial_n": ("max_radial", bounds.BEARING_LOAD),
                  "max_axial_n": ("max_axial", bounds.BEARING_LOAD),
-                 "offset_m": ("offset", bounds.BEARING_OFFSET)}
+                 "offset_m": ("offset", bounds.BEARING_OFFSET),
+                 "moment_stiffness_nm_per_rad": ("moment_stiffness", bounds.TORSIONAL_STIFFNESS)}
 
 
-# quantity -> its physical range in SI
-_RANGES = {"rated_torque": bounds.TORQUE, "repeated_torque": bounds.TORQUE,
-           "momentary_torque": bounds.TORQUE, "static_torque": bounds.TORQUE,
-           "average_torque": bounds.TORQUE, "input_inertia": bounds.GEAR_INERTIA,
-           "mass": bounds.GEAR_MASS}
+# optional unit keys of a torque [N m] -> Unit field
+_TORQUES = {"starting_torque_nm": "starting_torque", "backdriving_torque_nm": "backdriving_torque"}
+
+
+# every key a [provenance] table may source
+_SOURCEABLE = [*(key for key in _UNIT_KEYS if key not in ("id", "defects", "provenance",
+                                                          "stiffness", "bearing")),
+               *(f"stiffness.{key}" for key in STIFFNESS_KEYS),
+               *(f"bearing.{key}" for key in _BEARING_KEYS),
+               *(f"rules.{key}" for key in [*RULE_KEYS, *BEARING_RULE_KEYS, "missing_limits"])]
 
 
 _EFFICIENCY_AXES = {"input_speed_rpm": bounds.Bound("a speed", "rpm", 0.0, 1e6),
@@ -79,25 +85,32 @@ _EFFICIENCY_AXES = {"input_speed_rpm": bounds.Bound("a speed", "rpm", 0.0, 1e6),
 
 
 BUILTIN = "psa_g.toml"
+"""The default built-in catalog's file name in ``hdselect/catalog/data``."""
 
 
 def load_catalog(catalog: Sequence[str | Path] = (), *,
-                 extra: Sequence[str | Path] | None = None) -> tuple[Unit, ...]:
-    """Load the built-in PSA-G catalog and any user catalog files.
+                 extra: Sequence[str | Path] | None = None,
+                 series: Sequence[str] = ()) -> tuple[Unit, ...]:
+    """Load the built-in PSA-G catalog and any other catalogs: built-in ones by name, files.
 
     Args:
-        catalog: User catalog files of the same schema as the built-in one. A file
-            without a ``[rules]`` table is judged by the built-in file's rules, and
-            each of its units carries a flag that says so.
+        catalog: Built-in catalog names (e.g. ``"csg-2uh"``, `hdselect.catalog.builtin`)
+            and catalog files of the same schema as the built-in ones. A file without a
+            ``[rules]`` table is judged by the PSA-G file's rules, and each of its units
+            carries a flag that says so. Naming PSA-G adds nothing: it is always loaded.
         extra: Deprecated: the user catalog files, now given as `catalog`.
+        series: Keep only the units of these series, each a series (``"CSG-2UH"``) or a
+            catalog's name (``"csg-2uh"``); empty: every unit loaded.
 
     Returns:
-        Every unit, sorted by size, then ratio, then id.
+        Every unit (of `series`), sorted by size, then ratio, then id.
 
     Raises:
         InputError: A file is missing or malformed, a value is missing, not a
             finite number in its range (`hdselect.base.bounds`) or inconsistent, two units
-            share an id, or `catalog` is not a list of files.
+            share an id, `catalog` is not a list of names and files, a name is also a
+            file in the current directory, a value is neither, or a series matches no
+            unit loaded.
     """
     if extra is not None:
         old = bounds.files_argument(extra, "extra")
@@ -106,10 +119,8 @@ def load_catalog(catalog: Sequence[str | Path] = (), *,
                              field="extra")
         deprecated("load_catalog(extra=...)", "load_catalog(catalog=...)")
         catalog = old
-    files = bounds.files_argument(catalog, "catalog")
-    builtin = resources.files("hdselect.catalog") / "data" / BUILTIN
-    with resources.as_file(builtin) as path:
-        units = list(_read_file(Path(path), None))
+    files = catalog_files(catalog)
+    units = list(_read_file(default_file(), None))
     assumed = _assumed(units[0])
     seen = {unit.id: unit.source for unit in units}
     for file in files:
@@ -119,7 +130,7 @@ def load_catalog(catalog: Sequence[str | Path] = (), *,
                                  path=file, field=f"unit[{unit.id}].id")
             seen[unit.id] = unit.source
             units.append(unit)
-    return tuple(sorted(units, key=lambda u: (u.size, u.ratio, u.id)))
+    return of_series(sorted(units, key=lambda u: (u.size, u.ratio, u.id)), series)
 
 
 def _assumed(builtin: Unit) -> SeriesRules:
@@ -135,11 +146,16 @@ def _assumed(builtin: Unit) -> SeriesRules:
 
 def _read_file(path: Path, assumed: SeriesRules | None) -> Iterable[Unit]:
     document = read_toml(path)
-    check_keys(document, ["series", "source", "rules", "unit"], path, "")
+    check_keys(document, ["series", "source", "rules", "unit", *HEADER_KEYS], path, "")
     series = document.get("series", "")
     if not isinstance(series, str) or not series:
         raise InputError("required: the series name, a non-empty string", path=path,
                          field="series")
+    optional_text(document, "source", path, "source")
+    info = catalog_info(document, path)
+    known = read_documents(document, path)
+    claimed = read_sources(document.get("provenance", {}), known, _SOURCEABLE, path,
+                              "provenance")
     if "rules" in document:
         rules = _read_rules(table_of(document["rules"], path, "rules"), path)
     elif assumed is None:
@@ -151,6 +167,17 @@ def _read_file(path: Path, assumed: SeriesRules | None) -> Iterable[Unit]:
         raise InputError("no [[unit]] entries", path=path, field="unit")
     raw = [_read_unit(table_of(entry, path, f"unit[{i}]"), series, rules, path, i)
            for i, entry in enumerate(entries)]
+    builtin = path.parent.resolve() == DATA.resolve()
+    for values, entry in zip(raw, entries, strict=True):
+        values["catalog"] = info
+        values["flags"] += unit_notes(entry, info, path, values["where"])
+        own = read_sources(entry.get("provenance", {}), known, _SOURCEABLE, path,
+                              f"{values['where']}.provenance")
+        needed = sourced_keys(entry) + rule_keys(document.get("rules", {}))
+        values["provenance"] = {key: source for key, source in {**claimed, **own}.items()
+                                if key in needed}
+        if builtin or claimed or own:
+            _all_sourced(needed, values["provenance"], path, values["where"])
     ids = [values["id"] for values in raw]
     for unit_id in ids:
         if ids.count(unit_id) > 1:
@@ -160,8 +187,17 @@ def _read_file(path: Path, assumed: SeriesRules | None) -> Iterable[Unit]:
         yield _complete(values, raw, path)
 
 
+def _all_sourced(needed: list[str], found: dict[str, Any], path: Path, where: str) -> None:
+    """Refuse a unit of a file that claims sources (or is built in) with an unsourced key."""
+    for key in needed:
+        if key not in found:
+            raise InputError(f"no source for {where}'s {key}: give its document, page and "
+                             "table in [provenance] or the unit's [unit.provenance]", path=path,
+                             field=f'provenance."{key}"')
+
+
 def _read_rules(table: dict[str, Any], path: Path) -> SeriesRules:
-    check_keys(table, [*RULE_KEYS, *BEARING_RULE_KEYS], path, "rules")
+    check_keys(table, [*RULE_KEYS, *BEARING_RULE_KEYS, "missing_limits"], path, "rules")
     values: dict[str, Any] = {}
     for key, choices in RULE_KEYS.items():
         field = f"rules.{key}"
@@ -176,11 +212,16 @@ def _read_rules(table: dict[str, Any], path: Path) -> SeriesRules:
                              f"{table[key]!r}", path=path, field=field)
     bearing: dict[str, Any] = {key: as_number(table[key], path, f"rules.{key}", bound=bound)
                                for key, bound in BEARING_RULE_KEYS.items() if key in table}
+    missing = table.get("missing_limits", MISSING_LIMITS[0])
+    if not (isinstance(missing, str) and missing in MISSING_LIMITS):
+        raise InputError(f"expected one of {', '.join(map(repr, MISSING_LIMITS))}, got "
+                         f"{missing!r}", path=path, field="rules.missing_limits")
     return SeriesRules(
         rated_input_speed=values["rated_input_speed_rpm"],
         rated_life_hours=values["rated_life_hours"], life_basis=values["life_basis"],
         mean_torque_limit=values["mean_torque_limit"], mean_speed=MeanSpeed(values["mean_speed"]),
-        max_momentary_events=values["max_momentary_events"], source=path, **bearing)
+        max_momentary_events=values["max_momentary_events"], source=path,
+        missing_limits=missing, **bearing)
 
 
 def _read_unit(entry: dict[str, Any], series: str, rules: SeriesRules, path: Path,
@@ -213,19 +254,19 @@ def _read_unit(entry: dict[str, Any], series: str, rules: SeriesRules, path: Pat
         as_number(entry["max_average_input_speed_rpm"], path,
                   f"{where}.max_average_input_speed_rpm", bound=bounds.INPUT_SPEED)
         if "max_average_input_speed_rpm" in entry else None)
-    for quantity, ((si_key, si_factor), (imp_key, imp_factor)) in _QUANTITIES.items():
+    for quantity, ((si_key, si_factor), (imp_key, imp_factor)) in QUANTITIES.items():
         given = [(key, entry[key], factor) for key, factor in
                  ((si_key, si_factor), (imp_key, imp_factor)) if key in entry]
         for key, raw, factor in given:
-            as_number(raw, path, f"{where}.{key}", bound=_RANGES[quantity], scale=factor,
-                      unit=_unit_label(key))
+            as_number(raw, path, f"{where}.{key}", bound=RANGES[quantity], scale=factor,
+                      unit=unit_label(key))
         if not given:
             if quantity in _REQUIRED:
                 raise InputError(f"required: {si_key} or {imp_key}", path=path,
                                  field=f"{where}.{si_key}")
             values[quantity] = None
             continue
-        values[quantity] = _agree(quantity, given, values["flags"])
+        values[quantity] = agree(quantity, given, values["flags"])
     if rules.mean_torque_limit == "tabulated" and values["average_torque"] is None:
         raise InputError("required: average_torque_nm or average_torque_lb_in, since the "
                          "[rules] mean_torque_limit is 'tabulated'", path=path,
@@ -239,6 +280,13 @@ def _read_unit(entry: dict[str, Any], series: str, rules: SeriesRules, path: Pat
                             if "efficiency" in entry else None)
     values["bearing"] = (_bearing(table_of(entry["bearing"], path, f"{where}.bearing"), path,
                                   f"{where}.bearing") if "bearing" in entry else None)
+    values["stiffness"] = (read_stiffness(table_of(entry["stiffness"], path,
+                                                      f"{where}.stiffness"),
+                                             path, f"{where}.stiffness")
+                           if "stiffness" in entry else None)
+    for key, name in _TORQUES.items():
+        values[name] = (as_number(entry[key], path, f"{where}.{key}", bound=bounds.TORQUE)
+                        if key in entry else None)
     return values
 
 
@@ -252,10 +300,11 @@ def _bearing(table: dict[str, Any], path: Path, where: str) -> BearingRating:
     check_keys(table, list(_BEARING_KEYS), path, where)
     values = {name: as_number(table[key], path, f"{where}.{key}", bound=bound)
               for key, (name, bound) in _BEARING_KEYS.items() if key in table}
-    if not set(values) - {"pitch_diameter", "offset"}:
+    figures = ("pitch_diameter", "offset", "moment_stiffness")
+    if not set(values) - set(figures):
         raise InputError("gives no rating: give at least one of "
-                         + ", ".join(key for key in _BEARING_KEYS
-                                     if key not in ("pitch_diameter_m", "offset_m")),
+                         + ", ".join(key for key, (name, _) in _BEARING_KEYS.items()
+                                     if name not in figures),
                          path=path, field=where)
     for rating in ("dynamic_rating", "static_rating"):
         if rating in values and "pitch_diameter" not in values:
@@ -265,68 +314,22 @@ def _bearing(table: dict[str, Any], path: Path, where: str) -> BearingRating:
     return BearingRating(**values)
 
 
-def _agree(quantity: str, given: list[tuple[str, Any, float]], flags: list[Flag]) -> float:
-    """One SI value from one or two published columns; the lower where they disagree.
-
-    Two columns agree when their rounding intervals (half a unit of the last
-    printed digit of each) overlap after conversion.
-    """
-    si = [(key, raw, float(raw) * factor, _half_digit(raw) * factor) for key, raw, factor in given]
-    if len(si) == 1:
-        return si[0][2]
-    (key_a, raw_a, a, tol_a), (key_b, raw_b, b, tol_b) = si
-    if abs(a - b) <= tol_a + tol_b:
-        return a
-    low = min(a, b)
-    si_label = {"input_inertia": "kg m^2", "mass": "kg"}.get(quantity, "N m")
-    label = (quantity.replace("_", " ").replace("torque", "limit")
-             .replace("rated limit", "rated torque").replace("average limit",
-                                                             "average-torque limit"))
-    disagree = (f"{label}: the source's {raw_a:g} {_unit_label(key_a)} and {raw_b:g} "
-                f"{_unit_label(key_b)} disagree; the lower, ")
-    flags.append(Flag(quantity, "corrected", f"{disagree}{low:.3g} {si_label}, is used",
-                      f"{disagree}{_imperial(quantity, low)}, is used"))
-    return low
-
-
-def _imperial(quantity: str, value: float) -> str:
-    """An SI value of a catalog quantity in the page's imperial units, e.g. ``70 lb-in``."""
-    if quantity == "input_inertia":
-        return f"{value / KG_M2_PER_LB_IN2:.3g} lb-in^2"
-    if quantity == "mass":
-        return f"{value / KG_PER_LB:.3g} lb"
-    return f"{value / NM_PER_LB_IN:.3g} lb-in"
-
-
-def _unit_label(key: str) -> str:
-    """The unit a catalog key is written in, e.g. ``lb-in`` for ``static_torque_lb_in``."""
-    for suffix, label in (("_lb_in2", "lb-in^2"), ("_lb_in", "lb-in"), ("_nm", "N m"),
-                          ("_kg_cm2", "kg cm^2"), ("_kg", "kg"), ("_lb", "lb")):
-        if key.endswith(suffix):
-            return label
-    return ""
-
-
-def _half_digit(raw: int | float) -> float:
-    """Half a unit of the last digit of a TOML number as written (0.5 for an integer)."""
-    text = repr(raw)
-    if isinstance(raw, int) or "e" in text or "." not in text:
-        return 0.5
-    return 0.5 * 10.0 ** -len(text.split(".")[1])
-
-
 def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Path) -> Unit:
     """Fill the gaps a source leaves with flagged conservative stand-ins."""
     flags: list[Flag] = values["flags"]
     where = values["where"]
     for limit in ("momentary_torque", "static_torque"):
         name = limit.replace("_", " ").replace("torque", "limit")
-        if values[limit] is None:
+        if values[limit] is None and values["rules"].missing_limits == "not-rated":
+            rule = limit.replace("_torque", "")
+            flags.append(Flag(limit, "not-rated",
+                              f"{name} {NOT_RATED}: the {rule} rule is not checked"))
+        elif values[limit] is None:
             values[limit] = values["repeated_torque"]
             text = f"{name} not rated by the source; the repeated-peak limit ({{}}) is used"
             flags.append(Flag(limit, "fallback",
                               text.format(f"{values['repeated_torque']:.3g} N m"),
-                              text.format(_imperial(limit, values["repeated_torque"]))))
+                              text.format(imperial(limit, values["repeated_torque"]))))
         elif values[limit] < values["repeated_torque"]:
             logger.warning("%s: %s: %s %.3g N m is below the repeated-peak limit %.3g N m",
                            path, where, name, values[limit], values["repeated_torque"])
@@ -341,7 +344,7 @@ def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Pa
         text = f"input inertia not given by the source; the size {size:02d} value ({{}}) bounds it"
         flags.append(Flag("input_inertia", "fallback",
                           text.format(f"{inertia / KG_M2_PER_KG_CM2:.4g} kg cm^2"),
-                          text.format(_imperial("input_inertia", inertia))))
+                          text.format(imperial("input_inertia", inertia))))
     return Unit(
         id=values["id"], series=values["series"], size=values["size"], ratio=values["ratio"],
         rated_torque=values["rated_torque"], repeated_torque=values["repeated_torque"],
@@ -350,7 +353,9 @@ def _complete(values: dict[str, Any], file_units: list[dict[str, Any]], path: Pa
         mass=values["mass"], efficiency=values["efficiency"], rules=values["rules"],
         average_torque=values["average_torque"],
         max_average_input_speed=values["max_average_input_speed"], flags=tuple(flags),
-        source=path, bearing=values["bearing"],
+        source=path, bearing=values["bearing"], starting_torque=values["starting_torque"],
+        backdriving_torque=values["backdriving_torque"], stiffness=values["stiffness"],
+        provenance=values["provenance"], catalog=values["catalog"],
     )
 
 

@@ -11,7 +11,9 @@ file's rules, and says so on every result.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from enum import StrEnum
 from pathlib import Path
 
@@ -72,6 +74,21 @@ MEAN_SPEED_RULES = tuple(rule.value for rule in MeanSpeed)
 """The catalog's spellings of `MeanSpeed`."""
 
 
+MISSING_LIMITS = ("stand-in", "not-rated")
+"""What a series' ``[rules]`` ``missing_limits`` does with a momentary or static limit its
+source does not give: ``"stand-in"`` (the repeated-peak limit, flagged) or ``"not-rated"``
+(left out: the rule reports "not rated by the source" and is not checked)."""
+
+
+NOT_RATED = "not rated by the source"
+"""What a table or JSON says of a rule whose limit the unit's source does not give."""
+
+
+WHOLE_UNIT = "unit"
+"""The `Flag.field` of a note on the whole unit (a transcription, a defect of the source):
+every result that uses the unit repeats it."""
+
+
 # [rules] key -> the choices it takes, or the range of the number it is
 RULE_KEYS: dict[str, tuple[str, ...] | bounds.Bound] = {
     "rated_input_speed_rpm": bounds.INPUT_SPEED, "rated_life_hours": bounds.RATED_LIFE,
@@ -100,9 +117,12 @@ class Flag:
     """A catalog value that is a stand-in or a correction, with the reason.
 
     Attributes:
-        field: The quantity it concerns, e.g. ``"static_torque"``.
-        kind: ``"fallback"`` (the source gives no value), ``"corrected"`` (the
-            source's columns disagree) or ``"assumed"`` (the source states no rules).
+        field: The quantity it concerns, e.g. ``"static_torque"``, or `WHOLE_UNIT`.
+        kind: ``"fallback"`` (the source gives no value), ``"not-rated"`` (the source
+            gives no value and the rule is not checked), ``"corrected"`` (the source's
+            columns disagree), ``"assumed"`` (the source states no rules),
+            ``"transcription"`` (numbers taken from a public transcription of the source)
+            or ``"defect"`` (a disagreement in the source and what was used).
         note: One sentence for the reader, its figures in SI units.
         imperial: The same sentence with its figures in the catalog's imperial units
             (lb-in, lb-in^2, lb); empty when the note has no figure to convert.
@@ -140,6 +160,7 @@ class SeriesRules:
         flag: Set when the unit's own file states no rules and these are assumed.
         bearing_load_factor: Load factor f_w of the output bearing's life [-].
         bearing_static_safety: Least static safety C0 / P0 of the output bearing [-].
+        missing_limits: ``"stand-in"`` or ``"not-rated"`` (`MISSING_LIMITS`).
     """
 
     rated_input_speed: float
@@ -152,6 +173,7 @@ class SeriesRules:
     flag: Flag | None = None
     bearing_load_factor: float = DEFAULT_BEARING_LOAD_FACTOR
     bearing_static_safety: float = DEFAULT_BEARING_STATIC_SAFETY
+    missing_limits: str = "stand-in"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "mean_speed", MeanSpeed(self.mean_speed))
@@ -179,6 +201,7 @@ class BearingRating:
         max_axial: Allowable axial load [N].
         offset: Distance from the output flange to the bearing centre along the axis,
             the catalog's R [m].
+        moment_stiffness: Tilting (moment) stiffness K_B [N m/rad].
     """
 
     pitch_diameter: float | None = None
@@ -188,6 +211,82 @@ class BearingRating:
     max_radial: float | None = None
     max_axial: float | None = None
     offset: float = 0.0
+    moment_stiffness: float | None = None
+
+
+RAD_PER_ARCMIN = math.pi / (180.0 * 60.0)
+"""Radians in one minute of arc."""
+
+
+@dataclass(frozen=True)
+class Stiffness:
+    """A unit's torsional stiffness with the input locked, as the catalog's three segments.
+
+    The twist under an output torque T rises at K1 up to T1, at K2 from T1 to T2 and at
+    K3 above T2. Each figure is None where the catalog does not give it.
+
+    Attributes:
+        t1: Torque T1 at the end of the first segment [N m].
+        t2: Torque T2 at the end of the second segment [N m].
+        k1: Stiffness K1 below T1 [N m/rad].
+        k2: Stiffness K2 from T1 to T2 [N m/rad].
+        k3: Stiffness K3 above T2 [N m/rad].
+        hysteresis_loss: Hysteresis loss [rad].
+        lost_motion: Lost motion [rad].
+    """
+
+    t1: float | None = None
+    t2: float | None = None
+    k1: float | None = None
+    k2: float | None = None
+    k3: float | None = None
+    hysteresis_loss: float | None = None
+    lost_motion: float | None = None
+
+
+@dataclass(frozen=True)
+class Source:
+    """Where one number of a catalog file was read: a document, its page and table.
+
+    Attributes:
+        title: The document's title.
+        publisher: Who published it.
+        edition: Its edition or revision as printed (``"not stated"`` if none).
+        copy: Where the copy that was read is (a URL).
+        page: The page number as printed, e.g. ``"10"`` or ``"10-11"``.
+        table: The table or figure as the document names it.
+    """
+
+    title: str
+    publisher: str
+    edition: str
+    copy: str
+    page: str
+    table: str
+
+    def line(self, key: str) -> str:
+        """One readable line for the catalog key it sources, e.g. ``rated_torque_nm: ...``."""
+        return (f"{key}: {self.title} ({self.publisher}, {self.edition}), page {self.page}, "
+                f"{self.table}; copy: {self.copy}")
+
+
+@dataclass(frozen=True)
+class CatalogInfo:
+    """What a catalog file says of itself.
+
+    Attributes:
+        name: Its built-in name, e.g. ``"csg-2uh"``; empty where the file gives none.
+        title: Its title; empty where the file gives none.
+        check: Its note on checking the numbers before use (e.g. against the current
+            vendor data); empty where the file gives none.
+        transcription: Which numbers were taken from a public transcription rather
+            than from the vendor's document; empty where none were.
+    """
+
+    name: str = ""
+    title: str = ""
+    check: str = ""
+    transcription: str = ""
 
 
 @dataclass(frozen=True)
@@ -233,8 +332,9 @@ class Unit:
         ratio: Reduction ratio N (input turns per output turn).
         rated_torque: T_N, rated output torque at the rules' rated input speed [N m].
         repeated_torque: Limit for repeated output torque [N m].
-        momentary_torque: Limit for momentary overload torque [N m].
-        static_torque: Static torque limit, input locked [N m].
+        momentary_torque: Limit for momentary overload torque [N m]; None where the
+            source does not rate it and its rules' ``missing_limits`` is ``"not-rated"``.
+        static_torque: Static torque limit, input locked [N m]; None as `momentary_torque`.
         max_input_speed: Maximum input speed [rpm].
         input_inertia: Inertia at the input shaft [kg m^2].
         mass: Mass [kg].
@@ -246,6 +346,13 @@ class Unit:
         source: The catalog file it came from.
         bearing: What the catalog rates its output bearing for; None when it rates it
             for nothing (the bearing's loads are then reported, not checked).
+        starting_torque: No-load starting torque at the input [N m], if given.
+        backdriving_torque: No-load backdriving torque at the output [N m] (the lower end
+            of a range), if given.
+        stiffness: Its torsional stiffness, if given.
+        provenance: Catalog key (dotted for a sub-table, e.g. ``"stiffness.k1_nm_per_rad"``)
+            -> where the number was read; empty where the file claims no source.
+        catalog: What its catalog file says of itself.
     """
 
     id: str
@@ -254,8 +361,8 @@ class Unit:
     ratio: int
     rated_torque: float
     repeated_torque: float
-    momentary_torque: float
-    static_torque: float
+    momentary_torque: float | None
+    static_torque: float | None
     max_input_speed: float
     input_inertia: float
     mass: float
@@ -266,7 +373,16 @@ class Unit:
     flags: tuple[Flag, ...]
     source: Path
     bearing: BearingRating | None = None
+    starting_torque: float | None = None
+    backdriving_torque: float | None = None
+    stiffness: Stiffness | None = None
+    provenance: Mapping[str, Source] = field(default_factory=dict, compare=False)
+    catalog: CatalogInfo = CatalogInfo()
 
     def flags_for(self, *fields: str) -> tuple[Flag, ...]:
-        """The flags on the given quantities."""
+        """The flags on the given quantities (`WHOLE_UNIT`: those on the whole unit)."""
         return tuple(flag for flag in self.flags if flag.field in fields)
+
+    def provenance_lines(self) -> list[str]:
+        """One readable line per sourced catalog key, in key order (`Source.line`)."""
+        return [self.provenance[key].line(key) for key in sorted(self.provenance)]

@@ -65,6 +65,7 @@ def _run(argv: Sequence[str], kept: _Kept) -> int:
     import warnings
 
     from hdselect.base.errors import HdselectError
+    from hdselect.catalog.builtin import catalog_files
     from hdselect.cli.inputs import toml_files_wanted
     from hdselect.cli.output import EXIT_BAD_INPUT, EXIT_BUG, EXIT_OK
 
@@ -77,6 +78,8 @@ def _run(argv: Sequence[str], kept: _Kept) -> int:
         args.command_line = ["hdselect", *argv]
         args.kept, args.held = kept, held
         held.start(verbose=args.verbose)
+        if getattr(args, "catalog", None):  # built-in names become their files
+            args.catalog = catalog_files(args.catalog, field="--catalog")
         toml_files_wanted(args)
         # Python's and numpy's warnings too are held: a refusal stays one line (the
         # filters in force still apply; only where they print changes)
@@ -274,6 +277,8 @@ def _parser() -> argparse.ArgumentParser:
     catalog.add_argument("--units", choices=("si", "imperial"), default="si",
                          help="unit system of the table (default: si)")
     catalog.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    catalog.add_argument("--list", action="store_true",
+                         help="list the built-in catalogs (load one with --catalog NAME)")
     catalog.set_defaults(run=run_catalog)
 
     duty = _command(commands, verbose, "duty",

@@ -28,7 +28,7 @@ def run_size(args: argparse.Namespace) -> int:
     problem = sizing_problem(args)
     with reserved_outputs(args, problem.robot, problem.source) as (outputs, json_file, report):
         bom = reserve_parts(outputs, args)
-        result = _sized(problem)
+        result = _sized(problem, args)
         write_report_and_json(args, result, json_file, report)
         write_parts(bom, result)
         table = "" if to_stdout(args) else rendered(*report_tables(result))
@@ -52,7 +52,7 @@ def run_compare(args: argparse.Namespace) -> int:
             raise not_sized(problem.robot, name, "--joint")
     with reserved_outputs(args, problem.robot, problem.source) as (outputs, json_file, report):
         bom = reserve_parts(outputs, args)
-        result = _sized(problem)
+        result = _sized(problem, args)
         shown = replace(result, joints=tuple(joint for joint in result.joints
                                              if not args.joint or joint.name in args.joint))
         write_report_and_json(args, shown, json_file, report)
@@ -68,10 +68,14 @@ def run_compare(args: argparse.Namespace) -> int:
     return EXIT_OK if result.feasible else EXIT_NO_FIT
 
 
-def _sized(problem: Any) -> Any:
-    """The sizing, with the diagnosis of every joint no unit fits (its next steps checked)."""
+def _sized(problem: Any, args: argparse.Namespace) -> Any:
+    """The sizing, with the diagnosis of every joint no unit fits (its next steps checked).
+
+    Each next step's command is this command line with one option set.
+    """
     from hdselect.codesign.maxpayload import duty_bounds
     from hdselect.sizing.core import size_problem
     from hdselect.sizing.diagnosis import with_diagnoses
 
-    return with_diagnoses(size_problem(problem), payload_bounds=duty_bounds)
+    return with_diagnoses(size_problem(problem), payload_bounds=duty_bounds,
+                          command=args.command_line)

@@ -14,6 +14,7 @@ from typing import Any
 
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import check_keys, table_of
+from hdselect.catalog.builtin import catalog_file
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.motion.option_specs import OPTIONS, file_keys, file_options
@@ -48,10 +49,11 @@ def duty_tables(doc: dict[str, Any], path: Path,
     if "catalog" in sizing:
         files = sizing["catalog"] if isinstance(sizing["catalog"], list) else [sizing["catalog"]]
         for i, file in enumerate(files):
-            if not isinstance(file, str) or not (path.parent / file).is_file():
+            if not isinstance(file, str) or not file:
                 raise InputError(f"catalog file not found: {file!r}", path=path,
                                  field=f"sizing.catalog[{i}]")
-            catalog.append(path.parent / file)
+            catalog.append(catalog_file(file, base=path.parent, path=path,
+                                        field=f"sizing.catalog[{i}]"))
     if "motor" in doc:
         given["motors"] = motion_file_motors(doc["motor"], path, robot)
         given["motor_joints"] = tuple(key for key, block in doc["motor"].items()

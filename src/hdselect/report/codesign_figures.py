@@ -98,8 +98,9 @@ def write_fastest_png(path: str | Path, result: FastestResult) -> None:
         for sign in (1.0, -1.0):
             torque_ax.axhline(sign * unit.repeated_torque, color="k", ls="--", lw=0.8,
                               label=f"{unit.id} repeated peak" if sign > 0 else None)
-            torque_ax.axhline(sign * unit.momentary_torque, color="tab:purple", ls=":", lw=0.8,
-                              label=f"{unit.id} momentary" if sign > 0 else None)
+            if unit.momentary_torque is not None:  # None: not rated by the source
+                torque_ax.axhline(sign * unit.momentary_torque, color="tab:purple", ls=":",
+                                  lw=0.8, label=f"{unit.id} momentary" if sign > 0 else None)
         torque_ax.set_ylabel("torque [N m]")
         for ax in (speed_ax, torque_ax):
             ax.axhline(0.0, color="0.6", lw=0.5)

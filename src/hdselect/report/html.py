@@ -126,7 +126,7 @@ def _selection(result: SizingResult) -> str:
         if c is None:
             cells = [esc(joint.name), "<td class='t fail'>none</td>",
                      *(["none"] if motors else []),
-                     esc(f"no unit holds it: {shortfall_text(result, joint)}"),
+                     esc(shortfall_text(result, joint, words=True)),
                      *(["-", "-"] if motors else []), "-", "-", "-", "-", "-"]
             notes.append(f"no {'pair' if motors else 'unit'} fits: see below")
         else:
@@ -254,6 +254,9 @@ def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
     """One check's cell, coloured; `where` names its joint and unit as data attributes."""
     if check is None or check.value is None:
         return f"<td class='u na' data-check='{name}' {where}>-</td>"
+    if "not_rated" in check.detail:
+        words = esc(str(check.detail["not_rated"]))
+        return f"<td class='u na' data-check='{name}' {where}>{words}</td>"
     colour = utilization_colour(check.utilization)
     state = "ok" if check.ok else "fail"
     text = utilization_text(check.utilization, check.ok) + ("" if check.ok else " ✗")

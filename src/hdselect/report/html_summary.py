@@ -86,7 +86,7 @@ def _selection(result: SizingResult) -> str:
         if c is None:
             rows.append([name, "<td class='t fail'>none fits</td>",
                          *(["-"] if motors else []),
-                         esc(f"no unit holds it: {shortfall_text(result, joint)}"),
+                         esc(shortfall_text(result, joint, words=True)),
                          "-", "-", *(["-"] if motors else [])])
             continue
         binding = c.gearhead_binding if motors else c.binding

@@ -108,6 +108,8 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
                                        ("momentary_torque", "momentary limit", STOP, "--"),
                                        ("static_torque", "static limit", REST, "-.")):
         value = getattr(unit, field)
+        if value is None:  # not rated by the source
+            continue
         kinds = {flag.kind for flag in unit.flags_for(field)}
         mark = " (stand-in)" if "fallback" in kinds else " (corrected)" if kinds else ""
         lines.append((value, color, style, f"{label} {value:.3g} N m{mark}"))
@@ -256,4 +258,4 @@ def rest_spans(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, 
 def _no_unit(result: SizingResult, joint: JointSizing) -> str:
     """A figure title's words for a joint no unit holds: its headline shortfall."""
     found = diagnosis_of(result, joint.name)
-    return "no unit holds it" + ("" if found is None else f": {found.headline.short()}")
+    return "no unit holds it" if found is None else found.summary()

@@ -256,16 +256,17 @@ def _motor(candidate: Candidate) -> MotorDemand:
     return candidate.motor
 
 
-def shortfall_text(result: SizingResult, joint: JointSizing) -> str:
+def shortfall_text(result: SizingResult, joint: JointSizing, *, words: bool = False) -> str:
     """For a joint no unit fits: its headline shortfall, e.g. ``peak 87.3 > 20.3 N m``.
 
     The demand against the strongest candidate's limit in the rule's own unit
-    (`hdselect.sizing.diagnosis`); a life only where nothing else falls short.
+    (`hdselect.sizing.diagnosis`); a life only where nothing else falls short. `words`:
+    ``no unit holds it: `` (or ``no pair``) before it.
     """
     found = diagnosis_of(result, joint.name)
     if found is None:
         raise RuntimeError(f"joint {joint.name} has no diagnosis (with_diagnoses first)")
-    return found.headline.short()
+    return found.summary() if words else found.headline.short()
 
 
 def diagnosis_lines(result: SizingResult, joint: JointSizing) -> list[str]:

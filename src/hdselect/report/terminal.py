@@ -118,6 +118,8 @@ def utilization_cell(check: Check, pad: bool = False) -> str:
     """
     if check.value is None:
         return "- " if pad else "-"
+    if "not_rated" in check.detail:  # the unit's source gives no limit: not checked
+        return "not rated" + (" " if pad else "")
     text = utilization_text(check.utilization, check.ok)
     return (text + (" " if pad else "")) if check.ok else f"[red]{text}✗[/red]"
 

@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from hdselect.catalog.builtin import DEFAULT, builtin_catalogs
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.rules import RULES, Candidate, Part, Rule, Scope, rule
 from hdselect.catalog.rules.peak import PEAK
@@ -69,22 +70,26 @@ class Shortfall:
     @property
     def is_life(self) -> bool:
         """The rule judges a life (shown as a consequence, never as a percentage)."""
-        return rule(self.rule).at_least
+        return rule(self.rule).life
 
     def short(self) -> str:
-        """The shortfall in a table cell, e.g. ``peak 87.3 > 20.3 N m``."""
-        sign = "<" if self.is_life else ">"
-        return (f"{self.rule} {_number(self.value)} {sign} {_number(self.usable)} "
-                f"{self.si}").rstrip()
+        """The shortfall in a table cell, e.g. ``peak 87.3 > 20.3 N m``, ``life 643 < 20,000 h``."""
+        sign = "<" if rule(self.rule).at_least else ">"
+        return " ".join(filter(None, (self.rule, _number(self.value), sign,
+                                      _number(self.usable), self.si)))
 
     def text(self) -> str:
-        """In words, e.g. ``repeated peak torque 87.3 N m over PSA-14-100's 20.3 N m``."""
-        words = rule(self.rule).words
-        if self.is_life:
-            return (f"{words} {_number(self.value)} h of the {_number(self.usable)} h required "
-                    f"({self.unit})")
-        return (f"{words} {_number(self.value)} {self.si} over {self.unit}'s "
-                f"{_number(self.usable)} {self.si}".replace("  ", " ").rstrip())
+        """In words, e.g. ``repeated peak torque 87.3 N m over PSA-14-100's 20.3 N m``.
+
+        A life or a safety (which must reach its figure): ``life 643 h of the 20,000 h
+        required (PSA-14-100)``.
+        """
+        found = rule(self.rule)
+        value, usable = (" ".join(filter(None, (_number(x), self.si)))
+                         for x in (self.value, self.usable))
+        if found.at_least:
+            return f"{found.words} {value} of the {usable} required ({self.unit})"
+        return f"{found.words} {value} over {self.unit}'s {usable}"
 
 
 @dataclass(frozen=True)
@@ -119,6 +124,7 @@ class Diagnosis:
             shortfalls are those of the closest candidate.
         gravity: Gravity alone against the strongest unit; None where not computed.
         steps: The next steps that work, in the order `NEXT_STEPS`.
+        what: What the candidates are: ``"unit"``, or ``"pair"`` (a gearhead and a motor).
     """
 
     joint: str
@@ -126,22 +132,29 @@ class Diagnosis:
     combined: bool
     gravity: GravityLoad | None
     steps: tuple[NextStep, ...] = ()
+    what: str = "unit"
 
     @property
     def headline(self) -> Shortfall:
         """The first shortfall: a torque rule wherever one fails, a life only when alone."""
         return self.shortfalls[0]
 
+    def summary(self) -> str:
+        """In a line, e.g. ``no unit holds it: peak 87.3 > 20.3 N m``."""
+        return f"no {self.what} holds it: {self.headline.short()}"
+
     def lines(self) -> list[str]:
         """The diagnosis as sentences, as every front end prints it."""
-        what = "no unit holds every rule; the closest" if self.combined else "no unit holds it"
+        what = (f"no {self.what} holds every rule; the closest" if self.combined
+                else f"no {self.what} holds it")
         first = f"{self.joint}: {what}: " + "; ".join(s.text() for s in self.shortfalls) + "."
         lines = [first]
+        unit = f"{self.what}'s" if self.what == "unit" else "gearhead's"
         if self.gravity is not None and self.gravity.exceeds:
             helps = ("" if any(step.kind == "slowdown" for step in self.steps)
                      else ": no slow-down or lower speed/acceleration limit helps")
             lines.append(f"{self.joint}: gravity alone needs {_number(self.gravity.torque)} N m, "
-                         f"over every unit's limit ({self.gravity.unit}: "
+                         f"over every {unit} limit ({self.gravity.unit}: "
                          f"{_number(self.gravity.limit)} N m){helps}.")
         lines += [f"{self.joint}: {step.text}" + (f": {step.command}" if step.command else "")
                   for step in self.steps]
@@ -154,6 +167,7 @@ class Diagnosis:
         return {
             "headline": self.headline.short(),
             "combined": self.combined,
+            "candidates": self.what,
             "shortfalls": [{"rule": s.rule, "unit": s.unit, "value": finite(s.value),
                             "limit": finite(s.limit), "usable_limit": finite(s.usable),
                             "si_unit": s.si, "utilization": finite(s.utilization),
@@ -168,7 +182,8 @@ class Diagnosis:
 
 
 def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | None = None,
-             payload_bounds: PayloadBounds | None = None) -> dict[str, Diagnosis]:
+             payload_bounds: PayloadBounds | None = None,
+             command: Sequence[str] | None = None) -> dict[str, Diagnosis]:
     """A diagnosis of every sized joint that no candidate holds.
 
     Only those joints are looked at, once: the shortfalls and gravity from the sizing's
@@ -182,6 +197,9 @@ def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | N
             (default: `shipped_catalogs`); a catalog whose units are all candidates
             already is skipped.
         payload_bounds: The payload solver (`PayloadBounds`); None offers no payload step.
+        command: The command line of the run, program name first: each step's command is
+            it with one option set (the output options left out); None (from Python):
+            ``hdselect size FILE`` with the option.
 
     Returns:
         Joint name -> its diagnosis, in the robot's order; empty where every joint has a
@@ -201,26 +219,28 @@ def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | N
         j = result.robot.joint_index(joint.name)
         shortfalls, combined = _shortfalls(joint.candidates)
         held = _gravity_load(joint, gravity[:, j], rest[:, j], options)
-        out[joint.name] = Diagnosis(joint.name, shortfalls, combined, held)
+        what = "pair" if any(c.motor_unit is not None for c in joint.candidates) else "unit"
+        out[joint.name] = Diagnosis(joint.name, shortfalls, combined, held, what=what)
     found = catalog_steps(result, missing, tasks,
-                           shipped_catalogs() if catalogs is None else catalogs)
-    payload = payload_steps(result, missing, tasks, masses, payload_bounds)
+                           shipped_catalogs() if catalogs is None else catalogs, command)
+    payload = payload_steps(result, missing, tasks, masses, payload_bounds, command)
     for joint in missing:
-        steps = [*found.get(joint.name, ()), *payload.get(joint.name, ()),
-                 exclude_step(result, joint.name)]
-        scale = slowdown_step(result, joint)
-        if scale is not None:
-            steps.append(scale)
-        out[joint.name] = replace(out[joint.name], steps=tuple(steps))
+        steps = (*found.get(joint.name, ()), *payload.get(joint.name, ()),
+                 exclude_step(result, joint.name, command), slowdown_step(result, joint))
+        out[joint.name] = replace(out[joint.name],
+                                  steps=tuple(step for step in steps if step is not None))
     return out
 
 
 def shipped_catalogs() -> dict[str, tuple[Unit, ...]]:
-    """The catalogs shipped with hdselect, by their ``--catalog`` argument.
+    """The catalogs shipped with hdselect but the default, by name (``--catalog NAME``).
 
-    The one place that knows where the shipped series live.
+    Each with its own units only (`hdselect.catalog.builtin.builtin_catalogs`): the one
+    place the diagnosis learns which series are shipped.
     """
-    return {"psa-g": load_catalog()}
+    return {catalog.name: tuple(unit for unit in load_catalog([catalog.name])
+                                if unit.source == catalog.file)
+            for catalog in builtin_catalogs() if catalog.name != DEFAULT}
 
 
 def diagnosis_of(result: SizingResult, joint: str) -> Diagnosis | None:
@@ -251,7 +271,7 @@ def _order(found: Rule) -> tuple[int, ...]:
     the bearing's, the motor's and the pair's rules; every life last.
     """
     parts = list(Part)
-    return (int(found.at_least), parts.index(found.part), int(found.unit != "N m"),
+    return (int(found.life), parts.index(found.part), int(found.unit != "N m"),
             int(found.scope is Scope.CYCLE), list(RULES).index(found))
 
 
@@ -276,8 +296,8 @@ def _shortfalls(candidates: Sequence[Candidate]) -> tuple[tuple[Shortfall, ...],
         return max((check.utilization for n, check in c.checks.items()
                     if not rule(n).at_least), default=0.0)
     closest = min(candidates, key=worst)
-    return tuple(_shortfall(closest, name) for name in names
-                 if name in closest.checks and not closest.checks[name].ok), True
+    failed = [name for name in names if name in closest.checks and not closest.checks[name].ok]
+    return tuple(_shortfall(closest, name) for name in failed or [closest.binding]), True
 
 
 def _shortfall(candidate: Candidate, name: str) -> Shortfall:

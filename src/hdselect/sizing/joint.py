@@ -328,5 +328,5 @@ def _prefilter(batch: UnitBatch, options: Options) -> np.ndarray:
 
 def _strongest(units: tuple[Unit, ...]) -> Unit:
     """The unit of the largest repeated peak (then momentary, then rated) torque."""
-    return max(units, key=lambda unit: (unit.repeated_torque, unit.momentary_torque,
+    return max(units, key=lambda unit: (unit.repeated_torque, unit.momentary_torque or 0.0,
                                         unit.rated_torque))

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import os
+import shlex
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -61,7 +62,8 @@ NEXT_STEPS = ("catalog", "payload", "exclude", "slowdown")
 
 
 def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: Sequence[Task],
-                   catalogs: Mapping[str, Sequence[Unit]]) -> dict[str, list[NextStep]]:
+                   catalogs: Mapping[str, Sequence[Unit]],
+                   command: Sequence[str] | None = None) -> dict[str, list[NextStep]]:
     """Per joint, the shipped series whose smallest holding unit is smallest, verified.
 
     Each catalog's units are first checked against the joint's cycle as sized (the same
@@ -70,20 +72,21 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
     gives the joint a unit (the unit it gives is the one named).
     """
     have = {unit.id for unit in result.units}
-    offered = {name: tuple(units) for name, units in catalogs.items()
-               if any(unit.id not in have for unit in units)}
+    offered = {name: fresh for name, units in catalogs.items()
+               if (fresh := tuple(unit for unit in units if unit.id not in have))}
     if not offered:
         return {}
     samples = pooled(tasks, result.idle)
     options = result.options
     best: dict[str, list[tuple[tuple[float, float], str]]] = {}
     for joint in missing:
+        if len(joint.torque) != len(samples):
+            continue  # sized on more than its tasks' samples (an envelope's worst states)
         cycle = JointCycle(samples, result.robot.joint_index(joint.name), joint.torque,
                            joint.stop_torque, joint.wrench,
                            options.bearing_offset.get(joint.name, 0.0))
         for name, units in offered.items():
-            fresh = tuple(u for u in units if u.id not in have)
-            found = size_joint(joint.name, cycle, fresh, options,
+            found = size_joint(joint.name, cycle, units, options,
                                motors=result.motors.get(joint.name, ()), detail=False)
             if found.selected is not None:
                 unit = found.selected.unit
@@ -100,14 +103,17 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
             if chosen is not None:
                 out[joint.name] = [NextStep(
                     "catalog", f"the {name} catalog holds it with {chosen.label}",
-                    _command(result, f"--catalog {name}"), chosen.label, catalog=name)]
+                    _command(result, command, ("--catalog", name),
+                             *([("--series", name)] if given(command, "--series") else [])),
+                    chosen.label, catalog=name)]
                 break
     return out
 
 
 def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: Sequence[Task],
                    masses: Mapping[str, float],
-                   payload_bounds: PayloadBounds | None) -> dict[str, list[NextStep]]:
+                   payload_bounds: PayloadBounds | None,
+                   command: Sequence[str] | None = None) -> dict[str, list[NextStep]]:
     """Per joint, the largest payload at which some candidate holds it, verified by sizing."""
     scaled = [task.label for task in tasks if task.robot.payload is not None]
     if payload_bounds is None or not scaled or any(
@@ -116,23 +122,25 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
         return {}  # no payload, or a trajectory that depends on it
     bounds = payload_bounds(tasks, result.idle, scaled, masses, result.units, result.options)
     single = len(tasks) == 1
+    count = len(pooled(tasks, result.idle))
     out: dict[str, list[NextStep]] = {}
     for joint in missing:
+        if len(joint.torque) != count:
+            continue  # sized on more than its tasks' samples: they alone do not check it
         ends = [min(b.masses[1], 1.0) for b in bounds[joint.name]
                 if b.masses is not None and b.masses[0] <= min(b.masses[1], 1.0)]
         if not ends:
             continue
         factor = max(ends)
-        if single:
-            mass = tasks[0].robot.payload.mass  # type: ignore[union-attr]
-            kg = math.floor(factor * mass / PAYLOAD_STEP) * PAYLOAD_STEP
-            factor = kg / mass
-        else:
-            factor = math.floor(factor / PAYLOAD_STEP) * PAYLOAD_STEP
-        if factor <= 0.0:
+        if single:  # as --payload KG: the mass changed, its inertia and place kept
+            kg = _rounded_down(factor * _mass(tasks[0]))
+            lighter = tuple(_lighter(task, kg, 1.0) for task in tasks)
+        else:  # every scaled task's payload x times: mass and inertia alike
+            factor = _rounded_down(factor)
+            lighter = tuple(_lighter(task, _mass(task) * factor, factor)
+                            if task.label in scaled else task for task in tasks)
+        if (kg if single else factor) <= 0.0:
             continue
-        lighter = tuple(_scaled(task, factor) if task.label in scaled else task
-                        for task in tasks)
         check = size_tasks(lighter, result.units, result.options,
                            motors=result.motors or None, idle=result.idle, slowdowns=False)
         chosen = next(j for j in check.joints if j.name == joint.name).selected
@@ -140,8 +148,9 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
             continue
         if single:
             text = f"a payload of {kg:.2f} kg (not more) lets {chosen.label} hold it"
-            command = _command(result, f"--payload {kg:.2f}")
-            out[joint.name] = [NextStep("payload", text, command, chosen.label, kg)]
+            out[joint.name] = [NextStep("payload", text,
+                                        _command(result, command, ("--payload", f"{kg:.2f}")),
+                                        chosen.label, kg)]
         else:
             carried = ", ".join(f"{task.label} {task.robot.payload.mass:.3g} kg"
                                 for task in lighter if task.label in scaled
@@ -152,22 +161,41 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
     return out
 
 
-def _scaled(task: Task, factor: float) -> Task:
-    """The task with its payload `factor` times as heavy (mass and inertia alike)."""
+def _rounded_down(x: float) -> float:
+    """`x` rounded down to `PAYLOAD_STEP`, as it is printed (two decimals)."""
+    return math.floor(round(x / PAYLOAD_STEP, 6)) * PAYLOAD_STEP
+
+
+def _mass(task: Task) -> float:
+    """The task's payload mass [kg] (0 without one)."""
+    return 0.0 if task.robot.payload is None else task.robot.payload.mass
+
+
+def _lighter(task: Task, mass: float, inertia: float) -> Task:
+    """The task with a payload of `mass` [kg], its inertia times `inertia` [-]."""
     payload = task.robot.payload
-    assert payload is not None
-    lighter = replace(payload, mass=payload.mass * factor,
-                      inertia=tuple(tuple(x * factor for x in row) for row in payload.inertia))
+    if payload is None:
+        return task
+    lighter = replace(payload, mass=float(f"{mass:.12g}"),
+                      inertia=tuple(tuple(x * inertia for x in row) for row in payload.inertia))
     return replace(task, robot=task.robot.with_payload(lighter))
 
 
-def exclude_step(result: SizingResult, joint: str) -> NextStep:
-    """Leave the joint out of the sizing: it still moves and loads the others."""
-    left_out = [load.name for load in result.loads
-                if not load.sized and load.kind == "revolute" and load.leader is None]
-    names = ",".join([*left_out, joint])
+def exclude_step(result: SizingResult, joint: str,
+                 command: Sequence[str] | None = None) -> NextStep | None:
+    """Leave the joint out of the sizing: it still moves and loads the others.
+
+    ``--exclude`` replaces the file's list: the joints left out already are kept in it.
+    None where it is the only joint sized (nothing would be left to size).
+    """
+    if set(result.robot.sized_joints) <= {joint}:
+        return None
+    before = given(command, "--exclude")
+    left_out = (before.split(",") if before else
+                [load.name for load in result.loads
+                 if not load.sized and load.kind == "revolute" and load.leader is None])
     return NextStep("exclude", "size the other joints without it",
-                    _command(result, f"--exclude {names}"))
+                    _command(result, command, ("--exclude", ",".join([*left_out, joint]))))
 
 
 def slowdown_step(result: SizingResult, joint: JointSizing) -> NextStep | None:
@@ -190,13 +218,62 @@ def slowdown_step(result: SizingResult, joint: JointSizing) -> NextStep | None:
                     factor)
 
 
-def _command(result: SizingResult, option: str) -> str | None:
-    """``hdselect size FILE OPTION`` for the result's motion (or mix) file; None without one."""
-    source = result.mix.path if result.mix is not None else (
-        result.motion.path if result.motion is not None else None)
-    if source is None:
-        return None
-    return f"hdselect size {_shown(source)} {option}"
+OUTPUT_OPTIONS = ("--json", "--report", "--bom")
+"""Options that write files: left out of a next step's command (it is run to be read)."""
+
+
+def _command(result: SizingResult, command: Sequence[str] | None,
+             *options: tuple[str, str]) -> str | None:
+    """The run's command line with `options` set, or ``hdselect size FILE`` with them.
+
+    The user's own options are kept (so the step is checked on the same assumptions it
+    is run with), each option of `options` replaced where given (``--catalog`` and
+    ``--series``, which repeat, added to), the output options left out.
+
+    Args:
+        result: The sizing, for its motion or mix file where no command is known.
+        command: The command line of the run, program name first; None from Python.
+        *options: The options to set, each (option, value), e.g. ``("--payload", "2.5")``.
+
+    Returns:
+        The command, quoted for a POSIX shell; None without a command or a file.
+    """
+    added = [word for pair in options for word in pair]
+    if command is None:
+        source = result.mix.path if result.mix is not None else (
+            result.motion.path if result.motion is not None else None)
+        if source is None:
+            return None
+        return shlex.join(["hdselect", "size", _shown(source), *added])
+    replaced = {option for option, _ in options} - set(REPEATED)
+    kept: list[str] = []
+    words = list(command)
+    k = 0
+    while k < len(words):
+        word = words[k]
+        name = word.split("=", 1)[0]
+        if name in OUTPUT_OPTIONS or name in replaced:
+            k += 1 if "=" in word else 2
+            continue
+        kept.append(word)
+        k += 1
+    return shlex.join([*kept, *added])
+
+
+REPEATED = ("--catalog", "--series")
+"""Options given once per value: a step adds its value to the run's."""
+
+
+def given(command: Sequence[str] | None, option: str) -> str | None:
+    """The value of `option` in a command line (its last), or None."""
+    found = None
+    words = list(command or ())
+    for k, word in enumerate(words):
+        if word == option and k + 1 < len(words):
+            found = words[k + 1]
+        elif word.startswith(option + "="):
+            found = word.split("=", 1)[1]
+    return found
 
 
 def _shown(path: Path) -> str:

@@ -15,8 +15,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from hdselect.base.bounds import expect_type, files_argument
+from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
+from hdselect.catalog.builtin import catalog_files
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
@@ -278,4 +279,4 @@ def catalog_argument(catalog: object) -> tuple[Unit, ...] | list[Path]:
             raise InputError("expected catalog files or the units of a loaded catalog "
                              "(hdselect.load_catalog), not both", field="catalog")
         return tuple(catalog)
-    return files_argument(catalog, "catalog")
+    return catalog_files(catalog)

@@ -100,7 +100,7 @@ class JointSizing:
         With motors: behind the motor with the highest peak, then rated torque.
         """
         return max(self.candidates, key=lambda c: (
-            c.unit.repeated_torque, c.unit.momentary_torque, c.unit.rated_torque,
+            c.unit.repeated_torque, c.unit.momentary_torque or 0.0, c.unit.rated_torque,
             *((c.motor_unit.peak_torque, c.motor_unit.rated_torque)
               if c.motor_unit is not None else ())))
 

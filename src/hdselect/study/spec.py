@@ -24,6 +24,7 @@ from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import MAX_LOG_BYTES, read_input
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
+from hdselect.catalog.builtin import catalog_file
 from hdselect.catalog.catalogfile import BUILTIN
 from hdselect.motion.mixfile import task_names
 from hdselect.motion.option_specs import OPTIONS
@@ -292,7 +293,8 @@ def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
         shape = (tuple(payload["com"]), tuple(tuple(r) for r in payload["inertia"]),
                  payload["frame"])
         payload = payload["mass"]
-    catalog = tuple(folder / f for f in values.get("catalog", ()))
+    catalog = tuple(catalog_file(f, base=folder, path=path, field="catalog", missing_ok=True)
+                    for f in values.get("catalog", ()))
     options = {k: values[k] for k in OPTION_KEYS if k in values}
     motor_catalog = folder / values["motor_catalog"] if "motor_catalog" in values else None
     files = _inputs(motion, robot, (*catalog, *([motor_catalog] if motor_catalog else [])))

@@ -55,7 +55,7 @@ from hdselect.catalog.rules.load import (
     allowable_mean_torque,
     l50_life_hours,
 )
-from hdselect.catalog.units import Unit
+from hdselect.catalog.units import NOT_RATED, Unit
 
 Gear = tuple[Unit, CycleLoad]
 """A gearhead and the joint's cycle on its output side: what every gearhead rule reads."""
@@ -320,7 +320,10 @@ class UnitLimit(Rule):
 
     `peak`, `static`, `momentary` and `speed`. Each gives its largest value (`largest`);
     the check, the field it reads, the limit the solvers use (`allowed`) and every unit's
-    utilization at once (`utilizations`, a prefilter's) are written here once.
+    utilization at once (`utilizations`, a prefilter's) are written here once. A unit
+    whose source does not rate the limit (the field None, `rated`) is not checked: its
+    check holds with the words `NOT_RATED` in its detail, and the solvers' forms bound
+    nothing.
 
     Attributes:
         limit: The unit's field that is the limit, e.g. ``"repeated_torque"``.
@@ -339,20 +342,29 @@ class UnitLimit(Rule):
         if (gear := case.gear) is None:
             return None
         value, detail = self.largest(case, gear)
-        return self.judge(value, getattr(gear[0], self.limit), case.margin, **detail)
+        limit = getattr(gear[0], self.limit)
+        if limit is None:
+            return self.verdict(value, math.inf, 0.0, case.margin,
+                                {**detail, "not_rated": NOT_RATED})
+        return self.judge(value, limit, case.margin, **detail)
 
     def fields(self, unit: Unit) -> tuple[str, ...]:
         """See `Rule.fields`."""
         return (self.limit,)
 
+    def rated(self, unit: Unit) -> bool:
+        """Whether the unit's source rates its limit (else the rule is not checked)."""
+        return getattr(unit, self.limit) is not None
+
     def allowed(self, unit: Unit, margin: float) -> float:
-        """The unit's limit as the solvers use it (`derate`d) [the rule's unit]."""
+        """The unit's limit as the solvers use it (`derate`d) [the rule's unit]; a `rated` one."""
         return self.derate(getattr(unit, self.limit), margin)
 
     def utilizations(self, largest: float | np.ndarray, units: Sequence[Unit]) -> np.ndarray:
-        """Every unit's utilization [-], (units,): its largest |x| over its limit."""
-        utilization: np.ndarray = largest / np.array([getattr(unit, self.limit)
-                                                      for unit in units])
+        """Every unit's utilization [-], (units,): its largest |x| over its limit (0: not rated)."""
+        limits = [getattr(unit, self.limit) for unit in units]
+        utilization: np.ndarray = largest / np.array([math.inf if limit is None else limit
+                                                      for limit in limits])
         return utilization
 
 

@@ -16,7 +16,7 @@ from hdselect.catalog.rules.base import DEFAULT_MARGIN, Check, Part, Rule, RuleI
 from hdselect.catalog.rules.candidate import Candidate
 from hdselect.catalog.rules.load import CycleLoad, Momentary, MotorDemand
 from hdselect.catalog.rules.registry import rules_of
-from hdselect.catalog.units import LIFE_BASES, Unit
+from hdselect.catalog.units import LIFE_BASES, WHOLE_UNIT, Unit
 
 
 def check_unit(
@@ -71,7 +71,7 @@ def check_unit(
         fields.append("rated_torque")
     if motor is not None:
         fields.append("input_inertia")
-    flags = unit.flags_for(*fields) + ((rules.flag,) if rules.flag is not None else ())
+    flags = unit.flags_for(*fields, WHOLE_UNIT) + ((rules.flag,) if rules.flag is not None else ())
     return Candidate(unit, checks, life, flags, motor, required_margin=margin, bearing=figures)
 
 

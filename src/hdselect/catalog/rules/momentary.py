@@ -24,7 +24,7 @@ from hdselect.catalog.rules.forms import (
     UnitBatch,
 )
 from hdselect.catalog.rules.load import RPM_PER_RAD_S, Momentary, allowed_momentary_events
-from hdselect.catalog.rules.masses import masses_within, meet, spans
+from hdselect.catalog.rules.masses import EVERY_MASS, masses_within, meet, spans
 from hdselect.catalog.units import Unit
 
 
@@ -57,6 +57,8 @@ class MomentaryTorque(UnitLimit):
 
     def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:
         """Emergency stop |g + v y^2 + e y| <= T_M; crash |g + (v + i) y^2| + K |qd| y <= T_M."""
+        if not self.rated(unit):
+            return []
         limit = self.allowed(unit, margin)
         gain = (unit.input_inertia + terms.rotor_inertia) * unit.ratio**2 / terms.stop_time
         g, v = terms.gravity, terms.velocity
@@ -76,13 +78,17 @@ class MomentaryTorque(UnitLimit):
 
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """Emergency stop |stop0 + x stop1| <= T_M; crash |tau0 + x tau1| + K |qd| <= T_M."""
+        if not self.rated(case.unit):
+            return EVERY_MASS
         limit = self.allowed(case.unit, case.margin)
         gain = _gain(case.unit, case.rotor_inertia, case.stop_time)
         return spans(meet(masses_within(case.stop0, case.stop1, limit),
                           masses_within(case.tau0, case.tau1, limit - gain * np.abs(case.qd))))
 
     def path_rows(self, case: PathCase) -> list[Any]:
-        """The emergency stop's and the crash's |tau| (+ K |qd|) <= T_M."""
+        """The emergency stop's and the crash's |tau| (+ K |qd|) <= T_M; none where not rated."""
+        if not self.rated(case.unit):
+            return []
         return [PathBound(PathKind.MOMENTARY, self.allowed(case.unit, case.margin),
                           gain=_gain(case.unit, case.rotor_inertia, case.stop_time))]
 

@@ -24,7 +24,7 @@ from hdselect.catalog.rules.forms import (
     UnitBatch,
 )
 from hdselect.catalog.rules.load import CycleLoad
-from hdselect.catalog.rules.masses import masses_within, spans
+from hdselect.catalog.rules.masses import EVERY_MASS, masses_within, spans
 from hdselect.catalog.units import Unit
 
 
@@ -47,7 +47,9 @@ class TorqueLimit(UnitLimit):
         return self.torque(gear[1]), {}
 
     def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:
-        """|g + (v + i) y^2| <= the limit at every sample read."""
+        """|g + (v + i) y^2| <= the limit at every sample read; no rows where not rated."""
+        if not self.rated(unit):
+            return []
         read = terms.at_rest if self.at_rest else ~terms.at_rest
         g = terms.gravity[read]
         return within(terms.velocity[read] + terms.inertial[read], np.zeros_like(g), g,
@@ -61,12 +63,19 @@ class TorqueLimit(UnitLimit):
         return self.utilizations(torque, batch.units)
 
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
-        """|tau0 + x tau1| <= the limit at every sample read."""
+        """|tau0 + x tau1| <= the limit at every sample read; every mass where not rated."""
+        if not self.rated(case.unit):
+            return EVERY_MASS
         read = case.rest if self.at_rest else ~case.rest
         return spans(masses_within(case.tau0[read], case.tau1[read],
                                    self.allowed(case.unit, case.margin)))
 
     def path_rows(self, case: PathCase) -> list[Any]:
-        """|tau| <= the limit in a piece where the joint does not move (at rest) or moves."""
+        """|tau| <= the limit in a piece where the joint does not move (at rest) or moves.
+
+        No bound where the limit is not rated.
+        """
+        if not self.rated(case.unit):
+            return []
         return [PathBound(PathKind.STATIC if self.at_rest else PathKind.TORQUE,
                           self.allowed(case.unit, case.margin))]
