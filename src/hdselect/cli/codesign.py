@@ -90,6 +90,7 @@ def _no_fit(args: argparse.Namespace, err, problem) -> int:
     asked for; exit status 1.
     """
     from hdselect.base.outputs import Outputs
+    from hdselect.codesign.choice import NoUnit
     from hdselect.codesign.records import no_fit_json
     from hdselect.report.export import write_json
     from hdselect.report.tables import Paragraphs
@@ -98,8 +99,10 @@ def _no_fit(args: argparse.Namespace, err, problem) -> int:
     with Outputs(_inputs(args, problem.robot, source)) as outputs:
         if args.json is not None:
             write_json(outputs.file(args.json, "--json"), no_fit_json(
-                err, str(problem.robot.path), None if source is None else str(source.path)))
-        text = "" if to_stdout(args) else rendered(Paragraphs(tuple(str(err).splitlines())))
+                err, str(problem.robot.path), None if source is None else str(source.path),
+                args.command_line))
+        lines = err.lines(args.command_line) if isinstance(err, NoUnit) else str(err).splitlines()
+        text = "" if to_stdout(args) else rendered(Paragraphs(tuple(lines)))
         outputs.commit()
     sys.stdout.write(text)
     say_written([(args.json, None)], args)

@@ -38,31 +38,47 @@ class NoUnit(PlanningError):
     """No candidate unit can run a joint at any speed: a result of the physics, not bad input.
 
     The command line prints it as a result and exits 1 (no fit), as ``size`` does for a
-    joint without a unit; its message is each such joint's diagnosis
-    (`hdselect.sizing.diagnosis.Diagnosis`), the same ``size`` prints.
+    joint without a unit, with each such joint's diagnosis
+    (`hdselect.sizing.diagnosis.Diagnosis`, the one ``size`` prints: `lines`). The
+    message names the joints; the diagnoses are computed when first asked for.
 
     Attributes:
         where: The motion or mix file.
         over: The duty in words (``"this motion"``, ``"this mix"``).
-        sizing: The selection that found no unit, with its diagnoses.
+        sizing: The selection that found no unit (every candidate checked).
         joints: The joints without a unit (none given for them), in the robot's order.
     """
 
     def __init__(self, where: str, over: str, sizing: SizingResult, names: Sequence[str]):
         self.where, self.over, self.sizing = where, over, sizing
         self.joints = tuple(joint.name for joint in sizing.joints if joint.name in names)
-        lines = []
-        for name in self.joints:
-            lines.append(f"{where}: no unit of the catalog can run joint '{name}' on {over} at "
-                         "any speed.")
-            found = diagnosis_of(sizing, name)
-            lines += found.lines() if found is not None else []
-        super().__init__("\n".join(lines))
+        self._diagnosed: dict[tuple[str, ...] | None, SizingResult] = {}
+        super().__init__("\n".join(self._head(name) for name in self.joints))
 
-    def diagnoses(self) -> dict[str, Diagnosis]:
-        """Each joint without a unit: its diagnosis."""
+    def diagnoses(self, command: Sequence[str] | None = None) -> dict[str, Diagnosis]:
+        """Each joint without a unit: its diagnosis, the next steps verified.
+
+        Args:
+            command: The run's command line, program name first: each step's command is
+                it with one option set; None gives ``hdselect size FILE ...``.
+        """
+        key = None if command is None else tuple(command)
+        if key not in self._diagnosed:
+            self._diagnosed[key] = with_diagnoses(self.sizing, payload_bounds=duty_bounds,
+                                                  command=command)
+        sizing = self._diagnosed[key]
         return {name: found for name in self.joints
-                if (found := diagnosis_of(self.sizing, name)) is not None}
+                if (found := diagnosis_of(sizing, name)) is not None}
+
+    def lines(self, command: Sequence[str] | None = None) -> list[str]:
+        """What the command line prints: each joint named, then its diagnosis's sentences."""
+        found = self.diagnoses(command)
+        return [line for name in self.joints
+                for line in [self._head(name), *(found[name].lines() if name in found else [])]]
+
+    def _head(self, name: str) -> str:
+        return f"{self.where}: no unit of the catalog can run joint '{name}' on {self.over} at " \
+               "any speed."
 
 
 def no_fit(err: BaseException) -> bool:
@@ -238,8 +254,7 @@ def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
     if stuck:
         named = replace(sizing, mix=duty.mix,  # the next steps' commands name its file
                         motion=duty.motions[0] if duty.mix is None else None)
-        raise NoUnit(duty.where, duty.over, with_diagnoses(named, payload_bounds=duty_bounds),
-                     stuck)
+        raise NoUnit(duty.where, duty.over, named, stuck)
     selected = {name: pick for name, pick in picks.items() if pick is not None}
     paired: dict[str, Motor] = {}
     for joint in sizing.joints:

@@ -85,8 +85,8 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
             "idle_share": result.idle, "check": check}
 
 
-def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None
-                ) -> dict[str, Any]:
+def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None,
+                command: Sequence[str] | None = None) -> dict[str, Any]:
     """``fastest`` where a joint has no unit that runs the path at any speed, as JSON.
 
     A result, not an error: ``feasible`` false, ``cycle_time_s`` null, ``joints`` empty,
@@ -99,9 +99,12 @@ def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None
         err: Why (`NoUnit` from the selection, or `PathInfeasible` for the units given).
         robot: The robot file.
         source: The motion or mix file.
+        command: The run's command line, for the next steps' commands (`NoUnit.diagnoses`).
     """
+    rows: list[dict[str, Any]]
     if isinstance(err, NoUnit):
-        rows = no_unit_json(err.sizing, err.joints)
+        rows = [{"joint": name, "reason": " ".join(found.lines()), "diagnosis": found.to_dict()}
+                for name, found in err.diagnoses(command).items()]
     else:
         rows = [{"joint": err.joint, "reason": str(err), "limit": err.limit,
                  "gravity": err.gravity}]
@@ -109,21 +112,16 @@ def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None
             "joints": [], "no_unit": rows}
 
 
-def no_unit_json(sizing: SizingResult, names: Sequence[str] | None = None
-                 ) -> list[dict[str, Any]]:
-    """The joints of a sizing without a unit (or those of `names`), as JSON.
+def no_unit_json(sizing: SizingResult) -> list[dict[str, Any]]:
+    """The joints of a sizing without a unit, as JSON.
 
     Each: ``joint``, the ``reason`` (its diagnosis's sentences) and the ``diagnosis``
     (`hdselect.sizing.diagnosis.Diagnosis.to_dict`).
     """
     sizing = with_diagnoses(sizing)
-    out = []
-    for joint in sizing.joints:
-        found = diagnosis_of(sizing, joint.name)
-        if found is not None and (names is None or joint.name in names):
-            out.append({"joint": joint.name, "reason": " ".join(found.lines()),
-                        "diagnosis": found.to_dict()})
-    return out
+    return [{"joint": joint.name, "reason": " ".join(found.lines()),
+             "diagnosis": found.to_dict()} for joint in sizing.joints
+            if (found := diagnosis_of(sizing, joint.name)) is not None]
 
 
 def _limits_json(item: TaskFastest | None, name: str, result: FastestResult) -> dict[str, Any]:
