@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from typing import Any
 
 from hdselect.base.errors import InputError
@@ -129,6 +130,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from hdselect.codesign.records import max_payload_json
     from hdselect.report.codesign_tables import max_payload_tables
     from hdselect.report.export import write_json
+    from hdselect.sizing.diagnosis import with_diagnoses
 
     problem = sizing_problem(args)
     robot, motion = problem.robot, problem.source
@@ -145,6 +147,9 @@ def run_max_payload(args: argparse.Namespace) -> int:
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
+        if result.unloaded is not None:  # the next steps: this command, one option changed
+            result = replace(result, unloaded=with_diagnoses(result.unloaded,
+                                                             command=args.command_line))
         document = max_payload_json(result)
         items = max_payload_tables(result, robot)
         if json_file is not None:

@@ -45,7 +45,6 @@ from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import fixed_units
-from hdselect.sizing.diagnosis import with_diagnoses
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.result import Motors, SizingResult
@@ -80,8 +79,9 @@ class MaxPayloadResult:
         payloads: Each scaled task's payload at x = 1, by name.
         tasks: The duty's tasks at x = 1; idle: the fraction of the time none runs [-].
         mix: The mix, or None for one motion.
-        unloaded: Where no x fits: the sizing at x = 0 (no scaled payload), with the
-            diagnoses of the joints no unit fits even then; else None.
+        unloaded: Where no x fits: the sizing at x = 0 (no scaled payload), which names
+            the joints no unit fits even then (`hdselect.sizing.diagnosis.with_diagnoses`
+            says why); else None.
     """
 
     mass: float | None
@@ -213,7 +213,7 @@ def max_payload(robot: Robot | Problem, motion: Motion | Mix | None = None,
     payloads = {task.label: task.robot.payload for task in planned
                 if task.label in scaled and task.robot.payload is not None}
     first = next(task for task in planned if task.label in scaled)
-    unloaded = with_diagnoses(sizing.at(0.0)) if mass is None else None  # who fits none, why
+    unloaded = sizing.at(0.0) if mass is None else None  # the joints no unit fits, and why
     return MaxPayloadResult(mass, payloads[first.label], tuple(ranges), joint, unit, rule,
                             selection, planned[0].trajectory, bounds,
                             first.robot.payload_frame, scaled, payloads, planned, duty.idle,

@@ -285,7 +285,8 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot,
         nothing = "no factor, not even 0, leaves every joint a feasible unit."
         unlimited = "no rule depends on them: no limit."
     if x is None or not math.isfinite(x):
-        found = {} if result.unloaded is None else result.unloaded.diagnoses
+        found = [] if result.unloaded is None else [
+            joint.name for joint in result.unloaded.joints if joint.selected is None]
         return Paragraphs((f"{head}: {nothing if x is None else unlimited}",
                            *([f"Even without the payload no unit fits {', '.join(found)}; the "
                               "selection without it:"] if found else [])))
