@@ -213,3 +213,16 @@ def test_the_xarm6_envelope_says_gravity_alone_at_joint_2(capsys):
     text = flat(out)
     assert "joint2: lower the velocity" not in text and "lower the limits" not in text
     assert "joint1: lower the velocity and acceleration limits" in text  # dynamics only
+
+
+def test_fastest_on_a_mix_names_it(capsys, heavy):
+    folder, weight = heavy
+    swing_motion(folder)
+    mix = folder / "day.toml"
+    mix.write_text('robot = "pendulum.urdf"\n[[task]]\nname = "swing"\nmotion = "swing.toml"\n'
+                   "share = 1.0\n")
+    status, out, _ = run(capsys, "fastest", mix, "--json", folder / "mix.json")
+    assert status == 1 and "joint 'swing' on this mix at any speed" in flat(out)
+    assert gravity_said(out, "swing") == pytest.approx(weight, rel=5e-3)
+    document = json.loads((folder / "mix.json").read_text())
+    assert document["mix"] == str(mix) and document["motion"] is None

@@ -99,9 +99,8 @@ def _no_fit(args: argparse.Namespace, err, problem) -> int:
     source = problem.source
     with Outputs(_inputs(args, problem.robot, source)) as outputs:
         if args.json is not None:
-            write_json(outputs.file(args.json, "--json"), no_fit_json(
-                err, str(problem.robot.path), None if source is None else str(source.path),
-                args.command_line))
+            write_json(outputs.file(args.json, "--json"),
+                       no_fit_json(err, str(problem.robot.path), source, args.command_line))
         lines = err.lines(args.command_line) if isinstance(err, NoUnit) else str(err).splitlines()
         text = "" if to_stdout(args) else rendered(Paragraphs(tuple(lines)))
         outputs.commit()

@@ -17,6 +17,7 @@ from hdselect.codesign.choice import NoUnit
 from hdselect.codesign.fastest_result import FastestResult, RatioComparison, TaskFastest
 from hdselect.codesign.maxpayload import MaxPayloadResult
 from hdselect.codesign.pathbounds import PathInfeasible
+from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.records import (
@@ -85,7 +86,7 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
             "idle_share": result.idle, "check": check}
 
 
-def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None,
+def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: Motion | Mix | None,
                 command: Sequence[str] | None = None) -> dict[str, Any]:
     """``fastest`` where a joint has no unit that runs the path at any speed, as JSON.
 
@@ -98,7 +99,7 @@ def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None,
     Args:
         err: Why (`NoUnit` from the selection, or `PathInfeasible` for the units given).
         robot: The robot file.
-        source: The motion or mix file.
+        source: The motion (``motion``), or the mix (``mix``, ``motion`` null).
         command: The run's command line, for the next steps' commands (`NoUnit.diagnoses`).
     """
     rows: list[dict[str, Any]]
@@ -108,8 +109,10 @@ def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: str | None,
     else:
         rows = [{"joint": err.joint, "reason": str(err), "limit": err.limit,
                  "gravity": err.gravity}]
-    return {"robot": robot, "motion": source, "cycle_time_s": None, "feasible": False,
-            "joints": [], "no_unit": rows}
+    document = {"robot": robot, "motion": str(source.path) if isinstance(source, Motion)
+                else None, "cycle_time_s": None, "feasible": False, "joints": [],
+                "no_unit": rows}
+    return document if not isinstance(source, Mix) else {**document, "mix": str(source.path)}
 
 
 def no_unit_json(sizing: SizingResult) -> list[dict[str, Any]]:

@@ -244,7 +244,7 @@ def fastest_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     except (NoUnit, PathInfeasible) as err:  # a result: a joint no unit runs at any speed
         if not no_fit(err):
             raise
-        return _case_steps(no_fit_json(err, str(problem.robot.path), duty.where))
+        return _case_steps(no_fit_json(err, str(problem.robot.path), problem.source))
 
 
 def _case_steps(document: dict[str, Any]) -> dict[str, Any]:
