@@ -105,7 +105,8 @@ def test_json_and_table(capsys):
     assert main(["max-payload", str(path), "--payload-frame", "fixture_1", "--json", "-"]) == 0
     document = json.loads(capsys.readouterr().out)
     assert set(document) == {"robot", "motion", "max_payload_kg", "unlimited", "payload",
-                             "ranges_kg", "binding", "selection"}
+                             "ranges_kg", "binding", "selection", "no_unit"}
+    assert document["no_unit"] == []
     assert document["binding"]["joint"] == "table"
     assert document["ranges_kg"] == [[0.0, document["max_payload_kg"]]]
     assert document["selection"]["feasible"] is True

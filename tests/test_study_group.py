@@ -19,7 +19,7 @@ import hdselect.sizing.problem
 from hdselect import Options, load_case, load_catalog, plan, size_trajectory, summarize
 from hdselect.base.errors import InputError
 from hdselect.study.group import build_basis
-from hdselect.study.pooled import scaled, size_case
+from hdselect.study.pooled import diagnosed, scaled, size_case
 from helpers import REPO
 from helpers.studies import differences, separate
 
@@ -173,8 +173,8 @@ def benchtop_pairs():
 def separate_pairs(robot, motion, mass, time_scale, units, options, motors):
     carrying = robot.with_payload(replace(motion.payload, mass=mass))
     trajectory = scaled(plan(carrying, motion), time_scale)
-    return summarize(replace(size_trajectory(carrying, trajectory, units, options,
-                                             motors=motors), motion=motion))
+    return summarize(diagnosed(replace(size_trajectory(carrying, trajectory, units, options,
+                                                       motors=motors), motion=motion)))
 
 
 @pytest.mark.slow

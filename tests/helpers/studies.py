@@ -12,7 +12,7 @@ import numpy as np
 
 from hdselect import plan, size_trajectory
 from hdselect.sizing.summary import summarize
-from hdselect.study.pooled import scaled
+from hdselect.study.pooled import diagnosed, scaled
 from helpers import REPO
 
 
@@ -142,5 +142,5 @@ def differences(grouped, separate, path=""):
 def separate(robot, motion, mass, time_scale, units, options):
     carrying = robot.with_payload(None if mass is None else replace(motion.payload, mass=mass))
     trajectory = scaled(plan(carrying, motion), time_scale)
-    return summarize(replace(size_trajectory(carrying, trajectory, units, options),
-                             motion=motion))
+    return summarize(diagnosed(replace(size_trajectory(carrying, trajectory, units, options),
+                                       motion=motion)))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from typing import Any
 
 from hdselect.base.errors import InputError
@@ -22,7 +23,9 @@ from hdselect.cli.output import (
 def run_fastest(args: argparse.Namespace) -> int:
     """``hdselect fastest``: the shortest cycle the units allow, or every unit compared."""
     from hdselect.base.outputs import Outputs
+    from hdselect.codesign.choice import NoUnit, no_fit
     from hdselect.codesign.fastest_cycle import compare_ratios, fastest
+    from hdselect.codesign.pathbounds import PathInfeasible
     from hdselect.codesign.records import fastest_json, ratios_json
 
     if args.joint and not args.compare_ratios:
@@ -45,6 +48,11 @@ def run_fastest(args: argparse.Namespace) -> int:
                 result = fastest(problem, units=given)
         except InputError as err:
             raise flagged(err, args) from err
+        except (NoUnit, PathInfeasible) as err:  # the units' physics: a result
+            if not no_fit(err):
+                raise
+            outputs.discard()  # no cycle: no CSV or figure
+            return _no_fit(args, err, problem)
         if figure is not None:
             from hdselect.report.codesign_figures import write_fastest_png, write_ratios_png
 
@@ -76,6 +84,31 @@ def run_fastest(args: argparse.Namespace) -> int:
     return EXIT_OK if result.feasible else EXIT_NO_FIT
 
 
+def _no_fit(args: argparse.Namespace, err, problem) -> int:
+    """``fastest`` where a joint has no unit that runs the path at any speed: a result.
+
+    Why on standard output, and the JSON (`hdselect.codesign.records.no_fit_json`) if
+    asked for; exit status 1.
+    """
+    from hdselect.base.outputs import Outputs
+    from hdselect.codesign.choice import NoUnit
+    from hdselect.codesign.records import no_fit_json
+    from hdselect.report.export import write_json
+    from hdselect.report.tables import Paragraphs
+
+    source = problem.source
+    with Outputs(_inputs(args, problem.robot, source)) as outputs:
+        if args.json is not None:
+            write_json(outputs.file(args.json, "--json"),
+                       no_fit_json(err, str(problem.robot.path), source, args.command_line))
+        lines = err.lines(args.command_line) if isinstance(err, NoUnit) else str(err).splitlines()
+        text = "" if to_stdout(args) else rendered(Paragraphs(tuple(lines)))
+        outputs.commit()
+    sys.stdout.write(text)
+    say_written([(args.json, None)], args)
+    return EXIT_NO_FIT
+
+
 def _fastest_tables(args: argparse.Namespace, result, comparison) -> list[Any]:
     """What ``fastest`` prints: the ratios compared, else the cycle (a mix's tasks first)."""
     from hdselect.report.codesign_tables import fastest_tables, ratios_table
@@ -96,6 +129,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
     from hdselect.codesign.records import max_payload_json
     from hdselect.report.codesign_tables import max_payload_tables
     from hdselect.report.export import write_json
+    from hdselect.sizing.diagnosis import with_diagnoses
 
     problem = sizing_problem(args)
     robot, motion = problem.robot, problem.source
@@ -112,6 +146,9 @@ def run_max_payload(args: argparse.Namespace) -> int:
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
+        if result.unloaded is not None:  # the next steps: this command, one option changed
+            result = replace(result, unloaded=with_diagnoses(result.unloaded,
+                                                             command=args.command_line))
         document = max_payload_json(result)
         items = max_payload_tables(result, robot)
         if json_file is not None:

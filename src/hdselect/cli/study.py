@@ -87,7 +87,12 @@ def _payload_cell(result: dict) -> str:
     return "none" if mass is None else f"{mass:.3g}"
 
 
-_STUDY_VALUES = (("fastest", "fastest cycle s", lambda r: f"{r['cycle_time_s']:.3f}"),
+def _cycle_cell(result: dict) -> str:
+    cycle = result["cycle_time_s"]
+    return "none" if cycle is None else f"{cycle:.3f}"
+
+
+_STUDY_VALUES = (("fastest", "fastest cycle s", _cycle_cell),
                  ("max-payload", "largest payload kg", _payload_cell))
 """The number a study prints per case of a computation other than ``size``."""
 

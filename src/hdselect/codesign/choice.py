@@ -9,7 +9,7 @@ planned (`hdselect.sizing.core.size_tasks`).
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import cast
 
 from hdselect.base.bounds import expect_type
@@ -18,6 +18,8 @@ from hdselect.catalog.motors import Motor
 from hdselect.catalog.rules import Candidate
 from hdselect.catalog.select import DEFAULT_PREFER_WITH_MOTORS, select
 from hdselect.catalog.units import Unit
+from hdselect.codesign.pathbounds import PathInfeasible
+from hdselect.codesign.payloadbounds import duty_bounds
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
@@ -25,10 +27,68 @@ from hdselect.motion.planning.solve import solve_motion
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors, fixed_units
 from hdselect.sizing.core import size_tasks
+from hdselect.sizing.diagnosis import Diagnosis, diagnosis_of, with_diagnoses
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
-from hdselect.sizing.result import Motors
+from hdselect.sizing.result import Motors, SizingResult
 from hdselect.sizing.tasks import Task
+
+
+class NoUnit(PlanningError):
+    """No candidate unit can run a joint at any speed: a result of the physics, not bad input.
+
+    The command line prints it as a result and exits 1 (no fit), as ``size`` does for a
+    joint without a unit, with each such joint's diagnosis
+    (`hdselect.sizing.diagnosis.Diagnosis`, the one ``size`` prints: `lines`). The
+    message names the joints; the diagnoses are computed when first asked for.
+
+    Attributes:
+        where: The motion or mix file.
+        over: The duty in words (``"this motion"``, ``"this mix"``).
+        sizing: The selection that found no unit (every candidate checked).
+        joints: The joints without a unit (none given for them), in the robot's order.
+    """
+
+    def __init__(self, where: str, over: str, sizing: SizingResult, names: Sequence[str]):
+        self.where, self.over, self.sizing = where, over, sizing
+        self.joints = tuple(joint.name for joint in sizing.joints if joint.name in names)
+        self._diagnosed: dict[tuple[str, ...] | None, SizingResult] = {}
+        super().__init__("\n".join(self._head(name) for name in self.joints))
+
+    def diagnoses(self, command: Sequence[str] | None = None) -> dict[str, Diagnosis]:
+        """Each joint without a unit: its diagnosis, the next steps verified.
+
+        Args:
+            command: The run's command line, program name first: each step's command is
+                it with one option set; None gives ``hdselect size FILE ...``.
+        """
+        key = None if command is None else tuple(command)
+        if key not in self._diagnosed:
+            self._diagnosed[key] = with_diagnoses(self.sizing, payload_bounds=duty_bounds,
+                                                  command=command)
+        sizing = self._diagnosed[key]
+        return {name: found for name in self.joints
+                if (found := diagnosis_of(sizing, name)) is not None}
+
+    def lines(self, command: Sequence[str] | None = None) -> list[str]:
+        """What the command line prints: each joint named, then its diagnosis's sentences."""
+        found = self.diagnoses(command)
+        return [line for name in self.joints
+                for line in [self._head(name), *(found[name].lines() if name in found else [])]]
+
+    def _head(self, name: str) -> str:
+        return f"{self.where}: no unit of the catalog can run joint '{name}' on {self.over} at " \
+               "any speed."
+
+
+def no_fit(err: BaseException) -> bool:
+    """The error is a result, not bad input: no unit (of those given) runs a joint at any speed.
+
+    `NoUnit`, or a `PathInfeasible` whose fault is the units' (or motors') limits rather
+    than the motion's own velocity and acceleration limits.
+    """
+    return isinstance(err, NoUnit) or (isinstance(err, PathInfeasible)
+                                       and err.limit != "velocity and acceleration")
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,7 +237,7 @@ def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
 
     Raises:
         InputError: A name is not a sized joint, or an id is unknown.
-        PlanningError: No unit can run a joint not given, at any speed.
+        NoUnit: No unit can run a joint not given, at any speed.
     """
     chosen = fixed_units(given, catalog, robot)
     by_id = {unit.id: unit for unit in catalog}
@@ -186,18 +246,20 @@ def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,
         return chosen, {}, {name: found[0] for name, found in candidates.items()}
     sizing = size_tasks(duty.tasks(options, trajectory), catalog, options, motors=candidates,
                         idle=duty.idle)
-    selected: dict[str, str] = {}
+    picks = {joint.name: joint.selected.unit.id if joint.selected is not None else (
+        joint.slowdown.unit.split(" + ")[0]  # a slow-down names a pair "UNIT + MOTOR"
+        if joint.slowdown is not None and joint.slowdown.unit is not None else None)
+        for joint in sizing.joints}
+    stuck = [name for name, pick in picks.items() if pick is None and name not in chosen]
+    if stuck:
+        named = replace(sizing, mix=duty.mix,  # the next steps' commands name its file
+                        motion=duty.motions[0] if duty.mix is None else None)
+        raise NoUnit(duty.where, duty.over, named, stuck)
+    selected = {name: pick for name, pick in picks.items() if pick is not None}
     paired: dict[str, Motor] = {}
     for joint in sizing.joints:
-        pick = joint.selected.unit.id if joint.selected is not None else (
-            joint.slowdown.unit.split(" + ")[0]
-            if joint.slowdown is not None and joint.slowdown.unit is not None else None)
-        if pick is not None:  # a slow-down names a pair "UNIT + MOTOR"
-            selected[joint.name] = pick
         if joint.name not in chosen:
-            if pick is None:
-                raise PlanningError(f"{duty.where}: {no_unit_at_any_speed(joint.name, duty.over)}")
-            chosen[joint.name] = by_id[pick]
+            chosen[joint.name] = by_id[selected[joint.name]]
         if joint.name in candidates:
             paired[joint.name] = _paired_motor(joint.candidates, chosen[joint.name],
                                                candidates[joint.name], sizing.options)
@@ -263,13 +325,6 @@ def refuse_logs(motions: Sequence[Motion], what: str = "path to run faster", *,
             raise InputError(f"a logged trajectory ('samples') has no {what}; give "
                              f"{'motions' if several else 'a motion'} with waypoints",
                              path=motion.path, field="planner")
-
-
-def no_unit_at_any_speed(joint: str, over: str = "this motion") -> str:
-    """The refusal for a joint no catalog unit can run, slowed or not, with what helps."""
-    return (f"no unit of the catalog can run joint '{joint}' on {over} at any speed "
-            f"(hdselect size says how close each comes); leave it out with --exclude {joint}, "
-            "or give a catalog with a stronger unit (--catalog)")
 
 
 def _paired_motor(pairs: Sequence[Candidate], unit: Unit, motors: Sequence[Motor],

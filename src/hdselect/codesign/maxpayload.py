@@ -26,8 +26,6 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
-import numpy as np
-
 from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
 from hdselect.catalog.rules import Candidate
@@ -35,7 +33,7 @@ from hdselect.catalog.rules.forms import Interval
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.choice import duty_of
-from hdselect.codesign.payloadbounds import UnitBound, joint_mean, unit_bound
+from hdselect.codesign.payloadbounds import UnitBound, duty_bounds
 from hdselect.codesign.payloadsizing import (
     PayloadSizing,
     payload_tasks,
@@ -44,19 +42,15 @@ from hdselect.codesign.payloadsizing import (
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
-from hdselect.robot.dynamics import cycle_torques
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
-from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.arguments import fixed_units
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.result import Motors, SizingResult
-from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.tasks import Task
 
 _ROUNDS = 12
-_ROUNDOFF = 1e-12
-"""Per-kg torque below this fraction of a joint's torques is rounding, not load [-]."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,6 +79,9 @@ class MaxPayloadResult:
         payloads: Each scaled task's payload at x = 1, by name.
         tasks: The duty's tasks at x = 1; idle: the fraction of the time none runs [-].
         mix: The mix, or None for one motion.
+        unloaded: Where no x fits: the sizing at x = 0 (no scaled payload), which names
+            the joints no unit fits even then (`hdselect.sizing.diagnosis.with_diagnoses`
+            says why); else None.
     """
 
     mass: float | None
@@ -102,6 +99,7 @@ class MaxPayloadResult:
     tasks: tuple[Task, ...] = ()
     idle: float = 0.0
     mix: Mix | None = None
+    unloaded: SizingResult | None = None
 
     @property
     def factor(self) -> float | None:
@@ -215,92 +213,17 @@ def max_payload(robot: Robot | Problem, motion: Motion | Mix | None = None,
     payloads = {task.label: task.robot.payload for task in planned
                 if task.label in scaled and task.robot.payload is not None}
     first = next(task for task in planned if task.label in scaled)
+    unloaded = sizing.at(0.0) if mass is None else None  # the joints no unit fits, and why
     return MaxPayloadResult(mass, payloads[first.label], tuple(ranges), joint, unit, rule,
                             selection, planned[0].trajectory, bounds,
                             first.robot.payload_frame, scaled, payloads, planned, duty.idle,
-                            duty.mix)
+                            duty.mix, unloaded)
 
 
 def _carried(chosen: Candidate, options: Options) -> float:
     """Mass a joint's unit (or pair) adds to the joints nearer the base [kg]."""
     motor = chosen.motor_unit
     return chosen.unit.mass + (motor.mass if motor is not None else options.motor_mass)
-
-
-def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
-                masses: Mapping[str, float], units: Sequence[Unit],
-                options: Options) -> dict[str, tuple[UnitBound, ...]]:
-    """Each unit's interval of x on each sized joint, gearhead masses fixed.
-
-    The payloads of `scaled` tasks are x times theirs (mass and inertia), the others'
-    fixed: every task's torque is affine in x on its fixed trajectory, so two batched
-    passes per task give each rule as an interval of x, over the tasks' samples pooled at
-    their shares (`hdselect.sizing.tasks.pooled`): the rules of single samples on every
-    sample, the mean torque and life on the pooled cubic mean.
-
-    Args:
-        tasks: The duty's tasks, payloads at x = 1.
-        idle: The fraction of the time no task runs [-].
-        scaled: The tasks whose payload scales, by name.
-        masses: The gearhead (and motor) mass per joint's unit [kg].
-        units: The catalog.
-        options: The assumptions.
-    """
-    counted = [task for task in tasks if task.share > 0.0]
-    samples = pooled(counted, idle)
-    robot = counted[0].robot
-    names = list(robot.sized_joints)
-    bearings = options.bearing_loads and any(unit.bearing is not None for unit in units)
-    parts = []
-    for task in counted:
-        traj = task.trajectory
-        carrying = task.robot.with_payload(None).with_gearheads(masses)
-        args = (traj.q, traj.qd, traj.qdd)
-        payload = task.robot.payload
-        # without the scaled payload and with it; a task that keeps its payload: one pass
-        ends = ((carrying, carrying.with_payload(payload))
-                if task.label in scaled and payload is not None
-                else (task.robot.with_gearheads(masses),))
-        torques = [cycle_torques(end, *args, options.stop_time, threads=options.threads)
-                   for end in ends]
-        wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
-        if bearings:
-            found = [axis_wrenches(end, *args, names, threads=options.threads)
-                     for end in ends]
-            wrenches = [found[0], found[-1]]
-        parts.append((torques[0], torques[-1], wrenches))
-    out = {}
-    for k, name in enumerate(names):
-        j = robot.joint_index(name)
-        tau0 = np.concatenate([none.tau[:, j] for none, _, _ in parts])
-        stop0 = np.concatenate([none.stop[:, j] for none, _, _ in parts])
-        tau1 = np.concatenate([_per_kg(full.tau[:, j], none.tau[:, j])
-                               for none, full, _ in parts])
-        stop1 = np.concatenate([_per_kg(full.stop[:, j], none.stop[:, j])
-                                for none, full, _ in parts])
-        wrench = None if not bearings else (
-            np.concatenate([w[0][k] for _, _, w in parts if w is not None], axis=1),
-            np.concatenate([w[1][k] - w[0][k] for _, _, w in parts if w is not None], axis=1),
-            options.bearing_offset.get(name, 0.0))
-        rest, qd = samples.rest[:, j], samples.qd[:, j]
-        cubic = joint_mean(samples.dt, rest, qd, tau0, tau1)
-        out[name] = tuple(unit_bound(unit, samples.dt, rest, qd, tau0, tau1, stop0, stop1,
-                                     options, samples.idle, cubic=cubic, t=samples.t,
-                                     qdd=samples.qdd[:, j], wrench=wrench)
-                          for unit in units)
-    return out
-
-
-def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:
-    """The torque of 1 kg [N m]: loaded - empty, zero where it is within their roundoff.
-
-    A payload on a joint's axis (its centre of mass on it, no inertia) loads it with
-    nothing; the difference of two dynamics passes is then rounding, ~1e-16 of the
-    torques, which would read as a limit of ~1e16 kg rather than none.
-    """
-    difference = loaded - empty
-    scale = float(np.max(np.abs(loaded), initial=0.0) + np.max(np.abs(empty), initial=0.0))
-    return np.where(np.abs(difference) <= _ROUNDOFF * scale, 0.0, difference)
 
 
 def _feasible(bounds: Mapping[str, tuple[UnitBound, ...]]) -> list[Interval]:

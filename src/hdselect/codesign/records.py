@@ -8,19 +8,25 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
 
 from hdselect.codesign.bindings import Binding
+from hdselect.codesign.choice import NoUnit
 from hdselect.codesign.fastest_result import FastestResult, RatioComparison, TaskFastest
 from hdselect.codesign.maxpayload import MaxPayloadResult
+from hdselect.codesign.pathbounds import PathInfeasible
+from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
+from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.records import (
     candidate_json,
     finite_or_none,
     payload_json,
     size_json,
 )
+from hdselect.sizing.result import SizingResult
 
 
 def fastest_json(result: FastestResult) -> dict[str, Any]:
@@ -78,6 +84,47 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
             "motors": {name: result.motors[name].id for name in sized if name in result.motors},
             "tasks": [_task_json(item, result) for item in result.tasks],
             "idle_share": result.idle, "check": check}
+
+
+def no_fit_json(err: NoUnit | PathInfeasible, robot: str, source: Motion | Mix | None,
+                command: Sequence[str] | None = None) -> dict[str, Any]:
+    """``fastest`` where a joint has no unit that runs the path at any speed, as JSON.
+
+    A result, not an error: ``feasible`` false, ``cycle_time_s`` null, ``joints`` empty,
+    and ``no_unit``: per joint without one, its ``joint`` and the ``reason`` in words; where
+    the selection found none, its ``diagnosis`` (`hdselect.sizing.diagnosis.Diagnosis`, as
+    ``size --json`` writes it); where a unit given cannot run it, the ``limit`` at fault and
+    whether ``gravity`` alone exceeds it.
+
+    Args:
+        err: Why (`NoUnit` from the selection, or `PathInfeasible` for the units given).
+        robot: The robot file.
+        source: The motion (``motion``), or the mix (``mix``, ``motion`` null).
+        command: The run's command line, for the next steps' commands (`NoUnit.diagnoses`).
+    """
+    rows: list[dict[str, Any]]
+    if isinstance(err, NoUnit):
+        rows = [{"joint": name, "reason": " ".join(found.lines()), "diagnosis": found.to_dict()}
+                for name, found in err.diagnoses(command).items()]
+    else:
+        rows = [{"joint": err.joint, "reason": str(err), "limit": err.limit,
+                 "gravity": err.gravity}]
+    document = {"robot": robot, "motion": str(source.path) if isinstance(source, Motion)
+                else None, "cycle_time_s": None, "feasible": False, "joints": [],
+                "no_unit": rows}
+    return document if not isinstance(source, Mix) else {**document, "mix": str(source.path)}
+
+
+def no_unit_json(sizing: SizingResult) -> list[dict[str, Any]]:
+    """The joints of a sizing without a unit, as JSON.
+
+    Each: ``joint``, the ``reason`` (its diagnosis's sentences) and the ``diagnosis``
+    (`hdselect.sizing.diagnosis.Diagnosis.to_dict`).
+    """
+    sizing = with_diagnoses(sizing)
+    return [{"joint": joint.name, "reason": " ".join(found.lines()),
+             "diagnosis": found.to_dict()} for joint in sizing.joints
+            if (found := diagnosis_of(sizing, joint.name)) is not None]
 
 
 def _limits_json(item: TaskFastest | None, name: str, result: FastestResult) -> dict[str, Any]:
@@ -152,8 +199,9 @@ def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
 def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> dict[str, Any]:
     """The largest payload as JSON.
 
-    ``max_payload_kg`` is null when no mass fits and ``unlimited`` true when no rule
-    depends on the mass. A motion is a duty of one task. A mix's answer is a factor on
+    ``max_payload_kg`` is null when no mass fits (``no_unit`` then lists the joints no
+    unit fits even without the payload, as `no_unit_json`) and ``unlimited`` true when no
+    rule depends on the mass. A motion is a duty of one task. A mix's answer is a factor on
     the payloads of its tasks in ``scaled``: it adds ``mix``, ``factor``, ``scaled``,
     ``payloads_kg`` (their masses there), ``given_kg`` and ``ranges`` (of the factor);
     ``max_payload_kg``, ``payload`` and ``ranges_kg`` are of the one task that scales
@@ -194,6 +242,7 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> 
         "selection": None if selection is None else size_json(
             selection if mix is not None or motion is None
             else replace(selection, motion=motion)),
+        "no_unit": [] if result.unloaded is None else no_unit_json(result.unloaded),
     }
     if mix is None:
         return document

@@ -20,6 +20,7 @@ from hdselect.catalog.bearing_rules import NOT_RATED
 from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
 from hdselect.envelope.torques import BEARING_NOTE
+from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.records import (
     bearing_load_json,
     candidate_bearing_json,
@@ -108,6 +109,8 @@ def _joint_json(joint: JointEnvelope, result: EnvelopeResult) -> dict[str, Any]:
         "duty_binding": joint.duty.binding if joint.duty else None,
         "candidates": candidates,
         "bearing": None,
+        "diagnosis": None if (found := diagnosis_of(result.sizing, joint.name)) is None
+        else found.to_dict(),
     }
     if sizing.bearing is not None:  # with the envelope's units' masses
         rating = (chosen or sizing.strongest).unit.bearing

@@ -2,15 +2,19 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from typing import cast
 
 import numpy as np
 
-from hdselect.catalog.rules import Candidate
+from hdselect.catalog.rules import Candidate, Scope, UnitLimit, rule
 from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.search import SearchSettings, Worst
 from hdselect.envelope.spec import Spec
 from hdselect.robot.model import Robot
+from hdselect.sizing.diagnosis import Diagnosis, GravityLoad, diagnose
+from hdselect.sizing.nextsteps import NextStep
 from hdselect.sizing.result import JointSizing, SizingResult
 
 FIGURES = ("peak", "static", "stop")
@@ -130,3 +134,77 @@ class EnvelopeResult:
     def converged(self) -> bool:
         """Every joint's search converged and the masses settled."""
         return self.settled and all(joint.convergence.converged for joint in self.joints)
+
+
+GRAVITY_RULES = ("peak", "static", "momentary")
+"""The torque rules of single samples whose demand tends to the gravity torque as the speed
+and acceleration limits tend to 0: lowering them helps only where gravity is within."""
+
+
+def envelope_diagnoses(sizing: SizingResult, joints: Sequence[JointEnvelope],
+                       duty: Duty) -> dict[str, Diagnosis]:
+    """The diagnosis of every joint no unit holds for every motion within the spec.
+
+    The sizing's own (`hdselect.sizing.diagnosis.diagnose`: the shortfalls over the worst
+    states and the duty), with the envelope's facts: gravity alone is the largest over the
+    joint's range (the search's) against every unit's repeated-peak limit while moving;
+    the next steps are the envelope's: lower velocity and acceleration limits where that
+    helps every failing rule (`lowering_helps`), and the joint left out (``--exclude``)
+    where another joint is sized.
+    A shipped series is not offered: its verification would be another envelope.
+
+    Args:
+        sizing: The envelope's selection (the duty and the worst states).
+        joints: Each joint's envelope (its gravity over the range).
+        duty: The duty the averaged rules are judged on.
+    """
+    found = diagnose(sizing, catalogs={})
+    margin = sizing.options.margin
+    peak = cast(UnitLimit, rule("peak"))
+    out = {}
+    for joint in joints:
+        if joint.name not in found:
+            continue
+        torque = abs(joint.gravity.torque)
+        strongest = max((c.unit for c in joint.sizing.candidates),
+                        key=lambda unit: peak.allowed(unit, margin))
+        limit = peak.allowed(strongest, margin)
+        gravity = GravityLoad(torque if torque >= 5e-5 else 0.0, limit, strongest.id,
+                              torque > limit)
+        steps = []
+        if not gravity.exceeds and lowering_helps(joint.sizing.strongest, gravity.torque,
+                                                  margin, duty.default):
+            steps.append(NextStep(
+                "limits", "lower the velocity and acceleration limits: the speed and "
+                "acceleration terms fail; " + (
+                    f"gravity alone needs at most {gravity.torque:.3g} N m over the joint's "
+                    f"range, within {joint.sizing.strongest.unit.id}'s limits"
+                    if gravity.torque > 0.0 else "gravity does not load it")))
+        if len(sizing.robot.sized_joints) > 1:  # else nothing would be left to size
+            steps.append(NextStep("exclude", f"leave it out with --exclude {joint.name}"))
+        out[joint.name] = replace(found[joint.name], gravity=gravity, steps=tuple(steps))
+    return out
+
+
+def lowering_helps(candidate: Candidate, gravity: float, margin: float,
+                   default_duty: bool) -> bool:
+    """Lower velocity and acceleration limits bring every rule a candidate fails within.
+
+    In the limit of slow motion: a torque rule of single samples tends to the gravity
+    torque [N m] (within its limit, or not); the input speed to 0; a rule over the duty
+    follows the limits only on the default duty (moves at them); any other rule (an output
+    bearing's, a motor's) is not shown to.
+    """
+    for name, check in candidate.checks.items():
+        if check.ok:
+            continue
+        found = rule(name)
+        if name in GRAVITY_RULES:
+            helps = gravity <= cast(UnitLimit, found).allowed(candidate.unit, margin)
+        elif found.scope is Scope.CYCLE:
+            helps = default_duty
+        else:
+            helps = name == "speed"
+        if not helps:
+            return False
+    return True

@@ -43,6 +43,7 @@ from hdselect.envelope.result import (
     EnvelopeResult,
     JointEnvelope,
     WorstState,
+    envelope_diagnoses,
 )
 from hdselect.envelope.search import Evaluate, SearchSettings, Worst, agree, search
 from hdselect.envelope.spec import Spec, resolve_spec
@@ -267,6 +268,7 @@ def _envelope(problem: Problem, spec: Spec, duty: Duty, duty_sizing: SizingResul
     joints = tuple(_joint(model, joint, found, options, settings,
                           duty_sizing.joints[i].selected, masses)
                    for i, joint in enumerate(sized))
+    sizing = replace(sizing, diagnoses=envelope_diagnoses(sizing, joints, duty))
     return EnvelopeResult(robot, spec, duty, joints, sizing, duty_sizing, masses, settings,
                           states, rounds, settled, time.perf_counter() - started)
 

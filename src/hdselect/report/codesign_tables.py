@@ -246,6 +246,8 @@ def max_payload_tables(result: MaxPayloadResult, robot: Robot) -> list[object]:
         robot: The robot as the command read it.
     """
     text = max_payload_text(result, robot, result.tasks[0].motion)
+    if result.selection is None and result.unloaded is not None:
+        return [text, "", size_table(result.unloaded), *task_tables(result.unloaded)]
     if result.selection is None:
         return [text]
     return [text, "", size_table(result.selection), *task_tables(result.selection)]
@@ -283,7 +285,11 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot,
         nothing = "no factor, not even 0, leaves every joint a feasible unit."
         unlimited = "no rule depends on them: no limit."
     if x is None or not math.isfinite(x):
-        return Paragraphs((f"{head}: {nothing if x is None else unlimited}",))
+        found = [] if result.unloaded is None else [
+            joint.name for joint in result.unloaded.joints if joint.selected is None]
+        return Paragraphs((f"{head}: {nothing if x is None else unlimited}",
+                           *([f"Even without the payload no unit fits {', '.join(found)}; the "
+                              "selection without it:"] if found else [])))
     if one is not None:
         answer, at, kg, of = f"the largest payload is {x:.4g} kg {where}.", f"{x:.4g} kg", " kg", ""
         how = (". Torque is affine in the payload mass on a fixed trajectory, so each rule's "

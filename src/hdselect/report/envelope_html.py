@@ -16,9 +16,9 @@ import numpy as np
 
 from hdselect.base.errors import InputError
 from hdselect.envelope.result import EnvelopeResult
-from hdselect.report.envelope_tables import note_lines
+from hdselect.report.envelope_tables import note_lines, shortfall_cell
 from hdselect.report.provenance import Provenance, provenance
-from hdselect.report.terminal import DEG_PER_RAD, life_text, utilization_text, verdict
+from hdselect.report.terminal import DEG_PER_RAD, life_text, utilization_text
 from hdselect.sizing.records import base_text
 
 esc = html.escape
@@ -108,7 +108,7 @@ def _units(result: EnvelopeResult) -> str:
         duty = esc(joint.duty.unit.id) if joint.duty is not None else "none"
         if chosen is None:
             rows.append([esc(joint.name), '<td class="t fail">none</td>',
-                         f'<td class="t fail">{esc(verdict(joint.sizing.strongest))}</td>',
+                         f'<td class="t fail">{esc(shortfall_cell(result, joint))}</td>',
                          *torques, "-", "yes" if joint.convergence.converged else "no", duty])
             continue
         check = chosen.checks[chosen.binding]

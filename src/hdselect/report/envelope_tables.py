@@ -9,7 +9,8 @@ from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
 from hdselect.envelope.search import ABSOLUTE
 from hdselect.envelope.torques import BEARING_NOTE
 from hdselect.report.tables import Column, FittedTable, Paragraphs
-from hdselect.report.terminal import DEG_PER_RAD, life_text, percent, utilization_text, verdict
+from hdselect.report.terminal import DEG_PER_RAD, life_text, utilization_text, verdict
+from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.records import assumptions, base_text
 
 _SOURCE_SHORT = {"given": "given", "file": "file", "robot file": "robot", "default": "default"}
@@ -35,7 +36,7 @@ def envelope_table(result: EnvelopeResult) -> FittedTable:
         settled = "yes" if joint.convergence.converged else "[red]no[/red]"
         if chosen is None:
             rows.append((escape(joint.name), "[red]none[/red]",
-                         f"[red]{verdict(joint.sizing.strongest)}[/red]", *torques, "-",
+                         f"[red]{escape(shortfall_cell(result, joint))}[/red]", *torques, "-",
                          settled, duty))
             continue
         check = chosen.checks[chosen.binding]
@@ -46,6 +47,12 @@ def envelope_table(result: EnvelopeResult) -> FittedTable:
              "joint ranges, |qd| <= v, |qdd| <= a)\n" + base_text(result.robot)
              + f"\nmean torque and life on {result.duty.phrase}")
     return FittedTable(title, columns, tuple(rows), notes=tuple(note_lines(result)))
+
+
+def shortfall_cell(result: EnvelopeResult, joint: JointEnvelope) -> str:
+    """A joint without a unit: its diagnosis's headline, e.g. ``peak 45.2 > 20.3 N m``."""
+    found = diagnosis_of(result.sizing, joint.name)
+    return found.headline.short() if found is not None else verdict(joint.sizing.strongest)
 
 
 def limits_table(result: EnvelopeResult) -> FittedTable:
@@ -119,13 +126,9 @@ def note_lines(result: EnvelopeResult) -> list[str]:
         notes.append(f"{BEARING_NOTE}. --json gives each joint's bearing loads.")
     notes += [f"{joint.name}: not converged: {joint.convergence.note}"
               for joint in result.joints if not joint.convergence.converged]
-    for joint in result.joints:
-        if joint.selected is None:
-            strongest = joint.sizing.strongest
-            check = strongest.checks[strongest.binding]
-            notes.append(f"{joint.name}: no unit holds for every motion within the spec; the "
-                         f"strongest, {strongest.unit.id}, fails {strongest.binding} at "
-                         f"{percent(check.utilization)} of its limit: lower the limits.")
+    notes += [line for joint in result.joints if joint.selected is None
+              for found in [diagnosis_of(result.sizing, joint.name)] if found is not None
+              for line in found.lines()]
     notes.append("Assumptions: " + "; ".join(f"{k}: {v}" for k, v in
                                              assumptions(result.sizing).items()))
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.joints

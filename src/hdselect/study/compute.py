@@ -30,10 +30,11 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from hdselect.base.errors import HdselectError
-from hdselect.codesign.choice import choose, duty_of
+from hdselect.codesign.choice import NoUnit, choose, duty_of, no_fit
 from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
-from hdselect.codesign.records import fastest_json, max_payload_json
+from hdselect.codesign.pathbounds import PathInfeasible
+from hdselect.codesign.records import fastest_json, max_payload_json, no_fit_json
 from hdselect.motion.loading import robot_for_motion
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
@@ -53,7 +54,7 @@ from hdselect.study.casetasks import (
     is_mix_case,
 )
 from hdselect.study.group import plan_depends_on_payload
-from hdselect.study.pooled import group_cases, scaled
+from hdselect.study.pooled import diagnosed, group_cases, scaled
 
 MIN_GROUP = 4
 """Cases of one robot and path from which a group is evaluated from a shared basis: below
@@ -86,12 +87,14 @@ SIZE_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50
                 "motor_binding", "inertia_ratio", "bearing_max_moment_nm",
                 "bearing_max_radial_n", "bearing_max_axial_n", "bearing_mean_moment_nm",
                 "bearing_mean_radial_n", "bearing_mean_axial_n", "bearing",
-                "bearing_life_l10_h", "binding_task")
+                "bearing_life_l10_h", "binding_task", "shortfall")
 """Per-joint columns of a ``size`` row (after ``flags``: where motors are given, the motor
 of the selected pair, else of the strongest; its binding rule; load over rotor inertia;
 then the output bearing's loads about the flange, largest and 10/3-power means, whether
 the unit's catalog rates the bearing (``rated`` / ``not rated``) and its L10 life; last,
-``binding_task``: for a mix, the task that sets the binding rule)."""
+``binding_task``: for a mix, the task that sets the binding rule; ``shortfall``: for a joint
+without a unit, its diagnosis: each rule's demand against the strongest unit's limit, and
+gravity alone where it exceeds every unit's)."""
 
 
 def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
@@ -107,7 +110,20 @@ def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
         "motor_binding": joint["motor_binding"], "inertia_ratio": joint["inertia_ratio"],
         "binding_task": joint.get("binding_task"),
         **_bearing_fields(joint),
+        "shortfall": _shortfall(joint.get("diagnosis")),
     } for joint in result["joints"]]
+
+
+def _shortfall(diagnosis: dict[str, Any] | None) -> str | None:
+    """A joint without a unit: its diagnosis in words; else None."""
+    if diagnosis is None:
+        return None
+    words = "; ".join(item["text"] for item in diagnosis["shortfalls"])
+    gravity = diagnosis["gravity"]
+    if gravity is not None and gravity["exceeds"]:
+        words += (f"; gravity alone needs {gravity['torque_nm']:.3g} N m, over every unit's "
+                  f"limit ({gravity['unit']}: {gravity['limit_nm']:.3g} N m)")
+    return words
 
 
 def _bearing_fields(joint: dict[str, Any]) -> dict[str, Any]:
@@ -170,7 +186,8 @@ def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
     Raises:
         HdselectError: An input is bad or a motion cannot be planned.
     """
-    return summarize(size_problem(_slower(case_problem(case, inputs), case.time_scale)))
+    return summarize(diagnosed(size_problem(_slower(case_problem(case, inputs),
+                                                    case.time_scale))))
 
 
 def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
@@ -210,15 +227,37 @@ def fastest_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
     motion or mix run ``time_scale`` times slower, from the case's catalog and ratio; the
     result is `hdselect.codesign.records.fastest_json`.
 
+    Where a joint has no unit that runs the path at any speed, the result is
+    `hdselect.codesign.records.no_fit_json` (a row per such joint, with why; its
+    diagnosis without next steps, as a ``size`` case's).
+
     Raises:
-        HdselectError: An input is bad, a motion is a log, or the path cannot be run.
+        HdselectError: An input is bad, a motion is a log, or TOPPRA fails.
     """
     problem = _codesign_problem(case_problem(case, inputs))
     duty, options, catalog, candidates = duty_of(_slower(problem, case.time_scale), None,
                                                  None, None, None)
-    chosen, _, paired = choose(duty.robot, duty, None, catalog, options, candidates)
-    motors = {**problem.motors, **{name: (motor,) for name, motor in paired.items()}}
-    return fastest_json(fastest(replace(problem, motors=motors), units=chosen))
+    try:
+        chosen, _, paired = choose(duty.robot, duty, None, catalog, options, candidates)
+        motors = {**problem.motors, **{name: (motor,) for name, motor in paired.items()}}
+        return fastest_json(fastest(replace(problem, motors=motors), units=chosen))
+    except (NoUnit, PathInfeasible) as err:  # a result: a joint no unit runs at any speed
+        if not no_fit(err):
+            raise
+        return _case_steps(no_fit_json(err, str(problem.robot.path), problem.source))
+
+
+def _case_steps(document: dict[str, Any]) -> dict[str, Any]:
+    """A record's joints without a unit as a case has them: the next steps left out.
+
+    Their commands would size the motion file, not the case (as `diagnosed`); the
+    ``reason`` is then the diagnosis's shortfall in words.
+    """
+    for row in document["no_unit"]:
+        if row.get("diagnosis") is not None:
+            row["diagnosis"] = {**row["diagnosis"], "next_steps": []}
+            row["reason"] = _shortfall(row["diagnosis"])
+    return document
 
 
 def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, Any]:
@@ -239,7 +278,7 @@ def max_payload_direct(case: Case, inputs: Inputs | None = None) -> dict[str, An
                                           if task.motion is not None):  # else refused below
         problem = _slower(problem, case.time_scale)
     result = max_payload(problem)
-    document = max_payload_json(replace(result, selection=None))
+    document = _case_steps(max_payload_json(replace(result, selection=None)))
     document["robot"] = str(problem.robot.path)
     if result.selection is not None:
         document["selection"] = summarize(result.selection).to_dict()
@@ -275,12 +314,17 @@ def _each(cases: Sequence[Case],
 FASTEST_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50_h",
                    "life_l10_h", "cycle_time_s", "carried_mass_kg", "flags", "optimum_s",
                    "lengthened_by", "derating", "velocity_limit", "velocity_limit_source",
-                   "torque_limit_nm", "binds_longest", "binds_share")
-"""Per-joint columns of a ``fastest`` row."""
+                   "torque_limit_nm", "binds_longest", "binds_share", "shortfall")
+"""Per-joint columns of a ``fastest`` row (``shortfall``: where no unit runs a joint at any
+speed, a row per such joint says why, as ``size``'s does; nothing else is filled)."""
 
 
 def fastest_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     """One row per sized joint of a ``fastest`` result (``hdselect fastest --json``)."""
+    if result.get("no_unit"):  # a joint no unit runs at any speed: its row says why
+        return [{"joint": row["joint"], "unit": None, "feasible": False, "cycle_time_s": None,
+                 "shortfall": _shortfall(row.get("diagnosis")) or row["reason"]}
+                for row in result["no_unit"]]
     reason = result["lengthened_by"]
     rows = []
     for joint in result["joints"]:
@@ -315,7 +359,9 @@ def max_payload_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     ``payload_limit`` names, on the joint that runs out of units, the unit and the rule
     it reaches; ``max_payload_kg`` is inf where no rule depends on the mass and empty
     where no mass, not even none, fits (or, in a mix, where several tasks' payloads
-    scale: ``payload_factor`` is then the answer, each task's mass in the record).
+    scale: ``payload_factor`` is then the answer, each task's mass in the record). Where no
+    mass fits, a row per joint no unit fits even without the payload, its ``shortfall``
+    saying why.
     """
     unlimited = result["unlimited"]
     head = {"max_payload_kg": math.inf if unlimited else result["max_payload_kg"],
@@ -325,7 +371,10 @@ def max_payload_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     if result["selection"] is None:
         why = ("no rule depends on the payload mass" if unlimited else
                "no mass, not even none, leaves every joint a unit")
-        return [{**head, "payload_limit": why}]
+        stuck = result.get("no_unit") or []  # the joints no unit fits even without it
+        return [{**head, "payload_limit": why, "joint": row["joint"], "feasible": False,
+                 "shortfall": _shortfall(row["diagnosis"])}
+                for row in stuck] or [{**head, "payload_limit": why}]
     binding = result["binding"] or {}
     return [{**row, **head, "payload_limit": f"{binding['unit']} {binding['rule']}"
              if row["joint"] == binding.get("joint") else None}

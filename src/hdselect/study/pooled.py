@@ -28,6 +28,7 @@ from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import check_bearing_options, checked_motors
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.core import select_units
+from hdselect.sizing.diagnosis import diagnose
 from hdselect.sizing.loads import JointLoad, merged_loads
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import Motors, SizingResult
@@ -124,6 +125,18 @@ def _joined(parts: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.
     return np.concatenate([a for a, _ in parts]), np.concatenate([b for _, b in parts])
 
 
+def diagnosed(result: SizingResult) -> SizingResult:
+    """A case's sizing with the diagnosis of each joint without a unit, without next steps.
+
+    The shortfalls and gravity alone are the case's; the next steps are left out: their
+    commands would size the motion file, not the case (its parameters, its time scale).
+    """
+    if result.feasible:
+        return result
+    return replace(result, diagnoses={name: replace(found, steps=()) for name, found
+                                      in diagnose(result, catalogs={}).items()})
+
+
 def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: float,
                 units: Sequence[Unit], options: Options, motors: Motors | None = None,
                 mix: Mix | None = None) -> Summary:
@@ -174,12 +187,19 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
             model.samples = replace(model.samples, tasks=(task,))
             models.append(model)
     pooled = PooledTorques(models)
-    joints, masses = select_units(pooled, {name: units for name in bases[0].robot.sized_joints},
-                                  options, motors, detail=False)
+    per_joint = {name: units for name in bases[0].robot.sized_joints}
+    joints, masses = select_units(pooled, per_joint, options, motors, detail=False)
+    if any(joint.selected is None for joint in joints):  # its diagnosis reads every check
+        joints, masses = select_units(pooled, per_joint, options, motors)
     first = pooled.samples.tasks[0]
-    summary = summarize(SizingResult(first.robot, first.trajectory, tuple(joints), options,
-                                     units, first.motion, motors=motors,
-                                     loads=pooled.loads(masses), tasks=tuple(planned), mix=mix))
+    result = SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
+                          first.motion, motors=motors, loads=pooled.loads(masses),
+                          tasks=tuple(planned), mix=mix)
+    if not result.feasible:  # the diagnosis reads the poses with each task's own payload
+        carrying = tuple(replace(task, robot=task.robot.with_payload(item.payload))
+                         for task, item in zip(planned, tasks, strict=True))
+        result = replace(diagnosed(replace(result, tasks=carrying)), tasks=tuple(planned))
+    summary = summarize(result)
     # the bases' robots carry the reference payload; each task carries its own mass
     carried = [0.0 if item.payload is None else float(item.payload.mass) for item in tasks]
     lead = next(k for k, task in enumerate(planned) if task.share > 0.0)
