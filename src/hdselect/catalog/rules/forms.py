@@ -102,7 +102,7 @@ class PayloadCase:
     """One unit on one joint whose torques are affine in the payload mass x [kg].
 
     tau = tau0 + x tau1 and stop = stop0 + x stop1 per sample [N m]
-    (`hdselect.codesign.maxpayload.unit_bound`); the speeds do not depend on x.
+    (`hdselect.codesign.payloadbounds.unit_bound`); the speeds do not depend on x.
 
     Attributes:
         unit: The gearhead.
