@@ -343,9 +343,12 @@ def test_series_keeps_the_units_of_a_series_or_a_catalog_name() -> None:
     assert load_catalog([FIXTURE], series=["zx-test"]) == zx
     assert {u.series for u in load_catalog([FIXTURE], series=["psa-g"])} == {"PSA"}
     assert len(load_catalog([FIXTURE], series=["PSA", "ZX"])) == 9
-    with pytest.raises(InputError, match=r"^series: no unit loaded is of series 'CSG-2UH'; "
+    with pytest.raises(InputError, match=r"^series: no unit loaded is of series 'XY-9'; "
                                          r"loaded: PSA \(psa-g\), ZX \(zx-test\)"):
-        load_catalog([FIXTURE], series=["CSG-2UH"])
+        load_catalog([FIXTURE], series=["XY-9"])
+    # a built-in series named is loaded as if given as a catalog
+    assert {u.series for u in load_catalog(series=["CSG-2UH"])} == {"CSG-2UH"}
+    assert load_catalog(series=["csg-2uh"]) == load_catalog(["csg-2uh"], series=["csg-2uh"])
     with pytest.raises(InputError, match="expected a list of series names"):
         load_catalog(series="ZX")  # type: ignore[arg-type]
 
@@ -361,6 +364,10 @@ def test_series_on_the_command_line(capsys: pytest.CaptureFixture[str]) -> None:
                  "--json", "-"]) == 0
     result = json.loads(capsys.readouterr().out)
     assert [c["unit"] for c in result["candidates"]] == ["ZX-20-100-T", "ZX-25-100-T"]
+    # a built-in series named alone is loaded: no --catalog needed beside it
+    assert main(["catalog", "--series", "SHG-2UH", "--json"]) == 0
+    shg = json.loads(capsys.readouterr().out)["units"]
+    assert len(shg) == 44 and all(u["unit"].startswith("SHG-") for u in shg)
 
 
 def test_series_restricts_size(capsys: pytest.CaptureFixture[str]) -> None:

@@ -125,6 +125,15 @@ def catalog_files(values: object, *, field: str = "catalog") -> list[Path]:
     return files
 
 
+def series_catalogs(series: Iterable[str]) -> list[str]:
+    """The built-in catalogs a list of series names names (by series or by name), in order.
+
+    ``--series CSG-2UH`` then needs no ``--catalog csg-2uh`` beside it.
+    """
+    wanted = {str(value).lower() for value in series}
+    return [c.name for c in builtin_catalogs() if {c.name.lower(), c.series.lower()} & wanted]
+
+
 def of_series(units: Sequence[Unit], series: Sequence[str], *,
               field: str = "series") -> tuple[Unit, ...]:
     """The units of the given series, each named as its series or its catalog's name.

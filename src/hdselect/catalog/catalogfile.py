@@ -15,7 +15,13 @@ from typing import Any
 from hdselect.base import bounds
 from hdselect.base.errors import InputError, deprecated
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
-from hdselect.catalog.builtin import DATA, catalog_files, default_file, of_series
+from hdselect.catalog.builtin import (
+    DATA,
+    catalog_files,
+    default_file,
+    of_series,
+    series_catalogs,
+)
 from hdselect.catalog.columns import QUANTITIES, RANGES, agree, imperial, unit_label
 from hdselect.catalog.sources import (
     HEADER_KEYS,
@@ -119,6 +125,9 @@ def load_catalog(catalog: Sequence[str | Path] = (), *,
                              field="extra")
         deprecated("load_catalog(extra=...)", "load_catalog(catalog=...)")
         catalog = old
+    if (isinstance(catalog, Sequence) and not isinstance(catalog, str | bytes)
+            and isinstance(series, Sequence) and not isinstance(series, str | bytes)):
+        catalog = [*catalog, *series_catalogs(series)]  # a built-in series named is loaded
     files = catalog_files(catalog)
     units = list(_read_file(default_file(), None))
     assumed = _assumed(units[0])

@@ -24,10 +24,23 @@ def catalog_argument(parser: argparse.ArgumentParser | argparse._ArgumentGroup, 
                         help="add the units of a catalog: a built-in one by name (`hdselect "
                              "catalog --list`) or a file (TOML; repeatable)")
     if series:
-        parser.add_argument("--series", metavar="NAME", action="append", default=[],
+        parser.add_argument("--series", metavar="NAME", action=_Series, default=[],
                             help="choose only among the units of this series, e.g. CSG-2UH "
-                                 "or its catalog's name csg-2uh (repeatable; default: every "
-                                 "unit loaded)")
+                                 "or its catalog's name csg-2uh, a built-in one loaded as "
+                                 "if given with --catalog (repeatable; default: every unit "
+                                 "loaded)")
+
+
+class _Series(argparse._AppendAction):
+    """--series NAME: kept, and a built-in catalog it names added to --catalog."""
+
+    def __call__(self, parser, namespace, values, option_string=None):  # type: ignore[no-untyped-def]
+        from hdselect.catalog.builtin import series_catalogs
+
+        super().__call__(parser, namespace, values, option_string)
+        catalog = list(getattr(namespace, "catalog", None) or [])
+        catalog += [name for name in series_catalogs([str(values)]) if name not in catalog]
+        namespace.catalog = catalog
 
 
 def json_argument(parser: argparse.ArgumentParser) -> None:

@@ -130,12 +130,15 @@ def catalog_list_table(document: dict[str, Any]) -> FittedTable:
         rows.append((escape(c["name"]), escape(c["series"]), str(c["units"]),
                      _span(c["sizes"]), _span(c["ratios"]), f"{_torque(low)}-{_torque(high)}",
                      c["bearing_rated"], "transcription" if c["transcription"] else "document"))
-        sources = "; ".join(f"{d['title']} ({d['edition']})" for d in c["documents"])
-        notes.append(f"{c['name']}: {sources or 'no source claimed'}"
-                     + (f"; transcription: {c['transcription']}" if c["transcription"] else ""))
+        count = len(c["documents"])
+        sources = (f"{count} source document{'s' if count != 1 else ''}"
+                   + (", in part public transcriptions" if c["transcription"] else "")
+                   if count else "no source claimed")
+        notes.append(f"{c['name']}: {c['title']}; {sources}")
     notes.append("Load one with --catalog NAME (PSA-G is always loaded); choose only among "
-                 "some series with --series NAME. Check the current vendor data before "
-                 "ordering.")
+                 "some series with --series NAME. Every number's document, page and table: "
+                 "hdselect catalog --series NAME --json. Check the current vendor data "
+                 "before ordering.")
     return FittedTable("Built-in catalogs: repeated-peak torque range in N m; source: the "
                        "vendor's document, or in part a public transcription of it",
                        columns, tuple(rows), notes=tuple(notes))
