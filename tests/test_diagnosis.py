@@ -23,7 +23,7 @@ import pytest
 
 import hdselect
 from hdselect.catalog.catalogfile import load_catalog
-from hdselect.codesign.maxpayload import duty_bounds
+from hdselect.codesign.payloadbounds import duty_bounds
 from hdselect.report.parts import parts_csv
 from hdselect.report.report_files import report_page
 from hdselect.sizing.diagnosis import diagnose, with_diagnoses

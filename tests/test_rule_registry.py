@@ -44,7 +44,7 @@ from hdselect.catalog.rules import (
     rule,
 )
 from hdselect.catalog.units import Unit
-from hdselect.codesign.maxpayload import joint_mean
+from hdselect.codesign.payloadbounds import joint_mean
 from hdselect.sizing.reflect import reflect
 from hdselect.sizing.timescale import RTOL, ScalableCycle, check_at, exact_scales, feasible_scales
 from helpers.rules import giving
