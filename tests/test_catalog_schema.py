@@ -331,3 +331,92 @@ def test_catalog_json_says_which_limit_is_not_rated(capsys: pytest.CaptureFixtur
     assert units["ZX-25-100-T"]["not_rated"] == {"momentary_torque_nm": NOT_RATED,
                                                  "static_torque_nm": NOT_RATED}
     assert units["PSA-14-100"]["not_rated"] == {}
+
+
+# ----------------------------------------------------------------------------- --series
+
+
+def test_series_keeps_the_units_of_a_series_or_a_catalog_name() -> None:
+    zx = load_catalog([FIXTURE], series=["ZX"])
+    assert [u.id for u in zx] == ["ZX-20-100-T", "ZX-25-100-T"]
+    assert load_catalog([FIXTURE], series=["zx-test"]) == zx
+    assert {u.series for u in load_catalog([FIXTURE], series=["psa-g"])} == {"PSA"}
+    assert len(load_catalog([FIXTURE], series=["PSA", "ZX"])) == 9
+    with pytest.raises(InputError, match=r"^series: no unit loaded is of series 'CSG-2UH'; "
+                                         r"loaded: PSA \(psa-g\), ZX \(zx-test\)"):
+        load_catalog([FIXTURE], series=["CSG-2UH"])
+    with pytest.raises(InputError, match="expected a list of series names"):
+        load_catalog(series="ZX")  # type: ignore[arg-type]
+
+
+def test_series_on_the_command_line(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["catalog", "--catalog", str(FIXTURE), "--series", "ZX", "--json"]) == 0
+    units = json.loads(capsys.readouterr().out)["units"]
+    assert [u["unit"] for u in units] == ["ZX-20-100-T", "ZX-25-100-T"]
+    assert main(["catalog", "--series", "CSG-9"]) == 2
+    err = capsys.readouterr().err
+    assert "--series: no unit loaded is of series 'CSG-9'; loaded: PSA (psa-g)" in err
+    assert main(["duty", str(CONVEYOR), "--catalog", str(FIXTURE), "--series", "zx-test",
+                 "--json", "-"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert [c["unit"] for c in result["candidates"]] == ["ZX-20-100-T", "ZX-25-100-T"]
+
+
+def test_series_restricts_size(capsys: pytest.CaptureFixture[str]) -> None:
+    motion = REPO / "trajectories" / "benchtop6_pick_place.toml"
+    assert main(["size", str(motion), "--catalog", str(FIXTURE), "--series", "ZX",
+                 "--json", "-"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    chosen = [joint["selected"] for joint in result["joints"]]
+    assert chosen and all(unit.startswith("ZX-") for unit in chosen)
+    assert main(["size", str(motion), "--series", "ZX"]) == 2
+    assert "--series: no unit loaded is of series 'ZX'" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------- catalog --list
+
+
+def test_list_gives_every_builtin_catalog(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["catalog", "--list", "--json"]) == 0
+    listed = json.loads(capsys.readouterr().out)["catalogs"]
+    assert [c["name"] for c in listed] == [c.name for c in builtin_catalogs()]
+    psa = listed[0]
+    assert (psa["name"], psa["series"], psa["units"], psa["sizes"], psa["ratios"]) == (
+        "psa-g", "PSA", 7, [8, 10, 14], [50, 80, 100])
+    assert psa["repeated_torque_nm"] == [2.6, 20.3] and psa["bearing_rated"] == "none"
+    assert psa["documents"][0]["edition"] == "not stated" and psa["transcription"] is None
+    assert main(["catalog", "--list"]) == 0
+    table = capsys.readouterr().out
+    assert max(len(line) for line in table.splitlines()) <= 80
+    for c in listed:
+        row = next(line for line in table.splitlines() if line.startswith(c["name"] + " "))
+        assert c["series"] in row and str(c["units"]) in row
+    assert main(["catalog", "--list", "--series", "PSA"]) == 2
+    assert "--series: --list lists the built-in catalogs" in capsys.readouterr().err
+
+
+def test_catalog_table_ends_with_the_check_and_transcription_notes(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["catalog", "--catalog", str(FIXTURE), "--series", "ZX"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    text = "\n".join(lines)
+    assert text.count("invented public") == 1  # once per catalog, not per unit
+    assert lines[-3:] == [
+        "zx-test: Invented for the tests; never use these numbers.",
+        "zx-test: transcription: The ZX-25 input inertia is taken from an invented public",
+        "  transcription."]
+
+
+def test_catalog_json_has_stiffness_bearing_torques_and_provenance(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["catalog", "--catalog", str(FIXTURE), "--series", "ZX", "--json"]) == 0
+    unit = json.loads(capsys.readouterr().out)["units"][0]
+    assert unit["stiffness"]["k1_nm_per_rad"] == 13000.0
+    assert unit["stiffness"]["lost_motion_rad"] == pytest.approx(1.5 * ARCMIN, rel=1e-15)
+    assert unit["bearing"]["moment_stiffness_nm_per_rad"] == 2.5e5
+    assert (unit["starting_torque_nm"], unit["backdriving_torque_nm"]) == (0.047, 5.2)
+    assert unit["provenance"]["mass_kg"] == {
+        "title": "ZX Invented Engineering Data", "publisher": "Nobody Inc.",
+        "edition": "not stated", "copy": "https://example.invalid/zx-data", "page": "50",
+        "table": "Table 50-1, the higher mass"}
+    assert unit["catalog"] == "zx-test"

@@ -37,6 +37,7 @@ SIZING = [
     ("--max-inertia-ratio", ["3"], ["--motor-catalog", "motors/example_motors.toml"]),
     ("--inertia-target", ["50"], ["--motor-catalog", "motors/example_motors.toml",
                                   "--prefer", "inertia"]),
+    ("--series", ["ACME"], ["--catalog", "acme.toml"]),  # PSA-G left out
 ]
 """Options every sizing command takes, with a value that must change its answer."""
 

@@ -32,7 +32,7 @@ ENVELOPE_EFFECTS = [
     ("--motor-catalog", [REPO / "motors" / "example_motors.toml"]),
     ("--no-mass-coupling", []), ("--prefer", ["margin"]), ("--life-hours", ["1e5"]),
     ("--life-basis", ["L10"]), ("--margin", ["0.5"]), ("--max-inertia-ratio", ["3"]),
-    ("--inertia-target", ["2"]),
+    ("--inertia-target", ["2"]), ("--series", ["ACME", "--catalog", "acme.toml"]),
 ]
 """Each option of ``hdselect envelope`` that changes its answer, with a value that must."""
 
@@ -68,8 +68,9 @@ dwell = 0.2
 
 
 OTHER = {
-    "catalog": ["--catalog", "--units", "--json"],
-    "duty": ["--catalog", "--json", "--margin"],  # test_margins: the duty example by hand
+    "catalog": ["--catalog", "--units", "--json", "--series", "--list"],
+    "duty": ["--catalog", "--json", "--margin", "--series"],  # test_margins: the duty example
+    # by hand; test_catalog_schema: --series and --list
     "joints": ["--json", "--xacro-arg"], "init": ["--out", "--tool-poses", "--xacro-arg"],
     "study": ["--out", "--workers", "--scheduler", "--timeout", "--no-grouping", "--retry-failed",
               "--plot"],

@@ -10,7 +10,7 @@ The catalogs are found in the data directory, so a new file needs no code.
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import cast
@@ -18,6 +18,7 @@ from typing import cast
 from hdselect.base.bounds import files_argument
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import read_toml
+from hdselect.catalog.units import Unit
 
 DATA = Path(__file__).parent / "data"
 """The directory of the built-in catalog files."""
@@ -114,6 +115,42 @@ def catalog_files(values: object, *, field: str = "catalog") -> list[Path]:
         InputError: `values` is not a list of names and files, or as `catalog_file`.
     """
     files_argument(values, field)  # the type: a list of strings and paths
-    default = default_file()
-    found = (catalog_file(value, field=field) for value in cast(Iterable[str | Path], values))
-    return [file for file in dict.fromkeys(found) if file != default]
+    seen = {default_file().resolve()}
+    files = []
+    for value in cast(Iterable[str | Path], values):
+        file = catalog_file(value, field=field)
+        if file.resolve() not in seen:
+            seen.add(file.resolve())
+            files.append(file)
+    return files
+
+
+def of_series(units: Sequence[Unit], series: Sequence[str], *,
+              field: str = "series") -> tuple[Unit, ...]:
+    """The units of the given series, each named as its series or its catalog's name.
+
+    A value matches a unit's series (``"CSG-2UH"``) or its catalog's name (``"csg-2uh"``),
+    either case. None or empty: every unit.
+
+    Raises:
+        InputError: `series` is not a list of names, or a value matches no unit loaded
+            (the message lists the loaded series).
+    """
+    if isinstance(series, str | bytes) or not isinstance(series, Sequence) \
+            or not all(isinstance(value, str) for value in series):
+        raise InputError(f"expected a list of series names, got {series!r}", field=field)
+    if not series:
+        return tuple(units)
+    names = {value.lower() for value in series}
+
+    def named(unit: Unit) -> set[str]:
+        return {unit.series.lower(), unit.catalog.name.lower()} - {""}
+
+    for value in series:
+        if not any(value.lower() in named(unit) for unit in units):
+            loaded = dict.fromkeys(f"{u.series} ({u.catalog.name})" if u.catalog.name
+                                   else u.series for u in units)
+            raise InputError(f"no unit loaded is of series {value!r}; loaded: "
+                             f"{', '.join(loaded)} (add a catalog with --catalog; built in: "
+                             f"{builtin_names()})", field=field)
+    return tuple(unit for unit in units if named(unit) & names)

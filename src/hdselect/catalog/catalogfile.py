@@ -15,7 +15,7 @@ from typing import Any
 from hdselect.base import bounds
 from hdselect.base.errors import InputError, deprecated
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
-from hdselect.catalog.builtin import DATA, catalog_files, default_file
+from hdselect.catalog.builtin import DATA, catalog_files, default_file, of_series
 from hdselect.catalog.columns import QUANTITIES, RANGES, agree, imperial, unit_label
 from hdselect.catalog.sources import (
     HEADER_KEYS,
@@ -89,7 +89,8 @@ BUILTIN = "psa_g.toml"
 
 
 def load_catalog(catalog: Sequence[str | Path] = (), *,
-                 extra: Sequence[str | Path] | None = None) -> tuple[Unit, ...]:
+                 extra: Sequence[str | Path] | None = None,
+                 series: Sequence[str] = ()) -> tuple[Unit, ...]:
     """Load the built-in PSA-G catalog and any other catalogs: built-in ones by name, files.
 
     Args:
@@ -98,15 +99,18 @@ def load_catalog(catalog: Sequence[str | Path] = (), *,
             ``[rules]`` table is judged by the PSA-G file's rules, and each of its units
             carries a flag that says so. Naming PSA-G adds nothing: it is always loaded.
         extra: Deprecated: the user catalog files, now given as `catalog`.
+        series: Keep only the units of these series, each a series (``"CSG-2UH"``) or a
+            catalog's name (``"csg-2uh"``); empty: every unit loaded.
 
     Returns:
-        Every unit, sorted by size, then ratio, then id.
+        Every unit (of `series`), sorted by size, then ratio, then id.
 
     Raises:
         InputError: A file is missing or malformed, a value is missing, not a
             finite number in its range (`hdselect.base.bounds`) or inconsistent, two units
             share an id, `catalog` is not a list of names and files, a name is also a
-            file in the current directory, or a value is neither.
+            file in the current directory, a value is neither, or a series matches no
+            unit loaded.
     """
     if extra is not None:
         old = bounds.files_argument(extra, "extra")
@@ -126,7 +130,7 @@ def load_catalog(catalog: Sequence[str | Path] = (), *,
                                  path=file, field=f"unit[{unit.id}].id")
             seen[unit.id] = unit.source
             units.append(unit)
-    return tuple(sorted(units, key=lambda u: (u.size, u.ratio, u.id)))
+    return of_series(sorted(units, key=lambda u: (u.size, u.ratio, u.id)), series)
 
 
 def _assumed(builtin: Unit) -> SeriesRules:

@@ -13,10 +13,21 @@ from hdselect.motion.option_specs import OPTION, OPTIONS
 _Parser = argparse.ArgumentParser | argparse._ArgumentGroup
 
 
-def catalog_argument(parser: argparse.ArgumentParser | argparse._ArgumentGroup) -> None:
-    """--catalog: extra catalog files (on a parser, or on one of its groups)."""
+def catalog_argument(parser: argparse.ArgumentParser | argparse._ArgumentGroup, *,
+                     series: bool = True) -> None:
+    """--catalog and (with `series`) --series, on a parser or one of its groups.
+
+    --catalog adds catalogs (built-in names or files); --series keeps only the units of
+    the series named.
+    """
     parser.add_argument("--catalog", metavar="FILE", action="append", default=[],
-                        help="add the units of a catalog file (TOML; repeatable)")
+                        help="add the units of a catalog: a built-in one by name (`hdselect "
+                             "catalog --list`) or a file (TOML; repeatable)")
+    if series:
+        parser.add_argument("--series", metavar="NAME", action="append", default=[],
+                            help="choose only among the units of this series, e.g. CSG-2UH "
+                                 "or its catalog's name csg-2uh (repeatable; default: every "
+                                 "unit loaded)")
 
 
 def json_argument(parser: argparse.ArgumentParser) -> None:

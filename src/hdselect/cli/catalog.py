@@ -10,12 +10,14 @@ from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written
 
 
 def run_catalog(args: argparse.Namespace) -> int:
-    """``hdselect catalog``: print the catalog."""
-    from hdselect.catalog.catalogfile import load_catalog
+    """``hdselect catalog``: print the catalog (``--list``: the built-in catalogs)."""
+    from hdselect.cli.inputs import catalog_of
     from hdselect.report.catalog_tables import catalog_table
     from hdselect.report.export import catalog_json, write_json
 
-    units = load_catalog(args.catalog)
+    if args.list:
+        return _list_catalogs(args)
+    units = catalog_of(args)
     if args.json:
         write_json("-", catalog_json(units))
     else:
@@ -23,15 +25,37 @@ def run_catalog(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _list_catalogs(args: argparse.Namespace) -> int:
+    """``hdselect catalog --list``: the built-in catalogs, as a table or JSON."""
+    from hdselect.catalog.builtin import builtin_catalogs
+    from hdselect.catalog.catalogfile import load_catalog
+    from hdselect.report.catalog_tables import catalog_list_table
+    from hdselect.report.export import catalog_list_json, write_json
+
+    for flag, given in (("--catalog", args.catalog), ("--series", args.series),
+                        ("--units", args.units != "si")):
+        if given:
+            raise InputError("--list lists the built-in catalogs; give it alone (with "
+                             "--json)", field=flag)
+    found = builtin_catalogs()
+    every = load_catalog([c.name for c in found])
+    document = catalog_list_json((c, [u for u in every if u.source == c.file]) for c in found)
+    if args.json:
+        write_json("-", document)
+    else:
+        sys.stdout.write(rendered(catalog_list_table(document)))
+    return EXIT_OK
+
+
 def run_duty(args: argparse.Namespace) -> int:
     """``hdselect duty``: the catalog's torque-speed method for one joint."""
     from hdselect.base.outputs import Outputs
-    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.catalog.duty import load_duty, size_duty
+    from hdselect.cli.inputs import catalog_of
     from hdselect.report.catalog_tables import duty_table
     from hdselect.report.export import duty_json, write_json
 
-    units = load_catalog(args.catalog)
+    units = catalog_of(args)
     cycle = load_duty(args.profile)
     with Outputs([args.profile, *args.catalog]) as outputs:
         json_file = outputs.file(args.json, "--json") if args.json is not None else None

@@ -11,6 +11,7 @@ from hdselect.base.errors import InputError
 from hdselect.cli.arguments import json_argument
 from hdselect.cli.inputs import (
     MOTOR_ORDERS,
+    catalog_of,
     flag_options,
     joint_names,
     sizing_options_of,
@@ -105,7 +106,6 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
 def run_envelope(args: argparse.Namespace) -> int:
     """``hdselect envelope``: the unit per joint for any motion within a spec."""
     from hdselect.base.outputs import Outputs
-    from hdselect.catalog.catalogfile import load_catalog
     from hdselect.envelope.records import envelope_json
     from hdselect.envelope.run import envelope
     from hdselect.envelope.search import SearchSettings
@@ -139,7 +139,7 @@ def run_envelope(args: argparse.Namespace) -> int:
                 jerk=_limits(args, "jerk", robot), payload=_payload(args, robot, spec),
                 mounting=args.mounting, joints=joint_names(args.joints, "--joints"),
                 exclude=joint_names(args.exclude, "--exclude"), duty=args.duty, moves=args.moves,
-                seed=args.seed, catalog=load_catalog(args.catalog), settings=settings,
+                seed=args.seed, catalog=catalog_of(args), settings=settings,
                 workers=args.workers, scheduler=args.scheduler, timeout=timeout_of(args),
                 **{name: getattr(options, name) for name, value in flag_options(args).items()
                    if value is not None})

@@ -288,6 +288,25 @@ def max_samples_of(args: argparse.Namespace) -> int:
     return check_max_samples(args.max_samples, field="--max-samples")
 
 
+def catalog_of(args: argparse.Namespace):
+    """The units of ``--catalog`` (and the built-in PSA-G), of ``--series`` where given."""
+    from hdselect.catalog.builtin import of_series
+    from hdselect.catalog.catalogfile import load_catalog
+
+    return of_series(load_catalog(args.catalog), args.series, field="--series")
+
+
+def series_of(args: argparse.Namespace, problem):
+    """The problem with its units restricted to ``--series`` (where given)."""
+    from dataclasses import replace
+
+    from hdselect.catalog.builtin import of_series
+
+    if not getattr(args, "series", None):
+        return problem
+    return replace(problem, units=of_series(problem.units, args.series, field="--series"))
+
+
 def sizing_problem(args: argparse.Namespace, *, plan: bool = False):
     """The resolved problem of the flags (`hdselect.sizing.problem.Problem`), unplanned.
 
@@ -299,8 +318,9 @@ def sizing_problem(args: argparse.Namespace, *, plan: bool = False):
     robot, motion = robot_and_motion(args)
     motors = motors_of(args, robot, motion)
     options = sizing_options_of(args, motion)
-    return problem_of(robot, motion, catalog=args.catalog, motors=motors, options=options,
-                      plan=plan, mounting=getattr(args, "mounting", None))
+    return series_of(args, problem_of(robot, motion, catalog=args.catalog, motors=motors,
+                                      options=options, plan=plan,
+                                      mounting=getattr(args, "mounting", None)))
 
 
 def sizing_case(args: argparse.Namespace):

@@ -277,6 +277,8 @@ def _parser() -> argparse.ArgumentParser:
     catalog.add_argument("--units", choices=("si", "imperial"), default="si",
                          help="unit system of the table (default: si)")
     catalog.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    catalog.add_argument("--list", action="store_true",
+                         help="list the built-in catalogs (load one with --catalog NAME)")
     catalog.set_defaults(run=run_catalog)
 
     duty = _command(commands, verbose, "duty",

@@ -51,7 +51,7 @@ def plan_arguments(parser: argparse.ArgumentParser) -> None:
     units.add_argument("--units", action="append", metavar="JOINT=UNIT",
                        help="the unit of a joint, as `hdselect catalog` names it (repeatable; "
                             "the other sized joints get the unit `size` selects)")
-    catalog_argument(units)
+    catalog_argument(units, series=False)  # --units names the units
     motor_arguments(units)
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import Any
 
 from rich.markup import escape
 
@@ -70,16 +71,47 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
         cells += [cell("average_torque", u.average_torque, torque)] if average else []
         cells += [cell("", u.max_average_input_speed, 1.0, 4)] if average_speed else []
         rows.append(tuple(cells))
-    notes = [f"{u.id}: {f.text(imperial)}" for u in units for f in u.flags]
+    notes = [f"{u.id}: {f.text(imperial)}" for u in units for f in u.flags
+             if f.kind != "transcription"]  # said once per catalog, below
     rules = {u.rules: sorted({v.series for v in units if v.rules == u.rules}) for u in units}
     if len(rules) > 1:  # one set of rules needs no listing; several say which is whose
         notes += [f"{', '.join(series)}: {_rules_text(r)}" for r, series in rules.items()]
+    for info, series in {u.catalog: u.series for u in units}.items():
+        notes += [f"{info.name or series}: {text}" for text in (
+            info.check, info.transcription and f"transcription: {info.transcription}") if text]
     if notes:
         notes.insert(0, "* stand-in for a blank in the source   † the source's two columns "
                         "disagree" + ("   n.r. not rated by the source"
                                       if any(f.kind == "not-rated" for u in units
                                              for f in u.flags) else ""))
     return FittedTable(title, tuple(columns), tuple(rows), notes=tuple(notes))
+
+
+def catalog_list_table(document: dict[str, Any]) -> FittedTable:
+    """The built-in catalogs in brief (`hdselect.report.export.catalog_list_json`)."""
+    columns = (Column("name", "left"), Column("series", "left"), Column("units"),
+               Column("sizes"), Column("ratios"), Column("repeated\nN m"),
+               Column("bearing\nrated", "left"), Column("source", "left"))
+    rows, notes = [], []
+    for c in document["catalogs"]:
+        low, high = c["repeated_torque_nm"]
+        rows.append((escape(c["name"]), escape(c["series"]), str(c["units"]),
+                     _span(c["sizes"]), _span(c["ratios"]), f"{low:.3g}-{high:.3g}",
+                     c["bearing_rated"], "transcription" if c["transcription"] else "document"))
+        sources = "; ".join(f"{d['title']} ({d['edition']})" for d in c["documents"])
+        notes.append(f"{c['name']}: {sources or 'no source claimed'}"
+                     + (f"; transcription: {c['transcription']}" if c["transcription"] else ""))
+    notes.append("Load one with --catalog NAME (PSA-G is always loaded); choose only among "
+                 "some series with --series NAME. Check the current vendor data before "
+                 "ordering.")
+    return FittedTable("Built-in catalogs: repeated-peak torque range in N m; source: the "
+                       "vendor's document, or in part a public transcription of it",
+                       columns, tuple(rows), notes=tuple(notes))
+
+
+def _span(values: list[int]) -> str:
+    """Whole numbers as their range, e.g. ``14-65``, or the one value."""
+    return f"{values[0]}" if values[0] == values[-1] else f"{values[0]}-{values[-1]}"
 
 
 def _rules_text(rules: SeriesRules) -> str:

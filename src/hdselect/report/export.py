@@ -10,9 +10,10 @@ from typing import Any
 import numpy as np
 
 from hdselect.base.outputs import write_file
+from hdselect.catalog.builtin import BuiltinCatalog
 from hdselect.catalog.duty import DutyResult
 from hdselect.catalog.rules import RPM_PER_RAD_S
-from hdselect.catalog.units import NOT_RATED, Unit
+from hdselect.catalog.units import NOT_RATED, Stiffness, Unit
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.motion.planning.toolpath import LineDeviation
@@ -82,7 +83,10 @@ def duty_json(result: DutyResult) -> dict[str, Any]:
 
 
 def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
-    """The catalog as JSON, in SI, with flags."""
+    """The catalog as JSON, in SI, with flags, stiffness and where each number was read.
+
+    A limit the source does not rate is null, and named in ``not_rated`` with the words.
+    """
     return {"units": [{
         "unit": u.id, "series": u.series, "size": u.size, "ratio": u.ratio,
         "rated_torque_nm": u.rated_torque, "repeated_torque_nm": u.repeated_torque,
@@ -90,9 +94,59 @@ def catalog_json(units: Iterable[Unit]) -> dict[str, Any]:
         "max_input_speed_rpm": u.max_input_speed, "input_inertia_kg_m2": u.input_inertia,
         "mass_kg": u.mass, "efficiency_table": u.efficiency is not None,
         "flags": [{"field": f.field, "kind": f.kind, "note": f.note} for f in u.flags],
-        "source": str(u.source), "bearing": bearing_rating_json(u),
+        "source": str(u.source), "bearing": _bearing_json(u),
         "not_rated": {f"{f.field}_nm": NOT_RATED for f in u.flags if f.kind == "not-rated"},
+        "average_torque_nm": u.average_torque,
+        "max_average_input_speed_rpm": u.max_average_input_speed,
+        "starting_torque_nm": u.starting_torque, "backdriving_torque_nm": u.backdriving_torque,
+        "stiffness": _stiffness_json(u.stiffness), "catalog": u.catalog.name or None,
+        "provenance": {key: {"title": s.title, "publisher": s.publisher, "edition": s.edition,
+                             "copy": s.copy, "page": s.page, "table": s.table}
+                       for key, s in sorted(u.provenance.items())},
     } for u in units]}
+
+
+def _bearing_json(unit: Unit) -> dict[str, Any]:
+    """`bearing_rating_json` with the bearing's moment stiffness [N m/rad] where rated."""
+    document = bearing_rating_json(unit)
+    if unit.bearing is not None:
+        document["moment_stiffness_nm_per_rad"] = unit.bearing.moment_stiffness
+    return document
+
+
+def _stiffness_json(stiffness: Stiffness | None) -> dict[str, Any] | None:
+    """A unit's torsional stiffness in SI (twists in rad), or None where not given."""
+    if stiffness is None:
+        return None
+    return {"t1_nm": stiffness.t1, "t2_nm": stiffness.t2, "k1_nm_per_rad": stiffness.k1,
+            "k2_nm_per_rad": stiffness.k2, "k3_nm_per_rad": stiffness.k3,
+            "hysteresis_loss_rad": stiffness.hysteresis_loss,
+            "lost_motion_rad": stiffness.lost_motion}
+
+
+def catalog_list_json(catalogs: Iterable[tuple[BuiltinCatalog, Sequence[Unit]]]) -> dict[str, Any]:
+    """The built-in catalogs (``hdselect catalog --list``): each one's units in brief.
+
+    Args:
+        catalogs: Each built-in catalog with its units.
+    """
+    listed = []
+    for catalog, units in catalogs:
+        documents = {(s.title, s.publisher, s.edition, s.copy) for u in units
+                     for s in u.provenance.values()}
+        rated = sum(u.bearing is not None for u in units)
+        info = units[0].catalog
+        listed.append({
+            "name": catalog.name, "series": catalog.series, "title": catalog.title,
+            "file": catalog.file.name, "units": len(units),
+            "sizes": sorted({u.size for u in units}), "ratios": sorted({u.ratio for u in units}),
+            "repeated_torque_nm": [min(u.repeated_torque for u in units),
+                                   max(u.repeated_torque for u in units)],
+            "bearing_rated": "all" if rated == len(units) else "some" if rated else "none",
+            "documents": [dict(zip(("title", "publisher", "edition", "copy"), d, strict=True))
+                          for d in sorted(documents)],
+            "check": info.check or None, "transcription": info.transcription or None})
+    return {"catalogs": listed}
 
 
 def joints_json(robot: Robot, infos: Iterable[JointInfo]) -> dict[str, Any]:
