@@ -25,6 +25,12 @@ MARKS = {"fallback": "*", "corrected": "†"}
 """The mark of a catalog value by the kind of its flag."""
 
 
+LEGEND = {"fallback": "* stand-in for a blank in the source",
+          "corrected": "† the source's two columns disagree",
+          "not-rated": "n.r. not rated by the source"}
+"""What each mark of the table means, by the kind of flag that makes it."""
+
+
 def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
     """The catalog as a table of the values used, flagged values marked with * or †.
 
@@ -79,11 +85,10 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
     for info, series in {u.catalog: u.series for u in units}.items():
         notes += [f"{info.name or series}: {text}" for text in (
             info.check, info.transcription and f"transcription: {info.transcription}") if text]
-    if notes:
-        notes.insert(0, "* stand-in for a blank in the source   † the source's two columns "
-                        "disagree" + ("   n.r. not rated by the source"
-                                      if any(f.kind == "not-rated" for u in units
-                                             for f in u.flags) else ""))
+    kinds = {f.kind for u in units for f in u.flags}
+    legend = [text for kind, text in LEGEND.items() if kind in kinds]
+    if notes and legend:
+        notes.insert(0, "   ".join(legend))
     return FittedTable(title, tuple(columns), tuple(rows), notes=tuple(notes))
 
 
