@@ -1,9 +1,10 @@
 """The real arms of the test suite get a unit for every revolute joint from the shipped series.
 
-Each arm's starter motion (`hdselect init`, unedited) is sized with every built-in
-catalog loaded together; the unit each joint gets is stated here (`EXPECTED`) and in
-docs/catalogs.md ("Real arms"), and the two are checked against each other, so a change
-of the data or the selection shows as a diff of both. The torques the sizing judges are
+Each arm's starter motion (`hdselect init`, unedited) is sized with PSA-G alone and with
+every built-in catalog loaded together; the unit each joint gets from each is stated here
+(`EXPECTED`) and in docs/catalogs.md ("Real arms", with each joint's peak torque and its
+unit's repeated-peak limit), and the two are checked against each other, so a change of
+the data or the selection shows as a diff of both. The torques the sizing judges are
 checked against MuJoCo's inverse dynamics of the same trajectory (`mujoco_oracle`), with
 each chosen unit's mass added to the robot file as a point mass at its joint's origin on
 the link before it (what mass coupling carries), written into the URDF MuJoCo reads.
@@ -12,6 +13,7 @@ the link before it (what mass coupling carries), written into the URDF MuJoCo re
 from __future__ import annotations
 
 import importlib.util
+import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -21,7 +23,7 @@ import pytest
 import hdselect
 from hdselect.catalog import load_catalog
 from hdselect.catalog.builtin import builtin_catalogs
-from helpers import run_redirected
+from helpers import REPO, run_redirected
 from helpers.robots import ARMS as EXAMPLE_ARMS
 from helpers.robots import example_robots
 from mujoco_oracle import mujoco_of, mujoco_torques
@@ -38,85 +40,86 @@ ARMS = {
 """Each arm: the package that ships it (pip's name) and its file in the package's robots
 folder (example-robot-data, a test dependency) or in ``pybullet_data`` (optional)."""
 
-EXPECTED: dict[str, dict[str, str]] = {
-    'UR3': {
-        'shoulder_pan_joint': 'SHG-14-80-2UH',
-        'shoulder_lift_joint': 'CSG-17-100-2UH',
-        'elbow_joint': 'CSG-14-80-2UH',
-        'wrist_1_joint': 'PSA-08-100',
-        'wrist_2_joint': 'PSA-08-80',
-        'wrist_3_joint': 'PSA-08-80',
+EXPECTED: dict[str, dict[str, tuple[str, str]]] = {
+    "UR3": {
+        "shoulder_pan_joint": ("PSA-14-80", "SHG-14-80-2UH"),
+        "shoulder_lift_joint": ("none", "CSG-17-100-2UH"),
+        "elbow_joint": ("PSA-14-80", "CSG-14-80-2UH"),
+        "wrist_1_joint": ("PSA-08-100", "PSA-08-100"),
+        "wrist_2_joint": ("PSA-08-80", "PSA-08-80"),
+        "wrist_3_joint": ("PSA-08-80", "PSA-08-80"),
     },
-    'UR5': {
-        'shoulder_pan_joint': 'SHG-17-100-2UH',
-        'shoulder_lift_joint': 'CSG-25-100-2UH',
-        'elbow_joint': 'SHG-17-100-2UH',
-        'wrist_1_joint': 'CSG-14-80-2UH',
-        'wrist_2_joint': 'PSA-08-100',
-        'wrist_3_joint': 'PSA-08-100',
+    "UR5": {
+        "shoulder_pan_joint": ("none", "SHG-17-100-2UH"),
+        "shoulder_lift_joint": ("none", "CSG-25-100-2UH"),
+        "elbow_joint": ("none", "SHG-17-100-2UH"),
+        "wrist_1_joint": ("PSA-14-80", "CSG-14-80-2UH"),
+        "wrist_2_joint": ("PSA-08-100", "PSA-08-100"),
+        "wrist_3_joint": ("PSA-08-100", "PSA-08-100"),
     },
-    'UR10': {
-        'shoulder_pan_joint': 'SHG-20-100-2UH',
-        'shoulder_lift_joint': 'CSG-25-100-2UH',
-        'elbow_joint': 'SHG-17-100-2UH',
-        'wrist_1_joint': 'PSA-08-100',
-        'wrist_2_joint': 'PSA-08-80',
-        'wrist_3_joint': 'PSA-08-80',
+    "UR10": {
+        "shoulder_pan_joint": ("none", "SHG-20-100-2UH"),
+        "shoulder_lift_joint": ("none", "CSG-25-100-2UH"),
+        "elbow_joint": ("none", "SHG-17-100-2UH"),
+        "wrist_1_joint": ("PSA-08-100", "PSA-08-100"),
+        "wrist_2_joint": ("PSA-08-80", "PSA-08-80"),
+        "wrist_3_joint": ("PSA-08-80", "PSA-08-80"),
     },
-    'Panda': {
-        'panda_joint1': 'SHG-14-80-2UH',
-        'panda_joint2': 'CSG-17-100-2UH',
-        'panda_joint3': 'SHG-14-80-2UH',
-        'panda_joint4': 'CSG-17-100-2UH',
-        'panda_joint5': 'PSA-10-80',
-        'panda_joint6': 'PSA-08-100',
-        'panda_joint7': 'PSA-08-80',
+    "Panda": {
+        "panda_joint1": ("none", "SHG-14-80-2UH"),
+        "panda_joint2": ("none", "CSG-17-100-2UH"),
+        "panda_joint3": ("none", "SHG-14-80-2UH"),
+        "panda_joint4": ("none", "CSG-17-100-2UH"),
+        "panda_joint5": ("PSA-10-80", "PSA-10-80"),
+        "panda_joint6": ("PSA-08-100", "PSA-08-100"),
+        "panda_joint7": ("PSA-08-80", "PSA-08-80"),
     },
-    'Kinova': {
-        'j2s6s200_joint_1': 'PSA-10-80',
-        'j2s6s200_joint_2': 'PSA-14-100',
-        'j2s6s200_joint_3': 'PSA-08-100',
-        'j2s6s200_joint_4': 'PSA-08-100',
-        'j2s6s200_joint_5': 'PSA-08-100',
-        'j2s6s200_joint_6': 'PSA-08-80',
+    "Kinova": {
+        "j2s6s200_joint_1": ("PSA-10-80", "PSA-10-80"),
+        "j2s6s200_joint_2": ("PSA-14-100", "PSA-14-100"),
+        "j2s6s200_joint_3": ("PSA-08-100", "PSA-08-100"),
+        "j2s6s200_joint_4": ("PSA-08-100", "PSA-08-100"),
+        "j2s6s200_joint_5": ("PSA-08-100", "PSA-08-100"),
+        "j2s6s200_joint_6": ("PSA-08-80", "PSA-08-80"),
     },
-    'TALOS left arm': {
-        'arm_left_2_joint': 'CSG-17-100-2UH',
-        'arm_left_3_joint': 'SHG-14-80-2UH',
-        'arm_left_4_joint': 'CSG-14-80-2UH',
-        'arm_left_5_joint': 'PSA-08-100',
-        'arm_left_6_joint': 'PSA-08-100',
-        'arm_left_7_joint': 'PSA-08-100',
-        'gripper_left_joint': 'PSA-08-80',
+    "TALOS left arm": {
+        "arm_left_2_joint": ("none", "CSG-17-100-2UH"),
+        "arm_left_3_joint": ("PSA-14-80", "SHG-14-80-2UH"),
+        "arm_left_4_joint": ("PSA-14-80", "CSG-14-80-2UH"),
+        "arm_left_5_joint": ("PSA-08-100", "PSA-08-100"),
+        "arm_left_6_joint": ("PSA-08-100", "PSA-08-100"),
+        "arm_left_7_joint": ("PSA-08-100", "PSA-08-100"),
+        "gripper_left_joint": ("PSA-08-80", "PSA-08-80"),
     },
-    'Z1': {
-        'joint1': 'PSA-08-100',
-        'joint2': 'CSG-14-80-2UH',
-        'joint3': 'PSA-14-100',
-        'joint4': 'PSA-10-80',
-        'joint5': 'PSA-08-100',
-        'joint6': 'PSA-08-80',
-        'jointGripper': 'PSA-08-80',
+    "Z1": {
+        "joint1": ("PSA-08-100", "PSA-08-100"),
+        "joint2": ("PSA-14-100", "CSG-14-80-2UH"),
+        "joint3": ("PSA-14-100", "PSA-14-100"),
+        "joint4": ("PSA-10-80", "PSA-10-80"),
+        "joint5": ("PSA-08-100", "PSA-08-100"),
+        "joint6": ("PSA-08-80", "PSA-08-80"),
+        "jointGripper": ("PSA-08-80", "PSA-08-80"),
     },
-    'KUKA iiwa': {
-        'lbr_iiwa_joint_1': 'SHG-14-80-2UH',
-        'lbr_iiwa_joint_2': 'CSG-20-120-2UH',
-        'lbr_iiwa_joint_3': 'SHG-14-80-2UH',
-        'lbr_iiwa_joint_4': 'CSG-14-80-2UH',
-        'lbr_iiwa_joint_5': 'PSA-08-100',
-        'lbr_iiwa_joint_6': 'PSA-08-80',
-        'lbr_iiwa_joint_7': 'PSA-08-80',
+    "KUKA iiwa": {
+        "lbr_iiwa_joint_1": ("PSA-14-80", "SHG-14-80-2UH"),
+        "lbr_iiwa_joint_2": ("none", "CSG-20-120-2UH"),
+        "lbr_iiwa_joint_3": ("PSA-14-100", "SHG-14-80-2UH"),
+        "lbr_iiwa_joint_4": ("none", "CSG-14-80-2UH"),
+        "lbr_iiwa_joint_5": ("PSA-08-100", "PSA-08-100"),
+        "lbr_iiwa_joint_6": ("PSA-08-80", "PSA-08-80"),
+        "lbr_iiwa_joint_7": ("PSA-08-80", "PSA-08-80"),
     },
-    'xArm6': {
-        'joint1': 'PSA-10-80',
-        'joint2': 'CSG-17-100-2UH',
-        'joint3': 'PSA-14-100',
-        'joint4': 'PSA-08-100',
-        'joint5': 'PSA-08-100',
-        'joint6': 'PSA-08-80',
+    "xArm6": {
+        "joint1": ("PSA-10-80", "PSA-10-80"),
+        "joint2": ("none", "CSG-17-100-2UH"),
+        "joint3": ("PSA-14-100", "PSA-14-100"),
+        "joint4": ("PSA-08-100", "PSA-08-100"),
+        "joint5": ("PSA-08-100", "PSA-08-100"),
+        "joint6": ("PSA-08-80", "PSA-08-80"),
     },
 }
-"""The unit each revolute joint of each arm gets on its starter motion, every series loaded."""
+"""Per arm and revolute joint, the unit its starter motion gets from PSA-G alone (``none``:
+no unit holds it) and with every built-in catalog loaded."""
 
 
 def shipped_units() -> tuple[hdselect.Unit, ...]:
@@ -155,6 +158,25 @@ def carrying(text: bytes, masses: dict[str, float]) -> bytes:
     return ET.tostring(root)
 
 
+def documented() -> dict[str, dict[str, tuple[str, ...]]]:
+    """The "Real arms" table of docs/catalogs.md: arm -> joint -> (PSA-G alone, every
+    series, peak, repeated peak), as printed."""
+    text = (REPO / "docs" / "catalogs.md").read_text(encoding="utf-8")
+    (section,) = re.findall(r"^#+ Real arms\n(.*?)(?=^#|\Z)", text, flags=re.S | re.M)
+    table: dict[str, dict[str, tuple[str, ...]]] = {}
+    for arm, joint, *cells in re.findall(r"^\| ([^|`]+?) \| `([^`]+)` \| ([^|]+?) \| "
+                                         r"([^|]+?) \| ([^|]+?) \| ([^|]+?) \|$",
+                                         section, flags=re.M):
+        table.setdefault(arm, {})[joint] = tuple(cells)
+    return table
+
+
+def chosen(result: hdselect.SizingResult) -> dict[str, str]:
+    """The unit each sized joint gets (``none`` where no unit holds it)."""
+    return {joint.name: joint.selected.unit.id if joint.selected else "none"
+            for joint in result.joints}
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("arm", list(ARMS))
 def test_every_revolute_joint_gets_a_shipped_unit(arm: str, tmp_path: Path) -> None:
@@ -162,20 +184,27 @@ def test_every_revolute_joint_gets_a_shipped_unit(arm: str, tmp_path: Path) -> N
     motion = tmp_path / "m.toml"
     status, _, err = run_redirected(["init", path, "--out", motion])
     assert status == 0, err
+    alone = hdselect.size(None, motion)
     result = hdselect.size(None, motion, catalog=shipped_units())
     robot = result.robot
-    revolute = [name for name in robot.joint_names
-                if robot.joint_type(name) in ("revolute", "continuous")]
-    assert [joint.name for joint in result.joints] == revolute
-    chosen = {joint.name: joint.selected.unit.id if joint.selected else None
-              for joint in result.joints}
-    assert chosen == EXPECTED[arm]
+    assert list(chosen(result)) == [name for name in robot.joint_names
+                                    if robot.joint_type(name) in ("revolute", "continuous")]
     assert result.feasible
+    assert {name: (chosen(alone)[name], unit) for name, unit in chosen(result).items()} \
+        == EXPECTED[arm]
     masses = {joint.name: joint.selected.unit.mass for joint in result.joints}
     trajectory = result.trajectory
     theirs = mujoco_torques(mujoco_of(robot, carrying(path.read_bytes(), masses)), robot,
                             trajectory.q, trajectory.qd, trajectory.qdd)
+    rows = documented()[arm]
     for joint in result.joints:
         tau = theirs[:, robot.joint_index(joint.name)]
         assert np.abs(joint.torque - tau).max() <= RTOL * np.abs(tau).max(), joint.name
-        assert np.abs(tau).max() <= joint.selected.unit.repeated_torque, joint.name
+        unit = joint.selected.unit
+        assert np.abs(tau).max() <= unit.repeated_torque, joint.name
+        assert rows[joint.name][2:] == (f"{np.abs(tau).max():.3g}", f"{unit.repeated_torque:g}")
+
+
+def test_the_documented_table_is_the_tested_one() -> None:
+    assert {arm: {joint: cells[:2] for joint, cells in rows.items()}
+            for arm, rows in documented().items()} == EXPECTED
