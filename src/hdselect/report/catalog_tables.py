@@ -67,7 +67,7 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
                  marks: dict[str, str] = marks, not_rated: set[str] = not_rated) -> str:
             if value is None:
                 return "n.r." if field in not_rated else "-"
-            return f"{value * scale:.{digits}g}{marks.get(field, '')}"
+            return f"{_figure(value * scale, digits)}{marks.get(field, '')}"
 
         cells = [escape(u.id), cell("rated_torque", u.rated_torque, torque),
                  cell("repeated_torque", u.repeated_torque, torque),
@@ -77,8 +77,7 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
         cells += [cell("average_torque", u.average_torque, torque)] if average else []
         cells += [cell("", u.max_average_input_speed, 1.0, 4)] if average_speed else []
         rows.append(tuple(cells))
-    notes = [f"{u.id}: {f.text(imperial)}" for u in units for f in u.flags
-             if f.kind != "transcription"]  # said once per catalog, below
+    notes = _flag_notes(units, imperial)
     rules = {u.rules: sorted({v.series for v in units if v.rules == u.rules}) for u in units}
     if len(rules) > 1:  # one set of rules needs no listing; several say which is whose
         notes += [f"{', '.join(series)}: {_rules_text(r)}" for r, series in rules.items()]
@@ -92,6 +91,34 @@ def catalog_table(units: Iterable[Unit], imperial: bool = False) -> FittedTable:
     return FittedTable(title, tuple(columns), tuple(rows), notes=tuple(notes))
 
 
+def _figure(value: float, digits: int) -> str:
+    """A value in `digits` significant figures, whole where that would need an exponent."""
+    text = f"{value:.{digits}g}"
+    return f"{value:.0f}" if "e+" in text else text
+
+
+def _flag_notes(units: list[Unit], imperial: bool) -> list[str]:
+    """Each unit's flag notes, but a catalog's transcription (said under the table).
+
+    A note on every unit listed of one catalog file is said once, naming the catalog.
+    """
+    found: dict[str, list[Unit]] = {}
+    for u in units:
+        for f in u.flags:
+            found.setdefault(f.text(imperial), []).append(u)
+    notes: dict[str, None] = {}
+    for u in units:
+        for f in u.flags:
+            text, on = f.text(imperial), found[f.text(imperial)]
+            if f.kind == "transcription":
+                continue
+            if len(on) > 1 and on == [v for v in units if v.source == u.source]:
+                notes[f"{u.catalog.name or u.series} (every unit): {text}"] = None
+            else:
+                notes[f"{u.id}: {text}"] = None
+    return list(notes)
+
+
 def catalog_list_table(document: dict[str, Any]) -> FittedTable:
     """The built-in catalogs in brief (`hdselect.report.export.catalog_list_json`)."""
     columns = (Column("name", "left"), Column("series", "left"), Column("units"),
@@ -101,7 +128,7 @@ def catalog_list_table(document: dict[str, Any]) -> FittedTable:
     for c in document["catalogs"]:
         low, high = c["repeated_torque_nm"]
         rows.append((escape(c["name"]), escape(c["series"]), str(c["units"]),
-                     _span(c["sizes"]), _span(c["ratios"]), f"{low:.3g}-{high:.3g}",
+                     _span(c["sizes"]), _span(c["ratios"]), f"{_torque(low)}-{_torque(high)}",
                      c["bearing_rated"], "transcription" if c["transcription"] else "document"))
         sources = "; ".join(f"{d['title']} ({d['edition']})" for d in c["documents"])
         notes.append(f"{c['name']}: {sources or 'no source claimed'}"
@@ -112,6 +139,11 @@ def catalog_list_table(document: dict[str, Any]) -> FittedTable:
     return FittedTable("Built-in catalogs: repeated-peak torque range in N m; source: the "
                        "vendor's document, or in part a public transcription of it",
                        columns, tuple(rows), notes=tuple(notes))
+
+
+def _torque(value: float) -> str:
+    """A torque [N m] in three figures, without an exponent: ``2.6``, ``20.3``, ``1260``."""
+    return f"{value:.3g}" if value < 100.0 else f"{value:.0f}"
 
 
 def _span(values: list[int]) -> str:
