@@ -130,7 +130,7 @@ def _second(name: str) -> list[tuple[str, str, str, float | str]]:
     rows: list[tuple[str, str, str, float | str]] = []
     order = {"t2": ("repeated", "average", "rated", "momentary", "max_input_speed",
                     "max_average_input_speed", "inertia", "mass"),
-             "t5": ("rated", "repeated", "momentary", "max_input_speed")}
+             "t5": ("rated", "repeated", "momentary", "max_input_speed")}  # t3, t4, t6: tables
     for source, table in second.items():
         for unit_id, printed in table.items():
             items = (printed.items() if isinstance(printed, dict)
@@ -216,6 +216,21 @@ def test_series_rules_as_the_documents_state_them() -> None:
                          "mean_speed": "whole-cycle", "max_momentary_events": 10000,
                          "missing_limits": "not-rated"}
         assert "static_torque_nm" not in str(SHIPPED[name]["unit"])
+
+
+def test_csf_product_pages_support_t2s_stiffness_and_bearing() -> None:
+    """What t2 alone gives for CSG, where CSF product-page transcriptions print the same."""
+    sizes = PRINTED["csg_2uh"]["size"]
+    supports = PRINTED["csg_2uh"]["support"]
+    for support in supports:
+        stiffness = sizes[str(support["size"])]["stiffness"][support["column"]]
+        if "k" in support:
+            assert support["k"] == stiffness
+        else:
+            assert support["k3"] == stiffness[2]
+        for field, value in support.get("bearing", {}).items():
+            assert sizes[str(support["size"])]["bearing"][field] == value
+    assert {s["size"] for s in supports} == {17, 25, 32}
 
 
 def test_t4_confirms_the_csg_bearing_for_sizes_50_and_65() -> None:
