@@ -287,3 +287,16 @@ def test_duty_by_the_engineering_data_procedure(tmp_path: Path, shg: dict[str, A
     assert fits == ["SHG-32-80-2UH", "SHG-32-100-2UH", "SHG-32-120-2UH", "SHG-32-160-2UH"]
     assert by_hand(ROWS[32, 120]["ah"] | {"rated_torque_nm": 178}, 120)["events"] == \
         pytest.approx(1250.0)  # 1e4 / (2 x 2400 / 60 x 0.1)
+
+
+def test_lower_csg_momentary_limits_are_flagged_not_used(shg: dict[str, Any]) -> None:
+    """Where the same size and ratio's CSG rows print a lower momentary limit, say so."""
+    noted = {f"SHG-{s}-{r}-2UH": row for (s, r), row in ROWS.items()
+             if "csg_momentary_lowest_nm" in row}
+    flagged = {unit_id for unit_id, unit in RAW_UNITS.items()
+               if any(defect.startswith("momentary limit:") for defect in unit["defects"])}
+    assert flagged == set(noted)
+    assert len(noted) == 11
+    for unit_id, row in noted.items():
+        assert row["csg_momentary_lowest_nm"] < row["ah"]["momentary_torque_nm"], unit_id
+        assert shg[unit_id].momentary_torque == row["ah"]["momentary_torque_nm"], unit_id
