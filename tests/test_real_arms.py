@@ -40,91 +40,96 @@ ARMS = {
 """Each arm: the package that ships it (pip's name) and its file in the package's robots
 folder (example-robot-data, a test dependency) or in ``pybullet_data`` (optional)."""
 
-EXPECTED: dict[str, dict[str, tuple[str, str]]] = {
+EXPECTED: dict[str, dict[str, tuple[str, str, str]]] = {
     "UR3": {
-        "shoulder_pan_joint": ("PSA-14-80", "SHG-14-80-2UH"),
-        "shoulder_lift_joint": ("none", "CSG-17-100-2UH"),
-        "elbow_joint": ("PSA-14-80", "CSG-14-80-2UH"),
-        "wrist_1_joint": ("PSA-08-100", "PSA-08-100"),
-        "wrist_2_joint": ("PSA-08-80", "PSA-08-80"),
-        "wrist_3_joint": ("PSA-08-80", "PSA-08-80"),
+        "shoulder_pan_joint": ("PSA-14-80", "SHG-14-80-2UH", "CSG-14-50-2UH"),
+        "shoulder_lift_joint": ("none", "CSG-17-100-2UH", "CSG-17-100-2UH"),
+        "elbow_joint": ("PSA-14-80", "CSG-14-80-2UH", "CSG-14-80-2UH"),
+        "wrist_1_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
+        "wrist_2_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
+        "wrist_3_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "UR5": {
-        "shoulder_pan_joint": ("none", "SHG-17-100-2UH"),
-        "shoulder_lift_joint": ("none", "CSG-25-100-2UH"),
-        "elbow_joint": ("none", "SHG-17-100-2UH"),
-        "wrist_1_joint": ("PSA-14-80", "CSG-14-80-2UH"),
-        "wrist_2_joint": ("PSA-08-100", "PSA-08-100"),
-        "wrist_3_joint": ("PSA-08-100", "PSA-08-100"),
+        "shoulder_pan_joint": ("none", "SHG-17-100-2UH", "CSG-25-50-2UH"),
+        "shoulder_lift_joint": ("none", "CSG-25-100-2UH", "CSG-25-100-2UH"),
+        "elbow_joint": ("none", "SHG-17-100-2UH", "CSG-17-100-2UH"),
+        "wrist_1_joint": ("PSA-14-80", "CSG-14-80-2UH", "CSG-14-80-2UH"),
+        "wrist_2_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
+        "wrist_3_joint": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
     },
     "UR10": {
-        "shoulder_pan_joint": ("none", "SHG-20-100-2UH"),
-        "shoulder_lift_joint": ("none", "CSG-25-100-2UH"),
-        "elbow_joint": ("none", "SHG-17-100-2UH"),
-        "wrist_1_joint": ("PSA-08-100", "PSA-08-100"),
-        "wrist_2_joint": ("PSA-08-80", "PSA-08-80"),
-        "wrist_3_joint": ("PSA-08-80", "PSA-08-80"),
+        "shoulder_pan_joint": ("none", "SHG-20-100-2UH", "CSG-32-50-2UH"),
+        "shoulder_lift_joint": ("none", "CSG-25-100-2UH", "CSG-32-100-2UH"),
+        "elbow_joint": ("none", "SHG-17-100-2UH", "CSG-20-100-2UH"),
+        "wrist_1_joint": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
+        "wrist_2_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
+        "wrist_3_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "Panda": {
-        "panda_joint1": ("none", "SHG-14-80-2UH"),
-        "panda_joint2": ("none", "CSG-17-100-2UH"),
-        "panda_joint3": ("none", "SHG-14-80-2UH"),
-        "panda_joint4": ("none", "CSG-17-100-2UH"),
-        "panda_joint5": ("PSA-10-80", "PSA-10-80"),
-        "panda_joint6": ("PSA-08-100", "PSA-08-100"),
-        "panda_joint7": ("PSA-08-80", "PSA-08-80"),
+        "panda_joint1": ("none", "SHG-14-80-2UH", "CSG-20-50-2UH"),
+        "panda_joint2": ("none", "CSG-17-100-2UH", "CSG-20-100-2UH"),
+        "panda_joint3": ("none", "SHG-14-80-2UH", "CSG-17-50-2UH"),
+        "panda_joint4": ("none", "CSG-17-100-2UH", "CSG-17-100-2UH"),
+        "panda_joint5": ("PSA-10-80", "PSA-10-80", "CSG-14-80-2UH"),
+        "panda_joint6": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
+        "panda_joint7": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "Kinova": {
-        "j2s6s200_joint_1": ("PSA-10-80", "PSA-10-80"),
-        "j2s6s200_joint_2": ("PSA-14-100", "PSA-14-100"),
-        "j2s6s200_joint_3": ("PSA-08-100", "PSA-08-100"),
-        "j2s6s200_joint_4": ("PSA-08-100", "PSA-08-100"),
-        "j2s6s200_joint_5": ("PSA-08-100", "PSA-08-100"),
-        "j2s6s200_joint_6": ("PSA-08-80", "PSA-08-80"),
+        "j2s6s200_joint_1": ("PSA-10-80", "PSA-10-80", "HFUS-14-30-2UH"),
+        "j2s6s200_joint_2": ("PSA-14-100", "PSA-14-100", "CSG-17-100-2UH"),
+        "j2s6s200_joint_3": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
+        "j2s6s200_joint_4": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
+        "j2s6s200_joint_5": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
+        "j2s6s200_joint_6": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "TALOS left arm": {
-        "arm_left_2_joint": ("none", "CSG-17-100-2UH"),
-        "arm_left_3_joint": ("PSA-14-80", "SHG-14-80-2UH"),
-        "arm_left_4_joint": ("PSA-14-80", "CSG-14-80-2UH"),
-        "arm_left_5_joint": ("PSA-08-100", "PSA-08-100"),
-        "arm_left_6_joint": ("PSA-08-100", "PSA-08-100"),
-        "arm_left_7_joint": ("PSA-08-100", "PSA-08-100"),
-        "gripper_left_joint": ("PSA-08-80", "PSA-08-80"),
+        "arm_left_2_joint": ("none", "CSG-17-100-2UH", "CSG-17-100-2UH"),
+        "arm_left_3_joint": ("PSA-14-80", "SHG-14-80-2UH", "HFUS-14-30-2UH"),
+        "arm_left_4_joint": ("PSA-14-80", "CSG-14-80-2UH", "CSG-14-80-2UH"),
+        "arm_left_5_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
+        "arm_left_6_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
+        "arm_left_7_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
+        "gripper_left_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "Z1": {
-        "joint1": ("PSA-08-100", "PSA-08-100"),
-        "joint2": ("PSA-14-100", "CSG-14-80-2UH"),
-        "joint3": ("PSA-14-100", "PSA-14-100"),
-        "joint4": ("PSA-10-80", "PSA-10-80"),
-        "joint5": ("PSA-08-100", "PSA-08-100"),
-        "joint6": ("PSA-08-80", "PSA-08-80"),
-        "jointGripper": ("PSA-08-80", "PSA-08-80"),
+        "joint1": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
+        "joint2": ("PSA-14-100", "CSG-14-80-2UH", "CSG-14-80-2UH"),
+        "joint3": ("PSA-14-100", "PSA-14-100", "CSG-17-100-2UH"),
+        "joint4": ("PSA-10-80", "PSA-10-80", "CSG-14-80-2UH"),
+        "joint5": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
+        "joint6": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
+        "jointGripper": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "KUKA iiwa": {
-        "lbr_iiwa_joint_1": ("PSA-14-80", "SHG-14-80-2UH"),
-        "lbr_iiwa_joint_2": ("none", "CSG-20-120-2UH"),
-        "lbr_iiwa_joint_3": ("PSA-14-100", "SHG-14-80-2UH"),
-        "lbr_iiwa_joint_4": ("none", "CSG-14-80-2UH"),
-        "lbr_iiwa_joint_5": ("PSA-08-100", "PSA-08-100"),
-        "lbr_iiwa_joint_6": ("PSA-08-80", "PSA-08-80"),
-        "lbr_iiwa_joint_7": ("PSA-08-80", "PSA-08-80"),
+        "lbr_iiwa_joint_1": ("PSA-14-80", "SHG-14-80-2UH", "HFUS-20-30-2UH"),
+        "lbr_iiwa_joint_2": ("none", "CSG-20-120-2UH", "CSG-20-120-2UH"),
+        "lbr_iiwa_joint_3": ("PSA-14-100", "SHG-14-80-2UH", "HFUS-17-30-2UH"),
+        "lbr_iiwa_joint_4": ("none", "CSG-14-80-2UH", "CSG-14-80-2UH"),
+        "lbr_iiwa_joint_5": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
+        "lbr_iiwa_joint_6": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
+        "lbr_iiwa_joint_7": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "xArm6": {
-        "joint1": ("PSA-10-80", "PSA-10-80"),
-        "joint2": ("none", "CSG-17-100-2UH"),
-        "joint3": ("PSA-14-100", "PSA-14-100"),
-        "joint4": ("PSA-08-100", "PSA-08-100"),
-        "joint5": ("PSA-08-100", "PSA-08-100"),
-        "joint6": ("PSA-08-80", "PSA-08-80"),
+        "joint1": ("PSA-10-80", "PSA-10-80", "HFUS-14-30-2UH"),
+        "joint2": ("none", "CSG-17-100-2UH", "CSG-17-100-2UH"),
+        "joint3": ("PSA-14-100", "PSA-14-100", "CSG-14-80-2UH"),
+        "joint4": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
+        "joint5": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
+        "joint6": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
 }
 """Per arm and revolute joint, the unit its starter motion gets from PSA-G alone (``none``:
-no unit holds it) and with every built-in catalog loaded."""
+no unit holds it), with every built-in catalog loaded, and from the series that rate
+their output bearing (`BEARING_RATED`)."""
 
 
-def shipped_units() -> tuple[hdselect.Unit, ...]:
-    """Every unit of every built-in catalog (`hdselect catalog --list`)."""
-    return load_catalog([catalog.name for catalog in builtin_catalogs()])
+BEARING_RATED = ("csg-2uh", "hfus-2uh")
+"""The shipped series that rate their output bearing (`hdselect catalog --list`)."""
+
+
+def shipped_units(series: tuple[str, ...] = ()) -> tuple[hdselect.Unit, ...]:
+    """Every unit of every built-in catalog (`hdselect catalog --list`), or of `series`."""
+    return load_catalog([catalog.name for catalog in builtin_catalogs()], series=series)
 
 
 def arm_file(arm: str) -> Path:
@@ -160,13 +165,12 @@ def carrying(text: bytes, masses: dict[str, float]) -> bytes:
 
 def documented() -> dict[str, dict[str, tuple[str, ...]]]:
     """The "Real arms" table of docs/catalogs.md: arm -> joint -> (PSA-G alone, every
-    series, peak, repeated peak), as printed."""
+    series, bearing rated, peak, repeated peak), as printed."""
     text = (REPO / "docs" / "catalogs.md").read_text(encoding="utf-8")
     (section,) = re.findall(r"^#+ Real arms\n(.*?)(?=^#|\Z)", text, flags=re.S | re.M)
     table: dict[str, dict[str, tuple[str, ...]]] = {}
-    for arm, joint, *cells in re.findall(r"^\| ([^|`]+?) \| `([^`]+)` \| ([^|]+?) \| "
-                                         r"([^|]+?) \| ([^|]+?) \| ([^|]+?) \|$",
-                                         section, flags=re.M):
+    for arm, joint, *cells in re.findall(r"^\| ([^|`]+?) \| `([^`]+)`" + r" \| ([^|]+?)" * 5
+                                         + r" \|$", section, flags=re.M):
         table.setdefault(arm, {})[joint] = tuple(cells)
     return table
 
@@ -184,14 +188,15 @@ def test_every_revolute_joint_gets_a_shipped_unit(arm: str, tmp_path: Path) -> N
     motion = tmp_path / "m.toml"
     status, _, err = run_redirected(["init", path, "--out", motion])
     assert status == 0, err
-    alone = hdselect.size(None, motion)
+    alone = chosen(hdselect.size(None, motion))
+    rated = hdselect.size(None, motion, catalog=shipped_units(BEARING_RATED))
     result = hdselect.size(None, motion, catalog=shipped_units())
     robot = result.robot
     assert list(chosen(result)) == [name for name in robot.joint_names
                                     if robot.joint_type(name) in ("revolute", "continuous")]
-    assert result.feasible
-    assert {name: (chosen(alone)[name], unit) for name, unit in chosen(result).items()} \
-        == EXPECTED[arm]
+    assert result.feasible and rated.feasible
+    assert {name: (alone[name], unit, chosen(rated)[name])
+            for name, unit in chosen(result).items()} == EXPECTED[arm]
     masses = {joint.name: joint.selected.unit.mass for joint in result.joints}
     trajectory = result.trajectory
     theirs = mujoco_torques(mujoco_of(robot, carrying(path.read_bytes(), masses)), robot,
@@ -202,9 +207,18 @@ def test_every_revolute_joint_gets_a_shipped_unit(arm: str, tmp_path: Path) -> N
         assert np.abs(joint.torque - tau).max() <= RTOL * np.abs(tau).max(), joint.name
         unit = joint.selected.unit
         assert np.abs(tau).max() <= unit.repeated_torque, joint.name
-        assert rows[joint.name][2:] == (f"{np.abs(tau).max():.3g}", f"{unit.repeated_torque:g}")
+        assert rows[joint.name][3:] == (f"{np.abs(tau).max():.3g}", f"{unit.repeated_torque:g}")
+
+
+def test_the_bearing_rated_series_are_those_whose_every_unit_rates_its_bearing() -> None:
+    units = shipped_units()
+    rating = {unit.series: True for unit in units}
+    for unit in units:
+        rating[unit.series] &= unit.bearing is not None
+    assert {series.lower() for series, rated in rating.items() if rated} \
+        == set(BEARING_RATED)
 
 
 def test_the_documented_table_is_the_tested_one() -> None:
-    assert {arm: {joint: cells[:2] for joint, cells in rows.items()}
+    assert {arm: {joint: cells[:3] for joint, cells in rows.items()}
             for arm, rows in documented().items()} == EXPECTED
