@@ -155,7 +155,7 @@ def _read_file(path: Path, assumed: SeriesRules | None) -> Iterable[Unit]:
     info = catalog_info(document, path)
     known = read_documents(document, path)
     claimed = read_sources(document.get("provenance", {}), known, _SOURCEABLE, path,
-                              "provenance")
+                           "provenance")
     if "rules" in document:
         rules = _read_rules(table_of(document["rules"], path, "rules"), path)
     elif assumed is None:
@@ -172,7 +172,7 @@ def _read_file(path: Path, assumed: SeriesRules | None) -> Iterable[Unit]:
         values["catalog"] = info
         values["flags"] += unit_notes(entry, info, path, values["where"])
         own = read_sources(entry.get("provenance", {}), known, _SOURCEABLE, path,
-                              f"{values['where']}.provenance")
+                           f"{values['where']}.provenance")
         needed = sourced_keys(entry) + rule_keys(document.get("rules", {}))
         values["provenance"] = {key: source for key, source in {**claimed, **own}.items()
                                 if key in needed}
