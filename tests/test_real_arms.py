@@ -181,26 +181,33 @@ def chosen(result: hdselect.SizingResult) -> dict[str, str]:
             for joint in result.joints}
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("arm", list(ARMS))
-def test_every_revolute_joint_gets_a_shipped_unit(arm: str, tmp_path: Path) -> None:
-    path = arm_file(arm)
-    motion = tmp_path / "m.toml"
-    status, _, err = run_redirected(["init", path, "--out", motion])
+def sized(arm: str, folder: Path) -> tuple[dict[str, str], hdselect.SizingResult,
+                                           dict[str, str]]:
+    """An arm's starter motion, written in `folder`, sized with PSA-G alone, with every
+    series and with the bearing-rated ones: (units alone, the result, units rated)."""
+    motion = folder / "m.toml"
+    status, _, err = run_redirected(["init", arm_file(arm), "--out", motion])
     assert status == 0, err
     alone = chosen(hdselect.size(None, motion))
     rated = hdselect.size(None, motion, catalog=shipped_units(BEARING_RATED))
-    result = hdselect.size(None, motion, catalog=shipped_units())
+    assert rated.feasible
+    return alone, hdselect.size(None, motion, catalog=shipped_units()), chosen(rated)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("arm", list(ARMS))
+def test_every_revolute_joint_gets_a_shipped_unit(arm: str, tmp_path: Path) -> None:
+    alone, result, rated = sized(arm, tmp_path)
     robot = result.robot
     assert list(chosen(result)) == [name for name in robot.joint_names
                                     if robot.joint_type(name) in ("revolute", "continuous")]
-    assert result.feasible and rated.feasible
-    assert {name: (alone[name], unit, chosen(rated)[name])
+    assert result.feasible
+    assert {name: (alone[name], unit, rated[name])
             for name, unit in chosen(result).items()} == EXPECTED[arm]
     masses = {joint.name: joint.selected.unit.mass for joint in result.joints}
     trajectory = result.trajectory
-    theirs = mujoco_torques(mujoco_of(robot, carrying(path.read_bytes(), masses)), robot,
-                            trajectory.q, trajectory.qd, trajectory.qdd)
+    theirs = mujoco_torques(mujoco_of(robot, carrying(arm_file(arm).read_bytes(), masses)),
+                            robot, trajectory.q, trajectory.qd, trajectory.qdd)
     rows = documented()[arm]
     for joint in result.joints:
         tau = theirs[:, robot.joint_index(joint.name)]
@@ -222,3 +229,24 @@ def test_the_bearing_rated_series_are_those_whose_every_unit_rates_its_bearing()
 def test_the_documented_table_is_the_tested_one() -> None:
     assert {arm: {joint: cells[:3] for joint, cells in rows.items()}
             for arm, rows in documented().items()} == EXPECTED
+
+
+if __name__ == "__main__":
+    # `python tests/test_real_arms.py` prints `EXPECTED` and the docs' table as the data
+    # now gives them, to paste (and review as a diff) after a catalog changes.
+    import tempfile
+    expected, table = [], []
+    for arm in ARMS:
+        with tempfile.TemporaryDirectory() as folder:
+            alone, result, rated = sized(arm, Path(folder))
+        expected.append(f"    {arm!r}: {{")
+        for joint in result.joints:
+            unit = joint.selected.unit if joint.selected else None
+            uid = unit.id if unit else "none"
+            expected.append(f"        {joint.name!r}: "
+                            f"({alone[joint.name]!r}, {uid!r}, {rated[joint.name]!r}),")
+            table.append(f"| {arm} | `{joint.name}` | {alone[joint.name]} | {uid} | "
+                         f"{rated[joint.name]} | {np.abs(joint.torque).max():.3g} | "
+                         f"{unit.repeated_torque if unit else float('nan'):g} |")
+        expected.append("    },")
+    print("\n".join(["EXPECTED = {", *expected, "}", "", *table]).replace("'", '"'))
