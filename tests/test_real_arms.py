@@ -42,7 +42,7 @@ folder (example-robot-data, a test dependency) or in ``pybullet_data`` (optional
 
 EXPECTED: dict[str, dict[str, tuple[str, str, str]]] = {
     "UR3": {
-        "shoulder_pan_joint": ("PSA-14-80", "SHG-14-80-2UH", "CSG-14-50-2UH"),
+        "shoulder_pan_joint": ("PSA-14-80", "CSF-14-80-2UH", "SHG-14-80-2UH"),
         "shoulder_lift_joint": ("none", "CSG-17-100-2UH", "CSG-17-100-2UH"),
         "elbow_joint": ("PSA-14-80", "CSG-14-80-2UH", "CSG-14-80-2UH"),
         "wrist_1_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
@@ -50,32 +50,32 @@ EXPECTED: dict[str, dict[str, tuple[str, str, str]]] = {
         "wrist_3_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "UR5": {
-        "shoulder_pan_joint": ("none", "SHG-17-100-2UH", "CSG-25-50-2UH"),
+        "shoulder_pan_joint": ("none", "CSF-17-100-2UH", "SHG-17-80-2UH"),
         "shoulder_lift_joint": ("none", "CSG-25-100-2UH", "CSG-25-100-2UH"),
-        "elbow_joint": ("none", "SHG-17-100-2UH", "CSG-17-100-2UH"),
+        "elbow_joint": ("none", "SHG-17-100-2UH", "SHG-17-100-2UH"),
         "wrist_1_joint": ("PSA-14-80", "CSG-14-80-2UH", "CSG-14-80-2UH"),
         "wrist_2_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
         "wrist_3_joint": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
     },
     "UR10": {
-        "shoulder_pan_joint": ("none", "SHG-20-100-2UH", "CSG-32-50-2UH"),
+        "shoulder_pan_joint": ("none", "CSF-25-160-2UH", "SHG-25-50-2UH"),
         "shoulder_lift_joint": ("none", "CSG-25-100-2UH", "CSG-32-100-2UH"),
-        "elbow_joint": ("none", "SHG-17-100-2UH", "CSG-20-100-2UH"),
-        "wrist_1_joint": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
+        "elbow_joint": ("none", "SHG-17-100-2UH", "SHG-17-100-2UH"),
+        "wrist_1_joint": ("PSA-08-100", "PSA-08-100", "SHG-14-80-2UH"),
         "wrist_2_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
         "wrist_3_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "Panda": {
-        "panda_joint1": ("none", "SHG-14-80-2UH", "CSG-20-50-2UH"),
+        "panda_joint1": ("none", "CSF-14-80-2UH", "SHG-17-50-2UH"),
         "panda_joint2": ("none", "CSG-17-100-2UH", "CSG-20-100-2UH"),
-        "panda_joint3": ("none", "SHG-14-80-2UH", "CSG-17-50-2UH"),
-        "panda_joint4": ("none", "CSG-17-100-2UH", "CSG-17-100-2UH"),
+        "panda_joint3": ("none", "SHG-14-80-2UH", "SHG-14-80-2UH"),
+        "panda_joint4": ("none", "CSG-17-100-2UH", "SHG-17-100-2UH"),
         "panda_joint5": ("PSA-10-80", "PSA-10-80", "CSG-14-80-2UH"),
         "panda_joint6": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
         "panda_joint7": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "Kinova": {
-        "j2s6s200_joint_1": ("PSA-10-80", "PSA-10-80", "HFUS-14-30-2UH"),
+        "j2s6s200_joint_1": ("PSA-10-80", "PSA-10-80", "SHG-14-50-2UH"),
         "j2s6s200_joint_2": ("PSA-14-100", "PSA-14-100", "CSG-17-100-2UH"),
         "j2s6s200_joint_3": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
         "j2s6s200_joint_4": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
@@ -84,7 +84,7 @@ EXPECTED: dict[str, dict[str, tuple[str, str, str]]] = {
     },
     "TALOS left arm": {
         "arm_left_2_joint": ("none", "CSG-17-100-2UH", "CSG-17-100-2UH"),
-        "arm_left_3_joint": ("PSA-14-80", "SHG-14-80-2UH", "HFUS-14-30-2UH"),
+        "arm_left_3_joint": ("PSA-14-80", "CSF-14-80-2UH", "SHG-14-50-2UH"),
         "arm_left_4_joint": ("PSA-14-80", "CSG-14-80-2UH", "CSG-14-80-2UH"),
         "arm_left_5_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
         "arm_left_6_joint": ("PSA-08-100", "PSA-08-100", "CSG-14-80-2UH"),
@@ -92,7 +92,7 @@ EXPECTED: dict[str, dict[str, tuple[str, str, str]]] = {
         "gripper_left_joint": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "Z1": {
-        "joint1": ("PSA-08-100", "PSA-08-100", "CSG-14-50-2UH"),
+        "joint1": ("PSA-08-100", "PSA-08-100", "SHG-14-50-2UH"),
         "joint2": ("PSA-14-100", "CSG-14-80-2UH", "CSG-14-80-2UH"),
         "joint3": ("PSA-14-100", "PSA-14-100", "CSG-17-100-2UH"),
         "joint4": ("PSA-10-80", "PSA-10-80", "CSG-14-80-2UH"),
@@ -101,16 +101,16 @@ EXPECTED: dict[str, dict[str, tuple[str, str, str]]] = {
         "jointGripper": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "KUKA iiwa": {
-        "lbr_iiwa_joint_1": ("PSA-14-80", "SHG-14-80-2UH", "HFUS-20-30-2UH"),
+        "lbr_iiwa_joint_1": ("PSA-14-80", "CSF-14-80-2UH", "HFUS-20-30-2UH"),
         "lbr_iiwa_joint_2": ("none", "CSG-20-120-2UH", "CSG-20-120-2UH"),
-        "lbr_iiwa_joint_3": ("PSA-14-100", "SHG-14-80-2UH", "HFUS-17-30-2UH"),
+        "lbr_iiwa_joint_3": ("PSA-14-100", "CSF-14-80-2UH", "SHG-14-50-2UH"),
         "lbr_iiwa_joint_4": ("none", "CSG-14-80-2UH", "CSG-14-80-2UH"),
         "lbr_iiwa_joint_5": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
         "lbr_iiwa_joint_6": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
         "lbr_iiwa_joint_7": ("PSA-08-80", "PSA-08-80", "HFUS-14-30-2UH"),
     },
     "xArm6": {
-        "joint1": ("PSA-10-80", "PSA-10-80", "HFUS-14-30-2UH"),
+        "joint1": ("PSA-10-80", "PSA-10-80", "SHG-14-50-2UH"),
         "joint2": ("none", "CSG-17-100-2UH", "CSG-17-100-2UH"),
         "joint3": ("PSA-14-100", "PSA-14-100", "CSG-14-80-2UH"),
         "joint4": ("PSA-08-100", "PSA-08-100", "HFUS-14-30-2UH"),
@@ -123,7 +123,7 @@ no unit holds it), with every built-in catalog loaded, and from the series that 
 their output bearing (`BEARING_RATED`)."""
 
 
-BEARING_RATED = ("csg-2uh", "hfus-2uh")
+BEARING_RATED = ("csg-2uh", "hfus-2uh", "shg-2uh")
 """The shipped series that rate their output bearing (`hdselect catalog --list`)."""
 
 
