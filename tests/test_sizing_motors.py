@@ -259,7 +259,8 @@ def test_a_pair_failing_only_on_the_motor_side_is_reported_with_the_motor_rule(t
     status = main(["size", str(path)])
     out, _ = capsys.readouterr()
     assert status == 1
-    assert "m.peak +" in out and "no pair fits" in out and "+ T1" in out
+    assert re.search(r"table +none +none +motor_peak [\d.]+ > [\d.]+ N m", out)
+    assert "table: no pair holds it: motor peak torque" in out and "+ T1" in out
     document = size_json(result)
     (entry,) = document["joints"]
     assert entry["selected"] is None and entry["selected_motor"] is None

@@ -150,12 +150,19 @@ _UNBROKEN = re.compile(r"(?<=\d) (?=N m|kg|rpm|h\b|s\b|lb|%|deg|rad|m/s|m\b|N\b)
 """Spaces a line never breaks at: inside ``N m`` and ``kg cm``, after a number's digits."""
 
 
+_COMMAND = re.compile(r"(?<=: )hdselect .*$")
+"""A command that ends a line (``...: hdselect size m.toml --exclude elbow``): one piece."""
+
+
 def wrapped(text: str, width: int, *, indent: str = "  ") -> Iterator[Text]:
     """A paragraph as lines of at most `width`, continuation lines indented.
 
-    Never breaks a word, nor a number from its unit (``2.6 N m`` stays on one line).
+    Never breaks a word, nor a number from its unit (``2.6 N m`` stays on one line), nor
+    a command that ends the paragraph (it moves to a line of its own, to be copied whole,
+    even where that line is longer than `width`).
     """
-    glued = _UNBROKEN.sub("\u00a0", text)
+    glued = _COMMAND.sub(lambda m: m[0].replace(" ", "\u00a0"), text)
+    glued = _UNBROKEN.sub("\u00a0", glued)
     lines = textwrap.wrap(glued, width=max(width, 20), subsequent_indent=indent,
                           break_long_words=False, break_on_hyphens=False)
     for line in lines or [""]:

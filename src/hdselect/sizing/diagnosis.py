@@ -224,9 +224,10 @@ def diagnose(result: SizingResult, *, catalogs: Mapping[str, Sequence[Unit]] | N
     found = catalog_steps(result, missing, tasks,
                            shipped_catalogs() if catalogs is None else catalogs, command)
     payload = payload_steps(result, missing, tasks, masses, payload_bounds, command)
+    exclude = exclude_step(result, [joint.name for joint in missing], command)
     for joint in missing:
         steps = (*found.get(joint.name, ()), *payload.get(joint.name, ()),
-                 exclude_step(result, joint.name, command), slowdown_step(result, joint))
+                 exclude, slowdown_step(result, joint))
         out[joint.name] = replace(out[joint.name],
                                   steps=tuple(step for step in steps if step is not None))
     return out

@@ -46,7 +46,8 @@ class NextStep:
         command: The command line that takes it, where one does; else None.
         unit: The unit that then holds the joint; None for ``exclude``.
         value: The payload [kg] (a mix's factor [-]) or the time scale [-]; else None.
-        catalog: The catalog (``--catalog`` argument) of a ``catalog`` step; else None.
+        catalog: The catalog (``--catalog`` argument) of a ``catalog`` step, several
+            joined by ``,`` for the step that adds them together; else None.
     """
 
     kind: str
@@ -107,6 +108,19 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
                              *([("--series", name)] if given(command, "--series") else [])),
                     chosen.label, catalog=name)]
                 break
+    names = sorted({step.catalog for steps in out.values() for step in steps if step.catalog})
+    if len(names) > 1:  # joints held by different catalogs: one command for all of them
+        together = size_tasks(tasks, (*result.units, *(u for n in names for u in offered[n])),
+                              options, motors=result.motors or None, idle=result.idle,
+                              slowdowns=False)
+        held = {j.name for j in together.joints if j.selected is not None}
+        if {joint.name for joint in missing} <= held:
+            step = NextStep("catalog", f"with {' and '.join(names)} together, every joint "
+                            "gets a unit", _command(result, command,
+                                                    *(("--catalog", n) for n in names)),
+                            catalog=",".join(names))
+            for steps in out.values():
+                steps.append(step)
     return out
 
 
@@ -181,21 +195,24 @@ def _lighter(task: Task, mass: float, inertia: float) -> Task:
     return replace(task, robot=task.robot.with_payload(lighter))
 
 
-def exclude_step(result: SizingResult, joint: str,
+def exclude_step(result: SizingResult, joints: Sequence[str],
                  command: Sequence[str] | None = None) -> NextStep | None:
-    """Leave the joint out of the sizing: it still moves and loads the others.
+    """Leave out every joint no unit holds: they still move and load the others.
 
-    ``--exclude`` replaces the file's list: the joints left out already are kept in it.
-    None where it is the only joint sized (nothing would be left to size).
+    One step for all of them, so that its command runs (leaving out one of two would
+    still find the other without a unit). ``--exclude`` replaces the file's list: the
+    joints left out already are kept in it. None where no other joint would be sized.
     """
-    if set(result.robot.sized_joints) <= {joint}:
+    if set(result.robot.sized_joints) <= set(joints):
         return None
     before = given(command, "--exclude")
     left_out = (before.split(",") if before else
                 [load.name for load in result.loads
                  if not load.sized and load.kind == "revolute" and load.leader is None])
-    return NextStep("exclude", "size the other joints without it",
-                    _command(result, command, ("--exclude", ",".join([*left_out, joint]))))
+    text = ("size the other joints without it" if len(joints) == 1 else
+            f"size the other joints without the {len(joints)} no unit holds")
+    return NextStep("exclude", text,
+                    _command(result, command, ("--exclude", ",".join([*left_out, *joints]))))
 
 
 def slowdown_step(result: SizingResult, joint: JointSizing) -> NextStep | None:
