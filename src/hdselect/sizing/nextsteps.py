@@ -210,7 +210,7 @@ def exclude_step(result: SizingResult, joints: Sequence[str],
                 [load.name for load in result.loads
                  if not load.sized and load.kind == "revolute" and load.leader is None])
     text = ("size the other joints without it" if len(joints) == 1 else
-            f"size the other joints without the {len(joints)} no unit holds")
+            f"size the other joints without the {len(joints)} that no unit holds")
     return NextStep("exclude", text,
                     _command(result, command, ("--exclude", ",".join([*left_out, *joints]))))
 
