@@ -150,7 +150,7 @@ _UNBROKEN = re.compile(r"(?<=\d) (?=N m|kg|rpm|h\b|s\b|lb|%|deg|rad|m/s|m\b|N\b)
 """Spaces a line never breaks at: inside ``N m`` and ``kg cm``, after a number's digits."""
 
 
-_COMMAND = re.compile(r"(?<=: )hdselect .*$")
+_COMMAND = re.compile(r"(?<=: )hdselect(?: \S*[^\s.;,])+$")
 """A command that ends a line (``...: hdselect size m.toml --exclude elbow``): one piece."""
 
 
