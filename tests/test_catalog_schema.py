@@ -124,6 +124,20 @@ def test_a_limit_not_rated_is_left_out_and_not_checked() -> None:
     assert candidate.feasible
 
 
+def test_an_average_speed_limit_not_rated_says_so_where_the_series_says_not_rated() -> None:
+    """SHG-2UH gives no limit for average input speed: not rated, never a silent 0 %."""
+    shg = next(u for u in load_catalog(["shg-2uh"]) if u.id == "SHG-14-50-2UH")
+    assert shg.max_average_input_speed is None and shg.rules.missing_limits == "not-rated"
+    load = cycle_load(np.array([5.0, 5.0]), np.array([2.0, 2.0]), np.array([0.5, 0.5]),
+                      np.array([False, False]))
+    check = check_unit(load, shg).checks["average_speed"]
+    assert check.ok and check.limit == math.inf and check.detail["not_rated"] == NOT_RATED
+    assert check.value == pytest.approx(2.0 * 50 * 60 / (2 * math.pi))  # N_av [rpm]
+    # a series that keeps PSA-G's stand-ins: no limit, no words (PSA-G rates none)
+    psa = load_catalog()[0]
+    assert "not_rated" not in check_unit(load, psa).checks["average_speed"].detail
+
+
 def test_a_limit_not_rated_bounds_no_solver_form() -> None:
     bare = fixture_units()["ZX-25-100-T"]
     for name in ("momentary", "static"):

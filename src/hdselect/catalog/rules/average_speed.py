@@ -7,12 +7,16 @@ import math
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
 from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import EVERY_MASS
+from hdselect.catalog.units import NOT_RATED
 
 
 class AverageSpeed(Rule):
     """N_av (as the series averages it) at most the maximum average input speed [rpm].
 
-    Value None (and utilization 0) where the unit gives no such limit.
+    Value None (and utilization 0) where the unit gives no such limit; where its series'
+    rules say a limit the source does not give is not rated (``missing_limits =
+    "not-rated"``), the check holds with the words `NOT_RATED` in its detail, as a
+    `UnitLimit`'s does.
     """
 
     name = "average_speed"
@@ -26,7 +30,11 @@ class AverageSpeed(Rule):
         """See `Rule.check`."""
         if (gear := case.gear) is None:
             return None
-        limit = gear[0].max_average_input_speed
+        unit = gear[0]
+        limit = unit.max_average_input_speed
+        if limit is None and unit.rules.missing_limits == "not-rated":
+            return self.verdict(case.mean_input_rpm, math.inf, 0.0, case.margin,
+                                {"not_rated": NOT_RATED})
         return self.judge(None if limit is None else case.mean_input_rpm,
                           math.inf if limit is None else limit, case.margin)
 
