@@ -32,8 +32,8 @@ def _list_catalogs(args: argparse.Namespace) -> int:
     from hdselect.report.catalog_tables import catalog_list_table
     from hdselect.report.export import catalog_list_json, write_json
 
-    for flag, given in (("--catalog", args.catalog), ("--series", args.series),
-                        ("--units", args.units != "si")):
+    for flag, given in (("--series", args.series), ("--catalog", args.catalog),
+                        ("--units", args.units != "si")):  # --series loads built-ins too
         if given:
             raise InputError("--list lists the built-in catalogs; give it alone (with "
                              "--json)", field=flag)
