@@ -43,6 +43,7 @@ from hdselect.sizing.nextsteps import (
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.torques import carrying
 
 
 @dataclass(frozen=True)
@@ -315,9 +316,7 @@ def _shortfall(candidate: Candidate, name: str) -> Shortfall:
 def _gravity(tasks: Sequence[Task], masses: Mapping[str, float],
              sized: Sequence[str]) -> np.ndarray:
     """RNEA(q, 0, 0) of every pooled sample, the units' masses carried [N m], (n, dof)."""
-    ordered = {name: masses[name] for name in sized if name in masses}
-    return np.concatenate([gravity_torques(task.robot.with_gearheads(ordered) if ordered
-                                           else task.robot, task.trajectory.q)
+    return np.concatenate([gravity_torques(carrying(task, masses, sized), task.trajectory.q)
                            for task in tasks])
 
 

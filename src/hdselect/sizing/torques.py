@@ -234,8 +234,13 @@ class DirectTorques:
 
     def _carrying(self, task: Task, masses: Mapping[str, float]) -> Robot:
         """The task's robot with the units' masses, in the robot's joint order."""
-        ordered = {name: masses[name] for name in self.robot.sized_joints if name in masses}
-        return task.robot.with_gearheads(ordered) if ordered else task.robot
+        return carrying(task, masses, self.robot.sized_joints)
+
+
+def carrying(task: Task, masses: Mapping[str, float], sized: Sequence[str]) -> Robot:
+    """The task's robot with each sized joint's unit mass [kg] carried, in joint order."""
+    ordered = {name: masses[name] for name in sized if name in masses}
+    return task.robot.with_gearheads(ordered) if ordered else task.robot
 
 
 def _pooled(parts: list[tuple[np.ndarray, np.ndarray | None]]
