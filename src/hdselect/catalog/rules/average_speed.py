@@ -7,7 +7,6 @@ import math
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
 from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import EVERY_MASS
-from hdselect.catalog.units import NOT_RATED
 
 
 class AverageSpeed(Rule):
@@ -15,8 +14,7 @@ class AverageSpeed(Rule):
 
     Value None (and utilization 0) where the unit gives no such limit; where its series'
     rules say a limit the source does not give is not rated (``missing_limits =
-    "not-rated"``), the check holds with the words `NOT_RATED` in its detail, as a
-    `UnitLimit`'s does.
+    "not-rated"``), `Rule.not_rated`, as a `UnitLimit`'s.
     """
 
     name = "average_speed"
@@ -33,8 +31,7 @@ class AverageSpeed(Rule):
         unit = gear[0]
         limit = unit.max_average_input_speed
         if limit is None and unit.rules.missing_limits == "not-rated":
-            return self.verdict(case.mean_input_rpm, math.inf, 0.0, case.margin,
-                                {"not_rated": NOT_RATED})
+            return self.not_rated(case.mean_input_rpm, case.margin)
         return self.judge(None if limit is None else case.mean_input_rpm,
                           math.inf if limit is None else limit, case.margin)
 

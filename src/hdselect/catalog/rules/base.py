@@ -262,6 +262,16 @@ class Rule:
         return Check(value, limit, utilization <= _share(margin, self.margin_applies),
                      utilization, {} if detail is None else detail)
 
+    def not_rated(self, value: float | None, margin: float,
+                  detail: dict[str, object] | None = None) -> Check:
+        """The check of a limit the unit's source does not rate: it holds, saying so.
+
+        No limit (inf), no share of the verdict (utilization 0), the words `NOT_RATED`
+        in its detail (which every table, JSON and page shows).
+        """
+        return self.verdict(value, math.inf, 0.0, margin,
+                            {**(detail or {}), "not_rated": NOT_RATED})
+
     def passes(self, utilization: np.ndarray, margin: float) -> np.ndarray:
         """`judge`'s verdict on many utilizations at once (a prefilter's) [-]."""
         return utilization <= self.share(margin)
@@ -344,8 +354,7 @@ class UnitLimit(Rule):
         value, detail = self.largest(case, gear)
         limit = getattr(gear[0], self.limit)
         if limit is None:
-            return self.verdict(value, math.inf, 0.0, case.margin,
-                                {**detail, "not_rated": NOT_RATED})
+            return self.not_rated(value, case.margin, detail)
         return self.judge(value, limit, case.margin, **detail)
 
     def fields(self, unit: Unit) -> tuple[str, ...]:
