@@ -56,7 +56,7 @@ from helpers.rules import giving
 REPO = Path(__file__).resolve().parents[1]
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
-UNITS = (*load_catalog(), *load_catalog(["shg-2uh"]))  # PSA-G rates no stiffness, SHG does
+UNITS = load_catalog(["shg-2uh"])  # PSA-G rates no stiffness, SHG-2UH does
 SHIPPED = tuple(CHECKS)  # the registry as shipped
 STOP_TIME = 0.05
 

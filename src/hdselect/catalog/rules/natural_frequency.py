@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
-from hdselect.catalog.rules.forms import Rows, ScaleTerms, UnitBatch
+from hdselect.catalog.rules.forms import PathCase, Rows, ScaleTerms, UnitBatch
 from hdselect.catalog.stiffness import natural_frequency, unit_k1
 from hdselect.catalog.units import Unit
 
@@ -73,6 +74,10 @@ class MinNaturalFrequency(Rule):
             return []
         ok = self.utilization(unit, terms.load_inertia, terms.min_frequency) <= 1.0
         return [] if ok else [_NEVER]
+
+    def path_rows(self, case: PathCase) -> list[Any]:
+        """No bound: the path does not change it (the sizing that chose the unit judged it)."""
+        return []
 
     def prefilter(self, batch: UnitBatch) -> np.ndarray | None:
         """Each unit's target over f_n (0: not rated); None without a target."""
