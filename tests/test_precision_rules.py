@@ -366,3 +366,29 @@ def test_envelope_takes_the_targets(capsys, tmp_path):
                 assert (name in joint["candidates"][0]["checks"]) == (flag in extra)
     capsys.readouterr()
     assert chosen[1] != chosen[0]
+
+
+@pytest.mark.slow
+def test_max_payload_stops_where_the_frequency_target_does():
+    """Units fixed, the elbow's f_n falls as the payload grows (its M_jj affine in the
+    mass): the largest payload is where f_n meets the target, found again by sizing the
+    robot carrying that mass (M_jj recomputed at it, not interpolated)."""
+    from hdselect import load_case, max_payload, plan
+    from hdselect.robot.dynamics import joint_inertias
+    from hdselect.sizing.torques import inertia_poses
+
+    robot, motion = load_case(REPO / "trajectories" / "planar2_pick_place.toml")
+    units = {"shoulder": "SHG-25-100-2UH", "elbow": "SHG-17-100-2UH"}
+    k1 = next(u for u in SHG if u.id == units["elbow"]).stiffness.k1
+    trajectory = plan(robot, motion)
+    poses = trajectory.q[inertia_poses(trajectory)]
+
+    def elbow_inertia(mass: float) -> float:  # the last joint: no unit is carried past it
+        carrying = robot.with_payload(replace(motion.payload, mass=mass))
+        return float(joint_inertias(carrying, poses, ["elbow"]).max())
+
+    target = math.sqrt(k1 / elbow_inertia(1.5)) / (2.0 * math.pi)  # reached at 1.5 kg
+    found = max_payload(robot, motion, Options(min_natural_frequency={"elbow": target}),
+                        catalog=SHG, units=units, trajectory=trajectory)
+    assert found.rule == "natural_frequency" and found.joint == "elbow"
+    assert found.mass == pytest.approx(1.5, rel=1e-6)
