@@ -392,3 +392,21 @@ def test_max_payload_stops_where_the_frequency_target_does():
                         catalog=SHG, units=units, trajectory=trajectory)
     assert found.rule == "natural_frequency" and found.joint == "elbow"
     assert found.mass == pytest.approx(1.5, rel=1e-6)
+
+
+def test_a_mix_refuses_motions_that_disagree_on_a_target_in_their_words(tmp_path):
+    from hdselect.motion.mixfile import load_mix
+    from hdselect.robot.model import load_robot
+    from hdselect.sizing.mixtasks import mix_options
+
+    text = MOTION.replace('robot = "../robots/', f'robot = "{REPO}/robots/')
+    (tmp_path / "a.toml").write_text(text + "\n[precision]\nmax_torsion_arcmin = 2\n")
+    (tmp_path / "b.toml").write_text(text + "\n[precision]\nmax_torsion_arcmin = 3\n")
+    mix = tmp_path / "mix.toml"
+    mix.write_text(f'robot = "{REPO}/robots/index_table.urdf"\n'
+                   '[[task]]\nmotion = "a.toml"\nshare = 0.5\n'
+                   '[[task]]\nmotion = "b.toml"\nshare = 0.5\n')
+    robot = load_robot(REPO / "robots" / "index_table.urdf")
+    with pytest.raises(InputError, match=r"a.toml gives precision.max_torsion_arcmin 2, .*"
+                                         r"b.toml gives 3;"):
+        mix_options(load_mix(mix, robot))
