@@ -410,3 +410,13 @@ def test_a_mix_refuses_motions_that_disagree_on_a_target_in_their_words(tmp_path
     with pytest.raises(InputError, match=r"a.toml gives precision.max_torsion_arcmin 2, .*"
                                          r"b.toml gives 3;"):
         mix_options(load_mix(mix, robot))
+
+
+def test_a_catalog_whose_units_rate_no_stiffness_is_no_next_step_for_a_target(capsys):
+    """CSF-2UH rates no K1: its units are "not rated" for a torsion target, which is no
+    proof they hold it; the next steps offer only what is checked (here the slow-down,
+    the dynamic torque falling as 1/s^2)."""
+    status = main(["size", str(INDEX), "--series", "shg-2uh", "--max-torsion", "0.01"])
+    out = capsys.readouterr().out
+    assert status == 1 and "largest torsion" in out
+    assert "csf-2uh" not in out and "slower" in out
