@@ -115,8 +115,11 @@ def test_a_unit_without_stiffness_is_not_rated_and_no_target_means_no_check():
     for name in ("torsion", "natural_frequency"):
         check = candidate.checks[name]
         assert check.ok and check.value is None and "not_rated" in check.detail
+    assert any(flag.field == "stiffness" and "targets are not checked" in flag.note
+               for flag in candidate.flags)  # the tables' footnote says so
     plain = check_unit(make_load(), unit)
     assert "torsion" not in plain.checks and "natural_frequency" not in plain.checks
+    assert not any(flag.field == "stiffness" for flag in plain.flags)
     with pytest.raises(ValueError, match="load inertia"):
         check_unit(make_load(), unit, min_frequency=50.0)
 
