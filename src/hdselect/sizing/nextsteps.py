@@ -20,7 +20,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from hdselect.catalog.rules import Candidate
+from hdselect.catalog.rules import Candidate, rule
 from hdselect.catalog.units import Unit
 from hdselect.sizing.core import size_tasks
 from hdselect.sizing.joint import JointCycle, size_joint
@@ -71,8 +71,9 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
     Each catalog's units are first checked against the joint's cycle as sized (the same
     rules, the same carried masses); the best catalog is then verified by sizing the
     whole duty with it added, as ``--catalog`` does, and offered only where that sizing
-    gives the joint a unit (the unit it gives is the one named) whose source rates every
-    rule the joint failed (a torsion target is not held by a unit that rates no K1).
+    gives the joint a unit (the unit it gives is the one named) whose source rates the
+    stiffness of every precision target the joint failed (a unit that rates no K1 does
+    not hold a torsion target).
     """
     have = {unit.id for unit in result.units}
     offered = {name: fresh for name, units in catalogs.items()
@@ -182,8 +183,12 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
 
 
 def _rated_hold(chosen: Candidate | None, joint: JointSizing) -> bool:
-    """A candidate holds the joint, and its source rates every rule the joint failed."""
-    failed = [name for name, check in joint.strongest.checks.items() if not check.ok]
+    """A candidate holds the joint, and rates the stiffness of each target the joint failed.
+
+    A unit that rates no K1 holds a precision target unchecked: that is no next step.
+    """
+    failed = [name for name, check in joint.strongest.checks.items() if not check.ok
+              and chosen is not None and "stiffness" in rule(name).fields(chosen.unit)]
     return chosen is not None and not any(
         "not_rated" in chosen.checks[name].detail for name in failed if name in chosen.checks)
 
