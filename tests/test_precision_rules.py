@@ -423,3 +423,15 @@ def test_a_catalog_whose_units_rate_no_stiffness_is_no_next_step_for_a_target(ca
     out = capsys.readouterr().out
     assert status == 1 and "largest torsion" in out
     assert "csf-2uh" not in out and "slower" in out
+
+
+def test_the_json_of_a_frequency_check_carries_its_load_inertia():
+    from hdselect.sizing.records import size_json
+
+    result = size(None, INDEX, catalog=SHG, min_natural_frequency=20.0, max_torsion=1e-3)
+    document = json.loads(json.dumps(size_json(result), allow_nan=False))
+    checks = document["joints"][0]["candidates"][0]["checks"]
+    assert checks["natural_frequency"]["load_inertia_kg_m2"] == pytest.approx(
+        index_table_inertia(), rel=1e-5)
+    assert checks["natural_frequency"]["limit"] == 20.0
+    assert checks["torsion"]["limit"] == pytest.approx(1e-3 / RAD_PER_ARCMIN)
