@@ -192,6 +192,8 @@ def test_a_bare_value_applies_to_every_joint_and_a_named_one_wins():
     (["--max-torsion", "table=abc"], "expected a number"),
     (["--max-torsion", "=2"], "JOINT=VALUE"),
     (["--max-torsion", "nonesuch=2"], "'nonesuch' is not a sized joint"),
+    (["--max-torsion", "2", "--max-torsion", "3"], "given twice for every joint"),
+    (["--max-torsion", "table=2", "--max-torsion", "table=3"], "given twice for table"),
     (["--min-natural-frequency", "hand-axis"], "hand-axes"),  # the classes listed
     (["--min-natural-frequency", "table=-3"], "positive"),
     (["--min-arm-frequency", "nope"], "milling-hardwood"),
