@@ -29,7 +29,14 @@ import numpy as np
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate
 from hdselect.catalog.stiffness import natural_frequency, rates_torsion, resonance_speed, torsion
 from hdselect.catalog.units import Unit
-from hdselect.robot.compliance import arm_modes, mass_matrices, tool_deflection
+from hdselect.robot.compliance import (
+    Placements,
+    arm_frequencies,
+    arm_modes,
+    mass_matrices,
+    placements,
+    tool_deflection,
+)
 from hdselect.robot.dynamics import gravity_torques, torque_floor
 from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches
@@ -274,10 +281,12 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
                            for carrier, task in zip(robots, samples.tasks, strict=True)])
     floor = torque_floor(robot)
     held[np.abs(held) < floor] = 0.0  # the recursion's noise counts as zero, as in the selection
+    placed = [placements(carrier, task.trajectory.q[local])
+              for carrier, task, local in zip(robots, samples.tasks, pieces, strict=True)]
     inertia = np.concatenate([mass_matrices(carrier, task.trajectory.q[local], springs,
-                                            threads=threads)
-                              for carrier, task, local in zip(robots, samples.tasks, pieces,
-                                                              strict=True)])
+                                            placed=at)
+                              for carrier, task, local, at in zip(robots, samples.tasks, pieces,
+                                                                  placed, strict=True)])
     figures = []
     for joint in joints:
         if joint.name not in springs:
@@ -290,11 +299,13 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
     tool = modes = None
     if whole:
         frame = _tool_frame(samples)
-        tool = _tool(robots, samples, poses, pieces, frame, joints, units, held, options)
+        tool = _tool(robots, placed, samples, poses, pieces, frame, joints, units, held,
+                     options)
         k1 = [units[name].stiffness.k1 for name in springs]  # type: ignore[union-attr]
-        frequencies, shapes = arm_modes(inertia, k1)  # type: ignore[arg-type]
+        frequencies = arm_frequencies(inertia, k1)  # type: ignore[arg-type]
         lowest = int(np.argmin(frequencies[:, 0]))
-        modes = ArmModes(springs, poses, frequencies, lowest, shapes[lowest, :, 0])
+        _, shapes = arm_modes(inertia[lowest:lowest + 1], k1)  # type: ignore[arg-type]
+        modes = ArmModes(springs, poses, frequencies, lowest, shapes[0, :, 0])
     moving = np.any(samples.qd != 0.0, axis=0)
     rigid = tuple(name for j, name in enumerate(robot.joint_names)
                   if name not in units and moving[j])
@@ -392,8 +403,8 @@ def _tool_frame(samples: Samples) -> str:
     return tool.frame if tool is not None and tool.frame else task.robot.payload_frame
 
 
-def _tool(robots: Sequence[Robot], samples: Samples, poses: np.ndarray,
-          pieces: Sequence[np.ndarray], frame: str, joints: Sequence[SizedJoint],
+def _tool(robots: Sequence[Robot], placed: Sequence[Placements], samples: Samples,
+          poses: np.ndarray, pieces: Sequence[np.ndarray], frame: str, joints: Sequence[SizedJoint],
           units: Mapping[str, Unit], held: np.ndarray, options: Options) -> ToolDeflection:
     """The tool's deflection along the cycle and holding still, at the evaluated poses."""
     robot = robots[0]
@@ -422,7 +433,7 @@ def _tool(robots: Sequence[Robot], samples: Samples, poses: np.ndarray,
                                             gravity[tilted.index(joint.name)])):
                     turn[c, :, :2], centre[c] = _tilt(unit, wrench, offset)
             rotations[joint.name], centres[joint.name] = turn, centre
-        parts.append(tool_deflection(carrier, q, frame, rotations, centres))
+        parts.append(tool_deflection(carrier, q, frame, rotations, centres, placed=placed[k]))
     translation = np.concatenate([p[0] for p in parts], axis=1)
     rotation = np.concatenate([p[1] for p in parts], axis=1)
     for array in (translation, rotation):
