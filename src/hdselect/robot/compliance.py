@@ -12,6 +12,7 @@ does and how the arm rings, over a whole batch of poses in numpy:
 - `arm_modes` (`arm_frequencies` for the frequencies alone): the undamped modes of
   K v = w^2 M v with K = diag(K1), each joint's input held still (its servo) and the
   joints without a spring rigid;
+- `unit_rotation`: a unit's twist -phi(tau) and its bearing's tilt -M / K_B;
 - `tool_deflection`: each joint's small rotation vector w about a point c on its axis
   moves the tool frame at p by w x (p - c) and turns it by w (first order, dx = J dtheta),
   summed over joints, in the world frame.
@@ -26,6 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from hdselect.catalog.stiffness import torsion
+from hdselect.catalog.units import Unit
 from hdselect.robot.joint_motions import JointMotion, joint_motions
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import frame_id
@@ -182,6 +185,45 @@ def arm_modes(mass: np.ndarray, k1: Sequence[float]) -> tuple[np.ndarray, np.nda
     shapes = vectors * root[None, :, None]
     peak = np.take_along_axis(shapes, np.abs(shapes).argmax(axis=1)[:, None, :], axis=1)
     return omega / (2.0 * math.pi), shapes / peak
+
+
+def unit_rotation(unit: Unit, torque: np.ndarray, wrench: np.ndarray | None = None,
+                  offset: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """How a unit's output turns under its load, in its joint's axis frame, about what point.
+
+    Its twist about the axis is -phi(tau) (`hdselect.catalog.stiffness.torsion`: the load
+    pushes the output back from where the servo holds the input); where the unit rates its
+    bearing's moment stiffness K_B and the wrench is given, its tilt about x and y is
+    -M / K_B, M the moment about the bearing centre: the flange `offset` along the axis,
+    moved by the unit's flange-to-centre distance to whichever side tilts more (as
+    `hdselect.robot.wrenches.bearing_loads` takes it).
+
+    Args:
+        unit: The unit; its K1 must be rated (`hdselect.catalog.stiffness.rates_torsion`).
+        torque: The joint torque [N m], (..., n).
+        wrench: The joint's wrench in its axis frame (`axis_wrenches` rows) [N, N m],
+            (..., 5 or 6, n); None: no tilt.
+        offset: The output flange along the axis from the joint origin [m].
+
+    Returns:
+        The rotation vector [rad], (..., n, 3), and the point on the axis it is about, from
+        the joint origin [m], (..., n) (for `tool_deflection`).
+    """
+    if unit.stiffness is None:
+        raise ValueError(f"{unit.id} rates no torsional stiffness")
+    torque = np.asarray(torque, dtype=float)
+    rotation = np.zeros((*torque.shape, 3))
+    rotation[..., 2] = -torsion(unit.stiffness, torque)
+    centre = np.zeros(torque.shape)
+    bearing = unit.bearing
+    if wrench is None or bearing is None or bearing.moment_stiffness is None:
+        return rotation, centre
+    fx, fy, mx, my = (wrench[..., row, :] for row in (0, 1, 3, 4))
+    sides = (offset + bearing.offset, offset - bearing.offset)
+    moments = [np.stack((mx + h * fy, my - h * fx), axis=-1) for h in sides]
+    far = np.linalg.norm(moments[1], axis=-1) > np.linalg.norm(moments[0], axis=-1)
+    rotation[..., :2] = -np.where(far[..., None], moments[1], moments[0]) / bearing.moment_stiffness
+    return rotation, np.where(far, sides[1], sides[0])
 
 
 def tool_deflection(robot: Robot, q: np.ndarray, frame: str,

@@ -36,6 +36,7 @@ from hdselect.robot.compliance import (
     mass_matrices,
     placements,
     tool_deflection,
+    unit_rotation,
 )
 from hdselect.robot.dynamics import gravity_torques, torque_floor
 from hdselect.robot.model import Robot
@@ -356,7 +357,7 @@ def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
     """One rated joint's figures: twist, single-axis f_n at the poses, near resonance."""
     stiffness = unit.stiffness
     assert stiffness is not None and stiffness.k1 is not None  # rated (`rates_torsion`)
-    twist = -torsion(stiffness, joint.torque)
+    twist = unit_rotation(unit, joint.torque)[0][:, 2]  # -phi(tau)
     twist.setflags(write=False)
     worst = int(np.argmax(np.abs(twist)))
     frequency = natural_frequency(stiffness.k1, inertia)
@@ -419,20 +420,14 @@ def _tool(robots: Sequence[Robot], placed: Sequence[Placements], samples: Sample
         gravity = axis_wrenches(carrier, q, still, still, tilted) if tilted else None
         rotations, centres = {}, {}
         for joint in joints:
-            unit = units[joint.name]
-            stiffness = unit.stiffness
-            assert stiffness is not None
-            j = robot.joint_index(joint.name)
-            turn = np.zeros((2, len(mine), 3))
-            turn[0, :, 2] = -torsion(stiffness, joint.torque[mine])
-            turn[1, :, 2] = -torsion(stiffness, held[mine, j])
-            centre = np.zeros((2, len(mine)))
-            if joint.name in tilted and joint.wrench is not None and gravity is not None:
-                offset = options.bearing_offset.get(joint.name, 0.0)
-                for c, wrench in enumerate((joint.wrench.full()[:, mine],
-                                            gravity[tilted.index(joint.name)])):
-                    turn[c, :, :2], centre[c] = _tilt(unit, wrench, offset)
-            rotations[joint.name], centres[joint.name] = turn, centre
+            wrenches = ((joint.wrench.full()[:5, mine], gravity[tilted.index(joint.name), :5])
+                        if joint.name in tilted and joint.wrench is not None
+                        and gravity is not None else None)
+            rotations[joint.name], centres[joint.name] = unit_rotation(
+                units[joint.name],
+                np.stack((joint.torque[mine], held[mine, robot.joint_index(joint.name)])),
+                None if wrenches is None else np.stack(wrenches),
+                options.bearing_offset.get(joint.name, 0.0))
         parts.append(tool_deflection(carrier, q, frame, rotations, centres, placed=placed[k]))
     translation = np.concatenate([p[0] for p in parts], axis=1)
     rotation = np.concatenate([p[1] for p in parts], axis=1)
@@ -441,20 +436,3 @@ def _tool(robots: Sequence[Robot], placed: Sequence[Placements], samples: Sample
     size = np.linalg.norm(translation, axis=2)
     return ToolDeflection(frame, poses, translation[0], rotation[0], translation[1],
                           rotation[1], int(np.argmax(size[0])), int(np.argmax(size[1])), tilted)
-
-
-def _tilt(unit: Unit, wrench: np.ndarray, offset: float) -> tuple[np.ndarray, np.ndarray]:
-    """A bearing's tilt -M / K_B about x and y of the axis frame [rad], and its centre [m].
-
-    The moment is taken about the bearing centre: the flange `offset` along the axis,
-    moved by the unit's flange-to-centre distance to whichever side tilts more (as the
-    bearing's loads, `hdselect.robot.wrenches.bearing_loads`).
-    """
-    bearing = unit.bearing
-    assert bearing is not None and bearing.moment_stiffness is not None
-    fx, fy, _, mx, my = wrench[:5]
-    sides = [offset + bearing.offset, offset - bearing.offset]
-    moments = [np.stack((mx + h * fy, my - h * fx), axis=-1) for h in sides]
-    far = np.linalg.norm(moments[1], axis=-1) > np.linalg.norm(moments[0], axis=-1)
-    moment = np.where(far[:, None], moments[1], moments[0])
-    return -moment / bearing.moment_stiffness, np.where(far, sides[1], sides[0])
