@@ -229,3 +229,24 @@ def test_k1_only_unit_twists_linearly_and_the_curve_bends_above_t1() -> None:
     curved, _ = unit_rotation(unit, torque)
     assert curved[0, 2] == pytest.approx(-0.5 / unit.stiffness.k1)  # below T1: K1
     assert abs(curved[2, 2]) < 10.0 / unit.stiffness.k1  # stiffer above T1
+
+
+def test_a_ceiling_mounted_arm_sags_down_in_the_world_too() -> None:
+    motion = hdselect.load_motion(ROOT / "trajectories" / "planar2_pick_place.toml")
+    shg = {u.id: u for u in shg_units()}
+    units = {"shoulder": shg["SHG-17-100-2UH"], "elbow": shg["SHG-14-100-2UH"]}
+    held = {}
+    for mounting in ("floor", "ceiling"):
+        robot = hdselect.load_robot(PLANAR).with_payload(motion.payload).with_mounting(mounting)
+        trajectory = hdselect.plan(robot, motion)
+        held[mounting] = hdselect.check_units(robot, trajectory, units).precision.tool
+    floor, ceiling = held["floor"], held["ceiling"]
+    # upside down, gravity flips in the base: the base-frame sag flips and the base's turn
+    # (x kept, y and z reversed) brings it back down in the world, x mirrored
+    common, at_floor, at_ceiling = np.intersect1d(floor.samples, ceiling.samples,
+                                                  return_indices=True)
+    assert len(common) >= 1000  # the spread poses; each joint's worst torque may differ
+    np.testing.assert_allclose(ceiling.holding_translation[at_ceiling],
+                               floor.holding_translation[at_floor] * np.array([-1.0, 1.0, 1.0]),
+                               rtol=1e-9, atol=1e-15)
+    assert ceiling.holding_translation[ceiling.worst_holding][2] < 0.0
