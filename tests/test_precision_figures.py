@@ -30,9 +30,10 @@ from hdselect.robot.compliance import (
     tool_deflection,
     unit_rotation,
 )
-from hdselect.robot.dynamics import gravity_torques, joint_inertias
+from hdselect.robot.dynamics import gravity_torques, inverse_dynamics, joint_inertias
 from hdselect.robot.payload import frame_id
 from hdselect.robot.wrenches import axis_turns
+from helpers.robots import finger_arm, gripper
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCHTOP = ROOT / "robots" / "benchtop6.urdf"
@@ -250,3 +251,18 @@ def test_a_ceiling_mounted_arm_sags_down_in_the_world_too() -> None:
                                floor.holding_translation[at_floor] * np.array([-1.0, 1.0, 1.0]),
                                rtol=1e-9, atol=1e-15)
     assert ceiling.holding_translation[ceiling.worst_holding][2] < 0.0
+
+
+@pytest.mark.parametrize("build", ["gripper", "finger_arm"])
+def test_mass_matrix_of_mimic_followers_equals_rnea_columns(tmp_path: Path, build: str) -> None:
+    robot = hdselect.load_robot(gripper(tmp_path) if build == "gripper" else finger_arm(tmp_path))
+    q = np.random.default_rng(4).uniform(-0.4, 0.4, (25, robot.dof))
+    still = np.zeros_like(q)
+    gravity = inverse_dynamics(robot, q, still, still)
+    columns = []
+    for j in range(robot.dof):  # column j of M(q): RNEA(q, 0, e_j) - RNEA(q, 0, 0)
+        unit = still.copy()
+        unit[:, j] = 1.0
+        columns.append(inverse_dynamics(robot, q, still, unit) - gravity)
+    np.testing.assert_allclose(mass_matrices(robot, q, list(robot.joint_names)),
+                               np.stack(columns, axis=2), rtol=1e-10, atol=1e-14)
