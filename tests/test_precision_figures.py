@@ -32,7 +32,7 @@ from hdselect.robot.compliance import (
 )
 from hdselect.robot.dynamics import gravity_torques, inverse_dynamics, joint_inertias
 from hdselect.robot.payload import frame_id
-from hdselect.robot.wrenches import axis_turns
+from hdselect.robot.wrenches import axis_turns, axis_wrenches
 from helpers.robots import finger_arm, gripper
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -266,3 +266,19 @@ def test_mass_matrix_of_mimic_followers_equals_rnea_columns(tmp_path: Path, buil
         columns.append(inverse_dynamics(robot, q, still, unit) - gravity)
     np.testing.assert_allclose(mass_matrices(robot, q, list(robot.joint_names)),
                                np.stack(columns, axis=2), rtol=1e-10, atol=1e-14)
+
+
+def test_the_base_bearing_tilts_a_stretched_arm_down_under_its_weight() -> None:
+    robot = hdselect.load_robot(BENCHTOP)
+    stretched = np.zeros((1, robot.dof))  # the arm reaches out horizontally (tool0 at x 0.45)
+    unit = next(u for u in shg_units() if u.id == "SHG-20-100-2UH")
+    wrench = axis_wrenches(robot, stretched, stretched, stretched, ["shoulder_pan"])[0]
+    rotation, centre = unit_rotation(unit, wrench[5], wrench, 0.0)
+    assert rotation[0, 2] == 0.0 and np.linalg.norm(rotation[0, :2]) > 0.0  # a tilt alone
+    k_b = unit.bearing.moment_stiffness
+    moment = math.hypot(wrench[3, 0] + centre[0] * wrench[1, 0],
+                        wrench[4, 0] - centre[0] * wrench[0, 0])
+    assert np.linalg.norm(rotation[0, :2]) == pytest.approx(moment / k_b)
+    translation, _ = tool_deflection(robot, stretched, "tool0", {"shoulder_pan": rotation},
+                                     {"shoulder_pan": centre})
+    assert translation[0, 2] < 0.0 and abs(translation[0, 2]) > 10 * abs(translation[0, 1])
