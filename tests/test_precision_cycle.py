@@ -14,6 +14,8 @@ from hdselect.catalog.builtin import catalog_file
 from hdselect.sizing.core import decimated
 from hdselect.sizing.precision import NEAR_RESONANCE, PRECISION_POSES, Window, evaluated_poses
 from hdselect.sizing.tasks import pooled, task_rows
+from helpers.motions import make_motion
+from helpers.robots import BOX, revolute, urdf
 
 ROOT = Path(__file__).resolve().parents[1]
 TRAJECTORIES = ROOT / "trajectories"
@@ -136,3 +138,23 @@ def test_evaluated_poses_are_every_sample_of_a_short_cycle() -> None:
     assert np.array_equal(evaluated_poses(pooled_samples, [j.torque for j in result.joints]),
                           samples)
     assert task_rows(pooled_samples, 0) == slice(0, n)
+
+
+def test_a_joint_moving_nothing_has_no_finite_frequency_and_never_runs_near_it(
+        tmp_path: Path) -> None:
+    # the outer joint turns a point mass on its own axis: M_jj = 0, f_n = inf, nothing rings
+    point = ('<inertial><origin xyz="0.05 0 0"/><mass value="0.2"/>'
+             '<inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>')
+    urdf(tmp_path, '<link name="base"/>' + revolute("j1", "base", "one", axis="0 0 1")
+         + f'<link name="one">{BOX.format(x=0.2, m=1.0, i=2e-3)}</link>'
+         + revolute("j2", "one", "two", axis="1 0 0", xyz="0.4 0 0")
+         + f'<link name="two">{point}</link>', "arm.urdf")
+    robot, motion = make_motion(tmp_path, "ruckig", [(0.0, -1.5), (1.5, 1.8)],
+                                velocity=3.0, acceleration=20.0, jerk=200.0)
+    result = hdselect.size_trajectory(robot, hdselect.plan(robot, motion), shg_units())
+    one, two = result.precision.joints
+    assert math.isinf(two.lowest_frequency) and two.near_resonance == ()
+    assert two.near_resonance_time == 0.0
+    assert math.isfinite(one.lowest_frequency)
+    assert math.isfinite(result.precision.modes.lowest_frequency)
+    assert np.isinf(result.precision.modes.frequencies[:, 1]).all()
