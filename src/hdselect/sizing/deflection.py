@@ -108,7 +108,7 @@ def tool_figures(robots: Sequence[Robot], placed: Sequence[Placements], samples:
         gravity = axis_wrenches(carrier, q, still, still, tilted) if tilted else None
         rotations, centres = {}, {}
         for joint in joints:
-            wrenches = ((joint.wrench.full()[:5, mine], gravity[tilted.index(joint.name), :5])
+            wrenches = ((_rows(joint.wrench, mine), gravity[tilted.index(joint.name), :5])
                         if joint.name in tilted and joint.wrench is not None
                         and gravity is not None else None)
             rotations[joint.name], centres[joint.name] = unit_rotation(
@@ -124,3 +124,9 @@ def tool_figures(robots: Sequence[Robot], placed: Sequence[Placements], samples:
     size = np.linalg.norm(translation, axis=2)
     return ToolDeflection(frame, poses, translation[0], rotation[0], translation[1],
                           rotation[1], int(np.argmax(size[0])), int(np.argmax(size[1])), tilted)
+
+
+def _rows(wrench: SampledWrench, samples: np.ndarray) -> np.ndarray:
+    """The first five rows of a joint's wrench at some samples [N, N m], (5, len(samples))."""
+    columns = samples if wrench.index is None else wrench.index[samples]
+    return wrench.rows[:5, columns]

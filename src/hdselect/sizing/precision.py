@@ -249,19 +249,21 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
                                                                   placed, strict=True)])
     diagonal = np.diagonal(inertia, axis1=1, axis2=2)  # noise (`NOISE_FLOOR`) moves nothing
     diagonal = np.where(diagonal > NOISE_FLOOR * diagonal.max(initial=0.0), diagonal, 0.0)
+    nearest = _nearest(samples, poses)
     figures = []
     for joint in joints:
         if joint.name not in springs:
             figures.append(_unrated(joint.name, units[joint.name]))
             continue
         k = springs.index(joint.name)
-        figures.append(_joint(joint, units[joint.name], samples, poses,
-                              held[:, robot.joint_index(joint.name)], diagonal[:, k]))
+        j = robot.joint_index(joint.name)
+        figures.append(_joint(joint, units[joint.name], samples, poses, nearest, held[:, j],
+                              diagonal[:, k], samples.qd[:, j]))
     tool = modes = None
     if not not_rated:
         frame = tool_frame(samples)
         tool = tool_figures(robots, placed, samples, poses, pieces, frame, joints, units, held,
-                     options)
+                            options)
         k1 = [units[name].stiffness.k1 for name in springs]  # type: ignore[union-attr]
         frequencies = arm_frequencies(inertia, k1)  # type: ignore[arg-type]
         lowest = int(np.argmin(frequencies[:, 0]))
@@ -307,9 +309,28 @@ def _unrated(name: str, unit: Unit) -> JointPrecision:
                           lost_motion=stiffness.lost_motion if stiffness else None)
 
 
+def _nearest(samples: Samples, poses: np.ndarray) -> np.ndarray:
+    """For every pooled sample, the index into `poses` of the nearest pose of its own task."""
+    out = np.empty(len(samples), dtype=np.intp)
+    for k in range(len(samples.tasks)):
+        rows = task_rows(samples, k)
+        own = task_poses(poses, rows)
+        index = np.arange(rows.start, rows.stop)
+        after = np.clip(np.searchsorted(poses[own], index), 0, own.size - 1)
+        before = np.clip(after - 1, 0, own.size - 1)
+        out[rows] = own[np.where(np.abs(poses[own][before] - index)
+                                 < np.abs(poses[own][after] - index), before, after)]
+    return out
+
+
 def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
-           holding: np.ndarray, inertia: np.ndarray) -> JointPrecision:
-    """One rated joint's figures: twist, single-axis f_n at the poses, near resonance."""
+           nearest: np.ndarray, holding: np.ndarray, inertia: np.ndarray,
+           speed: np.ndarray) -> JointPrecision:
+    """One rated joint's figures: twist, single-axis f_n at the poses, near resonance.
+
+    `holding` and `inertia` are at the poses; `speed` is the output's along the samples
+    [rad/s], and the sample's nearest pose gives its f_n.
+    """
     stiffness = unit.stiffness
     assert stiffness is not None and stiffness.k1 is not None  # rated (`rates_torsion`)
     twist = unit_rotation(unit, joint.torque)[0][:, 2]  # -phi(tau)
@@ -318,9 +339,8 @@ def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
     frequency = natural_frequency(stiffness.k1, inertia)
     frequency.setflags(write=False)
     low = int(np.argmin(frequency))
-    windows = _near_resonance(samples, poses, frequency,
-                              samples.qd[:, samples.tasks[0].robot.joint_index(joint.name)]
-                              * unit.ratio * RPM_PER_RAD_S)
+    windows = _near_resonance(samples, resonance_speed(frequency)[nearest],
+                              np.abs(speed) * unit.ratio * RPM_PER_RAD_S)
     return JointPrecision(
         joint.name, unit, True, twist, float(abs(twist[worst])), worst,
         float(np.abs(torsion(stiffness, holding)).max()), stiffness.hysteresis_loss,
@@ -329,24 +349,17 @@ def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
         float(sum(w.end - w.start for w in windows)))
 
 
-def _near_resonance(samples: Samples, poses: np.ndarray, frequency: np.ndarray,
+def _near_resonance(samples: Samples, excited: np.ndarray,
                     speed: np.ndarray) -> tuple[Window, ...]:
-    """The stretches where |input speed| [rpm] is within `NEAR_RESONANCE` of f_n x 30."""
+    """The stretches where the input speed [rpm] is within `NEAR_RESONANCE` of `excited`.
+
+    `excited` is the resonance speed f_n x 30 at each sample [rpm] (inf: nothing rings).
+    """
+    near = np.isfinite(excited) & (np.abs(speed - excited) <= NEAR_RESONANCE * excited)
     windows = []
     for k, task in enumerate(samples.tasks):
         rows = task_rows(samples, k)
-        own = task_poses(poses, rows)
-        if not own.size:
-            continue
-        index = np.arange(rows.start, rows.stop)
-        after = np.clip(np.searchsorted(poses[own], index), 0, own.size - 1)
-        before = np.clip(after - 1, 0, own.size - 1)
-        nearer = np.where(np.abs(poses[own][before] - index) < np.abs(poses[own][after] - index),
-                          before, after)
-        excited = resonance_speed(frequency[own][nearer])
-        near = np.isfinite(excited) & (np.abs(np.abs(speed[rows]) - excited)
-                                       <= NEAR_RESONANCE * excited)  # inf: no load, no ring
-        edges = np.flatnonzero(np.diff(np.r_[0, near.astype(np.int8), 0]))
+        edges = np.flatnonzero(np.diff(np.r_[0, near[rows].astype(np.int8), 0]))
         t, dt = samples.t[rows], task.trajectory.dt
         windows += [Window(k, float(t[a]), float(t[b - 1] + dt))
                     for a, b in zip(edges[::2], edges[1::2], strict=True)]
