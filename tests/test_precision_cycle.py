@@ -4,13 +4,17 @@ joints left rigid and units that rate no stiffness."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import hdselect
 from hdselect.catalog.builtin import catalog_file
+from hdselect.catalog.units import Stiffness
+from hdselect.robot.payload import frame_id
 from hdselect.sizing.core import decimated
 from hdselect.sizing.precision import NEAR_RESONANCE, PRECISION_POSES, Window, evaluated_poses
 from hdselect.sizing.tasks import pooled, task_rows
@@ -158,3 +162,30 @@ def test_a_joint_moving_nothing_has_no_finite_frequency_and_never_runs_near_it(
     assert math.isfinite(one.lowest_frequency)
     assert math.isfinite(result.precision.modes.lowest_frequency)
     assert np.isinf(result.precision.modes.frequencies[:, 1]).all()
+
+
+def test_a_mixs_deflections_are_the_jacobian_times_each_tasks_own_twists() -> None:
+    units = [replace(u, stiffness=Stiffness(k1=u.stiffness.k1), bearing=None)
+             for u in shg_units()]  # K1 alone, no bearing tilt: dx = J(q) (-tau / K1)
+    result = hdselect.size(None, TRAJECTORIES / "mixes" / "benchtop6_pick_inspect.toml",
+                           catalog=units, mass_coupling=False, bearing_loads=False)
+    tool = result.precision.tool
+    assert tool.bearing_tilt == ()
+    k1 = np.array([j.selected.unit.stiffness.k1 for j in result.joints])
+    torque = np.stack([j.torque for j in result.joints], axis=1)
+    first = len(result.counted[0].trajectory.t)
+    for i in np.linspace(0, len(tool.samples) - 1, 9).astype(int):
+        sample = int(tool.samples[i])
+        k, row = (0, sample) if sample < first else (1, sample - first)
+        task = result.counted[k]  # its own payload
+        model, data = task.robot.model, task.robot.model.createData()
+        config = task.robot.configuration(task.trajectory.q[row:row + 1])[:, 0]
+        jacobian = pin.computeFrameJacobian(model, data, config, frame_id(model, "tool0"),
+                                            pin.LOCAL_WORLD_ALIGNED)
+        gravity = pin.computeGeneralizedGravity(model, data, config)
+        np.testing.assert_allclose(tool.translation[i], jacobian[:3] @ (-torque[sample] / k1),
+                                   atol=1e-12)
+        np.testing.assert_allclose(tool.holding_translation[i], jacobian[:3] @ (-gravity / k1),
+                                   atol=1e-12)
+        np.testing.assert_allclose(tool.holding_rotation[i], jacobian[3:] @ (-gravity / k1),
+                                   atol=1e-12)
