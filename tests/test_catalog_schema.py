@@ -273,15 +273,17 @@ def test_an_unknown_name_lists_the_builtin_catalogs(tmp_path: Path,
 
 
 def test_a_mix_file_names_a_builtin_catalog(tmp_path: Path) -> None:
+    from hdselect import load_robot
     from hdselect.motion.mixduty import duty_tables
 
+    robot = load_robot(REPO / "robots" / "planar2.urdf")
     document = {"sizing": {"catalog": ["psa-g"]}}
-    _, files = duty_tables(document, tmp_path / "mix.toml", None)  # type: ignore[arg-type]
+    _, files = duty_tables(document, tmp_path / "mix.toml", robot)
     assert files == (DATA / "psa_g.toml",)
     document = {"sizing": {"catalog": ["nothing-here"]}}
     with pytest.raises(InputError, match=r"sizing\.catalog\[0\]: catalog file not found: "
                                          r"'nothing-here'; built-in catalogs: psa-g"):
-        duty_tables(document, tmp_path / "mix.toml", None)  # type: ignore[arg-type]
+        duty_tables(document, tmp_path / "mix.toml", robot)
 
 
 # ----------------------------------------------------------------------------- every shipped file
