@@ -332,7 +332,8 @@ def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
     [rad/s], and the sample's nearest pose gives its f_n.
     """
     stiffness = unit.stiffness
-    assert stiffness is not None and stiffness.k1 is not None  # rated (`rates_torsion`)
+    if stiffness is None or stiffness.k1 is None:
+        raise ValueError(f"{unit.id} rates no K1: its joint has no figures")
     twist = unit_rotation(unit, joint.torque)[0][:, 2]  # -phi(tau)
     twist.setflags(write=False)
     worst = int(np.argmax(np.abs(twist)))
