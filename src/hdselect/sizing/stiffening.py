@@ -170,7 +170,7 @@ class _Search:
 
     def choice(self, model: TorqueModel, ladders: Ladders,
                reasons: Mapping[str, str] | None = None, *, detail: bool = True,
-               full: bool = True) -> _Choice:
+               full: bool = True, kept: Mapping[str, Unit] | None = None) -> _Choice:
         """The selection with each raised joint's candidates at least as stiff as its floor.
 
         Args:
@@ -179,9 +179,12 @@ class _Search:
             reasons: The target each was raised for.
             detail: Keep every candidate (the next raise reads them).
             full: The final samples: slow-downs and per-task checks as the core's.
+            kept: Joints whose unit cannot change (their carried units do not): that unit
+                is their only candidate, which spares checking the others.
         """
         units = {name: _at_least(given, ladders[name][-1]) if name in ladders else given
                  for name, given in self.units.items()}
+        units.update({name: (unit,) for name, unit in (kept or {}).items()})
         joints, masses = self.select(model, units, self.options, self.motors, detail=detail,
                                      slowdowns=full and detail and self.slowdowns,
                                      per_task=full and detail)
@@ -205,6 +208,8 @@ class _Search:
             The lightest choice met (its raises trimmed), else the best reached.
         """
         current = self._rated(start, model, full=full)
+        if _gap(current.precision, self.targets) == 0.0:
+            return current
         met: tuple[str, _Choice] | None = None
         while _gap(current.precision, self.targets) > 0.0:
             trials = self._trials(current, model, full=full)
@@ -226,12 +231,14 @@ class _Search:
                 ) -> list[tuple[str, _Choice]]:
         """Each joint raised one step, where every joint keeps a unit and the shortfall shrinks."""
         trials = []
-        for joint in current.joints:
+        for k, joint in enumerate(current.joints):
             unit = self._next(joint, current)
             if unit is not None:
                 ladders = {**current.ladders,
                            joint.name: (*current.ladders.get(joint.name, ()), unit)}
-                trial = self.choice(model, ladders, detail=False, full=full)
+                # the joints after it in the robot's order carry no more than before
+                kept = {j.name: j.selected.unit for j in current.joints[k + 1:] if j.selected}
+                trial = self.choice(model, ladders, detail=False, full=full, kept=kept)
                 if trial.feasible and (_gap(trial.precision, self.targets)
                                        < _gap(current.precision, self.targets)):
                     trials.append((joint.name, trial))
