@@ -301,3 +301,22 @@ def test_units_without_stiffness_are_raised_to_rated_ones_first(tmp_path):
     # the same search on the ZS units alone reaches the same units
     again = size(None, motion, catalog=zs, max_tool_deflection=limit)
     assert chosen(again) == chosen(result)
+
+
+def test_a_joint_without_a_unit_leaves_the_targets_unraised(tmp_path):
+    # the built-in PSA-G units cannot hold planar3's shoulder: nothing is raised, and
+    # the target says why
+    result = size(None, planar3_motion(tmp_path), max_tool_deflection=1e-3,
+                  min_arm_frequency=10.0)
+    assert not result.feasible and result.precision.raised == ()
+    for check in result.precision.targets:
+        assert not check.ok and check.value is None
+        assert check.shortfall == "not raised: no unit fits joint 'shoulder' by its own rules"
+
+
+def test_the_same_problem_gives_the_same_raises(arm):
+    table = arm[3]
+    limit = between([row[3] for row in table], 22)
+    first, again = (sized(arm, min_arm_frequency=limit) for _ in range(2))
+    assert first.precision.raised == again.precision.raised
+    assert first.precision.targets == again.precision.targets

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Protocol
 
 from hdselect.catalog.motors import Motor
@@ -122,8 +122,7 @@ def stiffened(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]],
 
 
 Ladders = dict[str, tuple[Unit, ...]]
-"""Each raised joint's raises in order: its candidates are the units at least as stiff
-(K1) as the last."""
+"""Each raised joint's raises in order: its candidates are the units at least as stiff."""
 
 
 @dataclass(frozen=True)
@@ -142,7 +141,7 @@ class _Choice:
     joints: list[JointSizing]
     masses: dict[str, float]
     precision: Precision | None
-    reasons: Mapping[str, str] | None = None
+    reasons: Mapping[str, str] = field(default_factory=dict)
 
     @property
     def feasible(self) -> bool:
@@ -190,7 +189,7 @@ class _Search:
                                      per_task=full and detail)
         feasible = all(joint.selected is not None for joint in joints)
         figures = precision_of(model, joints, masses, self.options) if feasible else None
-        return _Choice(ladders, joints, masses, figures, reasons or {})
+        return _Choice(ladders, joints, masses, figures, dict(reasons or {}))
 
     def run(self, start: _Choice, model: TorqueModel, *, full: bool) -> _Choice:
         """Raise from `start` until the targets are met or no trial closes their shortfall.
@@ -222,7 +221,7 @@ class _Search:
             name, best = self._best(current, trials)
             if met is not None and best.mass >= met[1].mass:
                 name, best = met
-            current = self.choice(model, best.ladders, {**(current.reasons or {}),
+            current = self.choice(model, best.ladders, {**current.reasons,
                                                         name: self._reason(current, best)},
                                   full=full)
         return self._trimmed(current, model, full=full)
@@ -260,7 +259,7 @@ class _Search:
                 break
             why = REASONS[next(iter(self.targets))]
             trial = self.choice(model, ladders, {**dict.fromkeys(ladders, why),
-                                                 **(current.reasons or {})}, full=full)
+                                                 **current.reasons}, full=full)
             if not trial.feasible:
                 break
             current = trial
@@ -322,7 +321,7 @@ class _Search:
             if not trials:
                 break
             best = min(trials, key=lambda trial: trial.mass)
-            reasons = {name: why for name, why in (current.reasons or {}).items()
+            reasons = {name: why for name, why in current.reasons.items()
                        if name in best.ladders}
             current = self.choice(model, best.ladders, reasons, full=full)
         return current
@@ -370,7 +369,7 @@ def _raises(joints: Sequence[JointSizing], found: _Choice) -> tuple[Raise, ...]:
     A joint re-selected for the units it carries takes the reason of the nearest raised
     joint further out.
     """
-    reasons = found.reasons or {}
+    reasons = found.reasons
     out, why = [], REASONS[TOOL_DEFLECTION]
     for before, after in reversed(list(zip(joints, found.joints, strict=True))):
         old, new = ((j.selected or j.strongest).unit for j in (before, after))
