@@ -258,7 +258,8 @@ def tool_deflection(robot: Robot, q: np.ndarray, frame: str,
     point = placed.frame_origin(frame)
     translation = np.zeros(np.broadcast_shapes(*(np.shape(rotations[name]) for name in names)))
     rotation = np.zeros_like(translation)
-    for name, turn in zip(names, axis_turns(robot, names), strict=True):
+    for name, turn in zip(names, axis_turns(robot, names, placed.motions),
+                          strict=True):
         i = robot.model.getJointId(name)
         axes = placed.rotation[i] @ turn  # the joint's axis frame in the base, (n, 3, 3)
         spin = np.einsum("nab,...nb->...na", axes, rotations[name])

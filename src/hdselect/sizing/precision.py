@@ -45,7 +45,7 @@ from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.options import Options
 from hdselect.sizing.tasks import Samples, task_rows
 
-PRECISION_POSES = 2000
+PRECISION_POSES = 1000
 """Most poses at which the tool's deflection and the natural frequencies are evaluated."""
 NEAR_RESONANCE = 0.10
 """An input speed within this fraction of a resonance speed runs near resonance [-]."""
@@ -78,7 +78,7 @@ class JointPrecision:
             pooled samples [rad], (n,).
         max_torsion: Largest |twist| over the cycle [rad].
         max_torsion_sample: Its pooled sample.
-        holding_torsion: Largest |twist| holding each pose of the cycle still [rad].
+        holding_torsion: Largest |twist| holding each evaluated pose still [rad].
         hysteresis_loss: The catalog's hysteresis loss [rad], where it gives one.
         lost_motion: The catalog's lost motion [rad], where it gives one.
         frequency: Single-axis f_n = sqrt(K1 / M_jj) / 2 pi at each evaluated pose
@@ -277,9 +277,17 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
     robots = [task.robot.with_gearheads({k: masses[k] for k in robot.sized_joints
                                          if k in masses}) for task in samples.tasks]
     poses = evaluated_poses(samples, [j.torque for j in joints])
+    moving = np.any(samples.qd != 0.0, axis=0)
+    rigid = tuple(name for j, name in enumerate(robot.joint_names)
+                  if name not in units and moving[j])
+    not_rated = tuple(j.name for j in joints if j.name not in springs)
+    if not springs:
+        return Precision(tuple(_unrated(j.name, units[j.name]) for j in joints), None, None,
+                         not_rated, rigid, poses=poses)
     pieces = _pieces(samples, poses)
-    held = np.concatenate([gravity_torques(carrier, task.trajectory.q, threads=threads)
-                           for carrier, task in zip(robots, samples.tasks, strict=True)])
+    held = np.concatenate([gravity_torques(carrier, task.trajectory.q[local], threads=threads)
+                           for carrier, task, local in zip(robots, samples.tasks, pieces,
+                                                           strict=True)])
     floor = torque_floor(robot)
     held[np.abs(held) < floor] = 0.0  # the recursion's noise counts as zero, as in the selection
     placed = [placements(carrier, task.trajectory.q[local])
@@ -296,9 +304,8 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
         k = springs.index(joint.name)
         figures.append(_joint(joint, units[joint.name], samples, poses,
                               held[:, robot.joint_index(joint.name)], inertia[:, k, k]))
-    whole = len(springs) == len(joints) and bool(springs)
     tool = modes = None
-    if whole:
+    if not not_rated:
         frame = _tool_frame(samples)
         tool = _tool(robots, placed, samples, poses, pieces, frame, joints, units, held,
                      options)
@@ -307,11 +314,7 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
         lowest = int(np.argmin(frequencies[:, 0]))
         _, shapes = arm_modes(inertia[lowest:lowest + 1], k1)  # type: ignore[arg-type]
         modes = ArmModes(springs, poses, frequencies, lowest, shapes[0, :, 0])
-    moving = np.any(samples.qd != 0.0, axis=0)
-    rigid = tuple(name for j, name in enumerate(robot.joint_names)
-                  if name not in units and moving[j])
-    return Precision(tuple(figures), tool, modes,
-                     tuple(j.name for j in joints if j.name not in springs), rigid, poses=poses)
+    return Precision(tuple(figures), tool, modes, not_rated, rigid, poses=poses)
 
 
 def evaluated_poses(samples: Samples, torques: Sequence[np.ndarray]) -> np.ndarray:
@@ -415,6 +418,7 @@ def _tool(robots: Sequence[Robot], placed: Sequence[Placements], samples: Sample
     parts = []
     for k, (carrier, local) in enumerate(zip(robots, pieces, strict=True)):
         mine = poses[(poses >= task_rows(samples, k).start) & (poses < task_rows(samples, k).stop)]
+        rows = np.searchsorted(poses, mine)  # their rows among the evaluated poses
         q = samples.tasks[k].trajectory.q[local]
         still = np.zeros_like(q)
         gravity = axis_wrenches(carrier, q, still, still, tilted) if tilted else None
@@ -425,7 +429,7 @@ def _tool(robots: Sequence[Robot], placed: Sequence[Placements], samples: Sample
                         and gravity is not None else None)
             rotations[joint.name], centres[joint.name] = unit_rotation(
                 units[joint.name],
-                np.stack((joint.torque[mine], held[mine, robot.joint_index(joint.name)])),
+                np.stack((joint.torque[mine], held[rows, robot.joint_index(joint.name)])),
                 None if wrenches is None else np.stack(wrenches),
                 options.bearing_offset.get(joint.name, 0.0))
         parts.append(tool_deflection(carrier, q, frame, rotations, centres, placed=placed[k]))
