@@ -77,7 +77,7 @@ PAYLOAD = 1.0  # [kg], a point at the tool frame (the motion's [payload])
 G = 9.80665  # [m/s^2]
 
 
-def oracle_figures(q: np.ndarray, units: tuple) -> tuple[float, float]:
+def oracle_figures(q: np.ndarray, units: tuple, carried: bool = True) -> tuple[float, float]:
     """(largest holding tool translation [m], lowest arm mode [Hz]) over the poses `q`.
 
     planar3 by hand, every pose at once: the joint origins o_i, link directions u_i at
@@ -100,7 +100,8 @@ def oracle_figures(q: np.ndarray, units: tuple) -> tuple[float, float]:
     bodies = [(LINK_MASS[i], LINK_INERTIA[i], origin[:, i] + CENTRE[i] * direction[:, i], i + 1)
               for i in range(3)]
     bodies.append((PAYLOAD, 0.0, tool, 3))
-    bodies += [(units[k].mass, 0.0, origin[:, k], k) for k in (1, 2)]  # the shoulder's: fixed
+    if carried:  # the units' masses (the shoulder's sits on the fixed base)
+        bodies += [(units[k].mass, 0.0, origin[:, k], k) for k in (1, 2)]
     tau = np.zeros((n, 3))
     mass = np.zeros((n, 3, 3))
     for m, inertia, at, moved in bodies:
@@ -125,12 +126,13 @@ def oracle_figures(q: np.ndarray, units: tuple) -> tuple[float, float]:
 
 def brute_force(robot, trajectory, units, options=None):
     """Every combination whose units pass every joint's rules: (ids, mass, deflection, Hz)."""
+    carried = options is None or options.mass_coupling
     rows = []
     for combo in itertools.product(units, repeat=len(robot.sized_joints)):
         chosen = dict(zip(robot.sized_joints, combo, strict=True))
         if check_units(robot, trajectory, chosen, options).feasible:
             rows.append((tuple(u.id for u in combo), sum(u.mass for u in combo),
-                         *oracle_figures(trajectory.q, combo)))
+                         *oracle_figures(trajectory.q, combo, carried)))
     return rows
 
 
@@ -320,3 +322,15 @@ def test_the_same_problem_gives_the_same_raises(arm):
     first, again = (sized(arm, min_arm_frequency=limit) for _ in range(2))
     assert first.precision.raised == again.precision.raised
     assert first.precision.targets == again.precision.targets
+
+
+def test_without_mass_coupling_the_raise_is_the_lightest_choice_too(arm):
+    # no unit loads another: the search runs on the full samples (no coarse guess)
+    robot, trajectory, units, _ = arm
+    options = Options(mass_coupling=False)
+    table = brute_force(robot, trajectory, units, options)
+    for rank in (5, 20):
+        limit = between([row[2] for row in table], rank)
+        result = size_trajectory(robot, trajectory, units,
+                                 Options(mass_coupling=False, max_tool_deflection=limit))
+        assert_the_lightest(result, table, deflection=limit)

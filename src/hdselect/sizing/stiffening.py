@@ -387,20 +387,21 @@ def _checks(precision: Precision | None, targets: Mapping[str, float], *,
     for name, limit in targets.items():
         value = _figure(precision, name)
         ok = value is not None and _term(precision, name, limit) == 0.0
+        against = f"{_quantity(name, value)} against " if value is not None else ""
         shortfall = None
         if ok:
             pass
-        elif given and value is not None:
-            shortfall = (f"not met by the units given ({_quantity(name, value)} against "
-                         f"{_quantity(name, limit)})")
+        elif given:
+            shortfall = (f"not met by the units given ({against}{_quantity(name, limit)})"
+                         if value is not None else
+                         f"cannot be judged: the unit given to {_joints(unrated)} rates no K1")
         elif missing:
             shortfall = f"not raised: no unit fits {_joints(missing)} by its own rules"
         elif value is None:
             shortfall = f"cannot be judged: no unit that fits {_joints(unrated)} rates K1"
         else:
             shortfall = (f"cannot be met by this catalog: no stiffer unit that fits "
-                         f"{_WORDS[name]} (best reached {_quantity(name, value)} against "
-                         f"{_quantity(name, limit)})")
+                         f"{_WORDS[name]} (best reached {against}{_quantity(name, limit)})")
         out.append(TargetCheck(name, value, limit, ok, shortfall))
     return tuple(out)
 
