@@ -24,8 +24,11 @@ from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.stiffness import torsion
 from hdselect.motion.loading import load_case
 from hdselect.motion.planning import plan
-from hdselect.sizing.core import check_units, size, size_trajectory
+from hdselect.sizing.core import check_units, select_units, size, size_trajectory
 from hdselect.sizing.options import Options
+from hdselect.sizing.stiffening import stiffened
+from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.torques import DirectTorques
 from helpers import REPO
 from helpers.motions import planar2_motion
 
@@ -334,3 +337,20 @@ def test_without_mass_coupling_the_raise_is_the_lightest_choice_too(arm):
         result = size_trajectory(robot, trajectory, units,
                                  Options(mass_coupling=False, max_tool_deflection=limit))
         assert_the_lightest(result, table, deflection=limit)
+
+
+def test_stiffened_raises_from_a_selection_that_kept_only_the_chosen_units(arm):
+    # a study's front end selects with detail=False and calls `stiffened` itself
+    robot, trajectory, units, table = arm
+    limit = between([row[2] for row in table], 16)
+    options = Options(max_tool_deflection=limit, prefer="size")
+    tasks = (Task(robot, trajectory),)
+    samples = pooled(tasks)
+    model = DirectTorques(tasks, samples, options.stop_time)
+    per_joint = dict.fromkeys(robot.sized_joints, units)
+    joints, masses = select_units(model, per_joint, options, {}, detail=False)
+    found = stiffened(model, per_joint, joints, masses, options, {}, select=select_units)
+    ids = tuple(joint.selected.unit.id for joint in found.joints)
+    assert ids in [row[0] for row in lightest(table, deflection=limit)]
+    assert found.masses == {joint.name: joint.selected.unit.mass for joint in found.joints}
+    assert found.precision.targets[0].ok and found.precision.raised

@@ -109,7 +109,8 @@ def stiffened(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]],
             rough = search.run(search.choice(coarse, {}, full=False), coarse, full=False)
             if rough.ladders:
                 found = search.choice(model, rough.ladders, rough.reasons)
-                found = found if found.feasible else first
+        if not found.ladders or not found.feasible:  # every candidate kept, to raise from
+            found = search.choice(model, {})
         found = search.run(found, model, full=True)
         found = found if found.ladders else first
     unrated = [joint.name for joint in found.joints
@@ -154,18 +155,16 @@ class _Choice:
         return sum(_own_mass(joint) for joint in self.joints)
 
 
+@dataclass(frozen=True)
 class _Search:
-    """The raising step's trials on one model: choices by their floors, the greedy, the trim."""
+    """The raising step's trials: choices by their floors, the greedy, the trim."""
 
-    def __init__(self, units: Mapping[str, tuple[Unit, ...]], targets: Mapping[str, float],
-                 options: Options, motors: Mapping[str, Sequence[Motor]], select: Selector,
-                 slowdowns: bool) -> None:
-        self.units = units
-        self.targets = targets
-        self.options = options
-        self.motors = motors
-        self.select = select
-        self.slowdowns = slowdowns
+    units: Mapping[str, tuple[Unit, ...]]
+    targets: Mapping[str, float]
+    options: Options
+    motors: Mapping[str, Sequence[Motor]]
+    select: Selector
+    slowdowns: bool
 
     def choice(self, model: TorqueModel, ladders: Ladders,
                reasons: Mapping[str, str] | None = None, *, detail: bool = True,
