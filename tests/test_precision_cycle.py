@@ -4,16 +4,22 @@ joints left rigid and units that rate no stiffness."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import hdselect
 from hdselect.catalog.builtin import catalog_file
+from hdselect.catalog.units import Stiffness
+from hdselect.robot.payload import frame_id
 from hdselect.sizing.core import decimated
 from hdselect.sizing.precision import NEAR_RESONANCE, PRECISION_POSES, Window, evaluated_poses
 from hdselect.sizing.tasks import pooled, task_rows
+from helpers.motions import make_motion
+from helpers.robots import BOX, revolute, urdf
 
 ROOT = Path(__file__).resolve().parents[1]
 TRAJECTORIES = ROOT / "trajectories"
@@ -136,3 +142,50 @@ def test_evaluated_poses_are_every_sample_of_a_short_cycle() -> None:
     assert np.array_equal(evaluated_poses(pooled_samples, [j.torque for j in result.joints]),
                           samples)
     assert task_rows(pooled_samples, 0) == slice(0, n)
+
+
+def test_a_joint_moving_nothing_has_no_finite_frequency_and_never_runs_near_it(
+        tmp_path: Path) -> None:
+    # the outer joint turns a point mass on its own axis: M_jj = 0, f_n = inf, nothing rings
+    point = ('<inertial><origin xyz="0.05 0 0"/><mass value="0.2"/>'
+             '<inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>')
+    urdf(tmp_path, '<link name="base"/>' + revolute("j1", "base", "one", axis="0 0 1")
+         + f'<link name="one">{BOX.format(x=0.2, m=1.0, i=2e-3)}</link>'
+         + revolute("j2", "one", "two", axis="1 0 0", xyz="0.4 0 0")
+         + f'<link name="two">{point}</link>', "arm.urdf")
+    robot, motion = make_motion(tmp_path, "ruckig", [(0.0, -1.5), (1.5, 1.8)],
+                                velocity=3.0, acceleration=20.0, jerk=200.0)
+    result = hdselect.size_trajectory(robot, hdselect.plan(robot, motion), shg_units())
+    one, two = result.precision.joints
+    assert math.isinf(two.lowest_frequency) and two.near_resonance == ()
+    assert two.near_resonance_time == 0.0
+    assert math.isfinite(one.lowest_frequency)
+    assert math.isfinite(result.precision.modes.lowest_frequency)
+    assert np.isinf(result.precision.modes.frequencies[:, 1]).all()
+
+
+def test_a_mixs_deflections_are_the_jacobian_times_each_tasks_own_twists() -> None:
+    units = [replace(u, stiffness=Stiffness(k1=u.stiffness.k1), bearing=None)
+             for u in shg_units()]  # K1 alone, no bearing tilt: dx = J(q) (-tau / K1)
+    result = hdselect.size(None, TRAJECTORIES / "mixes" / "benchtop6_pick_inspect.toml",
+                           catalog=units, mass_coupling=False, bearing_loads=False)
+    tool = result.precision.tool
+    assert tool.bearing_tilt == ()
+    k1 = np.array([j.selected.unit.stiffness.k1 for j in result.joints])
+    torque = np.stack([j.torque for j in result.joints], axis=1)
+    first = len(result.counted[0].trajectory.t)
+    for i in np.linspace(0, len(tool.samples) - 1, 9).astype(int):
+        sample = int(tool.samples[i])
+        k, row = (0, sample) if sample < first else (1, sample - first)
+        task = result.counted[k]  # its own payload
+        model, data = task.robot.model, task.robot.model.createData()
+        config = task.robot.configuration(task.trajectory.q[row:row + 1])[:, 0]
+        jacobian = pin.computeFrameJacobian(model, data, config, frame_id(model, "tool0"),
+                                            pin.LOCAL_WORLD_ALIGNED)
+        gravity = pin.computeGeneralizedGravity(model, data, config)
+        np.testing.assert_allclose(tool.translation[i], jacobian[:3] @ (-torque[sample] / k1),
+                                   atol=1e-12)
+        np.testing.assert_allclose(tool.holding_translation[i], jacobian[:3] @ (-gravity / k1),
+                                   atol=1e-12)
+        np.testing.assert_allclose(tool.holding_rotation[i], jacobian[3:] @ (-gravity / k1),
+                                   atol=1e-12)
