@@ -115,8 +115,11 @@ def test_a_unit_without_stiffness_is_not_rated_and_no_target_means_no_check():
     for name in ("torsion", "natural_frequency"):
         check = candidate.checks[name]
         assert check.ok and check.value is None and "not_rated" in check.detail
+    assert any(flag.field == "stiffness" and "targets are not checked" in flag.note
+               for flag in candidate.flags)  # the tables' footnote says so
     plain = check_unit(make_load(), unit)
     assert "torsion" not in plain.checks and "natural_frequency" not in plain.checks
+    assert not any(flag.field == "stiffness" for flag in plain.flags)
     with pytest.raises(ValueError, match="load inertia"):
         check_unit(make_load(), unit, min_frequency=50.0)
 
@@ -189,6 +192,8 @@ def test_a_bare_value_applies_to_every_joint_and_a_named_one_wins():
     (["--max-torsion", "table=abc"], "expected a number"),
     (["--max-torsion", "=2"], "JOINT=VALUE"),
     (["--max-torsion", "nonesuch=2"], "'nonesuch' is not a sized joint"),
+    (["--max-torsion", "2", "--max-torsion", "3"], "given twice for every joint"),
+    (["--max-torsion", "table=2", "--max-torsion", "table=3"], "given twice for table"),
     (["--min-natural-frequency", "hand-axis"], "hand-axes"),  # the classes listed
     (["--min-natural-frequency", "table=-3"], "positive"),
     (["--min-arm-frequency", "nope"], "milling-hardwood"),
@@ -410,3 +415,42 @@ def test_a_mix_refuses_motions_that_disagree_on_a_target_in_their_words(tmp_path
     with pytest.raises(InputError, match=r"a.toml gives precision.max_torsion_arcmin 2, .*"
                                          r"b.toml gives 3;"):
         mix_options(load_mix(mix, robot))
+
+
+def test_a_catalog_whose_units_rate_no_stiffness_is_no_next_step_for_a_target(capsys):
+    """CSF-2UH rates no K1: its units are "not rated" for a torsion target, which is no
+    proof they hold it; the next steps offer only what is checked (here the slow-down,
+    the dynamic torque falling as 1/s^2)."""
+    status = main(["size", str(INDEX), "--series", "shg-2uh", "--max-torsion", "0.01"])
+    out = capsys.readouterr().out
+    assert status == 1 and "largest torsion" in out
+    assert "csf-2uh" not in out and "slower" in out
+
+
+def test_the_json_of_a_frequency_check_carries_its_load_inertia():
+    from hdselect.sizing.records import size_json
+
+    result = size(None, INDEX, catalog=SHG, min_natural_frequency=20.0, max_torsion=1e-3)
+    document = json.loads(json.dumps(size_json(result), allow_nan=False))
+    checks = document["joints"][0]["candidates"][0]["checks"]
+    assert checks["natural_frequency"]["load_inertia_kg_m2"] == pytest.approx(
+        index_table_inertia(), rel=1e-5)
+    assert checks["natural_frequency"]["limit"] == 20.0
+    assert checks["torsion"]["limit"] == pytest.approx(1e-3 / RAD_PER_ARCMIN)
+
+
+@pytest.mark.slow
+def test_fastest_takes_the_targets_and_no_speed_helps_a_resonance(capsys, tmp_path):
+    """A torsion target slows the index table (a torque limit); a frequency target it
+    meets costs no time; one it misses fails at once, at every speed."""
+    base = ["fastest", str(INDEX), "--series", "shg-2uh", "--units", "table=SHG-14-50-2UH"]
+    cycles = []
+    for extra in ([], ["--min-natural-frequency", "20"], ["--max-torsion", "0.3"]):
+        out = tmp_path / f"f{len(cycles)}.json"
+        assert main([*base, *extra, "--json", str(out)]) == 0
+        cycles.append(json.loads(out.read_text())["cycle_time_s"])
+    assert cycles[1] == cycles[0] and cycles[2] > cycles[0]
+    capsys.readouterr()
+    assert main([*base, "--min-natural-frequency", "1000"]) == 1
+    assert "natural_frequency rule with SHG-14-50-2UH at every speed" in " ".join(
+        capsys.readouterr().out.split())

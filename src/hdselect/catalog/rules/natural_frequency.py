@@ -59,7 +59,7 @@ class MinNaturalFrequency(Rule):
         if frequency is None:
             return self.not_rated(None, case.margin)
         return self.judge(frequency if math.isfinite(frequency) else None,  # J = 0: no mass
-                          case.min_frequency, case.margin, load_inertia=case.load_inertia)
+                          case.min_frequency, case.margin, load_inertia_kg_m2=case.load_inertia)
 
     def fields(self, unit: Unit) -> tuple[str, ...]:
         """See `Rule.fields`."""
