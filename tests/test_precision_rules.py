@@ -178,9 +178,16 @@ def test_a_bare_value_applies_to_every_joint_and_a_named_one_wins():
     assert Options(min_natural_frequency={"table": "scara"}).min_natural_frequency == {
         "table": 15.0}
     whole = sizing_options_of(args("--max-tool-deflection", "0.2", "--min-arm-frequency",
-                                   "12.5", "--no-precision"), motion)
+                                   "12.5"), motion)
     assert (whole.max_tool_deflection, whole.min_arm_frequency, whole.precision) == (
-        pytest.approx(2e-4), 12.5, False)
+        pytest.approx(2e-4), 12.5, True)
+    for target in ("--max-tool-deflection", "--min-arm-frequency"):
+        # the whole-arm targets are judged on the figures --no-precision leaves out
+        with pytest.raises(InputError, match="not both") as refused:
+            sizing_options_of(args(target, "10", "--no-precision"), motion)
+        assert refused.value.field == target
+    with pytest.raises(InputError, match="not both"):
+        Options(precision=False, max_tool_deflection=1e-3)
 
 
 @pytest.mark.parametrize(("given", "words"), [

@@ -103,6 +103,12 @@ class Options:
     def __post_init__(self) -> None:
         for option in OPTIONS:
             _set(self, option.name, option.check(getattr(self, option.name)))
+        if not self.precision:
+            for name in WHOLE_ARM_TARGETS:
+                if getattr(self, name) is not None:
+                    raise InputError("a whole-arm target is judged on the precision figures, "
+                                     f"which {OPTION['precision'].flag} leaves out: give the "
+                                     "target or that flag, not both", field=OPTION[name].flag)
 
     def joint_value(self, name: str, joint: str) -> float | None:
         """A per-joint option's value for one joint [SI]: its own, else every joint's.
@@ -115,6 +121,10 @@ class Options:
             The value, or None where the option sets none for this joint.
         """
         return OPTION[name].joint_value(getattr(self, name), joint)
+
+
+WHOLE_ARM_TARGETS = ("max_tool_deflection", "min_arm_frequency")
+"""The options judged on the whole arm's precision figures (`hdselect.sizing.stiffening`)."""
 
 
 def options_for(motion: Motion | None, **given: Any) -> Options:
