@@ -55,7 +55,7 @@ from hdselect.envelope.specfile import (
     load_envelope_file,
 )
 from hdselect.envelope.states import StateRows, state_rows
-from hdselect.envelope.torques import EnvelopeTorques, duty_time
+from hdselect.envelope.torques import EnvelopeTorques, duty_precision, duty_time
 from hdselect.envelope.workers import Spread, default_workers
 from hdselect.motion.loading import load_case
 from hdselect.motion.mixfile import Mix
@@ -264,7 +264,8 @@ def _envelope(problem: Problem, spec: Spec, duty: Duty, duty_sizing: SizingResul
         masses = chosen if options.mass_coupling else {}
     sizing = SizingResult(robot, duty.tasks[0].trajectory, tuple(sized), options, units,
                           duty.motion, loads=model.loads(masses), tasks=duty.tasks,
-                          idle=duty.idle, mix=duty.mix)
+                          idle=duty.idle, mix=duty.mix, precision=duty_precision(
+                              model, sized, masses, options))
     joints = tuple(_joint(model, joint, found, options, settings,
                           duty_sizing.joints[i].selected, masses)
                    for i, joint in enumerate(sized))
