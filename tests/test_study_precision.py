@@ -77,6 +77,7 @@ def _rows(csv_path):
         return list(csv.DictReader(handle))
 
 
+@pytest.mark.slow
 def test_a_study_cases_figures_equal_hdselect_size(tmp_path):
     root = workspace(tmp_path)
     study = _study(root, "time_scale = [1.0, 1.1, 1.2, 1.3]",
@@ -107,6 +108,7 @@ def test_a_study_cases_figures_equal_hdselect_size(tmp_path):
     assert study.cases[0].values["max_torsion"] == 30.0  # the parameter as written
 
 
+@pytest.mark.slow
 def test_not_rated_cells_where_the_catalog_rates_no_stiffness(tmp_path):
     root = workspace(tmp_path)
     path = root / "study.toml"
@@ -157,6 +159,7 @@ def test_bad_precision_parameters_are_refused_naming_the_field(tmp_path, grid, f
     assert caught.value.field == field and words in caught.value.reason
 
 
+@pytest.mark.slow
 def test_a_series_no_unit_is_of_fails_its_case_alone(tmp_path):
     root = workspace(tmp_path)
     study = _study(root, "series = [\"SHG-2UH\", \"XYZ-9\"]")
