@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -33,16 +34,17 @@ from hdselect.catalog.rules import (
     check_unit,
     cycle_load,
 )
-from hdselect.catalog.rules.forms import Interval, PayloadCase
+from hdselect.catalog.rules.forms import TARGETS, Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
-from hdselect.robot.dynamics import cycle_torques
+from hdselect.robot.dynamics import cycle_torques, joint_inertias
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.torques import GRAVITY_SAMPLES
 
 MASS_GRID = 25
 """Masses at which a rule without a payload form is first checked forward [-]."""
@@ -74,6 +76,33 @@ class UnitBound:
         return min(hi, key=lambda rule: abs(hi[rule] - mass))
 
 
+@dataclass(frozen=True, eq=False)
+class Inertia:
+    """A joint's load inertia M_jj at each pose, affine in the payload mass x.
+
+    Attributes:
+        empty: M_jj at x = 0 [kg m^2], (m,).
+        per_kg: Its change per unit of x [kg m^2], (m,).
+    """
+
+    empty: np.ndarray
+    per_kg: np.ndarray
+
+    def at(self, mass: float) -> float:
+        """The load inertia the rules read at x [kg m^2]: the largest over the poses."""
+        return float(np.max(self.empty + mass * self.per_kg))
+
+
+def _targets(case: PayloadCase, inertia: Inertia | None, mass: float) -> dict[str, Any]:
+    """The precision targets a payload case holds (`TARGETS`), as `check_unit` takes them.
+
+    The load inertia is `inertia`'s at x = `mass` [kg] where given (a payload case holds
+    none of its own: it depends on the mass), else the case's.
+    """
+    found = {key: getattr(case, key) for key in TARGETS}
+    return found if inertia is None else {**found, "load_inertia": inertia.at(mass)}
+
+
 def joint_mean(dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray, tau0: np.ndarray,
                tau1: np.ndarray) -> CubicMean:
     """A joint's cubic mean torque as a function of x, tau = tau0 + x tau1 [N m].
@@ -96,7 +125,8 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
                tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
                options: Options, idle: float = 0.0, *, cubic: CubicMean | None = None,
                t: np.ndarray | None = None, qdd: np.ndarray | None = None,
-               wrench: tuple[np.ndarray, np.ndarray, float] | None = None) -> UnitBound:
+               wrench: tuple[np.ndarray, np.ndarray, float] | None = None,
+               name: str = "", inertia: Inertia | None = None) -> UnitBound:
     """Every registered rule as an interval of x, with tau = tau0 + x tau1 [N m].
 
     Each rule's payload form gives its masses; a rule without one is checked forward
@@ -123,12 +153,20 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
             motor's demand.
         wrench: The joint's wrench at x = 0 and per kg [N, N m], each (6, n), and its
             output flange's offset [m]: the forward checks then judge a rated bearing.
+        name: The joint, for its precision targets (`options`' ``max_torsion``,
+            ``min_natural_frequency``).
+        inertia: Its load inertia M_jj at x = 0 and per kg at the poses [kg m^2], each
+            (m,), where it has a natural-frequency target (`Inertia`).
     """
     step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
     case = PayloadCase(unit, step, rest, qd, tau0, tau1, stop0, stop1, options.margin,
                        options.stop_time, options.rotor_inertia, idle, options.life_hours,
                        options.life_basis, cubic, options.efficiency, t, qdd,
                        *(wrench or (None, None, 0.0)))
+    if name:  # its targets; the load inertia is the forward check's, at each mass
+        case = replace(case, max_torsion=options.joint_value("max_torsion", name),
+                       min_frequency=options.joint_value("min_natural_frequency", name)
+                       if inertia is not None else None)
     if cubic is None and case.travel > 0.0:
         case = replace(case, mean=joint_mean(step, rest, qd, tau0, tau1))
     judged = (Part.GEARHEAD, Part.BEARING) if case.wrench0 is not None else (Part.GEARHEAD,)
@@ -144,18 +182,19 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
         ends[rule.name] = found[0] if found else None
         masses = meet(masses, ends[rule.name])
     if unformed and masses is not None:
-        for name, span in forward_masses(case, unformed, masses).items():
-            ends[name] = span
+        for rule_name, span in forward_masses(case, unformed, masses, inertia).items():
+            ends[rule_name] = span
             masses = meet(masses, span)
     return UnitBound(unit, masses, ends)
 
 
-def forward_check(case: PayloadCase, mass: float) -> Candidate:
+def forward_check(case: PayloadCase, mass: float, inertia: Inertia | None = None) -> Candidate:
     """Every rule of `check_unit` on the cycle carrying `mass` [kg], as the sizing checks.
 
     The momentary event is `reflect`'s; the motor's demand is handed to the rules only
     with the joint's acceleration and an efficiency (`PayloadCase.qdd`, `.efficiency`),
-    the output bearing's loads only with the joint's wrench (`PayloadCase.wrench0`).
+    the output bearing's loads only with the joint's wrench (`PayloadCase.wrench0`), the
+    load inertia at `mass` with `inertia` (else the case's).
     """
     tau = case.tau0 + mass * case.tau1
     stop = case.stop0 + mass * case.stop1
@@ -178,11 +217,11 @@ def forward_check(case: PayloadCase, mass: float) -> Candidate:
     return check_unit(load, case.unit, momentary=reflection.momentary,
                       motor=demand if known else None, bearing=bearing,
                       life_hours=case.life_hours, life_basis=case.life_basis,
-                      margin=case.margin)
+                      margin=case.margin, **_targets(case, inertia, mass))
 
 
-def forward_masses(case: PayloadCase, rules: Sequence[Rule],
-                   inside: Interval) -> dict[str, Interval | None]:
+def forward_masses(case: PayloadCase, rules: Sequence[Rule], inside: Interval,
+                   inertia: Inertia | None = None) -> dict[str, Interval | None]:
     """The masses at which each rule without a payload form holds, by its forward check.
 
     `forward_check` on `MASS_GRID` masses from `inside`'s lower end, spaced geometrically
@@ -195,6 +234,7 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule],
         case: The unit on the joint.
         rules: The rules without a payload form.
         inside: The masses the other rules allow [kg], lo >= 0.
+        inertia: The joint's load inertia as a function of the mass, where a rule reads it.
 
     Returns:
         Per rule present for the case (its check not None), its interval or None.
@@ -203,13 +243,13 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule],
     top = hi if math.isfinite(hi) else max(MASS_MAX, 2.0 * lo)
     grid = [lo, *(lo + (top - lo) * np.geomspace(1e-6, 1.0, MASS_GRID - 1))] \
         if top > lo else [lo]
-    judged = _present(case)
+    judged = _present(case, inertia)
     present = [rule for rule in rules if rule.name in judged]
     if not present:
         return {}
 
     def verdicts(mass: float) -> dict[str, bool]:
-        checks = forward_check(case, mass).checks
+        checks = forward_check(case, mass, inertia).checks
         return {rule.name: checks[rule.name].ok for rule in present}
 
     table = [verdicts(float(mass)) for mass in grid]
@@ -230,7 +270,7 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule],
     return out
 
 
-def _present(case: PayloadCase) -> Collection[str]:
+def _present(case: PayloadCase, inertia: Inertia | None = None) -> Collection[str]:
     """The rules `forward_check` judges on this case, whatever the mass.
 
     A rule is absent for a case by what the case gives (a required life, a motor's demand,
@@ -239,7 +279,7 @@ def _present(case: PayloadCase) -> Collection[str]:
     loads are taken at no payload.
     """
     if case.wrench0 is not None and case.unit.bearing is not None:
-        return forward_check(case, 0.0).checks.keys()
+        return forward_check(case, 0.0, inertia).checks.keys()
     moving = case.travel > 0.0
     load = CycleLoad(0.0, 0.0 if moving else None, 0.0, 0.0, 0.0, 0.0,
                      0.0 if bool(case.rest.any()) else None)
@@ -247,7 +287,7 @@ def _present(case: PayloadCase) -> Collection[str]:
               if case.qdd is not None and case.efficiency is not None else None)
     return check_unit(load, case.unit, momentary=Momentary(0.0, "emergency stop"),
                       motor=demand, life_hours=case.life_hours, life_basis=case.life_basis,
-                      margin=case.margin).checks.keys()
+                      margin=case.margin, **_targets(case, inertia, 0.0)).checks.keys()
 
 
 def _bisect(passes: Callable[[float], bool], failing: float,
@@ -290,7 +330,9 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
     robot = counted[0].robot
     names = list(robot.sized_joints)
     bearings = options.bearing_loads and any(unit.bearing is not None for unit in units)
-    parts = []
+    tuned = [name for name in names
+             if options.joint_value("min_natural_frequency", name) is not None]
+    parts, inertias = [], []
     for task in counted:
         traj = task.trajectory
         carrying = task.robot.with_payload(None).with_gearheads(masses)
@@ -308,6 +350,12 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
                      for end in ends]
             wrenches = [found[0], found[-1]]
         parts.append((torques[0], torques[-1], wrenches))
+        if tuned:  # M_jj at the core's poses (`GRAVITY_SAMPLES`), affine in the mass too
+            poses = traj.q[np.unique(np.linspace(0, len(traj.t) - 1, GRAVITY_SAMPLES)
+                                     .astype(int))]
+            found = [joint_inertias(end, poses, tuned, threads=options.threads)
+                     for end in ends]
+            inertias.append((found[0], _per_kg(found[-1], found[0])))
     out = {}
     for k, name in enumerate(names):
         j = robot.joint_index(name)
@@ -323,9 +371,13 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
             options.bearing_offset.get(name, 0.0))
         rest, qd = samples.rest[:, j], samples.qd[:, j]
         cubic = joint_mean(samples.dt, rest, qd, tau0, tau1)
+        inertia = None if name not in tuned else Inertia(*(
+            np.concatenate([part[:, tuned.index(name)] for part in ends])
+            for ends in zip(*inertias, strict=True)))
         out[name] = tuple(unit_bound(unit, samples.dt, rest, qd, tau0, tau1, stop0, stop1,
                                      options, samples.idle, cubic=cubic, t=samples.t,
-                                     qdd=samples.qdd[:, j], wrench=wrench)
+                                     qdd=samples.qdd[:, j], wrench=wrench, name=name,
+                                     inertia=inertia)
                           for unit in units)
     return out
 

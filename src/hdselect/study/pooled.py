@@ -206,9 +206,10 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
         joints, masses = select_units(pooled, per_joint, options, motors)
     precision = None
     if options.precision:  # on every sample of each task as the case plans it, as size
-        own = [Task(basis.robot.with_payload(item.payload), scaled(basis.trajectory, time_scale),
-                    item.share, basis.motion, item.name)
-               for basis, item in zip(bases, tasks, strict=True) if item.share > 0.0]
+        own = [replace(task, robot=task.robot.with_payload(item.payload),
+                       trajectory=scaled(basis.trajectory, time_scale))
+               for basis, item, task in zip(bases, tasks, planned, strict=True)
+               if task.share > 0.0]
         precision = grouped_precision(pooled, models, own, joints, masses, options)
     first = pooled.samples.tasks[0]
     result = SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
