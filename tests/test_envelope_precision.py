@@ -8,11 +8,14 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from hdselect import load_catalog
 from hdselect.base.errors import InputError
+from hdselect.catalog.stiffness import torsion
 from hdselect.catalog.units import RAD_PER_ARCMIN
+from hdselect.cli.main import main
 from hdselect.envelope import SearchSettings, envelope
 from hdselect.envelope.records import envelope_json
 from hdselect.envelope.torques import PRECISION_NOTE
@@ -83,15 +86,14 @@ acceleration = {LIMITS['acceleration']}
 @pytest.mark.slow
 def test_the_envelope_file_s_precision_keys_reach_the_sizing(tmp_path, shg):
     spec = _spec(tmp_path, "max_torsion_arcmin = {shoulder = 20.0, \"*\" = 30.0}\n"
-                           "min_natural_frequency_hz = \"slow-turntables\"\n"
-                           "max_tool_deflection_mm = 5.0\nmin_arm_frequency_hz = 2.0")
+                           "min_natural_frequency_hz = \"slow-turntables\"")
     result = envelope(spec, catalog=shg, settings=QUICK)
     options = result.sizing.options
     assert math.isclose(options.joint_value("max_torsion", "shoulder"), 20.0 * RAD_PER_ARCMIN)
     assert math.isclose(options.joint_value("max_torsion", "elbow"), 30.0 * RAD_PER_ARCMIN)
     assert options.joint_value("min_natural_frequency", "elbow") == 4.0
-    assert math.isclose(options.max_tool_deflection, 5e-3)
-    assert options.min_arm_frequency == 2.0
+    for joint in result.joints:  # the targets are rules of the envelope's selection
+        assert {"torsion", "natural_frequency"} <= set(joint.selected.checks)
     given = envelope(spec, catalog=shg, max_torsion={"*": 10.0 * RAD_PER_ARCMIN},
                      settings=QUICK)
     assert given.sizing.options.joint_value("max_torsion", "shoulder") == pytest.approx(
@@ -109,3 +111,33 @@ def test_a_bad_precision_key_is_refused_naming_it(tmp_path, shg, line, field):
         envelope(_spec(tmp_path, line), catalog=shg)
     assert caught.value.path == tmp_path / "spec.toml"
     assert str(caught.value.field).startswith(field)
+
+
+@pytest.mark.parametrize("key", ["max_tool_deflection_mm = 5.0", "min_arm_frequency_hz = 2.0"])
+def test_a_whole_arm_target_is_refused_naming_where_it_came_from(tmp_path, shg, key, capsys):
+    spec = _spec(tmp_path, key)
+    with pytest.raises(InputError) as caught:
+        envelope(spec, catalog=shg)
+    assert caught.value.path == spec and caught.value.field == "precision." + key.split()[0]
+    assert "per-joint precision targets only" in caught.value.reason
+    flag = "--max-tool-deflection" if "tool" in key else "--min-arm-frequency"
+    status = main(["envelope", str(PLANAR), "--velocity", "180", "--acceleration", "900",
+                   flag, "2"])
+    err = capsys.readouterr().err
+    assert status == 2 and err.count("\n") == 1 and f"error: {flag}: " in err
+
+
+@pytest.mark.slow
+def test_a_torsion_target_is_judged_at_the_worst_states(planar, shg):
+    free = planar.joints[0]  # the shoulder
+    worst = float(np.max(np.abs(free.sizing.torque)))
+    assert free.worst["peak"].source == "search"  # its largest torque is a worst state's
+    twist = torsion(free.selected.unit.stiffness, worst)
+    bound = envelope(PLANAR, catalog=shg, max_torsion={"shoulder": 0.7 * twist}, **LIMITS)
+    shoulder = bound.joints[0]
+    check = shoulder.selected.checks["torsion"]
+    largest = float(np.max(np.abs(shoulder.sizing.torque)))  # over the duty and the states
+    assert check.ok and shoulder.selected.unit is not free.selected.unit
+    assert math.isclose(check.value * RAD_PER_ARCMIN,
+                        torsion(shoulder.selected.unit.stiffness, largest), rel_tol=1e-12)
+    assert check.value * RAD_PER_ARCMIN <= 0.7 * twist

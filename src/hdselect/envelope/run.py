@@ -53,6 +53,7 @@ from hdselect.envelope.specfile import (
     EnvelopeFile,
     envelope_robot_file,
     load_envelope_file,
+    refuse_arm_targets,
 )
 from hdselect.envelope.states import StateRows, state_rows
 from hdselect.envelope.torques import EnvelopeTorques, duty_precision, duty_time
@@ -196,6 +197,7 @@ def envelope(
     limits = resolve_spec(robot, velocity=velocity, acceleration=acceleration, jerk=jerk,
                           file=file)
     resolved = options if options is not None else _options(file, source, values)
+    refuse_arm_targets(resolved, values if options is None else vars(options), file, source)
     if source is None:
         problem = Problem(robot, None, catalog_units(catalog), resolved, {})
         chosen_duty = default_duty(
