@@ -22,6 +22,7 @@ from hdselect.codesign.choice import NoUnit
 from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.pathbounds import PathInfeasible
+from hdselect.codesign.records import fastest_json
 from helpers import REPO
 
 SHG = load_catalog(["shg-2uh"], series=["SHG-2UH"])
@@ -67,6 +68,15 @@ def test_fastest_holds_a_torsion_target_on_its_cycle():
     assert shoulder.selected is not None and shoulder.selected.checks["torsion"].ok
     assert float(np.max(np.abs(shoulder.torque))) <= limit * (1.0 + 1e-9)
     assert found.cycle_time > free.cycle_time
+    assert found.tasks[0].limits["shoulder"].torque_by == "torsion"
+    assert fastest_json(found)["joints"][0]["torque_limit_rule"] == "torsion"
+    # below what holding a pose takes, no speed helps: the message names the target
+    held = hdselect.resolve(None, PLANAR, catalog=SHG,
+                            max_torsion={"shoulder": 0.5 * figures.holding_torsion})
+    with pytest.raises(PathInfeasible) as caught:
+        fastest(held, units=units)
+    assert caught.value.gravity and caught.value.joint == "shoulder"
+    assert "torque limit of its largest torsion target" in str(caught.value)
 
 
 @pytest.mark.slow
