@@ -166,3 +166,25 @@ def test_a_series_no_unit_is_of_fails_its_case_alone(tmp_path):
     done = run_study(study, tmp_path / "out.csv", workers=0)
     ok, failed = (record for record in sorted(list(done.records.values()), key=lambda r: r["case"]))
     assert ok["ok"] and not failed["ok"] and "XYZ-9" in failed["error"]
+
+
+@pytest.mark.slow
+def test_a_max_payload_case_stops_at_its_torsion_target_and_shows_it(tmp_path):
+    root = workspace(tmp_path)
+    path = root / "study.toml"
+    path.write_text("""compute = "max-payload"
+[base]
+motion = "trajectories/index_table_indexing.toml"
+series = "SHG-2UH"
+payload = {mass = 1.0, com = [0.2, 0.0, 0.0], frame = "disk"}
+[grid]
+max_torsion = [0.5, 2.0]
+""")
+    study = load_study(path)
+    done = run_study(study, tmp_path / "out.csv", workers=0)
+    assert all(record["ok"] for record in done.records.values())
+    rows = _rows(tmp_path / "out.csv")
+    assert [float(row["max_torsion"]) for row in rows] == [0.5, 2.0]
+    for row in rows:  # the target binds: the unit twists by it at the largest payload
+        assert row["payload_limit"].endswith(" torsion")
+        assert _relative(float(row["torsion_arcmin"]), float(row["max_torsion"])) < 1e-6
