@@ -156,7 +156,10 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
         name: The joint, for its precision targets (`options`' ``max_torsion``,
             ``min_natural_frequency``).
         inertia: Its load inertia M_jj at x = 0 and per kg at the poses [kg m^2], each
-            (m,), where it has a natural-frequency target (`Inertia`).
+            (m,): needed where it has a natural-frequency target (`Inertia`).
+
+    Raises:
+        ValueError: A natural-frequency target without `inertia` (a caller's omission).
     """
     step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
     case = PayloadCase(unit, step, rest, qd, tau0, tau1, stop0, stop1, options.margin,
@@ -164,9 +167,11 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
                        options.life_basis, cubic, options.efficiency, t, qdd,
                        *(wrench or (None, None, 0.0)))
     if name:  # its targets; the load inertia is the forward check's, at each mass
+        frequency = options.joint_value("min_natural_frequency", name)
+        if frequency is not None and inertia is None:
+            raise ValueError(f"joint {name}: a natural-frequency target needs its inertia")
         case = replace(case, max_torsion=options.joint_value("max_torsion", name),
-                       min_frequency=options.joint_value("min_natural_frequency", name)
-                       if inertia is not None else None)
+                       min_frequency=frequency)
     if cubic is None and case.travel > 0.0:
         case = replace(case, mean=joint_mean(step, rest, qd, tau0, tau1))
     judged = (Part.GEARHEAD, Part.BEARING) if case.wrench0 is not None else (Part.GEARHEAD,)
