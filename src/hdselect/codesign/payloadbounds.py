@@ -34,7 +34,7 @@ from hdselect.catalog.rules import (
     check_unit,
     cycle_load,
 )
-from hdselect.catalog.rules.forms import TARGETS, Interval, PayloadCase
+from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
@@ -44,7 +44,7 @@ from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 from hdselect.sizing.tasks import Task, pooled
-from hdselect.sizing.torques import GRAVITY_SAMPLES
+from hdselect.sizing.torques import inertia_poses
 
 MASS_GRID = 25
 """Masses at which a rule without a payload form is first checked forward [-]."""
@@ -76,33 +76,6 @@ class UnitBound:
         return min(hi, key=lambda rule: abs(hi[rule] - mass))
 
 
-@dataclass(frozen=True, eq=False)
-class Inertia:
-    """A joint's load inertia M_jj at each pose, affine in the payload mass x.
-
-    Attributes:
-        empty: M_jj at x = 0 [kg m^2], (m,).
-        per_kg: Its change per unit of x [kg m^2], (m,).
-    """
-
-    empty: np.ndarray
-    per_kg: np.ndarray
-
-    def at(self, mass: float) -> float:
-        """The load inertia the rules read at x [kg m^2]: the largest over the poses."""
-        return float(np.max(self.empty + mass * self.per_kg))
-
-
-def _targets(case: PayloadCase, inertia: Inertia | None, mass: float) -> dict[str, Any]:
-    """The precision targets a payload case holds (`TARGETS`), as `check_unit` takes them.
-
-    The load inertia is `inertia`'s at x = `mass` [kg] where given (a payload case holds
-    none of its own: it depends on the mass), else the case's.
-    """
-    found = {key: getattr(case, key) for key in TARGETS}
-    return found if inertia is None else {**found, "load_inertia": inertia.at(mass)}
-
-
 def joint_mean(dt: float | np.ndarray, rest: np.ndarray, qd: np.ndarray, tau0: np.ndarray,
                tau1: np.ndarray) -> CubicMean:
     """A joint's cubic mean torque as a function of x, tau = tau0 + x tau1 [N m].
@@ -126,7 +99,7 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
                options: Options, idle: float = 0.0, *, cubic: CubicMean | None = None,
                t: np.ndarray | None = None, qdd: np.ndarray | None = None,
                wrench: tuple[np.ndarray, np.ndarray, float] | None = None,
-               name: str = "", inertia: Inertia | None = None) -> UnitBound:
+               targets: Mapping[str, Any] | None = None) -> UnitBound:
     """Every registered rule as an interval of x, with tau = tau0 + x tau1 [N m].
 
     Each rule's payload form gives its masses; a rule without one is checked forward
@@ -153,25 +126,15 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
             motor's demand.
         wrench: The joint's wrench at x = 0 and per kg [N, N m], each (6, n), and its
             output flange's offset [m]: the forward checks then judge a rated bearing.
-        name: The joint, for its precision targets (`options`' ``max_torsion``,
-            ``min_natural_frequency``).
-        inertia: Its load inertia M_jj at x = 0 and per kg at the poses [kg m^2], each
-            (m,): needed where it has a natural-frequency target (`Inertia`).
-
-    Raises:
-        ValueError: A natural-frequency target without `inertia` (a caller's omission).
+        targets: The joint's precision targets (``max_torsion``, ``min_frequency``) and,
+            with a frequency target, its load inertia at each pose at x = 0 and per unit
+            of x (``inertia0``, ``inertia1``), as `PayloadCase` takes them.
     """
     step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
     case = PayloadCase(unit, step, rest, qd, tau0, tau1, stop0, stop1, options.margin,
                        options.stop_time, options.rotor_inertia, idle, options.life_hours,
                        options.life_basis, cubic, options.efficiency, t, qdd,
-                       *(wrench or (None, None, 0.0)))
-    if name:  # its targets; the load inertia is the forward check's, at each mass
-        frequency = options.joint_value("min_natural_frequency", name)
-        if frequency is not None and inertia is None:
-            raise ValueError(f"joint {name}: a natural-frequency target needs its inertia")
-        case = replace(case, max_torsion=options.joint_value("max_torsion", name),
-                       min_frequency=frequency)
+                       *(wrench or (None, None, 0.0)), **(targets or {}))
     if cubic is None and case.travel > 0.0:
         case = replace(case, mean=joint_mean(step, rest, qd, tau0, tau1))
     judged = (Part.GEARHEAD, Part.BEARING) if case.wrench0 is not None else (Part.GEARHEAD,)
@@ -187,19 +150,18 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
         ends[rule.name] = found[0] if found else None
         masses = meet(masses, ends[rule.name])
     if unformed and masses is not None:
-        for rule_name, span in forward_masses(case, unformed, masses, inertia).items():
-            ends[rule_name] = span
+        for name, span in forward_masses(case, unformed, masses).items():
+            ends[name] = span
             masses = meet(masses, span)
     return UnitBound(unit, masses, ends)
 
 
-def forward_check(case: PayloadCase, mass: float, inertia: Inertia | None = None) -> Candidate:
+def forward_check(case: PayloadCase, mass: float) -> Candidate:
     """Every rule of `check_unit` on the cycle carrying `mass` [kg], as the sizing checks.
 
     The momentary event is `reflect`'s; the motor's demand is handed to the rules only
     with the joint's acceleration and an efficiency (`PayloadCase.qdd`, `.efficiency`),
-    the output bearing's loads only with the joint's wrench (`PayloadCase.wrench0`), the
-    load inertia at `mass` with `inertia` (else the case's).
+    the output bearing's loads only with the joint's wrench (`PayloadCase.wrench0`).
     """
     tau = case.tau0 + mass * case.tau1
     stop = case.stop0 + mass * case.stop1
@@ -222,11 +184,12 @@ def forward_check(case: PayloadCase, mass: float, inertia: Inertia | None = None
     return check_unit(load, case.unit, momentary=reflection.momentary,
                       motor=demand if known else None, bearing=bearing,
                       life_hours=case.life_hours, life_basis=case.life_basis,
-                      margin=case.margin, **_targets(case, inertia, mass))
+                      margin=case.margin, max_torsion=case.max_torsion,
+                      min_frequency=case.min_frequency, load_inertia=case.inertia_at(mass))
 
 
-def forward_masses(case: PayloadCase, rules: Sequence[Rule], inside: Interval,
-                   inertia: Inertia | None = None) -> dict[str, Interval | None]:
+def forward_masses(case: PayloadCase, rules: Sequence[Rule],
+                   inside: Interval) -> dict[str, Interval | None]:
     """The masses at which each rule without a payload form holds, by its forward check.
 
     `forward_check` on `MASS_GRID` masses from `inside`'s lower end, spaced geometrically
@@ -239,7 +202,6 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule], inside: Interval,
         case: The unit on the joint.
         rules: The rules without a payload form.
         inside: The masses the other rules allow [kg], lo >= 0.
-        inertia: The joint's load inertia as a function of the mass, where a rule reads it.
 
     Returns:
         Per rule present for the case (its check not None), its interval or None.
@@ -248,13 +210,13 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule], inside: Interval,
     top = hi if math.isfinite(hi) else max(MASS_MAX, 2.0 * lo)
     grid = [lo, *(lo + (top - lo) * np.geomspace(1e-6, 1.0, MASS_GRID - 1))] \
         if top > lo else [lo]
-    judged = _present(case, inertia)
+    judged = _present(case)
     present = [rule for rule in rules if rule.name in judged]
     if not present:
         return {}
 
     def verdicts(mass: float) -> dict[str, bool]:
-        checks = forward_check(case, mass, inertia).checks
+        checks = forward_check(case, mass).checks
         return {rule.name: checks[rule.name].ok for rule in present}
 
     table = [verdicts(float(mass)) for mass in grid]
@@ -275,7 +237,7 @@ def forward_masses(case: PayloadCase, rules: Sequence[Rule], inside: Interval,
     return out
 
 
-def _present(case: PayloadCase, inertia: Inertia | None = None) -> Collection[str]:
+def _present(case: PayloadCase) -> Collection[str]:
     """The rules `forward_check` judges on this case, whatever the mass.
 
     A rule is absent for a case by what the case gives (a required life, a motor's demand,
@@ -284,7 +246,7 @@ def _present(case: PayloadCase, inertia: Inertia | None = None) -> Collection[st
     loads are taken at no payload.
     """
     if case.wrench0 is not None and case.unit.bearing is not None:
-        return forward_check(case, 0.0, inertia).checks.keys()
+        return forward_check(case, 0.0).checks.keys()
     moving = case.travel > 0.0
     load = CycleLoad(0.0, 0.0 if moving else None, 0.0, 0.0, 0.0, 0.0,
                      0.0 if bool(case.rest.any()) else None)
@@ -292,7 +254,9 @@ def _present(case: PayloadCase, inertia: Inertia | None = None) -> Collection[st
               if case.qdd is not None and case.efficiency is not None else None)
     return check_unit(load, case.unit, momentary=Momentary(0.0, "emergency stop"),
                       motor=demand, life_hours=case.life_hours, life_basis=case.life_basis,
-                      margin=case.margin, **_targets(case, inertia, 0.0)).checks.keys()
+                      margin=case.margin, max_torsion=case.max_torsion,
+                      min_frequency=case.min_frequency,
+                      load_inertia=case.inertia_at(0.0)).checks.keys()
 
 
 def _bisect(passes: Callable[[float], bool], failing: float,
@@ -335,9 +299,7 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
     robot = counted[0].robot
     names = list(robot.sized_joints)
     bearings = options.bearing_loads and any(unit.bearing is not None for unit in units)
-    tuned = [name for name in names
-             if options.joint_value("min_natural_frequency", name) is not None]
-    parts, inertias = [], []
+    parts = []
     for task in counted:
         traj = task.trajectory
         carrying = task.robot.with_payload(None).with_gearheads(masses)
@@ -354,35 +316,40 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
             found = [axis_wrenches(end, *args, names, threads=options.threads)
                      for end in ends]
             wrenches = [found[0], found[-1]]
-        parts.append((torques[0], torques[-1], wrenches))
-        if tuned:  # M_jj at the core's poses (`GRAVITY_SAMPLES`), affine in the mass too
-            poses = traj.q[np.unique(np.linspace(0, len(traj.t) - 1, GRAVITY_SAMPLES)
-                                     .astype(int))]
-            found = [joint_inertias(end, poses, tuned, threads=options.threads)
-                     for end in ends]
-            inertias.append((found[0], _per_kg(found[-1], found[0])))
+        inertias = None  # M_jj of every pose, affine in x too, where a frequency target asks
+        if any(options.joint_value("min_natural_frequency", name) is not None
+               for name in names):
+            at = traj.q[inertia_poses(traj)]
+            found = [joint_inertias(end, at, names, threads=options.threads) for end in ends]
+            inertias = (found[0], found[-1] - found[0])
+        parts.append((torques[0], torques[-1], wrenches, inertias))
     out = {}
     for k, name in enumerate(names):
         j = robot.joint_index(name)
-        tau0 = np.concatenate([none.tau[:, j] for none, _, _ in parts])
-        stop0 = np.concatenate([none.stop[:, j] for none, _, _ in parts])
+        tau0 = np.concatenate([none.tau[:, j] for none, _, _, _ in parts])
+        stop0 = np.concatenate([none.stop[:, j] for none, _, _, _ in parts])
         tau1 = np.concatenate([_per_kg(full.tau[:, j], none.tau[:, j])
-                               for none, full, _ in parts])
+                               for none, full, _, _ in parts])
         stop1 = np.concatenate([_per_kg(full.stop[:, j], none.stop[:, j])
-                                for none, full, _ in parts])
+                                for none, full, _, _ in parts])
         wrench = None if not bearings else (
-            np.concatenate([w[0][k] for _, _, w in parts if w is not None], axis=1),
-            np.concatenate([w[1][k] - w[0][k] for _, _, w in parts if w is not None], axis=1),
+            np.concatenate([w[0][k] for _, _, w, _ in parts if w is not None], axis=1),
+            np.concatenate([w[1][k] - w[0][k] for _, _, w, _ in parts if w is not None],
+                           axis=1),
             options.bearing_offset.get(name, 0.0))
+        frequency = options.joint_value("min_natural_frequency", name)
+        targets: dict[str, Any] = {"max_torsion": options.joint_value("max_torsion", name),
+                                   "min_frequency": frequency}
+        if frequency is not None:
+            targets["inertia0"] = np.concatenate([m[0][:, k] for _, _, _, m in parts
+                                                  if m is not None])
+            targets["inertia1"] = np.concatenate([m[1][:, k] for _, _, _, m in parts
+                                                  if m is not None])
         rest, qd = samples.rest[:, j], samples.qd[:, j]
         cubic = joint_mean(samples.dt, rest, qd, tau0, tau1)
-        inertia = None if name not in tuned else Inertia(*(
-            np.concatenate([part[:, tuned.index(name)] for part in ends])
-            for ends in zip(*inertias, strict=True)))
         out[name] = tuple(unit_bound(unit, samples.dt, rest, qd, tau0, tau1, stop0, stop1,
                                      options, samples.idle, cubic=cubic, t=samples.t,
-                                     qdd=samples.qdd[:, j], wrench=wrench, name=name,
-                                     inertia=inertia)
+                                     qdd=samples.qdd[:, j], wrench=wrench, targets=targets)
                           for unit in units)
     return out
 

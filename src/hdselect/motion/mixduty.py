@@ -86,29 +86,19 @@ def comparable(value: Any) -> Any:
     return value
 
 
-def shown(value: Any, name: str = "") -> str:
-    """A duty-wide value as a message shows it: an option's in the unit of its file key.
-
-    Args:
-        value: The value [SI].
-        name: The option it is a value of, if it is one (`OPTION`).
-    """
-    option = OPTION.get(name)
-    if option is not None and option.kind in ("number", "joints") and option.scale != 1.0:
-        value = ({joint: item / option.scale for joint, item in value.items()}
+def shown(value: Any, name: str | None = None) -> str:
+    """A duty-wide value as a message shows it (option `name`'s in its files' unit)."""
+    option = OPTION.get(name) if name is not None else None
+    if option is not None and option.scale != 1.0:  # SI inside, arcmin or mm in the files
+        value = ({k: v / option.scale for k, v in value.items()}
                  if isinstance(value, Mapping) else value / option.scale)
     if isinstance(value, Mapping) and set(value) == {EVERY_JOINT}:
-        return shown(value[EVERY_JOINT])  # one value for every joint, as the file gives it
+        value = value[EVERY_JOINT]  # given as one value for every joint
     if isinstance(value, Mapping) and all(isinstance(item, float) for item in value.values()):
-        return "{" + ", ".join(f"{_key(joint)} = {item:g}" for joint, item in value.items()) + "}"
+        return "{" + ", ".join(f"{joint} = {item:g}" for joint, item in value.items()) + "}"
     if isinstance(value, Mapping):
         return "motors " + "; ".join(f"{joint}: {', '.join(m.id for m in motors)}"
                                      for joint, motors in value.items())
     if isinstance(value, list | tuple):
         return "[" + ", ".join(map(str, value)) + "]"
     return f"{value:g}" if isinstance(value, float) else str(value)
-
-
-def _key(joint: str) -> str:
-    """A joint's key in a TOML table: quoted where it is not a bare key (``"*"``)."""
-    return joint if joint.replace("_", "").replace("-", "").isalnum() else f'"{joint}"'
