@@ -19,7 +19,7 @@ from hdselect.study import load_study, run_study
 from hdselect.study.casetasks import Inputs
 from hdselect.study.group import build_basis
 from hdselect.study.pooled import size_case
-from hdselect.study.precise import NOT_RATED_CELL
+from hdselect.study.precise import NOT_RATED_CELL, precision_fields
 from helpers import REPO
 from helpers.studies import differences, separate, workspace
 
@@ -188,3 +188,24 @@ max_torsion = [0.5, 2.0]
     for row in rows:  # the target binds: the unit twists by it at the largest payload
         assert row["payload_limit"].endswith(" torsion")
         assert _relative(float(row["torsion_arcmin"]), float(row["max_torsion"])) < 1e-6
+
+
+@pytest.mark.slow
+def test_a_grouped_case_raises_units_for_a_whole_arm_target_as_size_does(benchtop):
+    robot, motion, basis = benchtop
+    units = load_catalog(["shg-2uh"], series=SHG)
+    free = size_case(basis, 1.0, 1.0, units, Options(threads=1))
+    target = 0.8 * free.precision["tool_holding"]  # [m]: the per-joint choice misses it
+    options = Options(threads=1, max_tool_deflection=target)
+    grouped = size_case(basis, 1.0, 1.0, units, options)
+    reference = separate(robot, motion, 1.0, 1.0, units, options)
+    assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+    figures = grouped.precision
+    assert figures["raised"] and figures["tool_holding"] <= target
+    (check,) = figures["targets"]
+    assert check["name"] == "tool_deflection" and check["ok"]
+    cells = {joint["name"]: precision_fields(joint["name"], figures)
+             for joint in figures["joints"]}
+    assert all(cells[item["joint"]]["raised_from"] == item["chosen"]
+               for item in figures["raised"])
+    assert {cell["tool_deflection_target"] for cell in cells.values()} == {"met"}

@@ -32,13 +32,14 @@ from hdselect.sizing.diagnosis import diagnose
 from hdselect.sizing.loads import JointLoad, merged_loads
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import Motors, SizingResult
+from hdselect.sizing.stiffening import targets_of
 from hdselect.sizing.summary import Summary, summarize
 from hdselect.sizing.tasks import Samples, Task, merged
 from hdselect.sizing.torques import TorqueModel
 from hdselect.study.case import Case, Outcome
 from hdselect.study.casetasks import CaseDuty, CaseTask, Inputs
 from hdselect.study.group import Basis, BasisTorques, build_basis, plan_depends_on_payload
-from hdselect.study.precise import grouped_precision
+from hdselect.study.precise import grouped_stiffened
 
 PAYLOAD_PLAN = ("TOPPRA plans under torque limits with the payload's dynamics: sized on "
                 "its own")
@@ -205,12 +206,14 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
     if any(joint.selected is None for joint in joints):  # its diagnosis reads every check
         joints, masses = select_units(pooled, per_joint, options, motors)
     precision = None
-    if options.precision:  # on every sample of each task as the case plans it, as size
+    if options.precision or targets_of(options):  # on every sample, as size: `precise`
         own = [replace(task, robot=task.robot.with_payload(item.payload),
                        trajectory=scaled(basis.trajectory, time_scale))
                for basis, item, task in zip(bases, tasks, planned, strict=True)
                if task.share > 0.0]
-        precision = grouped_precision(pooled, models, own, joints, masses, options)
+        found = grouped_stiffened(pooled, models, own, per_joint, joints, masses, options,
+                                  motors)
+        joints, masses, precision = found.joints, found.masses, found.precision
     first = pooled.samples.tasks[0]
     result = SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
                           first.motion, motors=motors, loads=pooled.loads(masses),

@@ -19,12 +19,13 @@ from typing import Any
 import numpy as np
 
 from hdselect.base.arrays import frozen
-from hdselect.catalog.units import RAD_PER_ARCMIN
+from hdselect.catalog.units import RAD_PER_ARCMIN, Unit
 from hdselect.sizing.bearing import SampledWrench
+from hdselect.sizing.core import select_units
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.options import Options
-from hdselect.sizing.precision import Precision, precision_of
-from hdselect.sizing.result import JointSizing
+from hdselect.sizing.result import JointSizing, Motors
+from hdselect.sizing.stiffening import Stiffened, stiffened
 from hdselect.sizing.tasks import Samples, Task, pooled
 from hdselect.sizing.torques import TorqueModel
 from hdselect.study.group import BasisTorques
@@ -127,24 +128,33 @@ def expanded_joint(joint: JointSizing, rows: np.ndarray) -> JointSizing:
                    else frozen(joint.motor_torque[rows]))
 
 
-def grouped_precision(grouped: TorqueModel, models: Sequence[BasisTorques],
-                      tasks: Sequence[Task], joints: Sequence[JointSizing],
-                      masses: Mapping[str, float], options: Options) -> Precision:
-    """A grouped case's precision figures, as `hdselect.size` computes them for the case.
+def grouped_stiffened(grouped: TorqueModel, models: Sequence[BasisTorques],
+                      tasks: Sequence[Task], units: Mapping[str, tuple[Unit, ...]],
+                      joints: Sequence[JointSizing], masses: Mapping[str, float],
+                      options: Options, motors: Motors) -> Stiffened:
+    """A grouped case's step after the selection, as `hdselect.size` takes it for the case.
+
+    The precision figures, and the units raised for a whole-arm target
+    (`hdselect.sizing.stiffening.stiffened`), on every sample of the case's tasks.
 
     Args:
         grouped: The case's pooled model on kept rows (the selection's).
         models: Its basis model per counted task, in task order.
         tasks: The counted tasks as the case plans them: each its own payload, its
             trajectory run at the case's time scale (every row).
+        units: Every sized joint's candidate units, as the selection took them.
         joints: The selection, on kept rows.
         masses: The mass each joint's unit and motor add [kg].
-        options: The assumptions.
+        options: The assumptions (``prefer`` resolved).
+        motors: Candidate motors per sized joint, as the selection took them.
+
+    Returns:
+        The joints (their per-sample arrays on every sample), masses and figures.
     """
     rows = kept_rows(models)
     expanded = ExpandedTorques(grouped, rows, tasks)
-    return precision_of(expanded, [expanded_joint(joint, rows) for joint in joints], masses,
-                        options)
+    return stiffened(expanded, units, [expanded_joint(joint, rows) for joint in joints],
+                     dict(masses), options, motors, select=select_units)
 
 
 PRECISION_NOTE = ("the precision figures: the joint's unit's largest twist along the cycle "
