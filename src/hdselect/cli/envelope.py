@@ -178,9 +178,10 @@ def _flagged(err: InputError) -> InputError:
     if err.path is None and field.startswith(("payload.com", "payload.frame")):
         return InputError(err.reason, field="--" + field.split("[")[0].replace(".", "-"))
     for kind in ("velocity", "acceleration", "jerk", "payload", "mounting", "joints", "exclude",
-                 "duty", "moves", "seed", "starts", "workers", "scheduler", "timeout"):
+                 "duty", "moves", "seed", "starts", "workers", "scheduler", "timeout",
+                 "max_tool_deflection", "min_arm_frequency"):
         if err.path is None and (field == kind or field.startswith(f"{kind}.")):
-            return InputError(err.reason, field=f"--{kind}")
+            return InputError(err.reason, field=f"--{kind.replace('_', '-')}")
     return err
 
 

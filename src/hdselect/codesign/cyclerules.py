@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -36,6 +36,7 @@ from hdselect.catalog.units import Unit
 from hdselect.codesign.fastpath import PathModel
 from hdselect.codesign.pathbounds import JointLimits, PathInfeasible
 from hdselect.motion.planning.toppra import Profile
+from hdselect.sizing.joint import joint_targets
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import reflect, weighted_demand
 from hdselect.sizing.timescale import S_MAX, ScalableCycle, exact_scales
@@ -63,6 +64,8 @@ class Leg:
         cycles: Each sized joint's cycle, split by how its torque scales with time.
         held: Which samples of `cycles` are dwells (their time does not scale).
         notes: The planner's lines for pieces slowed beyond its tolerance.
+        inertia: Each joint's load inertia M_jj, the largest over the path's poses, where
+            it has a natural-frequency target [kg m^2] (the path's, whatever the speed).
     """
 
     model: PathModel
@@ -74,6 +77,7 @@ class Leg:
     cycles: Mapping[str, ScalableCycle]
     held: np.ndarray
     notes: tuple[str, ...] = ()
+    inertia: Mapping[str, float] = field(default_factory=dict)
 
     @property
     def optimum(self) -> float:
@@ -91,6 +95,15 @@ def after_solve(limits: JointLimits) -> frozenset[str]:
     return frozenset(rule.name for rule in RULES
                      if (rule.part is Part.GEARHEAD and rule.scope is Scope.CYCLE)
                      or rule.name in limits.unbounded)
+
+
+def leg_targets(legs: Sequence[Leg], name: str, options: Options) -> dict[str, Any]:
+    """A joint's precision targets over a duty's runs (`joint_targets`).
+
+    Its load inertia is the largest of its tasks' (`Leg.inertia`).
+    """
+    inertia = [leg.inertia[name] for leg in legs if name in leg.inertia]
+    return joint_targets(name, options, max(inertia) if inertia else None)
 
 
 def check_scaled(legs: Sequence[Leg], name: str, unit: Unit, s: float, options: Options,
@@ -115,6 +128,7 @@ def check_scaled(legs: Sequence[Leg], name: str, unit: Unit, s: float, options: 
     def joined(field: str) -> np.ndarray:
         return _joined([getattr(at, field) for at, _, _ in parts])
 
+    targets = leg_targets(legs, name, options)
     torque, qd, rest = joined("torque"), joined("qd"), joined("at_rest")
     load = cycle_load(torque, qd, dt, rest, idle=idle / reference)
     (reflection,) = reflect([unit], joined("t"), torque, qd, joined("qdd"),
@@ -126,22 +140,13 @@ def check_scaled(legs: Sequence[Leg], name: str, unit: Unit, s: float, options: 
     if motor is None:  # the motor demand is carried, not judged: no weights needed
         return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
                           life_hours=options.life_hours, life_basis=options.life_basis,
-                          margin=options.margin, **_twist(options, name))
+                          margin=options.margin, **targets)
     demand = weighted_demand(reflection.motor, reflection.motor_torque, qd, unit.ratio, dt)
     candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
                            life_hours=options.life_hours, life_basis=options.life_basis,
-                           margin=options.margin, **_twist(options, name))
+                           margin=options.margin, **targets)
     return with_motor(candidate, motor, reflection.motor_torque,
                       np.abs(qd) * RPM_PER_RAD_S * unit.ratio)
-
-
-def _twist(options: Options, name: str) -> dict[str, Any]:
-    """The joint's largest twist, the precision target a time scale changes.
-
-    Its natural frequency does not change with the time scale: the sizing that chose
-    the units judged it.
-    """
-    return {"max_torsion": options.joint_value("max_torsion", name)}
 
 
 def _joined(arrays: Sequence[np.ndarray]) -> np.ndarray:
@@ -190,7 +195,7 @@ def smallest_scale(legs: Sequence[Leg], units: Mapping[str, Unit], options: Opti
                 leg.cycles[name], units[name],
                 rotor_inertia=(motor.rotor_inertia if motor is not None
                                else options.rotor_inertia), margin=options.margin,
-                targets=_twist(options, name))))
+                targets=leg_targets(legs, name, options))))
         if not feasible:
             failing = _failing(legs, [name], units, options, S_MAX, motors, idle)
             raise hopeless(where, name, failing[1] if failing else "peak", units[name], duty)

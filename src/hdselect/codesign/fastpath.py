@@ -35,12 +35,12 @@ from hdselect.codesign.pathbounds import (
     constraint_groups,
     crash_binds,
     crash_rows,
-    diagnose,
     flatten,
     meets,
     speed_cap,
     stop_bound,
 )
+from hdselect.codesign.pathdiagnosis import diagnose
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.path import bends_sharply, dense_grid, first_grid
 from hdselect.motion.planning.toppra import (

@@ -22,14 +22,15 @@ guess x0, K |p'| (sqrt(x0) / 2 + x / (2 sqrt(x0))), which lies above it everywhe
 move x0 are in `hdselect.codesign.fastpath`). A rule on single samples without a path form is
 checked on the planned cycle (`hdselect.codesign.cyclerules.after_solve`).
 
-Where no profile exists, `diagnose` names the joint, the limit and where.
+Where no profile exists, `hdselect.codesign.pathdiagnosis.diagnose` names the joint, the
+limit and where.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -40,7 +41,7 @@ from hdselect.catalog.rules import RULES, Scope
 from hdselect.catalog.rules.forms import PathBound, PathCase, PathKind
 from hdselect.catalog.units import Unit
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning.toppra import PathPiece, Profile, kinematic_constraints, solve_piece
+from hdselect.motion.planning.toppra import PathPiece, Profile, kinematic_constraints
 from hdselect.robot.model import Robot
 from hdselect.sizing.options import Options
 
@@ -84,6 +85,9 @@ class JointLimits:
             acceleration.
         unbounded: The per-sample rules of its unit that give no path form (`path_bounds`):
             checked forward on the planned cycle.
+        torque_by: The rule whose bound `torque` is (``"peak"``, ``"torsion"``, ...); empty
+            where it is the motion file's limits.torque, or none.
+        static_by: The same of `static`.
     """
 
     velocity: float
@@ -97,6 +101,8 @@ class JointLimits:
     motor_factors: tuple[float, float] = (0.0, 0.0)
     motor_inertia: float = 0.0
     unbounded: tuple[str, ...] = ()
+    torque_by: str = ""
+    static_by: str = ""
 
 
 def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], options: Options,
@@ -134,9 +140,9 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
         if unit is not None:  # the limits less the design margin (`Rule.derate`)
             motor = (motors or {}).get(name)
             rotor = motor.rotor_inertia if motor is not None else options.rotor_inertia
-            bounds, unbounded = path_bounds(PathCase(
+            bounds, unbounded = path_bounds(PathCase(  # a twist target bounds the torque
                 unit, options.margin, options.stop_time, options.efficiency, rotor, motor,
-                max_torsion=options.joint_value("max_torsion", name)))
+                options.joint_value("max_torsion", name)))
         out.append(bounded(speeds, float(acceleration[j]), torque, bounds, unbounded,
                            (derating or {}).get(name, 1.0)))
     return out
@@ -154,20 +160,21 @@ def bounded(speeds: Sequence[tuple[float, str]], acceleration: float, torque: fl
     speeds = list(speeds)
     static, momentary, gain = torque, math.inf, 0.0
     peak, factors, reflected = math.inf, (0.0, 0.0), 0.0
+    torque_by = static_by = ""
     for bound in bounds:
         if bound.kind is PathKind.SPEED:
             speeds.append((bound.limit, bound.source))
-        elif bound.kind is PathKind.TORQUE:
-            torque = min(torque, bound.limit * derating)
-        elif bound.kind is PathKind.STATIC:
-            static = min(static, bound.limit)
+        elif bound.kind is PathKind.TORQUE and bound.limit * derating < torque:
+            torque, torque_by = bound.limit * derating, bound.source
+        elif bound.kind is PathKind.STATIC and bound.limit < static:
+            static, static_by = bound.limit, bound.source
         elif bound.kind is PathKind.MOMENTARY:
             momentary, gain = min(momentary, bound.limit), max(gain, bound.gain)
         else:  # the motor's torque
             peak, factors, reflected = min(peak, bound.limit), bound.factors, bound.inertia
     limit, source = min(speeds)
     return JointLimits(limit, source, acceleration, torque, static, momentary, gain, peak,
-                       factors, reflected, unbounded)
+                       factors, reflected, unbounded, torque_by, static_by)
 
 
 def path_bounds(case: PathCase) -> tuple[list[PathBound], tuple[str, ...]]:
@@ -185,9 +192,13 @@ def path_bounds(case: PathCase) -> tuple[list[PathBound], tuple[str, ...]]:
         if found is None:
             if rule.scope is Scope.SAMPLE:
                 unbounded.append(rule.name)
-        else:
-            bounds.extend(found)
+        else:  # a torque bound says whose it is (a speed's source is the unit's or motor's)
+            bounds.extend(replace(bound, source=rule.name) if bound.kind in _TORQUES
+                          else bound for bound in found)
     return bounds, tuple(unbounded)
+
+
+_TORQUES = (PathKind.TORQUE, PathKind.STATIC)
 
 
 Group = tuple[str, str | None, list[Any]]
@@ -373,78 +384,3 @@ def crash_binds(piece: PathPiece, limits: Sequence[JointLimits], coefficients: C
             if np.max(crash) >= lim.momentary * (1.0 - 1e-3):
                 return True
     return False
-
-
-def diagnose(motion: Motion, names: Sequence[str], piece: PathPiece, groups: Sequence[Group],
-             limits: Sequence[JointLimits], coefficients: Coefficients) -> PathInfeasible:
-    """Which limit makes the piece infeasible, for which joint, and where.
-
-    Args:
-        motion: The motion (its file, for the message).
-        names: The joint names, in the order of `limits`.
-        piece: The piece without a profile.
-        groups: Its constraints, as `constraint_groups` made them.
-        limits: Each joint's limits.
-        coefficients: The piece's a, b, c, v.
-    """
-    where = f"{motion.path}: the path from waypoint[{piece.first}] to waypoint[{piece.last}]"
-    kinematic = groups[0][2]
-    if solve_piece(piece, kinematic, where=where) is None:
-        return PathInfeasible(f"{where}: the velocity and acceleration limits make it "
-                              "infeasible", joint=None, limit="velocity and acceleration",
-                              gravity=False)
-    names = list(names)
-    c = coefficients[2]
-    for limit, name, items in groups[1:]:
-        if solve_piece(piece, [*kinematic, *items], where=where) is not None:
-            continue
-        if name is None:
-            raise RuntimeError("only the first constraint group is unnamed")
-        j = names.index(name)
-        lim = limits[j]
-        bound = {"emergency stop": lim.momentary, "static": lim.static,
-                 "motor torque": lim.motor_torque}.get(limit, lim.torque)
-        unit = math.isfinite(lim.momentary)  # a joint with a gearhead; else limits.torque
-        what = {"emergency stop": "momentary limit (emergency stop)",
-                "static": "static limit" if unit else "limits.torque",
-                "torque": "repeated-peak limit" if unit else "limits.torque",
-                "motor torque": "motor's peak torque"}[limit]
-        k = int(np.argmax(np.abs(c[:, j])))
-        if abs(c[k, j]) > bound:
-            lo, hi = piece.segment(float(piece.gridpoints[k]))
-            return PathInfeasible(
-                f"{where}: joint '{name}' cannot hold its gravity load at any speed: "
-                f"{abs(c[k, j]):.3g} N m between waypoint[{lo}] and waypoint[{hi}] "
-                f"(s = {piece.gridpoints[k]:.3f}) is beyond its {what} {bound:.3g} N m",
-                joint=name, limit=limit, gravity=True)
-        s = _first_infeasible(piece, [*kinematic, *items])
-        lo, hi = piece.segment(s)
-        return PathInfeasible(
-            f"{where}: the {what} of joint '{name}' ({bound:.3g} N m) makes it infeasible "
-            f"at any speed, first at s = {s:.3f} between waypoint[{lo}] and waypoint[{hi}]",
-            joint=name, limit=limit, gravity=False)
-    return PathInfeasible(f"{where}: the torque, emergency-stop and crash limits together make "
-                          "it infeasible at any speed", joint=None, limit="together",
-                          gravity=False)
-
-
-def _first_infeasible(piece: PathPiece, constraints: list[Any]) -> float:
-    """The first path position [-] where the constraints leave no path speed.
-
-    From TOPPRA's feasible sets; where every gridpoint has some speed, the last one from
-    which the piece cannot be brought to rest (its controllable sets).
-    """
-    import toppra.algorithm as algorithm
-
-    from hdselect.motion.planning.path import quiet as _quiet
-
-    with _quiet():
-        instance = algorithm.TOPPRA(constraints, piece.path, gridpoints=piece.gridpoints)
-        feasible = instance.compute_feasible_sets()
-        empty = np.flatnonzero(~np.all(np.isfinite(feasible), axis=1)
-                               | (feasible[:, 1] < feasible[:, 0]))
-        if empty.size:
-            return float(piece.gridpoints[empty[0]])
-        controllable = instance.compute_controllable_sets(0.0, 0.0)
-    bad = np.flatnonzero(~np.all(np.isfinite(controllable), axis=1))
-    return float(piece.gridpoints[bad[-1]] if bad.size else piece.gridpoints[0])

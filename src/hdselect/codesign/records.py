@@ -135,6 +135,7 @@ def _limits_json(item: TaskFastest | None, name: str, result: FastestResult) -> 
             "velocity_limit_source": None if lim is None else lim.velocity_source,
             "acceleration_limit": None if lim is None else lim.acceleration,
             "torque_limit_nm": None if lim is None else lim.torque,
+            "torque_limit_rule": None if lim is None or not lim.torque_by else lim.torque_by,
             "motor": result.motors[name].id if motor else None,
             "motor_torque_limit_nm": lim.motor_torque if motor and lim is not None else None}
 

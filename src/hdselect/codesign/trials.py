@@ -33,7 +33,7 @@ from hdselect.codesign.cyclerules import (
 from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, slowdown_notes, solve
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
 from hdselect.motion.planning import Trajectory
-from hdselect.robot.dynamics import cycle_torques
+from hdselect.robot.dynamics import cycle_torques, joint_inertias
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors
 from hdselect.sizing.core import check_units, select_units
@@ -113,9 +113,10 @@ def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Se
         trajectory, held = cycle(motion, profiles, kinematic, max_samples=options.max_samples)
         moving = sum(p.duration * r for p, r in zip(profiles, kinematic, strict=True)
                      if p is not None)
-        cycles, held = _scalable(robot, trajectory, held, units, options)
+        cycles, held, inertia = _scalable(robot, trajectory, held, units, options)
         legs.append(Leg(model, share, profiles, kinematic, moving, trajectory.duration - moving,
-                        cycles, held, slowdown_notes(motion.joint_names, profiles, limits)))
+                        cycles, held, slowdown_notes(motion.joint_names, profiles, limits),
+                        inertia))
     where = where or str(models[0].motion.path)
     scale, reason = smallest_scale(legs, units, options, where, motors, idle)
     failing = {name for name in units
@@ -127,8 +128,8 @@ def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Se
 
 
 def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
-              units: Mapping[str, Unit],
-              options: Options) -> tuple[dict[str, ScalableCycle], np.ndarray]:
+              units: Mapping[str, Unit], options: Options
+              ) -> tuple[dict[str, ScalableCycle], np.ndarray, dict[str, float]]:
     """Each sized joint's cycle split by how its torque scales with time (four passes).
 
     A dwell holds one pose at rest: it is kept as one sample that lasts the whole
@@ -136,7 +137,8 @@ def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
     samples, is not a rule).
 
     Returns:
-        The cycles by joint, and which of their samples are dwells.
+        The cycles by joint, which of their samples are dwells, and the load inertia of
+        each joint with a natural-frequency target (`Leg.inertia`).
     """
     keep = np.flatnonzero(~held | np.r_[True, ~held[:-1]])
     lasts = np.diff(np.r_[keep, len(held)]) * trajectory.dt
@@ -154,7 +156,11 @@ def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
             at_rest(qd[:, j], qdd[:, j]), torque=torques.tau[:, j],
             stop_torque=torques.stop[:, j], gravity=torques.gravity[:, j],
             coast=torques.coasting[:, j], stop_time=options.stop_time)
-    return out, held[keep]
+    tuned = [name for name in units
+             if options.joint_value("min_natural_frequency", name) is not None]
+    inertia = {} if not tuned else dict(zip(tuned, map(float, joint_inertias(
+        carrying, q, tuned, threads=options.threads).max(axis=0)), strict=True))
+    return out, held[keep], inertia
 
 
 def derated(models: Sequence[PathModel], carrying: Sequence[Robot], units: Mapping[str, Unit],

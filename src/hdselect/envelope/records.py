@@ -6,7 +6,9 @@ dynamics as it is. The duty's own sizing is the `hdselect size --json` document.
 A duty of several tasks (a mix) gives its figures over one cycle of each task in turn
 (``cycle_time_s``, ``samples``) and each task's own (``tasks``).
 An output bearing's largest loads are over the duty and the worst states, its means
-over the duty (``bearing_note``).
+over the duty (``bearing_note``). The precision figures (``precision``, as in
+``hdselect size --json``) are along the duty with the envelope's units
+(``precision_note``).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ import numpy as np
 from hdselect.catalog.bearing_rules import NOT_RATED
 from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
-from hdselect.envelope.torques import BEARING_NOTE
+from hdselect.envelope.torques import BEARING_NOTE, PRECISION_NOTE
 from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.records import (
     bearing_load_json,
@@ -40,6 +42,7 @@ def envelope_json(result: EnvelopeResult) -> dict[str, Any]:
     spec, box = result.spec, result.spec.box
     duty = result.duty
     sized = result.sizing
+    selection = size_json(sized)
     return {
         "robot": str(result.robot.path),
         "spec_file": None if spec.file is None else str(spec.file.path),
@@ -60,13 +63,15 @@ def envelope_json(result: EnvelopeResult) -> dict[str, Any]:
                    "masses_settled": result.settled, "converged": result.converged,
                    "seconds": result.seconds},
         "feasible": result.feasible,
-        "assumptions": size_json(sized)["assumptions"],
+        "assumptions": selection["assumptions"],
         "payload": payload_json(result.robot),
         "root_link": result.robot.root_link,
         "masses_kg": dict(result.masses),
         "bearing_note": (BEARING_NOTE if any(joint.sizing.bearing is not None
                                                   for joint in result.joints) else None),
         "joints": [_joint_json(joint, result) for joint in result.joints],
+        "precision": selection.get("precision"),
+        "precision_note": None if sized.precision is None else PRECISION_NOTE,
         "joint_loads": [joint_load_json(load) for load in sized.loads],
         "warnings": list(sized.warnings),
         "duty_sizing": size_json(result.duty_sizing),

@@ -53,9 +53,10 @@ from hdselect.envelope.specfile import (
     EnvelopeFile,
     envelope_robot_file,
     load_envelope_file,
+    refuse_arm_targets,
 )
 from hdselect.envelope.states import StateRows, state_rows
-from hdselect.envelope.torques import EnvelopeTorques, duty_time
+from hdselect.envelope.torques import EnvelopeTorques, duty_precision, duty_time
 from hdselect.envelope.workers import Spread, default_workers
 from hdselect.motion.loading import load_case
 from hdselect.motion.mixfile import Mix
@@ -196,6 +197,7 @@ def envelope(
     limits = resolve_spec(robot, velocity=velocity, acceleration=acceleration, jerk=jerk,
                           file=file)
     resolved = options if options is not None else _options(file, source, values)
+    refuse_arm_targets(resolved, values if options is None else vars(options), file, source)
     if source is None:
         problem = Problem(robot, None, catalog_units(catalog), resolved, {})
         chosen_duty = default_duty(
@@ -264,7 +266,8 @@ def _envelope(problem: Problem, spec: Spec, duty: Duty, duty_sizing: SizingResul
         masses = chosen if options.mass_coupling else {}
     sizing = SizingResult(robot, duty.tasks[0].trajectory, tuple(sized), options, units,
                           duty.motion, loads=model.loads(masses), tasks=duty.tasks,
-                          idle=duty.idle, mix=duty.mix)
+                          idle=duty.idle, mix=duty.mix, precision=duty_precision(
+                              model, sized, masses, options))
     joints = tuple(_joint(model, joint, found, options, settings,
                           duty_sizing.joints[i].selected, masses)
                    for i, joint in enumerate(sized))

@@ -25,7 +25,7 @@ from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.motion.motionfile import mounting_of, payload_table
-from hdselect.motion.option_specs import file_keys, file_options
+from hdselect.motion.option_specs import OPTION, file_keys, file_options
 from hdselect.motion.sizing_table import bearing_offsets
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
@@ -101,6 +101,44 @@ class EnvelopeFile:
     duty: Path | None = None
     moves: int | None = None
     seed: int | None = None
+
+
+ARM_TARGETS = ("max_tool_deflection", "min_arm_frequency")
+"""The whole-arm precision targets, which an envelope refuses (`refuse_arm_targets`)."""
+
+
+def refuse_arm_targets(options: Any, given: Any, file: EnvelopeFile | None,
+                       duty: Any) -> None:
+    """Refuse a whole-arm precision target: the envelope does not raise units for one.
+
+    A whole-arm target is met by raising units along a motion's figures (`hdselect
+    size`); the envelope's figures are its duty's and its selection is for any motion
+    within the spec, so it judges the per-joint targets only (``max_torsion``,
+    ``min_natural_frequency``, in its selection, at the worst states too).
+
+    Args:
+        options: The envelope's options (`hdselect.sizing.options.Options`).
+        given: The options given as arguments, by name (a flag's, from the command line).
+        file: The envelope file, if any.
+        duty: The duty's motion or mix file as read, if any.
+
+    Raises:
+        InputError: A whole-arm target is set, naming where: the argument (its name), the
+            envelope file's key, else the duty's.
+    """
+    for name in ARM_TARGETS:
+        if getattr(options, name) is None:
+            continue
+        key = str(OPTION[name].key)
+        where: dict[str, Any] = {"field": name}
+        if given.get(name) is None and file is not None and getattr(file, name) is not None:
+            where = {"path": file.path, "field": key}
+        elif given.get(name) is None and duty is not None:
+            where = {"path": duty.path, "field": key}
+        raise InputError("the envelope judges the per-joint precision targets only "
+                         "(max_torsion, min_natural_frequency): a whole-arm target is met "
+                         "by raising units along a motion; size its duty with `hdselect "
+                         "size` for it", **where)
 
 
 def envelope_robot_file(path: str | Path) -> Path:

@@ -20,6 +20,7 @@ A worst state belongs to no task: its task index is -1 and its time NaN.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -31,6 +32,9 @@ from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
+from hdselect.sizing.options import Options
+from hdselect.sizing.precision import Precision, precision_of
+from hdselect.sizing.result import JointSizing
 from hdselect.sizing.tasks import Samples, Task, pooled
 from hdselect.sizing.torques import DirectTorques
 
@@ -39,6 +43,12 @@ BEARING_NOTE = ("output bearing: its largest loads are over the duty and the wor
                 "torque, not the bearing's force and moment, so a motion within the spec "
                 "may load the bearing more")
 """What every output of an envelope says of the output bearing's loads."""
+PRECISION_NOTE = ("precision: the figures (each unit's twist and resonance, the tool's "
+                  "deflection, the arm's modes) are along the duty, with the envelope's "
+                  "units; a worst state is a state, not a motion, so none is among them, "
+                  "while a per-joint target (max_torsion, min_natural_frequency) is judged "
+                  "at the worst states too")
+"""What every output of an envelope says of its precision figures."""
 
 
 class EnvelopeTorques:
@@ -185,6 +195,39 @@ def appended(samples: Samples, rows: StateRows) -> Samples:
                    frozen(np.concatenate([samples.qd, rows.qd])),
                    frozen(np.concatenate([samples.qdd, rows.qdd])),
                    rest, task, samples.tasks, samples.duration, samples.idle)
+
+
+def duty_part(joint: JointSizing, count: int) -> JointSizing:
+    """A joint sized on a duty and the worst states, its per-sample arrays on the duty's.
+
+    Args:
+        joint: The joint, sized on the duty's samples then the worst states.
+        count: The duty's samples.
+    """
+    wrench = joint.wrench
+    index = (None if wrench is None else
+             np.arange(count) if wrench.index is None else wrench.index[:count])
+    return replace(joint, torque=joint.torque[:count], stop_torque=joint.stop_torque[:count],
+                   wrench=None if wrench is None else SampledWrench(wrench.rows, index),
+                   motor_torque=None if joint.motor_torque is None
+                   else joint.motor_torque[:count])
+
+
+def duty_precision(model: EnvelopeTorques, sized: Sequence[JointSizing],
+                   masses: Mapping[str, float], options: Options) -> Precision | None:
+    """The precision figures along the duty, with the envelope's units (`PRECISION_NOTE`).
+
+    Args:
+        model: The envelope's model of its final selection.
+        sized: That selection's joints.
+        masses: The mass each joint's unit adds [kg].
+        options: The assumptions; None is returned where they do not ask for the figures.
+    """
+    if not options.precision:
+        return None
+    count = len(model.duty.samples)
+    return precision_of(model.duty, [duty_part(joint, count) for joint in sized], masses,
+                        options)
 
 
 def duty_time(samples: Samples, i: int) -> str:

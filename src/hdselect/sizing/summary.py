@@ -116,6 +116,8 @@ class Summary:
         tasks: For a duty of several tasks (a mix), each task: ``name``, ``motion``,
             ``share`` [-], ``cycle_time`` [s] and ``payload_mass`` [kg]; empty for one.
         idle_share: The fraction of the time no task runs [-].
+        precision: The precision figures (`precision_record`), or None where they were
+            not computed.
     """
 
     robot: str
@@ -131,6 +133,7 @@ class Summary:
     warnings: tuple[str, ...] = ()
     tasks: tuple[dict[str, Any], ...] = ()
     idle_share: float = 0.0
+    precision: dict[str, Any] | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Plain lists, dicts, strings and numbers, ready for strict JSON.
@@ -173,7 +176,44 @@ def summarize(result: SizingResult) -> Summary:
                      else task.robot.payload.mass}
                     for task in result.tasks) if len(result.tasks) > 1 else (),
         idle_share=result.idle,
+        precision=precision_record(result),
     )
+
+
+def precision_record(result: SizingResult) -> dict[str, Any] | None:
+    """A sizing's precision figures in brief (`hdselect.sizing.precision.Precision`), SI.
+
+    ``joints``: per sized joint ``name``, ``unit`` (the selected one, else the strongest),
+    ``rated`` (its catalog rates K1; else its figures are None), ``max_torsion`` and
+    ``holding_torsion`` [rad], ``lowest_frequency`` (single-axis) [Hz],
+    ``resonance_speed`` [rpm] and ``near_resonance_time`` [s]; ``tool_frame``,
+    ``tool_deflection`` (largest along the cycle) and ``tool_holding`` (holding a pose
+    still) [m] and ``arm_frequency`` (the lowest mode) [Hz], each None where a sized
+    joint's K1 is not rated; ``not_rated``, ``rigid``; ``targets`` (the whole-arm
+    targets' ``name``, ``value``, ``limit``, ``ok``, ``shortfall``) and ``raised`` (the
+    units raised for them). None where the figures were not computed.
+    """
+    found = result.precision
+    if found is None:
+        return None
+    tool, modes = found.tool, found.modes
+    return {
+        "joints": [{"name": joint.name, "unit": None if joint.unit is None else joint.unit.id,
+                    "rated": joint.rated, "max_torsion": joint.max_torsion,
+                    "holding_torsion": joint.holding_torsion,
+                    "lowest_frequency": joint.lowest_frequency,
+                    "resonance_speed": joint.resonance_speed,
+                    "near_resonance_time": joint.near_resonance_time}
+                   for joint in found.joints],
+        "tool_frame": None if tool is None else tool.frame,
+        "tool_deflection": None if tool is None else tool.max_translation,
+        "tool_holding": None if tool is None else tool.max_holding,
+        "arm_frequency": None if modes is None else modes.lowest_frequency,
+        "not_rated": list(found.not_rated),
+        "rigid": list(found.rigid),
+        "targets": [asdict(check) for check in found.targets],
+        "raised": [asdict(raised) for raised in found.raised],
+    }
 
 
 def _joint(joint: JointSizing, result: SizingResult) -> JointSummary:

@@ -38,6 +38,8 @@ class Case:
             replacing the file's; None keeps them.
         payloads: For a mix file, (task name, payload mass [kg]) pairs: each mass in its
             task's payload shape; None keeps the file's payloads.
+        series: Only units of these series are candidates (as ``--series``; a built-in
+            catalog a name names is among `catalog`); empty: every unit loaded.
     """
 
     index: int
@@ -57,6 +59,7 @@ class Case:
     motor_catalog: Path | None = None
     shares: tuple[float, ...] | None = None
     payloads: tuple[tuple[str, float], ...] | None = None
+    series: tuple[str, ...] = ()
 
     def payload_for(self, file_payload: Payload | None) -> Payload | None:
         """The case's payload, given the motion file's.

@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from hdselect.base.errors import InputError
+from hdselect.catalog.builtin import of_series
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor, load_motors
 from hdselect.catalog.units import Unit
@@ -103,7 +104,8 @@ class Inputs:
         self.mix_robots: dict[Path, Robot] = {}  # a mix file's robot, by its file
         self.mixes: dict[tuple[Path, Path], tuple[Robot, Mix]] = {}  # by mix and robot file
         self.motions: dict[tuple[Path, tuple[Path, tuple[tuple[str, str], ...]]], Motion] = {}
-        self.units: dict[tuple[tuple[Path, ...], int | None], tuple[Unit, ...]] = {}
+        self.units: dict[tuple[tuple[Path, ...], int | None, tuple[str, ...]],
+                         tuple[Unit, ...]] = {}
         self.motor_files: dict[Path, tuple[Motor, ...]] = {}
         self.robot_files: dict[Path, tuple[Path, dict[str, str]]] = {}
 
@@ -155,10 +157,10 @@ class Inputs:
         return self.mixes[case.motion, file]
 
     def catalog(self, case: Case) -> tuple[Unit, ...]:
-        """The case's candidate units (its catalogs, only its ratio if it gives one)."""
-        key = (case.catalog, case.ratio)
+        """The case's candidate units (its catalogs; only its series and ratio if it gives them)."""
+        key = (case.catalog, case.ratio, case.series)
         if key not in self.units:
-            units = load_catalog(case.catalog)
+            units = of_series(load_catalog(case.catalog), case.series)
             if case.ratio is not None:
                 chosen = tuple(u for u in units if u.ratio == case.ratio)
                 if not chosen:

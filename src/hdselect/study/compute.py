@@ -55,6 +55,7 @@ from hdselect.study.casetasks import (
 )
 from hdselect.study.group import plan_depends_on_payload
 from hdselect.study.pooled import diagnosed, group_cases, scaled
+from hdselect.study.precise import precision_fields
 
 MIN_GROUP = 4
 """Cases of one robot and path from which a group is evaluated from a shared basis: below
@@ -87,14 +88,18 @@ SIZE_COLUMNS = ("joint", "unit", "feasible", "binding", "utilization", "life_l50
                 "motor_binding", "inertia_ratio", "bearing_max_moment_nm",
                 "bearing_max_radial_n", "bearing_max_axial_n", "bearing_mean_moment_nm",
                 "bearing_mean_radial_n", "bearing_mean_axial_n", "bearing",
-                "bearing_life_l10_h", "binding_task", "shortfall")
+                "bearing_life_l10_h", "binding_task", "shortfall", "torsion_arcmin",
+                "holding_torsion_arcmin", "natural_frequency_hz", "tool_cycle_mm",
+                "tool_holding_mm", "arm_frequency_hz", "tool_deflection_target",
+                "arm_frequency_target", "raised_from")
 """Per-joint columns of a ``size`` row (after ``flags``: where motors are given, the motor
 of the selected pair, else of the strongest; its binding rule; load over rotor inertia;
 then the output bearing's loads about the flange, largest and 10/3-power means, whether
 the unit's catalog rates the bearing (``rated`` / ``not rated``) and its L10 life; last,
 ``binding_task``: for a mix, the task that sets the binding rule; ``shortfall``: for a joint
 without a unit, its diagnosis: each rule's demand against the strongest unit's limit, and
-gravity alone where it exceeds every unit's)."""
+gravity alone where it exceeds every unit's); then the precision figures
+(`hdselect.study.precise.PRECISION_NOTE`)."""
 
 
 def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
@@ -111,7 +116,9 @@ def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
         "binding_task": joint.get("binding_task"),
         **_bearing_fields(joint),
         "shortfall": _shortfall(joint.get("diagnosis")),
+        **precision_fields(joint["name"], result.get("precision")),
     } for joint in result["joints"]]
+
 
 
 def _shortfall(diagnosis: dict[str, Any] | None) -> str | None:

@@ -80,7 +80,8 @@ class Basis:
         carried: carried[j, c] is 1 where sized joint j carries carrier c's gearhead.
         poses: The kept row of each pose at which gravity loading is judged.
         inertia: M_jj per sized joint and parameter at the same poses [kg m^2], shape
-            (sized joints, P, poses), as `gravity`; None unless asked for (motors).
+            (sized joints, P, poses), as `gravity`; None unless asked for (motors, a
+            natural-frequency target).
         wrench_gravity: W, each sized joint's wrench at rest in its axis frame, rows 0-4
             of `axis_wrenches` [N, N m], shape (sized joints, P, 5 n): a parameter's row
             is its (5, n) wrench flattened, so a case's is one product with theta.
@@ -119,7 +120,8 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
         motion: The motion; its plan must not depend on the payload (see `plan_depends_on_payload`).
         payload: The payload's shape (its mass is replaced by `REFERENCE_MASS`), or None.
         inertias: Also the sized joints' load inertia M_jj per parameter at the poses
-            (what cases with motors need for their inertia ratio).
+            (what cases with motors need for their inertia ratio, and a natural-frequency
+            target for its J).
 
     Returns:
         The basis: 4 (2 + carriers) passes of the torques over the kept samples, and 2

@@ -32,12 +32,14 @@ from hdselect.sizing.diagnosis import diagnose
 from hdselect.sizing.loads import JointLoad, merged_loads
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import Motors, SizingResult
+from hdselect.sizing.stiffening import targets_of
 from hdselect.sizing.summary import Summary, summarize
 from hdselect.sizing.tasks import Samples, Task, merged
 from hdselect.sizing.torques import TorqueModel
 from hdselect.study.case import Case, Outcome
 from hdselect.study.casetasks import CaseDuty, CaseTask, Inputs
 from hdselect.study.group import Basis, BasisTorques, build_basis, plan_depends_on_payload
+from hdselect.study.precise import grouped_stiffened
 
 PAYLOAD_PLAN = ("TOPPRA plans under torque limits with the payload's dynamics: sized on "
                 "its own")
@@ -137,14 +139,23 @@ def diagnosed(result: SizingResult) -> SizingResult:
                                       in diagnose(result, catalogs={}).items()})
 
 
+def needs_inertias(options: Options, joints: Sequence[str], motors: Motors | None) -> bool:
+    """Whether a case's selection reads its joints' load inertia M_jj.
+
+    Where motors are given (the inertia ratio) or a joint has a natural-frequency target
+    (`min_natural_frequency`).
+    """
+    return bool(motors) or any(options.joint_value("min_natural_frequency", name) is not None
+                               for name in joints)
+
+
 def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: float,
                 units: Sequence[Unit], options: Options, motors: Motors | None = None,
                 mix: Mix | None = None) -> Summary:
     """One case from its tasks' bases (one per task, in task order), sized by the core.
 
     Args:
-        bases: Each task's basis (with `Basis.inertia` where motors are given, or a
-            natural frequency target).
+        bases: Each task's basis (with `Basis.inertia` where `needs_inertias`).
         tasks: The case's tasks: the payload each carries (its mass; its shape is the
             basis's) and its share.
         time_scale: Every path run s times slower [-].
@@ -165,8 +176,9 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
     if options.prefer is None:
         options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
                           else DEFAULT_PREFER)
-    if (motors or options.min_natural_frequency) and any(b.inertia is None for b in bases):
-        raise ValueError("a case with motors or a natural frequency target needs bases "
+    if needs_inertias(options, bases[0].robot.sized_joints, motors) and any(
+            basis.inertia is None for basis in bases):
+        raise ValueError("a case with motors or a natural-frequency target needs bases "
                          "built with inertias=True")
     check_bearing_options(bases[0].robot, units, options)
     models, planned = [], []
@@ -193,10 +205,19 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
     joints, masses = select_units(pooled, per_joint, options, motors, detail=False)
     if any(joint.selected is None for joint in joints):  # its diagnosis reads every check
         joints, masses = select_units(pooled, per_joint, options, motors)
+    precision = None
+    if options.precision or targets_of(options):  # on every sample, as size: `precise`
+        own = [replace(task, robot=task.robot.with_payload(item.payload),
+                       trajectory=scaled(basis.trajectory, time_scale))
+               for basis, item, task in zip(bases, tasks, planned, strict=True)
+               if task.share > 0.0]
+        found = grouped_stiffened(pooled, models, own, per_joint, joints, masses, options,
+                                  motors)
+        joints, masses, precision = found.joints, found.masses, found.precision
     first = pooled.samples.tasks[0]
     result = SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
                           first.motion, motors=motors, loads=pooled.loads(masses),
-                          tasks=tuple(planned), mix=mix)
+                          tasks=tuple(planned), mix=mix, precision=precision)
     if not result.feasible:  # the diagnosis reads the poses with each task's own payload
         carrying = tuple(replace(task, robot=task.robot.with_payload(item.payload))
                          for task, item in zip(planned, tasks, strict=True))
@@ -215,7 +236,7 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
     """One case of a motion file (a duty of one task) from its basis, sized by the core.
 
     Args:
-        basis: The group's basis (with `Basis.inertia` where motors are given).
+        basis: The group's basis (with `Basis.inertia` where `needs_inertias`).
         mass: Payload mass [kg] (None exactly when the basis has no payload).
         time_scale: The path run s times slower [-].
         units: The candidate units.
@@ -270,8 +291,8 @@ def group_cases(cases: Sequence[Case], inputs: Inputs, host: str
         keys = [(place, _shape_key(task)) for place, task in zip(places, duty.tasks, strict=True)]
         for key, robot, task in zip(keys, robots, duty.tasks, strict=True):
             first = wanted.setdefault(key, (robot, task, False))
-            wanted[key] = (*first[:2], first[2] or bool(motors)
-                           or bool(duty.options.min_natural_frequency))  # M_jj needed
+            wanted[key] = (*first[:2], first[2] or needs_inertias(
+                duty.options, robot.sized_joints, motors))
         ready.append((case, duty, keys, motors))
     bases: dict[Any, Basis | HdselectError] = {}
     for key, (robot, task, inertias) in wanted.items():

@@ -24,7 +24,7 @@ from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.inputfiles import MAX_LOG_BYTES, read_input
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
-from hdselect.catalog.builtin import catalog_file
+from hdselect.catalog.builtin import catalog_file, series_catalogs
 from hdselect.catalog.catalogfile import BUILTIN
 from hdselect.motion.mixfile import task_names
 from hdselect.motion.option_specs import OPTION, OPTIONS, from_edge
@@ -38,11 +38,13 @@ from hdselect.study.compute import COMPUTATIONS
 
 OPTION_KEYS = tuple(option.name for option in OPTIONS if option.study)
 """Sizing options a study may set or vary (`hdselect.motion.option_specs.Option.study`;
-workers use one thread, the bearing offsets come from each case's motion file)."""
+workers use one thread, the bearing offsets come from each case's motion file), in the
+units of flags and files (a torsion in arcmin, a deflection in mm, a frequency in Hz or an
+application class's name); a per-joint target is one value, for every sized joint."""
 
 
 CASE_KEYS = ("motion", "robot", "payload", "shares", "payloads", "time_scale", "mounting",
-             "catalog", "ratio", "motor_catalog", *OPTION_KEYS)
+             "catalog", "series", "ratio", "motor_catalog", *OPTION_KEYS)
 """Every key of ``[base]``, ``[grid]`` and ``[[case]]``, in the order of the CSV columns."""
 
 
@@ -217,6 +219,13 @@ def _value(key: str, value: Any, path: Path, field: str) -> Any:
             raise InputError("expected a catalog file or a list of them", path=path,
                              field=field)
         return tuple(files)
+    if key == "series":  # as --series: only these series' units, a built-in one loaded
+        names = [value] if isinstance(value, str) else value
+        if not isinstance(names, list) or not names or not all(
+                isinstance(name, str) and name and "\0" not in name for name in names):
+            raise InputError("expected a series name (e.g. SHG-2UH) or a list of them",
+                             path=path, field=field)
+        return tuple(names)
     if key == "payload":
         if isinstance(value, dict):
             check_keys(value, _PAYLOAD_KEYS, path, field)
@@ -297,8 +306,11 @@ def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
         shape = (tuple(payload["com"]), tuple(tuple(r) for r in payload["inertia"]),
                  payload["frame"])
         payload = payload["mass"]
+    series = tuple(values.get("series", ()))
+    named = tuple(values.get("catalog", ()))
+    named += tuple(name for name in series_catalogs(series) if name not in named)
     catalog = tuple(catalog_file(f, base=folder, path=path, field="catalog", missing_ok=True)
-                    for f in values.get("catalog", ()))
+                    for f in named)
     options = {k: values[k] for k in OPTION_KEYS if k in values}
     motor_catalog = folder / values["motor_catalog"] if "motor_catalog" in values else None
     files = _inputs(motion, robot, (*catalog, *([motor_catalog] if motor_catalog else [])))
@@ -313,6 +325,8 @@ def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
     }
     if motor_catalog is not None:
         resolved["motor_catalog"] = _digest(motor_catalog)
+    if series:  # only where given: the other cases keep their keys
+        resolved["series"] = [name.lower() for name in series]
     key = hashlib.sha256(_canonical(resolved).encode()).hexdigest()[:20]
     shown = {k: (payload if k == "payload" else values[k]) for k in CASE_KEYS if k in values}
     shares = values.get("shares")
@@ -321,7 +335,7 @@ def _case(index: int, compute: str, values: dict[str, Any], path: Path) -> Case:
                 float(values.get("time_scale", 1.0)), values.get("mounting"), catalog,
                 values.get("ratio"), options, key, files, motor_catalog,
                 None if shares is None else tuple(shares),
-                None if payloads is None else tuple(payloads.items()))
+                None if payloads is None else tuple(payloads.items()), series)
 
 
 def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tuple[Path, ...]:
