@@ -155,6 +155,16 @@ def _tilt(fx: np.ndarray, fy: np.ndarray, mx: np.ndarray, my: np.ndarray,
     return np.sqrt(x * x + y * y)
 
 
+def axis_turns(robot: Robot, joints: Sequence[str]) -> np.ndarray:
+    """Each named joint's axis frame in its joint frame: the rotations `axis_wrenches` uses.
+
+    Returns:
+        Rotations whose third column is the joint axis, shape (len(joints), 3, 3) [-].
+    """
+    motions = {joint.name: joint for joint in joint_motions(robot.model, robot.path)}
+    return np.array([_to_z(motions[name].axis) for name in joints]).reshape(-1, 3, 3)
+
+
 def _skew(p: np.ndarray) -> np.ndarray:
     """The matrix of ``p x``."""
     return np.array([[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]])

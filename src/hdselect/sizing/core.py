@@ -43,6 +43,7 @@ from hdselect.sizing.arguments import (
 )
 from hdselect.sizing.joint import JointCycle, size_joint, task_checks
 from hdselect.sizing.options import Options, fixed_choice
+from hdselect.sizing.precision import Precision, precision_of
 from hdselect.sizing.problem import Catalog, Problem, plan_tasks, resolve
 from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.slowdown import with_slowdowns
@@ -234,10 +235,11 @@ def size_tasks(tasks: Sequence[Task], catalog: Sequence[Unit] | None = None,
     model = DirectTorques(samples.tasks, samples, options.stop_time, threads=options.threads,
                           guess=guess, wrenches=options.bearing_loads)
     joints, masses = select_units(model, per_joint, options, motors, slowdowns=slowdowns)
+    precision = _precision(model, joints, masses, options)
     first = samples.tasks[0]
     return SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
                         first.motion, motors=motors, loads=model.loads(masses),
-                        tasks=tuple(tasks), idle=float(idle))
+                        tasks=tuple(tasks), idle=float(idle), precision=precision)
 
 
 def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], options: Options,
@@ -354,7 +356,16 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
                                   resolved, fixed, slowdowns=False)
     distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))
     return SizingResult(robot, trajectory, tuple(joints), options if not fixed else resolved,
-                        distinct, motors=fixed, loads=model.loads(masses))
+                        distinct, motors=fixed, loads=model.loads(masses),
+                        precision=_precision(model, joints, masses, options))
+
+
+def _precision(model: TorqueModel, joints: Sequence[JointSizing], masses: Mapping[str, float],
+               options: Options) -> Precision | None:
+    """The stiffness figures of the selection where the options ask for them."""
+    if not getattr(options, "precision", True):
+        return None
+    return precision_of(model, joints, masses, options)
 
 
 def _tasks_argument(tasks: object, idle: float = 0.0) -> tuple[Task, ...]:

@@ -19,6 +19,7 @@ from hdselect.robot.model import Robot
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.options import Options
+from hdselect.sizing.precision import Precision
 from hdselect.sizing.tasks import Task
 from hdselect.sizing.timescale import JointScales, Slowdown
 
@@ -138,6 +139,9 @@ class SizingResult:
         diagnoses: For each joint no unit fits, why and what would give it one: joint
             name -> `hdselect.sizing.diagnosis.Diagnosis`, where the front end asked for
             them (`hdselect.sizing.diagnosis.with_diagnoses`); else empty.
+        precision: The stiffness figures along the cycle (torsion, tool deflection,
+            natural frequencies), with the chosen units' masses carried; None where the
+            options turn them off (``precision``).
     """
 
     robot: Robot
@@ -152,6 +156,7 @@ class SizingResult:
     idle: float = 0.0
     mix: Mix | None = None
     diagnoses: Mapping[str, Any] = field(default_factory=dict)
+    precision: Precision | None = None
 
     @property
     def counted(self) -> tuple[Task, ...]:
