@@ -65,6 +65,9 @@ def good(option: Option) -> Any:
     elif option.kind == "choice":
         value = next(c for c in option.choices
                      if c != option.default and not option.needs_motors(c))
+    elif option.kind == "joints":
+        assert option.bound is not None
+        value = {JOINT: option.bound.high / 2.0}
     else:
         value = {JOINT: 0.01}
     assert value != option.default
@@ -73,11 +76,24 @@ def good(option: Option) -> Any:
 
 def bad(option: Option) -> Any:
     """A value of the right type, out of the option's range (or not of its kind)."""
-    if option.kind == "number":
-        assert option.bound is not None
-        return option.bound.high * 10.0 + 1.0
+    if option.kind in ("number", "joints"):
+        assert option.bound is not None  # out of range in SI and in the files' unit
+        high = option.bound.high / option.scale * 10.0 + 1.0
+        return high if option.kind == "number" else {JOINT: high}
     return {"count": 0, "samples": 1, "switch": "yes", "choice": "nonesuch",
             "offsets": {JOINT: 1e3}}[option.kind]
+
+
+def si(option: Option, value: Any) -> Any:
+    """A value given in a file's or a flag's unit (arcmin, mm), in SI as `Options` holds it."""
+    return option.check(value, edge=True)
+
+
+def flag_value(option: Option, value: Any) -> list[str]:
+    """A value as the option's flag takes it (a per-joint value as JOINT=VALUE)."""
+    if isinstance(value, dict):
+        return [f"{joint}={item}" for joint, item in value.items()]
+    return [str(value)]
 
 
 def toml(value: Any) -> str:
@@ -134,9 +150,10 @@ def test_the_flag_gives_the_value_and_refuses_it_out_of_range(option, tmp_path, 
     motion = load_motion(motion_file)
     value = good(option)
     assert option.flag is not None
-    given = [option.flag] if option.kind == "switch" else [option.flag, str(value)]
+    given = [option.flag] if option.kind == "switch" else [option.flag,
+                                                           *flag_value(option, value)]
     assert getattr(sizing_options_of(size_args(motion_file, *given), motion),
-                   option.name) == value
+                   option.name) == si(option, value)
     if option.kind == "switch":
         return  # a flag without a value: nothing to give out of range
     if option.choices:
@@ -145,7 +162,8 @@ def test_the_flag_gives_the_value_and_refuses_it_out_of_range(option, tmp_path, 
         assert ended.value.code == 2 and option.flag in capsys.readouterr().err
         return
     with pytest.raises(InputError) as caught:
-        sizing_options_of(size_args(motion_file, option.flag, str(bad(option))), motion)
+        sizing_options_of(size_args(motion_file, option.flag, *flag_value(option, bad(option))),
+                          motion)
     assert caught.value.field == option.flag and caught.value.path is None
 
 
@@ -154,7 +172,7 @@ def test_the_motion_file_gives_the_value_and_refuses_it_out_of_range(option, tmp
     path = tmp_path / "motion.toml"
     value = good(option)
     path.write_text(MOTION + with_key(option, value))
-    assert getattr(options_for(load_motion(path)), option.name) == value
+    assert getattr(options_for(load_motion(path)), option.name) == si(option, value)
     path.write_text(MOTION + with_key(option, bad(option)))
     with pytest.raises(InputError) as caught:
         load_motion(path)
@@ -174,7 +192,7 @@ def test_the_mix_file_gives_the_value_and_refuses_it_out_of_range(option, tmp_pa
     robot = load_robot(ROBOT)
     value = good(option)
     read = load_mix(mix(tmp_path, with_key(option, value)), robot)
-    assert getattr(mix_options(read), option.name) == value
+    assert getattr(mix_options(read), option.name) == si(option, value)
     with pytest.raises(InputError) as caught:
         load_mix(mix(tmp_path, with_key(option, bad(option))), robot)
     assert caught.value.path == tmp_path / "mix.toml"
@@ -187,7 +205,8 @@ def test_the_envelope_file_gives_the_value_and_refuses_it_out_of_range(option, t
     path = tmp_path / "envelope.toml"
     head = f'robot = "{ROBOT}"\nangle_unit = "deg"\n'
     path.write_text(head + with_key(option, good(option)))
-    assert given_by(load_envelope_file(path, robot), "envelope") == {option.name: good(option)}
+    assert given_by(load_envelope_file(path, robot), "envelope") == {
+        option.name: si(option, good(option))}
     path.write_text(head + with_key(option, bad(option)))
     with pytest.raises(InputError) as caught:
         load_envelope_file(path, robot)
@@ -199,10 +218,12 @@ def test_the_envelope_file_gives_the_value_and_refuses_it_out_of_range(option, t
 def test_a_study_gives_the_value_and_refuses_it_out_of_range(option, tmp_path):
     (tmp_path / "motion.toml").write_text(MOTION)
     path = tmp_path / "study.toml"
-    value = good(option)
+    value, wrong = good(option), bad(option)
+    if option.kind == "joints":  # a study gives every joint's value
+        value, wrong = value[JOINT], wrong[JOINT]
     path.write_text(f'[base]\nmotion = "motion.toml"\n{option.name} = {toml(value)}\n')
     assert load_study(path).cases[0].options == {option.name: value}
-    path.write_text(f'[base]\nmotion = "motion.toml"\n{option.name} = {toml(bad(option))}\n')
+    path.write_text(f'[base]\nmotion = "motion.toml"\n{option.name} = {toml(wrong)}\n')
     with pytest.raises(InputError) as caught:
         load_study(path)
     assert caught.value.path == path and caught.value.field == f"base.{option.name}"

@@ -199,6 +199,14 @@ MARGIN = Bound("a margin", "", 0.0, 0.9)
 INERTIA_RATIO = Bound("a ratio", "", 1e-3, 1e6)
 """A load-to-rotor inertia ratio [-], largest allowed or aimed at: 0.001 to 1e6 (designs
 aim at 1 to 10); the ratio found is divided by it."""
+TORSION_TARGET = Bound("an angle", "rad", 0.0, 0.1, low_open=True)
+"""A joint's largest twist allowed [rad]: more than 0, at most 0.1 rad (about 344 arcmin;
+catalogs' twists are a few arcmin)."""
+FREQUENCY_TARGET = Bound("a frequency", "Hz", 0.0, 1e4, low_open=True)
+"""A lowest natural frequency asked for [Hz]: more than 0, at most 10 kHz (Harmonic
+Drive's application classes ask 4 to 30 Hz)."""
+DEFLECTION_TARGET = Bound("a distance", "m", 0.0, 1.0, low_open=True)
+"""A tool's largest deflection allowed [m]: more than 0, at most 1 m."""
 
 # --- motors ------------------------------------------------------------------------------------
 MOTOR_TORQUE = TORQUE

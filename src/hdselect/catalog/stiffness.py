@@ -20,6 +20,9 @@ so the input speed f_n x 60 / 2 rpm runs at resonance.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
 
 import numpy as np
 
@@ -111,3 +114,61 @@ def resonance_speed(frequency: float | np.ndarray) -> np.ndarray:
 def unit_k1(unit: Unit) -> float | None:
     """A unit's K1 [N m/rad], or None where its source does not rate it."""
     return unit.stiffness.k1 if unit.stiffness is not None else None
+
+
+@dataclass(frozen=True)
+class ApplicationClass:
+    """One of Harmonic Drive's application classes: the resonance it asks of a joint.
+
+    Attributes:
+        frequency: The lowest single-axis natural frequency f_n recommended [Hz].
+        words: The applications, in Harmonic Drive's words.
+        source: Where the number comes from.
+    """
+
+    frequency: float
+    words: str
+    source: str
+
+
+_CLASS_SOURCE = (
+    "Harmonic Drive AG, Engineering Data, stiffness-based dimensioning (recommended "
+    "resonance frequency by application; e.g. HFUS-2A Component Sets 1019658 11/2014, "
+    "selection flowchart p. 18); numbers as transcribed in the public repository "
+    "AimanHaidar/harmonic-drive-selector, data/reducers_tables.py (a transcription, not "
+    "the vendor's page)")
+
+APPLICATION_CLASSES: Mapping[str, ApplicationClass] = MappingProxyType({
+    name: ApplicationClass(frequency, words, _CLASS_SOURCE) for name, frequency, words in (
+        ("slow-turntables", 4.0, "slowly rotating turntables; slowly rotating welding "
+                                 "turntables"),
+        ("slow-welding-base-axes", 4.0, "base axes of slow moving welding robots (not laser "
+                                        "welding)"),
+        ("gantry-axes", 4.0, "gantry robot axes"),
+        ("base-axes", 8.0, "base axes of revolute robots"),
+        ("slow-hand-axes", 8.0, "hand axes of revolute robots with low requirements "
+                                "regarding dynamic performance"),
+        ("tool-magazines", 8.0, "tool revolvers; tool magazines"),
+        ("measuring-axes", 8.0, "swivelling and positioning axes in medical and measuring "
+                                "devices"),
+        ("general", 15.0, "standard applications in general mechanical engineering"),
+        ("tilting-axes", 15.0, "tilting axes"),
+        ("pallet-changers", 15.0, "palette changers"),
+        ("tool-changers", 15.0, "high dynamic tool changers; revolvers and magazines"),
+        ("hand-axes", 15.0, "hand axes of revolute robots"),
+        ("scara", 15.0, "SCARA robots"),
+        ("gantry-robots", 15.0, "gantry robots"),
+        ("polishing-robots", 15.0, "polishing robots"),
+        ("welding-turntables", 15.0, "dynamic welding turntables"),
+        ("laser-welding-base-axes", 15.0, "base axes of welding robots (laser welding)"),
+        ("medical-axes", 15.0, "swivelling and positioning axes of medical equipment"),
+        ("grinding-axes", 20.0, "B / C axes in 5 axis grinding machines"),
+        ("laser-welding-hand-axes", 20.0, "welding robot hand axes (laser welding)"),
+        ("milling-plastics", 20.0, "milling heads for plastics machining"),
+        ("turning-c-axes", 25.0, "C axes in turning machines"),
+        ("milling-light-metal", 25.0, "milling heads, light metal machining"),
+        ("milling-chipboard", 25.0, "milling heads, wood machining (chipboards etc.)"),
+        ("milling-hardwood", 30.0, "milling heads for woodworking (hardwood etc.)"),
+    )})
+"""Harmonic Drive's application classes by the name a user types (``hand-axes``): the
+single-axis natural frequency each recommends [Hz], in its words, with its source."""

@@ -141,7 +141,10 @@ def option_argument(parser: _Parser, name: str, *, kind: str | None = "motion") 
     if option.kind == "switch":
         kwargs["action"] = "store_true"
     else:
-        kwargs["type"] = {"number": float, "count": int, "samples": int}.get(option.kind, str)
+        kwargs["type"] = ({"number": float, "count": int, "samples": int}.get(option.kind, str)
+                          if not option.classes else str)  # a class's name, or a number
+        if option.kind == "joints":  # VALUE or JOINT=VALUE, each flag once more
+            kwargs["action"] = "append"
         if option.choices:
             kwargs["choices"] = option.choices
         if option.metavar is not None:

@@ -313,14 +313,23 @@ def sizing_problem(args: argparse.Namespace, *, plan: bool = False):
     Everything is read and checked before any planning: the robot and the motion (or
     mix) with the flags applied, the motors, the options and the catalog.
     """
+    from hdselect.sizing.arguments import check_joint_options
     from hdselect.sizing.problem import problem_of
 
     robot, motion = robot_and_motion(args)
     motors = motors_of(args, robot, motion)
     options = sizing_options_of(args, motion)
-    return series_of(args, problem_of(robot, motion, catalog=args.catalog, motors=motors,
-                                      options=options, plan=plan,
-                                      mounting=getattr(args, "mounting", None)))
+    problem = problem_of(robot, motion, catalog=args.catalog, motors=motors, options=options,
+                         plan=plan, mounting=getattr(args, "mounting", None))
+    try:
+        check_joint_options(problem.robot, options)
+    except InputError as err:  # a joint a flag names: the flag's words
+        option = OPTION.get(str(err.field).split(".")[0])
+        if err.path is None and option is not None and option.flag is not None \
+                and getattr(args, str(option.dest), None) is not None:
+            raise InputError(err.reason, field=option.flag) from err
+        raise
+    return series_of(args, problem)
 
 
 def sizing_case(args: argparse.Namespace):
@@ -411,7 +420,11 @@ def sizing_options_of(args: argparse.Namespace, motion):
 def flag_options(args: argparse.Namespace) -> dict[str, object]:
     """The options whose flags the command offers, by name: None where a flag is not given.
 
-    A switch's flag given is the value opposite the option's default.
+    A switch's flag given is the value opposite the option's default; a value in the
+    flag's unit (arcmin, mm) or an application class is in SI (`Option.from_flag`).
+
+    Raises:
+        InputError: A value that is no number (or class) or out of range, naming the flag.
     """
     given: dict[str, object] = {}
     for option in OPTIONS:
@@ -419,7 +432,7 @@ def flag_options(args: argparse.Namespace) -> dict[str, object]:
             value = getattr(args, option.dest)
             if option.kind == "switch":
                 value = (not option.default) if value else None
-            given[option.name] = value
+            given[option.name] = option.from_flag(value)
     return given
 
 

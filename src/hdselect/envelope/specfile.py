@@ -41,10 +41,11 @@ MAX_DUTY_MOVES = 10_000
 """Most moves a default duty may have."""
 
 _TOP_KEYS = ("robot", "angle_unit", "mounting", "base", "payload", "limits", "safety",
-             "requirements", "sizing", "duty")
+             "requirements", "sizing", "precision", "duty")
 _SECTIONS = {"safety": file_keys("envelope", "safety"),
              "requirements": file_keys("envelope", "requirements"),
              "sizing": ("joints", "exclude", *file_keys("envelope", "sizing")),
+             "precision": file_keys("envelope", "precision"),
              "duty": ("motion", "moves", "seed")}
 
 
@@ -68,6 +69,13 @@ class EnvelopeFile:
         exclude: ``[sizing] exclude``.
         bearing_offset: ``[sizing] bearing_offset_m``: each named joint's output flange
             along its axis from the joint origin [m], as a motion file's.
+        max_torsion: ``[precision] max_torsion_arcmin``: the largest twist of each
+            sized joint's unit [rad], by joint name (``"*"``: every joint); empty
+            where the file gives none.
+        min_natural_frequency: ``[precision] min_natural_frequency_hz``: each sized
+            joint's lowest single-axis natural frequency [Hz], the same way.
+        max_tool_deflection: ``[precision] max_tool_deflection_mm`` [m], or None.
+        min_arm_frequency: ``[precision] min_arm_frequency_hz`` [Hz], or None.
         duty: ``[duty] motion``, resolved against the file's folder, or None.
         moves: ``[duty] moves``, or None.
         seed: ``[duty] seed``, or None.
@@ -86,6 +94,10 @@ class EnvelopeFile:
     joints: tuple[str, ...] | None = None
     exclude: tuple[str, ...] = ()
     bearing_offset: dict[str, float] = field(default_factory=dict)
+    max_torsion: dict[str, float] = field(default_factory=dict)
+    min_natural_frequency: dict[str, float] = field(default_factory=dict)
+    max_tool_deflection: float | None = None
+    min_arm_frequency: float | None = None
     duty: Path | None = None
     moves: int | None = None
     seed: int | None = None
@@ -144,7 +156,8 @@ def load_envelope_file(path: str | Path, robot: Robot) -> EnvelopeFile:
         mounting=mounting_of(doc, path, ANGLE_UNITS[doc["angle_unit"]], doc["angle_unit"]),
         payload=payload_table(doc["payload"], path) if "payload" in doc else None,
         joints=names.get("joints"), exclude=names.get("exclude", ()),
-        bearing_offset=bearing_offsets(doc, path, robot), **file_options(doc, path, "envelope"),
+        bearing_offset=bearing_offsets(doc, path, robot),
+        **file_options(doc, path, "envelope", robot.joint_names),
         duty=_duty_file(duty, path), moves=_whole(duty, "moves", path, 1, MAX_DUTY_MOVES),
         seed=_whole(duty, "seed", path, 0, 2**63 - 1))
 

@@ -35,12 +35,12 @@ SECTION_OF = {name: field.split(".")[0] for name, field in MOTION_FIELD.items()}
 def duty_tables(doc: dict[str, Any], path: Path,
                  robot: Robot) -> tuple[dict[str, Any], tuple[Path, ...]]:
     """The duty-wide values of ``[sizing]``, ``[requirements]``, ``[safety]`` and ``[motor]``."""
-    for table in ("safety", "requirements"):
+    for table in ("safety", "requirements", "precision"):
         check_keys(table_of(doc.get(table, {}), path, table), file_keys("mix", table), path,
                    table)
     sizing = table_of(doc.get("sizing", {}), path, "sizing")
     check_keys(sizing, SIZING_KEYS, path, "sizing")
-    given: dict[str, Any] = file_options(doc, path, "mix")
+    given: dict[str, Any] = file_options(doc, path, "mix", robot.joint_names)
     given.update(chosen_joints(sizing, path, robot))
     offsets = bearing_offsets(doc, path, robot)
     if offsets:

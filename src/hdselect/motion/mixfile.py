@@ -55,7 +55,8 @@ from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 
-_TOP_KEYS = ("robot", "angle_unit", "task", "sizing", "requirements", "safety", "motor")
+_TOP_KEYS = ("robot", "angle_unit", "task", "sizing", "requirements", "safety", "precision",
+             "motor")
 _TASK_KEYS = ("motion", "name", "share", "cycles_per_hour", "payload", "mounting", "base")
 SECONDS_PER_HOUR = 3600.0
 """Seconds in the hour that ``cycles_per_hour`` counts in [s]."""

@@ -72,8 +72,8 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 
 
 _TOP_KEYS = ("robot", "xacro_args", "planner", "angle_unit", "dt", "mounting", "payload",
-             "limits", "safety", "requirements", "waypoint", "samples", "sizing", "motor", "tool",
-             "base")
+             "limits", "safety", "requirements", "precision", "waypoint", "samples", "sizing",
+             "motor", "tool", "base")
 
 
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
@@ -136,6 +136,13 @@ class Motion:
         xacro_args: The file's ``xacro_args`` for the ``.xacro`` robot it names.
         bearing_offset: The file's ``[sizing] bearing_offset_m``: where a joint's output
             flange sits along its axis from the joint origin [m], by joint name.
+        max_torsion: ``[precision] max_torsion_arcmin``: the largest twist of each
+            sized joint's unit [rad], by joint name (``"*"``: every joint); empty
+            where the file gives none.
+        min_natural_frequency: ``[precision] min_natural_frequency_hz``: each sized
+            joint's lowest single-axis natural frequency [Hz], the same way.
+        max_tool_deflection: ``[precision] max_tool_deflection_mm`` [m], or None.
+        min_arm_frequency: ``[precision] min_arm_frequency_hz`` [Hz], or None.
     """
 
     path: Path
@@ -168,6 +175,10 @@ class Motion:
     solution: ToolSolution | None = None
     xacro_args: Mapping[str, str] = field(default_factory=dict)
     bearing_offset: Mapping[str, float] = field(default_factory=dict)
+    max_torsion: Mapping[str, float] = field(default_factory=dict)
+    min_natural_frequency: Mapping[str, float] = field(default_factory=dict)
+    max_tool_deflection: float | None = None
+    min_arm_frequency: float | None = None
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
@@ -257,10 +268,10 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         lim["velocity"] = frozen(velocity)
         warnings += beyond_robot(velocity, robot, scale, units, from_robot)
     sizing = sizing_joints(doc, path, robot)
-    for table in ("safety", "requirements"):
+    for table in ("safety", "requirements", "precision"):
         check_keys(table_of(doc.get(table, {}), path, table), file_keys("motion", table), path,
                    table)
-    options = file_options(doc, path, "motion")
+    options = file_options(doc, path, "motion", robot.joint_names)
     samples = None
     if planner == "samples":
         if "waypoint" in doc:

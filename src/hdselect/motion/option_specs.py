@@ -8,7 +8,7 @@ option is one `Option` here, a field of `Options`, and its effect.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
@@ -24,6 +24,8 @@ from hdselect.catalog.select import (
     DEFAULT_PREFER_WITH_MOTORS,
     PREFERENCES,
 )
+from hdselect.catalog.stiffness import APPLICATION_CLASSES
+from hdselect.catalog.units import RAD_PER_ARCMIN
 
 DEFAULT_STOP_TIME = 0.1
 """Time in which an emergency stop or a crash brings the arm to rest [s]."""
@@ -36,10 +38,16 @@ MAX_THREADS = 256
 LIFE_BASES = ("L50", "L10")
 """Valid values of ``[requirements] life_basis``: L50 (average) or L10 (90 % survival) life."""
 
-KINDS = ("number", "count", "samples", "switch", "choice", "offsets")
+KINDS = ("number", "count", "samples", "switch", "choice", "offsets", "joints")
 """What an option's value is: a float in `Option.bound`; a whole number from 1 to
 `Option.most`; a limit on samples (`hdselect.base.bounds.check_max_samples`); true or
-false; one of `Option.choices`; joint name -> a float in `Option.bound`."""
+false; one of `Option.choices`; joint name -> a float in `Option.bound`; a value per
+joint: joint name (or `EVERY_JOINT`) -> a float in `Option.bound`."""
+EVERY_JOINT = "*"
+"""The key of a "joints" option's value that applies to every sized joint not named."""
+CLASS_FREQUENCIES = MappingProxyType({name: found.frequency
+                                      for name, found in APPLICATION_CLASSES.items()})
+"""Harmonic Drive's application classes by name: the frequency each asks for [Hz]."""
 FILE_KINDS = ("motion", "mix", "envelope")
 """The files that give options under `Option.key`."""
 
@@ -75,6 +83,10 @@ class Option:
         pairs: It acts on gearhead and motor pairs only (True), or these of its values do:
             refused where no motor is given.
         requires: (option, value): it acts only where that option has that value.
+        scale: SI per unit of its value in flags and files (`RAD_PER_ARCMIN`: in arcmin).
+        edge_unit: Its unit in flags and files, for messages (default: the bound's SI one).
+        classes: Names a value may be given by, each standing for its SI value
+            (`CLASS_FREQUENCIES`).
     """
 
     name: str
@@ -96,6 +108,9 @@ class Option:
     study: bool = True
     pairs: bool | tuple[str, ...] = False
     requires: tuple[str, str] | None = None
+    scale: float = 1.0
+    edge_unit: str | None = None
+    classes: Mapping[str, float] | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS or not set(self.files) <= set(FILE_KINDS):
@@ -104,7 +119,7 @@ class Option:
             raise ValueError(f"option {self.name}: a key needs the files that give it")
         if not self.label:
             raise ValueError(f"option {self.name}: no label")
-        if self.kind in ("number", "offsets") and self.bound is None:
+        if self.kind in ("number", "offsets", "joints") and self.bound is None:
             raise ValueError(f"option {self.name}: a {self.kind} needs its bound")
 
     @property
@@ -112,13 +127,16 @@ class Option:
         """The attribute argparse stores the flag in, or None without a flag."""
         return None if self.flag is None else self.flag[2:].replace("-", "_")
 
-    def check(self, value: Any, *, path: Path | None = None, field: str | None = None) -> Any:
-        """`value` checked: a float, an int, a bool, a choice or a dict of offsets.
+    def check(self, value: Any, *, path: Path | None = None, field: str | None = None,
+              edge: bool = False) -> Any:
+        """`value` checked: a float, an int, a bool, a choice or a dict of floats by joint.
 
         Args:
             value: The value as given.
             path: The file it came from, for messages.
             field: Where it was given, for messages (default: the option's name).
+            edge: The value is in the unit of flags and files (`scale`), not SI; the
+                value returned is SI either way.
 
         Raises:
             InputError: It is of the wrong type or out of range.
@@ -126,9 +144,8 @@ class Option:
         field = self.name if field is None else field
         if value is None and self.optional:
             return None
-        bound = cast(bounds.Bound, self.bound)  # set for a number and offsets
-        if self.kind == "number":
-            return bound.check(value, path=path, field=field)
+        if self.kind in ("number", "joints"):
+            return self._numbers(value, path, field, edge)
         if self.kind == "count":
             if isinstance(value, bool) or not isinstance(value, int) \
                     or not 1 <= value <= self.most:
@@ -150,11 +167,67 @@ class Option:
                 raise InputError(f"unknown {self.noun} {value!r}; choose one of: "
                                  f"{', '.join(self.choices)}", path=path, field=field)
             return value
+        bound = cast(bounds.Bound, self.bound)  # set for offsets
         if not isinstance(value, Mapping) or not all(isinstance(name, str) for name in value):
             raise InputError("expected a mapping of joint names to offsets [m], got "
                              f"{value!r}", path=path, field=field)
         return {name: bound.check(offset, path=path, field=f"{field}.{name}")
                 for name, offset in value.items()}
+
+    def _numbers(self, value: Any, path: Path | None, field: str, edge: bool) -> Any:
+        """A "number" [SI], or a "joints" value as joint name -> number [SI]."""
+        if self.kind == "number":
+            return self._number(value, path, field, edge)
+        if not isinstance(value, Mapping):  # one value for every joint
+            return {EVERY_JOINT: self._number(value, path, field, edge)}
+        if not all(isinstance(name, str) and name for name in value):
+            raise InputError(f"expected joint names, got {list(value)!r}", path=path,
+                             field=field)
+        return {name: self._number(item, path, field if name == EVERY_JOINT
+                                   else f"{field}.{name}", edge)
+                for name, item in value.items()}
+
+    def _number(self, value: Any, path: Path | None, field: str, edge: bool) -> float:
+        """One number [SI]: given in SI, or with `edge` in `scale`s; or a class's name."""
+        bound = cast(bounds.Bound, self.bound)  # set for a number and joints
+        if self.classes and isinstance(value, str):
+            if value not in self.classes:
+                raise InputError(f"unknown application class {value!r}; give a number "
+                                 f"[{bound.unit}] or one of: {', '.join(self.classes)}",
+                                 path=path, field=field)
+            return self.classes[value]
+        scale = self.scale if edge else 1.0
+        return bound.check(value, path=path, field=field, scale=scale,
+                           unit=self.edge_unit if edge else None) * scale
+
+    def from_flag(self, given: Any) -> Any:
+        """The flag's value [SI]: a "joints" flag's ``VALUE`` and ``JOINT=VALUE`` strings.
+
+        A number is read in the flag's unit (`scale`); a name of `classes` stands for its
+        value. None where the flag is not given.
+
+        Raises:
+            InputError: A value that is not a number (or a class), or out of range,
+                naming the flag.
+        """
+        if given is None or self.kind not in ("number", "joints") or not (
+                self.classes or self.kind == "joints" or self.scale != 1.0):
+            return given
+        field = str(self.flag)
+        if self.kind == "number":
+            return self.check(_flag_number(given), field=field, edge=True)
+        values: dict[str, Any] = {}
+        for text in cast(Sequence[str], given):
+            joint, equals, item = text.rpartition("=")
+            if equals and not joint.strip():
+                raise InputError(f"expected VALUE or JOINT=VALUE, got {text!r}", field=field)
+            values[joint.strip() if equals else EVERY_JOINT] = _flag_number(item.strip())
+        try:
+            return self.check(values, field=field, edge=True)
+        except InputError as err:  # the flag named, and the joint in the words
+            joint = str(err.field).removeprefix(field).removeprefix(".")
+            raise InputError(f"{joint}={values[joint]}: {err.reason}" if joint else err.reason,
+                             field=field) from err
 
     def flag_help(self, kind: str | None = "motion", then: tuple[str, ...] = ()) -> str:
         """The flag's help: `help` and where its default comes from.
@@ -168,13 +241,18 @@ class Option:
             return f"do not {self.help}" if self.default else self.help
         if self.default_help is not None:
             return f"{self.help} ({self.default_help})"
-        shown = self.default if not isinstance(self.default, float) else f"{self.default:g}"
+        shown = (f"{self.default:g}" if isinstance(self.default, float)
+                 else None if isinstance(self.default, Mapping) else self.default)
         if kind is not None and kind in self.files and self.key is not None:
             table, key = self.key.split(".")
             return (f"{self.help} (default: the {kind} file's [{table}] {key}, "
                     + "".join(f"else {source}'s, " for source in then)
                     + f"else {'none' if shown is None else shown})")
         return f"{self.help} (default: {shown})"
+
+    def joint_value(self, value: Mapping[str, float], joint: str) -> float | None:
+        """A "joints" value's for one joint: its own, else every joint's, else None."""
+        return value.get(joint, value.get(EVERY_JOINT))
 
     def needs_motors(self, value: Any) -> bool:
         """The value, given, acts on gearhead and motor pairs only (`pairs`)."""
@@ -255,11 +333,57 @@ OPTIONS: tuple[Option, ...] = (
     Option("bearing_loads", "switch", True,
            "compute the loads on every sized joint's output bearing",
            label="bearing loads"),
+    Option("max_torsion", "joints", MappingProxyType({}),
+           "largest twist of each sized joint's unit over the cycle [arcmin]: a value for "
+           "every joint, or JOINT=ARCMIN (repeatable)", bound=bounds.TORSION_TARGET,
+           flag="--max-torsion", metavar="[JOINT=]ARCMIN", group="sizing",
+           key="precision.max_torsion_arcmin", files=("motion", "mix", "envelope"),
+           scale=RAD_PER_ARCMIN, edge_unit="arcmin", label="largest torsion [arcmin]"),
+    Option("min_natural_frequency", "joints", MappingProxyType({}),
+           "lowest single-axis natural frequency of each sized joint [Hz], or an "
+           "application class (e.g. hand-axes): a value for every joint, or JOINT=VALUE "
+           "(repeatable)", bound=bounds.FREQUENCY_TARGET, flag="--min-natural-frequency",
+           metavar="[JOINT=]HZ|CLASS", group="sizing",
+           key="precision.min_natural_frequency_hz", files=("motion", "mix", "envelope"),
+           classes=CLASS_FREQUENCIES, label="lowest joint frequency [Hz]"),
+    Option("max_tool_deflection", "number", None,
+           "largest deflection of the tool holding the payload still at any pose of the "
+           "cycle [mm]", bound=bounds.DEFLECTION_TARGET, optional=True,
+           flag="--max-tool-deflection", metavar="MM", group="sizing",
+           key="precision.max_tool_deflection_mm", files=("motion", "mix", "envelope"),
+           scale=1e-3, edge_unit="mm", label="largest tool deflection [mm]"),
+    Option("min_arm_frequency", "number", None,
+           "lowest natural frequency of the whole arm [Hz], or an application class",
+           bound=bounds.FREQUENCY_TARGET, optional=True, flag="--min-arm-frequency",
+           metavar="HZ|CLASS", group="sizing", key="precision.min_arm_frequency_hz",
+           files=("motion", "mix", "envelope"), classes=CLASS_FREQUENCIES,
+           label="lowest arm frequency [Hz]"),
+    Option("precision", "switch", True,
+           "compute the precision figures: each joint's twist and resonance, the tool's "
+           "deflection, the arm's lowest modes", flag="--no-precision", group="sizing",
+           label="precision figures"),
 )
 """Every sizing option, in the order of `Options`' fields and of the flags in ``--help``."""
 
 OPTION = MappingProxyType({option.name: option for option in OPTIONS})
 """Each option by name."""
+
+
+def _flag_number(text: str) -> float | str:
+    """A flag's value as a number, else as given (a class's name, or refused as no number)."""
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def from_edge(values: Mapping[str, Any]) -> dict[str, Any]:
+    """Options by name given in the units of flags and files (arcmin, mm), in SI.
+
+    Raises:
+        InputError: A value out of range or of the wrong type, naming its option.
+    """
+    return {name: OPTION[name].check(value, edge=True) for name, value in values.items()}
 
 
 def file_keys(kind: str, table: str) -> tuple[str, ...]:
@@ -269,14 +393,22 @@ def file_keys(kind: str, table: str) -> tuple[str, ...]:
                  and option.key.split(".")[0] == table)
 
 
-def file_options(doc: Mapping[str, Any], path: Path, kind: str) -> dict[str, Any]:
+def file_options(doc: Mapping[str, Any], path: Path, kind: str,
+                 joints: Sequence[str] = ()) -> dict[str, Any]:
     """The options a file of `kind` gives under their keys, checked; "offsets" left out.
 
     The file's tables are read as given; their keys are the caller's to check first
     (`file_keys`), beside its own. Offsets need the robot: `bearing_offsets` reads them.
 
+    Args:
+        doc: The file as read.
+        path: The file, for messages.
+        kind: The kind of file (`FILE_KINDS`).
+        joints: The robot's joints: the joints a "joints" option's table may name.
+
     Raises:
-        InputError: A value out of range or of the wrong type, naming the file and key.
+        InputError: A value out of range or of the wrong type, or an unknown joint,
+            naming the file and key.
     """
     values: dict[str, Any] = {}
     for option in OPTIONS:
@@ -285,7 +417,13 @@ def file_options(doc: Mapping[str, Any], path: Path, kind: str) -> dict[str, Any
         table, key = option.key.split(".")
         found = table_of(doc.get(table, {}), path, table)
         if key in found:
-            values[option.name] = option.check(found[key], path=path, field=option.key)
+            values[option.name] = option.check(found[key], path=path, field=option.key,
+                                               edge=True)
+            for name in values[option.name] if option.kind == "joints" else ():
+                if name != EVERY_JOINT and name not in joints:
+                    raise InputError(f"unknown joint '{name}'; joints are: "
+                                     f"{', '.join(joints)}", path=path,
+                                     field=f"{option.key}.{name}")
     return values
 
 

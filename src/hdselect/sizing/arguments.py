@@ -14,6 +14,7 @@ from hdselect.base.errors import InputError, deprecated
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
+from hdselect.motion.option_specs import EVERY_JOINT
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 from hdselect.sizing.options import Options
@@ -42,6 +43,11 @@ class OptionValues(TypedDict, total=False):
     inertia_target: float | None
     bearing_offset: Mapping[str, float] | None
     bearing_loads: bool | None
+    max_torsion: float | Mapping[str, float] | None
+    min_natural_frequency: float | str | Mapping[str, float | str] | None
+    max_tool_deflection: float | None
+    min_arm_frequency: float | str | None
+    precision: bool | None
 
 
 def not_sized(robot: Robot, name: str, field: str) -> InputError:
@@ -141,18 +147,27 @@ def check_trajectory(trajectory: Trajectory) -> None:
             raise InputError("holds a number that is not finite", field=f"trajectory.{name}")
 
 
-def check_bearing_options(robot: Robot, units: Iterable[Unit], options: Options) -> None:
-    """The options' bearing offsets name sized joints, and the loads are on where needed.
+def check_joint_options(robot: Robot, options: Options) -> None:
+    """The joints the options name (bearing offsets, per-joint targets) are sized joints.
 
     Raises:
-        InputError: An offset names a joint that is not sized, or ``bearing_loads`` is
-            off while a candidate unit's catalog rates its bearing.
+        InputError: One is not; the field is the option and the joint.
     """
-    for name in options.bearing_offset:
-        if name not in robot.sized_joints:
-            raise InputError(f"'{name}' is not a sized joint; sized joints are: "
-                             f"{', '.join(robot.sized_joints)}",
-                             field=f"bearing_offset.{name}")
+    for option in ("bearing_offset", "max_torsion", "min_natural_frequency"):
+        for name in getattr(options, option):
+            if name not in robot.sized_joints and name != EVERY_JOINT:
+                raise InputError(f"'{name}' is not a sized joint; sized joints are: "
+                                 f"{', '.join(robot.sized_joints)}", field=f"{option}.{name}")
+
+
+def check_bearing_options(robot: Robot, units: Iterable[Unit], options: Options) -> None:
+    """The options' joints are sized joints, and the bearing loads are on where needed.
+
+    Raises:
+        InputError: A joint an option names is not sized (`check_joint_options`), or
+            ``bearing_loads`` is off while a candidate unit's catalog rates its bearing.
+    """
+    check_joint_options(robot, options)
     if not options.bearing_loads:
         rated = sorted({unit.id for unit in units if unit.bearing is not None})
         if rated:

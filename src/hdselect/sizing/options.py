@@ -62,6 +62,18 @@ class Options:
         bearing_loads: Compute the loads on every sized joint's output bearing (one more
             batched pass); False leaves them out, and is refused where a candidate unit's
             catalog rates its bearing (its checks need them).
+        max_torsion: The largest twist of each sized joint's unit over the cycle [rad]:
+            joint name -> target, the key ``"*"`` (`EVERY_JOINT`) for every joint not
+            named; a bare number is read as every joint's. Empty: no target.
+        min_natural_frequency: The lowest single-axis natural frequency sqrt(K1 / J) / 2 pi
+            of each sized joint [Hz], the same way; a value may name one of Harmonic
+            Drive's application classes (`hdselect.catalog.stiffness.APPLICATION_CLASSES`).
+        max_tool_deflection: The largest deflection of the tool holding the payload still
+            at any pose of the cycle [m], or None.
+        min_arm_frequency: The lowest natural frequency of the whole arm [Hz] (or a
+            class's name), or None.
+        precision: Compute the precision figures (twists, resonances, tool deflection,
+            the arm's modes) after the selection.
 
     Raises:
         InputError: A value is out of range or of the wrong type; the field is its name.
@@ -82,10 +94,27 @@ class Options:
     inertia_target: float = _default("inertia_target")
     bearing_offset: Mapping[str, float] = field(default_factory=dict)
     bearing_loads: bool = _default("bearing_loads")
+    max_torsion: Mapping[str, float] = field(default_factory=dict)
+    min_natural_frequency: Mapping[str, float] = field(default_factory=dict)
+    max_tool_deflection: float | None = _default("max_tool_deflection")
+    min_arm_frequency: float | None = _default("min_arm_frequency")
+    precision: bool = _default("precision")
 
     def __post_init__(self) -> None:
         for option in OPTIONS:
             _set(self, option.name, option.check(getattr(self, option.name)))
+
+    def joint_value(self, name: str, joint: str) -> float | None:
+        """A per-joint option's value for one joint [SI]: its own, else every joint's.
+
+        Args:
+            name: The option (``"max_torsion"`` or ``"min_natural_frequency"``).
+            joint: The joint.
+
+        Returns:
+            The value, or None where the option sets none for this joint.
+        """
+        return OPTION[name].joint_value(getattr(self, name), joint)
 
 
 def options_for(motion: Motion | None, **given: Any) -> Options:

@@ -24,6 +24,7 @@ from hdselect.catalog.units import Unit
 from hdselect.motion.loading import robot_for_mix, robot_for_motion
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix, mix_robot_file
 from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.option_specs import from_edge
 from hdselect.motion.robot_named import load_named, robot_source
 from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
@@ -188,8 +189,11 @@ class Inputs:
 
 
 def case_options(case: Case, source: Motion | Mix) -> Options:
-    """The case's options over its motion or mix file's (`source_options`), one thread."""
-    return source_options(source, **case.options, threads=1)
+    """The case's options over its motion or mix file's (`source_options`), one thread.
+
+    The study gives them in the units of the files (arcmin, mm: `from_edge`).
+    """
+    return source_options(source, **from_edge(case.options), threads=1)
 
 
 def mix_duty(case: Case, robot: Robot, mix: Mix) -> CaseDuty:

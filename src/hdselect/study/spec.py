@@ -27,7 +27,7 @@ from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.catalog.builtin import catalog_file
 from hdselect.catalog.catalogfile import BUILTIN
 from hdselect.motion.mixfile import task_names
-from hdselect.motion.option_specs import OPTIONS
+from hdselect.motion.option_specs import OPTION, OPTIONS, from_edge
 from hdselect.robot.mounting import MOUNTINGS
 from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options
@@ -260,8 +260,12 @@ def _value(key: str, value: Any, path: Path, field: str) -> Any:
                              field=field)
         bounds.RATIO.check(value, path=path, field=field)
         return value
+    if OPTION[key].kind == "joints" and isinstance(value, dict):
+        raise InputError("a study gives one value for every sized joint, not a table by "
+                         "joint (name joints in the motion file's [precision] table)",
+                         path=path, field=field)
     try:
-        Options(**{key: value})
+        Options(**from_edge({key: value}))  # in the units of the files: arcmin, mm
     except InputError as err:
         raise InputError(err.reason, path=path, field=field) from err
     return value
