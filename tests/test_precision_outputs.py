@@ -4,15 +4,24 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import math
 import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from hdselect import load_catalog, size
+from hdselect.report.figures import png_bytes
 from hdselect.report.html_summary import parts_section
-from hdselect.report.parts import PARTS_COLUMNS, STIFFNESS_NOT_RATED, parts_csv
+from hdselect.report.parts import PARTS_COLUMNS, parts_csv
+from hdselect.report.precision_figures import precision_figures
+from hdselect.report.precision_html import precision_section
+from hdselect.report.precision_tables import precision_tables
+from hdselect.report.tables import console_for
+from hdselect.sizing.precision_records import STIFFNESS_NOT_RATED
+from hdselect.sizing.records import size_json
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCHTOP = ROOT / "trajectories" / "benchtop6_pick_place.toml"
@@ -64,3 +73,111 @@ def test_the_reports_parts_list_tables_the_stiffness(shg_result):
     k1 = catalog_entries("shg_2uh.toml")[shg_result.joints[0].selected.unit.id]["stiffness"]
     assert f"{k1['k1_nm_per_rad']:,.0f}" in section
     assert STIFFNESS_NOT_RATED in parts_section(size(None, BENCHTOP))
+
+
+# ------------------------------------------------------------------ JSON, terminal, HTML
+def test_the_json_gives_the_figures_in_the_designers_units_at_the_samples_they_name(shg_result):
+    """Twists in arcmin, the tool in mm, each named sample's task, time and pose read back
+    from the trajectory itself; no NaN or Infinity."""
+    document = json.loads(json.dumps(size_json(shg_result), allow_nan=False))["precision"]
+    found = shg_result.precision
+    traj = shg_result.trajectory
+    for entry, joint in zip(document["joints"], found.joints, strict=True):
+        assert entry["name"] == joint.name and entry["rated"] is True
+        assert entry["max_torsion_arcmin"] == pytest.approx(
+            joint.max_torsion * 60 * 180 / math.pi)
+        assert entry["max_torsion_time_s"] == pytest.approx(traj.t[joint.max_torsion_sample])
+        assert entry["hysteresis_loss_arcmin"] == pytest.approx(1.0)  # SHG-14: 1 arcmin
+        assert entry["resonance_speed_rpm"] == pytest.approx(entry["lowest_frequency_hz"] * 30)
+    tool = found.tool
+    worst = document["tool"]["holding"]["worst"]
+    assert document["tool"]["holding"]["max_translation_mm"] == pytest.approx(
+        1000 * float(np.linalg.norm(tool.holding_translation[tool.worst_holding])))
+    sample = int(tool.samples[tool.worst_holding])
+    assert worst["time_s"] == pytest.approx(traj.t[sample])
+    assert worst["pose"] == pytest.approx(dict(zip(traj.joint_names, traj.q[sample].tolist(),
+                                                   strict=True)))
+    assert math.hypot(*worst["translation_mm"]) == pytest.approx(
+        document["tool"]["holding"]["max_translation_mm"])
+    modes = document["modes"]
+    assert modes["lowest_hz"] == pytest.approx(found.modes.lowest_frequency)
+    assert modes["lowest_hz"] == min(modes["frequencies_hz"])
+    assert max(abs(v) for v in modes["shape"].values()) == pytest.approx(1.0)
+    assert document["not_rated"] == [] and document["note"] is None
+
+
+def test_without_a_rated_stiffness_the_json_says_not_rated_and_computes_nothing():
+    document = size_json(size(None, BENCHTOP))["precision"]
+    assert document["tool"] is None and document["modes"] is None
+    assert document["not_rated"] == [j["name"] for j in document["joints"]]
+    assert all(j["max_torsion_arcmin"] is None and STIFFNESS_NOT_RATED in j["note"]
+               for j in document["joints"])
+    assert size_json(size(None, BENCHTOP, precision=False))["precision"] is None
+
+
+def test_every_precision_key_is_documented_in_docs_precision():
+    """The keys of docs/precision.md's JSON list are the document's, one for one."""
+    page = (ROOT / "docs" / "precision.md").read_text(encoding="utf-8")
+    document = json.loads(json.dumps(size_json(size(
+        None, BENCHTOP, catalog=load_catalog(["shg-2uh"], series=["shg-2uh"]))),
+        allow_nan=False))["precision"]
+    keys = set(keys_of(document))
+    missing = sorted(key for key in keys if f"`{key}`" not in page)
+    assert missing == []
+
+
+def keys_of(value):
+    """Every key of a JSON value, nested; not the joint names keying a pose or a shape."""
+    if isinstance(value, dict):
+        for key, inner in value.items():
+            yield key
+            if key not in ("pose", "shape"):
+                yield from keys_of(inner)
+    elif isinstance(value, list):
+        for inner in value:
+            yield from keys_of(inner)
+
+
+def printed(result) -> str:
+    buffer = io.StringIO()
+    console = console_for(buffer)
+    for renderable in precision_tables(result):
+        console.print(renderable)
+    return buffer.getvalue()
+
+
+def test_the_terminal_section_fits_80_columns_piped(shg_result, monkeypatch):
+    monkeypatch.setenv("COLUMNS", "80")
+    text = printed(shg_result)
+    assert "Precision" in text and "tool 'tool0': sags" in text and "arm: lowest mode" in text
+    assert max(len(line) for line in text.splitlines()) <= 80
+    for joint in shg_result.precision.joints:
+        assert f"{joint.max_torsion * 60 * 180 / math.pi:.3g}" in text
+    monkeypatch.setenv("COLUMNS", "40")
+    narrow = printed(shg_result)
+    assert max(len(line) for line in narrow.splitlines()) <= 40
+    assert "  twist arcmin max /held: " in narrow  # one block per row
+
+
+def test_the_terminal_says_not_rated_in_one_paragraph_and_nothing_without_figures(monkeypatch):
+    monkeypatch.setenv("COLUMNS", "80")
+    text = printed(size(None, BENCHTOP))
+    assert text.strip().startswith(f"Precision: {STIFFNESS_NOT_RATED} (PSA-")
+    assert "--series shg-2uh" in text.replace("\n", " ")
+    assert printed(size(None, BENCHTOP, precision=False)) == ""
+
+
+def test_the_html_section_tables_the_worst_poses_and_embeds_both_figures(shg_result):
+    pngs = {name: png_bytes(fig) for name, fig in precision_figures(shg_result).items()}
+    assert sorted(pngs) == ["modes", "tool"]
+    assert all(png.startswith(b"\x89PNG") for png in pngs.values())
+    section = precision_section(shg_result, pngs)
+    assert section.count("<img src='data:image/png;base64,") == 2
+    assert "The worst poses" in section
+    for name in shg_result.trajectory.joint_names:
+        assert f">{name}</span>" in section
+    tool = shg_result.precision.tool
+    sample = int(tool.samples[tool.worst_holding])
+    degrees = shg_result.trajectory.q[sample, 1] * 180 / math.pi
+    assert f"{degrees:.1f}&deg;" in section
+    assert precision_section(size(None, BENCHTOP, precision=False), {}) == ""

@@ -23,6 +23,7 @@ from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.html_summary import parts_section, summary
 from hdselect.report.html_tables import STYLE, anchor, esc, number, slug, table
 from hdselect.report.html_tasks import duty_line, task_section
+from hdselect.report.precision_html import precision_section
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import diagnosis_lines, shortfall_text
 from hdselect.report.task_tables import task_of
@@ -44,7 +45,8 @@ __all__ = ["number", "page", "slug"]
 
 def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
          motor_figures: Mapping[str, bytes] | None = None,
-         bearing_figures: Mapping[str, bytes] | None = None) -> str:
+         bearing_figures: Mapping[str, bytes] | None = None,
+         precision_figures: Mapping[str, bytes] | None = None) -> str:
     """The report page.
 
     Args:
@@ -54,6 +56,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
         motor_figures: PNG content of each joint's motor torque-speed figure, by joint
             name, for the joints with motors.
         bearing_figures: PNG content of each joint's output-bearing figure, by joint name.
+        precision_figures: PNG content of the precision section's figures, by name.
 
     Returns:
         The page, self-contained.
@@ -63,6 +66,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
     sections = [_selection(result), task_section(result), parts_section(result),
                 _warnings(result), _notes(result), _heat_maps(result), _loads(result),
                 bearing_section(result, bearing_figures or {}),
+                precision_section(result, precision_figures or {}),
                 *(_joint_section(result, joint, figures.get(joint.name),
                                  (motor_figures or {}).get(joint.name))
                   for joint in result.joints),

@@ -12,12 +12,13 @@ from __future__ import annotations
 from hdselect.catalog.rules import CHECK_NAMES, Candidate
 from hdselect.motion.motionfile import Motion
 from hdselect.report.html_tables import esc, number, slug, table
-from hdselect.report.parts import STIFFNESS_COLUMNS, STIFFNESS_NOT_RATED, Part, parts
+from hdselect.report.parts import STIFFNESS_COLUMNS, Part, parts
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import diagnosis_lines, shortfall_text
 from hdselect.report.task_tables import mounting_text, task_of
 from hdselect.report.terminal import binding_words, life_text, ratio_text
 from hdselect.robot.model import Robot
+from hdselect.sizing.precision_records import STIFFNESS_NOT_RATED
 from hdselect.sizing.records import inertia_limit_text, margin_text
 from hdselect.sizing.result import SizingResult
 
@@ -209,5 +210,6 @@ def _stiffness(listed: list[Part]) -> str:
         rows.append([esc(part.joint), esc(part.gearhead), *cells])
     if not rows:
         return ""
-    return table(["joint", "gearhead", *(esc(header) for _, header, _ in STIFFNESS_COLUMNS)],
+    return table(["joint", "gearhead", *(esc(header).replace("N m", "N&nbsp;m")
+                                         for _, header, _ in STIFFNESS_COLUMNS)],
                  rows, left=2)

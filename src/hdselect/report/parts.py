@@ -16,10 +16,8 @@ from hdselect.catalog.stiffness import rates_torsion
 from hdselect.catalog.units import RAD_PER_ARCMIN, Unit
 from hdselect.report.terminal import life_text
 from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
+from hdselect.sizing.precision_records import STIFFNESS_NOT_RATED
 from hdselect.sizing.result import JointSizing, SizingResult
-
-STIFFNESS_NOT_RATED = "not rated by the source"
-"""The stiffness of a unit whose catalog rates no K1 (PSA-G, CSF-2UH): no twist is computed."""
 
 STIFFNESS_COLUMNS = (("k1_nm_per_rad", "K1 [N m/rad]", "k1"), ("t1_nm", "T1 [N m]", "t1"),
                      ("t2_nm", "T2 [N m]", "t2"), ("k2_nm_per_rad", "K2 [N m/rad]", "k2"),

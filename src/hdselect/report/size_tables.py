@@ -19,6 +19,7 @@ from hdselect.catalog.rules import (
 from hdselect.catalog.units import MeanSpeed, Unit
 from hdselect.report.bearing_tables import BEARING_COLUMNS, bearing_cells, bearing_notes, load_line
 from hdselect.report.case_tables import case_notes, tool_pose_notes
+from hdselect.report.precision_tables import precision_tables
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.task_tables import task_of, task_tables
 from hdselect.report.terminal import (
@@ -356,9 +357,11 @@ def _size_notes(result: SizingResult) -> list[str]:
 
 
 def report_tables(result: SizingResult) -> list[object]:
-    """The size report in the terminal: the selection, the task section, the joints' loads.
+    """The size report in the terminal: the selection, precision, the tasks, the joints' loads.
 
-    One path for every duty: the task section (`task_tables`) is empty for one task.
+    One path for every duty: the task section (`task_tables`) is empty for one task, the
+    precision section (`precision_tables`) without the precision figures.
     """
     result = with_diagnoses(result)
-    return [size_table(result), *task_tables(result), "", loads_table(result)]
+    return [size_table(result), *precision_tables(result), *task_tables(result), "",
+            loads_table(result)]
