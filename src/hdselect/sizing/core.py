@@ -363,7 +363,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
 def _precision(model: TorqueModel, joints: Sequence[JointSizing], masses: Mapping[str, float],
                options: Options) -> Precision | None:
     """The stiffness figures of the selection where the options ask for them."""
-    if not getattr(options, "precision", True):
+    if not options.precision:
         return None
     return precision_of(model, joints, masses, options)
 

@@ -29,7 +29,15 @@ import numpy as np
 from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate
 from hdselect.catalog.stiffness import natural_frequency, rates_torsion, resonance_speed, torsion
 from hdselect.catalog.units import Unit
-from hdselect.robot.compliance import arm_modes, mass_matrices, tool_deflection
+from hdselect.robot.compliance import (
+    Placements,
+    arm_frequencies,
+    arm_modes,
+    mass_matrices,
+    placements,
+    tool_deflection,
+    unit_rotation,
+)
 from hdselect.robot.dynamics import gravity_torques, torque_floor
 from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches
@@ -274,10 +282,12 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
                            for carrier, task in zip(robots, samples.tasks, strict=True)])
     floor = torque_floor(robot)
     held[np.abs(held) < floor] = 0.0  # the recursion's noise counts as zero, as in the selection
+    placed = [placements(carrier, task.trajectory.q[local])
+              for carrier, task, local in zip(robots, samples.tasks, pieces, strict=True)]
     inertia = np.concatenate([mass_matrices(carrier, task.trajectory.q[local], springs,
-                                            threads=threads)
-                              for carrier, task, local in zip(robots, samples.tasks, pieces,
-                                                              strict=True)])
+                                            placed=at)
+                              for carrier, task, local, at in zip(robots, samples.tasks, pieces,
+                                                                  placed, strict=True)])
     figures = []
     for joint in joints:
         if joint.name not in springs:
@@ -290,11 +300,13 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
     tool = modes = None
     if whole:
         frame = _tool_frame(samples)
-        tool = _tool(robots, samples, poses, pieces, frame, joints, units, held, options)
+        tool = _tool(robots, placed, samples, poses, pieces, frame, joints, units, held,
+                     options)
         k1 = [units[name].stiffness.k1 for name in springs]  # type: ignore[union-attr]
-        frequencies, shapes = arm_modes(inertia, k1)  # type: ignore[arg-type]
+        frequencies = arm_frequencies(inertia, k1)  # type: ignore[arg-type]
         lowest = int(np.argmin(frequencies[:, 0]))
-        modes = ArmModes(springs, poses, frequencies, lowest, shapes[lowest, :, 0])
+        _, shapes = arm_modes(inertia[lowest:lowest + 1], k1)  # type: ignore[arg-type]
+        modes = ArmModes(springs, poses, frequencies, lowest, shapes[0, :, 0])
     moving = np.any(samples.qd != 0.0, axis=0)
     rigid = tuple(name for j, name in enumerate(robot.joint_names)
                   if name not in units and moving[j])
@@ -345,7 +357,7 @@ def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
     """One rated joint's figures: twist, single-axis f_n at the poses, near resonance."""
     stiffness = unit.stiffness
     assert stiffness is not None and stiffness.k1 is not None  # rated (`rates_torsion`)
-    twist = -torsion(stiffness, joint.torque)
+    twist = unit_rotation(unit, joint.torque)[0][:, 2]  # -phi(tau)
     twist.setflags(write=False)
     worst = int(np.argmax(np.abs(twist)))
     frequency = natural_frequency(stiffness.k1, inertia)
@@ -392,8 +404,8 @@ def _tool_frame(samples: Samples) -> str:
     return tool.frame if tool is not None and tool.frame else task.robot.payload_frame
 
 
-def _tool(robots: Sequence[Robot], samples: Samples, poses: np.ndarray,
-          pieces: Sequence[np.ndarray], frame: str, joints: Sequence[SizedJoint],
+def _tool(robots: Sequence[Robot], placed: Sequence[Placements], samples: Samples,
+          poses: np.ndarray, pieces: Sequence[np.ndarray], frame: str, joints: Sequence[SizedJoint],
           units: Mapping[str, Unit], held: np.ndarray, options: Options) -> ToolDeflection:
     """The tool's deflection along the cycle and holding still, at the evaluated poses."""
     robot = robots[0]
@@ -408,21 +420,15 @@ def _tool(robots: Sequence[Robot], samples: Samples, poses: np.ndarray,
         gravity = axis_wrenches(carrier, q, still, still, tilted) if tilted else None
         rotations, centres = {}, {}
         for joint in joints:
-            unit = units[joint.name]
-            stiffness = unit.stiffness
-            assert stiffness is not None
-            j = robot.joint_index(joint.name)
-            turn = np.zeros((2, len(mine), 3))
-            turn[0, :, 2] = -torsion(stiffness, joint.torque[mine])
-            turn[1, :, 2] = -torsion(stiffness, held[mine, j])
-            centre = np.zeros((2, len(mine)))
-            if joint.name in tilted and joint.wrench is not None and gravity is not None:
-                offset = options.bearing_offset.get(joint.name, 0.0)
-                for c, wrench in enumerate((joint.wrench.full()[:, mine],
-                                            gravity[tilted.index(joint.name)])):
-                    turn[c, :, :2], centre[c] = _tilt(unit, wrench, offset)
-            rotations[joint.name], centres[joint.name] = turn, centre
-        parts.append(tool_deflection(carrier, q, frame, rotations, centres))
+            wrenches = ((joint.wrench.full()[:5, mine], gravity[tilted.index(joint.name), :5])
+                        if joint.name in tilted and joint.wrench is not None
+                        and gravity is not None else None)
+            rotations[joint.name], centres[joint.name] = unit_rotation(
+                units[joint.name],
+                np.stack((joint.torque[mine], held[mine, robot.joint_index(joint.name)])),
+                None if wrenches is None else np.stack(wrenches),
+                options.bearing_offset.get(joint.name, 0.0))
+        parts.append(tool_deflection(carrier, q, frame, rotations, centres, placed=placed[k]))
     translation = np.concatenate([p[0] for p in parts], axis=1)
     rotation = np.concatenate([p[1] for p in parts], axis=1)
     for array in (translation, rotation):
@@ -430,20 +436,3 @@ def _tool(robots: Sequence[Robot], samples: Samples, poses: np.ndarray,
     size = np.linalg.norm(translation, axis=2)
     return ToolDeflection(frame, poses, translation[0], rotation[0], translation[1],
                           rotation[1], int(np.argmax(size[0])), int(np.argmax(size[1])), tilted)
-
-
-def _tilt(unit: Unit, wrench: np.ndarray, offset: float) -> tuple[np.ndarray, np.ndarray]:
-    """A bearing's tilt -M / K_B about x and y of the axis frame [rad], and its centre [m].
-
-    The moment is taken about the bearing centre: the flange `offset` along the axis,
-    moved by the unit's flange-to-centre distance to whichever side tilts more (as the
-    bearing's loads, `hdselect.robot.wrenches.bearing_loads`).
-    """
-    bearing = unit.bearing
-    assert bearing is not None and bearing.moment_stiffness is not None
-    fx, fy, _, mx, my = wrench[:5]
-    sides = [offset + bearing.offset, offset - bearing.offset]
-    moments = [np.stack((mx + h * fy, my - h * fx), axis=-1) for h in sides]
-    far = np.linalg.norm(moments[1], axis=-1) > np.linalg.norm(moments[0], axis=-1)
-    moment = np.where(far[:, None], moments[1], moments[0])
-    return -moment / bearing.moment_stiffness, np.where(far, sides[1], sides[0])
