@@ -4,7 +4,9 @@ Each registered rule (`hdselect.catalog.rules.RULES`) may give forms to the solv
 form is checked here, on seeded random cases, against the rule's forward check as the
 sizing applies it (`check_at` on the scaled cycle, `reflect` + `check_unit` on the
 samples). The tests are parametrised over the registry, so a form a rule gains later is
-tested by them. A rule registered by a test (`Torsion`, the kind issue 30 adds) shows
+tested by them. Every random case carries a joint's precision targets (a largest twist,
+a lowest natural frequency and the load inertia it reads), which the rules without them
+ignore. A rule registered by a test (`Windup`, a rough kind of issue 30's torsion) shows
 what one new file brings: its check in every table, result, JSON and report column, and
 the time-scale solver honouring it with no form, through the forward check.
 """
@@ -42,7 +44,9 @@ from hdselect.catalog.rules import (
     cycle_load,
     registered,
     rule,
+    rules_of,
 )
+from hdselect.catalog.stiffness import natural_frequency, torsion
 from hdselect.catalog.units import Unit
 from hdselect.codesign.payloadbounds import joint_mean
 from hdselect.sizing.reflect import reflect
@@ -52,7 +56,7 @@ from helpers.rules import giving
 REPO = Path(__file__).resolve().parents[1]
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
-UNITS = load_catalog()
+UNITS = (*load_catalog(), *load_catalog(["shg-2uh"]))  # PSA-G rates no stiffness, SHG does
 SHIPPED = tuple(CHECKS)  # the registry as shipped
 STOP_TIME = 0.05
 
@@ -61,6 +65,21 @@ STOP_TIME = 0.05
 
 def random_unit(rng: np.random.Generator) -> Unit:
     return UNITS[int(rng.integers(len(UNITS)))]
+
+
+def random_targets(rng: np.random.Generator, unit: Unit) -> dict[str, float]:
+    """A joint's precision targets near what the unit reaches: the twist at a torque near
+    its repeated peak [rad], and the frequency under a load inertia [Hz] (of a SHG-17-100
+    where the unit rates no K1)."""
+    stiffness = unit.stiffness if unit.stiffness is not None and unit.stiffness.k1 else \
+        next(u for u in UNITS if u.id == "SHG-17-100-2UH").stiffness
+    assert stiffness is not None and stiffness.k1 is not None
+    inertia = float(rng.uniform(0.01, 1.0))
+    return {"max_torsion": float(torsion(stiffness, unit.repeated_torque
+                                         * rng.uniform(0.2, 1.5))),
+            "min_frequency": float(natural_frequency(stiffness.k1, inertia))
+            * float(rng.uniform(0.7, 1.3)),
+            "load_inertia": inertia}
 
 
 def random_motor(rng: np.random.Generator, unit: Unit) -> Motor:
@@ -102,13 +121,14 @@ def test_time_scale_form_is_the_forward_check(name):
     found = rule(name)
     rng = np.random.default_rng(280 + SHIPPED.index(name))
     verdicts = []
-    for case in range(16):
+    for case in range(24):
         unit = random_unit(rng)
         motor = random_motor(rng, unit) if case % 2 else None
         rotor = motor.rotor_inertia if motor else float(rng.uniform(0.0, 5.0)) * unit.input_inertia
         margin = (0.0, 0.2)[case % 4 // 2]
         cycle = random_cycle(rng, unit)
-        terms = cycle.terms(rotor_inertia=rotor, motor=motor)
+        targets = random_targets(rng, unit)
+        terms = cycle.terms(rotor_inertia=rotor, motor=motor, targets=targets)
         rows = found.scale_rows(terms, unit, margin)
         assert rows is not None, f"{name} defines the form: it must give it"
         for s in np.geomspace(0.1, 10.0, 25):
@@ -120,7 +140,7 @@ def test_time_scale_form_is_the_forward_check(name):
             if abs(slack) <= 1e-9 * size:
                 continue  # on a boundary: either verdict is rounding
             pair = check_at(cycle, unit, float(s), rotor_inertia=rotor, motor=motor,
-                            check_options={"margin": margin})
+                            check_options={"margin": margin, **targets})
             check = pair.checks.get(name)
             ok = True if check is None else check.ok  # absent: rows must hold everywhere
             assert (slack <= 0.0) == ok, (case, s, slack, check)
@@ -145,8 +165,9 @@ def test_prefilter_is_the_forward_check(name, motor):
         load = cycle_load(tau, x["qd"], dt, x["rest"])
         rotor = float(rng.uniform(0.0, 5.0)) * units[0].input_inertia
         margin = float(rng.choice([0.0, 0.2]))
+        targets = random_targets(rng, units[0])
         batch = UnitBatch(units, load, t, tau, stop, x["qd"], STOP_TIME,
-                          None if motor else rotor)
+                          None if motor else rotor, **targets)
         utilization = found.prefilter(batch)
         if utilization is None:
             continue
@@ -154,7 +175,8 @@ def test_prefilter_is_the_forward_check(name, motor):
         for k, r in enumerate(reflect(units, t, tau, x["qd"], x["qdd"], stop,
                                       stop_time=STOP_TIME, rotor_inertia=rotor,
                                       rest=x["rest"])):
-            check = check_unit(load, units[k], momentary=r.momentary, margin=margin).checks[name]
+            check = check_unit(load, units[k], momentary=r.momentary, margin=margin,
+                               **targets).checks[name]
             assert utilization[k] == pytest.approx(check.utilization, rel=1e-12, abs=1e-300)
             assert passes[k] == check.ok
             verdicts.append(check.ok)
@@ -185,9 +207,11 @@ def test_payload_form_is_the_forward_check(name):
         rotor = float(rng.uniform(0.0, 5.0)) * unit.input_inertia
         margin = (0.0, 0.2)[case % 2]
         life = (None, 5000.0)[case % 4 // 2]
+        twist = random_targets(rng, unit)["max_torsion"]
         masses = found.payload_masses(PayloadCase(
             unit, dt, x["rest"], x["qd"], tau0, tau1, stop0, stop1, margin, STOP_TIME, rotor,
-            life_hours=life, mean=joint_mean(dt, x["rest"], x["qd"], tau0, tau1)))
+            life_hours=life, mean=joint_mean(dt, x["rest"], x["qd"], tau0, tau1),
+            max_torsion=twist))
         assert masses is not None, f"{name} defines the form: it must give it"
         for mass in np.linspace(0.0, 40.0, 41):
             if any(abs(mass - end) <= 1e-9 * max(1.0, abs(end))
@@ -197,8 +221,8 @@ def test_payload_form_is_the_forward_check(name):
             (r,) = reflect([unit], t, tau, x["qd"], x["qdd"], stop, stop_time=STOP_TIME,
                            rotor_inertia=rotor, rest=x["rest"])
             check = check_unit(cycle_load(tau, x["qd"], dt, x["rest"]), unit,
-                               momentary=r.momentary, life_hours=life,
-                               margin=margin).checks.get(name)
+                               momentary=r.momentary, life_hours=life, margin=margin,
+                               max_torsion=twist).checks.get(name)
             ok = True if check is None else check.ok
             assert any(lo <= mass <= hi for lo, hi in masses) == ok, (case, mass, check)
             verdicts.append(ok)
@@ -213,10 +237,12 @@ def test_every_rule_has_one_name_and_the_tables_follow_the_registry():
     assert dict(CHECK_NAMES) == {found.name: found.words for found in RULES}
     parts = [found.part for found in RULES]
     assert parts == sorted(parts, key=list(Part).index), "results list the parts in order"
-    assert set(PER_SAMPLE_CHECKS) == {"peak", "speed", "momentary", "static", "motor_peak",
-                                      "motor_speed", "inertia_ratio", "bearing_moment",
-                                      "bearing_radial", "bearing_axial"}
-    assert [found.name for found in RULES if not found.margin_applies] == ["inertia_ratio"]
+    assert set(PER_SAMPLE_CHECKS) == {"peak", "speed", "momentary", "static", "torsion",
+                                      "natural_frequency", "motor_peak", "motor_speed",
+                                      "inertia_ratio", "bearing_moment", "bearing_radial",
+                                      "bearing_axial"}
+    assert [found.name for found in RULES if not found.margin_applies] == [
+        "torsion", "natural_frequency", "inertia_ratio"]  # design targets, not ratings
     with pytest.raises(KeyError, match="no rule 'twist'"):
         rule("twist")
 
@@ -224,7 +250,7 @@ def test_every_rule_has_one_name_and_the_tables_follow_the_registry():
 # --- a rule added in one file -----------------------------------------------------------------
 
 PHI_MAX = 1e-3
-"""The largest wind-up the test's torsion rule allows [rad]."""
+"""The largest wind-up the test's rule allows [rad]."""
 
 
 def stiffness(unit: Unit) -> float:
@@ -232,11 +258,11 @@ def stiffness(unit: Unit) -> float:
     return 100.0 * unit.rated_torque
 
 
-class Torsion(Rule):
+class Windup(Rule):
     """|T_peak| / K1 <= phi_max: the gear's wind-up at its peak torque (issue 30's kind)."""
 
-    name = "torsion"
-    label = "twist"
+    name = "windup"
+    label = "windup"
     words = "torsional wind-up"
     part = Part.GEARHEAD
     scope = Scope.SAMPLE
@@ -250,27 +276,30 @@ class Torsion(Rule):
 
 
 @pytest.fixture
-def torsion():
-    """The registry with `Torsion` in it for one test, as shipped again after it."""
-    with registered(Torsion()) as added:
+def windup():
+    """The registry with `Windup` in it for one test, as shipped again after it."""
+    with registered(Windup()) as added:
         yield added
 
 
-def test_a_registered_rule_is_in_every_table(torsion):
-    assert tuple(CHECKS) == (*SHIPPED[:7], "torsion", *SHIPPED[7:])  # after life, its part's
-    assert CHECK_LABELS["torsion"] == "twist" and CHECK_NAMES["torsion"] == "torsional wind-up"
-    assert "torsion" in PER_SAMPLE_CHECKS
-    assert "torsion" not in MOTOR_CHECKS + BEARING_CHECKS + PAIR_CHECKS
+def test_a_registered_rule_is_in_every_table(windup):
+    gearhead = len(rules_of(Part.GEARHEAD)) - 1  # after the last of its part's
+    assert tuple(CHECKS) == (*SHIPPED[:gearhead], "windup", *SHIPPED[gearhead:])
+    assert CHECK_LABELS["windup"] == "windup" and CHECK_NAMES["windup"] == "torsional wind-up"
+    assert "windup" in PER_SAMPLE_CHECKS
+    assert "windup" not in MOTOR_CHECKS + BEARING_CHECKS + PAIR_CHECKS
     with pytest.raises(ValueError, match="registered already"):
-        with registered(Torsion()):
+        with registered(Windup()):
             pass
 
 
 def test_the_shipped_registry_is_back_after_the_fixture():
-    assert tuple(CHECKS) == SHIPPED and "torsion" not in CHECK_LABELS and len(SHIPPED) == 16
+    assert tuple(CHECKS) == SHIPPED and "windup" not in CHECK_LABELS and len(SHIPPED) == 18
+    assert SHIPPED[:9] == ("peak", "mean", "speed", "average_speed", "momentary", "static",
+                           "life", "torsion", "natural_frequency")  # the gearhead's
 
 
-def test_a_registered_rule_is_in_every_result_json_and_report(torsion):
+def test_a_registered_rule_is_in_every_result_json_and_report(windup):
     """`size` judges it on every candidate, its JSON carries it, its table has its column."""
     from hdselect.report.size_tables import compare_table
     from hdselect.sizing.core import size
@@ -280,19 +309,19 @@ def test_a_registered_rule_is_in_every_result_json_and_report(torsion):
     document = json.loads(json.dumps(size_json(result), allow_nan=False))
     for joint, entry in zip(result.joints, document["joints"], strict=True):
         for candidate, written in zip(joint.candidates, entry["candidates"], strict=True):
-            check = candidate.checks["torsion"]
+            check = candidate.checks["windup"]
             assert check.value == pytest.approx(joint.load.peak_torque
                                                 / stiffness(candidate.unit), rel=1e-12)
             assert check.ok == (check.value <= PHI_MAX)
-            assert written["checks"]["torsion"]["value"] == pytest.approx(check.value)
+            assert written["checks"]["windup"]["value"] == pytest.approx(check.value)
         console = Console(record=True, width=300)
         console.print(compare_table(result, joint))
-        assert "twist" in console.export_text()
-    assert any(not c.checks["torsion"].ok for j in result.joints for c in j.candidates)
+        assert "windup" in console.export_text()
+    assert any(not c.checks["windup"].ok for j in result.joints for c in j.candidates)
 
 
-def test_the_time_scale_solver_honours_a_rule_without_a_form(torsion):
-    """Torsion gives no rows in y = 1/s: `exact_scales` leaves it out and `feasible_scales`
+def test_the_time_scale_solver_honours_a_rule_without_a_form(windup):
+    """Windup gives no rows in y = 1/s: `exact_scales` leaves it out and `feasible_scales`
     finds it on its grid. With only inertial torque a, the peak is a / s^2, so the rule
     holds from s* = sqrt(a / (K1 phi_max)) on; every other rule of the unit holds there."""
     unit = dataclasses.replace(UNITS[0], rated_torque=1e4, repeated_torque=math.inf,
@@ -303,7 +332,7 @@ def test_the_time_scale_solver_honours_a_rule_without_a_form(torsion):
     cycle = ScalableCycle(t=np.arange(n) * 0.01, dt=0.01, duration=n * 0.01, qd=0.1, qdd=0.0,
                           at_rest=False, gravity=0.0, velocity=0.0, inertial=a,
                           stop_inertial=0.0, stop_time=STOP_TIME)
-    assert torsion.scale_rows(cycle.terms(), unit, 0.0) is None
+    assert windup.scale_rows(cycle.terms(), unit, 0.0) is None
     assert exact_scales(cycle, unit)[0][0] < 1.0  # no form: the exact part allows faster
     (found,) = feasible_scales(cycle, unit)
     assert found[0] == pytest.approx(2.0, rel=4 * RTOL) and found[1] == math.inf

@@ -194,8 +194,9 @@ def test_limit_reached_exactly_is_ok() -> None:
 
 def test_checks_that_do_not_apply() -> None:
     load = make_load(mean=None, static=None)
-    candidate = check_unit(load, make_unit(), life_hours=1000.0)
-    for name in ("mean", "momentary", "static", "life"):
+    candidate = check_unit(load, make_unit(), life_hours=1000.0, max_torsion=1e-3,
+                           min_frequency=10.0, load_inertia=0.1)  # no stiffness: not rated
+    for name in ("mean", "momentary", "static", "life", "torsion", "natural_frequency"):
         check = candidate.checks[name]
         assert check.value is None, name
         assert check.ok, name

@@ -269,17 +269,19 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
     for name in reversed(robot.sized_joints):  # a parent's index is below its children's
         tau, stop = (np.where(np.abs(x) < floor[robot.joint_index(name)], 0.0, x)
                      for x in model.torques(name, masses))  # noise counts as zero
-        # the load inertia before the selection (the inertia-ratio rule): M_jj depends only
-        # on the bodies beyond the joint, whose units are chosen
-        inertia = model.load_inertia(name, masses) if name in motors else None
+        # the load inertia before the selection (the inertia-ratio and natural-frequency
+        # rules): M_jj depends only on the bodies beyond the joint, whose units are chosen
+        inertial = name in motors or options.joint_value("min_natural_frequency",
+                                                         name) is not None
+        inertia = model.load_inertia(name, masses) if inertial else None
         cycle = JointCycle(model.samples, robot.joint_index(name), tau, stop,
                            model.wrench(name, masses), options.bearing_offset.get(name, 0.0))
         joint = size_joint(name, cycle, units[name], options, motors=motors.get(name, ()),
                            detail=detail, load_inertia=inertia)
         if per_task and len(model.samples.tasks) > 1:
-            inertias = model.task_inertias(name, masses) if name in motors else None
+            inertias = model.task_inertias(name, masses) if inertial else None
             joint = replace(joint, per_task=task_checks(cycle, joint.selected or joint.strongest,
-                                                        options, inertias))
+                                                        options, inertias, name=name))
         found[name] = joint
         if options.mass_coupling:
             masses[name] = added_mass(joint, options)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -29,6 +30,7 @@ from hdselect.catalog.rules import (
     check_unit,
     cycle_load,
 )
+from hdselect.catalog.rules.forms import TARGETS
 from hdselect.catalog.rules.momentary import worst_events
 from hdselect.catalog.select import select
 from hdselect.catalog.units import Unit
@@ -109,8 +111,10 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
         motors: The joint's candidate motors: then every (gearhead, motor) pair is checked.
         detail: Keep every candidate checked; False keeps only the selected one (or the
             strongest, when none fits), judged exactly as with detail.
-        load_inertia: With motors, the joint's load inertia M_jj [kg m^2]: each pair's
-            inertia ratio, and the ``inertia_ratio`` rule where a largest ratio is given.
+        load_inertia: The joint's load inertia M_jj [kg m^2], the largest over the cycle's
+            poses, where motors are given or the joint has a ``min_natural_frequency``:
+            each pair's inertia ratio, the ``inertia_ratio`` rule where a largest ratio is
+            given, the ``natural_frequency`` rule.
 
     Returns:
         The joint's candidates and selection; its carried mass and gravity figures are
@@ -118,21 +122,41 @@ def size_joint(name: str, cycle: JointCycle, units: tuple[Unit, ...], options: O
     """
     load = cycle.load()
     bearings = _Bearings(cycle)
+    targets = joint_targets(name, options, load_inertia)
     if motors and not detail:
-        joint = _selected_pair(name, cycle, load, bearings, units, motors, options,
-                               load_inertia)
+        joint = _selected_pair(name, cycle, load, bearings, units, motors, options, targets)
     elif motors:
-        joint = _size_pairs(name, cycle, load, bearings, units, motors, options, load_inertia)
+        joint = _size_pairs(name, cycle, load, bearings, units, motors, options, targets)
     elif detail:
-        candidates = [_candidate(load, r, cycle, bearings, options)
+        candidates = [_candidate(load, r, cycle, bearings, options, targets)
                       for r in _reflect(units, cycle, options)]
         joint = JointSizing(name, load, tuple(candidates),
                             select(candidates, _prefer(options),
                                    inertia_target=options.inertia_target),
                             0.0, False, 0.0, readonly(cycle.torque), readonly(cycle.stop))
     else:
-        joint = _selected_only(name, cycle, load, bearings, units, options)
-    return replace(joint, bearing=bearings.of(None), wrench=cycle.wrench)
+        joint = _selected_only(name, cycle, load, bearings, units, options, targets)
+    return replace(joint, bearing=bearings.of(None), wrench=cycle.wrench,
+                   load_inertia=load_inertia)
+
+
+def joint_targets(name: str, options: Options,
+                  load_inertia: float | None = None) -> dict[str, Any]:
+    """A joint's precision targets as `check_unit` takes them (`TARGETS`).
+
+    Args:
+        name: The joint.
+        options: The assumptions (``max_torsion``, ``min_natural_frequency``).
+        load_inertia: The joint's load inertia [kg m^2], where known.
+
+    Raises:
+        ValueError: A ``min_natural_frequency`` for the joint without its load inertia.
+    """
+    frequency = options.joint_value("min_natural_frequency", name)
+    if frequency is not None and load_inertia is None:
+        raise ValueError(f"joint {name}: a natural frequency target needs its load inertia")
+    return dict(zip(TARGETS, (options.joint_value("max_torsion", name), frequency,
+                              load_inertia), strict=True))
 
 
 class _Bearings:
@@ -151,15 +175,18 @@ class _Bearings:
 
 
 def task_checks(cycle: JointCycle, chosen: Candidate, options: Options,
-                load_inertias: Sequence[float] | None = None) -> tuple[Candidate, ...]:
+                load_inertias: Sequence[float] | None = None, *,
+                name: str = "") -> tuple[Candidate, ...]:
     """The chosen unit (or pair) against each counted task's samples alone: the same rules.
 
     Args:
         cycle: The joint's pooled samples and torques.
         chosen: The selected candidate (or the strongest, where none fits).
         options: The assumptions (the design margin and the largest inertia ratio too).
-        load_inertias: With a motor, the joint's load inertia M_jj in each counted task
-            [kg m^2]: each task's own inertia ratio (the duty's is the largest).
+        load_inertias: With a motor or a ``min_natural_frequency``, the joint's load
+            inertia M_jj in each counted task [kg m^2]: each task's own inertia ratio and
+            natural frequency (the duty's are at the largest).
+        name: The joint, for its precision targets (`joint_targets`).
 
     Returns:
         One candidate per counted task, in the samples' task order; empty for one task.
@@ -177,15 +204,18 @@ def task_checks(cycle: JointCycle, chosen: Candidate, options: Options,
         load = part.load()
         bearings = _Bearings(part)
         motor = chosen.motor_unit
+        targets = joint_targets(name, options,
+                                None if load_inertias is None else load_inertias[k])
         if motor is None:
             (reflection,) = _reflect([chosen.unit], part, options)
-            out.append(_candidate(load, reflection, part, bearings, options))
+            out.append(_candidate(load, reflection, part, bearings, options, targets))
             continue
         ((reflection,),) = reflect_motors([chosen.unit], [motor.rotor_inertia], part.samples.t,
                                           part.torque, part.qd, part.qdd, part.stop,
                                           stop_time=options.stop_time,
                                           efficiency=options.efficiency, rest=part.rest)
-        out.append(with_motor(_candidate(load, reflection, part, bearings, options), motor,
+        out.append(with_motor(_candidate(load, reflection, part, bearings, options, targets),
+                              motor,
                               reflection.motor_torque,
                               np.abs(part.qd) * RPM_PER_RAD_S * chosen.unit.ratio,
                               load_inertia=None if load_inertias is None else load_inertias[k],
@@ -206,8 +236,13 @@ def _reflect(units: Sequence[Unit], cycle: JointCycle, options: Options) -> list
 
 
 def _candidate(load: CycleLoad, reflection: Reflection, cycle: JointCycle,
-               bearings: _Bearings, options: Options) -> Candidate:
-    """`check_unit` with the motor demand (its RMS weighted where samples differ in length)."""
+               bearings: _Bearings, options: Options,
+               targets: dict[str, Any]) -> Candidate:
+    """`check_unit` with the motor demand and the joint's precision targets.
+
+    The demand's RMS is weighted where samples differ in length; the targets are
+    `joint_targets`'.
+    """
     demand = reflection.motor
     if cycle.samples.weight is not None:
         demand = weighted_demand(demand, reflection.motor_torque, cycle.qd,
@@ -215,7 +250,8 @@ def _candidate(load: CycleLoad, reflection: Reflection, cycle: JointCycle,
     unit = reflection.unit
     return check_unit(load, unit, momentary=reflection.momentary,
                       life_hours=options.life_hours, life_basis=options.life_basis,
-                      motor=demand, bearing=_rated(bearings, unit), margin=options.margin)
+                      motor=demand, bearing=_rated(bearings, unit), margin=options.margin,
+                      **targets)
 
 
 def _rated(bearings: _Bearings, unit: Unit) -> BearingLoad | None:
@@ -225,7 +261,7 @@ def _rated(bearings: _Bearings, unit: Unit) -> BearingLoad | None:
 
 def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,
                 units: tuple[Unit, ...], motors: Sequence[Motor], options: Options,
-                load_inertia: float | None = None) -> JointSizing:
+                targets: dict[str, Any]) -> JointSizing:
     """Every (gearhead, motor) pair: each motor's rotor inertia in the motor torque and crash."""
     behind = reflect_motors(units, [m.rotor_inertia for m in motors], cycle.samples.t,
                             cycle.torque, cycle.qd, cycle.qdd, cycle.stop,
@@ -238,42 +274,43 @@ def _size_pairs(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearin
         for m, motor in enumerate(motors):
             r = behind[m][u]
             torque, starts = r.distinct_motor_torque()  # the motor's peak: once per dwell
-            pair = with_motor(_candidate(load, r, cycle, bearings, options), motor, torque,
-                              input_speed if starts is None else input_speed[starts],
-                              load_inertia=load_inertia,
+            pair = with_motor(_candidate(load, r, cycle, bearings, options, targets), motor,
+                              torque, input_speed if starts is None else input_speed[starts],
+                              load_inertia=targets["load_inertia"],
                               max_inertia_ratio=options.max_inertia_ratio)
             pairs.append(pair)
             reflections[id(pair)] = r
     selected = select(pairs, _prefer(options), inertia_target=options.inertia_target)
     joint = JointSizing(name, load, tuple(pairs), selected, 0.0, False, 0.0,
-                        readonly(cycle.torque), readonly(cycle.stop), load_inertia=load_inertia)
+                        readonly(cycle.torque), readonly(cycle.stop))
     chosen = reflections[id(selected or joint.strongest)]
     return replace(joint, motor_torque=frozen(chosen.motor_torque))
 
 
 def _selected_pair(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,
                    units: tuple[Unit, ...], motors: Sequence[Motor], options: Options,
-                   load_inertia: float | None) -> JointSizing:
+                   targets: dict[str, Any]) -> JointSizing:
     """The selected pair, from the pairs whose gearhead passes the rules no motor changes.
 
     Those are the rules whose prefilter needs no motor's rotor inertia (peak, input
-    speed, static); where no such pair fits, every pair is checked. A pair whose gearhead
-    fails one of them is infeasible with any motor, so the selection is the one among
-    every pair; the strongest (where none fits) is found among every pair, as with
-    detail.
+    speed, static, the precision targets); where no such pair fits, every pair is
+    checked. A pair whose gearhead fails one of them is infeasible with any motor, so the
+    selection is the one among every pair; the strongest (where none fits) is found
+    among every pair, as with detail.
     """
     passes = _prefilter(UnitBatch(units, load, cycle.samples.t, cycle.torque, cycle.stop,
-                                  cycle.qd, options.stop_time, None), options)
+                                  cycle.qd, options.stop_time, None, **targets), options)
     survivors = tuple(unit for unit, ok in zip(units, passes, strict=True) if ok)
     if survivors and len(survivors) < len(units):
-        found = _size_pairs(name, cycle, load, bearings, survivors, motors, options, load_inertia)
+        found = _size_pairs(name, cycle, load, bearings, survivors, motors, options, targets)
         if found.selected is not None:
             return found
-    return _size_pairs(name, cycle, load, bearings, units, motors, options, load_inertia)
+    return _size_pairs(name, cycle, load, bearings, units, motors, options, targets)
 
 
 def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bearings,
-                   units: tuple[Unit, ...], options: Options) -> JointSizing:
+                   units: tuple[Unit, ...], options: Options,
+                   targets: dict[str, Any]) -> JointSizing:
     """The selection, judging the whole-cycle rules only where they can change it.
 
     A unit failing a rule on single figures is infeasible whatever its whole-cycle
@@ -282,12 +319,12 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
     """
     prefer = _prefer(options)
     batch = UnitBatch(units, load, cycle.samples.t, cycle.torque, cycle.stop, cycle.qd,
-                      options.stop_time, options.rotor_inertia)
+                      options.stop_time, options.rotor_inertia, **targets)
     passes = _prefilter(batch, options)
     survivors = [k for k in range(len(units)) if passes[k]]
     motor_order = prefer.startswith("motor")
     if motor_order:
-        checked = [_candidate(load, r, cycle, bearings, options)
+        checked = [_candidate(load, r, cycle, bearings, options, targets)
                    for r in _reflect([units[k] for k in survivors], cycle, options)]
     else:
         checked = []
@@ -296,7 +333,8 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
             checked += [check_unit(load, units[k],
                                    momentary=worst_events(batch).event(k),
                                    life_hours=options.life_hours, life_basis=options.life_basis,
-                                   bearing=_rated(bearings, units[k]), margin=options.margin)
+                                   bearing=_rated(bearings, units[k]), margin=options.margin,
+                                   **targets)
                         for k in survivors if units[k].size == size or prefer != "size"]
             if prefer != "size" or any(c.feasible for c in checked):
                 break
@@ -304,7 +342,7 @@ def _selected_only(name: str, cycle: JointCycle, load: CycleLoad, bearings: _Bea
     if selected is None or not motor_order:  # the figures of the selected, else the strongest
         unit = _strongest(units) if selected is None else selected.unit
         (reflection,) = _reflect([unit], cycle, options)
-        chosen = _candidate(load, reflection, cycle, bearings, options)
+        chosen = _candidate(load, reflection, cycle, bearings, options, targets)
         selected = None if selected is None else chosen
     else:
         chosen = selected

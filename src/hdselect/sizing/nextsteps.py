@@ -88,7 +88,8 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
                            options.bearing_offset.get(joint.name, 0.0))
         for name, units in offered.items():
             found = size_joint(joint.name, cycle, units, options,
-                               motors=result.motors.get(joint.name, ()), detail=False)
+                               motors=result.motors.get(joint.name, ()), detail=False,
+                               load_inertia=joint.load_inertia)
             if found.selected is not None:
                 unit = found.selected.unit
                 best.setdefault(joint.name, []).append(((unit.size, unit.mass), name))

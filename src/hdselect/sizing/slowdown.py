@@ -11,6 +11,7 @@ import numpy as np
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
 from hdselect.sizing.bearing import ScalableWrench
+from hdselect.sizing.joint import joint_targets
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import JointSizing, Motors
 from hdselect.sizing.timescale import JointScales, ScalableCycle, Slowdown, joint_scales
@@ -45,7 +46,8 @@ def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
                         options.bearing_offset.get(joint.name, 0.0)))
             slowdown, scales = fitting_time_scales(cycle, units[joint.name], options,
                                                    motors=tuple(motors.get(joint.name, ())),
-                                                   load_inertia=joint.load_inertia)
+                                                   load_inertia=joint.load_inertia,
+                                                   name=joint.name)
             joint = replace(joint, slowdown=slowdown, scales=scales)
         out.append(joint)
     return out
@@ -53,7 +55,7 @@ def with_slowdowns(model: TorqueModel, joints: list[JointSizing],
 
 def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Options, *,
                         motors: Sequence[Motor] = (), load_inertia: float | None = None,
-                        ) -> tuple[Slowdown, JointScales]:
+                        name: str = "") -> tuple[Slowdown, JointScales]:
     """For a joint no unit fits: every unit's feasible time scales and the smallest slow-down.
 
     Args:
@@ -63,7 +65,9 @@ def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Op
             largest inertia ratio).
         motors: The joint's candidate motors: then the scales are per (gearhead, motor)
             pair, each with its motor's rotor inertia and rules.
-        load_inertia: The joint's load inertia [kg m^2], for the pairs' inertia ratio.
+        load_inertia: The joint's load inertia [kg m^2], for the pairs' inertia ratio and
+            the joint's natural frequency.
+        name: The joint, for its precision targets (`joint_targets`).
 
     Returns:
         The slow-down, its factor rounded to 0.001 (see `_rounded`), and the scales.
@@ -72,7 +76,8 @@ def fitting_time_scales(cycle: ScalableCycle, units: Sequence[Unit], options: Op
                           rotor_inertia=options.rotor_inertia,
                           check_options={"life_hours": options.life_hours,
                                          "life_basis": options.life_basis,
-                                         "margin": options.margin},
+                                         "margin": options.margin,
+                                         **joint_targets(name, options, load_inertia)},
                           motors=tuple(motors),
                           pair_options={"load_inertia": load_inertia,
                                         "max_inertia_ratio": options.max_inertia_ratio})

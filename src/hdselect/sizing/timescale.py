@@ -35,6 +35,7 @@ from hdselect.catalog.rules import (
     ScaleTerms,
     check_unit,
     cycle_load,
+    targets_of,
 )
 from hdselect.catalog.units import Unit
 from hdselect.sizing.bearing import ScalableWrench
@@ -142,17 +143,19 @@ class ScalableCycle:
                    coast - gravity, torque - coast, stop_torque - coast, stop_time, idle)
 
     def terms(self, part: slice = slice(None), rotor_inertia: float = 0.0,
-              motor: Motor | None = None) -> ScaleTerms:
+              motor: Motor | None = None,
+              targets: Mapping[str, Any] | None = None) -> ScaleTerms:
         """A piece of the cycle as the rules' time-scale form reads it (`Rule.scale_rows`).
 
         Args:
             part: The samples of the piece.
             rotor_inertia: The motor's rotor inertia J_m [kg m^2].
             motor: The paired motor, if any.
+            targets: The joint's precision targets and load inertia (`TARGETS`), if any.
         """
         return ScaleTerms(self.gravity[part], self.velocity[part], self.inertial[part],
                           self.stop_inertial[part], self.qd[part], self.at_rest[part],
-                          self.stop_time, rotor_inertia, motor)
+                          self.stop_time, rotor_inertia, motor, **targets_of(targets))
 
     def at(self, s: float) -> ScaledCycle:
         """The cycle run s times slower (s < 1: faster): exact for a fixed path.
@@ -266,7 +269,8 @@ def check_at(cycle: ScalableCycle, unit: Unit, s: float, *,
 
 
 def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0,
-                 motor: Motor | None = None, margin: float = 0.0) -> tuple[Interval, ...]:
+                 motor: Motor | None = None, margin: float = 0.0,
+                 targets: Mapping[str, Any] | None = None) -> tuple[Interval, ...]:
     """The scales at which every rule with a time-scale form holds, solved exactly.
 
     Each registered rule gives its rows in y = 1/s (`Rule.scale_rows`), piece by piece
@@ -276,7 +280,8 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0
     <= the unit's maximum [rpm] (and the motor's, with a `motor`, whose rotor inertia is
     then J_m). The rows are solved and intersected. A rule without the form (the motor's
     torque-speed rule, the whole-cycle rules) is left to `feasible_scales`' grid. With a
-    design `margin` every limit is derated (`Rule.derate`).
+    design `margin` every limit is derated (`Rule.derate`). The joint's precision
+    `targets` (`hdselect.catalog.rules.forms.TARGETS`) reach the rules that read them.
 
     Returns:
         Sorted disjoint closed intervals of s in (0, inf) [-]; lo may be 0, hi inf.
@@ -288,7 +293,7 @@ def exact_scales(cycle: ScalableCycle, unit: Unit, *, rotor_inertia: float = 0.0
         if not found:
             break
         part = slice(start, start + _CHUNK)
-        terms = cycle.terms(part, rotor_inertia, motor)
+        terms = cycle.terms(part, rotor_inertia, motor, targets)
         rows = [row for rule in RULES
                 if (form := rule.scale_rows(terms, unit, margin)) is not None for row in form]
         if rows:
@@ -331,7 +336,8 @@ def feasible_scales(cycle: ScalableCycle, unit: Unit, *, efficiency: float = DEF
 
     found: list[Interval] = []
     for lo, hi in exact_scales(cycle, unit, rotor_inertia=rotor_inertia, motor=motor,
-                               margin=float((check_options or {}).get("margin", 0.0))):
+                               margin=float((check_options or {}).get("margin", 0.0)),
+                               targets=check_options):
         first, last = max(lo, S_MIN), min(hi, S_MAX)
         if first <= last:
             found.extend(_passing(passes, first, last, hi))

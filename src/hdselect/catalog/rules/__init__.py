@@ -1,8 +1,9 @@
 """The catalog's rules as objects: one joint's cycle against one gearhead (and motor).
 
 Each rule is a `Rule` in a file of its own (`peak`, `mean`, `speed`, `average_speed`,
-`momentary`, `static`, `life`; the output bearing's five in `bearing`, the motor's three
-in `motor`; the pair's `inertia_ratio`; `peak` and `static` share `torque`), on the base
+`momentary`, `static`, `life`, the joint's precision targets `torsion` and
+`natural_frequency`; the output bearing's five in `bearing`, the motor's three in `motor`;
+the pair's `inertia_ratio`; `peak` and `static` share `torque`), on the base
 of `base`: its names, what it judges, its forward check, the margin applied once
 (`Rule.judge`) and the solvers' forms (their inputs in `forms`, the payload intervals'
 arithmetic in `masses`). `peak`, `static`, `momentary` and `speed` are each a
@@ -28,6 +29,7 @@ from hdselect.catalog.rules.bearing import bearing_checks
 from hdselect.catalog.rules.candidate import Candidate
 from hdselect.catalog.rules.check import apply_rules, check_motor, check_unit
 from hdselect.catalog.rules.forms import (
+    TARGETS,
     Interval,
     MeanOfMass,
     PathCase,
@@ -35,6 +37,7 @@ from hdselect.catalog.rules.forms import (
     Rows,
     ScaleTerms,
     UnitBatch,
+    targets_of,
 )
 from hdselect.catalog.rules.inertia_ratio import inertia_ratio
 from hdselect.catalog.rules.load import (
@@ -74,9 +77,9 @@ __all__ = [
     "PAIR_CHECKS", "PER_SAMPLE_CHECKS", "REST_FRACTION", "RPM_PER_RAD_S", "RULES",
     "Candidate", "Check", "CycleLoad", "Interval", "MeanOfMass", "Momentary",
     "MotorDemand", "Part", "PathCase", "PayloadCase", "Rows", "Rule", "RuleInput",
-    "ScaleTerms", "Scope", "UnitBatch", "UnitLimit", "allowable_mean_torque",
+    "ScaleTerms", "Scope", "TARGETS", "UnitBatch", "UnitLimit", "allowable_mean_torque",
     "allowed_momentary_events", "apply_rules", "at_rest", "bearing_checks", "check_motor",
     "check_unit", "cycle_load",
     "derated", "holds", "inertia_ratio", "l50_life_hours", "register", "registered", "rule",
-    "rules_of", "unregister", "within",
+    "rules_of", "targets_of", "unregister", "within",
 ]

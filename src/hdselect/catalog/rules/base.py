@@ -141,8 +141,12 @@ class RuleInput:
         motor: The motor paired with the gearhead, if any.
         motor_torque: Motor torque per sample [N m], (n,), with a motor.
         motor_speed: Input speed per sample [rpm], (n,), with a motor.
-        load_inertia: The joint's output-side load inertia [kg m^2], if known.
+        load_inertia: The joint's output-side load inertia [kg m^2], if known: the largest
+            M_jj over the cycle's poses (the inertia ratio, the natural frequency).
         max_inertia_ratio: Largest load-to-rotor inertia ratio allowed [-], if any.
+        max_torsion: The joint's largest twist allowed [rad], if any (`torsion`).
+        min_frequency: The joint's lowest single-axis natural frequency asked for [Hz], if
+            any (`natural_frequency`).
     """
 
     unit: Unit | None
@@ -158,6 +162,8 @@ class RuleInput:
     motor_speed: np.ndarray | None = None
     load_inertia: float | None = None
     max_inertia_ratio: float | None = None
+    max_torsion: float | None = None
+    min_frequency: float | None = None
 
     @property
     def gear(self) -> Gear | None:

@@ -29,6 +29,9 @@ def check_unit(
     motor: MotorDemand | None = None,
     bearing: BearingLoad | None = None,
     margin: float = DEFAULT_MARGIN,
+    max_torsion: float | None = None,
+    min_frequency: float | None = None,
+    load_inertia: float | None = None,
 ) -> Candidate:
     """Apply every registered rule of the gearhead and its output bearing to one unit.
 
@@ -45,6 +48,11 @@ def check_unit(
         margin: Design margin [-], in [0, 1): every rule must hold at (1 - margin) of
             its limit (`Rule.judge`), the output bearing's too; utilization stays
             demand / limit.
+        max_torsion: The joint's largest twist allowed [rad]; adds the ``torsion`` check.
+        min_frequency: The joint's lowest natural frequency asked for [Hz]; adds the
+            ``natural_frequency`` check.
+        load_inertia: The joint's load inertia J [kg m^2], the largest over the cycle's
+            poses: the natural frequency's.
 
     Returns:
         The candidate with every check (in registry order), life and the flags it
@@ -60,7 +68,9 @@ def check_unit(
     figures = None
     if unit.bearing is not None and bearing is not None:
         figures = bearing_figures(bearing, unit.bearing, rules, load.mean_speed_under(rules))
-    case = RuleInput(unit, load, margin, momentary, life_hours, life_basis, figures, motor)
+    case = RuleInput(unit, load, margin, momentary, life_hours, life_basis, figures, motor,
+                     load_inertia=load_inertia, max_torsion=max_torsion,
+                     min_frequency=min_frequency)
     applied = _applied((Part.GEARHEAD, Part.BEARING) if figures is not None
                        else (Part.GEARHEAD,), case)  # a bearing rule needs its figures
     checks = {found.name: check for found, check in applied}

@@ -9,6 +9,7 @@ Each is the input of one optional form of `hdselect.catalog.rules.base.Rule`:
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from enum import Enum
 from functools import cached_property
@@ -25,6 +26,15 @@ Interval = tuple[float, float]
 
 Rows = tuple[np.ndarray, np.ndarray, np.ndarray]
 """(c2, c1, c0), each (k,): k inequalities c2 y^2 + c1 y + c0 <= 0 in y = 1/s."""
+
+TARGETS = ("max_torsion", "min_frequency", "load_inertia")
+"""A joint's precision targets and the load inertia they read: keywords of `check_unit`,
+fields of `RuleInput` and of every form's input (None: no target, or not known)."""
+
+
+def targets_of(given: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The `TARGETS` among keywords (e.g. a solver's ``check_options``), where given."""
+    return {key: given[key] for key in TARGETS if given is not None and key in given}
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,6 +54,9 @@ class ScaleTerms:
         stop_time: Emergency-stop and crash time [s].
         rotor_inertia: The motor's rotor inertia J_m [kg m^2] (the paired motor's).
         motor: The paired motor, if any.
+        max_torsion: The joint's largest twist allowed [rad], if any (`torsion`).
+        min_frequency: The joint's lowest natural frequency asked for [Hz], if any.
+        load_inertia: The joint's load inertia J [kg m^2] (`natural_frequency`), if known.
     """
 
     gravity: np.ndarray
@@ -55,6 +68,9 @@ class ScaleTerms:
     stop_time: float
     rotor_inertia: float = 0.0
     motor: Motor | None = None
+    max_torsion: float | None = None
+    min_frequency: float | None = None
+    load_inertia: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,6 +88,9 @@ class UnitBatch:
         rotor_inertia: The motor's rotor inertia J_m [kg m^2]; None where each unit
             has several motors (pairs): a rule that depends on it then does not prefilter.
         memo: Arrays a form derives once and another reuses (e.g. the crash torques).
+        max_torsion: The joint's largest twist allowed [rad], if any (`torsion`).
+        min_frequency: The joint's lowest natural frequency asked for [Hz], if any.
+        load_inertia: The joint's load inertia J [kg m^2] (`natural_frequency`), if known.
     """
 
     units: tuple[Unit, ...]
@@ -83,6 +102,9 @@ class UnitBatch:
     stop_time: float
     rotor_inertia: float | None
     memo: dict[str, Any] = field(default_factory=dict)
+    max_torsion: float | None = None
+    min_frequency: float | None = None
+    load_inertia: float | None = None
 
     @cached_property
     def ratio(self) -> np.ndarray:
@@ -129,6 +151,9 @@ class PayloadCase:
             rated output bearing; None: its rules are absent.
         wrench1: Its change per kg [N, N m], (6, n).
         offset: The output flange along the axis from the joint origin [m].
+        max_torsion: The joint's largest twist allowed [rad], if any (`torsion`).
+        min_frequency: The joint's lowest natural frequency asked for [Hz], if any.
+        load_inertia: The joint's load inertia J [kg m^2] (`natural_frequency`), if known.
     """
 
     unit: Unit
@@ -152,6 +177,9 @@ class PayloadCase:
     wrench0: np.ndarray | None = None
     wrench1: np.ndarray | None = None
     offset: float = 0.0
+    max_torsion: float | None = None
+    min_frequency: float | None = None
+    load_inertia: float | None = None
 
     @cached_property
     def travel(self) -> float:
@@ -187,6 +215,9 @@ class PathCase:
         efficiency: Gear efficiency where the unit has no table [-].
         rotor_inertia: Motor rotor inertia J_m [kg m^2] (the paired motor's, with one).
         motor: The paired motor, if any.
+        max_torsion: The joint's largest twist allowed [rad], if any (`torsion`).
+        min_frequency: The joint's lowest natural frequency asked for [Hz], if any.
+        load_inertia: The joint's load inertia J [kg m^2] (`natural_frequency`), if known.
     """
 
     unit: Unit
@@ -195,6 +226,9 @@ class PathCase:
     efficiency: float
     rotor_inertia: float = 0.0
     motor: Motor | None = None
+    max_torsion: float | None = None
+    min_frequency: float | None = None
+    load_inertia: float | None = None
 
 
 class PathKind(Enum):

@@ -20,12 +20,14 @@ from hdselect.catalog.rules.life import LIFE
 from hdselect.catalog.rules.mean import MEAN
 from hdselect.catalog.rules.momentary import MOMENTARY
 from hdselect.catalog.rules.motor import MOTOR_RULES
+from hdselect.catalog.rules.natural_frequency import NATURAL_FREQUENCY
 from hdselect.catalog.rules.peak import PEAK
 from hdselect.catalog.rules.speed import SPEED
 from hdselect.catalog.rules.static import STATIC
+from hdselect.catalog.rules.torsion import TORSION
 
-_REGISTRY: list[Rule] = [PEAK, MEAN, SPEED, AVERAGE_SPEED, MOMENTARY, STATIC, LIFE,
-                         *BEARING_RULES, *MOTOR_RULES, INERTIA_RATIO]
+_REGISTRY: list[Rule] = [PEAK, MEAN, SPEED, AVERAGE_SPEED, MOMENTARY, STATIC, LIFE, TORSION,
+                         NATURAL_FREQUENCY, *BEARING_RULES, *MOTOR_RULES, INERTIA_RATIO]
 _VIEWS: list[_View] = []
 """Every view of the registry, refreshed at each registration."""
 
@@ -110,7 +112,8 @@ RULES: Sequence[Rule] = _View(tuple)
 
 CHECKS: Sequence[str] = _Names(lambda r: True)
 """Every check by name, in the order of results and reports: the gearhead's, its output
-bearing's, its motor's, the pair's. ``life`` is present only when a life is required, the
+bearing's, its motor's, the pair's. ``life`` is present only when a life is required,
+``torsion`` and ``natural_frequency`` only where the joint has such a target, the
 output bearing's only where the catalog rates it (and its loads are known), the motor
 checks only when a motor is given, ``inertia_ratio`` only when a largest inertia ratio is
 given too; the others always, with value None where they do not apply."""
@@ -129,8 +132,9 @@ does not apply to it: the largest ratio is itself a design choice, not a rating.
 
 PER_SAMPLE_CHECKS: Sequence[str] = _Names(lambda r: r.scope is Scope.SAMPLE)
 """The checks of single samples (or single poses): over several tasks, the worst task's.
-The inertia ratio is one of them: its load inertia is the largest M_jj over every task's
-poses; the bearing's largest moment and forces are too. The others pool every task's
+The inertia ratio and the natural frequency are among them: their load inertia is the
+largest M_jj over every task's poses; the torsion, the bearing's largest moment and
+forces are too. The others pool every task's
 samples: mean torque, average speed, life, motor RMS, the bearing's life and its static
 safety (whose load adds the largest radial force, moment and axial force over the duty,
 which may come from different tasks)."""
