@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from hdselect import load_catalog, size
+from hdselect.cli.main import main
 from hdselect.report.figures import png_bytes
 from hdselect.report.html_summary import parts_section
 from hdselect.report.parts import PARTS_COLUMNS, parts_csv
@@ -181,3 +182,15 @@ def test_the_html_section_tables_the_worst_poses_and_embeds_both_figures(shg_res
     degrees = shg_result.trajectory.q[sample, 1] * 180 / math.pi
     assert f"{degrees:.1f}&deg;" in section
     assert precision_section(size(None, BENCHTOP, precision=False), {}) == ""
+
+
+def test_a_twist_target_on_units_that_rate_no_stiffness_reads_not_rated(monkeypatch, capsys):
+    """Regression: every PSA-G check of a --max-torsion target has no value (no K1): the
+    column was left out, as if no target had been set; now its cells say so."""
+    monkeypatch.setenv("COLUMNS", "120")
+    assert main(["compare", str(BENCHTOP), "--max-torsion", "6", "--joint", "elbow"]) == 0
+    lines = capsys.readouterr().out.split("\n\n")[1].splitlines()
+    column = next(line for line in lines if line.startswith("unit")).index("twist")
+    rows = [line for line in lines if line.startswith(("▶PSA", " PSA"))]
+    assert len(rows) == 7
+    assert all(row[column - 4:column + 5].strip() == "not rated" for row in rows)

@@ -32,6 +32,7 @@ from hdselect.report.terminal import (
     life_text,
     ratio_text,
     selected_note,
+    shown,
     utilization_text,
     verdict,
 )
@@ -250,17 +251,17 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 
 
 def _rules(result: SizingResult) -> list[str]:
-    return [r for r in CHECKS if any(r in c.checks and c.checks[r].value is not None
+    return [r for r in CHECKS if any(r in c.checks and shown(c.checks[r])
                                      for j in result.joints for c in j.candidates)]
 
 
 def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
     """One check's cell, coloured; `where` names its joint and unit as data attributes."""
-    if check is None or check.value is None:
-        return f"<td class='u na' data-check='{name}' {where}>-</td>"
-    if "not_rated" in check.detail:
+    if check is not None and "not_rated" in check.detail:
         words = esc(str(check.detail["not_rated"]))
         return f"<td class='u na' data-check='{name}' {where}>{words}</td>"
+    if check is None or check.value is None:
+        return f"<td class='u na' data-check='{name}' {where}>-</td>"
     colour = utilization_colour(check.utilization)
     state = "ok" if check.ok else "fail"
     text = utilization_text(check.utilization, check.ok) + ("" if check.ok else " ✗")

@@ -26,6 +26,7 @@ from hdselect.report.terminal import (
     life_text,
     ratio_text,
     selected_note,
+    shown,
     utilization_cell,
     utilization_text,
     verdict,
@@ -47,7 +48,7 @@ def candidates_table(title: str, candidates: Iterable[Candidate], selected: Cand
     """
     candidates = list(candidates)
     names = [name for name in CHECKS
-             if any(name in c.checks and c.checks[name].value is not None for c in candidates)]
+             if any(name in c.checks and shown(c.checks[name]) for c in candidates)]
     columns = [Column("unit", "left"), *(Column(CHECK_LABELS[name], group=name) for name in names),
                Column("L50 h", group="life hours"),
                *(Column(header, group=extra_group) for header in extra),
