@@ -11,10 +11,10 @@ from matplotlib.figure import Figure
 from hdselect.report.figures import ALLOWED, MOVING, REST
 from hdselect.report.joint_figures import timeline
 from hdselect.sizing.precision import TargetCheck
-from hdselect.sizing.precision_records import ARCMIN_PER_RAD, MM_PER_M
+from hdselect.sizing.precision_records import ARCMIN_PER_RAD, MM_PER_M, pose_of
 from hdselect.sizing.result import SizingResult
 
-SINGLE_AXIS = ("#E69F00", "#56B4E9", "#CC79A7", "#999999", "#000000", "#F0E442")
+SINGLE_AXIS = ("#E69F00", "#CC79A7", "#999999", "#000000", "#56B4E9", "#F0E442")
 """The single-axis f_n lines' colours: the palette's others than the arm modes' three."""
 
 
@@ -37,6 +37,12 @@ def precision_figures(result: SizingResult) -> dict[str, Figure]:
 def _target(result: SizingResult, name: str) -> TargetCheck | None:
     found = result.precision
     return None if found is None else next((t for t in found.targets if t.name == name), None)
+
+
+def _when(result: SizingResult, sample: int) -> str:
+    """A pooled sample's time as the tables give it: in its own task's cycle."""
+    pose = pose_of(result, int(sample))
+    return f"at {pose.time:.2f} s" + (f" of {pose.label}" if len(result.counted) > 1 else "")
 
 
 def _spans(result: SizingResult, axes: list[Axes]) -> np.ndarray:
@@ -81,7 +87,7 @@ def tool_figure(result: SizingResult) -> Figure:
             at = int(np.argmax(size))
             ax.plot(t, size, color=colour, lw=1.3, ls=style, label=words)
             ax.plot([t[at]], [size[at]], "o", color=colour, ms=7, mfc="none", mew=1.8,
-                    label=f"largest {size[at]:.3g} {unit} at {t[at]:.2f} s")
+                    label=f"largest {size[at]:.3g} {unit} {_when(result, tool.samples[at])}")
         ax.set_ylabel(label)
         ax.set_ylim(bottom=0.0)
     target = _target(result, "tool_deflection")
@@ -122,7 +128,7 @@ def modes_figure(result: SizingResult) -> Figure:
     low = modes.lowest
     lowest = float(modes.frequencies[low, 0])
     ax.plot([t[low]], [lowest], "o", color="k", ms=8, mfc="none", mew=1.8,
-            label=f"lowest {lowest:.3g} Hz at {t[low]:.2f} s")
+            label=f"lowest {lowest:.3g} Hz {_when(result, modes.samples[low])}")
     target = _target(result, "arm_frequency")
     if target is not None:
         ax.axhline(target.limit, color="k", lw=1.2, label=f"target: at least {target.limit:.3g} Hz")

@@ -48,14 +48,15 @@ def precision_tables(result: SizingResult) -> list[object]:
                                 "twist, tool deflection or natural frequency; "
                                 f"{SERIES_HINT}.",))]
     rows = tuple(_row(result, joint) for joint in found.joints)
-    return ["", FittedTable(_title(found), PRECISION_COLUMNS, rows,
+    return ["", FittedTable(_title(result, found), PRECISION_COLUMNS, rows,
                             notes=tuple(precision_notes(result, found)))]
 
 
-def _title(found: Precision) -> str:
+def _title(result: SizingResult, found: Precision) -> str:
     poses = len(found.poses)
+    cycle = "the tasks' cycles" if len(result.counted) > 1 else "the cycle"
     return (f"Precision: each unit's twist under the joint's torque and its single-axis "
-            f"natural frequency, over {poses:,} pose{'s' if poses != 1 else ''} of the cycle")
+            f"natural frequency, over {poses:,} pose{'s' if poses != 1 else ''} of {cycle}")
 
 
 def _row(result: SizingResult, joint: JointPrecision) -> tuple[str, ...]:
