@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import json
 import math
@@ -194,3 +195,24 @@ def test_a_twist_target_on_units_that_rate_no_stiffness_reads_not_rated(monkeypa
     rows = [line for line in lines if line.startswith(("▶PSA", " PSA"))]
     assert len(rows) == 7
     assert all(row[column - 4:column + 5].strip() == "not rated" for row in rows)
+
+
+def test_an_infinite_frequency_is_null_in_json_and_inf_in_the_table(shg_result, monkeypatch):
+    """A joint that sees no inertia (nothing beyond it) has f_n = sqrt(K1 / 0): the JSON
+    never holds Infinity, the table says inf."""
+    found = shg_result.precision
+    tip = dataclasses.replace(found.joints[-1], lowest_frequency=math.inf,
+                              resonance_speed=math.inf)
+    frequencies = found.modes.frequencies.copy()
+    frequencies[:, -1] = math.inf
+    modes = dataclasses.replace(found.modes, frequencies=frequencies)
+    result = dataclasses.replace(shg_result, precision=dataclasses.replace(
+        found, joints=(*found.joints[:-1], tip), modes=modes))
+    document = json.loads(json.dumps(size_json(result), allow_nan=False))["precision"]
+    assert document["joints"][-1]["lowest_frequency_hz"] is None
+    assert document["joints"][-1]["resonance_speed_rpm"] is None
+    assert document["modes"]["frequencies_hz"][-1] is None
+    monkeypatch.setenv("COLUMNS", "120")
+    row = next(line for line in printed(result).splitlines() if line.startswith("wrist_3"))
+    assert " inf " in row
+    assert precision_figures(result)["modes"] is not None
