@@ -24,6 +24,7 @@ from hdselect.report.precision_tables import precision_tables
 from hdselect.report.tables import console_for
 from hdselect.sizing.precision_records import STIFFNESS_NOT_RATED
 from hdselect.sizing.records import size_json
+from helpers.motions import gravity_overload_motion
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCHTOP = ROOT / "trajectories" / "benchtop6_pick_place.toml"
@@ -216,3 +217,23 @@ def test_an_infinite_frequency_is_null_in_json_and_inf_in_the_table(shg_result, 
     row = next(line for line in printed(result).splitlines() if line.startswith("wrist_3"))
     assert " inf " in row
     assert precision_figures(result)["modes"] is not None
+
+
+def test_a_joint_no_unit_fits_names_no_unit_in_any_precision_output(tmp_path, monkeypatch):
+    """Regression: the figures of a joint no unit holds are its strongest candidate's; the
+    precision table, notes and JSON named that unit as if it were chosen."""
+    monkeypatch.setenv("COLUMNS", "120")
+    heavy = size(None, gravity_overload_motion(tmp_path / "heavy.toml"))  # PSA-G: not rated
+    (missing,) = [joint for joint in heavy.joints if joint.selected is None]
+    assert missing.strongest.unit.id not in printed(heavy)
+    # SHG-2UH, rated: no unit twists less than 0.03 arcmin under the shoulder lift's torque
+    units = load_catalog(["shg-2uh"], series=["shg-2uh"])
+    result = size(None, BENCHTOP, catalog=units, max_torsion={"shoulder_lift": 1e-5})
+    (missing,) = [joint for joint in result.joints if joint.selected is None]
+    assert missing.name == "shoulder_lift"
+    text = printed(result)
+    row = next(line for line in text.splitlines() if line.startswith("shoulder_lift"))
+    assert row.split()[1] == "none" and missing.strongest.unit.id not in row
+    assert "shoulder_lift: no unit holds this joint" in " ".join(text.split())
+    entry = size_json(result)["precision"]["joints"][1]
+    assert entry["unit"] is None and entry["note"].startswith("no unit holds this joint")

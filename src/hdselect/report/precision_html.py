@@ -12,10 +12,12 @@ from hdselect.sizing.precision import JointPrecision, Precision
 from hdselect.sizing.precision_records import (
     ARCMIN_PER_RAD,
     MM_PER_M,
+    NO_UNIT_NOTE,
     NOT_RATED_NOTE,
     SERIES_HINT,
     STIFFNESS_NOT_RATED,
     pose_of,
+    unheld,
 )
 from hdselect.sizing.result import SizingResult
 
@@ -48,7 +50,10 @@ def precision_section(result: SizingResult, figures: Mapping[str, bytes]) -> str
     header = ["joint", "unit", "twist max [arcmin]", "twist holding [arcmin]",
               "hysteresis loss [arcmin]", "lost motion [arcmin]", "lowest f_n [Hz]",
               "at", "resonance input speed [rpm]", "near resonance [s per cycle]"]
-    rows = [_row(result, joint) for joint in found.joints]
+    missing = unheld(result)
+    rows = [[esc(joint.name), "none", f"<td class='t wrap'>{esc(NO_UNIT_NOTE)}</td>",
+             *("-",) * (len(header) - 3)] if joint.name in missing else _row(result, joint)
+            for joint in found.joints]
     intro = ("<p>Each unit twists under its joint's torque, on its catalog's three segments "
              "(K1 up to T1, K2 up to T2, K3 above): the largest twist along the cycle, and "
              "holding each pose still. Its single-axis natural frequency f_n = sqrt(K1 / "

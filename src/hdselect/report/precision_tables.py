@@ -16,10 +16,12 @@ from hdselect.sizing.precision import JointPrecision, Precision, TargetCheck
 from hdselect.sizing.precision_records import (
     ARCMIN_PER_RAD,
     MM_PER_M,
+    NO_UNIT_NOTE,
     SERIES_HINT,
     STIFFNESS_NOT_RATED,
     pose_of,
     task_label,
+    unheld,
 )
 from hdselect.sizing.result import SizingResult
 
@@ -43,11 +45,14 @@ def precision_tables(result: SizingResult) -> list[object]:
     if found is None or not found.joints:
         return []
     if not any(joint.rated for joint in found.joints):
-        units = sorted({joint.unit.id for joint in found.joints if joint.unit is not None})
+        units = sorted({joint.unit.id for joint in found.joints if joint.unit is not None
+                         and joint.name not in unheld(result)}) or ["no unit chosen"]
         return ["", Paragraphs((f"Precision: {STIFFNESS_NOT_RATED} ({', '.join(units)}): no "
                                 "twist, tool deflection or natural frequency; "
                                 f"{SERIES_HINT}.",))]
-    rows = tuple(_row(result, joint) for joint in found.joints)
+    missing = unheld(result)
+    rows = tuple(_none(joint) if joint.name in missing else _row(result, joint)
+                 for joint in found.joints)
     return ["", FittedTable(_title(result, found), PRECISION_COLUMNS, rows,
                             notes=tuple(precision_notes(result, found)))]
 
@@ -57,6 +62,11 @@ def _title(result: SizingResult, found: Precision) -> str:
     cycle = "the tasks' cycles" if len(result.counted) > 1 else "the cycle"
     return (f"Precision: each unit's twist under the joint's torque and its single-axis "
             f"natural frequency, over {poses:,} pose{'s' if poses != 1 else ''} of {cycle}")
+
+
+def _none(joint: JointPrecision) -> tuple[str, ...]:
+    """The row of a joint no unit fits: no unit named, no figure."""
+    return (escape(joint.name), "[red]none[/red]", *("-",) * (len(PRECISION_COLUMNS) - 2))
 
 
 def _row(result: SizingResult, joint: JointPrecision) -> tuple[str, ...]:
@@ -125,14 +135,18 @@ def precision_notes(result: SizingResult, found: Precision) -> list[str]:
         notes.append(f"raised for stiffness ({raised.reason}): {raised.joint} "
                      f"{raised.chosen} -> {raised.raised_to}, +{raised.added_mass:.3g} kg.")
     if found.not_rated:
-        units = sorted({j.unit.id for j in found.joints
-                        if j.name in found.not_rated and j.unit is not None})
-        notes.append(f"not rated: {STIFFNESS_NOT_RATED} ({', '.join(units)} on "
+        units = sorted({j.unit.id for j in found.joints if j.name in found.not_rated
+                        and j.unit is not None and j.name not in unheld(result)})
+        which = f"{', '.join(units)} on " if units else ""
+        notes.append(f"not rated: {STIFFNESS_NOT_RATED} ({which}"
                      f"{', '.join(found.not_rated)}): no twist or f_n there, and no tool "
                      f"deflection or arm mode; {SERIES_HINT}.")
     if found.rigid:
         notes.append(f"rigid: {', '.join(found.rigid)} move with no unit and are taken as "
                      "rigid.")
+    missing = [joint.name for joint in found.joints if joint.name in unheld(result)]
+    if missing:
+        notes.append(f"{', '.join(missing)}: {NO_UNIT_NOTE}.")
     windows = sorted({task_label(result, w.task) for j in found.joints for w in j.near_resonance})
     notes.append("twist: the unit's torsion under the joint torque on its catalog's three "
                  "segments, largest along the cycle / holding each pose still; f_n: sqrt(K1 / "

@@ -28,6 +28,10 @@ NOT_RATED_NOTE = ("stiffness not rated by the source: the catalog gives no torsi
                   "computed")
 """Why a joint (and, with it, the whole arm's figures) has no precision figures."""
 
+NO_UNIT_NOTE = ("no unit holds this joint: it has no figures of its own, and the tool's "
+                "deflection and the arm's modes take its strongest candidate")
+"""Why a joint no unit fits has no precision figures of its own."""
+
 SERIES_HINT = ("the SHG-2UH and HFUS-2UH series rate K1, CSG-2UH from size 17: e.g. "
                "--series shg-2uh")
 """Where the built-in catalogs rate the stiffness, for a result that has none."""
@@ -71,6 +75,11 @@ def pose_of(result: SizingResult, sample: int) -> Pose:
     raise IndexError(f"sample {sample} is not one of the {offset} pooled samples")
 
 
+def unheld(result: SizingResult) -> set[str]:
+    """The sized joints no unit fits (their figures are their strongest candidate's)."""
+    return {joint.name for joint in result.joints if joint.selected is None}
+
+
 def task_label(result: SizingResult, task: int) -> str:
     """The name of counted task `task` (the motion's name for a result of one trajectory)."""
     counted = result.counted
@@ -94,8 +103,9 @@ def precision_json(result: SizingResult) -> dict[str, Any] | None:
     found: Precision | None = result.precision
     if found is None:
         return None
+    missing = unheld(result)
     return {
-        "joints": [_joint_json(result, joint) for joint in found.joints],
+        "joints": [_joint_json(result, joint, joint.name in missing) for joint in found.joints],
         "tool": None if found.tool is None else _tool_json(result, found.tool),
         "modes": None if found.modes is None else _modes_json(result, found.modes),
         "not_rated": list(found.not_rated),
@@ -124,9 +134,12 @@ def _at(result: SizingResult, sample: int | None, prefix: str) -> dict[str, Any]
     return {f"{prefix}_task": pose.label, f"{prefix}_time_s": pose.time}
 
 
-def _joint_json(result: SizingResult, joint: JointPrecision) -> dict[str, Any]:
-    return {"name": joint.name, "unit": None if joint.unit is None else joint.unit.id,
-            "rated": joint.rated, "note": None if joint.rated else NOT_RATED_NOTE,
+def _joint_json(result: SizingResult, joint: JointPrecision, missing: bool) -> dict[str, Any]:
+    """One joint's figures; a joint no unit fits names none (its strongest candidate's)."""
+    note = NO_UNIT_NOTE if missing else None if joint.rated else NOT_RATED_NOTE
+    return {"name": joint.name,
+            "unit": None if joint.unit is None or missing else joint.unit.id,
+            "rated": joint.rated, "note": note,
             "max_torsion_arcmin": arcmin(joint.max_torsion),
             **_at(result, joint.max_torsion_sample, "max_torsion"),
             "holding_torsion_arcmin": arcmin(joint.holding_torsion),
