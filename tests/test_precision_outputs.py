@@ -20,8 +20,9 @@ from hdselect.report.html_summary import parts_section
 from hdselect.report.parts import PARTS_COLUMNS, parts_csv
 from hdselect.report.precision_figures import precision_figures
 from hdselect.report.precision_html import precision_section
-from hdselect.report.precision_tables import precision_tables
+from hdselect.report.precision_tables import precision_tables, precision_warnings
 from hdselect.report.tables import console_for
+from hdselect.sizing.precision import Raise, TargetCheck
 from hdselect.sizing.precision_records import STIFFNESS_NOT_RATED
 from hdselect.sizing.records import size_json
 from helpers.motions import gravity_overload_motion
@@ -237,3 +238,22 @@ def test_a_joint_no_unit_fits_names_no_unit_in_any_precision_output(tmp_path, mo
     assert "shoulder_lift: no unit holds this joint" in " ".join(text.split())
     entry = size_json(result)["precision"]["joints"][1]
     assert entry["unit"] is None and entry["note"].startswith("no unit holds this joint")
+
+
+def test_the_review_summary_warns_of_a_target_missed_a_unit_raised_and_no_stiffness(shg_result):
+    found = shg_result.precision
+    missed = TargetCheck("tool_deflection", 8e-4, 5e-4, False,
+                         "cannot be met by this catalog (best reached 0.8 mm against 0.5 mm)")
+    met = TargetCheck("arm_frequency", 16.3, 15.0, True)
+    raised = Raise("elbow", "SHG-14-80-2UH", "SHG-17-80-2UH", "tool deflection", 0.29)
+    result = dataclasses.replace(shg_result, precision=dataclasses.replace(
+        found, targets=(missed, met), raised=(raised,)))
+    lines = precision_warnings(result)
+    assert lines == [
+        "target NOT met: tool deflection 0.8 mm, at most 0.5 mm: cannot be met by this "
+        "catalog (best reached 0.8 mm against 0.5 mm).",
+        "raised for stiffness (tool deflection): elbow SHG-14-80-2UH -> SHG-17-80-2UH, "
+        "+0.29 kg."]
+    unrated = precision_warnings(size(None, BENCHTOP))
+    assert len(unrated) == 1 and "stiffness not rated by the source" in unrated[0]
+    assert unrated[0].startswith("PSA-")

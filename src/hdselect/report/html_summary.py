@@ -13,6 +13,7 @@ from hdselect.catalog.rules import CHECK_NAMES, Candidate
 from hdselect.motion.motionfile import Motion
 from hdselect.report.html_tables import esc, number, slug, table
 from hdselect.report.parts import STIFFNESS_COLUMNS, Part, parts
+from hdselect.report.precision_tables import precision_warnings
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import diagnosis_lines, shortfall_text
 from hdselect.report.task_tables import mounting_text, task_of
@@ -144,6 +145,7 @@ def _warnings(result: SizingResult) -> str:
     if unrated:
         items.append(f"{esc(', '.join(unrated))}: output bearing not rated by the source: its "
                      'loads are reported (<a href="#bearing">output bearings</a>), not checked.')
+    items += [esc(line) for line in precision_warnings(result)]
     thin = [joint for joint in result.joints if joint.selected is not None
             and 1.0 - joint.selected.checks[joint.selected.binding].utilization < 0.1]
     if thin:

@@ -7,7 +7,7 @@ import math
 from collections.abc import Mapping
 
 from hdselect.report.html_tables import esc, number, table
-from hdselect.report.precision_tables import pose_text, target_text
+from hdselect.report.precision_tables import pose_text, raised_text, target_text
 from hdselect.sizing.precision import JointPrecision, Precision
 from hdselect.sizing.precision_records import (
     ARCMIN_PER_RAD,
@@ -116,8 +116,7 @@ def _whole(result: SizingResult, found: Precision) -> str:
         items.append(f"<b>Arm</b>: lowest mode {_hz(float(modes.frequencies[modes.lowest, 0]))} "
                      f"Hz, {esc(pose_text(result, int(modes.samples[modes.lowest])))}.")
     items += [esc(target_text(target)) for target in found.targets]
-    items += [f"Raised for stiffness ({esc(r.reason)}): {esc(r.joint)} {esc(r.chosen)} &rarr; "
-              f"{esc(r.raised_to)}, +{r.added_mass:.3g} kg." for r in found.raised]
+    items += [esc(raised_text(raised)) for raised in found.raised]
     if found.not_rated:
         items.append(f"{esc(', '.join(found.not_rated))}: {esc(NOT_RATED_NOTE)}; the whole "
                      f"arm's figures need every joint's. {esc(SERIES_HINT)}.")

@@ -12,11 +12,12 @@ import numpy as np
 from rich.markup import escape
 
 from hdselect.report.tables import Column, FittedTable, Paragraphs
-from hdselect.sizing.precision import JointPrecision, Precision, TargetCheck
+from hdselect.sizing.precision import JointPrecision, Precision, Raise, TargetCheck
 from hdselect.sizing.precision_records import (
     ARCMIN_PER_RAD,
     MM_PER_M,
     NO_UNIT_NOTE,
+    NOT_RATED_NOTE,
     SERIES_HINT,
     STIFFNESS_NOT_RATED,
     pose_of,
@@ -131,9 +132,7 @@ def precision_notes(result: SizingResult, found: Precision) -> list[str]:
                      f"{shape} (each unit's K1 a spring, the inputs held by their servos).")
     for target in found.targets:
         notes.append(target_text(target))
-    for raised in found.raised:
-        notes.append(f"raised for stiffness ({raised.reason}): {raised.joint} "
-                     f"{raised.chosen} -> {raised.raised_to}, +{raised.added_mass:.3g} kg.")
+    notes += [raised_text(raised) for raised in found.raised]
     if found.not_rated:
         units = sorted({j.unit.id for j in found.joints if j.name in found.not_rated
                         and j.unit is not None and j.name not in unheld(result)})
@@ -156,6 +155,30 @@ def precision_notes(result: SizingResult, found: Precision) -> list[str]:
                  + (f" (in {', '.join(windows)})" if len(result.counted) > 1 and windows else "")
                  + "; hyst. / lost: the catalog's hysteresis loss and lost motion.")
     return notes
+
+
+def precision_warnings(result: SizingResult) -> list[str]:
+    """What of the precision figures changes a decision, as lines for the review summary.
+
+    A whole-arm target not met, the units raised for stiffness, and the chosen units whose
+    catalog rates no stiffness (their figures unknown, as an unrated bearing's checks).
+    """
+    found = result.precision
+    if found is None:
+        return []
+    lines = [target_text(target) for target in found.targets if not target.ok]
+    lines += [raised_text(raised) for raised in found.raised]
+    units = sorted({j.unit.id for j in found.joints if j.name in found.not_rated
+                    and j.unit is not None and j.name not in unheld(result)})
+    if units:
+        lines.append(f"{', '.join(units)}: {NOT_RATED_NOTE} (precision).")
+    return lines
+
+
+def raised_text(raised: Raise) -> str:
+    """A unit raised for a whole-arm target, in a line."""
+    return (f"raised for stiffness ({raised.reason}): {raised.joint} {raised.chosen} -> "
+            f"{raised.raised_to}, +{raised.added_mass:.3g} kg.")
 
 
 def target_text(target: TargetCheck) -> str:
