@@ -347,10 +347,10 @@ def benchmarks(quick: bool) -> list[Benchmark]:
                   "bearing's loads) vs Options(bearing_loads=False), the sizing without them",
             repeats=21,
             check=Check("max |wrench axis row - torque| [N m]", wrench_torque_error, 1e-9)),
-        _precision_row(robot, traj),
         _mix_row(quick, units, coupled),
         _envelope_row(robot, motion_for_size, units),
         *long_cycles,
+        _precision_row(robot, traj),
     ]
 
 
