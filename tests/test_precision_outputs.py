@@ -257,3 +257,37 @@ def test_the_review_summary_warns_of_a_target_missed_a_unit_raised_and_no_stiffn
     unrated = precision_warnings(size(None, BENCHTOP))
     assert len(unrated) == 1 and "stiffness not rated by the source" in unrated[0]
     assert unrated[0].startswith("PSA-")
+
+
+@pytest.mark.slow
+def test_a_browser_shows_the_precision_section_and_a_phone_scrolls_its_tables(tmp_path):
+    """The SHG-2UH report in Chromium: both precision figures decode, no console error, and
+    at phone width the page itself never scrolls sideways."""
+    from browser import Browser, chromium
+
+    executable = chromium()
+    if executable is None:
+        pytest.skip("no Chromium here: `apt-get install chromium` (or set HDSELECT_CHROMIUM)")
+    out = tmp_path / "report"
+    assert main(["size", str(BENCHTOP), "--series", "shg-2uh", "--report", str(out)]) == 0
+    assert (out / "precision_tool.png").is_file() and (out / "precision_modes.png").is_file()
+    url = (out / "index.html").resolve().as_uri()
+    with Browser(executable) as browser:
+        browser.load(url)
+        sizes = browser.evaluate(
+            "Promise.all([...document.querySelectorAll('#precision img')].map(async (i) => {"
+            "await i.decode(); return [i.naturalWidth, i.naturalHeight]; }))")
+        assert len(sizes) == 2 and all(w > 500 and h > 300 for w, h in sizes)
+        heads = browser.evaluate("[...document.querySelectorAll('#precision h3')]"
+                                 ".map((h) => h.textContent)")
+        assert heads == ["The worst poses"]
+        errors = [e for e in browser.events if e.get("method") == "Runtime.exceptionThrown"
+                  or (e.get("method") == "Log.entryAdded"
+                      and e["params"]["entry"]["level"] in ("error", "warning"))]
+        assert errors == []
+        browser.send("Emulation.setDeviceMetricsOverride", session=True, width=420,
+                     height=900, deviceScaleFactor=1, mobile=True)
+        browser.load(url)
+        width, inner = browser.evaluate(
+            "[document.documentElement.scrollWidth, window.innerWidth]")
+        assert width <= inner
