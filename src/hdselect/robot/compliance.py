@@ -29,6 +29,7 @@ import pinocchio as pin
 
 from hdselect.catalog.stiffness import torsion
 from hdselect.catalog.units import Unit
+from hdselect.robot.dynamics import NOISE_FLOOR
 from hdselect.robot.joint_motions import JointMotion, joint_motions
 from hdselect.robot.model import Robot
 from hdselect.robot.payload import frame_id
@@ -157,16 +158,26 @@ def arm_frequencies(mass: np.ndarray, k1: Sequence[float]) -> np.ndarray:
     """The arm's natural frequencies alone, as `arm_modes` gives them [Hz], (n, k) ascending."""
     root = 1.0 / np.sqrt(np.asarray(k1, dtype=float))
     flexibility = np.linalg.eigvalsh(mass * root[None, :, None] * root[None, None, :])
+    return _frequencies(flexibility[:, ::-1])
+
+
+def _frequencies(flexibility: np.ndarray) -> np.ndarray:
+    """Frequencies w / 2 pi [Hz] from flexibilities 1 / w^2 [s^2], per pose, (n, k).
+
+    A flexibility below `NOISE_FLOOR` of its pose's largest is the recursion's noise: a
+    direction that moves no mass, inf.
+    """
+    floor = NOISE_FLOOR * np.max(flexibility, axis=-1, keepdims=True)
     with np.errstate(divide="ignore"):
-        result: np.ndarray = 1.0 / np.sqrt(np.clip(flexibility[:, ::-1], 0.0, None)) / (2 * math.pi)
-    return result
+        result: np.ndarray = 1.0 / np.sqrt(np.where(flexibility > floor, flexibility, 0.0))
+    return result / (2 * math.pi)
 
 
 def arm_modes(mass: np.ndarray, k1: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
     """The arm's natural frequencies and mode shapes: K v = w^2 M v, K = diag(k1).
 
     Solved as the symmetric problem K^-1/2 M K^-1/2 u = u / w^2, v = K^-1/2 u, so every
-    frequency is real and a massless direction gives inf.
+    frequency is real and a direction that moves no mass gives inf.
 
     Args:
         mass: M(q) of the joints with a spring (`mass_matrices`) [kg m^2], (n, k, k).
@@ -179,12 +190,9 @@ def arm_modes(mass: np.ndarray, k1: Sequence[float]) -> tuple[np.ndarray, np.nda
     root = 1.0 / np.sqrt(np.asarray(k1, dtype=float))
     scaled = mass * root[None, :, None] * root[None, None, :]
     flexibility, vectors = np.linalg.eigh(scaled)  # ascending 1 / w^2: descending w
-    flexibility, vectors = flexibility[:, ::-1], vectors[:, :, ::-1]
-    with np.errstate(divide="ignore"):
-        omega = 1.0 / np.sqrt(np.clip(flexibility, 0.0, None))
-    shapes = vectors * root[None, :, None]
+    shapes = vectors[:, :, ::-1] * root[None, :, None]
     peak = np.take_along_axis(shapes, np.abs(shapes).argmax(axis=1)[:, None, :], axis=1)
-    return omega / (2.0 * math.pi), shapes / peak
+    return _frequencies(flexibility[:, ::-1]), shapes / peak
 
 
 def unit_rotation(unit: Unit, torque: np.ndarray, wrench: np.ndarray | None = None,
@@ -258,7 +266,8 @@ def tool_deflection(robot: Robot, q: np.ndarray, frame: str,
     point = placed.frame_origin(frame)
     translation = np.zeros(np.broadcast_shapes(*(np.shape(rotations[name]) for name in names)))
     rotation = np.zeros_like(translation)
-    for name, turn in zip(names, axis_turns(robot, names), strict=True):
+    for name, turn in zip(names, axis_turns(robot, names, placed.motions),
+                          strict=True):
         i = robot.model.getJointId(name)
         axes = placed.rotation[i] @ turn  # the joint's axis frame in the base, (n, 3, 3)
         spin = np.einsum("nab,...nb->...na", axes, rotations[name])

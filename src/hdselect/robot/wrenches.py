@@ -155,14 +155,20 @@ def _tilt(fx: np.ndarray, fy: np.ndarray, mx: np.ndarray, my: np.ndarray,
     return np.sqrt(x * x + y * y)
 
 
-def axis_turns(robot: Robot, joints: Sequence[str]) -> np.ndarray:
+def axis_turns(robot: Robot, joints: Sequence[str],
+               motions: Sequence[JointMotion] | None = None) -> np.ndarray:
     """Each named joint's axis frame in its joint frame: the rotations `axis_wrenches` uses.
+
+    Args:
+        robot: The robot.
+        joints: The joints, by name.
+        motions: The robot's `joint_motions`, when already read.
 
     Returns:
         Rotations whose third column is the joint axis, shape (len(joints), 3, 3) [-].
     """
-    motions = {joint.name: joint for joint in joint_motions(robot.model, robot.path)}
-    return np.array([_to_z(motions[name].axis) for name in joints]).reshape(-1, 3, 3)
+    by_name = {joint.name: joint for joint in motions or joint_motions(robot.model, robot.path)}
+    return np.array([_to_z(by_name[name].axis) for name in joints]).reshape(-1, 3, 3)
 
 
 def _skew(p: np.ndarray) -> np.ndarray:

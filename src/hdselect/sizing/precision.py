@@ -26,26 +26,29 @@ from typing import Protocol
 
 import numpy as np
 
-from hdselect.catalog.rules import RPM_PER_RAD_S, Candidate
+from hdselect.catalog.rules import RPM_PER_RAD_S
 from hdselect.catalog.stiffness import natural_frequency, rates_torsion, resonance_speed, torsion
 from hdselect.catalog.units import Unit
 from hdselect.robot.compliance import (
-    Placements,
     arm_frequencies,
     arm_modes,
     mass_matrices,
     placements,
-    tool_deflection,
     unit_rotation,
 )
-from hdselect.robot.dynamics import gravity_torques, torque_floor
+from hdselect.robot.dynamics import NOISE_FLOOR, gravity_torques, torque_floor
 from hdselect.robot.model import Robot
-from hdselect.robot.wrenches import axis_wrenches
-from hdselect.sizing.bearing import SampledWrench
+from hdselect.sizing.deflection import (
+    SizedJoint,
+    ToolDeflection,
+    task_poses,
+    tool_figures,
+    tool_frame,
+)
 from hdselect.sizing.options import Options
 from hdselect.sizing.tasks import Samples, task_rows
 
-PRECISION_POSES = 2000
+PRECISION_POSES = 1000
 """Most poses at which the tool's deflection and the natural frequencies are evaluated."""
 NEAR_RESONANCE = 0.10
 """An input speed within this fraction of a resonance speed runs near resonance [-]."""
@@ -78,7 +81,7 @@ class JointPrecision:
             pooled samples [rad], (n,).
         max_torsion: Largest |twist| over the cycle [rad].
         max_torsion_sample: Its pooled sample.
-        holding_torsion: Largest |twist| holding each pose of the cycle still [rad].
+        holding_torsion: Largest |twist| holding each evaluated pose still [rad].
         hysteresis_loss: The catalog's hysteresis loss [rad], where it gives one.
         lost_motion: The catalog's lost motion [rad], where it gives one.
         frequency: Single-axis f_n = sqrt(K1 / M_jj) / 2 pi at each evaluated pose
@@ -106,43 +109,6 @@ class JointPrecision:
     resonance_speed: float | None = None
     near_resonance: tuple[Window, ...] = ()
     near_resonance_time: float = 0.0
-
-
-@dataclass(frozen=True, eq=False)
-class ToolDeflection:
-    """How far the tool frame moves from its commanded pose, at the evaluated poses.
-
-    Attributes:
-        frame: The tool frame.
-        samples: The pooled samples evaluated, (m,).
-        translation: Along the cycle (joint torques and wrenches) [m], (m, 3), world frame.
-        rotation: Along the cycle, a rotation vector [rad], (m, 3).
-        holding_translation: Holding each pose still (gravity, payload) [m], (m, 3).
-        holding_rotation: Holding each pose still [rad], (m, 3).
-        worst: Index into `samples` of the largest |translation|.
-        worst_holding: Index into `samples` of the largest |holding_translation|.
-        bearing_tilt: The joints whose bearing tilt -M / K_B is included.
-    """
-
-    frame: str
-    samples: np.ndarray
-    translation: np.ndarray
-    rotation: np.ndarray
-    holding_translation: np.ndarray
-    holding_rotation: np.ndarray
-    worst: int
-    worst_holding: int
-    bearing_tilt: tuple[str, ...]
-
-    @property
-    def max_translation(self) -> float:
-        """The largest |translation| along the cycle [m]."""
-        return float(np.linalg.norm(self.translation[self.worst]))
-
-    @property
-    def max_holding(self) -> float:
-        """The largest |translation| holding a pose of the cycle still [m]."""
-        return float(np.linalg.norm(self.holding_translation[self.worst_holding]))
 
 
 @dataclass(frozen=True, eq=False)
@@ -232,21 +198,6 @@ class Precision:
     poses: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.intp))
 
 
-class SizedJoint(Protocol):
-    """What `precision_of` reads of a sized joint (`hdselect.sizing.result.JointSizing`)."""
-
-    @property
-    def name(self) -> str: ...  # noqa: D102
-    @property
-    def torque(self) -> np.ndarray: ...  # noqa: D102
-    @property
-    def wrench(self) -> SampledWrench | None: ...  # noqa: D102
-    @property
-    def selected(self) -> Candidate | None: ...  # noqa: D102
-    @property
-    def strongest(self) -> Candidate: ...  # noqa: D102
-
-
 class SampledModel(Protocol):
     """What `precision_of` reads of a torque model (`hdselect.sizing.torques.TorqueModel`)."""
 
@@ -277,9 +228,17 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
     robots = [task.robot.with_gearheads({k: masses[k] for k in robot.sized_joints
                                          if k in masses}) for task in samples.tasks]
     poses = evaluated_poses(samples, [j.torque for j in joints])
+    moving = np.any(samples.qd != 0.0, axis=0)
+    rigid = tuple(name for j, name in enumerate(robot.joint_names)
+                  if name not in units and moving[j])
+    not_rated = tuple(j.name for j in joints if j.name not in springs)
+    if not springs:
+        return Precision(tuple(_unrated(j.name, units[j.name]) for j in joints), None, None,
+                         not_rated, rigid, poses=poses)
     pieces = _pieces(samples, poses)
-    held = np.concatenate([gravity_torques(carrier, task.trajectory.q, threads=threads)
-                           for carrier, task in zip(robots, samples.tasks, strict=True)])
+    held = np.concatenate([gravity_torques(carrier, task.trajectory.q[local], threads=threads)
+                           for carrier, task, local in zip(robots, samples.tasks, pieces,
+                                                           strict=True)])
     floor = torque_floor(robot)
     held[np.abs(held) < floor] = 0.0  # the recursion's noise counts as zero, as in the selection
     placed = [placements(carrier, task.trajectory.q[local])
@@ -288,30 +247,29 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
                                             placed=at)
                               for carrier, task, local, at in zip(robots, samples.tasks, pieces,
                                                                   placed, strict=True)])
+    diagonal = np.diagonal(inertia, axis1=1, axis2=2)  # noise (`NOISE_FLOOR`) moves nothing
+    diagonal = np.where(diagonal > NOISE_FLOOR * diagonal.max(initial=0.0), diagonal, 0.0)
+    nearest = _nearest(samples, poses)
     figures = []
     for joint in joints:
         if joint.name not in springs:
             figures.append(_unrated(joint.name, units[joint.name]))
             continue
         k = springs.index(joint.name)
-        figures.append(_joint(joint, units[joint.name], samples, poses,
-                              held[:, robot.joint_index(joint.name)], inertia[:, k, k]))
-    whole = len(springs) == len(joints) and bool(springs)
+        j = robot.joint_index(joint.name)
+        figures.append(_joint(joint, units[joint.name], samples, poses, nearest, held[:, j],
+                              diagonal[:, k], samples.qd[:, j]))
     tool = modes = None
-    if whole:
-        frame = _tool_frame(samples)
-        tool = _tool(robots, placed, samples, poses, pieces, frame, joints, units, held,
-                     options)
+    if not not_rated:
+        frame = tool_frame(samples)
+        tool = tool_figures(robots, placed, samples, poses, pieces, frame, joints, units, held,
+                            options)
         k1 = [units[name].stiffness.k1 for name in springs]  # type: ignore[union-attr]
         frequencies = arm_frequencies(inertia, k1)  # type: ignore[arg-type]
         lowest = int(np.argmin(frequencies[:, 0]))
         _, shapes = arm_modes(inertia[lowest:lowest + 1], k1)  # type: ignore[arg-type]
         modes = ArmModes(springs, poses, frequencies, lowest, shapes[0, :, 0])
-    moving = np.any(samples.qd != 0.0, axis=0)
-    rigid = tuple(name for j, name in enumerate(robot.joint_names)
-                  if name not in units and moving[j])
-    return Precision(tuple(figures), tool, modes,
-                     tuple(j.name for j in joints if j.name not in springs), rigid, poses=poses)
+    return Precision(tuple(figures), tool, modes, not_rated, rigid, poses=poses)
 
 
 def evaluated_poses(samples: Samples, torques: Sequence[np.ndarray]) -> np.ndarray:
@@ -339,8 +297,7 @@ def _pieces(samples: Samples, poses: np.ndarray) -> list[np.ndarray]:
     pieces = []
     for k in range(len(samples.tasks)):
         rows = task_rows(samples, k)
-        chosen = poses[(poses >= rows.start) & (poses < rows.stop)]
-        pieces.append(chosen - rows.start)
+        pieces.append(poses[task_poses(poses, rows)] - rows.start)
     return pieces
 
 
@@ -352,9 +309,28 @@ def _unrated(name: str, unit: Unit) -> JointPrecision:
                           lost_motion=stiffness.lost_motion if stiffness else None)
 
 
+def _nearest(samples: Samples, poses: np.ndarray) -> np.ndarray:
+    """For every pooled sample, the index into `poses` of the nearest pose of its own task."""
+    out = np.empty(len(samples), dtype=np.intp)
+    for k in range(len(samples.tasks)):
+        rows = task_rows(samples, k)
+        own = task_poses(poses, rows)
+        index = np.arange(rows.start, rows.stop)
+        after = np.clip(np.searchsorted(poses[own], index), 0, own.size - 1)
+        before = np.clip(after - 1, 0, own.size - 1)
+        out[rows] = own[np.where(np.abs(poses[own][before] - index)
+                                 < np.abs(poses[own][after] - index), before, after)]
+    return out
+
+
 def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
-           holding: np.ndarray, inertia: np.ndarray) -> JointPrecision:
-    """One rated joint's figures: twist, single-axis f_n at the poses, near resonance."""
+           nearest: np.ndarray, holding: np.ndarray, inertia: np.ndarray,
+           speed: np.ndarray) -> JointPrecision:
+    """One rated joint's figures: twist, single-axis f_n at the poses, near resonance.
+
+    `holding` and `inertia` are at the poses; `speed` is the output's along the samples
+    [rad/s], and the sample's nearest pose gives its f_n.
+    """
     stiffness = unit.stiffness
     assert stiffness is not None and stiffness.k1 is not None  # rated (`rates_torsion`)
     twist = unit_rotation(unit, joint.torque)[0][:, 2]  # -phi(tau)
@@ -363,9 +339,8 @@ def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
     frequency = natural_frequency(stiffness.k1, inertia)
     frequency.setflags(write=False)
     low = int(np.argmin(frequency))
-    windows = _near_resonance(samples, poses, frequency,
-                              samples.qd[:, samples.tasks[0].robot.joint_index(joint.name)]
-                              * unit.ratio * RPM_PER_RAD_S)
+    windows = _near_resonance(samples, resonance_speed(frequency)[nearest],
+                              np.abs(speed) * unit.ratio * RPM_PER_RAD_S)
     return JointPrecision(
         joint.name, unit, True, twist, float(abs(twist[worst])), worst,
         float(np.abs(torsion(stiffness, holding)).max()), stiffness.hysteresis_loss,
@@ -374,65 +349,18 @@ def _joint(joint: SizedJoint, unit: Unit, samples: Samples, poses: np.ndarray,
         float(sum(w.end - w.start for w in windows)))
 
 
-def _near_resonance(samples: Samples, poses: np.ndarray, frequency: np.ndarray,
+def _near_resonance(samples: Samples, excited: np.ndarray,
                     speed: np.ndarray) -> tuple[Window, ...]:
-    """The stretches where |input speed| [rpm] is within `NEAR_RESONANCE` of f_n x 30."""
+    """The stretches where the input speed [rpm] is within `NEAR_RESONANCE` of `excited`.
+
+    `excited` is the resonance speed f_n x 30 at each sample [rpm] (inf: nothing rings).
+    """
+    near = np.isfinite(excited) & (np.abs(speed - excited) <= NEAR_RESONANCE * excited)
     windows = []
     for k, task in enumerate(samples.tasks):
         rows = task_rows(samples, k)
-        own = np.flatnonzero((poses >= rows.start) & (poses < rows.stop))
-        if not own.size:
-            continue
-        index = np.arange(rows.start, rows.stop)
-        after = np.clip(np.searchsorted(poses[own], index), 0, own.size - 1)
-        before = np.clip(after - 1, 0, own.size - 1)
-        nearer = np.where(np.abs(poses[own][before] - index) < np.abs(poses[own][after] - index),
-                          before, after)
-        excited = resonance_speed(frequency[own][nearer])
-        near = np.abs(np.abs(speed[rows]) - excited) <= NEAR_RESONANCE * excited
-        edges = np.flatnonzero(np.diff(np.r_[0, near.astype(np.int8), 0]))
+        edges = np.flatnonzero(np.diff(np.r_[0, near[rows].astype(np.int8), 0]))
         t, dt = samples.t[rows], task.trajectory.dt
         windows += [Window(k, float(t[a]), float(t[b - 1] + dt))
                     for a, b in zip(edges[::2], edges[1::2], strict=True)]
     return tuple(windows)
-
-
-def _tool_frame(samples: Samples) -> str:
-    """The first counted task's motion's ``[tool]`` frame, else its robot's payload frame."""
-    task = samples.tasks[0]
-    tool = task.motion.tool if task.motion is not None else None
-    return tool.frame if tool is not None and tool.frame else task.robot.payload_frame
-
-
-def _tool(robots: Sequence[Robot], placed: Sequence[Placements], samples: Samples,
-          poses: np.ndarray, pieces: Sequence[np.ndarray], frame: str, joints: Sequence[SizedJoint],
-          units: Mapping[str, Unit], held: np.ndarray, options: Options) -> ToolDeflection:
-    """The tool's deflection along the cycle and holding still, at the evaluated poses."""
-    robot = robots[0]
-    tilted = tuple(j.name for j in joints if j.wrench is not None
-                   and units[j.name].bearing is not None
-                   and units[j.name].bearing.moment_stiffness is not None)  # type: ignore[union-attr]
-    parts = []
-    for k, (carrier, local) in enumerate(zip(robots, pieces, strict=True)):
-        mine = poses[(poses >= task_rows(samples, k).start) & (poses < task_rows(samples, k).stop)]
-        q = samples.tasks[k].trajectory.q[local]
-        still = np.zeros_like(q)
-        gravity = axis_wrenches(carrier, q, still, still, tilted) if tilted else None
-        rotations, centres = {}, {}
-        for joint in joints:
-            wrenches = ((joint.wrench.full()[:5, mine], gravity[tilted.index(joint.name), :5])
-                        if joint.name in tilted and joint.wrench is not None
-                        and gravity is not None else None)
-            rotations[joint.name], centres[joint.name] = unit_rotation(
-                units[joint.name],
-                np.stack((joint.torque[mine], held[mine, robot.joint_index(joint.name)])),
-                None if wrenches is None else np.stack(wrenches),
-                options.bearing_offset.get(joint.name, 0.0))
-        parts.append(tool_deflection(carrier, q, frame, rotations, centres, placed=placed[k]))
-    translation = np.concatenate([p[0] for p in parts], axis=1)
-    rotation = np.concatenate([p[1] for p in parts], axis=1)
-    for array in (translation, rotation):
-        array.setflags(write=False)
-    size = np.linalg.norm(translation, axis=2)
-    return ToolDeflection(frame, poses, translation[0], rotation[0], translation[1],
-                          rotation[1], int(np.argmax(size[0])), int(np.argmax(size[1])), tilted)
