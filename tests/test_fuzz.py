@@ -462,7 +462,8 @@ OPTIONS = {  # option -> how many values it takes
     "--payload": 1, "--payload-com": 3, "--payload-frame": 1, "--mounting": 1,
     "--stop-time": 1, "--efficiency": 1, "--motor-inertia": 1, "--motor-mass": 1,
     "--life-hours": 1, "--life-basis": 1, "--prefer": 1, "--max-samples": 1,
-    "--joints": 1, "--exclude": 1, "--motor-catalog": 1,
+    "--joints": 1, "--exclude": 1, "--motor-catalog": 1, "--max-torsion": 1,
+    "--min-natural-frequency": 1, "--max-tool-deflection": 1, "--min-arm-frequency": 1,
 }
 
 
@@ -513,6 +514,10 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
             values = [draw(st.sampled_from(["L10", "L50", "L90"]))]
         elif option == "--prefer":
             values = [draw(st.sampled_from(["size", "margin", "motor-rms", "cheapest"]))]
+        elif option in ("--max-torsion", "--min-natural-frequency", "--min-arm-frequency"):
+            values = [draw(st.sampled_from(["2", "shoulder=1.5", "table=hand-axes", "nope=2",
+                                            "=3", "hand-axes", "nan", "-1", "1e308", "",
+                                            "elbow=", "pan=scara", "0"]))]
         else:
             values = [draw(option_value) for _ in range(OPTIONS[option])]
         argv += [option, *values]

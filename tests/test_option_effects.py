@@ -38,6 +38,8 @@ SIZING = [
     ("--inertia-target", ["50"], ["--motor-catalog", "motors/example_motors.toml",
                                   "--prefer", "inertia"]),
     ("--series", ["ACME"], ["--catalog", "acme.toml"]),  # PSA-G left out
+    ("--max-torsion", ["0.5"], ["--series", "shg-2uh"]),  # PSA-G rates no stiffness
+    ("--min-natural-frequency", ["hand-axes"], ["--series", "shg-2uh"]),
 ]
 """Options every sizing command takes, with a value that must change its answer."""
 

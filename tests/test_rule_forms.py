@@ -38,6 +38,7 @@ from hdselect.catalog.rules import (
     rule,
 )
 from hdselect.catalog.rules.forms import PathCase, PayloadCase
+from hdselect.catalog.stiffness import torsion
 from hdselect.codesign.cyclerules import after_solve
 from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
@@ -53,8 +54,10 @@ from helpers.codesign import index_table, mean_speed_allowing_peak
 from helpers.rules import giving
 
 CATALOG = load_catalog()
+STIFF = next(u for u in load_catalog(["shg-2uh"]) if u.id == "SHG-17-100-2UH").stiffness
+"""A stiffness every random case's unit is given, for the precision targets' rules."""
 CASES = 40
-EXACT_PATH = ("peak", "static", "speed", "motor_speed")
+EXACT_PATH = ("peak", "static", "speed", "motor_speed", "torsion")
 """Path forms that are the rule itself at the gridpoints; the others (the emergency stop's
 first crossing, the motor's flat peak at both efficiencies) are stricter than the rule."""
 
@@ -83,13 +86,20 @@ def _payload_case(rng: np.random.Generator) -> PayloadCase:
     stop0 = tau0 + rng.normal(0.0, 0.2, n) * peak
     stop1 = tau1 * rng.uniform(0.5, 1.5, n)
     life = (None, 2000.0, 20000.0)[int(rng.integers(3))]
+    unit = replace(unit, stiffness=STIFF)  # the precision targets need one
+    assert STIFF is not None and STIFF.k1 is not None
+    inertia0, inertia1 = rng.uniform(0.05, 0.5, 8), rng.uniform(0.0, 0.02, 8)  # M_jj, per kg
     case = PayloadCase(unit, dt, rest, qd, tau0, tau1, stop0, stop1,
                        margin=float(rng.choice([0.0, 0.1, 0.3])),
                        stop_time=float(rng.uniform(0.05, 0.5)),
                        rotor_inertia=float(rng.uniform(0.0, 1e-5)),
                        idle=float(rng.uniform(0.0, 1.0) * dt.sum() * (rng.random() < 0.5)),
                        life_hours=life, life_basis="L10" if rng.random() < 0.5 else "L50",
-                       efficiency=0.7, qdd=rng.normal(0.0, 10.0, n))
+                       efficiency=0.7, qdd=rng.normal(0.0, 10.0, n),
+                       max_torsion=float(torsion(STIFF, peak * rng.uniform(0.2, 1.2))),
+                       min_frequency=math.sqrt(STIFF.k1 / float(np.max(
+                           inertia0 + rng.uniform(0.0, 40.0) * inertia1))) / (2 * math.pi),
+                       inertia0=inertia0, inertia1=inertia1)
     return replace(case, mean=joint_mean(dt, rest, qd, tau0, tau1))
 
 
@@ -121,21 +131,23 @@ def test_payload_form_agrees_with_the_forward_check(name: str) -> None:
 
 def _path_case(rng: np.random.Generator):
     """A random unit (and motor), path piece and profile, as `pathbounds.meets` reads them."""
-    unit = CATALOG[int(rng.integers(len(CATALOG)))]
+    unit = replace(CATALOG[int(rng.integers(len(CATALOG)))], stiffness=STIFF)
     motor = None
     if rng.random() < 0.5:
         rated = unit.repeated_torque / unit.ratio * rng.uniform(0.2, 1.0)
         motor = Motor("M", rated, rated * rng.uniform(1.0, 3.0), unit.max_input_speed
                       * rng.uniform(0.5, 1.5), 1000.0, float(rng.uniform(1e-8, 1e-5)), 0.5)
     rotor = motor.rotor_inertia if motor is not None else float(rng.uniform(0.0, 1e-5))
-    case = PathCase(unit, float(rng.choice([0.0, 0.2])), float(rng.uniform(0.05, 0.5)),
-                    0.7, rotor, motor)
     m, still = 30, bool(rng.random() < 0.25)
+    peak = unit.repeated_torque * rng.uniform(0.1, 1.5)
+    assert STIFF is not None
+    case = PathCase(unit, float(rng.choice([0.0, 0.2])), float(rng.uniform(0.05, 0.5)),
+                    0.7, rotor, motor,
+                    max_torsion=float(torsion(STIFF, peak * rng.uniform(0.5, 4.0))))
     dq = np.zeros((m, 1)) if still else rng.normal(0.0, 1.0, (m, 1))
     ddq = np.zeros((m, 1)) if still else rng.normal(0.0, 1.0, (m, 1))
     top = unit.max_input_speed / unit.ratio / RPM_PER_RAD_S / max(np.abs(dq).max(), 1.0)
     sd = rng.uniform(0.0, 1.0, m) * top * rng.uniform(0.05, 1.3)
-    peak = unit.repeated_torque * rng.uniform(0.1, 1.5)
     a = rng.normal(0.0, 0.3, (m, 1)) * peak
     b = rng.normal(0.0, 0.3, (m, 1)) * peak / max(top, 1e-9) ** 2
     c = rng.normal(0.0, 0.4, (m, 1)) * peak
@@ -168,7 +180,8 @@ def _samples_pass(case: PathCase, name: str, piece, profile, coefficients, still
                             stop_time=case.stop_time, efficiency=case.efficiency,
                             rotor_inertia=case.rotor_inertia, rest=rest)
     checked = check_unit(cycle_load(tau, qd, 0.01, rest), unit, momentary=reflection.momentary,
-                         motor=reflection.motor, margin=case.margin)
+                         motor=reflection.motor, margin=case.margin,
+                         max_torsion=case.max_torsion)
     if case.motor is not None:
         checked = with_motor(checked, case.motor, reflection.motor_torque,
                              np.abs(qd) * unit.ratio * RPM_PER_RAD_S)

@@ -56,7 +56,7 @@ from helpers.rules import giving
 REPO = Path(__file__).resolve().parents[1]
 INDEX = REPO / "trajectories" / "index_table_indexing.toml"
 RPM = 60 / (2 * math.pi)  # rpm per rad/s
-UNITS = (*load_catalog(), *load_catalog(["shg-2uh"]))  # PSA-G rates no stiffness, SHG does
+UNITS = load_catalog(["shg-2uh"])  # PSA-G rates no stiffness, SHG-2UH does
 SHIPPED = tuple(CHECKS)  # the registry as shipped
 STOP_TIME = 0.05
 
@@ -207,11 +207,17 @@ def test_payload_form_is_the_forward_check(name):
         rotor = float(rng.uniform(0.0, 5.0)) * unit.input_inertia
         margin = (0.0, 0.2)[case % 2]
         life = (None, 5000.0)[case % 4 // 2]
-        twist = random_targets(rng, unit)["max_torsion"]
+        targets = random_targets(rng, unit)
+        inertia0 = rng.uniform(0.2, 1.0, 12) * targets["load_inertia"]  # M_jj of 12 poses
+        inertia1 = rng.uniform(0.0, 0.1, 12) * targets["load_inertia"]  # per kg
+        k1 = unit.stiffness.k1 if unit.stiffness is not None and unit.stiffness.k1 else 1e4
+        frequency = math.sqrt(k1 / float(np.max(inertia0 + rng.uniform(5.0, 30.0)
+                                                * inertia1))) / (2 * math.pi)
         masses = found.payload_masses(PayloadCase(
             unit, dt, x["rest"], x["qd"], tau0, tau1, stop0, stop1, margin, STOP_TIME, rotor,
             life_hours=life, mean=joint_mean(dt, x["rest"], x["qd"], tau0, tau1),
-            max_torsion=twist))
+            max_torsion=targets["max_torsion"], min_frequency=frequency, inertia0=inertia0,
+            inertia1=inertia1))
         assert masses is not None, f"{name} defines the form: it must give it"
         for mass in np.linspace(0.0, 40.0, 41):
             if any(abs(mass - end) <= 1e-9 * max(1.0, abs(end))
@@ -222,7 +228,9 @@ def test_payload_form_is_the_forward_check(name):
                            rotor_inertia=rotor, rest=x["rest"])
             check = check_unit(cycle_load(tau, x["qd"], dt, x["rest"]), unit,
                                momentary=r.momentary, life_hours=life, margin=margin,
-                               max_torsion=twist).checks.get(name)
+                               max_torsion=targets["max_torsion"], min_frequency=frequency,
+                               load_inertia=float(np.max(inertia0 + mass * inertia1))
+                               ).checks.get(name)
             ok = True if check is None else check.ok
             assert any(lo <= mass <= hi for lo, hi in masses) == ok, (case, mass, check)
             verdicts.append(ok)

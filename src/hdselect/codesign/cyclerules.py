@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -125,13 +126,22 @@ def check_scaled(legs: Sequence[Leg], name: str, unit: Unit, s: float, options: 
     if motor is None:  # the motor demand is carried, not judged: no weights needed
         return check_unit(load, unit, momentary=reflection.momentary, motor=reflection.motor,
                           life_hours=options.life_hours, life_basis=options.life_basis,
-                          margin=options.margin)
+                          margin=options.margin, **_twist(options, name))
     demand = weighted_demand(reflection.motor, reflection.motor_torque, qd, unit.ratio, dt)
     candidate = check_unit(load, unit, momentary=reflection.momentary, motor=demand,
                            life_hours=options.life_hours, life_basis=options.life_basis,
-                           margin=options.margin)
+                           margin=options.margin, **_twist(options, name))
     return with_motor(candidate, motor, reflection.motor_torque,
                       np.abs(qd) * RPM_PER_RAD_S * unit.ratio)
+
+
+def _twist(options: Options, name: str) -> dict[str, Any]:
+    """The joint's largest twist, the precision target a time scale changes.
+
+    Its natural frequency does not change with the time scale: the sizing that chose
+    the units judged it.
+    """
+    return {"max_torsion": options.joint_value("max_torsion", name)}
 
 
 def _joined(arrays: Sequence[np.ndarray]) -> np.ndarray:
@@ -179,7 +189,8 @@ def smallest_scale(legs: Sequence[Leg], units: Mapping[str, Unit], options: Opti
             feasible = _intersect(feasible, list(exact_scales(
                 leg.cycles[name], units[name],
                 rotor_inertia=(motor.rotor_inertia if motor is not None
-                               else options.rotor_inertia), margin=options.margin)))
+                               else options.rotor_inertia), margin=options.margin,
+                targets=_twist(options, name))))
         if not feasible:
             failing = _failing(legs, [name], units, options, S_MAX, motors, idle)
             raise hopeless(where, name, failing[1] if failing else "peak", units[name], duty)

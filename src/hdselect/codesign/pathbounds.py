@@ -134,8 +134,9 @@ def joint_limits(robot: Robot, motion: Motion, units: Mapping[str, Unit], option
         if unit is not None:  # the limits less the design margin (`Rule.derate`)
             motor = (motors or {}).get(name)
             rotor = motor.rotor_inertia if motor is not None else options.rotor_inertia
-            bounds, unbounded = path_bounds(PathCase(unit, options.margin, options.stop_time,
-                                                     options.efficiency, rotor, motor))
+            bounds, unbounded = path_bounds(PathCase(
+                unit, options.margin, options.stop_time, options.efficiency, rotor, motor,
+                max_torsion=options.joint_value("max_torsion", name)))
         out.append(bounded(speeds, float(acceleration[j]), torque, bounds, unbounded,
                            (derating or {}).get(name, 1.0)))
     return out

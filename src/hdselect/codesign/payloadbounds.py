@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -37,12 +38,13 @@ from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
-from hdselect.robot.dynamics import cycle_torques
+from hdselect.robot.dynamics import cycle_torques, joint_inertias
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
 from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.torques import inertia_poses
 
 MASS_GRID = 25
 """Masses at which a rule without a payload form is first checked forward [-]."""
@@ -96,7 +98,8 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
                tau0: np.ndarray, tau1: np.ndarray, stop0: np.ndarray, stop1: np.ndarray,
                options: Options, idle: float = 0.0, *, cubic: CubicMean | None = None,
                t: np.ndarray | None = None, qdd: np.ndarray | None = None,
-               wrench: tuple[np.ndarray, np.ndarray, float] | None = None) -> UnitBound:
+               wrench: tuple[np.ndarray, np.ndarray, float] | None = None,
+               targets: Mapping[str, Any] | None = None) -> UnitBound:
     """Every registered rule as an interval of x, with tau = tau0 + x tau1 [N m].
 
     Each rule's payload form gives its masses; a rule without one is checked forward
@@ -123,12 +126,15 @@ def unit_bound(unit: Unit, dt: float | np.ndarray, rest: np.ndarray, qd: np.ndar
             motor's demand.
         wrench: The joint's wrench at x = 0 and per kg [N, N m], each (6, n), and its
             output flange's offset [m]: the forward checks then judge a rated bearing.
+        targets: The joint's precision targets (``max_torsion``, ``min_frequency``) and,
+            with a frequency target, its load inertia at each pose at x = 0 and per unit
+            of x (``inertia0``, ``inertia1``), as `PayloadCase` takes them.
     """
     step = np.broadcast_to(np.asarray(dt, dtype=float), np.shape(qd))
     case = PayloadCase(unit, step, rest, qd, tau0, tau1, stop0, stop1, options.margin,
                        options.stop_time, options.rotor_inertia, idle, options.life_hours,
                        options.life_basis, cubic, options.efficiency, t, qdd,
-                       *(wrench or (None, None, 0.0)))
+                       *(wrench or (None, None, 0.0)), **(targets or {}))
     if cubic is None and case.travel > 0.0:
         case = replace(case, mean=joint_mean(step, rest, qd, tau0, tau1))
     judged = (Part.GEARHEAD, Part.BEARING) if case.wrench0 is not None else (Part.GEARHEAD,)
@@ -178,7 +184,8 @@ def forward_check(case: PayloadCase, mass: float) -> Candidate:
     return check_unit(load, case.unit, momentary=reflection.momentary,
                       motor=demand if known else None, bearing=bearing,
                       life_hours=case.life_hours, life_basis=case.life_basis,
-                      margin=case.margin)
+                      margin=case.margin, max_torsion=case.max_torsion,
+                      min_frequency=case.min_frequency, load_inertia=case.inertia_at(mass))
 
 
 def forward_masses(case: PayloadCase, rules: Sequence[Rule],
@@ -247,7 +254,9 @@ def _present(case: PayloadCase) -> Collection[str]:
               if case.qdd is not None and case.efficiency is not None else None)
     return check_unit(load, case.unit, momentary=Momentary(0.0, "emergency stop"),
                       motor=demand, life_hours=case.life_hours, life_basis=case.life_basis,
-                      margin=case.margin).checks.keys()
+                      margin=case.margin, max_torsion=case.max_torsion,
+                      min_frequency=case.min_frequency,
+                      load_inertia=case.inertia_at(0.0)).checks.keys()
 
 
 def _bisect(passes: Callable[[float], bool], failing: float,
@@ -307,25 +316,40 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
             found = [axis_wrenches(end, *args, names, threads=options.threads)
                      for end in ends]
             wrenches = [found[0], found[-1]]
-        parts.append((torques[0], torques[-1], wrenches))
+        inertias = None  # M_jj of every pose, affine in x too, where a frequency target asks
+        if any(options.joint_value("min_natural_frequency", name) is not None
+               for name in names):
+            at = traj.q[inertia_poses(traj)]
+            found = [joint_inertias(end, at, names, threads=options.threads) for end in ends]
+            inertias = (found[0], found[-1] - found[0])
+        parts.append((torques[0], torques[-1], wrenches, inertias))
     out = {}
     for k, name in enumerate(names):
         j = robot.joint_index(name)
-        tau0 = np.concatenate([none.tau[:, j] for none, _, _ in parts])
-        stop0 = np.concatenate([none.stop[:, j] for none, _, _ in parts])
+        tau0 = np.concatenate([none.tau[:, j] for none, _, _, _ in parts])
+        stop0 = np.concatenate([none.stop[:, j] for none, _, _, _ in parts])
         tau1 = np.concatenate([_per_kg(full.tau[:, j], none.tau[:, j])
-                               for none, full, _ in parts])
+                               for none, full, _, _ in parts])
         stop1 = np.concatenate([_per_kg(full.stop[:, j], none.stop[:, j])
-                                for none, full, _ in parts])
+                                for none, full, _, _ in parts])
         wrench = None if not bearings else (
-            np.concatenate([w[0][k] for _, _, w in parts if w is not None], axis=1),
-            np.concatenate([w[1][k] - w[0][k] for _, _, w in parts if w is not None], axis=1),
+            np.concatenate([w[0][k] for _, _, w, _ in parts if w is not None], axis=1),
+            np.concatenate([w[1][k] - w[0][k] for _, _, w, _ in parts if w is not None],
+                           axis=1),
             options.bearing_offset.get(name, 0.0))
+        frequency = options.joint_value("min_natural_frequency", name)
+        targets: dict[str, Any] = {"max_torsion": options.joint_value("max_torsion", name),
+                                   "min_frequency": frequency}
+        if frequency is not None:
+            targets["inertia0"] = np.concatenate([m[0][:, k] for _, _, _, m in parts
+                                                  if m is not None])
+            targets["inertia1"] = np.concatenate([m[1][:, k] for _, _, _, m in parts
+                                                  if m is not None])
         rest, qd = samples.rest[:, j], samples.qd[:, j]
         cubic = joint_mean(samples.dt, rest, qd, tau0, tau1)
         out[name] = tuple(unit_bound(unit, samples.dt, rest, qd, tau0, tau1, stop0, stop1,
                                      options, samples.idle, cubic=cubic, t=samples.t,
-                                     qdd=samples.qdd[:, j], wrench=wrench)
+                                     qdd=samples.qdd[:, j], wrench=wrench, targets=targets)
                           for unit in units)
     return out
 

@@ -17,7 +17,7 @@ from hdselect.base.tomlfile import check_keys, table_of
 from hdselect.catalog.builtin import catalog_file
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.motor_tables import motion_file_motors
-from hdselect.motion.option_specs import OPTIONS, file_keys, file_options
+from hdselect.motion.option_specs import EVERY_JOINT, OPTION, OPTIONS, file_keys, file_options
 from hdselect.motion.sizing_table import bearing_offsets, chosen_joints
 from hdselect.robot.model import Robot
 
@@ -86,8 +86,14 @@ def comparable(value: Any) -> Any:
     return value
 
 
-def shown(value: Any) -> str:
-    """A duty-wide value as a message shows it."""
+def shown(value: Any, name: str | None = None) -> str:
+    """A duty-wide value as a message shows it (option `name`'s in its files' unit)."""
+    option = OPTION.get(name) if name is not None else None
+    if option is not None and option.scale != 1.0:  # SI inside, arcmin or mm in the files
+        value = ({k: v / option.scale for k, v in value.items()}
+                 if isinstance(value, Mapping) else value / option.scale)
+    if isinstance(value, Mapping) and set(value) == {EVERY_JOINT}:
+        value = value[EVERY_JOINT]  # given as one value for every joint
     if isinstance(value, Mapping) and all(isinstance(item, float) for item in value.values()):
         return "{" + ", ".join(f"{joint} = {item:g}" for joint, item in value.items()) + "}"
     if isinstance(value, Mapping):

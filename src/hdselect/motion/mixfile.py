@@ -129,11 +129,11 @@ class Mix:
         """Each duty-wide value of the mix file over motion files' others (naming them)."""
         notes = []
         for name, mine in self.given.items():
-            others = [f"{m.path.name}'s {shown(v)}" for m in dict.fromkeys(self.motions)
+            others = [f"{m.path.name}'s {shown(v, name)}" for m in dict.fromkeys(self.motions)
                       if name in MOTION_FIELD and (v := motion_value(m, name)) is not None
                       and comparable(v) != comparable(mine)]
             if others:
-                notes.append(f"{self.path.name} gives {MOTION_FIELD[name]} {shown(mine)} "
+                notes.append(f"{self.path.name} gives {MOTION_FIELD[name]} {shown(mine, name)} "
                              f"for the whole duty, over {', '.join(others)}")
         return tuple(notes)
 
@@ -185,8 +185,8 @@ class Mix:
         for motion, value in values[1:]:
             if comparable(value) != comparable(first):
                 raise InputError(
-                    f"{first_motion.path} gives {MOTION_FIELD[name]} {shown(first)}, "
-                    f"{motion.path} gives {shown(value)}; the whole duty has one: give it in "
+                    f"{first_motion.path} gives {MOTION_FIELD[name]} {shown(first, name)}, "
+                    f"{motion.path} gives {shown(value, name)}; the whole duty has one: give it in "
                     f"the mix file ([{SECTION_OF[name]}]) or on the command line",
                     path=self.path, field="task")
         return first

@@ -221,7 +221,11 @@ class Option:
             joint, equals, item = text.rpartition("=")
             if equals and not joint.strip():
                 raise InputError(f"expected VALUE or JOINT=VALUE, got {text!r}", field=field)
-            values[joint.strip() if equals else EVERY_JOINT] = _flag_number(item.strip())
+            key = joint.strip() if equals else EVERY_JOINT
+            if key in values:
+                raise InputError(f"given twice for {'every joint' if key == EVERY_JOINT else key}"
+                                 f": {text!r}", field=field)
+            values[key] = _flag_number(item.strip())
         try:
             return self.check(values, field=field, edge=True)
         except InputError as err:  # the flag named, and the joint in the words

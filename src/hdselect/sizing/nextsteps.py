@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from hdselect.catalog.rules import Candidate, rule
 from hdselect.catalog.units import Unit
 from hdselect.sizing.core import size_tasks
 from hdselect.sizing.joint import JointCycle, size_joint
@@ -70,7 +71,9 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
     Each catalog's units are first checked against the joint's cycle as sized (the same
     rules, the same carried masses); the best catalog is then verified by sizing the
     whole duty with it added, as ``--catalog`` does, and offered only where that sizing
-    gives the joint a unit (the unit it gives is the one named).
+    gives the joint a unit (the unit it gives is the one named) whose source rates the
+    stiffness of every precision target the joint failed (a unit that rates no K1 does
+    not hold a torsion target).
     """
     have = {unit.id for unit in result.units}
     offered = {name: fresh for name, units in catalogs.items()
@@ -90,7 +93,7 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
             found = size_joint(joint.name, cycle, units, options,
                                motors=result.motors.get(joint.name, ()), detail=False,
                                load_inertia=joint.load_inertia)
-            if found.selected is not None:
+            if found.selected is not None and _rated_hold(found.selected, joint):
                 unit = found.selected.unit
                 best.setdefault(joint.name, []).append(((unit.size, unit.mass), name))
     out: dict[str, list[NextStep]] = {}
@@ -102,7 +105,7 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
                                          motors=result.motors or None, idle=result.idle,
                                          slowdowns=False)
             chosen = next(j for j in sized[name].joints if j.name == joint.name).selected
-            if chosen is not None:
+            if chosen is not None and _rated_hold(chosen, joint):
                 out[joint.name] = [NextStep(
                     "catalog", f"the {name} catalog holds it with {chosen.label}",
                     _command(result, command, ("--catalog", name),
@@ -114,7 +117,10 @@ def catalog_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
         together = size_tasks(tasks, (*result.units, *(u for n in names for u in offered[n])),
                               options, motors=result.motors or None, idle=result.idle,
                               slowdowns=False)
-        held = {j.name for j in together.joints if j.selected is not None}
+        failed = {joint.name: joint for joint in missing}
+        held = {j.name for j in together.joints
+                if j.selected is not None and (j.name not in failed
+                                               or _rated_hold(j.selected, failed[j.name]))}
         if {joint.name for joint in missing} <= held:
             step = NextStep("catalog", f"with {' and '.join(names)} together, every joint "
                             "gets a unit", _command(result, command,
@@ -174,6 +180,17 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
                 "payload", f"the payloads scaled by {factor:.2f} ({carried}) let "
                 f"{chosen.label} hold it", None, chosen.label, factor)]
     return out
+
+
+def _rated_hold(chosen: Candidate | None, joint: JointSizing) -> bool:
+    """A candidate holds the joint, and rates the stiffness of each target the joint failed.
+
+    A unit that rates no K1 holds a precision target unchecked: that is no next step.
+    """
+    failed = [name for name, check in joint.strongest.checks.items() if not check.ok
+              and chosen is not None and "stiffness" in rule(name).fields(chosen.unit)]
+    return chosen is not None and not any(
+        "not_rated" in chosen.checks[name].detail for name in failed if name in chosen.checks)
 
 
 def _rounded_down(x: float) -> float:

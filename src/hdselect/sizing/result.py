@@ -47,9 +47,11 @@ class JointSizing:
             fit (its factor rounded up to 0.001).
         scales: For a joint with no feasible unit, the time scales at which each unit
             would fit.
-        load_inertia: Where motors are given, the joint's output-side inertia: the largest
+        load_inertia: Where motors are given or the joint has a natural frequency target
+            (``min_natural_frequency``), the joint's output-side inertia: the largest
             diagonal entry M_jj of the joint-space inertia matrix over the cycle's poses
-            (`INERTIA_POSES` of them), carried masses and payload included [kg m^2].
+            (`hdselect.sizing.torques.inertia_poses`), carried masses and payload
+            included [kg m^2].
         motor_torque: Where motors are given, the motor torque of the selected pair (else
             of the strongest) per sample [N m], shape (n,).
         per_task: Where several tasks count, the selected candidate (else the strongest)

@@ -175,7 +175,7 @@ class DirectTorques:
     def gravity(self, masses: Mapping[str, float]) -> np.ndarray:
         """Largest |gravity torque| of every joint over the gravity poses [N m], (dof,)."""
         return np.max([np.abs(gravity_torques(self._carrying(task, masses),
-                                              task.trajectory.q[_poses(task.trajectory)],
+                                              task.trajectory.q[inertia_poses(task.trajectory)],
                                               threads=self.threads)).max(axis=0)
                        for task in self.tasks], axis=0)
 
@@ -186,7 +186,8 @@ class DirectTorques:
     def task_inertias(self, joint: str, masses: Mapping[str, float]) -> tuple[float, ...]:
         """The joint's largest M_jj over each task's gravity poses [kg m^2], in task order."""
         return tuple(float(joint_inertias(self._carrying(task, masses),
-                                          task.trajectory.q[_poses(task.trajectory)], [joint],
+                                          task.trajectory.q[inertia_poses(task.trajectory)],
+                                          [joint],
                                           threads=self.threads).max())
                      for task in self.tasks)
 
@@ -268,6 +269,6 @@ def _moves(model: object, joint_id: int, other_id: int) -> bool:
     return bool(ancestor == joint_id)
 
 
-def _poses(trajectory: Trajectory) -> np.ndarray:
-    """Indices of `GRAVITY_SAMPLES` poses evenly spread over the trajectory."""
+def inertia_poses(trajectory: Trajectory) -> np.ndarray:
+    """Indices of `GRAVITY_SAMPLES` poses evenly spread: the gravity torques' and M_jj's."""
     return np.unique(np.linspace(0, len(trajectory.t) - 1, GRAVITY_SAMPLES).astype(int))

@@ -19,9 +19,9 @@ torques with the units chosen further out: a linear combination, not a pass of
 inverse dynamics. The answer is the one `hdselect.size_trajectory` reaches.
 Runs of identical samples (dwells) are kept once, weighted by their length.
 
-Where a case gives motors, a joint's load inertia M_jj, linear in the same
-parameters, comes from one more set of passes per parameter at the core's poses
-(`build_basis(..., inertias=True)`).
+Where a case gives motors or a natural frequency target, a joint's load inertia M_jj,
+linear in the same parameters, comes from one more set of passes per parameter at the
+core's poses (`build_basis(..., inertias=True)`).
 
 The whole force and moment through each sized joint (its output bearing's loads) is
 linear in the same parameters and scales the same way: w = sum_p theta_p (W_p + B_p

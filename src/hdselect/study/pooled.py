@@ -143,7 +143,8 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
     """One case from its tasks' bases (one per task, in task order), sized by the core.
 
     Args:
-        bases: Each task's basis (with `Basis.inertia` where motors are given).
+        bases: Each task's basis (with `Basis.inertia` where motors are given, or a
+            natural frequency target).
         tasks: The case's tasks: the payload each carries (its mass; its shape is the
             basis's) and its share.
         time_scale: Every path run s times slower [-].
@@ -164,8 +165,9 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
     if options.prefer is None:
         options = replace(options, prefer=DEFAULT_PREFER_WITH_MOTORS if motors
                           else DEFAULT_PREFER)
-    if motors and any(basis.inertia is None for basis in bases):
-        raise ValueError("a case with motors needs bases built with inertias=True")
+    if (motors or options.min_natural_frequency) and any(b.inertia is None for b in bases):
+        raise ValueError("a case with motors or a natural frequency target needs bases "
+                         "built with inertias=True")
     check_bearing_options(bases[0].robot, units, options)
     models, planned = [], []
     for basis, item in zip(bases, tasks, strict=True):
@@ -268,7 +270,8 @@ def group_cases(cases: Sequence[Case], inputs: Inputs, host: str
         keys = [(place, _shape_key(task)) for place, task in zip(places, duty.tasks, strict=True)]
         for key, robot, task in zip(keys, robots, duty.tasks, strict=True):
             first = wanted.setdefault(key, (robot, task, False))
-            wanted[key] = (*first[:2], first[2] or bool(motors))
+            wanted[key] = (*first[:2], first[2] or bool(motors)
+                           or bool(duty.options.min_natural_frequency))  # M_jj needed
         ready.append((case, duty, keys, motors))
     bases: dict[Any, Basis | HdselectError] = {}
     for key, (robot, task, inertias) in wanted.items():

@@ -16,7 +16,11 @@ from hdselect.catalog.rules.base import DEFAULT_MARGIN, Check, Part, Rule, RuleI
 from hdselect.catalog.rules.candidate import Candidate
 from hdselect.catalog.rules.load import CycleLoad, Momentary, MotorDemand
 from hdselect.catalog.rules.registry import rules_of
-from hdselect.catalog.units import LIFE_BASES, WHOLE_UNIT, Unit
+from hdselect.catalog.units import LIFE_BASES, NOT_RATED, WHOLE_UNIT, Flag, Unit
+
+UNRATED_STIFFNESS = Flag("stiffness", "not-rated", f"torsional stiffness K1 {NOT_RATED}: "
+                         "the joint's torsion and natural frequency targets are not checked")
+"""The note on a unit judged against a precision target that its source rates no K1 for."""
 
 
 def check_unit(
@@ -82,6 +86,9 @@ def check_unit(
     if motor is not None:
         fields.append("input_inertia")
     flags = unit.flags_for(*fields, WHOLE_UNIT) + ((rules.flag,) if rules.flag is not None else ())
+    if any("stiffness" in found.fields(unit) and "not_rated" in check.detail
+           for found, check in applied):  # a target asked for, and nothing to judge it by
+        flags += (UNRATED_STIFFNESS,)
     return Candidate(unit, checks, life, flags, motor, required_margin=margin, bearing=figures)
 
 

@@ -153,7 +153,10 @@ class PayloadCase:
         offset: The output flange along the axis from the joint origin [m].
         max_torsion: The joint's largest twist allowed [rad], if any (`torsion`).
         min_frequency: The joint's lowest natural frequency asked for [Hz], if any.
-        load_inertia: The joint's load inertia J [kg m^2] (`natural_frequency`), if known.
+        load_inertia: Unused here: the load inertia depends on x (`inertia0`, `inertia1`).
+        inertia0: The joint's load inertia M_jj at each of the cycle's poses at x = 0
+            [kg m^2], (m,), where it has a frequency target: M_jj is affine in x too.
+        inertia1: Its change per unit of x [kg m^2], (m,).
     """
 
     unit: Unit
@@ -180,6 +183,14 @@ class PayloadCase:
     max_torsion: float | None = None
     min_frequency: float | None = None
     load_inertia: float | None = None
+    inertia0: np.ndarray | None = None
+    inertia1: np.ndarray | None = None
+
+    def inertia_at(self, mass: float) -> float | None:
+        """The joint's load inertia carrying `mass` [kg m^2]: the largest M_jj of its poses."""
+        if self.inertia0 is None or self.inertia1 is None:
+            return None
+        return float(np.max(self.inertia0 + mass * self.inertia1))
 
     @cached_property
     def travel(self) -> float:

@@ -8,7 +8,14 @@ from collections.abc import Sequence
 import numpy as np
 
 from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
-from hdselect.catalog.rules.forms import Rows, ScaleTerms, UnitBatch
+from hdselect.catalog.rules.forms import (
+    Interval,
+    PayloadCase,
+    Rows,
+    ScaleTerms,
+    UnitBatch,
+)
+from hdselect.catalog.rules.masses import EVERY_MASS, masses_within, spans
 from hdselect.catalog.stiffness import natural_frequency, unit_k1
 from hdselect.catalog.units import Unit
 
@@ -23,7 +30,9 @@ class MinNaturalFrequency(Rule):
     frequency); K1 the unit's stiffness below T1. Present where the joint has a target
     (``min_natural_frequency``); not rated where the unit's source rates no K1. The
     target is a design choice: the design margin does not apply. Neither a time scale
-    nor the path changes it: its time-scale form is exact (every scale or none).
+    nor the path changes it: its time-scale form is exact (every scale or none); the
+    payload's is exact too, the load inertia of every pose affine in the payload mass.
+    It has no path form: the sizing that chose the units judged it.
     """
 
     name = "natural_frequency"
@@ -50,7 +59,7 @@ class MinNaturalFrequency(Rule):
         if frequency is None:
             return self.not_rated(None, case.margin)
         return self.judge(frequency if math.isfinite(frequency) else None,  # J = 0: no mass
-                          case.min_frequency, case.margin, load_inertia=case.load_inertia)
+                          case.min_frequency, case.margin, load_inertia_kg_m2=case.load_inertia)
 
     def fields(self, unit: Unit) -> tuple[str, ...]:
         """See `Rule.fields`."""
@@ -73,6 +82,20 @@ class MinNaturalFrequency(Rule):
             return []
         ok = self.utilization(unit, terms.load_inertia, terms.min_frequency) <= 1.0
         return [] if ok else [_NEVER]
+
+    def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...] | None:
+        """J0 + x J1 <= K1 / (2 pi f_min)^2 at every pose: M_jj is affine in x.
+
+        Every mass where there is no target or K1 is not rated; None without the poses'
+        inertias (the forward check then decides).
+        """
+        k1 = unit_k1(case.unit)
+        if case.min_frequency is None or k1 is None:
+            return EVERY_MASS
+        if case.inertia0 is None or case.inertia1 is None:
+            return None
+        largest = k1 / (2.0 * math.pi * case.min_frequency) ** 2  # J at f_n = f_min
+        return spans(masses_within(case.inertia0, case.inertia1, largest))
 
     def prefilter(self, batch: UnitBatch) -> np.ndarray | None:
         """Each unit's target over f_n (0: not rated); None without a target."""
