@@ -291,3 +291,15 @@ def test_a_browser_shows_the_precision_section_and_a_phone_scrolls_its_tables(tm
         width, inner = browser.evaluate(
             "[document.documentElement.scrollWidth, window.innerWidth]")
         assert width <= inner
+
+
+def test_a_whole_arm_target_that_could_not_be_judged_says_so(shg_result):
+    """TargetCheck.value None (a unit rates no stiffness): null in JSON, words in the notes."""
+    unjudged = TargetCheck("arm_frequency", None, 15.0, False, "not rated by the source")
+    result = dataclasses.replace(shg_result, precision=dataclasses.replace(
+        shg_result.precision, targets=(unjudged,)))
+    (entry,) = size_json(result)["precision"]["targets"]
+    assert entry == {"name": "arm_frequency", "value": None, "limit": 15.0, "unit": "Hz",
+                     "ok": False, "shortfall": "not rated by the source"}
+    assert precision_warnings(result)[0] == (
+        "target NOT met: lowest arm mode not judged, at least 15 Hz: not rated by the source.")

@@ -182,12 +182,17 @@ def raised_text(raised: Raise) -> str:
 
 
 def target_text(target: TargetCheck) -> str:
-    """A whole-arm target's verdict in a line (plain text: the notes carry no markup)."""
+    """A whole-arm target's verdict in a line (plain text: the notes carry no markup).
+
+    A target that could not be judged (no value: a unit rates no stiffness) says so.
+    """
+    value: float | None = target.value
     if target.name == "tool_deflection":
-        words = (f"tool deflection {target.value * MM_PER_M:.3g} mm, at most "
-                 f"{target.limit * MM_PER_M:.3g} mm")
+        reached = "not judged" if value is None else f"{value * MM_PER_M:.3g} mm"
+        words = f"tool deflection {reached}, at most {target.limit * MM_PER_M:.3g} mm"
     else:
-        words = f"lowest arm mode {_hz(target.value)} Hz, at least {target.limit:.3g} Hz"
+        reached = "not judged" if value is None else f"{_hz(value)} Hz"
+        words = f"lowest arm mode {reached}, at least {target.limit:.3g} Hz"
     if target.ok:
         return f"target met: {words}."
     return f"target NOT met: {words}" + (f": {target.shortfall}." if target.shortfall else ".")

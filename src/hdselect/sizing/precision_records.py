@@ -121,7 +121,8 @@ def precision_json(result: SizingResult) -> dict[str, Any] | None:
 def target_json(target: Any) -> dict[str, Any]:
     """A whole-arm target's verdict: the deflection in mm, the frequency in Hz."""
     scale, unit = (MM_PER_M, "mm") if target.name == "tool_deflection" else (1.0, "Hz")
-    return {"name": target.name, "value": finite(target.value * scale),
+    value = target.value  # None: not judged (a unit rates no stiffness)
+    return {"name": target.name, "value": None if value is None else finite(value * scale),
             "limit": target.limit * scale,
             "unit": unit, "ok": target.ok, "shortfall": target.shortfall}
 
