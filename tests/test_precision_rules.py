@@ -437,3 +437,20 @@ def test_the_json_of_a_frequency_check_carries_its_load_inertia():
         index_table_inertia(), rel=1e-5)
     assert checks["natural_frequency"]["limit"] == 20.0
     assert checks["torsion"]["limit"] == pytest.approx(1e-3 / RAD_PER_ARCMIN)
+
+
+@pytest.mark.slow
+def test_fastest_takes_the_targets_and_no_speed_helps_a_resonance(capsys, tmp_path):
+    """A torsion target slows the index table (a torque limit); a frequency target it
+    meets costs no time; one it misses fails at once, at every speed."""
+    base = ["fastest", str(INDEX), "--series", "shg-2uh", "--units", "table=SHG-14-50-2UH"]
+    cycles = []
+    for extra in ([], ["--min-natural-frequency", "20"], ["--max-torsion", "0.3"]):
+        out = tmp_path / f"f{len(cycles)}.json"
+        assert main([*base, *extra, "--json", str(out)]) == 0
+        cycles.append(json.loads(out.read_text())["cycle_time_s"])
+    assert cycles[1] == cycles[0] and cycles[2] > cycles[0]
+    capsys.readouterr()
+    assert main([*base, "--min-natural-frequency", "1000"]) == 1
+    assert "natural_frequency rule with SHG-14-50-2UH at every speed" in " ".join(
+        capsys.readouterr().out.split())

@@ -206,6 +206,10 @@ def derated(models: Sequence[PathModel], carrying: Sequence[Robot], units: Mappi
     return best
 
 
+_SPEED_FREE = ("static", "natural_frequency")
+"""The rules no slow-down helps: a load held still, a joint's resonance."""
+
+
 def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
              motors: Mapping[str, Motor] | None = None, tasks: Sequence[Task] | None = None,
              where: str = "") -> tuple[Trajectory, np.ndarray, SizingResult, float,
@@ -245,13 +249,14 @@ def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
                                 trial.idle, motors)
         candidates = [c for joint in check.joints for c in joint.candidates]
         excess = max((c.checks[rule].utilization for c in candidates for rule in c.checks
-                      if rule != "static"), default=0.0) / (1.0 - options.margin)
+                      if rule not in _SPEED_FREE), default=0.0) / (1.0 - options.margin)
         if check.feasible:
             passing = passing or (trajectories[0], held, check, scale, helds)
             if excess <= 1.0 - WRITTEN_MARGIN:
                 return trajectories[0], held, check, scale, helds
-        if any(not c.checks["static"].ok for c in candidates):
-            break  # a held load: no speed helps
+        if any(not c.checks[rule].ok for c in candidates for rule in _SPEED_FREE
+               if rule in c.checks):
+            break  # a held load, or a joint's resonance: no speed helps
         scale *= max(math.sqrt(excess), 1.0 + 10.0 * WRITTEN_MARGIN)
     if passing is not None:  # at its limit to within the margin, whatever the speed
         return passing

@@ -43,10 +43,11 @@ from hdselect.sizing.arguments import (
 )
 from hdselect.sizing.joint import JointCycle, size_joint, task_checks
 from hdselect.sizing.options import Options, fixed_choice
-from hdselect.sizing.precision import Precision, precision_of
+from hdselect.sizing.precision import Precision
 from hdselect.sizing.problem import Catalog, Problem, plan_tasks, resolve
 from hdselect.sizing.result import JointSizing, Motors, SizingResult
 from hdselect.sizing.slowdown import with_slowdowns
+from hdselect.sizing.stiffening import stiffened
 from hdselect.sizing.tasks import Task, check_shares, pooled
 from hdselect.sizing.torques import DirectTorques, TorqueModel
 
@@ -223,6 +224,7 @@ def size_tasks(tasks: Sequence[Task], catalog: Sequence[Unit] | None = None,
     check_bearing_options(robot, units, options)
     per_joint = {name: units for name in robot.sized_joints}
     guess: dict[str, float] = {}
+    coarse_model: DirectTorques | None = None
     if options.mass_coupling:
         coarse = [replace(task, trajectory=decimated(task.trajectory)) for task in tasks]
         coarse_samples = pooled(coarse, idle)
@@ -235,7 +237,9 @@ def size_tasks(tasks: Sequence[Task], catalog: Sequence[Unit] | None = None,
     model = DirectTorques(samples.tasks, samples, options.stop_time, threads=options.threads,
                           guess=guess, wrenches=options.bearing_loads)
     joints, masses = select_units(model, per_joint, options, motors, slowdowns=slowdowns)
-    precision = _precision(model, joints, masses, options)
+    found = stiffened(model, per_joint, joints, masses, options, motors, select=select_units,
+                      coarse=coarse_model, slowdowns=slowdowns)
+    joints, masses, precision = found.joints, found.masses, found.precision
     first = samples.tasks[0]
     return SizingResult(first.robot, first.trajectory, tuple(joints), options, units,
                         first.motion, motors=motors, loads=model.loads(masses),
@@ -364,10 +368,8 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
 
 def _precision(model: TorqueModel, joints: Sequence[JointSizing], masses: Mapping[str, float],
                options: Options) -> Precision | None:
-    """The stiffness figures of the selection where the options ask for them."""
-    if not options.precision:
-        return None
-    return precision_of(model, joints, masses, options)
+    """The stiffness figures of given units, the whole-arm targets judged (none raised)."""
+    return stiffened(model, {}, list(joints), dict(masses), options, {}, select=None).precision
 
 
 def _tasks_argument(tasks: object, idle: float = 0.0) -> tuple[Task, ...]:

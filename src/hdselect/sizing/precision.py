@@ -160,14 +160,14 @@ class TargetCheck:
 
     Attributes:
         name: ``"tool_deflection"`` or ``"arm_frequency"``.
-        value: What was reached [m or Hz].
+        value: What was reached [m or Hz]; None where it could not be judged.
         limit: The target [m or Hz].
         ok: It is met.
         shortfall: Where not met, why, with the best reached against the target.
     """
 
     name: str
-    value: float
+    value: float | None
     limit: float
     ok: bool
     shortfall: str | None = None
