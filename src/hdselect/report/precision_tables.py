@@ -177,8 +177,11 @@ def precision_warnings(result: SizingResult) -> list[str]:
 
 def raised_text(raised: Raise) -> str:
     """A unit raised for a whole-arm target, in a line."""
+    mass = (f"+{raised.added_mass:.3g} kg" if raised.added_mass > 0.0
+            else "no added mass" if raised.added_mass == 0.0
+            else f"{raised.added_mass:.3g} kg")
     return (f"raised for stiffness ({raised.reason}): {raised.joint} {raised.chosen} -> "
-            f"{raised.raised_to}, +{raised.added_mass:.3g} kg.")
+            f"{raised.raised_to}, {mass}.")
 
 
 def target_text(target: TargetCheck) -> str:
