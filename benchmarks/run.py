@@ -350,7 +350,35 @@ def benchmarks(quick: bool) -> list[Benchmark]:
         _mix_row(quick, units, coupled),
         _envelope_row(robot, motion_for_size, units),
         *long_cycles,
+        _precision_row(robot, traj),
     ]
+
+
+def _precision_row(robot, traj) -> Benchmark:
+    """A sizing with the precision figures against the same without them (SHG-2UH, K1 rated)."""
+    from hdselect import Options, size_trajectory
+    from hdselect.catalog.catalogfile import load_catalog
+
+    rated = load_catalog(["shg-2uh"], series=["shg-2uh"])
+    on, off = Options(), Options(precision=False)
+
+    def chosen_differ() -> float:
+        """The figures are computed after the selection: they must not change it."""
+        with_figures = size_trajectory(robot, traj, rated, on)
+        without = size_trajectory(robot, traj, rated, off)
+        if with_figures.precision is None or with_figures.precision.tool is None:
+            return 1.0
+        return float(sum(a.selected is None or b.selected is None
+                         or a.selected.unit.id != b.selected.unit.id
+                         for a, b in zip(with_figures.joints, without.joints, strict=True)))
+
+    return Benchmark(
+        "precision figures in a sizing",
+        lambda: size_trajectory(robot, traj, rated, on),
+        lambda: size_trajectory(robot, traj, rated, off), 1.3, repeats=15,
+        notes=f"Options() with {len(rated)} SHG-2UH units (each joint's twist and f_n, the "
+              "tool's deflection, the arm's modes) vs Options(precision=False)",
+        check=Check("units chosen differ, or no tool deflection", chosen_differ, 0.0))
 
 
 def _mix_row(quick: bool, units, options) -> Benchmark:

@@ -23,6 +23,7 @@ from hdselect.report.colours import ink, utilization_colour
 from hdselect.report.html_summary import parts_section, summary
 from hdselect.report.html_tables import STYLE, anchor, esc, number, slug, table
 from hdselect.report.html_tasks import duty_line, task_section
+from hdselect.report.precision_html import precision_section
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import diagnosis_lines, shortfall_text
 from hdselect.report.task_tables import task_of
@@ -31,6 +32,7 @@ from hdselect.report.terminal import (
     life_text,
     ratio_text,
     selected_note,
+    shown,
     utilization_text,
     verdict,
 )
@@ -44,7 +46,8 @@ __all__ = ["number", "page", "slug"]
 
 def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
          motor_figures: Mapping[str, bytes] | None = None,
-         bearing_figures: Mapping[str, bytes] | None = None) -> str:
+         bearing_figures: Mapping[str, bytes] | None = None,
+         precision_figures: Mapping[str, bytes] | None = None) -> str:
     """The report page.
 
     Args:
@@ -54,6 +57,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
         motor_figures: PNG content of each joint's motor torque-speed figure, by joint
             name, for the joints with motors.
         bearing_figures: PNG content of each joint's output-bearing figure, by joint name.
+        precision_figures: PNG content of the precision section's figures, by name.
 
     Returns:
         The page, self-contained.
@@ -63,6 +67,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
     sections = [_selection(result), task_section(result), parts_section(result),
                 _warnings(result), _notes(result), _heat_maps(result), _loads(result),
                 bearing_section(result, bearing_figures or {}),
+                precision_section(result, precision_figures or {}),
                 *(_joint_section(result, joint, figures.get(joint.name),
                                  (motor_figures or {}).get(joint.name))
                   for joint in result.joints),
@@ -246,17 +251,17 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 
 
 def _rules(result: SizingResult) -> list[str]:
-    return [r for r in CHECKS if any(r in c.checks and c.checks[r].value is not None
+    return [r for r in CHECKS if any(r in c.checks and shown(c.checks[r])
                                      for j in result.joints for c in j.candidates)]
 
 
 def _heat_cell(check: Check | None, detail: bool, name: str, where: str) -> str:
     """One check's cell, coloured; `where` names its joint and unit as data attributes."""
-    if check is None or check.value is None:
-        return f"<td class='u na' data-check='{name}' {where}>-</td>"
-    if "not_rated" in check.detail:
+    if check is not None and "not_rated" in check.detail:
         words = esc(str(check.detail["not_rated"]))
         return f"<td class='u na' data-check='{name}' {where}>{words}</td>"
+    if check is None or check.value is None:
+        return f"<td class='u na' data-check='{name}' {where}>-</td>"
     colour = utilization_colour(check.utilization)
     state = "ok" if check.ok else "fail"
     text = utilization_text(check.utilization, check.ok) + ("" if check.ok else " ✗")

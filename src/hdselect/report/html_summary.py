@@ -11,13 +11,15 @@ from __future__ import annotations
 
 from hdselect.catalog.rules import CHECK_NAMES, Candidate
 from hdselect.motion.motionfile import Motion
-from hdselect.report.html_tables import esc, slug, table
-from hdselect.report.parts import parts
+from hdselect.report.html_tables import esc, number, slug, table
+from hdselect.report.parts import STIFFNESS_COLUMNS, Part, parts
+from hdselect.report.precision_tables import precision_warnings
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import diagnosis_lines, shortfall_text
 from hdselect.report.task_tables import mounting_text, task_of
 from hdselect.report.terminal import binding_words, life_text, ratio_text
 from hdselect.robot.model import Robot
+from hdselect.sizing.precision_records import STIFFNESS_NOT_RATED
 from hdselect.sizing.records import inertia_limit_text, margin_text
 from hdselect.sizing.result import SizingResult
 
@@ -143,6 +145,7 @@ def _warnings(result: SizingResult) -> str:
     if unrated:
         items.append(f"{esc(', '.join(unrated))}: output bearing not rated by the source: its "
                      'loads are reported (<a href="#bearing">output bearings</a>), not checked.')
+    items += [esc(line) for line in precision_warnings(result)]
     thin = [joint for joint in result.joints if joint.selected is not None
             and 1.0 - joint.selected.checks[joint.selected.binding].utilization < 0.1]
     if thin:
@@ -174,8 +177,8 @@ def _assumptions(result: SizingResult) -> str:
 
 def parts_section(result: SizingResult) -> str:
     """The parts list (as ``--bom`` writes it): per joint the parts, their masses, why."""
-    rows = []
-    for part in parts(result):
+    rows, listed = [], parts(result)
+    for part in listed:
         def kg(value: float | None) -> str:
             return "-" if value is None else f"{value:.2f}"
         rows.append([esc(part.joint), esc(part.gearhead or "-"),
@@ -187,5 +190,28 @@ def parts_section(result: SizingResult) -> str:
     header = ["joint", "gearhead", "ratio", "gearhead [kg]", "motor", "motor [kg]",
               "together [kg]", "closest to its limit", "margin left", "status"]
     return (f"<section id=parts><h2>Parts list</h2>{table(header, rows, left=2, text=[4, 7, 9])}"
+            f"{_stiffness(listed)}"
             "<p>As <code>--bom FILE.csv</code> writes it (full precision, lives and ratios "
-            "too). Motor mass without motor data: the assumed one (--motor-mass).</p></section>")
+            "too). Motor mass without motor data: the assumed one (--motor-mass). Stiffness: "
+            "the catalog's torsional stiffness of each unit (the twist rises at K1 up to T1, "
+            "at K2 up to T2, at K3 above), its hysteresis loss and lost motion, and its output "
+            "bearing's moment stiffness K_B; - where the source gives no such figure.</p>"
+            "</section>")
+
+
+def _stiffness(listed: list[Part]) -> str:
+    """Each chosen unit's stiffness, as the catalog gives it; one row per joint with a unit."""
+    rows = []
+    for part in listed[:-1]:
+        if part.gearhead is None:
+            continue
+        cells = ["-" if value is None else number(value)
+                 for value in (getattr(part, column) for column, _, _ in STIFFNESS_COLUMNS)]
+        if part.stiffness == STIFFNESS_NOT_RATED:  # its K1: the twist is not computed
+            cells[0] = f"<td class='t wrap'>{esc(STIFFNESS_NOT_RATED)}</td>"
+        rows.append([esc(part.joint), esc(part.gearhead), *cells])
+    if not rows:
+        return ""
+    return table(["joint", "gearhead", *(esc(header).replace("N m", "N&nbsp;m")
+                                         for _, header, _ in STIFFNESS_COLUMNS)],
+                 rows, left=2)

@@ -12,13 +12,30 @@ from dataclasses import dataclass
 
 from hdselect.catalog.checks import life_capped
 from hdselect.catalog.rules import CHECK_NAMES
+from hdselect.catalog.stiffness import rates_torsion
+from hdselect.catalog.units import RAD_PER_ARCMIN, Unit
 from hdselect.report.terminal import life_text
 from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
+from hdselect.sizing.precision_records import STIFFNESS_NOT_RATED
 from hdselect.sizing.result import JointSizing, SizingResult
+
+STIFFNESS_COLUMNS = (("k1_nm_per_rad", "K1 [N m/rad]", "k1"), ("t1_nm", "T1 [N m]", "t1"),
+                     ("t2_nm", "T2 [N m]", "t2"), ("k2_nm_per_rad", "K2 [N m/rad]", "k2"),
+                     ("k3_nm_per_rad", "K3 [N m/rad]", "k3"),
+                     ("hysteresis_loss_arcmin", "hysteresis loss [arcmin]", "hysteresis_loss"),
+                     ("lost_motion_arcmin", "lost motion [arcmin]", "lost_motion"),
+                     ("moment_stiffness_nm_per_rad", "bearing K_B [N m/rad]", "moment_stiffness"))
+"""A unit's stiffness in the parts list: (CSV column, report header, the unit's field).
+
+The catalog's figures, each named as the catalog file's key: the twist's three segments
+(K1 up to T1, K2 up to T2, K3 above; `hdselect.catalog.units.Stiffness`), the hysteresis
+loss and lost motion (in arcmin, as the catalog gives them), and the output bearing's
+moment stiffness K_B (`hdselect.catalog.units.BearingRating`)."""
 
 PARTS_COLUMNS = ("joint", "gearhead", "ratio", "gearhead_mass_kg", "motor", "motor_mass_kg",
                  "mass_kg", "binding", "binding_rule", "utilization", "margin_left",
-                 "margin_required", "life_l50_h", "life_l10_h", "inertia_ratio", "status")
+                 "margin_required", "life_l50_h", "life_l10_h", "inertia_ratio", "status",
+                 "stiffness", *(name for name, _, _ in STIFFNESS_COLUMNS))
 """The CSV's columns, in order (docs/review.md describes each):
 
 joint: the sized joint; ``total`` on the last row. gearhead: the unit chosen (empty
@@ -36,7 +53,10 @@ load-to-rotor inertia ratio of the pair [-], empty without a motor. status:
 (e.g. ``peak 87.3 > 20.3 N m``: the demand against the strongest candidate's limit,
 `hdselect.sizing.diagnosis`); that row names no unit and no mass, its binding,
 binding_rule, utilization and margin_left are the shortfall's (against the strongest
-candidate). On the ``total`` row the masses are sums over the joints with a unit."""
+candidate). On the ``total`` row the masses are sums over the joints with a unit.
+stiffness: ``rated`` where the unit's source rates its torsional stiffness K1, else
+`STIFFNESS_NOT_RATED`; then each figure of `STIFFNESS_COLUMNS`, empty where the source
+gives none (and on a row without a unit)."""
 
 
 @dataclass(frozen=True)
@@ -59,6 +79,15 @@ class Part:
     life_l10_h: float | None
     inertia_ratio: float | None
     status: str
+    stiffness: str | None = None
+    k1_nm_per_rad: float | None = None
+    t1_nm: float | None = None
+    t2_nm: float | None = None
+    k2_nm_per_rad: float | None = None
+    k3_nm_per_rad: float | None = None
+    hysteresis_loss_arcmin: float | None = None
+    lost_motion_arcmin: float | None = None
+    moment_stiffness_nm_per_rad: float | None = None
 
 
 def parts(result: SizingResult) -> list[Part]:
@@ -93,7 +122,23 @@ def _part(result: SizingResult, joint: JointSizing) -> Part:
                 None if motor is None else motor.id, motor_mass, chosen.unit.mass + motor_mass,
                 chosen.binding, CHECK_NAMES.get(chosen.binding, chosen.binding),
                 check.utilization, 1.0 - check.utilization, chosen.required_margin,
-                chosen.life_hours, chosen.l10_hours, joint.inertia_ratio(chosen), "selected")
+                chosen.life_hours, chosen.l10_hours, joint.inertia_ratio(chosen), "selected",
+                *unit_stiffness(chosen.unit))
+
+
+def unit_stiffness(unit: Unit) -> tuple[str, *tuple[float | None, ...]]:
+    """A unit's stiffness: ``rated`` or `STIFFNESS_NOT_RATED`, then its figures.
+
+    The figures are `STIFFNESS_COLUMNS`' in order and units (None where the unit's source
+    gives none).
+    """
+    figures = []
+    for column, _, field in STIFFNESS_COLUMNS:
+        rating = unit.bearing if field == "moment_stiffness" else unit.stiffness
+        value = None if rating is None else getattr(rating, field)
+        figures.append(value / RAD_PER_ARCMIN if value is not None
+                       and column.endswith("_arcmin") else value)
+    return ("rated" if rates_torsion(unit.stiffness) else STIFFNESS_NOT_RATED, *figures)
 
 
 def parts_csv(result: SizingResult) -> str:

@@ -10,6 +10,7 @@ from hdselect.base.outputs import Outputs
 from hdselect.report.bearing_figures import bearing_figure
 from hdselect.report.figures import png_bytes
 from hdselect.report.joint_figures import joint_figure, motor_figure
+from hdselect.report.precision_figures import precision_figures
 from hdselect.sizing.diagnosis import with_diagnoses
 from hdselect.sizing.result import SizingResult
 
@@ -50,10 +51,10 @@ def report_files(directory: Path, result: SizingResult, *,
     """
     from hdselect.report.html import slug
 
-    page, figures, motor_figures, bearing_figures = _report(result, command)
+    page, figures, motor_figures, bearing_figures, precision = _report(result, command)
     try:
         for prefix, pngs in (("joint", figures), ("motor", motor_figures),
-                             ("bearing", bearing_figures)):
+                             ("bearing", bearing_figures), ("precision", precision)):
             for name, png in pngs.items():
                 (directory / f"{prefix}_{slug(name)}.png").write_bytes(png)
         (directory / "index.html").write_text(page, encoding="utf-8")
@@ -68,8 +69,12 @@ def report_page(result: SizingResult, *, command: Sequence[str] | None = None) -
 
 
 def _report(result: SizingResult, command: Sequence[str] | None
-            ) -> tuple[str, dict[str, bytes], dict[str, bytes], dict[str, bytes]]:
-    """The page and each joint's torque, motor and bearing figures (PNG by joint name)."""
+            ) -> tuple[str, dict[str, bytes], dict[str, bytes], dict[str, bytes],
+                       dict[str, bytes]]:
+    """The page, each joint's torque, motor and bearing figures, and the precision figures.
+
+    The joints' figures are PNG content by joint name, the precision figures by their name.
+    """
     from hdselect.report.html import page
     from hdselect.report.provenance import provenance
 
@@ -80,5 +85,6 @@ def _report(result: SizingResult, command: Sequence[str] | None
                      for joint in result.joints if joint.motor_torque is not None}
     bearing_figures = {joint.name: png_bytes(fig) for joint in result.joints
                        if (fig := bearing_figure(result, joint)) is not None}
-    return (page(result, figures, origin, motor_figures, bearing_figures), figures,
-            motor_figures, bearing_figures)
+    precision = {name: png_bytes(fig) for name, fig in precision_figures(result).items()}
+    return (page(result, figures, origin, motor_figures, bearing_figures, precision), figures,
+            motor_figures, bearing_figures, precision)

@@ -19,12 +19,14 @@ from hdselect.catalog.rules import (
 from hdselect.catalog.units import MeanSpeed, Unit
 from hdselect.report.bearing_tables import BEARING_COLUMNS, bearing_cells, bearing_notes, load_line
 from hdselect.report.case_tables import case_notes, tool_pose_notes
+from hdselect.report.precision_tables import precision_tables
 from hdselect.report.tables import Column, FittedTable
 from hdselect.report.task_tables import task_of, task_tables
 from hdselect.report.terminal import (
     life_text,
     ratio_text,
     selected_note,
+    shown,
     utilization_cell,
     utilization_text,
     verdict,
@@ -46,7 +48,7 @@ def candidates_table(title: str, candidates: Iterable[Candidate], selected: Cand
     """
     candidates = list(candidates)
     names = [name for name in CHECKS
-             if any(name in c.checks and c.checks[name].value is not None for c in candidates)]
+             if any(name in c.checks and shown(c.checks[name]) for c in candidates)]
     columns = [Column("unit", "left"), *(Column(CHECK_LABELS[name], group=name) for name in names),
                Column("L50 h", group="life hours"),
                *(Column(header, group=extra_group) for header in extra),
@@ -356,9 +358,11 @@ def _size_notes(result: SizingResult) -> list[str]:
 
 
 def report_tables(result: SizingResult) -> list[object]:
-    """The size report in the terminal: the selection, the task section, the joints' loads.
+    """The size report in the terminal: the selection, precision, the tasks, the joints' loads.
 
-    One path for every duty: the task section (`task_tables`) is empty for one task.
+    One path for every duty: the task section (`task_tables`) is empty for one task, the
+    precision section (`precision_tables`) without the precision figures.
     """
     result = with_diagnoses(result)
-    return [size_table(result), *task_tables(result), "", loads_table(result)]
+    return [size_table(result), *precision_tables(result), *task_tables(result), "",
+            loads_table(result)]

@@ -116,12 +116,21 @@ def utilization_cell(check: Check, pad: bool = False) -> str:
 
     `pad` leaves room for the mark in a column where another cell has it.
     """
+    if "not_rated" in check.detail:  # the unit's source gives no limit (or no K1): not checked
+        return "not rated" + (" " if pad else "")
     if check.value is None:
         return "- " if pad else "-"
-    if "not_rated" in check.detail:  # the unit's source gives no limit: not checked
-        return "not rated" + (" " if pad else "")
     text = utilization_text(check.utilization, check.ok)
     return (text + (" " if pad else "")) if check.ok else f"[red]{text}✗[/red]"
+
+
+def shown(check: Check) -> bool:
+    """Whether a table shows a check: it has a value, or the unit's source rates nothing.
+
+    The second is a precision target on a unit whose catalog gives no stiffness: its cell
+    says ``not rated`` rather than the column being left out.
+    """
+    return check.value is not None or "not_rated" in check.detail
 
 
 def ratio_text(ratio: float | None) -> str:

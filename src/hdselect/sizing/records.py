@@ -21,6 +21,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.mounting import NAMED_BASES, mounting_name, shown_numbers
 from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.loads import JointLoad
+from hdselect.sizing.precision_records import precision_json
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
 
@@ -320,7 +321,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
     ``per_task`` (the joint's unit checked against each counted task alone); a slow-down
     (every task s times slower, at the same shares) gives ``task_cycle_times_s``. A joint
     no unit fits has its ``diagnosis`` (`hdselect.sizing.diagnosis.Diagnosis.to_dict`;
-    None for a joint with a unit).
+    None for a joint with a unit). ``precision`` holds the precision figures
+    (`hdselect.sizing.precision_records.precision_json`; None without them).
     """
     result = with_diagnoses(result)
     options = result.options
@@ -406,6 +408,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
         "payload": payload_json(result.robot),
         "warnings": list(result.warnings),
         "joint_loads": [joint_load_json(load) for load in result.loads],
+        "precision": precision_json(result),
         **mix,
     }
 
