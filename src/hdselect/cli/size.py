@@ -36,7 +36,7 @@ def run_size(args: argparse.Namespace) -> int:
     args.held.shown(SHOWN_LOGGERS)  # the table, the JSON and the report list them
     sys.stdout.write(table)
     say_written(report_and_json(args), args)
-    return EXIT_OK if result.feasible else EXIT_NO_FIT
+    return EXIT_OK if result.feasible and result.targets_met else EXIT_NO_FIT
 
 
 def run_compare(args: argparse.Namespace) -> int:
@@ -65,7 +65,7 @@ def run_compare(args: argparse.Namespace) -> int:
         outputs.commit()
     sys.stdout.write(text)
     say_written(report_and_json(args), args)
-    return EXIT_OK if result.feasible else EXIT_NO_FIT
+    return EXIT_OK if result.feasible and result.targets_met else EXIT_NO_FIT
 
 
 def _sized(problem: Any, args: argparse.Namespace) -> Any:

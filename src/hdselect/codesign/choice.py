@@ -22,13 +22,14 @@ from hdselect.codesign.pathbounds import PathInfeasible
 from hdselect.codesign.payloadbounds import duty_bounds
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
+from hdselect.motion.option_specs import OPTION
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.motion.planning.solve import solve_motion
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import checked_motors, fixed_units
 from hdselect.sizing.core import size_tasks
 from hdselect.sizing.diagnosis import Diagnosis, diagnosis_of, with_diagnoses
-from hdselect.sizing.options import Options
+from hdselect.sizing.options import WHOLE_ARM_TARGETS, Options
 from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
 from hdselect.sizing.result import Motors, SizingResult
 from hdselect.sizing.tasks import Task
@@ -209,6 +210,27 @@ def duty_of(robot: Robot | Problem, motion: Motion | Mix | None, options: Option
                           if task.motion is not None), tuple(task.share for task in counted),
                     planned.idle, mix, counted)
     return duty, problem.options, problem.units, problem.motors
+
+
+def refuse_arm_targets(options: Options, what: str) -> None:
+    """Refuse a whole-arm precision target where a solver does not judge it.
+
+    Args:
+        options: The assumptions resolved.
+        what: What the solver finds, in words (``"the shortest cycle"``).
+
+    Raises:
+        InputError: A whole-arm target is set; the field names its flag and file key.
+    """
+    for name in WHOLE_ARM_TARGETS:
+        if getattr(options, name) is not None:
+            option = OPTION[name]
+            table, key = str(option.key).split(".")
+            raise InputError(f"{what} is bounded by the per-joint rules and targets only: a "
+                             "whole-arm target (the tool's sag, the arm's lowest mode) is "
+                             "judged by `hdselect size`, which raises units for it; leave it "
+                             "out here and give the units size chooses (--units)",
+                             field=f"{option.flag} ([{table}] {key})")
 
 
 def choose(robot: Robot, duty: Duty, given: Mapping[str, Unit | str] | None,

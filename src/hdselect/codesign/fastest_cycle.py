@@ -35,7 +35,7 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
 from hdselect.codesign.bindings import bindings
-from hdselect.codesign.choice import Duty, choose, duty_of
+from hdselect.codesign.choice import Duty, choose, duty_of, refuse_arm_targets
 from hdselect.codesign.fastest_result import (
     FastestResult,
     JointRatios,
@@ -97,6 +97,7 @@ def fastest(robot: Robot | Problem, motion: Motion | Mix | None = None,
     """
     duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors,
                                                  units=units)
+    refuse_arm_targets(options, "the shortest cycle")
     chosen, _, paired = choose(duty.robot, duty, units, catalog, options, candidates,
                                selection=False)
     return _fastest(_models(duty, options), chosen, options, paired, duty)
@@ -128,6 +129,7 @@ def compare_ratios(robot: Robot | Problem, motion: Motion | Mix | None = None,
     """
     duty, options, catalog, candidates = duty_of(robot, motion, options, catalog, motors,
                                                  units=units, joints=joints)
+    refuse_arm_targets(options, "the shortest cycle")
     chosen, selected, paired = choose(duty.robot, duty, units, catalog, options, candidates)
     names = list(duty.robot.sized_joints)
     if joints is not None and (isinstance(joints, str) or not isinstance(joints, Sequence)

@@ -32,7 +32,7 @@ from hdselect.catalog.rules import Candidate
 from hdselect.catalog.rules.forms import Interval
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
-from hdselect.codesign.choice import duty_of
+from hdselect.codesign.choice import duty_of, refuse_arm_targets
 from hdselect.codesign.payloadbounds import UnitBound, duty_bounds
 from hdselect.codesign.payloadsizing import (
     PayloadSizing,
@@ -160,6 +160,7 @@ def max_payload(robot: Robot | Problem, motion: Motion | Mix | None = None,
         robot, motion, options, catalog, motors, what="", units=units, frame=frame, com=com,
         trajectory=trajectory, tasks=tasks)
     expect_type(trajectory, (Trajectory, type(None)), "trajectory", "a Trajectory or None")
+    refuse_arm_targets(options, "the largest payload")
     for item in duty.motions:
         if item.planner == "toppra" and item.torque_limit is not None:
             raise InputError("the TOPPRA torque limits make the trajectory depend on the "

@@ -218,6 +218,14 @@ class SizingResult:
         return all(joint.selected is not None for joint in self.joints)
 
     @property
+    def targets_met(self) -> bool:
+        """Every whole-arm precision target given is met (none given: True).
+
+        A target that could not be judged (a unit rates no stiffness) is not met.
+        """
+        return self.precision is None or all(check.ok for check in self.precision.targets)
+
+    @property
     def cycle_time(self) -> float:
         """Cycle time [s]."""
         return self.trajectory.duration
