@@ -43,7 +43,9 @@ def run_compare(args: argparse.Namespace) -> int:
     """``hdselect compare``: every unit against every joint."""
     from dataclasses import replace
 
+    from hdselect.report.precision_tables import verdict_lines
     from hdselect.report.size_tables import compare_table
+    from hdselect.report.tables import Paragraphs
     from hdselect.sizing.arguments import not_sized
 
     problem = sizing_problem(args)
@@ -61,6 +63,8 @@ def run_compare(args: argparse.Namespace) -> int:
         for joint in shown.joints:
             tables += [""] if tables else []
             tables.append(compare_table(result, joint))
+        if result.precision is not None and result.precision.targets:
+            tables += ["", Paragraphs(tuple(verdict_lines(result.precision)))]
         text = "" if to_stdout(args) else rendered(*tables)
         outputs.commit()
     sys.stdout.write(text)

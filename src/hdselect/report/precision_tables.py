@@ -50,7 +50,7 @@ def precision_tables(result: SizingResult) -> list[object]:
                          and joint.name not in unheld(result)}) or ["no unit chosen"]
         return ["", Paragraphs((f"Precision: {STIFFNESS_NOT_RATED} ({', '.join(units)}): no "
                                 "twist, tool deflection or natural frequency; "
-                                f"{SERIES_HINT}.",))]
+                                f"{SERIES_HINT}.", *verdict_lines(found)))]
     missing = unheld(result)
     rows = tuple(_none(joint) if joint.name in missing else _row(result, joint)
                  for joint in found.joints)
@@ -130,9 +130,7 @@ def precision_notes(result: SizingResult, found: Precision) -> list[str]:
         notes.append(f"arm: lowest mode {_hz(float(modes.frequencies[modes.lowest, 0]))} Hz "
                      f"{pose_text(result, int(modes.samples[modes.lowest]))}; its shape "
                      f"{shape} (each unit's K1 a spring, the inputs held by their servos).")
-    for target in found.targets:
-        notes.append(target_text(target))
-    notes += [raised_text(raised) for raised in found.raised]
+    notes += verdict_lines(found)
     if found.not_rated:
         units = sorted({j.unit.id for j in found.joints if j.name in found.not_rated
                         and j.unit is not None and j.name not in unheld(result)})
@@ -173,6 +171,12 @@ def precision_warnings(result: SizingResult) -> list[str]:
     if units:
         lines.append(f"{', '.join(units)}: {NOT_RATED_NOTE} (precision).")
     return lines
+
+
+def verdict_lines(found: Precision) -> list[str]:
+    """Each whole-arm target's verdict and each unit raised for one, a line each."""
+    return ([target_text(target) for target in found.targets]
+            + [raised_text(raised) for raised in found.raised])
 
 
 def raised_text(raised: Raise) -> str:

@@ -1,0 +1,44 @@
+"""A whole-arm target's verdict as the command line gives it: a result (exit 1) where it is
+missed, a refusal (exit 2) where a command does not judge it."""
+
+from __future__ import annotations
+
+import pytest
+
+from helpers import REPO, run
+
+PLANAR2 = REPO / "trajectories" / "planar2_pick_place.toml"
+SHG = ("--series", "shg-2uh")
+
+
+@pytest.mark.parametrize("command", ["size", "compare"])
+def test_a_target_the_catalog_cannot_meet_is_a_result_with_exit_1(capsys, command):
+    status, out, err = run(capsys, command, PLANAR2, *SHG, "--max-tool-deflection", "1e-6")
+    assert status == 1, err
+    assert "cannot be met by this catalog" in " ".join(out.split())
+
+
+def test_a_target_met_exits_0(capsys):
+    status, out, err = run(capsys, "size", PLANAR2, *SHG, "--max-tool-deflection", "10")
+    assert status == 0, err
+    assert "target met" in " ".join(out.split())
+
+
+@pytest.mark.parametrize("command", [["fastest"], ["fastest", "--compare-ratios"],
+                                     ["max-payload"]])
+@pytest.mark.parametrize("target", [["--max-tool-deflection", "1"],
+                                    ["--min-arm-frequency", "hand-axes"]])
+def test_the_solvers_that_raise_no_units_refuse_a_whole_arm_target(capsys, command, target):
+    status, out, err = run(capsys, *command, PLANAR2, *SHG, *target)
+    assert status == 2 and out == ""
+    assert err.startswith(f"hdselect: error: {target[0]} ([precision] ")
+    assert "judged by `hdselect size`" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_target_on_units_that_rate_no_stiffness_says_not_judged(capsys):
+    # PSA-G alone: the figures are not rated, and the target says it could not be judged
+    status, out, err = run(capsys, "size", PLANAR2, "--min-arm-frequency", "8")
+    assert status == 1, err
+    flat = " ".join(out.split())
+    assert "Precision: not rated by the source" in flat
+    assert "target NOT met: lowest arm mode not judged, at least 8 Hz" in flat
