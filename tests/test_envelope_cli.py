@@ -301,14 +301,14 @@ def test_every_envelope_option_changes_the_answer_or_is_refused(capsys, tmp_path
 
 def test_the_effects_table_covers_every_option_of_envelope():
     from hdselect.cli.main import _parser
-    from helpers.options import OTHER, PRECISION_PENDING, STIFFNESS_TARGETS
+    from helpers.options import NO_FIGURES, OTHER, STIFFNESS_TARGETS
     from helpers.options import effect_options as effect_options
 
     options = effect_options(_parser())["envelope"]
     # --xacro-arg needs a .xacro robot: test_xacro.test_the_envelope_takes_xacro_arguments;
     # the precision targets act on stiffness-rated units: test_precision_rules
     assert options == {row[0] for row in ENVELOPE_EFFECTS} | set(ENVELOPE_OUTPUTS) | {
-        "--xacro-arg", *PRECISION_PENDING, *STIFFNESS_TARGETS}
+        "--xacro-arg", *NO_FIGURES, *STIFFNESS_TARGETS}
     assert set(OTHER["envelope"]) == options
 
 

@@ -40,12 +40,16 @@ SIZING = [
     ("--series", ["ACME"], ["--catalog", "acme.toml"]),  # PSA-G left out
     ("--max-torsion", ["0.5"], ["--series", "shg-2uh"]),  # PSA-G rates no stiffness
     ("--min-natural-frequency", ["hand-axes"], ["--series", "shg-2uh"]),
+    ("--max-tool-deflection", ["0.005"], ["--series", "shg-2uh"]),  # refused: fastest, ...
+    ("--min-arm-frequency", ["laser-welding-hand-axes"], ["--series", "shg-2uh"]),
 ]
 """Options every sizing command takes, with a value that must change its answer."""
 
 EFFECTS = {
-    "size": [*SIZING, ("--payload", ["0.9"]), ("--report", ["rep"])],
+    "size": [*SIZING, ("--payload", ["0.9"]), ("--report", ["rep"]),
+             ("--no-precision", [], ["--series", "shg-2uh"])],
     "compare": [*SIZING, ("--payload", ["0.9"]), ("--report", ["rep"]),
+                ("--no-precision", [], ["--series", "shg-2uh"]),
                 ("--joint", ["elbow"])],
     "fastest": [*[row for row in SIZING if row[0] != "--catalog"], ("--payload", ["0.9"]),
                 ("--catalog", ["acme.toml"], ["--compare-ratios"]),  # more units compared

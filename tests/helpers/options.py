@@ -69,9 +69,9 @@ dwell = 0.2
 """planar2's first move and back: co-design in a second."""
 
 
-PRECISION_PENDING = ("--max-tool-deflection", "--min-arm-frequency", "--no-precision")
-"""The precision options whose effect (the precision figures, the whole-arm targets) comes
-with the figures and targets of issue 30; their rows join the tables with them."""
+NO_FIGURES = ("--no-precision",)
+"""fastest and max-payload print no precision figures: --no-precision only spares their
+inner sizings the figures' cost (test_precision_figures checks what it leaves out)."""
 STIFFNESS_TARGETS = ("--max-torsion", "--min-natural-frequency")
 """The per-joint precision targets: PSA-G rates no stiffness, so on envelope's PSA-G
 table they act on nothing; test_precision_rules runs envelope with SHG-2UH units."""
@@ -85,10 +85,10 @@ OTHER = {
     "study": ["--out", "--workers", "--scheduler", "--timeout", "--no-grouping", "--retry-failed",
               "--plot"],
     "plan": ["--out", "--xacro-arg"],
-    "size": ["--json", "--bom", "--xacro-arg", *PRECISION_PENDING],
-    "compare": ["--json", "--bom", "--xacro-arg", *PRECISION_PENDING],
-    "fastest": ["--json", "--xacro-arg", *PRECISION_PENDING],
-    "max-payload": ["--json", "--prefer", "--xacro-arg", *PRECISION_PENDING],
+    "size": ["--json", "--bom", "--xacro-arg"],
+    "compare": ["--json", "--bom", "--xacro-arg"],
+    "fastest": ["--json", "--xacro-arg", *NO_FIGURES],
+    "max-payload": ["--json", "--prefer", "--xacro-arg", *NO_FIGURES],
     "envelope": [*(row[0] for row in ENVELOPE_EFFECTS), *ENVELOPE_OUTPUTS, "--xacro-arg"],
 }
 """Options covered elsewhere (test_cli, test_study, test_outputs, test_bad_input): outputs,
