@@ -42,3 +42,40 @@ def test_a_target_on_units_that_rate_no_stiffness_says_not_judged(capsys):
     flat = " ".join(out.split())
     assert "Precision: not rated by the source" in flat
     assert "target NOT met: lowest arm mode not judged, at least 8 Hz" in flat
+
+
+def test_a_class_named_is_flagged_as_a_transcription_in_every_output(capsys, tmp_path):
+    import json
+    import pickle
+
+    from hdselect import Options
+    from hdselect.catalog.stiffness import ClassFrequency
+
+    given = Options(min_natural_frequency={"elbow": "hand-axes"}, min_arm_frequency="scara")
+    assert given.min_natural_frequency["elbow"] == 15.0 and given.min_arm_frequency == 15.0
+    assert isinstance(given.min_arm_frequency, ClassFrequency)
+    assert pickle.loads(pickle.dumps(given)).min_arm_frequency.name == "scara"  # study workers
+    out_json = tmp_path / "out.json"
+    status, out, err = run(capsys, "size", PLANAR2, *SHG, "--min-natural-frequency",
+                           "hand-axes", "--max-torsion", "elbow=2", "--json", out_json)
+    assert status in (0, 1), err
+    flat = " ".join(out.split())
+    assert "precision targets: twist at most 2 arcmin (elbow); f_n at least 15 Hz" in flat
+    assert "hand-axes 15 Hz: Harmonic Drive's application classes as publicly transcribed" \
+        in flat
+    targets = json.loads(out_json.read_text())["assumptions"]["precision_targets"]
+    assert targets["max_torsion_arcmin"] == {"elbow": pytest.approx(2.0)}
+    assert targets["min_natural_frequency_hz"] == {"*": 15.0}
+    assert "publicly transcribed" in targets["classes"]
+
+
+def test_a_frequency_given_as_a_number_is_the_designers_own(capsys, tmp_path):
+    import json
+
+    out_json = tmp_path / "out.json"
+    status, out, err = run(capsys, "size", PLANAR2, *SHG, "--min-natural-frequency", "15",
+                           "--json", out_json)
+    assert status in (0, 1), err
+    assert "transcribed" not in " ".join(out.split())
+    targets = json.loads(out_json.read_text())["assumptions"]["precision_targets"]
+    assert targets["classes"] is None and targets["max_tool_deflection_mm"] is None

@@ -172,3 +172,45 @@ APPLICATION_CLASSES: Mapping[str, ApplicationClass] = MappingProxyType({
     )})
 """Harmonic Drive's application classes by the name a user types (``hand-axes``): the
 single-axis natural frequency each recommends [Hz], in its words, with its source."""
+
+
+class ClassFrequency(float):
+    """A frequency [Hz] given by an application class's name: the number, and the name.
+
+    Where a target is given as a class, every report names the class and says where its
+    number comes from (`class_note`).
+
+    Attributes:
+        name: The class's name in `APPLICATION_CLASSES`.
+    """
+
+    name: str
+
+    def __new__(cls, name: str) -> ClassFrequency:
+        """The frequency of the class named `name` (a key of `APPLICATION_CLASSES`)."""
+        value = super().__new__(cls, APPLICATION_CLASSES[name].frequency)
+        value.name = name
+        return value
+
+    def __reduce__(self) -> tuple[type, tuple[str]]:
+        """Pickled by its name (a study's workers receive it)."""
+        return ClassFrequency, (self.name,)
+
+
+def class_note(values: object) -> str:
+    """The classes among a target's values, each with its frequency and its source's kind.
+
+    Args:
+        values: A frequency, or a mapping (joint -> frequency), or None.
+
+    Returns:
+        E.g. ``"hand-axes 15 Hz (as publicly transcribed, ...)"``; empty where no value
+        came from a class.
+    """
+    found = values.values() if isinstance(values, Mapping) else (values,)
+    names = sorted({value.name for value in found if isinstance(value, ClassFrequency)})
+    if not names:
+        return ""
+    return (", ".join(f"{name} {APPLICATION_CLASSES[name].frequency:g} Hz" for name in names)
+            + ": Harmonic Drive's application classes as publicly transcribed "
+              "(AimanHaidar/harmonic-drive-selector), not read from the vendor's page")

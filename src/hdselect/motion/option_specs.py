@@ -24,7 +24,7 @@ from hdselect.catalog.select import (
     DEFAULT_PREFER_WITH_MOTORS,
     PREFERENCES,
 )
-from hdselect.catalog.stiffness import APPLICATION_CLASSES
+from hdselect.catalog.stiffness import APPLICATION_CLASSES, ClassFrequency
 from hdselect.catalog.units import RAD_PER_ARCMIN
 
 DEFAULT_STOP_TIME = 0.1
@@ -190,12 +190,14 @@ class Option:
     def _number(self, value: Any, path: Path | None, field: str, edge: bool) -> float:
         """One number [SI]: given in SI, or with `edge` in `scale`s; or a class's name."""
         bound = cast(bounds.Bound, self.bound)  # set for a number and joints
+        if self.classes and isinstance(value, ClassFrequency):
+            return value  # a class's number, checked when its name was read
         if self.classes and isinstance(value, str):
             if value not in self.classes:
                 raise InputError(f"unknown application class {value!r}; give a number "
                                  f"[{bound.unit}] or one of: {', '.join(self.classes)}",
                                  path=path, field=field)
-            return self.classes[value]
+            return ClassFrequency(value)
         scale = self.scale if edge else 1.0
         return bound.check(value, path=path, field=field, scale=scale,
                            unit=self.edge_unit if edge else None) * scale

@@ -14,6 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from hdselect.catalog.stiffness import class_note
+from hdselect.motion.option_specs import EVERY_JOINT
+from hdselect.sizing.options import Options
 from hdselect.sizing.precision import ArmModes, JointPrecision, Precision, ToolDeflection
 from hdselect.sizing.result import SizingResult
 
@@ -96,6 +99,46 @@ def finite(value: float | None) -> float | None:
 def arcmin(angle: float | None) -> float | None:
     """An angle [rad] in arcmin; None stays None."""
     return None if angle is None else angle * ARCMIN_PER_RAD
+
+
+def targets_text(options: Options) -> str:
+    """The precision targets given, in the designer's units, for the assumptions; empty: none.
+
+    A target given as an application class names it and where its number comes from.
+    """
+    parts = []
+    for name, words, scale, unit in (("max_torsion", "twist at most", ARCMIN_PER_RAD, "arcmin"),
+                                     ("min_natural_frequency", "f_n at least", 1.0, "Hz")):
+        given = getattr(options, name)
+        if given:
+            parts.append(f"{words} " + ", ".join(
+                f"{value * scale:.3g} {unit} ({'every joint' if joint == EVERY_JOINT else joint})"
+                for joint, value in given.items()))
+    if options.max_tool_deflection is not None:
+        parts.append(f"tool sag held at most {options.max_tool_deflection * MM_PER_M:.3g} mm")
+    if options.min_arm_frequency is not None:
+        parts.append(f"arm's lowest mode at least {options.min_arm_frequency:.3g} Hz")
+    notes = [note for note in (class_note(options.min_natural_frequency),
+                               class_note(options.min_arm_frequency)) if note]
+    return "; ".join(parts) + "".join(f" ({note})" for note in dict.fromkeys(notes))
+
+
+def targets_json(options: Options) -> dict[str, Any]:
+    """The precision targets given, in the designer's units (null: none); the classes' note.
+
+    A per-joint target is joint name -> value, ``"*"`` for every joint not named.
+    """
+    return {
+        "max_torsion_arcmin": {joint: value * ARCMIN_PER_RAD
+                               for joint, value in options.max_torsion.items()} or None,
+        "min_natural_frequency_hz": dict(options.min_natural_frequency) or None,
+        "max_tool_deflection_mm": (None if options.max_tool_deflection is None
+                                   else options.max_tool_deflection * MM_PER_M),
+        "min_arm_frequency_hz": options.min_arm_frequency,
+        "classes": "; ".join(dict.fromkeys(note for note in (
+            class_note(options.min_natural_frequency), class_note(options.min_arm_frequency))
+            if note)) or None,
+    }
 
 
 def precision_json(result: SizingResult) -> dict[str, Any] | None:

@@ -21,7 +21,11 @@ from hdselect.robot.model import Robot
 from hdselect.robot.mounting import NAMED_BASES, mounting_name, shown_numbers
 from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.loads import JointLoad
-from hdselect.sizing.precision_records import precision_json
+from hdselect.sizing.precision_records import (
+    precision_json,
+    targets_json,
+    targets_text,
+)
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import cycle_of
 
@@ -196,6 +200,7 @@ def assumptions(result: SizingResult) -> dict[str, str]:
         **({"design margin": margin_text(options.margin)} if options.margin > 0.0 else {}),
         **({"largest inertia ratio": inertia_limit_text(result)}
            if result.motors and _inertia_limited(result) else {}),
+        **({"precision targets": targets} if (targets := targets_text(options)) else {}),
         "required life": ("none" if options.life_hours is None
                           else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
@@ -401,7 +406,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
                        if result.motors else None),
             "motor_rules": MOTOR_MODEL_NOTE if result.motors else None,
             "bearing_offset_m": dict(options.bearing_offset),
-            "bearing_loads": options.bearing_loads, "bearing_rule": BEARING_RULE_NOTE},
+            "bearing_loads": options.bearing_loads, "bearing_rule": BEARING_RULE_NOTE,
+            "precision": options.precision, "precision_targets": targets_json(options)},
         "motors": [motor_json(m) for m in _distinct(result.motors)],
         "joints": joints,
         "root_link": result.robot.root_link,
