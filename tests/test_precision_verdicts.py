@@ -79,3 +79,13 @@ def test_a_frequency_given_as_a_number_is_the_designers_own(capsys, tmp_path):
     assert "transcribed" not in " ".join(out.split())
     targets = json.loads(out_json.read_text())["assumptions"]["precision_targets"]
     assert targets["classes"] is None and targets["max_tool_deflection_mm"] is None
+
+
+def test_fastest_says_when_a_torsion_target_sets_the_torque_limit(capsys):
+    status, out, err = run(capsys, "fastest", PLANAR2, *SHG, "--max-torsion", "1")
+    assert status == 0, err
+    flat = " ".join(out.split())
+    assert "the unit's repeated peak, or where a torsion target is tighter, the torque at " \
+           "which the unit twists by it" in flat
+    status, out, err = run(capsys, "fastest", PLANAR2, *SHG)
+    assert "twists by it" not in " ".join(out.split())

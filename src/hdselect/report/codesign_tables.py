@@ -142,13 +142,17 @@ def _fastest_notes(result: FastestResult, angle: str) -> list[str]:
                                       "piecewise-constant path acceleration."
                                       if motion.jerk_limit is not None else ""))
     lowest = "" if alone is not None else " (a mix: the lowest over its tasks)"
+    by_twist = any(limit.torque_by == "torsion" for item in result.tasks
+                   for limit in item.limits.values())
     notes.append("rule: the rule with the highest utilization on the result (* catalog "
                  f"stand-in). speed limit [{angle}/s, the motion file's angle "
                  "unit]: the lowest of the "
                  "motion file's, the robot file's and the unit's (maximum input speed / ratio)"
-                 f"{lowest}. torque limit [N m]: the unit's repeated peak (derated: the "
-                 "fraction kept). binds longest: the joint's limit that is the closest to its "
-                 "bound of all for the longest share of the moving time"
+                 f"{lowest}. torque limit [N m]: the unit's repeated peak"
+                 + (", or where a torsion target is tighter, the torque at which the unit "
+                    "twists by it" if by_twist else "")
+                 + " (derated: the fraction kept). binds longest: the joint's limit that is "
+                 "the closest to its bound of all for the longest share of the moving time"
                  + ("." if alone is not None else " (of the duty: each task's as often as "
                     "it runs)."))
     notes.append("Assumptions: " + "; ".join(f"{k}: {v}" for k, v in
