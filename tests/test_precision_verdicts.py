@@ -89,3 +89,12 @@ def test_fastest_says_when_a_torsion_target_sets_the_torque_limit(capsys):
            "which the unit twists by it" in flat
     status, out, err = run(capsys, "fastest", PLANAR2, *SHG)
     assert "twists by it" not in " ".join(out.split())
+
+
+def test_the_envelope_prints_its_dutys_precision_section_and_says_whose(capsys):
+    spec = REPO / "trajectories" / "envelopes" / "benchtop6_dispensing.toml"
+    status, out, err = run(capsys, "envelope", spec, *SHG, "--starts", "64")
+    assert status == 0, err
+    flat = " ".join(out.split())
+    assert "Precision: each unit's twist" in flat and "tool 'tool0': sags" in flat
+    assert "The precision figures above are the duty's" in flat

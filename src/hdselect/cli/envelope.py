@@ -151,13 +151,28 @@ def run_envelope(args: argparse.Namespace) -> int:
             _write_report(args, result, report)
         text = "" if to_stdout(args) else rendered(envelope_table(result), "",
                                                       limits_table(result), "",
-                                                      states_text(result))
+                                                      states_text(result),
+                                                      *_precision(result))
         outputs.commit()
     sys.stdout.write(text)
     page = args.report if args.report in (None, "-") else str(Path(args.report) / "index.html")
     say_written([(page, "the envelope, with the duty's own report in duty/"
                   if args.report != "-" else None), (args.json, None)], args)
     return EXIT_OK if result.feasible else EXIT_NO_FIT
+
+
+def _precision(result) -> list[object]:
+    """The duty's precision section, said to be the duty's (the worst states have no cycle)."""
+    from hdselect.report.precision_tables import precision_tables
+    from hdselect.report.tables import Paragraphs
+
+    section = precision_tables(result.sizing)
+    if result.sizing.precision is None or not any(j.rated for j in result.sizing.precision.joints):
+        return section
+    return [*section, Paragraphs(("The precision figures above are the duty's, along its "
+                                  "samples; the worst states of the spec are judged by the "
+                                  "per-joint targets' rules (the table above the spec), not "
+                                  "drawn here.",))]
 
 
 def _write_report(args: argparse.Namespace, result, report: Path) -> None:
