@@ -108,7 +108,10 @@ class Spread:
         chunks = np.array_split(x, max(1, min(len(x), CHUNKS_PER_WORKER * self.workers)))
         robot, joints = shippable(robot), list(joints)
         if self._client is not None:
-            shared = self._client.scatter([robot, box], broadcast=True)
+            # keys of their own (hash=False): the same robot and box scattered again by the
+            # next round would share the last round's keys, which that round's release can
+            # drop while the new tasks still need them ("lost dependencies")
+            shared = self._client.scatter([robot, box], broadcast=True, hash=False)
             futures = [self._client.submit(_chunk_demands, shared[0], shared[1], chunk, joints,
                                            stop_time, pure=False) for chunk in chunks]
             parts = self._client.gather(futures)
