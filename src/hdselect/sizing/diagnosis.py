@@ -42,8 +42,7 @@ from hdselect.sizing.nextsteps import (
 )
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import JointSizing, SizingResult
-from hdselect.sizing.tasks import Task, pooled
-from hdselect.sizing.torques import carrying
+from hdselect.sizing.tasks import Task, carrying, pooled
 
 
 @dataclass(frozen=True)

@@ -46,7 +46,7 @@ from hdselect.sizing.deflection import (
     tool_frame,
 )
 from hdselect.sizing.options import Options
-from hdselect.sizing.tasks import Samples, task_rows
+from hdselect.sizing.tasks import Samples, carrying, task_rows
 
 PRECISION_POSES = 1000
 """Most poses at which the tool's deflection and the natural frequencies are evaluated."""
@@ -225,8 +225,7 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
     samples, robot = model.samples, model.robot
     units = {j.name: (j.selected or j.strongest).unit for j in joints}
     springs = tuple(j.name for j in joints if rates_torsion(units[j.name].stiffness))
-    robots = [task.robot.with_gearheads({k: masses[k] for k in robot.sized_joints
-                                         if k in masses}) for task in samples.tasks]
+    robots = [carrying(task, masses, robot.sized_joints) for task in samples.tasks]
     poses = evaluated_poses(samples, [j.torque for j in joints])
     moving = np.any(samples.qd != 0.0, axis=0)
     rigid = tuple(name for j, name in enumerate(robot.joint_names)

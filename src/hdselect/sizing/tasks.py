@@ -16,7 +16,7 @@ other rule is over the time the robot works.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -57,6 +57,13 @@ class Task:
         if self.name:
             return self.name
         return self.motion.path.name if self.motion is not None else "task"
+
+
+
+def carrying(task: Task, masses: Mapping[str, float], sized: Sequence[str]) -> Robot:
+    """The task's robot with each sized joint's unit mass [kg] carried, in joint order."""
+    ordered = {name: masses[name] for name in sized if name in masses}
+    return task.robot.with_gearheads(ordered) if ordered else task.robot
 
 
 @dataclass(frozen=True, eq=False)

@@ -30,7 +30,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches, distinct_axis_wrenches
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
-from hdselect.sizing.tasks import Samples, Task
+from hdselect.sizing.tasks import Samples, Task, carrying
 
 GRAVITY_SAMPLES = 400
 """Poses per task, evenly spread over its cycle, at which the gravity torque (the
@@ -236,12 +236,6 @@ class DirectTorques:
     def _carrying(self, task: Task, masses: Mapping[str, float]) -> Robot:
         """The task's robot with the units' masses, in the robot's joint order."""
         return carrying(task, masses, self.robot.sized_joints)
-
-
-def carrying(task: Task, masses: Mapping[str, float], sized: Sequence[str]) -> Robot:
-    """The task's robot with each sized joint's unit mass [kg] carried, in joint order."""
-    ordered = {name: masses[name] for name in sized if name in masses}
-    return task.robot.with_gearheads(ordered) if ordered else task.robot
 
 
 def _pooled(parts: list[tuple[np.ndarray, np.ndarray | None]]
