@@ -28,6 +28,18 @@ from hdselect.catalog.rules.masses import EVERY_MASS, masses_within, spans
 from hdselect.catalog.units import Unit
 
 
+def torque_rows(terms: ScaleTerms, read: np.ndarray | slice, limit: float) -> Sequence[Rows]:
+    """|g + (v + i) y^2| <= limit [N m] at the samples read, as time-scale rows in y = 1/s."""
+    g = terms.gravity[read]
+    return within(terms.velocity[read] + terms.inertial[read], np.zeros_like(g), g, limit)
+
+
+def torque_masses(case: PayloadCase, read: np.ndarray | slice,
+                  limit: float) -> tuple[Interval, ...]:
+    """The payload masses x [kg] at which |tau0 + x tau1| <= limit [N m] at the samples read."""
+    return spans(masses_within(case.tau0[read], case.tau1[read], limit))
+
+
 class TorqueLimit(UnitLimit):
     """The largest |T| of the samples at rest (or of the moving ones) within a unit's limit.
 
@@ -50,10 +62,8 @@ class TorqueLimit(UnitLimit):
         """|g + (v + i) y^2| <= the limit at every sample read; no rows where not rated."""
         if not self.rated(unit):
             return []
-        read = terms.at_rest if self.at_rest else ~terms.at_rest
-        g = terms.gravity[read]
-        return within(terms.velocity[read] + terms.inertial[read], np.zeros_like(g), g,
-                      self.allowed(unit, margin))
+        return torque_rows(terms, terms.at_rest if self.at_rest else ~terms.at_rest,
+                           self.allowed(unit, margin))
 
     def prefilter(self, batch: UnitBatch) -> np.ndarray | None:
         """See `Rule.prefilter`; None where no sample is read (the check then holds)."""
@@ -66,9 +76,8 @@ class TorqueLimit(UnitLimit):
         """|tau0 + x tau1| <= the limit at every sample read; every mass where not rated."""
         if not self.rated(case.unit):
             return EVERY_MASS
-        read = case.rest if self.at_rest else ~case.rest
-        return spans(masses_within(case.tau0[read], case.tau1[read],
-                                   self.allowed(case.unit, case.margin)))
+        return torque_masses(case, case.rest if self.at_rest else ~case.rest,
+                             self.allowed(case.unit, case.margin))
 
     def path_rows(self, case: PathCase) -> list[Any]:
         """|tau| <= the limit in a piece where the joint does not move (at rest) or moves.

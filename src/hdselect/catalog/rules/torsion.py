@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope, within
+from hdselect.catalog.rules.base import Check, Part, Rule, RuleInput, Scope
 from hdselect.catalog.rules.forms import (
     Interval,
     PathBound,
@@ -19,7 +19,8 @@ from hdselect.catalog.rules.forms import (
     UnitBatch,
 )
 from hdselect.catalog.rules.load import CycleLoad
-from hdselect.catalog.rules.masses import EVERY_MASS, masses_within, spans
+from hdselect.catalog.rules.masses import EVERY_MASS
+from hdselect.catalog.rules.torque import torque_masses, torque_rows
 from hdselect.catalog.stiffness import rates_torsion, torque_at_torsion, torsion
 from hdselect.catalog.units import RAD_PER_ARCMIN, Stiffness, Unit
 
@@ -79,10 +80,7 @@ class MaxTorsion(Rule):
     def scale_rows(self, terms: ScaleTerms, unit: Unit, margin: float) -> Sequence[Rows]:
         """|g + (v + i) y^2| <= the torque limit at every sample; none without a bound."""
         limit = self.torque_limit(unit, terms.max_torsion)
-        if limit is None:
-            return []
-        return within(terms.velocity + terms.inertial, np.zeros_like(terms.gravity),
-                      terms.gravity, limit)
+        return [] if limit is None else torque_rows(terms, slice(None), limit)
 
     def prefilter(self, batch: UnitBatch) -> np.ndarray | None:
         """Each unit's twist over the target (0: not rated); None without a target."""
@@ -96,9 +94,7 @@ class MaxTorsion(Rule):
     def payload_masses(self, case: PayloadCase) -> tuple[Interval, ...]:
         """|tau0 + x tau1| <= the torque limit at every sample; every mass without a bound."""
         limit = self.torque_limit(case.unit, case.max_torsion)
-        if limit is None:
-            return EVERY_MASS
-        return spans(masses_within(case.tau0, case.tau1, limit))
+        return EVERY_MASS if limit is None else torque_masses(case, slice(None), limit)
 
     def path_rows(self, case: PathCase) -> list[Any]:
         """|tau| within the torque limit, moving and at rest; none without a bound."""
