@@ -98,3 +98,14 @@ def test_the_envelope_prints_its_dutys_precision_section_and_says_whose(capsys):
     flat = " ".join(out.split())
     assert "Precision: each unit's twist" in flat and "tool 'tool0': sags" in flat
     assert "The precision figures above are the duty's" in flat
+
+
+def test_two_targets_given_as_classes_share_one_note():
+    from hdselect import Options
+    from hdselect.sizing.precision_records import targets_json, targets_text
+
+    given = Options(min_natural_frequency={"elbow": "hand-axes"}, min_arm_frequency="base-axes")
+    note = targets_json(given)["classes"]
+    assert note.startswith("base-axes 8 Hz, hand-axes 15 Hz: Harmonic Drive's application "
+                           "classes as publicly transcribed")
+    assert targets_text(given).count("publicly transcribed") == 1

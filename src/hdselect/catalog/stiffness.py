@@ -197,18 +197,19 @@ class ClassFrequency(float):
         return ClassFrequency, (self.name,)
 
 
-def class_note(values: object) -> str:
-    """The classes among a target's values, each with its frequency and its source's kind.
+def class_note(*values: object) -> str:
+    """The classes among targets' values, each with its frequency, and their source's kind.
 
     Args:
-        values: A frequency, or a mapping (joint -> frequency), or None.
+        *values: Each a frequency, a mapping (joint -> frequency), or None.
 
     Returns:
-        E.g. ``"hand-axes 15 Hz (as publicly transcribed, ...)"``; empty where no value
-        came from a class.
+        E.g. ``"hand-axes 15 Hz: Harmonic Drive's application classes as publicly
+        transcribed (...)"``; empty where no value came from a class.
     """
-    found = values.values() if isinstance(values, Mapping) else (values,)
-    names = sorted({value.name for value in found if isinstance(value, ClassFrequency)})
+    found = [item for value in values
+             for item in (value.values() if isinstance(value, Mapping) else (value,))]
+    names = sorted({item.name for item in found if isinstance(item, ClassFrequency)})
     if not names:
         return ""
     return (", ".join(f"{name} {APPLICATION_CLASSES[name].frequency:g} Hz" for name in names)

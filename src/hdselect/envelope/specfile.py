@@ -30,6 +30,7 @@ from hdselect.motion.sizing_table import bearing_offsets
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
+from hdselect.sizing.options import WHOLE_ARM_TARGETS
 
 ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 """Valid values of ``angle_unit`` and their size [rad]."""
@@ -103,10 +104,6 @@ class EnvelopeFile:
     seed: int | None = None
 
 
-ARM_TARGETS = ("max_tool_deflection", "min_arm_frequency")
-"""The whole-arm precision targets, which an envelope refuses (`refuse_arm_targets`)."""
-
-
 def refuse_arm_targets(options: Any, given: Any, file: EnvelopeFile | None,
                        duty: Any) -> None:
     """Refuse a whole-arm precision target: the envelope does not raise units for one.
@@ -126,7 +123,7 @@ def refuse_arm_targets(options: Any, given: Any, file: EnvelopeFile | None,
         InputError: A whole-arm target is set, naming where: the argument (its name), the
             envelope file's key, else the duty's.
     """
-    for name in ARM_TARGETS:
+    for name in WHOLE_ARM_TARGETS:
         if getattr(options, name) is None:
             continue
         key = str(OPTION[name].key)

@@ -118,9 +118,8 @@ def targets_text(options: Options) -> str:
         parts.append(f"tool sag held at most {options.max_tool_deflection * MM_PER_M:.3g} mm")
     if options.min_arm_frequency is not None:
         parts.append(f"arm's lowest mode at least {options.min_arm_frequency:.3g} Hz")
-    notes = [note for note in (class_note(options.min_natural_frequency),
-                               class_note(options.min_arm_frequency)) if note]
-    return "; ".join(parts) + "".join(f" ({note})" for note in dict.fromkeys(notes))
+    note = class_note(options.min_natural_frequency, options.min_arm_frequency)
+    return "; ".join(parts) + (f" ({note})" if note else "")
 
 
 def targets_json(options: Options) -> dict[str, Any]:
@@ -135,9 +134,7 @@ def targets_json(options: Options) -> dict[str, Any]:
         "max_tool_deflection_mm": (None if options.max_tool_deflection is None
                                    else options.max_tool_deflection * MM_PER_M),
         "min_arm_frequency_hz": options.min_arm_frequency,
-        "classes": "; ".join(dict.fromkeys(note for note in (
-            class_note(options.min_natural_frequency), class_note(options.min_arm_frequency))
-            if note)) or None,
+        "classes": class_note(options.min_natural_frequency, options.min_arm_frequency) or None,
     }
 
 
