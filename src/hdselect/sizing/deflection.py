@@ -91,9 +91,9 @@ def tool_frame(samples: Samples) -> str:
 
 
 def tool_figures(robots: Sequence[Robot], placed: Sequence[Placements], samples: Samples,
-          poses: np.ndarray, pieces: Sequence[np.ndarray], frame: str,
-          joints: Sequence[SizedJoint],
-          units: Mapping[str, Unit], held: np.ndarray, options: Options) -> ToolDeflection:
+                 poses: np.ndarray, pieces: Sequence[np.ndarray], frame: str,
+                 joints: Sequence[SizedJoint], units: Mapping[str, Unit], held: np.ndarray,
+                 options: Options) -> ToolDeflection:
     """The tool's deflection along the cycle and holding still, at the evaluated poses."""
     robot = robots[0]
     tilted = tuple(j.name for j in joints if j.wrench is not None

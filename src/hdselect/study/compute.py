@@ -120,7 +120,6 @@ def size_rows(result: dict[str, Any]) -> list[dict[str, Any]]:
     } for joint in result["joints"]]
 
 
-
 def _shortfall(diagnosis: dict[str, Any] | None) -> str | None:
     """A joint without a unit: its diagnosis in words; else None."""
     if diagnosis is None:
