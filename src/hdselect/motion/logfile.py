@@ -6,6 +6,9 @@ are ignored. Numbers are parsed by numpy's C reader (an 8-hour log at 1 kHz,
 29 million rows, reads in well under a minute and in about twice its final
 size); a malformed file is then scanned row by row for the first bad cell, so
 every message names the data row, the line and the column.
+
+Every log's numbers, a CSV file's or a bag's (`hdselect.motion.bagfile`), are checked
+and put in SI units by the one `checked_log`, within the ``[samples]`` window.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ from __future__ import annotations
 import csv
 import io
 import itertools
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -41,7 +44,7 @@ class SampleLog:
     """A logged joint trajectory, in SI units, with time as logged.
 
     Attributes:
-        path: The CSV file it came from.
+        path: The log it came from (a CSV file, or a ROS bag's file or folder).
         t: Sample times [s], strictly increasing, shape (n,).
         q: Joint positions [rad or m], shape (n, dof).
         qd: Joint velocities [rad/s or m/s], shape (n, dof), or None if not logged.
@@ -56,8 +59,8 @@ class SampleLog:
 
 
 def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str],
-             angle: tuple[float, str] | None = None) -> SampleLog:
-    """Read and check a log for a robot's joints.
+             angle: tuple[float, str] | None = None, window: Window | None = None) -> SampleLog:
+    """Read and check a CSV log for a robot's joints.
 
     Columns of mimic followers (``q_<follower>``, a ``joint_states`` export has them)
     are read to check that they agree with their leaders.
@@ -69,16 +72,14 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str],
         scale: SI per file unit of each joint's position (pi/180 for degrees).
         units: The file unit of each joint's position, for messages (``deg``, ``rad``, ``m``).
         angle: SI per unit of the file's angles and its label (default: rad).
+        window: The part of the log to read (default: all of it).
 
     Returns:
         The log in SI units.
 
     Raises:
         InputError: The file cannot be read, a column is missing, unknown or given twice,
-            a cell is not a finite number in range, a position is outside its joint's
-            limits (a follower's included), a follower's column disagrees with its leader,
-            or time does not increase (or two samples are implausibly close). The
-            message names the row and column.
+            or `checked_log` refuses its numbers. The message names the row and column.
     """
     header, header_line = _header(log)
     seen: set[str] = set()
@@ -95,8 +96,8 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str],
                 else:
                     robot.joint_index(name[len(prefix):], source=log, field=name)
                 break
-    kinds = ["q"] + [kind for kind in ("qd", "qdd")
-                     if any(f"{kind}_{n}" in seen for n in robot.joint_names)]
+    kinds = ("q",) + tuple(kind for kind in ("qd", "qdd")
+                           if any(f"{kind}_{n}" in seen for n in robot.joint_names))
     wanted = ["t"] + [f"{kind}_{n}" for kind in kinds for n in robot.joint_names]
     for name in wanted:
         if name not in seen:
@@ -104,39 +105,139 @@ def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str],
                              path=log, field=name)
     columns = [header.index(name) for name in wanted + follower_columns]
     data = _numbers(log, header, header_line, columns)
+    table = LogTable(log, kinds, tuple(wanted + follower_columns), data,
+                     lambda row: _where(log, header_line, row), str,
+                     "a header row and at least two samples")
+    return checked_log(table, robot, scale, units, angle, window)
+
+
+@dataclass(frozen=True)
+class LogTable:
+    """A log's numbers as read, before any check: what a CSV file and a bag both give.
+
+    Attributes:
+        path: The log, for messages.
+        kinds: ``("q",)``, and ``"qd"``, ``"qdd"`` where logged, in that order.
+        columns: ``t``, then ``<kind>_<joint>`` for each kind and each of the robot's
+            joints in its order, then the mimic followers' columns (``q_<follower>``, ...).
+        data: The numbers of each row in the log's units, shape (rows, len(columns)).
+        where: How a message names a 1-based row (``data row R (line L)``).
+        label: The field a message names for a column, in the log's own words.
+        needs: What a log needs at least, for the message of one that is too short.
+    """
+
+    path: Path
+    kinds: tuple[str, ...]
+    columns: tuple[str, ...]
+    data: np.ndarray
+    where: Callable[[int], str]
+    label: Callable[[str], str]
+    needs: str = "at least two samples"
+
+
+@dataclass(frozen=True)
+class Window:
+    """The part of a log to read: ``[samples] start``, ``stop``, in the log's time [s].
+
+    Attributes:
+        path: The motion file that gives it, for messages.
+        start: The first time kept [s], or None for the log's start.
+        stop: The last time kept [s], or None for the log's end.
+    """
+
+    path: Path
+    start: float | None = None
+    stop: float | None = None
+
+    def rows(self, t: np.ndarray) -> np.ndarray:
+        """The indices of the samples within the window, at least two.
+
+        Args:
+            t: The log's times [s], each finite.
+
+        Raises:
+            InputError: Fewer than two samples are within it.
+        """
+        low = -np.inf if self.start is None else self.start
+        high = np.inf if self.stop is None else self.stop
+        rows = np.flatnonzero((t >= low) & (t <= high))
+        if len(rows) < 2:
+            given = ", ".join(f"{key} = {value:g} s" for key, value in
+                              (("start", self.start), ("stop", self.stop)) if value is not None)
+            raise InputError(f"{given} keeps {len(rows)} of the log's samples (its times run "
+                             f"from {t.min():g} to {t.max():g} s); a log needs two or more",
+                             path=self.path,
+                             field="samples.start" if self.start is not None else "samples.stop")
+        return rows
+
+
+def checked_log(table: LogTable, robot: Robot, scale: np.ndarray, units: Sequence[str],
+                angle: tuple[float, str] | None = None,
+                window: Window | None = None) -> SampleLog:
+    """Check a log's numbers and give them in SI units: every log, a CSV file or a bag.
+
+    Args:
+        table: The log as read.
+        robot: The robot: the position limits every logged position must respect.
+        scale: SI per log unit of each joint's position (pi/180 for degrees).
+        units: The log unit of each joint's position, for messages (``deg``, ``rad``, ``m``).
+        angle: SI per unit of the log's angles and its label (default: rad).
+        window: The part of the log to keep (default: all of it).
+
+    Returns:
+        The log (the rows within the window) in SI units.
+
+    Raises:
+        InputError: It has fewer than two samples (in the window), a number is not finite
+            or out of range, a position is outside its joint's limits (a follower's
+            included), a follower disagrees with its leader, or time does not increase
+            (or two samples are implausibly close). The message names the row and column.
+    """
+    log, data = table.path, table.data
     if data.shape[0] < 2:
-        raise InputError("need a header row and at least two samples", path=log)
+        raise InputError(f"need {table.needs}", path=log)
+    _check_column(table, "t", data[:, 0], TIMESTAMP, 1.0, "s", table.where)
+    kept = np.arange(len(data)) if window is None else window.rows(data[:, 0])
+    if len(kept) < len(data):
+        data = data[kept]
+
+    def where(row: int) -> str:
+        return table.where(int(kept[row - 1]) + 1)
+
     t = data[:, 0]
-    _check_column(log, header_line, "t", t, TIMESTAMP, 1.0, "s")
+    dof, wanted = robot.dof, 1 + len(table.kinds) * robot.dof
     arrays: dict[str, np.ndarray] = {}
-    for k, kind in enumerate(kinds):
-        block = data[:, 1 + k * robot.dof:1 + (k + 1) * robot.dof]
+    for k, kind in enumerate(table.kinds):
+        block = data[:, 1 + k * dof:1 + (k + 1) * dof]
         for j, joint in enumerate(robot.joint_names):
             unit = units[j] + _PER_SECOND[kind]
-            _check_column(log, header_line, f"{kind}_{joint}", block[:, j], _KINDS[kind],
-                          float(scale[j]), unit)
+            _check_column(table, f"{kind}_{joint}", block[:, j], _KINDS[kind], float(scale[j]),
+                          unit, where)
         block = block * scale
         if kind == "q":
-            _check_limits(log, header_line, robot, block, scale, units)
+            _check_limits(table, robot, block, scale, units, where)
         arrays[kind] = frozen(block)
     if robot.mimic:
-        check_logged_followers(robot, dict(zip(follower_columns, data[:, len(wanted):].T,
-                                               strict=True)), arrays, angle or (1.0, "rad"),
-                               log, lambda row: _where(log, header_line, row))
+        try:
+            check_logged_followers(robot, dict(zip(table.columns[wanted:], data[:, wanted:].T,
+                                                   strict=True)), arrays, angle or (1.0, "rad"),
+                                   log, where)
+        except InputError as err:
+            raise InputError(err.reason, path=log, field=table.label(err.field or "")) from err
     steps = np.diff(t)
     back = np.flatnonzero(steps <= 0.0)
     if back.size:
         row = int(back[0]) + 2
-        raise InputError(f"time must increase; {_where(log, header_line, row)} has t = "
-                         f"{t[row - 1]:g} after {t[row - 2]:g}", path=log, field="t")
+        raise InputError(f"time must increase; {where(row)} has t = {t[row - 1]:g} after "
+                         f"{t[row - 2]:g}", path=log, field=table.label("t"))
     shortest = max(MIN_STEP, MIN_STEP_FRACTION * float(np.median(steps)))
     close = np.flatnonzero(steps < shortest)
     if close.size:
         row = int(close[0]) + 2
-        raise InputError(f"{_where(log, header_line, row)} is only {steps[row - 2]:.3g} s after "
-                         f"the sample before it, less than {shortest:.3g} s (1e-6 s, or 1e-3 of "
-                         "the log's median period): a duplicated or corrupted time stamp?",
-                         path=log, field="t")
+        raise InputError(f"{where(row)} is only {steps[row - 2]:.3g} s after the sample before "
+                         f"it, less than {shortest:.3g} s (1e-6 s, or 1e-3 of the log's median "
+                         "period): a duplicated or corrupted time stamp?", path=log,
+                         field=table.label("t"))
     return SampleLog(path=log, t=frozen(t), q=arrays["q"], qd=arrays.get("qd"),
                      qdd=arrays.get("qdd"))
 
@@ -228,8 +329,8 @@ def _where(log: Path, header_line: int, row: int) -> str:
     return f"data row {row}"
 
 
-def _check_column(log: Path, header_line: int, name: str, values: np.ndarray,
-                  bound: bounds.Bound, scale: float, unit: str) -> None:
+def _check_column(table: LogTable, name: str, values: np.ndarray, bound: bounds.Bound,
+                  scale: float, unit: str, where: Callable[[int], str]) -> None:
     """Every value finite and within `bound` (checked in SI: value x `scale`)."""
     si = values * scale
     bad = np.flatnonzero(~np.isfinite(si) | (si < bound.low) | (si > bound.high))
@@ -238,17 +339,18 @@ def _check_column(log: Path, header_line: int, name: str, values: np.ndarray,
         value = values[row - 1]
         reason = (f"not a finite number: {value}" if not np.isfinite(value) else
                   f"{value:g} is not {bound.describe(scale, unit)}")
-        raise InputError(f"{_where(log, header_line, row)}: {reason}", path=log, field=name)
+        raise InputError(f"{where(row)}: {reason}", path=table.path, field=table.label(name))
 
 
-def _check_limits(log: Path, header_line: int, robot: Robot, q: np.ndarray, scale: np.ndarray,
-                  units: Sequence[str]) -> None:
+def _check_limits(table: LogTable, robot: Robot, q: np.ndarray, scale: np.ndarray,
+                  units: Sequence[str], where: Callable[[int], str]) -> None:
     """Every logged position within its joint's limits, as waypoints are checked [rad or m]."""
     outside = (q < robot.lower - 1e-9) | (q > robot.upper + 1e-9)
     if outside.any():
         k, j = (int(i) for i in np.argwhere(outside)[0])
         name = robot.joint_names[j]
         raise InputError(
-            f"{_where(log, header_line, k + 1)}: {q[k, j] / scale[j]:g} {units[j]} is outside "
+            f"{where(k + 1)}: {q[k, j] / scale[j]:g} {units[j]} is outside "
             f"the limits of joint '{name}' [{robot.lower[j] / scale[j]:g}, "
-            f"{robot.upper[j] / scale[j]:g}] {units[j]}", path=log, field=f"q_{name}")
+            f"{robot.upper[j] / scale[j]:g}] {units[j]}", path=table.path,
+            field=table.label(f"q_{name}"))

@@ -29,10 +29,10 @@ import numpy as np
 from hdselect.base import bounds
 from hdselect.base.arrays import frozen
 from hdselect.base.errors import InputError
-from hdselect.base.inputfiles import is_input_file
 from hdselect.base.tomlfile import check_keys, number, table_of
 from hdselect.catalog.motors import Motor
 from hdselect.ik.lines import LinePath
+from hdselect.motion.bagfile import read_samples
 from hdselect.motion.limits import (
     JointLists,
     beyond_robot,
@@ -41,7 +41,7 @@ from hdselect.motion.limits import (
     vector,
     velocity_limit,
 )
-from hdselect.motion.logfile import SampleLog, read_log
+from hdselect.motion.logfile import SampleLog
 from hdselect.motion.motor_tables import motion_file_motors
 from hdselect.motion.option_specs import (
     file_keys,
@@ -278,7 +278,8 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
             raise InputError("planner 'samples' takes its motion from [samples] file; remove "
                              "the waypoints", path=path, field="waypoint")
         waypoints, dwells = np.empty((0, robot.dof)), np.empty(0)
-        samples = _samples(doc, path, robot, scale, units, (unit, angle_unit))
+        samples = read_samples(doc.get("samples", {}), path, robot, scale, units,
+                               (unit, angle_unit))
     else:
         if "samples" in doc:
             raise InputError(f"only for planner 'samples' (a logged trajectory), not "
@@ -365,15 +366,3 @@ def mounting_of(doc: dict[str, Any], path: Path, unit: float,
         bounds.GRAVITY.check(g, path=path, field=f"mounting[{i}]")
     return (x, y, z)
 
-
-def _samples(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndarray,
-             units: list[str], angle: tuple[float, str]) -> SampleLog:
-    table = table_of(doc.get("samples", {}), path, "samples")
-    check_keys(table, ("file",), path, "samples")
-    if not isinstance(table.get("file"), str):
-        raise InputError("required: the CSV log, relative to this file", path=path,
-                         field="samples.file")
-    log = path.parent / table["file"]
-    if not is_input_file(log):
-        raise InputError(f"log file not found: {log}", path=path, field="samples.file")
-    return read_log(log, robot, scale, units, angle)
