@@ -216,6 +216,11 @@ def _hostile(case: str) -> tuple[str, tuple[str, ...], tuple[str, ...]]:
         data = Path("tr/whole/whole.mcap").read_bytes()
         Path("tr/cut.mcap").write_bytes(data[:len(data) // 2])
         return "cut.mcap", (), ("cut.mcap", "cannot read it as a ROS bag")
+    if case == "huge record":  # its header record claims 1 TB: the reader asks for it
+        bag_of("whole", "mcap", {"/joint_states": (JOINT_STATE, _states())})
+        data = Path("tr/whole/whole.mcap").read_bytes()
+        Path("tr/huge.mcap").write_bytes(data[:9] + (1 << 40).to_bytes(8, "little") + data[17:])
+        return "huge.mcap", (), ("huge.mcap", "out of memory: a corrupt record's size")
     if case == "no metadata":
         Path("tr/folder").mkdir()
         Path("tr/folder/folder.db3").write_bytes(b"")
@@ -261,7 +266,8 @@ def _string():
     return typestore("mcap").types["std_msgs/msg/String"](data="hello")
 
 
-HOSTILE = ["not a bag .mcap", "not a bag .db3", "not a bag .bag", "truncated", "no metadata",
+HOSTILE = ["not a bag .mcap", "not a bag .db3", "not a bag .bag", "truncated", "huge record",
+           "no metadata",
            "missing", "empty topic", "unknown topic", "two topics", "wrong type", "nan",
            "duplicate", "empty window", "stop before start", "two trajectories"]
 
@@ -282,3 +288,28 @@ def test_topic_is_for_a_bag_only(work):
         load_motion(motion("csv.toml", "logs/pan_tilt_log.csv", 'topic = "/joint_states"'))
     assert info.value.field == "samples.topic"
 
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_bag_with_bytes_changed_reads_or_is_refused_in_one_error(work, kind):
+    """Seeded corruptions of a valid bag: each one reads, or is one InputError naming it."""
+    log = shipped()
+    name = bag_of(f"whole_{kind}", kind, {"/joint_states": (JOINT_STATE, joint_states(
+        kind, log.t[:40], ["pan", "tilt"], log.q[:40], log.q[:40]))})
+    path = Path("tr", name)
+    if path.is_dir():
+        path = next(p for p in path.iterdir() if p.suffix in (".db3", ".mcap"))
+    good, rng = path.read_bytes(), np.random.default_rng(31)
+    refused = 0
+    for _ in range(40):
+        data = bytearray(good)
+        for i in rng.integers(0, len(data), int(rng.choice([1, 3, 12]))):
+            data[i] = int(rng.integers(0, 256))
+        bad = Path("tr", f"bad{path.suffix}")
+        bad.write_bytes(bytes(data))
+        try:
+            load_motion(motion("bad.toml", bad.name))
+        except InputError as err:
+            assert err.path is not None and err.path.name in ("bad" + path.suffix, "bad.toml")
+            refused += 1
+    assert refused >= 5  # the test reaches the reader's errors, not only harmless bytes

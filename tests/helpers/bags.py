@@ -75,11 +75,15 @@ def joint_states(kind: str, t: np.ndarray, names: Sequence[Sequence[str]] | Sequ
     ns = EPOCH_NS + np.round(np.asarray(t) * 1e9).astype(np.int64)
     out = []
     for k, stamp in enumerate(ns.tolist()):
-        velocity = np.empty(0) if velocities is None else np.ascontiguousarray(velocities[k], dtype=float)
         out.append((stamp, message(header=_header(store, stamp if stamped else 0, k),
-                                   name=list(per[k]), position=np.ascontiguousarray(positions[k], float),
-                                   velocity=velocity, effort=np.empty(0))))
+                                   name=list(per[k]), position=_array(positions, k),
+                                   velocity=_array(velocities, k), effort=np.empty(0))))
     return out
+
+
+def _array(values, k: int) -> np.ndarray:
+    """Row k of `values` as the contiguous float array a message holds; empty for None."""
+    return np.empty(0) if values is None else np.ascontiguousarray(values[k], dtype=float)
 
 
 def trajectory(kind: str, t: np.ndarray, names: Sequence[str], positions: np.ndarray,
@@ -90,13 +94,11 @@ def trajectory(kind: str, t: np.ndarray, names: Sequence[str], positions: np.nda
     message = store.types[TRAJECTORY]
     point, duration = (store.types["trajectory_msgs/msg/JointTrajectoryPoint"],
                        store.types["builtin_interfaces/msg/Duration"])
-    empty = np.empty(0)
     points = []
     for k, since in enumerate(np.round(np.asarray(t) * 1e9).astype(np.int64).tolist()):
         points.append(point(
-            positions=np.ascontiguousarray(positions[k], float),
-            velocities=empty if velocities is None else np.ascontiguousarray(velocities[k], float),
-            accelerations=empty if accelerations is None else np.ascontiguousarray(accelerations[k], float),
-            effort=empty, time_from_start=duration(sec=since // 10**9, nanosec=since % 10**9)))
+            positions=_array(positions, k), velocities=_array(velocities, k),
+            accelerations=_array(accelerations, k), effort=np.empty(0),
+            time_from_start=duration(sec=since // 10**9, nanosec=since % 10**9)))
     return EPOCH_NS, message(header=_header(store, EPOCH_NS, 0), joint_names=list(names),
                              points=points)

@@ -170,8 +170,11 @@ def _read(source: Path, bag: Path, motion: Path,
                 else:
                     rows.append((_ns(message.header.stamp), logged, tuple(message.name),
                                  (message.position, message.velocity, ())))
-    except (InputError, MemoryError):
+    except InputError:
         raise
+    except MemoryError as err:  # a corrupt record's length asks the reader for petabytes
+        raise InputError("cannot read it as a ROS bag (out of memory: a corrupt record's size, "
+                         "or a bag too large to hold)", path=bag) from err
     except Exception as err:  # noqa: BLE001 - whatever a hostile file makes the reader raise
         text = str(err).strip()
         reason = text.splitlines()[0] if text else type(err).__name__
