@@ -17,6 +17,8 @@ def plan_samples(robot: Robot, motion: Motion, *,
                  max_samples: int = DEFAULT_MAX_SAMPLES) -> Trajectory:
     """Put a logged trajectory on the dt grid.
 
+    Every log alike: a CSV file, a ROS bag's joint states, or a planned
+    ``JointTrajectory``'s points (`hdselect.motion.bagfile`).
     Time is shifted to start at 0. When the log is uniformly spaced (within 1e-6
     relative) at the motion's dt, its samples are used as they are; otherwise
     positions (and logged velocities, accelerations) are resampled onto the grid
