@@ -20,6 +20,7 @@ from helpers import run
 from helpers.bags import EPOCH_NS, JOINT_STATE, KINDS, TRAJECTORY, joint_states, trajectory
 from helpers.bags import write_bag as write
 from helpers.options import one_line_error
+from helpers.robots import finger_arm
 
 LOGGED = "pan_tilt_logged.toml"
 """The shipped log's motion: pan and tilt at 500 Hz, positions only, in degrees."""
@@ -224,7 +225,9 @@ def _hostile(case: str) -> tuple[str, tuple[str, ...], tuple[str, ...]]:
     if case == "no metadata":
         Path("tr/folder").mkdir()
         Path("tr/folder/folder.db3").write_bytes(b"")
-        return "folder", (), ("folder", "without metadata.yaml")
+        return "folder", (), ("samples.file", "tr/folder is a folder without metadata.yaml")
+    if case == "no file":  # file = "": the motion file's own folder
+        return "", (), ("samples.file", "is a folder without metadata.yaml")
     if case == "missing":
         return "nowhere.mcap", (), ("samples.file", "bag not found")
     topics = {"/joint_states": (JOINT_STATE, _states(nan=True) if case == "nan" else
@@ -267,7 +270,7 @@ def _string():
 
 
 HOSTILE = ["not a bag .mcap", "not a bag .db3", "not a bag .bag", "truncated", "huge record",
-           "no metadata",
+           "no metadata", "no file",
            "missing", "empty topic", "unknown topic", "two topics", "wrong type", "nan",
            "duplicate", "empty window", "stop before start", "two trajectories"]
 
@@ -313,3 +316,29 @@ def test_a_bag_with_bytes_changed_reads_or_is_refused_in_one_error(work, kind):
             assert err.path is not None and err.path.name in ("bad" + path.suffix, "bad.toml")
             refused += 1
     assert refused >= 5  # the test reaches the reader's errors, not only harmless bytes
+
+
+@pytest.mark.parametrize(("shift", "refused"), [(0.0, False), (0.01, True)])
+def test_a_mimic_follower_the_messages_give_is_checked_against_its_leader(tmp_path, shift,
+                                                                         refused):
+    """As a CSV log's q_<follower> column: read as without it when it agrees, else refused."""
+    finger_arm(tmp_path, multiplier=0.1)
+    t = np.arange(60) * 0.01
+    shoulder, elbow = 0.1 * np.sin(np.arange(60) / 5), -0.5 * np.sin(np.arange(60) / 7)
+    write(tmp_path / "plain", "mcap", {"/joint_states": (JOINT_STATE, joint_states(
+        "mcap", t, ["shoulder", "elbow"], np.stack([shoulder, elbow], 1)))})
+    write(tmp_path / "listed", "mcap", {"/joint_states": (JOINT_STATE, joint_states(
+        "mcap", t, ["finger", "elbow", "shoulder"],
+        np.stack([0.1 * elbow + shift, elbow, shoulder], 1)))})
+    sized = []
+    for name in ("plain", "listed"):
+        path = tmp_path / f"{name}.toml"
+        path.write_text('robot = "finger.urdf"\nplanner = "samples"\nangle_unit = "rad"\n'
+                        f'dt = 0.01\n[samples]\nfile = "{name}"\n')
+        if refused and name == "listed":
+            with pytest.raises(InputError, match="message 1 .* disagrees with its leader") as info:
+                load_motion(path)
+            assert info.value.field == "/joint_states position of 'finger'"
+            return
+        sized.append(hdselect.size(None, path))
+    same_sizing(*sized)

@@ -127,8 +127,9 @@ def _source(bag: Path, motion: Path) -> Path:
         raise InputError(f"bag not found: {bag}", path=motion, field="samples.file")
     if bag.is_dir():
         if not (bag / "metadata.yaml").is_file():
-            raise InputError("is a folder without metadata.yaml: not a rosbag2 bag (give its "
-                             "folder, or its .db3 or .mcap file)", path=bag)
+            raise InputError(f"{bag} is a folder without metadata.yaml: not a rosbag2 bag "
+                             "(give its folder, or its .db3 or .mcap file)", path=motion,
+                             field="samples.file")
         return bag
     return readable(bag, MAX_LOG_BYTES)
 
