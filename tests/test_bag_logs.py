@@ -80,6 +80,7 @@ def test_a_bag_of_the_logged_samples_sizes_exactly_as_the_csv_log(work, kind, st
     with caplog.at_level(logging.WARNING):
         from_bag = hdselect.size(None, motion("bag.toml", name))
     assert "ignored: finger" in caplog.text and "18 messages" in caplog.text
+    assert from_bag.motion.samples.path.is_file()  # a folder's storage file: provenance hashes it
     same_sizing(from_bag, hdselect.size(None, Path("tr", LOGGED)))
 
 

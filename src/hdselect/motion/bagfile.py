@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -108,7 +109,8 @@ def read_bag(bag: Path, motion: Path, robot: Robot, units: Sequence[str], topic:
             message, or a trajectory's ``time_from_start``.
 
     Returns:
-        The log in SI units.
+        The log in SI units; its path is the bag's, or a rosbag2 folder's one storage file
+        (which a report's provenance hashes and an output may not overwrite).
 
     Raises:
         InputError: The bag cannot be read, the topic is not in it or not of either type,
@@ -118,7 +120,10 @@ def read_bag(bag: Path, motion: Path, robot: Robot, units: Sequence[str], topic:
     msgtype, name, rows = _read(source, bag, motion, topic)
     table = _table(bag, robot, name, msgtype, rows)
     si_units = ["m" if unit == "m" else "rad" for unit in units]
-    return checked_log(table, robot, np.ones(robot.dof), si_units, (1.0, "rad"), window)
+    log = checked_log(table, robot, np.ones(robot.dof), si_units, (1.0, "rad"), window)
+    stored = sorted(p for p in bag.iterdir() if p.suffix in (".db3", ".mcap")) \
+        if bag.is_dir() else []
+    return replace(log, path=stored[0]) if len(stored) == 1 else log  # a file to hash, to keep
 
 
 def _source(bag: Path, motion: Path) -> Path:
@@ -165,6 +170,9 @@ def _read(source: Path, bag: Path, motion: Path,
             for connection, logged, raw in reader.messages(connections):
                 message: Any = reader.deserialize(raw, connection.msgtype)
                 if msgtype == TRAJECTORY:
+                    if rows:  # more messages than its summary counted
+                        raise InputError("holds more than one trajectory: a log replays one "
+                                         "planned motion", path=bag, field=name)
                     rows += [(_ns(point.time_from_start), logged, tuple(message.joint_names),
                               (point.positions, point.velocities, point.accelerations))
                              for point in message.points]
@@ -304,8 +312,8 @@ def _kinds(bag: Path, topic: str, rows: list[Row], used: np.ndarray, sample: str
         wrong = np.flatnonzero((sizes != joints) & ((sizes != 0) | (i == 0)))
         if wrong.size:
             k = int(used[wrong[0]])
-            raise InputError(f"{sample} {k + 1} gives {sizes[wrong[0]]} {fields[i]} for "
-                             f"{joints[wrong[0]]} joints", path=bag, field=topic)
+            raise InputError(f"{sample} {k + 1} gives {sizes[wrong[0]]} {fields[i]} values "
+                             f"for {joints[wrong[0]]} joints", path=bag, field=topic)
         if i and kinds[-1] == ("q", "qd")[i - 1] and np.all(sizes == joints):
             kinds.append(kind)
     return tuple(kinds)
