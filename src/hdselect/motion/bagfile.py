@@ -128,15 +128,19 @@ def read_bag(bag: Path, motion: Path, robot: Robot, units: Sequence[str], topic:
 
 def _source(bag: Path, motion: Path) -> Path:
     """The bag checked as an input (its size bounded, a stream copied), for the reader."""
-    if not bag.exists():
+    try:
+        found, folder = bag.exists(), bag.is_dir()
+        described = not folder or (bag / "metadata.yaml").is_file()
+    except OSError as err:
+        raise InputError(f"cannot read {bag} ({err.strerror})", path=motion,
+                         field="samples.file") from err
+    if not found:
         raise InputError(f"bag not found: {bag}", path=motion, field="samples.file")
-    if bag.is_dir():
-        if not (bag / "metadata.yaml").is_file():
-            raise InputError(f"{bag} is a folder without metadata.yaml: not a rosbag2 bag "
-                             "(give its folder, or its .db3 or .mcap file)", path=motion,
-                             field="samples.file")
-        return bag
-    return readable(bag, MAX_LOG_BYTES)
+    if not described:
+        raise InputError(f"{bag} is a folder without metadata.yaml: not a rosbag2 bag (give "
+                         "its folder, or its .db3 or .mcap file)", path=motion,
+                         field="samples.file")
+    return bag if folder else readable(bag, MAX_LOG_BYTES)
 
 
 Row = tuple[int, int, tuple[str, ...], tuple[Any, Any, Any]]
