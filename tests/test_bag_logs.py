@@ -343,3 +343,21 @@ def test_a_mimic_follower_the_messages_give_is_checked_against_its_leader(tmp_pa
             return
         sized.append(hdselect.size(None, path))
     same_sizing(*sized)
+
+
+def test_a_study_of_a_bag_folder_digests_and_ships_its_files(work):
+    """A re-recorded bag is a new case (the resumable store does not reuse the old one)."""
+    from hdselect.study.spec import load_study
+
+    log = shipped()
+    name = bag_of("study_bag", "sqlite", {"/joint_states": (JOINT_STATE, joint_states(
+        "sqlite", log.t, ["pan", "tilt"], log.q))})
+    motion("bag.toml", name)
+    study = Path("tr/study.toml")
+    study.write_text('compute = "size"\n[base]\nmotion = "bag.toml"\n[grid]\n'
+                     'payload = [0.1]\n')
+    (case,) = load_study(study).cases
+    assert {p.name for p in case.files} >= {"metadata.yaml", "study_bag.db3"}
+    Path("tr", name, "study_bag.db3").write_bytes(b"re-recorded")
+    (again,) = load_study(study).cases
+    assert again.key != case.key

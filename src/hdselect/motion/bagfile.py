@@ -86,6 +86,17 @@ def read_samples(value: Any, path: Path, robot: Robot, scale: np.ndarray, units:
     return read_log(log, robot, scale, units, angle, window)
 
 
+def log_files(log: Path) -> list[Path]:
+    """The files a log is read from: itself, or every file of a rosbag2 folder.
+
+    What a study digests (a case re-runs when a recording changes) and ships to workers.
+    """
+    try:
+        return sorted(p for p in log.iterdir() if p.is_file()) if log.is_dir() else [log]
+    except OSError:
+        return [log]
+
+
 def is_bag(path: Path) -> bool:
     """`path` names a ROS bag: a ``.bag``, ``.db3`` or ``.mcap`` file, or a folder."""
     try:

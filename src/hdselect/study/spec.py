@@ -26,6 +26,7 @@ from hdselect.base.inputfiles import MAX_LOG_BYTES, read_input
 from hdselect.base.tomlfile import as_number, check_keys, read_toml, table_of
 from hdselect.catalog.builtin import catalog_file, series_catalogs
 from hdselect.catalog.catalogfile import BUILTIN
+from hdselect.motion.bagfile import log_files
 from hdselect.motion.mixfile import task_names
 from hdselect.motion.option_specs import OPTION, OPTIONS, from_edge
 from hdselect.robot.mounting import MOUNTINGS
@@ -360,7 +361,7 @@ def _inputs(motion: Path, robot: Path | None, catalog: tuple[Path, ...]) -> tupl
                 files += _inputs(motion.parent / task["motion"], robot, ())
     samples = doc.get("samples")
     if isinstance(samples, dict) and isinstance(samples.get("file"), str):
-        files.append(motion.parent / samples["file"])
+        files += log_files(motion.parent / samples["file"])  # a rosbag2 folder's files
     motors = doc.get("motor")
     if isinstance(motors, dict):  # [motor] and [motor.JOINT] may each name a motor file
         for block in (motors, *(v for v in motors.values() if isinstance(v, dict))):
