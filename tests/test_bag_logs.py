@@ -79,7 +79,11 @@ def test_a_bag_of_the_logged_samples_sizes_exactly_as_the_csv_log(work, kind, st
         name = f"{name}/{name}.{storage}"
     with caplog.at_level(logging.WARNING):
         from_bag = hdselect.size(None, motion("bag.toml", name))
-    assert "ignored: finger" in caplog.text and "18 messages" in caplog.text
+    notes = [f"{Path(name).name}: /joint_states: {note}" for note in (
+        "joints the robot does not have are ignored: finger",
+        "18 messages that name none of its joints are skipped")]
+    assert [f"motion file: {note}" for note in notes] == list(from_bag.warnings)
+    assert all(f"tr/bag.toml: {note}" in caplog.text for note in notes)
     assert from_bag.motion.samples.path.is_file()  # a folder's storage file: provenance hashes it
     same_sizing(from_bag, hdselect.size(None, Path("tr", LOGGED)))
 

@@ -14,7 +14,6 @@ SI units, checked and resampled by the same code.
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -27,8 +26,6 @@ from hdselect.base.inputfiles import MAX_LOG_BYTES, is_input_file, readable
 from hdselect.base.tomlfile import check_keys, number, table_of
 from hdselect.motion.logfile import TIMESTAMP, LogTable, SampleLog, Window, checked_log, read_log
 from hdselect.robot.model import Robot
-
-logger = logging.getLogger(__name__)
 
 BAG_SUFFIXES = (".bag", ".db3", ".mcap")
 """The file names a bag has: ROS 1, and rosbag2's SQLite3 and MCAP storage."""
@@ -284,12 +281,9 @@ def _table(bag: Path, robot: Robot, topic: str, msgtype: str, rows: list[Row]) -
     names_of["t"] = f"{topic} {clock}"
     ignored = sorted({name for names in maps for name in names} - set(joints + mimic))
     skipped = len(rows) - len(used)
-    if ignored or skipped:
-        logger.warning("%s: %s: %s", bag, topic, "; ".join(
-            ([f"joints the robot does not have are ignored: {', '.join(ignored)}"]
-             if ignored else []) +
-            ([f"{skipped} {sample}s that name none of its joints are skipped"]
-             if skipped else [])))
+    notes = ([f"joints the robot does not have are ignored: {', '.join(ignored)}"]
+             if ignored else []) + \
+        ([f"{skipped} {sample}s that name none of its joints are skipped"] if skipped else [])
     numbers = used + 1
 
     def where(row: int) -> str:
@@ -297,7 +291,8 @@ def _table(bag: Path, robot: Robot, topic: str, msgtype: str, rows: list[Row]) -
 
     return LogTable(bag, kinds, ("t", *columns), data, where,
                     lambda column: names_of.get(column, f"{topic} {column}"),
-                    f"at least two {sample}s that name the robot's joints")
+                    f"at least two {sample}s that name the robot's joints",
+                    tuple(f"{bag.name}: {topic}: {note}" for note in notes))
 
 
 def _names(bag: Path, topic: str, names: tuple[str, ...], first: str) -> dict[str, int]:

@@ -49,6 +49,8 @@ class SampleLog:
         q: Joint positions [rad or m], shape (n, dof).
         qd: Joint velocities [rad/s or m/s], shape (n, dof), or None if not logged.
         qdd: Joint accelerations [rad/s^2 or m/s^2], shape (n, dof), or None if not logged.
+        notes: What reading it left out (a bag's joints the robot does not have), for the
+            motion's warnings.
     """
 
     path: Path
@@ -56,6 +58,7 @@ class SampleLog:
     q: np.ndarray
     qd: np.ndarray | None
     qdd: np.ndarray | None
+    notes: tuple[str, ...] = ()
 
 
 def read_log(log: Path, robot: Robot, scale: np.ndarray, units: Sequence[str],
@@ -124,6 +127,7 @@ class LogTable:
         where: How a message names a 1-based row (``data row R (line L)``).
         label: The field a message names for a column, in the log's own words.
         needs: What a log needs at least, for the message of one that is too short.
+        notes: What reading it left out, for the motion's warnings.
     """
 
     path: Path
@@ -133,6 +137,7 @@ class LogTable:
     where: Callable[[int], str]
     label: Callable[[str], str]
     needs: str = "at least two samples"
+    notes: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -239,7 +244,7 @@ def checked_log(table: LogTable, robot: Robot, scale: np.ndarray, units: Sequenc
                          "period): a duplicated or corrupted time stamp?", path=log,
                          field=table.label("t"))
     return SampleLog(path=log, t=frozen(t), q=arrays["q"], qd=arrays.get("qd"),
-                     qdd=arrays.get("qdd"))
+                     qdd=arrays.get("qdd"), notes=table.notes)
 
 
 def _header(log: Path) -> tuple[list[str], int]:

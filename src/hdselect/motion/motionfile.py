@@ -291,7 +291,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
             raise InputError(f"a straight line needs planner \"toppra\" (\"{planner}\" moves "
                              "from rest to rest between waypoints)", path=path,
                              field=f"waypoint[{k}].line")
-    warnings += lists.warnings()
+    warnings += lists.warnings() + list(samples.notes if samples is not None else ())
     for warning in warnings:
         logger.warning("%s: %s", path, warning)
     motors = motion_file_motors(doc["motor"], path, robot) if "motor" in doc else None
