@@ -259,6 +259,22 @@ def _hostile(case: str) -> tuple[str, tuple[str, ...], tuple[str, ...]]:
         keys, says = ("start = 5.0",), ("samples.start", "keeps 0 of the log's samples")
     elif case == "stop before start":
         keys, says = ("start = 0.05", "stop = 0.01"), ("samples.stop", "must be after start")
+    elif case == "mixed stamps":
+        states = _states()
+        unstamped = joint_states("mcap", shipped().t[:50], ["pan", "tilt"],
+                                 shipped().q[:50], stamped=False)
+        topics = {"/joint_states": (JOINT_STATE, states[:20] + unstamped[20:])}
+        says = ("/joint_states header.stamp", "message 21 has a zero header stamp")
+    elif case == "named twice":
+        log = shipped()
+        topics = {"/joint_states": (JOINT_STATE, joint_states(
+            "mcap", log.t[:5], ["pan", "tilt", "pan"], np.c_[log.q[:5], log.q[:5, 0]]))}
+        says = ("/joint_states", "message 1 names joint 'pan' twice")
+    elif case == "short positions":
+        log = shipped()
+        topics = {"/joint_states": (JOINT_STATE, joint_states(
+            "mcap", log.t[:5], ["pan", "tilt"], [log.q[k, :1 + (k != 3)] for k in range(5)]))}
+        says = ("/joint_states", "message 4 gives 1 position values for 2 joints")
     elif case == "two trajectories":
         one = trajectory("mcap", [0.0, 1.0], ["pan", "tilt"], np.zeros((2, 2)))
         topics = {"/plan": (TRAJECTORY, [one, (one[0] + 1, one[1])])}
@@ -277,7 +293,8 @@ def _string():
 HOSTILE = ["not a bag .mcap", "not a bag .db3", "not a bag .bag", "truncated", "huge record",
            "no metadata", "no file",
            "missing", "empty topic", "unknown topic", "two topics", "wrong type", "nan",
-           "duplicate", "empty window", "stop before start", "two trajectories"]
+           "duplicate", "empty window", "stop before start", "two trajectories",
+           "mixed stamps", "named twice", "short positions"]
 
 
 @pytest.mark.parametrize("case", HOSTILE)
