@@ -259,6 +259,11 @@ def _hostile(case: str) -> tuple[str, tuple[str, ...], tuple[str, ...]]:
         keys, says = ("start = 5.0",), ("samples.start", "keeps 0 of the log's samples")
     elif case == "stop before start":
         keys, says = ("start = 0.05", "stop = 0.01"), ("samples.stop", "must be after start")
+    elif case == "many topics":
+        topics = {f"/chatter{k:02d}": ("std_msgs/msg/String", [(EPOCH_NS, _string())])
+                  for k in range(15)}
+        says = ("samples.topic", "has no topics of joint states", "/chatter11 (std_msgs/msg/"
+                "String, 1 messages); and 3 more")
     elif case == "mixed stamps":
         states = _states()
         unstamped = joint_states("mcap", shipped().t[:50], ["pan", "tilt"],
@@ -294,7 +299,7 @@ HOSTILE = ["not a bag .mcap", "not a bag .db3", "not a bag .bag", "truncated", "
            "no metadata", "no file",
            "missing", "empty topic", "unknown topic", "two topics", "wrong type", "nan",
            "duplicate", "empty window", "stop before start", "two trajectories",
-           "mixed stamps", "named twice", "short positions"]
+           "mixed stamps", "named twice", "short positions", "many topics"]
 
 
 @pytest.mark.parametrize("case", HOSTILE)

@@ -35,6 +35,8 @@ TRAJECTORY = "trajectory_msgs/msg/JointTrajectory"
 """The message type of a planned joint trajectory."""
 SAMPLES_KEYS = ("file", "topic", "start", "stop")
 """The keys of a motion file's ``[samples]`` table."""
+LISTED = 12
+"""Most topics a message lists (joint states and trajectories first) [-]."""
 _WORDS = {JOINT_STATE: ("message", "position", "velocity", "acceleration"),
           TRAJECTORY: ("point", "positions", "velocities", "accelerations")}
 """How a sample and its fields are named in each message type."""
@@ -211,9 +213,12 @@ def _ns(time: Any) -> int:
 def _topic(topics: Mapping[str, tuple[str | None, int]], bag: Path, motion: Path,
            topic: str | None) -> str:
     """The topic to read: the one given, or the bag's one of either message type."""
-    listed = "; ".join(f"{name} ({kind or 'several types'}, {count} messages)"
-                       for name, (kind, count) in sorted(topics.items())) or "none"
     fits = [name for name, (kind, _) in topics.items() if kind in _WORDS]
+    shown = sorted(topics, key=lambda name: (name not in fits, name))[:LISTED]
+    listed = "; ".join(f"{name} ({topics[name][0] or 'several types'}, {topics[name][1]} "
+                       "messages)" for name in shown) or "none"
+    if len(topics) > len(shown):
+        listed += f"; and {len(topics) - len(shown)} more"
     if topic is None:
         if len(fits) != 1:
             raise InputError(f"{bag.name} has {len(fits) or 'no'} topics of joint states or "
