@@ -44,7 +44,8 @@ class SampleLog:
     """A logged joint trajectory, in SI units, with time as logged.
 
     Attributes:
-        path: The log it came from (a CSV file, or a ROS bag's file or folder).
+        path: The log it came from: a CSV file, or a ROS bag (a rosbag2 folder's one
+            storage file where it has one).
         t: Sample times [s], strictly increasing, shape (n,).
         q: Joint positions [rad or m], shape (n, dof).
         qd: Joint velocities [rad/s or m/s], shape (n, dof), or None if not logged.
