@@ -214,20 +214,25 @@ def test_plan_on_a_mix_wants_a_task_and_lists_them(tmp_path, capsys):
     assert not out.exists()
 
 
-@pytest.mark.parametrize("name", ["pick", "inspect"])
+@pytest.mark.parametrize("name", ["heavy", "own"])
 def test_plan_of_a_task_is_the_task_the_mix_sizes(tmp_path, capsys, name):
-    """The mix's payload for 'pick' (0.4 kg, not its motion file's 0.5 kg), the motion file's
-    own for 'inspect': the trajectory and torques `size` pools for the task."""
+    """The mix's payload for 'heavy' (0.8 kg, not its motion file's 0.4 kg), the motion
+    file's own for 'own': the trajectory and torques `size` pools for the task."""
+    motion = with_base(tmp_path, "", ONE_MOVE, "move.toml")
+    mix = tmp_path / "day.toml"
+    mix.write_text(f'[[task]]\nname = "own"\nmotion = "{motion}"\nshare = 0.7\n'
+                   f'[[task]]\nname = "heavy"\nmotion = "{motion}"\nshare = 0.3\n'
+                   'payload = {mass = 0.8, com = [0.03, 0.0, 0.0], frame = "tool"}\n')
     out = tmp_path / "task.csv"
-    assert main(["plan", str(DAY), "--task", name, "--out", str(out)]) == 0
+    assert main(["plan", str(mix), "--task", name, "--out", str(out)]) == 0
     printed = " ".join(capsys.readouterr().out.split())
-    robot, mix = load_case(DAY)
-    tasks, _ = mix_tasks(robot, mix)
+    robot, loaded = load_case(mix)
+    tasks, _ = mix_tasks(robot, loaded)
     task = next(t for t in tasks if t.label == name)
-    mass = {"pick": 0.4, "inspect": 0.3}[name]
+    mass = {"heavy": 0.8, "own": 0.4}[name]
     assert task.robot.payload is not None and task.robot.payload.mass == mass
-    assert f"task '{name}' of benchtop6_pick_inspect.toml: base: 'base_link' held fixed; " \
-           f"payload: {mass:g} kg" in printed
+    assert f"task '{name}' of day.toml: base: 'base_link' held fixed; payload: {mass:g} kg" \
+        in printed
     tau = inverse_dynamics(task.robot, task.trajectory.q, task.trajectory.qd,
                            task.trajectory.qdd)
     written = np.loadtxt(out, delimiter=",", skiprows=1)

@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 import tomllib
+from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -36,6 +38,25 @@ CEILING = ((0.0, 0.0, 0.5), (180.0, 0.0, 0.0))
 """benchtop6 hung from a ceiling 0.5 m above the floor's base, turned over about world x:
 the file's poses (the work 0.08 to 0.30 m above the floor) lie within the arm's 0.64 m
 reach of it. 2 m up they are out of reach."""
+
+
+@pytest.fixture(scope="module")
+def example(tmp_path_factory) -> Path:
+    """The shipped pick-and-place of tool poses with its ``[payload]`` carried all cycle: any
+    payload events (``[payloads.*]``, ``attach``, ``release``) left out, so that one MuJoCo
+    model holds the whole cycle (tests/test_payload_events.py checks the events)."""
+    kept, skipping = [], False
+    for line in EXAMPLE.read_text().splitlines():
+        if line.startswith("["):
+            skipping = line.startswith("[payloads.")
+        if not skipping and not re.match(r"\s*(attach|release)\s*=", line):
+            kept.append(line.replace('"../robots/', f'"{EXAMPLE.parent}/../robots/'))
+    path = tmp_path_factory.mktemp("example") / EXAMPLE.name
+    path.write_text("\n".join(kept) + "\n")
+    doc = tomllib.loads(path.read_text())
+    assert "payloads" not in doc and not any({"attach", "release"} & set(w)
+                                             for w in doc["waypoint"])
+    return path
 
 
 def read_csv(path) -> dict[str, np.ndarray]:
@@ -71,8 +92,8 @@ def planned(tmp_path, name: str, *argv) -> tuple[dict, dict, dict]:
     """``hdselect plan`` with `argv`: the trajectory, and where a motion has tool poses the
     solved path (--waypoints) and the line samples (--line-errors); empty otherwise."""
     out = [tmp_path / f"{name}_{kind}.csv" for kind in ("trajectory", "solved", "lines")]
-    extra = ["--waypoints", str(out[1]), "--line-errors", str(out[2])] if EXAMPLE in argv \
-        else []
+    poses = any(str(arg).endswith(EXAMPLE.name) for arg in argv)
+    extra = ["--waypoints", str(out[1]), "--line-errors", str(out[2])] if poses else []
     assert main(["plan", *map(str, argv), "--out", str(out[0]), *extra]) == 0
     return tuple(read_csv(path) if path.exists() else {} for path in out)  # type: ignore[return-value]
 
@@ -120,8 +141,8 @@ def same_as_written(columns: dict, trajectory, tau, joints) -> None:
 
 
 @pytest.mark.slow
-def test_floor_and_ceiling_plan_the_same_task_and_torques_that_mujoco_gives(tmp_path):
-    doc = tomllib.loads(EXAMPLE.read_text())
+def test_floor_and_ceiling_plan_the_same_task_and_torques_that_mujoco_gives(tmp_path, example):
+    doc = tomllib.loads(example.read_text())
     assert doc["mounting"] == "floor" and doc["angle_unit"] == "deg"
     joints = ("shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3")
     written = [(np.array(w["pose"]["xyz"]),
@@ -130,8 +151,8 @@ def test_floor_and_ceiling_plan_the_same_task_and_torques_that_mujoco_gives(tmp_
     paths = {}
     for name, base in (("floor", ((0, 0, 0), (0, 0, 0))), ("ceiling", CEILING)):
         flags = [] if name == "floor" else base_flag(base)
-        columns, solved, lines = planned(tmp_path, name, EXAMPLE, *flags)
-        trajectory, tau = exact(EXAMPLE, base)
+        columns, solved, lines = planned(tmp_path, name, example, *flags)
+        trajectory, tau = exact(example, base)
         same_as_written(columns, trajectory, tau, joints)
         model = placed(REPO / "robots" / "benchtop6.urdf", *base, payload=doc["payload"])
         peak = np.abs(tau).max()
@@ -160,15 +181,15 @@ def test_floor_and_ceiling_plan_the_same_task_and_torques_that_mujoco_gives(tmp_
 
 
 @pytest.mark.slow
-def test_sized_peaks_on_the_ceiling_are_mujocos(tmp_path):
+def test_sized_peaks_on_the_ceiling_are_mujocos(tmp_path, example):
     """size's peak torques with no unit masses carried (--no-mass-coupling) are the largest
     of MuJoCo's inverse dynamics along the same planned trajectory."""
-    doc = tomllib.loads(EXAMPLE.read_text())
+    doc = tomllib.loads(example.read_text())
     report = tmp_path / "size.json"
-    assert main(["size", str(EXAMPLE), *base_flag(CEILING), "--no-mass-coupling",
+    assert main(["size", str(example), *base_flag(CEILING), "--no-mass-coupling",
                  "--json", str(report)]) in (0, 1)
     sized = json.loads(report.read_text())
-    trajectory, _ = exact(EXAMPLE, CEILING)
+    trajectory, _ = exact(example, CEILING)
     model = placed(REPO / "robots" / "benchtop6.urdf", *CEILING, payload=doc["payload"])
     tau = mujoco_torques(model, trajectory.q, trajectory.qd, trajectory.qdd)
     assert sized["samples"] == len(tau) and [j["name"] for j in sized["joints"]] == list(
