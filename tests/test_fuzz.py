@@ -464,6 +464,7 @@ OPTIONS = {  # option -> how many values it takes
     "--life-hours": 1, "--life-basis": 1, "--prefer": 1, "--max-samples": 1,
     "--joints": 1, "--exclude": 1, "--motor-catalog": 1, "--max-torsion": 1,
     "--min-natural-frequency": 1, "--max-tool-deflection": 1, "--min-arm-frequency": 1,
+    "--base": 1,
 }
 
 
@@ -498,7 +499,8 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
     for option in draw(st.lists(st.sampled_from(list(OPTIONS)), max_size=4, unique=True)):
         if command == "plan" and option not in ("--payload", "--payload-com", "--payload-frame",
                                                 "--mounting", "--max-samples", "--joints",
-                                                "--exclude", "--motor-catalog", "--motor-mass"):
+                                                "--exclude", "--motor-catalog", "--motor-mass",
+                                                "--base"):
             continue
         if option == "--payload-frame":
             values = [draw(st.sampled_from(["tool", "link1", "base_link", "nowhere", ""]))]
@@ -510,6 +512,11 @@ def command_lines(draw) -> tuple[list[str], tuple[str, ...]]:
                                             "tr/planar2_pick_place.toml", "existing_dir"]))]
         elif option == "--mounting":
             values = [draw(st.sampled_from(["floor", "wall", "ceiling", "roof", "nan"]))]
+        elif option == "--base":  # --base=: a first number below 0 is no option
+            argv.append("--base=" + draw(st.sampled_from(
+                ["0,0,0.5,180,0,0", "-0.1,0.2,0,10,-20,30", "nan,0,0,0,0,0", "1e308,0,0,0,0,0",
+                 "0,0,0,0,0", "a,b,c,d,e,f", "0,0,0,0,0,inf", ""])))
+            continue
         elif option == "--life-basis":
             values = [draw(st.sampled_from(["L10", "L50", "L90"]))]
         elif option == "--prefer":

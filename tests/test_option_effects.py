@@ -32,8 +32,8 @@ SIZING = [
     ("--motor-catalog", ["motors/example_motors.toml"]), ("--no-mass-coupling", []),
     ("--prefer", ["margin"]), ("--life-hours", ["1e5"]), ("--life-basis", ["L10"]),
     ("--payload-com", ["0", "0", "0.1"]), ("--payload-frame", ["link2"]),
-    ("--mounting", ["wall"]), ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),
-    ("--max-samples", ["100"]), ("--margin", ["0.3"]),
+    ("--mounting", ["wall"]), ("--base", ["0,0,0.5,90,0,0"]), ("--joints", ["shoulder"]),
+    ("--exclude", ["elbow"]), ("--max-samples", ["100"]), ("--margin", ["0.3"]),
     ("--max-inertia-ratio", ["3"], ["--motor-catalog", "motors/example_motors.toml"]),
     ("--inertia-target", ["50"], ["--motor-catalog", "motors/example_motors.toml",
                                   "--prefer", "inertia"]),
@@ -61,6 +61,8 @@ EFFECTS = {
                     ("--task", ["pick"])],  # a mix's: refused for a motion file
     "plan": [("--payload", ["0.9"]), ("--payload-com", ["0", "0", "0.1"]),
              ("--payload-frame", ["link2"]), ("--mounting", ["wall"]),
+             ("--base", ["0,0,0.5,90,0,0"]),  # turned over on its side: gravity along base y
+             ("--task", ["pick"]),  # a mix's: refused for a motion file
              ("--joints", ["shoulder"]), ("--exclude", ["elbow"]),  # refused without --plot
              ("--joints", ["shoulder"], ["--plot", "p.png"]),  # the joints plotted
              ("--max-samples", ["100"]), ("--plot", ["p.png"]),

@@ -24,7 +24,8 @@ def one_line_error(err: str, *fragments: str) -> None:
 ENVELOPE_EFFECTS = [
     ("--velocity", ["90"]), ("--acceleration", ["600"]), ("--jerk", ["2000"]),
     ("--angle-unit", ["rad"]), ("--payload", ["0.5"]), ("--payload-com", ["0", "0", "0.1"]),
-    ("--payload-frame", ["link2"]), ("--mounting", ["wall"]), ("--joints", ["shoulder"]),
+    ("--payload-frame", ["link2"]), ("--mounting", ["wall"]), ("--base", ["0,0,0.5,90,0,0"]),
+    ("--joints", ["shoulder"]),
     ("--exclude", ["elbow"]), ("--duty", [PLANAR2_MOTION]), ("--moves", ["3"]),
     ("--seed", ["1"]), ("--starts", ["128"]), ("--max-samples", ["100"]),
     ("--catalog", ["acme.toml"]), ("--stop-time", ["0.3"]), ("--efficiency", ["0.5"]),

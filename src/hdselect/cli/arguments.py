@@ -103,6 +103,7 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
                              "tip of the longest chain of joints not excluded)")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
+    base_argument(parser, "the motion file's angle_unit (a mix file's own)")
     doing = "size" if sizes else "plot"
     joints = parser.add_argument_group(f"joints {doing}d" if sizes else "joints plotted")
     joints.add_argument("--joints", metavar="A,B", action="append",
@@ -115,6 +116,20 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
                              "(overrides the motion file's [sizing] exclude)")
     option_arguments(parser, "case")
     return joints
+
+
+def base_argument(parser: _Parser, angles: str) -> None:
+    """--base X,Y,Z,ROLL,PITCH,YAW: the robot's base placed in the world, beside --mounting.
+
+    Args:
+        parser: The command's parser.
+        angles: The unit of the angles, in words.
+    """
+    parser.add_argument("--base", metavar="X,Y,Z,ROLL,PITCH,YAW",
+                        help="the base's pose in the world (z up): its origin [m] and roll, "
+                             f"pitch, yaw about fixed x, y, z [{angles}], as a file's base = "
+                             "{xyz, rpy}; overrides the file's mounting or base (not with "
+                             "--mounting; a first number below 0: --base=-0.5,...)")
 
 
 def option_help(name: str, kind: str | None = "motion", then: tuple[str, ...] = ()) -> str:

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from hdselect.base.errors import InputError
-from hdselect.cli.arguments import json_argument
+from hdselect.cli.arguments import base_argument, json_argument
 from hdselect.cli.inputs import (
     MOTOR_ORDERS,
     catalog_of,
@@ -18,6 +18,7 @@ from hdselect.cli.inputs import (
     timeout_of,
 )
 from hdselect.cli.output import EXIT_NO_FIT, EXIT_OK, rendered, say_written, to_stdout
+from hdselect.cli.placement import mounting_flag
 
 _ANGLE = {"deg": math.pi / 180.0, "rad": 1.0}
 _SPEC_SUFFIXES = (".toml",)
@@ -53,7 +54,7 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
                  f"comma-separated); {default}")
     xacro_argument(parser)
     parser.add_argument("--angle-unit", choices=tuple(_ANGLE), default="deg",
-                        help="unit of the angles in --velocity, --acceleration, --jerk "
+                        help="unit of the angles in --velocity, --acceleration, --jerk, --base "
                              "(default: deg)")
     parser.add_argument("--payload", type=float, metavar="KG",
                         help="payload mass [kg]; the file's payload keeps its centre of mass, "
@@ -63,6 +64,7 @@ def envelope_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--payload-frame", metavar="LINK", help="link carrying the payload")
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the file's")
+    base_argument(parser, "--angle-unit's")
     parser.add_argument("--joints", metavar="A,B", action="append", help="size only these")
     parser.add_argument("--exclude", metavar="A,B", action="append",
                         help="do not size these joints; they still move and load the others")
@@ -118,6 +120,7 @@ def run_envelope(args: argparse.Namespace) -> int:
         if value is not None:
             raise InputError("envelope does not choose motors yet; size a motion with "
                              "`hdselect size --motor-catalog`", field=flag)
+    mounting = mounting_flag(args, args.angle_unit)
     robot, spec = _robot_and_spec(args)
     options = sizing_options_of(args, None)
     try:
@@ -137,7 +140,7 @@ def run_envelope(args: argparse.Namespace) -> int:
                 robot, spec, velocity=_limits(args, "velocity", robot),
                 acceleration=_limits(args, "acceleration", robot),
                 jerk=_limits(args, "jerk", robot), payload=_payload(args, robot, spec),
-                mounting=args.mounting, joints=joint_names(args.joints, "--joints"),
+                mounting=mounting, joints=joint_names(args.joints, "--joints"),
                 exclude=joint_names(args.exclude, "--exclude"), duty=args.duty, moves=args.moves,
                 seed=args.seed, catalog=catalog_of(args), settings=settings,
                 workers=args.workers, scheduler=args.scheduler, timeout=timeout_of(args),

@@ -14,6 +14,7 @@ from pathlib import Path
 
 from hdselect.base.errors import InputError
 from hdselect.base.scheduler import DEFAULT_TIMEOUT, timeout_seconds
+from hdselect.cli.placement import mounting_flag, mounting_option, one_mounting, source_angle_unit
 from hdselect.motion.option_specs import OPTION, OPTIONS
 
 SHOWN_LOGGERS = ("hdselect.robot.reading", "hdselect.motion.motionfile",
@@ -166,6 +167,7 @@ def robot_and_motion(args: argparse.Namespace):
 
     file_wanted(args, args.motion, "a motion file or a mix file (TOML)",
                 ("a motion file", "a mix file", "a TOML file"))
+    one_mounting(args)
     mix = is_mix_file(args.motion)
     if mix:
         for flag in ("payload", "payload_com", "payload_frame"):
@@ -177,17 +179,18 @@ def robot_and_motion(args: argparse.Namespace):
     if mix:
         mixed = load_mix(args.motion, robot)
         joints, exclude = _joint_flags(args)
+        mounting = mounting_flag(args, source_angle_unit(mixed))
         with _flags_named(args, joints, exclude, None):
-            return load_case(mixed, robot, mounting=args.mounting, joints=joints,
-                             exclude=exclude)
+            return load_case(mixed, robot, mounting=mounting, joints=joints, exclude=exclude)
     try:
         motion = load_motion(args.motion, robot)
     except InputError as err:
         raise _other_robot(args, err) from err
     payload = _payload_of(args, motion)
     joints, exclude = _joint_flags(args)
+    mounting = mounting_flag(args, motion.angle_unit)
     with _flags_named(args, joints, exclude, payload, motion.path):
-        robot = robot_for_motion(robot, motion, payload=payload, mounting=args.mounting,
+        robot = robot_for_motion(robot, motion, payload=payload, mounting=mounting,
                                  joints=joints, exclude=exclude)
     return robot, solve_motion(robot, motion)  # its messages name the motion file's fields
 
@@ -211,8 +214,8 @@ def _flags_named(args: argparse.Namespace, joints: list[str] | None,
             raise InputError(err.reason, field="--payload-frame") from err
         if err.field == "payload.frame" and payload is not None:
             raise InputError(err.reason, path=path, field="payload.frame") from err
-        if str(err.field).startswith("mounting") and args.mounting is not None:
-            raise InputError(err.reason, field="--mounting") from err
+        if str(err.field).startswith("mounting") and mounting_option(args) is not None:
+            raise InputError(err.reason, field=mounting_option(args)) from err
         raise
 
 
@@ -320,7 +323,7 @@ def sizing_problem(args: argparse.Namespace, *, plan: bool = False):
     motors = motors_of(args, robot, motion)
     options = sizing_options_of(args, motion)
     problem = problem_of(robot, motion, catalog=args.catalog, motors=motors, options=options,
-                         plan=plan, mounting=getattr(args, "mounting", None))
+                         plan=plan, mounting=mounting_flag(args, source_angle_unit(motion)))
     try:
         check_joint_options(problem.robot, options)
     except InputError as err:  # a joint a flag names: the flag's words

@@ -1,4 +1,4 @@
-"""``hdselect plan``: a motion planned, its torques written."""
+"""``hdselect plan``: a motion (or one task of a mix) planned, its torques written."""
 
 from __future__ import annotations
 
@@ -24,6 +24,7 @@ from hdselect.cli.output import (
     to_stdout,
     torques_note,
 )
+from hdselect.cli.placement import mounting_option
 
 _UNIT_FLAGS = ("--catalog", "--motor-mass", "--no-mass-coupling")
 """Flags that only change the units' torques: refused without --units or --motor-catalog."""
@@ -32,6 +33,9 @@ _UNIT_FLAGS = ("--catalog", "--motor-mass", "--no-mass-coupling")
 def plan_arguments(parser: argparse.ArgumentParser) -> None:
     """The arguments of ``hdselect plan``."""
     robot_motion_arguments(parser, sizes=False)
+    parser.add_argument("--task", metavar="NAME",
+                        help="with a mix file: plan this task's motion as the mix runs it (its "
+                             "payload and mounting, the mix's robot)")
     parser.add_argument("--out", metavar="FILE", required=True,
                         help="CSV: t, then q_, qd_, qdd_, tau_ per joint (SI); tau_ is the "
                              "robot's own dynamics, without gearhead or motor masses, unless "
@@ -78,10 +82,13 @@ def run_plan(args: argparse.Namespace) -> int:
             raise InputError("only with --units or --motor-catalog (it changes the units' "
                              "torques)", field=flag)
     robot, motion = robot_and_motion(args)
+    source, task = motion, None
     if isinstance(motion, Mix):
-        raise InputError("plan takes one motion file; this is a mix: plan each of its "
-                         f"motions ({', '.join(m.path.name for m in motion.motions)})",
-                         path=motion.path, field="task")
+        task = _task_of(args, motion)
+        robot, motion = _task_case(args, robot, motion, task)
+    elif args.task is not None:
+        raise InputError(f"{motion.path.name} is a motion file: --task chooses a task of a mix "
+                         "file", field="--task")
     max_samples = max_samples_of(args)
     if args.line_errors and not motion.lines:
         raise InputError("the motion has no straight line (line = true) to measure",
@@ -89,8 +96,8 @@ def run_plan(args: argparse.Namespace) -> int:
     if args.waypoints and not len(motion.waypoints):
         raise InputError("a logged trajectory (planner \"samples\") has no waypoints",
                          field="--waypoints")
-    units = _units_case(args, robot, motion) if carrying else None  # checked before the work
-    with Outputs(input_files(robot, motion)) as outputs:
+    units = _units_case(args, robot, source) if carrying else None  # checked before the work
+    with Outputs(input_files(robot, source)) as outputs:
         out = outputs.file(args.out, "--out")
         figure = outputs.file(args.plot, "--plot") if args.plot is not None else None
         solved = outputs.file(args.waypoints, "--waypoints") if args.waypoints else None
@@ -114,8 +121,10 @@ def run_plan(args: argparse.Namespace) -> int:
             from hdselect.report.figures import write_profiles_png
 
             write_profiles_png(figure, trajectory, tau, robot.sized_joints,
-                               title=f"{robot.path.name} running {motion.path.name}")
-        text = "" if to_stdout(args) else rendered(plan_text(robot, motion, trajectory,
+                               title=f"{robot.path.name} running {motion.path.name}"
+                                     + ("" if task is None else f", task '{task.name}'"))
+        text = "" if to_stdout(args) else rendered(*_task_text(robot, source, task),
+                                                   plan_text(robot, motion, trajectory,
                                                              planned.lines))
         outputs.commit()
     sys.stdout.write(text)
@@ -131,14 +140,71 @@ def run_plan(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _units_case(args: argparse.Namespace, robot, motion):
-    """The units given (``--units``) and the problem (catalog, options, motors), checked."""
+def _task_of(args: argparse.Namespace, mix):
+    """The task of the mix that ``--task`` names (`hdselect.motion.mixfile.MixTask`).
+
+    Raises:
+        InputError: ``--task`` is not given, or names no task; the message lists them.
+    """
+    names = [item.name for item in mix.tasks]
+    if args.task is None:
+        raise InputError(f"{mix.path.name} is a mix file: plan plans one of its tasks; give "
+                         f"--task NAME, one of: {', '.join(names)}", field="--task")
+    if args.task not in names:
+        raise InputError(f"no task {args.task!r} in {mix.path.name}; its tasks are: "
+                         f"{', '.join(names)}", field="--task")
+    return mix.tasks[names.index(args.task)]
+
+
+def _task_case(args: argparse.Namespace, robot, mix, task):
+    """The robot as the mix runs `task` (its payload and mounting) and its motion, solved.
+
+    As `hdselect.sizing.mixtasks.mix_tasks` plans it: the mix's robot with the duty's
+    sized joints, the task's payload (else its motion file's) and mounting (the command
+    line's, else the mix file's, else its motion file's).
+
+    Raises:
+        InputError: The task's tool poses cannot be solved on its mounting; a mounting
+            that places no base is blamed on whoever gave it.
+    """
+    from hdselect.motion.loading import robot_for_motion
+    from hdselect.motion.planning.solve import solve_motion
+
+    carrying = robot_for_motion(robot.with_payload(None), task.motion, payload=task.payload,
+                                mounting=task.mounting, joints=list(robot.sized_joints),
+                                exclude=())
+    try:
+        return carrying, solve_motion(carrying, task.motion)
+    except InputError as err:
+        if err.field != "mounting" or task.mounting is None:
+            raise
+        flag = mounting_option(args)
+        where = ({"field": flag} if flag is not None else
+                 {"path": mix.path, "field": f"task[{mix.tasks.index(task)}].mounting"})
+        raise InputError(f"{task.motion.path.name}: {err.reason}", **where) from err
+
+
+def _task_text(robot, mix, task) -> list[object]:
+    """The line saying which task of the mix was planned, and how it runs; none for a motion."""
+    from hdselect.report.tables import Paragraphs
+    from hdselect.sizing.records import base_text
+
+    if task is None:
+        return []
+    return [Paragraphs((f"task '{task.name}' of {mix.path.name}: {base_text(robot)}",))]
+
+
+def _units_case(args: argparse.Namespace, robot, source):
+    """The units given (``--units``) and the problem (catalog, options, motors), checked.
+
+    The options and motors are the motion file's, or for a mix's task the duty's.
+    """
     from hdselect.sizing.problem import problem_of
 
     given = unit_pairs(args.units or [])
-    motors = motors_of(args, robot, motion)
-    return given, problem_of(robot, motion, catalog=args.catalog, motors=motors,
-                             options=sizing_options_of(args, motion), plan=False)
+    motors = motors_of(args, robot, source)
+    return given, problem_of(robot, source, catalog=args.catalog, motors=motors,
+                             options=sizing_options_of(args, source), plan=False)
 
 
 def _checked_units(args: argparse.Namespace, units, robot, motion, trajectory):

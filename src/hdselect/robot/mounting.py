@@ -91,6 +91,43 @@ class BasePose:
         return self.matrix.T @ np.array(WORLD_GRAVITY)
 
 
+def base_pose_from(values: Sequence[float], *, angle: float = 1.0, angle_unit: str = "rad",
+                   field: str = "base") -> BasePose:
+    """A base pose from six numbers: x, y, z [m], then roll, pitch, yaw [`angle_unit`].
+
+    The angles are about fixed axes, as `BasePose.from_xyz_rpy`'s; each number is checked
+    against its physical range (`hdselect.base.bounds.LENGTH`, `ANGLE`).
+
+    Args:
+        values: The six numbers as given.
+        angle: Radians per unit of the angles [rad] (pi/180 for degrees).
+        angle_unit: The angles' unit, for messages.
+        field: Where the numbers were given (a key or an option), for messages.
+
+    Raises:
+        InputError: Not six numbers, or one that is not finite or out of range.
+    """
+    numbers = list(values)
+    if len(numbers) != 6:
+        raise InputError(f"expected 6 numbers {','.join(BASE_NUMBERS)} (m and {angle_unit}), "
+                         f"got {len(numbers)}", field=field)
+    checked = []
+    for name, value, kind in zip(BASE_NUMBERS, numbers, ("length",) * 3 + ("angle",) * 3,
+                                 strict=True):
+        try:
+            checked.append(bounds.LENGTH.check(value, field=field) if kind == "length" else
+                           bounds.ANGLE.check(value, field=field, scale=angle, unit=angle_unit)
+                           * angle)
+        except InputError as err:
+            raise InputError(f"{name} {err.reason}" if err.reason.startswith("must") else
+                             f"{name}: {err.reason}", field=field) from err
+    return BasePose.from_xyz_rpy(checked[:3], checked[3:])
+
+
+BASE_NUMBERS = ("x", "y", "z", "roll", "pitch", "yaw")
+"""The six numbers of a base pose given in a row (`base_pose_from`), in their order."""
+
+
 def rpy_matrix(rpy: Sequence[float]) -> np.ndarray:
     """R = Rz(yaw) Ry(pitch) Rx(roll) for roll, pitch, yaw [rad] (URDF's fixed axes X, Y, Z)."""
     roll, pitch, yaw = (float(a) for a in rpy)
