@@ -162,6 +162,7 @@ def robot_and_motion(args: argparse.Namespace):
     from hdselect.motion.loading import load_case, robot_for_motion
     from hdselect.motion.mixfile import is_mix_file, load_mix, mix_robot_file
     from hdselect.motion.motionfile import load_motion
+    from hdselect.motion.planning.hints import allowing_flips
     from hdselect.motion.planning.solve import solve_motion
 
     file_wanted(args, args.motion, "a motion file or a mix file (TOML)",
@@ -176,6 +177,8 @@ def robot_and_motion(args: argparse.Namespace):
     robot = robot_of(args, mix_robot_file(args.motion) if mix else None)
     if mix:
         mixed = load_mix(args.motion, robot)
+        if getattr(args, "allow_flip", False):
+            mixed = allowing_flips(mixed)
         joints, exclude = _joint_flags(args)
         with _flags_named(args, joints, exclude, None):
             return load_case(mixed, robot, mounting=args.mounting, joints=joints,
@@ -184,6 +187,8 @@ def robot_and_motion(args: argparse.Namespace):
         motion = load_motion(args.motion, robot)
     except InputError as err:
         raise _other_robot(args, err) from err
+    if getattr(args, "allow_flip", False):
+        motion = allowing_flips(motion)
     payload = _payload_of(args, motion)
     joints, exclude = _joint_flags(args)
     with _flags_named(args, joints, exclude, payload, motion.path):
