@@ -68,7 +68,7 @@ class Words:
         if self.base == NAMED_BASES["floor"]:
             return text
         xyz = ", ".join(f"{x:.4g}" for x in self.base.xyz)
-        rpy = ", ".join(f"{a / self.unit:.4g}" for a in pin.rpy.matrixToRpy(self.base.matrix))
+        rpy = ", ".join(f"{a / self.unit + 0.0:.4g}" for a in pin.rpy.matrixToRpy(self.base.matrix))
         return (f"{text}; the base is at ({xyz}) m, rpy ({rpy}) {self.motion.angle_unit} in "
                 "the world, and the poses are world poses: move the base (base = {xyz, rpy} "
                 "in the motion file, or --base) to bring the poses within reach")
@@ -168,7 +168,8 @@ def honour(kin: FrameKinematics, written: PoseWaypoint, target: Goal, seed: np.n
             + (f"{words.limits(real)} rules that branch out" if real else
                "no joint limit is in the way: that branch does not reach the pose"))
     if allow_flip:
-        return found, f"{where}: {text}; taken, as allowed by allow_flip"
+        return found, (f"{where}: {text}; the solver's branch taken, as --allow-flip (or [tool] "
+                       "allow_flip) allows")
     raise InputError(f"{text}; change or remove the hint, or allow the other branch with "
                      "--allow-flip (or [tool] allow_flip = true)", path=words.motion.path,
                      field=where)

@@ -121,7 +121,12 @@ def deviation(line: LinePath, poses: list[pin.SE3]) -> tuple[np.ndarray, np.ndar
         The origin's distance from the segment [m], the orientation's angle from the
         nearest orientation of the slerp arc [rad], and the fraction [-] of the nearest
         point (by position; by orientation for a turn on the spot), each shape (n,).
+        A line between under-determined poses measures what they fix: the approach
+        axis from the slerp of the directions, the yaw from its constant turn, nothing
+        for positions alone (angle 0).
     """
+    if line.targets is not None:
+        return _target_deviation(line, poses)
     start, end = pin.SE3(line.start), pin.SE3(line.end)
     p0, step = start.translation, end.translation - start.translation
     turn = pin.log3(start.rotation.T @ end.rotation)
