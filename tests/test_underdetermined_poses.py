@@ -323,7 +323,7 @@ def test_allow_flip_is_refused_without_a_tool_pose(tmp_path, capsys):
         in err, err
 
 
-# --- unreachable off the floor: where the base is --------------------------------------------------
+# --- unreachable off the floor: where the base is ---------------------------------------
 
 def test_unreachable_on_the_ceiling_says_where_the_base_is(tmp_path, capsys):
     assert main(["plan", str(LABARM), "--mounting", "ceiling", "--out",
