@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TypeAlias
 
 import numpy as np
 import pinocchio as pin
@@ -187,7 +188,7 @@ class Target:
             (("roll", roll), ("pitch", pitch), ("yaw", yaw))
 
 
-Goal = pin.SE3 | Target
+Goal: TypeAlias = pin.SE3 | Target
 """What a waypoint asks of the tool: a full pose, or an under-determined `Target`."""
 
 

@@ -214,11 +214,11 @@ def read_pose(table: Mapping[str, Any], index: int, path: Path, robot: Robot,
     where = f"waypoint[{index}]"
     form = table_of(table["pose"], path, f"{where}.pose")
     check_keys(form, POSE_FORMS, path, f"{where}.pose")
-    given = [key for key in POSE_FORMS[1:] if key in form]
-    if len(given) > 1:
+    forms = [key for key in POSE_FORMS[1:] if key in form]
+    if len(forms) > 1:
         raise InputError(f"give one of rpy (a full pose), axis (the approach axis, roll free) "
-                         f"or yaw (tilt free), not both {given[0]} and {given[1]}", path=path,
-                         field=f"{where}.pose.{given[1]}")
+                         f"or yaw (tilt free), not both {forms[0]} and {forms[1]}", path=path,
+                         field=f"{where}.pose.{forms[1]}")
     xyz, rpy = read_xyz_rpy({k: v for k, v in form.items() if k in ("xyz", "rpy")}, path,
                             f"{where}.pose", angle, angle_unit, need_rpy=False)
     axis = _direction(form["axis"], path, f"{where}.pose.axis") if "axis" in form else None

@@ -18,6 +18,7 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import replace
+from typing import overload
 
 import numpy as np
 import pinocchio as pin
@@ -175,6 +176,10 @@ def honour(kin: FrameKinematics, written: PoseWaypoint, target: Goal, seed: np.n
                      field=where)
 
 
+@overload
+def allowing_flips(source: Motion) -> Motion: ...
+@overload
+def allowing_flips(source: Mix) -> Mix: ...
 def allowing_flips(source: Motion | Mix) -> Motion | Mix:
     """The motion (a mix's every task's) with ``allow_flip`` set, as ``--allow-flip`` asks.
 
