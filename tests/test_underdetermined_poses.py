@@ -360,3 +360,22 @@ def test_unreachable_on_the_floor_does_not_talk_of_the_base(tmp_path):
         hdselect.load_case(path)
     assert "cannot reach this pose on the floor mounting" in str(raised.value)
     assert "the base is at" not in str(raised.value)
+
+
+# --- init --tool-poses: the form that fits the joint count ----------------------------------------
+
+@pytest.mark.parametrize(("name", "form"), [
+    ("benchtop6", "pose"), ("labarm5", "axis"), ("scara", "yaw"), ("planar2", "position"),
+    ("pan_tilt", "position"), ("index_table", "position")])
+def test_init_writes_the_pose_form_that_fits_the_robot(name, form, tmp_path, capsys):
+    out = tmp_path / "starter.toml"
+    assert main(["init", str(REPO / "robots" / f"{name}.urdf"), "--tool-poses", "--out",
+                 str(out)]) == 0
+    robot, motion = hdselect.load_case(out)
+    assert {p.kind for p in motion.tool.poses} == {form}
+    near = motion.tool.poses[0].near
+    np.testing.assert_allclose(motion.waypoints[0], [near[n] for n in robot.joint_names],
+                               atol=1e-3)
+    assert main(["plan", str(out), "--out", str(tmp_path / "t.csv")]) == 0
+    out_text = " ".join(capsys.readouterr().out.split())
+    assert ("free coordinates as solved" in out_text) == (form != "pose")
