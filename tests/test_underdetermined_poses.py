@@ -379,3 +379,24 @@ def test_init_writes_the_pose_form_that_fits_the_robot(name, form, tmp_path, cap
     assert main(["plan", str(out), "--out", str(tmp_path / "t.csv")]) == 0
     out_text = " ".join(capsys.readouterr().out.split())
     assert ("free coordinates as solved" in out_text) == (form != "pose")
+
+
+@pytest.mark.parametrize(("motion", "frame"), [(LABARM, "tool0"), (SCARA, "wafer")])
+def test_a_base_pose_carries_axis_and_yaw_into_the_world(motion, frame, tmp_path):
+    """The base 5 cm over, 2 cm up and turned 20 deg: the world poses are met in the world."""
+    text = motion.read_text().replace("../robots/", f"{REPO}/robots/").replace(
+        'mounting = "floor"', "base = {xyz = [0.05, 0.0, 0.02], rpy = [0, 0, 20]}")
+    path = tmp_path / "motion.toml"
+    path.write_text(text)
+    robot, solved = hdselect.load_case(path)
+    base = pin.SE3(pin.rpy.rpyToMatrix(0.0, 0.0, math.radians(20)), np.array([0.05, 0.0, 0.02]))
+    for pose in solved.tool.poses:
+        placed = base * fk(robot.path, frame, solved.waypoints[pose.index])
+        assert np.linalg.norm(placed.translation - pose.xyz) < POSITION_TOLERANCE
+        if pose.kind == "axis":
+            assert angle_between(placed.rotation[:, 2], pose.axis) < AXIS_TOLERANCE
+            assert solved.solution.free[pose.index][0][1] == pytest.approx(
+                roll_about(placed.rotation, 2, 0), abs=1e-9)
+        else:
+            yaw = math.atan2(placed.rotation[1, 0], placed.rotation[0, 0])
+            assert abs((yaw - pose.yaw + math.pi) % (2 * math.pi) - math.pi) < AXIS_TOLERANCE
