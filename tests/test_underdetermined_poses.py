@@ -309,10 +309,9 @@ def test_allow_flip_turns_it_into_a_warning(how, tmp_path, capsys):
     assert main(["plan", str(path), "--out", str(tmp_path / "out.csv"), *extra]) == 0
     err = " ".join(capsys.readouterr().err.split())
     assert f"WARNING: {path}: {REFUSED}; the solver's branch taken" in err
-    robot, motion = hdselect.load_case(path) if how == "file" else (None, None)
-    if motion is not None:
-        assert any("near.elbow" in w for w in motion.warnings)
-        assert motion.waypoints[0, 2] > 0  # elbow forward: the solver's branch
+    robot, motion = hdselect.load_case(path, allow_flip=how == "flag")  # Python: the parameter
+    assert any("near.elbow" in w for w in motion.warnings)
+    assert motion.waypoints[0, 2] > 0  # elbow forward: the solver's branch
 
 
 def test_allow_flip_is_refused_without_a_tool_pose(tmp_path, capsys):
