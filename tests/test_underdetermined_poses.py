@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import re
 
 import numpy as np
 import pinocchio as pin
@@ -399,3 +400,21 @@ def test_a_base_pose_carries_axis_and_yaw_into_the_world(motion, frame, tmp_path
         else:
             yaw = math.atan2(placed.rotation[1, 0], placed.rotation[0, 0])
             assert abs((yaw - pose.yaw + math.pi) % (2 * math.pi) - math.pi) < AXIS_TOLERANCE
+
+
+def test_positions_alone_on_six_joints_use_the_freedom_and_close_the_cycle(tmp_path):
+    """benchtop6's pick-and-place as positions alone: three coordinates free at every
+    waypoint; the last, back at the first's position, takes the first's joints."""
+    text = re.sub(r", rpy = \[[^]]*\]", "", (REPO / "trajectories" /
+                                            "benchtop6_pick_place_poses.toml").read_text())
+    path = tmp_path / "motion.toml"
+    path.write_text(text.replace("../robots/", f"{REPO}/robots/"))
+    robot, motion = hdselect.load_case(path)
+    assert {p.kind for p in motion.tool.poses} == {"position"}
+    for pose in motion.tool.poses:
+        placed = fk(robot.path, "tool0", motion.waypoints[pose.index])
+        assert np.linalg.norm(placed.translation - pose.xyz) < POSITION_TOLERANCE
+    assert motion.tool.poses[-1].xyz == motion.tool.poses[0].xyz
+    assert np.array_equal(motion.waypoints[-1], motion.waypoints[0])
+    steps = np.abs(np.diff(motion.waypoints, axis=0)).max(axis=1)
+    assert steps.max() < math.radians(120)  # each near the waypoint before

@@ -270,7 +270,10 @@ class _Solver:
 
         Repeating it needs a turn back that it does not contain. A last waypoint written
         as a pose (not a line) takes the first's joints, with a note, if the move into it
-        keeps the branch or the waypoint allows ``reconfigure``.
+        keeps the branch or the waypoint allows ``reconfigure``. A last pose that fixes
+        less than a full pose (`Target`), met by the first's joints, takes them whenever
+        the move into them keeps the branch: its free coordinates as the first's, so that
+        the cycle closes in joint space.
 
         Raises:
             InputError: The cycle cannot be closed so; field ``waypoint[n]``, the last.
@@ -281,6 +284,12 @@ class _Solver:
         last = tool.at(n)
         target = self.goal(last) if last is not None else kin.placement(waypoints[n])
         errors = goal_error(kin.placement(waypoints[0]), target)
+        if isinstance(target, Target) and last is not None and not last.line and n > 1 \
+                and tool.tolerance.holds(*errors) \
+                and not check_branch(kin, waypoints[n - 1], waypoints[0]).flipped:
+            waypoints[n] = waypoints[0]
+            self.position_error[n], self.orientation_error[n] = errors
+            return
         if (tool.at(0) is None and last is None) or not turns.any() \
                 or not tool.tolerance.holds(*errors):
             return
