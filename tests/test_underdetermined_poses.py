@@ -268,6 +268,16 @@ def test_hostile_pose_forms_are_one_line_naming_the_field(old, new, message, tmp
     assert not (tmp_path / "out.csv").exists()
 
 
+def test_an_approach_without_an_axis_pose_is_refused(tmp_path, capsys):
+    text = SCARA.read_text().replace("../robots/", f"{REPO}/robots/")
+    path = tmp_path / "motion.toml"
+    path.write_text(text.replace('frame = "wafer"', 'frame = "wafer"\napproach = "-z"'))
+    assert main(["plan", str(path), "--out", str(tmp_path / "out.csv")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"{path}: tool.approach: approach names the tool axis a " \
+        "pose's axis gives; no waypoint gives one" in err, err
+
+
 # --- a near hint that cannot be honoured ---------------------------------------------------------
 
 NEAR = f"""robot = "{REPO}/robots/labarm5.urdf"

@@ -301,6 +301,9 @@ def read_tool(value: Any, path: Path, angle: float, angle_unit: str,
     if approach not in TOOL_AXES:
         raise InputError(f"unknown tool axis {approach!r}; choose one of: "
                          f"{', '.join(TOOL_AXES)}", path=path, field="tool.approach")
+    if "approach" in table and not any(p.axis is not None for p in poses):
+        raise InputError("approach names the tool axis a pose's axis gives; no waypoint gives "
+                         "one (pose = {xyz, axis})", path=path, field="tool.approach")
     return ToolPoses(frame, Tolerance(position, orientation), tuple(poses),
                      frozenset(reconfigure), approach)
 
