@@ -428,3 +428,31 @@ def test_positions_alone_on_six_joints_use_the_freedom_and_close_the_cycle(tmp_p
     assert np.array_equal(motion.waypoints[-1], motion.waypoints[0])
     steps = np.abs(np.diff(motion.waypoints, axis=0)).max(axis=1)
     assert steps.max() < math.radians(120)  # each near the waypoint before
+
+
+def test_full_and_axis_poses_mixed_in_one_file_with_lines_between(tmp_path):
+    """benchtop6's pick-and-place, every second pose an axis (tool down): lines from a
+    full pose into an axis pose and back start where the tool was put."""
+    count = iter(range(100))
+    text = re.sub(r", rpy = \[[^]]*\]",
+                  lambda m: m[0] if next(count) % 2 == 0 else ", axis = [0, 0, -1]",
+                  (REPO / "trajectories" / "benchtop6_pick_place_poses.toml").read_text())
+    path = tmp_path / "motion.toml"
+    path.write_text(text.replace("../robots/", f"{REPO}/robots/"))
+    robot, motion = hdselect.load_case(path)
+    assert [p.kind for p in motion.tool.poses] == ["pose", "axis"] * 4
+    for pose in motion.tool.poses:
+        placed = fk(robot.path, "tool0", motion.waypoints[pose.index])
+        assert np.linalg.norm(placed.translation - pose.xyz) < POSITION_TOLERANCE
+        if pose.kind == "axis":
+            assert angle_between(placed.rotation[:, 2], pose.axis) < AXIS_TOLERANCE
+        else:
+            wanted = pin.rpy.rpyToMatrix(*pose.rpy)
+            assert np.linalg.norm(pin.log3(placed.rotation.T @ wanted)) < AXIS_TOLERANCE
+    for line in motion.lines:
+        start = fk(robot.path, "tool0", motion.waypoints[line.last - 1]).translation
+        end = np.array(motion.tool.at(line.last).xyz)
+        for fraction, q in zip(line.fractions, line.q, strict=True):
+            placed = fk(robot.path, "tool0", q)
+            assert np.linalg.norm(placed.translation - ((1 - fraction) * start
+                                                        + fraction * end)) < POSITION_TOLERANCE
