@@ -5,7 +5,11 @@ Each pose is carried from the world into the robot's base frame through its moun
 the waypoint before (the first from the middle of the joint ranges), with the
 waypoint's ``near`` hint applied; up to `RESTARTS` random restarts follow when that seed
 fails; when the solution is on another branch than the waypoint before, other seeds
-look for one on the same branch (unless the waypoint's ``near`` chose the branch). A line
+look for one on the same branch (unless the waypoint's ``near`` chose the branch, which
+must then be honoured: `hdselect.motion.planning.hints.honour`). A pose that fixes less
+than a full pose (`hdselect.ik.targets.Target`: an approach axis, a yaw, a position
+alone) is solved on the rows it fixes, its free coordinates reported per waypoint
+(`ToolSolution.free`). A line
 (``line = true``) is walked from the waypoint before
 (`hdselect.ik.lines`), and its samples refined until the planner's spline follows
 it (`hdselect.motion.planning.linefit`).
@@ -17,7 +21,8 @@ task, as written, does not need, so sizing it silently would size another task. 
 message names the waypoints and how to keep the branch (a ``near`` hint).
 
 A cycle back at its first pose with joints whole turns away (a wrist at +180 deg, then
--180 deg) is closed with the first's joints, or refused (`_Solver._close_cycle`).
+-180 deg) is closed with the first's joints, or refused (`_Solver._close_cycle`); so is
+one back at a first pose that fixes less, where the first's joints meet it.
 
 Joint waypoints keep their joint positions whatever the mounting: on any mounting but
 the floor they move with the robot, and a note says so.
