@@ -237,6 +237,8 @@ AXIS_POSE = "pose = {xyz = [0.35, -0.15, 0.22], axis = [0, 0, -1]}"
 HOSTILE = [
     (AXIS_POSE, "pose = {xyz = [0.35, -0.15, 0.22], axis = [0, 0, 0]}",
      "waypoint[0].pose.axis: the approach axis has no direction (length 0)"),
+    (AXIS_POSE, "pose = {xyz = [0.35, -0.15, 0.22], axis = [1e-10, 0, 0]}",
+     "waypoint[0].pose.axis: the approach axis has no direction (length 0)"),
     (AXIS_POSE, "pose = {xyz = [0.35, -0.15, 0.22], axis = [0, nan, -1]}",
      "waypoint[0].pose.axis[1]:"),
     (AXIS_POSE, "pose = {xyz = [0.35, nan, 0.22], axis = [0, 0, -1]}",

@@ -349,11 +349,12 @@ def _direction(value: Any, path: Path, field: str) -> tuple[float, float, float]
         InputError: It is malformed, not finite or of zero length.
     """
     given = np.array(vector(value, 3, path, field), dtype=float)
-    size = float(np.linalg.norm(given))
+    biggest = float(np.abs(given).max())
+    size = float(np.linalg.norm(given / biggest)) * biggest if biggest > 0.0 else 0.0
     if not size > 1e-9:
         raise InputError("the approach axis has no direction (length 0): give a vector such "
                          "as [0, 0, -1] (tool down)", path=path, field=field)
-    unit = given / size
+    unit = (given / biggest) / (size / biggest)
     return (float(unit[0]), float(unit[1]), float(unit[2]))
 
 
