@@ -43,7 +43,7 @@ from hdselect.ik.lines import LinePath, LineStop, solve_line
 from hdselect.ik.poses import base_in_world, in_base
 from hdselect.ik.solver import PoseSolution, solve_pose
 from hdselect.ik.targets import Goal, Target, goal_error, goal_in
-from hdselect.motion.motionfile import ANGLE_UNITS, Motion
+from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.hints import Words, honour
 from hdselect.motion.planning.linefit import fit_lines
 from hdselect.motion.toolposes import PoseWaypoint, ToolPoses, ToolSolution
@@ -213,7 +213,6 @@ class _Solver:
         self.position_error = np.full(count, np.nan)
         self.orientation_error = np.full(count, np.nan)
         self.notes: list[str] = []
-        self.angle = ANGLE_UNITS[motion.angle_unit]
         self.waypoints = np.array(motion.waypoints)
         self.lines: list[LinePath] = []
         self.words = Words(kin, motion, base)
