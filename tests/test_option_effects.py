@@ -42,6 +42,7 @@ SIZING = [
     ("--min-natural-frequency", ["hand-axes"], ["--series", "shg-2uh"]),
     ("--max-tool-deflection", ["0.005"], ["--series", "shg-2uh"]),  # refused: fastest, ...
     ("--min-arm-frequency", ["laser-welding-hand-axes"], ["--series", "shg-2uh"]),
+    ("--allow-flip", []),  # refused: the motion has no tool pose (test_underdetermined_poses)
 ]
 """Options every sizing command takes, with a value that must change its answer."""
 
@@ -72,7 +73,8 @@ EFFECTS = {
              ("--motor-catalog", ["motors/example_motors.toml"]),  # and the motors'
              ("--catalog", ["acme.toml"]),  # refused without --units; test_size_cli: its id
              ("--motor-mass", ["1.0"], ["--units", "shoulder=PSA-14-100"]),
-             ("--no-mass-coupling", [], ["--units", "shoulder=PSA-14-100"])],
+             ("--no-mass-coupling", [], ["--units", "shoulder=PSA-14-100"]),
+             ("--allow-flip", [])],  # refused: no tool pose (test_underdetermined_poses)
 }
 """Per command, each option and its value."""
 

@@ -399,8 +399,9 @@ BAD = [
      "waypoint[1].q: give either q (joint positions) or pose"),
     ("rpy = [180, 0, -90]}}", "rpy = [180, 0]}}", "waypoint[0].pose.rpy: expected a list of 3"),
     ("pose = {{xyz = [0.26, 0.0, 0.30], rpy = [180, 0, -90]}}",
-     "pose = {{xyz = [0.26, 0.0, 0.30]}}", "waypoint[0].pose.rpy: required key is missing; a tool "
-     "pose needs its orientation"),
+     "pose = {{xyz = [0.26, 0.0, 0.30], rpy = [180, 0, -90], axis = [0, 0, -1]}}",
+     "waypoint[0].pose.axis: give one of rpy (a full pose), axis (the approach axis, roll "
+     "free) or yaw (tilt free), not both rpy and axis"),
     ('"toppra"\nangle_unit = "deg"\n\n[limits]', '"ruckig"\nangle_unit = "deg"\n\n[limits]\n'
      "jerk = 4000", "waypoint[2].line: a straight line needs planner \"toppra\" (\"ruckig\" moves"),
     ("line = true", "line = true\nnear = {{elbow = 90}}", "waypoint[2].near: a line decides"),

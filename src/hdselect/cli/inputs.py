@@ -163,6 +163,7 @@ def robot_and_motion(args: argparse.Namespace):
     from hdselect.motion.loading import load_case, robot_for_motion
     from hdselect.motion.mixfile import is_mix_file, load_mix, mix_robot_file
     from hdselect.motion.motionfile import load_motion
+    from hdselect.motion.planning.hints import allowing_flips
     from hdselect.motion.planning.solve import solve_motion
 
     file_wanted(args, args.motion, "a motion file or a mix file (TOML)",
@@ -178,6 +179,8 @@ def robot_and_motion(args: argparse.Namespace):
     robot = robot_of(args, mix_robot_file(args.motion) if mix else None)
     if mix:
         mixed = load_mix(args.motion, robot)
+        if getattr(args, "allow_flip", False):
+            mixed = allowing_flips(mixed)
         joints, exclude = _joint_flags(args)
         mounting = mounting_flag(args, source_angle_unit(mixed))
         with _flags_named(args, joints, exclude, None):
@@ -186,6 +189,8 @@ def robot_and_motion(args: argparse.Namespace):
         motion = load_motion(args.motion, robot)
     except InputError as err:
         raise _other_robot(args, err) from err
+    if getattr(args, "allow_flip", False):
+        motion = allowing_flips(motion)
     payload = _payload_of(args, motion)
     joints, exclude = _joint_flags(args)
     mounting = mounting_flag(args, motion.angle_unit)

@@ -31,6 +31,7 @@ from hdselect.base.arrays import frozen
 from hdselect.ik.branches import SINGULAR, singularity_kind
 from hdselect.ik.poses import Tolerance, interpolate_pose, pose_error
 from hdselect.ik.solver import solve_pose
+from hdselect.ik.targets import Goal, Target, goal_between, goal_error
 from hdselect.robot.kinematics import FrameKinematics, LimitContact
 
 MAX_JOINT_RATE = 100.0
@@ -53,6 +54,9 @@ class LinePath:
             are the waypoints' own.
         position_error: Tool distance from the line's pose at each sample [m], (m,).
         orientation_error: Tool angle from the line's orientation at each sample [rad].
+        targets: For a line between under-determined poses: its two `Target`s (`start`
+            and `end` then give the tool's poses at its two waypoints as solved); None for
+            a line between full poses.
     """
 
     last: int
@@ -62,10 +66,17 @@ class LinePath:
     q: np.ndarray
     position_error: np.ndarray
     orientation_error: np.ndarray
+    targets: tuple[Target, Target] | None = None
 
     def pose(self, fraction: float) -> pin.SE3:
         """The line's pose at a fraction of the move [-], in the base frame."""
         return interpolate_pose(pin.SE3(self.start), pin.SE3(self.end), fraction)
+
+    def goal(self, fraction: float) -> Goal:
+        """What the line asks of the tool at a fraction of the move [-], in the base frame."""
+        if self.targets is None:
+            return self.pose(fraction)
+        return self.targets[0].between(self.targets[1], fraction)
 
     @property
     def interior(self) -> np.ndarray:
@@ -93,14 +104,14 @@ class LineStop:
     sigma: float = float("nan")
 
 
-def solve_line(kin: FrameKinematics, last: int, start: pin.SE3, end: pin.SE3,
+def solve_line(kin: FrameKinematics, last: int, start: Goal, end: Goal,
                q_start: np.ndarray, tolerance: Tolerance) -> LinePath | LineStop:
     """Follow the straight move of the frame from `start` to `end` (base frame).
 
     Args:
         kin: The frame and the joint limits.
         last: The waypoint the line ends at (recorded in the result).
-        start: Pose at fraction 0.
+        start: Pose at fraction 0 (a full pose, or a `Target` of the same kind as `end`).
         end: Pose at fraction 1.
         q_start: Joint positions at (or near) the start pose [rad or m]: they fix the branch.
         tolerance: Largest tool deviation from the line at samples and chord midpoints.
@@ -109,7 +120,7 @@ def solve_line(kin: FrameKinematics, last: int, start: pin.SE3, end: pin.SE3,
         The samples, or where and why the line stops.
     """
     def solve(fraction: float, seed: np.ndarray):
-        return solve_pose(kin, interpolate_pose(start, end, fraction), seed,
+        return solve_pose(kin, goal_between(start, end, fraction), seed,
                           tolerance=tolerance, wrap=False)
 
     first = solve(0.0, q_start)
@@ -117,10 +128,15 @@ def solve_line(kin: FrameKinematics, last: int, start: pin.SE3, end: pin.SE3,
     if not first.converged:
         return LineStop(0.0, "joint limit" if first.blocking else "out of reach",
                         first.blocking, sigma=kin.sigma_min(first.q))
-    extent = kin.tool_motion(start, end)
-    dp, dtheta = pose_error(start, end)
+    if isinstance(start, Target) and isinstance(end, Target):
+        dp = float(np.linalg.norm(end.position - start.position))
+        dtheta = start.angle_to(end)
+        extent = dp / kin.length + dtheta
+    else:
+        extent = kin.tool_motion(start, end)
+        dp, dtheta = pose_error(start, end)
     if extent == 0.0:
-        return _path(last, start, end, rows + [(1.0, *rows[0][1:])])
+        return _path(kin, last, start, end, rows + [(1.0, *rows[0][1:])])
     shortest = 0.1 * min(tolerance.position / dp if dp else np.inf,
                          tolerance.orientation / dtheta if dtheta else np.inf)
     shortest = min(max(shortest, 1e-9), 1.0)
@@ -139,7 +155,7 @@ def solve_line(kin: FrameKinematics, last: int, start: pin.SE3, end: pin.SE3,
                 verdict = "singularity"
         if not verdict:
             middle = kin.placement(0.5 * (q + found.q))
-            if not tolerance.holds(*pose_error(middle, interpolate_pose(
+            if not tolerance.holds(*goal_error(middle, goal_between(
                     start, end, 0.5 * (fraction + ahead)))) and step > shortest:
                 step = max(0.5 * step, shortest)
                 continue
@@ -152,7 +168,7 @@ def solve_line(kin: FrameKinematics, last: int, start: pin.SE3, end: pin.SE3,
             kind = singularity_kind(kin, q, sigma_here) if verdict == "singularity" else ""
             return LineStop(ahead, verdict, found.blocking if verdict == "joint limit" else (),
                             kind, sigma_here)
-    return _path(last, start, end, rows)
+    return _path(kin, last, start, end, rows)
 
 
 def refine(kin: FrameKinematics, line: LinePath, fraction: float,
@@ -167,7 +183,7 @@ def refine(kin: FrameKinematics, line: LinePath, fraction: float,
     if not 0 < k < len(line.fractions) or fraction == line.fractions[k]:
         return None
     seed = 0.5 * (line.q[k - 1] + line.q[k])
-    found = solve_pose(kin, line.pose(fraction), seed, tolerance=tolerance, wrap=False)
+    found = solve_pose(kin, line.goal(fraction), seed, tolerance=tolerance, wrap=False)
     if not found.converged:
         return None
     columns = [np.insert(line.fractions, k, fraction), np.insert(line.q, k, found.q, axis=0),
@@ -177,8 +193,15 @@ def refine(kin: FrameKinematics, line: LinePath, fraction: float,
                    position_error=frozen(columns[2]), orientation_error=frozen(columns[3]))
 
 
-def _path(last: int, start: pin.SE3, end: pin.SE3, rows: list) -> LinePath:
+def _path(kin: FrameKinematics, last: int, start: Goal, end: Goal, rows: list) -> LinePath:
     """The accepted samples as a read-only LinePath."""
+    targets = None
+    if isinstance(start, Target) and isinstance(end, Target):
+        targets = (start, end)
+        start, end = kin.placement(rows[0][1]), kin.placement(rows[-1][1])
+    if isinstance(start, Target) or isinstance(end, Target):
+        raise TypeError("a line between a full pose and a target")
     return LinePath(last, frozen(start.homogeneous), frozen(end.homogeneous),
                     frozen(np.array([r[0] for r in rows])), frozen(np.array([r[1] for r in rows])),
-                    frozen(np.array([r[2] for r in rows])), frozen(np.array([r[3] for r in rows])))
+                    frozen(np.array([r[2] for r in rows])), frozen(np.array([r[3] for r in rows])),
+                    targets)

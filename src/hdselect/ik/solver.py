@@ -36,6 +36,7 @@ import numpy as np
 import pinocchio as pin
 
 from hdselect.ik.poses import Tolerance, pose_error
+from hdselect.ik.targets import Goal, Target
 from hdselect.robot.kinematics import AT_BOUND, FrameKinematics, LimitContact
 
 MAX_ITERATIONS = 200
@@ -78,14 +79,15 @@ class PoseSolution:
     restart: int = 0
 
 
-def solve_pose(kin: FrameKinematics, target: pin.SE3, seed: np.ndarray, *,
+def solve_pose(kin: FrameKinematics, target: Goal, seed: np.ndarray, *,
                tolerance: Tolerance = DEFAULT_TOLERANCE, restarts: int = 0, wrap: bool = True,
                rng_seed: int = 0) -> PoseSolution:
     """Place the frame of `kin` at `target` (base frame), starting from `seed`.
 
     Args:
         kin: The frame and the joint limits.
-        target: The pose wanted, in the base frame.
+        target: The pose wanted, in the base frame: a full pose, or a `Target` that
+            fixes less (its free coordinates are then settled by `settle`).
         seed: Joint positions to start from [rad or m], shape (dof,); clipped first.
         tolerance: How close the frame must come.
         restarts: Further attempts from random joint positions within the limits
@@ -97,12 +99,13 @@ def solve_pose(kin: FrameKinematics, target: pin.SE3, seed: np.ndarray, *,
     Returns:
         The best attempt: the one that converged, else the one closest to the pose.
     """
+    residual = _Residual(kin, target)
     best: tuple[float, np.ndarray, float, float, int] | None = None
     spent = 0
     rng = np.random.default_rng(rng_seed)
     for attempt in range(restarts + 1):
         start = kin.clip(seed) if attempt == 0 else _random(kin, rng)
-        q, position, orientation, iterations = _descend(kin, target, start, tolerance, wrap)
+        q, position, orientation, iterations = _descend(kin, residual, start, tolerance, wrap)
         spent += iterations
         score = position / tolerance.position + orientation / tolerance.orientation
         if best is None or score < best[0]:
@@ -113,18 +116,63 @@ def solve_pose(kin: FrameKinematics, target: pin.SE3, seed: np.ndarray, *,
         raise RuntimeError("inverse kinematics made no attempt")
     _, q, position, orientation, attempt = best
     converged = tolerance.holds(position, orientation)
+    if converged and isinstance(target, Target):
+        q, position, orientation, settling = settle(kin, residual, q, kin.clip(seed),
+                                                    tolerance, wrap)
+        spent += settling
     q = q.copy()
     q.setflags(write=False)
     return PoseSolution(q, position, orientation, converged, spent,
                         () if converged else blocking_limits(kin, target, q), attempt)
 
 
-def _descend(kin: FrameKinematics, target: pin.SE3, q: np.ndarray, tolerance: Tolerance,
+class _Residual:
+    """The error of the frame's pose against a goal, and its Jacobian.
+
+    A full pose uses the log6 error and Pinocchio's Jlog6 (the frame's own axes); a
+    `Target` its own rows (`Target.residual`, the base frame's axes).
+    """
+
+    def __init__(self, kin: FrameKinematics, target: Goal) -> None:
+        self.kin, self.target = kin, target
+        self.full = not isinstance(target, Target)
+
+    def at(self, q: np.ndarray) -> tuple[pin.SE3, np.ndarray]:
+        """The frame's pose at `q` and the residual there."""
+        current = self.kin.placement(q)
+        target = self.target
+        if isinstance(target, Target):
+            return current, target.residual(current, self.kin.jacobian(q, aligned=True))[0]
+        return current, pin.log6(current.actInv(target)).vector
+
+    def jacobian(self, q: np.ndarray, current: pin.SE3) -> np.ndarray:
+        """d(residual)/dq at `q`, shape (rows, dof)."""
+        target = self.target
+        if isinstance(target, Target):
+            return target.residual(current, self.kin.jacobian(q, aligned=True))[1]
+        return -pin.Jlog6(target.actInv(current)) @ self.kin.jacobian(q)
+
+    def errors(self, current: pin.SE3, error: np.ndarray) -> tuple[float, float]:
+        """The position [m] and orientation [rad] errors of `current`."""
+        target = self.target
+        if isinstance(target, Target):
+            return target.errors(current)
+        # log6's angular part is the rotation between the two orientations
+        return (float(np.linalg.norm(target.translation - current.translation)),
+                float(np.linalg.norm(error[3:])))
+
+    def final(self, current: pin.SE3) -> tuple[float, float]:
+        """The errors reported for the pose reached."""
+        target = self.target
+        return target.errors(current) if isinstance(target, Target) else \
+            pose_error(current, target)
+
+
+def _descend(kin: FrameKinematics, residual: _Residual, q: np.ndarray, tolerance: Tolerance,
              wrap: bool) -> tuple[np.ndarray, float, float, int]:
     """One attempt of damped least squares from `q`: (q, position, orientation, iterations)."""
     goal = tolerance.scaled(_INNER)
-    current = kin.placement(q)
-    error = pin.log6(current.actInv(target)).vector
+    current, error = residual.at(q)
     cost = float(error @ error)
     mu, stalled, iterations = 1.0, 0, 0
     history = [cost]
@@ -132,12 +180,10 @@ def _descend(kin: FrameKinematics, target: pin.SE3, q: np.ndarray, tolerance: To
     held = np.zeros(kin.dof, dtype=bool)
     identity = np.eye(kin.dof)
     while iterations < MAX_ITERATIONS:
-        # log6's angular part is the rotation between the two orientations
-        if goal.holds(float(np.linalg.norm(target.translation - current.translation)),
-                      float(np.linalg.norm(error[3:]))):
+        if goal.holds(*residual.errors(current, error)):
             break
         iterations += 1
-        jacobian = -pin.Jlog6(target.actInv(current)) @ kin.jacobian(q)
+        jacobian = residual.jacobian(q, current)
         gradient = jacobian.T @ error
         hessian = jacobian.T @ jacobian + (mu * cost + _DAMPING_FLOOR) * identity
         step, held = _step_within_limits(kin, q, hessian, gradient)
@@ -145,8 +191,7 @@ def _descend(kin: FrameKinematics, target: pin.SE3, q: np.ndarray, tolerance: To
         if biggest > MAX_STEP:
             step *= MAX_STEP / biggest
         trial_q = kin.clip(q + step)
-        trial = kin.placement(trial_q)
-        trial_error = pin.log6(trial.actInv(target)).vector
+        trial, trial_error = residual.at(trial_q)
         trial_cost = float(trial_error @ trial_error)
         if trial_cost < cost:
             stalled = stalled + 1 if cost - trial_cost < 1e-14 + 1e-10 * cost else 0
@@ -163,11 +208,85 @@ def _descend(kin: FrameKinematics, target: pin.SE3, q: np.ndarray, tolerance: To
                 break
             q = kin.clip(np.where(turn, q - np.sign(q - kin.middle) * 2.0 * np.pi, q))
             wrapped |= turn
-            current = kin.placement(q)
-            error = pin.log6(current.actInv(target)).vector
+            current, error = residual.at(q)
             cost = float(error @ error)
             mu, stalled, history = 1.0, 0, [cost]
-    return (q, *pose_error(current, target), iterations)
+    return (q, *residual.final(current), iterations)
+
+
+SETTLE_ROUNDS = 40
+"""Steps along the free coordinates at most [-]."""
+SETTLE_STEP = 0.1
+"""Largest joint move of one step along the free coordinates [rad or m]."""
+LIMIT_MARGIN = 0.8
+"""The part of each joint's half-range beyond which `preference` pushes back [-]."""
+LIMIT_WEIGHT, SINGULAR_WEIGHT, SINGULAR_NEAR = 10.0, 1.0, 0.05
+"""Weights of the limit and singularity terms of `preference` [-], and the arm's scaled
+smallest singular value below which the singularity term acts [rad/rad]."""
+
+
+def preference(kin: FrameKinematics, q: np.ndarray, reference: np.ndarray) -> float:
+    """What `settle` lowers along the free coordinates [-].
+
+    Half the squared joint distance from `reference` (the waypoint before, or the seed)
+    [rad^2]; plus `LIMIT_WEIGHT` times the square of how far each bounded joint is beyond
+    `LIMIT_MARGIN` of its half-range from the middle (as a fraction of the half-range);
+    plus `SINGULAR_WEIGHT` times the square of how far the arm's scaled smallest
+    singular value (`FrameKinematics.sigma_min`, the measure of
+    `hdselect.ik.branches`) is below `SINGULAR_NEAR` (as a fraction of it).
+    """
+    value = 0.5 * float((q - reference) @ (q - reference))
+    bounded = np.isfinite(kin.lower) & np.isfinite(kin.upper)
+    half = np.where(bounded, 0.5 * (kin.upper - kin.lower), 1.0)
+    beyond = np.maximum(np.abs(q - kin.middle) / half - LIMIT_MARGIN, 0.0)
+    value += LIMIT_WEIGHT * float(np.where(bounded, beyond, 0.0) @ np.where(bounded, beyond, 0.0))
+    sigma = kin.sigma_min(q)
+    return value + SINGULAR_WEIGHT * max(0.0, 1.0 - sigma / SINGULAR_NEAR) ** 2
+
+
+def settle(kin: FrameKinematics, residual: _Residual, q: np.ndarray, reference: np.ndarray,
+           tolerance: Tolerance, wrap: bool) -> tuple[np.ndarray, float, float, int]:
+    """Use the freedom a `Target` leaves: lower `preference` while holding what it fixes.
+
+    A projected-gradient (null-space) step: the gradient of `preference` (central
+    differences) projected on the null space of the fixed rows' Jacobian, at most
+    `SETTLE_STEP` per joint, within the limits; the fixed coordinates are then restored by
+    `_descend`. A step is taken only when the result holds the tolerance and lowers the
+    preference; the step halves when it does not. An arm with no freedom left (as many
+    fixed rows as joints) is returned as it is.
+
+    Returns:
+        (q, position error [m], orientation error [rad], Jacobian evaluations).
+    """
+    current = residual.at(q)[0]
+    position, orientation = residual.final(current)
+    spent, size = 0, SETTLE_STEP
+    here = preference(kin, q, reference)
+    for _ in range(SETTLE_ROUNDS):
+        jacobian = residual.jacobian(q, current)
+        _, singular, rows = np.linalg.svd(jacobian)
+        rank = int(np.sum(singular > 1e-9 * max(float(singular[0]), 1.0)))
+        null = rows[rank:]
+        if not len(null) or size < 1e-6:
+            break
+        gradient = np.array([
+            (preference(kin, q + d, reference)
+             - preference(kin, q - d, reference)) / 2e-7
+            for d in 1e-7 * np.eye(kin.dof)])
+        step = -(null.T @ (null @ gradient))
+        biggest = float(np.abs(step).max(initial=0.0))
+        if biggest < 1e-9:
+            break
+        trial = kin.clip(q + step * min(size / biggest, 1.0))
+        trial, p, o, iterations = _descend(kin, residual, trial, tolerance, wrap)
+        spent += iterations + 1
+        lower = preference(kin, trial, reference)
+        if tolerance.holds(p, o) and lower < here - 1e-12:
+            q, here, position, orientation = trial, lower, p, o
+            current = residual.at(q)[0]
+        else:
+            size *= 0.5
+    return q, position, orientation, spent
 
 
 def _step_within_limits(kin: FrameKinematics, q: np.ndarray, hessian: np.ndarray,
@@ -187,7 +306,7 @@ def _step_within_limits(kin: FrameKinematics, q: np.ndarray, hessian: np.ndarray
     return step, held
 
 
-def blocking_limits(kin: FrameKinematics, target: pin.SE3,
+def blocking_limits(kin: FrameKinematics, target: Goal,
                     q: np.ndarray) -> tuple[LimitContact, ...]:
     """The limits `q` sits at with the pose error still falling outward: the limits in the way.
 
@@ -197,9 +316,9 @@ def blocking_limits(kin: FrameKinematics, target: pin.SE3,
     contacts = kin.contacts(q)
     if not contacts:
         return ()
-    current = kin.placement(q)
-    error = pin.log6(current.actInv(target)).vector
-    descent = -(-pin.Jlog6(target.actInv(current)) @ kin.jacobian(q)).T @ error
+    residual = _Residual(kin, target)
+    current, error = residual.at(q)
+    descent = -residual.jacobian(q, current).T @ error
     scale = float(np.abs(descent).max(initial=0.0)) or 1.0
     return tuple(contact for j, contact in contacts
                  if (descent[j] if contact.side == "upper" else -descent[j]) > 1e-6 * scale)

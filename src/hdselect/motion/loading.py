@@ -9,6 +9,7 @@ from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion, load_motion
+from hdselect.motion.planning.hints import allowing_flips
 from hdselect.motion.planning.solve import solve_motion
 from hdselect.motion.robot_named import load_motion_robot
 from hdselect.robot.model import Robot, load_robot
@@ -87,6 +88,7 @@ def load_case(
     mounting: Mounting | None = None,
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
+    allow_flip: bool = False,
 ) -> tuple[Robot, Motion | Mix]:
     """A motion (or mix) and the robot that runs it, payload, mounting and sized joints applied.
 
@@ -104,6 +106,9 @@ def load_case(
         mounting: Mounting overriding the motion file's (a mix's: every task's).
         joints: Joints to size, overriding the file's ``[sizing] joints``.
         exclude: Joints not to size, overriding the file's ``[sizing] exclude``.
+        allow_flip: A tool pose's ``near`` hint that cannot be honoured takes the solver's
+            branch with a warning, as ``--allow-flip`` (refused for a motion without tool
+            poses).
 
     Returns:
         The robot as the motion runs it (see `robot_for_motion`) and the motion, its
@@ -119,6 +124,7 @@ def load_case(
     bounds.expect_type(motion, (Motion, Mix, str, Path), "motion",
                        "a Motion, a Mix, a motion file or a mix file")
     bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
+    bounds.expect_type(allow_flip, (bool,), "allow_flip", "True or False")
     if isinstance(motion, str | Path):
         path = bounds.file_argument(motion, "motion")
         if is_mix_file(path):
@@ -129,6 +135,8 @@ def load_case(
             robot = (load_motion_robot(path) if robot is None
                      else robot if isinstance(robot, Robot) else load_robot(robot))
             motion = load_motion(path, robot)
+    if allow_flip:
+        motion = allowing_flips(motion)
     if isinstance(motion, Mix):
         _refuse_payload(payload)
         robot = robot if isinstance(robot, Robot) else load_robot(

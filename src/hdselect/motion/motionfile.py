@@ -143,6 +143,8 @@ class Motion:
             joint's lowest single-axis natural frequency [Hz], the same way.
         max_tool_deflection: ``[precision] max_tool_deflection_mm`` [m], or None.
         min_arm_frequency: ``[precision] min_arm_frequency_hz`` [Hz], or None.
+        allow_flip: ``[tool] allow_flip`` (or ``--allow-flip``): a ``near`` hint the solved
+            pose cannot honour is a warning, not an error; None where not given.
     """
 
     path: Path
@@ -179,6 +181,7 @@ class Motion:
     min_natural_frequency: Mapping[str, float] = field(default_factory=dict)
     max_tool_deflection: float | None = None
     min_arm_frequency: float | None = None
+    allow_flip: bool | None = None
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.

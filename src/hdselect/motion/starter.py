@@ -29,6 +29,7 @@ from hdselect.ik.branches import check_branch, path_crossing
 from hdselect.ik.lines import LinePath, solve_line
 from hdselect.ik.poses import Tolerance, pose_error, pose_from_xyz_rpy, xyz_rpy
 from hdselect.ik.solver import solve_pose
+from hdselect.ik.targets import Target
 from hdselect.robot.joints import describe_joints
 from hdselect.robot.kinematics import FrameKinematics, leader_range
 from hdselect.robot.model import Robot
@@ -172,9 +173,12 @@ def _tool_waypoints(robot: Robot, infos, scale, start, second) -> list[str]:
     """The ``[tool]`` table and the cycle as tool poses of the payload frame [m, deg]."""
     kin = FrameKinematics(robot, robot.payload_frame)
     joints = [np.array(q) / scale for q in (start, second)]
+    form = pose_form(kin)
     poses = [_rounded(kin.placement(q)) for q in joints]
     targets = [pose_from_xyz_rpy(xyz, [math.radians(a) for a in rpy]) for xyz, rpy in poses]
-    follows = isinstance(solve_line(kin, 1, targets[0], targets[1], joints[0], Tolerance()),
+    written = [_written(kin, form, q) for q in joints]
+    goals = targets if form == "rpy" else [goal for goal, _ in written]
+    follows = isinstance(solve_line(kin, 1, goals[0], goals[1], joints[0], Tolerance()),
                          LinePath)
     near = ", ".join(f"{_key(i.name)} = {_number(v)}" for i, v in zip(infos, start, strict=True))
     lines = [
@@ -184,24 +188,82 @@ def _tool_waypoints(robot: Robot, infos, scale, start, second) -> list[str]:
         "the payload's frame)",
         "# position_tolerance = 0.0001   # m: how close a solved pose must come (0.1 mm)",
         "# orientation_tolerance = 0.01  # deg (0.01 deg)",
+        *(['approach = "z"          # the tool axis `axis` gives (x, y, z, -x, -y, -z)']
+          if form == "axis" else []),
         "",
         "# The cycle as tool poses in the world (z up; the robot on the floor at the origin),",
         "# resting 0.5 s at each. `--mounting wall` or `ceiling` solves these same poses for",
         "# the arm hung there, where they are often out of reach: write poses for it there.",
-        "# xyz in m, rpy (roll, pitch, yaw about fixed x, y, z) in deg. The first pose starts",
-        "# the solver at `near`, which picks the arm's branch (elbow up or down, ...); each",
-        "# next pose starts from the one before. The last repeats the first `near`, so the",
-        "# cycle ends where it starts (an arm of more than 6 joints could end elsewhere).",
+        *FORM_WORDS[form],
+        "# The first pose starts the solver at `near`, which picks the arm's branch (elbow up",
+        "# or down, ...); each next pose starts from the one before. The last repeats the",
+        "# first `near`, so the cycle ends where it starts (a redundant arm could end elsewhere).",
     ]
-    for k, (xyz, rpy) in enumerate((poses[0], poses[1], poses[0])):
+    texts = ([f"rpy = [{', '.join(_number(v) for v in rpy)}]" for _, rpy in poses]
+             if form == "rpy" else [text for _, text in written])
+    for k, ((xyz, _), text) in enumerate(zip((poses[0], poses[1], poses[0]),
+                                             (texts[0], texts[1], texts[0]), strict=True)):
         lines += ["", "[[waypoint]]", "dwell = 0.5",
-                  f"pose = {{xyz = [{', '.join(_number(v) for v in xyz)}], "
-                  f"rpy = [{', '.join(_number(v) for v in rpy)}]}}"]
+                  f"pose = {{xyz = [{', '.join(_number(v) for v in xyz)}]"
+                  + (f", {text}}}" if text else "}")]
         if k != 1:  # the return too: a redundant arm solves the same pose elsewhere
             lines.append(f"near = {{{near}}}")
-        if k == 1 and follows:  # a line of 6-D poses is beyond most arms of < 6 joints
+        if k == 1 and follows:  # only where the arm can follow the line
             lines.append("# line = true          # reach it along a straight line")
     return lines
+
+
+FORM_WORDS = {
+    "rpy": ["# xyz in m, rpy (roll, pitch, yaw about fixed x, y, z) in deg: the full pose."],
+    "axis": ["# xyz in m, and the direction the tool's z axis points (axis): an arm of five",
+             "# joints cannot take every orientation; the roll about that axis is left to it."],
+    "yaw": ["# xyz in m, and the yaw of the tool about the vertical in deg: the arm keeps its",
+            "# tool's tilt by its build (a SCARA); the tilt is left to it."],
+    "xyz": ["# xyz in m alone: an arm of so few joints places the tool's origin; its",
+            "# orientation is left to it."],
+}
+"""What each form of pose gives, in the starter's comment."""
+
+
+def pose_form(kin: FrameKinematics) -> str:
+    """The form of tool pose that fits an arm: what its joints can place.
+
+    6 joints or more: ``"rpy"`` (the full pose); 5: ``"axis"`` (position and approach
+    axis); 4 with a vertical first axis (a SCARA, a palletiser): ``"yaw"``; fewer (or 4
+    otherwise): ``"xyz"``, the position alone.
+    """
+    if kin.dof >= 6:
+        return "rpy"
+    if kin.dof == 5:
+        return "axis"
+    if kin.dof == 4:
+        first = kin.jacobian(kin.middle, aligned=True)[:, 0]
+        axis = first[3:] if kin.robot.revolute[0] else first[:3]
+        size = float(np.linalg.norm(axis))
+        if size > 0.0 and abs(axis[2]) > 0.999 * size:
+            return "yaw"
+    return "xyz"
+
+
+def _written(kin: FrameKinematics, form: str, q: np.ndarray) -> tuple[Target, str]:
+    """The tool pose at `q` in a form fixing less than the full pose, rounded as written.
+
+    Returns:
+        The target as the file gives it (world = base: the floor), and its key beside
+        ``xyz`` in the file (``""`` for a position alone).
+    """
+    placement = kin.placement(q)
+    xyz = np.array(_rounded(placement)[0])
+    if form == "axis":
+        axis = [round(float(v), 5) + 0.0 for v in placement.rotation[:, 2]]
+        unit = np.array(axis) / np.linalg.norm(axis)
+        return (Target("axis", xyz, unit),
+                f"axis = [{', '.join(_number(v) for v in axis)}]")
+    if form == "yaw":
+        x = placement.rotation[:, 0]
+        yaw = round(math.degrees(math.atan2(x[1], x[0])), 4) + 0.0
+        return Target("yaw", xyz, yaw=math.radians(yaw)), f"yaw = {_number(yaw)}"
+    return Target("position", xyz), ""
 
 
 def _rounded(pose) -> tuple[list[float], list[float]]:

@@ -9,9 +9,14 @@ in any mix::
     frame = "tool0"                  # the frame the poses place (default: the payload's)
     position_tolerance = 0.0001      # m (default 0.1 mm)
     orientation_tolerance = 0.01     # in angle_unit (default 0.01 deg)
+    approach = "z"                   # the tool axis an ``axis`` points (x, y, z, -x, -y, -z)
+    allow_flip = false               # a near hint not honoured is a warning, not an error
 
     [[waypoint]]
     pose = {xyz = [0.32, -0.22, 0.05], rpy = [180, 0, 0]}   # m and angle_unit, world frame
+    # or pose = {xyz = [...], axis = [0, 0, -1]}: the approach axis only, roll free
+    # or pose = {xyz = [...], yaw = 30}: the yaw about the world's vertical, tilt free
+    # or pose = {xyz = [...]}: the position alone
     near = {elbow = 90}              # optional: start the solver with these joints here
     [[waypoint]]
     pose = {xyz = [0.32, -0.22, 0.15], rpy = [180, 0, 0]}
@@ -36,15 +41,19 @@ from hdselect.base import bounds
 from hdselect.base.errors import InputError
 from hdselect.base.tomlfile import as_number, check_keys, table_of
 from hdselect.ik.poses import Tolerance, pose_from_xyz_rpy
+from hdselect.ik.targets import TOOL_AXES, Goal, Target
 from hdselect.motion.limits import LIMIT_ROUNDING, vector
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import BasePose
 
-TOOL_KEYS = ("frame", "position_tolerance", "orientation_tolerance")
+TOOL_KEYS = ("frame", "position_tolerance", "orientation_tolerance", "approach", "allow_flip")
 """Keys of the ``[tool]`` table."""
 
 POSE_KEYS = ("pose", "line", "near", "reconfigure")
 """The keys a waypoint may give besides ``q`` and ``dwell``."""
+
+POSE_FORMS = ("xyz", "rpy", "axis", "yaw")
+"""The keys of a waypoint's ``pose``: the origin, and at most one of the others."""
 
 
 @dataclass(frozen=True)
@@ -54,17 +63,28 @@ class PoseWaypoint:
     Attributes:
         index: Its place among the motion file's waypoints.
         xyz: The tool frame's origin in the world [m].
-        rpy: Its roll, pitch, yaw in the world [rad] (fixed axes X, Y, Z).
+        rpy: Its roll, pitch, yaw in the world [rad] (fixed axes X, Y, Z), or None where
+            the pose fixes less (`kind`).
         line: Reached from the waypoint before along a straight line.
         hints: The joints the solver starts at, as (name, position [rad or m]) pairs
             (empty: all from the waypoint before).
+        axis: The unit direction of the tool's approach axis in the world [-], or None.
+        yaw: The tool's yaw about the world's vertical [rad], or None.
     """
 
     index: int
     xyz: tuple[float, float, float]
-    rpy: tuple[float, float, float]
+    rpy: tuple[float, float, float] | None
     line: bool = False
     hints: tuple[tuple[str, float], ...] = ()
+    axis: tuple[float, float, float] | None = None
+    yaw: float | None = None
+
+    @property
+    def kind(self) -> str:
+        """``"pose"`` (xyz and rpy), ``"axis"``, ``"yaw"`` or ``"position"``."""
+        return ("pose" if self.rpy is not None else "axis" if self.axis is not None
+                else "yaw" if self.yaw is not None else "position")
 
     @property
     def near(self) -> dict[str, float]:
@@ -73,8 +93,21 @@ class PoseWaypoint:
 
     @property
     def pose(self) -> pin.SE3:
-        """The pose in the world."""
+        """The pose in the world (a full pose only)."""
+        if self.rpy is None:
+            raise ValueError(f"waypoint[{self.index}] is a {self.kind} pose, not a full one")
         return pose_from_xyz_rpy(self.xyz, self.rpy)
+
+    def goal(self, approach: str = "z") -> Goal:
+        """What the waypoint asks of the tool in the world: the full pose, or a `Target`.
+
+        Args:
+            approach: The tool axis an ``axis`` pose points (`TOOL_AXES`).
+        """
+        if self.rpy is not None:
+            return self.pose
+        return Target(self.kind, np.array(self.xyz), np.array(self.axis or (0.0, 0.0, 0.0)),
+                      self.yaw or 0.0, approach)
 
 
 @dataclass(frozen=True)
@@ -87,12 +120,14 @@ class ToolPoses:
         poses: The waypoints written as poses, in file order.
         reconfigure: Waypoints that may be reached on another branch than the one
             before them (``reconfigure = true``).
+        approach: The tool axis an ``axis`` pose points (``[tool] approach``, `TOOL_AXES`).
     """
 
     frame: str | None
     tolerance: Tolerance
     poses: tuple[PoseWaypoint, ...]
     reconfigure: frozenset[int] = frozenset()
+    approach: str = "z"
 
     def at(self, index: int) -> PoseWaypoint | None:
         """The pose of waypoint `index`, or None for a joint waypoint."""
@@ -119,6 +154,9 @@ class ToolSolution:
             ``reconfigure``, joint waypoints that moved with the robot.
         key: What the solution depends on: the robot file and its xacro arguments, its
             joint limits, the frame and the base pose.
+        free: Per waypoint, the coordinates its pose leaves free as solved, (name, value
+            [rad]) pairs (`hdselect.ik.targets.Target.free`); empty for joint waypoints
+            and full poses.
     """
 
     frame: str
@@ -127,6 +165,35 @@ class ToolSolution:
     orientation_error: np.ndarray
     notes: tuple[str, ...]
     key: tuple[Any, ...]
+    free: tuple[tuple[tuple[str, float], ...], ...] = ()
+
+
+FREE_WORDS = {"axis": "the roll about the approach axis where a pose gives an axis",
+              "yaw": "the tool's roll and pitch where it gives a yaw",
+              "position": "the tool's roll, pitch and yaw where it gives a position alone"}
+"""What the free coordinates of each kind of pose are, in words."""
+
+
+def free_note(tool: ToolPoses, solution: ToolSolution, angle: float,
+              angle_unit: str) -> str | None:
+    """The coordinates the poses left free, as solved, per waypoint; None for full poses.
+
+    Args:
+        tool: The motion's tool poses.
+        solution: How they were solved (`ToolSolution.free`).
+        angle: Size of the file's angle unit [rad].
+        angle_unit: Its name.
+    """
+    items = []
+    for i, free in enumerate(solution.free):
+        if free:
+            values = ", ".join(f"{name} {value / angle + 0.0:.4g}" for name, value in free)
+            items.append(f"waypoint[{i}] {values} {angle_unit}")
+    if not items:
+        return None
+    kinds = sorted({p.kind for p in tool.poses if p.kind in FREE_WORDS})
+    words = "; ".join(FREE_WORDS[k] for k in kinds)
+    return f"free coordinates as solved ({words}): {'; '.join(items)}."
 
 
 def read_pose(table: Mapping[str, Any], index: int, path: Path, robot: Robot,
@@ -145,8 +212,18 @@ def read_pose(table: Mapping[str, Any], index: int, path: Path, robot: Robot,
         InputError: A key is malformed, or ``line`` and ``near`` are both given.
     """
     where = f"waypoint[{index}]"
-    xyz, rpy = read_xyz_rpy(table["pose"], path, f"{where}.pose", angle, angle_unit,
-                            need_rpy=True)
+    form = table_of(table["pose"], path, f"{where}.pose")
+    check_keys(form, POSE_FORMS, path, f"{where}.pose")
+    forms = [key for key in POSE_FORMS[1:] if key in form]
+    if len(forms) > 1:
+        raise InputError(f"give one of rpy (a full pose), axis (the approach axis, roll free) "
+                         f"or yaw (tilt free), not both {forms[0]} and {forms[1]}", path=path,
+                         field=f"{where}.pose.{forms[1]}")
+    xyz, rpy = read_xyz_rpy({k: v for k, v in form.items() if k in ("xyz", "rpy")}, path,
+                            f"{where}.pose", angle, angle_unit, need_rpy=False)
+    axis = _direction(form["axis"], path, f"{where}.pose.axis") if "axis" in form else None
+    yaw = (as_number(form["yaw"], path, f"{where}.pose.yaw", bound=bounds.ANGLE, scale=angle,
+                     unit=angle_unit) * angle if "yaw" in form else None)
     line = _flag(table, "line", path, where)
     if line and index == 0:
         raise InputError("the first waypoint has no waypoint before it to draw a line from",
@@ -169,7 +246,8 @@ def read_pose(table: Mapping[str, Any], index: int, path: Path, robot: Robot,
                                  f"[{low / scale:g}, {high / scale:g}] {unit}", path=path,
                                  field=f"{where}.near.{name}")
             near[name] = given * scale
-    return PoseWaypoint(index, xyz, rpy, line, tuple(near.items()))
+    return PoseWaypoint(index, xyz, rpy if "rpy" in form else None, line, tuple(near.items()),
+                        axis, yaw)
 
 
 def read_flags(table: Mapping[str, Any], index: int, path: Path, pose: bool) -> bool:
@@ -219,8 +297,15 @@ def read_tool(value: Any, path: Path, angle: float, angle_unit: str,
                             path, "tool.orientation_tolerance",
                             bound=bounds.POSE_ORIENTATION_TOLERANCE, scale=angle,
                             unit=angle_unit) * angle
+    approach = table.get("approach", "z")
+    if approach not in TOOL_AXES:
+        raise InputError(f"unknown tool axis {approach!r}; choose one of: "
+                         f"{', '.join(TOOL_AXES)}", path=path, field="tool.approach")
+    if "approach" in table and not any(p.axis is not None for p in poses):
+        raise InputError("approach names the tool axis a pose's axis gives; no waypoint gives "
+                         "one (pose = {xyz, axis})", path=path, field="tool.approach")
     return ToolPoses(frame, Tolerance(position, orientation), tuple(poses),
-                     frozenset(reconfigure))
+                     frozenset(reconfigure), approach)
 
 
 def read_base(value: Any, path: Path, angle: float, angle_unit: str) -> BasePose:
@@ -255,6 +340,22 @@ def read_xyz_rpy(value: Any, path: Path, where: str, angle: float, angle_unit: s
     for i, a in enumerate(rpy):
         bounds.ANGLE.check(a, path=path, field=f"{where}.rpy[{i}]", scale=angle, unit=angle_unit)
     return ((xyz[0], xyz[1], xyz[2]), (rpy[0] * angle, rpy[1] * angle, rpy[2] * angle))
+
+
+def _direction(value: Any, path: Path, field: str) -> tuple[float, float, float]:
+    """A pose's ``axis``: three numbers, not all zero, made a unit vector [-].
+
+    Raises:
+        InputError: It is malformed, not finite or of zero length.
+    """
+    given = np.array(vector(value, 3, path, field), dtype=float)
+    biggest = float(np.abs(given).max())
+    size = float(np.linalg.norm(given / biggest)) * biggest if biggest > 0.0 else 0.0
+    if not size > 1e-9:
+        raise InputError("the approach axis has no direction (length 0): give a vector such "
+                         "as [0, 0, -1] (tool down)", path=path, field=field)
+    unit = (given / biggest) / (size / biggest)
+    return (float(unit[0]), float(unit[1]), float(unit[2]))
 
 
 def _flag(table: Mapping[str, Any], key: str, path: Path, where: str) -> bool:

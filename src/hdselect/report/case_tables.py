@@ -9,9 +9,10 @@ import numpy as np
 from rich.markup import escape
 
 from hdselect.motion.logderivatives import peak_uncertainty
-from hdselect.motion.motionfile import Motion
+from hdselect.motion.motionfile import ANGLE_UNITS, Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.motion.planning.toolpath import LineDeviation
+from hdselect.motion.toolposes import free_note
 from hdselect.report.tables import Column, FittedTable, Paragraphs
 from hdselect.report.terminal import DEG_PER_RAD
 from hdselect.robot.joints import JointInfo
@@ -175,6 +176,8 @@ def tool_pose_notes(motion: Motion | None, lines: Iterable[LineDeviation] = ()) 
              f"{np.nanmax(solution.orientation_error) * DEG_PER_RAD:.2g} deg of the poses "
              f"(tolerance {tolerance.position * 1e3:g} mm, "
              f"{tolerance.orientation * DEG_PER_RAD:.3g} deg)."]
+    free = free_note(motion.tool, solution, ANGLE_UNITS[motion.angle_unit], motion.angle_unit)
+    notes += [free] if free else []
     if motion.lines:
         samples = sum(len(line.interior) for line in motion.lines)
         text = (f"straight lines: {len(motion.lines)}, through {samples} joint samples solved "

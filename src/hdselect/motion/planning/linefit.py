@@ -24,7 +24,8 @@ import pinocchio as pin
 
 from hdselect.base.errors import InputError
 from hdselect.ik.lines import LinePath, refine
-from hdselect.ik.poses import Tolerance, pose_error
+from hdselect.ik.poses import Tolerance
+from hdselect.ik.targets import goal_error
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning.spline import SplinePath, piece_bounds, piece_geometry
 from hdselect.robot.kinematics import FrameKinematics
@@ -80,7 +81,7 @@ def strays(kin: FrameKinematics, motion: Motion,
                 inner = np.linspace(knots[k], knots[k + 1], CHECKS_PER_STEP + 2)[1:-1]
                 fractions = np.interp(inner, knots, line.fractions)
                 for q, fraction in zip(path(inner), fractions, strict=True):
-                    if not tolerance.holds(*pose_error(kin.placement(q), line.pose(fraction))):
+                    if not tolerance.holds(*goal_error(kin.placement(q), line.goal(fraction))):
                         middle = 0.5 * (line.fractions[k] + line.fractions[k + 1])
                         out.setdefault(end, []).append(float(middle))
                         break
@@ -120,7 +121,12 @@ def deviation(line: LinePath, poses: list[pin.SE3]) -> tuple[np.ndarray, np.ndar
         The origin's distance from the segment [m], the orientation's angle from the
         nearest orientation of the slerp arc [rad], and the fraction [-] of the nearest
         point (by position; by orientation for a turn on the spot), each shape (n,).
+        A line between under-determined poses measures what they fix: the approach
+        axis from the slerp of the directions, the yaw from its constant turn, nothing
+        for positions alone (angle 0).
     """
+    if line.targets is not None:
+        return _target_deviation(line, poses)
     start, end = pin.SE3(line.start), pin.SE3(line.end)
     p0, step = start.translation, end.translation - start.translation
     turn = pin.log3(start.rotation.T @ end.rotation)
@@ -145,3 +151,21 @@ def deviation(line: LinePath, poses: list[pin.SE3]) -> tuple[np.ndarray, np.ndar
             pin.exp3(f * turn).T @ relative)))) for f in candidates), key=lambda c: c[1])
         nearest[n] = along if step @ step > 0.0 else turned
     return distance, tilt, nearest
+
+
+def _target_deviation(line: LinePath, poses: list[pin.SE3]) -> tuple[np.ndarray, np.ndarray,
+                                                                     np.ndarray]:
+    """`deviation` for a line between under-determined poses (`LinePath.targets`)."""
+    if line.targets is None:
+        raise RuntimeError("a line between full poses")
+    start, end = line.targets
+    p0, step = start.position, end.position - start.position
+    moves = float(step @ step) > 0.0
+    distance, angle, nearest = (np.empty(len(poses)) for _ in range(3))
+    for n, pose in enumerate(poses):
+        along = float(np.clip((pose.translation - p0) @ step / (step @ step), 0.0, 1.0)) \
+            if moves else 0.0
+        distance[n] = float(np.linalg.norm(pose.translation - p0 - along * step))
+        angle[n], turned = start.nearest_turn(end, pose)
+        nearest[n] = along if moves else turned
+    return distance, angle, nearest

@@ -5,7 +5,11 @@ Each pose is carried from the world into the robot's base frame through its moun
 the waypoint before (the first from the middle of the joint ranges), with the
 waypoint's ``near`` hint applied; up to `RESTARTS` random restarts follow when that seed
 fails; when the solution is on another branch than the waypoint before, other seeds
-look for one on the same branch (unless the waypoint's ``near`` chose the branch). A line
+look for one on the same branch (unless the waypoint's ``near`` chose the branch, which
+must then be honoured: `hdselect.motion.planning.hints.honour`). A pose that fixes less
+than a full pose (`hdselect.ik.targets.Target`: an approach axis, a yaw, a position
+alone) is solved on the rows it fixes, its free coordinates reported per waypoint
+(`ToolSolution.free`). A line
 (``line = true``) is walked from the waypoint before
 (`hdselect.ik.lines`), and its samples refined until the planner's spline follows
 it (`hdselect.motion.planning.linefit`).
@@ -17,7 +21,8 @@ task, as written, does not need, so sizing it silently would size another task. 
 message names the waypoints and how to keep the branch (a ``near`` hint).
 
 A cycle back at its first pose with joints whole turns away (a wrist at +180 deg, then
--180 deg) is closed with the first's joints, or refused (`_Solver._close_cycle`).
+-180 deg) is closed with the first's joints, or refused (`_Solver._close_cycle`); so is
+one back at a first pose that fixes less, where the first's joints meet it.
 
 Joint waypoints keep their joint positions whatever the mounting: on any mounting but
 the floor they move with the robot, and a note says so.
@@ -29,19 +34,20 @@ import logging
 from dataclasses import replace
 
 import numpy as np
-import pinocchio as pin
 
 from hdselect.base.arrays import frozen
 from hdselect.base.bounds import expect_type
 from hdselect.base.errors import InputError
-from hdselect.ik.branches import SINGULARITY_NAMES, check_branch, whole_turns
+from hdselect.ik.branches import check_branch, whole_turns
 from hdselect.ik.lines import LinePath, LineStop, solve_line
-from hdselect.ik.poses import base_in_world, in_base, interpolate_pose, pose_error
+from hdselect.ik.poses import base_in_world, in_base
 from hdselect.ik.solver import PoseSolution, solve_pose
-from hdselect.motion.motionfile import ANGLE_UNITS, Motion
+from hdselect.ik.targets import Goal, Target, goal_error, goal_in
+from hdselect.motion.motionfile import Motion
+from hdselect.motion.planning.hints import Words, honour
 from hdselect.motion.planning.linefit import fit_lines
-from hdselect.motion.toolposes import ToolPoses, ToolSolution
-from hdselect.robot.kinematics import FrameKinematics, LimitContact
+from hdselect.motion.toolposes import PoseWaypoint, ToolPoses, ToolSolution
+from hdselect.robot.kinematics import FrameKinematics
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import NAMED_BASES, BasePose, mounting_name
 
@@ -88,7 +94,8 @@ def solve_motion(robot: Robot, motion: Motion) -> Motion:
                          "ceiling, or give base = {xyz, rpy}", path=motion.path, field="mounting")
     frame = tool.frame or robot.payload_frame
     key = (str(robot.path), tuple(sorted(robot.xacro_args.items())), robot.lower.tobytes(),
-           robot.upper.tobytes(), frame, base)  # a .xacro's arguments may move its links
+           robot.upper.tobytes(), frame, base,  # a .xacro's arguments may move its links
+           bool(motion.allow_flip))
     if motion.solution is not None and motion.solution.key == key:
         return motion
     try:
@@ -104,7 +111,7 @@ def solve_motion(robot: Robot, motion: Motion) -> Motion:
     for note in notes:
         logger.warning("%s: %s", motion.path, note)
     solution = ToolSolution(frame, base, frozen(solver.position_error),
-                            frozen(solver.orientation_error), tuple(notes), key)
+                            frozen(solver.orientation_error), tuple(notes), key, solver.free())
     solved = replace(motion, waypoints=frozen(waypoints), lines=tuple(lines), solution=solution,
                      warnings=_file_warnings(motion) + tuple(notes))
     return fit_lines(kin, solved, tool.tolerance) if lines else solved
@@ -163,7 +170,8 @@ def _first_branch(kin: FrameKinematics, motion: Motion, tool: ToolPoses,
     first = tool.at(0)
     starts: list[np.ndarray | None] = [None]
     if first is not None and not first.near:
-        starts += _other_solutions(kin, in_base(base, first.pose), tool)
+        starts += _other_solutions(kin, goal_in(base_in_world(base), first.goal(tool.approach)),
+                                   tool)
     failure = None
     for start in starts:
         solver = _Solver(kin, motion, tool, base)
@@ -181,7 +189,7 @@ FIRST_SEEDS = 16
 """Random starts that look for other branches of the first pose [-]."""
 
 
-def _other_solutions(kin: FrameKinematics, target: pin.SE3,
+def _other_solutions(kin: FrameKinematics, target: Goal,
                      tolerance_of: ToolPoses) -> list[np.ndarray]:
     """Distinct solutions of a pose from random starts, the nearest to the ranges' middle first."""
     rng = np.random.default_rng(0)
@@ -205,9 +213,9 @@ class _Solver:
         self.position_error = np.full(count, np.nan)
         self.orientation_error = np.full(count, np.nan)
         self.notes: list[str] = []
-        self.angle = ANGLE_UNITS[motion.angle_unit]
         self.waypoints = np.array(motion.waypoints)
         self.lines: list[LinePath] = []
+        self.words = Words(kin, motion, base)
 
     def run(self, first: np.ndarray | None = None) -> None:
         """Every waypoint in joint positions, and the lines' samples, in order.
@@ -225,16 +233,14 @@ class _Solver:
                 if before is not None and tool.at(i - 1) is not None:
                     self._check_branch(i, before, waypoints[i], "joints")
                 continue
-            target = in_base(self.base, written.pose)
+            target = self.goal(written)
             if written.line:
                 if before is None:
                     raise RuntimeError("a straight line into the first waypoint passed the reader")
-                previous = tool.at(i - 1)
-                start = (in_base(self.base, previous.pose) if previous is not None
-                         else kin.placement(before))
+                start = self._line_start(tool.at(i - 1), target, before)
                 found = solve_line(kin, i, start, target, before, tool.tolerance)
                 if isinstance(found, LineStop):
-                    raise InputError(self._line_message(i, start, target, found),
+                    raise InputError(self.words.line_message(i, start, target, found),
                                      path=self.motion.path, field=f"waypoint[{i}].line")
                 lines.append(found)
                 waypoints[i] = found.q[-1]
@@ -246,8 +252,12 @@ class _Solver:
             solution = solve_pose(kin, target, seed, tolerance=tool.tolerance,
                                   restarts=RESTARTS, rng_seed=i)
             if not solution.converged:
-                raise InputError(self._unreachable(solution), path=self.motion.path,
+                raise InputError(self.words.unreachable(solution), path=self.motion.path,
                                  field=f"waypoint[{i}].pose")
+            if written.near:
+                solution, note = honour(kin, written, target, seed, solution,
+                                        tool.tolerance, self.words, bool(self.motion.allow_flip))
+                self.notes += [note] if note else []
             if before is not None and not written.near and \
                     check_branch(kin, before, solution.q).flipped:
                 solution = self._on_branch(i, target, before, solution)
@@ -264,7 +274,10 @@ class _Solver:
 
         Repeating it needs a turn back that it does not contain. A last waypoint written
         as a pose (not a line) takes the first's joints, with a note, if the move into it
-        keeps the branch or the waypoint allows ``reconfigure``.
+        keeps the branch or the waypoint allows ``reconfigure``. A last pose that fixes
+        less than a full pose (`Target`), met by the first's joints, takes them whenever
+        the move into them keeps the branch: its free coordinates as the first's, so that
+        the cycle closes in joint space.
 
         Raises:
             InputError: The cycle cannot be closed so; field ``waypoint[n]``, the last.
@@ -273,14 +286,19 @@ class _Solver:
         n = len(waypoints) - 1
         turns = whole_turns(kin, waypoints[0], waypoints[n])
         last = tool.at(n)
-        target = (in_base(self.base, last.pose) if last is not None
-                  else kin.placement(waypoints[n]))
-        errors = pose_error(kin.placement(waypoints[0]), target)
+        target = self.goal(last) if last is not None else kin.placement(waypoints[n])
+        errors = goal_error(kin.placement(waypoints[0]), target)
+        if isinstance(target, Target) and last is not None and not last.line and n > 1 \
+                and tool.tolerance.holds(*errors) \
+                and not check_branch(kin, waypoints[n - 1], waypoints[0]).flipped:
+            waypoints[n] = waypoints[0]
+            self.position_error[n], self.orientation_error[n] = errors
+            return
         if (tool.at(0) is None and last is None) or not turns.any() \
                 or not tool.tolerance.holds(*errors):
             return
         names = kin.robot.joint_names
-        turned = ", ".join(f"{names[j]} {self._joint(j, 2 * np.pi * turns[j], signed=True)}"
+        turned = ", ".join(f"{names[j]} {self.words.joint(j, 2 * np.pi * turns[j], signed=True)}"
                            for j in range(kin.dof) if turns[j])
         what = (f"the tool is back at waypoint[0]'s pose with {turned} from waypoint[0]'s "
                 "joints: the cycle does not close in joint space, and repeating it needs a "
@@ -293,7 +311,7 @@ class _Solver:
         else:
             check = check_branch(kin, waypoints[n - 1], waypoints[0])
             if not check.flipped or n in tool.reconfigure:
-                moves = ", ".join(f"{names[j]} {self._joint(j, move, signed=True)}" for j, move
+                moves = ", ".join(f"{names[j]} {self.words.joint(j, move, signed=True)}" for j, move
                                   in enumerate(waypoints[0] - waypoints[n - 1]) if turns[j])
                 waypoints[n] = waypoints[0]
                 self.position_error[n], self.orientation_error[n] = errors
@@ -308,7 +326,36 @@ class _Solver:
                       f"on waypoint[{n}], and the cycle contains the turn back")
         raise InputError(f"{what}; {advice}", path=self.motion.path, field=f"waypoint[{n}]")
 
-    def _on_branch(self, i: int, target: pin.SE3, before: np.ndarray,
+    def goal(self, written: PoseWaypoint) -> Goal:
+        """What a pose waypoint asks of the tool, in the base frame."""
+        return goal_in(base_in_world(self.base), written.goal(self.tool.approach))
+
+    def _line_start(self, previous: PoseWaypoint | None, end: Goal, before: np.ndarray) -> Goal:
+        """Where a line into `end` starts: the pose before it, as `end` asks for one.
+
+        A full pose's line starts at the pose written before it, else at the tool as the
+        waypoint before put it; a target's at the target before it, where that is of the
+        same kind, else at what the tool as put before has of `end`'s kind.
+        """
+        placement = self.kin.placement(before)
+        if isinstance(end, Target):
+            if previous is not None and previous.kind == end.kind:
+                return self.goal(previous)
+            return end.like(placement)
+        if previous is not None and previous.rpy is not None:
+            return in_base(self.base, previous.pose)
+        return placement
+
+    def free(self) -> tuple[tuple[tuple[str, float], ...], ...]:
+        """Per waypoint, the coordinates its pose leaves free, as solved (`Target.free`)."""
+        out = []
+        for i, q in enumerate(self.waypoints):
+            written = self.tool.at(i)
+            goal = self.goal(written) if written is not None else None
+            out.append(goal.free(self.kin.placement(q)) if isinstance(goal, Target) else ())
+        return tuple(out)
+
+    def _on_branch(self, i: int, target: Goal, before: np.ndarray,
                    found: PoseSolution) -> PoseSolution:
         """A solution on the branch of `before`, if other seeds find one; else `found`.
 
@@ -339,7 +386,7 @@ class _Solver:
             return
         names = self.kin.robot.joint_names
         moved = np.argsort(-np.abs(after - before))[:3]
-        moves = ", ".join(f"{names[j]} {self._joint(j, after[j] - before[j], signed=True)}"
+        moves = ", ".join(f"{names[j]} {self.words.joint(j, after[j] - before[j], signed=True)}"
                           for j in moved if abs(after[j] - before[j]) > 1e-6)
         what = (f"the arm changes branch between waypoint[{i - 1}] and waypoint[{i}]: "
                 f"{'; '.join(check.reasons)} ({moves})")
@@ -347,7 +394,7 @@ class _Solver:
             self.notes.append(f"{what}; allowed by waypoint[{i}].reconfigure")
             return
         if how == "joints":
-            hint = ", ".join(f"{names[j]} = {self._number(j, after[j])}" for j in moved)
+            hint = ", ".join(f"{names[j]} = {self.words.number(j, after[j])}" for j in moved)
             advice = (f"waypoint[{i - 1}]'s pose was solved on another branch than waypoint"
                       f"[{i}]'s joints: give waypoint[{i - 1}] a hint such as near = {{{hint}}}")
         elif how == "near":
@@ -358,46 +405,3 @@ class _Solver:
                       "hint of the joints it should have")
         raise InputError(f"{what}; {advice}, or allow the change with reconfigure = true",
                          path=self.motion.path, field=f"waypoint[{i}]")
-
-    def _unreachable(self, solution: PoseSolution) -> str:
-        """Why a pose does not solve: the error left and the joint limits in the way."""
-        text = (f"the tool frame '{self.kin.frame}' cannot reach this pose on "
-                f"{mounting_name(self.base)}: the closest it comes is "
-                f"{solution.position_error * 1e3:.3g} mm and "
-                f"{self._angle(solution.orientation_error)} from it")
-        if solution.blocking:
-            return text + f"; in the way: {self._limits(solution.blocking)}"
-        return text + ("; no joint limit is in the way: the pose is out of the arm's reach, "
-                       "or needs an orientation the arm cannot take there")
-
-    def _line_message(self, i: int, start: pin.SE3, end: pin.SE3, stop: LineStop) -> str:
-        """Where along the line from waypoint i - 1 to i it stops, and why."""
-        world = base_in_world(self.base) * interpolate_pose(start, end, stop.fraction)
-        x, y, z = world.translation
-        where = (f"the straight line from waypoint[{i - 1}] stops {100 * stop.fraction:.1f} % "
-                 f"of the way, with the tool at ({x:.4f}, {y:.4f}, {z:.4f}) m in the world")
-        if stop.reason == "joint limit":
-            return f"{where}: {self._limits(stop.limits)} is in the way"
-        if stop.reason == "singularity":
-            return (f"{where}: it runs into {SINGULARITY_NAMES[stop.singularity]}, where the "
-                    "joint speed blows up; move the line away from it, or drop line = true")
-        return f"{where}: the line leaves the arm's reach"
-
-    def _limits(self, limits: tuple[LimitContact, ...]) -> str:
-        return ", ".join(f"the {c.side} limit of {c.joint} "
-                         f"({self._joint(self.kin.robot.joint_index(c.joint), c.value)}"
-                         + (f", where mimic follower '{c.follower}' reaches its own limit)"
-                            if c.follower else ")") for c in limits)
-
-    def _joint(self, j: int, value: float, signed: bool = False) -> str:
-        """A joint position or move in the file's units."""
-        unit = self.motion.angle_unit if self.kin.robot.revolute[j] else "m"
-        return f"{self._number(j, value):{'+' if signed else ''}g} {unit}"
-
-    def _number(self, j: int, value: float) -> float:
-        scale = self.angle if self.kin.robot.revolute[j] else 1.0
-        return float(f"{value / scale:.4g}")
-
-    def _angle(self, value: float) -> str:
-        return f"{value / self.angle:.3g} {self.motion.angle_unit}"
-
