@@ -178,9 +178,7 @@ def robot_and_motion(args: argparse.Namespace):
                                  field="--" + flag.replace("_", "-"))
     robot = robot_of(args, mix_robot_file(args.motion) if mix else None)
     if mix:
-        mixed = load_mix(args.motion, robot)
-        if getattr(args, "allow_flip", False):
-            mixed = allowing_flips(mixed)
+        mixed = allowing_flips(load_mix(args.motion, robot), getattr(args, "allow_flip", False))
         joints, exclude = _joint_flags(args)
         mounting = mounting_flag(args, source_angle_unit(mixed))
         with _flags_named(args, joints, exclude, None):
@@ -189,8 +187,7 @@ def robot_and_motion(args: argparse.Namespace):
         motion = load_motion(args.motion, robot)
     except InputError as err:
         raise _other_robot(args, err) from err
-    if getattr(args, "allow_flip", False):
-        motion = allowing_flips(motion)
+    motion = allowing_flips(motion, getattr(args, "allow_flip", False))
     payload = _payload_of(args, motion)
     joints, exclude = _joint_flags(args)
     mounting = mounting_flag(args, motion.angle_unit)

@@ -135,8 +135,7 @@ def load_case(
             robot = (load_motion_robot(path) if robot is None
                      else robot if isinstance(robot, Robot) else load_robot(robot))
             motion = load_motion(path, robot)
-    if allow_flip:
-        motion = allowing_flips(motion)
+    motion = allowing_flips(motion, allow_flip)
     if isinstance(motion, Mix):
         _refuse_payload(payload)
         robot = robot if isinstance(robot, Robot) else load_robot(

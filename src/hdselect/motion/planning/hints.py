@@ -177,16 +177,20 @@ def honour(kin: FrameKinematics, written: PoseWaypoint, target: Goal, seed: np.n
 
 
 @overload
-def allowing_flips(source: Motion) -> Motion: ...
+def allowing_flips(source: Motion, asked: bool = True) -> Motion: ...
 @overload
-def allowing_flips(source: Mix) -> Mix: ...
-def allowing_flips(source: Motion | Mix) -> Motion | Mix:
+def allowing_flips(source: Mix, asked: bool = True) -> Mix: ...
+def allowing_flips(source: Motion | Mix, asked: bool = True) -> Motion | Mix:
     """The motion (a mix's every task's) with ``allow_flip`` set, as ``--allow-flip`` asks.
+
+    `source` itself where not `asked` (no ``--allow-flip``).
 
     Raises:
         InputError: No waypoint of it is a tool pose, where a flip could be allowed; field
             ``--allow-flip``.
     """
+    if not asked:
+        return source
     if isinstance(source, Mix):
         if not any(task.motion.tool is not None for task in source.tasks):
             raise InputError("no task's motion has a tool pose: there is no near hint to "
