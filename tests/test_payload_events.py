@@ -137,22 +137,15 @@ def test_index_table_events_equal_a_two_task_mix_of_the_halves(tmp_path):
     assert events.joints[0].selected.unit.id == mix.joints[0].selected.unit.id
 
 
-SIX_AXIS_EVENTS = [("q = [-45, -35, 105, -160, 90, 0]      # pick: close the gripper\ndwell = 1.5",
-                    "q = [-45, -35, 105, -160, 90, 0]\ndwell = 1.5\nattach = \"part\""),
-                   ("q = [45, -35, 105, -160, 90, 90]      # place: open the gripper\ndwell = 1.5",
-                    "q = [45, -35, 105, -160, 90, 90]\ndwell = 1.5\nrelease = \"part\"")]
-
-
 def six_axis(folder: Path) -> Path:
-    """benchtop6's pick-and-place with a 0.4 kg part between its pick and its place."""
+    """benchtop6's shipped pick-and-place (its part between the pick and the place), its
+    part moved 30 mm further out along tool0 than the gripper's centre."""
     text = (REPO / "trajectories" / "benchtop6_pick_place.toml").read_text()
     text = text.replace('robot = "../robots/', f'robot = "{(REPO / "robots").as_posix()}/')
-    for old, new in SIX_AXIS_EVENTS:
-        if old in text:
-            text = text.replace(old, new)
-    if "[payloads.part]" not in text:
-        text = text.replace("[limits]", "[payloads.part]\nmass = 0.4\ncom = [0.0, 0.0, 0.06]\n"
-                            'frame = "tool0"\n\n[limits]')
+    old = "[payloads.part]             # the part, between the pick and the place\nmass = 0.2" \
+          "                  # kg\ncom = [0.0, 0.0, 0.03]"
+    assert old in text and 'attach = "part"' in text and 'release = "part"' in text
+    text = text.replace(old, "[payloads.part]\nmass = 0.2\ncom = [0.0, 0.0, 0.06]")
     path = folder / "six.toml"
     path.write_text(text)
     return path
@@ -303,3 +296,17 @@ def test_a_log_event_maps_to_the_samples_at_its_time(tmp_path):
     np.testing.assert_array_equal(task.carried.mask[:, 0], want)
     assert task.carried.events == ((pytest.approx(0.5 - first), "part", True),
                                    (pytest.approx(1.5 - first), "part", False))
+
+
+def test_toppra_torque_limits_are_taken_with_every_part_held(tmp_path):
+    """TOPPRA's torque limit binds on the index table: the events' plan is the plan of the
+    part carried all cycle (conservative for every state), not the lighter empty one."""
+    toppra = (INDEX_PICK.replace('planner = "ruckig"', 'planner = "toppra"')
+              .replace("jerk = 30000", "torque = 0.9"))
+    events = resolve(None, index_pick(tmp_path, toppra)).tasks[0].trajectory
+    whole = resolve(None, index_pick(tmp_path, toppra.replace('attach = "part"', "")
+                                     .replace('release = "part"', ""))).tasks[0].trajectory
+    empty = resolve(None, index_pick(tmp_path, toppra.replace(f"mass = {PART_MASS}",
+                                                              "mass = 1e-9"))).tasks[0]
+    np.testing.assert_array_equal(events.q, whole.q)
+    assert events.duration == whole.duration > empty.trajectory.duration * 1.01

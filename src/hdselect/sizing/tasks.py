@@ -28,9 +28,10 @@ from hdselect.motion.events import Carried, carried
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
+from hdselect.robot.payload import Payload
 
 __all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "by_state", "check_shares", "cycle_of",
-           "merged", "over_states", "pooled", "task_of", "task_rows"]
+           "every_part", "merged", "over_states", "pooled", "task_of", "task_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -87,6 +88,23 @@ def task_of(robot: Robot, trajectory: Trajectory, motion: Motion | None, share: 
             moved = moved.with_part(replace(robot.payload, name="payload"))
         robot = robot.with_payload(None)
     return Task(robot, trajectory, share, motion, name, moved)
+
+
+def every_part(robot: Robot, motion: Motion, parts: Sequence[Payload] = ()) -> Robot:
+    """The robot carrying every part the motion's events move: their worst state.
+
+    What a planner's torque limits (TOPPRA's) are taken on: conservative for every state.
+
+    Args:
+        robot: The robot as the motion runs it (its payload on, as the file gives it).
+        motion: The motion (its events and parts).
+        parts: The parts as a task moves them (its `Carried.parts`), over the file's.
+    """
+    given = {part.name: part for part in parts}
+    moved = sorted({event.part for event in motion.events})
+    extra = tuple(given.get(name, motion.parts[name]) for name in moved
+                  if not (name == "payload" and robot.payload is not None))
+    return robot.with_parts((*robot.parts, *extra)) if extra else robot
 
 
 def by_state(task: Task, robot: Robot) -> tuple[tuple[Robot, np.ndarray | slice], ...]:
