@@ -235,7 +235,8 @@ def _refused(capsys, path: Path, field: str, words: str) -> None:
     status, out, err = run(capsys, "size", path)
     lines = err.strip().splitlines()
     assert status == 2 and out == "" and len(lines) == 1, err
-    assert lines[0].startswith("hdselect: error: ") and field in lines[0] and words in lines[0]
+    assert lines[0].startswith(f"hdselect: error: {path}: {field}"), lines[0]  # file, field
+    assert words in lines[0]
 
 
 @pytest.mark.parametrize(("old", "new", "field", "words"), [

@@ -66,11 +66,13 @@ def robot_for_motion(
     elif payload is not None:
         robot = robot.with_payload(payload)
     parts = whole_cycle(motion.parts, motion.events)
-    if parts or robot.parts:
-        try:
+    try:
+        if len(parts) < len(motion.parts):  # the moved parts' frames refused here, by file
+            robot.with_parts(tuple(motion.parts.values()))
+        if parts or robot.parts:
             robot = robot.with_parts(parts)
-        except InputError as err:
-            raise InputError(err.reason, path=motion.path, field=err.field) from err
+    except InputError as err:
+        raise InputError(err.reason, path=motion.path, field=err.field) from err
     mounting = mounting if mounting is not None else motion.mounting
     if mounting is not None:
         robot = robot.with_mounting(mounting)
