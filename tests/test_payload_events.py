@@ -17,7 +17,7 @@ import pytest
 
 from hdselect import load_case, load_catalog, size
 from hdselect.motion.planning.trajectory import trajectory
-from hdselect.sizing.core import size_tasks
+from hdselect.sizing.core import size_problem, size_tasks
 from hdselect.sizing.problem import resolve
 from hdselect.sizing.tasks import Task, by_state, pooled
 from hdselect.sizing.torques import DirectTorques
@@ -118,8 +118,8 @@ def test_index_table_events_equal_a_two_task_mix_of_the_halves(tmp_path):
     """The loaded and unloaded samples as two tasks, shares by their sample counts."""
     problem = resolve(None, index_pick(tmp_path))
     (task,) = problem.tasks
-    traj, units = task.trajectory, load_catalog()
-    events = size_tasks(problem.tasks, units, problem.options)
+    traj = task.trajectory
+    events = size_problem(problem)
     loaded = task.carried.mask[:, 0]
     part = task.carried.parts[0]
     halves = []
@@ -128,7 +128,8 @@ def test_index_table_events_equal_a_two_task_mix_of_the_halves(tmp_path):
                           traj.q[rows].copy(), traj.qd[rows].copy(), traj.qdd[rows].copy(),
                           dt=traj.dt)
         halves.append(Task(robot, half, float(rows.sum()) / len(rows), task.motion))
-    mix = size_tasks(halves, units, problem.options)
+    by_hand = replace(problem, source=None, tasks=tuple(halves))  # a two-task Problem
+    mix = size_problem(by_hand)
     for a, b in zip(events.joints[0].candidates, mix.joints[0].candidates, strict=True):
         assert a.unit.id == b.unit.id
         for name in ("mean", "peak", "momentary", "speed", "life"):
