@@ -148,8 +148,8 @@ def shoulder(document: dict) -> dict:
 
 def test_payload_mass_override_keeps_the_files_centre_of_mass_inertia_and_frame(work, capsys):
     plain = shoulder(size_json(capsys, f"tr/{PLANAR2}"))
-    same = shoulder(size_json(capsys, f"tr/{PLANAR2}", "--payload", "0.4"))
-    assert same == plain  # 0.4 kg is the file's own mass: nothing changes
+    same = shoulder(size_json(capsys, f"tr/{PLANAR2}", "--payload", "0.15"))
+    assert same == plain  # 0.15 kg is the file's own [payload] (the gripper): nothing changes
     assert plain["selected"] == "PSA-14-100"
     heavier = shoulder(size_json(capsys, f"tr/{PLANAR2}", "--payload", "0.8"))
     assert heavier["max_gravity_torque_nm"] > plain["max_gravity_torque_nm"]

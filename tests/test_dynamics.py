@@ -146,17 +146,24 @@ def test_two_link_hand_poses():
 
 
 def test_two_link_closed_form_along_the_shipped_ruckig_motion():
-    """planar2_pick_place carries 0.4 kg at the tool frame (x = l2 on link 2), com 0.03 m
-    further along x: a point mass at d = 0.28 m on link 2's axis, folded into link 2."""
+    """planar2_pick_place carries a 0.15 kg gripper at the tool frame (x = l2 on link 2),
+    com 0.03 m further along x: a point mass at d = 0.28 m on link 2's axis, folded into
+    link 2; holding its 0.25 kg part there too, 0.4 kg."""
     robot, motion, trajectory = planned(REPO / "trajectories" / "planar2_pick_place.toml")
     assert motion.planner == "ruckig"
-    m2, lc2, i2 = composite_link2(0.4, L2 + 0.03)
+    m2, lc2, i2 = composite_link2(0.15, L2 + 0.03)
     expected = two_link(trajectory.q, trajectory.qd, trajectory.qdd, m2=m2, lc2=lc2, i2=i2)
     torques = joint_torques(robot, trajectory)
     np.testing.assert_allclose(torques.tau, expected, rtol=0, atol=1e-10)
     still = np.zeros_like(trajectory.q)
     np.testing.assert_allclose(torques.gravity, two_link(trajectory.q, still, still, m2=m2,
                                                          lc2=lc2, i2=i2), rtol=0, atol=1e-10)
+    holding = robot.with_parts([motion.parts["part"]])
+    m2, lc2, i2 = composite_link2(0.4, L2 + 0.03)
+    np.testing.assert_allclose(
+        inverse_dynamics(holding, trajectory.q, trajectory.qd, trajectory.qdd),
+        two_link(trajectory.q, trajectory.qd, trajectory.qdd, m2=m2, lc2=lc2, i2=i2),
+        rtol=0, atol=1e-10)
     # the motion really exercises the velocity terms (it is not a quasi-static check)
     assert np.abs(trajectory.qd).max() > 3.0 and np.abs(trajectory.qdd).max() > 15.0
 
@@ -169,13 +176,15 @@ def test_two_link_on_the_ceiling_flips_gravity():
 
 
 def test_benchtop6_payload_in_the_rotated_tool_frame_by_hand():
-    """benchtop6_pick_place: 0.5 kg at com (0, 0, 0.03) in tool0, which sits at (0, 0.01, 0)
-    on wrist_3_link rotated -90 deg about x, so tool0's z is wrist_3_link's +y: the payload
+    """benchtop6_pick_place holding its part: 0.5 kg at com (0, 0, 0.03) in tool0, which
+    sits at (0, 0.01, 0) on wrist_3_link rotated -90 deg about x, so tool0's z is
+    wrist_3_link's +y: the payload
     is at (0, 0.04, 0) on wrist_3_link. At the zero configuration (arm stretched along +x)
     it is 0.240 + 0.210 = 0.450 m along x from the shoulder_lift axis (+y). Holding it
     takes -0.45 m g about +y (a negative shoulder_lift raises the arm), 0.21 m g less at the
     elbow; wrist_1 (+y) holds 0 (payload on its axis line), shoulder_pan (z) nothing."""
     robot, motion, _ = planned(REPO / "trajectories" / "benchtop6_pick_place.toml")
+    robot = robot.with_parts([motion.parts["part"]])  # holding it: 0.3 + 0.2 kg, one centre
     bare = load_robot(REPO / "robots" / "benchtop6.urdf")
     zero = np.zeros((1, 6))
     extra = (inverse_dynamics(robot, zero, zero, zero)

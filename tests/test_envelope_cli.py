@@ -120,7 +120,7 @@ def test_a_motion_file_as_the_duty_is_sized_alone_beside_the_envelope(capsys):
     assert [j["duty_selected"] for j in document["joints"]] == [
         j.selected.unit.id for j in alone.joints]
     assert document["assumptions"]["stop_time_s"] == 0.1  # the motion file's [safety]
-    assert document["payload"]["mass_kg"] == 0.4  # the motion file's payload
+    assert document["payload"]["mass_kg"] == 0.15  # the motion file's [payload], the gripper
     status, out, _ = run(capsys, "envelope", PLANAR2, "--duty", PLANAR2_MOTION, "--payload",
                          "0.9", "--velocity", "180", "--acceleration", "900", "--json", "-",
                          "--starts", "64")

@@ -203,7 +203,8 @@ def _never_less_demanding(result) -> None:
     """Each task alone, checked with the mix's units by `check_units` (another path)."""
     units = {joint.name: joint.selected.unit for joint in result.joints}
     for k, task in enumerate(result.counted):
-        alone = check_units(task.robot, task.trajectory, units, result.options)
+        alone = check_units(task.robot, task.trajectory, units, result.options,
+                            carried=task.carried)
         for mixed, own in zip(result.joints, alone.joints, strict=True):
             for rule in PER_SAMPLE_CHECKS:
                 if rule not in own.selected.checks or own.selected.checks[rule].value is None:
@@ -235,7 +236,7 @@ def test_the_report_names_the_task_that_sets_each_rule(pick_inspect):
     document = size_json(pick_inspect)
     assert [t["name"] for t in document["tasks"]] == ["pick", "inspect"]
     assert [t["share"] for t in document["tasks"]] == [0.7, 0.3]
-    assert document["tasks"][0]["payload"]["mass_kg"] == 0.4  # the mix's, over the file's 0.5
+    assert document["tasks"][0]["payload"]["mass_kg"] == 0.2  # the mix's, over the file's 0.3
     assert document["tasks"][1]["payload"]["com_m"] == [0.04, 0.0, 0.05]
     for joint, sized in zip(document["joints"], pick_inspect.joints, strict=True):
         assert joint["set_by"]["mean"] == "pooled"

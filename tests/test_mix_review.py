@@ -24,6 +24,7 @@ from hdselect.catalog.select import select
 from hdselect.cli.main import main
 from hdselect.sizing.torques import GRAVITY_SAMPLES
 from helpers import REPO
+from helpers.dynamics import part_rows, with_body
 from helpers.studies import INSPECT, PICK, PICK_INSPECT, differences, write_index_mix
 from helpers.studies import mix_text as mix_text
 from helpers.studies import plain_text as plain_text
@@ -107,14 +108,21 @@ def test_the_margin_of_a_mix_file_and_of_its_motions(tmp_path):
 # ------------------------------------------------------------------------ the inertia ratio
 
 def _crba_inertias(task, masses, name):
-    """M_jj of joint `name` at the task's gravity poses, by `pinocchio.crba` [kg m^2]."""
+    """M_jj of joint `name` at the task's gravity poses, by `pinocchio.crba` [kg m^2]; the
+    pick-and-place's part written into the model at the poses between its events."""
     robot = task.robot.with_gearheads(masses)
-    model = robot.model
-    data = model.createData()
-    v = model.joints[model.getJointId(name)].idx_v
+    models = [robot.model, robot.model]
     traj = task.trajectory
+    rides = np.zeros(len(traj.t), dtype=bool)
+    if task.motion.events:
+        part = task.motion.parts["part"]
+        models[1] = with_body(robot.model, part, part.frame or robot.payload_frame)
+        rides = part_rows(task.motion, traj)
+    v = robot.model.joints[robot.model.getJointId(name)].idx_v
     poses = np.unique(np.linspace(0, len(traj.t) - 1, GRAVITY_SAMPLES).astype(int))
-    return np.array([pin.crba(model, data, traj.q[i])[v, v] for i in poses])
+    chosen = [models[int(rides[i])] for i in poses]
+    return np.array([pin.crba(model, model.createData(), traj.q[i])[v, v]
+                     for model, i in zip(chosen, poses, strict=True)])
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,9 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.select import PREFERENCES
 from hdselect.cli.main import main
+from hdselect.sizing.core import size_tasks
 from hdselect.sizing.options import options_for
+from hdselect.sizing.tasks import task_of
 from helpers import REPO
 from helpers.dynamics import J_TABLE, G
 
@@ -185,7 +187,8 @@ def test_payload_and_its_centre_of_mass_reach_the_gravity_torque():
     np.testing.assert_allclose(np.abs(diff[0]), [m * G * 0.1, m * G * 0.1], rtol=1e-9)
     # and through the whole sizing: the same payload given three ways gives the same numbers
     api = size(None, PLANAR2, payload=Payload(m, (0.1, 0.0, 0.0), frame="tool"))
-    core = size_trajectory(far, plan(far, motion), load_catalog(), options_for(motion))
+    core = size_tasks((task_of(far, plan(far, motion), motion),), load_catalog(),
+                      options_for(motion))  # the file's part between its events
     for a, b in zip(api.joints, core.joints, strict=True):
         np.testing.assert_array_equal(a.torque, b.torque)
 

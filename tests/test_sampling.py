@@ -6,7 +6,9 @@ less than 0.05 % when halved again), and the planned trajectory a log was writte
 
 from __future__ import annotations
 
+import json
 import re
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -90,11 +92,27 @@ def write_log(tmp_path: Path, name: str, hz: int) -> tuple[Path, object]:
     text = source.read_text()
     keep = "\n".join(line for line in text.splitlines()
                      if line.startswith(("robot", "mounting")))
-    payload = text[text.index("[payload]"):].split("\n\n")[0] if "[payload]" in text else ""
     motion_file = tmp_path / f"{Path(name).stem}_{hz}.toml"
     motion_file.write_text(f'{keep}\nplanner = "samples"\nangle_unit = "rad"\n'
-                           f'dt = {1.0 / hz}\n{payload}\n[samples]\nfile = "{log.name}"\n')
+                           f'dt = {1.0 / hz}\n{carried_tables(text, motion, trajectory)}\n'
+                           f'[samples]\nfile = "{log.name}"\n')
     return motion_file, trajectory
+
+
+def carried_tables(text: str, motion, trajectory) -> str:
+    """The motion file's [payload] and [payloads.*] tables, and its payload events as the
+    log's [[event]] times: an attach on arrival, a release at the end of its dwell."""
+    doc = tomllib.loads(text)
+    tables = [("payload", doc["payload"])] if "payload" in doc else []
+    tables += [(f"payloads.{name}", table) for name, table in doc.get("payloads", {}).items()]
+    out = "".join(f"[{key}]\n" + "".join(f"{k} = {json.dumps(v)}\n" for k, v in table.items())
+                  for key, table in tables)
+    for event in motion.events:
+        t = trajectory.waypoint_times[event.waypoint]
+        t += 0.0 if event.attach else motion.dwells[event.waypoint]
+        key = "attach" if event.attach else "release"
+        out += f'[[event]]\nt = {float(t)!r}\n{key} = "{event.part}"\n'
+    return out
 
 
 @pytest.mark.slow

@@ -20,7 +20,16 @@ from hdselect.catalog.motors import load_motors
 from hdselect.cli.main import main
 from hdselect.motion.loading import load_case
 from helpers import REPO, run
-from helpers.dynamics import J_TABLE, L1, L2, G, composite_link2, two_link
+from helpers.dynamics import (
+    J_TABLE,
+    L1,
+    L2,
+    G,
+    composite_link2,
+    part_rows,
+    planned,
+    two_link,
+)
 from helpers.motions import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
 
 PLANAR2_MOTION = REPO / "trajectories" / "planar2_pick_place.toml"
@@ -232,10 +241,15 @@ def test_plan_csv_two_link_closed_form(capsys, tmp_path):
     assert header == ["t", "q_shoulder", "qd_shoulder", "qdd_shoulder", "tau_shoulder",
                       "q_elbow", "qd_elbow", "qdd_elbow", "tau_elbow"]
     q, qd, qdd, tau = (data[:, [1 + k, 5 + k]] for k in range(4))
-    m2, lc2, i2 = composite_link2(0.4, L2 + 0.03)  # the motion's 0.4 kg payload
-    # CSV values have 10 significant digits
-    np.testing.assert_allclose(tau, two_link(q, qd, qdd, m2=m2, lc2=lc2, i2=i2), rtol=0,
-                               atol=1e-7)
+    # the motion's 0.15 kg gripper, and its 0.25 kg part between the pick and the place
+    _, motion, trajectory = planned(PLANAR2_MOTION)
+    rides = part_rows(motion, trajectory)
+    assert len(rides) == len(tau) and rides.any() and not rides.all()
+    for rows, mass in ((~rides, 0.15), (rides, 0.4)):
+        m2, lc2, i2 = composite_link2(mass, L2 + 0.03)
+        # CSV values have 10 significant digits
+        np.testing.assert_allclose(tau[rows], two_link(q[rows], qd[rows], qdd[rows], m2=m2,
+                                                       lc2=lc2, i2=i2), rtol=0, atol=1e-7)
 
 
 def test_plan_csv_lists_every_joint_the_prismatic_one_in_newtons(capsys, tmp_path):
@@ -383,7 +397,7 @@ def test_report_writes_html_and_pngs(capsys, tmp_path):
     targets = re.findall(r"""(?:src|href)=["']([^"']*)""", page)
     assert targets and all(t.startswith(("data:image/png;base64,", "#")) for t in targets)
     assert "shoulder" in page and "elbow" in page
-    assert "base: &#x27;base_link&#x27; held fixed; payload: 0.4 kg on" in page
+    assert "base: &#x27;base_link&#x27; held fixed; payload: 0.15 kg on" in page  # the gripper
     assert files_in(tmp_path) == {"report"} | {f"report/{n}" for n in names}
     assert f"wrote {report / 'index.html'}" in " ".join(out.split())  # may wrap
 

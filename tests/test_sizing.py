@@ -31,9 +31,11 @@ from helpers.dynamics import (
     MOTIONS,
     G,
     noise_zeroed,
+    part_rows,
     planned,
     rnea_loop,
     thinned,
+    with_body,
     with_point_masses,
 )
 from helpers.motions import PLANAR2, gravity_overload_motion, overload_motion, slow_planar2_motion
@@ -182,6 +184,22 @@ def chosen_masses(result, extra: float = 0.0) -> dict[str, float]:
     return {j.name: (j.selected or j.strongest).unit.mass + extra for j in result.joints}
 
 
+def rnea_carried(robot, motion, traj, keep, masses, qdd=None) -> np.ndarray:
+    """`rnea_loop` at the kept samples with `masses` at the joints, the motion's part (a
+    pick-and-place's, between its events) written into the model where it rides."""
+    q, qd = traj.q[keep], traj.qd[keep]
+    qdd = traj.qdd[keep] if qdd is None else qdd
+    empty = with_point_masses(robot.model, masses)
+    if not motion.events:
+        return rnea_loop(empty, q, qd, qdd)
+    part = motion.parts["part"]
+    held = with_point_masses(with_body(robot.model, part, part.frame or robot.payload_frame),
+                             masses)
+    rides = part_rows(motion, traj)[keep]
+    assert rides.any() and not rides.all()
+    return np.where(rides[:, None], rnea_loop(held, q, qd, qdd), rnea_loop(empty, q, qd, qdd))
+
+
 @pytest.mark.parametrize("path", COUPLED, ids=lambda p: p.stem)
 def test_coupled_torques_equal_pinocchio_with_the_chosen_units_appended(path):
     """Every gearhead chosen sits at its joint's origin on the link before the joint.
@@ -189,11 +207,10 @@ def test_coupled_torques_equal_pinocchio_with_the_chosen_units_appended(path):
     loads its own joint nor the joints outside its branch."""
     robot, motion, traj = planned(path)
     result = size(None, path)
-    heavy = with_point_masses(robot.model, chosen_masses(result))
     keep = thinned(traj, 200)
-    q, qd, qdd = traj.q[keep], traj.qd[keep], traj.qdd[keep]
-    expected = rnea_loop(heavy, q, qd, qdd)
-    expected_stop = rnea_loop(heavy, q, qd, -qd / stop_time_of(path))
+    expected = rnea_carried(robot, motion, traj, keep, chosen_masses(result))
+    expected_stop = rnea_carried(robot, motion, traj, keep, chosen_masses(result),
+                                 -traj.qd[keep] / stop_time_of(path))
     for joint in result.joints:
         j = robot.joint_index(joint.name)
         floor = torque_floor(result.robot)[j]
@@ -207,9 +224,8 @@ def test_motor_mass_is_carried_with_each_gearhead():
     path = REPO / "trajectories" / "benchtop6_pick_place.toml"
     robot, motion, traj = planned(path)
     result = size(None, path, motor_mass=0.25)
-    heavy = with_point_masses(robot.model, chosen_masses(result, extra=0.25))
     keep = thinned(traj, 100)
-    expected = rnea_loop(heavy, traj.q[keep], traj.qd[keep], traj.qdd[keep])
+    expected = rnea_carried(robot, motion, traj, keep, chosen_masses(result, extra=0.25))
     for joint in result.joints:
         j = robot.joint_index(joint.name)
         np.testing.assert_allclose(joint.torque[keep], noise_zeroed(
@@ -221,7 +237,7 @@ def test_without_mass_coupling_the_torques_are_bare(path):
     robot, motion, traj = planned(path)
     result = size(None, path, mass_coupling=False)
     keep = thinned(traj, 200)
-    expected = rnea_loop(robot.model, traj.q[keep], traj.qd[keep], traj.qdd[keep])
+    expected = rnea_carried(robot, motion, traj, keep, {})
     for joint in result.joints:
         j = robot.joint_index(joint.name)
         np.testing.assert_allclose(joint.torque[keep], noise_zeroed(
@@ -610,7 +626,7 @@ def test_joint_loads_by_hand_on_the_benchtop_arm():
 def test_exceeding_the_robot_files_limits_is_a_warning(tmp_path):
     text = BENCHTOP.read_text().replace('robot = "../robots/', f'robot = "{REPO}/robots/')
     heavy = tmp_path / "heavy.toml"
-    heavy.write_text(text.replace("mass = 0.5", "mass = 4.0"))
+    heavy.write_text(text.replace("mass = 0.3", "mass = 4.0", 1))  # the gripper
     result = size(None, heavy)
     over = [w for w in result.warnings if w.startswith("cycle:")]
     assert over and all("above the robot file's effort limit" in w for w in over)
@@ -621,10 +637,10 @@ def test_exceeding_the_robot_files_limits_is_a_warning(tmp_path):
 def test_json_reports_the_base_the_payload_and_every_joint():
     document = json.loads(json.dumps(size_json(size(None, BENCHTOP))))
     assert document["root_link"] == "base_link"
-    assert document["payload"] == {"mass_kg": 0.5, "frame": "tool0", "frame_given": True,
+    assert document["payload"] == {"mass_kg": 0.3, "frame": "tool0", "frame_given": True,
                                    "com_m": [0.0, 0.0, 0.03],
-                                   "inertia_kg_m2": [[2.1e-4, 0, 0], [0, 2.1e-4, 0],
-                                                     [0, 0, 2.1e-4]]}
+                                   "inertia_kg_m2": [[1.26e-4, 0, 0], [0, 1.26e-4, 0],
+                                                     [0, 0, 1.26e-4]]}  # the gripper
     assert document["warnings"] == []
     assert [load["name"] for load in document["joint_loads"]] == [
         "shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3"]

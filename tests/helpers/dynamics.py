@@ -29,6 +29,28 @@ def with_point_masses(model: pin.Model, masses: dict[str, float]) -> pin.Model:
     return model
 
 
+def with_body(model: pin.Model, body, frame: str) -> pin.Model:
+    """A copy of `model` with a rigid body (a Payload: mass, com, inertia) fixed at `frame`."""
+    model = pin.Model(model)
+    placed = model.frames[model.getFrameId(frame)]
+    model.appendBodyToJoint(placed.parentJoint, pin.Inertia(
+        body.mass, np.array(body.com), np.array(body.inertia)), placed.placement)
+    return model
+
+
+def part_rows(motion, trajectory: Trajectory) -> np.ndarray:
+    """Where a motion's one part attached and released once rides (bool, per sample), by
+    the documented rule: from the arrival at the attach waypoint to the end of the release
+    waypoint's dwell, boundaries included (the attach before the release here)."""
+    (attach,) = [event.waypoint for event in motion.events if event.attach]
+    (release,) = [event.waypoint for event in motion.events if not event.attach]
+    assert attach < release
+    t = np.minimum(trajectory.t, trajectory.duration)
+    start = trajectory.waypoint_times[attach]
+    end = trajectory.waypoint_times[release] + motion.dwells[release]
+    return (t >= start - 1e-9) & (t <= end + 1e-9)
+
+
 # A mass in a URDF link needs a positive-definite inertia (the loader checks it): a solid
 # sphere of radius 1e-6 m, I = 2/5 m r^2 <= 4e-13 kg m^2 for m <= 1 kg. Its rotational
 # inertia adds at most 6 I (|alpha| + |omega|^2) to any joint torque; with |qd| <= 2 rad/s

@@ -30,7 +30,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options, options_for
-from hdselect.sizing.tasks import Task, cycle_of
+from hdselect.sizing.tasks import Task, cycle_of, every_part, task_of
 
 
 def mix_options(mix: Mix, **given: Any) -> Options:
@@ -128,7 +128,8 @@ def mix_tasks(robot: Robot, mix: Mix, *, mounting: Mounting | None = None,
                                     mounting=mounting if mounting is not None else item.mounting,
                                     joints=chosen, exclude=left_out)
         try:
-            done = plan_motion(carrying, item.motion, max_samples=limit)
+            done = plan_motion(every_part(carrying, item.motion), item.motion,
+                               max_samples=limit)  # TOPPRA's torques: every part held
         except InputError as err:  # blamed on who gave the mounting: caller, else mix file
             if err.field != "mounting" or (mounting is None and item.mounting is None):
                 raise
@@ -153,7 +154,7 @@ def mix_tasks(robot: Robot, mix: Mix, *, mounting: Mounting | None = None,
             raise InputError("every task runs 0 cycles per hour: some task must run",
                              path=mix.path, field="task.cycles_per_hour")
         idle = max(0.0, 1.0 - busy)
-    tasks = tuple(Task(carrying, traj, float(share), solved, item.name)
+    tasks = tuple(task_of(carrying, traj, solved, float(share), item.name)
                   for (item, carrying, traj, solved), share in zip(planned, shares, strict=True))
     return tasks, idle
 

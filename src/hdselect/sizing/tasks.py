@@ -16,7 +16,7 @@ other rule is over the time the robot works.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -24,12 +24,14 @@ import numpy as np
 from hdselect.base.arrays import frozen
 from hdselect.base.bounds import SHARE_TOLERANCE, check_shares
 from hdselect.catalog.rules import at_rest
+from hdselect.motion.events import Carried, carried
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
+from hdselect.robot.payload import Payload
 
-__all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "check_shares", "cycle_of", "merged",
-           "pooled", "task_rows"]
+__all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "by_state", "check_shares", "cycle_of",
+           "every_part", "merged", "over_states", "pooled", "task_of", "task_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -43,6 +45,8 @@ class Task:
         share: Fraction of the operating time spent repeating this task [-].
         motion: The motion the trajectory was planned from, if any.
         name: What reports call the task (default: the motion file's name).
+        carried: Which parts its payload events move each sample carries (`by_state`);
+            None where the motion has no events (the robot carries everything).
     """
 
     robot: Robot
@@ -50,6 +54,7 @@ class Task:
     share: float = 1.0
     motion: Motion | None = None
     name: str = ""
+    carried: Carried | None = None
 
     @property
     def label(self) -> str:
@@ -58,6 +63,105 @@ class Task:
             return self.name
         return self.motion.path.name if self.motion is not None else "task"
 
+
+
+def task_of(robot: Robot, trajectory: Trajectory, motion: Motion | None, share: float = 1.0,
+            name: str = "") -> Task:
+    """A task with its motion's payload events (`hdselect.motion.events.carried`).
+
+    The robot carries its payload the whole cycle unless an event names ``"payload"``: then
+    that payload (the file's, or the one given over it) is the part the events move.
+
+    Args:
+        robot: The robot as it runs the motion (its payload and whole-cycle parts applied).
+        trajectory: The motion's planned trajectory.
+        motion: The motion it was planned from (None: a task without events).
+        share: Fraction of the operating time [-].
+        name: What reports call the task.
+
+    Raises:
+        InputError: The planner does not say when the arm reaches an event's waypoint.
+    """
+    moved = carried(motion, trajectory) if motion is not None else None
+    if moved is not None and any(part.name == "payload" for part in moved.parts):
+        if robot.payload is not None:
+            moved = moved.with_part(replace(robot.payload, name="payload"))
+        robot = robot.with_payload(None)
+    return Task(robot, trajectory, share, motion, name, moved)
+
+
+def every_part(robot: Robot, motion: Motion, parts: Sequence[Payload] = ()) -> Robot:
+    """The robot carrying every part the motion's events move: their worst state.
+
+    What a planner's torque limits (TOPPRA's) are taken on: conservative for every state.
+
+    Args:
+        robot: The robot as the motion runs it (its payload on, as the file gives it).
+        motion: The motion (its events and parts).
+        parts: The parts as a task moves them (its `Carried.parts`), over the file's.
+    """
+    given = {part.name: part for part in parts}
+    moved = sorted({event.part for event in motion.events})
+    extra = tuple(given.get(name, motion.parts[name]) for name in moved
+                  if not (name == "payload" and robot.payload is not None))
+    return robot.with_parts((*robot.parts, *extra)) if extra else robot
+
+
+def by_state(task: Task, robot: Robot) -> tuple[tuple[Robot, np.ndarray | slice], ...]:
+    """`robot` carrying each state's parts, and the task's sample rows in that state.
+
+    Every computation over a task's samples (torques, wrenches, gravity torques, M_jj)
+    evaluates each state's rows with that state's robot and puts them back in sample
+    order, exactly as a mix of one task per state would.
+
+    Args:
+        task: The task.
+        robot: Its robot as evaluated (the units' masses carried, `carrying`).
+
+    Returns:
+        ``((robot, slice(None)),)`` without events; else per carried state, in the order
+        of its first sample, the robot with that state's parts added to its own and the
+        rows (sorted indices).
+    """
+    if task.carried is None:
+        return ((robot, slice(None)),)
+    parts = task.carried.parts
+    return tuple((robot.with_parts((*robot.parts, *(parts[i] for i in state))) if state
+                  else robot, rows) for state, rows in task.carried.states())
+
+
+def over_states(task: Task, robot: Robot,
+                compute: Callable[[Robot, np.ndarray | slice], tuple[np.ndarray, ...]],
+                rows: np.ndarray | None = None, axis: int = 0) -> tuple[np.ndarray, ...]:
+    """Arrays over a task's samples, each carried state's samples with its own robot.
+
+    Args:
+        task: The task.
+        robot: Its robot as evaluated (the units' masses carried, `carrying`).
+        compute: The arrays of a robot at some of the task's samples (sample indices, or
+            a slice), the samples along `axis` of each.
+        rows: The samples wanted (sorted indices); None: every sample.
+        axis: The samples' axis in `compute`'s arrays.
+
+    Returns:
+        `compute`'s arrays over `rows` in sample order, each state's rows evaluated with
+        its robot (`by_state`); without events ``compute(robot, rows)`` itself.
+    """
+    if task.carried is None:
+        return compute(robot, slice(None) if rows is None else rows)
+    wanted = np.arange(len(task.trajectory.t)) if rows is None else rows
+    out: list[np.ndarray] = []
+    for state_robot, own in by_state(task, robot):
+        where = np.isin(wanted, own) if isinstance(own, np.ndarray) else np.ones(len(wanted), bool)
+        if not where.any():
+            continue
+        arrays = compute(state_robot, wanted[where])
+        if not out:
+            out = [np.empty((*a.shape[:axis], len(wanted), *a.shape[axis + 1:]), a.dtype)
+                   for a in arrays]
+        for full, part in zip(out, arrays, strict=True):
+            np.moveaxis(full, axis, 0)[where] = np.moveaxis(part, axis, 0)
+    return tuple(out)
 
 
 def carrying(task: Task, masses: Mapping[str, float], sized: Sequence[str]) -> Robot:
