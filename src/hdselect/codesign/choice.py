@@ -32,7 +32,7 @@ from hdselect.sizing.diagnosis import Diagnosis, diagnosis_of, with_diagnoses
 from hdselect.sizing.options import WHOLE_ARM_TARGETS, Options
 from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
 from hdselect.sizing.result import Motors, SizingResult
-from hdselect.sizing.tasks import Task
+from hdselect.sizing.tasks import Task, task_of
 
 
 class NoUnit(PlanningError):
@@ -133,8 +133,8 @@ class Duty:
                              field="trajectory")
         robot, motion = self.robots[0], self.motions[0]
         given = trajectory if trajectory is not None else self.trajectory
-        return (Task(robot, given if given is not None
-                     else plan(robot, motion, max_samples=options.max_samples)),)
+        run = given if given is not None else plan(robot, motion, max_samples=options.max_samples)
+        return (task_of(robot, run, motion),)
 
 
 _KINDS: dict[str, tuple[tuple[type, ...], str]] = {

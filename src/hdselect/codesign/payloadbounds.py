@@ -38,12 +38,14 @@ from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
-from hdselect.robot.dynamics import cycle_torques, joint_inertias
+from hdselect.motion.planning import Trajectory
+from hdselect.robot.dynamics import CycleTorques, cycle_torques, joint_inertias
+from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
-from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.tasks import Task, by_state, pooled
 from hdselect.sizing.torques import inertia_poses
 
 MASS_GRID = 25
@@ -302,27 +304,37 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
     parts = []
     for task in counted:
         traj = task.trajectory
-        carrying = task.robot.with_payload(None).with_gearheads(masses)
-        args = (traj.q, traj.qd, traj.qdd)
-        payload = task.robot.payload
-        # without the scaled payload and with it; a task that keeps its payload: one pass
-        ends = ((carrying, carrying.with_payload(payload))
-                if task.label in scaled and payload is not None
-                else (task.robot.with_gearheads(masses),))
-        torques = [cycle_torques(end, *args, options.stop_time, threads=options.threads)
-                   for end in ends]
+        # without the scaled part and with it; a task that keeps its payload: one pass
+        payload = scaled_part(task) if task.label in scaled else None
+        ends = ([with_part(task, None), task] if payload is not None else [task])
+        robots = [end.robot.with_gearheads(masses) for end in ends]
+
+        def along(evaluate: Callable[..., np.ndarray], *, axis: int = 0,
+                  rows: np.ndarray | None = None) -> list[np.ndarray]:
+            return [along_states(end, robot, evaluate, axis=axis, rows=rows)
+                    for end, robot in zip(ends, robots, strict=True)]
+
+        def motion(robot: Robot, at: np.ndarray, traj: Trajectory = traj) -> np.ndarray:
+            found = cycle_torques(robot, traj.q[at], traj.qd[at], traj.qdd[at],
+                                  options.stop_time, threads=options.threads)
+            return np.stack([found.tau, found.stop])
+
+        torques = along(motion, axis=1)  # each (2, n, dof): the motion's and a stop's
         wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
         if bearings:
-            found = [axis_wrenches(end, *args, names, threads=options.threads)
-                     for end in ends]
+            found = along(lambda robot, at: axis_wrenches(robot, traj.q[at], traj.qd[at],
+                                                          traj.qdd[at], names,
+                                                          threads=options.threads), axis=2)
             wrenches = [found[0], found[-1]]
         inertias = None  # M_jj of every pose, affine in x too, where a frequency target asks
         if any(options.joint_value("min_natural_frequency", name) is not None
                for name in names):
-            at = traj.q[inertia_poses(traj)]
-            found = [joint_inertias(end, at, names, threads=options.threads) for end in ends]
+            found = along(lambda robot, at: joint_inertias(robot, traj.q[at], names,
+                                                           threads=options.threads),
+                          rows=inertia_poses(traj))
             inertias = (found[0], found[-1] - found[0])
-        parts.append((torques[0], torques[-1], wrenches, inertias))
+        parts.append((CycleTorques(*torques[0]), CycleTorques(*torques[-1]), wrenches,
+                      inertias))
     out = {}
     for k, name in enumerate(names):
         j = robot.joint_index(name)
@@ -352,6 +364,34 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
                                      qdd=samples.qdd[:, j], wrench=wrench, targets=targets)
                           for unit in units)
     return out
+
+
+def along_states(task: Task, robot: Robot, evaluate: Callable[[Robot, np.ndarray], np.ndarray],
+                 *, axis: int = 0, rows: np.ndarray | None = None) -> np.ndarray:
+    """`evaluate(robot in a carried state, its rows)` for each state, joined in row order.
+
+    Args:
+        task: The task (its events give the states: `hdselect.sizing.tasks.by_state`).
+        robot: The task's robot with whatever units it carries.
+        evaluate: The figures of some rows of the task's trajectory with one robot, the
+            rows along `axis`.
+        axis: The axis of the rows in `evaluate`'s figures.
+        rows: The rows of the trajectory to evaluate, ascending (default: every one).
+
+    Returns:
+        The figures at `rows`, in their order, each row evaluated with its state's robot.
+    """
+    wanted = np.arange(len(task.trajectory.t)) if rows is None else np.asarray(rows)
+    parts, order = [], []
+    for carrier, state in by_state(task, robot):
+        mine = wanted if isinstance(state, slice) else wanted[np.isin(wanted, state)]
+        if mine.size:
+            parts.append(evaluate(carrier, mine))
+            order.append(mine)
+    if len(parts) == 1:
+        return parts[0]
+    return np.take(np.concatenate(parts, axis=axis), np.argsort(np.concatenate(order)),
+                   axis=axis)
 
 
 def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:

@@ -84,7 +84,7 @@ class PayloadSizing:
         tasks = at_factor(self.tasks, self.scaled, mass)
         if self.units:
             motors = {name: found[0] for name, found in self.motors.items()}
-            if self.pooled:
+            if self.pooled or tasks[0].carried is not None:  # a task's events: by state
                 return check_tasks(tasks, self.units, self.options, self.idle, motors)
             return check_units(tasks[0].robot, tasks[0].trajectory, self.units, self.options,
                                motors=motors)
@@ -115,19 +115,52 @@ class PayloadSizing:
         return low, bottom, failing
 
 
-def at_factor(tasks: Sequence[Task], scaled: Sequence[str], factor: float) -> tuple[Task, ...]:
-    """The tasks with the payloads of `scaled` ones times `factor` (mass and inertia) [-].
+def scaled_part(task: Task) -> Payload | None:
+    """The payload that max-payload (and a study's ``payload``) scales in a task.
 
-    A factor of 0 or less takes their payload off.
+    The one part the task's events move (`hdselect.motion.events`), else its
+    ``[payload]``; None where it carries neither.
+
+    Raises:
+        InputError: Its events move several parts (the message names them).
+    """
+    carried = task.carried
+    if carried is None or not carried.parts:
+        return task.robot.payload
+    if len(carried.parts) > 1:
+        names = ", ".join(part.name for part in carried.parts)
+        raise InputError(f"the events move {len(carried.parts)} parts ({names}); max-payload "
+                         "scales one part: give the others no events, or size them as they are",
+                         path=None if task.motion is None else task.motion.path,
+                         field="payloads")
+    return carried.parts[0]
+
+
+def with_part(task: Task, payload: Payload | None) -> Task:
+    """The task with its scaled part (`scaled_part`) replaced by `payload`; None takes it off.
+
+    A part its events move stays carried between them (its events kept).
+    """
+    carried = task.carried
+    if carried is None or not carried.parts:
+        return replace(task, robot=task.robot.with_payload(payload))
+    if payload is None:
+        return replace(task, carried=replace(carried, parts=(), mask=carried.mask[:, :0]))
+    return replace(task, carried=replace(carried, parts=(payload,)))
+
+
+def at_factor(tasks: Sequence[Task], scaled: Sequence[str], factor: float) -> tuple[Task, ...]:
+    """The tasks with the scaled parts (`scaled_part`) of `scaled` ones times `factor` [-].
+
+    Mass and inertia alike; a factor of 0 or less takes the part off.
     """
     out = []
     for task in tasks:
-        payload = task.robot.payload
-        if task.label in scaled and payload is not None:
-            robot = task.robot.with_payload(None) if factor <= 0.0 else task.robot.with_payload(
-                replace(payload, mass=payload.mass * factor,
-                        inertia=tuple(tuple(v * factor for v in row) for row in payload.inertia)))
-            task = replace(task, robot=robot)
+        payload = scaled_part(task) if task.label in scaled else None
+        if payload is not None:
+            task = with_part(task, None if factor <= 0.0 else replace(
+                payload, mass=payload.mass * factor,
+                inertia=tuple(tuple(v * factor for v in row) for row in payload.inertia)))
         out.append(task)
     return tuple(out)
 
@@ -152,12 +185,13 @@ def per_kilogram(payload: Payload | None, *, frame: str | None = None,
             raise InputError(f"expected three numbers [m], got {com!r}", field="com")
         com = [LENGTH.check(c, field=f"com[{i}]") for i, c in enumerate(com)]
     if payload is not None and frame is None and com is None:
-        return Payload(1.0, payload.com, tuple(tuple(v / payload.mass for v in row)
-                                               for row in payload.inertia), payload.frame)
+        return replace(payload, mass=1.0, inertia=tuple(tuple(v / payload.mass for v in row)
+                                                        for row in payload.inertia))
     at = tuple(com) if com is not None else (payload.com if payload is not None and frame is None
                                               else (0.0, 0.0, 0.0))
     where = frame if frame is not None else (payload.frame if payload is not None else None)
-    return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where)
+    return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where,
+                   name="" if payload is None else payload.name)
 
 
 def payload_tasks(duty: Duty, options: Options, frame: str | None,
@@ -173,10 +207,11 @@ def payload_tasks(duty: Duty, options: Options, frame: str | None,
             or a trajectory (each task has its own).
     """
     if duty.mix is None:
-        payload = per_kilogram(duty.robot.payload, frame=frame, com=com)
-        carrying = duty.robot.with_payload(None).with_payload(payload)  # the frame must exist
-        return (Task(carrying, duty.tasks(options, trajectory)[0].trajectory,
-                     motion=duty.motions[0], name=duty.motions[0].path.name),)
+        (task,) = duty.tasks(options, trajectory)
+        task = replace(task, motion=duty.motions[0], name=duty.motions[0].path.name)
+        payload = per_kilogram(scaled_part(task), frame=frame, com=com)
+        task.robot.with_payload(None).with_payload(payload)  # the frame must exist
+        return (with_part(task, payload),)
     if frame is not None or com is not None or trajectory is not None:
         raise InputError("each task of a mix gives its own payload and trajectory",
                          field="frame" if frame is not None else
@@ -196,8 +231,8 @@ def scaled_tasks(planned: Sequence[Task], names: Sequence[str] | None,
         if name not in labels:
             raise InputError(f"no task {name!r} in {duty.where.rsplit('/', 1)[-1]}; its tasks "
                              f"are: {', '.join(labels)}", field="task")
-    chosen = tuple(task.label for task in planned if task.robot.payload is not None
-                   and (names is None or task.label in names))
+    chosen = tuple(task.label for task in planned if (names is None or task.label in names)
+                   and scaled_part(task) is not None)
     if not chosen:
         raise InputError("no task " + ("named " if names else "of the mix ")
                          + "carries a payload to scale", path=duty.where, field="task")

@@ -73,6 +73,7 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
         "root_link": result.robot.root_link,
         "payload": None if alone is None else payload_json(alone.task.robot),
         "warnings": list(result.warnings),
+        "notes": list(result.notes),
         "joints": joints,
         "binding": [_stretch_json(b, several) for b in result.binding],
     }

@@ -162,7 +162,7 @@ def _fastest_notes(result: FastestResult, angle: str) -> list[str]:
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.check.joints
                for c in joint.candidates for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
-    notes += list(result.warnings)
+    notes += list(result.notes) + list(result.warnings)
     return notes
 
 
