@@ -7,6 +7,7 @@ from pathlib import Path
 
 from hdselect.base import bounds
 from hdselect.base.errors import InputError
+from hdselect.motion.events import whole_cycle
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix
 from hdselect.motion.motionfile import Motion, load_motion
 from hdselect.motion.planning.solve import solve_motion
@@ -25,10 +26,11 @@ def robot_for_motion(
     joints: Sequence[str] | None = None,
     exclude: Sequence[str] | None = None,
 ) -> Robot:
-    """The robot as the motion runs it: payload, mounting and sized joints applied.
+    """The robot as the motion runs it: payload, parts, mounting and sized joints applied.
 
     Each of payload and mounting comes from the argument if given, else from the
-    motion file if it gives one, else it is the robot's own. Nothing is dropped in
+    motion file if it gives one, else it is the robot's own. The file's parts no payload
+    event names (`hdselect.motion.events.whole_cycle`) replace the robot's. Nothing is dropped in
     silence: a robot that already carries a payload and a motion file that gives
     another, with no argument to choose, is an error.
 
@@ -63,6 +65,12 @@ def robot_for_motion(
             raise InputError(err.reason, path=motion.path, field=err.field) from err
     elif payload is not None:
         robot = robot.with_payload(payload)
+    parts = whole_cycle(motion.parts, motion.events)
+    if parts or robot.parts:
+        try:
+            robot = robot.with_parts(parts)
+        except InputError as err:
+            raise InputError(err.reason, path=motion.path, field=err.field) from err
     mounting = mounting if mounting is not None else motion.mounting
     if mounting is not None:
         robot = robot.with_mounting(mounting)

@@ -22,6 +22,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -33,6 +34,7 @@ from hdselect.base.inputfiles import is_input_file
 from hdselect.base.tomlfile import check_keys, number, table_of
 from hdselect.catalog.motors import Motor
 from hdselect.ik.lines import LinePath
+from hdselect.motion.events import Event, payload_table, read_events
 from hdselect.motion.limits import (
     JointLists,
     beyond_robot,
@@ -73,7 +75,7 @@ ANGLE_UNITS = {"deg": math.pi / 180.0, "rad": 1.0}
 
 _TOP_KEYS = ("robot", "xacro_args", "planner", "angle_unit", "dt", "mounting", "payload",
              "limits", "safety", "requirements", "precision", "waypoint", "samples", "sizing",
-             "motor", "tool", "base")
+             "motor", "tool", "base", "payloads", "event")
 
 
 _LIMIT_KEYS = ("velocity", "acceleration", "jerk", "torque")
@@ -116,6 +118,10 @@ class Motion:
         samples: The logged trajectory for the samples planner, else None.
         robot_file: The file's ``robot``, relative to the motion file resolved, or None.
         payload: The file's ``[payload]``, or None.
+        parts: The file's named parts (``[payloads.NAME]``), and ``"payload"`` (the
+            ``[payload]`` table) where an event names it, by name (`hdselect.motion.events`).
+        events: Where the parts are attached and released: on waypoints in waypoint order,
+            a log's ``[[event]]`` in time order; empty where the file gives none.
         mounting: The file's ``mounting`` (a name or a gravity vector) or its ``base``
             pose, or None when it gives neither.
         angle_unit: The file's ``angle_unit`` (``"deg"`` or ``"rad"``), for messages.
@@ -179,6 +185,8 @@ class Motion:
     min_natural_frequency: Mapping[str, float] = field(default_factory=dict)
     max_tool_deflection: float | None = None
     min_arm_frequency: float | None = None
+    parts: Mapping[str, Payload] = field(default_factory=dict)
+    events: tuple[Event, ...] = ()
 
     def refuse_motors(self, command: str) -> None:
         """Refuse the file's ``[motor]`` where `command` does not choose motors yet.
@@ -290,6 +298,8 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
             raise InputError(f"a straight line needs planner \"toppra\" (\"{planner}\" moves "
                              "from rest to rest between waypoints)", path=path,
                              field=f"waypoint[{k}].line")
+    parts, events = read_events(doc, path, file_payload,
+                                None if samples is None else samples.t)
     warnings += lists.warnings()
     for warning in warnings:
         logger.warning("%s: %s", path, warning)
@@ -308,7 +318,8 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                            if isinstance(block, dict) and key != "curve"),
         tool=tool if planner != "samples" else None,
         xacro_args=xacro_args,
-        bearing_offset=bearing_offsets(doc, path, robot), **options,
+        bearing_offset=bearing_offsets(doc, path, robot), parts=MappingProxyType(parts),
+        events=events, **options,
     )
 
 
@@ -320,19 +331,6 @@ def _choice(doc: dict[str, Any], key: str, choices: tuple[str, ...], path: Path)
         raise InputError(f"unknown value {doc[key]!r}; choose one of: {', '.join(choices)}",
                          path=path, field=key)
     return doc[key]
-
-
-def payload_table(value: Any, path: Path) -> Payload:
-    """A file's ``[payload]`` table (mass, com, inertia, frame), refused by field."""
-    table = table_of(value, path, "payload")
-    check_keys(table, ("mass", "com", "inertia", "frame"), path, "payload")
-    if "mass" not in table:
-        raise InputError("required key is missing", path=path, field="payload.mass")
-    try:
-        return Payload(table["mass"], table.get("com", (0.0, 0.0, 0.0)),
-                       table.get("inertia", ((0.0,) * 3,) * 3), table.get("frame"))
-    except InputError as err:
-        raise InputError(err.reason, path=path, field=err.field) from err
 
 
 def mounting_of(doc: dict[str, Any], path: Path, unit: float,

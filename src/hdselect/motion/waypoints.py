@@ -60,7 +60,7 @@ def read_waypoints(doc: dict[str, Any], path: Path, robot: Robot, scale: np.ndar
     for i, item in enumerate(value):
         where = f"waypoint[{i}]"
         table = table_of(item, path, where)
-        check_keys(table, ("q", "dwell", *POSE_KEYS), path, where)
+        check_keys(table, ("q", "dwell", "attach", "release", *POSE_KEYS), path, where)
         if ("q" in table) == ("pose" in table):
             raise InputError("give either q (joint positions) or pose (a tool pose in the world)"
                              if "q" in table else "required key is missing: q (joint positions) "

@@ -60,6 +60,7 @@ class Robot:
         effort_limit: URDF effort limit per degree of freedom [N m or N].
         gravity: Gravity in the base frame [m/s^2], shape (3,).
         payload: The attached payload, if any.
+        parts: Parts carried besides the payload, each its own body (`with_parts`).
         gearhead_masses: Point mass mounted at each named joint's origin, on the link
             before it (a gearhead and its motor) [kg].
         root_link: The link held fixed to the world (the base).
@@ -94,6 +95,7 @@ class Robot:
     xacro_args: Mapping[str, str] = field(default_factory=dict)
     base_pose: BasePose | None = NAMED_BASES["floor"]
     payload_chain: tuple[str, ...] = ()
+    parts: tuple[Payload, ...] = ()
     _q_index: tuple[tuple[int, int], ...] = field(default=(), repr=False)
     _bare: pin.Model | None = field(default=None, repr=False)
 
@@ -144,6 +146,16 @@ class Robot:
         bounds.expect_type(payload, (Payload, type(None)), "payload", "a Payload or None")
         return self._rebuilt(payload=payload)
 
+    def with_parts(self, parts: Sequence[Payload]) -> Robot:
+        """The same robot with `parts` as its parts, each a body at its frame (default: payload's).
+
+        Raises:
+            InputError: A part is not a Payload, or its frame does not exist or does not move.
+        """
+        if not isinstance(parts, tuple | list) or not all(isinstance(p, Payload) for p in parts):
+            raise InputError(f"expected a sequence of Payloads, got {parts!r}", field="parts")
+        return self._rebuilt(parts=tuple(parts))
+
     def with_mounting(self, mounting: Mounting) -> Robot:
         """The same robot mounted otherwise.
 
@@ -192,7 +204,7 @@ class Robot:
                 or no joint is left to size.
         """
         sized, chain = _sized(self, joints, exclude), _sized(self, None, exclude)
-        if self.payload is not None and self.payload.frame is None:
+        if any(body.frame is None for body in (*self.parts, self.payload) if body is not None):
             return self._rebuilt(sized_joints=sized, payload_chain=chain)
         return replace(self, sized_joints=sized, payload_chain=chain)
 
@@ -257,12 +269,11 @@ class Robot:
         robot = replace(self, **changes)  # type: ignore[arg-type]
         bare = self._bare_model
         model = pin.Model(bare)
-        if robot.payload is not None:
-            default = robot.default_payload_frame if robot.payload.frame is None else ""
-            frame = payload_frame(model, robot.payload, robot.path, default)
+        for body in filter(None, (robot.payload, *robot.parts)):
+            default = robot.payload_frame if body.frame is None else ""
+            frame = payload_frame(model, body, robot.path, default)
             model.appendBodyToJoint(frame.parentJoint, pin.Inertia(
-                robot.payload.mass, np.array(robot.payload.com), np.array(robot.payload.inertia)),
-                frame.placement)
+                body.mass, np.array(body.com), np.array(body.inertia)), frame.placement)
         for name, mass in robot.gearhead_masses.items():
             joint_id = model.getJointId(name)
             parent = model.parents[joint_id]

@@ -24,7 +24,9 @@ class Payload:
         inertia: Rotational inertia about the centre of mass, frame axes [kg m^2], (3, 3),
             symmetric positive semi-definite.
         frame: Name of the frame it is attached to; None means the tip of the longest chain
-            of sized joints (`Robot.default_payload_frame`).
+            of sized joints (`Robot.default_payload_frame`), or for a part the payload's frame.
+        name: A part's name (``[payloads.NAME]``; ``"payload"`` for ``[payload]`` moved by
+            payload events, `hdselect.motion.events`); empty for the payload itself.
 
     Raises:
         InputError: A value is not finite or not physical (the field names it).
@@ -34,20 +36,29 @@ class Payload:
     com: tuple[float, float, float] = (0.0, 0.0, 0.0)
     inertia: tuple[tuple[float, ...], ...] = ((0.0,) * 3,) * 3
     frame: str | None = None
+    name: str = ""
 
     def __post_init__(self) -> None:
-        mass = float(_finite_array(self.mass, (), "payload.mass", bounds.MASS))
-        com = _finite_array(self.com, (3,), "payload.com", bounds.LENGTH)
-        inertia = _finite_array(self.inertia, (3, 3), "payload.inertia", bounds.INERTIA)
+        if not isinstance(self.name, str):
+            raise InputError(f"expected a part's name, got {self.name!r}", field="payload.name")
+        table = self.table
+        mass = float(_finite_array(self.mass, (), f"{table}.mass", bounds.MASS))
+        com = _finite_array(self.com, (3,), f"{table}.com", bounds.LENGTH)
+        inertia = _finite_array(self.inertia, (3, 3), f"{table}.inertia", bounds.INERTIA)
         if not np.allclose(inertia, inertia.T) or np.linalg.eigvalsh(inertia)[0] < -1e-12:
             raise InputError("must be symmetric positive semi-definite [kg m^2]",
-                             field="payload.inertia")
+                             field=f"{table}.inertia")
         if self.frame is not None and (not isinstance(self.frame, str) or not self.frame):
-            raise InputError(f"expected a frame name, got {self.frame!r}", field="payload.frame")
+            raise InputError(f"expected a frame name, got {self.frame!r}", field=f"{table}.frame")
         object.__setattr__(self, "mass", mass)
         object.__setattr__(self, "com", tuple(float(c) for c in com))
         object.__setattr__(self, "inertia", tuple(tuple(float(v) for v in row)
                                                   for row in inertia))
+
+    @property
+    def table(self) -> str:
+        """The file's table that gives it: ``payload``, or ``payloads.NAME`` for a part."""
+        return f"payloads.{self.name}" if self.name not in ("", "payload") else "payload"
 
 
 def _finite_array(value: object, shape: tuple[int, ...], field: str,
@@ -87,18 +98,19 @@ def frame_id(model: pin.Model, name: str) -> int:
 def payload_frame(model: pin.Model, payload: Payload, path: Path, default: str) -> pin.Frame:
     """The frame a payload is attached to: its own, or `default`."""
     frame_name = payload.frame or default
+    what = f"part '{payload.name}'" if payload.table != "payload" else "payload"
     try:
         known = model.existFrame(frame_name)
     except UnicodeEncodeError:  # bytes of no text in a command-line name: no frame's
         known = False
     if not known:
         bodies = [f.name for f in model.frames if f.type == pin.FrameType.BODY]
-        raise InputError(f"unknown frame '{frame_name}' for the payload; links are: "
-                         f"{', '.join(bodies)}", path=path, field="payload.frame")
+        raise InputError(f"unknown frame '{frame_name}' for the {what}; links are: "
+                         f"{', '.join(bodies)}", path=path, field=f"{payload.table}.frame")
     frame = model.frames[frame_id(model, frame_name)]
     if frame.parentJoint == 0:
-        raise InputError(f"frame '{frame_name}' does not move; a payload there loads no joint",
-                         path=path, field="payload.frame")
+        raise InputError(f"frame '{frame_name}' does not move; a {what} there loads no joint",
+                         path=path, field=f"{payload.table}.frame")
     return frame
 
 

@@ -30,7 +30,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.options import Options, options_for
-from hdselect.sizing.tasks import Task, cycle_of
+from hdselect.sizing.tasks import Task, cycle_of, task_of
 
 
 def mix_options(mix: Mix, **given: Any) -> Options:
@@ -153,7 +153,7 @@ def mix_tasks(robot: Robot, mix: Mix, *, mounting: Mounting | None = None,
             raise InputError("every task runs 0 cycles per hour: some task must run",
                              path=mix.path, field="task.cycles_per_hour")
         idle = max(0.0, 1.0 - busy)
-    tasks = tuple(Task(carrying, traj, float(share), solved, item.name)
+    tasks = tuple(task_of(carrying, traj, solved, float(share), item.name)
                   for (item, carrying, traj, solved), share in zip(planned, shares, strict=True))
     return tasks, idle
 

@@ -32,7 +32,7 @@ from hdselect.sizing.arguments import OptionValues, checked_motors, options_argu
 from hdselect.sizing.mixtasks import mix_motors, mix_options, mix_tasks, sized_motors
 from hdselect.sizing.options import Options, options_for
 from hdselect.sizing.result import Motors
-from hdselect.sizing.tasks import Task
+from hdselect.sizing.tasks import Task, task_of
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
@@ -220,7 +220,7 @@ def plan_tasks(problem: Problem) -> Problem:
     if not isinstance(problem.source, Motion):
         raise InputError("the problem has no motion to plan: give its tasks", field="tasks")
     planned = planning.plan_motion(robot, problem.source, max_samples=limit)
-    return replace(problem, tasks=(Task(robot, planned.trajectory, motion=planned.motion),),
+    return replace(problem, tasks=(task_of(robot, planned.trajectory, planned.motion),),
                    idle=0.0)
 
 

@@ -24,12 +24,13 @@ import numpy as np
 from hdselect.base.arrays import frozen
 from hdselect.base.bounds import SHARE_TOLERANCE, check_shares
 from hdselect.catalog.rules import at_rest
+from hdselect.motion.events import Carried, carried
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 
-__all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "check_shares", "cycle_of", "merged",
-           "pooled", "task_rows"]
+__all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "by_state", "check_shares", "cycle_of",
+           "merged", "pooled", "task_of", "task_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -43,6 +44,8 @@ class Task:
         share: Fraction of the operating time spent repeating this task [-].
         motion: The motion the trajectory was planned from, if any.
         name: What reports call the task (default: the motion file's name).
+        carried: Which parts its payload events move each sample carries (`by_state`);
+            None where the motion has no events (the robot carries everything).
     """
 
     robot: Robot
@@ -50,6 +53,7 @@ class Task:
     share: float = 1.0
     motion: Motion | None = None
     name: str = ""
+    carried: Carried | None = None
 
     @property
     def label(self) -> str:
@@ -58,6 +62,54 @@ class Task:
             return self.name
         return self.motion.path.name if self.motion is not None else "task"
 
+
+
+def task_of(robot: Robot, trajectory: Trajectory, motion: Motion | None, share: float = 1.0,
+            name: str = "") -> Task:
+    """A task with its motion's payload events (`hdselect.motion.events.carried`).
+
+    The robot carries its payload the whole cycle unless an event names ``"payload"``: then
+    that payload (the file's, or the one given over it) is the part the events move.
+
+    Args:
+        robot: The robot as it runs the motion (its payload and whole-cycle parts applied).
+        trajectory: The motion's planned trajectory.
+        motion: The motion it was planned from (None: a task without events).
+        share: Fraction of the operating time [-].
+        name: What reports call the task.
+
+    Raises:
+        InputError: The planner does not say when the arm reaches an event's waypoint.
+    """
+    moved = carried(motion, trajectory) if motion is not None else None
+    if moved is not None and any(part.name == "payload" for part in moved.parts):
+        if robot.payload is not None:
+            moved = moved.with_part(replace(robot.payload, name="payload"))
+        robot = robot.with_payload(None)
+    return Task(robot, trajectory, share, motion, name, moved)
+
+
+def by_state(task: Task, robot: Robot) -> tuple[tuple[Robot, np.ndarray | slice], ...]:
+    """`robot` carrying each state's parts, and the task's sample rows in that state.
+
+    Every computation over a task's samples (torques, wrenches, gravity torques, M_jj)
+    evaluates each state's rows with that state's robot and puts them back in sample
+    order, exactly as a mix of one task per state would.
+
+    Args:
+        task: The task.
+        robot: Its robot as evaluated (the units' masses carried, `carrying`).
+
+    Returns:
+        ``((robot, slice(None)),)`` without events; else per carried state, in the order
+        of its first sample, the robot with that state's parts added to its own and the
+        rows (sorted indices).
+    """
+    if task.carried is None:
+        return ((robot, slice(None)),)
+    parts = task.carried.parts
+    return tuple((robot.with_parts((*robot.parts, *(parts[i] for i in state))) if state
+                  else robot, rows) for state, rows in task.carried.states())
 
 
 def carrying(task: Task, masses: Mapping[str, float], sized: Sequence[str]) -> Robot:
