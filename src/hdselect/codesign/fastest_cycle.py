@@ -187,8 +187,9 @@ def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Op
     planned = duty.planned or None
     if planned is None and duty.motions[0].events:  # checked with its events: as a task
         leg = best.legs[0]
-        run = cycle(leg.model.motion, leg.profiles, leg.kinematic, max_samples=options.max_samples)
-        planned = (Task(duty.robots[0], run[0], 1.0, duty.motions[0]),)
+        sampled, _ = cycle(leg.model.motion, leg.profiles, leg.kinematic,
+                           max_samples=options.max_samples)
+        planned = (Task(duty.robots[0], sampled, 1.0, duty.motions[0]),)
     trajectory, _, check, scale, helds = verified(units, best, options, motors, planned,
                                                   duty.where)
     trajectories = tuple(task.trajectory for task in check.tasks) if duty.planned else (

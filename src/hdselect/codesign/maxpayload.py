@@ -40,9 +40,9 @@ from hdselect.codesign.payloadbounds import UnitBound, duty_bounds
 from hdselect.codesign.payloadsizing import (
     PayloadSizing,
     payload_tasks,
-    scaled_part,
     scaled_tasks,
 )
+from hdselect.codesign.scaledpart import scaled_part
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory

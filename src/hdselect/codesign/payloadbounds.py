@@ -38,14 +38,14 @@ from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
-from hdselect.motion.planning import Trajectory
+from hdselect.codesign.scaledpart import along_states, scaled_part, with_part
 from hdselect.robot.dynamics import CycleTorques, cycle_torques, joint_inertias
 from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
-from hdselect.sizing.tasks import Task, by_state, pooled
+from hdselect.sizing.tasks import Task, pooled
 from hdselect.sizing.torques import inertia_poses
 
 MASS_GRID = 25
@@ -301,40 +301,8 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
     robot = counted[0].robot
     names = list(robot.sized_joints)
     bearings = options.bearing_loads and any(unit.bearing is not None for unit in units)
-    parts = []
-    for task in counted:
-        traj = task.trajectory
-        # without the scaled part and with it; a task that keeps its payload: one pass
-        payload = scaled_part(task) if task.label in scaled else None
-        ends = ([with_part(task, None), task] if payload is not None else [task])
-        robots = [end.robot.with_gearheads(masses) for end in ends]
-
-        def along(evaluate: Callable[..., np.ndarray], *, axis: int = 0,
-                  rows: np.ndarray | None = None) -> list[np.ndarray]:
-            return [along_states(end, robot, evaluate, axis=axis, rows=rows)
-                    for end, robot in zip(ends, robots, strict=True)]
-
-        def motion(robot: Robot, at: np.ndarray, traj: Trajectory = traj) -> np.ndarray:
-            found = cycle_torques(robot, traj.q[at], traj.qd[at], traj.qdd[at],
-                                  options.stop_time, threads=options.threads)
-            return np.stack([found.tau, found.stop])
-
-        torques = along(motion, axis=1)  # each (2, n, dof): the motion's and a stop's
-        wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
-        if bearings:
-            found = along(lambda robot, at: axis_wrenches(robot, traj.q[at], traj.qd[at],
-                                                          traj.qdd[at], names,
-                                                          threads=options.threads), axis=2)
-            wrenches = [found[0], found[-1]]
-        inertias = None  # M_jj of every pose, affine in x too, where a frequency target asks
-        if any(options.joint_value("min_natural_frequency", name) is not None
-               for name in names):
-            found = along(lambda robot, at: joint_inertias(robot, traj.q[at], names,
-                                                           threads=options.threads),
-                          rows=inertia_poses(traj))
-            inertias = (found[0], found[-1] - found[0])
-        parts.append((CycleTorques(*torques[0]), CycleTorques(*torques[-1]), wrenches,
-                      inertias))
+    parts = [_task_parts(task, task.label in scaled, masses, names, options, bearings)
+             for task in counted]
     out = {}
     for k, name in enumerate(names):
         j = robot.joint_index(name)
@@ -366,32 +334,43 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
     return out
 
 
-def along_states(task: Task, robot: Robot, evaluate: Callable[[Robot, np.ndarray], np.ndarray],
-                 *, axis: int = 0, rows: np.ndarray | None = None) -> np.ndarray:
-    """`evaluate(robot in a carried state, its rows)` for each state, joined in row order.
-
-    Args:
-        task: The task (its events give the states: `hdselect.sizing.tasks.by_state`).
-        robot: The task's robot with whatever units it carries.
-        evaluate: The figures of some rows of the task's trajectory with one robot, the
-            rows along `axis`.
-        axis: The axis of the rows in `evaluate`'s figures.
-        rows: The rows of the trajectory to evaluate, ascending (default: every one).
+def _task_parts(task: Task, scales: bool, masses: Mapping[str, float], names: Sequence[str],
+                options: Options, bearings: bool) -> tuple[Any, ...]:
+    """One task's torques without its scaled part and with it at x = 1, by carried state.
 
     Returns:
-        The figures at `rows`, in their order, each row evaluated with its state's robot.
+        The `CycleTorques` at x = 0 and at x = 1 (the same where the task's part does not
+        scale), the sized joints' wrenches at both (or None) and M_jj at the inertia poses
+        at x = 0 and per unit of x (or None).
     """
-    wanted = np.arange(len(task.trajectory.t)) if rows is None else np.asarray(rows)
-    parts, order = [], []
-    for carrier, state in by_state(task, robot):
-        mine = wanted if isinstance(state, slice) else wanted[np.isin(wanted, state)]
-        if mine.size:
-            parts.append(evaluate(carrier, mine))
-            order.append(mine)
-    if len(parts) == 1:
-        return parts[0]
-    return np.take(np.concatenate(parts, axis=axis), np.argsort(np.concatenate(order)),
-                   axis=axis)
+    traj = task.trajectory
+    # without the scaled part and with it; a task that keeps its payload: one pass
+    ends = [with_part(task, None), task] if scales and scaled_part(task) is not None else [task]
+
+    def along(evaluate: Callable[[Robot, np.ndarray], np.ndarray], *, axis: int = 0,
+              rows: np.ndarray | None = None) -> list[np.ndarray]:
+        return [along_states(end, end.robot.with_gearheads(masses), evaluate, axis=axis,
+                             rows=rows) for end in ends]
+
+    def motion(robot: Robot, at: np.ndarray) -> np.ndarray:
+        found = cycle_torques(robot, traj.q[at], traj.qd[at], traj.qdd[at], options.stop_time,
+                              threads=options.threads)
+        return np.stack([found.tau, found.stop])
+
+    torques = along(motion, axis=1)  # each (2, n, dof): the motion's and a stop's
+    wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
+    if bearings:
+        found = along(lambda robot, at: axis_wrenches(robot, traj.q[at], traj.qd[at],
+                                                      traj.qdd[at], names,
+                                                      threads=options.threads), axis=2)
+        wrenches = [found[0], found[-1]]
+    inertias = None  # M_jj of every pose, affine in x too, where a frequency target asks
+    if any(options.joint_value("min_natural_frequency", name) is not None for name in names):
+        found = along(lambda robot, at: joint_inertias(robot, traj.q[at], names,
+                                                       threads=options.threads),
+                      rows=inertia_poses(traj))
+        inertias = (found[0], found[-1] - found[0])
+    return CycleTorques(*torques[0]), CycleTorques(*torques[-1]), wrenches, inertias
 
 
 def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:

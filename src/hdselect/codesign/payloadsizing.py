@@ -22,6 +22,7 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
 from hdselect.codesign.choice import Duty
+from hdselect.codesign.scaledpart import scaled_part, with_part
 from hdselect.codesign.trials import check_tasks
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.payload import Payload
@@ -113,40 +114,6 @@ class PayloadSizing:
             else:
                 high, failing = middle, found
         return low, bottom, failing
-
-
-def scaled_part(task: Task) -> Payload | None:
-    """The payload that max-payload (and a study's ``payload``) scales in a task.
-
-    The one part the task's events move (`hdselect.motion.events`), else its
-    ``[payload]``; None where it carries neither.
-
-    Raises:
-        InputError: Its events move several parts (the message names them).
-    """
-    carried = task.carried
-    if carried is None or not carried.parts:
-        return task.robot.payload
-    if len(carried.parts) > 1:
-        names = ", ".join(part.name for part in carried.parts)
-        raise InputError(f"the events move {len(carried.parts)} parts ({names}); max-payload "
-                         "scales one part: give the others no events, or size them as they are",
-                         path=None if task.motion is None else task.motion.path,
-                         field="payloads")
-    return carried.parts[0]
-
-
-def with_part(task: Task, payload: Payload | None) -> Task:
-    """The task with its scaled part (`scaled_part`) replaced by `payload`; None takes it off.
-
-    A part its events move stays carried between them (its events kept).
-    """
-    carried = task.carried
-    if carried is None or not carried.parts:
-        return replace(task, robot=task.robot.with_payload(payload))
-    if payload is None:
-        return replace(task, carried=replace(carried, parts=(), mask=carried.mask[:, :0]))
-    return replace(task, carried=replace(carried, parts=(payload,)))
 
 
 def at_factor(tasks: Sequence[Task], scaled: Sequence[str], factor: float) -> tuple[Task, ...]:
