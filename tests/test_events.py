@@ -7,12 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from helpers import REPO
 from hdselect import InputError
 from hdselect.motion.events import Event, carried
 from hdselect.motion.motionfile import load_motion
 from hdselect.motion.planning import plan
 from hdselect.robot.model import load_robot
+from helpers import REPO
 
 ROBOT = REPO / "robots" / "index_table.urdf"
 

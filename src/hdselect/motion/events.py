@@ -79,6 +79,12 @@ class Carried:
         return tuple(part.name for part, held in zip(self.parts, self.mask[row], strict=True)
                      if held)
 
+    def sampled(self, rows: slice | np.ndarray) -> Carried:
+        """The same events at some of the samples (`rows` of the mask), as a thinned trajectory."""
+        mask = self.mask[rows]
+        mask.setflags(write=False)
+        return replace(self, mask=mask)
+
     def with_part(self, part: Payload) -> Carried:
         """The same events moving `part` in place of the part of its name."""
         return replace(self, parts=tuple(part if p.name == part.name else p for p in self.parts))

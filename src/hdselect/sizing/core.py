@@ -226,7 +226,7 @@ def size_tasks(tasks: Sequence[Task], catalog: Sequence[Unit] | None = None,
     guess: dict[str, float] = {}
     coarse_model: DirectTorques | None = None
     if options.mass_coupling:
-        coarse = [replace(task, trajectory=decimated(task.trajectory)) for task in tasks]
+        coarse = [decimated_task(task) for task in tasks]
         coarse_samples = pooled(coarse, idle)
         coarse_model = DirectTorques(coarse_samples.tasks, coarse_samples, options.stop_time,
                                      threads=options.threads,
@@ -403,11 +403,23 @@ def _tasks_argument(tasks: object, idle: float = 0.0) -> tuple[Task, ...]:
 
 def decimated(traj: Trajectory, samples: int = GUESS_SAMPLES) -> Trajectory:
     """Every k-th sample of a trajectory (about `samples`), each standing for k periods."""
-    step = max(1, len(traj.t) // samples)
+    step = _step(traj, samples)
     spread = traj.qdd_uncertainty
     return replace(traj, dt=traj.dt * step, t=traj.t[::step], q=traj.q[::step],
                    qd=traj.qd[::step], qdd=traj.qdd[::step],
                    qdd_uncertainty=None if spread is None else spread[::step])
+
+
+def decimated_task(task: Task, samples: int = GUESS_SAMPLES) -> Task:
+    """The task on its trajectory's `decimated` samples, its payload events at the same ones."""
+    step = _step(task.trajectory, samples)
+    carried = None if task.carried is None else task.carried.sampled(slice(None, None, step))
+    return replace(task, trajectory=decimated(task.trajectory, samples), carried=carried)
+
+
+def _step(traj: Trajectory, samples: int) -> int:
+    """Every how many samples `decimated` keeps one."""
+    return max(1, len(traj.t) // samples)
 
 
 def added_mass(joint: JointSizing, options: Options) -> float:

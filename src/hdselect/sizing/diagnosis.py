@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -30,7 +31,6 @@ from hdselect.catalog.rules import RULES, Candidate, Part, Rule, Scope, rule
 from hdselect.catalog.rules.peak import PEAK
 from hdselect.catalog.rules.static import STATIC
 from hdselect.catalog.units import Unit
-from hdselect.robot.dynamics import gravity_torques
 from hdselect.sizing.core import added_mass
 from hdselect.sizing.nextsteps import (
     NextStep,
@@ -42,7 +42,8 @@ from hdselect.sizing.nextsteps import (
 )
 from hdselect.sizing.options import Options
 from hdselect.sizing.result import JointSizing, SizingResult
-from hdselect.sizing.tasks import Task, carrying, pooled
+from hdselect.sizing.tasks import Task, carrying, over_states, pooled
+from hdselect.sizing.torques import gravity_at
 
 
 @dataclass(frozen=True)
@@ -315,7 +316,8 @@ def _shortfall(candidate: Candidate, name: str) -> Shortfall:
 def _gravity(tasks: Sequence[Task], masses: Mapping[str, float],
              sized: Sequence[str]) -> np.ndarray:
     """RNEA(q, 0, 0) of every pooled sample, the units' masses carried [N m], (n, dof)."""
-    return np.concatenate([gravity_torques(carrying(task, masses, sized), task.trajectory.q)
+    return np.concatenate([over_states(task, carrying(task, masses, sized),
+                                       partial(gravity_at, task.trajectory, None))[0]
                            for task in tasks])
 
 

@@ -16,7 +16,7 @@ other rule is over the time the robot works.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -30,7 +30,7 @@ from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
 
 __all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "by_state", "check_shares", "cycle_of",
-           "merged", "pooled", "task_of", "task_rows"]
+           "merged", "over_states", "pooled", "task_of", "task_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -110,6 +110,40 @@ def by_state(task: Task, robot: Robot) -> tuple[tuple[Robot, np.ndarray | slice]
     parts = task.carried.parts
     return tuple((robot.with_parts((*robot.parts, *(parts[i] for i in state))) if state
                   else robot, rows) for state, rows in task.carried.states())
+
+
+def over_states(task: Task, robot: Robot,
+                compute: Callable[[Robot, np.ndarray | slice], tuple[np.ndarray, ...]],
+                rows: np.ndarray | None = None, axis: int = 0) -> tuple[np.ndarray, ...]:
+    """Arrays over a task's samples, each carried state's samples with its own robot.
+
+    Args:
+        task: The task.
+        robot: Its robot as evaluated (the units' masses carried, `carrying`).
+        compute: The arrays of a robot at some of the task's samples (sample indices, or
+            a slice), the samples along `axis` of each.
+        rows: The samples wanted (sorted indices); None: every sample.
+        axis: The samples' axis in `compute`'s arrays.
+
+    Returns:
+        `compute`'s arrays over `rows` in sample order, each state's rows evaluated with
+        its robot (`by_state`); without events ``compute(robot, rows)`` itself.
+    """
+    if task.carried is None:
+        return compute(robot, slice(None) if rows is None else rows)
+    wanted = np.arange(len(task.trajectory.t)) if rows is None else rows
+    out: list[np.ndarray] = []
+    for state_robot, own in by_state(task, robot):
+        where = np.isin(wanted, own) if isinstance(own, np.ndarray) else np.ones(len(wanted), bool)
+        if not where.any():
+            continue
+        arrays = compute(state_robot, wanted[where])
+        if not out:
+            out = [np.empty((*a.shape[:axis], len(wanted), *a.shape[axis + 1:]), a.dtype)
+                   for a in arrays]
+        for full, part in zip(out, arrays, strict=True):
+            np.moveaxis(full, axis, 0)[where] = np.moveaxis(part, axis, 0)
+    return tuple(out)
 
 
 def carrying(task: Task, masses: Mapping[str, float], sized: Sequence[str]) -> Robot:

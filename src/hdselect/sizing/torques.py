@@ -9,11 +9,17 @@ answers: `DirectTorques` by batched inverse dynamics of every task's trajectory
 Masses are keyed by the joint whose unit they are: the unit (and its motor) is
 bolted to the link before that joint, so it loads exactly the joints that move
 that link (`hdselect.Robot.with_gearheads`).
+
+A task with payload events (`hdselect.motion.events`) is evaluated state by state: the
+samples of each set of carried parts with the robot carrying them, put back in sample
+order (`hdselect.sizing.tasks.over_states`); a task without events takes the one pass
+it always did.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from functools import partial
 from typing import Protocol
 
 import numpy as np
@@ -30,7 +36,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches, distinct_axis_wrenches
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
-from hdselect.sizing.tasks import Samples, Task, carrying
+from hdselect.sizing.tasks import Samples, Task, by_state, carrying, over_states
 
 GRAVITY_SAMPLES = 400
 """Poses per task, evenly spread over its cycle, at which the gravity torque (the
@@ -125,7 +131,8 @@ class DirectTorques:
         self._wrench: np.ndarray | None = None
         self._index: np.ndarray | None = None
         self._distinct = [distinct_states(task.trajectory.q, task.trajectory.qd,
-                                          task.trajectory.qdd) if wrenches else None
+                                          task.trajectory.qdd)
+                          if wrenches and task.carried is None else None
                           for task in self.tasks]  # the same states at every pass
 
     def torques(self, joint: str, masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
@@ -153,30 +160,27 @@ class DirectTorques:
         """The wrench holding each pose still [N, N m], (6, n): one pass per task."""
         if not self.wrenches:
             return None
-        parts = []
-        for task in self.tasks:
-            still = np.zeros_like(task.trajectory.qd)
-            parts.append(axis_wrenches(self._carrying(task, masses), task.trajectory.q, still,
-                                       still, [joint], threads=self.threads)[0])
+        parts = [over_states(task, self._carrying(task, masses),
+                             partial(_held, task.trajectory, joint, self.threads), axis=1)[0]
+                 for task in self.tasks]
         return parts[0] if len(parts) == 1 else np.concatenate(parts, axis=1)
 
     def scaling_parts(self, joint: str,
                       masses: Mapping[str, float]) -> tuple[np.ndarray, np.ndarray]:
         """A joint's gravity part RNEA(q, 0, 0) and coasting part RNEA(q, qd, 0) [N m]."""
         j = self.robot.joint_index(joint)
-        parts = [cycle_torques(self._carrying(task, masses), task.trajectory.q,
-                               task.trajectory.qd, task.trajectory.qdd, self.stop_time,
-                               split=True, threads=self.threads, columns=[j])
+        parts = [over_states(task, self._carrying(task, masses), partial(
+                     _split, task.trajectory, self.stop_time, j, self.threads))
                  for task in self.tasks]
-        gravity = np.concatenate([p.gravity[:, 0] for p in parts if p.gravity is not None])
-        coast = np.concatenate([p.coasting[:, 0] for p in parts if p.coasting is not None])
+        gravity = np.concatenate([p[0][:, 0] for p in parts])
+        coast = np.concatenate([p[1][:, 0] for p in parts])
         return gravity, coast
 
     def gravity(self, masses: Mapping[str, float]) -> np.ndarray:
         """Largest |gravity torque| of every joint over the gravity poses [N m], (dof,)."""
-        return np.max([np.abs(gravity_torques(self._carrying(task, masses),
-                                              task.trajectory.q[inertia_poses(task.trajectory)],
-                                              threads=self.threads)).max(axis=0)
+        return np.max([np.abs(over_states(task, self._carrying(task, masses),
+                                          partial(gravity_at, task.trajectory, self.threads),
+                                          inertia_poses(task.trajectory))[0]).max(axis=0)
                        for task in self.tasks], axis=0)
 
     def load_inertia(self, joint: str, masses: Mapping[str, float]) -> float:
@@ -185,10 +189,9 @@ class DirectTorques:
 
     def task_inertias(self, joint: str, masses: Mapping[str, float]) -> tuple[float, ...]:
         """The joint's largest M_jj over each task's gravity poses [kg m^2], in task order."""
-        return tuple(float(joint_inertias(self._carrying(task, masses),
-                                          task.trajectory.q[inertia_poses(task.trajectory)],
-                                          [joint],
-                                          threads=self.threads).max())
+        return tuple(float(over_states(task, self._carrying(task, masses),
+                                       partial(_inertias, task.trajectory, joint, self.threads),
+                                       inertia_poses(task.trajectory))[0].max())
                      for task in self.tasks)
 
     def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
@@ -201,9 +204,9 @@ class DirectTorques:
         per_task, start = [], 0
         for task in self.tasks:
             traj, n = task.trajectory, len(task.trajectory.t)
-            spread = None if traj.qdd_uncertainty is None else torque_spread(
-                self._carrying(task, self._masses), traj.q, traj.qdd_uncertainty,
-                threads=self.threads)
+            spread = None if traj.qdd_uncertainty is None else over_states(
+                task, self._carrying(task, self._masses),
+                partial(_spread, traj, self.threads))[0]
             per_task.append(joint_loads(task.robot, traj, self._tau[start:start + n], spread))
             start += n
         return merged_loads(per_task)
@@ -214,20 +217,18 @@ class DirectTorques:
         ordered = {name: merged[name] for name in self.robot.sized_joints if name in merged}
         self._masses = self._tau = self._stop = self._wrench = self._index = None  # go first
         robots = [self._carrying(task, ordered) for task in self.tasks]
-        parts = [cycle_torques(robot, task.trajectory.q, task.trajectory.qd,
-                               task.trajectory.qdd, self.stop_time, threads=self.threads)
+        parts = [over_states(task, robot, partial(_cycle, task.trajectory, self.stop_time,
+                                                  self.threads))
                  for robot, task in zip(robots, self.tasks, strict=True)]
-        wrenches = [distinct_axis_wrenches(robot, task.trajectory.q, task.trajectory.qd,
-                                           task.trajectory.qdd, self.robot.sized_joints,
-                                           threads=self.threads, distinct=distinct)
+        wrenches = [self._wrenches(robot, task, distinct)
                     for robot, task, distinct in zip(robots, self.tasks, self._distinct,
                                                      strict=True)
                     if self.wrenches]
         if len(parts) == 1:
-            self._tau, self._stop = parts[0].tau, parts[0].stop
+            self._tau, self._stop = parts[0]
         else:
-            self._tau = np.concatenate([p.tau for p in parts])
-            self._stop = np.concatenate([p.stop for p in parts])
+            self._tau = np.concatenate([p[0] for p in parts])
+            self._stop = np.concatenate([p[1] for p in parts])
         if wrenches:
             self._wrench, self._index = _pooled(wrenches)
             self._wrench.setflags(write=False)
@@ -236,6 +237,72 @@ class DirectTorques:
     def _carrying(self, task: Task, masses: Mapping[str, float]) -> Robot:
         """The task's robot with the units' masses, in the robot's joint order."""
         return carrying(task, masses, self.robot.sized_joints)
+
+    def _wrenches(self, robot: Robot, task: Task, distinct: tuple[np.ndarray, np.ndarray] | None
+                  ) -> tuple[np.ndarray, np.ndarray | None]:
+        """The sized joints' distinct wrenches along a task and each sample's row among them."""
+        traj, joints = task.trajectory, self.robot.sized_joints
+        if task.carried is None:
+            return distinct_axis_wrenches(robot, traj.q, traj.qd, traj.qdd, joints,
+                                          threads=self.threads, distinct=distinct)
+        found, index, start = [], np.empty(len(traj.t), dtype=np.intp), 0
+        for state_robot, rows in by_state(task, robot):
+            rows_found, own = distinct_axis_wrenches(
+                state_robot, traj.q[rows], traj.qd[rows], traj.qdd[rows], joints,
+                threads=self.threads)
+            found.append(rows_found)
+            index[rows] = start + (np.arange(rows_found.shape[2]) if own is None else own)
+            start += rows_found.shape[2]
+        return np.concatenate(found, axis=2), index
+
+
+def _cycle(traj: Trajectory, stop_time: float, threads: int | None, robot: Robot,
+           rows: np.ndarray | slice) -> tuple[np.ndarray, np.ndarray]:
+    """The motion's and the emergency stop's torques at some samples [N m], each (m, dof)."""
+    found = cycle_torques(robot, traj.q[rows], traj.qd[rows], traj.qdd[rows], stop_time,
+                          threads=threads)
+    return found.tau, found.stop
+
+
+def _held(traj: Trajectory, joint: str, threads: int | None, robot: Robot,
+          rows: np.ndarray | slice) -> tuple[np.ndarray]:
+    """The wrench holding each pose at some samples still [N, N m], (6, m)."""
+    q = traj.q[rows]
+    still = np.zeros_like(q)
+    return (axis_wrenches(robot, q, still, still, [joint], threads=threads)[0],)
+
+
+def gravity_at(traj: Trajectory, threads: int | None, robot: Robot,
+               rows: np.ndarray | slice) -> tuple[np.ndarray]:
+    """The gravity torques RNEA(q, 0, 0) at some samples of a trajectory [N m], (m, dof).
+
+    The form `hdselect.sizing.tasks.over_states` evaluates state by state.
+    """
+    return (gravity_torques(robot, traj.q[rows], threads=threads),)
+
+
+def _inertias(traj: Trajectory, joint: str, threads: int | None, robot: Robot,
+              rows: np.ndarray | slice) -> tuple[np.ndarray]:
+    """A joint's M_jj at some samples [kg m^2], (m, 1)."""
+    return (joint_inertias(robot, traj.q[rows], [joint], threads=threads),)
+
+
+def _spread(traj: Trajectory, threads: int | None, robot: Robot,
+            rows: np.ndarray | slice) -> tuple[np.ndarray]:
+    """How far the torques at some samples may be off [N m], (m, dof) (a log's)."""
+    if traj.qdd_uncertainty is None:
+        raise RuntimeError("no acceleration uncertainty to spread")
+    return (torque_spread(robot, traj.q[rows], traj.qdd_uncertainty[rows], threads=threads),)
+
+
+def _split(traj: Trajectory, stop_time: float, joint: int, threads: int | None, robot: Robot,
+           rows: np.ndarray | slice) -> tuple[np.ndarray, np.ndarray]:
+    """One joint's gravity and coasting parts at some samples [N m], each (m, 1)."""
+    found = cycle_torques(robot, traj.q[rows], traj.qd[rows], traj.qdd[rows], stop_time,
+                          split=True, threads=threads, columns=[joint])
+    if found.gravity is None or found.coasting is None:
+        raise RuntimeError("cycle_torques(split=True) returned no gravity or coasting part")
+    return found.gravity, found.coasting
 
 
 def _pooled(parts: list[tuple[np.ndarray, np.ndarray | None]]
