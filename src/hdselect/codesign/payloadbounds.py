@@ -38,14 +38,14 @@ from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
-from hdselect.codesign.scaledpart import along_states, scaled_part, with_part
+from hdselect.codesign.scaledpart import scaled_part, with_part
 from hdselect.robot.dynamics import CycleTorques, cycle_torques, joint_inertias
 from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
-from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.tasks import Task, over_states, pooled
 from hdselect.sizing.torques import inertia_poses
 
 MASS_GRID = 25
@@ -347,29 +347,29 @@ def _task_parts(task: Task, scales: bool, masses: Mapping[str, float], names: Se
     # without the scaled part and with it; a task that keeps its payload: one pass
     ends = [with_part(task, None), task] if scales and scaled_part(task) is not None else [task]
 
-    def along(evaluate: Callable[[Robot, np.ndarray], np.ndarray], *, axis: int = 0,
-              rows: np.ndarray | None = None) -> list[np.ndarray]:
-        return [along_states(end, end.robot.with_gearheads(masses), evaluate, axis=axis,
-                             rows=rows) for end in ends]
+    def along(evaluate: Callable[[Robot, Any], tuple[np.ndarray, ...]], *, axis: int = 0,
+              rows: np.ndarray | None = None) -> list[tuple[np.ndarray, ...]]:
+        return [over_states(end, end.robot.with_gearheads(masses), evaluate, rows, axis)
+                for end in ends]
 
-    def motion(robot: Robot, at: np.ndarray) -> np.ndarray:
+    def motion(robot: Robot, at: Any) -> tuple[np.ndarray, ...]:
         found = cycle_torques(robot, traj.q[at], traj.qd[at], traj.qdd[at], options.stop_time,
                               threads=options.threads)
-        return np.stack([found.tau, found.stop])
+        return found.tau, found.stop
 
-    torques = along(motion, axis=1)  # each (2, n, dof): the motion's and a stop's
+    torques = along(motion)  # each the motion's and a stop's, (n, dof)
     wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
     if bearings:
-        found = along(lambda robot, at: axis_wrenches(robot, traj.q[at], traj.qd[at],
-                                                      traj.qdd[at], names,
-                                                      threads=options.threads), axis=2)
-        wrenches = [found[0], found[-1]]
+        found = along(lambda robot, at: (axis_wrenches(robot, traj.q[at], traj.qd[at],
+                                                       traj.qdd[at], names,
+                                                       threads=options.threads),), axis=2)
+        wrenches = [found[0][0], found[-1][0]]
     inertias = None  # M_jj of every pose, affine in x too, where a frequency target asks
     if any(options.joint_value("min_natural_frequency", name) is not None for name in names):
-        found = along(lambda robot, at: joint_inertias(robot, traj.q[at], names,
-                                                       threads=options.threads),
+        found = along(lambda robot, at: (joint_inertias(robot, traj.q[at], names,
+                                                        threads=options.threads),),
                       rows=inertia_poses(traj))
-        inertias = (found[0], found[-1] - found[0])
+        inertias = (found[0][0], found[-1][0] - found[0][0])
     return CycleTorques(*torques[0]), CycleTorques(*torques[-1]), wrenches, inertias
 
 

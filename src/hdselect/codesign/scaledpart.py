@@ -3,22 +3,19 @@
 max-payload and a study's ``payload`` scale one payload per task (`scaled_part`): the one
 part the task's events move (`hdselect.motion.events`), else its ``[payload]``. The torque
 stays affine in that part's mass at every sample: its term is zero at the samples that do
-not carry it. `along_states` evaluates any per-sample figure of a task with each carried
-state's robot (`hdselect.sizing.tasks.by_state`) and puts the rows back in order.
+not carry it (each carried state evaluated with its own robot:
+`hdselect.sizing.tasks.over_states`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import replace
-
-import numpy as np
 
 from hdselect.base.errors import InputError
 from hdselect.motion.motionfile import Motion
-from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
-from hdselect.sizing.tasks import Task, by_state
+from hdselect.sizing.tasks import Task
 
 
 def scaled_part(task: Task) -> Payload | None:
@@ -64,7 +61,8 @@ def _one_part(parts: Sequence[Payload], motion: Motion | None) -> Payload:
 def with_part(task: Task, payload: Payload | None) -> Task:
     """The task with its scaled part (`scaled_part`) replaced by `payload`; None takes it off.
 
-    A part its events move stays carried between them (its events kept).
+    A part its events move stays carried between them (its events kept); a part given
+    without a name takes the name of the one it replaces.
     """
     carried = task.carried
     if carried is None or not carried.parts:
@@ -73,31 +71,3 @@ def with_part(task: Task, payload: Payload | None) -> Task:
         return replace(task, carried=replace(carried, parts=(), mask=carried.mask[:, :0]))
     named = payload if payload.name else replace(payload, name=carried.parts[0].name)
     return replace(task, carried=replace(carried, parts=(named,)))
-
-
-def along_states(task: Task, robot: Robot, evaluate: Callable[[Robot, np.ndarray], np.ndarray],
-                 *, axis: int = 0, rows: np.ndarray | None = None) -> np.ndarray:
-    """`evaluate(robot in a carried state, its rows)` for each state, joined in row order.
-
-    Args:
-        task: The task (its events give the states: `hdselect.sizing.tasks.by_state`).
-        robot: The task's robot with whatever units it carries.
-        evaluate: The figures of some rows of the task's trajectory with one robot, the
-            rows along `axis`.
-        axis: The axis of the rows in `evaluate`'s figures.
-        rows: The rows of the trajectory to evaluate, ascending (default: every one).
-
-    Returns:
-        The figures at `rows`, in their order, each row evaluated with its state's robot.
-    """
-    wanted = np.arange(len(task.trajectory.t)) if rows is None else np.asarray(rows)
-    parts, order = [], []
-    for carrier, state in by_state(task, robot):
-        mine = wanted if isinstance(state, slice) else wanted[np.isin(wanted, state)]
-        if mine.size:
-            parts.append(evaluate(carrier, mine))
-            order.append(mine)
-    if len(parts) == 1:
-        return parts[0]
-    return np.take(np.concatenate(parts, axis=axis), np.argsort(np.concatenate(order)),
-                   axis=axis)

@@ -41,7 +41,7 @@ from hdselect.base.arrays import frozen
 from hdselect.catalog.rules import (
     at_rest,
 )
-from hdselect.codesign.scaledpart import along_states, with_part
+from hdselect.codesign.scaledpart import with_part
 from hdselect.motion.events import Carried
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
@@ -51,7 +51,7 @@ from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads
-from hdselect.sizing.tasks import Samples, Task, task_of
+from hdselect.sizing.tasks import Samples, Task, over_states, task_of
 from hdselect.sizing.torques import GRAVITY_SAMPLES
 
 REFERENCE_MASS = 1.0
@@ -157,9 +157,9 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
         variants.append(task_at(robot, trajectory, motion, payload, REFERENCE_MASS + 1.0, part))
     variants += [replace(reference, robot=reference.robot.with_gearheads({name: 1.0}))
                  for name in carriers]
-    parts = np.stack([along_states(variant, variant.robot,
-                                   lambda carrier, at: _parts(carrier, trajectory, at),
-                                   axis=1, rows=rows) for variant in variants])
+    parts = np.stack([over_states(variant, variant.robot,
+                                  lambda carrier, at: (_parts(carrier, trajectory, at),),
+                                  rows, axis=1)[0] for variant in variants])
     parts[1:] -= parts[0]  # each parameter's own contribution per unit of it
     gravity, dynamic, coasting, stopping = (np.ascontiguousarray(parts[:, k].transpose(2, 0, 1))
                                             for k in range(4))
@@ -173,16 +173,16 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
     used = tuple(_read_only(np.flatnonzero(loads[:, j])) for j in range(robot.dof))
     inertia = None
     if inertias:  # M(q) is linear in the inertial parameters, as the torques are
-        m = np.stack([along_states(variant, variant.robot,
-                                   lambda carrier, rows: joint_inertias(
-                                       carrier, trajectory.q[rows], robot.sized_joints,
-                                       threads=1), rows=at)
+        m = np.stack([over_states(variant, variant.robot,
+                                  lambda carrier, poses: (joint_inertias(
+                                      carrier, trajectory.q[poses], robot.sized_joints,
+                                      threads=1),), at)[0]
                       for variant in variants])  # (P, poses, sized)
         m[1:] -= m[0]
         inertia = frozen(np.ascontiguousarray(m.transpose(2, 0, 1)))
-    wrench = np.stack([along_states(variant, variant.robot,
-                                    lambda carrier, at: _wrench_parts(carrier, trajectory, at),
-                                    axis=3, rows=rows) for variant in variants])
+    wrench = np.stack([over_states(variant, variant.robot,
+                                   lambda carrier, at: (_wrench_parts(carrier, trajectory, at),),
+                                   rows, axis=3)[0] for variant in variants])
     wrench[1:] -= wrench[0]  # (P, 2, sized, 5, n)
     wrench_gravity, wrench_dynamic = (
         frozen(wrench[:, k].transpose(1, 0, 2, 3).reshape(len(robot.sized_joints),
@@ -220,23 +220,23 @@ def plan_depends_on_payload(motion: Motion) -> bool:
     return motion.planner == "toppra" and motion.torque_limit is not None
 
 
-def _parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
+def _parts(robot: Robot, traj: Trajectory, rows: np.ndarray | slice) -> np.ndarray:
     """G, A, V, E of one robot on the kept rows [N m], shape (4, n, dof): one stacked pass."""
     q, qd, qdd = traj.q[rows], traj.qd[rows], traj.qdd[rows]
     still = np.zeros_like(qd)
     tau = inverse_dynamics(robot, np.vstack([q, q, q, q]), np.vstack([still, qd, qd, qd]),
                            np.vstack([still, still, qdd, -qd]), threads=1)
-    gravity, coast, full, stop = tau.reshape(4, len(rows), -1)
+    gravity, coast, full, stop = tau.reshape(4, len(q), -1)
     return np.stack([gravity, full - gravity, coast - gravity, stop - coast])
 
 
-def _wrench_parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
+def _wrench_parts(robot: Robot, traj: Trajectory, rows: np.ndarray | slice) -> np.ndarray:
     """W and B of one robot's sized joints on the kept rows, shape (2, sized, 5, n)."""
     q, qd, qdd = traj.q[rows], traj.qd[rows], traj.qdd[rows]
     still = np.zeros_like(qd)
     wrench = axis_wrenches(robot, np.vstack([q, q]), np.vstack([still, qd]),
                            np.vstack([still, qdd]), robot.sized_joints, threads=1)[:, :5]
-    gravity, full = wrench[:, :, :len(rows)], wrench[:, :, len(rows):]
+    gravity, full = wrench[:, :, :len(q)], wrench[:, :, len(q):]
     return np.stack([gravity, full - gravity])
 
 
@@ -358,10 +358,10 @@ class BasisTorques:
         carried = {name: masses[name] for name in case.robot.sized_joints if name in masses}
         robot = case.robot.with_gearheads(carried) if carried else case.robot
         q = basis.trajectory.q
-        return joint_loads(basis.robot, kept, tau, along_states(
-            case, robot, lambda carrier, at: torque_spread(carrier, q[at],
-                                                           spread[at] * self.y**2),
-            rows=basis.rows))
+        return joint_loads(basis.robot, kept, tau, over_states(
+            case, robot, lambda carrier, at: (torque_spread(carrier, q[at],
+                                                            spread[at] * self.y**2),),
+            basis.rows)[0])
 
     def _with(self, masses: Mapping[str, float]) -> np.ndarray:
         """The parameters' weights, the carried units' masses [kg] among them."""

@@ -206,11 +206,11 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
         timing = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale)
         model = BasisTorques(basis, mass, time_scale, options.stop_time,
                              wrenches=options.bearing_loads)
-        own = model.case_task()  # the parts it carries when, at the case's masses
+        case = model.case_task()  # the parts it carries when, at the case's masses
         task = Task(basis.robot, timing, item.share, basis.motion, item.name,
-                    slower_events(own.carried, time_scale))
+                    slower_events(case.carried, time_scale))
         planned.append(task)
-        cases.append(replace(own, trajectory=scaled(traj, time_scale), share=item.share,
+        cases.append(replace(case, trajectory=scaled(traj, time_scale), share=item.share,
                              name=item.name, carried=task.carried))
         if task.share > 0.0:
             model.samples = replace(model.samples, tasks=(task,))

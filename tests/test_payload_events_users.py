@@ -1,0 +1,240 @@
+"""Payload events in what consumes tasks beside the core sizing: max-payload, studies, the
+envelope, fastest, the precision figures, and every output.
+
+The motion: the two-link arm's pick-and-place with a 1 kg part attached on arrival at
+the pick and released at the end of the place's dwell (the gripper, ``[payload]``, is
+carried the whole cycle). Each check has an oracle outside the code under test: `size`
+itself re-run (bisection, the part's mass written into the motion), inverse dynamics and
+the compliance functions with the part put on the robot by hand.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import hdselect
+from hdselect import InputError, Options, load_case, load_catalog, summarize
+from hdselect.catalog.builtin import catalog_file
+from hdselect.catalog.stiffness import torsion
+from hdselect.cli.main import main
+from hdselect.codesign.fastest_cycle import fastest
+from hdselect.codesign.maxpayload import max_payload
+from hdselect.codesign.payloadsizing import scaled
+from hdselect.codesign.trials import EVENTS_NOTE
+from hdselect.envelope.torques import carrying_every_part
+from hdselect.motion.planning import plan
+from hdselect.report.joint_figures import event_times, joint_figure
+from hdselect.robot.compliance import arm_frequencies, mass_matrices
+from hdselect.robot.dynamics import gravity_torques
+from hdselect.sizing.core import added_mass, size, size_problem
+from hdselect.sizing.problem import Problem
+from hdselect.sizing.summary import carrying_at, peak_sample
+from hdselect.sizing.tasks import task_of
+from hdselect.study.group import build_basis
+from hdselect.study.pooled import scaled as slower
+from hdselect.study.pooled import diagnosed, size_case
+from helpers import REPO
+from helpers.studies import differences
+
+PART = """[payloads.part]
+mass = 1.0
+com = [0.05, 0.0, 0.0]
+inertia = [[0.001, 0, 0], [0, 0.002, 0], [0, 0, 0.002]]
+frame = "tool"
+"""
+
+
+def evented(folder, part: str = PART, attach: str = '"part"', release: str = '"part"') -> str:
+    """The planar arm's pick-and-place with the part attached at the pick, released at the place."""
+    text = (REPO / "trajectories" / "planar2_pick_place.toml").read_text()
+    text = text.replace('robot = "../robots/planar2.urdf"',
+                        f'robot = "{REPO / "robots" / "planar2.urdf"}"')
+    text = text.replace("[limits]", part + "\n[limits]")
+    text = text.replace("dwell = 0.4\n", f"dwell = 0.4\nattach = {attach}\n", 1)
+    text = text.replace("# place on the shelf\ndwell = 0.4\n",
+                        f"# place on the shelf\ndwell = 0.4\nrelease = {release}\n")
+    path = folder / "events.toml"
+    path.write_text(text)
+    return str(path)
+
+
+@pytest.fixture(scope="module")
+def pick(tmp_path_factory):
+    path = evented(tmp_path_factory.mktemp("events"))
+    robot, motion = load_case(path)
+    assert [e.part for e in motion.events] == ["part", "part"]
+    return path, robot, motion
+
+
+def with_mass(motion, mass: float):
+    """The motion with its part of `mass` [kg] (inertia scaled with it)."""
+    return replace(motion, parts={**motion.parts, "part": scaled(motion.parts["part"], mass)})
+
+
+def test_max_payload_scales_the_moved_part_as_a_bisection_over_size(pick):
+    _, robot, motion = pick
+    found = max_payload(robot, motion)
+    assert found.payload.name == "part" and found.payload.mass == 1.0
+    assert found.frame == "tool"
+    assert 0.5 < found.mass < 20.0
+
+    def fits(mass: float) -> bool:
+        return size(robot, with_mass(motion, mass)).feasible
+
+    low, high = 0.5 * found.mass, 1.5 * found.mass
+    assert fits(low) and not fits(high)
+    for _ in range(16):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if fits(middle) else (low, middle)
+    assert found.mass == pytest.approx(low, rel=1e-4)
+
+
+def test_max_payload_refuses_events_that_move_two_parts(tmp_path):
+    path = evented(tmp_path, PART + '\n[payloads.tray]\nmass = 0.3\nframe = "tool"\n',
+                   '["part", "tray"]', '["part", "tray"]')
+    robot, motion = load_case(path)
+    with pytest.raises(InputError, match=r"part, tray.*scale one part"):
+        max_payload(robot, motion)
+
+
+@pytest.mark.parametrize(("mass", "time_scale"), [(1.2, 1.0), (0.7, 1.3), (2.5, 0.9)])
+def test_a_grouped_case_scales_the_part_and_equals_size(pick, mass, time_scale):
+    _, robot, motion = pick
+    bare = robot.with_payload(None)
+    basis = build_basis(robot, motion, motion.parts["part"], part=True)
+    assert basis.events is not None and basis.part
+    options = Options(stop_time=0.1, life_hours=20000.0, threads=1)
+    units = load_catalog()
+    grouped = size_case(basis, mass, time_scale, units, options)
+    # the oracle: the motion with that part mass (a study keeps its inertia), planned, its task (the samples that carry
+    # the part) run s times slower (the dwells too: the same samples carry it), sized
+    heavy = replace(motion, parts={"part": replace(motion.parts["part"], mass=mass)})
+    planned = task_of(robot, plan(robot, heavy), heavy)
+    task = replace(planned, trajectory=slower(planned.trajectory, time_scale))
+    reference = summarize(diagnosed(size_problem(Problem(robot, heavy, units, options, {},
+                                                         (task,)))))
+    reference = replace(reference, payload_mass=mass)  # a study's payload: the part's
+    assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+    assert bare.payload is None  # the fixture's robot untouched
+
+
+def test_the_envelope_states_carry_every_part_and_the_duty_its_events(pick):
+    _, robot, motion = pick
+    task = task_of(robot, plan(robot, motion), motion)
+    states = carrying_every_part(robot, [task])
+    assert [p.name for p in states.parts] == ["part"] and states.payload == robot.payload
+    q = task.trajectory.q[::200]
+    by_hand = gravity_torques(robot.with_parts((motion.parts["part"],)), q)
+    np.testing.assert_allclose(gravity_torques(states, q), by_hand, rtol=1e-12, atol=1e-12)
+    assert carrying_every_part(robot, [replace(task, carried=None)]) is robot
+
+
+def test_envelope_with_an_evented_duty(pick, tmp_path):
+    path, robot, motion = pick
+    spec = tmp_path / "envelope.toml"
+    spec.write_text(f'robot = "{REPO / "robots" / "planar2.urdf"}"\nangle_unit = "deg"\n'
+                    f'[payload]\nmass = 0.4\ncom = [0.03, 0.0, 0.0]\nframe = "tool"\n'
+                    "[limits]\nvelocity = 180\nacceleration = 900\njerk = 9000\n"
+                    f'[duty]\nmotion = "{path}"\n')
+    result = hdselect.envelope(spec=spec, settings=hdselect.SearchSettings(starts=64,
+                                                                            refine=2))
+    assert result.duty.tasks[0].carried is not None
+    # the duty's own sizing uses the events: it is `size` of the motion
+    alone = size(robot, motion)
+    for mine, theirs in zip(result.duty_sizing.joints, alone.joints, strict=True):
+        assert mine.load.mean_torque == pytest.approx(theirs.load.mean_torque, rel=1e-12)
+    # the worst gravity state carries the part: its torque is the robot's with it
+    shoulder = result.joints[0]
+    carrying = carrying_every_part(robot, result.duty.tasks).with_gearheads(result.masses)
+    held = gravity_torques(carrying, shoulder.gravity.q[None])[0, 0]
+    assert shoulder.gravity.torque == pytest.approx(held, rel=1e-9)
+
+
+def test_fastest_bounds_with_every_part_and_checks_with_the_events(pick):
+    _, robot, motion = pick
+    found = fastest(robot, motion)
+    assert found.notes == (EVENTS_NOTE,)
+    (item,) = found.tasks
+    assert item.task.carried is not None
+    times = [t for t, _, _ in item.task.carried.events]
+    reached = item.task.trajectory.waypoint_times
+    assert times == pytest.approx([reached[1], reached[3] + 0.4])
+    # the check is the sizing of that trajectory with its events
+    again = size_problem(Problem(robot, motion, found.check.units, found.check.options, {},
+                                 (task_of(robot, item.task.trajectory, motion),)))
+    for mine, theirs in zip(found.check.joints, again.joints, strict=True):
+        assert mine.load.mean_torque == pytest.approx(theirs.load.mean_torque, rel=1e-12)
+
+
+def test_precision_poses_carry_their_state(pick):
+    _, robot, motion = pick
+    options = Options(precision=True, stop_time=0.1, life_hours=20000.0)
+    result = size(robot, motion, options=options,
+                  catalog=load_catalog([catalog_file("shg-2uh")]))
+    modes, tool = result.precision.modes, result.precision.tool
+    (task,) = result.tasks
+    units = {j.name: (j.selected or j.strongest).unit for j in result.joints}
+    gear = task.robot.with_gearheads({j.name: added_mass(j, options) for j in result.joints})
+    part, mask = motion.parts["part"], task.carried.mask[:, 0]
+    k1 = [units[name].stiffness.k1 for name in modes.joints]
+    for carries in (True, False):  # the first evaluated pose carrying the part, not carrying
+        p = int(np.flatnonzero(mask[modes.samples] == carries)[0])
+        q = task.trajectory.q[modes.samples[p]][None]
+        mine, other = (gear.with_parts((part,)), gear) if carries else (
+            gear, gear.with_parts((part,)))
+        # the arm's modes with this pose's own parts (and not the other state's)
+        by_hand = arm_frequencies(mass_matrices(mine, q, modes.joints), k1)[0]
+        np.testing.assert_allclose(modes.frequencies[p], by_hand, rtol=1e-9)
+        wrong = arm_frequencies(mass_matrices(other, q, modes.joints), k1)[0]
+        assert abs(wrong[0] - by_hand[0]) > 1e-3 * by_hand[0]
+        # the holding sag: both axes are the base's -y, so the tool turns about it by the
+        # joints' twists summed, each under the gravity torque of this state (the bearings'
+        # tilt turns it about other axes)
+        def turned(robot):
+            held = gravity_torques(robot, q)[0]
+            return abs(sum(float(torsion(units[name].stiffness, held[j]))
+                           for j, name in enumerate(robot.joint_names)))
+        assert abs(tool.holding_rotation[p][1]) == pytest.approx(turned(mine), rel=1e-9)
+        assert abs(turned(other) - turned(mine)) > 1e-3 * turned(mine)
+
+
+def test_outputs_name_the_events_and_what_the_peak_carried(pick, tmp_path, capsys):
+    path, robot, motion = pick
+    out = tmp_path / "out.json"
+    assert main(["size", path, "--json", str(out)]) == 0
+    terminal = capsys.readouterr().out
+    document = json.loads(out.read_text())
+    result = size(robot, motion)
+    (task,) = result.tasks
+    expected = [{"t": t, "part": name, "event": "attach" if attached else "release"}
+                for t, name, attached in task.carried.events]
+    assert document["events"] == expected and len(expected) == 2
+    assert [e["event"] for e in expected] == ["attach", "release"]
+    for joint, entry in zip(result.joints, document["joints"], strict=True):
+        sample = peak_sample(result, joint)
+        assert abs(joint.torque[sample]) == pytest.approx(joint.load.peak_torque, rel=1e-12)
+        carried = bool(task.carried.mask[sample, 0])
+        assert entry["carrying"] == (["payload", "part"] if carried else ["payload"])
+        assert tuple(entry["carrying"]) == carrying_at(result, sample)
+        assert f"{joint.name} worst at t = {task.trajectory.t[sample]:.3g} s" in \
+            " ".join(terminal.split())
+    assert "payload events: part attached at t =" in " ".join(terminal.split())
+
+
+def test_joint_figures_mark_the_events(pick, tmp_path):
+    _, robot, motion = pick
+    result = size(robot, motion)
+    marks = event_times(result)
+    assert [label for _, label in marks] == ["attach part", "release part"]
+    assert [t for t, _ in marks] == [t for t, _, _ in result.tasks[0].carried.events]
+    figure = joint_figure(result, result.joints[0])
+    lines = {round(float(line.get_xdata()[0]), 9) for ax in figure.axes for line in ax.lines
+             if len(line.get_xdata()) == 2 and line.get_xdata()[0] == line.get_xdata()[1]}
+    assert {round(t, 9) for t, _ in marks} <= lines
+    texts = [text.get_text().strip() for text in figure.axes[0].texts]
+    assert "attach part" in texts and "release part" in texts
+    figure.savefig(tmp_path / "joint.png", dpi=80)
