@@ -21,22 +21,26 @@ from hdselect import InputError, Options, load_case, load_catalog, summarize
 from hdselect.catalog.builtin import catalog_file
 from hdselect.catalog.stiffness import torsion
 from hdselect.cli.main import main
-from hdselect.codesign.fastest_cycle import fastest
+from hdselect.codesign.fastest_cycle import compare_ratios, fastest
 from hdselect.codesign.maxpayload import max_payload
+from hdselect.codesign.payloadbounds import duty_bounds
 from hdselect.codesign.payloadsizing import scaled
+from hdselect.codesign.records import ratios_json
 from hdselect.codesign.trials import EVENTS_NOTE
 from hdselect.envelope.torques import carrying_every_part
 from hdselect.motion.planning import plan
+from hdselect.report.codesign_tables import ratios_table
 from hdselect.report.joint_figures import event_times, joint_figure
 from hdselect.robot.compliance import arm_frequencies, mass_matrices
 from hdselect.robot.dynamics import gravity_torques
 from hdselect.sizing.core import added_mass, size, size_problem
+from hdselect.sizing.diagnosis import diagnose, diagnosis_of
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.summary import carrying_at, peak_sample
 from hdselect.sizing.tasks import task_of
 from hdselect.study.group import build_basis
-from hdselect.study.pooled import scaled as slower
 from hdselect.study.pooled import diagnosed, size_case
+from hdselect.study.pooled import scaled as slower
 from helpers import REPO
 from helpers.studies import differences
 
@@ -93,6 +97,22 @@ def test_max_payload_scales_the_moved_part_as_a_bisection_over_size(pick):
     assert found.mass == pytest.approx(low, rel=1e-4)
 
 
+def test_a_diagnosis_offers_no_lighter_payload_where_events_move_a_part(pick):
+    _, robot, motion = pick
+    heavy = size(robot, with_mass(motion, 2.5))
+    heavy = replace(heavy, diagnoses=diagnose(heavy, payload_bounds=duty_bounds))
+    assert not heavy.feasible
+    kinds = {step.kind for joint in heavy.joints if joint.selected is None
+             for step in diagnosis_of(heavy, joint.name).steps}
+    assert kinds and "payload" not in kinds  # --payload would change the gripper, not the part
+    # the same motion without events, its gripper as heavy, is offered one
+    plain = replace(motion, events=(), parts={}, payload=replace(motion.payload, mass=2.5))
+    whole = size(robot.with_payload(None), plain)
+    whole = replace(whole, diagnoses=diagnose(whole, payload_bounds=duty_bounds))
+    assert "payload" in {step.kind for joint in whole.joints if joint.selected is None
+                         for step in diagnosis_of(whole, joint.name).steps}
+
+
 def test_max_payload_refuses_events_that_move_two_parts(tmp_path):
     path = evented(tmp_path, PART + '\n[payloads.tray]\nmass = 0.3\nframe = "tool"\n',
                    '["part", "tray"]', '["part", "tray"]')
@@ -104,14 +124,13 @@ def test_max_payload_refuses_events_that_move_two_parts(tmp_path):
 @pytest.mark.parametrize(("mass", "time_scale"), [(1.2, 1.0), (0.7, 1.3), (2.5, 0.9)])
 def test_a_grouped_case_scales_the_part_and_equals_size(pick, mass, time_scale):
     _, robot, motion = pick
-    bare = robot.with_payload(None)
     basis = build_basis(robot, motion, motion.parts["part"], part=True)
     assert basis.events is not None and basis.part
     options = Options(stop_time=0.1, life_hours=20000.0, threads=1)
     units = load_catalog()
     grouped = size_case(basis, mass, time_scale, units, options)
-    # the oracle: the motion with that part mass (a study keeps its inertia), planned, its task (the samples that carry
-    # the part) run s times slower (the dwells too: the same samples carry it), sized
+    # the oracle: the motion with that part mass (a study keeps its inertia), planned, its
+    # task (the samples that carry the part) run s times slower (the dwells too), sized
     heavy = replace(motion, parts={"part": replace(motion.parts["part"], mass=mass)})
     planned = task_of(robot, plan(robot, heavy), heavy)
     task = replace(planned, trajectory=slower(planned.trajectory, time_scale))
@@ -119,7 +138,6 @@ def test_a_grouped_case_scales_the_part_and_equals_size(pick, mass, time_scale):
                                                          (task,)))))
     reference = replace(reference, payload_mass=mass)  # a study's payload: the part's
     assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
-    assert bare.payload is None  # the fixture's robot untouched
 
 
 def test_the_envelope_states_carry_every_part_and_the_duty_its_events(pick):
@@ -170,6 +188,16 @@ def test_fastest_bounds_with_every_part_and_checks_with_the_events(pick):
         assert mine.load.mean_torque == pytest.approx(theirs.load.mean_torque, rel=1e-12)
 
 
+def test_compare_ratios_says_how_it_carries_the_parts(pick):
+    _, robot, motion = pick
+    comparison = compare_ratios(robot, motion, joints=["elbow"])
+    assert comparison.base.notes == (EVENTS_NOTE,)
+    assert ratios_json(comparison)["notes"] == [EVENTS_NOTE]
+    (joint,) = comparison.joints
+    assert EVENTS_NOTE in " ".join(ratios_table(comparison, joint).notes)
+    assert all(row.cycle_time is not None for row in joint.rows if row.unit.id == "PSA-14-80")
+
+
 def test_precision_poses_carry_their_state(pick):
     _, robot, motion = pick
     options = Options(precision=True, stop_time=0.1, life_hours=20000.0)
@@ -194,7 +222,7 @@ def test_precision_poses_carry_their_state(pick):
         # the holding sag: both axes are the base's -y, so the tool turns about it by the
         # joints' twists summed, each under the gravity torque of this state (the bearings'
         # tilt turns it about other axes)
-        def turned(robot):
+        def turned(robot, q=q):
             held = gravity_torques(robot, q)[0]
             return abs(sum(float(torsion(units[name].stiffness, held[j]))
                            for j, name in enumerate(robot.joint_names)))
@@ -223,6 +251,10 @@ def test_outputs_name_the_events_and_what_the_peak_carried(pick, tmp_path, capsy
         assert f"{joint.name} worst at t = {task.trajectory.t[sample]:.3g} s" in \
             " ".join(terminal.split())
     assert "payload events: part attached at t =" in " ".join(terminal.split())
+    assert main(["size", path, "--report", str(tmp_path / "report")]) == 0
+    page = (tmp_path / "report" / "index.html").read_text()
+    assert "payload events</b>: part attached at t = " in page
+    assert f"peak: {result.joints[0].name} worst at t = " in page
 
 
 def test_joint_figures_mark_the_events(pick, tmp_path):

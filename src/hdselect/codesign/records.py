@@ -182,6 +182,7 @@ def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
         **mix,
         "units": {name: unit.id for name, unit in comparison.units.items()},
         "cycle_time_s": base.cycle_time,
+        "notes": list(base.notes),
         "joints": [{
             "name": joint.joint,
             "selected": joint.selected,

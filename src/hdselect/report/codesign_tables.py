@@ -228,6 +228,7 @@ def ratios_table(comparison: RatioComparison, joint: JointRatios) -> FittedTable
             "the units cannot run the path at any speed. lengthened by: the rule that made the "
             "cycle longer than the time-optimal run under the limits on single samples, and "
             "how (derated: the repeated-peak limit held to that fraction; x: the moves slowed).")
+    note += "".join(f" {line}." for line in comparison.base.notes)
     shown = len(columns) if any(row[-1] for row in rows) else -1  # no empty note column
     return FittedTable(f"Joint {joint.joint}: the shortest cycle with each unit",
                        columns[:shown], tuple(row[:shown] for row in rows), tuple(styles),
