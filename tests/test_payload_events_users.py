@@ -21,11 +21,12 @@ from hdselect import InputError, Options, load_case, load_catalog, summarize
 from hdselect.catalog.builtin import catalog_file
 from hdselect.catalog.stiffness import torsion
 from hdselect.cli.main import main
+from hdselect.codesign.choice import duty_of
 from hdselect.codesign.fastest_cycle import compare_ratios, fastest
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.payloadbounds import duty_bounds
 from hdselect.codesign.payloadsizing import scaled
-from hdselect.codesign.records import ratios_json
+from hdselect.codesign.records import max_payload_json, ratios_json
 from hdselect.codesign.trials import EVENTS_NOTE
 from hdselect.envelope.torques import carrying_every_part
 from hdselect.motion.planning import plan
@@ -38,9 +39,12 @@ from hdselect.sizing.diagnosis import diagnose, diagnosis_of
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.summary import carrying_at, peak_sample
 from hdselect.sizing.tasks import task_of
+from hdselect.study import load_study, run_study
+from hdselect.study.casetasks import Inputs
 from hdselect.study.group import build_basis
-from hdselect.study.pooled import diagnosed, size_case
+from hdselect.study.pooled import diagnosed, size_case, slower_events
 from hdselect.study.pooled import scaled as slower
+from hdselect.study.store import journal_path
 from helpers import REPO
 from helpers.studies import differences
 
@@ -83,7 +87,7 @@ def test_max_payload_scales_the_moved_part_as_a_bisection_over_size(pick):
     _, robot, motion = pick
     found = max_payload(robot, motion)
     assert found.payload.name == "part" and found.payload.mass == 1.0
-    assert found.frame == "tool"
+    assert found.frame == "tool" and max_payload_json(found)["payload"]["part"] == "part"
     assert 0.5 < found.mass < 20.0
 
     def fits(mass: float) -> bool:
@@ -113,6 +117,22 @@ def test_a_diagnosis_offers_no_lighter_payload_where_events_move_a_part(pick):
                          for step in diagnosis_of(whole, joint.name).steps}
 
 
+def test_a_slowed_problem_keeps_the_samples_that_carry_the_part(pick):
+    """A study runs a case s times slower, dwells too: the same samples carry the part
+    (re-deriving it from the waypoint times and the file's dwells would not)."""
+    path, robot, motion = pick
+    task = task_of(robot, plan(robot, motion), motion)
+    slowed = replace(task, trajectory=slower(task.trajectory, 1.5),
+                     carried=slower_events(task.carried, 1.5))
+    problem = Problem(robot, motion, load_catalog(), Options(), {}, (slowed,))
+    duty = duty_of(problem, None, None, None, None, what="")[0]
+    (planned,) = duty.tasks(Options())
+    np.testing.assert_array_equal(planned.carried.mask, task.carried.mask)
+    assert [t for t, _, _ in planned.carried.events] == pytest.approx(
+        [1.5 * t for t, _, _ in task.carried.events])
+    assert max_payload(problem).mass > max_payload(robot, motion).mass  # slower: heavier
+
+
 def test_max_payload_refuses_events_that_move_two_parts(tmp_path):
     path = evented(tmp_path, PART + '\n[payloads.tray]\nmass = 0.3\nframe = "tool"\n',
                    '["part", "tray"]', '["part", "tray"]')
@@ -138,6 +158,47 @@ def test_a_grouped_case_scales_the_part_and_equals_size(pick, mass, time_scale):
                                                          (task,)))))
     reference = replace(reference, payload_mass=mass)  # a study's payload: the part's
     assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
+
+
+def test_a_study_of_the_part_grouped_equals_each_case_alone(pick, tmp_path):
+    path, _, _ = pick
+    study = tmp_path / "study.toml"
+    study.write_text(f'title = "part"\n[grid]\nmotion = ["{path}"]\n'
+                     "payload = [0.4, 0.8, 1.2, 2.5]\ntime_scale = [1.0, 1.2]\n")
+    cases = load_study(study)
+    grouped = run_study(cases, tmp_path / "grouped.csv", workers=0)
+    alone = run_study(cases, tmp_path / "alone.csv", workers=0, grouping=False)
+    assert grouped.ran == alone.ran == 8
+    methods = {record["method"] for record in journal(tmp_path / "grouped.csv")}
+    assert methods == {"grouped"}
+    records = journal(tmp_path / "grouped.csv")
+    others = {record["key"]: record["result"] for record in journal(tmp_path / "alone.csv")}
+    assert all(record["ok"] for record in records) and len(others) == 8
+    for record in records:
+        assert differences(record["result"], others[record["key"]]) < 1e-9
+    # the payload is the part's mass: 0.4 kg fits on every joint, 2.5 kg does not
+    by_mass = {record["result"]["payload_mass"]: record["result"]["feasible"]
+               for record in records}
+    assert by_mass[0.4] and not by_mass[2.5]
+
+
+def test_a_study_payload_refused_where_the_events_move_two_parts(tmp_path):
+    path = evented(tmp_path, PART + '\n[payloads.tray]\nmass = 0.3\nframe = "tool"\n',
+                   '["part", "tray"]', '["part", "tray"]')
+    (case,) = load_study_text(tmp_path, f'[grid]\nmotion = ["{path}"]\npayload = [0.5]\n')
+    with pytest.raises(InputError, match=r"part, tray"):
+        Inputs().duty(case)
+
+
+def journal(csv) -> list[dict]:
+    """A study's records, one per case."""
+    return [json.loads(line) for line in journal_path(csv).read_text().splitlines()]
+
+
+def load_study_text(folder, grid: str):
+    study = folder / "study.toml"
+    study.write_text('title = "t"\n' + grid)
+    return load_study(study).cases
 
 
 def test_the_envelope_states_carry_every_part_and_the_duty_its_events(pick):

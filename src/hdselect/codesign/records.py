@@ -233,6 +233,7 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> 
             None if x is None else x * per_kg),
         "unlimited": x is not None and not finite,
         "payload": None if per_kg is None else {
+            "part": payload.name or None,
             "frame": result.frame, "frame_given": payload.frame is not None,
             "com_m": list(payload.com),
             "inertia_kg_m2_per_kg": [[value / per_kg for value in row]

@@ -296,7 +296,9 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot,
                            *([f"Even without the payload no unit fits {', '.join(found)}; the "
                               "selection without it:"] if found else [])))
     if one is not None:
-        answer, at, kg, of = f"the largest payload is {x:.4g} kg {where}.", f"{x:.4g} kg", " kg", ""
+        what = (f"part '{result.payload.name}' (the one its payload events move: carried "
+                "between them)" if result.payload.name else "payload")
+        answer, at, kg, of = f"the largest {what} is {x:.4g} kg {where}.", f"{x:.4g} kg", " kg", ""
         how = (". Torque is affine in the payload mass on a fixed trajectory, so each rule's "
                "limit is solved exactly; the inertia about the centre of mass grows with the "
                "mass.")

@@ -35,7 +35,7 @@ from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.pathbounds import PathInfeasible
 from hdselect.codesign.records import fastest_json, max_payload_json, no_fit_json
-from hdselect.codesign.scaledpart import with_part
+from hdselect.codesign.scaledpart import scaled_part, with_part
 from hdselect.motion.loading import robot_for_motion
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
@@ -194,11 +194,20 @@ def _codesign_problem(problem: Problem) -> Problem:
 def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
     """One case on its own: its `Problem` (`case_problem`) run s times slower, sized.
 
+    Its ``payload_mass`` is the mass the case's payload sets: the part the payload events
+    move, where they move one (as a grouped case's).
+
     Raises:
         HdselectError: An input is bad or a motion cannot be planned.
     """
-    return summarize(diagnosed(size_problem(_slower(case_problem(case, inputs),
-                                                    case.time_scale))))
+    problem = case_problem(case, inputs)
+    summary = summarize(diagnosed(size_problem(_slower(problem, case.time_scale))))
+    (task, *others) = problem.tasks
+    if problem.mix is None and not others and task.motion is not None \
+            and case_part(case, task.motion):
+        part = scaled_part(task)
+        return replace(summary, payload_mass=0.0 if part is None else part.mass)
+    return summary
 
 
 def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:
