@@ -54,8 +54,8 @@ def peak_carrying_note(result: SizingResult) -> str:
             continue
         task, row = counted_at(result, sample)
         parts = ", ".join(carrying_at(result, sample)) or "nothing"
-        where = f"{task.label} " if several else ""
-        words.append(f"{joint.name} worst at {where}t = {task.trajectory.t[row]:.3g} s, "
+        where = f" of {task.label}" if several else ""
+        words.append(f"{joint.name} worst at t = {task.trajectory.t[row]:.3g} s{where}, "
                      f"carrying {parts}")
     return "peak: " + "; ".join(words) if words else ""
 
