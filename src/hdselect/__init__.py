@@ -12,6 +12,7 @@ __version__ = "0.6.0"
 
 _HOME = {
     "BasePose": "robot",
+    "Carried": "motion.events",
     "DutyCycle": "catalog.duty",
     "DutyResult": "catalog",
     "EnvelopeResult": "envelope",
@@ -66,6 +67,7 @@ _HOME = {
 
 __all__ = [
     "BasePose",
+    "Carried",
     "DutyCycle",
     "DutyResult",
     "EnvelopeResult",
@@ -151,6 +153,7 @@ if TYPE_CHECKING:
         solve_motion,
         starter_motion,
     )
+    from hdselect.motion.events import Carried
     from hdselect.motion.planning import Planned
     from hdselect.robot import BasePose, JointInfo, Payload, Robot, describe_joints, load_robot
     from hdselect.sizing import (

@@ -66,8 +66,6 @@ def run_plan(args: argparse.Namespace) -> int:
         write_trajectory_csv,
         write_waypoints_csv,
     )
-    from hdselect.robot.dynamics import inverse_dynamics
-
     for flag, given in (("--joints", args.joints), ("--exclude", args.exclude)):
         if given is not None and args.plot is None:
             raise InputError("only with --plot (it chooses the joints plotted; the CSV has "
@@ -101,7 +99,7 @@ def run_plan(args: argparse.Namespace) -> int:
         check = None if units is None else _checked_units(args, units, robot, motion,
                                                           trajectory)
         if check is None:
-            tau = inverse_dynamics(robot, trajectory.q, trajectory.qd, trajectory.qdd)
+            tau = _torques(robot, motion, trajectory)
             write_trajectory_csv(out, trajectory, tau, robot.joint_names)
         else:
             tau = gear_torques(check)
@@ -149,6 +147,7 @@ def _checked_units(args: argparse.Namespace, units, robot, motion, trajectory):
     """
     from hdselect.codesign.choice import resolve_case
     from hdselect.sizing.core import check_units
+    from hdselect.sizing.tasks import task_of
 
     given, problem = units
     try:
@@ -157,4 +156,20 @@ def _checked_units(args: argparse.Namespace, units, robot, motion, trajectory):
                                          motors=problem.motors)
     except InputError as err:
         raise flagged(err, args) from err
-    return check_units(robot, trajectory, chosen, problem.options, motors=paired)
+    task = task_of(robot, trajectory, motion)  # the parts its payload events move
+    return check_units(task.robot, trajectory, chosen, problem.options, motors=paired,
+                       carried=task.carried)
+
+
+def _torques(robot, motion, trajectory):
+    """The robot's own joint torques along `trajectory` [N m], shape (n, dof).
+
+    Each part its payload events move is carried between them
+    (`hdselect.sizing.tasks.over_states`).
+    """
+    from hdselect.robot.dynamics import inverse_dynamics
+    from hdselect.sizing.tasks import over_states, task_of
+
+    task = task_of(robot, trajectory, motion)
+    return over_states(task, task.robot, lambda state, rows: (inverse_dynamics(
+        state, trajectory.q[rows], trajectory.qd[rows], trajectory.qdd[rows]),))[0]

@@ -22,7 +22,6 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -318,7 +317,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
                            if isinstance(block, dict) and key != "curve"),
         tool=tool if planner != "samples" else None,
         xacro_args=xacro_args,
-        bearing_offset=bearing_offsets(doc, path, robot), parts=MappingProxyType(parts),
+        bearing_offset=bearing_offsets(doc, path, robot), parts=parts,
         events=events, **options,
     )
 

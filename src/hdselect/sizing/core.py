@@ -26,6 +26,7 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import Unit
+from hdselect.motion.events import Carried
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
@@ -138,7 +139,8 @@ def size_problem(problem: Problem, *, slowdowns: bool = True) -> SizingResult:
 
 def size_trajectory(robot: Robot, trajectory: Trajectory, catalog: Sequence[Unit] | None = None,
                     options: Options | None = None, *, motors: Motors | None = None,
-                    units: Sequence[Unit] | None = None) -> SizingResult:
+                    units: Sequence[Unit] | None = None,
+                    carried: Carried | None = None) -> SizingResult:
     """Choose a gearhead (or a gearhead and a motor) for every sized joint along a trajectory.
 
     One task: `size_tasks` of this trajectory alone.
@@ -151,6 +153,8 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, catalog: Sequence[Unit
             ``"mass"`` where motors are given, else ``"size"``.
         motors: Candidate motors per sized joint; a joint not named has no motor data.
         units: Deprecated: the loaded catalog, now given as `catalog`.
+        carried: The parts payload events move along the trajectory (`Task.carried`);
+            None: the robot carries what it holds the whole cycle.
 
     Returns:
         The result for every sized joint (its ``motion`` is None); its options hold the
@@ -166,7 +170,9 @@ def size_trajectory(robot: Robot, trajectory: Trajectory, catalog: Sequence[Unit
     expect_type(trajectory, (Trajectory,), "trajectory", "a Trajectory (hdselect.plan)")
     if units is not None:
         catalog = units_as_catalog(units, catalog, "size_trajectory")
-    return size_tasks((Task(robot, trajectory),), catalog, options, motors=motors)
+    _check_carried(carried, trajectory)
+    return size_tasks((Task(robot, trajectory, carried=carried),), catalog, options,
+                      motors=motors)
 
 
 def size_tasks(tasks: Sequence[Task], catalog: Sequence[Unit] | None = None,
@@ -303,7 +309,8 @@ def select_units(model: TorqueModel, units: Mapping[str, tuple[Unit, ...]], opti
 
 def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
                 options: Options | None = None, *,
-                motors: Mapping[str, Motor] | None = None) -> SizingResult:
+                motors: Mapping[str, Motor] | None = None,
+                carried: Carried | None = None) -> SizingResult:
     """Check given units, one per sized joint, along a planned trajectory: no selection.
 
     Each joint's only candidate is its unit (paired with its motor, where one is
@@ -318,6 +325,8 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
         options: The assumptions (default `Options()`).
         motors: A fixed motor behind the unit of some sized joints, by joint name; its
             rotor inertia and mass replace the options' and its rules are checked.
+        carried: The parts payload events move along the trajectory (`Task.carried`: the
+            robot carries each between its events); None: the robot carries what it holds.
 
     Returns:
         The result for every sized joint (its ``motion`` is None, its ``units`` the
@@ -339,6 +348,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
         raise InputError(f"the trajectory has joints {', '.join(trajectory.joint_names)}; the "
                          f"robot has {', '.join(robot.joint_names)}", field="trajectory")
     check_trajectory(trajectory)
+    _check_carried(carried, trajectory)
     for name in units:
         if name not in robot.sized_joints:
             raise InputError(f"'{name}' is not a sized joint; sized joints are: "
@@ -354,7 +364,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
             raise InputError(f"expected one motor to check, got {len(given)}",
                              field=f"motors.{name}")
     resolved, masses = fixed_choice(options, units, fixed, robot.sized_joints)
-    task = Task(robot, trajectory)
+    task = Task(robot, trajectory, carried=carried)
     samples = pooled((task,))
     model = DirectTorques((task,), samples, options.stop_time, threads=options.threads,
                           guess=masses, wrenches=options.bearing_loads)
@@ -364,6 +374,18 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
     return SizingResult(robot, trajectory, tuple(joints), options if not fixed else resolved,
                         distinct, motors=fixed, loads=model.loads(masses),
                         precision=_precision(model, joints, masses, options))
+
+
+def _check_carried(carried: object, trajectory: Trajectory) -> None:
+    """Refuse a `carried` that is not a `Carried` of the trajectory's samples.
+
+    Raises:
+        InputError: It is neither None nor a `Carried`, or has another sample count.
+    """
+    expect_type(carried, (Carried, type(None)), "carried", "a Carried (Task.carried) or None")
+    if isinstance(carried, Carried) and len(carried.mask) != len(trajectory.t):
+        raise InputError(f"the carried parts are given for {len(carried.mask)} samples; the "
+                         f"trajectory has {len(trajectory.t)}", field="carried")
 
 
 def _precision(model: TorqueModel, joints: Sequence[JointSizing], masses: Mapping[str, float],
@@ -403,7 +425,7 @@ def _tasks_argument(tasks: object, idle: float = 0.0) -> tuple[Task, ...]:
 
 def decimated(traj: Trajectory, samples: int = GUESS_SAMPLES) -> Trajectory:
     """Every k-th sample of a trajectory (about `samples`), each standing for k periods."""
-    step = _step(traj, samples)
+    step = max(1, len(traj.t) // samples)
     spread = traj.qdd_uncertainty
     return replace(traj, dt=traj.dt * step, t=traj.t[::step], q=traj.q[::step],
                    qd=traj.qd[::step], qdd=traj.qdd[::step],
@@ -412,14 +434,10 @@ def decimated(traj: Trajectory, samples: int = GUESS_SAMPLES) -> Trajectory:
 
 def decimated_task(task: Task, samples: int = GUESS_SAMPLES) -> Task:
     """The task on its trajectory's `decimated` samples, its payload events at the same ones."""
-    step = _step(task.trajectory, samples)
+    thin = decimated(task.trajectory, samples)
+    step = round(thin.dt / task.trajectory.dt)  # the k of every k-th sample
     carried = None if task.carried is None else task.carried.sampled(slice(None, None, step))
-    return replace(task, trajectory=decimated(task.trajectory, samples), carried=carried)
-
-
-def _step(traj: Trajectory, samples: int) -> int:
-    """Every how many samples `decimated` keeps one."""
-    return max(1, len(traj.t) // samples)
+    return replace(task, trajectory=thin, carried=carried)
 
 
 def added_mass(joint: JointSizing, options: Options) -> float:
