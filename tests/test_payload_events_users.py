@@ -34,7 +34,7 @@ from hdselect.report.codesign_tables import ratios_table
 from hdselect.report.joint_figures import event_times, joint_figure
 from hdselect.robot.compliance import arm_frequencies, mass_matrices
 from hdselect.robot.dynamics import gravity_torques
-from hdselect.sizing.core import added_mass, size, size_problem
+from hdselect.sizing.core import added_mass, check_units, size, size_problem
 from hdselect.sizing.diagnosis import diagnose, diagnosis_of
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.summary import carrying_at, peak_sample
@@ -99,6 +99,22 @@ def test_max_payload_scales_the_moved_part_as_a_bisection_over_size(pick):
         middle = 0.5 * (low + high)
         low, high = (middle, high) if fits(middle) else (low, middle)
     assert found.mass == pytest.approx(low, rel=1e-4)
+
+
+def test_max_payload_with_fixed_units_checks_the_part_between_its_events(pick):
+    _, robot, motion = pick
+    free = max_payload(robot, motion)
+    units = {j.name: j.selected.unit for j in free.selection.joints}
+    fixed = max_payload(robot, motion, units={name: unit.id for name, unit in units.items()})
+    trajectory = plan(robot, motion)
+
+    def passes(mass: float) -> bool:
+        heavy = with_mass(motion, mass)
+        return check_units(robot, trajectory, units,
+                           carried=task_of(robot, trajectory, heavy).carried).feasible
+
+    assert passes(0.999 * fixed.mass) and not passes(1.001 * fixed.mass)
+    assert fixed.mass == pytest.approx(free.mass, rel=1e-5)  # the same units bind there
 
 
 def test_a_diagnosis_offers_no_lighter_payload_where_events_move_a_part(pick):

@@ -85,10 +85,10 @@ class PayloadSizing:
         tasks = at_factor(self.tasks, self.scaled, mass)
         if self.units:
             motors = {name: found[0] for name, found in self.motors.items()}
-            if self.pooled or tasks[0].carried is not None:  # a task's events: by state
+            if self.pooled:
                 return check_tasks(tasks, self.units, self.options, self.idle, motors)
             return check_units(tasks[0].robot, tasks[0].trajectory, self.units, self.options,
-                               motors=motors)
+                               motors=motors, carried=tasks[0].carried)
         return size_tasks(tasks, self.catalog, self.options, motors=self.motors,
                           slowdowns=slowdowns, idle=self.idle)
     def largest(self, low: float, high: float) -> tuple[float | None, SizingResult | None,
