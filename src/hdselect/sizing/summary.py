@@ -114,7 +114,8 @@ class Summary:
         options: The assumptions (`hdselect.sizing.options.Options` as a dict).
         joints: One per sized joint, in the robot's order.
         root_link: The link held fixed to the world.
-        payload_mass: The payload's mass [kg]; 0 without one.
+        payload_mass: The payload's mass [kg]; 0 without one. A study's case gives the mass
+            its ``payload`` sets: the part its payload events move, where they move one.
         payload_frame: The frame the payload is (or would be) attached to.
         warnings: The result's warning lines (robot file, motion file, cycle).
         tasks: For a duty of several tasks (a mix), each task: ``name``, ``motion``,

@@ -23,6 +23,12 @@ Where a case gives motors or a natural frequency target, a joint's load inertia 
 linear in the same parameters, comes from one more set of passes per parameter at the
 core's poses (`build_basis(..., inertias=True)`).
 
+With payload events (`hdselect.motion.events`) every pass evaluates each sample with the
+parts it carries (`hdselect.sizing.tasks.over_states`): the torques stay affine in each
+parameter, a part's term zero at the samples that do not carry it. The payload parameter
+is then the part the events move (`build_basis(..., part=True)`), the ``[payload]`` carried
+as given; runs of identical samples are split where the carried parts change.
+
 The whole force and moment through each sized joint (its output bearing's loads) is
 linear in the same parameters and scales the same way: w = sum_p theta_p (W_p + B_p
 y^2), W the gravity wrench and B the rest along the motion, two more batched passes
