@@ -318,6 +318,7 @@ def test_outputs_name_the_events_and_what_the_peak_carried(pick, tmp_path, capsy
     expected = [{"t": t, "part": name, "event": "attach" if attached else "release"}
                 for t, name, attached in task.carried.events]
     assert document["events"] == expected and len(expected) == 2
+    assert document["assumptions"]["payload_events"].startswith("part attached at t = ")
     assert [e["event"] for e in expected] == ["attach", "release"]
     for joint, entry in zip(result.joints, document["joints"], strict=True):
         sample = peak_sample(result, joint)
