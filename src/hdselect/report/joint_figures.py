@@ -50,7 +50,6 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     for start, end, label in spans:
         speed_ax.text((start + end) / 2, 1.01, label, ha="center", va="bottom", fontsize=9,
                       transform=speed_ax.get_xaxis_transform())
-    mark_events(result, (speed_ax, torque_ax))
     output_rpm = np.abs(qd) * RPM_PER_RAD_S
     speed_ax.plot(*envelope(t, output_rpm), color=MOVING, lw=1.2, label="|output speed|")
     top = float(output_rpm.max()) * 1.15
@@ -123,6 +122,7 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     torque_ax.set_xlabel("time [s]" if not spans else
                          "time [s]: one cycle of each task in turn (dashed: where the next begins)")
     torque_ax.set_xlim(t[0], max(t[-1], t[0] + traj.dt))
+    mark_events(result, (speed_ax, torque_ax))
     for ax in (speed_ax, torque_ax):
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", bbox_to_anchor=(1.09, 1.0), fontsize=8, frameon=False)
@@ -273,7 +273,11 @@ def event_times(result: SizingResult) -> list[tuple[float, str]]:
 
 def mark_events(result: SizingResult, axes) -> None:
     """Thin vertical lines at the payload events, labelled at the top of the first axis."""
-    for when, label in event_times(result):
+    marks = event_times(result)
+    if marks:
+        axes[0].plot([], [], color=EVENT, lw=0.7, label="payload event (part attached or "
+                                                       "released)")
+    for when, label in marks:
         for ax in axes:
             ax.axvline(when, color=EVENT, lw=0.7, alpha=0.8, zorder=1)
         axes[0].text(when, 0.97, f" {label}", rotation=90, ha="right", va="top", fontsize=7,
