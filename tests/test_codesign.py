@@ -519,7 +519,7 @@ def test_json_csv_and_plot_of_fastest(tmp_path, capsys):
     assert set(document) == {"robot", "motion", "cycle_time_s", "moving_time_s", "dwell_time_s",
                              "optimum_s", "slowdown", "lengthened_by", "grid_per_waypoint",
                              "samples", "feasible", "assumptions", "joints", "binding",
-                             "root_link", "payload", "warnings"}
+                             "root_link", "payload", "warnings", "notes"}
     assert document["warnings"] == [] and document["payload"]["frame"] == "tool0"
     assert document["feasible"] and document["grid_per_waypoint"] == GRID_PER_WAYPOINT
     assert document["cycle_time_s"] == pytest.approx(document["moving_time_s"] + 6.0)

@@ -32,7 +32,7 @@ from hdselect.sizing.diagnosis import Diagnosis, diagnosis_of, with_diagnoses
 from hdselect.sizing.options import WHOLE_ARM_TARGETS, Options
 from hdselect.sizing.problem import Problem, file_motors, plan_tasks, problem_of
 from hdselect.sizing.result import Motors, SizingResult
-from hdselect.sizing.tasks import Task
+from hdselect.sizing.tasks import Task, task_of
 
 
 class NoUnit(PlanningError):
@@ -107,6 +107,8 @@ class Duty:
         planned: The counted tasks as planned (a mix's); empty for a motion, which is
             planned only where the sizing needs it (`tasks`).
         trajectory: One motion's trajectory as planned, where the problem had it.
+        task: One motion's task as the problem planned it (its payload events on its own
+            times: a study's run s times slower keeps them), where it had it.
     """
 
     where: str
@@ -118,6 +120,7 @@ class Duty:
     mix: Mix | None = None
     planned: tuple[Task, ...] = ()
     trajectory: Trajectory | None = None
+    task: Task | None = None
 
     @property
     def over(self) -> str:
@@ -131,10 +134,12 @@ class Duty:
         if len(self.motions) != 1 or self.mix is not None:
             raise InputError("a trajectory replaces one motion's plan, not a mix's",
                              field="trajectory")
+        if trajectory is None and self.task is not None:
+            return (self.task,)
         robot, motion = self.robots[0], self.motions[0]
         given = trajectory if trajectory is not None else self.trajectory
-        return (Task(robot, given if given is not None
-                     else plan(robot, motion, max_samples=options.max_samples)),)
+        run = given if given is not None else plan(robot, motion, max_samples=options.max_samples)
+        return (task_of(robot, run, motion),)
 
 
 _KINDS: dict[str, tuple[tuple[type, ...], str]] = {
@@ -199,7 +204,8 @@ def duty_of(robot: Robot | Problem, motion: Motion | Mix | None, options: Option
         if what:
             refuse_logs((motion,), what)
         duty = Duty(str(motion.path), problem.robot, (problem.robot,), (motion,), (1.0,),
-                    trajectory=problem.tasks[0].trajectory if problem.planned else None)
+                    trajectory=problem.tasks[0].trajectory if problem.planned else None,
+                    task=problem.tasks[0] if problem.planned else None)
     else:
         if what:
             refuse_logs(tuple(task.motion for task in mix.tasks), what, several=True)

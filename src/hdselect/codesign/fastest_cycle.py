@@ -43,9 +43,17 @@ from hdselect.codesign.fastest_result import (
     RatioRow,
     TaskFastest,
 )
-from hdselect.codesign.fastpath import PathModel
+from hdselect.codesign.fastpath import PathModel, cycle
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
-from hdselect.codesign.trials import derated, run_trial, verified
+from hdselect.codesign.trials import (
+    EVENTS_NOTE,
+    UNTIMED_NOTE,
+    derated,
+    every_part,
+    retimed,
+    run_trial,
+    verified,
+)
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import check_within_limits
@@ -158,8 +166,10 @@ def compare_ratios(robot: Robot | Problem, motion: Motion | Mix | None = None,
 
 def _models(duty: Duty, options: Options) -> tuple[PathModel, ...]:
     """Each counted task's path, its dynamics batched once."""
-    return tuple(PathModel.build(robot, motion, robot.sized_joints, threads=options.threads)
-                 for robot, motion in zip(duty.robots, duty.motions, strict=True))
+    held = [() if task.carried is None else task.carried.parts for task in duty.planned] or [()]
+    return tuple(PathModel.build(every_part(robot, motion, parts), motion, robot.sized_joints,
+                                 threads=options.threads)  # the path bound carries every part
+                 for robot, motion, parts in zip(duty.robots, duty.motions, held, strict=True))
 
 
 def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Options,
@@ -174,8 +184,14 @@ def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Op
     best = first
     if first.whole_cycle_failing and len(models) == 1:  # a duty keeps its shares: slowed
         best = derated(models, carrying, units, masses, first, options, motors)
-    trajectory, _, check, scale, helds = verified(units, best, options, motors,
-                                                  duty.planned or None, duty.where)
+    planned = duty.planned or None
+    if planned is None and duty.motions[0].events:  # checked with its events: as a task
+        leg = best.legs[0]
+        sampled, _ = cycle(leg.model.motion, leg.profiles, leg.kinematic,
+                           max_samples=options.max_samples)
+        planned = (Task(duty.robots[0], sampled, 1.0, duty.motions[0]),)
+    trajectory, _, check, scale, helds = verified(units, best, options, motors, planned,
+                                                  duty.where)
     trajectories = tuple(task.trajectory for task in check.tasks) if duty.planned else (
         trajectory,)
     for each, run in zip(models, trajectories, strict=True):
@@ -184,7 +200,8 @@ def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Op
     if any(run.duration > leg.optimum * (1.0 + OPTIMAL_WITHIN)
            for run, leg in zip(trajectories, first.legs, strict=True)):
         reason = first.reason if best is not first else best.reason
-    tasks = duty.planned or (Task(models[0].robot, trajectories[0], 1.0, models[0].motion),)
+    tasks = duty.planned or planned or (
+        Task(models[0].robot, trajectories[0], 1.0, models[0].motion),)
     checked = tuple(task.trajectory for task in check.tasks) if duty.planned else (
         check.trajectory,)
     timed, start = [], 0
@@ -198,16 +215,25 @@ def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Op
         start = span.stop
         binding = bindings(model, run_leg, scale, sampled, check.joints, held, plain, span,
                            task.label if len(models) > 1 else "")
-        timed.append(TaskFastest(replace(task, trajectory=run),
+        timed.append(TaskFastest(retimed(task, run),
                                  task.trajectory.duration if duty.planned else None,
                                  leg.optimum, dict(zip(names, limits, strict=True)), binding))
     if duty.mix is not None:
         check = replace(check, mix=duty.mix)
     return FastestResult(
-        robot=models[0].robot if duty.mix is None else duty.robot, units=dict(units),
+        robot=duty.robots[0] if duty.mix is None else duty.robot, units=dict(units),
         options=options, check=check, slowdown=scale, derating=dict(best.derating),
         reason=reason, grid_per_waypoint=models[0].grid_per_waypoint, motors=motors,
-        tasks=tuple(timed), idle=duty.idle, mix=duty.mix)
+        tasks=tuple(timed), idle=duty.idle, mix=duty.mix, notes=_event_notes(duty, timed))
+
+
+def _event_notes(duty: Duty, timed: Sequence[TaskFastest]) -> tuple[str, ...]:
+    """The notes on payload events: how the path and the check carry the parts."""
+    if not any(motion.events for motion in duty.motions):
+        return ()
+    untimed = any(item.task.motion is not None and item.task.motion.events
+                  and item.task.carried is None for item in timed)
+    return (EVENTS_NOTE, *((UNTIMED_NOTE,) if untimed else ()))
 
 
 def _row(unit: Unit, result: FastestResult) -> RatioRow:

@@ -92,6 +92,7 @@ class FastestResult:
         tasks: Every counted task at its fastest, in the duty's order.
         idle: The fraction of the time no task runs [-].
         mix: The mix, or None for one motion.
+        notes: What the run assumed of its inputs, one line each (payload events).
     """
 
     robot: Robot
@@ -106,6 +107,7 @@ class FastestResult:
     tasks: tuple[TaskFastest, ...] = ()
     idle: float = 0.0
     mix: Mix | None = None
+    notes: tuple[str, ...] = ()
 
     @property
     def alone(self) -> TaskFastest:

@@ -15,6 +15,9 @@ pooled at its share (`duty_bounds`):
   from the sorted roots of the samples' torques (`hdselect.codesign.cubicmean`);
 - input speed and average input speed do not depend on m.
 
+With payload events, the part the events move is what scales (`scaled_part`): its term
+is zero at the samples that do not carry it, so the torque stays affine in its mass.
+
 The units chosen (and so the gearhead masses the joints nearer the base carry) depend
 on m: the largest mass with the masses of the units `size` selects there is found, the
 selection redone at it, and the two repeated until the masses settle.
@@ -39,6 +42,7 @@ from hdselect.codesign.payloadsizing import (
     payload_tasks,
     scaled_tasks,
 )
+from hdselect.codesign.scaledpart import scaled_part
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
@@ -211,14 +215,14 @@ def max_payload(robot: Robot | Problem, motion: Motion | Mix | None = None,
         unit, rule = best.unit, best.limiting(mass)
     if selection is not None and duty.mix is not None:
         selection = replace(selection, mix=duty.mix)
-    payloads = {task.label: task.robot.payload for task in planned
-                if task.label in scaled and task.robot.payload is not None}
+    payloads = {task.label: part for task in planned
+                if task.label in scaled and (part := scaled_part(task)) is not None}
     first = next(task for task in planned if task.label in scaled)
     unloaded = sizing.at(0.0) if mass is None else None  # the joints no unit fits, and why
     return MaxPayloadResult(mass, payloads[first.label], tuple(ranges), joint, unit, rule,
                             selection, planned[0].trajectory, bounds,
-                            first.robot.payload_frame, scaled, payloads, planned, duty.idle,
-                            duty.mix, unloaded)
+                            payloads[first.label].frame or first.robot.payload_frame, scaled,
+                            payloads, planned, duty.idle, duty.mix, unloaded)
 
 
 def _carried(chosen: Candidate, options: Options) -> float:

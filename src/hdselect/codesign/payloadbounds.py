@@ -38,12 +38,14 @@ from hdselect.catalog.rules.forms import Interval, PayloadCase
 from hdselect.catalog.rules.masses import meet
 from hdselect.catalog.units import Unit
 from hdselect.codesign.cubicmean import CubicMean
-from hdselect.robot.dynamics import cycle_torques, joint_inertias
+from hdselect.codesign.scaledpart import scaled_part, with_part
+from hdselect.robot.dynamics import CycleTorques, cycle_torques, joint_inertias
+from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench, cycle_bearing
 from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import DEFAULT_EFFICIENCY, reflect, weighted_demand
-from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.tasks import Task, over_states, pooled
 from hdselect.sizing.torques import inertia_poses
 
 MASS_GRID = 25
@@ -299,30 +301,8 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
     robot = counted[0].robot
     names = list(robot.sized_joints)
     bearings = options.bearing_loads and any(unit.bearing is not None for unit in units)
-    parts = []
-    for task in counted:
-        traj = task.trajectory
-        carrying = task.robot.with_payload(None).with_gearheads(masses)
-        args = (traj.q, traj.qd, traj.qdd)
-        payload = task.robot.payload
-        # without the scaled payload and with it; a task that keeps its payload: one pass
-        ends = ((carrying, carrying.with_payload(payload))
-                if task.label in scaled and payload is not None
-                else (task.robot.with_gearheads(masses),))
-        torques = [cycle_torques(end, *args, options.stop_time, threads=options.threads)
-                   for end in ends]
-        wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
-        if bearings:
-            found = [axis_wrenches(end, *args, names, threads=options.threads)
-                     for end in ends]
-            wrenches = [found[0], found[-1]]
-        inertias = None  # M_jj of every pose, affine in x too, where a frequency target asks
-        if any(options.joint_value("min_natural_frequency", name) is not None
-               for name in names):
-            at = traj.q[inertia_poses(traj)]
-            found = [joint_inertias(end, at, names, threads=options.threads) for end in ends]
-            inertias = (found[0], found[-1] - found[0])
-        parts.append((torques[0], torques[-1], wrenches, inertias))
+    parts = [_task_parts(task, task.label in scaled, masses, names, options, bearings)
+             for task in counted]
     out = {}
     for k, name in enumerate(names):
         j = robot.joint_index(name)
@@ -352,6 +332,45 @@ def duty_bounds(tasks: Sequence[Task], idle: float, scaled: Sequence[str],
                                      qdd=samples.qdd[:, j], wrench=wrench, targets=targets)
                           for unit in units)
     return out
+
+
+def _task_parts(task: Task, scales: bool, masses: Mapping[str, float], names: Sequence[str],
+                options: Options, bearings: bool) -> tuple[Any, ...]:
+    """One task's torques without its scaled part and with it at x = 1, by carried state.
+
+    Returns:
+        The `CycleTorques` at x = 0 and at x = 1 (the same where the task's part does not
+        scale), the sized joints' wrenches at both (or None) and M_jj at the inertia poses
+        at x = 0 and per unit of x (or None).
+    """
+    traj = task.trajectory
+    # without the scaled part and with it; a task that keeps its payload: one pass
+    ends = [with_part(task, None), task] if scales and scaled_part(task) is not None else [task]
+
+    def along(evaluate: Callable[[Robot, Any], tuple[np.ndarray, ...]], *, axis: int = 0,
+              rows: np.ndarray | None = None) -> list[tuple[np.ndarray, ...]]:
+        return [over_states(end, end.robot.with_gearheads(masses), evaluate, rows, axis)
+                for end in ends]
+
+    def motion(robot: Robot, at: Any) -> tuple[np.ndarray, ...]:
+        found = cycle_torques(robot, traj.q[at], traj.qd[at], traj.qdd[at], options.stop_time,
+                              threads=options.threads)
+        return found.tau, found.stop
+
+    torques = along(motion)  # each the motion's and a stop's, (n, dof)
+    wrenches = None  # a rated output bearing is judged on the joint's wrench, affine in m
+    if bearings:
+        found = along(lambda robot, at: (axis_wrenches(robot, traj.q[at], traj.qd[at],
+                                                       traj.qdd[at], names,
+                                                       threads=options.threads),), axis=2)
+        wrenches = [found[0][0], found[-1][0]]
+    inertias = None  # M_jj of every pose, affine in x too, where a frequency target asks
+    if any(options.joint_value("min_natural_frequency", name) is not None for name in names):
+        found = along(lambda robot, at: (joint_inertias(robot, traj.q[at], names,
+                                                        threads=options.threads),),
+                      rows=inertia_poses(traj))
+        inertias = (found[0][0], found[-1][0] - found[0][0])
+    return CycleTorques(*torques[0]), CycleTorques(*torques[-1]), wrenches, inertias
 
 
 def _per_kg(loaded: np.ndarray, empty: np.ndarray) -> np.ndarray:

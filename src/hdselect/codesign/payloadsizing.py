@@ -22,6 +22,7 @@ from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
 from hdselect.catalog.units import Unit
 from hdselect.codesign.choice import Duty
+from hdselect.codesign.scaledpart import scaled_part, with_part
 from hdselect.codesign.trials import check_tasks
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.payload import Payload
@@ -87,7 +88,7 @@ class PayloadSizing:
             if self.pooled:
                 return check_tasks(tasks, self.units, self.options, self.idle, motors)
             return check_units(tasks[0].robot, tasks[0].trajectory, self.units, self.options,
-                               motors=motors)
+                               motors=motors, carried=tasks[0].carried)
         return size_tasks(tasks, self.catalog, self.options, motors=self.motors,
                           slowdowns=slowdowns, idle=self.idle)
     def largest(self, low: float, high: float) -> tuple[float | None, SizingResult | None,
@@ -116,18 +117,17 @@ class PayloadSizing:
 
 
 def at_factor(tasks: Sequence[Task], scaled: Sequence[str], factor: float) -> tuple[Task, ...]:
-    """The tasks with the payloads of `scaled` ones times `factor` (mass and inertia) [-].
+    """The tasks with the scaled parts (`scaled_part`) of `scaled` ones times `factor` [-].
 
-    A factor of 0 or less takes their payload off.
+    Mass and inertia alike; a factor of 0 or less takes the part off.
     """
     out = []
     for task in tasks:
-        payload = task.robot.payload
-        if task.label in scaled and payload is not None:
-            robot = task.robot.with_payload(None) if factor <= 0.0 else task.robot.with_payload(
-                replace(payload, mass=payload.mass * factor,
-                        inertia=tuple(tuple(v * factor for v in row) for row in payload.inertia)))
-            task = replace(task, robot=robot)
+        payload = scaled_part(task) if task.label in scaled else None
+        if payload is not None:
+            task = with_part(task, None if factor <= 0.0 else replace(
+                payload, mass=payload.mass * factor,
+                inertia=tuple(tuple(v * factor for v in row) for row in payload.inertia)))
         out.append(task)
     return tuple(out)
 
@@ -152,12 +152,13 @@ def per_kilogram(payload: Payload | None, *, frame: str | None = None,
             raise InputError(f"expected three numbers [m], got {com!r}", field="com")
         com = [LENGTH.check(c, field=f"com[{i}]") for i, c in enumerate(com)]
     if payload is not None and frame is None and com is None:
-        return Payload(1.0, payload.com, tuple(tuple(v / payload.mass for v in row)
-                                               for row in payload.inertia), payload.frame)
+        return replace(payload, mass=1.0, inertia=tuple(tuple(v / payload.mass for v in row)
+                                                        for row in payload.inertia))
     at = tuple(com) if com is not None else (payload.com if payload is not None and frame is None
                                               else (0.0, 0.0, 0.0))
     where = frame if frame is not None else (payload.frame if payload is not None else None)
-    return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where)
+    return Payload(1.0, (float(at[0]), float(at[1]), float(at[2])), frame=where,
+                   name="" if payload is None else payload.name)
 
 
 def payload_tasks(duty: Duty, options: Options, frame: str | None,
@@ -173,10 +174,11 @@ def payload_tasks(duty: Duty, options: Options, frame: str | None,
             or a trajectory (each task has its own).
     """
     if duty.mix is None:
-        payload = per_kilogram(duty.robot.payload, frame=frame, com=com)
-        carrying = duty.robot.with_payload(None).with_payload(payload)  # the frame must exist
-        return (Task(carrying, duty.tasks(options, trajectory)[0].trajectory,
-                     motion=duty.motions[0], name=duty.motions[0].path.name),)
+        (task,) = duty.tasks(options, trajectory)
+        task = replace(task, motion=duty.motions[0], name=duty.motions[0].path.name)
+        payload = per_kilogram(scaled_part(task), frame=frame, com=com)
+        task.robot.with_payload(None).with_payload(payload)  # the frame must exist
+        return (with_part(task, payload),)
     if frame is not None or com is not None or trajectory is not None:
         raise InputError("each task of a mix gives its own payload and trajectory",
                          field="frame" if frame is not None else
@@ -196,8 +198,8 @@ def scaled_tasks(planned: Sequence[Task], names: Sequence[str] | None,
         if name not in labels:
             raise InputError(f"no task {name!r} in {duty.where.rsplit('/', 1)[-1]}; its tasks "
                              f"are: {', '.join(labels)}", field="task")
-    chosen = tuple(task.label for task in planned if task.robot.payload is not None
-                   and (names is None or task.label in names))
+    chosen = tuple(task.label for task in planned if (names is None or task.label in names)
+                   and scaled_part(task) is not None)
     if not chosen:
         raise InputError("no task " + ("named " if names else "of the mix ")
                          + "carries a payload to scale", path=duty.where, field="task")

@@ -73,6 +73,7 @@ def fastest_json(result: FastestResult) -> dict[str, Any]:
         "root_link": result.robot.root_link,
         "payload": None if alone is None else payload_json(alone.task.robot),
         "warnings": list(result.warnings),
+        "notes": list(result.notes),
         "joints": joints,
         "binding": [_stretch_json(b, several) for b in result.binding],
     }
@@ -181,6 +182,7 @@ def ratios_json(comparison: RatioComparison) -> dict[str, Any]:
         **mix,
         "units": {name: unit.id for name, unit in comparison.units.items()},
         "cycle_time_s": base.cycle_time,
+        "notes": list(base.notes),
         "joints": [{
             "name": joint.joint,
             "selected": joint.selected,
@@ -231,6 +233,7 @@ def max_payload_json(result: MaxPayloadResult, motion: Motion | None = None) -> 
             None if x is None else x * per_kg),
         "unlimited": x is not None and not finite,
         "payload": None if per_kg is None else {
+            "part": payload.name or None,
             "frame": result.frame, "frame_given": payload.frame is not None,
             "com_m": list(payload.com),
             "inertia_kg_m2_per_kg": [[value / per_kg for value in row]

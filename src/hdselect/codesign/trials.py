@@ -32,17 +32,27 @@ from hdselect.codesign.cyclerules import (
 )
 from hdselect.codesign.fastpath import PathModel, cycle, kinematic_scales, slowdown_notes, solve
 from hdselect.codesign.pathbounds import PathInfeasible, joint_limits
+from hdselect.motion.events import carried
+from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import cycle_torques, joint_inertias
 from hdselect.robot.model import Robot
+from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import checked_motors
 from hdselect.sizing.core import check_units, select_units
 from hdselect.sizing.options import Options, fixed_choice
 from hdselect.sizing.result import SizingResult
-from hdselect.sizing.tasks import Task, pooled
+from hdselect.sizing.tasks import Task, pooled, task_of
 from hdselect.sizing.timescale import ScalableCycle
 from hdselect.sizing.torques import DirectTorques
 
+EVENTS_NOTE = ("payload events: the path is bounded with every part carried the whole cycle "
+               "(conservative); the cycle found is checked with each part carried between "
+               "its events")
+"""What a fastest run of a motion with payload events says of them."""
+UNTIMED_NOTE = ("payload events: the planner does not say when the arm reaches an event's "
+                "waypoint, so the cycle found is checked with every part carried throughout")
+"""Where an event's waypoint has no time on the re-planned cycle."""
 DERATINGS = (0.9, 0.8, 0.7, 0.6, 0.5, 0.4, 0.3)
 """Fractions of the repeated-peak limit tried, until the cycle stops getting shorter."""
 DERATING_RESOLUTION = 0.01
@@ -216,6 +226,50 @@ _SPEED_FREE = ("static", "natural_frequency")
 """The rules no slow-down helps: a load held still, a joint's resonance."""
 
 
+def every_part(robot: Robot, motion: Motion, parts: Sequence[Payload] = ()) -> Robot:
+    """The robot carrying every part the motion's events move: their worst state.
+
+    Args:
+        robot: The robot as the motion runs it.
+        motion: The motion (its events and parts).
+        parts: The parts as a task moves them (its `Carried.parts`), over the file's.
+    """
+    given = {part.name: part for part in parts}
+    moved = sorted({event.part for event in motion.events})
+    extra = tuple(given.get(name, motion.parts[name]) for name in moved
+                  if not (name == "payload" and robot.payload is not None))
+    return robot.with_parts((*robot.parts, *extra)) if extra else robot
+
+
+def timed(motion: Motion, trajectory: Trajectory) -> bool:
+    """The trajectory says when the arm reaches every waypoint the motion's events are at."""
+    reached = trajectory.waypoint_times
+    return all(event.waypoint is None or (reached is not None
+                                          and math.isfinite(reached[event.waypoint]))
+               for event in motion.events)
+
+
+def retimed(task: Task, trajectory: Trajectory) -> Task:
+    """The task on a re-planned trajectory, its payload events put on the new times.
+
+    Where the trajectory does not say when an event's waypoint is reached, every part is
+    carried throughout (conservative: `UNTIMED_NOTE`).
+    """
+    motion = task.motion
+    if motion is None or not motion.events:
+        return replace(task, trajectory=trajectory)
+    held = () if task.carried is None else task.carried.parts
+    if not timed(motion, trajectory):
+        return replace(task, robot=every_part(task.robot, motion, held), trajectory=trajectory,
+                       carried=None)
+    if task.carried is None:  # its robot as the file gives it: the events from the motion
+        return task_of(task.robot, trajectory, motion, task.share, task.name)
+    fresh = carried(motion, trajectory)
+    for part in held:
+        fresh = fresh.with_part(part) if fresh is not None else None
+    return replace(task, trajectory=trajectory, carried=fresh)
+
+
 def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
              motors: Mapping[str, Motor] | None = None, tasks: Sequence[Task] | None = None,
              where: str = "") -> tuple[Trajectory, np.ndarray, SizingResult, float,
@@ -250,7 +304,7 @@ def verified(units: Mapping[str, Unit], trial: Trial, options: Options,
             check = check_units(trial.legs[0].model.robot, trajectories[0], units, options,
                                 motors=motors)
         else:
-            check = check_tasks([replace(task, trajectory=trajectory) for task, trajectory
+            check = check_tasks([retimed(task, trajectory) for task, trajectory
                                  in zip(tasks, trajectories, strict=True)], units, options,
                                 trial.idle, motors)
         candidates = [c for joint in check.joints for c in joint.candidates]

@@ -21,7 +21,7 @@ import numpy as np
 from hdselect.catalog.bearing_rules import NOT_RATED
 from hdselect.envelope.dutycycle import Duty
 from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
-from hdselect.envelope.torques import BEARING_NOTE, PRECISION_NOTE
+from hdselect.envelope.torques import BEARING_NOTE, PARTS_NOTE, PRECISION_NOTE
 from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.records import (
     bearing_load_json,
@@ -72,6 +72,8 @@ def envelope_json(result: EnvelopeResult) -> dict[str, Any]:
         "joints": [_joint_json(joint, result) for joint in result.joints],
         "precision": selection.get("precision"),
         "precision_note": None if sized.precision is None else PRECISION_NOTE,
+        "events_note": (PARTS_NOTE if any(task.carried is not None for task in duty.tasks)
+                        else None),
         "joint_loads": [joint_load_json(load) for load in sized.loads],
         "warnings": list(sized.warnings),
         "duty_sizing": size_json(result.duty_sizing),

@@ -56,7 +56,12 @@ from hdselect.envelope.specfile import (
     refuse_arm_targets,
 )
 from hdselect.envelope.states import StateRows, state_rows
-from hdselect.envelope.torques import EnvelopeTorques, duty_precision, duty_time
+from hdselect.envelope.torques import (
+    EnvelopeTorques,
+    carrying_every_part,
+    duty_precision,
+    duty_time,
+)
 from hdselect.envelope.workers import Spread, default_workers
 from hdselect.motion.loading import load_case
 from hdselect.motion.mixfile import Mix
@@ -67,7 +72,7 @@ from hdselect.robot.model import Robot, load_robot
 from hdselect.robot.mounting import Mounting
 from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import OptionValues, options_argument, units_as_catalog
-from hdselect.sizing.core import added_mass, decimated, select_units, size_problem
+from hdselect.sizing.core import added_mass, decimated_task, select_units, size_problem
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import (
     Catalog,
@@ -225,7 +230,8 @@ def _envelope(problem: Problem, spec: Spec, duty: Duty, duty_sizing: SizingResul
               settings: SearchSettings, evaluate: Evaluate | None,
               started: float) -> EnvelopeResult:
     """The rounds of search and selection until the carried masses settle; the result."""
-    robot, units, options = problem.robot, problem.units, problem.options
+    units, options = problem.units, problem.options
+    robot = carrying_every_part(problem.robot, duty.tasks)  # the worst states carry every part
     options = options if options.prefer is not None else replace(options, prefer=DEFAULT_PREFER)
     box, stop_time, threads = spec.box, options.stop_time, options.threads
     masses = ({joint.name: added_mass(joint, options) for joint in duty_sizing.joints}
@@ -261,10 +267,10 @@ def _envelope(problem: Problem, spec: Spec, duty: Duty, duty_sizing: SizingResul
                                  stop_time, threads=threads)
         model = EnvelopeTorques(duty.tasks, _stacked([rows[j] for j in sorted(rows)]),
                                 stop_time, threads=threads, guess=masses, idle=duty.idle,
-                                wrenches=options.bearing_loads)
+                                wrenches=options.bearing_loads, states=robot)
         sized, chosen = select_units(model, per_joint, options, {}, slowdowns=False)
         masses = chosen if options.mass_coupling else {}
-    sizing = SizingResult(robot, duty.tasks[0].trajectory, tuple(sized), options, units,
+    sizing = SizingResult(problem.robot, duty.tasks[0].trajectory, tuple(sized), options, units,
                           duty.motion, loads=model.loads(masses), tasks=duty.tasks,
                           idle=duty.idle, mix=duty.mix, precision=duty_precision(
                               model, sized, masses, options))
@@ -272,7 +278,7 @@ def _envelope(problem: Problem, spec: Spec, duty: Duty, duty_sizing: SizingResul
                           duty_sizing.joints[i].selected, masses)
                    for i, joint in enumerate(sized))
     sizing = replace(sizing, diagnoses=envelope_diagnoses(sizing, joints, duty))
-    return EnvelopeResult(robot, spec, duty, joints, sizing, duty_sizing, masses, settings,
+    return EnvelopeResult(problem.robot, spec, duty, joints, sizing, duty_sizing, masses, settings,
                           states, rounds, settled, time.perf_counter() - started)
 
 
@@ -290,12 +296,11 @@ def _guessed_masses(robot: Robot, spec: Spec, duty: Duty, masses: dict[str, floa
                           replace(GUESS, seed=settings.seed), threads=options.threads,
                           evaluate=evaluate)
     rows = state_rows(carrying, spec.box, quick, options.stop_time, threads=options.threads)
-    coarse = [replace(task, trajectory=decimated(task.trajectory, GUESS_SAMPLES))
-              for task in duty.tasks]
+    coarse = [decimated_task(task, GUESS_SAMPLES) for task in duty.tasks]
     model = EnvelopeTorques(coarse, rows, options.stop_time, threads=options.threads,
-                            guess=masses, idle=duty.idle, wrenches=any(unit.bearing is not None
-                                                       for units in per_joint.values()
-                                                       for unit in units))
+                            guess=masses, idle=duty.idle, states=robot,
+                            wrenches=any(unit.bearing is not None
+                                         for units in per_joint.values() for unit in units))
     _, chosen = select_units(model, per_joint, options, {}, detail=False, slowdowns=False)
     return chosen, count
 
@@ -303,7 +308,7 @@ def _guessed_masses(robot: Robot, spec: Spec, duty: Duty, masses: dict[str, floa
 def _joint(model: EnvelopeTorques, joint: JointSizing, found: Mapping[tuple[int, str], Worst],
            options: Options, settings: SearchSettings, duty_choice, masses) -> JointEnvelope:
     """One joint's worst states, gravity pose and convergence, from the final selection."""
-    samples, robot = model.samples, model.robot
+    samples, robot = model.samples, model.states
     j = robot.joint_index(joint.name)
     rest = samples.rest[:, j]
     tau, stop = np.asarray(joint.torque), np.asarray(joint.stop_torque)

@@ -14,7 +14,8 @@ never in its means and life. The search looks for the worst torques, not for the
 bearing's worst loads, so these largest loads bound what the duty and those states
 carry, not every motion within the spec.
 
-A worst state belongs to no task: its task index is -1 and its time NaN.
+A worst state belongs to no task: its task index is -1 and its time NaN. Where the duty's
+payload events move parts, a worst state carries every one of them (`carrying_every_part`).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from hdselect.envelope.states import StateRows
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import cycle_torques, gravity_torques, joint_inertias
 from hdselect.robot.model import Robot
+from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
@@ -49,6 +51,9 @@ PRECISION_NOTE = ("precision: the figures (each unit's twist and resonance, the 
                   "while a per-joint target (max_torsion, min_natural_frequency) is judged "
                   "at the worst states too")
 """What every output of an envelope says of its precision figures."""
+PARTS_NOTE = ("payload events: the worst states carry every part the duty's events move; "
+              "the duty's averaged rules carry each part between its events")
+"""What every output of an envelope with payload events says of them."""
 
 
 class EnvelopeTorques:
@@ -63,7 +68,7 @@ class EnvelopeTorques:
 
     def __init__(self, tasks: Sequence[Task], rows: StateRows, stop_time: float, *,
                  threads: int | None = None, guess: Mapping[str, float] | None = None,
-                 idle: float = 0.0, wrenches: bool = True) -> None:
+                 idle: float = 0.0, wrenches: bool = True, states: Robot | None = None) -> None:
         """Prepare the model; the duty's torques are computed when first asked for.
 
         Args:
@@ -76,11 +81,14 @@ class EnvelopeTorques:
             idle: The fraction of the time no task of the duty runs [-].
             wrenches: Also compute the sized joints' wrenches along the duty (the output
                 bearings' loads).
+            states: The robot the worst states are evaluated with (`carrying_every_part`);
+                None: the duty's first task's.
         """
         duty = pooled(tasks, idle)
         self.duty = DirectTorques(duty.tasks, duty, stop_time, threads=threads, guess=guess,
                                   wrenches=wrenches)
         self.robot: Robot = self.duty.robot
+        self.states: Robot = states if states is not None else self.robot
         self.rows = rows
         self.stop_time = stop_time
         self.threads = threads
@@ -167,8 +175,28 @@ class EnvelopeTorques:
                              joint_loads(self.robot, states, extra.tau)])
 
     def _carrying(self, masses: Mapping[str, float]) -> Robot:
+        """The worst states' robot with the units' masses carried."""
         ordered = {name: masses[name] for name in self.robot.sized_joints if name in masses}
-        return self.robot.with_gearheads(ordered) if ordered else self.robot
+        return self.states.with_gearheads(ordered) if ordered else self.states
+
+
+def carrying_every_part(robot: Robot, tasks: Sequence[Task]) -> Robot:
+    """The robot with every part the duty's payload events move: the worst carried state.
+
+    A worst state belongs to no task and no time, so it carries everything any task
+    carries at some time (`PARTS_NOTE`); the duty's averaged rules keep its events.
+
+    Args:
+        robot: The robot as the envelope searches it (payload and mounting applied).
+        tasks: The duty's tasks (each task's `Carried.parts`).
+    """
+    moved: dict[str, Payload] = {}
+    for task in tasks:
+        for part in () if task.carried is None else task.carried.parts:
+            moved.setdefault(part.name, part)
+    extra = tuple(part for name, part in sorted(moved.items())
+                  if not (name == "payload" and robot.payload is not None))
+    return robot.with_parts((*robot.parts, *extra)) if extra else robot
 
 
 def appended(samples: Samples, rows: StateRows) -> Samples:

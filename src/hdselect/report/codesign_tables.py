@@ -162,7 +162,7 @@ def _fastest_notes(result: FastestResult, angle: str) -> list[str]:
     flagged = {(c.unit.id, flag.code): flag.note for joint in result.check.joints
                for c in joint.candidates for flag in c.flags}
     notes += [f"* {unit}: {note}" for (unit, _), note in sorted(flagged.items())]
-    notes += list(result.warnings)
+    notes += list(result.notes) + list(result.warnings)
     return notes
 
 
@@ -228,6 +228,7 @@ def ratios_table(comparison: RatioComparison, joint: JointRatios) -> FittedTable
             "the units cannot run the path at any speed. lengthened by: the rule that made the "
             "cycle longer than the time-optimal run under the limits on single samples, and "
             "how (derated: the repeated-peak limit held to that fraction; x: the moves slowed).")
+    note += "".join(f" {line}." for line in comparison.base.notes)
     shown = len(columns) if any(row[-1] for row in rows) else -1  # no empty note column
     return FittedTable(f"Joint {joint.joint}: the shortest cycle with each unit",
                        columns[:shown], tuple(row[:shown] for row in rows), tuple(styles),
@@ -295,7 +296,9 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot,
                            *([f"Even without the payload no unit fits {', '.join(found)}; the "
                               "selection without it:"] if found else [])))
     if one is not None:
-        answer, at, kg, of = f"the largest payload is {x:.4g} kg {where}.", f"{x:.4g} kg", " kg", ""
+        what = (f"part '{result.payload.name}' (the one its payload events move: carried "
+                "between them)" if result.payload.name else "payload")
+        answer, at, kg, of = f"the largest {what} is {x:.4g} kg {where}.", f"{x:.4g} kg", " kg", ""
         how = (". Torque is affine in the payload mass on a fixed trajectory, so each rule's "
                "limit is solved exactly; the inertia about the centre of mass grows with the "
                "mass.")

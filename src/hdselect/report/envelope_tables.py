@@ -7,7 +7,7 @@ from rich.markup import escape
 
 from hdselect.envelope.result import EnvelopeResult, JointEnvelope, WorstState
 from hdselect.envelope.search import ABSOLUTE
-from hdselect.envelope.torques import BEARING_NOTE
+from hdselect.envelope.torques import BEARING_NOTE, PARTS_NOTE
 from hdselect.report.tables import Column, FittedTable, Paragraphs
 from hdselect.report.terminal import DEG_PER_RAD, life_text, utilization_text, verdict
 from hdselect.sizing.diagnosis import diagnosis_of
@@ -124,6 +124,8 @@ def note_lines(result: EnvelopeResult) -> list[str]:
              "duty alone: what `hdselect size` of the duty selects (the worst states left out)."]
     if any(joint.sizing.bearing is not None for joint in result.joints):
         notes.append(f"{BEARING_NOTE}. --json gives each joint's bearing loads.")
+    if any(task.carried is not None for task in result.duty.tasks):
+        notes.append(PARTS_NOTE + ".")
     notes += [f"{joint.name}: not converged: {joint.convergence.note}"
               for joint in result.joints if not joint.convergence.converged]
     notes += [line for joint in result.joints if joint.selected is None

@@ -26,7 +26,7 @@ from hdselect.report.html_tasks import duty_line, task_section
 from hdselect.report.precision_html import precision_section
 from hdselect.report.provenance import Provenance
 from hdselect.report.size_tables import diagnosis_lines, shortfall_text
-from hdselect.report.task_tables import task_of
+from hdselect.report.task_tables import peak_carrying_note, task_of
 from hdselect.report.terminal import (
     binding_words,
     life_text,
@@ -185,8 +185,9 @@ def _notes(result: SizingResult) -> str:
     items = "".join(f'<li id="{anchor(unit)}"><b>{esc(unit)}</b>: '
                     + "; ".join(esc(f.note) for f in found.values()) + "</li>"
                     for unit, found in flags.items())
-    case = "".join(f"<li>{esc(note)}</li>" for note in case_notes(
-        result.robot, [task.trajectory for task in result.counted] or result.trajectory))
+    case = "".join(f"<li>{esc(note)}</li>" for note in [*case_notes(
+        result.robot, [task.trajectory for task in result.counted] or result.trajectory),
+        *filter(None, [peak_carrying_note(result)])])
     loaded = [joint.name for joint in result.joints if joint.gravity_loaded]
     verb = "carry" if len(loaded) > 1 else "carries"
     gravity = (f"<p><b>Backdriving.</b> {esc(', '.join(loaded))} {verb} gravity. Harmonic Drive "

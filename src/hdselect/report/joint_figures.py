@@ -122,6 +122,7 @@ def joint_figure(result: SizingResult, joint: JointSizing) -> Figure:
     torque_ax.set_xlabel("time [s]" if not spans else
                          "time [s]: one cycle of each task in turn (dashed: where the next begins)")
     torque_ax.set_xlim(t[0], max(t[-1], t[0] + traj.dt))
+    mark_events(result, (speed_ax, torque_ax))
     for ax in (speed_ax, torque_ax):
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", bbox_to_anchor=(1.09, 1.0), fontsize=8, frameon=False)
@@ -246,6 +247,41 @@ def timeline(result: SizingResult, j: int
         spans.append((start, start + traj.duration, task.label))
         start += len(traj.t) * traj.dt
     return np.concatenate(times), np.concatenate(speeds), np.concatenate(rests), spans
+
+
+EVENT = "#6a3d9a"
+"""Colour of a payload event's line."""
+
+
+def event_times(result: SizingResult) -> list[tuple[float, str]]:
+    """Every counted task's payload events on the figures' time axis (`timeline`).
+
+    Returns:
+        (time [s], "attach PART" or "release PART"), each task's after the previous
+        tasks' cycles.
+    """
+    out, start = [], 0.0
+    several = len(result.counted) > 1
+    for task in result.counted:
+        if task.carried is not None:
+            out += [(start + t, f"{'attach' if attached else 'release'} {part}")
+                    for t, part, attached in task.carried.events]
+        if several:
+            start += len(task.trajectory.t) * task.trajectory.dt
+    return out
+
+
+def mark_events(result: SizingResult, axes) -> None:
+    """Thin vertical lines at the payload events, labelled at the top of the first axis."""
+    marks = event_times(result)
+    if marks:
+        axes[0].plot([], [], color=EVENT, lw=0.7, label="payload event (part attached or "
+                                                       "released)")
+    for when, label in marks:
+        for ax in axes:
+            ax.axvline(when, color=EVENT, lw=0.7, alpha=0.8, zorder=1)
+        axes[0].text(when, 0.97, f" {label}", rotation=90, ha="right", va="top", fontsize=7,
+                     color=EVENT, transform=axes[0].get_xaxis_transform())
 
 
 def rest_spans(mask: np.ndarray, t: np.ndarray, dt: float) -> list[tuple[float, float]]:

@@ -21,7 +21,7 @@ from hdselect.report.bearing_tables import BEARING_COLUMNS, bearing_cells, beari
 from hdselect.report.case_tables import case_notes, tool_pose_notes
 from hdselect.report.precision_tables import precision_tables
 from hdselect.report.tables import Column, FittedTable
-from hdselect.report.task_tables import task_of, task_tables
+from hdselect.report.task_tables import peak_carrying_note, task_of, task_tables
 from hdselect.report.terminal import (
     life_text,
     ratio_text,
@@ -329,6 +329,7 @@ def _load_cells(load: JointLoad, angle: str) -> list[str]:
 
 def _size_notes(result: SizingResult) -> list[str]:
     notes = ["Assumptions: " + "; ".join(f"{k}: {v}" for k, v in assumptions(result).items())]
+    notes += [peak] if (peak := peak_carrying_note(result)) else []
     poses = ([f"{task.label}: {note}" for task in result.counted
               for note in tool_pose_notes(task.motion)] if len(result.counted) > 1
              else tool_pose_notes(result.motion))

@@ -18,6 +18,7 @@ from hdselect.report.terminal import life_text, percent, utilization_text
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import mounting_name
 from hdselect.sizing.result import JointSizing, SizingResult
+from hdselect.sizing.summary import carrying_at, counted_at, peak_sample
 from hdselect.sizing.tasks import cycle_of
 
 POOLED_NOTE = ("pooled: mean torque, average speed, life and motor RMS pool every task's "
@@ -35,6 +36,28 @@ def task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
     """
     who = result.set_by(joint, rule)
     return "" if who is None else f" ({who})"
+
+
+def peak_carrying_note(result: SizingResult) -> str:
+    """Where some task has payload events: each joint's peak sample and what it carried.
+
+    E.g. ``peak: shoulder worst at t = 4.21 s, carrying part; elbow worst at t = 0.5 s,
+    carrying nothing``; empty where no counted task has events.
+    """
+    if all(task.carried is None for task in result.counted):
+        return ""
+    several = len(result.counted) > 1
+    words = []
+    for joint in result.joints:
+        sample = peak_sample(result, joint)
+        if sample is None:
+            continue
+        task, row = counted_at(result, sample)
+        parts = ", ".join(carrying_at(result, sample)) or "nothing"
+        where = f" of {task.label}" if several else ""
+        words.append(f"{joint.name} worst at t = {task.trajectory.t[row]:.3g} s{where}, "
+                     f"carrying {parts}")
+    return "peak: " + "; ".join(words) if words else ""
 
 
 def payload_text(robot: Robot) -> str:

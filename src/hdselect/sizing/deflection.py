@@ -22,7 +22,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.options import Options
-from hdselect.sizing.tasks import Samples, task_rows
+from hdselect.sizing.tasks import Samples, by_state, task_rows
 
 
 @dataclass(frozen=True, eq=False)
@@ -83,6 +83,52 @@ def task_poses(poses: np.ndarray, rows: slice) -> np.ndarray:
     return np.flatnonzero((poses >= rows.start) & (poses < rows.stop))
 
 
+@dataclass(frozen=True, eq=False)
+class Piece:
+    """The evaluated poses of one task in one carried state (`hdselect.sizing.tasks.by_state`).
+
+    Attributes:
+        robot: The task's robot in that state, the chosen units carried.
+        task: The task's index among the counted tasks.
+        local: The poses as rows of the task's own trajectory, (m_p,).
+        at: Their indices into the evaluated poses, ascending, (m_p,).
+    """
+
+    robot: Robot
+    task: int
+    local: np.ndarray
+    at: np.ndarray
+
+
+def state_pieces(samples: Samples, poses: np.ndarray, robots: Sequence[Robot]) -> list[Piece]:
+    """The evaluated poses split by task and carried state; their `at` cover every pose once.
+
+    Args:
+        samples: The pooled samples.
+        poses: The evaluated pooled samples, sorted, (m,).
+        robots: Each counted task's robot carrying the chosen units.
+    """
+    pieces = []
+    for k, (task, robot) in enumerate(zip(samples.tasks, robots, strict=True)):
+        rows = task_rows(samples, k)
+        own = task_poses(poses, rows)
+        local = poses[own] - rows.start
+        for carrier, state in by_state(task, robot):
+            keep = (np.ones(len(local), dtype=bool) if isinstance(state, slice)
+                    else np.isin(local, state))
+            if keep.any():
+                pieces.append(Piece(carrier, k, local[keep], own[keep]))
+    return pieces
+
+
+def in_pose_order(parts: Sequence[np.ndarray], pieces: Sequence[Piece], axis: int = 0
+                  ) -> np.ndarray:
+    """Per-piece arrays joined along `axis` and put back in the evaluated poses' order."""
+    joined = np.concatenate(parts, axis=axis)
+    order = np.argsort(np.concatenate([piece.at for piece in pieces]), kind="stable")
+    return np.take(joined, order, axis=axis)
+
+
 def tool_frame(samples: Samples) -> str:
     """The first counted task's motion's ``[tool]`` frame, else its robot's payload frame."""
     task = samples.tasks[0]
@@ -90,22 +136,25 @@ def tool_frame(samples: Samples) -> str:
     return tool.frame if tool is not None and tool.frame else task.robot.payload_frame
 
 
-def tool_figures(robots: Sequence[Robot], placed: Sequence[Placements], samples: Samples,
-                 poses: np.ndarray, pieces: Sequence[np.ndarray], frame: str,
-                 joints: Sequence[SizedJoint], units: Mapping[str, Unit], held: np.ndarray,
+def tool_figures(pieces: Sequence[Piece], placed: Sequence[Placements], samples: Samples,
+                 poses: np.ndarray, frame: str, joints: Sequence[SizedJoint],
+                 units: Mapping[str, Unit], held: np.ndarray,
                  options: Options) -> ToolDeflection:
-    """The tool's deflection along the cycle and holding still, at the evaluated poses."""
-    robot = robots[0]
+    """The tool's deflection along the cycle and holding still, at the evaluated poses.
+
+    Each piece (a task in one carried state) is carried by its own robot; `placed` is
+    each piece's placements and `held` the gravity torques at every pose, in pose order.
+    """
+    robot = pieces[0].robot
     tilted = tuple(j.name for j in joints if j.wrench is not None
                    and units[j.name].bearing is not None
                    and units[j.name].bearing.moment_stiffness is not None)  # type: ignore[union-attr]
     parts = []
-    for k, (carrier, local) in enumerate(zip(robots, pieces, strict=True)):
-        rows = task_poses(poses, task_rows(samples, k))  # its rows among the poses
-        mine = poses[rows]
-        q = samples.tasks[k].trajectory.q[local]
+    for piece, at in zip(pieces, placed, strict=True):
+        mine = poses[piece.at]
+        q = samples.tasks[piece.task].trajectory.q[piece.local]
         still = np.zeros_like(q)
-        gravity = axis_wrenches(carrier, q, still, still, tilted) if tilted else None
+        gravity = axis_wrenches(piece.robot, q, still, still, tilted) if tilted else None
         rotations, centres = {}, {}
         for joint in joints:
             wrenches = ((_rows(joint.wrench, mine), gravity[tilted.index(joint.name), :5])
@@ -113,12 +162,12 @@ def tool_figures(robots: Sequence[Robot], placed: Sequence[Placements], samples:
                         and gravity is not None else None)
             rotations[joint.name], centres[joint.name] = unit_rotation(
                 units[joint.name],
-                np.stack((joint.torque[mine], held[rows, robot.joint_index(joint.name)])),
+                np.stack((joint.torque[mine], held[piece.at, robot.joint_index(joint.name)])),
                 None if wrenches is None else np.stack(wrenches),
                 options.bearing_offset.get(joint.name, 0.0))
-        parts.append(tool_deflection(carrier, q, frame, rotations, centres, placed=placed[k]))
-    translation = np.concatenate([p[0] for p in parts], axis=1)
-    rotation = np.concatenate([p[1] for p in parts], axis=1)
+        parts.append(tool_deflection(piece.robot, q, frame, rotations, centres, placed=at))
+    translation = in_pose_order([p[0] for p in parts], pieces, axis=1)
+    rotation = in_pose_order([p[1] for p in parts], pieces, axis=1)
     for array in (translation, rotation):
         array.setflags(write=False)
     size = np.linalg.norm(translation, axis=2)

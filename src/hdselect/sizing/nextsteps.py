@@ -137,10 +137,11 @@ def payload_steps(result: SizingResult, missing: Sequence[JointSizing], tasks: S
                    command: Sequence[str] | None = None) -> dict[str, list[NextStep]]:
     """Per joint, the largest payload at which some candidate holds it, verified by sizing."""
     scaled = [task.label for task in tasks if task.robot.payload is not None]
-    if payload_bounds is None or not scaled or any(
+    evented = any(task.carried is not None for task in tasks)  # a part moves, not --payload's
+    if payload_bounds is None or not scaled or evented or any(
             task.motion is not None and task.motion.planner == "toppra"
             and task.motion.torque_limit is not None for task in tasks):
-        return {}  # no payload, or a trajectory that depends on it
+        return {}  # no payload, payload events, or a trajectory that depends on it
     bounds = payload_bounds(tasks, result.idle, scaled, masses, result.units, result.options)
     single = len(tasks) == 1
     count = len(pooled(tasks, result.idle))

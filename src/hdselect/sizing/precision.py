@@ -16,6 +16,8 @@ after the selection, with the chosen units' masses carried, `precision_of` gives
 A joint carrying torque tau turns by -phi(tau) from where its servo holds the input:
 the load pushes it back. Poses: every pooled sample up to `PRECISION_POSES`, else that
 many evenly spread, each task's first and last, and each joint's largest-|torque| sample.
+Each pose is held and its modes found with the parts its task carries there (its carried
+state, `hdselect.sizing.tasks.by_state`).
 """
 
 from __future__ import annotations
@@ -39,8 +41,11 @@ from hdselect.robot.compliance import (
 from hdselect.robot.dynamics import NOISE_FLOOR, gravity_torques, torque_floor
 from hdselect.robot.model import Robot
 from hdselect.sizing.deflection import (
+    Piece,
     SizedJoint,
     ToolDeflection,
+    in_pose_order,
+    state_pieces,
     task_poses,
     tool_figures,
     tool_frame,
@@ -234,18 +239,14 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
     if not springs:
         return Precision(tuple(_unrated(j.name, units[j.name]) for j in joints), None, None,
                          not_rated, rigid, poses=poses)
-    pieces = _pieces(samples, poses)
-    held = np.concatenate([gravity_torques(carrier, task.trajectory.q[local], threads=threads)
-                           for carrier, task, local in zip(robots, samples.tasks, pieces,
-                                                           strict=True)])
+    pieces = state_pieces(samples, poses, robots)  # each task's poses by carried state
+    held = in_pose_order([gravity_torques(piece.robot, _q(samples, piece), threads=threads)
+                          for piece in pieces], pieces)
     floor = torque_floor(robot)
     held[np.abs(held) < floor] = 0.0  # the recursion's noise counts as zero, as in the selection
-    placed = [placements(carrier, task.trajectory.q[local])
-              for carrier, task, local in zip(robots, samples.tasks, pieces, strict=True)]
-    inertia = np.concatenate([mass_matrices(carrier, task.trajectory.q[local], springs,
-                                            placed=at)
-                              for carrier, task, local, at in zip(robots, samples.tasks, pieces,
-                                                                  placed, strict=True)])
+    placed = [placements(piece.robot, _q(samples, piece)) for piece in pieces]
+    inertia = in_pose_order([mass_matrices(piece.robot, _q(samples, piece), springs, placed=at)
+                             for piece, at in zip(pieces, placed, strict=True)], pieces)
     diagonal = np.diagonal(inertia, axis1=1, axis2=2)  # noise (`NOISE_FLOOR`) moves nothing
     diagonal = np.where(diagonal > NOISE_FLOOR * diagonal.max(initial=0.0), diagonal, 0.0)
     nearest = _nearest(samples, poses)
@@ -261,8 +262,7 @@ def precision_of(model: SampledModel, joints: Sequence[SizedJoint], masses: Mapp
     tool = modes = None
     if not not_rated:
         frame = tool_frame(samples)
-        tool = tool_figures(robots, placed, samples, poses, pieces, frame, joints, units, held,
-                            options)
+        tool = tool_figures(pieces, placed, samples, poses, frame, joints, units, held, options)
         k1 = [units[name].stiffness.k1 for name in springs]  # type: ignore[union-attr]
         frequencies = arm_frequencies(inertia, k1)  # type: ignore[arg-type]
         lowest = int(np.argmin(frequencies[:, 0]))
@@ -291,13 +291,9 @@ def evaluated_poses(samples: Samples, torques: Sequence[np.ndarray]) -> np.ndarr
     return np.unique(np.concatenate([spread, ends, worst]).astype(np.intp))
 
 
-def _pieces(samples: Samples, poses: np.ndarray) -> list[np.ndarray]:
-    """Each counted task's evaluated poses, as rows of its own trajectory."""
-    pieces = []
-    for k in range(len(samples.tasks)):
-        rows = task_rows(samples, k)
-        pieces.append(poses[task_poses(poses, rows)] - rows.start)
-    return pieces
+def _q(samples: Samples, piece: Piece) -> np.ndarray:
+    """A piece's poses [rad or m], (m_p, dof)."""
+    return samples.tasks[piece.task].trajectory.q[piece.local]
 
 
 def _unrated(name: str, unit: Unit) -> JointPrecision:

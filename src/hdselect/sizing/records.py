@@ -27,6 +27,7 @@ from hdselect.sizing.precision_records import (
     targets_text,
 )
 from hdselect.sizing.result import JointSizing, SizingResult
+from hdselect.sizing.summary import carrying_at, duty_events_text, event_records, peak_sample
 from hdselect.sizing.tasks import cycle_of
 
 MOTOR_MODEL_NOTE = ("peak: every sample's motor torque under the motor's torque-speed curve (its "
@@ -205,6 +206,7 @@ def assumptions(result: SizingResult) -> dict[str, str]:
                           else f"{options.life_hours:g} h ({options.life_basis})"),
         "mean speed": mean_speed_note(result.units).removeprefix("mean speed "),
         "joint losses": JOINT_LOSSES_NOTE,
+        **({"payload events": events} if (events := duty_events_text(result)) else {}),
     }
 
 
@@ -304,7 +306,8 @@ def tasks_json(result: SizingResult) -> list[dict[str, Any]]:
                     "cycle_time_s": traj.duration, "samples": len(traj.t),
                     "cycles_per_hour": task.share * SECONDS_PER_HOUR / cycle_of(traj),
                     "payload": payload_json(task.robot),
-                    "gravity_m_s2": [float(g) for g in task.robot.gravity]})
+                    "gravity_m_s2": [float(g) for g in task.robot.gravity],
+                    "events": event_records(task)})
     return out
 
 
@@ -376,6 +379,9 @@ def size_json(result: SizingResult) -> dict[str, Any]:
                 entry["motor"]["inertia_ratio"] = joint.inertia_ratio(candidate)
         if joint.per_task:
             document.update(_mix_joint_json(result, joint))
+        if any(task.carried is not None for task in result.counted):  # the peak's parts
+            worst = peak_sample(result, joint)
+            document["carrying"] = None if worst is None else list(carrying_at(result, worst))
         if slowdown is not None and slowdown.factor is not None and len(result.counted) > 1:
             # every task s times slower, at the same shares of the time
             document["slowdown"]["task_cycle_times_s"] = {
@@ -407,7 +413,8 @@ def size_json(result: SizingResult) -> dict[str, Any]:
             "motor_rules": MOTOR_MODEL_NOTE if result.motors else None,
             "bearing_offset_m": dict(options.bearing_offset),
             "bearing_loads": options.bearing_loads, "bearing_rule": BEARING_RULE_NOTE,
-            "precision": options.precision, "precision_targets": targets_json(options)},
+            "precision": options.precision, "precision_targets": targets_json(options),
+            "payload_events": duty_events_text(result) or None},
         "motors": [motor_json(m) for m in _distinct(result.motors)],
         "joints": joints,
         "root_link": result.robot.root_link,
@@ -415,6 +422,7 @@ def size_json(result: SizingResult) -> dict[str, Any]:
         "warnings": list(result.warnings),
         "joint_loads": [joint_load_json(load) for load in result.loads],
         "precision": precision_json(result),
+        "events": event_records(result.counted[0]) if len(result.counted) == 1 else [],
         **mix,
     }
 

@@ -10,10 +10,14 @@ import math
 from dataclasses import asdict, dataclass, fields, is_dataclass
 from typing import Any
 
+import numpy as np
+
 from hdselect.base.bounds import expect_type
 from hdselect.catalog.checks import life_capped, reported_life
+from hdselect.catalog.rules import at_rest
 from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.result import JointSizing, SizingResult
+from hdselect.sizing.tasks import Task
 
 
 @dataclass(frozen=True)
@@ -110,7 +114,8 @@ class Summary:
         options: The assumptions (`hdselect.sizing.options.Options` as a dict).
         joints: One per sized joint, in the robot's order.
         root_link: The link held fixed to the world.
-        payload_mass: The payload's mass [kg]; 0 without one.
+        payload_mass: The payload's mass [kg]; 0 without one. A study's case gives the mass
+            its ``payload`` sets: the part its payload events move, where they move one.
         payload_frame: The frame the payload is (or would be) attached to.
         warnings: The result's warning lines (robot file, motion file, cycle).
         tasks: For a duty of several tasks (a mix), each task: ``name``, ``motion``,
@@ -214,6 +219,78 @@ def precision_record(result: SizingResult) -> dict[str, Any] | None:
         "targets": [asdict(check) for check in found.targets],
         "raised": [asdict(raised) for raised in found.raised],
     }
+
+
+def event_records(task: Task) -> list[dict[str, Any]]:
+    """A task's payload events in time order: ``t`` [s], ``part``, ``event`` (attach, release).
+
+    Empty where the task has none (every part carried the whole cycle).
+    """
+    if task.carried is None:
+        return []
+    return [{"t": t, "part": part, "event": "attach" if attached else "release"}
+            for t, part, attached in task.carried.events]
+
+
+def events_text(task: Task) -> str:
+    """A task's payload events in words, e.g. ``part attached at t = 1.2 s, released at ...``.
+
+    Empty where the task has none.
+    """
+    if task.carried is None:
+        return ""
+    words = [f"{part} {'attached' if attached else 'released'} at t = {t:.4g} s"
+             for t, part, attached in task.carried.events]
+    return ", ".join(words) + " (carried from its attach to its release, the cycle repeating)"
+
+
+def duty_events_text(result: SizingResult) -> str:
+    """Which parts each counted task carries when, where some task has events ("" if none)."""
+    several = len(result.counted) > 1
+    return "; ".join((f"{task.label}: " if several else "") + text for task in result.counted
+                     if (text := events_text(task)))
+
+
+def counted_at(result: SizingResult, sample: int) -> tuple[Task, int]:
+    """The counted task of a pooled sample and its row in that task's trajectory.
+
+    The pooled samples are the counted tasks' trajectories in turn (one task's alone).
+    """
+    start = 0
+    for task in result.counted:
+        n = len(task.trajectory.t)
+        if sample < start + n:
+            return task, sample - start
+        start += n
+    raise IndexError(f"sample {sample} is beyond the {start} pooled samples")
+
+
+def carrying_at(result: SizingResult, sample: int) -> tuple[str, ...]:
+    """The parts a pooled sample's task carries there, by name.
+
+    The task's ``[payload]`` (named "payload") and parts no event names are carried the
+    whole cycle; those its events move, between their events.
+    """
+    task, row = counted_at(result, sample)
+    robot = task.robot
+    always = (("payload",) if robot.payload is not None else ()) + tuple(
+        part.name for part in robot.parts)
+    return always + (() if task.carried is None else task.carried.names(row))
+
+
+def peak_sample(result: SizingResult, joint: JointSizing) -> int | None:
+    """The pooled sample of the joint's largest |torque| while moving (the peak rule's worst).
+
+    None where the joint never moves (or the result has no counted task).
+    """
+    if not result.counted:
+        return None
+    j = result.robot.joint_index(joint.name)
+    rest = np.concatenate([at_rest(task.trajectory.qd[:, j], task.trajectory.qdd[:, j])
+                           for task in result.counted])
+    if rest.all() or len(rest) != len(joint.torque):
+        return None
+    return int(np.argmax(np.where(rest, -1.0, np.abs(joint.torque))))
 
 
 def _joint(joint: JointSizing, result: SizingResult) -> JointSummary:

@@ -22,6 +22,7 @@ from hdselect.catalog.builtin import of_series
 from hdselect.catalog.catalogfile import load_catalog
 from hdselect.catalog.motors import Motor, load_motors
 from hdselect.catalog.units import Unit
+from hdselect.codesign.scaledpart import moved_part
 from hdselect.motion.loading import robot_for_mix, robot_for_motion
 from hdselect.motion.mixfile import Mix, is_mix_file, load_mix, mix_robot_file
 from hdselect.motion.motionfile import Motion, load_motion
@@ -49,6 +50,8 @@ class CaseTask:
         share: Fraction of the operating time [-]; None for a mix in cycles per hour,
             whose shares follow from its planned cycles (a grouped case refuses it).
         name: The task's name in its mix file ("" for a motion file).
+        part: `payload` is the part the motion's payload events move (`case_part`), the
+            ``[payload]`` carried as the file gives it; else it is the ``[payload]``.
     """
 
     motion: Motion
@@ -56,6 +59,7 @@ class CaseTask:
     payload: Payload | None
     share: float | None
     name: str = ""
+    part: bool = False
 
 
 @dataclass(frozen=True)
@@ -75,16 +79,35 @@ class CaseDuty:
     mix: Mix | None = None
 
     def mounted(self, k: int) -> Robot:
-        """Task k's robot as it runs the task, without its payload: mounting and joints applied.
+        """Task k's robot as it runs the task, without the payload the case scales.
+
+        Mounting and joints applied; where the case scales the part the events move, with
+        the file's ``[payload]``.
 
         Raises:
             InputError: As `hdselect.motion.loading.robot_for_motion`.
         """
         task = self.tasks[k]
         joints = None if self.mix is None else self.robot.sized_joints
-        return robot_for_motion(self.robot, replace(task.motion, payload=None),
+        return robot_for_motion(self.robot, task.motion if task.part
+                                else replace(task.motion, payload=None),
                                 mounting=task.mounting, joints=joints,
                                 exclude=None if joints is None else ())
+
+
+def case_part(case: Case, motion: Motion) -> bool:
+    """A motion file's case scales the part its payload events move, not its ``[payload]``.
+
+    Where its events move one part; where they move several, only a case that gives no
+    ``payload`` (each part then carried as the file gives it).
+
+    Raises:
+        InputError: The case gives a ``payload`` and the events move several parts.
+    """
+    moved = {event.part for event in motion.events}
+    if len(moved) > 1 and case.payload is not None:
+        moved_part(motion)  # refuses: one part scales
+    return len(moved) == 1
 
 
 def is_mix_case(case: Case) -> bool:
@@ -125,7 +148,8 @@ class Inputs:
         if (case.motion, key) not in self.motions:
             self.motions[case.motion, key] = load_motion(case.motion, robot)
         motion = self.motions[case.motion, key]
-        return robot, motion, case.payload_for(motion.payload)
+        return robot, motion, case.payload_for(moved_part(motion) if case_part(case, motion)
+                                               else motion.payload)
 
     def duty(self, case: Case) -> CaseDuty:
         """The case resolved to its tasks: one for a motion file, a mix file's otherwise.
@@ -136,7 +160,8 @@ class Inputs:
         if is_mix_case(case):
             return mix_duty(case, *self.mix(case))
         robot, motion, payload = self.case(case)
-        return CaseDuty(robot, (CaseTask(motion, case.mounting, payload, 1.0),),
+        return CaseDuty(robot, (CaseTask(motion, case.mounting, payload, 1.0, "",
+                                         case_part(case, motion)),),
                         case_options(case, motion))
 
     def mix(self, case: Case) -> tuple[Robot, Mix]:

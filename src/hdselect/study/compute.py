@@ -35,6 +35,7 @@ from hdselect.codesign.fastest_cycle import fastest
 from hdselect.codesign.maxpayload import max_payload
 from hdselect.codesign.pathbounds import PathInfeasible
 from hdselect.codesign.records import fastest_json, max_payload_json, no_fit_json
+from hdselect.codesign.scaledpart import scaled_part, with_part
 from hdselect.motion.loading import robot_for_motion
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
@@ -44,17 +45,18 @@ from hdselect.sizing.core import size_problem
 from hdselect.sizing.mixtasks import mix_tasks
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.summary import Summary, summarize
-from hdselect.sizing.tasks import Task
+from hdselect.sizing.tasks import task_of
 from hdselect.study.case import Case, Outcome
 from hdselect.study.casetasks import (
     Inputs,
     case_options,
+    case_part,
     case_payloads,
     case_shares,
     is_mix_case,
 )
 from hdselect.study.group import plan_depends_on_payload
-from hdselect.study.pooled import diagnosed, group_cases, scaled
+from hdselect.study.pooled import diagnosed, group_cases, scaled, slower_events
 from hdselect.study.precise import precision_fields
 
 MIN_GROUP = 4
@@ -165,9 +167,11 @@ def case_problem(case: Case, inputs: Inputs | None = None) -> Problem:
     else:
         bare, source, payload = inputs.case(case)
         options = case_options(case, source)
-        robot = robot_for_motion(bare, source, payload=payload, mounting=case.mounting)
-        tasks, idle = (Task(robot, plan(robot, source, max_samples=options.max_samples),
-                            motion=source),), 0.0
+        part = case_part(case, source)  # the payload is the part the events move
+        robot = robot_for_motion(bare, source, payload=None if part else payload,
+                                 mounting=case.mounting)
+        task = task_of(robot, plan(robot, source, max_samples=options.max_samples), source)
+        tasks, idle = (with_part(task, payload) if part else task,), 0.0
     return Problem(robot, source, inputs.catalog(case), options,
                    inputs.motors(case, robot, source), tasks, idle)
 
@@ -175,7 +179,8 @@ def case_problem(case: Case, inputs: Inputs | None = None) -> Problem:
 def _slower(problem: Problem, time_scale: float) -> Problem:
     """The problem with every task run `time_scale` times slower [-]."""
     return replace(problem, tasks=tuple(
-        replace(task, trajectory=scaled(task.trajectory, time_scale)) for task in problem.tasks))
+        replace(task, trajectory=scaled(task.trajectory, time_scale),
+                carried=slower_events(task.carried, time_scale)) for task in problem.tasks))
 
 
 def _codesign_problem(problem: Problem) -> Problem:
@@ -189,11 +194,20 @@ def _codesign_problem(problem: Problem) -> Problem:
 def size_direct(case: Case, inputs: Inputs | None = None) -> Summary:
     """One case on its own: its `Problem` (`case_problem`) run s times slower, sized.
 
+    Its ``payload_mass`` is the mass the case's payload sets: the part the payload events
+    move, where they move one (as a grouped case's).
+
     Raises:
         HdselectError: An input is bad or a motion cannot be planned.
     """
-    return summarize(diagnosed(size_problem(_slower(case_problem(case, inputs),
-                                                    case.time_scale))))
+    problem = case_problem(case, inputs)
+    summary = summarize(diagnosed(size_problem(_slower(problem, case.time_scale))))
+    (task, *others) = problem.tasks
+    if problem.mix is None and not others and task.motion is not None \
+            and case_part(case, task.motion):
+        part = scaled_part(task)
+        return replace(summary, payload_mass=0.0 if part is None else part.mass)
+    return summary
 
 
 def run_size(cases: Sequence[Case], grouped: bool) -> Iterator[Outcome]:

@@ -23,6 +23,12 @@ Where a case gives motors or a natural frequency target, a joint's load inertia 
 linear in the same parameters, comes from one more set of passes per parameter at the
 core's poses (`build_basis(..., inertias=True)`).
 
+With payload events (`hdselect.motion.events`) every pass evaluates each sample with the
+parts it carries (`hdselect.sizing.tasks.over_states`): the torques stay affine in each
+parameter, a part's term zero at the samples that do not carry it. The payload parameter
+is then the part the events move (`build_basis(..., part=True)`), the ``[payload]`` carried
+as given; runs of identical samples are split where the carried parts change.
+
 The whole force and moment through each sized joint (its output bearing's loads) is
 linear in the same parameters and scales the same way: w = sum_p theta_p (W_p + B_p
 y^2), W the gravity wrench and B the rest along the motion, two more batched passes
@@ -41,6 +47,8 @@ from hdselect.base.arrays import frozen
 from hdselect.catalog.rules import (
     at_rest,
 )
+from hdselect.codesign.scaledpart import with_part
+from hdselect.motion.events import Carried
 from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory, plan
 from hdselect.robot.dynamics import inverse_dynamics, joint_inertias, torque_spread
@@ -49,7 +57,7 @@ from hdselect.robot.payload import Payload
 from hdselect.robot.wrenches import axis_wrenches
 from hdselect.sizing.bearing import SampledWrench
 from hdselect.sizing.loads import JointLoad, joint_loads
-from hdselect.sizing.tasks import Samples, Task
+from hdselect.sizing.tasks import Samples, Task, over_states, task_of
 from hdselect.sizing.torques import GRAVITY_SAMPLES
 
 REFERENCE_MASS = 1.0
@@ -61,7 +69,8 @@ class Basis:
     """A robot and a planned path, with its torques split by parameter and by scaling.
 
     Attributes:
-        robot: The reference robot: mounting applied, payload (if any) of `REFERENCE_MASS`.
+        robot: The reference robot: mounting applied, payload (if any) of `REFERENCE_MASS`;
+            the parts events move are not on it (`events`).
         motion: The motion planned.
         trajectory: The trajectory at s = 1, every sample.
         payload: The payload at the reference mass, or None.
@@ -87,6 +96,9 @@ class Basis:
             is its (5, n) wrench flattened, so a case's is one product with theta.
         wrench_dynamic: B, the rest of its wrench along the motion at s = 1 [N, N m],
             same shape.
+        events: Which parts each sample of the trajectory carries (`hdselect.motion.events`;
+            the scaled part at the reference mass), or None without payload events.
+        part: The payload is the part the events move, else the ``[payload]``.
     """
 
     robot: Robot
@@ -109,30 +121,38 @@ class Basis:
     inertia: np.ndarray | None = None
     wrench_gravity: np.ndarray | None = None
     wrench_dynamic: np.ndarray | None = None
+    events: Carried | None = None
+    part: bool = False
 
 
 def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
-                inertias: bool = False) -> Basis:
+                inertias: bool = False, part: bool = False) -> Basis:
     """Plan the path once and run the batched passes of every parameter.
 
     Args:
-        robot: The robot as the motion runs it, mounting applied, without a payload.
+        robot: The robot as the motion runs it, mounting applied, without a payload (with
+            its ``[payload]`` where `part`).
         motion: The motion; its plan must not depend on the payload (see `plan_depends_on_payload`).
         payload: The payload's shape (its mass is replaced by `REFERENCE_MASS`), or None.
         inertias: Also the sized joints' load inertia M_jj per parameter at the poses
             (what cases with motors need for their inertia ratio, and a natural-frequency
             target for its J).
+        part: `payload` is the part the motion's payload events move (`hdselect.codesign.
+            scaledpart.moved_part`), carried between its events; else the ``[payload]``.
 
     Returns:
         The basis: 4 (2 + carriers) passes of the torques over the kept samples, and 2
-        (2 + carriers) of the wrenches.
+        (2 + carriers) of the wrenches, each sample with the parts it carries.
     """
-    reference = robot.with_payload(None if payload is None
-                                   else replace(payload, mass=REFERENCE_MASS))
-    trajectory = plan(reference, motion)
+    trajectory = plan(robot if part else robot.with_payload(
+        None if payload is None else replace(payload, mass=REFERENCE_MASS)), motion)
+    reference = task_at(robot, trajectory, motion, payload, REFERENCE_MASS, part)
     states = np.hstack([trajectory.q, trajectory.qd, trajectory.qdd])
     keep = np.ones(len(states), dtype=bool)
     keep[1:] = np.any(states[1:] != states[:-1], axis=1)
+    if reference.carried is not None:  # a run of one state carries one set of parts
+        mask = reference.carried.mask
+        keep[1:] |= np.any(mask[1:] != mask[:-1], axis=1)
     rows = np.flatnonzero(keep)
     weight = np.diff(np.append(rows, len(states))).astype(float)
     model = robot.model
@@ -140,13 +160,17 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
                      if model.parents[model.getJointId(name)] > 0)
     variants = [reference]
     if payload is not None:
-        variants.append(reference.with_payload(replace(payload, mass=REFERENCE_MASS + 1.0)))
-    variants += [reference.with_gearheads({name: 1.0}) for name in carriers]
-    parts = np.stack([_parts(variant, trajectory, rows) for variant in variants])
+        variants.append(task_at(robot, trajectory, motion, payload, REFERENCE_MASS + 1.0, part))
+    variants += [replace(reference, robot=reference.robot.with_gearheads({name: 1.0}))
+                 for name in carriers]
+    parts = np.stack([over_states(variant, variant.robot,
+                                  lambda carrier, at: (_parts(carrier, trajectory, at),),
+                                  rows, axis=1)[0] for variant in variants])
     parts[1:] -= parts[0]  # each parameter's own contribution per unit of it
     gravity, dynamic, coasting, stopping = (np.ascontiguousarray(parts[:, k].transpose(2, 0, 1))
                                             for k in range(4))
-    carried = np.array([[reference.with_gearheads({c: 1.0}).carried_mass(name) for c in carriers]
+    carried = np.array([[reference.robot.with_gearheads({c: 1.0}).carried_mass(name)
+                         for c in carriers]
                         for name in robot.sized_joints]).reshape(len(robot.sized_joints), -1)
     run = np.cumsum(keep) - 1
     at = np.unique(np.linspace(0, len(states) - 1, GRAVITY_SAMPLES).astype(int))
@@ -155,20 +179,46 @@ def build_basis(robot: Robot, motion: Motion, payload: Payload | None, *,
     used = tuple(_read_only(np.flatnonzero(loads[:, j])) for j in range(robot.dof))
     inertia = None
     if inertias:  # M(q) is linear in the inertial parameters, as the torques are
-        m = np.stack([joint_inertias(variant, trajectory.q[at], robot.sized_joints, threads=1)
+        m = np.stack([over_states(variant, variant.robot,
+                                  lambda carrier, poses: (joint_inertias(
+                                      carrier, trajectory.q[poses], robot.sized_joints,
+                                      threads=1),), at)[0]
                       for variant in variants])  # (P, poses, sized)
         m[1:] -= m[0]
         inertia = frozen(np.ascontiguousarray(m.transpose(2, 0, 1)))
-    wrench = np.stack([_wrench_parts(variant, trajectory, rows) for variant in variants])
+    wrench = np.stack([over_states(variant, variant.robot,
+                                   lambda carrier, at: (_wrench_parts(carrier, trajectory, at),),
+                                   rows, axis=3)[0] for variant in variants])
     wrench[1:] -= wrench[0]  # (P, 2, sized, 5, n)
     wrench_gravity, wrench_dynamic = (
         frozen(wrench[:, k].transpose(1, 0, 2, 3).reshape(len(robot.sized_joints),
                                                            len(variants), -1))
         for k in range(2))
-    return Basis(reference, motion, trajectory, payload, rows, weight, frozen(trajectory.t[rows]),
-                 frozen(trajectory.qd[rows]), frozen(trajectory.qdd[rows]), carriers,
-                 frozen(gravity), frozen(dynamic), frozen(coasting), frozen(stopping), used,
-                 frozen(carried), _read_only(poses), inertia, wrench_gravity, wrench_dynamic)
+    return Basis(reference.robot, motion, trajectory, payload, rows, weight,
+                 frozen(trajectory.t[rows]), frozen(trajectory.qd[rows]),
+                 frozen(trajectory.qdd[rows]), carriers, frozen(gravity), frozen(dynamic),
+                 frozen(coasting), frozen(stopping), used, frozen(carried), _read_only(poses),
+                 inertia, wrench_gravity, wrench_dynamic, reference.carried, part)
+
+
+def task_at(robot: Robot, trajectory: Trajectory, motion: Motion, payload: Payload | None,
+            mass: float, part: bool = False) -> Task:
+    """The motion's task carrying the payload (or the moved part) at `mass` [kg].
+
+    Args:
+        robot: The robot as `build_basis` takes it.
+        trajectory: The motion's trajectory.
+        motion: The motion (its payload events).
+        payload: The payload's shape, or None (then nothing is scaled).
+        mass: Its mass [kg]; its inertia about its centre of mass stays as given; 0
+            takes it off.
+        part: `payload` is the part the events move; else the ``[payload]``.
+    """
+    given = None if payload is None or mass <= 0.0 else replace(payload, mass=mass)
+    if part:
+        return with_part(task_of(robot, trajectory, motion), given)
+    return task_of(robot.with_payload(given) if payload is not None else robot, trajectory,
+                   motion)
 
 
 def plan_depends_on_payload(motion: Motion) -> bool:
@@ -176,23 +226,23 @@ def plan_depends_on_payload(motion: Motion) -> bool:
     return motion.planner == "toppra" and motion.torque_limit is not None
 
 
-def _parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
+def _parts(robot: Robot, traj: Trajectory, rows: np.ndarray | slice) -> np.ndarray:
     """G, A, V, E of one robot on the kept rows [N m], shape (4, n, dof): one stacked pass."""
     q, qd, qdd = traj.q[rows], traj.qd[rows], traj.qdd[rows]
     still = np.zeros_like(qd)
     tau = inverse_dynamics(robot, np.vstack([q, q, q, q]), np.vstack([still, qd, qd, qd]),
                            np.vstack([still, still, qdd, -qd]), threads=1)
-    gravity, coast, full, stop = tau.reshape(4, len(rows), -1)
+    gravity, coast, full, stop = tau.reshape(4, len(q), -1)
     return np.stack([gravity, full - gravity, coast - gravity, stop - coast])
 
 
-def _wrench_parts(robot: Robot, traj: Trajectory, rows: np.ndarray) -> np.ndarray:
+def _wrench_parts(robot: Robot, traj: Trajectory, rows: np.ndarray | slice) -> np.ndarray:
     """W and B of one robot's sized joints on the kept rows, shape (2, sized, 5, n)."""
     q, qd, qdd = traj.q[rows], traj.qd[rows], traj.qdd[rows]
     still = np.zeros_like(qd)
     wrench = axis_wrenches(robot, np.vstack([q, q]), np.vstack([still, qd]),
                            np.vstack([still, qdd]), robot.sized_joints, threads=1)[:, :5]
-    gravity, full = wrench[:, :, :len(rows)], wrench[:, :, len(rows):]
+    gravity, full = wrench[:, :, :len(q)], wrench[:, :, len(q):]
     return np.stack([gravity, full - gravity])
 
 
@@ -293,6 +343,13 @@ class BasisTorques:
         """The joint's largest M_jj of its one task [kg m^2]."""
         return (self.load_inertia(joint, masses),)
 
+    def case_task(self) -> Task:
+        """The case's task on the basis's trajectory at s = 1: its payload (or part) mass."""
+        basis = self.basis
+        mass = REFERENCE_MASS + float(self._theta[1]) if basis.payload is not None else 0.0
+        robot = basis.robot if basis.part else basis.robot.with_payload(None)
+        return task_at(robot, basis.trajectory, basis.motion, basis.payload, mass, basis.part)
+
     def loads(self, masses: Mapping[str, float]) -> tuple[JointLoad, ...]:
         """Every joint on the kept rows (a run of identical states has one torque)."""
         basis = self.basis
@@ -303,14 +360,14 @@ class BasisTorques:
         spread = basis.trajectory.qdd_uncertainty
         if spread is None:
             return joint_loads(basis.robot, kept, tau)
-        robot = basis.robot  # the case's own: its payload mass, its units' masses
-        if basis.payload is not None:
-            robot = robot.with_payload(replace(basis.payload,
-                                               mass=REFERENCE_MASS + float(self._theta[1])))
-        carried = {name: masses[name] for name in robot.sized_joints if name in masses}
-        robot = robot.with_gearheads(carried) if carried else robot
-        return joint_loads(basis.robot, kept, tau, torque_spread(
-            robot, kept.q, spread[basis.rows] * self.y**2))
+        case = self.case_task()  # the case's own: its payload mass, its units' masses
+        carried = {name: masses[name] for name in case.robot.sized_joints if name in masses}
+        robot = case.robot.with_gearheads(carried) if carried else case.robot
+        q = basis.trajectory.q
+        return joint_loads(basis.robot, kept, tau, over_states(
+            case, robot, lambda carrier, at: (torque_spread(carrier, q[at],
+                                                            spread[at] * self.y**2),),
+            basis.rows)[0])
 
     def _with(self, masses: Mapping[str, float]) -> np.ndarray:
         """The parameters' weights, the carried units' masses [kg] among them."""

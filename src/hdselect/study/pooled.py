@@ -22,6 +22,7 @@ import numpy as np
 from hdselect.base.errors import HdselectError, InputError
 from hdselect.catalog.select import DEFAULT_PREFER, DEFAULT_PREFER_WITH_MOTORS
 from hdselect.catalog.units import Unit
+from hdselect.motion.events import Carried
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.model import Robot
@@ -54,8 +55,18 @@ def scaled(trajectory: Trajectory, time_scale: float) -> Trajectory:
     return replace(trajectory, dt=trajectory.dt * time_scale,
                    duration=trajectory.duration * time_scale, t=trajectory.t * time_scale,
                    qd=trajectory.qd * y, qdd=trajectory.qdd * y**2,
+                   waypoint_times=None if trajectory.waypoint_times is None
+                   else trajectory.waypoint_times * time_scale,
                    qdd_uncertainty=None if trajectory.qdd_uncertainty is None
                    else trajectory.qdd_uncertainty * y**2)
+
+
+def slower_events(carried: Carried | None, time_scale: float) -> Carried | None:
+    """A task's payload events on its path run s times slower [-]: their times times s."""
+    if carried is None or time_scale == 1.0:
+        return carried
+    return replace(carried, events=tuple((t * time_scale, part, attached)
+                                         for t, part, attached in carried.events))
 
 
 class PooledTorques:
@@ -181,7 +192,7 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
         raise ValueError("a case with motors or a natural-frequency target needs bases "
                          "built with inertias=True")
     check_bearing_options(bases[0].robot, units, options)
-    models, planned = [], []
+    models, planned, cases = [], [], []
     for basis, item in zip(bases, tasks, strict=True):
         if item.share is None:
             raise InputError("a mix in cycles per hour is grouped from its shares: give "
@@ -193,11 +204,15 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
             0.0 if item.payload is None else item.payload.mass)
         traj = basis.trajectory
         timing = replace(traj, dt=traj.dt * time_scale, duration=traj.duration * time_scale)
-        task = Task(basis.robot, timing, item.share, basis.motion, item.name)
+        model = BasisTorques(basis, mass, time_scale, options.stop_time,
+                             wrenches=options.bearing_loads)
+        case = model.case_task()  # the parts it carries when, at the case's masses
+        task = Task(basis.robot, timing, item.share, basis.motion, item.name,
+                    slower_events(case.carried, time_scale))
         planned.append(task)
+        cases.append(replace(case, trajectory=scaled(traj, time_scale), share=item.share,
+                             name=item.name, carried=task.carried))
         if task.share > 0.0:
-            model = BasisTorques(basis, mass, time_scale, options.stop_time,
-                                 wrenches=options.bearing_loads)
             model.samples = replace(model.samples, tasks=(task,))
             models.append(model)
     pooled = PooledTorques(models)
@@ -207,10 +222,7 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
         joints, masses = select_units(pooled, per_joint, options, motors)
     precision = None
     if options.precision or targets_of(options):  # on every sample, as size: `precise`
-        own = [replace(task, robot=task.robot.with_payload(item.payload),
-                       trajectory=scaled(basis.trajectory, time_scale))
-               for basis, item, task in zip(bases, tasks, planned, strict=True)
-               if task.share > 0.0]
+        own = [case for case in cases if case.share > 0.0]
         found = grouped_stiffened(pooled, models, own, per_joint, joints, masses, options,
                                   motors)
         joints, masses, precision = found.joints, found.masses, found.precision
@@ -219,8 +231,8 @@ def size_pooled(bases: Sequence[Basis], tasks: Sequence[CaseTask], time_scale: f
                           first.motion, motors=motors, loads=pooled.loads(masses),
                           tasks=tuple(planned), mix=mix, precision=precision)
     if not result.feasible:  # the diagnosis reads the poses with each task's own payload
-        carrying = tuple(replace(task, robot=task.robot.with_payload(item.payload))
-                         for task, item in zip(planned, tasks, strict=True))
+        carrying = tuple(replace(case, trajectory=task.trajectory)
+                         for task, case in zip(planned, cases, strict=True))
         result = replace(diagnosed(replace(result, tasks=carrying)), tasks=tuple(planned))
     summary = summarize(result)
     # the bases' robots carry the reference payload; each task carries its own mass
@@ -252,7 +264,8 @@ def size_case(basis: Basis, mass: float | None, time_scale: float, units: Sequen
     """
     payload = (None if basis.payload is None or mass is None
                else replace(basis.payload, mass=mass))
-    return size_pooled([basis], [CaseTask(basis.motion, None, payload, 1.0)], time_scale,
+    return size_pooled([basis], [CaseTask(basis.motion, None, payload, 1.0, "", basis.part)],
+                       time_scale,
                        units, options, motors)
 
 
@@ -297,7 +310,8 @@ def group_cases(cases: Sequence[Case], inputs: Inputs, host: str
     bases: dict[Any, Basis | HdselectError] = {}
     for key, (robot, task, inertias) in wanted.items():
         try:
-            bases[key] = build_basis(robot, task.motion, task.payload, inertias=inertias)
+            bases[key] = build_basis(robot, task.motion, task.payload, inertias=inertias,
+                                     part=task.part)
         except HdselectError as err:
             bases[key] = err
     share = (time.perf_counter() - start) / max(len(ready), 1)
@@ -321,7 +335,7 @@ def group_cases(cases: Sequence[Case], inputs: Inputs, host: str
 def _shape_key(task: CaseTask) -> Any:
     """What a basis depends on of a task's payload: its shape, not its mass."""
     payload = task.payload
-    return None if payload is None else (payload.com, payload.inertia, payload.frame)
+    return task.part, None if payload is None else (payload.com, payload.inertia, payload.frame)
 
 
 def _outcome(case: Case, summary: Summary | HdselectError, method: str, seconds: float,
