@@ -104,6 +104,10 @@ def robot_motion_arguments(parser: argparse.ArgumentParser, *, mass: bool = True
     parser.add_argument("--mounting", metavar="floor|wall|ceiling",
                         help="mounting, overriding the motion file's")
     base_argument(parser, "the motion file's angle_unit (a mix file's own)")
+    parser.add_argument("--allow-flip", action="store_true",
+                        help="a tool pose's near hint that cannot be honoured takes the "
+                             "solver's branch with a warning (else an error); as the motion "
+                             "file's [tool] allow_flip = true")
     doing = "size" if sizes else "plot"
     joints = parser.add_argument_group(f"joints {doing}d" if sizes else "joints plotted")
     joints.add_argument("--joints", metavar="A,B", action="append",

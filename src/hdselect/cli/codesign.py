@@ -142,7 +142,7 @@ def run_max_payload(args: argparse.Namespace) -> int:
         except InputError as err:
             flag = {"payload.frame": "--payload-frame", "frame": "--payload-frame",
                     "payload.com": "--payload-com", "com": "--payload-com",
-                    "task": "--task"}.get(str(err.field).split("[")[0])
+                    "task": "--task"}.get(_scaled_field(str(err.field)))
             if flag is None or getattr(args, flag[2:].replace("-", "_")) is None:
                 raise flagged(err, args) from err
             raise InputError(err.reason, field=flag) from err
@@ -164,3 +164,14 @@ def _inputs(args: argparse.Namespace, robot, motion) -> list:
     """Every file the command reads: no output may replace one."""
     return [*input_files(robot, motion), *args.catalog,
             *([args.motor_catalog] if args.motor_catalog else [])]
+
+
+def _scaled_field(field: str) -> str:
+    """An error's field as the payload's, where it is a part's (``payloads.part.frame``).
+
+    max-payload's --payload-frame and --payload-com place the part it scales.
+    """
+    field = field.split("[")[0]
+    if field.startswith("payloads."):
+        return "payload." + field.rsplit(".", 1)[-1]
+    return field

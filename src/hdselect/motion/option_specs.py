@@ -368,10 +368,6 @@ OPTIONS: tuple[Option, ...] = (
            "compute the precision figures: each joint's twist and resonance, the tool's "
            "deflection, the arm's lowest modes", flag="--no-precision", group="sizing",
            label="precision figures"),
-    Option("allow_flip", "switch", False,
-           "take the solver's branch, with a warning, where a tool pose's near hint cannot "
-           "be honoured (else an error)", flag="--allow-flip", group="case",
-           key="tool.allow_flip", files=("motion",), study=False, label="flips allowed"),
 )
 """Every sizing option, in the order of `Options`' fields and of the flags in ``--help``."""
 

@@ -74,10 +74,6 @@ class Options:
             class's name), or None.
         precision: Compute the precision figures (twists, resonances, tool deflection,
             the arm's modes) after the selection.
-        allow_flip: A tool pose whose ``near`` hint cannot be honoured takes the solver's
-            branch with a warning instead of being refused (it acts where the motion's
-            poses are solved: `hdselect.motion.planning.solve.solve_motion` reads the
-            motion's own).
 
     Raises:
         InputError: A value is out of range or of the wrong type; the field is its name.
@@ -103,7 +99,6 @@ class Options:
     max_tool_deflection: float | None = _default("max_tool_deflection")
     min_arm_frequency: float | None = _default("min_arm_frequency")
     precision: bool = _default("precision")
-    allow_flip: bool = _default("allow_flip")
 
     def __post_init__(self) -> None:
         for option in OPTIONS:
