@@ -28,6 +28,7 @@ from hdselect.cli.main import main
 from hdselect.motion.planning import plan_motion
 from hdselect.robot.dynamics import inverse_dynamics
 from helpers import REPO
+from helpers.motions import whole_cycle
 from mujoco_oracle import rigid
 
 EXAMPLE = REPO / "trajectories" / "benchtop6_pick_place_poses.toml"
@@ -67,10 +68,10 @@ def read_csv(path) -> dict[str, np.ndarray]:
     return {name: values[:, i] for i, name in enumerate(rows[0])}
 
 
-def placed(robot_file, xyz, rpy_deg, payload: dict | None = None) -> mujoco.MjModel:
+def placed(robot_file, xyz, rpy_deg, payloads: tuple[dict, ...] = ()) -> mujoco.MjModel:
     """MuJoCo's model of `robot_file`, its base at `xyz` [m] turned by `rpy_deg`, rigid-body
-    dynamics only; with a payload body (the motion file's ``[payload]`` table, its ``frame``
-    a body, ``at`` its place there [m]) where given."""
+    dynamics only; with a body for each payload (a motion file's ``[payload]`` or
+    ``[payloads.*]`` table, its ``frame`` a body, ``at`` its place there [m])."""
     spec = mujoco.MjSpec.from_file(str(robot_file))
     spec.compiler.fusestatic = False  # keep tool0 as a body
     root = spec.worldbody.bodies[0]
@@ -78,9 +79,9 @@ def placed(robot_file, xyz, rpy_deg, payload: dict | None = None) -> mujoco.MjMo
     root.pos = list(xyz)
     root.quat = list(Rotation.from_euler("xyz", rpy_deg, degrees=True).as_quat(
         scalar_first=True))
-    if payload is not None:
-        load = spec.body(payload["frame"]).add_body(name="payload", pos=payload.get("at",
-                                                                                    [0, 0, 0]))
+    for i, payload in enumerate(payloads):
+        load = spec.body(payload["frame"]).add_body(name=f"payload{i}",
+                                                    pos=payload.get("at", [0, 0, 0]))
         load.mass, load.ipos, load.explicitinertial = payload["mass"], payload["com"], True
         inertia = np.array(payload.get("inertia", np.zeros((3, 3))))
         load.fullinertia = [inertia[0, 0], inertia[1, 1], inertia[2, 2], inertia[0, 1],
@@ -154,7 +155,7 @@ def test_floor_and_ceiling_plan_the_same_task_and_torques_that_mujoco_gives(tmp_
         columns, solved, lines = planned(tmp_path, name, example, *flags)
         trajectory, tau = exact(example, base)
         same_as_written(columns, trajectory, tau, joints)
-        model = placed(REPO / "robots" / "benchtop6.urdf", *base, payload=doc["payload"])
+        model = placed(REPO / "robots" / "benchtop6.urdf", *base, payloads=(doc["payload"],))
         peak = np.abs(tau).max()
         assert peak > 1.0
         np.testing.assert_allclose(mujoco_torques(model, trajectory.q, trajectory.qd,
@@ -190,7 +191,7 @@ def test_sized_peaks_on_the_ceiling_are_mujocos(tmp_path, example):
                  "--json", str(report)]) in (0, 1)
     sized = json.loads(report.read_text())
     trajectory, _ = exact(example, CEILING)
-    model = placed(REPO / "robots" / "benchtop6.urdf", *CEILING, payload=doc["payload"])
+    model = placed(REPO / "robots" / "benchtop6.urdf", *CEILING, payloads=(doc["payload"],))
     tau = mujoco_torques(model, trajectory.q, trajectory.qd, trajectory.qdd)
     assert sized["samples"] == len(tau) and [j["name"] for j in sized["joints"]] == list(
         trajectory.joint_names)
@@ -202,17 +203,23 @@ def test_sized_peaks_on_the_ceiling_are_mujocos(tmp_path, example):
 @pytest.mark.parametrize("base", [((0, 0, 2), (180, 0, 0)), ((0.1, -0.2, 0.3), (30, -45, 60))])
 def test_an_mjcf_robot_placed_by_the_base_flag_has_mujocos_torques(tmp_path, base):
     """planar2.xml (MuJoCo's own file) hung 2 m up, and tilted anyhow: its joint
-    waypoints move with the robot, and the torques are those of MuJoCo's world."""
+    waypoints move with the robot, and the torques are those of MuJoCo's world. The
+    shipped pick-and-place with its part carried the whole cycle (no payload events), so
+    that one MuJoCo model holds the whole cycle (tests/test_payload_events.py checks the
+    events)."""
     robot = REPO / "robots" / "planar2.xml"
-    columns, _, _ = planned(tmp_path, "mjcf", robot, PLANAR2, *base_flag(base))
-    trajectory, tau = exact(PLANAR2, base, robot)
+    motion = whole_cycle(PLANAR2, tmp_path)
+    columns, _, _ = planned(tmp_path, "mjcf", robot, motion, *base_flag(base))
+    trajectory, tau = exact(motion, base, robot)
     same_as_written(columns, trajectory, tau, ("shoulder", "elbow"))
-    payload = tomllib.loads(PLANAR2.read_text())["payload"]
-    assert payload["frame"] == "tool"  # the site at the end of link2
-    # a point mass: MuJoCo wants an inertia; 1e-12 kg m^2 adds at most 1e-12 max|qdd| N m
+    doc = tomllib.loads(motion.read_text())
+    assert doc["payload"]["frame"] == "tool"  # the site at the end of link2
+    loads = (doc["payload"], *({"frame": "tool", **part} for part in doc["payloads"].values()))
+    assert len(loads) == 2  # the gripper and the part
+    # point masses: MuJoCo wants an inertia; 1e-12 kg m^2 adds at most 1e-12 max|qdd| N m
     point = 1e-12 * np.eye(3)
-    model = placed(robot, *base, payload={**payload, "frame": "link2", "at": [0.25, 0, 0],
-                                          "inertia": point})
+    model = placed(robot, *base, payloads=tuple(
+        {**load, "frame": "link2", "at": [0.25, 0, 0], "inertia": point} for load in loads))
     np.testing.assert_allclose(mujoco_torques(model, trajectory.q, trajectory.qd,
                                               trajectory.qdd), tau, rtol=0,
                                atol=1e-9 * np.abs(tau).max())

@@ -548,6 +548,9 @@ EXPECTED_GRAVITY = {
                           "wrist_1": True, "wrist_2": True, "wrist_3": True},  # camera off-axis
     "benchtop6_pick_place_poses": {"shoulder_pan": False, "shoulder_lift": True, "elbow": True,
                                    "wrist_1": True},
+    "labarm5_rack_transfer": {"base_yaw": False, "shoulder": True, "elbow": True,
+                              "wrist_pitch": True, "wrist_roll": False},  # rack's com on roll
+    "scara_yaw_transfer": {"shoulder": False, "elbow": False, "wrist": False},
 }
 
 
