@@ -320,7 +320,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
         tool=tool if planner != "samples" else None,
-        xacro_args=xacro_args,
+        allow_flip=tool is not None and tool.allow_flip, xacro_args=xacro_args,
         bearing_offset=bearing_offsets(doc, path, robot), parts=parts,
         events=events, **options,
     )

@@ -121,6 +121,8 @@ class ToolPoses:
         reconfigure: Waypoints that may be reached on another branch than the one
             before them (``reconfigure = true``).
         approach: The tool axis an ``axis`` pose points (``[tool] approach``, `TOOL_AXES`).
+        allow_flip: ``[tool] allow_flip``: a ``near`` hint that cannot be honoured is a
+            warning, not an error.
     """
 
     frame: str | None
@@ -128,6 +130,7 @@ class ToolPoses:
     poses: tuple[PoseWaypoint, ...]
     reconfigure: frozenset[int] = frozenset()
     approach: str = "z"
+    allow_flip: bool = False
 
     def at(self, index: int) -> PoseWaypoint | None:
         """The pose of waypoint `index`, or None for a joint waypoint."""
@@ -305,7 +308,7 @@ def read_tool(value: Any, path: Path, angle: float, angle_unit: str,
         raise InputError("approach names the tool axis a pose's axis gives; no waypoint gives "
                          "one (pose = {xyz, axis})", path=path, field="tool.approach")
     return ToolPoses(frame, Tolerance(position, orientation), tuple(poses),
-                     frozenset(reconfigure), approach)
+                     frozenset(reconfigure), approach, _flag(table, "allow_flip", path, "tool"))
 
 
 def read_base(value: Any, path: Path, angle: float, angle_unit: str) -> BasePose:
