@@ -40,6 +40,7 @@ from hdselect.sizing.diagnosis import with_diagnoses
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.records import MOTOR_MODEL_NOTE, assumptions, base_text
 from hdselect.sizing.result import JointSizing, SizingResult
+from hdselect.sizing.summary import moved_parts
 
 __all__ = ["number", "page", "slug"]
 
@@ -82,7 +83,7 @@ def page(result: SizingResult, figures: Mapping[str, bytes], origin: Provenance,
      f"{count:,} sample{'s' if count != 1 else ''} every {result.trajectory.dt * 1e3:g} ms"}.
 Made by hdselect {esc(origin.version)} on
 {esc(origin.created)}; <a href="#provenance">how to re-run it</a>.
-{esc(base_text(result.robot) if len(result.tasks) < 2 else
+{esc(base_text(result.robot, moved_parts(result)) if len(result.tasks) < 2 else
      f"base: '{result.robot.root_link}' held fixed; each task's payload and mounting under "
      "Tasks")}.</p>
 {summary(result, origin)}

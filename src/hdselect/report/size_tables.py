@@ -35,6 +35,7 @@ from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.records import assumptions, base_text
 from hdselect.sizing.result import JointSizing, SizingResult
+from hdselect.sizing.summary import moved_parts
 
 
 def candidates_table(title: str, candidates: Iterable[Candidate], selected: Candidate | None,
@@ -285,7 +286,8 @@ def _size_title(result: SizingResult) -> str:
                 "held fixed; each task's share, payload and mounting below")
     count = len(result.trajectory.t)
     return (f"{result.title}: cycle {result.cycle_time:.3f} s, "
-            f"{count:,} sample{'s' if count != 1 else ''}\n{base_text(result.robot)}")
+            f"{count:,} sample{'s' if count != 1 else ''}\n"
+            + base_text(result.robot, moved_parts(result)))
 
 
 def loads_table(result: SizingResult) -> FittedTable:

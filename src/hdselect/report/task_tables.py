@@ -41,8 +41,9 @@ def task_of(result: SizingResult, joint: JointSizing, rule: str) -> str:
 def peak_carrying_note(result: SizingResult) -> str:
     """Where some task has payload events: each joint's peak sample and what it carried.
 
-    E.g. ``peak: shoulder worst at t = 4.21 s, carrying part; elbow worst at t = 0.5 s,
-    carrying nothing``; empty where no counted task has events.
+    E.g. ``peak: shoulder worst at t = 4.21 s, with part; elbow worst at t = 0.5 s,
+    without part``: the parts its task's events move (what every sample carries is in the
+    title line); empty where no counted task has events.
     """
     if all(task.carried is None for task in result.counted):
         return ""
@@ -53,10 +54,12 @@ def peak_carrying_note(result: SizingResult) -> str:
         if sample is None:
             continue
         task, row = counted_at(result, sample)
-        parts = ", ".join(carrying_at(result, sample)) or "nothing"
+        held = carrying_at(result, sample)
+        parts = ", ".join(("with " if part.name in held else "without ") + part.name
+                          for part in (() if task.carried is None else task.carried.parts))
         where = f" of {task.label}" if several else ""
         words.append(f"{joint.name} worst at t = {task.trajectory.t[row]:.3g} s{where}, "
-                     f"carrying {parts}")
+                     + (parts or "no part moved in this task"))
     return "peak: " + "; ".join(words) if words else ""
 
 

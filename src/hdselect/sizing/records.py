@@ -7,7 +7,7 @@ result, and written by `hdselect.report.export`. Every assumption is stated in i
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 from hdselect.catalog.bearing_rules import NOT_RATED, BearingLoad
@@ -19,6 +19,7 @@ from hdselect.catalog.units import MeanSpeed, SeriesRules, Unit
 from hdselect.motion.mixfile import SECONDS_PER_HOUR
 from hdselect.robot.model import Robot
 from hdselect.robot.mounting import NAMED_BASES, mounting_name, shown_numbers
+from hdselect.robot.payload import Payload
 from hdselect.sizing.diagnosis import diagnosis_of, with_diagnoses
 from hdselect.sizing.loads import JointLoad
 from hdselect.sizing.precision_records import (
@@ -252,8 +253,8 @@ JOINT_LOSSES_NOTE = ("the robot file's armature, joint damping, friction and spr
                      "motor's and the joint's own, not load on the gear output: left out")
 
 
-def base_text(robot: Robot) -> str:
-    """The fixed link, its mounting where not the floor, and the payload in a line."""
+def base_text(robot: Robot, moved: Sequence[Payload] = ()) -> str:
+    """The fixed link, its mounting, payload and parts (all cycle; `moved` by events)."""
     mounting = ""
     if robot.base_pose != NAMED_BASES["floor"]:
         gravity = shown_numbers(robot.gravity)
@@ -265,6 +266,10 @@ def base_text(robot: Robot) -> str:
     else:
         com = ", ".join(f"{c:g}" for c in payload.com)
         carried = f"{payload.mass:g} kg on '{robot.payload_frame}', centre of mass ({com}) m"
+    for part, when in ([(part, "all cycle") for part in robot.parts]
+                       + [(part, "between its events") for part in moved]):
+        carried += (f"; part '{part.name}': {part.mass:g} kg on "
+                    f"'{part.frame or robot.payload_frame}', {when}")
     return f"base: '{robot.root_link}' held fixed{mounting}; payload: {carried}"
 
 

@@ -15,6 +15,7 @@ import numpy as np
 from hdselect.base.bounds import expect_type
 from hdselect.catalog.checks import life_capped, reported_life
 from hdselect.catalog.rules import at_rest
+from hdselect.robot.payload import Payload
 from hdselect.sizing.diagnosis import diagnosis_of
 from hdselect.sizing.result import JointSizing, SizingResult
 from hdselect.sizing.tasks import Task
@@ -276,6 +277,12 @@ def carrying_at(result: SizingResult, sample: int) -> tuple[str, ...]:
     always = (("payload",) if robot.payload is not None else ()) + tuple(
         part.name for part in robot.parts)
     return always + (() if task.carried is None else task.carried.names(row))
+
+
+def moved_parts(result: SizingResult) -> tuple[Payload, ...]:
+    """The parts the payload events of a result's one task move (none without events)."""
+    carried = result.tasks[0].carried if len(result.tasks) == 1 else None
+    return () if carried is None else carried.parts
 
 
 def peak_sample(result: SizingResult, joint: JointSizing) -> int | None:
