@@ -22,7 +22,7 @@ from hdselect.motion.motionfile import load_motion
 from hdselect.robot.wrenches import bearing_loads
 from hdselect.study.compute import size_rows
 from hdselect.study.group import build_basis
-from hdselect.study.pooled import scaled, size_case
+from hdselect.study.pooled import size_case
 from helpers import REPO
 from helpers.bearings import BEARING_BOUND, SPIN_RULES
 from helpers.studies import differences, separate
@@ -249,10 +249,7 @@ def test_grouped_pairs_with_rated_bearings_equal_the_direct_sizing(rated_basis, 
     per_joint = {name: motors for name in bare.sized_joints}
     options = Options(**{"life_hours": 20_000.0, "threads": 1, **given})
     grouped = size_case(basis, mass, time_scale, units, options, per_joint)
-    carrying = bare.with_payload(replace(motion.payload, mass=mass))
-    trajectory = scaled(plan(carrying, motion), time_scale)
-    direct = summarize(replace(size_trajectory(carrying, trajectory, units, options,
-                                               motors=per_joint), motion=motion))
+    direct = separate(bare, motion, mass, time_scale, units, options, per_joint)
     assert differences(grouped.to_dict(), direct.to_dict()) < 1e-9
     checked = {name for j in grouped.joints for name in j.utilization}
     assert {"bearing_moment", "motor_rms", "inertia_ratio"} <= checked

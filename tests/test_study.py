@@ -22,6 +22,7 @@ from hdselect.study import COMPUTATIONS, Computation, compute, load_study, run_s
 from hdselect.study.compute import SIZE, Outcome, run_size
 from hdselect.study.store import journal_path
 from helpers import REPO
+from helpers.motions import whole_cycle
 from helpers.studies import small_study, workspace
 
 SRC = REPO / "src"
@@ -334,10 +335,12 @@ def test_a_motion_files_motor_files_are_inputs_of_its_cases(tmp_path):
 @pytest.mark.slow
 def test_fastest_and_max_payload_rows_equal_the_direct_calls(tmp_path, capsys):
     root = workspace(tmp_path)
+    # the part carried the whole cycle: at s = 0.8 it is what makes the elbow's unit bigger
+    whole = whole_cycle(root / "trajectories" / "planar2_pick_place.toml", root)
     path = root / "codesign.toml"
     path.write_text("""compute = ["fastest", "max-payload"]
 [base]
-motion = "trajectories/planar2_pick_place.toml"
+motion = "planar2_pick_place.toml"
 ratio = 100
 [grid]
 time_scale = [1.0, 0.8]
@@ -351,7 +354,8 @@ time_scale = [1.0, 0.8]
     rows = hdselect.study(path, out=out, workers=0)  # every case already done: read back
     assert {row["status"] for row in rows} == {"ok"}
 
-    robot, motion = hdselect.load_case(root / "trajectories" / "planar2_pick_place.toml")
+    robot, motion = hdselect.load_case(whole)
+    assert not motion.events and robot.parts  # the direct calls below see no events
     options = hdselect.sizing.options.options_for(motion)
     units = [u for u in hdselect.load_catalog() if u.ratio == 100]
     for s in (1.0, 0.8):

@@ -2,7 +2,8 @@
 
 The oracle is the sizing core run the ordinary way for each case: load, plan, scale
 the path, `size_trajectory` (for s = 1, `hdselect.size` itself), every pass of
-inverse dynamics done with the case's own payload and carried gearhead masses.
+inverse dynamics done with the case's own payload and carried gearhead masses, each sample
+with the parts its payload events carry (the shipped pick-and-place picks its part up).
 """
 
 from __future__ import annotations
@@ -16,10 +17,10 @@ import pytest
 import hdselect
 import hdselect.sizing.core
 import hdselect.sizing.problem
-from hdselect import Options, load_case, load_catalog, plan, size_trajectory, summarize
+from hdselect import Options, load_case, load_catalog, plan, summarize
 from hdselect.base.errors import InputError
 from hdselect.study.group import build_basis
-from hdselect.study.pooled import diagnosed, scaled, size_case
+from hdselect.study.pooled import size_case
 from helpers import REPO
 from helpers.studies import differences, separate
 
@@ -31,7 +32,9 @@ SCARA = REPO / "trajectories" / "scara_wafer_transfer.toml"
 def benchtop():
     robot, motion = load_case(BENCHTOP)
     bare = robot.with_payload(None)
-    return bare, motion, build_basis(bare, motion, motion.payload)
+    basis = build_basis(bare, motion, motion.payload)
+    assert basis.events is not None and not basis.part  # the gripper scales, the part is picked
+    return bare, motion, basis
 
 
 @pytest.mark.slow
@@ -170,13 +173,6 @@ def benchtop_pairs():
     return bare, motion, basis, {name: motors for name in robot.sized_joints}
 
 
-def separate_pairs(robot, motion, mass, time_scale, units, options, motors):
-    carrying = robot.with_payload(replace(motion.payload, mass=mass))
-    trajectory = scaled(plan(carrying, motion), time_scale)
-    return summarize(diagnosed(replace(size_trajectory(carrying, trajectory, units, options,
-                                                       motors=motors), motion=motion)))
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize(("mass", "time_scale", "given"), [
     (0.5, 1.0, {}),  # prefer None: the lightest pair, as the core resolves it
@@ -190,7 +186,7 @@ def test_grouped_pairs_equal_their_separate_runs(benchtop_pairs, mass, time_scal
     units = load_catalog()
     options = Options(**{"stop_time": 0.15, "life_hours": 20000.0, "threads": 1, **given})
     grouped = size_case(basis, mass, time_scale, units, options, motors)
-    reference = separate_pairs(robot, motion, mass, time_scale, units, options, motors)
+    reference = separate(robot, motion, mass, time_scale, units, options, motors)
     assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
     assert grouped.options["prefer"] == given.get("prefer", "mass")
     for joint in grouped.joints:  # the pair's figures are there, not only the gearhead's
@@ -209,7 +205,7 @@ def test_grouped_pairs_no_pair_fits_and_the_slow_downs_equal_the_core(benchtop_p
            motors.items()}  # two motors keep the slow-down search short
     options = Options(stop_time=0.15, life_hours=20000.0, threads=1)
     grouped = size_case(basis, 2.5, 0.6, units, options, two)
-    reference = separate_pairs(robot, motion, 2.5, 0.6, units, options, two)
+    reference = separate(robot, motion, 2.5, 0.6, units, options, two)
     assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
     failing = [joint for joint in grouped.joints if joint.unit is None]
     assert failing and all(joint.motor is None and joint.motor_candidate for joint in failing)
@@ -234,7 +230,7 @@ id = "EX-16"
     units = load_catalog()
     options = Options(stop_time=0.15, life_hours=20000.0, threads=1)
     grouped = size_case(replace(basis, motion=motion), 1.0, 1.0, units, options, motors)
-    reference = separate_pairs(robot, motion, 1.0, 1.0, units, options, motors)
+    reference = separate(robot, motion, 1.0, 1.0, units, options, motors)
     assert differences(grouped.to_dict(), reference.to_dict()) < 1e-9
     assert grouped.options["prefer"] == "mass"  # for every joint, as in the core
     assert [j.motor for j in grouped.joints] == [None, None, reference.joints[2].motor, None,

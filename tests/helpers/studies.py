@@ -12,7 +12,8 @@ import numpy as np
 
 from hdselect import plan, size_trajectory
 from hdselect.sizing.summary import summarize
-from hdselect.study.pooled import diagnosed, scaled
+from hdselect.sizing.tasks import task_of
+from hdselect.study.pooled import diagnosed, scaled, slower_events
 from helpers import REPO
 
 
@@ -139,8 +140,12 @@ def differences(grouped, separate, path=""):
     return 0.0
 
 
-def separate(robot, motion, mass, time_scale, units, options):
+def separate(robot, motion, mass, time_scale, units, options, motors=None):
+    """A study case sized alone: the motion's ``[payload]`` at `mass` [kg], planned, run
+    `time_scale` times slower, each sample with the parts its payload events carry."""
     carrying = robot.with_payload(None if mass is None else replace(motion.payload, mass=mass))
-    trajectory = scaled(plan(carrying, motion), time_scale)
-    return summarize(diagnosed(replace(size_trajectory(carrying, trajectory, units, options),
-                                       motion=motion)))
+    task = task_of(carrying, plan(carrying, motion), motion)
+    trajectory = scaled(task.trajectory, time_scale)
+    return summarize(diagnosed(replace(size_trajectory(
+        task.robot, trajectory, units, options, motors=motors,
+        carried=slower_events(task.carried, time_scale)), motion=motion)))
