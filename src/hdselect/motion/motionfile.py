@@ -282,7 +282,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         check_keys(table_of(doc.get(table, {}), path, table), file_keys("motion", table), path,
                    table)
     options = file_options(doc, path, "motion", robot.joint_names)
-    samples = None
+    samples, tool = None, None
     if planner == "samples":
         if "waypoint" in doc:
             raise InputError("planner 'samples' takes its motion from [samples] file; remove "
@@ -319,8 +319,7 @@ def load_motion(path: str | Path, robot: Robot | str | Path | None = None) -> Mo
         warnings=tuple(warnings), motors=motors,
         motor_joints=tuple(key for key, block in doc.get("motor", {}).items()
                            if isinstance(block, dict) and key != "curve"),
-        tool=tool if planner != "samples" else None,
-        allow_flip=tool is not None and tool.allow_flip, xacro_args=xacro_args,
+        tool=tool, allow_flip=tool is not None and tool.allow_flip, xacro_args=xacro_args,
         bearing_offset=bearing_offsets(doc, path, robot), parts=parts,
         events=events, **options,
     )

@@ -43,7 +43,7 @@ def peak_carrying_note(result: SizingResult) -> str:
 
     E.g. ``peak: shoulder worst at t = 4.21 s, with part; elbow worst at t = 0.5 s,
     without part``: the parts its task's events move (what every sample carries is in the
-    title line); empty where no counted task has events.
+    title line), nothing more for a task without events; empty where no task has events.
     """
     if all(task.carried is None for task in result.counted):
         return ""
@@ -58,8 +58,8 @@ def peak_carrying_note(result: SizingResult) -> str:
         parts = ", ".join(("with " if part.name in held else "without ") + part.name
                           for part in (() if task.carried is None else task.carried.parts))
         where = f" of {task.label}" if several else ""
-        words.append(f"{joint.name} worst at t = {task.trajectory.t[row]:.3g} s{where}, "
-                     + (parts or "no part moved in this task"))
+        words.append(f"{joint.name} worst at t = {task.trajectory.t[row]:.3g} s{where}"
+                     + (f", {parts}" if parts else ""))
     return "peak: " + "; ".join(words) if words else ""
 
 
