@@ -6,6 +6,7 @@ motions, and catalog units and loads made by hand.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -235,3 +236,14 @@ def make_load(peak: float = 8.0, mean: float | None = 8.0, mean_speed: float = 3
     return CycleLoad(peak_torque=peak, mean_torque=mean, mean_speed=mean_speed,
                      max_speed=mean_speed if max_speed is None else max_speed,
                      moving_time=1.0, cycle_time=1.0, static_torque=static)
+
+
+def whole_cycle(path: Path, folder: Path) -> Path:
+    """`path`'s motion with its payload events taken out (its parts carried the whole
+    cycle), written into `folder` with its robot file's path made absolute."""
+    text = re.sub(r"(?m)^\s*(attach|release)\s*=.*\n", "", path.read_text())
+    text = re.sub(r'(?m)^robot\s*=\s*"([^"]*)"',
+                  lambda m: f'robot = "{(path.parent / m.group(1)).resolve()}"', text)
+    out = folder / path.name
+    out.write_text(text)
+    return out
