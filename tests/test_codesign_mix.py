@@ -28,6 +28,7 @@ from hdselect.codesign.trials import check_tasks, run_trial
 from hdselect.motion.loading import load_case
 from hdselect.sizing.core import size_tasks
 from hdselect.sizing.mixtasks import mix_options
+from helpers.motions import whole_cycle
 
 REPO = Path(__file__).resolve().parents[1]
 PICK = REPO / "trajectories" / "benchtop6_pick_place.toml"
@@ -41,6 +42,14 @@ def _motors(robot):
     return {name: catalog for name in robot.sized_joints}
 
 
+def _whole_cycle_mix(folder: Path) -> Path:
+    """The shipped mix with the pick's part carried the whole cycle (no payload events)."""
+    (folder / "mixes").mkdir()
+    whole_cycle(PICK, folder)
+    whole_cycle(INSPECT, folder)
+    return whole_cycle(PICK_INSPECT, folder / "mixes")
+
+
 def _one_task_mix(folder: Path) -> Path:
     path = folder / "mix.toml"
     path.write_text(f'[[task]]\nname = "pick"\nmotion = "{PICK}"\nshare = 1.0\n'
@@ -48,15 +57,18 @@ def _one_task_mix(folder: Path) -> Path:
     return path
 
 
-def test_fastest_of_a_mix_with_motors_is_where_the_core_stops_passing():
+def test_fastest_of_a_mix_with_motors_is_where_the_core_stops_passing(tmp_path):
     """The shipped mix with the example motors: the pooled motor RMS slows every task.
+
+    The pick's part is carried the whole cycle (0.4 kg at the tool, the mix before payload
+    events): with it carried only between the pick and the place no pooled rule binds.
 
     At the answer the core's check of the tasks (their units and paired motors) passes
     every rule, the one that set the slow-down at its limit; every task's moves 1 %
     faster (TOPPRA's profiles of the answer, resampled) fail it in the same check. (A
     motor's RMS torque moves slowly with speed, its dwells kept: +2e-4 for 1 %.)
     """
-    robot, mix = load_case(PICK_INSPECT)
+    robot, mix = load_case(_whole_cycle_mix(tmp_path))
     result = fastest(robot, mix, motors=_motors(robot))
     assert set(result.motors) == set(robot.sized_joints) and result.feasible
     assert result.reason is not None and result.slowdown > 1.0
@@ -178,7 +190,8 @@ def test_the_old_mix_names_warn_and_are_the_one_path():
 
 
 def test_the_command_line_takes_motors_and_ratios_on_a_mix(tmp_path, capsys):
-    mix = str(PICK_INSPECT)
+    """The pick's part carried the whole cycle, so that the pooled motor RMS binds."""
+    mix = str(_whole_cycle_mix(tmp_path))
     assert main(["fastest", mix, "--motor-catalog", str(MOTORS), "--json",
                  str(tmp_path / "f.json")]) == 0
     document = json.loads((tmp_path / "f.json").read_text())

@@ -10,6 +10,7 @@ from __future__ import annotations
 import csv
 import json
 import shutil
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -122,12 +123,13 @@ def test_max_payload_with_motors_is_what_size_says_at_that_payload(work, capsys)
     motors = load_motors("motors/example_motors.toml")
     robot, motion = hdselect.load_case("tr/planar2_pick_place.toml")
     every = {name: motors for name in robot.sized_joints}
-    shape = robot.payload  # the file's payload; its inertia scales with the mass
+    shape = motion.parts["part"]  # what scales: the part its events move (not the gripper)
 
     def sized(m):
         inertia = tuple(tuple(v * m / shape.mass for v in row) for row in shape.inertia)
-        return hdselect.size(robot, motion, motors=every,
-                             payload=hdselect.Payload(m, shape.com, inertia, shape.frame))
+        part = hdselect.Payload(m, shape.com, inertia, shape.frame, shape.name)
+        return hdselect.size(robot, replace(motion, parts={**motion.parts, "part": part}),
+                             motors=every)
 
     assert sized(mass * (1 - 1e-4)).feasible
     assert not sized(mass * (1 + 1e-3)).feasible

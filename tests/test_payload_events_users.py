@@ -37,6 +37,7 @@ from hdselect.robot.compliance import arm_frequencies, mass_matrices
 from hdselect.robot.dynamics import gravity_torques
 from hdselect.sizing.core import added_mass, check_units, size, size_problem
 from hdselect.sizing.diagnosis import diagnose, diagnosis_of
+from hdselect.sizing.options import options_for
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.summary import carrying_at, peak_sample
 from hdselect.sizing.tasks import task_of
@@ -267,6 +268,30 @@ def test_fastest_bounds_with_every_part_and_checks_with_the_events(pick):
     for mine, theirs in zip(found.check.joints, again.joints, strict=True):
         assert mine.load.mean_torque == pytest.approx(theirs.load.mean_torque, rel=1e-12)
 
+
+
+def test_fastest_slows_until_the_rule_with_the_events_is_at_its_limit(pick):
+    """A life the optimum misses: the moves slow until the life with the part carried
+    between its events (the sizing of the result's trajectory with them) meets it.
+
+    Not the life with the part carried the whole cycle: that slowed this cycle to 5.0 s,
+    where the sizing with the events finds half the life used (issue 31). The check keeps
+    the units' stiffness figures (PSA rates no K1: the joints it evaluates), as
+    `check_units` gives them for the same samples.
+    """
+    _, robot, motion = pick
+    units = {"shoulder": "PSA-14-100", "elbow": "PSA-14-80"}
+    found = fastest(robot, motion, units, options=options_for(motion, life_hours=2e5))
+    assert found.reason == ("shoulder", "life") and found.slowdown > 1.0
+    (item,) = found.tasks
+    assert item.task.carried is not None and item.task.carried.mask.any()
+    alone = check_units(robot, item.task.trajectory, found.units, found.check.options,
+                        carried=task_of(robot, item.task.trajectory, motion).carried)
+    life = alone.joints[0].selected.checks["life"]
+    assert 0.99 < life.utilization <= 1.0  # at its limit, by the sizing with the events
+    assert found.check.precision is not None and alone.precision is not None
+    assert found.check.precision.not_rated == alone.precision.not_rated == ("shoulder", "elbow")
+    np.testing.assert_array_equal(found.check.precision.poses, alone.precision.poses)
 
 def test_compare_ratios_says_how_it_carries_the_parts(pick):
     _, robot, motion = pick

@@ -174,12 +174,18 @@ def test_a_mixs_deflections_are_the_jacobian_times_each_tasks_own_twists() -> No
     k1 = np.array([j.selected.unit.stiffness.k1 for j in result.joints])
     torque = np.stack([j.torque for j in result.joints], axis=1)
     first = len(result.counted[0].trajectory.t)
+    states = set()
     for i in np.linspace(0, len(tool.samples) - 1, 9).astype(int):
         sample = int(tool.samples[i])
         k, row = (0, sample) if sample < first else (1, sample - first)
-        task = result.counted[k]  # its own payload
-        model, data = task.robot.model, task.robot.model.createData()
-        config = task.robot.configuration(task.trajectory.q[row:row + 1])[:, 0]
+        task = result.counted[k]  # its own payload, and the parts its events carry there
+        held = () if task.carried is None else tuple(
+            part for part, on in zip(task.carried.parts, task.carried.mask[row], strict=True)
+            if on)
+        robot = task.robot.with_parts((*task.robot.parts, *held)) if held else task.robot
+        states.add((k, bool(held)))
+        model, data = robot.model, robot.model.createData()
+        config = robot.configuration(task.trajectory.q[row:row + 1])[:, 0]
         jacobian = pin.computeFrameJacobian(model, data, config, frame_id(model, "tool0"),
                                             pin.LOCAL_WORLD_ALIGNED)
         gravity = pin.computeGeneralizedGravity(model, data, config)
@@ -189,3 +195,4 @@ def test_a_mixs_deflections_are_the_jacobian_times_each_tasks_own_twists() -> No
                                    atol=1e-12)
         np.testing.assert_allclose(tool.holding_rotation[i], jacobian[3:] @ (-gravity / k1),
                                    atol=1e-12)
+    assert {(0, True), (0, False)} <= states  # the pick's samples with and without its part

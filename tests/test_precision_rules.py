@@ -384,7 +384,11 @@ def test_envelope_takes_the_targets(capsys, tmp_path):
 def test_max_payload_stops_where_the_frequency_target_does():
     """Units fixed, the elbow's f_n falls as the payload grows (its M_jj affine in the
     mass): the largest payload is where f_n meets the target, found again by sizing the
-    robot carrying that mass (M_jj recomputed at it, not interpolated)."""
+    robot carrying that mass (M_jj recomputed at it, not interpolated).
+
+    What scales is the part the file's events move; the gripper stays. The elbow's M_jj
+    of the planar arm does not depend on the pose, so the poses that carry the part (the
+    worst state) give it whatever the poses."""
     from hdselect import load_case, max_payload, plan
     from hdselect.robot.dynamics import joint_inertias
     from hdselect.sizing.torques import inertia_poses
@@ -395,8 +399,10 @@ def test_max_payload_stops_where_the_frequency_target_does():
     trajectory = plan(robot, motion)
     poses = trajectory.q[inertia_poses(trajectory)]
 
+    part = motion.parts["part"]
+
     def elbow_inertia(mass: float) -> float:  # the last joint: no unit is carried past it
-        carrying = robot.with_payload(replace(motion.payload, mass=mass))
+        carrying = robot.with_parts((*robot.parts, replace(part, mass=mass)))  # and the gripper
         return float(joint_inertias(carrying, poses, ["elbow"]).max())
 
     target = math.sqrt(k1 / elbow_inertia(1.5)) / (2.0 * math.pi)  # reached at 1.5 kg

@@ -51,6 +51,7 @@ from hdselect.sizing.options import Options
 from hdselect.sizing.reflect import reflect
 from helpers import REPO
 from helpers.codesign import index_table, mean_speed_allowing_peak
+from helpers.motions import whole_cycle
 from helpers.rules import giving
 
 CATALOG = load_catalog()
@@ -258,8 +259,12 @@ def test_a_rule_without_forms_bounds_max_payload(half_peak) -> None:
     result = max_payload(robot, motion)
     assert result.mass is not None and math.isfinite(result.mass)
     assert result.rule == "half_peak"
-    below = size(robot, motion, payload=scaled(result.payload, 0.99 * result.mass))
-    above = size(robot, motion, payload=scaled(result.payload, 1.01 * result.mass))
+    part = result.payload  # what scales: the part the events move (`payload=` is the gripper)
+    assert part is not None and part.name == "part"
+
+    def carrying(mass: float):
+        return replace(motion, parts={**motion.parts, part.name: scaled(part, mass)})
+    below, above = (size(robot, carrying(f * result.mass)) for f in (0.99, 1.01))
     assert below.feasible and not above.feasible
     (stuck,) = [joint for joint in above.joints if joint.selected is None]
     assert stuck.name == result.joint
@@ -323,9 +328,19 @@ class Never(Rule):
         return None if case.gear is None else self.judge(2.0, 1.0, case.margin)
 
 
-def test_a_rule_without_forms_that_fails_at_every_mass_leaves_no_payload() -> None:
-    """Through the fallback, no unit has a mass at which it passes: no payload, not a guess."""
-    robot, motion = load_case(REPO / "trajectories" / "planar2_pick_place.toml")
+def test_a_rule_without_forms_that_fails_at_every_mass_leaves_no_payload(tmp_path) -> None:
+    """Through the fallback, no unit has a mass at which it passes: no payload, not a guess.
+
+    Gripper and part lumped into one 0.4 kg payload carried the whole cycle (the file
+    before payload events): every sample's torque then moves with the mass scaled, so no
+    formed rule fails at every mass first and every unit's bound reaches the fallback.
+    """
+    robot, motion = load_case(whole_cycle(REPO / "trajectories" / "planar2_pick_place.toml",
+                                          tmp_path))
+    (part,) = robot.parts  # at the gripper's frame and centre of mass, no inertia
+    assert robot.payload is not None and part.com == robot.payload.com and not motion.events
+    robot = robot.with_parts(()).with_payload(replace(robot.payload,
+                                                      mass=robot.payload.mass + part.mass))
     with registered(Never()):
         result = max_payload(robot, motion, catalog=CATALOG[:2])
     assert result.mass is None and result.ranges == ()

@@ -28,8 +28,9 @@ coefficients linearly, so no unit needs new dynamics passes on the path).
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
+from functools import partial
 
 from hdselect.base.errors import InputError
 from hdselect.catalog.motors import Motor
@@ -49,20 +50,19 @@ from hdselect.codesign.trials import (
     EVENTS_NOTE,
     UNTIMED_NOTE,
     derated,
-    every_part,
     retimed,
     run_trial,
     verified,
 )
 from hdselect.motion.mixfile import Mix
 from hdselect.motion.motionfile import Motion
-from hdselect.motion.planning import check_within_limits
+from hdselect.motion.planning import Trajectory, check_within_limits
 from hdselect.robot.model import Robot
 from hdselect.sizing.arguments import not_sized
 from hdselect.sizing.options import Options
 from hdselect.sizing.problem import Problem
 from hdselect.sizing.result import Motors
-from hdselect.sizing.tasks import Task
+from hdselect.sizing.tasks import Task, every_part
 
 OPTIMAL_WITHIN = 1e-3
 """A cycle at most this fraction longer than the optimum counts as the optimum: the
@@ -179,11 +179,12 @@ def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Op
     masses = ({name: unit.mass + (motors[name].mass if name in motors else options.motor_mass)
                for name, unit in units.items()} if options.mass_coupling else {})
     carrying = [each.robot.with_gearheads(masses) for each in models]
+    on = _on_legs(duty)
     first = run_trial(models, carrying, duty.shares, units, masses, {}, options, motors,
-                      duty.idle, duty.where)
+                      duty.idle, duty.where, tasks=on)
     best = first
     if first.whole_cycle_failing and len(models) == 1:  # a duty keeps its shares: slowed
-        best = derated(models, carrying, units, masses, first, options, motors)
+        best = derated(models, carrying, units, masses, first, options, motors, tasks=on)
     planned = duty.planned or None
     if planned is None and duty.motions[0].events:  # checked with its events: as a task
         leg = best.legs[0]
@@ -225,6 +226,19 @@ def _fastest(models: Sequence[PathModel], units: Mapping[str, Unit], options: Op
         options=options, check=check, slowdown=scale, derating=dict(best.derating),
         reason=reason, grid_per_waypoint=models[0].grid_per_waypoint, motors=motors,
         tasks=tuple(timed), idle=duty.idle, mix=duty.mix, notes=_event_notes(duty, timed))
+
+
+def _on_legs(duty: Duty) -> tuple[Callable[[Trajectory], Task], ...]:
+    """Each counted task on a sampled trajectory of its path, its events on its times.
+
+    Empty where no task has payload events (the legs' robots are the tasks' own).
+    """
+    if not any(motion.events for motion in duty.motions):
+        return ()
+    if duty.planned:
+        return tuple(partial(retimed, task) for task in duty.planned)
+    robot, motion = duty.robots[0], duty.motions[0]
+    return (lambda run: retimed(Task(robot, run, 1.0, motion), run),)
 
 
 def _event_notes(duty: Duty, timed: Sequence[TaskFastest]) -> tuple[str, ...]:

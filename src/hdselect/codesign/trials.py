@@ -14,7 +14,7 @@ sample lands on a peak the scaled model missed.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -37,12 +37,11 @@ from hdselect.motion.motionfile import Motion
 from hdselect.motion.planning import Trajectory
 from hdselect.robot.dynamics import cycle_torques, joint_inertias
 from hdselect.robot.model import Robot
-from hdselect.robot.payload import Payload
 from hdselect.sizing.arguments import checked_motors
-from hdselect.sizing.core import check_units, select_units
+from hdselect.sizing.core import check_units, precision_of, select_units
 from hdselect.sizing.options import Options, fixed_choice
 from hdselect.sizing.result import SizingResult
-from hdselect.sizing.tasks import Task, pooled, task_of
+from hdselect.sizing.tasks import Task, carrying, every_part, over_states, pooled, task_of
 from hdselect.sizing.timescale import ScalableCycle
 from hdselect.sizing.torques import DirectTorques
 
@@ -91,7 +90,7 @@ def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Se
               units: Mapping[str, Unit], masses: Mapping[str, float],
               derating: Mapping[str, float], options: Options,
               motors: Mapping[str, Motor] | None = None, idle: float = 0.0,
-              where: str = "") -> Trial:
+              where: str = "", tasks: Sequence[Callable[[Trajectory], Task]] = ()) -> Trial:
     """Solve TOPPRA for every task at one derating and find the smallest common slow-down.
 
     Args:
@@ -105,6 +104,9 @@ def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Se
         motors: The motor behind the unit of some joints (its limits and rules apply).
         idle: The fraction of the time no task runs [-].
         where: The file the errors name (default: the first task's motion file).
+        tasks: Each counted task on a sampled trajectory of its path, its payload events
+            on the trajectory's times (`retimed`): the rules over the cycle carry each
+            part between its events; empty: `carrying` throughout.
 
     Raises:
         PathInfeasible: No slow-down lets every rule pass.
@@ -112,7 +114,7 @@ def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Se
     motors = motors or {}
     legs = []
     after: dict[str, frozenset[str]] = {name: frozenset() for name in units}
-    for model, robot, share in zip(models, carrying, shares, strict=True):
+    for i, (model, robot, share) in enumerate(zip(models, carrying, shares, strict=True)):
         motion = model.motion
         limits = joint_limits(model.robot, motion, units, options, derating, motors=motors)
         for name, lim in zip(model.robot.joint_names, limits, strict=True):
@@ -123,7 +125,8 @@ def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Se
         trajectory, held = cycle(motion, profiles, kinematic, max_samples=options.max_samples)
         moving = sum(p.duration * r for p, r in zip(profiles, kinematic, strict=True)
                      if p is not None)
-        cycles, held, inertia = _scalable(robot, trajectory, held, units, options)
+        task = tasks[i](trajectory) if tasks else None
+        cycles, held, inertia = _scalable(robot, trajectory, held, units, options, task, masses)
         legs.append(Leg(model, share, profiles, kinematic, moving, trajectory.duration - moving,
                         cycles, held, slowdown_notes(motion.joint_names, profiles, limits),
                         inertia))
@@ -137,14 +140,18 @@ def run_trial(models: Sequence[PathModel], carrying: Sequence[Robot], shares: Se
     return Trial(dict(derating), tuple(legs), scale, reason, tuple(sorted(failing)), idle)
 
 
-def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
-              units: Mapping[str, Unit], options: Options
+def _scalable(robot: Robot, trajectory: Trajectory, held: np.ndarray,
+              units: Mapping[str, Unit], options: Options, task: Task | None = None,
+              masses: Mapping[str, float] | None = None
               ) -> tuple[dict[str, ScalableCycle], np.ndarray, dict[str, float]]:
     """Each sized joint's cycle split by how its torque scales with time (four passes).
 
     A dwell holds one pose at rest: it is kept as one sample that lasts the whole
     dwell, which every rule weighs alike (the motor's RMS torque, which assumes equal
-    samples, is not a rule).
+    samples, is not a rule). Where `task` (on `trajectory`) has payload events, each
+    carried state's samples are evaluated with its own robot, as the sizing does; else
+    `robot` (every part carried) throughout. Time scaling keeps the states: the events
+    sit at waypoints, and dwells keep their length.
 
     Returns:
         The cycles by joint, which of their samples are dwells, and the load inertia of
@@ -152,30 +159,44 @@ def _scalable(carrying: Robot, trajectory: Trajectory, held: np.ndarray,
     """
     keep = np.flatnonzero(~held | np.r_[True, ~held[:-1]])
     lasts = np.diff(np.r_[keep, len(held)]) * trajectory.dt
-    q, qd, qdd = trajectory.q[keep], trajectory.qd[keep], trajectory.qdd[keep]
+    qd, qdd = trajectory.qd[keep], trajectory.qdd[keep]
     dt = np.where(held[keep], lasts, trajectory.dt)
-    torques = cycle_torques(carrying, q, qd, qdd, options.stop_time, split=True,
-                            threads=options.threads)
-    if torques.gravity is None or torques.coasting is None:
-        raise RuntimeError("cycle_torques(split=True) returned no gravity or coasting part")
-    out = {}
-    for name in units:
-        j = carrying.joint_index(name)
-        out[name] = ScalableCycle.split(
-            trajectory.t[keep], dt, trajectory.duration, qd[:, j], qdd[:, j],
-            at_rest(qd[:, j], qdd[:, j]), torque=torques.tau[:, j],
-            stop_torque=torques.stop[:, j], gravity=torques.gravity[:, j],
-            coast=torques.coasting[:, j], stop_time=options.stop_time)
+
+    def split(state: Robot, rows: np.ndarray | slice) -> tuple[np.ndarray, ...]:
+        torques = cycle_torques(state, trajectory.q[rows], trajectory.qd[rows],
+                                trajectory.qdd[rows], options.stop_time, split=True,
+                                threads=options.threads)
+        if torques.gravity is None or torques.coasting is None:
+            raise RuntimeError("cycle_torques(split=True) returned no gravity or coasting part")
+        return torques.tau, torques.stop, torques.gravity, torques.coasting
     tuned = [name for name in units
              if options.joint_value("min_natural_frequency", name) is not None]
-    inertia = {} if not tuned else dict(zip(tuned, map(float, joint_inertias(
-        carrying, q, tuned, threads=options.threads).max(axis=0)), strict=True))
+
+    def inertias(state: Robot, rows: np.ndarray | slice) -> tuple[np.ndarray, ...]:
+        return (joint_inertias(state, trajectory.q[rows], tuned, threads=options.threads),)
+    if task is None or task.carried is None:
+        tau, stop, gravity, coast = split(robot, keep)
+        load = inertias(robot, keep)[0] if tuned else None
+    else:
+        states = carrying(task, masses or {}, task.robot.sized_joints)
+        tau, stop, gravity, coast = over_states(task, states, split, keep)
+        load = over_states(task, states, inertias, keep)[0] if tuned else None
+    out = {}
+    for name in units:
+        j = robot.joint_index(name)
+        out[name] = ScalableCycle.split(
+            trajectory.t[keep], dt, trajectory.duration, qd[:, j], qdd[:, j],
+            at_rest(qd[:, j], qdd[:, j]), torque=tau[:, j], stop_torque=stop[:, j],
+            gravity=gravity[:, j], coast=coast[:, j], stop_time=options.stop_time)
+    inertia = {} if load is None else dict(zip(tuned, map(float, load.max(axis=0)),
+                                               strict=True))
     return out, held[keep], inertia
 
 
 def derated(models: Sequence[PathModel], carrying: Sequence[Robot], units: Mapping[str, Unit],
             masses: Mapping[str, float], first: Trial, options: Options,
-            motors: Mapping[str, Motor] | None = None) -> Trial:
+            motors: Mapping[str, Motor] | None = None,
+            tasks: Sequence[Callable[[Trajectory], Task]] = ()) -> Trial:
     """The derating of the failing joints' torque limits that gives the shortest cycle.
 
     For one task (its cycle is what a derating shortens): `run_trial`'s arguments.
@@ -186,7 +207,7 @@ def derated(models: Sequence[PathModel], carrying: Sequence[Robot], units: Mappi
     def attempt(fraction: float) -> Trial | None:
         try:
             return run_trial(models, carrying, shares, units, masses,
-                             dict.fromkeys(joints, fraction), options, motors)
+                             dict.fromkeys(joints, fraction), options, motors, tasks=tasks)
         except PathInfeasible:
             return None
     tried: dict[float, Trial | None] = {1.0: first}
@@ -224,21 +245,6 @@ def derated(models: Sequence[PathModel], carrying: Sequence[Robot], units: Mappi
 
 _SPEED_FREE = ("static", "natural_frequency")
 """The rules no slow-down helps: a load held still, a joint's resonance."""
-
-
-def every_part(robot: Robot, motion: Motion, parts: Sequence[Payload] = ()) -> Robot:
-    """The robot carrying every part the motion's events move: their worst state.
-
-    Args:
-        robot: The robot as the motion runs it.
-        motion: The motion (its events and parts).
-        parts: The parts as a task moves them (its `Carried.parts`), over the file's.
-    """
-    given = {part.name: part for part in parts}
-    moved = sorted({event.part for event in motion.events})
-    extra = tuple(given.get(name, motion.parts[name]) for name in moved
-                  if not (name == "payload" and robot.payload is not None))
-    return robot.with_parts((*robot.parts, *extra)) if extra else robot
 
 
 def timed(motion: Motion, trajectory: Trajectory) -> bool:
@@ -333,7 +339,8 @@ def check_tasks(tasks: Sequence[Task], units: Mapping[str, Unit], options: Optio
 
     As `hdselect.sizing.core.check_units` for one trajectory: each joint's only
     candidate is its unit (paired with its motor, where one is given); with mass
-    coupling each unit's mass (and its motor's, else the options' motor mass) is carried.
+    coupling each unit's mass (and its motor's, else the options' motor mass) is carried;
+    the stiffness figures are those of the units.
 
     Args:
         tasks: The duty's tasks (the same robot file and sized joints).
@@ -355,4 +362,5 @@ def check_tasks(tasks: Sequence[Task], units: Mapping[str, Unit], options: Optio
     distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))
     return SizingResult(first.robot, first.trajectory, tuple(joints),
                         options if not fixed else resolved, distinct, first.motion,
-                        motors=fixed, loads=model.loads(masses), tasks=tuple(tasks), idle=idle)
+                        motors=fixed, loads=model.loads(masses), tasks=tuple(tasks), idle=idle,
+                        precision=precision_of(model, joints, masses, options))

@@ -373,7 +373,7 @@ def check_units(robot: Robot, trajectory: Trajectory, units: Mapping[str, Unit],
     distinct = tuple(dict.fromkeys(units[name] for name in robot.sized_joints))
     return SizingResult(robot, trajectory, tuple(joints), options if not fixed else resolved,
                         distinct, motors=fixed, loads=model.loads(masses),
-                        precision=_precision(model, joints, masses, options))
+                        precision=precision_of(model, joints, masses, options))
 
 
 def _check_carried(carried: object, trajectory: Trajectory) -> None:
@@ -388,7 +388,7 @@ def _check_carried(carried: object, trajectory: Trajectory) -> None:
                          f"trajectory has {len(trajectory.t)}", field="carried")
 
 
-def _precision(model: TorqueModel, joints: Sequence[JointSizing], masses: Mapping[str, float],
+def precision_of(model: TorqueModel, joints: Sequence[JointSizing], masses: Mapping[str, float],
                options: Options) -> Precision | None:
     """The stiffness figures of given units, the whole-arm targets judged (none raised)."""
     return stiffened(model, {}, list(joints), dict(masses), options, {}, select=None).precision
