@@ -37,7 +37,7 @@ from hdselect.sizing.loads import JointLoad, joint_loads, merged_loads
 from hdselect.sizing.options import Options
 from hdselect.sizing.precision import Precision, precision_of
 from hdselect.sizing.result import JointSizing
-from hdselect.sizing.tasks import Samples, Task, pooled
+from hdselect.sizing.tasks import Samples, Task, holding, pooled
 from hdselect.sizing.torques import DirectTorques
 
 BEARING_NOTE = ("output bearing: its largest loads are over the duty and the worst "
@@ -194,9 +194,7 @@ def carrying_every_part(robot: Robot, tasks: Sequence[Task]) -> Robot:
     for task in tasks:
         for part in () if task.carried is None else task.carried.parts:
             moved.setdefault(part.name, part)
-    extra = tuple(part for name, part in sorted(moved.items())
-                  if not (name == "payload" and robot.payload is not None))
-    return robot.with_parts((*robot.parts, *extra)) if extra else robot
+    return holding(robot, [moved[name] for name in sorted(moved)])
 
 
 def appended(samples: Samples, rows: StateRows) -> Samples:

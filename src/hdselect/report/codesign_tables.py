@@ -283,7 +283,8 @@ def max_payload_text(result: MaxPayloadResult, robot: Robot,
         unlimited = f"no rule depends on the payload mass {where}: no limit."
     else:
         name = result.mix.path.name if result.mix is not None else "the mix"
-        given = ", ".join(f"{task} {item.mass:g} kg" for task, item in result.payloads.items())
+        given = ", ".join((f"{task}'s part '{item.name}'" if item.name else task)
+                          + f" {item.mass:g} kg" for task, item in result.payloads.items())
         head = (f"{robot.path.name} running {name}: the payloads of "
                 f"{', '.join(result.scaled)} (as given: {given}) scaled by one factor, mass "
                 "and inertia alike")

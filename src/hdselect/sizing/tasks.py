@@ -31,7 +31,7 @@ from hdselect.robot.model import Robot
 from hdselect.robot.payload import Payload
 
 __all__ = ["SHARE_TOLERANCE", "Samples", "Task", "alone", "by_state", "check_shares", "cycle_of",
-           "every_part", "merged", "over_states", "pooled", "task_of", "task_rows"]
+           "every_part", "holding", "merged", "over_states", "pooled", "task_of", "task_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,8 +102,17 @@ def every_part(robot: Robot, motion: Motion, parts: Sequence[Payload] = ()) -> R
     """
     given = {part.name: part for part in parts}
     moved = sorted({event.part for event in motion.events})
-    extra = tuple(given.get(name, motion.parts[name]) for name in moved
-                  if not (name == "payload" and robot.payload is not None))
+    return holding(robot, [given.get(name, motion.parts[name]) for name in moved])
+
+
+def holding(robot: Robot, parts: Sequence[Payload]) -> Robot:
+    """`robot` carrying `parts` besides its own.
+
+    A part named "payload" (the ``[payload]`` an event moves) only where the robot carries
+    no payload already.
+    """
+    extra = tuple(part for part in parts
+                  if not (part.name == "payload" and robot.payload is not None))
     return robot.with_parts((*robot.parts, *extra)) if extra else robot
 
 
