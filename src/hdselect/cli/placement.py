@@ -56,12 +56,9 @@ def source_angle_unit(source) -> str:
     A mix file's ``angle_unit`` (default deg) is the one its tasks' ``base`` keys use; a
     motion file's applies to its waypoints and its ``base`` alike.
     """
-    from hdselect.base.tomlfile import read_toml
     from hdselect.motion.mixfile import Mix
 
-    if isinstance(source, Mix):
-        return str(read_toml(source.path).get("angle_unit", "deg"))  # checked by load_mix
-    return str(source.angle_unit)
+    return source.base_angle_unit if isinstance(source, Mix) else str(source.angle_unit)
 
 
 def mounting_option(args: argparse.Namespace) -> str | None:

@@ -98,6 +98,8 @@ class Mix:
         given: The duty-wide values the mix file gives, by `hdselect.Options` field name
             (and ``joints``, ``exclude``, ``motors``).
         catalog: The mix file's ``[sizing] catalog`` files, resolved.
+        base_angle_unit: The mix file's own ``angle_unit``: of its tasks' ``base`` rpy and
+            of ``--base``'s angles.
     """
 
     path: Path
@@ -106,6 +108,7 @@ class Mix:
     tasks: tuple[MixTask, ...]
     given: Mapping[str, Any] = field(default_factory=dict)
     catalog: tuple[Path, ...] = ()
+    base_angle_unit: str = "deg"
 
     @property
     def motions(self) -> tuple[Motion, ...]:
@@ -294,7 +297,7 @@ def load_mix(path: str | Path, robot: Robot | str | Path | None = None) -> Mix:
         except InputError as err:
             raise InputError(err.reason, path=path, field="task.share") from err
     given, catalog = duty_tables(doc, path, robot)
-    return Mix(path, robot.path, robot.joint_names, tuple(tasks), given, catalog)
+    return Mix(path, robot.path, robot.joint_names, tuple(tasks), given, catalog, angle_unit)
 
 
 def _task_tables(doc: dict[str, Any], path: Path) -> list[dict[str, Any]]:
