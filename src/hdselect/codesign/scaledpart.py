@@ -63,11 +63,15 @@ def with_part(task: Task, payload: Payload | None) -> Task:
 
     A part its events move stays carried between them (its events kept); a part given
     without a name takes the name of the one it replaces.
+
+    Raises:
+        InputError: Its events move several parts (`scaled_part`'s refusal).
     """
     carried = task.carried
     if carried is None or not carried.parts:
         return replace(task, robot=task.robot.with_payload(payload))
+    part = _one_part(carried.parts, task.motion)
     if payload is None:
         return replace(task, carried=replace(carried, parts=(), mask=carried.mask[:, :0]))
-    named = payload if payload.name else replace(payload, name=carried.parts[0].name)
-    return replace(task, carried=replace(carried, parts=(named,)))
+    return replace(task, carried=carried.with_part(
+        payload if payload.name else replace(payload, name=part.name)))

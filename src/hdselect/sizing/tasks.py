@@ -64,7 +64,6 @@ class Task:
         return self.motion.path.name if self.motion is not None else "task"
 
 
-
 def task_of(robot: Robot, trajectory: Trajectory, motion: Motion | None, share: float = 1.0,
             name: str = "") -> Task:
     """A task with its motion's payload events (`hdselect.motion.events.carried`).
