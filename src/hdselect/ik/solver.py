@@ -142,7 +142,7 @@ class _Residual:
         current = self.kin.placement(q)
         target = self.target
         if isinstance(target, Target):
-            return current, target.residual(current, self.kin.jacobian(q, aligned=True))[0]
+            return current, target.value(current)
         return current, pin.log6(current.actInv(target)).vector
 
     def jacobian(self, q: np.ndarray, current: pin.SE3) -> np.ndarray:

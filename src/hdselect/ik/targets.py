@@ -37,6 +37,8 @@ TOOL_AXES = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0),
 _NEXT = {"x": "y", "y": "z", "z": "x"}
 """The tool axis whose angle about the approach axis is the roll reported (x for z)."""
 _TINY = 1e-12
+_NO_COLUMNS = np.zeros((6, 0))
+"""A Jacobian of no joints: what `Target.value` passes where only r is wanted."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,6 +53,7 @@ class Target:
         approach: The name of the tool axis that ``"axis"`` points (`TOOL_AXES`).
         world: The world's x, y, z axes in the reference frame, as rows, shape (3, 3).
     """
+
 
     kind: str
     position: np.ndarray
@@ -111,6 +114,13 @@ class Target:
             / max(x * x + y * y, _TINY)
         return np.r_[offset, _wrap(math.atan2(y, x) - self.yaw)], \
             np.vstack([linear, gradient @ angular])
+
+    def value(self, placement: pin.SE3) -> np.ndarray:
+        """The residual r alone (`rows`,), as `residual` gives it, with no Jacobian to carry.
+
+        `residual` of a Jacobian of no columns: r does not depend on the Jacobian.
+        """
+        return self.residual(placement, _NO_COLUMNS)[0]
 
     def errors(self, placement: pin.SE3) -> tuple[float, float]:
         """The origin's distance [m] and the angle off what is fixed [rad] (0 for a position)."""
